@@ -1,0 +1,91 @@
+#include "pegasus/parallel/thread_pool.hpp"
+
+#include <algorithm>
+
+#include "pegasus/core/error.hpp"
+
+namespace pegasus {
+
+ThreadPool::ThreadPool(int threads) {
+  if (threads < 1) throw InputError("threads: expected an integer >= 1, got " + std::to_string(threads));
+  for (int i = 1; i < threads; ++i) workers_.emplace_back([this] { worker_loop(); });
+}
+
+ThreadPool::~ThreadPool() {
+  {
+    std::lock_guard lock(mutex_);
+    stop_ = true;
+  }
+  wake_.notify_all();
+  for (auto& w : workers_) w.join();
+}
+
+void ThreadPool::run_chunks() {
+  for (;;) {
+    std::size_t begin;
+    {
+      std::lock_guard lock(mutex_);
+      if (next_ >= n_ || error_) return;
+      begin = next_;
+      next_ = std::min(n_, next_ + grain_);
+    }
+    const std::size_t end = std::min(n_, begin + grain_);
+    try {
+      (*body_)(begin, end);
+    } catch (...) {
+      std::lock_guard lock(mutex_);
+      if (!error_) error_ = std::current_exception();
+    }
+  }
+}
+
+void ThreadPool::worker_loop() {
+  std::size_t seen = 0;
+  for (;;) {
+    {
+      std::unique_lock lock(mutex_);
+      wake_.wait(lock, [&] { return stop_ || generation_ != seen; });
+      if (stop_) return;
+      seen = generation_;
+      ++active_;
+    }
+    run_chunks();
+    {
+      std::lock_guard lock(mutex_);
+      --active_;
+    }
+    done_.notify_all();
+  }
+}
+
+void ThreadPool::parallel_for_chunks(std::size_t n, std::size_t grain,
+                                     const std::function<void(std::size_t, std::size_t)>& body) {
+  if (n == 0) return;
+  grain = std::max<std::size_t>(grain, 1);
+  if (workers_.empty() || n <= grain) {
+    for (std::size_t b = 0; b < n; b += grain) body(b, std::min(n, b + grain));
+    return;
+  }
+  {
+    std::lock_guard lock(mutex_);
+    body_ = &body;
+    n_ = n;
+    grain_ = grain;
+    next_ = 0;
+    error_ = nullptr;
+    ++generation_;
+  }
+  wake_.notify_all();
+  run_chunks();
+  std::exception_ptr error;
+  {
+    std::unique_lock lock(mutex_);
+    done_.wait(lock, [&] { return active_ == 0 && (next_ >= n_ || error_); });
+    body_ = nullptr;
+    error = error_;
+    error_ = nullptr;
+  }
+  if (error) std::rethrow_exception(error);
+}
+
+}  // namespace pegasus
