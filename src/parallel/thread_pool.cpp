@@ -22,19 +22,15 @@ ThreadPool::~ThreadPool() {
 
 void ThreadPool::run_chunks() {
   for (;;) {
-    std::size_t begin;
-    {
-      std::lock_guard lock(mutex_);
-      if (next_ >= n_ || error_) return;
-      begin = next_;
-      next_ = std::min(n_, next_ + grain_);
-    }
+    const std::size_t begin = next_.fetch_add(grain_, std::memory_order_relaxed);
+    if (begin >= n_ || failed_.load(std::memory_order_relaxed)) return;
     const std::size_t end = std::min(n_, begin + grain_);
     try {
       (*body_)(begin, end);
     } catch (...) {
       std::lock_guard lock(mutex_);
       if (!error_) error_ = std::current_exception();
+      failed_ = true;
     }
   }
 }
@@ -61,7 +57,7 @@ void ThreadPool::worker_loop() {
 void ThreadPool::parallel_for_chunks(std::size_t n, std::size_t grain,
                                      const std::function<void(std::size_t, std::size_t)>& body) {
   if (n == 0) return;
-  grain = std::max<std::size_t>(grain, 1);
+  if (grain == 0) grain = std::max<std::size_t>(1, n / (8 * static_cast<std::size_t>(size())));
   if (workers_.empty() || n <= grain) {
     for (std::size_t b = 0; b < n; b += grain) body(b, std::min(n, b + grain));
     return;
@@ -72,6 +68,7 @@ void ThreadPool::parallel_for_chunks(std::size_t n, std::size_t grain,
     n_ = n;
     grain_ = grain;
     next_ = 0;
+    failed_ = false;
     error_ = nullptr;
     ++generation_;
   }
@@ -80,7 +77,7 @@ void ThreadPool::parallel_for_chunks(std::size_t n, std::size_t grain,
   std::exception_ptr error;
   {
     std::unique_lock lock(mutex_);
-    done_.wait(lock, [&] { return active_ == 0 && (next_ >= n_ || error_); });
+    done_.wait(lock, [&] { return active_ == 0; });
     body_ = nullptr;
     error = error_;
     error_ = nullptr;

@@ -2,6 +2,7 @@
 // A fixed pool of worker threads. Work is split into indexed tasks; each task writes only its own output
 // slot, and every reduction happens afterwards in index order, so results never depend on the number of
 // threads (ARCHITECTURE.md, determinism rule 2).
+#include <atomic>
 #include <condition_variable>
 #include <cstddef>
 #include <exception>
@@ -23,13 +24,14 @@ class ThreadPool {
   int size() const { return static_cast<int>(workers_.size()) + 1; }
 
   // Runs body(begin, end) over [0, n) in chunks of at most `grain` indices, on all threads; returns when
-  // every chunk has run. The first exception thrown by a chunk is rethrown here.
+  // every chunk has run. grain = 0 picks about 8 chunks per thread. The first exception thrown by a chunk
+  // is rethrown here.
   void parallel_for_chunks(std::size_t n, std::size_t grain,
                            const std::function<void(std::size_t, std::size_t)>& body);
 
   // Runs body(i) for every i in [0, n).
   template <class Body>
-  void parallel_for(std::size_t n, Body&& body, std::size_t grain = 1) {
+  void parallel_for(std::size_t n, Body&& body, std::size_t grain = 0) {
     parallel_for_chunks(n, grain, [&body](std::size_t begin, std::size_t end) {
       for (std::size_t i = begin; i < end; ++i) body(i);
     });
@@ -44,7 +46,9 @@ class ThreadPool {
   std::condition_variable wake_;
   std::condition_variable done_;
   const std::function<void(std::size_t, std::size_t)>* body_ = nullptr;
-  std::size_t n_ = 0, grain_ = 1, next_ = 0;
+  std::size_t n_ = 0, grain_ = 1;
+  std::atomic<std::size_t> next_{0};
+  std::atomic<bool> failed_{false};
   std::size_t generation_ = 0;
   int active_ = 0;
   bool stop_ = false;

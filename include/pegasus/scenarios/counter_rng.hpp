@@ -56,9 +56,12 @@ class UniformStream {
 
   double next() {
     const std::uint64_t block = position_ / 2;
-    const auto u = rng_.uniform2(RngDomain::kStream, static_cast<std::uint32_t>(block),
-                                 static_cast<std::uint32_t>(block >> 32), stream_);
-    return u[position_++ % 2];
+    if (block != cached_block_) {  // one Philox call yields two uniforms
+      cached_ = rng_.uniform2(RngDomain::kStream, static_cast<std::uint32_t>(block),
+                              static_cast<std::uint32_t>(block >> 32), stream_);
+      cached_block_ = block;
+    }
+    return cached_[position_++ % 2];
   }
   // Uniform integer in [0, n), n >= 1 (multiply-shift; the bias is below 2^-40 for n < 2^13).
   std::uint64_t next_below(std::uint64_t n) {
@@ -76,6 +79,8 @@ class UniformStream {
   std::uint64_t seed_;
   std::uint32_t stream_;
   std::uint64_t position_;
+  std::uint64_t cached_block_ = ~std::uint64_t{0};
+  std::array<double, 2> cached_{};
 };
 
 }  // namespace pegasus

@@ -1,0 +1,44 @@
+# The front door. Every target first installs missing Debian packages (silent when all are present),
+# then configures and builds out of source.
+JOBS      ?= $(shell nproc)
+BUILD     ?= build
+ASAN      ?= build-asan
+DEMO_OUT  ?= runs/demo-pomdp-gridworld
+CMAKE_GEN := $(shell command -v ninja >/dev/null 2>&1 && echo "-G Ninja")
+
+.PHONY: all deps build demo test test-release test-asan bench clean
+
+all: build
+
+deps:
+	@bash scripts/install-deps.sh
+
+build: deps
+	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release $(CMAKE_GEN) >/dev/null
+	@cmake --build $(BUILD) -j $(JOBS)
+
+# Runs the main experiment on its shipped default config and says where the report is.
+demo: build
+	@$(BUILD)/pegasus pomdp-gridworld --config experiments/pomdp-gridworld-demo.toml --out $(DEMO_OUT) --force
+	@echo "demo: results in $(DEMO_OUT) (summary.json, value_vs_m.svg, results.csv)"
+
+# The whole suite in Release, then again under AddressSanitizer + UndefinedBehaviorSanitizer.
+test: test-release test-asan
+
+test-release: build
+	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
+test-asan: deps
+	@cmake -S . -B $(ASAN) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPEGASUS_SANITIZE=ON -DPEGASUS_BUILD_BENCH=OFF $(CMAKE_GEN) >/dev/null
+	@cmake --build $(ASAN) -j $(JOBS)
+	@cd $(ASAN) && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+	  PEGASUS_SANITIZED=1 ctest --output-on-failure -j $(JOBS)
+
+# Every benchmark in Release, one JSON file.
+bench: build
+	@mkdir -p $(BUILD)/bench-results
+	@$(BUILD)/bench/pegasus_bench --benchmark_out=$(BUILD)/bench-results/bench.json --benchmark_out_format=json
+	@echo "bench: results in $(BUILD)/bench-results/bench.json"
+
+clean:
+	rm -rf $(BUILD) $(ASAN)

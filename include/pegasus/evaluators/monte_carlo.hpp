@@ -1,0 +1,83 @@
+#pragma once
+// Naive Monte Carlo evaluation (thesis §4.2.2, Eq 4.10): every evaluation draws fresh randomness, so two
+// policies never share trajectories. The estimate is stochastic in theta, which is the point of
+// Proposition 8; it is still reproducible: evaluation number c, rollout i draws from the stream
+// (mix(seed, c), i), and a batch numbers its thetas consecutively.
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "pegasus/evaluators/pegasus_evaluator.hpp"
+
+namespace pegasus {
+
+// SplitMix64 finaliser: decorrelates (seed, counter) pairs into a new 64-bit seed.
+inline std::uint64_t mix_seed(std::uint64_t seed, std::uint64_t counter) {
+  std::uint64_t z = seed + 0x9e3779b97f4a7c15ull * (counter + 1);
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+  return z ^ (z >> 31);
+}
+
+template <GenerativeModel M, class P>
+class MonteCarloEvaluator {
+ public:
+  MonteCarloEvaluator(M model, P policy, int rollouts, Discounting discounting, std::uint64_t seed)
+      : model_(std::move(model)), policy_(std::move(policy)), rollouts_(rollouts), d_(discounting), seed_(seed) {
+    validate(d_);
+    if (rollouts < 1) throw InputError("monte carlo: expected m >= 1 rollouts per evaluation");
+  }
+
+  const P& policy() const { return policy_; }
+  std::uint64_t evaluations() const { return calls_; }
+
+  // The estimate that evaluation number `call` gives theta (pure: no counter advanced).
+  double evaluate_at(std::span<const double> theta, std::uint64_t call) const {
+    double sum = 0.0;
+    for (int i = 0; i < rollouts_; ++i) {
+      UniformStream rng(mix_seed(seed_, call), static_cast<std::uint32_t>(i));
+      sum += sampled_return(model_, policy_, theta, rng, d_);
+    }
+    return sum / static_cast<double>(rollouts_);
+  }
+
+  double evaluate(std::span<const double> theta) { return evaluate_at(theta, calls_++); }
+
+  void evaluate_batch(std::span<const Theta> thetas, std::span<double> values, ThreadPool* pool = nullptr) {
+    const std::uint64_t first = calls_;
+    auto body = [&](std::size_t k) { values[k] = evaluate_at(thetas[k], first + k); };
+    if (pool) {
+      pool->parallel_for(thetas.size(), body);
+    } else {
+      for (std::size_t k = 0; k < thetas.size(); ++k) body(k);
+    }
+    calls_ += thetas.size();
+  }
+
+ private:
+  M model_;
+  P policy_;
+  int rollouts_;
+  Discounting d_;
+  std::uint64_t seed_;
+  std::uint64_t calls_ = 0;
+};
+
+template <GenerativeModel M, class P>
+class MonteCarloObjective final : public Objective {
+ public:
+  MonteCarloObjective(MonteCarloEvaluator<M, P> evaluator, std::shared_ptr<ThreadPool> pool)
+      : evaluator_(std::move(evaluator)), pool_(std::move(pool)) {}
+  const ParameterSpec& parameters() const override { return evaluator_.policy().parameters(); }
+  double evaluate(std::span<const double> theta) override { return evaluator_.evaluate(theta); }
+  void evaluate_batch(std::span<const Theta> thetas, std::span<double> values) override {
+    evaluator_.evaluate_batch(thetas, values, pool_.get());
+  }
+
+ private:
+  MonteCarloEvaluator<M, P> evaluator_;
+  std::shared_ptr<ThreadPool> pool_;
+};
+
+}  // namespace pegasus

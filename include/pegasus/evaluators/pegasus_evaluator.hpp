@@ -1,0 +1,99 @@
+#pragma once
+// PEGASUS evaluation on fixed scenarios (thesis §4.4.2, Eq 4.22):
+//   U-hat(theta) = (1/m) sum_i  return of scenario i under pi_theta.
+// Work is parallel over (theta, scenario) pairs; each pair writes its own slot and the sum over scenarios
+// is taken in scenario order afterwards, so U-hat is bit-identical for any number of threads.
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "pegasus/evaluators/rollout.hpp"
+#include "pegasus/optimizers/objective.hpp"
+#include "pegasus/parallel/thread_pool.hpp"
+
+namespace pegasus {
+
+// The fixed-order mean of per-scenario returns.
+inline double ordered_mean(std::span<const double> returns) {
+  double sum = 0.0;
+  for (double r : returns) sum += r;
+  return sum / static_cast<double>(returns.size());
+}
+
+template <SimulativeModel M, class P>
+class PegasusEvaluator {
+ public:
+  PegasusEvaluator(M model, P policy, ScenarioSet scenarios, Discounting discounting)
+      : model_(std::move(model)), policy_(std::move(policy)), scenarios_(std::move(scenarios)), d_(discounting) {
+    validate(d_);
+    check_noise_dims(model_);
+    if (scenarios_.noise_dim() != model_.noise_dim() || scenarios_.initial_noise_dim() != model_.initial_noise_dim())
+      throw InputError("scenarios: noise dimensions differ from the model's");
+    if (scenarios_.horizon() < d_.horizon) throw InputError("scenarios: hold fewer steps than the horizon");
+  }
+
+  const M& model() const { return model_; }
+  const P& policy() const { return policy_; }
+  const ScenarioSet& scenarios() const { return scenarios_; }
+  const Discounting& discounting() const { return d_; }
+
+  double scenario_value(std::span<const double> theta, int i) const {
+    return scenario_return(model_, policy_, theta, scenarios_, i, d_);
+  }
+
+  // Per-scenario returns of one theta.
+  void per_scenario(std::span<const double> theta, std::span<double> out, ThreadPool* pool = nullptr) const {
+    const auto m = static_cast<std::size_t>(scenarios_.size());
+    auto body = [&](std::size_t i) { out[i] = scenario_value(theta, static_cast<int>(i)); };
+    if (pool) {
+      pool->parallel_for(m, body);
+    } else {
+      for (std::size_t i = 0; i < m; ++i) body(i);
+    }
+  }
+
+  double evaluate(std::span<const double> theta, ThreadPool* pool = nullptr) const {
+    std::vector<double> returns(static_cast<std::size_t>(scenarios_.size()));
+    per_scenario(theta, returns, pool);
+    return ordered_mean(returns);
+  }
+
+  void evaluate_batch(std::span<const Theta> thetas, std::span<double> values, ThreadPool* pool = nullptr) const {
+    const auto m = static_cast<std::size_t>(scenarios_.size());
+    std::vector<double> returns(thetas.size() * m);
+    auto body = [&](std::size_t k) { returns[k] = scenario_value(thetas[k / m], static_cast<int>(k % m)); };
+    if (pool) {
+      pool->parallel_for(returns.size(), body);
+    } else {
+      for (std::size_t k = 0; k < returns.size(); ++k) body(k);
+    }
+    for (std::size_t k = 0; k < thetas.size(); ++k)
+      values[k] = ordered_mean(std::span<const double>(returns.data() + k * m, m));
+  }
+
+ private:
+  M model_;
+  P policy_;
+  ScenarioSet scenarios_;
+  Discounting d_;
+};
+
+// The type-erased theta -> U-hat(theta) that optimizers see.
+template <SimulativeModel M, class P>
+class PegasusObjective final : public Objective {
+ public:
+  PegasusObjective(PegasusEvaluator<M, P> evaluator, std::shared_ptr<ThreadPool> pool)
+      : evaluator_(std::move(evaluator)), pool_(std::move(pool)) {}
+  const ParameterSpec& parameters() const override { return evaluator_.policy().parameters(); }
+  double evaluate(std::span<const double> theta) override { return evaluator_.evaluate(theta, pool_.get()); }
+  void evaluate_batch(std::span<const Theta> thetas, std::span<double> values) override {
+    evaluator_.evaluate_batch(thetas, values, pool_.get());
+  }
+  const PegasusEvaluator<M, P>& evaluator() const { return evaluator_; }
+
+ private:
+  PegasusEvaluator<M, P> evaluator_;
+  std::shared_ptr<ThreadPool> pool_;
+};
+
+}  // namespace pegasus
