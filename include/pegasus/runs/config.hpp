@@ -1,0 +1,165 @@
+#pragma once
+// A command's configuration, declared once: every field has a name, a type, a default, a range or
+// validator and a one-line help. Values come from the defaults, then a TOML file, then command-line
+// overrides (later sources win); every value is checked when it is set, so a bad one is reported before
+// any work starts, naming where it came from (`config.toml:3: key 'gamma': ...` or `--gamma: ...`).
+// The resolved configuration is written back as TOML (with the help as comments) and loads back to
+// exactly the same values (doubles round-trip bit for bit).
+//
+//   ConfigSchema s;
+//   s.add_double("gamma", 0.99, "discount factor").range(0, 1);
+//   s.add_int("scenarios", 30, "number of scenarios m").min(1);
+//   s.add_string("variant", "plain", "scenario variant").choices({"plain", "antithetic"});
+//   s.add_int_list("sizes", {1, 2, 4}, "scenario counts to sweep").min(1).min_size(1);
+//   s.load_toml_file("run.toml");          // InputError naming file:line and key
+//   s.set_from_cli("sizes", "1,2,8");      // InputError naming --sizes
+//   double gamma = s.get_double("gamma");
+//
+// Field names are snake_case; a dotted name `section.key` lives in the TOML table [section] and becomes
+// the option `--section.key`. All errors on user input are InputError with a one-line message; asking for
+// an undeclared field or the wrong type is a programming error (std::logic_error).
+#include <cstdint>
+#include <deque>
+#include <filesystem>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+namespace pegasus {
+
+enum class FieldType { kInt, kDouble, kBool, kString, kIntList, kDoubleList };
+
+using FieldValue =
+    std::variant<std::int64_t, double, bool, std::string, std::vector<std::int64_t>, std::vector<double>>;
+
+// One declared field. Built through ConfigSchema::add_*; the chainable setters constrain it.
+class ConfigField {
+ public:
+  // Returns an empty string when `value` is acceptable, else what was expected ("a prime number").
+  using Validator = std::function<std::string(const FieldValue& value)>;
+
+  ConfigField(std::string name, FieldType type, FieldValue default_value, std::string help);
+
+  // Inclusive bounds for numbers, and for every element of a list.
+  ConfigField& min(double lo);
+  ConfigField& max(double hi);
+  ConfigField& range(double lo, double hi) { return min(lo).max(hi); }
+  // Exclusive bounds: greater_than(0) means (0, ...).
+  ConfigField& greater_than(double lo);
+  ConfigField& less_than(double hi);
+  // Allowed values of a string field.
+  ConfigField& choices(std::vector<std::string> allowed);
+  // Smallest number of elements of a list.
+  ConfigField& min_size(std::size_t n);
+  // A custom check on top of the above.
+  ConfigField& validate(Validator check);
+  // Fields that cannot change a result (e.g. `threads`) may differ when a run is resumed.
+  ConfigField& affects_results(bool yes);
+
+  const std::string& name() const { return name_; }
+  FieldType type() const { return type_; }
+  const std::string& help() const { return help_; }
+  const FieldValue& default_value() const { return default_; }
+  const std::vector<std::string>& allowed_choices() const { return choices_; }
+  bool affects_results() const { return affects_results_; }
+  // "a number in [0, 1]", "an integer >= 1", "one of \"plain\", \"antithetic\"", ...
+  std::string expectation() const;
+  // Empty when `value` (already of this field's type) is acceptable, else what was expected.
+  std::string check(const FieldValue& value) const;
+
+ private:
+  struct Bound {
+    double value;
+    bool inclusive;
+  };
+  bool in_bounds(double x) const;
+
+  std::string name_;
+  FieldType type_;
+  FieldValue default_;
+  std::string help_;
+  std::optional<Bound> lo_, hi_;
+  std::vector<std::string> choices_;
+  std::size_t min_size_ = 0;
+  std::vector<Validator> validators_;
+  bool affects_results_ = true;
+};
+
+class ConfigSchema {
+ public:
+  // A check across several fields, run by validate(); returns an empty string or a one-line message
+  // (use origin(name) to say where an offending value came from).
+  using Constraint = std::function<std::string(const ConfigSchema&)>;
+
+  ConfigField& add_int(std::string name, std::int64_t default_value, std::string help);
+  ConfigField& add_double(std::string name, double default_value, std::string help);
+  ConfigField& add_bool(std::string name, bool default_value, std::string help);
+  ConfigField& add_string(std::string name, std::string default_value, std::string help);
+  ConfigField& add_int_list(std::string name, std::vector<std::int64_t> default_value, std::string help);
+  ConfigField& add_double_list(std::string name, std::vector<double> default_value, std::string help);
+  void add_constraint(Constraint constraint);
+
+  // Reads a TOML file over the current values. Unknown keys, wrong types and out-of-range values are
+  // InputError "file:line: key 'name': expected ..., got ..."; an unreadable file names the file.
+  void load_toml_file(const std::filesystem::path& file);
+  // Same, from text; `source_name` stands for the file in messages.
+  void load_toml_string(std::string_view text, const std::string& source_name);
+  // Sets one field from its command-line text ("0.9", "1,2,4", "true"); errors name `--field-name`.
+  void set_from_cli(std::string_view name, std::string_view text);
+  // Sets one field directly (checked like any other value; errors name the field).
+  void set(std::string_view name, FieldValue value);
+  // Runs the cross-field constraints. Values are checked one by one when they are set.
+  void validate() const;
+
+  // The resolved configuration as TOML: every field, its help as a comment, values exact.
+  std::string to_toml() const;
+  nlohmann::json to_json() const;
+
+  // The same fields, all back at their defaults.
+  ConfigSchema with_defaults() const;
+  // The first field that affects results whose value differs from `other`'s, or nullopt.
+  std::optional<std::string> first_difference(const ConfigSchema& other) const;
+
+  bool has(std::string_view name) const { return find(name) != nullptr; }
+  const std::deque<ConfigField>& fields() const { return fields_; }
+  const ConfigField& field(std::string_view name) const;
+  const FieldValue& value(std::string_view name) const;
+  // Where the current value came from: "default", "config.toml:3" or "--gamma".
+  const std::string& origin(std::string_view name) const;
+
+  std::int64_t get_int(std::string_view name) const;
+  double get_double(std::string_view name) const;
+  bool get_bool(std::string_view name) const;
+  const std::string& get_string(std::string_view name) const;
+  const std::vector<std::int64_t>& get_int_list(std::string_view name) const;
+  const std::vector<double>& get_double_list(std::string_view name) const;
+
+  // `section.some_key` -> `--section.some-key`.
+  static std::string option_name(std::string_view field_name);
+  // A value as it is written in TOML (and in messages): 0.1, 3, true, "plain", [1, 2].
+  static std::string format_value(const FieldValue& value);
+
+ private:
+  ConfigField& add(std::string name, FieldType type, FieldValue default_value, std::string help);
+  const ConfigField* find(std::string_view name) const;
+  std::size_t index_of(std::string_view name) const;
+  void assign(std::size_t index, FieldValue value, const std::string& where, const std::string& got);
+
+  std::deque<ConfigField> fields_;  // a deque: add_* returns references that stay valid
+  std::vector<FieldValue> values_;
+  std::vector<std::string> origins_;
+  std::vector<Constraint> constraints_;
+};
+
+// Parses a double exactly as written (shortest round-trip text reads back to the same bits); nullopt if
+// `text` is not entirely a number.
+std::optional<double> parse_double(std::string_view text);
+std::optional<std::int64_t> parse_int(std::string_view text);
+// Shortest text that reads back to exactly `x` ("0.1", "1e-300", "inf").
+std::string format_double(double x);
+
+}  // namespace pegasus

@@ -1,0 +1,66 @@
+#pragma once
+// A one-line progress bar with ETA on stderr, for long work:
+//   label [##########..........] 45% 12/30 ETA 0:03
+// It draws only when enabled (by default: stderr is a terminal and not --quiet), at most ~10 times a
+// second; otherwise every call is a cheap atomic add. advance() may be called from any thread. Time is
+// used for the display only, never in results.
+//
+//   Progress bar("scenarios", m, Progress::default_enabled(quiet));
+//   pool.parallel_for(m, [&](std::size_t i) { work(i); bar.advance(); });
+//   bar.finish();
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <cstdio>
+#include <mutex>
+#include <string>
+
+namespace pegasus {
+
+class Progress {
+ public:
+  using Clock = std::chrono::steady_clock;
+
+  // `out` is where the bar is drawn (stderr by default); `min_interval` the least time between redraws.
+  Progress(std::string label, std::uint64_t total, bool enabled, std::FILE* out = stderr,
+           Clock::duration min_interval = std::chrono::milliseconds(100));
+  ~Progress();
+  Progress(const Progress&) = delete;
+  Progress& operator=(const Progress&) = delete;
+
+  // True when stderr is a terminal and not quiet.
+  static bool default_enabled(bool quiet);
+
+  // Counts k more units done.
+  void advance(std::uint64_t k = 1);
+  // Counts k units as already done (a resumed run) without counting them in the speed used for the ETA.
+  void skip(std::uint64_t k);
+  // Draws the final state and ends the line; idempotent (the destructor calls it).
+  void finish();
+
+  std::uint64_t done() const { return done_.load(std::memory_order_relaxed); }
+  std::uint64_t total() const { return total_; }
+  bool enabled() const { return enabled_; }
+
+  // The text of one line, e.g. render("fit", 12, 30, 2.0, 10) -> "fit [########............] 40% 12/30 ETA
+  // 0:03". `done_this_run` units took `elapsed_s` seconds; the ETA is unknown ("ETA -:--") until one is done.
+  static std::string render(const std::string& label, std::uint64_t done, std::uint64_t total,
+                            double elapsed_s, std::uint64_t done_this_run, int width = 24);
+
+ private:
+  void draw(bool final_line);
+
+  std::string label_;
+  std::uint64_t total_;
+  bool enabled_;
+  std::FILE* out_;
+  Clock::duration min_interval_;
+  Clock::time_point start_;
+  std::atomic<std::uint64_t> done_{0};
+  std::atomic<std::uint64_t> skipped_{0};
+  std::atomic<Clock::rep> last_draw_;
+  std::mutex draw_mutex_;
+  bool finished_ = false;
+};
+
+}  // namespace pegasus

@@ -1,0 +1,72 @@
+#pragma once
+// The directory a run writes its results to (`--out DIR`). Everything is written into a staging directory
+// `DIR.partial` next to DIR, and commit() renames it to DIR, so DIR either does not exist or is complete.
+//
+//   open(DIR):  DIR exists          -> InputError unless options.force (then DIR is replaced at commit)
+//               DIR.partial exists  -> InputError unless options.resume (continue it: its config.toml must
+//                                      equal `config` on every field that affects results, else InputError
+//                                      naming the key) or options.force (discard it, start over)
+//               otherwise           -> a fresh DIR.partial (also with --resume: nothing to resume)
+// open() writes the resolved config to config.toml. It creates nothing when it throws. If the process
+// dies later, DIR.partial stays behind for --resume. Every write is atomic (atomic_file.hpp).
+//
+//   RunDirectory run = RunDirectory::open(out, schema, {.force = f, .resume = r});
+//   if (auto state = run.load_checkpoint()) next = (*state)["next"];
+//   ...; run.save_checkpoint({{"next", i}, {"partial_sums", sums}});
+//   run.write_json("summary.json", summary);
+//   run.commit();
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string_view>
+
+#include "pegasus/runs/config.hpp"
+#include "pegasus/runs/output.hpp"
+
+namespace pegasus {
+
+struct RunDirectoryOptions {
+  bool force = false;   // replace an existing DIR; discard an existing DIR.partial unless resume
+  bool resume = false;  // continue an existing DIR.partial
+};
+
+class RunDirectory {
+ public:
+  static RunDirectory open(const std::filesystem::path& dir, const ConfigSchema& config,
+                           RunDirectoryOptions options = {});
+
+  RunDirectory(RunDirectory&&) noexcept = default;
+  RunDirectory& operator=(RunDirectory&&) noexcept = default;
+
+  // The staging directory DIR.partial, where everything is written until commit().
+  const std::filesystem::path& path() const { return staging_; }
+  // DIR, where the results are after commit().
+  const std::filesystem::path& final_path() const { return final_; }
+  // True when this run continues an interrupted one (an existing DIR.partial was reopened).
+  bool resumed() const { return resumed_; }
+  bool committed() const { return committed_; }
+
+  // Atomic writes to a path relative to the run directory (sub-folders are created).
+  void write_text(const std::filesystem::path& relative, std::string_view content) const;
+  void write_json(const std::filesystem::path& relative, const nlohmann::json& value) const;
+  void write_csv(const std::filesystem::path& relative, const CsvWriter& csv) const;
+
+  // checkpoint.json, written atomically; load_checkpoint() is nullopt when no checkpoint was saved.
+  void save_checkpoint(const nlohmann::json& state) const;
+  std::optional<nlohmann::json> load_checkpoint() const;
+
+  // Renames DIR.partial to DIR (replacing an old DIR when opened with force). Throws std::runtime_error if
+  // DIR appeared meanwhile and force was not given.
+  void commit();
+  // Removes DIR.partial if this process created it (bad input found after open); a resumed one is kept.
+  void abandon();
+
+ private:
+  RunDirectory() = default;
+  std::filesystem::path resolve(const std::filesystem::path& relative) const;
+
+  std::filesystem::path final_, staging_;
+  bool force_ = false, resumed_ = false, created_ = false, committed_ = false;
+};
+
+}  // namespace pegasus

@@ -1,0 +1,688 @@
+#include "pegasus/runs/config.hpp"
+
+#include <fmt/format.h>
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <bit>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "pegasus/core/error.hpp"
+
+namespace pegasus {
+
+namespace {
+
+bool is_number_type(FieldType t) {
+  return t == FieldType::kInt || t == FieldType::kDouble || t == FieldType::kIntList ||
+         t == FieldType::kDoubleList;
+}
+
+bool is_int_type(FieldType t) { return t == FieldType::kInt || t == FieldType::kIntList; }
+
+bool valid_field_name(std::string_view name) {
+  bool segment_start = true;
+  for (char c : name) {
+    if (segment_start) {
+      if (c < 'a' || c > 'z') return false;
+      segment_start = false;
+    } else if (c == '.') {
+      segment_start = true;
+    } else if (!((c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_')) {
+      return false;
+    }
+  }
+  return !name.empty() && !segment_start;
+}
+
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
+  return s;
+}
+
+std::string toml_quoted(std::string_view s) {
+  std::string out = "\"";
+  for (char c : s) {
+    switch (c) {
+      case '"':
+        out += "\\\"";
+        break;
+      case '\\':
+        out += "\\\\";
+        break;
+      case '\n':
+        out += "\\n";
+        break;
+      case '\t':
+        out += "\\t";
+        break;
+      case '\r':
+        out += "\\r";
+        break;
+      default:
+        if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) {
+          out += fmt::format("\\u{:04X}", static_cast<unsigned>(static_cast<unsigned char>(c)));
+        } else {
+          out += c;
+        }
+    }
+  }
+  return out + "\"";
+}
+
+// A double as a TOML float: always with a '.', an exponent, or inf/nan, so it reads back as a float.
+std::string toml_double(double x) {
+  std::string s = format_double(x);
+  if (s.find_first_of(".eEn") == std::string::npos) s += ".0";
+  return s;
+}
+
+bool same_value(const FieldValue& a, const FieldValue& b) {
+  if (a.index() != b.index()) return false;
+  // Doubles compare by bits: -0.0 and 0.0 may give different results.
+  if (const double* x = std::get_if<double>(&a)) {
+    return std::bit_cast<std::uint64_t>(*x) == std::bit_cast<std::uint64_t>(std::get<double>(b));
+  }
+  if (const auto* xs = std::get_if<std::vector<double>>(&a)) {
+    const auto& ys = std::get<std::vector<double>>(b);
+    return std::equal(xs->begin(), xs->end(), ys.begin(), ys.end(), [](double x, double y) {
+      return std::bit_cast<std::uint64_t>(x) == std::bit_cast<std::uint64_t>(y);
+    });
+  }
+  return a == b;
+}
+
+std::size_t edit_distance(std::string_view a, std::string_view b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+const char* type_name(FieldType t) {
+  switch (t) {
+    case FieldType::kInt:
+      return "int";
+    case FieldType::kDouble:
+      return "double";
+    case FieldType::kBool:
+      return "bool";
+    case FieldType::kString:
+      return "string";
+    case FieldType::kIntList:
+      return "int list";
+    case FieldType::kDoubleList:
+      return "double list";
+  }
+  return "?";
+}
+
+// What a TOML node holds, for "got ..." in messages.
+std::string describe(const toml::node& node) {
+  if (const auto* s = node.as_string()) return "the string " + toml_quoted(s->get());
+  if (const auto* i = node.as_integer()) return std::to_string(i->get());
+  if (const auto* d = node.as_floating_point()) return format_double(d->get());
+  if (const auto* b = node.as_boolean()) return b->get() ? "true" : "false";
+  if (node.is_array()) return "an array";
+  if (node.is_table()) return "a table";
+  return "a date/time";
+}
+
+// Converts a TOML node to a value of type `t`; nullopt when the TOML type does not fit.
+std::optional<FieldValue> from_toml(const toml::node& node, FieldType t) {
+  switch (t) {
+    case FieldType::kInt:
+      if (const auto* i = node.as_integer()) return FieldValue{i->get()};
+      return std::nullopt;
+    case FieldType::kDouble:
+      if (const auto* d = node.as_floating_point()) return FieldValue{d->get()};
+      if (const auto* i = node.as_integer()) return FieldValue{static_cast<double>(i->get())};
+      return std::nullopt;
+    case FieldType::kBool:
+      if (const auto* b = node.as_boolean()) return FieldValue{b->get()};
+      return std::nullopt;
+    case FieldType::kString:
+      if (const auto* s = node.as_string()) return FieldValue{s->get()};
+      return std::nullopt;
+    case FieldType::kIntList: {
+      const auto* array = node.as_array();
+      if (array == nullptr) return std::nullopt;
+      std::vector<std::int64_t> out;
+      for (const auto& element : *array) {
+        const auto* i = element.as_integer();
+        if (i == nullptr) return std::nullopt;
+        out.push_back(i->get());
+      }
+      return FieldValue{std::move(out)};
+    }
+    case FieldType::kDoubleList: {
+      const auto* array = node.as_array();
+      if (array == nullptr) return std::nullopt;
+      std::vector<double> out;
+      for (const auto& element : *array) {
+        if (const auto* d = element.as_floating_point()) {
+          out.push_back(d->get());
+        } else if (const auto* i = element.as_integer()) {
+          out.push_back(static_cast<double>(i->get()));
+        } else {
+          return std::nullopt;
+        }
+      }
+      return FieldValue{std::move(out)};
+    }
+  }
+  return std::nullopt;
+}
+
+std::optional<bool> parse_bool(std::string_view text) {
+  std::string s(trim(text));
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (s == "true" || s == "1" || s == "yes" || s == "on") return true;
+  if (s == "false" || s == "0" || s == "no" || s == "off") return false;
+  return std::nullopt;
+}
+
+template <class T, class Parse>
+std::optional<std::vector<T>> parse_list(std::string_view text, Parse parse) {
+  text = trim(text);
+  if (text.size() >= 2 && text.front() == '[' && text.back() == ']')
+    text = trim(text.substr(1, text.size() - 2));
+  std::vector<T> out;
+  if (text.empty()) return out;
+  while (true) {
+    std::size_t comma = text.find(',');
+    std::optional<T> element = parse(text.substr(0, comma));
+    if (!element) return std::nullopt;
+    out.push_back(*element);
+    if (comma == std::string_view::npos) break;
+    text.remove_prefix(comma + 1);
+  }
+  return out;
+}
+
+}  // namespace
+
+std::optional<double> parse_double(std::string_view text) {
+  text = trim(text);
+  if (!text.empty() && text.front() == '+') text.remove_prefix(1);
+  double x = 0;
+  auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), x);
+  if (ec != std::errc() || end != text.data() + text.size() || text.empty()) return std::nullopt;
+  return x;
+}
+
+std::optional<std::int64_t> parse_int(std::string_view text) {
+  text = trim(text);
+  if (!text.empty() && text.front() == '+') text.remove_prefix(1);
+  std::int64_t x = 0;
+  auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), x);
+  if (ec != std::errc() || end != text.data() + text.size() || text.empty()) return std::nullopt;
+  return x;
+}
+
+std::string format_double(double x) {
+  // fmt's default format is the shortest text that reads back to the same double.
+  return fmt::format("{}", x);
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// ConfigField
+
+ConfigField::ConfigField(std::string name, FieldType type, FieldValue default_value, std::string help)
+    : name_(std::move(name)), type_(type), default_(std::move(default_value)), help_(std::move(help)) {
+  std::replace(help_.begin(), help_.end(), '\n', ' ');
+}
+
+ConfigField& ConfigField::min(double lo) {
+  if (!is_number_type(type_)) throw std::logic_error("min() on non-numeric field " + name_);
+  lo_ = Bound{lo, true};
+  return *this;
+}
+ConfigField& ConfigField::max(double hi) {
+  if (!is_number_type(type_)) throw std::logic_error("max() on non-numeric field " + name_);
+  hi_ = Bound{hi, true};
+  return *this;
+}
+ConfigField& ConfigField::greater_than(double lo) {
+  if (!is_number_type(type_)) throw std::logic_error("greater_than() on non-numeric field " + name_);
+  lo_ = Bound{lo, false};
+  return *this;
+}
+ConfigField& ConfigField::less_than(double hi) {
+  if (!is_number_type(type_)) throw std::logic_error("less_than() on non-numeric field " + name_);
+  hi_ = Bound{hi, false};
+  return *this;
+}
+ConfigField& ConfigField::choices(std::vector<std::string> allowed) {
+  if (type_ != FieldType::kString) throw std::logic_error("choices() on non-string field " + name_);
+  choices_ = std::move(allowed);
+  return *this;
+}
+ConfigField& ConfigField::min_size(std::size_t n) {
+  if (type_ != FieldType::kIntList && type_ != FieldType::kDoubleList) {
+    throw std::logic_error("min_size() on non-list field " + name_);
+  }
+  min_size_ = n;
+  return *this;
+}
+ConfigField& ConfigField::validate(Validator check) {
+  validators_.push_back(std::move(check));
+  return *this;
+}
+ConfigField& ConfigField::affects_results(bool yes) {
+  affects_results_ = yes;
+  return *this;
+}
+
+bool ConfigField::in_bounds(double x) const {
+  if (std::isnan(x)) return false;
+  if (lo_ && (lo_->inclusive ? x < lo_->value : x <= lo_->value)) return false;
+  if (hi_ && (hi_->inclusive ? x > hi_->value : x >= hi_->value)) return false;
+  return true;
+}
+
+std::string ConfigField::expectation() const {
+  auto bound = [&](double v) {
+    if (is_int_type(type_) && std::abs(v) < 9e18 && v == std::floor(v)) {
+      return std::to_string(static_cast<std::int64_t>(v));
+    }
+    return format_double(v);
+  };
+  std::string bounds;
+  if (lo_ && hi_) {
+    bounds = fmt::format("in {}{}, {}{}", lo_->inclusive ? '[' : '(', bound(lo_->value), bound(hi_->value),
+                         hi_->inclusive ? ']' : ')');
+  } else if (lo_) {
+    bounds = fmt::format("{} {}", lo_->inclusive ? ">=" : ">", bound(lo_->value));
+  } else if (hi_) {
+    bounds = fmt::format("{} {}", hi_->inclusive ? "<=" : "<", bound(hi_->value));
+  }
+  auto with = [&](std::string what) { return bounds.empty() ? what : what + " " + bounds; };
+  switch (type_) {
+    case FieldType::kInt:
+      return with("an integer");
+    case FieldType::kDouble:
+      return with("a number");
+    case FieldType::kBool:
+      return "true or false";
+    case FieldType::kString: {
+      if (choices_.empty()) return "a string";
+      std::string out = "one of ";
+      for (std::size_t i = 0; i < choices_.size(); ++i) out += (i ? ", " : "") + toml_quoted(choices_[i]);
+      return out;
+    }
+    case FieldType::kIntList:
+    case FieldType::kDoubleList: {
+      std::string out = type_ == FieldType::kIntList ? "a list of integers" : "a list of numbers";
+      if (min_size_ > 0) out += fmt::format(" (at least {})", min_size_);
+      if (!bounds.empty()) out += ", each " + bounds;
+      return out;
+    }
+  }
+  return "?";
+}
+
+std::string ConfigField::check(const FieldValue& value) const {
+  bool ok = true;
+  switch (type_) {
+    case FieldType::kInt:
+      ok = in_bounds(static_cast<double>(std::get<std::int64_t>(value)));
+      break;
+    case FieldType::kDouble:
+      ok = in_bounds(std::get<double>(value));
+      break;
+    case FieldType::kBool:
+      break;
+    case FieldType::kString:
+      ok = choices_.empty() ||
+           std::find(choices_.begin(), choices_.end(), std::get<std::string>(value)) != choices_.end();
+      break;
+    case FieldType::kIntList: {
+      const auto& xs = std::get<std::vector<std::int64_t>>(value);
+      ok = xs.size() >= min_size_ && std::all_of(xs.begin(), xs.end(), [&](std::int64_t x) {
+             return in_bounds(static_cast<double>(x));
+           });
+      break;
+    }
+    case FieldType::kDoubleList: {
+      const auto& xs = std::get<std::vector<double>>(value);
+      ok =
+          xs.size() >= min_size_ && std::all_of(xs.begin(), xs.end(), [&](double x) { return in_bounds(x); });
+      break;
+    }
+  }
+  if (!ok) return expectation();
+  for (const auto& validator : validators_) {
+    std::string expected = validator(value);
+    if (!expected.empty()) return expected;
+  }
+  return {};
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// ConfigSchema
+
+ConfigField& ConfigSchema::add(std::string name, FieldType type, FieldValue default_value, std::string help) {
+  if (!valid_field_name(name)) throw std::logic_error("config field name is not snake_case: " + name);
+  for (const auto& f : fields_) {
+    const std::string& other = f.name();
+    auto nests = [](const std::string& outer, const std::string& inner) {
+      return inner.size() > outer.size() && inner.compare(0, outer.size(), outer) == 0 &&
+             inner[outer.size()] == '.';
+    };
+    if (other == name || nests(other, name) || nests(name, other)) {
+      throw std::logic_error("config field declared twice or nested in another: " + name);
+    }
+  }
+  fields_.emplace_back(std::move(name), type, default_value, std::move(help));
+  values_.push_back(std::move(default_value));
+  origins_.emplace_back("default");
+  return fields_.back();
+}
+
+ConfigField& ConfigSchema::add_int(std::string name, std::int64_t default_value, std::string help) {
+  return add(std::move(name), FieldType::kInt, default_value, std::move(help));
+}
+ConfigField& ConfigSchema::add_double(std::string name, double default_value, std::string help) {
+  return add(std::move(name), FieldType::kDouble, default_value, std::move(help));
+}
+ConfigField& ConfigSchema::add_bool(std::string name, bool default_value, std::string help) {
+  return add(std::move(name), FieldType::kBool, default_value, std::move(help));
+}
+ConfigField& ConfigSchema::add_string(std::string name, std::string default_value, std::string help) {
+  return add(std::move(name), FieldType::kString, std::move(default_value), std::move(help));
+}
+ConfigField& ConfigSchema::add_int_list(std::string name, std::vector<std::int64_t> default_value,
+                                        std::string help) {
+  return add(std::move(name), FieldType::kIntList, std::move(default_value), std::move(help));
+}
+ConfigField& ConfigSchema::add_double_list(std::string name, std::vector<double> default_value,
+                                           std::string help) {
+  return add(std::move(name), FieldType::kDoubleList, std::move(default_value), std::move(help));
+}
+void ConfigSchema::add_constraint(Constraint constraint) { constraints_.push_back(std::move(constraint)); }
+
+const ConfigField* ConfigSchema::find(std::string_view name) const {
+  for (const auto& f : fields_) {
+    if (f.name() == name) return &f;
+  }
+  return nullptr;
+}
+
+std::size_t ConfigSchema::index_of(std::string_view name) const {
+  for (std::size_t i = 0; i < fields_.size(); ++i) {
+    if (fields_[i].name() == name) return i;
+  }
+  throw std::logic_error("no config field named '" + std::string(name) + "'");
+}
+
+const ConfigField& ConfigSchema::field(std::string_view name) const { return fields_[index_of(name)]; }
+const FieldValue& ConfigSchema::value(std::string_view name) const { return values_[index_of(name)]; }
+const std::string& ConfigSchema::origin(std::string_view name) const { return origins_[index_of(name)]; }
+
+void ConfigSchema::assign(std::size_t index, FieldValue value, const std::string& where,
+                          const std::string& got) {
+  std::string expected = fields_[index].check(value);
+  if (!expected.empty()) throw InputError(fmt::format("{}: expected {}, got {}", where, expected, got));
+  values_[index] = std::move(value);
+}
+
+void ConfigSchema::load_toml_file(const std::filesystem::path& file) {
+  errno = 0;
+  std::ifstream in(file, std::ios::binary);
+  std::error_code ec;
+  if (!in || std::filesystem::is_directory(file, ec)) {
+    throw InputError(fmt::format("{}: cannot read config file: {}", file.string(),
+                                 errno != 0 ? std::strerror(errno) : "not a regular file"));
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw InputError(fmt::format("{}: cannot read config file", file.string()));
+  load_toml_string(text.str(), file.string());
+}
+
+void ConfigSchema::load_toml_string(std::string_view text, const std::string& source_name) {
+  toml::table root;
+  try {
+    root = toml::parse(text, source_name);
+  } catch (const toml::parse_error& e) {
+    std::string description(e.description());
+    std::replace(description.begin(), description.end(), '\n', ' ');
+    throw InputError(fmt::format("{}:{}: invalid TOML: {}", source_name, e.source().begin.line, description));
+  }
+
+  auto unknown = [&](const std::string& full, const toml::key& key) {
+    std::string hint;
+    std::size_t best = std::string::npos;
+    for (const auto& f : fields_) {
+      std::size_t d = edit_distance(full, f.name());
+      if (d <= std::max<std::size_t>(2, full.size() / 3) && d < best) {
+        best = d;
+        hint = fmt::format(" (did you mean '{}'?)", f.name());
+      }
+    }
+    if (hint.empty()) {
+      hint = " (known keys:";
+      for (std::size_t i = 0; i < fields_.size(); ++i) hint += (i ? ", " : " ") + fields_[i].name();
+      hint += ")";
+    }
+    throw InputError(
+        fmt::format("{}:{}: unknown key '{}'{}", source_name, key.source().begin.line, full, hint));
+  };
+
+  std::function<void(const toml::table&, const std::string&)> walk = [&](const toml::table& table,
+                                                                         const std::string& prefix) {
+    for (const auto& [key, node] : table) {
+      const std::string full =
+          prefix.empty() ? std::string(key.str()) : prefix + "." + std::string(key.str());
+      const ConfigField* f = find(full);
+      if (f == nullptr) {
+        const bool is_section = std::any_of(fields_.begin(), fields_.end(), [&](const ConfigField& g) {
+          return g.name().size() > full.size() && g.name().compare(0, full.size(), full) == 0 &&
+                 g.name()[full.size()] == '.';
+        });
+        if (is_section && node.is_table()) {
+          walk(*node.as_table(), full);
+          continue;
+        }
+        unknown(full, key);
+      }
+      std::size_t index = index_of(full);
+      const auto line = node.source().begin.line != 0 ? node.source().begin.line : key.source().begin.line;
+      const std::string where = fmt::format("{}:{}: key '{}'", source_name, line, full);
+      std::optional<FieldValue> value = from_toml(node, f->type());
+      if (!value)
+        throw InputError(fmt::format("{}: expected {}, got {}", where, f->expectation(), describe(node)));
+      assign(index, std::move(*value), where, format_value(*value));
+      origins_[index] = fmt::format("{}:{}", source_name, line);
+    }
+  };
+  walk(root, "");
+}
+
+void ConfigSchema::set_from_cli(std::string_view name, std::string_view text) {
+  const std::size_t index = index_of(name);
+  const ConfigField& f = fields_[index];
+  const std::string where = option_name(name);
+  const std::string got = text.empty() ? "an empty value" : "'" + std::string(text) + "'";
+  std::optional<FieldValue> value;
+  switch (f.type()) {
+    case FieldType::kInt:
+      if (auto x = parse_int(text)) value = *x;
+      break;
+    case FieldType::kDouble:
+      if (auto x = parse_double(text)) value = *x;
+      break;
+    case FieldType::kBool:
+      if (auto x = parse_bool(text)) value = *x;
+      break;
+    case FieldType::kString:
+      value = std::string(text);
+      break;
+    case FieldType::kIntList:
+      if (auto x = parse_list<std::int64_t>(text, parse_int)) value = std::move(*x);
+      break;
+    case FieldType::kDoubleList:
+      if (auto x = parse_list<double>(text, parse_double)) value = std::move(*x);
+      break;
+  }
+  if (!value) throw InputError(fmt::format("{}: expected {}, got {}", where, f.expectation(), got));
+  assign(index, std::move(*value), where, got);
+  origins_[index] = where;
+}
+
+void ConfigSchema::set(std::string_view name, FieldValue value) {
+  const std::size_t index = index_of(name);
+  if (value.index() != fields_[index].default_value().index()) {
+    throw std::logic_error(fmt::format("config field '{}' is a {}", name, type_name(fields_[index].type())));
+  }
+  const std::string got = format_value(value);
+  assign(index, std::move(value), std::string(name), got);
+  origins_[index] = std::string(name);
+}
+
+void ConfigSchema::validate() const {
+  for (const auto& constraint : constraints_) {
+    std::string message = constraint(*this);
+    if (!message.empty()) throw InputError(message);
+  }
+}
+
+std::string ConfigSchema::format_value(const FieldValue& value) {
+  struct Visitor {
+    std::string operator()(std::int64_t x) const { return std::to_string(x); }
+    std::string operator()(double x) const { return toml_double(x); }
+    std::string operator()(bool x) const { return x ? "true" : "false"; }
+    std::string operator()(const std::string& x) const { return toml_quoted(x); }
+    std::string operator()(const std::vector<std::int64_t>& xs) const {
+      std::string out = "[";
+      for (std::size_t i = 0; i < xs.size(); ++i) out += (i ? ", " : "") + std::to_string(xs[i]);
+      return out + "]";
+    }
+    std::string operator()(const std::vector<double>& xs) const {
+      std::string out = "[";
+      for (std::size_t i = 0; i < xs.size(); ++i) out += (i ? ", " : "") + toml_double(xs[i]);
+      return out + "]";
+    }
+  };
+  return std::visit(Visitor{}, value);
+}
+
+std::string ConfigSchema::option_name(std::string_view field_name) {
+  std::string out = "--";
+  for (char c : field_name) out += c == '_' ? '-' : c;
+  return out;
+}
+
+std::string ConfigSchema::to_toml() const {
+  // Top-level keys first (TOML puts every key after a [table] header into that table), then one table per
+  // section in order of first declaration.
+  std::vector<std::string> sections;
+  auto section_of = [](const std::string& name) {
+    std::size_t dot = name.rfind('.');
+    return dot == std::string::npos ? std::string() : name.substr(0, dot);
+  };
+  sections.emplace_back();
+  for (const auto& f : fields_) {
+    std::string s = section_of(f.name());
+    if (std::find(sections.begin(), sections.end(), s) == sections.end()) sections.push_back(s);
+  }
+  std::string out = "# Resolved configuration (defaults, then config file, then command line).\n";
+  for (const auto& section : sections) {
+    bool header_written = section.empty();
+    for (std::size_t i = 0; i < fields_.size(); ++i) {
+      if (section_of(fields_[i].name()) != section) continue;
+      if (!header_written) {
+        out += fmt::format("\n[{}]\n", section);
+        header_written = true;
+      }
+      const std::string key =
+          section.empty() ? fields_[i].name() : fields_[i].name().substr(section.size() + 1);
+      out += fmt::format("\n# {} [{}]\n{} = {}\n", fields_[i].help(), fields_[i].expectation(), key,
+                         format_value(values_[i]));
+    }
+  }
+  return out;
+}
+
+nlohmann::json ConfigSchema::to_json() const {
+  nlohmann::json out = nlohmann::json::object();
+  for (std::size_t i = 0; i < fields_.size(); ++i) {
+    nlohmann::json* node = &out;
+    std::string_view name = fields_[i].name();
+    for (std::size_t dot; (dot = name.find('.')) != std::string_view::npos; name.remove_prefix(dot + 1)) {
+      node = &(*node)[std::string(name.substr(0, dot))];
+    }
+    std::visit([&](const auto& v) { (*node)[std::string(name)] = v; }, values_[i]);
+  }
+  return out;
+}
+
+ConfigSchema ConfigSchema::with_defaults() const {
+  ConfigSchema copy = *this;
+  for (std::size_t i = 0; i < fields_.size(); ++i) {
+    copy.values_[i] = fields_[i].default_value();
+    copy.origins_[i] = "default";
+  }
+  return copy;
+}
+
+std::optional<std::string> ConfigSchema::first_difference(const ConfigSchema& other) const {
+  for (std::size_t i = 0; i < fields_.size(); ++i) {
+    if (!fields_[i].affects_results()) continue;
+    const ConfigField* g = other.find(fields_[i].name());
+    if (g == nullptr || !same_value(values_[i], other.values_[other.index_of(g->name())]))
+      return fields_[i].name();
+  }
+  for (const auto& g : other.fields_) {
+    if (g.affects_results() && find(g.name()) == nullptr) return g.name();
+  }
+  return std::nullopt;
+}
+
+template <class T>
+static const T& get_as(const std::vector<FieldValue>& values, const std::deque<ConfigField>& fields,
+                       std::size_t index) {
+  const T* x = std::get_if<T>(&values[index]);
+  if (x == nullptr) {
+    throw std::logic_error(
+        fmt::format("config field '{}' is a {}", fields[index].name(), type_name(fields[index].type())));
+  }
+  return *x;
+}
+
+std::int64_t ConfigSchema::get_int(std::string_view name) const {
+  return get_as<std::int64_t>(values_, fields_, index_of(name));
+}
+double ConfigSchema::get_double(std::string_view name) const {
+  return get_as<double>(values_, fields_, index_of(name));
+}
+bool ConfigSchema::get_bool(std::string_view name) const {
+  return get_as<bool>(values_, fields_, index_of(name));
+}
+const std::string& ConfigSchema::get_string(std::string_view name) const {
+  return get_as<std::string>(values_, fields_, index_of(name));
+}
+const std::vector<std::int64_t>& ConfigSchema::get_int_list(std::string_view name) const {
+  return get_as<std::vector<std::int64_t>>(values_, fields_, index_of(name));
+}
+const std::vector<double>& ConfigSchema::get_double_list(std::string_view name) const {
+  return get_as<std::vector<double>>(values_, fields_, index_of(name));
+}
+
+}  // namespace pegasus

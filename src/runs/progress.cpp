@@ -1,0 +1,87 @@
+#include "pegasus/runs/progress.hpp"
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace pegasus {
+
+namespace {
+
+std::string clock_text(double seconds) {
+  const auto s = static_cast<std::uint64_t>(std::llround(std::max(0.0, seconds)));
+  if (s >= 3600) return fmt::format("{}:{:02}:{:02}", s / 3600, s / 60 % 60, s % 60);
+  return fmt::format("{}:{:02}", s / 60, s % 60);
+}
+
+}  // namespace
+
+Progress::Progress(std::string label, std::uint64_t total, bool enabled, std::FILE* out,
+                   Clock::duration min_interval)
+    : label_(std::move(label)),
+      total_(total),
+      enabled_(enabled && out != nullptr),
+      out_(out),
+      min_interval_(min_interval),
+      start_(Clock::now()),
+      last_draw_(start_.time_since_epoch().count() - min_interval.count()) {}
+
+Progress::~Progress() { finish(); }
+
+bool Progress::default_enabled(bool quiet) { return !quiet && ::isatty(STDERR_FILENO) == 1; }
+
+void Progress::advance(std::uint64_t k) {
+  done_.fetch_add(k, std::memory_order_relaxed);
+  if (!enabled_) return;
+  const Clock::rep now = Clock::now().time_since_epoch().count();
+  Clock::rep last = last_draw_.load(std::memory_order_relaxed);
+  // One thread wins the right to draw this interval; the others return at once.
+  if (now - last < min_interval_.count() ||
+      !last_draw_.compare_exchange_strong(last, now, std::memory_order_relaxed)) {
+    return;
+  }
+  std::unique_lock lock(draw_mutex_, std::try_to_lock);
+  if (lock.owns_lock() && !finished_) draw(false);
+}
+
+void Progress::skip(std::uint64_t k) {
+  skipped_.fetch_add(k, std::memory_order_relaxed);
+  done_.fetch_add(k, std::memory_order_relaxed);
+}
+
+void Progress::finish() {
+  std::lock_guard lock(draw_mutex_);
+  if (finished_) return;
+  finished_ = true;
+  if (enabled_) draw(true);
+}
+
+void Progress::draw(bool final_line) {
+  const double elapsed = std::chrono::duration<double>(Clock::now() - start_).count();
+  const std::uint64_t done = done_.load(std::memory_order_relaxed);
+  const std::string line =
+      render(label_, done, total_, elapsed, done - std::min(done, skipped_.load(std::memory_order_relaxed)));
+  // \r returns to the line start, \x1b[K clears what a longer previous line left.
+  std::fprintf(out_, "\r%s\x1b[K%s", line.c_str(), final_line ? "\n" : "");
+  std::fflush(out_);
+}
+
+std::string Progress::render(const std::string& label, std::uint64_t done, std::uint64_t total,
+                             double elapsed_s, std::uint64_t done_this_run, int width) {
+  const double fraction =
+      total == 0 ? 1.0 : std::min(1.0, static_cast<double>(done) / static_cast<double>(total));
+  const int filled = static_cast<int>(fraction * width);
+  std::string eta = "ETA -:--";
+  if (done >= total) {
+    eta = "in " + clock_text(elapsed_s);
+  } else if (done_this_run > 0) {
+    eta = "ETA " +
+          clock_text(elapsed_s / static_cast<double>(done_this_run) * static_cast<double>(total - done));
+  }
+  return fmt::format("{} [{}{}] {}% {}/{} {}", label, std::string(filled, '#'),
+                     std::string(width - filled, '.'), static_cast<int>(fraction * 100), done, total, eta);
+}
+
+}  // namespace pegasus

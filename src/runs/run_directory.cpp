@@ -1,0 +1,176 @@
+#include "pegasus/runs/run_directory.hpp"
+
+#include <fcntl.h>
+#include <fmt/format.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <stdexcept>
+
+#include "pegasus/core/error.hpp"
+#include "pegasus/runs/atomic_file.hpp"
+
+namespace pegasus {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kConfigFile = "config.toml";
+constexpr const char* kCheckpointFile = "checkpoint.json";
+
+bool exists_no_follow(const fs::path& p) {
+  std::error_code ec;
+  return fs::exists(fs::symlink_status(p, ec));
+}
+
+// Temporary files of atomic writes that a kill interrupted.
+void remove_stale_temporaries(const fs::path& dir) {
+  std::error_code ec;
+  std::vector<fs::path> stale;
+  for (auto it = fs::recursive_directory_iterator(dir, ec); !ec && it != fs::recursive_directory_iterator();
+       it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name.size() > 5 && name.front() == '.' && name.ends_with(".tmp") && it->is_regular_file(ec)) {
+      stale.push_back(it->path());
+    }
+  }
+  for (const auto& p : stale) fs::remove(p, ec);
+}
+
+}  // namespace
+
+RunDirectory RunDirectory::open(const fs::path& dir, const ConfigSchema& config,
+                                RunDirectoryOptions options) {
+  fs::path final_dir = dir.lexically_normal();
+  if (!final_dir.has_filename()) final_dir = final_dir.parent_path();
+  const std::string name = final_dir.filename().string();
+  if (name.empty() || name == "." || name == "..") {
+    throw InputError(fmt::format("--out: expected a directory name, got '{}'", dir.string()));
+  }
+  fs::path staging = final_dir;
+  staging += ".partial";
+
+  if (exists_no_follow(final_dir) && !options.force) {
+    throw InputError(
+        fmt::format("--out: '{}' already exists (use --force to replace it)", final_dir.string()));
+  }
+  RunDirectory run;
+  run.final_ = final_dir;
+  run.staging_ = staging;
+  run.force_ = options.force;
+
+  const bool partial_exists = exists_no_follow(staging);
+  if (partial_exists && !options.resume && !options.force) {
+    throw InputError(fmt::format(
+        "--out: '{}' holds an interrupted run (use --resume to continue it or --force to start over)",
+        staging.string()));
+  }
+  if (partial_exists && options.resume) {
+    std::error_code ec;
+    if (!fs::is_directory(staging, ec)) {
+      throw InputError(fmt::format("--resume: '{}' is not a directory", staging.string()));
+    }
+    const fs::path stored_file = staging / kConfigFile;
+    if (exists_no_follow(stored_file)) {
+      ConfigSchema stored = config.with_defaults();
+      try {
+        stored.load_toml_file(stored_file);
+      } catch (const InputError& e) {
+        throw InputError(fmt::format("--resume: cannot use the stored configuration: {}", e.what()));
+      }
+      if (auto key = config.first_difference(stored)) {
+        throw InputError(
+            fmt::format("--resume: key '{}' is {} in the interrupted run ({}) but {} now; use the same "
+                        "settings, or --force "
+                        "to start over",
+                        *key, ConfigSchema::format_value(stored.value(*key)), stored_file.string(),
+                        ConfigSchema::format_value(config.value(*key))));
+      }
+    }
+    remove_stale_temporaries(staging);
+    run.resumed_ = true;
+  } else {
+    if (partial_exists) {  // --force without --resume: start over
+      std::error_code ec;
+      fs::remove_all(staging, ec);
+      if (ec) throw std::runtime_error(fmt::format("cannot remove {}: {}", staging.string(), ec.message()));
+    }
+    std::error_code ec;
+    if (final_dir.has_parent_path()) fs::create_directories(final_dir.parent_path(), ec);
+    // create_directory is the claim: of two processes started on the same DIR, one gets it.
+    if (ec || !fs::create_directory(staging, ec) || ec) {
+      throw std::runtime_error(fmt::format("cannot create {}: {}", staging.string(),
+                                           ec ? ec.message() : std::string("it appeared meanwhile")));
+    }
+    run.created_ = true;
+  }
+  run.write_text(kConfigFile, config.to_toml());
+  return run;
+}
+
+fs::path RunDirectory::resolve(const fs::path& relative) const {
+  if (committed_) throw std::logic_error("RunDirectory: write after commit()");
+  const fs::path normal = relative.lexically_normal();
+  if (normal.is_absolute() || normal.empty() || *normal.begin() == "..") {
+    throw std::logic_error("RunDirectory: path must stay inside the run directory: " + relative.string());
+  }
+  return staging_ / normal;
+}
+
+void RunDirectory::write_text(const fs::path& relative, std::string_view content) const {
+  write_file_atomic(resolve(relative), content);
+}
+
+void RunDirectory::write_json(const fs::path& relative, const nlohmann::json& value) const {
+  write_file_atomic(resolve(relative), json_text(value));
+}
+
+void RunDirectory::write_csv(const fs::path& relative, const CsvWriter& csv) const {
+  csv.write(resolve(relative));
+}
+
+void RunDirectory::save_checkpoint(const nlohmann::json& state) const { write_json(kCheckpointFile, state); }
+
+std::optional<nlohmann::json> RunDirectory::load_checkpoint() const {
+  const fs::path file = staging_ / kCheckpointFile;
+  if (!exists_no_follow(file)) return std::nullopt;
+  return read_json_file(file);
+}
+
+void RunDirectory::commit() {
+  if (committed_) return;
+  if (exists_no_follow(final_)) {
+    if (!force_) {
+      throw std::runtime_error(
+          fmt::format("cannot commit: {} appeared while the run was going", final_.string()));
+    }
+    // Swap the two directories in one step, so DIR is never missing; then drop the old one.
+    if (::renameat2(AT_FDCWD, staging_.c_str(), AT_FDCWD, final_.c_str(), RENAME_EXCHANGE) != 0) {
+      // File systems without RENAME_EXCHANGE: move the old one aside first.
+      fs::path old = final_;
+      old += ".replaced";
+      std::error_code ec;
+      fs::remove_all(old, ec);
+      fs::rename(final_, old);
+      fs::rename(staging_, final_);
+      fs::remove_all(old, ec);
+    } else {
+      std::error_code ec;
+      fs::remove_all(staging_, ec);
+    }
+  } else {
+    fs::rename(staging_, final_);
+  }
+  committed_ = true;
+}
+
+void RunDirectory::abandon() {
+  if (!created_ || committed_) return;
+  std::error_code ec;
+  fs::remove_all(staging_, ec);
+  created_ = false;
+}
+
+}  // namespace pegasus

@@ -1,0 +1,87 @@
+#include "pegasus/runs/progress.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <thread>
+#include <vector>
+
+namespace pegasus {
+namespace {
+
+std::string contents(std::FILE* f) {
+  std::fflush(f);
+  std::rewind(f);
+  std::string out;
+  char buffer[4096];
+  for (std::size_t n; (n = std::fread(buffer, 1, sizeof buffer, f)) > 0;) out.append(buffer, n);
+  return out;
+}
+
+TEST(Progress, RenderShowsBarPercentCountAndEta) {
+  EXPECT_EQ(Progress::render("fit", 12, 30, 2.0, 12, 10), "fit [####......] 40% 12/30 ETA 0:03");
+  EXPECT_EQ(Progress::render("fit", 0, 30, 2.0, 0, 10), "fit [..........] 0% 0/30 ETA -:--");
+  EXPECT_EQ(Progress::render("fit", 30, 30, 75.0, 30, 10), "fit [##########] 100% 30/30 in 1:15");
+  // Resumed: 20 units were done before, 5 in 10 s now -> 5 left take 10 s.
+  EXPECT_EQ(Progress::render("fit", 25, 30, 10.0, 5, 10), "fit [########..] 83% 25/30 ETA 0:10");
+  EXPECT_EQ(Progress::render("x", 1, 2, 7200.0, 1, 2), "x [#.] 50% 1/2 ETA 2:00:00");
+}
+
+TEST(Progress, DisabledBarWritesNothing) {
+  std::FILE* f = std::tmpfile();
+  {
+    Progress bar("work", 10, false, f, std::chrono::nanoseconds(0));
+    for (int i = 0; i < 10; ++i) bar.advance();
+    bar.finish();
+    EXPECT_EQ(bar.done(), 10u);
+  }
+  EXPECT_EQ(contents(f), "");
+  std::fclose(f);
+}
+
+TEST(Progress, EnabledBarRedrawsOneLineAndEndsIt) {
+  std::FILE* f = std::tmpfile();
+  {
+    Progress bar("work", 4, true, f, std::chrono::nanoseconds(0));
+    bar.advance(2);
+    bar.advance(2);
+  }  // the destructor finishes
+  const std::string out = contents(f);
+  EXPECT_EQ(out.front(), '\r');
+  EXPECT_EQ(out.back(), '\n');
+  EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1);
+  EXPECT_NE(out.find("work [############............] 50% 2/4"), std::string::npos) << out;
+  EXPECT_NE(out.find("100% 4/4 in 0:00\x1b[K\n"), std::string::npos) << out;
+  std::fclose(f);
+}
+
+TEST(Progress, RedrawsAreRateLimited) {
+  std::FILE* f = std::tmpfile();
+  {
+    Progress bar("work", 100000, true, f, std::chrono::hours(1));
+    for (int i = 0; i < 100000; ++i) bar.advance();
+  }
+  const std::string out = contents(f);
+  EXPECT_EQ(std::count(out.begin(), out.end(), '\r'), 2) << "the first advance and finish";
+  std::fclose(f);
+}
+
+TEST(Progress, AdvanceFromManyThreadsCountsEveryUnit) {
+  std::FILE* f = std::tmpfile();
+  Progress bar("work", 8 * 20000, true, f, std::chrono::microseconds(10));
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 8; ++t) {
+    threads.emplace_back([&] {
+      for (int i = 0; i < 20000; ++i) bar.advance();
+    });
+  }
+  for (auto& t : threads) t.join();
+  bar.finish();
+  EXPECT_EQ(bar.done(), 8u * 20000u);
+  EXPECT_NE(contents(f).find("100% 160000/160000"), std::string::npos);
+  std::fclose(f);
+}
+
+}  // namespace
+}  // namespace pegasus
