@@ -1,0 +1,90 @@
+#pragma once
+// The `pegasus` command framework: every experiment is a Command in the table (commands.cpp) with a
+// schema of config fields and a run function. The framework turns each field into a `--kebab-case` option,
+// adds the common options, loads `--config FILE.toml`, applies command-line overrides, validates everything,
+// opens the run directory (`--out DIR`, `--force`, `--resume`), calls `run`, then commits the directory.
+//
+//   Command{.path = "shaping audit",
+//           .description = "Check that potential-based shaping keeps the optimal policy",
+//           .declare = [](ConfigSchema& s) { s.add_double("gamma", 0.99, "discount").range(0, 1); },
+//           .run = [](RunContext& ctx) {
+//             const double gamma = ctx.config.get_double("gamma");
+//             auto bar = ctx.progress("mdps", 100);
+//             ...; bar.advance();
+//             ctx.run_directory().write_json("summary.json", {{"violations", 0}});
+//           }};
+//
+// Exit codes: 0 success; 2 bad input (InputError or a command-line parse error), one line on stderr, and no
+// run directory left behind; 1 any other failure, one line on stderr (DIR.partial is kept for --resume).
+#include <cstdint>
+#include <functional>
+#include <iosfwd>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "pegasus/parallel/thread_pool.hpp"
+#include "pegasus/runs/config.hpp"
+#include "pegasus/runs/progress.hpp"
+#include "pegasus/runs/run_directory.hpp"
+
+namespace pegasus::cli {
+
+inline constexpr const char* kVersion = "0.1.0";
+
+// Whether a command writes a run directory.
+enum class OutDir {
+  kRequired,  // experiments: --out DIR is required
+  kOptional,  // small tools: results go to stdout, and to DIR with --out
+  kNone,      // no --out, --force, --resume
+};
+
+// What a command's run function gets.
+class RunContext {
+ public:
+  RunContext(const ConfigSchema& config, bool quiet, RunDirectory* run_dir, std::ostream& out);
+
+  const ConfigSchema& config;  // every field resolved and validated, with `seed` and `threads`
+  const std::uint64_t seed;    // --seed: the root of all randomness of the run
+  const int threads;           // --threads: never changes a result
+  const bool quiet;            // --quiet: no progress bar
+  std::ostream& out;           // stdout, for the command's printed result
+
+  bool has_run_directory() const { return run_dir_ != nullptr; }
+  // The run directory; std::logic_error without --out (only for OutDir::kOptional commands).
+  RunDirectory& run_directory() const;
+  // A progress bar on stderr, drawn only on a terminal and without --quiet.
+  Progress progress(std::string label, std::uint64_t total) const;
+  // A pool of `threads` threads, made on first use.
+  ThreadPool& pool();
+
+ private:
+  RunDirectory* run_dir_;
+  std::unique_ptr<ThreadPool> pool_;
+};
+
+struct Command {
+  std::string path{};                            // "horizon" or nested: "shaping audit"
+  std::string description{};                     // one line, shown by --help
+  std::function<void(ConfigSchema&)> declare{};  // declares the command's config fields
+  std::function<void(RunContext&)> run{};        // does the work; throws on failure
+  OutDir out = OutDir::kRequired;
+  bool hidden = false;  // not listed by --help (framework self-tests)
+};
+
+// A word of a nested command path that is not itself a command ("shaping" in "shaping audit").
+struct CommandGroup {
+  std::string path{};
+  std::string description{};
+  bool hidden = false;
+};
+
+// The tables of all commands (commands.cpp).
+std::vector<CommandGroup> command_groups();
+std::vector<Command> commands();
+
+// Parses argv, runs the chosen command and returns the process exit code. `err` gets the one-line errors.
+int run_cli(int argc, const char* const* argv, const std::vector<CommandGroup>& groups,
+            const std::vector<Command>& commands, std::ostream& out, std::ostream& err);
+
+}  // namespace pegasus::cli

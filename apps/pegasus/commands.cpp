@@ -1,0 +1,123 @@
+// The table of `pegasus` commands. A new command is one entry here (or a function returning entries, kept in
+// its own apps/pegasus/<area>_commands.cpp) wiring library pieces together; see command.hpp.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <ostream>
+#include <stdexcept>
+#include <thread>
+
+#include "command.hpp"
+#include "pegasus/evaluators/horizon.hpp"
+#include "pegasus/runs/svg_plot.hpp"
+
+namespace pegasus::cli {
+
+namespace {
+
+// pegasus horizon: the epsilon-horizon H_eps of §4.2.2.
+Command horizon_command() {
+  return {
+      .path = "horizon",
+      .description =
+          "Rollout length H_eps that truncates discounted returns by at most epsilon/2 (thesis 4.2.2)",
+      .declare =
+          [](ConfigSchema& s) {
+            s.add_double("gamma", 0.99, "discount factor").greater_than(0).less_than(1);
+            s.add_double("epsilon", 0.01, "allowed error of the value estimate").greater_than(0);
+            s.add_double("rmax", 1.0, "largest absolute one-step reward").greater_than(0);
+          },
+      .run =
+          [](RunContext& ctx) {
+            const std::int64_t h =
+                epsilon_horizon(ctx.config.get_double("gamma"), ctx.config.get_double("epsilon"),
+                                ctx.config.get_double("rmax"));
+            const nlohmann::json summary = {{"horizon", h}};
+            ctx.out << summary.dump() << "\n";
+            if (ctx.has_run_directory()) ctx.run_directory().write_json("summary.json", summary);
+          },
+      .out = OutDir::kOptional,
+  };
+}
+
+// pegasus dev count: a deterministic, checkpointed, slow-on-request loop that exercises every part of the
+// framework (checkpoint/resume, progress, CSV, SVG); the end-to-end tests kill it and resume it.
+Command dev_count_command() {
+  return {
+      .path = "dev count",
+      .description = "Framework self-test: sums a series step by step with a checkpoint after each step",
+      .declare =
+          [](ConfigSchema& s) {
+            s.add_int("steps", 10, "number of steps").range(1, 1000000);
+            s.add_double("scale", 1.0, "each value is scale * f(step)");
+            s.add_string("shape", "sqrt", "f").choices({"sqrt", "linear"});
+            s.add_bool("negate", false, "negate every value");
+            s.add_int_list("skip", {}, "steps whose value is 0").min(0);
+            s.add_double_list("weights.values", {1.0}, "weights applied in turn to the values").min_size(1);
+            s.add_int("step_ms", 0, "milliseconds to sleep per step").range(0, 60000).affects_results(false);
+            s.add_int("fail_at", -1, "throw an error when reaching this step (-1: never)")
+                .min(-1)
+                .affects_results(false);
+          },
+      .run =
+          [](RunContext& ctx) {
+            const auto steps = ctx.config.get_int("steps");
+            const double scale = ctx.config.get_double("scale");
+            RunDirectory& dir = ctx.run_directory();
+            std::vector<double> values;
+            if (auto state = dir.load_checkpoint()) values = (*state)["values"].get<std::vector<double>>();
+            Progress bar = ctx.progress("steps", static_cast<std::uint64_t>(steps));
+            bar.skip(values.size());
+            for (auto i = static_cast<std::int64_t>(values.size()); i < steps; ++i) {
+              if (i == ctx.config.get_int("fail_at"))
+                throw std::runtime_error(fmt::format("failed at step {}", i));
+              std::this_thread::sleep_for(std::chrono::milliseconds(ctx.config.get_int("step_ms")));
+              const auto x = static_cast<double>(i);
+              double v = scale * (ctx.config.get_string("shape") == "sqrt" ? std::sqrt(x) : x);
+              const auto& skip = ctx.config.get_int_list("skip");
+              if (std::find(skip.begin(), skip.end(), i) != skip.end()) v = 0;
+              const auto& weights = ctx.config.get_double_list("weights.values");
+              v *= weights[static_cast<std::size_t>(i) % weights.size()];
+              values.push_back(ctx.config.get_bool("negate") ? -v : v);
+              dir.save_checkpoint({{"values", values}});
+              bar.advance();
+            }
+            bar.finish();
+            double sum = 0;
+            CsvWriter csv({"step", "value"});
+            std::vector<double> xs;
+            for (std::size_t i = 0; i < values.size(); ++i) {
+              sum += values[i];
+              csv.add_row({static_cast<std::int64_t>(i), values[i]});
+              xs.push_back(static_cast<double>(i + 1));
+            }
+            dir.write_csv("values.csv", csv);
+            SvgPlot plot;
+            plot.title("dev count").x_label("step + 1").y_label("value").x_scale(AxisScale::kLog2);
+            plot.add_series({.name = "value", .x = xs, .y = values});
+            dir.write_text("values.svg", plot.render());
+            dir.write_json("summary.json", {{"steps", steps}, {"sum", sum}});
+            ctx.out << fmt::format("sum {}\n", sum);
+          },
+      .hidden = true,
+  };
+}
+
+}  // namespace
+
+std::vector<CommandGroup> command_groups() {
+  return {
+      {.path = "dev", .description = "Framework self-tests", .hidden = true},
+  };
+}
+
+std::vector<Command> commands() {
+  return {
+      horizon_command(),
+      dev_count_command(),
+  };
+}
+
+}  // namespace pegasus::cli
