@@ -1,0 +1,431 @@
+#pragma once
+// Model-free learners for tabular models (thesis §2.3): Q-learning (Eq 2.18), Sarsa, Sarsa(lambda) with
+// replacing traces, all with epsilon-greedy exploration, and REINFORCE with a softmax policy.
+//
+// They are templates over the model (any TabularModel: GridWorld, FlagWorld, MdpModel, or those wrapped
+// by ShapedModel) and over the uniform source (UniformStream, BlockUniformStream), so the step, the reward
+// and the random draws inline into one loop; nothing is allocated per step. Every random number comes
+// from the generator passed in.
+//
+// Episodes start from model.initial_state and end at a terminal state or after max_steps_per_episode
+// steps. The curve records, per episode, the steps taken and the undiscounted sum of the rewards the
+// learner saw (shaped rewards when the model is shaped).
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <concepts>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "pegasus/core/error.hpp"
+#include "pegasus/mdp/mdp_model.hpp"
+
+namespace pegasus {
+
+template <class G>
+concept UniformSource = requires(G& g) {
+  { g.next() } -> std::convertible_to<double>;
+};
+
+struct QTable {
+  int num_states = 0, num_actions = 0;
+  std::vector<double> q;  // row-major S x A
+
+  QTable() = default;
+  QTable(int s, int a, double init = 0.0)
+      : num_states(s), num_actions(a), q(static_cast<std::size_t>(s) * static_cast<std::size_t>(a), init) {}
+  double* row(int s) { return q.data() + static_cast<std::size_t>(s) * static_cast<std::size_t>(num_actions); }
+  const double* row(int s) const { return q.data() + static_cast<std::size_t>(s) * static_cast<std::size_t>(num_actions); }
+  // argmax_a Q(s, a), lowest action on ties.
+  int greedy(int s) const {
+    const double* r = row(s);
+    return static_cast<int>(std::max_element(r, r + num_actions) - r);
+  }
+  std::vector<int> greedy_policy() const {
+    std::vector<int> p(static_cast<std::size_t>(num_states));
+    for (int s = 0; s < num_states; ++s) p[static_cast<std::size_t>(s)] = greedy(s);
+    return p;
+  }
+};
+
+struct TdOptions {
+  // Number of episodes. Must be >= 1.
+  int episodes = 100;
+  // Learning rate alpha in (0, 1]. The §3.4 experiments use 0.02.
+  double alpha = 0.02;
+  // Exploration: a uniformly random action with probability epsilon, else greedy (ties broken uniformly
+  // at random). In [0, 1]; §3.4 uses 0.1.
+  double epsilon = 0.1;
+  // Discount in [0, 1] used in the TD target.
+  double gamma = 1.0;
+  // Trace decay of Sarsa(lambda), in [0, 1].
+  double lambda = 0.9;
+  // Traces below this are dropped (Sarsa(lambda) only); in [0, 1).
+  double trace_cutoff = 1e-6;
+  // Episode length cap. Must be >= 1.
+  std::int64_t max_steps_per_episode = 10'000'000;
+
+  bool IsValid(std::string* error) const {
+    auto bad = [&](const std::string& m) {
+      if (error) *error = "learner options: " + m;
+      return false;
+    };
+    if (episodes < 1) return bad(fmt::format("episodes must be >= 1, got {}", episodes));
+    if (!(alpha > 0.0 && alpha <= 1.0)) return bad(fmt::format("alpha must lie in (0, 1], got {}", alpha));
+    if (!(epsilon >= 0.0 && epsilon <= 1.0)) return bad(fmt::format("epsilon must lie in [0, 1], got {}", epsilon));
+    if (!(gamma >= 0.0 && gamma <= 1.0)) return bad(fmt::format("gamma must lie in [0, 1], got {}", gamma));
+    if (!(lambda >= 0.0 && lambda <= 1.0)) return bad(fmt::format("lambda must lie in [0, 1], got {}", lambda));
+    if (!(trace_cutoff >= 0.0 && trace_cutoff < 1.0)) return bad("trace_cutoff must lie in [0, 1)");
+    if (max_steps_per_episode < 1) return bad("max_steps_per_episode must be >= 1");
+    return true;
+  }
+};
+
+struct LearningCurve {
+  std::vector<std::int64_t> steps;  // per episode
+  std::vector<double> returns;      // per episode, undiscounted
+  std::int64_t total_steps = 0;
+  int truncated_episodes = 0;  // episodes that hit max_steps_per_episode
+};
+
+// Epsilon-greedy with one uniform u: u < eps picks action floor(u / eps * A); otherwise the rescaled
+// remainder picks uniformly among the greedy actions, so ties (all of them at the start, with Q = 0) do
+// not favour low action numbers.
+namespace detail {
+// kTieAction[mask][k]: the k-th set bit of a 4-bit mask, for the branch-free path below.
+inline constexpr std::array<std::array<std::int8_t, 4>, 16> kTieAction = [] {
+  std::array<std::array<std::int8_t, 4>, 16> t{};
+  for (int m = 0; m < 16; ++m) {
+    int k = 0;
+    for (int a = 0; a < 4; ++a)
+      if (m >> a & 1) t[static_cast<std::size_t>(m)][static_cast<std::size_t>(k++)] = static_cast<std::int8_t>(a);
+  }
+  return t;
+}();
+}  // namespace detail
+
+template <UniformSource G>
+inline int epsilon_greedy(const double* q, int num_actions, double epsilon, G& rng) {
+  const double u = rng.next();
+  if (num_actions == 4) {
+    // The gridworlds' case, written without data-dependent branches: exploration, ties and the argmax
+    // are all unpredictable, and mispredictions would cost more than the rest of a Sarsa step.
+    const double best = std::max(std::max(q[0], q[1]), std::max(q[2], q[3]));
+    const unsigned mask = static_cast<unsigned>(q[0] == best) | static_cast<unsigned>(q[1] == best) << 1 |
+                          static_cast<unsigned>(q[2] == best) << 2 | static_cast<unsigned>(q[3] == best) << 3;
+    const int ties = std::popcount(mask);
+    const double v = epsilon < 1.0 ? std::max(0.0, (u - epsilon) / (1.0 - epsilon)) : 0.0;
+    int pick = static_cast<int>(v * ties);
+    pick = pick < ties ? pick : ties - 1;
+    pick = pick > 0 ? pick : 0;
+    const int greedy = detail::kTieAction[mask][static_cast<std::size_t>(pick)];
+    int explore = static_cast<int>(u / (epsilon > 0.0 ? epsilon : 1.0) * 4.0);
+    explore = explore < 3 ? explore : 3;
+    return u < epsilon ? explore : greedy;
+  }
+  if (u < epsilon) {
+    const int a = static_cast<int>(u / epsilon * num_actions);
+    return a < num_actions ? a : num_actions - 1;
+  }
+  double best = q[0];
+  int ties = 1;
+  for (int a = 1; a < num_actions; ++a) {
+    if (q[a] > best) {
+      best = q[a];
+      ties = 1;
+    } else if (q[a] == best) {
+      ++ties;
+    }
+  }
+  int pick = static_cast<int>((u - epsilon) / (1.0 - epsilon) * ties);
+  if (pick >= ties) pick = ties - 1;
+  for (int a = 0; a < num_actions; ++a)
+    if (q[a] == best && pick-- == 0) return a;
+  return 0;
+}
+
+namespace detail {
+
+template <TabularModel M, UniformSource G>
+inline int draw_initial(const M& m, G& rng) {
+  std::array<double, kMaxNoiseDim> p;
+  const int d = m.initial_noise_dim();
+  for (int j = 0; j < d; ++j) p[static_cast<std::size_t>(j)] = rng.next();
+  return m.initial_state(std::span<const double>(p.data(), static_cast<std::size_t>(d)));
+}
+
+template <TabularModel M, UniformSource G>
+inline int draw_step(const M& m, int s, int a, G& rng) {
+  std::array<double, kMaxNoiseDim> p;
+  const int d = m.noise_dim();
+  for (int j = 0; j < d; ++j) p[static_cast<std::size_t>(j)] = rng.next();
+  return m.step(s, a, std::span<const double>(p.data(), static_cast<std::size_t>(d)));
+}
+
+template <TabularModel M>
+void check_learner_input(const M& m, const TdOptions& o, const QTable& q) {
+  std::string err;
+  if (!o.IsValid(&err)) throw InputError(err);
+  check_noise_dims(m);
+  if (q.num_states != m.num_states() || q.num_actions != m.num_actions())
+    throw InputError(fmt::format("learner: Q table is {} x {}, the model {} x {}", q.num_states, q.num_actions,
+                                 m.num_states(), m.num_actions()));
+}
+
+}  // namespace detail
+
+// On-policy TD control (Sutton and Barto §6.4); the §3.4 experiments' learner. Updates q in place.
+template <TabularModel M, UniformSource G>
+LearningCurve sarsa(const M& m, const TdOptions& o, G& rng, QTable& q) {
+  detail::check_learner_input(m, o, q);
+  const int A = m.num_actions();
+  const double alpha = o.alpha, gamma = o.gamma, eps = o.epsilon;
+  double* const Q = q.q.data();
+  LearningCurve curve;
+  curve.steps.reserve(static_cast<std::size_t>(o.episodes));
+  curve.returns.reserve(static_cast<std::size_t>(o.episodes));
+  for (int ep = 0; ep < o.episodes; ++ep) {
+    int s = detail::draw_initial(m, rng);
+    std::int64_t steps = 0;
+    double ret = 0.0;
+    if (!m.terminal(s)) {
+      int a = epsilon_greedy(Q + static_cast<std::ptrdiff_t>(s) * A, A, eps, rng);
+      while (steps < o.max_steps_per_episode) {
+        const int s2 = detail::draw_step(m, s, a, rng);
+        const double r = transition_reward(m, s, a, s2);
+        ++steps;
+        ret += r;
+        double& qsa = Q[static_cast<std::ptrdiff_t>(s) * A + a];
+        if (m.terminal(s2)) {
+          qsa += alpha * (r - qsa);
+          break;
+        }
+        const int a2 = epsilon_greedy(Q + static_cast<std::ptrdiff_t>(s2) * A, A, eps, rng);
+        qsa += alpha * (r + gamma * Q[static_cast<std::ptrdiff_t>(s2) * A + a2] - qsa);
+        s = s2;
+        a = a2;
+      }
+      if (steps == o.max_steps_per_episode && !m.terminal(s)) ++curve.truncated_episodes;
+    }
+    curve.steps.push_back(steps);
+    curve.returns.push_back(ret);
+    curve.total_steps += steps;
+  }
+  return curve;
+}
+
+// Off-policy TD control, Eq 2.18, with epsilon-greedy behaviour.
+template <TabularModel M, UniformSource G>
+LearningCurve q_learning(const M& m, const TdOptions& o, G& rng, QTable& q) {
+  detail::check_learner_input(m, o, q);
+  const int A = m.num_actions();
+  double* const Q = q.q.data();
+  LearningCurve curve;
+  for (int ep = 0; ep < o.episodes; ++ep) {
+    int s = detail::draw_initial(m, rng);
+    std::int64_t steps = 0;
+    double ret = 0.0;
+    while (!m.terminal(s) && steps < o.max_steps_per_episode) {
+      const int a = epsilon_greedy(Q + static_cast<std::ptrdiff_t>(s) * A, A, o.epsilon, rng);
+      const int s2 = detail::draw_step(m, s, a, rng);
+      const double r = transition_reward(m, s, a, s2);
+      ++steps;
+      ret += r;
+      double target = r;
+      if (!m.terminal(s2)) {
+        const double* row = Q + static_cast<std::ptrdiff_t>(s2) * A;
+        target += o.gamma * *std::max_element(row, row + A);
+      }
+      double& qsa = Q[static_cast<std::ptrdiff_t>(s) * A + a];
+      qsa += o.alpha * (target - qsa);
+      s = s2;
+    }
+    if (!m.terminal(s)) ++curve.truncated_episodes;
+    curve.steps.push_back(steps);
+    curve.returns.push_back(ret);
+    curve.total_steps += steps;
+  }
+  return curve;
+}
+
+// Sarsa(lambda) with replacing traces (Singh and Sutton 1996): visiting (s, a) sets e(s, a) = 1 and clears
+// the traces of the other actions in s. Only the (s, a) with a live trace are touched each step; traces
+// that decay below trace_cutoff are dropped.
+template <TabularModel M, UniformSource G>
+LearningCurve sarsa_lambda(const M& m, const TdOptions& o, G& rng, QTable& q) {
+  detail::check_learner_input(m, o, q);
+  const int A = m.num_actions();
+  double* const Q = q.q.data();
+  std::vector<double> e(q.q.size(), 0.0);
+  std::vector<std::uint8_t> listed(q.q.size(), 0);
+  std::vector<std::int32_t> live;
+  live.reserve(1024);
+  const double decay = o.gamma * o.lambda;
+  LearningCurve curve;
+  for (int ep = 0; ep < o.episodes; ++ep) {
+    int s = detail::draw_initial(m, rng);
+    std::int64_t steps = 0;
+    double ret = 0.0;
+    if (!m.terminal(s)) {
+      int a = epsilon_greedy(Q + static_cast<std::ptrdiff_t>(s) * A, A, o.epsilon, rng);
+      while (steps < o.max_steps_per_episode) {
+        const int s2 = detail::draw_step(m, s, a, rng);
+        const double r = transition_reward(m, s, a, s2);
+        ++steps;
+        ret += r;
+        const bool end = m.terminal(s2);
+        const int a2 = end ? 0 : epsilon_greedy(Q + static_cast<std::ptrdiff_t>(s2) * A, A, o.epsilon, rng);
+        const std::int32_t i = s * A + a;
+        const double delta = r + (end ? 0.0 : o.gamma * Q[s2 * A + a2]) - Q[i];
+        for (int b = 0; b < A; ++b) e[static_cast<std::size_t>(s * A + b)] = 0.0;
+        e[static_cast<std::size_t>(i)] = 1.0;
+        if (!listed[static_cast<std::size_t>(i)]) {
+          listed[static_cast<std::size_t>(i)] = 1;
+          live.push_back(i);
+        }
+        for (std::size_t j = 0; j < live.size();) {
+          const auto k = static_cast<std::size_t>(live[j]);
+          Q[k] += o.alpha * delta * e[k];
+          e[k] *= decay;
+          if (e[k] <= o.trace_cutoff) {
+            e[k] = 0.0;
+            listed[k] = 0;
+            live[j] = live.back();
+            live.pop_back();
+          } else {
+            ++j;
+          }
+        }
+        if (end) break;
+        s = s2;
+        a = a2;
+      }
+      if (!m.terminal(s) && steps == o.max_steps_per_episode) ++curve.truncated_episodes;
+      for (auto k : live) {
+        e[static_cast<std::size_t>(k)] = 0.0;
+        listed[static_cast<std::size_t>(k)] = 0;
+      }
+      live.clear();
+    }
+    curve.steps.push_back(steps);
+    curve.returns.push_back(ret);
+    curve.total_steps += steps;
+  }
+  return curve;
+}
+
+// ---- REINFORCE (Williams 1992; thesis §2.3) -----------------------------------------------------------
+
+// pi(a | s) = exp(theta(s, a)) / sum_b exp(theta(s, b)).
+struct SoftmaxPolicy {
+  int num_states = 0, num_actions = 0;
+  std::vector<double> theta;
+
+  SoftmaxPolicy() = default;
+  SoftmaxPolicy(int s, int a) : num_states(s), num_actions(a), theta(static_cast<std::size_t>(s) * static_cast<std::size_t>(a), 0.0) {}
+  // Writes pi(. | s) into out (size num_actions).
+  void probabilities(int s, double* out) const {
+    const double* t = theta.data() + static_cast<std::size_t>(s) * static_cast<std::size_t>(num_actions);
+    const double mx = *std::max_element(t, t + num_actions);
+    double z = 0.0;
+    for (int a = 0; a < num_actions; ++a) z += (out[a] = std::exp(t[a] - mx));
+    for (int a = 0; a < num_actions; ++a) out[a] /= z;
+  }
+};
+
+struct ReinforceOptions {
+  // Number of episodes. Must be >= 1.
+  int episodes = 1000;
+  // Step size of the stochastic gradient ascent, > 0.
+  double alpha = 0.1;
+  // Discount in [0, 1].
+  double gamma = 1.0;
+  // Subtract a running average of the episode returns (a constant baseline keeps the gradient unbiased
+  // and lowers its variance).
+  bool baseline = true;
+  // Rate of that running average, in (0, 1].
+  double baseline_rate = 0.05;
+  // Episode length cap. Must be >= 1.
+  std::int64_t max_steps_per_episode = 100'000;
+
+  bool IsValid(std::string* error) const {
+    auto bad = [&](const std::string& m) {
+      if (error) *error = "REINFORCE options: " + m;
+      return false;
+    };
+    if (episodes < 1) return bad("episodes must be >= 1");
+    if (!(alpha > 0.0)) return bad("alpha must be > 0");
+    if (!(gamma >= 0.0 && gamma <= 1.0)) return bad("gamma must lie in [0, 1]");
+    if (!(baseline_rate > 0.0 && baseline_rate <= 1.0)) return bad("baseline_rate must lie in (0, 1]");
+    if (max_steps_per_episode < 1) return bad("max_steps_per_episode must be >= 1");
+    return true;
+  }
+};
+
+// Monte Carlo policy gradient: after each episode, theta(s_t, .) += alpha gamma^t (G_t - b)
+// grad log pi(a_t | s_t), with grad_theta(s,b) log pi(a | s) = 1[b = a] - pi(b | s) for the softmax.
+template <TabularModel M, UniformSource G>
+LearningCurve reinforce(const M& m, const ReinforceOptions& o, G& rng, SoftmaxPolicy& pi) {
+  std::string err;
+  if (!o.IsValid(&err)) throw InputError(err);
+  check_noise_dims(m);
+  if (pi.num_states != m.num_states() || pi.num_actions != m.num_actions())
+    throw InputError("REINFORCE: policy table does not match the model");
+  const int A = m.num_actions();
+  std::vector<int> states, actions;
+  std::vector<double> rewards, probs(static_cast<std::size_t>(A));
+  double baseline = 0.0;
+  bool have_baseline = false;
+  LearningCurve curve;
+  for (int ep = 0; ep < o.episodes; ++ep) {
+    states.clear();
+    actions.clear();
+    rewards.clear();
+    int s = detail::draw_initial(m, rng);
+    while (!m.terminal(s) && static_cast<std::int64_t>(states.size()) < o.max_steps_per_episode) {
+      pi.probabilities(s, probs.data());
+      const double u = rng.next();
+      int a = 0;
+      for (double c = probs[0]; a + 1 < A && u >= c; c += probs[static_cast<std::size_t>(++a)]) {
+      }
+      const int s2 = detail::draw_step(m, s, a, rng);
+      states.push_back(s);
+      actions.push_back(a);
+      rewards.push_back(transition_reward(m, s, a, s2));
+      s = s2;
+    }
+    if (!m.terminal(s)) ++curve.truncated_episodes;
+    const std::size_t T = states.size();
+    double undiscounted = 0.0;
+    for (double r : rewards) undiscounted += r;
+    double g = 0.0;
+    std::vector<double>& returns = rewards;  // overwritten in place by G_t
+    for (std::size_t t = T; t-- > 0;) returns[t] = g = rewards[t] + o.gamma * g;
+    const double g0 = T > 0 ? returns[0] : 0.0;
+    const double b = (o.baseline && have_baseline) ? baseline : 0.0;
+    double discount = 1.0;
+    for (std::size_t t = 0; t < T; ++t) {
+      const int st = states[t];
+      pi.probabilities(st, probs.data());
+      double* th = pi.theta.data() + static_cast<std::size_t>(st) * static_cast<std::size_t>(A);
+      const double step = o.alpha * discount * (returns[t] - b);
+      for (int a = 0; a < A; ++a) th[a] += step * ((a == actions[t] ? 1.0 : 0.0) - probs[static_cast<std::size_t>(a)]);
+      discount *= o.gamma;
+    }
+    if (o.baseline) {
+      baseline = have_baseline ? baseline + o.baseline_rate * (g0 - baseline) : g0;
+      have_baseline = true;
+    }
+    curve.steps.push_back(static_cast<std::int64_t>(T));
+    curve.returns.push_back(undiscounted);
+    curve.total_steps += static_cast<std::int64_t>(T);
+  }
+  return curve;
+}
+
+}  // namespace pegasus
