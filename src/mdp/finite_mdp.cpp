@@ -77,8 +77,8 @@ void FiniteMdpBuilder::add_transition(int s, int a, int next, double probability
   auto& row = rows_[r];
   for (auto& e : row) {
     if (e.next == next) {  // merge duplicates: keep the expected reward of the merged entry
-      const double p = e.p + probability;
-      e.r = (e.p * e.r + probability * reward) / p;
+      const double p = std::min(1.0, e.p + probability);  // a sum may round to 1 + 2^-52
+      e.r = (e.p * e.r + probability * reward) / (e.p + probability);
       e.p = p;
       return;
     }

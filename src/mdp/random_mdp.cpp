@@ -42,6 +42,7 @@ FiniteMdp random_mdp(const RandomMdpOptions& o, UniformStream& rng) {
       const int lo = (episodic && !leak) ? s + 1 : 0;
       pool.resize(static_cast<std::size_t>(S - lo));
       std::iota(pool.begin(), pool.end(), lo);
+      if (episodic && leak) pool.pop_back();  // the leak adds `end` itself (lo <= end always)
       const int k = std::min<int>(o.successors, static_cast<int>(pool.size()));
       for (int i = 0; i < k; ++i) {  // partial Fisher-Yates
         const auto j = static_cast<std::size_t>(i) + rng.next_below(pool.size() - static_cast<std::size_t>(i));
