@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <Eigen/Core>
+#include <Eigen/Dense>
 #include <Eigen/Sparse>
 #include <Eigen/SparseLU>
 #include <algorithm>
@@ -21,6 +23,20 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
+
+// The range of Delta = T V - V over the states of one sweep. Absorbing states count with Delta = 0: with
+// them T is only monotone and sub-homogeneous (T(V + c) <= T V + gamma c for c >= 0, >= for c <= 0), so
+// the MacQueen bounds below need min Delta <= 0 <= max Delta, which including them guarantees.
+struct Sweep {
+  double lo = std::numeric_limits<double>::infinity();
+  double hi = -std::numeric_limits<double>::infinity();
+  void add(double d) {
+    lo = std::min(lo, d);
+    hi = std::max(hi, d);
+  }
+  double max_abs() const { return std::max(std::abs(lo), std::abs(hi)); }
+  double span() const { return hi - lo; }
+};
 
 // The hot kernel: Q(s, a) for row r. Raw pointers so the loop is a plain gather-multiply-add.
 struct Kernel {
@@ -43,9 +59,15 @@ struct Kernel {
         A(m.num_actions) {}
 
   double q(std::size_t r, const double* __restrict v) const {
+    const std::uint32_t b = row_start[r], e = row_start[r + 1];
+    if (e - b == static_cast<std::uint32_t>(S) && S >= 16) {
+      // A dense row lists every state in order (successors are sorted and unique): a contiguous dot
+      // product, which Eigen vectorises, instead of a gather.
+      const Eigen::Map<const Eigen::VectorXd> p(prob + b, S), x(v, S);
+      return r_sa[r] + gamma * p.dot(x);
+    }
     double acc = 0.0;
-    const std::uint32_t e = row_start[r + 1];
-    for (std::uint32_t k = row_start[r]; k < e; ++k) acc += prob[k] * v[next[k]];
+    for (std::uint32_t k = b; k < e; ++k) acc += prob[k] * v[next[k]];
     return r_sa[r] + gamma * acc;
   }
 
@@ -65,20 +87,21 @@ struct Kernel {
     return b;
   }
 
-  // out = T v and policy = greedy(v); returns max |T v - v|. v and out must differ.
-  double jacobi(const double* __restrict v, double* __restrict out, int* __restrict policy) const {
-    double delta = 0.0;
+  // out = T v and policy = greedy(v); returns the range of T v - v. v and out must differ.
+  Sweep jacobi(const double* __restrict v, double* __restrict out, int* __restrict policy) const {
+    Sweep sw;
     for (int s = 0; s < S; ++s) {
       if (absorbing[s]) {
         out[s] = 0.0;
         policy[s] = 0;
+        sw.add(0.0);  // see Sweep: absorbing states pin the range to include 0
         continue;
       }
       const double b = best(s, v, &policy[s]);
-      delta = std::max(delta, std::abs(b - v[s]));
+      sw.add(b - v[s]);
       out[s] = b;
     }
-    return delta;
+    return sw;
   }
 
   // In-place sweep; returns the largest change.
@@ -122,15 +145,128 @@ const char* termination_name(SolverTermination t) {
   return t == SolverTermination::kConverged ? "converged" : "stopped at the iteration limit";
 }
 
+// Exact policy evaluation, (I - gamma P_pi) V = R_pi over the non-absorbing states (Eq 2.8), set up once
+// per MDP so that policy iteration pays only for the numeric factorisation at each step: the matrix is
+// assembled on the union of all actions' sparsity patterns, so its structure never changes and the
+// fill-reducing ordering and symbolic analysis (SparseLU::analyzePattern) are done once. Dense MDPs
+// (one action's pattern above a quarter full on average) use a dense partial-pivoting LU instead.
+class PolicyEvaluator {
+ public:
+  explicit PolicyEvaluator(const FiniteMdp& m) : m_(m), index_(static_cast<std::size_t>(m.num_states), -1) {
+    for (int s = 0; s < m.num_states; ++s)
+      if (!m.is_absorbing(s)) index_[static_cast<std::size_t>(s)] = n_++;
+    if (n_ == 0) return;
+    // Average pattern of one action above a quarter full: dense LU, no sparse structure needed.
+    dense_ = static_cast<double>(m.num_entries()) / m.num_actions > 0.25 * static_cast<double>(n_) * static_cast<double>(n_);
+    if (dense_) return;
+    std::vector<Eigen::Triplet<double>> trip;
+    trip.reserve(m.num_entries() + static_cast<std::size_t>(n_));
+    for (int s = 0; s < m.num_states; ++s) {
+      const int i = index_[static_cast<std::size_t>(s)];
+      if (i < 0) continue;
+      trip.emplace_back(i, i, 1.0);
+      for (int a = 0; a < m.num_actions; ++a) {
+        const std::size_t r = m.row(s, a);
+        for (std::uint32_t k = m.row_start[r]; k < m.row_start[r + 1]; ++k) {
+          const int j = index_[static_cast<std::size_t>(m.next_state[k])];
+          if (j >= 0) trip.emplace_back(i, j, 1.0);
+        }
+      }
+    }
+    pattern_.resize(n_, n_);
+    pattern_.setFromTriplets(trip.begin(), trip.end());
+    pattern_.makeCompressed();
+    {
+      // Where each MDP entry and each diagonal lands in the compressed column-major value array.
+      auto position = [&](int i, int j) {
+        const int* inner = pattern_.innerIndexPtr();
+        const int b = pattern_.outerIndexPtr()[j], e = pattern_.outerIndexPtr()[j + 1];
+        return static_cast<std::int64_t>(std::lower_bound(inner + b, inner + e, i) - inner);
+      };
+      entry_pos_.assign(m.num_entries(), -1);
+      diag_pos_.resize(static_cast<std::size_t>(n_));
+      for (int s = 0; s < m.num_states; ++s) {
+        const int i = index_[static_cast<std::size_t>(s)];
+        if (i < 0) continue;
+        diag_pos_[static_cast<std::size_t>(i)] = position(i, i);
+        for (int a = 0; a < m.num_actions; ++a) {
+          const std::size_t r = m.row(s, a);
+          for (std::uint32_t k = m.row_start[r]; k < m.row_start[r + 1]; ++k) {
+            const int j = index_[static_cast<std::size_t>(m.next_state[k])];
+            if (j >= 0) entry_pos_[k] = position(i, j);
+          }
+        }
+      }
+      lu_.analyzePattern(pattern_);
+    }
+  }
+
+  // weight(s, a) = pi(a | s).
+  template <class Weight>
+  std::vector<double> evaluate(Weight weight) {
+    std::vector<double> v(static_cast<std::size_t>(m_.num_states), 0.0);
+    if (n_ == 0) return v;
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n_);
+    Eigen::VectorXd x;
+    if (dense_) {
+      Eigen::MatrixXd a = Eigen::MatrixXd::Identity(n_, n_);
+      assemble(weight, rhs, [&](int i, int j, std::int64_t, double val) { a(i, j) += val; });
+      x = a.partialPivLu().solve(rhs);
+    } else {
+      double* val = pattern_.valuePtr();
+      std::fill(val, val + pattern_.nonZeros(), 0.0);
+      for (int i = 0; i < n_; ++i) val[diag_pos_[static_cast<std::size_t>(i)]] = 1.0;
+      assemble(weight, rhs, [&](int, int, std::int64_t pos, double value) { val[pos] += value; });
+      lu_.factorize(pattern_);
+      if (lu_.info() != Eigen::Success)
+        throw InputError("policy evaluation: I - gamma P_pi is singular (is the policy proper?)");
+      x = lu_.solve(rhs);
+    }
+    for (int s = 0; s < m_.num_states; ++s) {
+      const int i = index_[static_cast<std::size_t>(s)];
+      if (i >= 0) v[static_cast<std::size_t>(s)] = x[i];
+    }
+    return v;
+  }
+
+ private:
+  template <class Weight, class Add>
+  void assemble(Weight& weight, Eigen::VectorXd& rhs, Add add) const {
+    for (int s = 0; s < m_.num_states; ++s) {
+      const int i = index_[static_cast<std::size_t>(s)];
+      if (i < 0) continue;
+      for (int a = 0; a < m_.num_actions; ++a) {
+        const double w = weight(s, a);
+        if (w == 0.0) continue;
+        const std::size_t r = m_.row(s, a);
+        rhs[i] += w * m_.expected_reward[r];
+        for (std::uint32_t k = m_.row_start[r]; k < m_.row_start[r + 1]; ++k) {
+          const int j = index_[static_cast<std::size_t>(m_.next_state[k])];
+          if (j >= 0) add(i, j, dense_ ? 0 : entry_pos_[k], -m_.gamma * w * m_.probability[k]);
+        }
+      }
+    }
+  }
+
+  const FiniteMdp& m_;
+  std::vector<int> index_;
+  int n_ = 0;
+  bool dense_ = false;
+  Eigen::SparseMatrix<double> pattern_;
+  std::vector<std::int64_t> entry_pos_, diag_pos_;
+  Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu_;
+};
+
 // Policy iteration from a given policy; used by policy_iteration and as the gamma = 1 polish.
 void run_policy_iteration(const FiniteMdp& m, std::vector<int> policy, int max_iterations, double tol,
                           SolveSummary* out, int* steps) {
   const Kernel k(m);
+  PolicyEvaluator evaluator(m);
   std::vector<double> v;
   *steps = 0;
   bool stable = false;
   while (*steps < max_iterations) {
-    v = evaluate_policy(m, policy);
+    v = evaluator.evaluate([&policy](int s, int a) { return policy[static_cast<std::size_t>(s)] == a ? 1.0 : 0.0; });
     ++*steps;
     stable = true;
     for (int s = 0; s < m.num_states; ++s) {
@@ -159,6 +295,7 @@ void run_policy_iteration(const FiniteMdp& m, std::vector<int> policy, int max_i
   out->policy = std::move(policy);
   out->termination = stable ? SolverTermination::kConverged : SolverTermination::kMaxIterations;
   out->policy_loss_bound = stable ? 0.0 : kInf;
+  out->value_error_bound = stable ? 0.0 : kInf;
 }
 
 }  // namespace
@@ -210,6 +347,31 @@ std::string SolveSummary::BriefReport() const {
                      seconds);
 }
 
+namespace {
+
+// Certificate and value estimate from the last Jacobi sweep V' = T V with pi greedy w.r.t. V and
+// Delta = V' - V in [lo, hi] (MacQueen bounds, Puterman §6.6.3): with gamma < 1,
+//   V' + gamma lo / (1-gamma) <= V* <= V' + gamma hi / (1-gamma)   and   V^pi >= V + lo / (1-gamma),
+// so max_s V*(s) - V^pi(s) <= (hi - lo) / (1-gamma) (never worse than the classic 2 ||Delta|| / (1-gamma)),
+// and the midpoint of the bounds is within gamma (hi - lo) / (2 (1-gamma)) of V*. On a well-mixing MDP the
+// span hi - lo shrinks much faster than ||Delta||, which only shrinks like gamma^k.
+void finish_discounted(const FiniteMdp& m, const Sweep& sw, bool extrapolate, std::vector<double>& v,
+                       SolveSummary* sum) {
+  const double g = m.gamma;
+  sum->residual = sw.max_abs();
+  sum->policy_loss_bound = g == 0.0 ? 0.0 : sw.span() / (1.0 - g);
+  if (extrapolate && g > 0.0) {
+    const double shift = g * (sw.lo + sw.hi) / (2.0 * (1.0 - g));
+    for (int s = 0; s < m.num_states; ++s)
+      if (!m.is_absorbing(s)) v[static_cast<std::size_t>(s)] += shift;
+    sum->value_error_bound = g * sw.span() / (2.0 * (1.0 - g));
+  } else {
+    sum->value_error_bound = g == 0.0 ? 0.0 : g * sw.max_abs() / (1.0 - g);
+  }
+}
+
+}  // namespace
+
 SolveSummary value_iteration(const FiniteMdp& m, const ValueIterationOptions& o) {
   const auto t0 = Clock::now();
   std::string err;
@@ -221,35 +383,34 @@ SolveSummary value_iteration(const FiniteMdp& m, const ValueIterationOptions& o)
   std::vector<int> policy(S, 0);
   SolveSummary sum;
   sum.policy_loss_bound = kInf;
+  sum.value_error_bound = kInf;
   sum.termination = SolverTermination::kMaxIterations;
-
-  // Certificate (see header): pi greedy w.r.t. V and r = ||T V - V|| give ||V* - V^pi|| <= 2r/(1-gamma).
-  auto loss_bound = [g](double r) { return g == 0.0 ? 0.0 : g < 1.0 ? 2.0 * r / (1.0 - g) : kInf; };
-  // A Jacobi sweep from V_k certifies its own greedy policy with r = delta_k. For Gauss-Seidel the sweep
-  // change only suggests it is time to try: the certificate pass below decides.
-  const double trigger = o.stop == StopRule::kResidual ? o.tolerance
-                         : g < 1.0                     ? o.epsilon * (1.0 - g) / 2.0
-                                                       : o.epsilon;
+  const bool residual_rule = o.stop == StopRule::kResidual;
+  // Is the sweep that produced `sw` good enough to stop?
+  auto done = [&](const Sweep& sw) {
+    if (residual_rule) return sw.max_abs() < o.tolerance;
+    if (g == 1.0) return sw.max_abs() < o.epsilon;  // then polished by policy iteration
+    return g == 0.0 || sw.span() / (1.0 - g) <= o.epsilon;
+  };
+  Sweep last;
   int it = 0;
   while (it < o.max_iterations) {
     ++it;
     if (!o.gauss_seidel) {
-      const double delta = k.jacobi(v.data(), w.data(), policy.data());
+      last = k.jacobi(v.data(), w.data(), policy.data());
       std::swap(v, w);  // v = T v_old, policy greedy w.r.t. v_old
-      if (delta < trigger || (g == 0.0)) {
-        sum.residual = delta;
-        sum.policy_loss_bound = loss_bound(delta);
+      if (done(last)) {
         sum.termination = SolverTermination::kConverged;
         break;
       }
     } else {
-      const double delta = k.gauss_seidel(v.data());
-      if (delta < trigger || g == 0.0) {
-        const double r = k.jacobi(v.data(), w.data(), policy.data());
+      // A Gauss-Seidel sweep's change only says when to try the certificate, which needs a Jacobi pass.
+      const double change = k.gauss_seidel(v.data());
+      const double try_below = residual_rule ? o.tolerance : g < 1.0 ? o.epsilon * (1.0 - g) / 2.0 : o.epsilon;
+      if (change < try_below || g == 0.0) {
+        last = k.jacobi(v.data(), w.data(), policy.data());
         std::swap(v, w);
-        if (o.stop == StopRule::kResidual || g == 1.0 || loss_bound(r) <= o.epsilon) {
-          sum.residual = r;
-          sum.policy_loss_bound = loss_bound(r);
+        if (residual_rule || done(last)) {
           sum.termination = SolverTermination::kConverged;
           break;
         }
@@ -257,12 +418,15 @@ SolveSummary value_iteration(const FiniteMdp& m, const ValueIterationOptions& o)
     }
   }
   sum.iterations = it;
-  if (g == 1.0 && o.stop == StopRule::kEpsilonOptimal && sum.converged()) {
+  if (g == 1.0 && !residual_rule && sum.converged()) {
     int steps = 0;
     const auto greedy = greedy_policy(m, v);
     run_policy_iteration(m, greedy, 10'000, 1e-12, &sum, &steps);
     sum.polish_iterations = steps;
+    sum.value_error_bound = 0.0;
   } else {
+    if (g < 1.0 && it > 0) finish_discounted(m, last, !residual_rule, v, &sum);
+    else sum.residual = last.max_abs();
     sum.value = std::move(v);
     sum.policy = std::move(policy);
   }
@@ -305,16 +469,16 @@ SolveSummary modified_policy_iteration(const FiniteMdp& m, const ModifiedPolicyI
   std::vector<int> policy(S, 0);
   SolveSummary sum;
   sum.policy_loss_bound = kInf;
+  sum.value_error_bound = kInf;
   sum.termination = SolverTermination::kMaxIterations;
+  Sweep last;
   int it = 0;
   while (it < o.max_iterations) {
     ++it;
-    const double r = k.jacobi(v.data(), w.data(), policy.data());
+    last = k.jacobi(v.data(), w.data(), policy.data());
     std::swap(v, w);
-    const bool done = g < 1.0 ? 2.0 * r / (1.0 - g) <= o.epsilon : r < o.epsilon;
-    if (done || g == 0.0) {
-      sum.residual = r;
-      sum.policy_loss_bound = g < 1.0 ? 2.0 * r / (1.0 - g) : kInf;
+    const bool done = g == 0.0 || (g < 1.0 ? last.span() / (1.0 - g) <= o.epsilon : last.max_abs() < o.epsilon);
+    if (done) {
       sum.termination = SolverTermination::kConverged;
       break;
     }
@@ -326,7 +490,11 @@ SolveSummary modified_policy_iteration(const FiniteMdp& m, const ModifiedPolicyI
     const auto greedy = greedy_policy(m, v);
     run_policy_iteration(m, greedy, 10'000, 1e-12, &sum, &steps);
     sum.polish_iterations = steps;
+    sum.value_error_bound = 0.0;
   } else {
+    // The certificate concerns the last improvement sweep only (partial evaluations came before it).
+    if (g < 1.0) finish_discounted(m, last, true, v, &sum);
+    else sum.residual = last.max_abs();
     sum.value = std::move(v);
     sum.policy = std::move(policy);
   }
@@ -358,47 +526,17 @@ std::vector<double> evaluate_policy(const FiniteMdp& m, std::span<const int> pol
 std::vector<double> evaluate_policy(const FiniteMdp& m, const StochasticPolicy& pi) {
   check(pi.num_states == m.num_states && pi.num_actions == m.num_actions && pi.probs.size() == m.num_rows(),
         "policy: shape does not match the MDP");
-  const int S = m.num_states, A = m.num_actions;
-  std::vector<int> index(static_cast<std::size_t>(S), -1);
-  int n = 0;
-  for (int s = 0; s < S; ++s)
-    if (!m.is_absorbing(s)) index[static_cast<std::size_t>(s)] = n++;
-  std::vector<double> v(static_cast<std::size_t>(S), 0.0);
-  if (n == 0) return v;
-  std::vector<Eigen::Triplet<double>> trip;
-  trip.reserve(m.num_entries() + static_cast<std::size_t>(n));
-  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n);
-  for (int s = 0; s < S; ++s) {
-    const int i = index[static_cast<std::size_t>(s)];
-    if (i < 0) continue;
+  for (int s = 0; s < m.num_states; ++s) {
     double total = 0.0;
-    trip.emplace_back(i, i, 1.0);
-    for (int a = 0; a < A; ++a) {
+    for (int a = 0; a < m.num_actions; ++a) {
       const double w = pi.probs[m.row(s, a)];
       check(w >= 0.0 && w <= 1.0, fmt::format("policy: probability {} of action {} in state {} outside [0, 1]", w, a, s));
       total += w;
-      if (w == 0.0) continue;
-      const std::size_t r = m.row(s, a);
-      rhs[i] += w * m.expected_reward[r];
-      for (std::uint32_t k = m.row_start[r]; k < m.row_start[r + 1]; ++k) {
-        const int j = index[static_cast<std::size_t>(m.next_state[k])];
-        if (j >= 0) trip.emplace_back(i, j, -m.gamma * w * m.probability[k]);
-      }
     }
     check(std::abs(total - 1.0) <= 1e-9, fmt::format("policy: action probabilities of state {} sum to {}", s, total));
   }
-  Eigen::SparseMatrix<double> mat(n, n);
-  mat.setFromTriplets(trip.begin(), trip.end());  // sums duplicates
-  Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu;
-  lu.compute(mat);
-  if (lu.info() != Eigen::Success)
-    throw InputError("policy evaluation: I - gamma P_pi is singular (is the policy proper?)");
-  const Eigen::VectorXd x = lu.solve(rhs);
-  for (int s = 0; s < S; ++s) {
-    const int i = index[static_cast<std::size_t>(s)];
-    if (i >= 0) v[static_cast<std::size_t>(s)] = x[i];
-  }
-  return v;
+  PolicyEvaluator evaluator(m);
+  return evaluator.evaluate([&](int s, int a) { return pi.probs[m.row(s, a)]; });
 }
 
 std::vector<double> q_from_values(const FiniteMdp& m, std::span<const double> value) {
@@ -426,7 +564,7 @@ double bellman_backup(const FiniteMdp& m, std::span<const double> value, std::sp
         "bellman_backup: wrong sizes");
   std::vector<int> policy(value.size());
   std::vector<double> tmp(value.size());
-  const double r = Kernel(m).jacobi(value.data(), tmp.data(), policy.data());
+  const double r = Kernel(m).jacobi(value.data(), tmp.data(), policy.data()).max_abs();
   std::copy(tmp.begin(), tmp.end(), out.begin());
   return r;
 }

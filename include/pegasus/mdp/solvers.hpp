@@ -9,17 +9,18 @@
 //
 // Guarantee (value iteration, modified policy iteration, StopRule::kEpsilonOptimal):
 //   gamma < 1: the returned policy pi satisfies max_s (V*(s) - V^pi(s)) <= summary.policy_loss_bound <=
-//   options.epsilon. The bound is certified on the final iterate V, whose greedy policy is pi: with
-//   r = max_s |(T V)(s) - V(s)| (T the Bellman optimality operator),
-//       ||V* - V^pi|| <= ||V* - V|| + ||V - V^pi|| <= r/(1-gamma) + r/(1-gamma) = 2r/(1-gamma),
-//   because T and T_pi are gamma-contractions and T_pi V = T V for the greedy pi. For a Jacobi sweep this
-//   is implied by the classic rule ||V_{k+1} - V_k|| < epsilon(1-gamma)/(2 gamma) (Puterman, Thm 6.3.1),
-//   which is used to decide when to try the certificate.
-//   gamma = 1 (proper MDPs): a contraction modulus of T can be astronomically close to 1 (in the 80/20
-//   gridworld the worst policy's expected time to the goal grows exponentially with the grid size), so
-//   sweeps run until r < epsilon and the greedy policy is then polished by policy iteration, which stops
-//   at an exactly optimal policy (every policy is proper, Bertsekas & Tsitsiklis 1996, Prop 2.3);
-//   policy_loss_bound is then 0 up to the round-off of the linear solves.
+//   options.epsilon. The bound is certified by the last Jacobi sweep V' = T V, whose argmax is pi: with
+//   Delta = V' - V ranging over [lo, hi] (0 included when there are absorbing states), MacQueen's bounds
+//       V + lo/(1-gamma) <= V^pi <= V* <= V + hi/(1-gamma)
+//   give ||V* - V^pi|| <= (hi - lo)/(1-gamma) (Puterman 1994, §6.6.3). This is never weaker than the
+//   classic rule "stop when ||V_{k+1} - V_k|| < epsilon (1-gamma) / (2 gamma)" (Puterman Thm 6.3.1), and
+//   far stronger on MDPs that mix fast, where the span shrinks long before ||Delta|| does. The returned V
+//   is the midpoint of the bounds, within summary.value_error_bound = gamma (hi - lo) / (2 (1-gamma)) of V*.
+//   gamma = 1 (proper MDPs): no useful contraction modulus is known in general (in the 80/20 gridworld
+//   the worst policy's expected time to the goal grows exponentially with the grid size), so sweeps run
+//   until ||Delta|| < epsilon and the greedy policy is then polished by policy iteration, which stops at
+//   an exactly optimal policy (every policy is proper: Bertsekas & Tsitsiklis 1996, Prop 2.3); both bounds
+//   are then 0 up to the round-off of the linear solves.
 #include <span>
 #include <string>
 #include <vector>
@@ -31,7 +32,8 @@ namespace pegasus {
 enum class StopRule {
   kEpsilonOptimal,  // stop once the greedy policy is certified epsilon-optimal (see above)
   kResidual,        // stop once a sweep changes V by less than `tolerance` in the sup norm (what other
-                    // toolboxes such as AI-Toolbox do; no optimality certificate)
+                    // toolboxes such as AI-Toolbox do); V is returned as swept, not extrapolated, and the
+                    // bounds are still reported
 };
 
 enum class SolverTermination { kConverged, kMaxIterations };
@@ -81,6 +83,7 @@ struct SolveSummary {
   int polish_iterations = 0;  // policy-iteration steps after the sweeps (gamma = 1)
   double residual = 0.0;      // max_s |(T V)(s) - V(s)| at the end
   double policy_loss_bound = 0.0;  // certified max_s V*(s) - V^pi(s) (infinity when not certified)
+  double value_error_bound = 0.0;  // certified max_s |V(s) - V*(s)| of the returned value
   SolverTermination termination = SolverTermination::kConverged;
   double seconds = 0.0;
   std::string message;
