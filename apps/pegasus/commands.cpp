@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "command.hpp"
+#include "experiment_commands.hpp"
 #include "pegasus/evaluators/horizon.hpp"
 #include "pegasus/runs/svg_plot.hpp"
 
@@ -115,6 +116,7 @@ std::vector<CommandGroup> command_groups() {
 
 std::vector<Command> commands() {
   return {
+      pomdp_gridworld_command(),
       horizon_command(),
       dev_count_command(),
   };
