@@ -7,7 +7,7 @@
 namespace pegasus {
 
 FlagWorld::FlagWorld(GridGeometry geometry, Cell start, std::vector<Cell> flags, double intended, double step_reward)
-    : geometry_(std::move(geometry)), intended_(intended), step_reward_(step_reward) {
+    : geometry_(std::move(geometry)), intended_(intended), step_reward_(step_reward), slip_scale_(slip_scale(intended)) {
   cells_ = geometry_.num_cells();
   if (!geometry_.inside(start)) throw InputError(fmt::format("flags: start ({}, {}) outside the grid", start.x, start.y));
   if (flags.empty()) throw InputError("flags: expected at least one flag (the goal)");

@@ -38,7 +38,7 @@ int GridGeometry::manhattan(int a, int b) const {
 }
 
 GridWorld::GridWorld(GridGeometry geometry, Cell start, Cell goal, double intended, double step_reward)
-    : geometry_(std::move(geometry)), intended_(intended), step_reward_(step_reward) {
+    : geometry_(std::move(geometry)), intended_(intended), step_reward_(step_reward), slip_scale_(slip_scale(intended)) {
   if (!geometry_.inside(start)) throw InputError(fmt::format("gridworld: start ({}, {}) outside the grid", start.x, start.y));
   if (!geometry_.inside(goal)) throw InputError(fmt::format("gridworld: goal ({}, {}) outside the grid", goal.x, goal.y));
   start_ = geometry_.index(start);

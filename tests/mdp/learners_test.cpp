@@ -120,6 +120,30 @@ TEST(Learners, RunsAreReproducibleFromTheSeed) {
   EXPECT_EQ(q1.q, q2.q);
 }
 
+TEST(Learners, InterleavedSarsaRunsMatchSeparateRuns) {
+  const GridWorld w = corner_gridworld(8);
+  TdOptions o;
+  o.episodes = 30;
+  o.max_steps_per_episode = 500;  // some episodes are truncated, exercising that path too
+  std::vector<BlockUniformStream> rngs;
+  std::vector<QTable> qs;
+  for (std::uint32_t i = 0; i < 6; ++i) {  // one full group of four and a partial one
+    rngs.emplace_back(13, i);
+    qs.emplace_back(w.num_states(), 4);
+  }
+  const auto curves = sarsa_runs(w, o, std::span(rngs), std::span(qs));
+  for (std::uint32_t i = 0; i < 6; ++i) {
+    BlockUniformStream rng(13, i);
+    QTable q(w.num_states(), 4);
+    const auto c = sarsa(w, o, rng, q);
+    EXPECT_EQ(curves[i].steps, c.steps);
+    EXPECT_EQ(curves[i].returns, c.returns);
+    EXPECT_EQ(curves[i].truncated_episodes, c.truncated_episodes);
+    EXPECT_EQ(qs[i].q, q.q);
+    EXPECT_EQ(rngs[i].position(), rng.position());
+  }
+}
+
 TEST(Learners, EpisodeCapTruncatesAndIsCounted) {
   const GridWorld w = corner_gridworld(20);
   TdOptions o;

@@ -8,6 +8,7 @@
 
 #include "pegasus/core/error.hpp"
 #include "pegasus/envs/gridworld.hpp"
+#include "pegasus/mdp/policy_paths.hpp"
 #include "pegasus/mdp/random_mdp.hpp"
 
 namespace pegasus {
@@ -160,6 +161,21 @@ TEST(Solvers, GridworldOptimalValueIsCloseToTheThesisDistanceEstimate) {
   const auto pi = policy_iteration(m);
   EXPECT_NEAR(pi.value[static_cast<std::size_t>(w.start())], -18.0 / 0.8, 1.5);
   EXPECT_LT(pi.value[static_cast<std::size_t>(w.start())], -18.0);  // never faster than one cell per step
+}
+
+TEST(PolicyPaths, FollowsMostLikelyTransitionsAndDetectsCycles) {
+  const GridWorld w = corner_gridworld(4);
+  const FiniteMdp m = to_finite_mdp(w);
+  const auto optimal = most_likely_path(m, policy_iteration(m).policy, w.start());
+  EXPECT_TRUE(optimal.reaches_absorbing);
+  EXPECT_EQ(optimal.states.front(), w.start());
+  EXPECT_EQ(optimal.states.back(), w.goal());
+  EXPECT_EQ(optimal.states.size(), 7u);
+  // Pushing south from the bottom row mostly stays put: a cycle of one state.
+  const auto stuck = most_likely_path(m, std::vector<int>(16, kSouth), w.start());
+  EXPECT_FALSE(stuck.reaches_absorbing);
+  EXPECT_EQ(stuck.cycle(), std::vector<int>{w.start()});
+  EXPECT_THROW(most_likely_path(m, std::vector<int>(3, 0), 0), InputError);
 }
 
 TEST(Solvers, OptionsAreValidatedBeforeAnyWork) {

@@ -10,7 +10,9 @@
 
 #include "pegasus/core/error.hpp"
 #include "pegasus/envs/gridworld.hpp"
+#include "pegasus/mdp/policy_paths.hpp"
 #include "pegasus/mdp/solvers.hpp"
+#include "pegasus/shaping/potential_shaping.hpp"
 
 namespace pegasus {
 namespace {
@@ -105,6 +107,25 @@ TEST(ShapingAudit, ProgressBonusHasAPositiveCycleAndChangesTheGridworldPolicy) {
   EXPECT_GT(audit.policy_change.loss_under_initial, 1.0);  // the shaped optimum dawdles
   // A small bonus still is not potential-based (the audit does not care about the size).
   EXPECT_FALSE(audit_shaping(m, ShapingTable::progress_bonus(m, manhattan_distances(w), 0.1)).potential_based);
+}
+
+// The bug itself: the optimal policy of the gridworld with the progress bonus, followed along its most
+// likely transitions, goes round a cycle instead of reaching the goal; with the potential-based version
+// of the same hint (Phi = -bonus * manhattan) it walks straight to the goal.
+TEST(ProgressBonus, OptimalPolicyCyclesWhereThePotentialVersionReachesTheGoal) {
+  const GridWorld w = corner_gridworld(5);
+  const FiniteMdp m = to_finite_mdp(w);
+  const auto d = manhattan_distances(w);
+  const FiniteMdp bonus = add_shaping(m, ShapingTable::progress_bonus(m, d, 3.0));
+  const auto bad = most_likely_path(m, policy_iteration(bonus).policy, w.start());
+  EXPECT_FALSE(bad.reaches_absorbing);
+  EXPECT_GE(bad.cycle().size(), 2u);
+  std::vector<double> phi(d.size());
+  for (std::size_t s = 0; s < d.size(); ++s) phi[s] = -3.0 * d[s];
+  const auto good = most_likely_path(m, policy_iteration(shape_with_potential(m, phi)).policy, w.start());
+  EXPECT_TRUE(good.reaches_absorbing);
+  EXPECT_EQ(good.states.size(), 9u);  // 8 steps from corner to corner
+  EXPECT_TRUE(good.cycle().empty());
 }
 
 TEST(ShapingAudit, ScopeIncludesListedTransitionsThatCannotHappen) {

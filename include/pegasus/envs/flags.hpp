@@ -31,7 +31,7 @@ class FlagWorld {
   State step(State s, Action a, std::span<const double> p) const {
     if (s == terminal_state_) return s;
     const int collected = s / cells_;
-    const int cell = geometry_.move(s - collected * cells_, realised_direction(a, p[0], intended_));
+    const int cell = geometry_.move(s - collected * cells_, realised_direction(a, p[0], intended_, slip_scale_));
     if (cell != flags_[static_cast<std::size_t>(collected)]) return collected * cells_ + cell;
     return collected + 1 == num_flags() ? terminal_state_ : (collected + 1) * cells_ + cell;
   }
@@ -62,7 +62,7 @@ class FlagWorld {
   GridGeometry geometry_;
   int cells_, start_, terminal_state_;
   std::vector<int> flags_;  // cell indices
-  double intended_, step_reward_;
+  double intended_, step_reward_, slip_scale_;
 };
 
 // 5x5 with 5 subgoals (goal included) and 8x8 with 8, as in §3.4; the positions are our choice.

@@ -51,11 +51,14 @@ class GridGeometry {
 
 // The direction actually moved, from the intended action and one uniform u in (0, 1): u < intended keeps
 // the action, otherwise the remaining interval is split into four equal parts, one per direction.
-inline int realised_direction(int action, double u, double intended) {
-  if (u < intended) return action;
-  const int d = static_cast<int>((u - intended) * 4.0 / (1.0 - intended));
-  return d < 3 ? d : 3;
+// slip_scale = 4 / (1 - intended), precomputed so that the step has no division (and no branch).
+inline int realised_direction(int action, double u, double intended, double slip_scale) {
+  int d = static_cast<int>((u - intended) * slip_scale);
+  d = d < 3 ? d : 3;
+  d = d > 0 ? d : 0;
+  return u < intended ? action : d;
 }
+inline double slip_scale(double intended) { return intended < 1.0 ? 4.0 / (1.0 - intended) : 0.0; }
 
 class GridWorld {
  public:
@@ -72,7 +75,7 @@ class GridWorld {
   int initial_noise_dim() const { return 0; }
   State initial_state(std::span<const double>) const { return start_; }
   State step(State s, Action a, std::span<const double> p) const {
-    return geometry_.move(s, realised_direction(a, p[0], intended_));
+    return geometry_.move(s, realised_direction(a, p[0], intended_, slip_scale_));
   }
   double reward(State, Action) const { return step_reward_; }
   bool terminal(State s) const { return s == goal_; }
@@ -93,7 +96,7 @@ class GridWorld {
  private:
   GridGeometry geometry_;
   int start_, goal_;
-  double intended_, step_reward_;
+  double intended_, step_reward_, slip_scale_;
 };
 
 // The §3.4 gridworld: n x n, start (0, 0), goal (n-1, n-1), 80/20 moves, -1 per step.

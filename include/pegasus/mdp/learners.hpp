@@ -109,44 +109,60 @@ inline constexpr std::array<std::array<std::int8_t, 4>, 16> kTieAction = [] {
 }();
 }  // namespace detail
 
+// The scales are precomputed so that choosing an action needs no division: a Sarsa step is short enough
+// that two divisions on its critical path would cost a good part of it.
+class EpsilonGreedy {
+ public:
+  EpsilonGreedy(double epsilon, int num_actions)
+      : epsilon_(epsilon),
+        explore_scale_(epsilon > 0.0 ? num_actions / epsilon : 0.0),
+        exploit_scale_(epsilon < 1.0 ? 1.0 / (1.0 - epsilon) : 0.0) {}
+
+  template <UniformSource G>
+  int operator()(const double* q, int num_actions, G& rng) const {
+    const double u = rng.next();
+    if (num_actions == 4) {
+      // The gridworlds' case, written without data-dependent branches: exploration, ties and the argmax
+      // are all unpredictable, and mispredictions would cost more than the rest of a Sarsa step.
+      const double best = std::max(std::max(q[0], q[1]), std::max(q[2], q[3]));
+      const unsigned mask = static_cast<unsigned>(q[0] == best) | static_cast<unsigned>(q[1] == best) << 1 |
+                            static_cast<unsigned>(q[2] == best) << 2 | static_cast<unsigned>(q[3] == best) << 3;
+      const int ties = std::popcount(mask);
+      int pick = static_cast<int>(std::max(0.0, (u - epsilon_) * exploit_scale_) * ties);
+      pick = pick < ties ? pick : ties - 1;
+      const int greedy = detail::kTieAction[mask][static_cast<std::size_t>(pick)];
+      int explore = static_cast<int>(u * explore_scale_);
+      explore = explore < 3 ? explore : 3;
+      return u < epsilon_ ? explore : greedy;
+    }
+    if (u < epsilon_) {
+      const int a = static_cast<int>(u * explore_scale_);
+      return a < num_actions ? a : num_actions - 1;
+    }
+    double best = q[0];
+    int ties = 1;
+    for (int a = 1; a < num_actions; ++a) {
+      if (q[a] > best) {
+        best = q[a];
+        ties = 1;
+      } else if (q[a] == best) {
+        ++ties;
+      }
+    }
+    int pick = static_cast<int>((u - epsilon_) * exploit_scale_ * ties);
+    if (pick >= ties) pick = ties - 1;
+    for (int a = 0; a < num_actions; ++a)
+      if (q[a] == best && pick-- == 0) return a;
+    return 0;
+  }
+
+ private:
+  double epsilon_, explore_scale_, exploit_scale_;
+};
+
 template <UniformSource G>
 inline int epsilon_greedy(const double* q, int num_actions, double epsilon, G& rng) {
-  const double u = rng.next();
-  if (num_actions == 4) {
-    // The gridworlds' case, written without data-dependent branches: exploration, ties and the argmax
-    // are all unpredictable, and mispredictions would cost more than the rest of a Sarsa step.
-    const double best = std::max(std::max(q[0], q[1]), std::max(q[2], q[3]));
-    const unsigned mask = static_cast<unsigned>(q[0] == best) | static_cast<unsigned>(q[1] == best) << 1 |
-                          static_cast<unsigned>(q[2] == best) << 2 | static_cast<unsigned>(q[3] == best) << 3;
-    const int ties = std::popcount(mask);
-    const double v = epsilon < 1.0 ? std::max(0.0, (u - epsilon) / (1.0 - epsilon)) : 0.0;
-    int pick = static_cast<int>(v * ties);
-    pick = pick < ties ? pick : ties - 1;
-    pick = pick > 0 ? pick : 0;
-    const int greedy = detail::kTieAction[mask][static_cast<std::size_t>(pick)];
-    int explore = static_cast<int>(u / (epsilon > 0.0 ? epsilon : 1.0) * 4.0);
-    explore = explore < 3 ? explore : 3;
-    return u < epsilon ? explore : greedy;
-  }
-  if (u < epsilon) {
-    const int a = static_cast<int>(u / epsilon * num_actions);
-    return a < num_actions ? a : num_actions - 1;
-  }
-  double best = q[0];
-  int ties = 1;
-  for (int a = 1; a < num_actions; ++a) {
-    if (q[a] > best) {
-      best = q[a];
-      ties = 1;
-    } else if (q[a] == best) {
-      ++ties;
-    }
-  }
-  int pick = static_cast<int>((u - epsilon) / (1.0 - epsilon) * ties);
-  if (pick >= ties) pick = ties - 1;
-  for (int a = 0; a < num_actions; ++a)
-    if (q[a] == best && pick-- == 0) return a;
-  return 0;
+  return EpsilonGreedy(epsilon, num_actions)(q, num_actions, rng);
 }
 
 namespace detail {
@@ -179,44 +195,118 @@ void check_learner_input(const M& m, const TdOptions& o, const QTable& q) {
 
 }  // namespace detail
 
+namespace detail {
+
+// One Sarsa learner's progress through its episodes, advanced one step at a time so that several can be
+// interleaved (sarsa_runs). The arithmetic is exactly that of a plain Sarsa loop.
+template <TabularModel M, UniformSource G>
+struct SarsaLane {
+  const M* m;
+  const TdOptions* o;
+  G* rng;
+  double* Q;
+  LearningCurve* curve;
+  EpsilonGreedy choose{0.0, 1};
+  int A = 0, s = 0, a = 0, episode = 0;
+  std::int64_t steps = 0;
+  double ret = 0.0;
+  bool active = true;
+
+  void start(const M& model, const TdOptions& opt, G& g, QTable& q, LearningCurve& c) {
+    m = &model;
+    o = &opt;
+    rng = &g;
+    Q = q.q.data();
+    curve = &c;
+    A = model.num_actions();
+    choose = EpsilonGreedy(opt.epsilon, A);
+    c.steps.reserve(static_cast<std::size_t>(opt.episodes));
+    c.returns.reserve(static_cast<std::size_t>(opt.episodes));
+    begin_episode();
+  }
+  void begin_episode() {
+    for (;;) {
+      s = draw_initial(*m, *rng);
+      steps = 0;
+      ret = 0.0;
+      if (!m->terminal(s)) break;
+      if (!end_episode()) return;  // an episode that starts at a terminal state takes no step
+    }
+    a = choose(Q + static_cast<std::ptrdiff_t>(s) * A, A, *rng);
+  }
+  // Records the episode; false when it was the last.
+  bool end_episode() {
+    curve->steps.push_back(steps);
+    curve->returns.push_back(ret);
+    curve->total_steps += steps;
+    if (++episode == o->episodes) {
+      active = false;
+      return false;
+    }
+    return true;
+  }
+  void step() {
+    const int s2 = draw_step(*m, s, a, *rng);
+    const double r = transition_reward(*m, s, a, s2);
+    ++steps;
+    ret += r;
+    double& qsa = Q[static_cast<std::ptrdiff_t>(s) * A + a];
+    if (m->terminal(s2)) {
+      qsa += o->alpha * (r - qsa);
+      if (end_episode()) begin_episode();
+      return;
+    }
+    const int a2 = choose(Q + static_cast<std::ptrdiff_t>(s2) * A, A, *rng);
+    qsa += o->alpha * (r + o->gamma * Q[static_cast<std::ptrdiff_t>(s2) * A + a2] - qsa);
+    s = s2;
+    a = a2;
+    if (steps == o->max_steps_per_episode) {
+      ++curve->truncated_episodes;
+      if (end_episode()) begin_episode();
+    }
+  }
+};
+
+}  // namespace detail
+
 // On-policy TD control (Sutton and Barto §6.4); the §3.4 experiments' learner. Updates q in place.
 template <TabularModel M, UniformSource G>
 LearningCurve sarsa(const M& m, const TdOptions& o, G& rng, QTable& q) {
   detail::check_learner_input(m, o, q);
-  const int A = m.num_actions();
-  const double alpha = o.alpha, gamma = o.gamma, eps = o.epsilon;
-  double* const Q = q.q.data();
   LearningCurve curve;
-  curve.steps.reserve(static_cast<std::size_t>(o.episodes));
-  curve.returns.reserve(static_cast<std::size_t>(o.episodes));
-  for (int ep = 0; ep < o.episodes; ++ep) {
-    int s = detail::draw_initial(m, rng);
-    std::int64_t steps = 0;
-    double ret = 0.0;
-    if (!m.terminal(s)) {
-      int a = epsilon_greedy(Q + static_cast<std::ptrdiff_t>(s) * A, A, eps, rng);
-      while (steps < o.max_steps_per_episode) {
-        const int s2 = detail::draw_step(m, s, a, rng);
-        const double r = transition_reward(m, s, a, s2);
-        ++steps;
-        ret += r;
-        double& qsa = Q[static_cast<std::ptrdiff_t>(s) * A + a];
-        if (m.terminal(s2)) {
-          qsa += alpha * (r - qsa);
-          break;
-        }
-        const int a2 = epsilon_greedy(Q + static_cast<std::ptrdiff_t>(s2) * A, A, eps, rng);
-        qsa += alpha * (r + gamma * Q[static_cast<std::ptrdiff_t>(s2) * A + a2] - qsa);
-        s = s2;
-        a = a2;
-      }
-      if (steps == o.max_steps_per_episode && !m.terminal(s)) ++curve.truncated_episodes;
-    }
-    curve.steps.push_back(steps);
-    curve.returns.push_back(ret);
-    curve.total_steps += steps;
-  }
+  detail::SarsaLane<M, G> lane;
+  lane.start(m, o, rng, q, curve);
+  while (lane.active) lane.step();
   return curve;
+}
+
+// Independent Sarsa runs (run i uses rngs[i] and qs[i]), stepped in lockstep four at a time on the calling
+// thread. A Sarsa step is one long dependency chain (state -> successor -> its Q row -> action -> next
+// state), so a single run leaves most of the core idle; interleaving runs fills it. Each run's result is
+// identical to sarsa(m, o, rngs[i], qs[i]).
+template <TabularModel M, UniformSource G>
+std::vector<LearningCurve> sarsa_runs(const M& m, const TdOptions& o, std::span<G> rngs, std::span<QTable> qs) {
+  if (rngs.size() != qs.size()) throw InputError("sarsa_runs: one generator per Q table expected");
+  for (const QTable& q : qs) detail::check_learner_input(m, o, q);
+  constexpr std::size_t kLanes = 4;
+  std::vector<LearningCurve> curves(qs.size());
+  for (std::size_t first = 0; first < qs.size(); first += kLanes) {
+    const std::size_t n = std::min(kLanes, qs.size() - first);
+    std::array<detail::SarsaLane<M, G>, kLanes> lanes;
+    for (std::size_t j = 0; j < n; ++j) lanes[j].start(m, o, rngs[first + j], qs[first + j], curves[first + j]);
+    for (std::size_t j = n; j < kLanes; ++j) lanes[j].active = false;
+    if (n == kLanes) {
+      while (lanes[0].active && lanes[1].active && lanes[2].active && lanes[3].active) {
+        lanes[0].step();
+        lanes[1].step();
+        lanes[2].step();
+        lanes[3].step();
+      }
+    }
+    for (std::size_t j = 0; j < n; ++j)
+      while (lanes[j].active) lanes[j].step();
+  }
+  return curves;
 }
 
 // Off-policy TD control, Eq 2.18, with epsilon-greedy behaviour.
@@ -224,6 +314,7 @@ template <TabularModel M, UniformSource G>
 LearningCurve q_learning(const M& m, const TdOptions& o, G& rng, QTable& q) {
   detail::check_learner_input(m, o, q);
   const int A = m.num_actions();
+  const EpsilonGreedy choose(o.epsilon, A);
   double* const Q = q.q.data();
   LearningCurve curve;
   for (int ep = 0; ep < o.episodes; ++ep) {
@@ -231,7 +322,7 @@ LearningCurve q_learning(const M& m, const TdOptions& o, G& rng, QTable& q) {
     std::int64_t steps = 0;
     double ret = 0.0;
     while (!m.terminal(s) && steps < o.max_steps_per_episode) {
-      const int a = epsilon_greedy(Q + static_cast<std::ptrdiff_t>(s) * A, A, o.epsilon, rng);
+      const int a = choose(Q + static_cast<std::ptrdiff_t>(s) * A, A, rng);
       const int s2 = detail::draw_step(m, s, a, rng);
       const double r = transition_reward(m, s, a, s2);
       ++steps;
@@ -260,6 +351,7 @@ template <TabularModel M, UniformSource G>
 LearningCurve sarsa_lambda(const M& m, const TdOptions& o, G& rng, QTable& q) {
   detail::check_learner_input(m, o, q);
   const int A = m.num_actions();
+  const EpsilonGreedy choose(o.epsilon, A);
   double* const Q = q.q.data();
   std::vector<double> e(q.q.size(), 0.0);
   std::vector<std::uint8_t> listed(q.q.size(), 0);
@@ -272,14 +364,14 @@ LearningCurve sarsa_lambda(const M& m, const TdOptions& o, G& rng, QTable& q) {
     std::int64_t steps = 0;
     double ret = 0.0;
     if (!m.terminal(s)) {
-      int a = epsilon_greedy(Q + static_cast<std::ptrdiff_t>(s) * A, A, o.epsilon, rng);
+      int a = choose(Q + static_cast<std::ptrdiff_t>(s) * A, A, rng);
       while (steps < o.max_steps_per_episode) {
         const int s2 = detail::draw_step(m, s, a, rng);
         const double r = transition_reward(m, s, a, s2);
         ++steps;
         ret += r;
         const bool end = m.terminal(s2);
-        const int a2 = end ? 0 : epsilon_greedy(Q + static_cast<std::ptrdiff_t>(s2) * A, A, o.epsilon, rng);
+        const int a2 = end ? 0 : choose(Q + static_cast<std::ptrdiff_t>(s2) * A, A, rng);
         const std::int32_t i = s * A + a;
         const double delta = r + (end ? 0.0 : o.gamma * Q[s2 * A + a2]) - Q[i];
         for (int b = 0; b < A; ++b) e[static_cast<std::size_t>(s * A + b)] = 0.0;
