@@ -1,6 +1,6 @@
 // `pegasus pomdp-gridworld`: the POMDP gridworld experiment of thesis §4.6 (Fig 4.5b).
-#include <map>
-#include <set>
+#include <tuple>
+#include <vector>
 
 #include "experiment_commands.hpp"
 #include "pegasus/core/error.hpp"
@@ -21,6 +21,10 @@ void declare(ConfigSchema& s) {
   s.add_bool("montecarlo", true, "also run naive Monte Carlo with fresh randomness per evaluation");
   s.add_string("variant", "plain", "scenario variant").choices({"plain", "antithetic", "stratified", "sobol"});
 }
+
+// The curves of both plots, in legend order: (model, estimator, legend name).
+const std::vector<std::tuple<std::string, std::string, std::string>> kSeries = {
+    {"normal", "pegasus", "PEGASUS"}, {"hashed", "pegasus", "PEGASUS, hashed model"}, {"normal", "montecarlo", "naive Monte Carlo"}};
 
 nlohmann::json summary_json(const PomdpGridworldResult& r, const PomdpGridworldOptions& o) {
   nlohmann::json rows = nlohmann::json::array();
@@ -49,13 +53,10 @@ std::string value_plot(const PomdpGridworldResult& r) {
       .x_label("scenarios m")
       .y_label("exact value of argmax U-hat")
       .x_scale(AxisScale::kLog2);
-  const std::map<std::pair<std::string, std::string>, std::string> names = {
-      {{"normal", "pegasus"}, "PEGASUS"}, {{"hashed", "pegasus"}, "PEGASUS, hashed model"},
-      {{"normal", "montecarlo"}, "naive Monte Carlo"}};
-  for (const auto& [key, name] : names) {
+  for (const auto& [model, estimator, name] : kSeries) {
     PlotSeries s{.name = name};
     for (const auto& row : r.rows)
-      if (row.model == key.first && row.estimator == key.second) {
+      if (row.model == model && row.estimator == estimator) {
         s.x.push_back(row.m);
         s.y.push_back(row.mean_true_value);
         s.error.push_back(row.stderr_true_value);
@@ -72,10 +73,7 @@ std::string deviation_plot(const PomdpGridworldResult& r) {
       .x_label("scenarios m")
       .y_label("mean sup deviation")
       .x_scale(AxisScale::kLog2);
-  for (const auto& [model, estimator, name] :
-       std::vector<std::tuple<std::string, std::string, std::string>>{{"normal", "pegasus", "PEGASUS"},
-                                                                       {"hashed", "pegasus", "PEGASUS, hashed model"},
-                                                                       {"normal", "montecarlo", "naive Monte Carlo"}}) {
+  for (const auto& [model, estimator, name] : kSeries) {
     PlotSeries s{.name = name};
     for (const auto& row : r.rows)
       if (row.model == model && row.estimator == estimator) {

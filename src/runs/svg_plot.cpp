@@ -179,7 +179,11 @@ std::string SvgPlot::render() const {
   ay.fit(y0, y1);
 
   const double left = 75, top = title_.empty() ? 20 : 45, bottom = 55;
-  const double legend_width = series_.empty() && references_.empty() ? 20 : 170;
+  // The legend is as wide as its longest entry (about 7 px per character at the legend's font size).
+  std::size_t longest = 0;
+  for (const auto& series : series_) longest = std::max(longest, series.name.size());
+  for (const auto& reference : references_) longest = std::max(longest, reference.label.size());
+  const double legend_width = series_.empty() && references_.empty() ? 20 : 50 + 7.0 * static_cast<double>(longest);
   const double pw = width_ - left - legend_width, ph = height_ - top - bottom;
   auto px = [&](double x) { return left + ax.unit(x) * pw; };
   auto py = [&](double y) { return top + ph - ay.unit(y) * ph; };

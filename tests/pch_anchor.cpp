@@ -1,0 +1,1 @@
+// Anchor translation unit of the shared precompiled test header (tests/CMakeLists.txt).
