@@ -1,0 +1,55 @@
+#pragma once
+// One entry point for every optimizer, so a config can pick the method by name:
+//
+//   OptimizerOptions options;
+//   options.method = "hill-climb";               // from the config
+//   options.hill_climbing.proposals_per_iteration = 8;
+//   std::string error;
+//   if (!options.IsValid(&error)) throw InputError("optimizer." + error);
+//   Theta theta;                                  // empty: start from the spec's initial values
+//   OptimizerSummary summary;
+//   Solve(options, objective, &theta, &summary);
+//
+// Methods: "exhaustive", "gradient", "hill-climb", "bobyqa", "sbplx", "crs2", "esch".
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+
+#include "pegasus/optimizers/exhaustive_search.hpp"
+#include "pegasus/optimizers/gradient_ascent.hpp"
+#include "pegasus/optimizers/hill_climbing.hpp"
+#include "pegasus/optimizers/nlopt_optimizer.hpp"
+#include "pegasus/optimizers/objective.hpp"
+#include "pegasus/optimizers/optimizer_summary.hpp"
+
+namespace pegasus {
+
+// The method names the dispatcher accepts, in the order above.
+std::span<const std::string_view> OptimizerMethodNames();
+
+struct OptimizerOptions {
+  // Which optimizer runs; one of OptimizerMethodNames().
+  std::string method = "gradient";
+  // Options of each method; only the selected one is used and validated.
+  ExhaustiveSearchOptions exhaustive;
+  GradientAscentOptions gradient;
+  HillClimbingOptions hill_climbing;
+  // Used by "bobyqa", "sbplx", "crs2" and "esch"; its `algorithm` is overridden by `method`.
+  NloptOptions nlopt;
+
+  // Sets checkpoint_every, on_checkpoint and resume_from of every method's options at once.
+  void SetCheckpointing(std::int64_t checkpoint_every, CheckpointCallback on_checkpoint,
+                        std::optional<nlohmann::json> resume_from = std::nullopt);
+
+  // False when `method` is unknown or the selected method's options are invalid; *error then names the
+  // field with its prefix ("method", "gradient.max_step", "nlopt.population", ...).
+  bool IsValid(std::string* error) const;
+};
+
+// Runs options.method; see that method's Solve. Throws InputError when the options are invalid.
+void Solve(const OptimizerOptions& options, Objective& objective, Theta* theta, OptimizerSummary* summary);
+
+}  // namespace pegasus

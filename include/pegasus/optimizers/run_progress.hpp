@@ -1,0 +1,128 @@
+#pragma once
+// Bookkeeping shared by every optimizer: counters, the best policy so far, the history, wall time, and the
+// common part of a checkpoint. Also the JSON encoding of doubles used by checkpoints.
+//
+// Checkpoint layout (a JSON object):
+//   format        "pegasus.optimizer.checkpoint"
+//   version       1
+//   method        "gradient", "hill-climb", "exhaustive", "bobyqa", ...
+//   parameters    parameter names, in order (a resume must use the same parameter set)
+//   iterations, evaluations, elapsed_seconds, initial_value, best_value, best_theta
+//   history       [[iteration, evaluations, value, seconds], ...] (empty for the NLopt methods, whose
+//                 evaluation log holds the same information and rebuilds it on resume)
+//   state         what the method needs to continue (documented in each method's header)
+// Doubles are JSON numbers, which nlohmann writes with the shortest text that parses back to the same
+// bits, so a resumed run continues from exactly the saved numbers. NaN and infinities, which JSON cannot
+// hold, are written as the strings "nan", "inf" and "-inf".
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "pegasus/optimizers/optimizer_summary.hpp"
+#include "pegasus/policies/parameter_spec.hpp"
+
+namespace pegasus {
+
+// Receives every checkpoint an optimizer writes. To survive a crash, write it atomically (to a temporary
+// file, then rename it over the old one).
+using CheckpointCallback = std::function<void(const nlohmann::json&)>;
+
+inline constexpr std::string_view kCheckpointFormat = "pegasus.optimizer.checkpoint";
+inline constexpr int kCheckpointVersion = 1;
+
+nlohmann::json DoubleToJson(double value);
+// `field` names the value in the InputError thrown when it is neither a number nor one of the strings.
+double DoubleFromJson(const nlohmann::json& value, std::string_view field);
+nlohmann::json VectorToJson(std::span<const double> values);
+std::vector<double> VectorFromJson(const nlohmann::json& values, std::string_view field);
+
+// The "method" of a checkpoint, so a caller can pick the optimizer that wrote it. Throws InputError when
+// the JSON is not a checkpoint.
+std::string CheckpointMethod(const nlohmann::json& checkpoint);
+
+// The member `name` of a checkpoint's method state; InputError naming it when absent or, for the typed
+// versions, of another type.
+const nlohmann::json& StateField(const nlohmann::json& state, const char* name);
+std::int64_t StateInteger(const nlohmann::json& state, const char* name);
+std::uint64_t StateUnsigned(const nlohmann::json& state, const char* name);
+
+// True when `candidate` beats `incumbent` for maximisation. NaN never beats a number and every number
+// beats NaN, so one bad evaluation cannot become the best; ties keep the incumbent.
+inline bool IsImprovement(double candidate, double incumbent) {
+  return candidate > incumbent || (incumbent != incumbent && candidate == candidate);
+}
+
+// For IsValid: writes "field: expected <expected>, got <got>" to *error (when non-null); returns false.
+bool RejectOption(std::string* error, std::string_view field, std::string_view expected, double got);
+
+// Validates the fields every optimizer's Options share; false with "field: expected ..." in *error.
+bool ValidateCheckpointOptions(std::int64_t checkpoint_every, const CheckpointCallback& on_checkpoint,
+                               const std::optional<nlohmann::json>& resume_from, std::string_view method,
+                               std::string* error);
+
+class RunProgress {
+ public:
+  RunProgress(std::string method, const ParameterSpec& spec);
+
+  std::int64_t iterations() const { return iterations_; }
+  std::int64_t evaluations() const { return evaluations_; }
+  bool has_best() const { return has_best_; }
+  double best_value() const { return best_value_; }
+  const Theta& best_theta() const { return best_theta_; }
+  const std::vector<IterationRecord>& history() const { return history_; }
+
+  void set_initial_value(double value) { initial_value_ = value; }
+  void set_replayed_evaluations(std::int64_t count) { replayed_evaluations_ = count; }
+  void AddEvaluations(std::int64_t count) { evaluations_ += count; }
+  // Keeps theta as the best so far when IsImprovement(value, best); returns whether it did.
+  bool Offer(std::span<const double> theta, double value);
+  // Counts a completed iteration and appends it to the history.
+  void EndIteration() { EndIteration(Seconds()); }
+  void EndIteration(double seconds);
+  // True when a checkpoint is due after the iteration just ended.
+  bool CheckpointDue(std::int64_t checkpoint_every) const {
+    return checkpoint_every > 0 && iterations_ > 0 && iterations_ % checkpoint_every == 0;
+  }
+
+  // Wall seconds since the run began, including the time recorded in a resumed checkpoint.
+  double Seconds() const;
+
+  // The full checkpoint: the common fields plus the method's `state`; the history only when asked.
+  nlohmann::json Checkpoint(nlohmann::json state, bool include_history = true) const;
+  // Checks that `checkpoint` was written by this method for these parameters (InputError naming the field
+  // otherwise) and returns its `state`. With restore_counters, the counters, best, history and elapsed
+  // time continue from the checkpoint; without (NLopt, which replays its log), only the time does.
+  const nlohmann::json& Resume(const nlohmann::json& checkpoint, bool restore_counters = true);
+
+  // Fills *summary; the history is moved out.
+  void Finish(TerminationType type, std::string message, OptimizerSummary* summary);
+
+ private:
+  const nlohmann::json& ResumeUnchecked(const nlohmann::json& checkpoint, bool restore_counters);
+
+  std::string method_;
+  std::vector<std::string> parameter_names_;
+  std::int64_t iterations_ = 0;
+  std::int64_t evaluations_ = 0;
+  std::int64_t replayed_evaluations_ = 0;
+  bool resumed_ = false;
+  double initial_value_;
+  bool has_best_ = false;
+  double best_value_;
+  Theta best_theta_;
+  std::vector<IterationRecord> history_;
+  double seconds_before_resume_ = 0.0;
+  std::chrono::steady_clock::time_point started_;
+};
+
+// The theta an optimizer starts from: `requested` clamped into the bounds, or the spec's initial values
+// when `requested` is empty. Throws InputError on a size mismatch or a non-finite entry.
+Theta StartingTheta(const ParameterSpec& spec, const Theta& requested);
+
+}  // namespace pegasus

@@ -1,0 +1,186 @@
+#include "pegasus/optimizers/gradient_ascent.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "pegasus/core/error.hpp"
+
+namespace pegasus {
+
+using nlohmann::json;
+
+bool GradientAscentOptions::IsValid(std::string* error) const {
+  if (max_iterations < 0)
+    return RejectOption(error, "max_iterations", ">= 0", static_cast<double>(max_iterations));
+  if (max_evaluations < 1)
+    return RejectOption(error, "max_evaluations", ">= 1", static_cast<double>(max_evaluations));
+  if (!(relative_step > 0.0 && std::isfinite(relative_step)))
+    return RejectOption(error, "relative_step", "a finite value > 0", relative_step);
+  if (!(max_step > 0.0 && std::isfinite(max_step)))
+    return RejectOption(error, "max_step", "a finite value > 0", max_step);
+  if (!(initial_step > 0.0 && initial_step <= max_step))
+    return RejectOption(error, "initial_step", fmt::format("0 < initial_step <= max_step = {}", max_step),
+                        initial_step);
+  if (!(min_step >= 0.0 && min_step <= initial_step))
+    return RejectOption(error, "min_step", fmt::format("0 <= min_step <= initial_step = {}", initial_step),
+                        min_step);
+  if (!(step_growth >= 1.0 && std::isfinite(step_growth)))
+    return RejectOption(error, "step_growth", "a finite value >= 1", step_growth);
+  if (max_backtracks < 0) return RejectOption(error, "max_backtracks", ">= 0", max_backtracks);
+  if (!(function_tolerance >= 0.0 && std::isfinite(function_tolerance)))
+    return RejectOption(error, "function_tolerance", "a finite value >= 0", function_tolerance);
+  return ValidateCheckpointOptions(checkpoint_every, on_checkpoint, resume_from, "gradient", error);
+}
+
+void Solve(const GradientAscentOptions& options, Objective& objective, Theta* theta,
+           OptimizerSummary* summary) {
+  std::string error;
+  if (!options.IsValid(&error)) throw InputError("gradient ascent options: " + error);
+  if (theta == nullptr || summary == nullptr)
+    throw InputError("gradient ascent: theta and summary must be non-null");
+
+  const ParameterSpec& spec = objective.parameters();
+  const std::size_t n = spec.size();
+  const Theta lower = spec.lower();
+  const Theta upper = spec.upper();
+  const Theta scale = spec.scales();
+  RunProgress run("gradient", spec);
+
+  Theta x;
+  double value;
+  double step;
+  if (options.resume_from) {
+    const json& state = run.Resume(*options.resume_from);
+    x = VectorFromJson(StateField(state, "theta"), "state.theta");
+    if (!spec.contains(x)) throw InputError("checkpoint state.theta: expected a theta inside the bounds");
+    value = DoubleFromJson(StateField(state, "value"), "state.value");
+    step = DoubleFromJson(StateField(state, "step"), "state.step");
+  } else {
+    x = StartingTheta(spec, *theta);
+    value = objective.evaluate(x);
+    run.AddEvaluations(1);
+    run.set_initial_value(value);
+    run.Offer(x, value);
+    step = options.initial_step;
+  }
+
+  // Scratch for the whole run, so an iteration allocates nothing (STYLE.md).
+  const std::size_t probe_count = 2 * n;
+  std::vector<Theta> probes(probe_count, x);
+  std::vector<double> probe_values(probe_count);
+  Theta plus(n), minus(n), direction(n), trial(n);
+
+  TerminationType termination = TerminationType::kFailure;
+  std::string message;
+  for (;;) {
+    if (run.iterations() >= options.max_iterations) {
+      termination = TerminationType::kMaxIterations;
+      message = fmt::format("reached max_iterations = {}", options.max_iterations);
+      break;
+    }
+    if (run.evaluations() + static_cast<std::int64_t>(probe_count) + 1 > options.max_evaluations) {
+      termination = TerminationType::kMaxEvaluations;
+      message = fmt::format("an iteration needs {} more evaluations; {} of max_evaluations = {} used",
+                            probe_count + 1, run.evaluations(), options.max_evaluations);
+      break;
+    }
+
+    // §5.3: numerically evaluated derivatives, all 2n probes in one batch so the objective can run them
+    // in parallel. Probes are clipped to the bounds; dividing by the clipped width keeps the estimate
+    // one-sided rather than wrong at a bound.
+    for (std::size_t i = 0; i < n; ++i) {
+      const double h = options.relative_step * scale[i];
+      plus[i] = std::min(x[i] + h, upper[i]);
+      minus[i] = std::max(x[i] - h, lower[i]);
+      std::copy(x.begin(), x.end(), probes[2 * i].begin());
+      std::copy(x.begin(), x.end(), probes[2 * i + 1].begin());
+      probes[2 * i][i] = plus[i];
+      probes[2 * i + 1][i] = minus[i];
+    }
+    objective.evaluate_batch(probes, probe_values);
+    run.AddEvaluations(static_cast<std::int64_t>(probe_count));
+
+    double norm_squared = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double width = plus[i] - minus[i];
+      // Derivative with respect to theta_i / scale_i (§5.3: scale the derivatives per parameter).
+      double g = width > 0.0 ? (probe_values[2 * i] - probe_values[2 * i + 1]) / width * scale[i] : 0.0;
+      if (!std::isfinite(g)) {
+        termination = TerminationType::kFailure;
+        message = fmt::format("derivative with respect to {} is not finite (U-hat {} at +h, {} at -h)",
+                              spec[i].name, probe_values[2 * i], probe_values[2 * i + 1]);
+        break;
+      }
+      // Projected gradient: a component pushing out through an active bound cannot be followed.
+      if ((x[i] >= upper[i] && g > 0.0) || (x[i] <= lower[i] && g < 0.0)) g = 0.0;
+      direction[i] = g;
+      norm_squared += g * g;
+    }
+    if (!message.empty()) break;
+    if (norm_squared == 0.0) {
+      termination = TerminationType::kConvergence;
+      message = "the projected gradient is zero";
+      break;
+    }
+    // §4.6: a normalised direction with a bounded length keeps a wild derivative estimate near a
+    // discontinuity of U-hat from throwing theta far away.
+    const double norm = std::sqrt(norm_squared);
+    for (std::size_t i = 0; i < n; ++i) direction[i] /= norm;
+
+    // §5.3: check that each step went uphill; otherwise undo it and redo it with half the length.
+    double improvement = 0.0;
+    const double previous_value = value;
+    for (int halvings = 0;; ++halvings) {
+      if (step < options.min_step) {
+        termination = TerminationType::kConvergence;
+        message = fmt::format("step length {:.3g} fell below min_step = {:.3g}", step, options.min_step);
+        break;
+      }
+      if (run.evaluations() >= options.max_evaluations) {
+        termination = TerminationType::kMaxEvaluations;
+        message = fmt::format("used max_evaluations = {} while backtracking", options.max_evaluations);
+        break;
+      }
+      for (std::size_t i = 0; i < n; ++i)
+        trial[i] = std::clamp(x[i] + step * scale[i] * direction[i], lower[i], upper[i]);
+      const double trial_value = objective.evaluate(trial);
+      run.AddEvaluations(1);
+      if (IsImprovement(trial_value, value)) {
+        improvement = trial_value - value;
+        x.swap(trial);
+        value = trial_value;
+        break;
+      }
+      if (halvings == options.max_backtracks) {
+        termination = TerminationType::kConvergence;
+        message = fmt::format("no uphill step after max_backtracks = {} halvings (step length {:.3g})",
+                              options.max_backtracks, step);
+        break;
+      }
+      step *= 0.5;
+    }
+    if (!message.empty()) break;
+
+    run.Offer(x, value);
+    step = std::min(step * options.step_growth, options.max_step);
+    run.EndIteration();
+    if (improvement <= options.function_tolerance * std::abs(previous_value)) {
+      termination = TerminationType::kConvergence;
+      message = fmt::format("relative improvement {:.3g} <= function_tolerance = {:.3g}",
+                            improvement / std::abs(previous_value), options.function_tolerance);
+      break;
+    }
+    if (run.CheckpointDue(options.checkpoint_every)) {
+      options.on_checkpoint(run.Checkpoint(
+          json{{"theta", VectorToJson(x)}, {"value", DoubleToJson(value)}, {"step", DoubleToJson(step)}}));
+    }
+  }
+
+  run.Finish(termination, std::move(message), summary);
+  summary->final_step = step;
+  *theta = summary->best_theta;
+}
+
+}  // namespace pegasus

@@ -1,0 +1,141 @@
+#include "pegasus/optimizers/hill_climbing.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "pegasus/core/error.hpp"
+
+namespace pegasus {
+
+using nlohmann::json;
+
+bool HillClimbingOptions::IsValid(std::string* error) const {
+  if (max_iterations < 0)
+    return RejectOption(error, "max_iterations", ">= 0", static_cast<double>(max_iterations));
+  if (max_evaluations < 1)
+    return RejectOption(error, "max_evaluations", ">= 1", static_cast<double>(max_evaluations));
+  if (proposals_per_iteration < 1)
+    return RejectOption(error, "proposals_per_iteration", ">= 1", proposals_per_iteration);
+  if (!(max_step > 0.0 && std::isfinite(max_step)))
+    return RejectOption(error, "max_step", "a finite value > 0", max_step);
+  if (!(initial_step > 0.0 && initial_step <= max_step))
+    return RejectOption(error, "initial_step", fmt::format("0 < initial_step <= max_step = {}", max_step),
+                        initial_step);
+  if (!(min_step >= 0.0 && min_step <= initial_step))
+    return RejectOption(error, "min_step", fmt::format("0 <= min_step <= initial_step = {}", initial_step),
+                        min_step);
+  if (!(step_growth >= 1.0 && std::isfinite(step_growth)))
+    return RejectOption(error, "step_growth", "a finite value >= 1", step_growth);
+  if (!(step_shrink > 0.0 && step_shrink <= 1.0))
+    return RejectOption(error, "step_shrink", "a value in (0, 1]", step_shrink);
+  return ValidateCheckpointOptions(checkpoint_every, on_checkpoint, resume_from, "hill-climb", error);
+}
+
+void FillStandardNormals(UniformStream& uniforms, std::span<double> normals) {
+  for (std::size_t k = 0; k < normals.size(); k += 2) {
+    const double radius = std::sqrt(-2.0 * std::log(uniforms.next()));
+    const double angle = 2.0 * std::numbers::pi * uniforms.next();
+    normals[k] = radius * std::cos(angle);
+    if (k + 1 < normals.size()) normals[k + 1] = radius * std::sin(angle);
+  }
+}
+
+void Solve(const HillClimbingOptions& options, Objective& objective, Theta* theta,
+           OptimizerSummary* summary) {
+  std::string error;
+  if (!options.IsValid(&error)) throw InputError("hill climbing options: " + error);
+  if (theta == nullptr || summary == nullptr)
+    throw InputError("hill climbing: theta and summary must be non-null");
+
+  const ParameterSpec& spec = objective.parameters();
+  const std::size_t n = spec.size();
+  const Theta lower = spec.lower();
+  const Theta upper = spec.upper();
+  const Theta scale = spec.scales();
+  RunProgress run("hill-climb", spec);
+
+  Theta x;
+  double value;
+  double step;
+  std::uint64_t stream_position = 0;
+  if (options.resume_from) {
+    const json& state = run.Resume(*options.resume_from);
+    x = VectorFromJson(StateField(state, "theta"), "state.theta");
+    if (!spec.contains(x)) throw InputError("checkpoint state.theta: expected a theta inside the bounds");
+    value = DoubleFromJson(StateField(state, "value"), "state.value");
+    step = DoubleFromJson(StateField(state, "step"), "state.step");
+    stream_position = StateUnsigned(state, "stream_position");
+  } else {
+    x = StartingTheta(spec, *theta);
+    value = objective.evaluate(x);
+    run.AddEvaluations(1);
+    run.set_initial_value(value);
+    run.Offer(x, value);
+    step = options.initial_step;
+  }
+  UniformStream uniforms(options.seed, options.stream, stream_position);
+
+  const auto proposal_count = static_cast<std::size_t>(options.proposals_per_iteration);
+  std::vector<Theta> proposals(proposal_count, x);
+  std::vector<double> proposal_values(proposal_count);
+  Theta normals(n);
+
+  TerminationType termination = TerminationType::kFailure;
+  std::string message;
+  for (;;) {
+    if (run.iterations() >= options.max_iterations) {
+      termination = TerminationType::kMaxIterations;
+      message = fmt::format("reached max_iterations = {}", options.max_iterations);
+      break;
+    }
+    if (run.evaluations() + static_cast<std::int64_t>(proposal_count) > options.max_evaluations) {
+      termination = TerminationType::kMaxEvaluations;
+      message = fmt::format("an iteration needs {} more evaluations; {} of max_evaluations = {} used",
+                            proposal_count, run.evaluations(), options.max_evaluations);
+      break;
+    }
+
+    // §5.3: random perturbations of the weights, each sized by the parameter's scale.
+    for (auto& proposal : proposals) {
+      FillStandardNormals(uniforms, normals);
+      for (std::size_t i = 0; i < n; ++i)
+        proposal[i] = std::clamp(x[i] + step * scale[i] * normals[i], lower[i], upper[i]);
+    }
+    objective.evaluate_batch(proposals, proposal_values);
+    run.AddEvaluations(static_cast<std::int64_t>(proposal_count));
+
+    std::size_t best = 0;
+    for (std::size_t k = 1; k < proposal_count; ++k)
+      if (IsImprovement(proposal_values[k], proposal_values[best])) best = k;
+    // Move only when U-hat increases (§5.3), so accepted values never decrease.
+    if (IsImprovement(proposal_values[best], value)) {
+      std::copy(proposals[best].begin(), proposals[best].end(), x.begin());
+      value = proposal_values[best];
+      run.Offer(x, value);
+      step = std::min(step * options.step_growth, options.max_step);
+    } else {
+      step *= options.step_shrink;
+    }
+    run.EndIteration();
+    if (step < options.min_step) {
+      termination = TerminationType::kConvergence;
+      message = fmt::format("step {:.3g} fell below min_step = {:.3g}", step, options.min_step);
+      break;
+    }
+    if (run.CheckpointDue(options.checkpoint_every)) {
+      options.on_checkpoint(run.Checkpoint(json{{"theta", VectorToJson(x)},
+                                                {"value", DoubleToJson(value)},
+                                                {"step", DoubleToJson(step)},
+                                                {"stream_position", uniforms.position()}}));
+    }
+  }
+
+  run.Finish(termination, std::move(message), summary);
+  summary->final_step = step;
+  *theta = summary->best_theta;
+}
+
+}  // namespace pegasus

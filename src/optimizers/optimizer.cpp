@@ -1,0 +1,63 @@
+#include "pegasus/optimizers/optimizer.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <array>
+
+#include "pegasus/core/error.hpp"
+
+namespace pegasus {
+
+namespace {
+
+constexpr std::array<std::string_view, 7> kMethodNames = {"exhaustive", "gradient", "hill-climb", "bobyqa",
+                                                          "sbplx",      "crs2",     "esch"};
+
+// The NLopt options with the algorithm named by `method`.
+NloptOptions NloptOptionsFor(const OptimizerOptions& options, NloptAlgorithm algorithm) {
+  NloptOptions nlopt = options.nlopt;
+  nlopt.algorithm = algorithm;
+  return nlopt;
+}
+
+}  // namespace
+
+std::span<const std::string_view> OptimizerMethodNames() { return kMethodNames; }
+
+void OptimizerOptions::SetCheckpointing(std::int64_t checkpoint_every, CheckpointCallback on_checkpoint,
+                                        std::optional<nlohmann::json> resume_from) {
+  exhaustive.checkpoint_every = gradient.checkpoint_every = hill_climbing.checkpoint_every =
+      nlopt.checkpoint_every = checkpoint_every;
+  exhaustive.on_checkpoint = gradient.on_checkpoint = hill_climbing.on_checkpoint = nlopt.on_checkpoint =
+      std::move(on_checkpoint);
+  exhaustive.resume_from = gradient.resume_from = hill_climbing.resume_from = nlopt.resume_from =
+      std::move(resume_from);
+}
+
+bool OptimizerOptions::IsValid(std::string* error) const {
+  std::string inner;
+  auto prefixed = [&](bool valid, std::string_view prefix) {
+    if (!valid && error) *error = fmt::format("{}.{}", prefix, inner);
+    return valid;
+  };
+  if (method == "exhaustive") return prefixed(exhaustive.IsValid(&inner), "exhaustive");
+  if (method == "gradient") return prefixed(gradient.IsValid(&inner), "gradient");
+  if (method == "hill-climb") return prefixed(hill_climbing.IsValid(&inner), "hill_climbing");
+  if (const auto algorithm = NloptAlgorithmFromName(method))
+    return prefixed(NloptOptionsFor(*this, *algorithm).IsValid(&inner), "nlopt");
+  if (error)
+    *error = fmt::format("method: expected one of {}, got \"{}\"", fmt::join(kMethodNames, ", "), method);
+  return false;
+}
+
+void Solve(const OptimizerOptions& options, Objective& objective, Theta* theta, OptimizerSummary* summary) {
+  std::string error;
+  if (!options.IsValid(&error)) throw InputError("optimizer options: " + error);
+  if (options.method == "exhaustive") return Solve(options.exhaustive, objective, theta, summary);
+  if (options.method == "gradient") return Solve(options.gradient, objective, theta, summary);
+  if (options.method == "hill-climb") return Solve(options.hill_climbing, objective, theta, summary);
+  Solve(NloptOptionsFor(options, *NloptAlgorithmFromName(options.method)), objective, theta, summary);
+}
+
+}  // namespace pegasus
