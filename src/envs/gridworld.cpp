@@ -2,7 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cstdlib>
+#include <utility>
 
 #include "pegasus/core/error.hpp"
 
@@ -54,21 +56,56 @@ GridWorld corner_gridworld(int n, double intended) {
 }
 
 FiniteMdp to_finite_mdp(const GridWorld& w, double gamma) {
+  // Written straight into the CSR arrays (no per-row containers): the 1000 x 1000 benchmark grid has 4M
+  // rows. Directions that end in the same cell (walls) are merged into one entry.
   const GridGeometry& g = w.geometry();
-  FiniteMdpBuilder b(w.num_states(), kGridActions, gamma);
-  b.set_absorbing(w.goal());
+  if (!(gamma >= 0.0 && gamma <= 1.0)) throw InputError(fmt::format("gridworld: gamma must lie in [0, 1], got {}", gamma));
+  FiniteMdp m;
+  m.num_states = w.num_states();
+  m.num_actions = kGridActions;
+  m.gamma = gamma;
+  const std::size_t S = static_cast<std::size_t>(m.num_states);
+  m.absorbing.assign(S, 0);
+  m.absorbing[static_cast<std::size_t>(w.goal())] = 1;
+  m.initial.assign(S, 0.0);
+  m.initial[static_cast<std::size_t>(w.start())] = 1.0;
+  m.row_start.reserve(S * kGridActions + 1);
+  m.next_state.reserve(S * kGridActions * 4);
+  m.probability.reserve(S * kGridActions * 4);
+  m.reward.reserve(S * kGridActions * 4);
+  m.row_start.push_back(0);
   const double slip = (1.0 - w.intended()) / 4.0;
-  for (int s = 0; s < w.num_states(); ++s) {
-    if (s == w.goal()) continue;
+  for (int s = 0; s < m.num_states; ++s) {
     for (int a = 0; a < kGridActions; ++a) {
-      for (int d = 0; d < kGridActions; ++d) {
-        const double p = (d == a ? w.intended() : 0.0) + slip;
-        if (p > 0.0) b.add_transition(s, a, g.move(s, d), p, w.step_reward());
+      if (s == w.goal()) {
+        m.next_state.push_back(s);
+        m.probability.push_back(1.0);
+        m.reward.push_back(0.0);
+      } else {
+        std::array<std::pair<int, double>, kGridActions> e{};
+        int n = 0;
+        for (int d = 0; d < kGridActions; ++d) {
+          const double p = (d == a ? w.intended() : 0.0) + slip;
+          if (p <= 0.0) continue;
+          const int next = g.move(s, d);
+          int k = 0;
+          while (k < n && e[static_cast<std::size_t>(k)].first != next) ++k;
+          if (k == n) e[static_cast<std::size_t>(n++)] = {next, 0.0};
+          e[static_cast<std::size_t>(k)].second += p;
+        }
+        std::sort(e.begin(), e.begin() + n);
+        for (int k = 0; k < n; ++k) {
+          m.next_state.push_back(e[static_cast<std::size_t>(k)].first);
+          m.probability.push_back(std::min(1.0, e[static_cast<std::size_t>(k)].second));
+          m.reward.push_back(w.step_reward());
+        }
       }
+      m.row_start.push_back(static_cast<std::uint32_t>(m.next_state.size()));
     }
   }
-  b.set_initial(w.start(), 1.0);
-  return b.build();
+  m.refresh_expected_reward();
+  validate(m, "gridworld");
+  return m;
 }
 
 std::vector<double> manhattan_potential(const GridWorld& w, double scale) {
