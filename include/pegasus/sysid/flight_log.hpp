@@ -1,0 +1,48 @@
+#pragma once
+// Flight logs: the 50 Hz record of a flight that system identification learns from (thesis §5.2).
+//
+// CSV format (anyone's data can be imported): a header line, then one row per sample. Required columns, in
+// any order (extra columns are ignored), units m, rad, s:
+//   time                      s, strictly increasing at a constant rate (every step within 1% of the mean)
+//   x, y, z                   position in the world frame W, north-east-down (z < 0 is above the ground), m
+//   roll, pitch, yaw          Z-Y-X Euler angles, rad (yaw may wrap at +-pi)
+//   xdot, ydot, zdot          velocity in the world frame W, m/s
+//   roll_rate, pitch_rate, yaw_rate   Euler angle rates d(roll)/dt, d(pitch)/dt, d(yaw)/dt, rad/s
+//   a1, a2, a3, a4            controls in [-1, 1]: longitudinal cyclic, lateral cyclic, collective, tail
+// The control of row t is the one applied from time t to time t + dt. Values must be finite numbers.
+#include <array>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace pegasus::sysid {
+
+inline constexpr int kLogStates = 12;
+inline constexpr std::array<const char*, kLogStates> kLogStateColumns = {
+    "x", "y", "z", "roll", "pitch", "yaw", "xdot", "ydot", "zdot", "roll_rate", "pitch_rate", "yaw_rate"};
+inline constexpr std::array<const char*, 4> kLogControlColumns = {"a1", "a2", "a3", "a4"};
+
+struct FlightLog {
+  std::vector<double> time;                          // s
+  std::vector<std::array<double, kLogStates>> states;  // columns kLogStateColumns
+  std::vector<std::array<double, 4>> controls;       // a1..a4
+  std::size_t rows() const { return time.size(); }
+  double dt() const;        // mean sample interval, s
+  double seconds() const;   // rows * dt
+};
+
+// The CSV text (header plus rows; doubles in shortest round-trip form).
+std::string flight_log_csv(const FlightLog& log);
+void write_flight_log(const std::filesystem::path& file, const FlightLog& log);
+
+struct LogReadOptions {
+  int min_rows = 100;             // fewer rows: error
+  double rate_tolerance = 0.01;   // every time step within this fraction of the mean step
+};
+// Reads and checks a log; InputError "FILE:LINE:COLUMN: what was expected" (LINE 1-based as in an editor,
+// COLUMN the column's name) on any problem.
+FlightLog read_flight_log(const std::filesystem::path& file, const LogReadOptions& options = {});
+// The same checks on CSV text; `name` stands for the file in messages.
+FlightLog parse_flight_log(const std::string& text, const std::string& name, const LogReadOptions& options = {});
+
+}  // namespace pegasus::sysid

@@ -1,0 +1,128 @@
+#include "pegasus/heli/pilot.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include "pegasus/heli/gaussian.hpp"
+
+namespace pegasus::heli {
+
+bool PilotOptions::IsValid(std::string* error) const {
+  auto fail = [&](const char* what) {
+    if (error) *error = std::string("pilot: ") + what;
+    return false;
+  };
+  if (!(reaction_delay_s >= 0 && reaction_delay_s <= 2)) return fail("reaction_delay_s must lie in [0, 2]");
+  if (!(bandwidth_tau_s > 0 && noise_tau_s > 0)) return fail("time constants must be positive");
+  if (!(noise_sigma >= 0)) return fail("noise_sigma must be >= 0");
+  if (!(hover_seconds >= 0)) return fail("hover_seconds must be >= 0");
+  if (!(sweep_f0_hz > 0 && sweep_f1_hz > sweep_f0_hz)) return fail("need 0 < sweep_f0_hz < sweep_f1_hz");
+  return true;
+}
+
+ScriptedPilot::ScriptedPilot(const Aircraft& aircraft, PilotOptions options, std::uint64_t seed, std::uint32_t stream)
+    : aircraft_(aircraft), o_(std::move(options)), rng_(seed, stream) {
+  std::string error;
+  if (!o_.IsValid(&error)) throw std::invalid_argument(error);
+  const auto n = static_cast<std::size_t>(std::lround(o_.reaction_delay_s / aircraft_.params().dt)) + 1;
+  delay_.resize(n);
+  lagged_ = aircraft_.hover_trim().controls;
+}
+
+int ScriptedPilot::sweep_channel(double time) const {
+  if (!o_.sweeps || time < o_.hover_seconds) return -1;
+  const double each = (total_seconds_ - o_.hover_seconds) / 4;
+  if (each <= 0) return -1;
+  return std::min(3, static_cast<int>((time - o_.hover_seconds) / each));
+}
+
+double ScriptedPilot::sweep_offset(double time) const {
+  const int c = sweep_channel(time);
+  if (c < 0) return 0;
+  const double each = (total_seconds_ - o_.hover_seconds) / 4;
+  const double t = time - o_.hover_seconds - c * each;
+  // Exponential chirp from f0 to f1 over the segment, faded in and out over 2 s.
+  const double k = o_.sweep_f1_hz / o_.sweep_f0_hz;
+  const double phase = 2 * std::numbers::pi * o_.sweep_f0_hz * each / std::log(k) * (std::pow(k, t / each) - 1);
+  const double fade = std::clamp(std::min(t, each - t) / 2.0, 0.0, 1.0);
+  return o_.sweep_amplitude[static_cast<std::size_t>(c)] * fade * std::sin(phase);
+}
+
+Controls ScriptedPilot::act(const LoggedState& estimate, double time) {
+  const AircraftParams& P = aircraft_.params();
+  if (!have_hold_) {
+    hold_ = estimate;
+    have_hold_ = true;
+  }
+  delay_[head_] = estimate;
+  head_ = (head_ + 1) % delay_.size();
+  filled_ = std::min(filled_ + 1, delay_.size());
+  // The oldest entry is the estimate reaction_delay_s ago (or the first one, early in the flight).
+  const LoggedState& s = filled_ < delay_.size() ? delay_[0] : delay_[head_];
+  const auto& trim = aircraft_.hover_trim();
+  const double yaw = s[5];
+  const double cy = std::cos(yaw), sy = std::sin(yaw);
+  // Errors and velocities in the heading frame (x forward, y right, level).
+  const double ex_W = s[0] - hold_[0], ey_W = s[1] - hold_[1];
+  const double ex = cy * ex_W + sy * ey_W, ey = -sy * ex_W + cy * ey_W;
+  const double vx = cy * s[6] + sy * s[7], vy = -sy * s[6] + cy * s[7];
+  const double g = P.gravity;
+  const double tilt = o_.max_tilt_command;
+  // Nose up to brake forward motion; roll left to brake rightward motion.
+  const double pitch_cmd = trim.pitch + std::clamp((o_.k_pos * ex + o_.k_vel * vx) / g, -tilt, tilt);
+  const double roll_cmd = trim.roll - std::clamp((o_.k_pos * ey + o_.k_vel * vy) / g, -tilt, tilt);
+  Controls fb;
+  fb[0] = trim.controls[0] + o_.k_att * (s[4] - pitch_cmd) + o_.k_att_rate * s[10];
+  fb[1] = trim.controls[1] + o_.k_att * (roll_cmd - s[3]) - o_.k_att_rate * s[9];
+  fb[2] = trim.controls[2] + o_.k_alt * (s[2] - hold_[2]) + o_.k_climb * s[8];
+  fb[3] = trim.controls[3] + o_.k_yaw * wrap_angle(hold_[5] - yaw) - o_.k_yaw_rate * s[11];
+  const double lag = 1 - std::exp(-P.dt / o_.bandwidth_tau_s);
+  const double rho = std::exp(-P.dt / o_.noise_tau_s);
+  const double kn = o_.noise_sigma * std::sqrt(1 - rho * rho);
+  Controls out;
+  const int channel = sweep_channel(time);
+  const double sweep = sweep_offset(time);
+  for (std::size_t c = 0; c < 4; ++c) {
+    lagged_[c] += lag * (fb[c] - lagged_[c]);
+    noise_[c] = rho * noise_[c] + kn * normal_quantile(rng_.next());
+    out[c] = std::clamp(lagged_[c] + noise_[c] + (static_cast<int>(c) == channel ? sweep : 0.0), -1.0, 1.0);
+  }
+  return out;
+}
+
+PilotFlight fly_pilot(const Aircraft& aircraft, const PilotOptions& options, double seconds, std::uint64_t seed) {
+  const auto steps = static_cast<std::size_t>(std::llround(seconds / aircraft.params().dt));
+  // Counter families: stream 0 the aircraft's initial state, 1 its per-step noise, 2 the pilot.
+  UniformStream init(seed, 0), noise(seed, 1);
+  std::array<double, 32> p{};
+  for (int j = 0; j < Aircraft::kInitialNoise; ++j) p[static_cast<std::size_t>(j)] = init.next();
+  Aircraft::State s = aircraft.initial_state(std::span<const double>(p.data(), Aircraft::kInitialNoise));
+  ScriptedPilot pilot(aircraft, options, seed, 2);
+  pilot.set_total_seconds(seconds);
+  PilotFlight f;
+  f.log.time.reserve(steps);
+  f.log.states.reserve(steps);
+  f.log.controls.reserve(steps);
+  f.truth.reserve(steps);
+  for (std::size_t t = 0; t < steps; ++t) {
+    const double time = static_cast<double>(t) * aircraft.params().dt;
+    const LoggedState est = aircraft.observe(s);
+    const Controls a = pilot.act(est, time);
+    f.log.time.push_back(time);
+    f.log.states.push_back(est);
+    f.log.controls.push_back(a);
+    f.truth.push_back(true_logged_state(s));
+    for (int j = 0; j < Aircraft::kStepNoise; ++j) p[static_cast<std::size_t>(j)] = noise.next();
+    s = aircraft.step(s, a, std::span<const double>(p.data(), Aircraft::kStepNoise));
+    if (aircraft.terminal(s)) {
+      f.crash = s.crash;
+      f.crash_time = time + aircraft.params().dt;
+      break;
+    }
+  }
+  return f;
+}
+
+}  // namespace pegasus::heli

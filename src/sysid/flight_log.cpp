@@ -1,0 +1,141 @@
+#include "pegasus/sysid/flight_log.hpp"
+
+#include <fmt/format.h>
+
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "pegasus/core/error.hpp"
+#include "pegasus/runs/output.hpp"
+
+namespace pegasus::sysid {
+
+double FlightLog::dt() const {
+  if (time.size() < 2) return 0;
+  return (time.back() - time.front()) / static_cast<double>(time.size() - 1);
+}
+double FlightLog::seconds() const { return static_cast<double>(rows()) * dt(); }
+
+std::string flight_log_csv(const FlightLog& log) {
+  std::vector<std::string> header{"time"};
+  for (const char* c : kLogStateColumns) header.emplace_back(c);
+  for (const char* c : kLogControlColumns) header.emplace_back(c);
+  CsvWriter csv(header);
+  for (std::size_t i = 0; i < log.rows(); ++i) {
+    std::vector<CsvCell> row{log.time[i]};
+    for (double v : log.states[i]) row.emplace_back(v);
+    for (double v : log.controls[i]) row.emplace_back(v);
+    csv.add_row(std::move(row));
+  }
+  return csv.str();
+}
+
+void write_flight_log(const std::filesystem::path& file, const FlightLog& log) {
+  std::ofstream out(file, std::ios::binary);
+  if (!out) throw InputError(fmt::format("{}: cannot open for writing", file.string()));
+  out << flight_log_csv(log);
+  if (!out) throw InputError(fmt::format("{}: write failed", file.string()));
+}
+
+namespace {
+
+std::vector<std::string_view> split(std::string_view line) {
+  std::vector<std::string_view> out;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = line.find(',', start);
+    std::string_view f = line.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start);
+    while (!f.empty() && (f.front() == ' ' || f.front() == '\t')) f.remove_prefix(1);
+    while (!f.empty() && (f.back() == ' ' || f.back() == '\t' || f.back() == '\r')) f.remove_suffix(1);
+    out.push_back(f);
+    if (comma == std::string_view::npos) break;
+    start = comma + 1;
+  }
+  return out;
+}
+
+}  // namespace
+
+FlightLog parse_flight_log(const std::string& text, const std::string& name, const LogReadOptions& options) {
+  std::vector<std::string_view> lines;
+  {
+    std::size_t start = 0;
+    while (start < text.size()) {
+      std::size_t nl = text.find('\n', start);
+      if (nl == std::string::npos) nl = text.size();
+      lines.emplace_back(text.data() + start, nl - start);
+      start = nl + 1;
+    }
+  }
+  if (lines.empty()) throw InputError(fmt::format("{}:1: empty file; expected a CSV header line", name));
+  const auto header = split(lines[0]);
+  std::vector<std::string> required{"time"};
+  for (const char* c : kLogStateColumns) required.emplace_back(c);
+  for (const char* c : kLogControlColumns) required.emplace_back(c);
+  std::vector<std::size_t> index(required.size());
+  for (std::size_t r = 0; r < required.size(); ++r) {
+    std::size_t found = header.size();
+    for (std::size_t h = 0; h < header.size(); ++h)
+      if (header[h] == required[r]) found = h;
+    if (found == header.size())
+      throw InputError(fmt::format("{}:1:{}: required column missing from the header (need time, x, y, z, roll, "
+                                   "pitch, yaw, xdot, ydot, zdot, roll_rate, pitch_rate, yaw_rate, a1, a2, a3, a4)",
+                                   name, required[r]));
+    index[r] = found;
+  }
+  FlightLog log;
+  std::vector<std::size_t> line_of;
+  for (std::size_t li = 1; li < lines.size(); ++li) {
+    std::string_view line = lines[li];
+    if (line.find_first_not_of(" \t\r") == std::string_view::npos) continue;  // blank lines
+    const auto fields = split(line);
+    if (fields.size() != header.size())
+      throw InputError(fmt::format("{}:{}: expected {} comma-separated fields as in the header, found {}", name, li + 1,
+                                   header.size(), fields.size()));
+    std::array<double, 17> v{};
+    for (std::size_t r = 0; r < required.size(); ++r) {
+      const std::string_view f = fields[index[r]];
+      double x = 0;
+      const auto res = std::from_chars(f.data(), f.data() + f.size(), x);
+      if (f.empty() || res.ec != std::errc() || res.ptr != f.data() + f.size())
+        throw InputError(fmt::format("{}:{}:{}: expected a number, found '{}'", name, li + 1, required[r], f));
+      if (!std::isfinite(x))
+        throw InputError(fmt::format("{}:{}:{}: expected a finite number, found '{}'", name, li + 1, required[r], f));
+      if (r >= 13 && std::abs(x) > 1.0 + 1e-9)
+        throw InputError(fmt::format("{}:{}:{}: expected a control in [-1, 1], found {}", name, li + 1, required[r], x));
+      v[r] = x;
+    }
+    log.time.push_back(v[0]);
+    std::array<double, kLogStates> s{};
+    for (int k = 0; k < kLogStates; ++k) s[static_cast<std::size_t>(k)] = v[static_cast<std::size_t>(1 + k)];
+    log.states.push_back(s);
+    log.controls.push_back({v[13], v[14], v[15], v[16]});
+    line_of.push_back(li + 1);
+  }
+  if (log.rows() < static_cast<std::size_t>(options.min_rows))
+    throw InputError(fmt::format("{}:{}: expected at least {} data rows, found {}", name, lines.size(),
+                                 options.min_rows, log.rows()));
+  const double dt = log.dt();
+  for (std::size_t i = 1; i < log.rows(); ++i) {
+    const double step = log.time[i] - log.time[i - 1];
+    if (!(step > 0))
+      throw InputError(fmt::format("{}:{}:time: expected time to increase strictly, found {} after {}", name,
+                                   line_of[i], log.time[i], log.time[i - 1]));
+    if (std::abs(step - dt) > options.rate_tolerance * dt)
+      throw InputError(fmt::format("{}:{}:time: expected a constant sample interval {} s (within {}%), found {} s",
+                                   name, line_of[i], dt, 100 * options.rate_tolerance, step));
+  }
+  return log;
+}
+
+FlightLog read_flight_log(const std::filesystem::path& file, const LogReadOptions& options) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw InputError(fmt::format("{}: cannot open the flight log", file.string()));
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return parse_flight_log(ss.str(), file.string(), options);
+}
+
+}  // namespace pegasus::sysid
