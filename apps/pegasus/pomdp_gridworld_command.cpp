@@ -47,22 +47,29 @@ nlohmann::json summary_json(const PomdpGridworldResult& r, const PomdpGridworldO
           {"results", rows}};
 }
 
+// One curve per (model, estimator) of kSeries: `field` of each summary row against m, with `band` as the
+// error band when given.
+void add_curves(SvgPlot& plot, const PomdpGridworldResult& r, double PomdpGridworldSummaryRow::*field,
+                double PomdpGridworldSummaryRow::*band) {
+  for (const auto& [model, estimator, name] : kSeries) {
+    PlotSeries s{.name = name};
+    for (const auto& row : r.rows)
+      if (row.model == model && row.estimator == estimator) {
+        s.x.push_back(row.m);
+        s.y.push_back(row.*field);
+        if (band) s.error.push_back(row.*band);
+      }
+    if (!s.x.empty()) plot.add_series(std::move(s));
+  }
+}
+
 std::string value_plot(const PomdpGridworldResult& r) {
   SvgPlot plot;
   plot.title("POMDP gridworld: value of the chosen policy (Fig 4.5b)")
       .x_label("scenarios m")
       .y_label("exact value of argmax U-hat")
       .x_scale(AxisScale::kLog2);
-  for (const auto& [model, estimator, name] : kSeries) {
-    PlotSeries s{.name = name};
-    for (const auto& row : r.rows)
-      if (row.model == model && row.estimator == estimator) {
-        s.x.push_back(row.m);
-        s.y.push_back(row.mean_true_value);
-        s.error.push_back(row.stderr_true_value);
-      }
-    if (!s.x.empty()) plot.add_series(std::move(s));
-  }
+  add_curves(plot, r, &PomdpGridworldSummaryRow::mean_true_value, &PomdpGridworldSummaryRow::stderr_true_value);
   plot.add_reference_line(r.best_in_class_value, "best in class");
   return plot.render();
 }
@@ -73,15 +80,7 @@ std::string deviation_plot(const PomdpGridworldResult& r) {
       .x_label("scenarios m")
       .y_label("mean sup deviation")
       .x_scale(AxisScale::kLog2);
-  for (const auto& [model, estimator, name] : kSeries) {
-    PlotSeries s{.name = name};
-    for (const auto& row : r.rows)
-      if (row.model == model && row.estimator == estimator) {
-        s.x.push_back(row.m);
-        s.y.push_back(row.mean_sup_deviation);
-      }
-    if (!s.x.empty()) plot.add_series(std::move(s));
-  }
+  add_curves(plot, r, &PomdpGridworldSummaryRow::mean_sup_deviation, nullptr);
   return plot.render();
 }
 

@@ -9,47 +9,20 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <string>
 #include <thread>
+
+#include "support/cli_runner.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-struct Result {
-  int code;
-  std::string output;
-};
+using pegasus::testing::read_text;
+using PomdpGridworldCli = pegasus::testing::TempDirTest;
 
-Result run(const std::string& args) {
-  const std::string command = std::string(PEGASUS_CLI_PATH) + " " + args + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  std::string out;
-  char buffer[4096];
-  while (std::fgets(buffer, sizeof buffer, pipe)) out += buffer;
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
-}
-
-std::string read(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-class PomdpGridworldCli : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("pegasus-pomdp-cli-" + std::to_string(::getpid()) + "-" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path dir_;
-};
+pegasus::testing::CliResult run(const std::string& args) { return pegasus::testing::run_pegasus(args); }
+std::string read(const fs::path& p) { return read_text(p); }
 
 const char* kSmall = "pomdp-gridworld --scenarios 1,4,16 --trials 3 --montecarlo-max-m 1 --quiet --seed 5";
 

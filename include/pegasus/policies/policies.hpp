@@ -80,59 +80,30 @@ inline ParameterSpec weight_spec(int outputs, int features, const std::vector<st
 }
 }  // namespace detail
 
-template <int N, FeatureMap Features>
-class LinearPolicy {
+// a = squash(W phi(o)) on a box action space: the shared body of LinearPolicy and SigmoidPolicy.
+template <int N, FeatureMap Features, class Squash>
+class FeaturePolicy {
  public:
   using Action = std::array<double, N>;
-  LinearPolicy(Features features, ActionSpace space, std::vector<std::string> output_names = {},
-               std::vector<std::string> feature_names = {}, double scale = 1.0)
-      : features_(std::move(features)), space_(std::move(space)) {
-    if (space_.is_finite() || space_.dim() != N) throw InputError("linear policy: expected a box action space of dimension N");
-    spec_ = detail::weight_spec(N, features_.size(), output_names, feature_names, scale);
-  }
-  const ParameterSpec& parameters() const { return spec_; }
-  template <class Observation>
-  Action act(std::span<const double> theta, const Observation& o) const {
-    std::array<double, 64> phi;
-    const int n = features_.size();
-    features_(o, std::span<double>(phi.data(), static_cast<std::size_t>(n)));
-    Action a;
-    for (int k = 0; k < N; ++k) {
-      double z = 0;
-      for (int f = 0; f < n; ++f) z += theta[static_cast<std::size_t>(k * n + f)] * phi[static_cast<std::size_t>(f)];
-      a[static_cast<std::size_t>(k)] = std::clamp(z, space_.low()[static_cast<std::size_t>(k)], space_.high()[static_cast<std::size_t>(k)]);
-    }
-    return a;
-  }
-
- private:
-  Features features_;
-  ActionSpace space_;
-  ParameterSpec spec_;
-};
-
-template <int N, FeatureMap Features>
-class SigmoidPolicy {
- public:
-  using Action = std::array<double, N>;
-  SigmoidPolicy(Features features, ActionSpace space, std::vector<std::string> output_names = {},
+  FeaturePolicy(Features features, ActionSpace space, std::vector<std::string> output_names = {},
                 std::vector<std::string> feature_names = {}, double scale = 1.0)
       : features_(std::move(features)), space_(std::move(space)) {
-    if (space_.is_finite() || space_.dim() != N) throw InputError("sigmoid policy: expected a box action space of dimension N");
+    if (space_.is_finite() || space_.dim() != N)
+      throw InputError("feature policy: expected a box action space of dimension " + std::to_string(N));
     spec_ = detail::weight_spec(N, features_.size(), output_names, feature_names, scale);
   }
   const ParameterSpec& parameters() const { return spec_; }
+  const Features& features() const { return features_; }
   template <class Observation>
   Action act(std::span<const double> theta, const Observation& o) const {
     std::array<double, 64> phi;
-    const int n = features_.size();
-    features_(o, std::span<double>(phi.data(), static_cast<std::size_t>(n)));
+    const auto n = static_cast<std::size_t>(features_.size());
+    features_(o, std::span<double>(phi.data(), n));
     Action a;
-    for (int k = 0; k < N; ++k) {
+    for (std::size_t k = 0; k < static_cast<std::size_t>(N); ++k) {
       double z = 0;
-      for (int f = 0; f < n; ++f) z += theta[static_cast<std::size_t>(k * n + f)] * phi[static_cast<std::size_t>(f)];
-      const double lo = space_.low()[static_cast<std::size_t>(k)], hi = space_.high()[static_cast<std::size_t>(k)];
-      a[static_cast<std::size_t>(k)] = lo + (hi - lo) / (1.0 + std::exp(-z));
+      for (std::size_t f = 0; f < n; ++f) z += theta[k * n + f] * phi[f];
+      a[k] = Squash{}(z, space_.low()[k], space_.high()[k]);
     }
     return a;
   }
@@ -142,6 +113,19 @@ class SigmoidPolicy {
   ActionSpace space_;
   ParameterSpec spec_;
 };
+
+struct ClipToBox {
+  double operator()(double z, double lo, double hi) const { return std::clamp(z, lo, hi); }
+};
+// low + (high - low) sigmoid(z), as the bicycle policy of §4.6.
+struct SigmoidToBox {
+  double operator()(double z, double lo, double hi) const { return lo + (hi - lo) / (1.0 + std::exp(-z)); }
+};
+
+template <int N, FeatureMap Features>
+using LinearPolicy = FeaturePolicy<N, Features, ClipToBox>;
+template <int N, FeatureMap Features>
+using SigmoidPolicy = FeaturePolicy<N, Features, SigmoidToBox>;
 
 template <class Observation, class Program>
 class ProgramPolicy {
