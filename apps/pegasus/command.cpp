@@ -152,7 +152,7 @@ int execute(Leaf& leaf, std::vector<std::string> argv, std::ostream& out, std::o
                                        {"wall_time_s", wall}});
       run_dir->commit();
     }
-    return 0;
+    return context.exit_code;
   } catch (const InputError& e) {
     err << "pegasus: " << one_line(e.what()) << std::endl;
     return 2;

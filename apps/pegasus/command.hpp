@@ -16,6 +16,7 @@
 //
 // Exit codes: 0 success; 2 bad input (InputError or a command-line parse error), one line on stderr, and no
 // run directory left behind; 1 any other failure, one line on stderr (DIR.partial is kept for --resume).
+// A command that finishes normally may return a verdict through RunContext::exit_code.
 #include <cstdint>
 #include <functional>
 #include <iosfwd>
@@ -49,6 +50,9 @@ class RunContext {
   const int threads;           // --threads: never changes a result
   const bool quiet;            // --quiet: no progress bar
   std::ostream& out;           // stdout, for the command's printed result
+  // The process exit code when run returns normally: a verdict, not an error (e.g. 1 from `shaping audit`
+  // when F is not potential-based). The run directory is still committed. Use 0 or 1; 2 means bad input.
+  int exit_code = 0;
 
   bool has_run_directory() const { return run_dir_ != nullptr; }
   // The run directory; std::logic_error without --out (only for OutDir::kOptional commands).

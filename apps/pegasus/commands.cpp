@@ -111,15 +111,18 @@ Command dev_count_command() {
 std::vector<CommandGroup> command_groups() {
   return {
       {.path = "dev", .description = "Framework self-tests", .hidden = true},
+      {.path = "shaping", .description = "Reward shaping (thesis ch. 3): the shaping audit and the 3.4 experiments"},
   };
 }
 
 std::vector<Command> commands() {
-  return {
+  std::vector<Command> all = {
       pomdp_gridworld_command(),
       horizon_command(),
       dev_count_command(),
   };
+  for (auto& command : shaping_commands()) all.push_back(std::move(command));
+  return all;
 }
 
 }  // namespace pegasus::cli

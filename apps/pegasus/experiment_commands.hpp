@@ -5,5 +5,7 @@
 namespace pegasus::cli {
 
 Command pomdp_gridworld_command();
+Command shaping_audit_command();
+std::vector<Command> shaping_commands();  // shaping audit, gridworld, flags, progress-bonus
 
 }  // namespace pegasus::cli

@@ -1,0 +1,409 @@
+// `pegasus shaping gridworld`, `pegasus shaping flags` (thesis §3.4, Figs 3.2 and 3.3) and
+// `pegasus shaping progress-bonus` (the §3.1 bug, shown by learning). `shaping audit` lives in
+// shaping_command_audit.cpp.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <optional>
+#include <span>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "experiment_commands.hpp"
+#include "pegasus/core/error.hpp"
+#include "pegasus/experiments/shaping_experiment.hpp"
+#include "pegasus/experiments/shaping_progress_bonus.hpp"
+#include "pegasus/runs/output.hpp"
+#include "pegasus/runs/svg_plot.hpp"
+
+namespace pegasus::cli {
+namespace {
+
+std::vector<std::string> split_list(const std::string& text) {
+  std::vector<std::string> out;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    item.erase(0, item.find_first_not_of(' '));
+    item.erase(item.find_last_not_of(' ') + 1);
+    out.push_back(item);
+  }
+  return out;
+}
+
+const char* legend_name(const std::string& potential) {
+  if (potential == "none") return "no shaping";
+  if (potential == "half") return "Phi = 0.5 Phi0";
+  if (potential == "phi0") return "Phi = Phi0";
+  return "Phi = Phi1";
+}
+
+// ---- shaping gridworld / shaping flags ----------------------------------------------------------------
+
+void declare_learning(ConfigSchema& s, ShapingWorld world) {
+  const bool grid = world == ShapingWorld::kGridworld;
+  if (grid) {
+    s.add_int("size", 10, "grid side n: start (0, 0), goal (n-1, n-1); the thesis used 10 and 50")
+        .range(2, 1000);
+  } else {
+    s.add_int("size", 5, "flag world: 5 (5x5, 5 flags) or 8 (8x8, 7 flags)")
+        .validate([](const FieldValue& v) {
+          const auto n = std::get<std::int64_t>(v);
+          return n == 5 || n == 8 ? std::string() : std::string("5 or 8");
+        });
+  }
+  s.add_int("runs", 40, "independent Sarsa runs per potential (the thesis averaged 40)").range(1, 100000);
+  s.add_int("trials", 300, "trials (episodes from start to goal) per run").range(1, 10000000);
+  const std::vector<std::string> allowed = grid ? std::vector<std::string>{"none", "half", "phi0"}
+                                                : std::vector<std::string>{"none", "half", "phi0", "phi1"};
+  s.add_string(
+       "potentials", grid ? "none,half,phi0" : "none,phi0,phi1",
+       grid ? "curves to learn: none, half (0.5 Phi0), phi0 (-manhattan/0.8)"
+            : "curves to learn: none, phi0 (flags collected), phi1 (remaining route/0.8), half (0.5 Phi0)")
+      .validate([allowed](const FieldValue& v) {
+        const auto items = split_list(std::get<std::string>(v));
+        std::string expected = "a comma-separated list of distinct names from";
+        for (const auto& a : allowed) expected += " " + a;
+        if (items.empty()) return expected;
+        for (std::size_t i = 0; i < items.size(); ++i) {
+          if (std::find(allowed.begin(), allowed.end(), items[i]) == allowed.end()) return expected;
+          if (std::find(items.begin(), items.begin() + static_cast<std::ptrdiff_t>(i), items[i]) !=
+              items.begin() + static_cast<std::ptrdiff_t>(i))
+            return expected;
+        }
+        return std::string();
+      });
+  s.add_double("alpha", 0.02, "Sarsa learning rate (thesis: 0.02)").greater_than(0).max(1);
+  s.add_double("epsilon", 0.1, "epsilon-greedy exploration rate (thesis: 0.1)").range(0, 1);
+  s.add_double("intended", 0.8, "probability a move goes the intended way, else a uniformly random direction")
+      .greater_than(0)
+      .max(1);
+  s.add_int("max_steps_per_trial", 100000000, "a trial is cut off after this many steps (and counted)")
+      .min(1);
+}
+
+ShapingExperimentOptions learning_options(const RunContext& ctx, ShapingWorld world) {
+  const auto& c = ctx.config;
+  ShapingExperimentOptions o;
+  o.world = world;
+  o.size = static_cast<int>(c.get_int("size"));
+  o.potentials = split_list(c.get_string("potentials"));
+  o.runs = static_cast<int>(c.get_int("runs"));
+  o.trials = static_cast<int>(c.get_int("trials"));
+  o.alpha = c.get_double("alpha");
+  o.epsilon = c.get_double("epsilon");
+  o.intended = c.get_double("intended");
+  o.max_steps_per_trial = c.get_int("max_steps_per_trial");
+  o.seed = ctx.seed;
+  o.threads = ctx.threads;
+  std::string error;
+  if (!o.IsValid(&error)) throw InputError(error);
+  return o;
+}
+
+nlohmann::json steps_at(const ShapingCurve& c) {
+  auto at = [&](std::size_t t) -> nlohmann::json {
+    if (t < 1 || t > c.mean.size()) return nullptr;
+    return c.mean[t - 1];
+  };
+  return {{"1", at(1)}, {"10", at(10)}, {"100", at(100)}, {"last", at(c.mean.size())}};
+}
+
+nlohmann::json learning_summary(const ShapingExperimentResult& r, const ShapingExperimentOptions& o) {
+  nlohmann::json curves = nlohmann::json::array(), total = nlohmann::json::object(),
+                 truncated = nlohmann::json::object();
+  for (const auto& c : r.curves) {
+    curves.push_back(
+        {{"potential", c.potential},
+         {"steps_at", steps_at(c)},
+         {"trials_to_within_25pct",
+          c.trials_to_within_25pct ? nlohmann::json(*c.trials_to_within_25pct) : nlohmann::json(nullptr)}});
+    total[c.potential] = c.total_steps;
+    truncated[c.potential] = c.truncated_trials;
+  }
+  return {{"experiment", o.world == ShapingWorld::kGridworld ? "shaping-gridworld" : "shaping-flags"},
+          {"size", o.size},
+          {"runs", o.runs},
+          {"trials", o.trials},
+          {"optimal_expected_steps", r.optimal_expected_steps},
+          {"curves", curves},
+          {"total_steps", total},
+          {"truncated_trials", truncated}};
+}
+
+// Plot points: trials grouped into bins (edges[i] .. edges[i+1] - 1, 1-based), each drawn at its mean trial
+// with the mean of its curve values, so that a long run still gives a small SVG. Linear x: equal bins of
+// ceil(T / 1000) trials; log x: every trial up to 100, then about 150 bins per decade.
+std::vector<int> bin_edges(int trials, bool log_x) {
+  std::vector<int> edges = {1};
+  const int width = std::max(1, (trials + 999) / 1000);
+  while (edges.back() <= trials) {
+    const int t = edges.back();
+    const int next =
+        log_x ? std::max(t + 1, static_cast<int>(std::ceil(t * std::pow(10.0, 1.0 / 150.0)))) : t + width;
+    edges.push_back(std::min(next, trials + 1));
+  }
+  return edges;
+}
+
+std::string learning_plot(const ShapingExperimentResult& r, const ShapingExperimentOptions& o,
+                          bool log_scale) {
+  const bool grid = o.world == ShapingWorld::kGridworld;
+  const std::vector<int> edges = bin_edges(o.trials, log_scale);
+  const bool binned = edges.size() - 1 < static_cast<std::size_t>(o.trials);
+  SvgPlot plot;
+  plot.title(fmt::format("{} {}x{}{}: {} runs{}", grid ? "Gridworld" : "Flag world", o.size, o.size,
+                         grid ? (o.size == 10   ? " (Fig 3.2a)"
+                                 : o.size == 50 ? " (Fig 3.2b)"
+                                                : "")
+                              : (o.size == 5 ? " (Fig 3.3a)" : " (Fig 3.3b)"),
+                         o.runs, binned ? ", trials binned" : ""))
+      .x_label("trial")
+      .y_label("steps to goal (mean, band +- 1 s.e.)")
+      .x_scale(log_scale ? AxisScale::kLog10 : AxisScale::kLinear)
+      .y_scale(log_scale ? AxisScale::kLog10 : AxisScale::kLinear);
+  for (const auto& c : r.curves) {
+    PlotSeries s{.name = legend_name(c.potential)};
+    for (std::size_t b = 0; b + 1 < edges.size(); ++b) {
+      double x = 0, y = 0, e = 0;
+      const int n = edges[b + 1] - edges[b];
+      for (int t = edges[b]; t < edges[b + 1]; ++t) {
+        x += t;
+        y += c.mean[static_cast<std::size_t>(t - 1)];
+        e += c.standard_error[static_cast<std::size_t>(t - 1)];
+      }
+      s.x.push_back(x / n);
+      s.y.push_back(y / n);
+      s.error.push_back(e / n);
+    }
+    s.markers = s.x.size() <= 60;
+    plot.add_series(std::move(s));
+  }
+  plot.add_reference_line(r.optimal_expected_steps, "optimal (value iteration)");
+  return plot.render();
+}
+
+// Each finished run is saved as checkpoint/<potential>-<run>.json (written atomically, once); a resumed run
+// reads them back. They are removed once the results are written.
+constexpr const char* kRunCheckpoints = "checkpoint";
+
+std::string run_checkpoint_name(const ShapingExperimentOptions& o, const ShapingRunRecord& r) {
+  return fmt::format("{}/{}-{:06}.json", kRunCheckpoints, o.potentials[static_cast<std::size_t>(r.potential)],
+                     r.run);
+}
+
+std::vector<ShapingRunRecord> load_run_checkpoints(const RunDirectory& dir,
+                                                   const ShapingExperimentOptions& o) {
+  std::vector<ShapingRunRecord> runs;
+  const std::filesystem::path folder = dir.path() / kRunCheckpoints;
+  if (!std::filesystem::is_directory(folder)) return runs;
+  std::vector<std::filesystem::path> files;
+  for (const auto& entry : std::filesystem::directory_iterator(folder))
+    if (entry.is_regular_file() && entry.path().extension() == ".json" &&
+        !entry.path().filename().string().starts_with("."))
+      files.push_back(entry.path());
+  std::sort(files.begin(), files.end());
+  for (const auto& file : files) {
+    ShapingRunRecord r = shaping_run_from_json(read_json_file(file));
+    if (r.potential < 0 || r.potential >= static_cast<int>(o.potentials.size()) ||
+        file.filename() != std::filesystem::path(run_checkpoint_name(o, r)).filename())
+      throw std::runtime_error(fmt::format("{}: does not belong to this run's potentials", file.string()));
+    runs.push_back(std::move(r));
+  }
+  return runs;
+}
+
+void run_learning(RunContext& ctx, ShapingWorld world) {
+  const ShapingExperimentOptions o = learning_options(ctx, world);
+  RunDirectory& dir = ctx.run_directory();
+
+  ShapingExperimentHooks hooks;
+  hooks.resume_from = load_run_checkpoints(dir, o);
+  const auto total = static_cast<std::uint64_t>(o.potentials.size()) * static_cast<std::uint64_t>(o.runs);
+  auto bar = ctx.progress("runs", total);
+  bar.skip(hooks.resume_from.size());
+  hooks.on_runs = [&](std::span<const ShapingRunRecord> runs) {
+    for (const auto& r : runs) dir.write_text(run_checkpoint_name(o, r), to_json(r).dump());
+    bar.advance(runs.size());
+  };
+  const ShapingExperimentResult result = run_shaping_experiment(o, hooks);
+  bar.finish();
+
+  std::vector<std::string> header = {"trial"};
+  for (const auto& c : result.curves) {
+    header.push_back(c.potential + "_mean");
+    header.push_back(c.potential + "_stderr");
+  }
+  CsvWriter curves(header);
+  for (int t = 0; t < o.trials; ++t) {
+    std::vector<CsvCell> row = {std::int64_t{t + 1}};
+    for (const auto& c : result.curves) {
+      row.emplace_back(c.mean[static_cast<std::size_t>(t)]);
+      row.emplace_back(c.standard_error[static_cast<std::size_t>(t)]);
+    }
+    curves.add_row(std::move(row));
+  }
+  dir.write_csv("curves.csv", curves);
+  CsvWriter runs(
+      {"potential", "run", "total_steps", "first_trial_steps", "last_trial_steps", "truncated_trials"});
+  for (const auto& r : result.runs) {
+    std::int64_t sum = 0;
+    for (auto s : r.steps) sum += s;
+    runs.add_row({o.potentials[static_cast<std::size_t>(r.potential)], std::int64_t{r.run}, sum,
+                  r.steps.front(), r.steps.back(), std::int64_t{r.truncated_trials}});
+  }
+  dir.write_csv("runs.csv", runs);
+  dir.write_text("steps_per_trial.svg", learning_plot(result, o, false));
+  dir.write_text("steps_per_trial_loglog.svg", learning_plot(result, o, true));
+  dir.write_json("summary.json", learning_summary(result, o));
+  // Everything is written: the per-run checkpoints are no longer needed (a crash from here on only makes a
+  // --resume learn the runs again, to the same result).
+  std::filesystem::remove_all(dir.path() / kRunCheckpoints);
+
+  ctx.out << fmt::format("optimal expected steps (value iteration): {:.4f}\n", result.optimal_expected_steps);
+  for (const auto& c : result.curves) {
+    auto fmt_at = [&](std::size_t t) {
+      return t <= c.mean.size() ? fmt::format("{:.1f}", c.mean[t - 1]) : std::string("-");
+    };
+    ctx.out << fmt::format(
+        "{:>4}: mean steps at trial 1 / 10 / 100 / last: {} / {} / {} / {}; 10-trial average within "
+        "25% of optimal {}\n",
+        c.potential, fmt_at(1), fmt_at(10), fmt_at(100), fmt_at(c.mean.size()),
+        c.trials_to_within_25pct ? fmt::format("from trial {}", *c.trials_to_within_25pct)
+                                 : std::string("never"));
+    if (c.truncated_trials > 0)
+      ctx.out << fmt::format("      {} trials were cut off at {} steps\n", c.truncated_trials,
+                             o.max_steps_per_trial);
+  }
+}
+
+// ---- shaping progress-bonus ------------------------------------------------------------------------------
+
+void declare_progress_bonus(ConfigSchema& s) {
+  s.add_int("size", 10, "grid side n: start (0, 0), goal (n-1, n-1)").range(2, 1000);
+  s.add_double("bonus", 3.0, "reward for a step that ends closer to the goal (shuttling pays when > 2)")
+      .greater_than(0)
+      .less_than(1e9);
+  s.add_int("episodes", 10000, "Sarsa episodes per learner").range(1, 10000000);
+  s.add_double("alpha", 0.02, "Sarsa learning rate").greater_than(0).max(1);
+  s.add_double("epsilon", 0.1, "epsilon-greedy exploration rate").range(0, 1);
+  s.add_double("gamma", 1.0, "discount of the learners (and of the potential-based F)").range(0, 1);
+  s.add_int("max_steps_per_episode", 10000, "an episode is cut off after this many steps").min(1);
+}
+
+std::string cell_text(int s, int n) { return fmt::format("({},{})", s % n, s / n); }
+
+std::string states_text(const std::vector<int>& states, int n, std::size_t limit = 40) {
+  std::string out;
+  for (std::size_t i = 0; i < states.size() && i < limit; ++i)
+    out += (i ? " -> " : "") + cell_text(states[i], n);
+  if (states.size() > limit) out += fmt::format(" -> ... ({} states)", states.size());
+  return out;
+}
+
+nlohmann::json outcome_json(const GreedyPolicyOutcome& g, int n) {
+  auto cells = [&](const std::vector<int>& states) {
+    nlohmann::json a = nlohmann::json::array();
+    for (int s : states) a.push_back({s % n, s / n});
+    return a;
+  };
+  return {{"shaping", g.shaping},
+          {"reaches_goal", g.reaches_goal},
+          {"path", cells(g.path)},
+          {"cycle", cells(g.cycle)},
+          {"cycle_shaping", g.cycle_shaping},
+          {"cycle_reward", g.cycle_reward},
+          {"proper", g.proper},
+          {"expected_steps", g.expected_steps ? nlohmann::json(*g.expected_steps) : nlohmann::json(nullptr)},
+          {"truncated_episodes", g.truncated_episodes}};
+}
+
+void print_outcome(std::ostream& out, const GreedyPolicyOutcome& g, int n, double optimal) {
+  out << fmt::format("{}: greedy policy after learning, followed along its most likely moves from {}:\n",
+                     g.shaping, cell_text(g.path.front(), n));
+  if (g.reaches_goal) {
+    out << fmt::format("  reaches the goal in {} steps: {}\n", g.path.size() - 1, states_text(g.path, n));
+  } else {
+    std::vector<int> loop = g.cycle,
+                     walk(g.path.begin(), g.path.end() - static_cast<std::ptrdiff_t>(g.cycle.size()));
+    loop.push_back(g.cycle.front());
+    walk.push_back(g.cycle.front());
+    out << fmt::format(
+        "  never reaches the goal: {}it goes round the cycle {} forever\n",
+        walk.size() > 1 ? fmt::format("it walks {}, then ", states_text(walk, n, 12)) : std::string(),
+        states_text(loop, n));
+    out << fmt::format(
+        "  around the cycle the learner collects shaping {:+.6g} and reward + shaping {:+.6g}\n",
+        g.cycle_shaping, g.cycle_reward);
+  }
+  if (g.expected_steps)
+    out << fmt::format(
+        "  exact expected steps to the goal in the unshaped gridworld: {:.2f} (optimal {:.2f})\n",
+        *g.expected_steps, optimal);
+  else
+    out << "  it does not reach the goal with probability 1 in the unshaped gridworld\n";
+  if (g.truncated_episodes > 0)
+    out << fmt::format("  {} of {} learning episodes were cut off\n", g.truncated_episodes,
+                       g.episode_steps.size());
+}
+
+void run_progress_bonus(RunContext& ctx) {
+  const auto& c = ctx.config;
+  ProgressBonusOptions o;
+  o.size = static_cast<int>(c.get_int("size"));
+  o.bonus = c.get_double("bonus");
+  o.episodes = static_cast<int>(c.get_int("episodes"));
+  o.alpha = c.get_double("alpha");
+  o.epsilon = c.get_double("epsilon");
+  o.gamma = c.get_double("gamma");
+  o.max_steps_per_episode = c.get_int("max_steps_per_episode");
+  o.seed = ctx.seed;
+  std::string error;
+  if (!o.IsValid(&error)) throw InputError(error);
+  const ProgressBonusResult r = run_progress_bonus_demo(o);
+
+  print_outcome(ctx.out, r.bonus, o.size, r.optimal_expected_steps);
+  print_outcome(ctx.out, r.potential, o.size, r.optimal_expected_steps);
+  if (!ctx.has_run_directory()) return;
+  RunDirectory& dir = ctx.run_directory();
+  dir.write_json("summary.json", {{"experiment", "shaping-progress-bonus"},
+                                  {"size", o.size},
+                                  {"bonus", o.bonus},
+                                  {"optimal_expected_steps", r.optimal_expected_steps},
+                                  {"progress_bonus", outcome_json(r.bonus, o.size)},
+                                  {"potential", outcome_json(r.potential, o.size)}});
+  CsvWriter csv({"episode", "progress_bonus_steps", "potential_steps"});
+  for (std::size_t e = 0; e < r.bonus.episode_steps.size(); ++e)
+    csv.add_row({static_cast<std::int64_t>(e + 1), r.bonus.episode_steps[e], r.potential.episode_steps[e]});
+  dir.write_csv("learning_curves.csv", csv);
+}
+
+}  // namespace
+
+std::vector<Command> shaping_commands() {
+  return {
+      shaping_audit_command(),
+      Command{
+          .path = "shaping gridworld",
+          .description =
+              "Sarsa on the 80/20 gridworld with and without potential-based shaping (thesis 3.4, Fig 3.2)",
+          .declare = [](ConfigSchema& s) { declare_learning(s, ShapingWorld::kGridworld); },
+          .run = [](RunContext& ctx) { run_learning(ctx, ShapingWorld::kGridworld); }},
+      Command{.path = "shaping flags",
+              .description =
+                  "Sarsa on the flag-collecting gridworld with subgoal potentials (thesis 3.4, Fig 3.3)",
+              .declare = [](ConfigSchema& s) { declare_learning(s, ShapingWorld::kFlags); },
+              .run = [](RunContext& ctx) { run_learning(ctx, ShapingWorld::kFlags); }},
+      Command{.path = "shaping progress-bonus",
+              .description =
+                  "The progress-bonus bug: the learned greedy policy cycles; the potential version does not",
+              .declare = declare_progress_bonus,
+              .run = run_progress_bonus,
+              .out = OutDir::kOptional},
+  };
+}
+
+}  // namespace pegasus::cli
