@@ -111,6 +111,7 @@ Command dev_count_command() {
 std::vector<CommandGroup> command_groups() {
   return {
       {.path = "dev", .description = "Framework self-tests", .hidden = true},
+      {.path = "bicycle", .description = "Randlov and Alstrom's bicycle ridden to a goal by PEGASUS (thesis 4.6)"},
       {.path = "shaping", .description = "Reward shaping (thesis ch. 3): the shaping audit and the 3.4 experiments"},
   };
 }
@@ -121,6 +122,7 @@ std::vector<Command> commands() {
       horizon_command(),
       dev_count_command(),
   };
+  for (auto& command : bicycle_commands()) all.push_back(std::move(command));
   for (auto& command : shaping_commands()) all.push_back(std::move(command));
   return all;
 }

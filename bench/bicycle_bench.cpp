@@ -1,0 +1,96 @@
+// The bicycle simulator (thesis §4.6): steps per second on one core.
+//   BM_BicycleStep_Fast_1M            Bicycle::step, 1e6 consecutive steps under a fixed linear controller
+//   BM_BicycleStep_Reference_1M       the plain transcription of bike.c kept in tests/bicycle, same workload
+//   BM_BicycleRollout_Policy15_H500   scenario_return: the 15-feature sigmoid policy, counter-based noise,
+//                                     shaping, 500 steps; one scenario per iteration
+//   BM_BicycleUhat_m30_H500/threads   one PEGASUS U-hat (30 scenarios x 500 steps) on 1 or 2 threads
+// Every benchmark reports steps_per_s (simulated bicycle steps per wall second).
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <array>
+
+#include "../tests/bicycle/bicycle_reference.hpp"
+#include "pegasus/envs/bicycle.hpp"
+#include "pegasus/envs/bicycle_policy.hpp"
+#include "pegasus/evaluators/pegasus_evaluator.hpp"
+#include "pegasus/experiments/bicycle_experiment.hpp"
+#include "pegasus/shaping/potential_shaping.hpp"
+
+namespace pegasus {
+namespace {
+
+constexpr int kSteps = 1'000'000;
+
+double control(const BicycleState& s) {
+  return std::clamp(10 * s.omega + 5 * s.omega_dot - 5 * s.theta - 0.3 * s.theta_dot, -2.0, 2.0);
+}
+
+template <class Step>
+void run_steps(benchmark::State& state, Step&& step) {
+  const Bicycle bike;
+  const std::array<double, 5> p0 = {0.7, 0.4, 0.6, 0.5, 0.3};
+  const BicycleState start = bike.initial_state(p0);
+  std::uint64_t steps = 0;
+  for (auto _ : state) {
+    BicycleState s = start;
+    double p = 0.5;
+    for (int t = 0; t < kSteps; ++t) {
+      p = p < 0.9 ? p + 0.013 : p - 0.85;  // a cheap deterministic noise sequence
+      s = step(bike, s, control(s), p);
+      if (bike.terminal(s)) s = start;
+    }
+    benchmark::DoNotOptimize(s);
+    steps += kSteps;
+  }
+  state.counters["steps_per_s"] = benchmark::Counter(static_cast<double>(steps), benchmark::Counter::kIsRate);
+}
+
+void BM_BicycleStep_Fast_1M(benchmark::State& state) {
+  run_steps(state, [](const Bicycle& bike, const BicycleState& s, double T, double p) {
+    return bike.step(s, {T, 0.0}, std::span<const double>(&p, 1));
+  });
+}
+BENCHMARK(BM_BicycleStep_Fast_1M)->Unit(benchmark::kMillisecond);
+
+void BM_BicycleStep_Reference_1M(benchmark::State& state) {
+  run_steps(state, [](const Bicycle& bike, const BicycleState& s, double T, double p) {
+    return bicycle_reference::step(bike, s, T, 0.0, p);
+  });
+}
+BENCHMARK(BM_BicycleStep_Reference_1M)->Unit(benchmark::kMillisecond);
+
+void BM_BicycleRollout_Policy15_H500(benchmark::State& state) {
+  const Bicycle bike(BicycleTrainingOptions::default_bicycle());
+  const auto model = shape(bike, BicycleProgressPotential{bike, 1.0}, 0.998);
+  const BicyclePolicy policy = make_bicycle_policy();
+  const Theta theta = bicycle_balancing_theta();
+  const ScenarioSet scenarios({.seed = 1, .count = 64, .horizon = 500, .noise_dim = 1, .initial_noise_dim = 5});
+  const Discounting d{.gamma = 0.998, .horizon = 500};
+  std::uint64_t steps = 0;
+  int i = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(scenario_return(model, policy, theta, scenarios, i, d));
+    i = (i + 1) % scenarios.size();
+    steps += 500;  // the balancing policy never falls within 5 s
+  }
+  state.counters["steps_per_s"] = benchmark::Counter(static_cast<double>(steps), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_BicycleRollout_Policy15_H500)->Unit(benchmark::kMicrosecond);
+
+void BM_BicycleUhat_m30_H500(benchmark::State& state) {
+  BicycleTrainingOptions o;
+  o.threads = static_cast<int>(state.range(0));
+  ThreadPool pool(o.threads);
+  const Theta theta = bicycle_balancing_theta();
+  std::uint64_t steps = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(bicycle_uhat(o, theta, &pool));
+    steps += 30 * 500;
+  }
+  state.counters["steps_per_s"] = benchmark::Counter(static_cast<double>(steps), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_BicycleUhat_m30_H500)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace
+}  // namespace pegasus

@@ -1,0 +1,387 @@
+#include "pegasus/experiments/bicycle_experiment.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <memory>
+#include <sstream>
+
+#include "pegasus/core/error.hpp"
+#include "pegasus/evaluators/monte_carlo.hpp"
+#include "pegasus/evaluators/pegasus_evaluator.hpp"
+#include "pegasus/shaping/potential_shaping.hpp"
+
+namespace pegasus {
+namespace {
+
+using K = BicycleConstants;
+
+bool fail(std::string* error, std::string message) {
+  if (error) *error = std::move(message);
+  return false;
+}
+
+// A pool for a call: the caller's, or one of `threads` owned by the returned pointer.
+std::shared_ptr<ThreadPool> borrow_pool(ThreadPool* pool, int threads) {
+  if (pool) return std::shared_ptr<ThreadPool>(std::shared_ptr<ThreadPool>(), pool);  // non-owning
+  return std::make_shared<ThreadPool>(threads);
+}
+
+ScenarioSet training_scenarios(const BicycleTrainingOptions& o) {
+  return ScenarioSet({.seed = o.seed,
+                      .count = o.scenarios,
+                      .horizon = o.horizon,
+                      .noise_dim = 1,
+                      .initial_noise_dim = 5,
+                      .variant = o.variant});
+}
+
+// Calls make(model) with the training model the options describe (Bicycle, shaped or with the bonus).
+template <class Make>
+std::unique_ptr<Objective> with_training_model(const BicycleTrainingOptions& o, Make&& make) {
+  const Bicycle bike(o.bicycle);
+  if (o.shaping == "potential") return make(shape(bike, BicycleProgressPotential{bike, o.shaping_per_metre}, o.gamma));
+  if (o.shaping == "progress-bonus")
+    return make(ProgressBonusModel<Bicycle, BicycleGoalDistance>(bike, BicycleGoalDistance{bike},
+                                                                 o.shaping_per_metre * K::v * K::dt));
+  return make(bike);
+}
+
+std::unique_ptr<Objective> training_objective(const BicycleTrainingOptions& o, std::shared_ptr<ThreadPool> pool) {
+  const Discounting d{.gamma = o.gamma, .horizon = o.horizon};
+  return with_training_model(o, [&](auto model) -> std::unique_ptr<Objective> {
+    using Model = decltype(model);
+    if (o.estimator == "montecarlo") {
+      return std::make_unique<MonteCarloObjective<Model, BicyclePolicy>>(
+          MonteCarloEvaluator<Model, BicyclePolicy>(model, make_bicycle_policy(), o.scenarios, d, o.seed), pool);
+    }
+    return std::make_unique<PegasusObjective<Model, BicyclePolicy>>(
+        PegasusEvaluator<Model, BicyclePolicy>(model, make_bicycle_policy(), training_scenarios(o), d), pool);
+  });
+}
+
+std::uint64_t derived_seed(std::uint64_t seed, std::uint64_t role, int trial) {
+  return mix_seed(mix_seed(seed, role), static_cast<std::uint64_t>(trial));
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 == 1 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+}  // namespace
+
+// ---- Training -----------------------------------------------------------------------------------------
+
+BicycleOptions BicycleTrainingOptions::default_bicycle() {
+  BicycleOptions b;
+  b.goal = BicycleGoal::infinitely_far(0.0);
+  return b;
+}
+
+OptimizerOptions BicycleTrainingOptions::default_optimizer() {
+  OptimizerOptions o;
+  o.method = "gradient";
+  o.gradient.max_iterations = 200;
+  o.gradient.relative_step = 0.05;
+  o.gradient.initial_step = 0.2;
+  o.gradient.max_step = 0.5;
+  o.gradient.min_step = 1e-3;
+  o.gradient.function_tolerance = 0.0;
+  o.hill_climbing.max_iterations = 300;
+  o.hill_climbing.proposals_per_iteration = 16;
+  o.hill_climbing.initial_step = 0.3;
+  o.hill_climbing.max_step = 1.0;
+  o.hill_climbing.min_step = 1e-4;
+  return o;
+}
+
+bool BicycleTrainingOptions::IsValid(std::string* error) const {
+  if (scenarios < 1) return fail(error, fmt::format("scenarios: expected an integer >= 1, got {}", scenarios));
+  if (!(gamma > 0.0 && gamma <= 1.0)) return fail(error, fmt::format("gamma: expected a number in (0, 1], got {}", gamma));
+  if (horizon < 1) return fail(error, fmt::format("horizon: expected an integer >= 1, got {}", horizon));
+  if (shaping != "potential" && shaping != "progress-bonus" && shaping != "none")
+    return fail(error, fmt::format("shaping: expected one of potential, progress-bonus, none; got \"{}\"", shaping));
+  if (!(shaping_per_metre >= 0.0 && std::isfinite(shaping_per_metre)))
+    return fail(error, fmt::format("shaping_per_metre: expected a finite number >= 0, got {}", shaping_per_metre));
+  if (estimator != "pegasus" && estimator != "montecarlo")
+    return fail(error, fmt::format("estimator: expected pegasus or montecarlo, got \"{}\"", estimator));
+  if (initial_policy != "balance" && initial_policy != "zero")
+    return fail(error, fmt::format("initial_policy: expected balance or zero, got \"{}\"", initial_policy));
+  if (threads < 1) return fail(error, fmt::format("threads: expected an integer >= 1, got {}", threads));
+  std::string inner;
+  if (!bicycle.IsValid(&inner)) return fail(error, "bicycle." + inner);
+  if (!optimizer.IsValid(&inner)) return fail(error, "optimizer." + inner);
+  return true;
+}
+
+BicycleTrainingResult train_bicycle(const BicycleTrainingOptions& options, const BicycleTrainingHooks& hooks,
+                                    ThreadPool* pool) {
+  std::string error;
+  if (!options.IsValid(&error)) throw InputError("bicycle training: " + error);
+  auto objective = training_objective(options, borrow_pool(pool, options.threads));
+  OptimizerOptions optimizer = options.optimizer;
+  optimizer.hill_climbing.seed = mix_seed(options.seed, 0x48696c6c);  // hill climbing's own stream
+  if (hooks.on_checkpoint && hooks.checkpoint_every > 0) {
+    optimizer.SetCheckpointing(hooks.checkpoint_every, hooks.on_checkpoint,
+                               options.estimator == "pegasus" ? hooks.resume_from : std::nullopt);
+  }
+  BicycleTrainingResult result;
+  result.theta = options.initial_policy == "balance" ? bicycle_balancing_theta() : Theta(2 * BicycleFeatures::kCount, 0.0);
+  Solve(optimizer, *objective, &result.theta, &result.summary);
+  result.theta = result.summary.best_theta.empty() ? result.theta : result.summary.best_theta;
+  return result;
+}
+
+double bicycle_uhat(const BicycleTrainingOptions& options, const Theta& theta, ThreadPool* pool) {
+  std::string error;
+  if (!options.IsValid(&error)) throw InputError("bicycle training: " + error);
+  auto objective = training_objective(options, borrow_pool(pool, options.threads));
+  return objective->evaluate(theta);
+}
+
+// ---- Rides --------------------------------------------------------------------------------------------
+
+bool BicycleRideOptions::IsValid(std::string* error) const {
+  if (rides < 1) return fail(error, fmt::format("rides: expected an integer >= 1, got {}", rides));
+  if (!(max_km > 0.0 && max_km <= 1000.0)) return fail(error, fmt::format("max_km: expected a number in (0, 1000], got {}", max_km));
+  if (path_every < 0) return fail(error, fmt::format("path_every: expected an integer >= 0, got {}", path_every));
+  std::string inner;
+  if (!bicycle.IsValid(&inner)) return fail(error, "bicycle." + inner);
+  return true;
+}
+
+std::vector<BicycleRide> ride_bicycle(const Theta& theta, const BicycleRideOptions& options, ThreadPool* pool) {
+  std::string error;
+  if (!options.IsValid(&error)) throw InputError("bicycle rides: " + error);
+  const Bicycle bike(options.bicycle);
+  const BicyclePolicy policy = make_bicycle_policy();
+  if (theta.size() != policy.parameters().size())
+    throw InputError(fmt::format("bicycle rides: expected {} policy parameters, got {}", policy.parameters().size(), theta.size()));
+  constexpr double step_km = K::v * K::dt / 1000.0;
+  const int max_steps = static_cast<int>(std::ceil(options.max_km / step_km));
+  const ScenarioSet noise({.seed = options.seed, .count = options.rides, .horizon = max_steps, .noise_dim = 1, .initial_noise_dim = 5});
+
+  std::vector<BicycleRide> rides(static_cast<std::size_t>(options.rides));
+  auto ride = [&](std::size_t i) {
+    BicycleRide& r = rides[i];
+    std::array<double, 5> p0;
+    noise.initial_noise(static_cast<int>(i), p0);
+    BicycleState s = bike.initial_state(p0);
+    if (options.path_every > 0) {
+      r.x.push_back(s.xf);
+      r.y.push_back(s.yf);
+    }
+    int t = 0;
+    double p = 0.0;
+    for (; t < max_steps && !bike.terminal(s); ++t) {
+      const auto a = policy.act(theta, bike.observe(s));
+      noise.step_noise(static_cast<int>(i), t, std::span<double>(&p, 1));
+      const BicycleState next = bike.step(s, a, std::span<const double>(&p, 1));
+      if (next.status == BicycleState::kAtGoal) {
+        r.distance_km = (t + bike.event_fraction(s, a, next)) * step_km;
+        r.reached = true;
+      }
+      s = next;
+      if (options.path_every > 0 && ((t + 1) % options.path_every == 0 || bike.terminal(s))) {
+        r.x.push_back(s.xf);
+        r.y.push_back(s.yf);
+      }
+    }
+    r.fell = s.status == BicycleState::kFallen;
+    if (!r.reached) r.distance_km = t * step_km;
+  };
+  auto owned = borrow_pool(pool, 1);
+  owned->parallel_for(rides.size(), ride, 1);
+  return rides;
+}
+
+BicycleRideSummary summarize_rides(const std::vector<BicycleRide>& rides) {
+  BicycleRideSummary s;
+  s.rides = static_cast<int>(rides.size());
+  std::vector<double> reached;
+  for (const auto& r : rides) {
+    if (r.reached) reached.push_back(r.distance_km);
+    s.falls += r.fell ? 1 : 0;
+  }
+  s.reached = static_cast<int>(reached.size());
+  s.median_distance_km = median(reached);
+  s.worst_distance_km =
+      reached.empty() ? std::numeric_limits<double>::quiet_NaN() : *std::max_element(reached.begin(), reached.end());
+  return s;
+}
+
+// ---- The experiment -----------------------------------------------------------------------------------
+
+std::uint64_t bicycle_training_seed(std::uint64_t seed, int trial) { return derived_seed(seed, 1, trial); }
+std::uint64_t bicycle_ride_seed(std::uint64_t seed, int trial) { return derived_seed(seed, 2, trial); }
+
+bool BicycleExperimentOptions::IsValid(std::string* error) const {
+  if (trials < 1) return fail(error, fmt::format("trials: expected an integer >= 1, got {}", trials));
+  if (lesson_trials < 0 || lesson_trials > trials)
+    return fail(error, fmt::format("lesson_trials: expected an integer in [0, trials], got {}", lesson_trials));
+  if (threads < 1) return fail(error, fmt::format("threads: expected an integer >= 1, got {}", threads));
+  std::string inner;
+  if (!training.IsValid(&inner)) return fail(error, inner);
+  if (!riding.IsValid(&inner)) return fail(error, inner);
+  return true;
+}
+
+nlohmann::json to_json(const BicycleTrial& t) {
+  nlohmann::json rides = nlohmann::json::array();
+  for (const auto& r : t.rides) rides.push_back({r.distance_km, r.reached, r.fell});
+  return {{"method", t.method},
+          {"trial", t.trial},
+          {"theta", VectorToJson(t.theta)},
+          {"initial_uhat", DoubleToJson(t.initial_uhat)},
+          {"final_uhat", DoubleToJson(t.final_uhat)},
+          {"pegasus_uhat", DoubleToJson(t.pegasus_uhat)},
+          {"iterations", t.iterations},
+          {"evaluations", t.evaluations},
+          {"curve", VectorToJson(t.curve)},
+          {"rides", rides}};
+}
+
+BicycleTrial bicycle_trial_from_json(const nlohmann::json& j) {
+  BicycleTrial t;
+  t.method = j.at("method").get<std::string>();
+  t.trial = j.at("trial").get<int>();
+  t.theta = VectorFromJson(j.at("theta"), "theta");
+  t.initial_uhat = DoubleFromJson(j.at("initial_uhat"), "initial_uhat");
+  t.final_uhat = DoubleFromJson(j.at("final_uhat"), "final_uhat");
+  t.pegasus_uhat = DoubleFromJson(j.at("pegasus_uhat"), "pegasus_uhat");
+  t.iterations = j.at("iterations").get<std::int64_t>();
+  t.evaluations = j.at("evaluations").get<std::int64_t>();
+  t.curve = VectorFromJson(j.at("curve"), "curve");
+  for (const auto& r : j.at("rides"))
+    t.rides.push_back({.distance_km = r.at(0).get<double>(), .reached = r.at(1).get<bool>(), .fell = r.at(2).get<bool>()});
+  t.summary = summarize_rides(t.rides);
+  return t;
+}
+
+BicycleExperimentResult run_bicycle_experiment(const BicycleExperimentOptions& options,
+                                               const BicycleExperimentHooks& hooks) {
+  std::string error;
+  if (!options.IsValid(&error)) throw InputError(error);
+  ThreadPool pool(options.threads);
+
+  // The jobs in order: the PEGASUS trials, then each lesson on the first lesson_trials scenario sets.
+  struct Job {
+    std::string method;
+    int trial;
+  };
+  std::vector<Job> jobs;
+  for (int k = 0; k < options.trials; ++k) jobs.push_back({"pegasus", k});
+  for (int k = 0; k < options.lesson_trials; ++k) jobs.push_back({"progress-bonus", k});
+  for (int k = 0; k < options.lesson_trials; ++k) jobs.push_back({"montecarlo", k});
+
+  BicycleExperimentResult result;
+  std::optional<nlohmann::json> resume_optimizer;
+  if (hooks.resume_from) {
+    for (const auto& t : hooks.resume_from->at("trials")) result.trials.push_back(bicycle_trial_from_json(t));
+    if (hooks.resume_from->contains("optimizer")) resume_optimizer = hooks.resume_from->at("optimizer");
+  }
+  auto checkpoint = [&](const std::optional<nlohmann::json>& optimizer) {
+    if (!hooks.on_checkpoint) return;
+    nlohmann::json state = {{"trials", nlohmann::json::array()}};
+    for (const auto& t : result.trials) state["trials"].push_back(to_json(t));
+    if (optimizer) state["optimizer"] = *optimizer;
+    hooks.on_checkpoint(state);
+  };
+
+  for (std::size_t index = result.trials.size(); index < jobs.size(); ++index) {
+    const Job& job = jobs[index];
+    BicycleTrainingOptions training = options.training;
+    training.seed = bicycle_training_seed(options.seed, job.trial);
+    if (job.method == "progress-bonus") training.shaping = "progress-bonus";
+    if (job.method == "montecarlo") training.estimator = "montecarlo";
+
+    BicycleTrainingHooks training_hooks;
+    training_hooks.checkpoint_every = hooks.checkpoint_every;
+    if (hooks.on_checkpoint) training_hooks.on_checkpoint = [&](const nlohmann::json& c) { checkpoint(c); };
+    training_hooks.resume_from = resume_optimizer;
+    resume_optimizer.reset();
+    const BicycleTrainingResult trained = train_bicycle(training, training_hooks, &pool);
+
+    BicycleTrial trial;
+    trial.method = job.method;
+    trial.trial = job.trial;
+    trial.theta = trained.theta;
+    trial.initial_uhat = trained.summary.initial_value;
+    trial.final_uhat = trained.summary.best_value;
+    trial.iterations = trained.summary.iterations;
+    trial.evaluations = trained.summary.evaluations;
+    for (const auto& h : trained.summary.history) trial.curve.push_back(h.value);
+    BicycleTrainingOptions yardstick = options.training;
+    yardstick.seed = training.seed;
+    trial.pegasus_uhat = job.method == "pegasus" ? trial.final_uhat : bicycle_uhat(yardstick, trial.theta, &pool);
+
+    BicycleRideOptions riding = options.riding;
+    riding.seed = bicycle_ride_seed(options.seed, job.trial);
+    riding.path_every = 0;
+    trial.rides = ride_bicycle(trial.theta, riding, &pool);
+    trial.summary = summarize_rides(trial.rides);
+    result.trials.push_back(std::move(trial));
+    checkpoint(std::nullopt);
+    if (hooks.on_trial) hooks.on_trial(result.trials.back());
+  }
+
+  std::vector<double> medians;
+  for (const auto& t : result.trials)
+    if (t.method == "pegasus") medians.push_back(t.summary.median_distance_km);
+  result.median_of_medians_km = median(medians);
+  return result;
+}
+
+// ---- Policy files -------------------------------------------------------------------------------------
+
+nlohmann::json bicycle_policy_json(const Theta& theta) {
+  const BicyclePolicy policy = make_bicycle_policy();
+  nlohmann::json parameters = nlohmann::json::object();
+  for (std::size_t k = 0; k < policy.parameters().size(); ++k) parameters[policy.parameters()[k].name] = theta.at(k);
+  return {{"policy", "bicycle-sigmoid-15"}, {"parameters", parameters}};
+}
+
+Theta bicycle_policy_from_json(const nlohmann::json& j, const std::string& source) {
+  if (!j.is_object()) throw InputError(fmt::format("{}: expected a JSON object", source));
+  if (!j.contains("policy") || j.at("policy") != "bicycle-sigmoid-15")
+    throw InputError(fmt::format("{}: field 'policy': expected \"bicycle-sigmoid-15\"", source));
+  if (!j.contains("parameters") || !j.at("parameters").is_object())
+    throw InputError(fmt::format("{}: field 'parameters': expected an object of parameter names and numbers", source));
+  const BicyclePolicy policy = make_bicycle_policy();
+  const auto& parameters = j.at("parameters");
+  for (const auto& [name, value] : parameters.items())
+    if (policy.parameters().index_of(name) == policy.parameters().size())
+      throw InputError(fmt::format("{}: field 'parameters.{}': not a parameter of the bicycle policy", source, name));
+  Theta theta(policy.parameters().size());
+  for (std::size_t k = 0; k < theta.size(); ++k) {
+    const std::string& name = policy.parameters()[k].name;
+    if (!parameters.contains(name)) throw InputError(fmt::format("{}: field 'parameters.{}': missing", source, name));
+    const auto& value = parameters.at(name);
+    if (!value.is_number() || !std::isfinite(value.get<double>()))
+      throw InputError(fmt::format("{}: field 'parameters.{}': expected a finite number, got {}", source, name, value.dump()));
+    theta[k] = value.get<double>();
+  }
+  return theta;
+}
+
+Theta read_bicycle_policy(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  if (!in) throw InputError(fmt::format("{}: cannot read the policy file", file.string()));
+  std::stringstream text;
+  text << in.rdbuf();
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(text.str());
+  } catch (const nlohmann::json::parse_error& e) {
+    throw InputError(fmt::format("{}: not valid JSON (byte {})", file.string(), e.byte));
+  }
+  return bicycle_policy_from_json(j, file.string());
+}
+
+}  // namespace pegasus

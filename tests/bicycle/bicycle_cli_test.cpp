@@ -1,0 +1,176 @@
+// End-to-end tests of `pegasus bicycle ...` through the built CLI, on small settings.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <thread>
+
+#include "pegasus/envs/bicycle_policy.hpp"
+#include "pegasus/experiments/bicycle_experiment.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+  int code;
+  std::string output;
+};
+
+Result run(const std::string& args) {
+  const std::string command = std::string(PEGASUS_CLI_PATH) + " " + args + " 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  std::string out;
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof buffer, pipe)) out += buffer;
+  const int status = pclose(pipe);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+std::string read(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+nlohmann::json read_json(const fs::path& p) { return nlohmann::json::parse(read(p)); }
+
+class BicycleCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("pegasus-bicycle-cli-" + std::to_string(::getpid()) + "-" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string out(const std::string& name) const { return " --out " + (dir_ / name).string(); }
+  fs::path dir_;
+};
+
+// Small settings: 8 scenarios of 2 s, 3 optimizer iterations, short rides to a goal 300 m away.
+const std::string kSmall =
+    " --scenarios 8 --horizon 200 --iterations 3 --max-km 1 --goal-km 0.3 --quiet --seed 3";
+
+TEST_F(BicycleCli, ExperimentWritesTheDocumentedSummaryAndArtifacts) {
+  const auto r = run("bicycle experiment --trials 2 --rides 4 --lesson-trials 1" + kSmall + out("run"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto summary = read_json(dir_ / "run" / "summary.json");
+  ASSERT_EQ(summary.at("policies").size(), 2u);
+  for (const auto& p : summary.at("policies")) {
+    EXPECT_EQ(p.size(), 4u) << p.dump();
+    for (const char* key : {"median_distance_km", "worst_distance_km", "falls", "reached"}) EXPECT_TRUE(p.contains(key)) << key;
+    EXPECT_TRUE(p.at("falls").is_number_integer());
+    EXPECT_TRUE(p.at("reached").is_number_integer());
+    EXPECT_LE(p.at("falls").get<int>() + p.at("reached").get<int>(), 4);
+    if (p.at("reached").get<int>() > 0) {
+      EXPECT_GE(p.at("median_distance_km").get<double>(), 0.29);  // the goal circle starts 290 m away
+      EXPECT_GE(p.at("worst_distance_km").get<double>(), p.at("median_distance_km").get<double>());
+    }
+  }
+  EXPECT_TRUE(summary.contains("median_of_medians_km"));
+  ASSERT_EQ(summary.at("lessons").size(), 2u);  // progress bonus and naive Monte Carlo on one scenario set
+  for (const char* file : {"config.toml", "rides.csv", "learning_curves.csv", "trials.csv", "learning_curves.svg",
+                           "rides_trial0.svg", "policies/trial-0.json", "policies/trial-1.json"})
+    EXPECT_TRUE(fs::exists(dir_ / "run" / file)) << file;
+  // A policy file of the experiment rides again.
+  const auto again = run("bicycle ride --rides 2 --max-km 1 --goal-km 0.3 --quiet --policy " +
+                         (dir_ / "run" / "policies" / "trial-0.json").string() + out("again"));
+  EXPECT_EQ(again.code, 0) << again.output;
+}
+
+TEST_F(BicycleCli, ThreadCountNeverChangesTheResult) {
+  const std::string args = "bicycle experiment --trials 2 --rides 4 --lesson-trials 1" + kSmall;
+  ASSERT_EQ(run(args + " --threads 1" + out("a")).code, 0);
+  ASSERT_EQ(run(args + " --threads 2" + out("b")).code, 0);
+  for (const char* file : {"summary.json", "rides.csv", "learning_curves.csv", "trials.csv", "policies/trial-1.json"})
+    EXPECT_EQ(read(dir_ / "a" / file), read(dir_ / "b" / file)) << file;
+}
+
+// Training improves U-hat over the starting policy, and the trained policy falls no more often on rides
+// than the starting one (which balances but ignores the goal).
+TEST_F(BicycleCli, TrainingBeatsTheStartingPolicy) {
+  const auto r = run("bicycle train --rides 6" + kSmall + out("train"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto summary = read_json(dir_ / "train" / "summary.json");
+  EXPECT_GT(summary.at("final_uhat").get<double>(), summary.at("initial_uhat").get<double>());
+  EXPECT_EQ(summary.at("rides").at("rides"), 6);
+  EXPECT_TRUE(fs::exists(dir_ / "train" / "policy.json"));
+  EXPECT_TRUE(fs::exists(dir_ / "train" / "learning_curve.csv"));
+  EXPECT_TRUE(fs::exists(dir_ / "train" / "rides.svg"));
+
+  std::ofstream(dir_ / "start.json") << pegasus::bicycle_policy_json(pegasus::bicycle_balancing_theta()).dump();
+  const std::string rides = "bicycle ride --rides 6 --max-km 1 --goal-km 0.3 --quiet --seed 3 --policy ";
+  ASSERT_EQ(run(rides + (dir_ / "train" / "policy.json").string() + out("trained")).code, 0);
+  ASSERT_EQ(run(rides + (dir_ / "start.json").string() + out("start")).code, 0);
+  const auto trained = read_json(dir_ / "trained" / "summary.json"), start = read_json(dir_ / "start" / "summary.json");
+  EXPECT_LE(trained.at("falls").get<int>(), start.at("falls").get<int>());
+  EXPECT_GE(trained.at("reached").get<int>(), start.at("reached").get<int>());
+}
+
+TEST_F(BicycleCli, BadPolicyFilesGetOneLineNamingFileAndFieldExitTwo) {
+  auto parameters = pegasus::bicycle_policy_json(pegasus::Theta(30, 0.0));
+  auto missing = parameters;
+  missing["parameters"].erase("w.d.goal_sin");
+  auto wrong = parameters;
+  wrong["parameters"]["w.T.theta"] = "fast";
+  auto unknown = parameters;
+  unknown["parameters"]["w.T.speed"] = 1.0;
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {missing.dump(), "w.d.goal_sin"}, {wrong.dump(), "w.T.theta"}, {unknown.dump(), "w.T.speed"},
+      {"{\"policy\": \"bicycle-sigmoid-15\"", "JSON"}, {"[1, 2]", "object"}};
+  for (std::size_t k = 0; k < cases.size(); ++k) {
+    const fs::path file = dir_ / ("bad" + std::to_string(k) + ".json");
+    std::ofstream(file) << cases[k].first;
+    const auto r = run("bicycle ride --quiet --policy " + file.string() + out("bad"));
+    EXPECT_EQ(r.code, 2) << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+    EXPECT_NE(r.output.find(file.string()), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(cases[k].second), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(dir_ / "bad"));
+    EXPECT_FALSE(fs::exists(dir_ / "bad.partial"));
+  }
+  const auto absent = run("bicycle ride --quiet --policy " + (dir_ / "none.json").string() + out("bad"));
+  EXPECT_EQ(absent.code, 2) << absent.output;
+  for (const std::string bad : {"--rides -1", "--gamma 1.5", "--scenarios 0", "--optimizer newton", "--max-km 0"}) {
+    const auto r = run("bicycle train --quiet " + bad + out("bad"));
+    EXPECT_EQ(r.code, 2) << bad << ": " << r.output;
+    EXPECT_FALSE(fs::exists(dir_ / "bad.partial")) << bad;
+  }
+}
+
+// SIGKILL after the first finished trial, then --resume: the result equals an uninterrupted run's.
+TEST_F(BicycleCli, KilledExperimentResumesToTheSameResult) {
+  const std::string args = "bicycle experiment --trials 4 --rides 3 --lesson-trials 0 --threads 1" + kSmall;
+  ASSERT_EQ(run(args + out("whole")).code, 0);
+  const fs::path target = dir_ / "killed";
+  const pid_t child = fork();
+  if (child == 0) {
+    const std::string command = std::string(PEGASUS_CLI_PATH) + " " + args + " --out " + target.string() + " >/dev/null 2>&1";
+    execl("/bin/sh", "sh", "-c", ("exec " + command).c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  const fs::path checkpoint = fs::path(target.string() + ".partial") / "checkpoint.json";
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  while (!fs::exists(checkpoint) && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  ASSERT_TRUE(fs::exists(checkpoint));
+  kill(child, SIGKILL);
+  int status = 0;
+  waitpid(child, &status, 0);
+  if (!WIFSIGNALED(status)) GTEST_SKIP() << "the run finished before it could be killed";
+  const auto resumed = run(args + " --resume" + out("killed"));
+  ASSERT_EQ(resumed.code, 0) << resumed.output;
+  for (const char* file : {"summary.json", "rides.csv", "learning_curves.csv", "trials.csv"})
+    EXPECT_EQ(read(dir_ / "whole" / file), read(target / file)) << file;
+}
+
+}  // namespace
