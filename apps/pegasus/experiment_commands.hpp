@@ -6,6 +6,7 @@ namespace pegasus::cli {
 
 Command pomdp_gridworld_command();
 std::vector<Command> bicycle_commands();  // bicycle experiment, train, ride, variance
+std::vector<Command> heli_commands();     // heli pilot, identify
 Command shaping_audit_command();
 std::vector<Command> shaping_commands();  // shaping audit, gridworld, flags, progress-bonus
 

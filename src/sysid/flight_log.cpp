@@ -117,12 +117,13 @@ FlightLog parse_flight_log(const std::string& text, const std::string& name, con
   if (log.rows() < static_cast<std::size_t>(options.min_rows))
     throw InputError(fmt::format("{}:{}: expected at least {} data rows, found {}", name, lines.size(),
                                  options.min_rows, log.rows()));
+  for (std::size_t i = 1; i < log.rows(); ++i)
+    if (!(log.time[i] > log.time[i - 1]))
+      throw InputError(fmt::format("{}:{}:time: expected time to increase strictly, found {} after {}", name,
+                                   line_of[i], log.time[i], log.time[i - 1]));
   const double dt = log.dt();
   for (std::size_t i = 1; i < log.rows(); ++i) {
     const double step = log.time[i] - log.time[i - 1];
-    if (!(step > 0))
-      throw InputError(fmt::format("{}:{}:time: expected time to increase strictly, found {} after {}", name,
-                                   line_of[i], log.time[i], log.time[i - 1]));
     if (std::abs(step - dt) > options.rate_tolerance * dt)
       throw InputError(fmt::format("{}:{}:time: expected a constant sample interval {} s (within {}%), found {} s",
                                    name, line_of[i], dt, 100 * options.rate_tolerance, step));

@@ -22,7 +22,7 @@ struct PilotOptions {
   double hover_seconds = 10.0;    // plain hover before the sweeps (and the whole flight if no sweeps)
   bool sweeps = true;             // fly a sweep in each channel in turn after the hover
   double sweep_f0_hz = 0.1, sweep_f1_hz = 3.0;
-  std::array<double, 4> sweep_amplitude{0.06, 0.06, 0.10, 0.10};  // per channel
+  std::array<double, 4> sweep_amplitude{0.15, 0.15, 0.15, 0.15};  // per channel
   // Stabilising gains (heading frame): position and velocity to desired attitude, attitude to cyclic.
   double k_pos = 0.25, k_vel = 0.7;    // desired acceleration per m and per m/s
   double k_att = 1.0, k_att_rate = 0.05;  // cyclic per rad of attitude error and per rad/s

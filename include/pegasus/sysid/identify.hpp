@@ -1,0 +1,117 @@
+#pragma once
+// System identification of thesis §5.2: bandwidth by windowed leave-one-out cross-validation, the noise
+// variance with the same windowing (footnotes 5-7), open-loop prediction error against horizon (Fig 5.2), the
+// noise check with an extended Kalman filter (Fig 5.3), and the model file the hover issue loads.
+#include <array>
+#include <filesystem>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "pegasus/parallel/thread_pool.hpp"
+#include "pegasus/sysid/body_model.hpp"
+#include "pegasus/sysid/flight_log.hpp"
+#include "pegasus/sysid/lwr.hpp"
+
+namespace pegasus::sysid {
+
+struct IdentifyOptions {
+  ModelStructure structure{};  // rate, extra states, intercept, templates
+  bool local = true;           // locally weighted (else globally linear with the same template)
+  double window_s = 16;        // cross-validation leaves out this window around each held-out point (fn 5)
+  int cv_points = 300;         // held-out points used by cross-validation and the noise estimate
+  std::vector<double> scale_grid{0.5, 1, 2, 4, 8};  // bandwidth = scale * input standard deviation
+  int coordinate_passes = 1;   // passes of per-input refinement (x0.5, x2, ignore) after the grid
+  bool IsValid(std::string* error) const;
+};
+
+// An identified model: the data, the bandwidth, the noise, the structure. Immutable; shared by threads.
+class IdentifiedModel {
+ public:
+  IdentifiedModel(ModelStructure structure, Dataset data, std::array<double, kInputs> inv_bandwidth,
+                  BodyVec sigma2);
+  const ModelStructure& structure() const { return structure_; }
+  const Dataset& data() const { return *data_; }
+  const LocalRegression& regression() const { return *lwr_; }
+  const std::array<double, kInputs>& inv_bandwidth() const { return lwr_->inv_bandwidth(); }
+  const BodyVec& sigma2() const { return sigma2_; }
+  double dt() const { return data_->dt; }
+  bool is_global() const { return lwr_->is_global(); }
+
+  // Predictive variance of each output at x under a fit (Eq 5.4); template-only outputs get sigma2.
+  BodyVec predictive_variance(const LocalFit& fit) const;
+  // Mean one-step change of the body variables at x under a fit (known part plus beta'x).
+  BodyVec mean_change(const LocalFit& fit, const InputVec& x) const;
+
+  nlohmann::json to_json() const;
+  static IdentifiedModel from_json(const nlohmann::json& j);
+  void save(const std::filesystem::path& file) const;
+  static IdentifiedModel load(const std::filesystem::path& file);  // InputError naming the file
+
+ private:
+  ModelStructure structure_;
+  std::shared_ptr<const Dataset> data_;
+  std::unique_ptr<LocalRegression> lwr_;
+  BodyVec sigma2_;
+  std::array<OutputTemplate, kBodyVars> templates_;
+};
+
+struct IdentifyReport {
+  std::vector<std::pair<std::string, double>> cv_trace;  // (setting, normalised CV error) in search order
+  double cv_seconds = 0;
+};
+
+// Identifies a model from a training log. Deterministic for any number of threads.
+IdentifiedModel identify(const FlightLog& train, const IdentifyOptions& options, ThreadPool& pool,
+                         IdentifyReport* report = nullptr);
+
+// The windowed leave-one-out error of a bandwidth, normalised per output by the target variance, summed over
+// outputs; and the noise estimate at it.
+double cv_error(const Dataset& data, const std::array<OutputTemplate, kBodyVars>& templates,
+                const std::array<double, kInputs>& inv_bandwidth, const IdentifyOptions& o, ThreadPool& pool,
+                BodyVec* sigma2 = nullptr);
+
+// Open-loop simulation on a log (Fig 5.2): from log row `start`, simulate `horizon_steps` model steps with the
+// recorded controls and the model noise off; returns predicted 12 log states + 3 body velocities per step
+// (step 0 = the start state). Stops early (shorter result) when the fit becomes singular.
+inline constexpr int kReportVars = 15;
+extern const std::array<const char*, kReportVars> kReportVarNames;  // the 12 log states, xdot_b, ydot_b, zdot_b
+using ReportState = std::array<double, kReportVars>;
+ReportState report_state(const std::array<double, kLogStates>& s);
+
+struct HorizonMse {
+  std::vector<double> seconds;                 // horizon of each row
+  std::vector<std::array<double, kReportVars>> mse;  // per horizon, per variable
+  std::vector<int> count;                      // rollouts that reached that horizon
+};
+HorizonMse horizon_mse(const IdentifiedModel& model, const FlightLog& test, double horizon_s, double start_spacing_s,
+                       ThreadPool& pool);
+
+// Fig 5.3: +-2 sigma bands from an EKF with diagonal covariances, reset to the true state every reset_s; the
+// fraction of steps where each body variable falls outside. Also the traces of one variable for a plot.
+struct NoiseCheck {
+  BodyVec outside_fraction = BodyVec::Zero();
+  int steps = 0;
+  std::vector<double> time, truth, mean, sd;  // ydot_b over the first trace_seconds, for Fig 5.3
+};
+NoiseCheck noise_check(const IdentifiedModel& model, const FlightLog& test, double reset_s, double trace_seconds);
+
+}  // namespace pegasus::sysid
+
+namespace pegasus::sysid {
+
+// The state a model simulates at its own rate: the 12 world-frame log states plus the extra states.
+struct SimState {
+  std::array<double, kLogStates> world{};
+  double flap_lon = 0, flap_lat = 0, gyro = 0;
+};
+// The regression input at a state and controls.
+InputVec sim_input(const SimState& s, const std::array<double, 4>& a);
+// Applies a change of the body variables over dt: roll, pitch, body velocity and rates change by `delta`;
+// yaw and position integrate the rates and world velocity by the trapezoid rule; the extra states advance by
+// the published model with the old body rates.
+SimState sim_advance(const ModelStructure& m, const SimState& s, const std::array<double, 4>& a,
+                     const BodyVec& delta, double dt);
+
+}  // namespace pegasus::sysid

@@ -1,0 +1,72 @@
+#pragma once
+// The identified helicopter as a deterministic simulative model g(s, a, p) in world coordinates (thesis
+// §5.2.1-5.2.2, Eqs 5.5-5.6), for PEGASUS (the hover issue).
+//
+// Stepping at 50 Hz from a model identified at rate R (10 Hz by default): every `refit_every` steps the local
+// regression is refitted at the current state and control (§5.2.2: "refit the linearity at 10 Hz"); in
+// between the coefficients are held. One 50 Hz step changes each body variable by
+//   (known part + beta'x) * dt / dt_R + sqrt(var * dt / dt_R) * Phi^{-1}(p_k)
+// (§5.2.2: a 10 Hz model s' = s + f + eps becomes s' = s + f/5 + eps' with var(eps') = var(eps)/5), var the
+// predictive variance of Eq 5.4 at the refit point. p has one uniform per body variable (noise_dim 8).
+//
+// Crash (footnote 13): when X'WX is singular to numerical precision at a refit, or when the query leaves the
+// data's support: no training point within `support_bandwidths` bandwidths in the kernel's metric (largest
+// weight below exp(-support_bandwidths^2 / 2)); also when |roll| or |pitch| exceeds max_tilt_rad or the state
+// is not finite. The crashing transition pays crash_reward (-50000) and the state is absorbing.
+#include <array>
+#include <memory>
+#include <span>
+
+#include "pegasus/models/action_space.hpp"
+#include "pegasus/sysid/identify.hpp"
+
+namespace pegasus::sysid {
+
+struct LearnedModelOptions {
+  double dt = 0.02;              // s, 50 Hz (§5.1)
+  int refit_every = 5;           // steps between refits (§5.2.2)
+  double support_bandwidths = 4;  // support margin (see above)
+  double crash_reward = -50000;  // footnote 13
+  double max_tilt_rad = 1.0;
+  bool noise = true;             // false: the mean model (p ignored)
+  std::array<double, kLogStates> start{0, 0, -10, 0, 0, 0, 0, 0, 0, 0, 0, 0};  // s0 before perturbation
+  double start_pos_sigma = 0, start_vel_sigma = 0;  // s0 perturbation from p0 (initial_noise_dim 6)
+  bool IsValid(std::string* error) const;
+};
+
+class LearnedHeliModel {
+ public:
+  struct State {
+    SimState sim{};
+    std::array<InputVec, kBodyVars> beta{};  // held coefficients of the last refit
+    BodyVec variance = BodyVec::Zero();      // predictive variance at the last refit, per model step
+    int step = 0;
+    bool crashed = false;
+  };
+  using Action = std::array<double, 4>;
+  using Observation = std::array<double, kLogStates>;
+
+  LearnedHeliModel(std::shared_ptr<const IdentifiedModel> model, LearnedModelOptions options = {});
+
+  int state_dim() const { return kLogStates; }
+  int noise_dim() const { return kBodyVars; }
+  int initial_noise_dim() const { return 6; }
+  ActionSpace action_space() const;
+  State initial_state(std::span<const double> p0) const;
+  State step(const State& s, const Action& a, std::span<const double> p) const;
+  bool terminal(const State& s) const { return s.crashed; }
+  Observation observe(const State& s) const { return s.sim.world; }
+  // Only the crash is priced here; the task's reward (Eq 5.9-5.10) wraps this model.
+  double reward(const State& s, const Action&, const State& next) const {
+    return (!s.crashed && next.crashed) ? options_.crash_reward : 0.0;
+  }
+  const IdentifiedModel& model() const { return *model_; }
+  const LearnedModelOptions& options() const { return options_; }
+
+ private:
+  std::shared_ptr<const IdentifiedModel> model_;
+  LearnedModelOptions options_;
+  double min_weight_;
+};
+
+}  // namespace pegasus::sysid

@@ -1,0 +1,448 @@
+#include "pegasus/sysid/identify.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+
+#include "pegasus/core/error.hpp"
+#include "pegasus/heli/frames.hpp"
+#include "pegasus/runs/atomic_file.hpp"
+#include "pegasus/runs/output.hpp"
+
+namespace pegasus::sysid {
+
+using heli::Euler;
+using heli::Vec3;
+
+const std::array<const char*, kReportVars> kReportVarNames = {
+    "x",        "y",         "z",        "roll",   "pitch",  "yaw",    "xdot", "ydot",
+    "zdot",     "roll_rate", "pitch_rate", "yaw_rate", "xdot_b", "ydot_b", "zdot_b"};
+
+bool IdentifyOptions::IsValid(std::string* error) const {
+  auto fail = [&](const std::string& what) {
+    if (error) *error = "identify: " + what;
+    return false;
+  };
+  if (!(structure.rate_hz > 0)) return fail("rate_hz must be positive");
+  if (!(window_s >= 0)) return fail("window_s must be >= 0");
+  if (cv_points < 10) return fail("cv_points must be >= 10");
+  if (scale_grid.empty()) return fail("scale_grid must not be empty");
+  for (double s : scale_grid)
+    if (!(s > 0)) return fail("scale_grid values must be positive");
+  if (coordinate_passes < 0) return fail("coordinate_passes must be >= 0");
+  return true;
+}
+
+// ---------------------------------------------------------------- model
+
+IdentifiedModel::IdentifiedModel(ModelStructure structure, Dataset data, std::array<double, kInputs> inv_bandwidth,
+                                 BodyVec sigma2)
+    : structure_(std::move(structure)),
+      data_(std::make_shared<const Dataset>(std::move(data))),
+      sigma2_(sigma2),
+      templates_(output_templates(structure_)) {
+  lwr_ = std::make_unique<LocalRegression>(data_.get(), templates_, inv_bandwidth);
+}
+
+BodyVec IdentifiedModel::predictive_variance(const LocalFit& fit) const {
+  BodyVec v;
+  for (int k = 0; k < kBodyVars; ++k) v[k] = sigma2_[k] * (1 + fit.leverage[k]);
+  return v;
+}
+
+BodyVec IdentifiedModel::mean_change(const LocalFit& fit, const InputVec& x) const {
+  BodyVec d = known_change(structure_, x, dt());
+  for (int k = 0; k < kBodyVars; ++k) d[k] += fit.predict(k, x);
+  return d;
+}
+
+nlohmann::json IdentifiedModel::to_json() const {
+  nlohmann::json j;
+  j["format"] = "pegasus-heli-model";
+  j["version"] = 1;
+  j["structure"] = {{"rate_hz", structure_.rate_hz},
+                    {"extra_states", structure_.extra_states},
+                    {"intercept", structure_.intercept},
+                    {"templates", structure_.templates},
+                    {"gravity", structure_.gravity},
+                    {"tau_flap", structure_.extra.tau_flap},
+                    {"flap_per_a1", structure_.extra.flap_per_a1},
+                    {"flap_per_a2", structure_.extra.flap_per_a2},
+                    {"gyro_tau", structure_.extra.gyro_tau}};
+  j["dt"] = dt();
+  j["inputs"] = kInputNames;
+  j["outputs"] = kBodyVarNames;
+  j["inv_bandwidth"] = inv_bandwidth();
+  j["sigma2"] = std::vector<double>(sigma2_.data(), sigma2_.data() + kBodyVars);
+  nlohmann::json xs = nlohmann::json::array(), ys = nlohmann::json::array();
+  for (Eigen::Index i = 0; i < data_->rows(); ++i) {
+    std::vector<double> xr(kInputs), yr(kBodyVars);
+    for (int c = 0; c < kInputs; ++c) xr[static_cast<std::size_t>(c)] = data_->x(i, c);
+    for (int c = 0; c < kBodyVars; ++c) yr[static_cast<std::size_t>(c)] = data_->y(i, c);
+    xs.push_back(xr);
+    ys.push_back(yr);
+  }
+  j["x"] = xs;
+  j["y"] = ys;
+  j["time"] = data_->time;
+  return j;
+}
+
+IdentifiedModel IdentifiedModel::from_json(const nlohmann::json& j) {
+  if (j.value("format", "") != "pegasus-heli-model" || j.value("version", 0) != 1)
+    throw InputError("model: not a pegasus-heli-model version 1 file");
+  ModelStructure m;
+  const auto& s = j.at("structure");
+  m.rate_hz = s.at("rate_hz").get<double>();
+  m.extra_states = s.at("extra_states").get<bool>();
+  m.intercept = s.at("intercept").get<bool>();
+  m.templates = s.at("templates").get<bool>();
+  m.gravity = s.at("gravity").get<double>();
+  m.extra.tau_flap = s.at("tau_flap").get<double>();
+  m.extra.flap_per_a1 = s.at("flap_per_a1").get<double>();
+  m.extra.flap_per_a2 = s.at("flap_per_a2").get<double>();
+  m.extra.gyro_tau = s.at("gyro_tau").get<double>();
+  Dataset d;
+  d.dt = j.at("dt").get<double>();
+  const auto& xs = j.at("x");
+  const auto& ys = j.at("y");
+  if (xs.size() != ys.size() || xs.empty()) throw InputError("model: x and y must be non-empty and of equal length");
+  const auto n = static_cast<Eigen::Index>(xs.size());
+  d.x.resize(n, kInputs);
+  d.y.resize(n, kBodyVars);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const auto xr = xs[static_cast<std::size_t>(i)].get<std::vector<double>>();
+    const auto yr = ys[static_cast<std::size_t>(i)].get<std::vector<double>>();
+    if (xr.size() != kInputs || yr.size() != kBodyVars)
+      throw InputError(fmt::format("model: row {} must have {} inputs and {} outputs", i, kInputs, kBodyVars));
+    for (int c = 0; c < kInputs; ++c) d.x(i, c) = xr[static_cast<std::size_t>(c)];
+    for (int c = 0; c < kBodyVars; ++c) d.y(i, c) = yr[static_cast<std::size_t>(c)];
+  }
+  d.time = j.at("time").get<std::vector<double>>();
+  const auto ih = j.at("inv_bandwidth").get<std::vector<double>>();
+  const auto s2 = j.at("sigma2").get<std::vector<double>>();
+  if (ih.size() != kInputs || s2.size() != kBodyVars) throw InputError("model: wrong inv_bandwidth or sigma2 size");
+  std::array<double, kInputs> inv{};
+  std::copy(ih.begin(), ih.end(), inv.begin());
+  BodyVec sigma2;
+  for (int k = 0; k < kBodyVars; ++k) sigma2[k] = s2[static_cast<std::size_t>(k)];
+  return IdentifiedModel(m, std::move(d), inv, sigma2);
+}
+
+void IdentifiedModel::save(const std::filesystem::path& file) const { write_file_atomic(file, to_json().dump() + "\n"); }
+
+IdentifiedModel IdentifiedModel::load(const std::filesystem::path& file) {
+  nlohmann::json j;
+  try {
+    j = read_json_file(file);
+  } catch (const std::exception& e) {
+    throw InputError(fmt::format("{}: cannot read the model file: {}", file.string(), e.what()));
+  }
+  try {
+    return from_json(j);
+  } catch (const std::exception& e) {
+    throw InputError(fmt::format("{}: {}", file.string(), e.what()));
+  }
+}
+
+// ---------------------------------------------------------------- cross-validation
+
+namespace {
+
+// The rows [lo, hi) within window/2 of row i's time (the data are in time order).
+std::pair<Eigen::Index, Eigen::Index> window_rows(const Dataset& d, Eigen::Index i, double window_s) {
+  const double t = d.time[static_cast<std::size_t>(i)];
+  const auto lo = std::lower_bound(d.time.begin(), d.time.end(), t - window_s / 2) - d.time.begin();
+  const auto hi = std::upper_bound(d.time.begin(), d.time.end(), t + window_s / 2) - d.time.begin();
+  return {static_cast<Eigen::Index>(lo), static_cast<Eigen::Index>(hi)};
+}
+
+}  // namespace
+
+double cv_error(const Dataset& data, const std::array<OutputTemplate, kBodyVars>& templates,
+                const std::array<double, kInputs>& inv_bandwidth, const IdentifyOptions& o, ThreadPool& pool,
+                BodyVec* sigma2) {
+  const LocalRegression lwr(&data, templates, inv_bandwidth);
+  const Eigen::Index n = data.rows();
+  const int m = static_cast<int>(std::min<Eigen::Index>(o.cv_points, n));
+  std::vector<BodyVec> sq(static_cast<std::size_t>(m)), scaled(static_cast<std::size_t>(m));
+  pool.parallel_for(static_cast<std::size_t>(m), [&](std::size_t p) {
+    const Eigen::Index i = static_cast<Eigen::Index>((static_cast<double>(p) + 0.5) * static_cast<double>(n) / m);
+    const auto [lo, hi] = window_rows(data, i, o.window_s);
+    const InputVec x = data.x.row(i).transpose();
+    const LocalFit fit = lwr.fit(x, lo, hi);
+    for (int k = 0; k < kBodyVars; ++k) {
+      const double y = data.y(i, k);
+      const double r = fit.singular ? y : y - fit.predict(k, x);
+      sq[p][k] = r * r;
+      scaled[p][k] = fit.singular ? r * r : r * r / (1 + fit.leverage[k]);
+    }
+  });
+  BodyVec sum = BodyVec::Zero(), sum_scaled = BodyVec::Zero();
+  for (int p = 0; p < m; ++p) {
+    sum += sq[static_cast<std::size_t>(p)];
+    sum_scaled += scaled[static_cast<std::size_t>(p)];
+  }
+  // Normalise each output by its target variance so every output counts alike.
+  double total = 0;
+  for (int k = 0; k < kBodyVars; ++k) {
+    if (templates[static_cast<std::size_t>(k)].free_count() == 0) continue;
+    const double var = (data.y.col(k).array() - data.y.col(k).mean()).square().mean() + 1e-300;
+    total += sum[k] / m / var;
+  }
+  // Footnotes 6-7: sigma^2 from the windowed leave-one-out residuals, each divided by its predictive
+  // inflation 1 + x'(X'WX)^{-1}x, not the (biased) Bayesian estimate.
+  if (sigma2) *sigma2 = sum_scaled / m;
+  return total;
+}
+
+IdentifiedModel identify(const FlightLog& train, const IdentifyOptions& o, ThreadPool& pool, IdentifyReport* report) {
+  std::string error;
+  if (!o.IsValid(&error)) throw InputError(error);
+  const auto start = std::chrono::steady_clock::now();
+  Dataset data = build_dataset(train, o.structure);
+  const auto min_rows = 4 * kInputs;
+  if (data.rows() < min_rows)
+    throw InputError(fmt::format("identify: the training log gives {} rows at {} Hz; need at least {}", data.rows(),
+                                 o.structure.rate_hz, min_rows));
+  const auto templates = output_templates(o.structure);
+  // Kernel inputs: everything the model regresses on except the constant.
+  std::array<double, kInputs> inv_std{};
+  for (int j = 0; j < kInputs; ++j) {
+    if (j == kOne) continue;
+    if (!o.structure.extra_states && (j == kFlapLon || j == kFlapLat || j == kGyro)) continue;
+    const double sd = std::sqrt((data.x.col(j).array() - data.x.col(j).mean()).square().mean());
+    inv_std[static_cast<std::size_t>(j)] = sd > 0 ? 1 / sd : 0;
+  }
+  std::array<double, kInputs> best_inv{};
+  BodyVec sigma2;
+  double best = 0;
+  auto trace = [&](const std::string& what, double e) {
+    if (report) report->cv_trace.emplace_back(what, e);
+  };
+  if (!o.local) {
+    best = cv_error(data, templates, best_inv, o, pool, &sigma2);
+    trace("global", best);
+  } else {
+    best = INFINITY;
+    for (double c : o.scale_grid) {
+      std::array<double, kInputs> inv{};
+      for (int j = 0; j < kInputs; ++j) inv[static_cast<std::size_t>(j)] = inv_std[static_cast<std::size_t>(j)] / c;
+      const double e = cv_error(data, templates, inv, o, pool);
+      trace(fmt::format("scale {}", c), e);
+      if (e < best) {
+        best = e;
+        best_inv = inv;
+      }
+    }
+    for (int pass = 0; pass < o.coordinate_passes; ++pass) {
+      for (int j = 0; j < kInputs; ++j) {
+        if (best_inv[static_cast<std::size_t>(j)] == 0) continue;
+        for (double f : {2.0, 0.5, 0.0}) {
+          auto inv = best_inv;
+          inv[static_cast<std::size_t>(j)] *= f;
+          const double e = cv_error(data, templates, inv, o, pool);
+          trace(fmt::format("{} x{}", kInputNames[static_cast<std::size_t>(j)], f), e);
+          if (e < best) {
+            best = e;
+            best_inv = inv;
+            break;
+          }
+        }
+      }
+    }
+    cv_error(data, templates, best_inv, o, pool, &sigma2);
+  }
+  // Outputs fixed by the template: sigma^2 is the mean square of what the template leaves.
+  for (int k = 0; k < kBodyVars; ++k)
+    if (templates[static_cast<std::size_t>(k)].free_count() == 0) sigma2[k] = data.y.col(k).squaredNorm() / data.rows();
+  if (report)
+    report->cv_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return IdentifiedModel(o.structure, std::move(data), best_inv, sigma2);
+}
+
+// ---------------------------------------------------------------- simulation
+
+InputVec sim_input(const SimState& s, const std::array<double, 4>& a) {
+  InputVec x;
+  x.head<kBodyVars>() = body_from_log_state(s.world);
+  x[kFlapLon] = s.flap_lon;
+  x[kFlapLat] = s.flap_lat;
+  x[kGyro] = s.gyro;
+  for (int c = 0; c < 4; ++c) x[kA1 + c] = a[static_cast<std::size_t>(c)];
+  x[kOne] = 1;
+  return x;
+}
+
+SimState sim_advance(const ModelStructure& m, const SimState& s, const std::array<double, 4>& a,
+                     const BodyVec& delta, double dt) {
+  const BodyVec b0 = body_from_log_state(s.world);
+  const BodyVec b1 = b0 + delta;
+  SimState n = s;
+  auto& w = n.world;
+  w[3] = b1[kRoll];
+  w[4] = b1[kPitch];
+  w[5] = heli::wrap_angle(s.world[5] + dt * 0.5 * (s.world[11] + b1[kYawRate]));
+  w[9] = b1[kRollRate];
+  w[10] = b1[kPitchRate];
+  w[11] = b1[kYawRate];
+  const Vec3 v_W = heli::world_from_body(Euler{w[3], w[4], w[5]}, Vec3(b1[kU], b1[kV], b1[kW]));
+  for (int i = 0; i < 3; ++i) {
+    w[static_cast<std::size_t>(i)] = s.world[static_cast<std::size_t>(i)] + dt * 0.5 * (s.world[static_cast<std::size_t>(6 + i)] + v_W[i]);
+    w[static_cast<std::size_t>(6 + i)] = v_W[i];
+  }
+  const Euler e0{s.world[3], s.world[4], s.world[5]};
+  const Vec3 w_B = heli::body_rates_from_euler_rates(e0, Vec3(s.world[9], s.world[10], s.world[11]));
+  m.extra.advance(dt, w_B, a, &n.flap_lon, &n.flap_lat, &n.gyro);
+  return n;
+}
+
+ReportState report_state(const std::array<double, kLogStates>& s) {
+  ReportState r{};
+  std::copy(s.begin(), s.end(), r.begin());
+  const BodyVec b = body_from_log_state(s);
+  r[12] = b[kU];
+  r[13] = b[kV];
+  r[14] = b[kW];
+  return r;
+}
+
+namespace {
+
+struct LogAtRate {
+  std::size_t step;  // log rows per model step
+  std::vector<std::array<double, 3>> extra;
+};
+
+LogAtRate log_at_rate(const IdentifiedModel& model, const FlightLog& log) {
+  const double ratio = model.dt() / log.dt();
+  const long k = std::lround(ratio);
+  if (k < 1 || std::abs(ratio - static_cast<double>(k)) > 0.01)
+    throw InputError(fmt::format("the test log's rate {} Hz is not a multiple of the model rate {} Hz", 1 / log.dt(),
+                                 1 / model.dt()));
+  return {static_cast<std::size_t>(k), extra_states_along(log, model.structure())};
+}
+
+std::array<double, 4> mean_controls(const FlightLog& log, std::size_t row, std::size_t k) {
+  std::array<double, 4> a{};
+  for (std::size_t j = row; j < row + k; ++j)
+    for (std::size_t c = 0; c < 4; ++c) a[c] += log.controls[j][c];
+  for (double& v : a) v /= static_cast<double>(k);
+  return a;
+}
+
+}  // namespace
+
+HorizonMse horizon_mse(const IdentifiedModel& model, const FlightLog& test, double horizon_s, double start_spacing_s,
+                       ThreadPool& pool) {
+  const LogAtRate lr = log_at_rate(model, test);
+  const auto k = lr.step;
+  const auto steps = static_cast<std::size_t>(std::lround(horizon_s / model.dt()));
+  const auto spacing = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(start_spacing_s / test.dt())));
+  const auto refit_every = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(0.1 / model.dt())));
+  std::vector<std::size_t> starts;
+  for (std::size_t r = 0; r + steps * k < test.rows(); r += spacing) starts.push_back(r);
+  using Errors = std::vector<std::array<double, kReportVars>>;
+  std::vector<Errors> per_start(starts.size());
+  pool.parallel_for(starts.size(), [&](std::size_t si) {
+    const std::size_t r0 = starts[si];
+    SimState s;
+    s.world = test.states[r0];
+    s.flap_lon = lr.extra[r0][0];
+    s.flap_lat = lr.extra[r0][1];
+    s.gyro = lr.extra[r0][2];
+    Errors& e = per_start[si];
+    e.reserve(steps + 1);
+    LocalFit fit;
+    for (std::size_t t = 0; t <= steps; ++t) {
+      const ReportState truth = report_state(test.states[r0 + t * k]);
+      const ReportState pred = report_state(s.world);
+      std::array<double, kReportVars> sq{};
+      for (int v = 0; v < kReportVars; ++v) {
+        double d = pred[static_cast<std::size_t>(v)] - truth[static_cast<std::size_t>(v)];
+        if (v == 5) d = heli::wrap_angle(d);
+        sq[static_cast<std::size_t>(v)] = d * d;
+      }
+      e.push_back(sq);
+      if (t == steps) break;
+      const auto a = mean_controls(test, r0 + t * k, k);
+      const InputVec x = sim_input(s, a);
+      if (t % refit_every == 0) fit = model.regression().fit(x);
+      if (fit.singular) break;
+      s = sim_advance(model.structure(), s, a, model.mean_change(fit, x), model.dt());
+    }
+  });
+  HorizonMse out;
+  out.seconds.resize(steps + 1);
+  out.mse.assign(steps + 1, {});
+  out.count.assign(steps + 1, 0);
+  for (std::size_t t = 0; t <= steps; ++t) out.seconds[t] = static_cast<double>(t) * model.dt();
+  for (const Errors& e : per_start)
+    for (std::size_t t = 0; t < e.size(); ++t) {
+      for (int v = 0; v < kReportVars; ++v) out.mse[t][static_cast<std::size_t>(v)] += e[t][static_cast<std::size_t>(v)];
+      ++out.count[t];
+    }
+  for (std::size_t t = 0; t <= steps; ++t)
+    if (out.count[t] > 0)
+      for (double& v : out.mse[t]) v /= out.count[t];
+  return out;
+}
+
+NoiseCheck noise_check(const IdentifiedModel& model, const FlightLog& test, double reset_s, double trace_seconds) {
+  const LogAtRate lr = log_at_rate(model, test);
+  const auto k = lr.step;
+  const auto seg = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(reset_s / model.dt())));
+  const ModelStructure& m = model.structure();
+  NoiseCheck out;
+  BodyVec outside = BodyVec::Zero();
+  for (std::size_t r0 = 0; r0 + k < test.rows(); r0 += seg * k) {
+    SimState s;
+    s.world = test.states[r0];
+    s.flap_lon = lr.extra[r0][0];
+    s.flap_lat = lr.extra[r0][1];
+    s.gyro = lr.extra[r0][2];
+    BodyVec p = BodyVec::Zero();  // diagonal covariance of the body variables
+    for (std::size_t t = 0; t < seg && r0 + (t + 1) * k < test.rows(); ++t) {
+      const auto a = mean_controls(test, r0 + t * k, k);
+      const InputVec x = sim_input(s, a);
+      const LocalFit fit = model.regression().fit(x);
+      if (fit.singular) break;
+      const BodyVec var = model.predictive_variance(fit);
+      // Jacobian of the one-step map on the body variables: I + d(known)/dx + beta (diagonal covariance
+      // propagation, as the thesis's EKF with diagonal approximations).
+      BodyVec pn = var;
+      for (int kk = 0; kk < kBodyVars; ++kk) {
+        for (int j = 0; j < kBodyVars; ++j) {
+          InputVec xp = x, xm = x;
+          const double h = 1e-6;
+          xp[j] += h;
+          xm[j] -= h;
+          const double dk = (known_change(m, xp, model.dt())[kk] - known_change(m, xm, model.dt())[kk]) / (2 * h);
+          const double jac = (kk == j ? 1.0 : 0.0) + dk + fit.beta[static_cast<std::size_t>(kk)][j];
+          pn[kk] += jac * jac * p[j];
+        }
+      }
+      p = pn;
+      s = sim_advance(m, s, a, model.mean_change(fit, x), model.dt());
+      const BodyVec truth = body_from_log_state(test.states[r0 + (t + 1) * k]);
+      const BodyVec mean = body_from_log_state(s.world);
+      for (int j = 0; j < kBodyVars; ++j)
+        if (std::abs(truth[j] - mean[j]) > 2 * std::sqrt(p[j])) outside[j] += 1;
+      ++out.steps;
+      const double time = test.time[r0 + (t + 1) * k] - test.time[0];
+      if (time <= trace_seconds) {
+        out.time.push_back(time);
+        out.truth.push_back(truth[kV]);
+        out.mean.push_back(mean[kV]);
+        out.sd.push_back(std::sqrt(p[kV]));
+      }
+    }
+  }
+  if (out.steps > 0) out.outside_fraction = outside / out.steps;
+  return out;
+}
+
+}  // namespace pegasus::sysid

@@ -1,0 +1,257 @@
+// System identification: log format and checks, fast vs exact LWR, identification on ground-truth logs,
+// the learned simulative model.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "pegasus/core/error.hpp"
+#include "pegasus/heli/aircraft.hpp"
+#include "pegasus/heli/pilot.hpp"
+#include "pegasus/models/model.hpp"
+#include "pegasus/sysid/flight_log.hpp"
+#include "pegasus/sysid/identify.hpp"
+#include "pegasus/sysid/learned_model.hpp"
+#include "pegasus/sysid/lwr.hpp"
+
+namespace {
+
+using namespace pegasus;
+using namespace pegasus::sysid;
+
+static_assert(SimulativeModel<LearnedHeliModel>);
+static_assert(SimulativeModel<heli::Aircraft>);
+
+FlightLog small_log(double seconds, std::uint64_t seed, bool noise_free = false) {
+  heli::AircraftParams p;
+  if (noise_free) {
+    p.gust_sigma = 0;
+    p.est_sigma_pos = p.est_sigma_vel = p.est_sigma_angle = p.est_sigma_rate = 0;
+  }
+  const heli::Aircraft heli(p);
+  heli::PilotOptions o;
+  o.hover_seconds = 4;
+  auto f = heli::fly_pilot(heli, o, seconds, seed);
+  EXPECT_EQ(f.crash, heli::CrashReason::kNone);
+  return f.log;
+}
+
+std::string expect_input_error(const std::string& text) {
+  try {
+    parse_flight_log(text, "log.csv", {.min_rows = 3});
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "no InputError";
+  return "";
+}
+
+const char* kHeader = "time,x,y,z,roll,pitch,yaw,xdot,ydot,zdot,roll_rate,pitch_rate,yaw_rate,a1,a2,a3,a4\n";
+std::string row(double t, const char* x = "0") {
+  return std::to_string(t) + "," + x + ",0,-10,0,0,0,0,0,0,0,0,0,0.1,0,0.2,0.3\n";
+}
+
+TEST(FlightLogFormat, RoundTripsExactly) {
+  const FlightLog log = small_log(3, 1);
+  const FlightLog back = parse_flight_log(flight_log_csv(log), "x.csv");
+  EXPECT_EQ(back.time, log.time);
+  EXPECT_EQ(back.states, log.states);
+  EXPECT_EQ(back.controls, log.controls);
+  EXPECT_NEAR(back.dt(), 0.02, 1e-12);
+}
+
+TEST(FlightLogFormat, AcceptsColumnsInAnyOrderWithExtras) {
+  const std::string text =
+      "a4,a3,a2,a1,yaw_rate,pitch_rate,roll_rate,zdot,ydot,xdot,yaw,pitch,roll,z,y,x,time,note\n"
+      "0.3,0.2,0,0.1,0,0,0,0,0,0,0,0,0,-10,0,5,0,a\n0.3,0.2,0,0.1,0,0,0,0,0,0,0,0,0,-10,0,5,0.02,b\n"
+      "0.3,0.2,0,0.1,0,0,0,0,0,0,0,0,0,-10,0,5,0.04,c\n";
+  const auto log = parse_flight_log(text, "f.csv", {.min_rows = 3});
+  EXPECT_EQ(log.states[1][0], 5.0);
+  EXPECT_EQ(log.controls[2][3], 0.3);
+}
+
+TEST(FlightLogFormat, ErrorsNameFileLineAndColumn) {
+  EXPECT_NE(expect_input_error("time,x,y\n").find("log.csv:1:z: required column missing"), std::string::npos);
+  EXPECT_NE(expect_input_error(std::string(kHeader) + row(0) + row(0.02, "abc") + row(0.04))
+                .find("log.csv:3:x: expected a number, found 'abc'"),
+            std::string::npos);
+  EXPECT_NE(expect_input_error(std::string(kHeader) + row(0) + row(0.02) + row(0.04, "nan")).find("log.csv:4:x: expected a finite"),
+            std::string::npos);
+  EXPECT_NE(expect_input_error(std::string(kHeader) + row(0) + row(0.02) + row(0.02) + row(0.04))
+                .find("log.csv:4:time: expected time to increase strictly"),
+            std::string::npos);
+  EXPECT_NE(expect_input_error(std::string(kHeader) + row(0) + row(0.02) + row(0.05) + row(0.06))
+                .find(":time: expected a constant sample interval"),
+            std::string::npos);
+  EXPECT_NE(expect_input_error(std::string(kHeader) + row(0) + row(0.02)).find("expected at least 3 data rows"),
+            std::string::npos);
+  EXPECT_NE(expect_input_error(std::string(kHeader) + row(0) + "1,2\n" + row(0.04)).find("log.csv:3: expected 17"),
+            std::string::npos);
+}
+
+TEST(FlightLogFormat, MissingFileIsAnInputError) {
+  EXPECT_THROW(read_flight_log("/nonexistent/dir/log.csv"), InputError);
+}
+
+struct Fixture {
+  FlightLog train = small_log(200, 11);
+  FlightLog test = small_log(60, 12);
+};
+const Fixture& fixture() {
+  static const Fixture f;
+  return f;
+}
+
+double rel_diff(double a, double b) { return std::abs(a - b) / std::max({std::abs(a), std::abs(b), 1e-300}); }
+
+TEST(LocalRegressionPaths, FastAgreesWithExactWithin1e9Relative) {
+  const Dataset data = build_dataset(fixture().train, ModelStructure{});
+  const auto templates = output_templates(ModelStructure{});
+  for (double scale : {1.5, 3.0, 8.0}) {
+    std::array<double, kInputs> inv{};
+    for (int j = 0; j < kOne; ++j) {
+      const double sd = std::sqrt((data.x.col(j).array() - data.x.col(j).mean()).square().mean());
+      inv[static_cast<std::size_t>(j)] = 1 / (scale * sd);
+    }
+    const LocalRegression lwr(&data, templates, inv);
+    int compared = 0;
+    for (Eigen::Index i = 3; i < data.rows(); i += 97) {
+      InputVec q = data.x.row(i).transpose();
+      q[kU] += 0.05;
+      for (auto [lo, hi] : {std::pair<Eigen::Index, Eigen::Index>{0, 0}, {i - 20, i + 20}}) {
+        const LocalFit fast = lwr.fit(q, lo, hi);
+        const LocalFit exact = lwr.fit_exact(q, lo, hi);
+        ASSERT_EQ(fast.singular, exact.singular);
+        if (fast.singular) continue;
+        for (int k = 0; k < kBodyVars; ++k) {
+          EXPECT_LT(rel_diff(fast.predict(k, q), exact.predict(k, q)), 1e-9) << scale << " " << i << " " << k;
+          EXPECT_LT(rel_diff(fast.leverage[k], exact.leverage[k]), 1e-9);
+          for (int j = 0; j < kInputs; ++j)
+            EXPECT_LE(std::abs(fast.beta[static_cast<std::size_t>(k)][j] - exact.beta[static_cast<std::size_t>(k)][j]),
+                      1e-9 * exact.beta[static_cast<std::size_t>(k)].cwiseAbs().maxCoeff() + 1e-300);
+        }
+        ++compared;
+      }
+    }
+    EXPECT_GT(compared, 20);
+  }
+}
+
+TEST(LocalRegressionPaths, GlobalModelWithWindowMatchesExact) {
+  const Dataset data = build_dataset(fixture().train, ModelStructure{});
+  const LocalRegression lwr(&data, output_templates(ModelStructure{}), std::array<double, kInputs>{});
+  EXPECT_TRUE(lwr.is_global());
+  const InputVec q = data.x.row(100).transpose();
+  const LocalFit fast = lwr.fit(q, 50, 250);
+  const LocalFit exact = lwr.fit_exact(q, 50, 250);
+  for (int k = 2; k < kBodyVars; ++k) EXPECT_LT(rel_diff(fast.predict(k, q), exact.predict(k, q)), 1e-9);
+}
+
+TEST(Identification, OneStepPredictionIsAccurateOnNoiseFreeGroundTruth) {
+  const FlightLog train = small_log(100, 21, true);
+  const FlightLog test = small_log(30, 22, true);
+  ThreadPool pool(2);
+  IdentifyOptions o;
+  o.cv_points = 150;
+  o.coordinate_passes = 0;
+  const IdentifiedModel model = identify(train, o, pool);
+  const Dataset d = build_dataset(test, o.structure);
+  for (int k = kU; k < kBodyVars; ++k) {
+    double sse = 0, sst = 0;
+    const double mean = d.y.col(k).mean();
+    for (Eigen::Index i = 0; i < d.rows(); ++i) {
+      const InputVec x = d.x.row(i).transpose();
+      const LocalFit fit = model.regression().fit(x);
+      ASSERT_FALSE(fit.singular);
+      const double r = d.y(i, k) - fit.predict(k, x);
+      sse += r * r;
+      sst += (d.y(i, k) - mean) * (d.y(i, k) - mean);
+    }
+    // At least 90% of the variance of the one-step change that the template leaves is explained.
+    EXPECT_LT(sse / sst, 0.1) << kBodyVarNames[static_cast<std::size_t>(k)];
+  }
+}
+
+TEST(Identification, LocallyWeightedBeatsGlobalLinearOnWindowedHoldOut) {
+  // One-step prediction on data 8 s or more away from the predicted point (the cross-validation windows):
+  // the chosen local model beats the global linear one of the same template.
+  ThreadPool pool(2);
+  IdentifyOptions o;
+  o.cv_points = 200;
+  o.coordinate_passes = 0;
+  IdentifyReport local_report, global_report;
+  identify(fixture().train, o, pool, &local_report);
+  o.local = false;
+  const IdentifiedModel global = identify(fixture().train, o, pool, &global_report);
+  double best_local = INFINITY;
+  for (const auto& [what, e] : local_report.cv_trace) best_local = std::min(best_local, e);
+  ASSERT_EQ(global_report.cv_trace.size(), 1u);
+  EXPECT_LT(best_local, global_report.cv_trace[0].second);
+  // Open-loop prediction on the hold-out log is reported for horizons 0..1 s by every rollout.
+  const HorizonMse mg = horizon_mse(global, fixture().test, 1.0, 1.0, pool);
+  EXPECT_EQ(mg.seconds.size(), 11u);
+  EXPECT_GT(mg.count.back(), 20);
+  EXPECT_EQ(mg.mse.front()[0], 0.0);  // the start state is exact
+  EXPECT_GT(mg.mse.back()[6], mg.mse[1][6]);  // errors grow with the horizon
+}
+
+TEST(Identification, ResultDoesNotDependOnThreads) {
+  IdentifyOptions o;
+  o.cv_points = 60;
+  o.scale_grid = {1, 4};
+  o.coordinate_passes = 0;
+  ThreadPool one(1), two(2);
+  const auto a = identify(fixture().train, o, one).to_json();
+  const auto b = identify(fixture().train, o, two).to_json();
+  EXPECT_EQ(a.dump(), b.dump());
+}
+
+TEST(Identification, ModelFileRoundTrips) {
+  IdentifyOptions o;
+  o.cv_points = 60;
+  o.scale_grid = {2};
+  o.coordinate_passes = 0;
+  ThreadPool pool(1);
+  const auto model = identify(fixture().train, o, pool);
+  const auto file = std::filesystem::temp_directory_path() / "pegasus_sysid_model_test.json";
+  model.save(file);
+  const auto back = IdentifiedModel::load(file);
+  std::filesystem::remove(file);
+  EXPECT_EQ(back.to_json().dump(), model.to_json().dump());
+}
+
+TEST(LearnedModel, IsDeterministicAndCrashesOutsideTheData) {
+  IdentifyOptions o;
+  o.cv_points = 60;
+  o.scale_grid = {2};
+  o.coordinate_passes = 0;
+  ThreadPool pool(1);
+  auto model = std::make_shared<const IdentifiedModel>(identify(fixture().train, o, pool));
+  LearnedModelOptions lo;
+  lo.start = fixture().train.states[500];
+  const LearnedHeliModel sim(model, lo);
+  std::array<double, 6> p0{0.5, 0.5, 0.5, 0.5, 0.5, 0.5};
+  std::array<double, 8> p{0.3, 0.6, 0.5, 0.7, 0.2, 0.5, 0.45, 0.55};
+  auto s1 = sim.initial_state(p0);
+  auto s2 = sim.initial_state(p0);
+  for (int t = 0; t < 50; ++t) {
+    const auto a = fixture().train.controls[static_cast<std::size_t>(500 + t)];
+    s1 = sim.step(s1, a, p);
+    s2 = sim.step(s2, a, p);
+  }
+  EXPECT_EQ(s1.sim.world, s2.sim.world);
+  EXPECT_FALSE(s1.crashed);
+  // A state far outside anything the pilot flew: 30 m/s sideways at a 0.8 rad roll.
+  auto far = s1;
+  far.sim.world[7] = 30;
+  far.sim.world[3] = 0.8;
+  far.step = 0;
+  const auto crashed = sim.step(far, {0, 0, 0, 0}, p);
+  EXPECT_TRUE(crashed.crashed);
+  EXPECT_EQ(sim.reward(far, {0, 0, 0, 0}, crashed), -50000);
+  EXPECT_TRUE(sim.terminal(crashed));
+}
+
+}  // namespace
