@@ -1,0 +1,104 @@
+// End-to-end tests of `pegasus heli pilot` and `pegasus heli identify` through the built CLI.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "support/cli_runner.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using pegasus::testing::read_text;
+using HeliCli = pegasus::testing::TempDirTest;
+
+pegasus::testing::CliResult run(const std::string& args) { return pegasus::testing::run_pegasus(args); }
+
+const char* kIdentifySmall =
+    " --cv-points 40 --scale-grid 2,4 --coordinate-passes 0 --horizon-s 10 --start-spacing-s 5 --quiet";
+
+class HeliCliWithLogs : public HeliCli {
+ protected:
+  void SetUp() override {
+    HeliCli::SetUp();
+    auto r = run("heli pilot --seconds 60 --hover-seconds 4 --seed 3 --quiet --out " + (dir_ / "train").string());
+    ASSERT_EQ(r.code, 0) << r.output;
+    r = run("heli pilot --seconds 25 --hover-seconds 4 --seed 4 --quiet --out " + (dir_ / "test").string());
+    ASSERT_EQ(r.code, 0) << r.output;
+  }
+  std::string logs() const {
+    return " --train " + (dir_ / "train" / "log.csv").string() + " --test " + (dir_ / "test" / "log.csv").string();
+  }
+};
+
+TEST_F(HeliCliWithLogs, PilotWritesTheDocumentedLog) {
+  const std::string text = read_text(dir_ / "train" / "log.csv");
+  EXPECT_EQ(text.substr(0, text.find('\n')),
+            "time,x,y,z,roll,pitch,yaw,xdot,ydot,zdot,roll_rate,pitch_rate,yaw_rate,a1,a2,a3,a4");
+  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 3001);
+  const auto summary = nlohmann::json::parse(read_text(dir_ / "train" / "summary.json"));
+  EXPECT_EQ(summary.at("crashed"), false);
+  EXPECT_EQ(summary.at("rows"), 3000);
+  EXPECT_GT(summary.at("trim").at("roll").get<double>(), 0.0);
+}
+
+TEST_F(HeliCliWithLogs, IdentifyWritesSummaryKeysAndModel) {
+  const auto r = run("heli identify" + logs() + kIdentifySmall + " --out " + (dir_ / "id").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto s = nlohmann::json::parse(read_text(dir_ / "id" / "summary.json"));
+  for (const char* key : {"train_seconds", "test_seconds", "bandwidth", "sigma2", "mse_at_seconds",
+                          "outside_2sigma_fraction", "global_linear", "variants"})
+    EXPECT_TRUE(s.contains(key)) << key;
+  EXPECT_NEAR(s.at("train_seconds").get<double>(), 60.0, 1e-9);
+  EXPECT_NEAR(s.at("test_seconds").get<double>(), 25.0, 1e-9);
+  EXPECT_EQ(s.at("bandwidth").size(), 15u);
+  EXPECT_EQ(s.at("sigma2").size(), 8u);
+  for (const char* h : {"1", "5", "10"}) {
+    EXPECT_TRUE(s.at("mse_at_seconds").contains(h)) << h;
+    EXPECT_TRUE(s.at("global_linear").at("mse_at_seconds").contains(h)) << h;
+  }
+  EXPECT_TRUE(s.at("mse_at_seconds").at("1").contains("xdot_b"));
+  for (auto& [k, v] : s.at("outside_2sigma_fraction").items()) {
+    EXPECT_GE(v.get<double>(), 0.0) << k;
+    EXPECT_LE(v.get<double>(), 0.5) << k;
+  }
+  EXPECT_TRUE(fs::exists(dir_ / "id" / "model.json"));
+  EXPECT_TRUE(fs::exists(dir_ / "id" / "mse_vs_horizon.csv"));
+  EXPECT_TRUE(fs::exists(dir_ / "id" / "noise_check.svg"));
+}
+
+TEST_F(HeliCliWithLogs, IdentifyOutputsDoNotDependOnThreads) {
+  const std::string args = "heli identify" + logs() + kIdentifySmall + " --variants=false";
+  ASSERT_EQ(run(args + " --threads 1 --out " + (dir_ / "t1").string()).code, 0);
+  ASSERT_EQ(run(args + " --threads 2 --out " + (dir_ / "t2").string()).code, 0);
+  for (const char* f : {"model.json", "mse_vs_horizon.csv", "noise_check.csv", "cross_validation.csv"})
+    EXPECT_EQ(read_text(dir_ / "t1" / f), read_text(dir_ / "t2" / f)) << f;
+  auto a = nlohmann::json::parse(read_text(dir_ / "t1" / "summary.json"));
+  auto b = nlohmann::json::parse(read_text(dir_ / "t2" / "summary.json"));
+  a.erase("cv_seconds");
+  b.erase("cv_seconds");
+  EXPECT_EQ(a, b);
+}
+
+TEST_F(HeliCli, IdentifyRejectsBadLogNamingFileLineAndColumn) {
+  const fs::path bad = dir_ / "bad.csv";
+  {
+    std::ofstream out(bad);
+    out << "time,x,y,z,roll,pitch,yaw,xdot,ydot,zdot,roll_rate,pitch_rate,yaw_rate,a1,a2,a3,a4\n";
+    for (int i = 0; i < 200; ++i)
+      out << i * 0.02 << "," << (i == 57 ? "oops" : "0") << ",0,-10,0,0,0,0,0,0,0,0,0,0,0,0,0\n";
+  }
+  const auto r = run("heli identify --train " + bad.string() + " --test " + bad.string() + " --quiet --out " +
+                     (dir_ / "id").string());
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find(bad.string() + ":59:x: expected a number, found 'oops'"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir_ / "id"));
+  const auto missing = run("heli identify --quiet --out " + (dir_ / "id").string());
+  EXPECT_EQ(missing.code, 2);
+  EXPECT_NE(missing.output.find("--train"), std::string::npos) << missing.output;
+}
+
+}  // namespace
