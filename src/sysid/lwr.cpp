@@ -11,7 +11,7 @@ namespace {
 constexpr int kLeafSize = 24;
 constexpr int kBlock = 32;
 // Points whose weight is below 1e-16 of the largest one are skipped: d^2 > d_min^2 + 2 ln(1e16).
-const double kCutoff = 2 * std::log(1e40);
+const double kCutoff = 2 * std::log(1e16);
 }  // namespace
 
 LocalRegression::LocalRegression(const Dataset* data, const std::array<OutputTemplate, kBodyVars>& templates,
@@ -199,7 +199,7 @@ LocalFit LocalRegression::fit(const InputVec& q, Eigen::Index exclude_begin, Eig
       xb.bottomRows(kBlock - filled).setZero();
       yb.bottomRows(kBlock - filled).setZero();
     }
-    g.noalias() += xb.transpose() * xb;
+    g.selfadjointView<Eigen::Upper>().rankUpdate(xb.transpose());
     b.noalias() += xb.transpose() * yb;
     filled = 0;
   };
@@ -217,8 +217,8 @@ LocalFit LocalRegression::fit(const InputVec& q, Eigen::Index exclude_begin, Eig
       if (excluded(i)) continue;
       const double d2 = dist2(i);
       if (d2 > cutoff) continue;
-      const double w = std::exp(-0.5 * d2);
       const double sw = std::exp(-0.25 * d2);
+      const double w = sw * sw;
       fit.weight_sum += w;
       fit.max_weight = std::max(fit.max_weight, w);
       ++fit.points;
@@ -228,6 +228,7 @@ LocalFit LocalRegression::fit(const InputVec& q, Eigen::Index exclude_begin, Eig
     }
   }
   flush();
+  g.triangularView<Eigen::StrictlyLower>() = g.transpose();
   solve(g, b, q, &fit);
   return fit;
 }

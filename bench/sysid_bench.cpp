@@ -1,0 +1,84 @@
+// System identification (thesis §5.2) on the shipped default workload: a 339 s pilot log downsampled to 10 Hz
+// (3389 training rows, 16 inputs, 8 outputs), the bandwidth chosen by the default cross-validation.
+//   BM_LwrRefit_Fast       one local-regression refit at a query, all outputs (k-d tree, shared X'WX)
+//   BM_LwrRefit_Exact      the plain reference refit (every point, one system per output), same queries
+//   BM_BandwidthCrossValidation/threads   the whole default bandwidth search (identify) on 1 or 2 threads
+//   BM_LearnedModelStep    one 50 Hz step of the learned simulative model (a refit every 5 steps)
+#include <benchmark/benchmark.h>
+
+#include <array>
+#include <memory>
+
+#include "pegasus/heli/aircraft.hpp"
+#include "pegasus/heli/pilot.hpp"
+#include "pegasus/sysid/identify.hpp"
+#include "pegasus/sysid/learned_model.hpp"
+
+namespace pegasus {
+namespace {
+
+struct Workload {
+  sysid::FlightLog train, test;
+  std::shared_ptr<const sysid::IdentifiedModel> model;
+  sysid::Dataset queries;
+};
+
+const Workload& workload() {
+  static const Workload w = [] {
+    Workload x;
+    const heli::Aircraft heli;
+    x.train = heli::fly_pilot(heli, heli::PilotOptions{}, 339, 1).log;
+    x.test = heli::fly_pilot(heli, heli::PilotOptions{}, 140, 2).log;
+    ThreadPool pool(2);
+    x.model = std::make_shared<const sysid::IdentifiedModel>(sysid::identify(x.train, sysid::IdentifyOptions{}, pool));
+    x.queries = sysid::build_dataset(x.test, x.model->structure());
+    return x;
+  }();
+  return w;
+}
+
+template <bool kFast>
+void refit(benchmark::State& state) {
+  const Workload& w = workload();
+  Eigen::Index i = 0;
+  for (auto _ : state) {
+    const sysid::InputVec q = w.queries.x.row(i).transpose();
+    benchmark::DoNotOptimize(kFast ? w.model->regression().fit(q) : w.model->regression().fit_exact(q));
+    i = (i + 7) % w.queries.rows();
+  }
+  state.counters["training_rows"] = static_cast<double>(w.model->data().rows());
+}
+void BM_LwrRefit_Fast(benchmark::State& state) { refit<true>(state); }
+void BM_LwrRefit_Exact(benchmark::State& state) { refit<false>(state); }
+BENCHMARK(BM_LwrRefit_Fast)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_LwrRefit_Exact)->Unit(benchmark::kMicrosecond);
+
+void BM_BandwidthCrossValidation(benchmark::State& state) {
+  const Workload& w = workload();
+  ThreadPool pool(static_cast<int>(state.range(0)));
+  for (auto _ : state) benchmark::DoNotOptimize(sysid::identify(w.train, sysid::IdentifyOptions{}, pool));
+}
+BENCHMARK(BM_BandwidthCrossValidation)->Arg(1)->Arg(2)->Unit(benchmark::kSecond)->Iterations(1);
+
+void BM_LearnedModelStep(benchmark::State& state) {
+  const Workload& w = workload();
+  sysid::LearnedModelOptions o;
+  o.start = w.test.states[500];
+  const sysid::LearnedHeliModel sim(w.model, o);
+  std::array<double, 6> p0{0.5, 0.5, 0.5, 0.5, 0.5, 0.5};
+  std::array<double, 8> p{0.5, 0.5, 0.5, 0.5, 0.5, 0.5, 0.5, 0.5};
+  auto s = sim.initial_state(p0);
+  std::size_t t = 500;
+  for (auto _ : state) {
+    s = sim.step(s, w.test.controls[t], p);
+    if (sim.terminal(s) || ++t >= w.test.rows()) {
+      t = 500;
+      s = sim.initial_state(p0);
+    }
+    benchmark::DoNotOptimize(s);
+  }
+}
+BENCHMARK(BM_LearnedModelStep)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+}  // namespace pegasus
