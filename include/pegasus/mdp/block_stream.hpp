@@ -49,7 +49,8 @@ class BlockUniformStream {
   std::uint64_t position() const { return (next_call_ - kCallsPerBlock) * 4 + static_cast<std::uint64_t>(index_); }
 
  private:
-  void refill() {
+  // Out of line, so that next() stays small enough to inline into a learner's step.
+  [[gnu::noinline]] void refill() {
     r123::Philox4x32 philox;
     for (int j = 0; j < kCallsPerBlock; ++j) {
       const std::uint64_t c = next_call_ + static_cast<std::uint64_t>(j);

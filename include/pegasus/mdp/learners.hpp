@@ -107,6 +107,9 @@ inline constexpr std::array<std::array<std::int8_t, 4>, 16> kTieAction = [] {
   }
   return t;
 }();
+// kTieCount[mask]: the number of set bits of a 4-bit mask. A table, not std::popcount: without -mpopcnt
+// (the portable x86-64 baseline) std::popcount is a call into libgcc on the critical path of every step.
+inline constexpr std::array<std::int8_t, 16> kTieCount = {0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4};
 }  // namespace detail
 
 // The scales are precomputed so that choosing an action needs no division: a Sarsa step is short enough
@@ -127,7 +130,7 @@ class EpsilonGreedy {
       const double best = std::max(std::max(q[0], q[1]), std::max(q[2], q[3]));
       const unsigned mask = static_cast<unsigned>(q[0] == best) | static_cast<unsigned>(q[1] == best) << 1 |
                             static_cast<unsigned>(q[2] == best) << 2 | static_cast<unsigned>(q[3] == best) << 3;
-      const int ties = std::popcount(mask);
+      const int ties = detail::kTieCount[mask];
       int pick = static_cast<int>(std::max(0.0, (u - epsilon_) * exploit_scale_) * ties);
       pick = pick < ties ? pick : ties - 1;
       const int greedy = detail::kTieAction[mask][static_cast<std::size_t>(pick)];
@@ -176,7 +179,7 @@ inline int draw_initial(const M& m, G& rng) {
 }
 
 template <TabularModel M, UniformSource G>
-inline int draw_step(const M& m, int s, int a, G& rng) {
+[[gnu::always_inline]] inline int draw_step(const M& m, int s, int a, G& rng) {
   std::array<double, kMaxNoiseDim> p;
   const int d = m.noise_dim();
   for (int j = 0; j < d; ++j) p[static_cast<std::size_t>(j)] = rng.next();
@@ -245,7 +248,7 @@ struct SarsaLane {
     }
     return true;
   }
-  void step() {
+  [[gnu::always_inline]] void step() {
     const int s2 = draw_step(*m, s, a, *rng);
     const double r = transition_reward(*m, s, a, s2);
     ++steps;
