@@ -41,12 +41,17 @@ template <bool kFast>
 void refit(benchmark::State& state) {
   const Workload& w = workload();
   Eigen::Index i = 0;
+  double points = 0, fits = 0;
   for (auto _ : state) {
     const sysid::InputVec q = w.queries.x.row(i).transpose();
-    benchmark::DoNotOptimize(kFast ? w.model->regression().fit(q) : w.model->regression().fit_exact(q));
+    const sysid::LocalFit fit = kFast ? w.model->regression().fit(q) : w.model->regression().fit_exact(q);
+    benchmark::DoNotOptimize(fit);
+    points += fit.points;
+    fits += 1;
     i = (i + 7) % w.queries.rows();
   }
   state.counters["training_rows"] = static_cast<double>(w.model->data().rows());
+  state.counters["points_used"] = points / fits;
 }
 void BM_LwrRefit_Fast(benchmark::State& state) { refit<true>(state); }
 void BM_LwrRefit_Exact(benchmark::State& state) { refit<false>(state); }

@@ -2,7 +2,10 @@
 // the learned simulative model.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
+#include <cstdlib>
+#include <new>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -15,6 +18,8 @@
 #include "pegasus/sysid/identify.hpp"
 #include "pegasus/sysid/learned_model.hpp"
 #include "pegasus/sysid/lwr.hpp"
+
+long pegasus_test_allocation_count();  // allocation_counter_test.cpp
 
 namespace {
 
@@ -243,6 +248,10 @@ TEST(LearnedModel, IsDeterministicAndCrashesOutsideTheData) {
   }
   EXPECT_EQ(s1.sim.world, s2.sim.world);
   EXPECT_FALSE(s1.crashed);
+  // Steps, refits included, allocate nothing (STYLE.md).
+  const long before = pegasus_test_allocation_count();
+  for (int t = 0; t < 20; ++t) s1 = sim.step(s1, fixture().train.controls[static_cast<std::size_t>(550 + t)], p);
+  EXPECT_EQ(pegasus_test_allocation_count(), before);
   // A state far outside anything the pilot flew: 30 m/s sideways at a 0.8 rad roll.
   auto far = s1;
   far.sim.world[7] = 30;
