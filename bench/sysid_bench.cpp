@@ -2,6 +2,7 @@
 // (3389 training rows, 16 inputs, 8 outputs), the bandwidth chosen by the default cross-validation.
 //   BM_LwrRefit_Fast       one local-regression refit at a query, all outputs (k-d tree, shared X'WX)
 //   BM_LwrRefit_Exact      the plain reference refit (every point, one system per output), same queries
+//   BM_LwrRefit_{Fast,Exact}_Narrow   the same with every bandwidth divided by 8, where the k-d tree prunes
 //   BM_BandwidthCrossValidation/threads   the whole default bandwidth search (identify) on 1 or 2 threads
 //   BM_LearnedModelStep    one 50 Hz step of the learned simulative model (a refit every 5 steps)
 #include <benchmark/benchmark.h>
@@ -57,6 +58,29 @@ void BM_LwrRefit_Fast(benchmark::State& state) { refit<true>(state); }
 void BM_LwrRefit_Exact(benchmark::State& state) { refit<false>(state); }
 BENCHMARK(BM_LwrRefit_Fast)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_LwrRefit_Exact)->Unit(benchmark::kMicrosecond);
+
+template <bool kFast>
+void refit_narrow(benchmark::State& state) {
+  const Workload& w = workload();
+  auto inv = w.model->inv_bandwidth();
+  for (double& v : inv) v *= 8;
+  const sysid::LocalRegression lwr(&w.model->data(), sysid::output_templates(w.model->structure()), inv);
+  Eigen::Index i = 0;
+  double points = 0, fits = 0;
+  for (auto _ : state) {
+    const sysid::InputVec q = w.queries.x.row(i).transpose();
+    const sysid::LocalFit fit = kFast ? lwr.fit(q) : lwr.fit_exact(q);
+    benchmark::DoNotOptimize(fit);
+    points += fit.points;
+    fits += 1;
+    i = (i + 7) % w.queries.rows();
+  }
+  state.counters["points_used"] = points / fits;
+}
+void BM_LwrRefit_Fast_Narrow(benchmark::State& state) { refit_narrow<true>(state); }
+void BM_LwrRefit_Exact_Narrow(benchmark::State& state) { refit_narrow<false>(state); }
+BENCHMARK(BM_LwrRefit_Fast_Narrow)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_LwrRefit_Exact_Narrow)->Unit(benchmark::kMicrosecond);
 
 void BM_BandwidthCrossValidation(benchmark::State& state) {
   const Workload& w = workload();
