@@ -159,35 +159,9 @@ LocalFit LocalRegression::fit(const InputVec& q, Eigen::Index exclude_begin, Eig
     }
     return s;
   };
-  // Pass 1: the nearest point (branch and bound, nearer child first).
-  int stack[128];
-  double best = INFINITY;
-  int top = 0;
-  stack[top++] = 0;
-  while (top > 0) {
-    const Node& node = nodes_[static_cast<std::size_t>(stack[--top])];
-    if (box_distance2(node, zq) >= best) continue;
-    if (node.left < 0) {
-      for (int i = node.begin; i < node.end; ++i)
-        if (!excluded(i)) best = std::min(best, dist2(i));
-      continue;
-    }
-    const double dl = box_distance2(nodes_[static_cast<std::size_t>(node.left)], zq);
-    const double dr = box_distance2(nodes_[static_cast<std::size_t>(node.right)], zq);
-    if (dl < dr) {
-      stack[top++] = node.right;
-      stack[top++] = node.left;
-    } else {
-      stack[top++] = node.left;
-      stack[top++] = node.right;
-    }
-  }
-  if (!std::isfinite(best)) {
-    fit.singular = true;
-    return fit;
-  }
-  const double cutoff = best + kCutoff;
-  // Pass 2: accumulate sqrt(w)-scaled rows in blocks; X'WX and X'WY by matrix products.
+  // One pass, nearer child first: a point enters the sums unless its squared distance exceeds the smallest one
+  // seen so far by more than kCutoff. The final smallest distance is no larger, so every point skipped weighs
+  // less than 1e-16 of the largest weight; points admitted early with a looser bound only add exact terms.
   g.setZero();
   b.setZero();
   Eigen::Matrix<double, kBlock, kInputs, Eigen::RowMajor> xb;
@@ -203,20 +177,30 @@ LocalFit LocalRegression::fit(const InputVec& q, Eigen::Index exclude_begin, Eig
     b.noalias() += xb.transpose() * yb;
     filled = 0;
   };
-  top = 0;
+  int stack[128];
+  double best = INFINITY;
+  int top = 0;
   stack[top++] = 0;
   while (top > 0) {
     const Node& node = nodes_[static_cast<std::size_t>(stack[--top])];
-    if (box_distance2(node, zq) > cutoff) continue;
+    if (box_distance2(node, zq) > best + kCutoff) continue;
     if (node.left >= 0) {
-      stack[top++] = node.left;
-      stack[top++] = node.right;
+      const double dl = box_distance2(nodes_[static_cast<std::size_t>(node.left)], zq);
+      const double dr = box_distance2(nodes_[static_cast<std::size_t>(node.right)], zq);
+      if (dl < dr) {
+        stack[top++] = node.right;
+        stack[top++] = node.left;
+      } else {
+        stack[top++] = node.left;
+        stack[top++] = node.right;
+      }
       continue;
     }
     for (int i = node.begin; i < node.end; ++i) {
       if (excluded(i)) continue;
       const double d2 = dist2(i);
-      if (d2 > cutoff) continue;
+      if (d2 < best) best = d2;
+      if (d2 > best + kCutoff) continue;
       const double sw = std::exp(-0.25 * d2);
       const double w = sw * sw;
       fit.weight_sum += w;
@@ -226,6 +210,10 @@ LocalFit LocalRegression::fit(const InputVec& q, Eigen::Index exclude_begin, Eig
       yb.row(filled) = sw * yp_.row(i);
       if (++filled == kBlock) flush();
     }
+  }
+  if (!std::isfinite(best)) {
+    fit.singular = true;
+    return fit;
   }
   flush();
   g.triangularView<Eigen::StrictlyLower>() = g.transpose();
