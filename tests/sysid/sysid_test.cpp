@@ -264,3 +264,43 @@ TEST(LearnedModel, IsDeterministicAndCrashesOutsideTheData) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(LearnedModel, StepNoiseIsTheInverseCdfOfThePredictiveVarianceOverFive) {
+  IdentifyOptions o;
+  o.cv_points = 60;
+  o.scale_grid = {2};
+  o.coordinate_passes = 0;
+  ThreadPool pool(1);
+  auto model = std::make_shared<const IdentifiedModel>(identify(fixture().train, o, pool));
+  LearnedModelOptions lo;
+  lo.start = fixture().train.states[800];
+  const LearnedHeliModel sim(model, lo);
+  const auto s0 = sim.initial_state(std::array<double, 6>{0.5, 0.5, 0.5, 0.5, 0.5, 0.5});
+  const std::array<double, 4> a = fixture().train.controls[800];
+  std::array<double, 8> mid;
+  mid.fill(0.5);
+  const auto mean = sim.step(s0, a, mid);
+  ASSERT_FALSE(mean.crashed);
+  const double one_sd = 0.5 * std::erfc(-1 / std::sqrt(2.0));  // Phi(1)
+  for (int k = kU; k < kBodyVars; ++k) {
+    auto p = mid;
+    p[static_cast<std::size_t>(k)] = one_sd;
+    const auto up = sim.step(s0, a, p);
+    const BodyVec d = body_from_log_state(up.sim.world) - body_from_log_state(mean.sim.world);
+    // Eq 5.6 at 50 Hz from a 10 Hz model: one standard deviation is sqrt(var / 5) (§5.2.2).
+    EXPECT_NEAR(d[k], std::sqrt(mean.variance[k] * 0.02 / model->dt()), 1e-9) << k;
+  }
+  // Coefficients are refitted every 5 steps and held in between.
+  auto s = mean;
+  for (int t = 1; t < 5; ++t) {
+    const auto next = sim.step(s, fixture().train.controls[static_cast<std::size_t>(800 + t)], mid);
+    EXPECT_EQ(next.beta[2], s.beta[2]);
+    s = next;
+  }
+  const auto refit = sim.step(s, fixture().train.controls[805], mid);
+  EXPECT_NE(refit.beta[2], s.beta[2]);
+}
+
+}  // namespace
