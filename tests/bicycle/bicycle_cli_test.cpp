@@ -8,52 +8,25 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <string>
 #include <thread>
 
 #include "pegasus/envs/bicycle_policy.hpp"
 #include "pegasus/experiments/bicycle_experiment.hpp"
 
+#include "support/cli_runner.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
 
-struct Result {
-  int code;
-  std::string output;
-};
-
-Result run(const std::string& args) {
-  const std::string command = std::string(PEGASUS_CLI_PATH) + " " + args + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  std::string out;
-  char buffer[4096];
-  while (std::fgets(buffer, sizeof buffer, pipe)) out += buffer;
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
-}
-
-std::string read(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
+pegasus::testing::CliResult run(const std::string& args) { return pegasus::testing::run_pegasus(args); }
+std::string read(const fs::path& p) { return pegasus::testing::read_text(p); }
 nlohmann::json read_json(const fs::path& p) { return nlohmann::json::parse(read(p)); }
 
-class BicycleCli : public ::testing::Test {
+class BicycleCli : public pegasus::testing::TempDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("pegasus-bicycle-cli-" + std::to_string(::getpid()) + "-" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
   std::string out(const std::string& name) const { return " --out " + (dir_ / name).string(); }
-  fs::path dir_;
 };
 
 // Small settings: 8 scenarios of 2 s, 3 optimizer iterations, short rides to a goal 300 m away.
