@@ -161,7 +161,7 @@ void run_identify(RunContext& ctx) {
     cv_error(d, output_templates(m), inv, vo, pool, &sigma2);
     return IdentifiedModel(m, std::move(d), inv, sigma2);
   };
-  const IdentifiedModel global = o.local ? variant_model(o.structure, false) : variant_model(o.structure, false);
+  const IdentifiedModel global = variant_model(o.structure, false);
   const HorizonMse global_mse = horizon_mse(global, test, horizon, spacing, pool);
   if (o.local) variants.push_back({"global linear", global_mse});
   if (c.get_bool("variants") && o.local) {
