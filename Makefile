@@ -4,7 +4,9 @@ JOBS      ?= $(shell nproc)
 BUILD     ?= build
 ASAN      ?= build-asan
 DEMO_OUT  ?= runs/demo-pomdp-gridworld
-CMAKE_GEN := $(shell command -v ninja >/dev/null 2>&1 && echo "-G Ninja")
+NINJA     := $(shell command -v ninja >/dev/null 2>&1 && echo "-G Ninja")
+# The generator is chosen only when a build directory is first configured.
+gen = $(if $(wildcard $(1)/CMakeCache.txt),,$(NINJA))
 
 .PHONY: all deps build demo test test-release test-asan bench clean
 
@@ -14,7 +16,7 @@ deps:
 	@bash scripts/install-deps.sh
 
 build: deps
-	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release $(CMAKE_GEN) >/dev/null
+	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release $(call gen,$(BUILD)) >/dev/null
 	@cmake --build $(BUILD) -j $(JOBS)
 
 # Runs the main experiment on its shipped default config and says where the report is.
@@ -31,7 +33,7 @@ test-release: build
 
 test-asan: deps
 	@cmake -S . -B $(ASAN) -DCMAKE_BUILD_TYPE=Sanitize -DCMAKE_CXX_FLAGS_SANITIZE="-O1 -g1" \
-	  -DPEGASUS_SANITIZE=ON -DPEGASUS_BUILD_BENCH=OFF $(CMAKE_GEN) >/dev/null
+	  -DPEGASUS_SANITIZE=ON -DPEGASUS_BUILD_BENCH=OFF $(call gen,$(ASAN)) >/dev/null
 	@cmake --build $(ASAN) -j $(JOBS)
 	@cd $(ASAN) && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
 	  PEGASUS_SANITIZED=1 ctest --output-on-failure -j $(JOBS)
