@@ -19,7 +19,8 @@ template <SimulativeModel M>
 class TablePolicyValues {
  public:
   // observations: number of observation classes a policy maps; values are indexed as TablePolicy
-  // enumerates policies (observation 0 least significant).
+  // enumerates policies (observation 0 least significant). Keeps references to model and scenarios: both
+  // must outlive this object.
   TablePolicyValues(const M& model, int observations, const ScenarioSet& scenarios, Discounting d)
       : model_(model), observations_(observations), actions_(model.action_space().count()), scenarios_(scenarios), d_(d) {
     validate(d_);
