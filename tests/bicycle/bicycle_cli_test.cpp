@@ -20,11 +20,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
-pegasus::testing::CliResult run(const std::string& args) { return pegasus::testing::run_pegasus(args); }
-std::string read(const fs::path& p) { return pegasus::testing::read_text(p); }
+pegasus::test_support::CliResult run(const std::string& args) { return pegasus::test_support::run_pegasus(args); }
+std::string read(const fs::path& p) { return pegasus::test_support::read_text(p); }
 nlohmann::json read_json(const fs::path& p) { return nlohmann::json::parse(read(p)); }
 
-class BicycleCli : public pegasus::testing::TempDirTest {
+class BicycleCli : public pegasus::test_support::TempDirTest {
  protected:
   std::string out(const std::string& name) const { return " --out " + (dir_ / name).string(); }
 };

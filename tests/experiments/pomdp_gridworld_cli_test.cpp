@@ -18,10 +18,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
-using pegasus::testing::read_text;
-using PomdpGridworldCli = pegasus::testing::TempDirTest;
+using pegasus::test_support::read_text;
+using PomdpGridworldCli = pegasus::test_support::TempDirTest;
 
-pegasus::testing::CliResult run(const std::string& args) { return pegasus::testing::run_pegasus(args); }
+pegasus::test_support::CliResult run(const std::string& args) { return pegasus::test_support::run_pegasus(args); }
 std::string read(const fs::path& p) { return read_text(p); }
 
 const char* kSmall = "pomdp-gridworld --scenarios 1,4,16 --trials 3 --montecarlo-max-m 1 --quiet --seed 5";

@@ -12,10 +12,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
-using pegasus::testing::read_text;
-using HeliCli = pegasus::testing::TempDirTest;
+using pegasus::test_support::read_text;
+using HeliCli = pegasus::test_support::TempDirTest;
 
-pegasus::testing::CliResult run(const std::string& args) { return pegasus::testing::run_pegasus(args); }
+pegasus::test_support::CliResult run(const std::string& args) { return pegasus::test_support::run_pegasus(args); }
 
 const char* kIdentifySmall =
     " --cv-points 40 --scale-grid 2,4 --coordinate-passes 0 --horizon-s 10 --start-spacing-s 5 --quiet";

@@ -3,24 +3,19 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "support/input_error.hpp"
+
 #include <functional>
 
 #include "pegasus/core/error.hpp"
 #include "pegasus/mdp/random_mdp.hpp"
 
 namespace pegasus {
+
+using test_support::input_error_message;
 namespace {
 
 using ::testing::HasSubstr;
-
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
 
 // 0 -> 1 -> 2 (absorbing), one action.
 FiniteMdp chain(double gamma) {
@@ -57,7 +52,7 @@ TEST(FiniteMdp, RejectsRowsThatDoNotSumToOneWithin1e9) {
   b.add_transition(0, 0, 1, 0.5);
   b.add_transition(0, 0, 0, 0.5 - 2e-9);
   b.add_transition(1, 0, 1, 1.0);
-  EXPECT_THAT(error_of([&] { b.build(); }), HasSubstr("state 0 action 0: probabilities sum to"));
+  EXPECT_THAT(input_error_message([&] { b.build(); }), HasSubstr("state 0 action 0: probabilities sum to"));
 
   FiniteMdpBuilder ok(2, 1, 0.9);
   ok.add_transition(0, 0, 1, 0.5);
@@ -68,12 +63,12 @@ TEST(FiniteMdp, RejectsRowsThatDoNotSumToOneWithin1e9) {
 
 TEST(FiniteMdp, RejectsProbabilitiesOutsideTheUnitInterval) {
   FiniteMdpBuilder b(2, 1, 0.9);
-  EXPECT_THAT(error_of([&] { b.add_transition(0, 0, 1, 1.5); }), HasSubstr("outside [0, 1]"));
-  EXPECT_THAT(error_of([&] { b.add_transition(0, 0, 1, -0.1); }), HasSubstr("outside [0, 1]"));
+  EXPECT_THAT(input_error_message([&] { b.add_transition(0, 0, 1, 1.5); }), HasSubstr("outside [0, 1]"));
+  EXPECT_THAT(input_error_message([&] { b.add_transition(0, 0, 1, -0.1); }), HasSubstr("outside [0, 1]"));
   // And in an MDP assembled by hand.
   FiniteMdp m = chain(0.9);
   m.probability[0] = 1.25;
-  EXPECT_THAT(error_of([&] { validate(m, "hand.json"); }), HasSubstr("hand.json: state 0 action 0: probability 1.25"));
+  EXPECT_THAT(input_error_message([&] { validate(m, "hand.json"); }), HasSubstr("hand.json: state 0 action 0: probability 1.25"));
 }
 
 TEST(FiniteMdp, RejectsMissingRowsBadIndicesAndBadGamma) {
@@ -81,13 +76,13 @@ TEST(FiniteMdp, RejectsMissingRowsBadIndicesAndBadGamma) {
   b.add_transition(0, 0, 1, 1.0);
   b.add_transition(1, 0, 1, 1.0);
   b.add_transition(1, 1, 1, 1.0);
-  EXPECT_THAT(error_of([&] { b.build(); }), HasSubstr("no transitions given for state 0 action 1"));
-  EXPECT_THAT(error_of([&] { b.add_transition(0, 0, 7, 1.0); }), HasSubstr("successor state 7 outside [0, 2)"));
-  EXPECT_THAT(error_of([&] { b.add_transition(0, 2, 0, 1.0); }), HasSubstr("action 2 outside [0, 2)"));
-  EXPECT_THAT(error_of([] { FiniteMdpBuilder(2, 2, 1.5); }), HasSubstr("gamma must lie in [0, 1]"));
+  EXPECT_THAT(input_error_message([&] { b.build(); }), HasSubstr("no transitions given for state 0 action 1"));
+  EXPECT_THAT(input_error_message([&] { b.add_transition(0, 0, 7, 1.0); }), HasSubstr("successor state 7 outside [0, 2)"));
+  EXPECT_THAT(input_error_message([&] { b.add_transition(0, 2, 0, 1.0); }), HasSubstr("action 2 outside [0, 2)"));
+  EXPECT_THAT(input_error_message([] { FiniteMdpBuilder(2, 2, 1.5); }), HasSubstr("gamma must lie in [0, 1]"));
   FiniteMdp m = chain(0.9);
   m.reward[m.row_start[m.row(2, 0)]] = 1.0;  // an absorbing state that pays
-  EXPECT_THAT(error_of([&] { validate(m); }), HasSubstr("absorbing state 2 must loop to itself with reward 0"));
+  EXPECT_THAT(input_error_message([&] { validate(m); }), HasSubstr("absorbing state 2 must loop to itself with reward 0"));
 }
 
 TEST(FiniteMdp, UndiscountedMdpMustBeProperUnderEveryPolicy) {
@@ -98,7 +93,7 @@ TEST(FiniteMdp, UndiscountedMdpMustBeProperUnderEveryPolicy) {
   for (int a = 0; a < 2; ++a) b.add_transition(0, a, 1, 1.0, -1.0);
   b.add_transition(1, 0, 2, 1.0, -1.0);
   b.add_transition(1, 1, 1, 1.0, -1.0);
-  EXPECT_THAT(error_of([&] { b.build(); }), HasSubstr("requires a proper MDP, but from state"));
+  EXPECT_THAT(input_error_message([&] { b.build(); }), HasSubstr("requires a proper MDP, but from state"));
   // The same MDP is fine when discounted, and the check names a trapping state.
   FiniteMdp m = chain(0.9);
   EXPECT_FALSE(find_improper_state(m).has_value());

@@ -4,6 +4,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "support/input_error.hpp"
+
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -14,19 +16,12 @@
 #include "pegasus/mdp/random_mdp.hpp"
 
 namespace pegasus {
+
+using test_support::input_error_message;
 namespace {
 
 using ::testing::HasSubstr;
 using nlohmann::json;
-
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
 
 void expect_same(const FiniteMdp& a, const FiniteMdp& b) {
   EXPECT_EQ(a.num_states, b.num_states);
@@ -86,7 +81,7 @@ TEST(MdpJson, ErrorsNameTheFileAndTheField) {
   auto with = [](const std::function<void(json&)>& edit) {
     json j = small_mdp_json();
     edit(j);
-    return error_of([&] { mdp_from_json(j, "m.json"); });
+    return input_error_message([&] { mdp_from_json(j, "m.json"); });
   };
   EXPECT_THAT(with([](json& j) { j["format"] = "other"; }), HasSubstr("m.json: format: expected \"pegasus-mdp\""));
   EXPECT_THAT(with([](json& j) { j.erase("gamma"); }), HasSubstr("m.json: gamma: missing required field"));
@@ -110,10 +105,10 @@ TEST(MdpJson, ErrorsNameTheFileAndTheField) {
                 j["transitions"][0]["next"] = json::array({json::array({1, 1.0})});
               }),
               HasSubstr("m.json: gamma = 1 requires a proper MDP"));
-  EXPECT_THAT(error_of([] { load_mdp("/nonexistent/m.json"); }), HasSubstr("/nonexistent/m.json: cannot open"));
+  EXPECT_THAT(input_error_message([] { load_mdp("/nonexistent/m.json"); }), HasSubstr("/nonexistent/m.json: cannot open"));
   const auto bad = std::filesystem::temp_directory_path() / "pegasus_bad_mdp.json";
   std::ofstream(bad) << "{ not json";
-  EXPECT_THAT(error_of([&] { load_mdp(bad.string()); }), HasSubstr("not valid JSON"));
+  EXPECT_THAT(input_error_message([&] { load_mdp(bad.string()); }), HasSubstr("not valid JSON"));
   std::filesystem::remove(bad);
 }
 

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/input_error.hpp"
+
 #include <bit>
 #include <cmath>
 #include <filesystem>
@@ -12,6 +14,8 @@
 #include "pegasus/core/error.hpp"
 
 namespace pegasus {
+
+using test_support::input_error_message;
 namespace {
 
 ConfigSchema example_schema() {
@@ -26,17 +30,6 @@ ConfigSchema example_schema() {
   s.add_double("optimizer.step", 0.1, "step size").greater_than(0);
   s.add_int("optimizer.iterations", 100, "iterations").min(1);
   return s;
-}
-
-// The message of the InputError that `f` throws ("" if none).
-template <class F>
-std::string input_error(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
 }
 
 TEST(ConfigSchema, TypedGettersReturnDefaults) {
@@ -71,47 +64,47 @@ TEST(ConfigSchema, FileOverridesDefaultsAndCliOverridesFile) {
 
 TEST(ConfigSchema, OutOfRangeInFileNamesFileLineKeyExpectationAndValue) {
   ConfigSchema s = example_schema();
-  EXPECT_EQ(input_error([&] { s.load_toml_string("# comment\n\ngamma = 1.5\n", "config.toml"); }),
+  EXPECT_EQ(input_error_message([&] { s.load_toml_string("# comment\n\ngamma = 1.5\n", "config.toml"); }),
             "config.toml:3: key 'gamma': expected a number in [0, 1], got 1.5");
-  EXPECT_EQ(input_error([&] { s.load_toml_string("scenarios = 0", "c.toml"); }),
+  EXPECT_EQ(input_error_message([&] { s.load_toml_string("scenarios = 0", "c.toml"); }),
             "c.toml:1: key 'scenarios': expected an integer >= 1, got 0");
-  EXPECT_EQ(input_error([&] { s.load_toml_string("[optimizer]\nstep = 0.0", "c.toml"); }),
+  EXPECT_EQ(input_error_message([&] { s.load_toml_string("[optimizer]\nstep = 0.0", "c.toml"); }),
             "c.toml:2: key 'optimizer.step': expected a number > 0, got 0.0");
-  EXPECT_EQ(input_error([&] { s.load_toml_string("sizes = [1, 0]", "c.toml"); }),
+  EXPECT_EQ(input_error_message([&] { s.load_toml_string("sizes = [1, 0]", "c.toml"); }),
             "c.toml:1: key 'sizes': expected a list of integers (at least 1), each >= 1, got [1, 0]");
-  EXPECT_EQ(input_error([&] { s.load_toml_string("sizes = []", "c.toml"); }),
+  EXPECT_EQ(input_error_message([&] { s.load_toml_string("sizes = []", "c.toml"); }),
             "c.toml:1: key 'sizes': expected a list of integers (at least 1), each >= 1, got []");
-  EXPECT_EQ(input_error([&] { s.load_toml_string("variant = \"sobol\"", "c.toml"); }),
+  EXPECT_EQ(input_error_message([&] { s.load_toml_string("variant = \"sobol\"", "c.toml"); }),
             "c.toml:1: key 'variant': expected one of \"plain\", \"antithetic\", got \"sobol\"");
-  EXPECT_EQ(input_error([&] { s.load_toml_string("gamma = nan", "c.toml"); }),
+  EXPECT_EQ(input_error_message([&] { s.load_toml_string("gamma = nan", "c.toml"); }),
             "c.toml:1: key 'gamma': expected a number in [0, 1], got nan");
 }
 
 TEST(ConfigSchema, WrongTypeInFileNamesFileLineKeyAndExpectation) {
   ConfigSchema s = example_schema();
-  EXPECT_EQ(input_error([&] { s.load_toml_string("gamma = \"high\"", "c.toml"); }),
+  EXPECT_EQ(input_error_message([&] { s.load_toml_string("gamma = \"high\"", "c.toml"); }),
             "c.toml:1: key 'gamma': expected a number in [0, 1], got the string \"high\"");
-  EXPECT_EQ(input_error([&] { s.load_toml_string("\nscenarios = 2.5", "c.toml"); }),
+  EXPECT_EQ(input_error_message([&] { s.load_toml_string("\nscenarios = 2.5", "c.toml"); }),
             "c.toml:2: key 'scenarios': expected an integer >= 1, got 2.5");
-  EXPECT_EQ(input_error([&] { s.load_toml_string("shaping = 1", "c.toml"); }),
+  EXPECT_EQ(input_error_message([&] { s.load_toml_string("shaping = 1", "c.toml"); }),
             "c.toml:1: key 'shaping': expected true or false, got 1");
-  EXPECT_EQ(input_error([&] { s.load_toml_string("sizes = [1, \"2\"]", "c.toml"); }),
+  EXPECT_EQ(input_error_message([&] { s.load_toml_string("sizes = [1, \"2\"]", "c.toml"); }),
             "c.toml:1: key 'sizes': expected a list of integers (at least 1), each >= 1, got an array");
-  EXPECT_EQ(input_error([&] { s.load_toml_string("gamma = [0.5]", "c.toml"); }),
+  EXPECT_EQ(input_error_message([&] { s.load_toml_string("gamma = [0.5]", "c.toml"); }),
             "c.toml:1: key 'gamma': expected a number in [0, 1], got an array");
   EXPECT_EQ(
-      input_error([&] { s.load_toml_string("optimizer = 3", "c.toml"); }),
+      input_error_message([&] { s.load_toml_string("optimizer = 3", "c.toml"); }),
       "c.toml:1: unknown key 'optimizer' (known keys: gamma, scenarios, shaping, variant, sizes, noise, "
       "threads, optimizer.step, optimizer.iterations)");
 }
 
 TEST(ConfigSchema, UnknownKeyNamesFileLineAndSuggestsTheClosestField) {
   ConfigSchema s = example_schema();
-  EXPECT_EQ(input_error([&] { s.load_toml_string("scenarios = 3\ngama = 0.5\n", "c.toml"); }),
+  EXPECT_EQ(input_error_message([&] { s.load_toml_string("scenarios = 3\ngama = 0.5\n", "c.toml"); }),
             "c.toml:2: unknown key 'gama' (did you mean 'gamma'?)");
-  EXPECT_EQ(input_error([&] { s.load_toml_string("[optimizer]\nsteps = 0.5\n", "c.toml"); }),
+  EXPECT_EQ(input_error_message([&] { s.load_toml_string("[optimizer]\nsteps = 0.5\n", "c.toml"); }),
             "c.toml:2: unknown key 'optimizer.steps' (did you mean 'optimizer.step'?)");
-  EXPECT_EQ(input_error([&] {
+  EXPECT_EQ(input_error_message([&] {
               s.load_toml_string("[solver]\nx = 1\n", "c.toml");
             }).rfind("c.toml:1: unknown key 'solver' (", 0),
             0u);
@@ -120,37 +113,37 @@ TEST(ConfigSchema, UnknownKeyNamesFileLineAndSuggestsTheClosestField) {
 TEST(ConfigSchema, SyntaxErrorAndUnreadableFileNameTheFile) {
   ConfigSchema s = example_schema();
   const std::string syntax =
-      input_error([&] { s.load_toml_string("gamma = 0.5\nscenarios = = 3\n", "c.toml"); });
+      input_error_message([&] { s.load_toml_string("gamma = 0.5\nscenarios = = 3\n", "c.toml"); });
   EXPECT_EQ(syntax.rfind("c.toml:2: invalid TOML: ", 0), 0u) << syntax;
   EXPECT_EQ(
-      input_error([&] { s.load_toml_string("gamma = 0.5\ngamma = 0.6\n", "c.toml"); }).rfind("c.toml:2:", 0),
+      input_error_message([&] { s.load_toml_string("gamma = 0.5\ngamma = 0.6\n", "c.toml"); }).rfind("c.toml:2:", 0),
       0u);
-  const std::string missing = input_error([&] { s.load_toml_file("/nonexistent/dir/run.toml"); });
+  const std::string missing = input_error_message([&] { s.load_toml_file("/nonexistent/dir/run.toml"); });
   EXPECT_EQ(missing, "/nonexistent/dir/run.toml: cannot read config file: No such file or directory");
-  EXPECT_EQ(input_error([&] { s.load_toml_file("/tmp"); }).rfind("/tmp: cannot read config file", 0), 0u);
+  EXPECT_EQ(input_error_message([&] { s.load_toml_file("/tmp"); }).rfind("/tmp: cannot read config file", 0), 0u);
 }
 
 TEST(ConfigSchema, CliErrorsNameTheOptionAndExpectation) {
   ConfigSchema s = example_schema();
-  EXPECT_EQ(input_error([&] { s.set_from_cli("gamma", "1.5"); }),
+  EXPECT_EQ(input_error_message([&] { s.set_from_cli("gamma", "1.5"); }),
             "--gamma: expected a number in [0, 1], got '1.5'");
-  EXPECT_EQ(input_error([&] { s.set_from_cli("gamma", "abc"); }),
+  EXPECT_EQ(input_error_message([&] { s.set_from_cli("gamma", "abc"); }),
             "--gamma: expected a number in [0, 1], got 'abc'");
-  EXPECT_EQ(input_error([&] { s.set_from_cli("gamma", ""); }),
+  EXPECT_EQ(input_error_message([&] { s.set_from_cli("gamma", ""); }),
             "--gamma: expected a number in [0, 1], got an empty value");
-  EXPECT_EQ(input_error([&] { s.set_from_cli("scenarios", "0"); }),
+  EXPECT_EQ(input_error_message([&] { s.set_from_cli("scenarios", "0"); }),
             "--scenarios: expected an integer >= 1, got '0'");
-  EXPECT_EQ(input_error([&] { s.set_from_cli("scenarios", "2.5"); }),
+  EXPECT_EQ(input_error_message([&] { s.set_from_cli("scenarios", "2.5"); }),
             "--scenarios: expected an integer >= 1, got '2.5'");
-  EXPECT_EQ(input_error([&] { s.set_from_cli("scenarios", "99999999999999999999"); }),
+  EXPECT_EQ(input_error_message([&] { s.set_from_cli("scenarios", "99999999999999999999"); }),
             "--scenarios: expected an integer >= 1, got '99999999999999999999'");
-  EXPECT_EQ(input_error([&] { s.set_from_cli("shaping", "maybe"); }),
+  EXPECT_EQ(input_error_message([&] { s.set_from_cli("shaping", "maybe"); }),
             "--shaping: expected true or false, got 'maybe'");
-  EXPECT_EQ(input_error([&] { s.set_from_cli("sizes", "1,x"); }),
+  EXPECT_EQ(input_error_message([&] { s.set_from_cli("sizes", "1,x"); }),
             "--sizes: expected a list of integers (at least 1), each >= 1, got '1,x'");
-  EXPECT_EQ(input_error([&] { s.set_from_cli("noise", "0.1,-1"); }),
+  EXPECT_EQ(input_error_message([&] { s.set_from_cli("noise", "0.1,-1"); }),
             "--noise: expected a list of numbers, each >= 0, got '0.1,-1'");
-  EXPECT_EQ(input_error([&] { s.set_from_cli("optimizer.iterations", "0"); }),
+  EXPECT_EQ(input_error_message([&] { s.set_from_cli("optimizer.iterations", "0"); }),
             "--optimizer.iterations: expected an integer >= 1, got '0'");
   // A rejected value leaves the old one in place.
   EXPECT_EQ(s.get_double("gamma"), 0.99);
@@ -169,11 +162,11 @@ TEST(ConfigSchema, CustomValidatorsAndConstraints) {
                                                    : "--lo/--hi: expected lo < hi, got lo (" +
                                                          c.origin("lo") + ") >= hi (" + c.origin("hi") + ")";
   });
-  EXPECT_EQ(input_error([&] { s.set_from_cli("m", "6"); }), "--m: expected a power of two, got '6'");
+  EXPECT_EQ(input_error_message([&] { s.set_from_cli("m", "6"); }), "--m: expected a power of two, got '6'");
   s.set_from_cli("m", "16");
   s.validate();
   s.set_from_cli("lo", "2");
-  EXPECT_EQ(input_error([&] { s.validate(); }), "--lo/--hi: expected lo < hi, got lo (--lo) >= hi (default)");
+  EXPECT_EQ(input_error_message([&] { s.validate(); }), "--lo/--hi: expected lo < hi, got lo (--lo) >= hi (default)");
 }
 
 TEST(ConfigSchema, ResolvedTomlLoadsBackToTheSameValues) {

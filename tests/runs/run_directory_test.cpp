@@ -1,6 +1,8 @@
 #include "pegasus/runs/run_directory.hpp"
 
 #include <gtest/gtest.h>
+
+#include "support/input_error.hpp"
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -13,6 +15,8 @@
 #include "pegasus/runs/atomic_file.hpp"
 
 namespace pegasus {
+
+using test_support::input_error_message;
 namespace {
 
 namespace fs = std::filesystem;
@@ -34,16 +38,6 @@ ConfigSchema schema(double gamma = 0.9, std::int64_t threads = 2) {
   s.set("gamma", gamma);
   s.set("threads", threads);
   return s;
-}
-
-template <class F>
-std::string input_error(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
 }
 
 TEST(RunDirectory, WritesIntoStagingAndCommitRenames) {
@@ -78,10 +72,10 @@ TEST(RunDirectory, TrailingSlashNamesTheSameDirectory) {
 TEST(RunDirectory, RefusesAnExistingDirectoryAndCreatesNothing) {
   const fs::path root = scratch();
   fs::create_directory(root / "out");
-  EXPECT_EQ(input_error([&] { RunDirectory::open(root / "out", schema()); }),
+  EXPECT_EQ(input_error_message([&] { RunDirectory::open(root / "out", schema()); }),
             "--out: '" + (root / "out").string() + "' already exists (use --force to replace it)");
   EXPECT_FALSE(fs::exists(root / "out.partial"));
-  EXPECT_NE(input_error([&] {
+  EXPECT_NE(input_error_message([&] {
               RunDirectory::open(root / "out", schema(), {.resume = true});
             }).find("already exists"),
             std::string::npos);
@@ -108,7 +102,7 @@ TEST(RunDirectory, AnInterruptedRunNeedsResumeOrForce) {
     run.save_checkpoint({{"next", 3}});
   }  // the process "dies": no commit
   ASSERT_TRUE(fs::exists(root / "out.partial"));
-  const std::string refused = input_error([&] { RunDirectory::open(root / "out", schema()); });
+  const std::string refused = input_error_message([&] { RunDirectory::open(root / "out", schema()); });
   EXPECT_NE(refused.find("holds an interrupted run (use --resume to continue it or --force to start over)"),
             std::string::npos)
       << refused;
@@ -131,7 +125,7 @@ TEST(RunDirectory, ResumeRefusesADifferentConfigNamingTheKey) {
   const fs::path root = scratch();
   { RunDirectory::open(root / "out", schema(0.9)).save_checkpoint({{"next", 1}}); }
   const std::string message =
-      input_error([&] { RunDirectory::open(root / "out", schema(0.95), {.resume = true}); });
+      input_error_message([&] { RunDirectory::open(root / "out", schema(0.95), {.resume = true}); });
   EXPECT_EQ(message.rfind("--resume: key 'gamma' is 0.9 in the interrupted run (", 0), 0u) << message;
   EXPECT_NE(message.find("but 0.95 now"), std::string::npos) << message;
   // The interrupted run is untouched.

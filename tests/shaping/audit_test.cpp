@@ -3,6 +3,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "support/input_error.hpp"
+
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -15,18 +17,11 @@
 #include "pegasus/shaping/potential_shaping.hpp"
 
 namespace pegasus {
+
+using test_support::input_error_message;
 namespace {
 
 using ::testing::HasSubstr;
-
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
 
 // 0 --(both actions)--> 1 --> 2 (absorbing), gamma = 1.
 FiniteMdp line() {
@@ -143,10 +138,10 @@ TEST(ShapingAudit, ScopeIncludesListedTransitionsThatCannotHappen) {
 
 TEST(ShapingAudit, RejectsTablesOfAnotherShapeAndBadOptions) {
   const FiniteMdp m = line();
-  EXPECT_THAT(error_of([&] { audit_shaping(m, ShapingTable(4, 2, {})); }), HasSubstr("4 states x 2 actions"));
+  EXPECT_THAT(input_error_message([&] { audit_shaping(m, ShapingTable(4, 2, {})); }), HasSubstr("4 states x 2 actions"));
   AuditOptions o;
   o.tolerance = 0.0;
-  EXPECT_THAT(error_of([&] { audit_shaping(m, ShapingTable(3, 2, {}), o); }), HasSubstr("tolerance must be > 0"));
+  EXPECT_THAT(input_error_message([&] { audit_shaping(m, ShapingTable(3, 2, {}), o); }), HasSubstr("tolerance must be > 0"));
 }
 
 TEST(ShapingTable, RoundTripsThroughJsonAndNamesFileAndFieldInErrors) {
@@ -162,17 +157,17 @@ TEST(ShapingTable, RoundTripsThroughJsonAndNamesFileAndFieldInErrors) {
 
   auto j = shaping_to_json(f);
   j["entries"][1][2] = 3;
-  EXPECT_THAT(error_of([&] { shaping_from_json(j, "f.json"); }), HasSubstr("f.json: entries[1][2]: next_state 3 outside [0, 3)"));
+  EXPECT_THAT(input_error_message([&] { shaping_from_json(j, "f.json"); }), HasSubstr("f.json: entries[1][2]: next_state 3 outside [0, 3)"));
   j = shaping_to_json(f);
   j["entries"].push_back(j["entries"][0]);
-  EXPECT_THAT(error_of([&] { shaping_from_json(j, "f.json"); }), HasSubstr("f.json: entries: triple (0, 1, 1) listed twice"));
+  EXPECT_THAT(input_error_message([&] { shaping_from_json(j, "f.json"); }), HasSubstr("f.json: entries: triple (0, 1, 1) listed twice"));
   j = shaping_to_json(f);
   j["entries"][0] = nlohmann::json::array({0, 1, 1});
-  EXPECT_THAT(error_of([&] { shaping_from_json(j, "f.json"); }), HasSubstr("f.json: entries[0]: expected [state, action, next_state, F]"));
+  EXPECT_THAT(input_error_message([&] { shaping_from_json(j, "f.json"); }), HasSubstr("f.json: entries[0]: expected [state, action, next_state, F]"));
   j = shaping_to_json(f);
   j.erase("num_actions");
-  EXPECT_THAT(error_of([&] { shaping_from_json(j, "f.json"); }), HasSubstr("f.json: num_actions: missing required field"));
-  EXPECT_THAT(error_of([] { load_shaping("/nonexistent/f.json"); }), HasSubstr("/nonexistent/f.json: cannot open"));
+  EXPECT_THAT(input_error_message([&] { shaping_from_json(j, "f.json"); }), HasSubstr("f.json: num_actions: missing required field"));
+  EXPECT_THAT(input_error_message([] { load_shaping("/nonexistent/f.json"); }), HasSubstr("/nonexistent/f.json: cannot open"));
 }
 
 }  // namespace

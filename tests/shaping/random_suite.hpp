@@ -9,7 +9,7 @@
 #include "pegasus/mdp/solvers.hpp"
 #include "pegasus/scenarios/counter_rng.hpp"
 
-namespace pegasus::testing {
+namespace pegasus::test_support {
 
 inline RandomMdpOptions suite_options(int i) {
   static constexpr int kStates[] = {2, 3, 5, 8, 13, 21, 34};
@@ -53,4 +53,4 @@ inline std::vector<std::uint64_t> optimal_action_sets(const FiniteMdp& m, const 
 
 inline constexpr int kSuiteSize = 1050;
 
-}  // namespace pegasus::testing
+}  // namespace pegasus::test_support

@@ -13,11 +13,11 @@
 namespace pegasus {
 namespace {
 
-using testing::kSuiteSize;
-using testing::max_abs;
-using testing::optimal_action_sets;
-using testing::random_potential;
-using testing::suite_mdp;
+using test_support::kSuiteSize;
+using test_support::max_abs;
+using test_support::optimal_action_sets;
+using test_support::random_potential;
+using test_support::suite_mdp;
 
 // §3.3, Theorem 1 (sufficiency): with F = gamma Phi(s') - Phi(s), every optimal policy of M' is optimal
 // in M and vice versa: the sets of optimal actions coincide in every state.
@@ -88,7 +88,7 @@ TEST(PotentialShaping, ShiftsTheValueOfEveryPolicyByMinusPhi) {
 TEST(ConstantRewardOffset, LeavesOptimalPolicyUnchangedForDiscountedMdps) {
   int tested = 0;
   for (int i = 0; i < 4 * kSuiteSize && tested < kSuiteSize; ++i) {
-    auto o = testing::suite_options(i);
+    auto o = test_support::suite_options(i);
     if (o.gamma == 1.0) continue;
     o.episodic = false;
     UniformStream rng(4, static_cast<std::uint32_t>(i));

@@ -21,8 +21,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-using pegasus::testing::read_text;
-using pegasus::testing::run_pegasus;
+using pegasus::test_support::read_text;
+using pegasus::test_support::run_pegasus;
 
 int lines(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
 
@@ -33,7 +33,7 @@ std::string audit_args(const std::string& shaping) {
   return "shaping audit --quiet --mdp " + kMdp + " --shaping " + (kAudit / shaping).string();
 }
 
-using ShapingCli = pegasus::testing::TempDirTest;
+using ShapingCli = pegasus::test_support::TempDirTest;
 
 // ---- shaping audit -------------------------------------------------------------------------------------
 

@@ -10,7 +10,7 @@
 #include <sstream>
 #include <string>
 
-namespace pegasus::testing {
+namespace pegasus::test_support {
 
 struct CliResult {
   int code = -1;       // exit code, -1 when the process did not exit normally
@@ -51,4 +51,4 @@ class TempDirTest : public ::testing::Test {
   std::filesystem::path dir_;
 };
 
-}  // namespace pegasus::testing
+}  // namespace pegasus::test_support
