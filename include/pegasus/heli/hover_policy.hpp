@@ -1,0 +1,104 @@
+#pragma once
+// The hover policy class of thesis §5.3 (Fig 5.4, Eqs 5.7-5.8): one small network of sum and tanh nodes per
+// control channel, fed by the body-frame position error, velocity and attitude that channel controls.
+//
+// For channel c with error e, velocity v and attitude angle g (Eq 5.7 for the longitudinal cyclic):
+//   t_c = bias + err * e + err_tanh_gain * tanh(err_tanh_in * e) + vel * v + att * g
+//   a_c = out_tanh_gain * tanh(out_tanh_in * t_c) + out_linear * t_c          (Eq 5.8)
+// clipped to [-1, 1]. The channels and their inputs (frames.hpp: W is north-east-down, B forward-right-down):
+//   a1 longitudinal cyclic  e = x_B error   v = xdot_B   g = pitch   (w1..w9 of Eqs 5.7-5.8, in that order)
+//   a2 lateral cyclic       e = y_B error   v = ydot_B   g = roll
+//   a3 main collective      e = z_B error   v = zdot_B   (no attitude input: 8 weights)
+//   a4 tail collective      e = wrap(yaw - yaw*) in (-pi, pi]   v = yaw_rate   (8 weights)
+// The position error is (p_W - p*_W) rotated into the body frame, err_B = R_WB^T (p_W - p*_W), and the
+// velocity likewise v_B = R_WB^T v_W. As footnote 11 of §5.3 decided, the pitch and roll rates are not
+// inputs.
+//
+// Parameters (34, names "<channel>.<weight>", channel a1..a4, weight as above) are laid out channel by
+// channel: a1 at 0..8, a2 at 9..17, a3 at 18..25, a4 at 26..33 (HoverPolicy::offset). The set point may
+// change every step: the manoeuvre policy (§5.4) feeds moving set points to this class.
+#include <array>
+#include <span>
+#include <string>
+
+#include "pegasus/heli/aircraft.hpp"
+#include "pegasus/policies/parameter_spec.hpp"
+
+namespace pegasus::heli {
+
+// Where the helicopter should be: position in W (NED, m; z < 0 is above the ground) and heading (rad).
+struct SetPoint {
+  double x = 0, y = 0, z = -10, yaw = 0;
+  bool operator==(const SetPoint&) const = default;
+};
+
+// What a helicopter controller sees at one 50 Hz step: the 12 logged states (log column order,
+// kLoggedStateNames) and the set point of that step.
+struct HeliObservation {
+  LoggedState state{};
+  SetPoint target{};
+};
+
+// The inputs of the four channel networks at one observation.
+struct HoverInputs {
+  std::array<double, 4> error{};     // x_B, y_B, z_B position error (m), wrapped yaw error (rad)
+  std::array<double, 4> velocity{};  // xdot_B, ydot_B, zdot_B (m/s), yaw rate (rad/s)
+  std::array<double, 2> attitude{};  // pitch (for a1), roll (for a2), rad
+};
+HoverInputs hover_inputs(const HeliObservation& o);
+
+// The starting weights: a linear controller (all tanh gains 0, out_linear 1) around a trim estimate. The
+// default gains hold a hover on the identified model; `trim` and the trim attitude should come from the
+// flight logs (hover_init_from_model in hover_task.hpp), since the learning side never sees the ground
+// truth's trim.
+struct HoverPolicyInit {
+  Controls trim{0, 0, 0, 0};             // controls that hold a hover
+  double trim_roll = 0, trim_pitch = 0;  // attitude at that hover, rad
+  // Linear gains (the signs a stabilising controller needs with the control conventions of aircraft.hpp).
+  double k_pos = -0.025;      // a1 per m of x_B error and a2 per m of y_B error
+  double k_vel = -0.07;       // a1 per m/s of xdot_B, a2 per m/s of ydot_B
+  double k_att = 1.0;         // a1 per rad of pitch; a2 uses -k_att per rad of roll
+  double k_alt = 0.05;        // a3 per m of z_B error (z down: below the set point -> more collective)
+  double k_climb = 0.15;      // a3 per m/s of zdot_B
+  double k_yaw = -0.4;        // a4 per rad of yaw error
+  double k_yaw_rate = -0.05;  // a4 per rad/s of yaw rate
+};
+
+class HoverPolicy {
+ public:
+  using Observation = HeliObservation;
+  using Action = Controls;
+  static constexpr int kParameters = 34;
+  static constexpr std::array<int, 4> kOffset = {0, 9, 18, 26};  // first parameter of each channel
+  static constexpr std::array<int, 4> kWeights = {9, 9, 8, 8};   // parameters of each channel
+  // Index of a weight within a channel (a3 and a4 have no kAtt; their out_* weights shift down by one).
+  enum Weight : int {
+    kBias = 0,
+    kErr,
+    kErrTanhGain,
+    kErrTanhIn,
+    kVel,
+    kAtt,
+    kOutTanhGain,
+    kOutTanhIn,
+    kOutLinear
+  };
+  // The parameter index of weight w of channel c (0..3).
+  static int index(int channel, Weight w);
+
+  explicit HoverPolicy(const HoverPolicyInit& init = {});
+  const ParameterSpec& parameters() const { return spec_; }
+
+  // The clipped controls.
+  Controls act(std::span<const double> theta, const HeliObservation& o) const;
+  // The network outputs before clipping.
+  static Controls unclipped(std::span<const double> theta, const HoverInputs& in);
+
+ private:
+  ParameterSpec spec_;
+};
+
+// The weight names of a channel in layout order ("bias", "err", ...).
+std::span<const char* const> hover_weight_names(int channel);
+
+}  // namespace pegasus::heli

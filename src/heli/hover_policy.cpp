@@ -1,0 +1,115 @@
+#include "pegasus/heli/hover_policy.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "pegasus/core/error.hpp"
+#include "pegasus/heli/frames.hpp"
+
+namespace pegasus::heli {
+namespace {
+
+constexpr std::array<const char*, 9> kFullNames = {"bias",          "err",         "err_tanh_gain",
+                                                   "err_tanh_in",   "vel",         "att",
+                                                   "out_tanh_gain", "out_tanh_in", "out_linear"};
+constexpr std::array<const char*, 8> kNoAttNames = {"bias", "err",           "err_tanh_gain", "err_tanh_in",
+                                                    "vel",  "out_tanh_gain", "out_tanh_in",   "out_linear"};
+
+}  // namespace
+
+std::span<const char* const> hover_weight_names(int channel) {
+  if (channel < 2) return kFullNames;
+  return kNoAttNames;
+}
+
+int HoverPolicy::index(int channel, Weight w) {
+  const int base = kOffset[static_cast<std::size_t>(channel)];
+  if (channel < 2 || w < kAtt) return base + w;
+  if (w == kAtt) throw std::invalid_argument("hover policy: channels a3 and a4 have no attitude weight");
+  return base + w - 1;
+}
+
+HoverInputs hover_inputs(const HeliObservation& o) {
+  const LoggedState& s = o.state;
+  const Euler e{.roll = s[3], .pitch = s[4], .yaw = s[5]};
+  const Mat3 r_BW = rotation_world_from_body(e).transpose();
+  const Vec3 err_B = r_BW * Vec3(s[0] - o.target.x, s[1] - o.target.y, s[2] - o.target.z);
+  const Vec3 v_B = r_BW * Vec3(s[6], s[7], s[8]);
+  HoverInputs in;
+  in.error = {err_B.x(), err_B.y(), err_B.z(), wrap_angle(s[5] - o.target.yaw)};
+  in.velocity = {v_B.x(), v_B.y(), v_B.z(), s[11]};
+  in.attitude = {s[4], s[3]};
+  return in;
+}
+
+HoverPolicy::HoverPolicy(const HoverPolicyInit& init) {
+  const double inf = std::numeric_limits<double>::infinity();
+  // Per channel: initial linear gains, and the typical useful change of each weight (the optimizer's scale).
+  struct Channel {
+    double err, vel, att, att_trim;
+    double err_scale, vel_scale;
+  };
+  const std::array<Channel, 4> ch = {
+      Channel{init.k_pos, init.k_vel, init.k_att, init.trim_pitch, 0.01, 0.02},
+      Channel{init.k_pos, init.k_vel, -init.k_att, init.trim_roll, 0.01, 0.02},
+      Channel{init.k_alt, init.k_climb, 0, 0, 0.01, 0.03},
+      Channel{init.k_yaw, init.k_yaw_rate, 0, 0, 0.05, 0.02},
+  };
+  for (std::size_t c = 0; c < 4; ++c) {
+    const auto names = hover_weight_names(static_cast<int>(c));
+    const std::string prefix = "a" + std::to_string(c + 1) + ".";
+    for (const char* raw : names) {
+      const std::string w = raw;
+      Parameter p{.name = prefix + w};
+      if (w == "bias") {
+        // The attitude term is linear around the trim attitude: bias = trim control - att * trim angle.
+        p.initial = std::clamp(init.trim[c] - ch[c].att * ch[c].att_trim, -1.0, 1.0);
+        p.lower = -1, p.upper = 1, p.scale = 0.02;
+      } else if (w == "err") {
+        p.initial = ch[c].err, p.scale = ch[c].err_scale;
+      } else if (w == "err_tanh_gain") {
+        p.initial = 0, p.scale = ch[c].err_scale;
+      } else if (w == "err_tanh_in") {
+        p.initial = 1, p.lower = -20, p.upper = 20, p.scale = 0.5;
+      } else if (w == "vel") {
+        p.initial = ch[c].vel, p.scale = ch[c].vel_scale;
+      } else if (w == "att") {
+        p.initial = ch[c].att, p.scale = 0.1;
+      } else if (w == "out_tanh_gain") {
+        p.initial = 0, p.scale = 0.05;
+      } else if (w == "out_tanh_in") {
+        p.initial = 1, p.lower = -20, p.upper = 20, p.scale = 0.5;
+      } else {  // out_linear
+        p.initial = 1, p.lower = -inf, p.upper = inf, p.scale = 0.1;
+      }
+      spec_.add(std::move(p));
+    }
+  }
+}
+
+Controls HoverPolicy::unclipped(std::span<const double> w, const HoverInputs& in) {
+  Controls a;
+  for (std::size_t c = 0; c < 4; ++c) {
+    const double* k = w.data() + kOffset[c];
+    const double e = in.error[c];
+    double t =
+        k[kBias] + k[kErr] * e + k[kErrTanhGain] * std::tanh(k[kErrTanhIn] * e) + k[kVel] * in.velocity[c];
+    if (c < 2) {
+      t += k[kAtt] * in.attitude[c];
+    } else {
+      --k;  // no attitude weight: the out_* weights sit one place earlier
+    }
+    a[c] = k[kOutTanhGain] * std::tanh(k[kOutTanhIn] * t) + k[kOutLinear] * t;
+  }
+  return a;
+}
+
+Controls HoverPolicy::act(std::span<const double> theta, const HeliObservation& o) const {
+  Controls a = unclipped(theta, hover_inputs(o));
+  // A NaN output (a NaN state or weight) becomes 0 rather than travelling on to the aircraft.
+  for (double& x : a) x = std::isnan(x) ? 0.0 : std::clamp(x, -1.0, 1.0);
+  return a;
+}
+
+}  // namespace pegasus::heli
