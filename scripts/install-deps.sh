@@ -14,7 +14,12 @@ packages=(
   libopenmpi-dev openmpi-bin
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev python3
+  # the HTML report's browser test
+  chromium
 )
+# the report's JavaScript comes from npm; a node/npm installed some other way (e.g. NodeSource) is kept
+command -v node >/dev/null 2>&1 || packages+=(nodejs)
+command -v npm >/dev/null 2>&1 || packages+=(npm)
 
 missing=()
 for p in "${packages[@]}"; do
