@@ -22,6 +22,10 @@
 #include <string>
 #include <vector>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "pegasus/core/error.hpp"
 #include "pegasus/mdp/mdp_model.hpp"
 
@@ -110,6 +114,25 @@ inline constexpr std::array<std::array<std::int8_t, 4>, 16> kTieAction = [] {
 // kTieCount[mask]: the number of set bits of a 4-bit mask. A table, not std::popcount: without -mpopcnt
 // (the portable x86-64 baseline) std::popcount is a call into libgcc on the critical path of every step.
 inline constexpr std::array<std::int8_t, 16> kTieCount = {0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4};
+// The same as doubles: saves an int -> double conversion on the critical path.
+inline constexpr std::array<double, 16> kTieCountDouble = {0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4};
+
+// Bit a set iff q[a] == max(q[0..3]). With SSE2 (every x86-64) two packed maxima and two packed compares
+// replace the four scalar compares, whose flags (ucomisd: equal and not unordered) cost several
+// instructions each. Same mask either way: only the sign of a zero maximum can differ, and -0 == +0.
+inline unsigned argmax_mask4(const double* q) {
+#if defined(__SSE2__)
+  const __m128d q01 = _mm_loadu_pd(q), q23 = _mm_loadu_pd(q + 2);
+  const __m128d m = _mm_max_pd(q01, q23);
+  const __m128d best = _mm_max_pd(m, _mm_shuffle_pd(m, m, 1));
+  return static_cast<unsigned>(_mm_movemask_pd(_mm_cmpeq_pd(q01, best))) |
+         static_cast<unsigned>(_mm_movemask_pd(_mm_cmpeq_pd(q23, best))) << 2;
+#else
+  const double best = std::max(std::max(q[0], q[1]), std::max(q[2], q[3]));
+  return static_cast<unsigned>(q[0] == best) | static_cast<unsigned>(q[1] == best) << 1 |
+         static_cast<unsigned>(q[2] == best) << 2 | static_cast<unsigned>(q[3] == best) << 3;
+#endif
+}
 }  // namespace detail
 
 // The scales are precomputed so that choosing an action needs no division: a Sarsa step is short enough
@@ -127,11 +150,9 @@ class EpsilonGreedy {
     if (num_actions == 4) {
       // The gridworlds' case, written without data-dependent branches: exploration, ties and the argmax
       // are all unpredictable, and mispredictions would cost more than the rest of a Sarsa step.
-      const double best = std::max(std::max(q[0], q[1]), std::max(q[2], q[3]));
-      const unsigned mask = static_cast<unsigned>(q[0] == best) | static_cast<unsigned>(q[1] == best) << 1 |
-                            static_cast<unsigned>(q[2] == best) << 2 | static_cast<unsigned>(q[3] == best) << 3;
+      const unsigned mask = detail::argmax_mask4(q);
       const int ties = detail::kTieCount[mask];
-      int pick = static_cast<int>(std::max(0.0, (u - epsilon_) * exploit_scale_) * ties);
+      int pick = static_cast<int>(std::max(0.0, (u - epsilon_) * exploit_scale_) * detail::kTieCountDouble[mask]);
       pick = pick < ties ? pick : ties - 1;
       const int greedy = detail::kTieAction[mask][static_cast<std::size_t>(pick)];
       int explore = static_cast<int>(u * explore_scale_);
@@ -201,33 +222,39 @@ void check_learner_input(const M& m, const TdOptions& o, const QTable& q) {
 namespace detail {
 
 // One Sarsa learner's progress through its episodes, advanced one step at a time so that several can be
-// interleaved (sarsa_runs). The arithmetic is exactly that of a plain Sarsa loop.
+// interleaved (sarsa_runs). The arithmetic is exactly that of a plain Sarsa loop. The options are copied
+// in, and the action count is asked of the model at each step (a constant the compiler folds for the
+// gridworlds), so that a step reads nothing through the options.
 template <TabularModel M, UniformSource G>
 struct SarsaLane {
   const M* m;
-  const TdOptions* o;
   G* rng;
   double* Q;
   LearningCurve* curve;
   EpsilonGreedy choose{0.0, 1};
-  int A = 0, s = 0, a = 0, episode = 0;
+  double alpha = 0.0, gamma = 0.0;
+  std::int64_t max_steps = 0;
+  int episodes = 0;
+  int s = 0, a = 0, episode = 0;
   std::int64_t steps = 0;
   double ret = 0.0;
   bool active = true;
 
   void start(const M& model, const TdOptions& opt, G& g, QTable& q, LearningCurve& c) {
     m = &model;
-    o = &opt;
     rng = &g;
     Q = q.q.data();
     curve = &c;
-    A = model.num_actions();
-    choose = EpsilonGreedy(opt.epsilon, A);
+    choose = EpsilonGreedy(opt.epsilon, model.num_actions());
+    alpha = opt.alpha;
+    gamma = opt.gamma;
+    max_steps = opt.max_steps_per_episode;
+    episodes = opt.episodes;
     c.steps.reserve(static_cast<std::size_t>(opt.episodes));
     c.returns.reserve(static_cast<std::size_t>(opt.episodes));
     begin_episode();
   }
-  void begin_episode() {
+  [[gnu::noinline]] void begin_episode() {
     for (;;) {
       s = draw_initial(*m, *rng);
       steps = 0;
@@ -235,6 +262,7 @@ struct SarsaLane {
       if (!m->terminal(s)) break;
       if (!end_episode()) return;  // an episode that starts at a terminal state takes no step
     }
+    const int A = m->num_actions();
     a = choose(Q + static_cast<std::ptrdiff_t>(s) * A, A, *rng);
   }
   // Records the episode; false when it was the last.
@@ -242,31 +270,34 @@ struct SarsaLane {
     curve->steps.push_back(steps);
     curve->returns.push_back(ret);
     curve->total_steps += steps;
-    if (++episode == o->episodes) {
+    if (++episode == episodes) {
       active = false;
       return false;
     }
     return true;
   }
+  [[gnu::noinline]] void finish_episode(bool truncated) {
+    if (truncated) ++curve->truncated_episodes;
+    if (end_episode()) begin_episode();
+  }
   [[gnu::always_inline]] void step() {
-    const int s2 = draw_step(*m, s, a, *rng);
-    const double r = transition_reward(*m, s, a, s2);
-    ++steps;
+    const int A = m->num_actions();
+    const int s0 = s, a0 = a;
+    const int s2 = draw_step(*m, s0, a0, *rng);
+    const double r = transition_reward(*m, s0, a0, s2);
+    const std::int64_t n = ++steps;
     ret += r;
-    double& qsa = Q[static_cast<std::ptrdiff_t>(s) * A + a];
-    if (m->terminal(s2)) {
-      qsa += o->alpha * (r - qsa);
-      if (end_episode()) begin_episode();
+    double& qsa = Q[static_cast<std::ptrdiff_t>(s0) * A + a0];
+    if (m->terminal(s2)) [[unlikely]] {
+      qsa += alpha * (r - qsa);
+      finish_episode(false);
       return;
     }
     const int a2 = choose(Q + static_cast<std::ptrdiff_t>(s2) * A, A, *rng);
-    qsa += o->alpha * (r + o->gamma * Q[static_cast<std::ptrdiff_t>(s2) * A + a2] - qsa);
+    qsa += alpha * (r + gamma * Q[static_cast<std::ptrdiff_t>(s2) * A + a2] - qsa);
     s = s2;
     a = a2;
-    if (steps == o->max_steps_per_episode) {
-      ++curve->truncated_episodes;
-      if (end_episode()) begin_episode();
-    }
+    if (n == max_steps) [[unlikely]] finish_episode(true);
   }
 };
 
