@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "pegasus/core/error.hpp"
+#include "pegasus/parallel/mpi.hpp"
 
 namespace pegasus::cli {
 
@@ -116,23 +117,67 @@ void declare_options(Leaf& leaf) {
   app->add_flag("--quiet", leaf.quiet, "no progress bar");
 }
 
-// Runs the command of `leaf` after parsing succeeded.
-int execute(Leaf& leaf, std::vector<std::string> argv, std::ostream& out, std::ostream& err) {
-  std::optional<RunDirectory> run_dir;
+// Under mpirun (parallel/mpi.hpp) every rank executes the command; rank 0 alone prints results and errors
+// (the others get null streams from main) and writes the run directory. Failures in the set-up (config,
+// run directory) are agreed on by all ranks, which then exit alike; a failure later, while ranks may be
+// inside a collective, prints its line and ends the whole job (MPI_Abort), and rank 0 names the kept
+// DIR.partial when it is stopped that way.
+std::string rank_prefix() {
+  return mpi::is_root() ? std::string("pegasus: ") : fmt::format("pegasus: rank {} of {}: ", mpi::rank(), mpi::size());
+}
+
+// Loads the config file and the overrides, and validates them. With several ranks, every rank learns whether
+// any failed: rank 0's error is rethrown; another rank's is printed by that rank and reported by rank 0.
+void set_up_config(Leaf& leaf) {
+  ConfigSchema& schema = leaf.schema;
+  std::exception_ptr error;
   try {
-    ConfigSchema& schema = leaf.schema;
     if (!leaf.config_file.empty()) schema.load_toml_file(leaf.config_file);
     for (std::size_t i = 0; i < leaf.options.size(); ++i) {
       if (leaf.options[i]->count() > 0) schema.set_from_cli(schema.fields()[i].name(), leaf.texts[i]);
     }
     schema.validate();
+  } catch (...) {
+    error = std::current_exception();
+  }
+  if (mpi::size() == 1) {
+    if (error) std::rethrow_exception(error);
+    return;
+  }
+  const std::vector<int> failed = mpi::allgather_int(error ? 1 : 0);
+  if (failed[0]) std::rethrow_exception(error);
+  std::string ranks;
+  for (std::size_t r = 1; r < failed.size(); ++r)
+    if (failed[r]) ranks += (ranks.empty() ? "" : ", ") + std::to_string(r);
+  if (ranks.empty()) return;
+  if (error) {
+    try {
+      std::rethrow_exception(error);
+    } catch (const std::exception& e) {
+      std::cerr << rank_prefix() << one_line(e.what()) << std::endl;
+    }
+  }
+  throw InputError("rank " + ranks + " could not read the configuration (see its message)");
+}
+
+// Runs the command of `leaf` after parsing succeeded.
+int execute(Leaf& leaf, std::vector<std::string> argv, std::ostream& out, std::ostream& err) {
+  std::optional<RunDirectory> run_dir;
+  bool running = false;  // past the set-up: with several ranks, a failure ends the whole job
+  try {
+    ConfigSchema& schema = leaf.schema;
+    set_up_config(leaf);
 
     const auto start = std::chrono::steady_clock::now();
     if (!leaf.out.empty()) {
       run_dir.emplace(RunDirectory::open(leaf.out, schema, {.force = leaf.force, .resume = leaf.resume}));
+      mpi::set_stop_message(fmt::format("pegasus: error: the MPI job was stopped (a rank failed or the job was "
+                                        "killed); partial results kept in {}: rerun with --resume to continue",
+                                        run_dir->path().string()));
     } else if (leaf.command->out == OutDir::kRequired) {
       throw InputError("--out: expected a directory name, got an empty value");
     }
+    running = true;
     RunContext context(schema, leaf.quiet, run_dir ? &*run_dir : nullptr, out);
     try {
       leaf.command->run(context);
@@ -144,17 +189,33 @@ int execute(Leaf& leaf, std::vector<std::string> argv, std::ostream& out, std::o
     if (run_dir) {
       const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       // Provenance that is not a result (wall time varies), kept apart from summary.json.
-      run_dir->write_json("run.json", {{"command", leaf.command->path},
-                                       {"version", kVersion},
-                                       {"argv", argv},
-                                       {"resumed", run_dir->resumed()},
-                                       {"threads", context.threads},
-                                       {"wall_time_s", wall}});
+      nlohmann::json provenance = {{"command", leaf.command->path},
+                                   {"version", kVersion},
+                                   {"argv", argv},
+                                   {"resumed", run_dir->resumed()},
+                                   {"threads", context.threads},
+                                   {"ranks", mpi::size()},
+                                   {"wall_time_s", wall}};
+      if (mpi::size() > 1) {
+        const mpi::CommStats comm = mpi::comm_stats();  // rank 0's
+        provenance["allgathers"] = comm.calls;
+        provenance["allgather_seconds"] = comm.seconds;
+      }
+      run_dir->write_json("run.json", provenance);
       run_dir->commit();
     }
     return context.exit_code;
   } catch (const InputError& e) {
     err << "pegasus: " << one_line(e.what()) << std::endl;
+    if (running && mpi::size() > 1) {
+      // Bad input is normally met by every rank alike: rank 0 says it and ends the job. A rank alone with it
+      // (a file only its node lacks) says it after a moment.
+      if (!mpi::is_root()) {
+        std::this_thread::sleep_for(std::chrono::seconds(2));
+        std::cerr << rank_prefix() << one_line(e.what()) << std::endl;
+      }
+      mpi::abort_job(2);
+    }
     return 2;
   } catch (const std::exception& e) {
     std::string kept;
@@ -162,7 +223,12 @@ int execute(Leaf& leaf, std::vector<std::string> argv, std::ostream& out, std::o
       kept = fmt::format(" (partial results kept in {}: rerun with --resume to continue)",
                          run_dir->path().string());
     }
-    err << "pegasus: error: " << one_line(e.what()) << kept << std::endl;
+    if (mpi::is_root()) {
+      err << "pegasus: error: " << one_line(e.what()) << kept << std::endl;
+    } else {
+      std::cerr << rank_prefix() << "error: " << one_line(e.what()) << std::endl;
+    }
+    if (running && mpi::size() > 1) mpi::abort_job(1);
     return 1;
   }
 }

@@ -6,6 +6,16 @@
 
 namespace pegasus {
 
+namespace {
+thread_local int t_parallel_depth = 0;
+struct ParallelRegion {
+  ParallelRegion() { ++t_parallel_depth; }
+  ~ParallelRegion() { --t_parallel_depth; }
+};
+}  // namespace
+
+bool ThreadPool::inside_parallel_for() { return t_parallel_depth > 0; }
+
 ThreadPool::ThreadPool(int threads) {
   if (threads < 1) throw InputError("threads: expected an integer >= 1, got " + std::to_string(threads));
   for (int i = 1; i < threads; ++i) workers_.emplace_back([this] { worker_loop(); });
@@ -57,6 +67,7 @@ void ThreadPool::worker_loop() {
 void ThreadPool::parallel_for_chunks(std::size_t n, std::size_t grain,
                                      const std::function<void(std::size_t, std::size_t)>& body) {
   if (n == 0) return;
+  const ParallelRegion region;
   if (grain == 0) grain = std::max<std::size_t>(1, n / (8 * static_cast<std::size_t>(size())));
   if (workers_.empty() || n <= grain) {
     for (std::size_t b = 0; b < n; b += grain) body(b, std::min(n, b + grain));

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "pegasus/core/error.hpp"
+#include "pegasus/parallel/mpi.hpp"
 #include "pegasus/runs/atomic_file.hpp"
 
 namespace pegasus {
@@ -39,10 +40,55 @@ void remove_stale_temporaries(const fs::path& dir) {
   for (const auto& p : stale) fs::remove(p, ec);
 }
 
+// A private folder for a shadow's direct writes, removed when the last copy of the pointer goes.
+std::shared_ptr<const fs::path> make_scratch() {
+  std::string pattern = (fs::temp_directory_path() / fmt::format("pegasus-rank{}-XXXXXX", mpi::rank())).string();
+  if (::mkdtemp(pattern.data()) == nullptr)
+    throw std::runtime_error(fmt::format("cannot create a scratch folder {}: {}", pattern, std::strerror(errno)));
+  return std::shared_ptr<const fs::path>(new fs::path(pattern), [](const fs::path* p) {
+    std::error_code ec;
+    fs::remove_all(*p, ec);
+    delete p;
+  });
+}
+
 }  // namespace
 
-RunDirectory RunDirectory::open(const fs::path& dir, const ConfigSchema& config,
-                                RunDirectoryOptions options) {
+RunDirectory RunDirectory::open(const fs::path& dir, const ConfigSchema& config, RunDirectoryOptions options) {
+  if (mpi::size() == 1) return open_here(dir, config, options);
+  // Rank 0 opens; every rank learns the outcome, so all go on or all throw the same error.
+  std::optional<RunDirectory> opened;
+  nlohmann::json outcome;
+  if (mpi::is_root()) {
+    try {
+      opened.emplace(open_here(dir, config, options));
+      outcome = {{"ok", true}, {"final", opened->final_.string()}, {"staging", opened->staging_.string()},
+                 {"resumed", opened->resumed_}};
+    } catch (const InputError& e) {
+      outcome = {{"ok", false}, {"input", true}, {"message", e.what()}};
+    } catch (const std::exception& e) {
+      outcome = {{"ok", false}, {"input", false}, {"message", e.what()}};
+    }
+  }
+  outcome = nlohmann::json::parse(mpi::broadcast_from_root(outcome.dump()));
+  if (!outcome.at("ok").get<bool>()) {
+    const std::string message = outcome.at("message").get<std::string>();
+    if (outcome.at("input").get<bool>()) throw InputError(message);
+    throw std::runtime_error(message);
+  }
+  if (opened) return std::move(*opened);
+  RunDirectory run;
+  run.shadow_ = true;
+  run.final_ = outcome.at("final").get<std::string>();
+  run.resumed_ = outcome.at("resumed").get<bool>();
+  run.force_ = options.force;
+  run.scratch_ = make_scratch();
+  run.staging_ = *run.scratch_;
+  return run;
+}
+
+RunDirectory RunDirectory::open_here(const fs::path& dir, const ConfigSchema& config,
+                                     RunDirectoryOptions options) {
   fs::path final_dir = dir.lexically_normal();
   if (!final_dir.has_filename()) final_dir = final_dir.parent_path();
   const std::string name = final_dir.filename().string();
@@ -120,27 +166,52 @@ fs::path RunDirectory::resolve(const fs::path& relative) const {
 }
 
 void RunDirectory::write_text(const fs::path& relative, std::string_view content) const {
-  write_file_atomic(resolve(relative), content);
+  const fs::path file = resolve(relative);
+  if (!shadow_) write_file_atomic(file, content);
 }
 
 void RunDirectory::write_json(const fs::path& relative, const nlohmann::json& value) const {
-  write_file_atomic(resolve(relative), json_text(value));
+  const fs::path file = resolve(relative);
+  if (!shadow_) write_file_atomic(file, json_text(value));
 }
 
 void RunDirectory::write_csv(const fs::path& relative, const CsvWriter& csv) const {
-  csv.write(resolve(relative));
+  const fs::path file = resolve(relative);
+  if (!shadow_) csv.write(file);
 }
 
 void RunDirectory::save_checkpoint(const nlohmann::json& state) const { write_json(kCheckpointFile, state); }
 
-std::optional<nlohmann::json> RunDirectory::load_checkpoint() const {
+std::optional<nlohmann::json> RunDirectory::load_checkpoint_here() const {
   const fs::path file = staging_ / kCheckpointFile;
   if (!exists_no_follow(file)) return std::nullopt;
   return read_json_file(file);
 }
 
+std::optional<nlohmann::json> RunDirectory::load_checkpoint() const {
+  if (mpi::size() == 1) return load_checkpoint_here();
+  // Rank 0 reads; every rank gets its checkpoint, or its error.
+  nlohmann::json outcome = {{"ok", true}};
+  if (!shadow_) {
+    try {
+      if (auto state = load_checkpoint_here()) outcome["state"] = std::move(*state);
+    } catch (const std::exception& e) {
+      outcome = {{"ok", false}, {"message", e.what()}};
+    }
+  }
+  outcome = nlohmann::json::parse(mpi::broadcast_from_root(outcome.dump()));
+  if (!outcome.at("ok").get<bool>()) throw std::runtime_error(outcome.at("message").get<std::string>());
+  if (!outcome.contains("state")) return std::nullopt;
+  return std::move(outcome.at("state"));
+}
+
 void RunDirectory::commit() {
   if (committed_) return;
+  if (shadow_) {
+    committed_ = true;
+    scratch_.reset();
+    return;
+  }
   if (exists_no_follow(final_)) {
     if (!force_) {
       throw std::runtime_error(
@@ -167,6 +238,7 @@ void RunDirectory::commit() {
 }
 
 void RunDirectory::abandon() {
+  if (shadow_) scratch_.reset();
   if (!created_ || committed_) return;
   std::error_code ec;
   fs::remove_all(staging_, ec);

@@ -35,27 +35,36 @@ class MonteCarloEvaluator {
   // The estimate that evaluation number `call` gives theta (pure: no counter advanced).
   double evaluate_at(std::span<const double> theta, std::uint64_t call) const {
     double sum = 0.0;
-    for (int i = 0; i < rollouts_; ++i) {
-      UniformStream rng(mix_seed(seed_, call), static_cast<std::uint32_t>(i));
-      sum += sampled_return(model_, policy_, theta, rng, d_);
-    }
+    for (int i = 0; i < rollouts_; ++i) sum += rollout(theta, call, i);
     return sum / static_cast<double>(rollouts_);
   }
 
-  double evaluate(std::span<const double> theta) { return evaluate_at(theta, calls_++); }
+  // Under mpirun the work is split across ranks like PegasusEvaluator's (parallel/mpi.hpp): the rollouts of
+  // a single evaluation, the thetas of a batch. Each estimate is the rollout-order sum of evaluate_at, so the
+  // numbers are the same for any number of ranks and threads.
+  double evaluate(std::span<const double> theta, ThreadPool* pool = nullptr) {
+    std::vector<double> returns(static_cast<std::size_t>(rollouts_));
+    const std::uint64_t call = calls_++;
+    mpi::distributed_fill(std::span<double>(returns), pool,
+                          [&](std::size_t i) { return rollout(theta, call, static_cast<int>(i)); });
+    double sum = 0.0;
+    for (double r : returns) sum += r;
+    return sum / static_cast<double>(rollouts_);
+  }
 
   void evaluate_batch(std::span<const Theta> thetas, std::span<double> values, ThreadPool* pool = nullptr) {
     const std::uint64_t first = calls_;
-    auto body = [&](std::size_t k) { values[k] = evaluate_at(thetas[k], first + k); };
-    if (pool) {
-      pool->parallel_for(thetas.size(), body);
-    } else {
-      for (std::size_t k = 0; k < thetas.size(); ++k) body(k);
-    }
+    mpi::distributed_fill(values.first(thetas.size()), pool,
+                          [&](std::size_t k) { return evaluate_at(thetas[k], first + k); });
     calls_ += thetas.size();
   }
 
  private:
+  double rollout(std::span<const double> theta, std::uint64_t call, int i) const {
+    UniformStream rng(mix_seed(seed_, call), static_cast<std::uint32_t>(i));
+    return sampled_return(model_, policy_, theta, rng, d_);
+  }
+
   M model_;
   P policy_;
   int rollouts_;
@@ -70,7 +79,7 @@ class MonteCarloObjective final : public Objective {
   MonteCarloObjective(MonteCarloEvaluator<M, P> evaluator, std::shared_ptr<ThreadPool> pool)
       : evaluator_(std::move(evaluator)), pool_(std::move(pool)) {}
   const ParameterSpec& parameters() const override { return evaluator_.policy().parameters(); }
-  double evaluate(std::span<const double> theta) override { return evaluator_.evaluate(theta); }
+  double evaluate(std::span<const double> theta) override { return evaluator_.evaluate(theta, pool_.get()); }
   void evaluate_batch(std::span<const Theta> thetas, std::span<double> values) override {
     evaluator_.evaluate_batch(thetas, values, pool_.get());
   }

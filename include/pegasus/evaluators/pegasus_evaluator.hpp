@@ -2,13 +2,17 @@
 // PEGASUS evaluation on fixed scenarios (thesis §4.4.2, Eq 4.22):
 //   U-hat(theta) = (1/m) sum_i  return of scenario i under pi_theta.
 // Work is parallel over (theta, scenario) pairs; each pair writes its own slot and the sum over scenarios
-// is taken in scenario order afterwards, so U-hat is bit-identical for any number of threads.
+// is taken in scenario order afterwards, so U-hat is bit-identical for any number of threads. Under mpirun
+// the pairs are also split across ranks (parallel/mpi.hpp: rank r owns pairs r, r + N, ...; every rank gets
+// every pair's return by an allgather and sums in the same order), so it is bit-identical for any number of
+// ranks too. Every rank must make the same calls in the same order (they all run the same program).
 #include <memory>
 #include <span>
 #include <vector>
 
 #include "pegasus/evaluators/rollout.hpp"
 #include "pegasus/optimizers/objective.hpp"
+#include "pegasus/parallel/mpi.hpp"
 #include "pegasus/parallel/thread_pool.hpp"
 
 namespace pegasus {
@@ -41,15 +45,10 @@ class PegasusEvaluator {
     return scenario_return(model_, policy_, theta, scenarios_, i, d_);
   }
 
-  // Per-scenario returns of one theta.
+  // Per-scenario returns of one theta (out.size() == scenarios().size()), on every rank.
   void per_scenario(std::span<const double> theta, std::span<double> out, ThreadPool* pool = nullptr) const {
-    const auto m = static_cast<std::size_t>(scenarios_.size());
-    auto body = [&](std::size_t i) { out[i] = scenario_value(theta, static_cast<int>(i)); };
-    if (pool) {
-      pool->parallel_for(m, body);
-    } else {
-      for (std::size_t i = 0; i < m; ++i) body(i);
-    }
+    mpi::distributed_fill(out.first(static_cast<std::size_t>(scenarios_.size())), pool,
+                          [&](std::size_t i) { return scenario_value(theta, static_cast<int>(i)); });
   }
 
   double evaluate(std::span<const double> theta, ThreadPool* pool = nullptr) const {
@@ -61,12 +60,8 @@ class PegasusEvaluator {
   void evaluate_batch(std::span<const Theta> thetas, std::span<double> values, ThreadPool* pool = nullptr) const {
     const auto m = static_cast<std::size_t>(scenarios_.size());
     std::vector<double> returns(thetas.size() * m);
-    auto body = [&](std::size_t k) { returns[k] = scenario_value(thetas[k / m], static_cast<int>(k % m)); };
-    if (pool) {
-      pool->parallel_for(returns.size(), body);
-    } else {
-      for (std::size_t k = 0; k < returns.size(); ++k) body(k);
-    }
+    mpi::distributed_fill(std::span<double>(returns), pool,
+                          [&](std::size_t k) { return scenario_value(thetas[k / m], static_cast<int>(k % m)); });
     for (std::size_t k = 0; k < thetas.size(); ++k)
       values[k] = ordered_mean(std::span<const double>(returns.data() + k * m, m));
   }

@@ -23,6 +23,10 @@ class ThreadPool {
 
   int size() const { return static_cast<int>(workers_.size()) + 1; }
 
+  // True while the calling thread is inside a parallel_for of any pool (the caller runs chunks too). MPI
+  // collectives are not entered there: other ranks' threads would not enter them in the same order.
+  static bool inside_parallel_for();
+
   // Runs body(begin, end) over [0, n) in chunks of at most `grain` indices, on all threads; returns when
   // every chunk has run. grain = 0 picks about 8 chunks per thread. The first exception thrown by a chunk
   // is rethrown here.

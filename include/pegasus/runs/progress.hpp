@@ -28,7 +28,7 @@ class Progress {
   Progress(const Progress&) = delete;
   Progress& operator=(const Progress&) = delete;
 
-  // True when stderr is a terminal and not quiet.
+  // True when stderr is a terminal and not quiet, on rank 0 of an MPI job (parallel/mpi.hpp).
   static bool default_enabled(bool quiet);
 
   // Counts k more units done.

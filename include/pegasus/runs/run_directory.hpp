@@ -15,8 +15,15 @@
 //   ...; run.save_checkpoint({{"next", i}, {"partial_sums", sums}});
 //   run.write_json("summary.json", summary);
 //   run.commit();
+//
+// Under mpirun (parallel/mpi.hpp) only rank 0 touches DIR: open() runs there and its outcome (or its error) is
+// broadcast, so every rank succeeds or throws alike; on the other ranks the object is a shadow whose writes,
+// checkpoints, commit() and abandon() do nothing, whose load_checkpoint() returns rank 0's checkpoint (a
+// collective: every rank calls it at the same point), and whose path() is a private scratch folder, removed
+// at the end, for code that writes files there directly.
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <memory>
 #include <optional>
 #include <string_view>
 
@@ -51,7 +58,8 @@ class RunDirectory {
   void write_json(const std::filesystem::path& relative, const nlohmann::json& value) const;
   void write_csv(const std::filesystem::path& relative, const CsvWriter& csv) const;
 
-  // checkpoint.json, written atomically; load_checkpoint() is nullopt when no checkpoint was saved.
+  // checkpoint.json, written atomically; load_checkpoint() is nullopt when no checkpoint was saved. Under
+  // mpirun every rank gets rank 0's checkpoint.
   void save_checkpoint(const nlohmann::json& state) const;
   std::optional<nlohmann::json> load_checkpoint() const;
 
@@ -63,10 +71,15 @@ class RunDirectory {
 
  private:
   RunDirectory() = default;
+  static RunDirectory open_here(const std::filesystem::path& dir, const ConfigSchema& config,
+                                RunDirectoryOptions options);
   std::filesystem::path resolve(const std::filesystem::path& relative) const;
+  std::optional<nlohmann::json> load_checkpoint_here() const;
 
   std::filesystem::path final_, staging_;
   bool force_ = false, resumed_ = false, created_ = false, committed_ = false;
+  bool shadow_ = false;                         // a rank other than 0: writes nothing
+  std::shared_ptr<const std::filesystem::path> scratch_;  // a shadow's staging_, removed with the last copy
 };
 
 }  // namespace pegasus

@@ -1,0 +1,120 @@
+#pragma once
+// Distributed evaluation on MPI (Open MPI), hidden behind the evaluators (thesis §5.3: the scenarios of one
+// evaluation run on different computers and the results are aggregated).
+//
+// `mpirun -np N pegasus <command> ...` starts N copies of the same program. Every rank runs the whole command
+// redundantly (the optimizer included) on identical numbers; only the work that dominates, the (theta,
+// scenario) rollouts, is split. Item k of a collective fill belongs to rank k mod N (a fixed ownership that
+// does not depend on timing); each rank computes its items on its own thread pool, an allgather copies every
+// item's double to every rank bit for bit, and every rank then reduces in item order exactly as one process
+// does. So results are bit-identical for any N and any thread count, and resuming with another N is
+// resuming the same computation. Only rank 0 writes the run directory and draws progress bars
+// (runs/run_directory.cpp, runs/progress.cpp); the other ranks' stdout and stderr are silent except for
+// their own failures.
+//
+//   std::vector<double> returns(thetas.size() * m);
+//   mpi::distributed_fill(returns, pool, [&](std::size_t k) { return rollout(k / m, k % m); });
+//   // every rank now holds all returns; sum them in order
+//
+// Collectives must be entered by every rank in the same order. distributed_fill only communicates when
+// called on the main thread outside any ThreadPool::parallel_for body; elsewhere (a worker thread, a nested
+// call) it computes every item locally, which gives the same numbers.
+//
+// Without MPI (PEGASUS_MPI=OFF, or a process not started by mpirun) there is one rank and nothing here
+// communicates; the same code paths run.
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "pegasus/parallel/thread_pool.hpp"
+
+namespace pegasus::mpi {
+
+// True when this build can run on several ranks (configured with PEGASUS_MPI=ON).
+bool compiled_with_mpi();
+
+// Starts MPI when the process was launched by mpirun (or srun), and finalizes it when destroyed. Make one, at
+// the top of main. Without a launcher MPI is not started at all (no singleton start-up cost). A build
+// without MPI started by `mpirun -np N` with N > 1 prints one line on the first rank and exits(2): N
+// independent copies would each run the whole job into the same run directory.
+class Session {
+ public:
+  Session(int* argc, char*** argv);
+  ~Session();
+  Session(const Session&) = delete;
+  Session& operator=(const Session&) = delete;
+};
+
+int rank();
+int size();
+inline bool is_root() { return rank() == 0; }
+
+// The items of n that one rank owns: rank, rank + size, rank + 2 size, ...
+struct Share {
+  int rank = 0;
+  int size = 1;
+  std::size_t count(std::size_t n) const {
+    const auto r = static_cast<std::size_t>(rank), s = static_cast<std::size_t>(size);
+    return n > r ? (n - r + s - 1) / s : 0;
+  }
+  std::size_t item(std::size_t j) const {
+    return static_cast<std::size_t>(rank) + j * static_cast<std::size_t>(size);
+  }
+};
+
+// This rank's share when a collective may run here (more than one rank, the main thread, outside any
+// parallel_for body); otherwise the whole, {0, 1}.
+Share collective_share();
+
+// Collective over all ranks: on entry every rank has filled values[k] for the k of its share; on return every
+// rank holds every value, bit for bit. No-op when share.size == 1.
+void allgather_shares(std::span<double> values, const Share& share);
+
+// out[k] = value(k) for every k, on every rank: each rank computes its share (on `pool` when given), then
+// allgather_shares. value must be deterministic in k.
+template <class Value>
+void distributed_fill(std::span<double> out, ThreadPool* pool, Value&& value) {
+  const Share share = collective_share();
+  const std::size_t owned = share.count(out.size());
+  auto body = [&](std::size_t j) {
+    const std::size_t k = share.item(j);
+    out[k] = value(k);
+  };
+  if (pool) {
+    pool->parallel_for(owned, body);
+  } else {
+    for (std::size_t j = 0; j < owned; ++j) body(j);
+  }
+  allgather_shares(out, share);
+}
+
+// Collective: rank 0's text on every rank (returns `text` itself with one rank).
+std::string broadcast_from_root(const std::string& text);
+
+// Collective: every rank's value, indexed by rank (with one rank: {value}).
+std::vector<int> allgather_int(int value);
+
+// Ends the whole job at once with exit status `code` (MPI_Abort: every rank is stopped). Only meaningful with
+// size() > 1; with one rank it is std::exit(code).
+[[noreturn]] void abort_job(int code);
+
+// The line rank 0 writes to stderr when the job is stopped from outside (another rank died, or mpirun was
+// interrupted): mpirun then sends it SIGTERM. Set by the CLI to name the run directory to resume.
+void set_stop_message(const std::string& line);
+
+// Time and volume of the allgathers of this process, for benchmarks.
+struct CommStats {
+  std::int64_t calls = 0;
+  std::int64_t bytes = 0;         // bytes received per rank (all ranks' doubles)
+  double seconds = 0.0;           // in MPI_Allgatherv (after the barrier when measure_wait is on)
+  double wait_seconds = 0.0;      // in the barrier before it (load imbalance), when measure_wait is on
+};
+CommStats comm_stats();
+void reset_comm_stats();
+// When on, every allgather is preceded by a timed barrier, so that `seconds` is the transfer alone and
+// `wait_seconds` the waiting for the slowest rank. Benchmarks only: the barrier costs a round trip.
+void set_measure_wait(bool on);
+
+}  // namespace pegasus::mpi
