@@ -74,6 +74,8 @@ struct Command {
   std::function<void(RunContext&)> run{};        // does the work; throws on failure
   OutDir out = OutDir::kRequired;
   bool hidden = false;  // not listed by --help (framework self-tests)
+  // Fields that may also be given as positional arguments, in this order (`pegasus report RUN_DIR`).
+  std::vector<std::string> positionals{};
 };
 
 // A word of a nested command path that is not itself a command ("shaping" in "shaping audit").

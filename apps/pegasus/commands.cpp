@@ -122,6 +122,7 @@ std::vector<Command> commands() {
       pomdp_gridworld_command(),
       horizon_command(),
       dev_count_command(),
+      report_command(),
   };
   for (auto& command : bicycle_commands()) all.push_back(std::move(command));
   for (auto& command : heli_commands()) all.push_back(std::move(command));

@@ -9,5 +9,6 @@ std::vector<Command> bicycle_commands();  // bicycle experiment, train, ride, va
 std::vector<Command> heli_commands();     // heli pilot, identify
 Command shaping_audit_command();
 std::vector<Command> shaping_commands();  // shaping audit, gridworld, flags, progress-bonus
+Command report_command();                 // report RUN_DIR (report_command.cpp)
 
 }  // namespace pegasus::cli

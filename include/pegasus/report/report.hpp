@@ -1,0 +1,71 @@
+#pragma once
+// The HTML report of a run directory (the last step of the data flow: run directory -> report).
+//
+// report.html is one self-contained file that works offline: the page skeleton (title, headline figures of
+// summary.json, the resolved config.toml, run.json provenance) is plain HTML; the data of every chart is a
+// JSON block in the page, built from the run's CSV series; and the JavaScript that draws the charts
+// (plotly.js), the 3-D flight replay (three.js) and the page code (web/src/report.js) is inlined from one
+// bundle file, pegasus-report.js, that the build makes with `npm ci` from web/package-lock.json.
+//
+// What a report shows follows from the files present, so new commands get reports by writing the usual
+// files (see report.cpp for the list): progress.csv (optimizer progress), curves.csv (shaping curves with
+// error bands, Figs 3.2-3.3), results.csv (PEGASUS value against m with the best-in-class line, Fig 4.5b),
+// rides.csv / ride_paths.csv (bicycle), mse_vs_horizon.csv and noise_check.csv (Figs 5.2-5.3), flights.csv
+// with pilot_flights.csv (hover traces against the pilot, Figs 5.6-5.7) and ideal_path.csv (3-D replay
+// against the ideal path, Fig 5.10); any other CSV series is drawn against its first column.
+//
+//   const auto bundle = pegasus::report::find_bundle();        // std::runtime_error: not found
+//   pegasus::report::write_report("runs/demo", bundle);        // InputError: not a readable run directory
+#include <cstddef>
+#include <filesystem>
+#include <iosfwd>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <string_view>
+
+namespace pegasus::report {
+
+// The bundle file name, next to the `pegasus` executable in a build directory.
+inline constexpr const char* kBundleName = "pegasus-report.js";
+// The environment variable that names the bundle file explicitly.
+inline constexpr const char* kBundleEnv = "PEGASUS_REPORT_BUNDLE";
+
+struct ReportOptions {
+  // Most rows of one series embedded in the page; longer series keep every k-th row (and the last) so that
+  // a report stays a few MB. The stride is recorded with the series.
+  std::size_t max_points = 4000;
+  // Most flights of flights.csv / pilot_flights.csv drawn (the first ones).
+  std::size_t max_flights = 10;
+};
+
+// Where the JavaScript bundle is, in this order: $PEGASUS_REPORT_BUNDLE; pegasus-report.js next to the
+// running executable (a build directory); ../share/pegasus/pegasus-report.js from the executable's folder
+// (an installed tree: bin/pegasus, share/pegasus/pegasus-report.js). std::runtime_error naming the places
+// looked at when none exists.
+std::filesystem::path find_bundle();
+
+// The data of the report (title, headline figures, sections, charts), as embedded in the page. InputError
+// naming the file (and line) when `run_dir` is not a directory, has no readable summary.json, or holds a
+// malformed CSV series.
+nlohmann::json report_data(const std::filesystem::path& run_dir, const ReportOptions& options = {});
+
+// The whole report.html text; `bundle_js` is the text of pegasus-report.js. Errors as report_data.
+std::string render_report(const std::filesystem::path& run_dir, std::string_view bundle_js,
+                          const ReportOptions& options = {});
+
+// Writes run_dir/report.html atomically (never half-written): everything is read and checked first.
+// Returns the path written. Errors as report_data; a bundle that cannot be read is a std::runtime_error
+// naming it.
+std::filesystem::path write_report(const std::filesystem::path& run_dir, const std::filesystem::path& bundle,
+                                   const ReportOptions& options = {});
+// The same with the bundle of find_bundle(), looked for after the run directory was checked (so bad input
+// is an InputError even where the bundle is missing).
+std::filesystem::path write_report(const std::filesystem::path& run_dir, const ReportOptions& options = {});
+
+// For the end of every run (the command runner calls it before committing the run directory): writes the
+// report like write_report, but a failure costs only the report: one line "pegasus: note: no report.html:
+// ..." on `err`, and false.
+bool write_report_or_note(const std::filesystem::path& run_dir, std::ostream& err,
+                          const ReportOptions& options = {});
+
+}  // namespace pegasus::report
