@@ -8,7 +8,7 @@ NINJA     := $(shell command -v ninja >/dev/null 2>&1 && echo "-G Ninja")
 # The generator is chosen only when a build directory is first configured.
 gen = $(if $(wildcard $(1)/CMakeCache.txt),,$(NINJA))
 
-.PHONY: all deps build demo test test-release test-asan bench figures clean
+.PHONY: all deps build demo test test-release test-asan bench benchmarks-md figures clean
 
 all: build
 
@@ -43,6 +43,10 @@ bench: build
 	@mkdir -p $(BUILD)/bench-results
 	@$(BUILD)/bench/pegasus_bench --benchmark_out=$(BUILD)/bench-results/bench.json --benchmark_out_format=json
 	@echo "bench: results in $(BUILD)/bench-results/bench.json"
+
+# BENCHMARKS.md from the JSON of the last `make bench` (python3 standard library only).
+benchmarks-md:
+	@python3 scripts/benchmarks_md.py $(BUILD)/bench-results/bench.json --out BENCHMARKS.md
 
 # The README's images (docs/images/*.png): runs the shipped experiment configs into runs/figures, writes their
 # reports and photographs the key charts in headless chromium (web/figures.mjs).

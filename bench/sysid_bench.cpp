@@ -106,6 +106,7 @@ void BM_LearnedModelStep(benchmark::State& state) {
     }
     benchmark::DoNotOptimize(s);
   }
+  state.counters["steps_per_s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_LearnedModelStep)->Unit(benchmark::kMicrosecond);
 

@@ -1,0 +1,313 @@
+#!/usr/bin/env python3
+"""Writes BENCHMARKS.md from the JSON of `make bench` (Google Benchmark's --benchmark_out format).
+
+    python3 scripts/benchmarks_md.py [BENCH_JSON] [--mpi MPI_JSON] [--rltools RLTOOLS_JSON] [--out BENCHMARKS.md]
+
+Defaults: build/bench-results/bench.json, build/bench-results/mpi.json, bench/rltools_pendulum_race.json,
+BENCHMARKS.md. Python 3 standard library only.
+
+The optional MPI file (written by the distributed-evaluation benchmark) is either Google Benchmark JSON whose
+benchmark names carry "ranks:N", or {"rows": [{"workload": str, "ranks": int, "threads": int,
+"seconds": float}, ...]}. Missing files and missing benchmarks are reported as "not measured".
+
+The optional RLtools file holds the other side of the Pendulum-v1 race, measured outside the repository:
+{"machine": str, "runs": [{"algorithm": "TD3", "seed": int, "seconds_to_bar": float,
+"cpu_seconds_to_bar": float, "total_seconds": float, "final_mean_return_100": float}, ...]}.
+"""
+import argparse
+import json
+import os
+import re
+import statistics
+import sys
+
+NOT_MEASURED = "not measured"
+
+
+def load(path):
+    if not path or not os.path.exists(path):
+        return None
+    with open(path, encoding="utf-8") as f:
+        return json.load(f)
+
+
+def seconds(b, which="real_time"):
+    scale = {"ns": 1e-9, "us": 1e-6, "ms": 1e-3, "s": 1.0}[b.get("time_unit", "ns")]
+    return b[which] * scale
+
+
+class Results:
+    """The benchmarks of one run, by name; aggregates (mean/median/stddev) are skipped."""
+
+    def __init__(self, data):
+        self.context = data.get("context", {}) if data else {}
+        self.by_name = {}
+        for b in (data or {}).get("benchmarks", []):
+            if b.get("run_type") == "aggregate":
+                continue
+            self.by_name.setdefault(b["name"], b)
+
+    def find(self, pattern):
+        """The first benchmark whose name matches the regular expression, or None."""
+        rx = re.compile(pattern)
+        for name, b in self.by_name.items():
+            if rx.search(name):
+                return b
+        return None
+
+    def find_all(self, pattern):
+        rx = re.compile(pattern)
+        return [b for name, b in self.by_name.items() if rx.search(name)]
+
+
+def fmt_rate(x):
+    if x is None:
+        return NOT_MEASURED
+    for unit, scale in (("G", 1e9), ("M", 1e6), ("k", 1e3)):
+        if x >= scale:
+            return f"{x / scale:.3g} {unit}"
+    return f"{x:.3g}"
+
+
+def fmt_time(s):
+    if s is None:
+        return NOT_MEASURED
+    if s >= 1.0:
+        return f"{s:.3g} s"
+    if s >= 1e-3:
+        return f"{s * 1e3:.3g} ms"
+    if s >= 1e-6:
+        return f"{s * 1e6:.3g} us"
+    return f"{s * 1e9:.3g} ns"
+
+
+def counter(b, name):
+    return None if b is None or name not in b else float(b[name])
+
+
+def steps_table(r):
+    # (environment, benchmark, what one step is). Rates are single-threaded, so per core; Google Benchmark
+    # divides by CPU time unless the benchmark uses real time.
+    rows = [
+        ("Gridworld 50x50 (Sarsa: step + TD update)", r"^BM_Sarsa_Gridworld50x50/", "steps_per_s"),
+        ("Gridworld, POMDP exhaustive search (naive-equivalent steps)", r"^BM_ExhaustiveNaiveLoop/", "naive_steps_per_s"),
+        ("Bicycle (Randlov & Alstrom)", r"^BM_BicycleStep_Fast_1M$", "steps_per_s"),
+        ("Bicycle rollout with the 15-feature policy", r"^BM_BicycleRollout_Policy15_H500$", "steps_per_s"),
+        ("Helicopter, ground-truth aircraft", r"^BM_HeliAircraftStep$", "steps_per_s"),
+        ("Helicopter, learned model (LWR, refits included)", r"^BM_LearnedModelStep$", "steps_per_s"),
+        ("Pendulum-v1 rollout (observe, act, step, reward)", r"^BM_PendulumRollout_SwingUp_H200$", "steps_per_s"),
+    ]
+    out = ["| Environment | Steps per second per core | Benchmark |", "|---|---:|---|"]
+    for label, pattern, key in rows:
+        b = r.find(pattern)
+        out.append(f"| {label} | {fmt_rate(counter(b, key))} | `{b['name'] if b else pattern}` |")
+    return out
+
+
+def one_thread(r, family):
+    """The single-thread instance of a family: '/threads:1', or '/1' as first argument."""
+    for b in r.find_all("^" + re.escape(family) + "/"):
+        rest = b["name"][len(family) + 1:]
+        if rest.startswith("threads:1/") or rest == "threads:1" or rest.startswith("1/") or rest == "1":
+            return b
+    return None
+
+
+def two_threads(r, family):
+    for b in r.find_all("^" + re.escape(family) + "/"):
+        rest = b["name"][len(family) + 1:]
+        if rest.startswith("threads:2/") or rest == "threads:2" or rest.startswith("2/") or rest == "2":
+            return b
+    return None
+
+
+def uhat_table(r):
+    rows = [
+        ("POMDP gridworld (one policy of a batch)", "BM_UhatBatchGridworld", "policies_per_s"),
+        ("Bicycle, m = 30, H = 500", "BM_BicycleUhat_m30_H500", None),
+        ("Helicopter hover", "BM_HeliHoverUhat", None),
+        ("Pendulum-v1, m = 32, H = 200", "BM_PendulumUhat_m32_H200", None),
+    ]
+    out = ["| Training problem | U-hat evaluation time (1 thread) | Benchmark |", "|---|---:|---|"]
+    for label, family, per_s in rows:
+        b = one_thread(r, family)
+        if b is None:
+            value = None
+        elif per_s:
+            value = 1.0 / counter(b, per_s) if counter(b, per_s) else None
+        else:
+            value = seconds(b)
+        out.append(f"| {label} | {fmt_time(value)} | `{b['name'] if b else family}` |")
+    return out
+
+
+def refit_table(r):
+    out = ["| Local regression refit | Time | Points used | Benchmark |", "|---|---:|---:|---|"]
+    for label, name in (
+        ("Fast path (k-d tree), default bandwidth", "BM_LwrRefit_Fast"),
+        ("Exact, default bandwidth", "BM_LwrRefit_Exact"),
+        ("Fast path, narrow bandwidth", "BM_LwrRefit_Fast_Narrow"),
+        ("Exact, narrow bandwidth", "BM_LwrRefit_Exact_Narrow"),
+    ):
+        b = r.find("^" + name + "$")
+        used = counter(b, "points_used")
+        out.append(f"| {label} | {fmt_time(seconds(b, 'cpu_time') if b else None)} | "
+                   f"{f'{used:.0f}' if used is not None else NOT_MEASURED} | `{name}` |")
+    return out
+
+
+def training_table(r):
+    out = ["| Experiment | End-to-end training time | Benchmark |", "|---|---:|---|"]
+    rows = []
+    for b in r.find_all(r"^BM_Train"):
+        value = counter(b, "training_seconds")
+        rows.append((b["name"][len("BM_Train"):].strip("_/"), value if value is not None else seconds(b), b["name"]))
+    race = r.find_all(r"^BM_PendulumRaceToBar/")
+    if race:
+        values = [counter(b, "training_seconds") for b in race if counter(b, "training_seconds") is not None]
+        rows.append(("Pendulum-v1 (`pendulum train`, shipped config, mean over seeds)",
+                     statistics.mean(values) if values else None, "BM_PendulumRaceToBar"))
+    bandwidth = one_thread(r, "BM_BandwidthCrossValidation")
+    if bandwidth:
+        rows.append(("Helicopter identification (bandwidth cross-validation)", seconds(bandwidth), bandwidth["name"]))
+    if not rows:
+        out.append(f"| (none) | {NOT_MEASURED} | |")
+    for label, value, name in rows:
+        out.append(f"| {label} | {fmt_time(value)} | `{name}` |")
+    return out
+
+
+def efficiency_table(r, mpi):
+    out = ["| Workload | 1 | 2 | Speed-up | Parallel efficiency | Benchmark |", "|---|---:|---:|---:|---:|---|"]
+    families = []
+    for b in r.by_name.values():
+        m = re.match(r"^(BM_[^/]+)/(threads:)?2(/|$)", b["name"])
+        if m and m.group(1) not in families:
+            families.append(m.group(1))
+    for family in families:
+        b1, b2 = one_thread(r, family), two_threads(r, family)
+        if not b1 or not b2:
+            continue
+        t1, t2 = seconds(b1), seconds(b2)
+        # Rate benchmarks (policies per second over a fixed batch) time the same work at both counts.
+        out.append(f"| {family} (threads) | {fmt_time(t1)} | {fmt_time(t2)} | {t1 / t2:.2f}x | "
+                   f"{100 * t1 / (2 * t2):.0f}% | `{family}` |")
+    rank_rows = mpi_rows(mpi)
+    if rank_rows is None:
+        out.append(f"| U-hat, 1 vs 2 MPI ranks | {NOT_MEASURED} | {NOT_MEASURED} | | | |")
+    else:
+        for workload, t1, t2 in rank_rows:
+            out.append(f"| {workload} (ranks) | {fmt_time(t1)} | {fmt_time(t2)} | {t1 / t2:.2f}x | "
+                       f"{100 * t1 / (2 * t2):.0f}% | MPI |")
+    return out
+
+
+def mpi_rows(mpi):
+    """[(workload, seconds at 1 rank, seconds at 2 ranks)] from either accepted MPI format, or None."""
+    if not mpi:
+        return None
+    times = {}
+    if "benchmarks" in mpi:
+        for b in mpi["benchmarks"]:
+            if b.get("run_type") == "aggregate":
+                continue
+            m = re.search(r"ranks:(\d+)", b["name"])
+            if m:
+                workload = re.sub(r"/?ranks:\d+", "", b["name"])
+                times.setdefault(workload, {})[int(m.group(1))] = seconds(b)
+    for row in mpi.get("rows", []):
+        label = row["workload"] + (f", {row['threads']} thread(s) per rank" if "threads" in row else "")
+        times.setdefault(label, {})[int(row["ranks"])] = float(row["seconds"])
+    rows = [(w, t[1], t[2]) for w, t in times.items() if 1 in t and 2 in t]
+    return rows or None
+
+
+def race_section(r, rltools):
+    out = []
+    race = r.find_all(r"^BM_PendulumRaceToBar/")
+    if not race:
+        return [f"Pegasus side: {NOT_MEASURED}."]
+    out.append("| Side | Seed | Wall time to bar | CPU time to bar | Whole training | Final mean return (100 starts) |")
+    out.append("|---|---:|---:|---:|---:|---:|")
+    peg_bar = []
+    peg_mean = []
+    for b in race:
+        seed = b["name"].split("seed:")[1].split("/")[0] if "seed:" in b["name"] else "?"
+        peg_bar.append(counter(b, "seconds_to_bar"))
+        peg_mean.append(counter(b, "mean_return_100"))
+        out.append(f"| Pegasus (PEGASUS, hill climbing, 1 thread) | {seed} | {fmt_time(counter(b, 'seconds_to_bar'))} | "
+                   f"{fmt_time(counter(b, 'cpu_seconds_to_bar'))} | {fmt_time(counter(b, 'training_seconds'))} | "
+                   f"{counter(b, 'mean_return_100'):.1f} |")
+    summary = []
+    if rltools:
+        for algorithm in sorted({run["algorithm"] for run in rltools.get("runs", [])}):
+            runs = [run for run in rltools["runs"] if run["algorithm"] == algorithm]
+            for run in runs:
+                bar = run.get("seconds_to_bar")
+                out.append(f"| RLtools {algorithm} | {run['seed']} | {fmt_time(bar) if bar and bar > 0 else 'never'} | "
+                           f"{fmt_time(run.get('cpu_seconds_to_bar')) if bar and bar > 0 else 'never'} | "
+                           f"{fmt_time(run.get('total_seconds'))} | {run['final_mean_return_100']:.1f} |")
+            reached = [run["seconds_to_bar"] for run in runs if run.get("seconds_to_bar", -1) > 0]
+            if reached and peg_bar:
+                ratio = statistics.median(reached) / statistics.median(peg_bar)
+                summary.append(f"RLtools {algorithm}: median {fmt_time(statistics.median(reached))} to the bar "
+                               f"({len(reached)} of {len(runs)} runs reached it), median final mean return "
+                               f"{statistics.median(run['final_mean_return_100'] for run in runs):.1f}; Pegasus: median "
+                               f"{fmt_time(statistics.median(peg_bar))}, median final mean return "
+                               f"{statistics.median(peg_mean):.1f}; ratio of medians {ratio:.0f}x.")
+    else:
+        summary.append(f"RLtools side: {NOT_MEASURED} (no {{'runs': ...}} file).")
+    return out + [""] + summary
+
+
+def header(r, bench_path):
+    c = r.context
+    load = c.get("load_avg")
+    load_text = ", ".join(f"{x:.2f}" for x in load) if load else "unknown"
+    return [
+        "# Benchmarks",
+        "",
+        "Generated by `scripts/benchmarks_md.py` from the JSON of `make bench` "
+        f"(`{bench_path}`); regenerate with `make benchmarks-md`. Do not edit by hand.",
+        "",
+        f"- Run: {c.get('date', 'unknown date')} on host `{c.get('host_name', '?')}`, {c.get('num_cpus', '?')} CPUs "
+        f"at {c.get('mhz_per_cpu', '?')} MHz, Google Benchmark library build: {c.get('library_build_type', '?')}.",
+        f"- Load average at the start (1, 5, 15 min): {load_text}. The machine is shared: wall times and "
+        "thread/rank efficiencies are noisy when the load exceeds the core count; rates are per CPU second "
+        "(robust to load) unless the benchmark name ends in `real_time`.",
+    ]
+
+
+def main(argv):
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("bench", nargs="?", default="build/bench-results/bench.json")
+    p.add_argument("--mpi", default="build/bench-results/mpi.json")
+    p.add_argument("--rltools", default="bench/rltools_pendulum_race.json")
+    p.add_argument("--out", default="BENCHMARKS.md")
+    a = p.parse_args(argv)
+    data = load(a.bench)
+    if data is None:
+        print(f"benchmarks_md: {a.bench}: no such file (run `make bench` first)", file=sys.stderr)
+        return 2
+    r = Results(data)
+    lines = header(r, a.bench)
+    lines += ["", "## Simulation speed", ""] + steps_table(r)
+    lines += ["", "## U-hat evaluation time per training problem", ""] + uhat_table(r)
+    lines += ["", "## Local-regression refit (helicopter model)", ""] + refit_table(r)
+    lines += ["", "## End-to-end training", ""] + training_table(r)
+    lines += ["", "## Parallel efficiency, 1 vs 2 threads and 1 vs 2 ranks", "",
+              "Efficiency = T(1) / (2 T(2)) on the same work; 100% is perfect scaling on 2 cores."]
+    lines += [""] + efficiency_table(r, load(a.mpi))
+    lines += ["", "## Pendulum-v1 race against RLtools", "",
+              "Wall time until the mean return over 100 fresh starts is >= -200, and the final policy's mean "
+              "return (Gymnasium's Pendulum-v1, 200-step episodes). RLtools (TD3 and SAC examples, OpenBLAS, "
+              "one BLAS thread) was built outside the repository and run in the same session."]
+    lines += [""] + race_section(r, load(a.rltools))
+    with open(a.out, "w", encoding="utf-8") as f:
+        f.write("\n".join(lines) + "\n")
+    print(f"benchmarks_md: wrote {a.out}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
