@@ -3,6 +3,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "support/input_error.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -151,6 +153,79 @@ TEST(Solvers, EvaluatesStochasticPoliciesExactly) {
   // Q from V: Q(0, 1) = 0 + 0.9 * 20.
   const auto q = q_from_values(m, v);
   EXPECT_NEAR(q[m.row(0, 1)], 18.0, 1e-12);
+}
+
+// The same MDP with state s renamed perm[s].
+FiniteMdp renumbered(const FiniteMdp& m, const std::vector<int>& perm) {
+  FiniteMdpBuilder b(m.num_states, m.num_actions, m.gamma);
+  for (int s = 0; s < m.num_states; ++s) {
+    const int t = perm[static_cast<std::size_t>(s)];
+    b.set_initial(t, m.initial[static_cast<std::size_t>(s)]);
+    if (m.is_absorbing(s)) {
+      b.set_absorbing(t);
+      continue;
+    }
+    for (int a = 0; a < m.num_actions; ++a)
+      for (std::uint32_t k = m.row_start[m.row(s, a)]; k < m.row_start[m.row(s, a) + 1]; ++k)
+        b.add_transition(t, a, perm[static_cast<std::size_t>(m.next_state[k])], m.probability[k], m.reward[k]);
+  }
+  return b.build();
+}
+
+// Exact evaluation picks a band LU for a gridworld numbered row by row and a sparse LU for the same
+// gridworld with its states shuffled (bandwidth ~ n): both must solve V = R_pi + gamma P_pi V.
+TEST(Solvers, BandAndSparseExactEvaluationAgree) {
+  for (const double gamma : {1.0, 0.95}) {
+    const FiniteMdp m = to_finite_mdp(corner_gridworld(30), gamma);
+    std::vector<int> perm(static_cast<std::size_t>(m.num_states));
+    for (std::size_t s = 0; s < perm.size(); ++s) perm[s] = static_cast<int>(s);
+    UniformStream rng(5, 0);
+    for (std::size_t i = perm.size() - 1; i > 0; --i) std::swap(perm[i], perm[rng.next_below(i + 1)]);
+    const FiniteMdp shuffled = renumbered(m, perm);
+    // A stochastic policy: 0.7 on one action, 0.1 on the others.
+    StochasticPolicy pi{m.num_states, 4, std::vector<double>(m.num_rows(), 0.1)};
+    for (int s = 0; s < m.num_states; ++s) pi.probs[m.row(s, s % 4)] = 0.7;
+    StochasticPolicy pi_shuffled{m.num_states, 4, std::vector<double>(m.num_rows())};
+    for (int s = 0; s < m.num_states; ++s)
+      for (int a = 0; a < 4; ++a) pi_shuffled.probs[m.row(perm[static_cast<std::size_t>(s)], a)] = pi.probs[m.row(s, a)];
+    const auto v = evaluate_policy(m, pi), w = evaluate_policy(shuffled, pi_shuffled);
+    double scale = 0.0, residual = 0.0, disagreement = 0.0;
+    const auto q = q_from_values(m, v);
+    for (int s = 0; s < m.num_states; ++s) {
+      double backup = 0.0;
+      for (int a = 0; a < 4; ++a) backup += pi.probs[m.row(s, a)] * q[m.row(s, a)];
+      if (m.is_absorbing(s)) backup = 0.0;
+      scale = std::max(scale, std::abs(v[static_cast<std::size_t>(s)]));
+      residual = std::max(residual, std::abs(backup - v[static_cast<std::size_t>(s)]));
+      disagreement = std::max(disagreement, std::abs(v[static_cast<std::size_t>(s)] - w[static_cast<std::size_t>(perm[static_cast<std::size_t>(s)])]));
+    }
+    EXPECT_GT(scale, 10.0) << gamma;
+    EXPECT_LT(residual, 1e-12 * scale) << gamma;
+    EXPECT_LT(disagreement, 1e-12 * scale) << gamma;
+  }
+}
+
+TEST(Solvers, ExactEvaluationRejectsAnImproperPolicy) {
+  // A corridor 0 - 1 - ... - n-1 (absorbing): action 0 moves right, action 1 stays. With gamma = 1,
+  // staying in state 4 forever makes I - P_pi singular. (The builder refuses such an MDP with gamma = 1,
+  // so gamma is set afterwards, as a hand-made FiniteMdp could have it.) n = 3 takes the dense LU, n = 12
+  // the band LU.
+  for (const int n : {3, 12}) {
+    FiniteMdpBuilder b(n, 2, 0.5);
+    b.set_absorbing(n - 1);
+    for (int s = 0; s + 1 < n; ++s) {
+      b.add_transition(s, 0, s + 1, 1.0, -1.0);
+      b.add_transition(s, 1, s, 1.0, -1.0);
+    }
+    FiniteMdp m = b.build();
+    m.gamma = 1.0;
+    std::vector<int> policy(static_cast<std::size_t>(n), 0);
+    EXPECT_NEAR(evaluate_policy(m, policy)[0], -(n - 1.0), 1e-12);
+    policy[static_cast<std::size_t>(n / 3)] = 1;
+    EXPECT_THAT(test_support::input_error_message([&] { evaluate_policy(m, policy); }),
+                ::testing::HasSubstr("singular"))
+        << n;
+  }
 }
 
 TEST(Solvers, GridworldOptimalValueIsCloseToTheThesisDistanceEstimate) {
