@@ -1,6 +1,8 @@
 // The bicycle simulator (thesis §4.6): steps per second on one core.
 //   BM_BicycleStep_Fast_1M            Bicycle::step, 1e6 consecutive steps under a fixed linear controller
 //   BM_BicycleStep_Reference_1M       the plain transcription of bike.c kept in tests/bicycle, same workload
+//   BM_BicycleStep_ScenarioNoise_1M   Bicycle::step as PEGASUS uses it: p drawn from a scenario set (the
+//                                     counter-based generator, ScenarioSet::step_noise) before every step
 //   BM_BicycleRollout_Policy15_H500   scenario_return: the 15-feature sigmoid policy, counter-based noise,
 //                                     shaping, 500 steps; one scenario per iteration
 //   BM_BicycleUhat_m30_H500/threads   one PEGASUS U-hat (30 scenarios x 500 steps) on 1 or 2 threads
@@ -59,6 +61,32 @@ void BM_BicycleStep_Reference_1M(benchmark::State& state) {
   });
 }
 BENCHMARK(BM_BicycleStep_Reference_1M)->Unit(benchmark::kMillisecond);
+
+// The same stepping with each step's p drawn from the scenario set (one counter-based draw per step, as
+// scenario_return does), so the figure includes the noise draw of the deterministic simulative model.
+void BM_BicycleStep_ScenarioNoise_1M(benchmark::State& state) {
+  const Bicycle bike;
+  const std::array<double, 5> p0 = {0.7, 0.4, 0.6, 0.5, 0.3};
+  const BicycleState start = bike.initial_state(p0);
+  constexpr int kHorizon = 1000;
+  const ScenarioSet scenarios({.seed = 3, .count = kSteps / kHorizon, .horizon = kHorizon, .noise_dim = 1, .initial_noise_dim = 5});
+  std::uint64_t steps = 0;
+  for (auto _ : state) {
+    BicycleState s = start;
+    double p = 0.0;
+    for (int i = 0; i < scenarios.size(); ++i) {
+      for (int t = 0; t < kHorizon; ++t) {
+        scenarios.step_noise(i, t, std::span<double>(&p, 1));
+        s = bike.step(s, {control(s), 0.0}, std::span<const double>(&p, 1));
+        if (bike.terminal(s)) s = start;
+      }
+    }
+    benchmark::DoNotOptimize(s);
+    steps += kSteps;
+  }
+  state.counters["steps_per_s"] = benchmark::Counter(static_cast<double>(steps), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_BicycleStep_ScenarioNoise_1M)->Unit(benchmark::kMillisecond);
 
 void BM_BicycleRollout_Policy15_H500(benchmark::State& state) {
   const Bicycle bike(BicycleTrainingOptions::default_bicycle());

@@ -43,6 +43,8 @@ bool BicycleOptions::IsValid(std::string* error) const {
 Bicycle::Bicycle(const BicycleOptions& options) : options_(options) {
   std::string error;
   if (!options_.IsValid(&error)) throw InputError("bicycle: " + error);
+  goal_cos_ = std::cos(options_.goal.direction);
+  goal_sin_ = std::sin(options_.goal.direction);
 }
 
 ActionSpace Bicycle::action_space() const {

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "bicycle_reference.hpp"
@@ -106,6 +107,76 @@ TEST(BicycleDynamics, FastRolloutMatchesTheReference) {
     ASSERT_EQ(fast.status, BicycleState::kRiding) << t;
   }
   expect_state_near(fast, slow, 1e-9, "after 2000 steps");
+}
+
+// A long ride: 36000 steps (6 minutes, a kilometre) of the 15-feature policy class (the balancing weights)
+// stepped by both. Rounding differences of 1e-16 per step are carried along by the dynamics, so the bound
+// after a kilometre is looser than a single step's 1e-12: angles and rates 1e-10, positions 1e-7 m (the
+// heading error integrated over the path).
+TEST(BicycleDynamics, LongRideMatchesTheReference) {
+  BicycleOptions options;
+  options.goal = BicycleGoal::circle(5000.0, 0.0, 10.0);  // never reached: the whole ride is compared
+  const Bicycle bike(options);
+  const BicyclePolicy policy = make_bicycle_policy();
+  const Theta theta = bicycle_balancing_theta();
+  for (int k = 0; k < 2; ++k) {
+    UniformStream noise(21 + k, 0);
+    std::array<double, 5> p0;
+    for (double& p : p0) p = noise.next();
+    BicycleState fast = bike.initial_state(p0), slow = fast;
+    for (int t = 0; t < 36000; ++t) {
+      const double p = noise.next();
+      const auto a = policy.act(theta, bike.observe(fast)), b = policy.act(theta, bike.observe(slow));
+      fast = bike.step(fast, a, std::span<const double>(&p, 1));
+      slow = bicycle_reference::step(bike, slow, b[0], b[1], p);
+      ASSERT_EQ(fast.status, BicycleState::kRiding) << t;
+      ASSERT_EQ(slow.status, BicycleState::kRiding) << t;
+    }
+    EXPECT_NEAR(fast.omega, slow.omega, 1e-10);
+    EXPECT_NEAR(fast.omega_dot, slow.omega_dot, 1e-10);
+    EXPECT_NEAR(fast.theta, slow.theta, 1e-10);
+    EXPECT_NEAR(fast.theta_dot, slow.theta_dot, 1e-10);
+    EXPECT_NEAR(fast.psi, slow.psi, 1e-10);
+    EXPECT_NEAR(fast.xf, slow.xf, 1e-7);
+    EXPECT_NEAR(fast.yf, slow.yf, 1e-7);
+    EXPECT_NEAR(fast.xb, slow.xb, 1e-7);
+    EXPECT_NEAR(fast.yb, slow.yb, 1e-7);
+    EXPECT_GT(std::hypot(fast.xf, fast.yf), 100.0);  // it did ride somewhere
+  }
+}
+
+// The inlined replacements of library functions in the fast step agree with the library to a few units in
+// the last place over the ranges the step uses them on, and fall back to it outside.
+TEST(BicycleDynamics, InlinedFunctionsMatchTheLibrary) {
+  using namespace bicycle_detail;
+  UniformStream rng(17, 0);
+  for (int k = 0; k < 20000; ++k) {
+    const double u = 2.0 * rng.next() - 1.0;
+    const double wide = std::ldexp(u, static_cast<int>(60 * rng.next()) - 30);  // 1e-9 .. 1e9
+    ASSERT_NEAR(atan_rational(wide), std::atan(wide), 2.3e-16 * std::max(1.0, std::abs(std::atan(wide)))) << wide;
+    ASSERT_EQ(atan_rational(-wide), -atan_rational(wide));
+    double s, c;
+    handlebar_sincos(1.4 * u, s, c);
+    ASSERT_NEAR(s, std::sin(1.4 * u), 4e-16) << 1.4 * u;
+    ASSERT_NEAR(c, std::cos(1.4 * u), 4e-16) << 1.4 * u;
+    small_sincos(0.3 * u, s, c);
+    ASSERT_NEAR(s, std::sin(0.3 * u), 2e-16) << 0.3 * u;
+    ASSERT_NEAR(c, std::cos(0.3 * u), 2e-16) << 0.3 * u;
+    const double beyond = std::copysign(0.31 + 2.5 * std::abs(u), u);  // beyond the series: the library
+    small_sincos(beyond, s, c);
+    ASSERT_EQ(s, std::sin(beyond));
+    ASSERT_NEAR(angle_sin(std::numbers::pi * u), std::sin(std::numbers::pi * u), 4e-16) << std::numbers::pi * u;
+    ASSERT_NEAR(small_atan(0.05 * u), std::atan(0.05 * u), 1e-17);
+    const double angle = 20.0 * u;
+    const double wrapped = wrap_angle(angle);
+    ASSERT_GT(wrapped, -std::numbers::pi);
+    ASSERT_LE(wrapped, std::numbers::pi);
+    ASSERT_NEAR(std::remainder(angle - wrapped, 2.0 * std::numbers::pi), 0.0, 1e-14) << angle;
+  }
+  EXPECT_EQ(atan_rational(0.0), 0.0);
+  EXPECT_EQ(atan_rational(std::numeric_limits<double>::infinity()), std::numbers::pi / 2);
+  EXPECT_EQ(wrap_angle(-std::numbers::pi), std::numbers::pi);
+  EXPECT_EQ(wrap_angle(3.0 * std::numbers::pi), std::numbers::pi);
 }
 
 // Negating T, d and the noise mirrors the motion in the y axis: x -> -x, and every angle changes sign.

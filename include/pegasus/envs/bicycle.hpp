@@ -129,36 +129,74 @@ struct BicycleOptions {
 
 namespace bicycle_detail {
 inline double sgn(double x) { return static_cast<double>((x > 0.0) - (x < 0.0)); }
-// Wraps an angle into (-pi, pi].
+// Wraps an angle into (-pi, pi]: one addition of 2 pi for the angles the bicycle produces (within 3 pi of
+// the range), std::remainder beyond.
 inline double wrap_angle(double a) {
-  constexpr double two_pi = 2.0 * std::numbers::pi;
-  if (a > std::numbers::pi || a <= -std::numbers::pi) {
-    a = std::remainder(a, two_pi);
-    if (a <= -std::numbers::pi) a += two_pi;
+  constexpr double pi = std::numbers::pi, two_pi = 2.0 * std::numbers::pi;
+  if (a > pi) {
+    a = a <= 3.0 * pi ? a - two_pi : std::remainder(a, two_pi);
+  } else if (a <= -pi) {
+    a = a > -3.0 * pi ? a + two_pi : std::remainder(a, two_pi);
   }
+  if (a <= -pi) a += two_pi;  // the remainder's -pi, or rounding at the edge
   return a;
 }
-// sin and cos of the arc corrections, |x| <= asin(0.036): Taylor series whose first omitted term is below
-// 1e-17 relative; std::sin and std::cos beyond.
-inline void tiny_sincos(double x, double& sin_x, double& cos_x) {
-  if (std::abs(x) > 0.04) {
+// sin(x) for x in [-pi, pi] (angles wrapped by wrap_angle): reflected into [-pi/2, pi/2] and a Taylor series
+// to x^21 (first omitted term below 2e-18; the reflection's rounding of pi is 1.2e-16). std::sin beyond.
+inline double angle_sin(double x) {
+  constexpr double pi = std::numbers::pi;
+  if (!(std::abs(x) <= pi)) return std::sin(x);
+  if (x > pi / 2) x = pi - x;
+  if (x < -pi / 2) x = -pi - x;
+  constexpr double f3 = 1.0 / 6, f5 = 1.0 / 120, f7 = 1.0 / 5040, f9 = 1.0 / 362880, f11 = 1.0 / 39916800,
+                   f13 = 1.0 / 6227020800.0, f15 = 1.0 / 1307674368000.0, f17 = 1.0 / 355687428096000.0,
+                   f19 = 1.0 / 121645100408832000.0, f21 = 1.0 / 51090942171709440000.0;
+  const double x2 = x * x;
+  return x * (1.0 - x2 * (f3 - x2 * (f5 - x2 * (f7 - x2 * (f9 - x2 * (f11 - x2 * (f13 - x2 * (f15 -
+              x2 * (f17 - x2 * (f19 - x2 * f21))))))))));
+}
+// sin and cos of a small angle, |x| <= 0.3 (the tilt of the centre of mass, |phi| < pi/15 + atan(0.04/h) while
+// riding): Taylor series to x^13 and x^12, whose first omitted terms are below 1e-19; std::sin and std::cos
+// beyond.
+inline void small_sincos(double x, double& sin_x, double& cos_x) {
+  if (!(std::abs(x) <= 0.3)) {
     sin_x = std::sin(x);
     cos_x = std::cos(x);
     return;
   }
   const double x2 = x * x;
-  sin_x = x * (1.0 - x2 * (1.0 / 6 - x2 * (1.0 / 120 - x2 * (1.0 / 5040))));
-  cos_x = 1.0 - x2 * (0.5 - x2 * (1.0 / 24 - x2 * (1.0 / 720 - x2 * (1.0 / 40320))));
+  sin_x = x * (1.0 - x2 * (1.0 / 6 - x2 * (1.0 / 120 - x2 * (1.0 / 5040 - x2 * (1.0 / 362880 -
+                   x2 * (1.0 / 39916800 - x2 * (1.0 / 6227020800.0)))))));
+  cos_x = 1.0 - x2 * (0.5 - x2 * (1.0 / 24 - x2 * (1.0 / 720 - x2 * (1.0 / 40320 - x2 * (1.0 / 3628800 -
+                   x2 * (1.0 / 479001600))))));
 }
-// bike.c's half-step arc correction: asin(x) for x <= 1, pi/2 beyond (v dt / (2 r) never exceeds 0.036).
-// x is v dt / (2 r) >= 0, at most 0.036 at bike.c's speed: there the odd Taylor series of asin, cut after x^9,
-// is exact to 2e-16, and saves a library call per tyre.
-inline double arc_correction(double x) {
-  if (x < 0.05) {
-    const double x2 = x * x;
-    return x * (1.0 + x2 * (1.0 / 6 + x2 * (3.0 / 40 + x2 * (5.0 / 112 + x2 * (35.0 / 1152)))));
+// sin and cos of the handlebar angle, |x| <= 1.4 (the clip is 1.3963): Taylor series to x^19 and x^20, whose
+// first omitted terms are below 3e-17 (the series' own rounding is a few units in the last place); std::sin
+// and std::cos beyond. Branch-free inside the range and a fraction of a library call's instructions.
+inline void handlebar_sincos(double x, double& sin_x, double& cos_x) {
+  if (!(std::abs(x) <= 1.4)) {
+    sin_x = std::sin(x);
+    cos_x = std::cos(x);
+    return;
   }
-  return x > 1.0 ? std::numbers::pi / 2 : std::asin(x);
+  // 1/k! for k = 2 .. 20.
+  constexpr double f2 = 1.0 / 2, f3 = 1.0 / 6, f4 = 1.0 / 24, f5 = 1.0 / 120, f6 = 1.0 / 720, f7 = 1.0 / 5040,
+                   f8 = 1.0 / 40320, f9 = 1.0 / 362880, f10 = 1.0 / 3628800, f11 = 1.0 / 39916800,
+                   f12 = 1.0 / 479001600, f13 = 1.0 / 6227020800.0, f14 = 1.0 / 87178291200.0,
+                   f15 = 1.0 / 1307674368000.0, f16 = 1.0 / 20922789888000.0, f17 = 1.0 / 355687428096000.0,
+                   f18 = 1.0 / 6402373705728000.0, f19 = 1.0 / 121645100408832000.0,
+                   f20 = 1.0 / 2432902008176640000.0;
+  const double x2 = x * x;
+  sin_x = x * (1.0 - x2 * (f3 - x2 * (f5 - x2 * (f7 - x2 * (f9 - x2 * (f11 - x2 * (f13 - x2 * (f15 -
+                   x2 * (f17 - x2 * f19)))))))));
+  cos_x = 1.0 - x2 * (f2 - x2 * (f4 - x2 * (f6 - x2 * (f8 - x2 * (f10 - x2 * (f12 - x2 * (f14 - x2 * (f16 -
+                   x2 * (f18 - x2 * f20)))))))));
+}
+// bike.c's half-step arc correction turns a tyre by sgn * asin(x), x = v dt / (2 r) >= 0 (pi/2 when x > 1):
+// its sine and cosine are sgn * min(x, 1) and sqrt(1 - sin^2), no inverse sine needed.
+inline void arc_turn(double sign, double x, double& sin_turn, double& cos_turn) {
+  sin_turn = sign * std::min(x, 1.0);
+  cos_turn = std::sqrt(1.0 - sin_turn * sin_turn);
 }
 // atan(x) for the lean of the centre of mass, |x| = |d| / h <= 0.043: the series cut after x^11 is exact to
 // 1e-17 for |x| < 0.05; larger arguments (a wider noise option) take the library call.
@@ -169,12 +207,36 @@ inline double small_atan(double x) {
   }
   return std::atan(x);
 }
+// atan(x) for any x to within one unit in the last place (Moshier's Cephes atan: reduction to |u| <= 0.66 by
+// atan(x) = pi/4 + atan((x - 1) / (x + 1)) or pi/2 - atan(1/x), then a degree 4/5 rational function of u^2);
+// inlined, about a third of the library call's instructions. Odd: atan(-x) = -atan(x) exactly.
+inline double atan_rational(double x) {
+  constexpr double P0 = -8.750608600031904122785e-1, P1 = -1.615753718733365076637e1,
+                   P2 = -7.500855792314704667340e1, P3 = -1.228866684490136173410e2,
+                   P4 = -6.485021904942025371773e1;
+  constexpr double Q0 = 2.485846490142306297962e1, Q1 = 1.650270098316988542046e2, Q2 = 4.328810604912902668951e2,
+                   Q3 = 4.853903996359136964868e2, Q4 = 1.945506571482613964425e2;
+  constexpr double more_bits = 6.123233995736765886130e-17;  // pi/2 - double(pi/2)
+  const double a = std::abs(x);
+  double base, u, extra;
+  if (a > 2.41421356237309504880) {  // tan(3 pi / 8)
+    base = std::numbers::pi / 2, u = -1.0 / a, extra = more_bits;
+  } else if (a <= 0.66) {
+    base = 0.0, u = a, extra = 0.0;
+  } else {
+    base = std::numbers::pi / 4, u = (a - 1.0) / (a + 1.0), extra = 0.5 * more_bits;
+  }
+  const double z = u * u;
+  const double p = (((P0 * z + P1) * z + P2) * z + P3) * z + P4;
+  const double q = ((((z + Q0) * z + Q1) * z + Q2) * z + Q3) * z + Q4;
+  return std::copysign(base + ((u * (z * p / q) + u) + extra), x);
+}
 // Heading psi from the tyre positions, as bike.c computes it.
 inline double heading(double xf, double yf, double xb, double yb) {
   const double dy = yf - yb;
   if (xf == xb && dy < 0.0) return std::numbers::pi;
-  if (dy > 0.0) return std::atan((xb - xf) / dy);
-  return sgn(xb - xf) * (std::numbers::pi / 2) - std::atan(dy / (xb - xf));
+  if (dy > 0.0) return atan_rational((xb - xf) / dy);
+  return sgn(xb - xf) * (std::numbers::pi / 2) - atan_rational(dy / (xb - xf));
 }
 }  // namespace bicycle_detail
 
@@ -200,11 +262,12 @@ class Bicycle {
   State initial_state(std::span<const double> p0) const;
 
   // One step of bike.c (see the header comment). Pure; allocates nothing. Written for speed: the same
-  // equations as bike.c with trigonometric identities where they save a library call: the frame direction
-  // (-sin psi, cos psi) read from the tyre positions psi is computed from, tan from sin and cos, sin and cos
-  // of theta carried to the next step, the sums of angles by the addition formulas, short Taylor series
-  // for the sines of the tiny arc corrections. The plain
-  // transcription of bike.c is kept in tests/bicycle as the reference this must match.
+  // equations as bike.c with identities where they save a library call: the frame direction (-sin psi,
+  // cos psi) read from the tyre positions psi is computed from, tan from sin and cos, sin and cos of theta
+  // carried to the next step, the sums of angles by the addition formulas, sin(asin x) = x and
+  // cos(asin x) = sqrt(1 - x^2) for the arc corrections, and Taylor series (exact to below 1e-16) for the
+  // sines and cosines of the bounded angles phi and theta. The plain transcription of bike.c is kept in
+  // tests/bicycle as the reference this must match.
   State step(const State& s, const Action& a, std::span<const double> p) const {
     using namespace bicycle_detail;
     const double T = std::clamp(a[0], -K::max_torque, K::max_torque);
@@ -214,10 +277,7 @@ class Bicycle {
     double inv_rf = 1.0 / K::straight_radius, inv_rb = inv_rf, inv_rcm = inv_rf;
     if (s.theta != 0.0) {
       double sin_t = s.sin_theta, cos_t = s.cos_theta;
-      if (s.trig_of != s.theta) {
-        sin_t = std::sin(s.theta);
-        cos_t = std::cos(s.theta);
-      }
+      if (s.trig_of != s.theta) handlebar_sincos(s.theta, sin_t, cos_t);
       const double tan_t = std::abs(sin_t / cos_t);
       inv_rf = std::abs(sin_t) * (1.0 / K::l);
       inv_rb = tan_t * (1.0 / K::l);
@@ -226,7 +286,8 @@ class Bicycle {
 
     // 2. Accelerations.
     const double phi = s.omega + small_atan(d * (1.0 / K::h));
-    const double sin_phi = std::sin(phi), cos_phi = std::cos(phi);
+    double sin_phi, cos_phi;
+    small_sincos(phi, sin_phi, cos_phi);
     const double omega_dd =
         (K::h * K::M * K::g * sin_phi -
          cos_phi * (K::I_dc * K::sigma_dot * s.theta_dot +
@@ -248,25 +309,24 @@ class Bicycle {
     const double inv_len = 1.0 / std::sqrt(fx * fx + fy * fy);
     const double sin_psi = -fx * inv_len, cos_psi = fy * inv_len;
     // Front: angle psi + theta + turn, turn = sgn(psi + theta) asin(v dt / (2 r_f)).
-    n.sin_theta = std::sin(n.theta);
-    n.cos_theta = std::cos(n.theta);
+    handlebar_sincos(n.theta, n.sin_theta, n.cos_theta);
     n.trig_of = n.theta;
-    const double front_turn = sgn(s.psi + n.theta) * arc_correction(step_length * 0.5 * inv_rf);
     double sin_turn, cos_turn;
-    tiny_sincos(front_turn, sin_turn, cos_turn);
+    arc_turn(sgn(s.psi + n.theta), step_length * 0.5 * inv_rf, sin_turn, cos_turn);
     const double sin_f = n.sin_theta * cos_turn + n.cos_theta * sin_turn;  // of theta + turn
     const double cos_f = n.cos_theta * cos_turn - n.sin_theta * sin_turn;
     n.xf = s.xf - step_length * (sin_psi * cos_f + cos_psi * sin_f);
     n.yf = s.yf + step_length * (cos_psi * cos_f - sin_psi * sin_f);
     // Back: angle psi + turn, turn = sgn(psi) asin(v dt / (2 r_b)).
-    const double back_turn = sgn(s.psi) * arc_correction(step_length * 0.5 * inv_rb);
-    tiny_sincos(back_turn, sin_turn, cos_turn);
+    arc_turn(sgn(s.psi), step_length * 0.5 * inv_rb, sin_turn, cos_turn);
     n.xb = s.xb - step_length * (sin_psi * cos_turn + cos_psi * sin_turn);
     n.yb = s.yb + step_length * (cos_psi * cos_turn - sin_psi * sin_turn);
 
-    // 5. Wheelbase kept at l.
-    const double length = std::sqrt((n.xf - n.xb) * (n.xf - n.xb) + (n.yf - n.yb) * (n.yf - n.yb));
-    if (std::abs(length - K::l) > 0.01) {
+    // 5. Wheelbase kept at l (the squared length is compared, the square root only taken to correct it).
+    const double ex = n.xf - n.xb, ey = n.yf - n.yb, length2 = ex * ex + ey * ey;
+    constexpr double lo2 = (K::l - 0.01) * (K::l - 0.01), hi2 = (K::l + 0.01) * (K::l + 0.01);
+    if (length2 < lo2 || length2 > hi2) {
+      const double length = std::sqrt(length2);
       n.xb += (n.xb - n.xf) * (K::l - length) / length;
       n.yb += (n.yb - n.yf) * (K::l - length) / length;
     }
@@ -304,8 +364,7 @@ class Bicycle {
   // distance from the front tyre to the goal's centre, or, for a goal at infinity, the front tyre's
   // coordinate along the goal's direction (the same thing up to a constant, infinitely far away).
   double progress(const State& s) const {
-    if (options_.goal.at_infinity)
-      return s.xf * std::cos(options_.goal.direction) + s.yf * std::sin(options_.goal.direction);
+    if (options_.goal.at_infinity) return s.xf * goal_cos_ + s.yf * goal_sin_;
     return -std::hypot(s.xf - options_.goal.x, s.yf - options_.goal.y);
   }
 
@@ -317,6 +376,7 @@ class Bicycle {
   }
 
   BicycleOptions options_;
+  double goal_cos_ = 1.0, goal_sin_ = 0.0;  // of options_.goal.direction
 };
 
 // The shaping potential Phi(s) = per_metre * progress(s) (§3, Eq 3.1): with ShapedModel the bicycle earns

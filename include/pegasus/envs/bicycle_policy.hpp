@@ -52,7 +52,7 @@ struct BicycleFeatures {
     const double g = o.goal_angle / std::numbers::pi;
     x[12] = g;
     x[13] = g * std::abs(g);
-    x[14] = std::sin(o.goal_angle);
+    x[14] = bicycle_detail::angle_sin(o.goal_angle);
   }
   // "omega", "omega_sq", "omega_cube", "omega_dot", ..., "goal", "goal_sq", "goal_sin".
   static std::vector<std::string> names();
