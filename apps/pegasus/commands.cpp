@@ -112,6 +112,7 @@ std::vector<CommandGroup> command_groups() {
   return {
       {.path = "dev", .description = "Framework self-tests", .hidden = true},
       {.path = "bicycle", .description = "Randlov and Alstrom's bicycle ridden to a goal by PEGASUS (thesis 4.6)"},
+      {.path = "pendulum", .description = "Gymnasium's Pendulum-v1 swung up by PEGASUS (the race against RLtools)"},
       {.path = "heli", .description = "Autonomous helicopter (thesis ch. 5): ground-truth aircraft, pilot logs, system identification"},
       {.path = "shaping", .description = "Reward shaping (thesis ch. 3): the shaping audit and the 3.4 experiments"},
   };
@@ -126,6 +127,7 @@ std::vector<Command> commands() {
   };
   for (auto& command : bicycle_commands()) all.push_back(std::move(command));
   for (auto& command : heli_commands()) all.push_back(std::move(command));
+  for (auto& command : pendulum_commands()) all.push_back(std::move(command));
   for (auto& command : shaping_commands()) all.push_back(std::move(command));
   return all;
 }

@@ -1,0 +1,213 @@
+#include "pegasus/experiments/pendulum_experiment.hpp"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <ctime>
+#include <cmath>
+#include <limits>
+#include <memory>
+
+#include "pegasus/core/error.hpp"
+#include "pegasus/evaluators/monte_carlo.hpp"
+#include "pegasus/evaluators/pegasus_evaluator.hpp"
+
+namespace pegasus {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+bool fail(std::string* error, std::string message) {
+  if (error) *error = std::move(message);
+  return false;
+}
+
+std::shared_ptr<ThreadPool> borrow_pool(ThreadPool* pool, int threads) {
+  if (pool) return std::shared_ptr<ThreadPool>(std::shared_ptr<ThreadPool>(), pool);  // non-owning
+  return std::make_shared<ThreadPool>(threads);
+}
+
+using Evaluator = PegasusEvaluator<Pendulum, PendulumSwingUpPolicy>;
+
+Evaluator episodes_evaluator(int episodes, int horizon, std::uint64_t seed, ScenarioVariant variant) {
+  return Evaluator(Pendulum{}, PendulumSwingUpPolicy{},
+                   ScenarioSet({.seed = seed, .count = episodes, .horizon = horizon, .noise_dim = 0,
+                                .initial_noise_dim = 2, .variant = variant}),
+                   Discounting{.gamma = 1.0, .horizon = horizon});
+}
+
+// The training objective seen through a window: each new best U-hat is checked against the bar on the
+// evaluation episodes, until the bar is reached. Values pass through unchanged, so the search is the same
+// with or without the watch.
+class BarWatch final : public Objective {
+ public:
+  BarWatch(Objective& inner, const Evaluator& evaluation, ThreadPool* pool, double bar, double seconds_before,
+           double cpu_seconds_before, std::int64_t evaluations_before, PendulumTrainingResult& result)
+      : inner_(inner), evaluation_(evaluation), pool_(pool), bar_(bar), seconds_before_(seconds_before),
+        cpu_seconds_before_(cpu_seconds_before), evaluations_(evaluations_before), result_(result),
+        start_(Clock::now()), cpu_start_(std::clock()) {}
+
+  const ParameterSpec& parameters() const override { return inner_.parameters(); }
+  std::int64_t evaluations() const { return evaluations_; }
+  double cpu_seconds() const {
+    return cpu_seconds_before_ + static_cast<double>(std::clock() - cpu_start_) / CLOCKS_PER_SEC;
+  }
+  double evaluate(std::span<const double> theta) override {
+    const double v = inner_.evaluate(theta);
+    ++evaluations_;
+    note(theta, v);
+    return v;
+  }
+  void evaluate_batch(std::span<const Theta> thetas, std::span<double> values) override {
+    inner_.evaluate_batch(thetas, values);
+    evaluations_ += static_cast<std::int64_t>(thetas.size());
+    std::size_t best = thetas.size();
+    for (std::size_t k = 0; k < thetas.size(); ++k)
+      if (std::isfinite(values[k]) && (best == thetas.size() || values[k] > values[best])) best = k;
+    if (best < thetas.size()) note(thetas[best], values[best]);
+  }
+
+ private:
+  void note(std::span<const double> theta, double v) {
+    if (!(v > best_) || result_.evaluations_to_bar >= 0) return;
+    best_ = v;
+    const double mean = evaluation_.evaluate(theta, pool_);
+    const double seconds = seconds_before_ + std::chrono::duration<double>(Clock::now() - start_).count();
+    result_.checks.push_back({seconds, evaluations_, v, mean});
+    if (mean >= bar_) {
+      result_.seconds_to_bar = seconds;
+      result_.cpu_seconds_to_bar = cpu_seconds();
+      result_.evaluations_to_bar = evaluations_;
+    }
+  }
+
+  Objective& inner_;
+  const Evaluator& evaluation_;
+  ThreadPool* pool_;
+  double bar_, seconds_before_, cpu_seconds_before_;
+  std::int64_t evaluations_;
+  PendulumTrainingResult& result_;
+  Clock::time_point start_;
+  std::clock_t cpu_start_;
+  double best_ = -std::numeric_limits<double>::infinity();
+};
+
+nlohmann::json checks_json(const std::vector<PendulumBarCheck>& checks) {
+  nlohmann::json j = nlohmann::json::array();
+  for (const auto& c : checks) j.push_back({c.seconds, c.evaluations, c.uhat, c.mean_return});
+  return j;
+}
+
+}  // namespace
+
+OptimizerOptions PendulumTrainingOptions::default_optimizer() {
+  OptimizerOptions o;
+  o.method = "hill-climb";
+  o.hill_climbing.max_iterations = 150;
+  o.hill_climbing.proposals_per_iteration = 8;
+  o.hill_climbing.initial_step = 1.0;
+  o.hill_climbing.max_step = 4.0;
+  o.hill_climbing.min_step = 1e-3;
+  o.gradient.max_iterations = 100;
+  o.nlopt.max_evaluations = 1000;
+  o.nlopt.initial_step = 1.0;
+  return o;
+}
+
+bool PendulumTrainingOptions::IsValid(std::string* error) const {
+  if (scenarios < 1) return fail(error, fmt::format("scenarios: expected an integer >= 1, got {}", scenarios));
+  if (horizon < 1) return fail(error, fmt::format("horizon: expected an integer >= 1, got {}", horizon));
+  if (evaluation_episodes < 1)
+    return fail(error, fmt::format("evaluation_episodes: expected an integer >= 1, got {}", evaluation_episodes));
+  if (!std::isfinite(bar)) return fail(error, fmt::format("bar: expected a finite number, got {}", bar));
+  if (threads < 1) return fail(error, fmt::format("threads: expected an integer >= 1, got {}", threads));
+  std::string inner;
+  if (!optimizer.IsValid(&inner)) return fail(error, "optimizer." + inner);
+  return true;
+}
+
+std::uint64_t pendulum_evaluation_seed(std::uint64_t seed) { return mix_seed(seed, 0x4576616c);  /* "Eval" */ }
+
+std::vector<double> pendulum_episode_returns(const Theta& theta, int episodes, std::uint64_t seed, ThreadPool* pool) {
+  const Evaluator evaluator = episodes_evaluator(episodes, PendulumConstants::episode_steps, seed, ScenarioVariant::kPlain);
+  if (theta.size() != evaluator.policy().parameters().size())
+    throw InputError(fmt::format("pendulum: expected {} policy parameters, got {}",
+                                 evaluator.policy().parameters().size(), theta.size()));
+  std::vector<double> returns(static_cast<std::size_t>(episodes));
+  evaluator.per_scenario(theta, returns, pool);
+  return returns;
+}
+
+PendulumTrainingResult train_pendulum(const PendulumTrainingOptions& options, const PendulumTrainingHooks& hooks,
+                                      ThreadPool* pool) {
+  std::string error;
+  if (!options.IsValid(&error)) throw InputError("pendulum training: " + error);
+  auto shared_pool = borrow_pool(pool, options.threads);
+  PegasusObjective<Pendulum, PendulumSwingUpPolicy> objective(
+      episodes_evaluator(options.scenarios, options.horizon, options.seed, options.variant), shared_pool);
+  const Evaluator evaluation = episodes_evaluator(options.evaluation_episodes, PendulumConstants::episode_steps,
+                                                  pendulum_evaluation_seed(options.seed), ScenarioVariant::kPlain);
+
+  PendulumTrainingResult result;
+  result.seconds_to_bar = std::numeric_limits<double>::quiet_NaN();
+  result.cpu_seconds_to_bar = std::numeric_limits<double>::quiet_NaN();
+  double seconds_before = 0.0, cpu_seconds_before = 0.0;
+  std::int64_t evaluations_before = 0;
+  std::optional<nlohmann::json> optimizer_resume;
+  if (hooks.resume_from) {
+    const nlohmann::json& bar = hooks.resume_from->at("bar");
+    seconds_before = bar.at("seconds").get<double>();
+    cpu_seconds_before = bar.at("cpu_seconds").get<double>();
+    evaluations_before = bar.at("evaluations").get<std::int64_t>();
+    for (const auto& c : bar.at("checks"))
+      result.checks.push_back({c.at(0).get<double>(), c.at(1).get<std::int64_t>(), c.at(2).get<double>(),
+                               c.at(3).get<double>()});
+    if (!bar.at("seconds_to_bar").is_null()) {
+      result.seconds_to_bar = bar.at("seconds_to_bar").get<double>();
+      result.cpu_seconds_to_bar = bar.at("cpu_seconds_to_bar").get<double>();
+      result.evaluations_to_bar = bar.at("evaluations_to_bar").get<std::int64_t>();
+    }
+    optimizer_resume = hooks.resume_from->at("optimizer");
+  }
+  BarWatch watch(objective, evaluation, shared_pool.get(), options.bar, seconds_before, cpu_seconds_before,
+                 evaluations_before, result);
+  const auto start = Clock::now();
+
+  OptimizerOptions optimizer = options.optimizer;
+  optimizer.hill_climbing.seed = mix_seed(options.seed, 0x48696c6c);  // hill climbing's own stream
+  optimizer.nlopt.seed = mix_seed(options.seed, 0x4e4c6f70);
+  if (hooks.on_checkpoint && hooks.checkpoint_every > 0) {
+    optimizer.SetCheckpointing(
+        hooks.checkpoint_every,
+        [&](const nlohmann::json& state) {
+          const double seconds = seconds_before + std::chrono::duration<double>(Clock::now() - start).count();
+          const bool reached = result.evaluations_to_bar >= 0;
+          hooks.on_checkpoint(
+              {{"optimizer", state},
+               {"bar",
+                {{"seconds", seconds},
+                 {"cpu_seconds", watch.cpu_seconds()},
+                 {"evaluations", watch.evaluations()},
+                 {"checks", checks_json(result.checks)},
+                 {"seconds_to_bar", reached ? nlohmann::json(result.seconds_to_bar) : nlohmann::json(nullptr)},
+                 {"cpu_seconds_to_bar", reached ? nlohmann::json(result.cpu_seconds_to_bar) : nlohmann::json(nullptr)},
+                 {"evaluations_to_bar", result.evaluations_to_bar}}}});
+        },
+        optimizer_resume);
+  }
+  result.theta = PendulumSwingUpPolicy().parameters().initial();
+  Solve(optimizer, watch, &result.theta, &result.summary);
+  if (!result.summary.best_theta.empty()) result.theta = result.summary.best_theta;
+  result.mean_return_100 = evaluation.evaluate(result.theta, shared_pool.get());
+  return result;
+}
+
+nlohmann::json pendulum_policy_json(const Theta& theta) {
+  const PendulumSwingUpPolicy policy;
+  nlohmann::json parameters = nlohmann::json::object();
+  for (std::size_t k = 0; k < theta.size() && k < policy.parameters().size(); ++k)
+    parameters[policy.parameters()[k].name] = theta[k];
+  return {{"policy", "pendulum-swing-up"}, {"parameters", parameters}};
+}
+
+}  // namespace pegasus

@@ -1,0 +1,64 @@
+// End-to-end tests of `pegasus pendulum train` through the built CLI, on a small setting.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "support/cli_runner.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using pegasus::test_support::run_pegasus;
+
+nlohmann::json read_json(const fs::path& p) { return nlohmann::json::parse(pegasus::test_support::read_text(p)); }
+
+class PendulumCli : public pegasus::test_support::TempDirTest {
+ protected:
+  std::string out(const std::string& name) const { return " --out " + (dir_ / name).string(); }
+};
+
+const std::string kSmall = " --scenarios 16 --iterations 40 --quiet --seed 3";
+
+TEST_F(PendulumCli, TrainWritesTheDocumentedSummaryAndClearsTheBar) {
+  const auto r = run_pegasus("pendulum train --config " + std::string(PEGASUS_SOURCE_DIR) +
+                             "/experiments/pendulum.toml" + kSmall + out("run"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto s = read_json(dir_ / "run" / "summary.json");
+  for (const char* key : {"mean_return_100", "seconds_to_bar", "evaluations_to_bar", "training_seconds", "bar",
+                          "evaluation_episodes", "initial_uhat", "final_uhat", "iterations", "evaluations"})
+    EXPECT_TRUE(s.contains(key)) << key;
+  EXPECT_GE(s["mean_return_100"].get<double>(), -200.0);
+  EXPECT_GT(s["seconds_to_bar"].get<double>(), 0.0);
+  EXPECT_LT(s["initial_uhat"].get<double>(), -1000.0);  // no torque at all: the pendulum only swings
+  EXPECT_GT(s["final_uhat"].get<double>(), s["initial_uhat"].get<double>());
+  const auto policy = read_json(dir_ / "run" / "policy.json");
+  EXPECT_EQ(policy["policy"], "pendulum-swing-up");
+  EXPECT_EQ(policy["parameters"].size(), 5u);
+  for (const char* file : {"learning_curve.csv", "bar_checks.csv", "episode_returns.csv", "learning_curve.svg"})
+    EXPECT_TRUE(fs::exists(dir_ / "run" / file)) << file;
+}
+
+TEST_F(PendulumCli, ThreadCountNeverChangesTheResult) {
+  ASSERT_EQ(run_pegasus("pendulum train" + kSmall + " --iterations 10 --threads 1" + out("a")).code, 0);
+  ASSERT_EQ(run_pegasus("pendulum train" + kSmall + " --iterations 10 --threads 2" + out("b")).code, 0);
+  auto a = read_json(dir_ / "a" / "summary.json"), b = read_json(dir_ / "b" / "summary.json");
+  for (auto* s : {&a, &b}) {  // wall times differ from run to run
+    s->erase("seconds_to_bar");
+    s->erase("cpu_seconds_to_bar");
+    s->erase("training_seconds");
+  }
+  EXPECT_EQ(a, b);
+  EXPECT_EQ(read_json(dir_ / "a" / "policy.json"), read_json(dir_ / "b" / "policy.json"));
+}
+
+TEST_F(PendulumCli, BadInputGetsOneLineAndExitTwoWithoutARunDirectory) {
+  const auto r = run_pegasus("pendulum train --evaluation-episodes 0 --quiet" + out("bad"));
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("evaluation-episodes"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir_ / "bad"));
+}
+
+}  // namespace
