@@ -14,6 +14,7 @@
 
 #include "pegasus/core/error.hpp"
 #include "pegasus/parallel/mpi.hpp"
+#include "pegasus/report/report.hpp"
 
 namespace pegasus::cli {
 
@@ -98,8 +99,14 @@ void declare_options(Leaf& leaf) {
       // `--flag` alone means true; `--flag=false` is accepted too.
       option = app->add_flag(ConfigSchema::option_name(f.name()), leaf.texts[i], help);
     } else {
-      option = app->add_option(ConfigSchema::option_name(f.name()), leaf.texts[i], help)
-                   ->type_name(type_name(f.type()));
+      std::string names = ConfigSchema::option_name(f.name());
+      const auto& positionals = leaf.command->positionals;
+      if (std::find(positionals.begin(), positionals.end(), f.name()) != positionals.end()) {
+        std::string upper = f.name();  // `run_dir` is the positional RUN_DIR and the option --run-dir
+        std::transform(upper.begin(), upper.end(), upper.begin(), [](unsigned char c) { return std::toupper(c); });
+        names = upper + "," + names;
+      }
+      option = app->add_option(names, leaf.texts[i], help)->type_name(type_name(f.type()));
     }
     option->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
     leaf.options.push_back(option);
@@ -202,6 +209,8 @@ int execute(Leaf& leaf, std::vector<std::string> argv, std::ostream& out, std::o
         provenance["allgather_seconds"] = comm.seconds;
       }
       run_dir->write_json("run.json", provenance);
+      // The run's HTML report (report/report.hpp), by rank 0 alone; a failure costs only the report (one note).
+      if (mpi::is_root()) report::write_report_or_note(run_dir->path(), err);
       run_dir->commit();
     }
     return context.exit_code;
