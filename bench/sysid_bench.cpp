@@ -1,6 +1,8 @@
 // System identification (thesis §5.2) on the shipped default workload: a 339 s pilot log downsampled to 10 Hz
 // (3389 training rows, 16 inputs, 8 outputs), the bandwidth chosen by the default cross-validation.
-//   BM_LwrRefit_Fast       one local-regression refit at a query, all outputs (k-d tree, shared X'WX)
+//   BM_LwrRefit_Fast       one local-regression refit at a query, all outputs (lwr_kernel.hpp: shared X'WX,
+//                          8 points per vector on the widest instruction set the CPU has; the label names it)
+//   BM_LwrRefit_Fast_Avx2  the same forced onto AVX2+FMA (same bits; what callgrind can run)
 //   BM_LwrRefit_Exact      the plain reference refit (every point, one system per output), same queries
 //   BM_LwrRefit_{Fast,Exact}_Narrow   the same with every bandwidth divided by 8, where the k-d tree prunes
 //   BM_BandwidthCrossValidation/threads   the whole default bandwidth search (identify) on 1 or 2 threads
@@ -39,8 +41,10 @@ const Workload& workload() {
 }
 
 template <bool kFast>
-void refit(benchmark::State& state) {
+void refit(benchmark::State& state, sysid::SimdPath path = sysid::SimdPath::kAuto) {
   const Workload& w = workload();
+  sysid::force_simd_path(path);
+  if (kFast) state.SetLabel(sysid::simd_path_name(sysid::active_simd_path()));
   Eigen::Index i = 0;
   double points = 0, fits = 0;
   for (auto _ : state) {
@@ -53,10 +57,13 @@ void refit(benchmark::State& state) {
   }
   state.counters["training_rows"] = static_cast<double>(w.model->data().rows());
   state.counters["points_used"] = points / fits;
+  sysid::force_simd_path(sysid::SimdPath::kAuto);
 }
 void BM_LwrRefit_Fast(benchmark::State& state) { refit<true>(state); }
+void BM_LwrRefit_Fast_Avx2(benchmark::State& state) { refit<true>(state, sysid::SimdPath::kAvx2); }
 void BM_LwrRefit_Exact(benchmark::State& state) { refit<false>(state); }
 BENCHMARK(BM_LwrRefit_Fast)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_LwrRefit_Fast_Avx2)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_LwrRefit_Exact)->Unit(benchmark::kMicrosecond);
 
 template <bool kFast>

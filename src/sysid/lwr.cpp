@@ -2,17 +2,54 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <numeric>
 
 namespace pegasus::sysid {
 
 namespace {
-constexpr int kLeafSize = 24;
-constexpr int kBlock = 32;
 // Points whose weight is below 1e-16 of the largest one are skipped: d^2 > d_min^2 + 2 ln(1e16).
 const double kCutoff = 2 * std::log(1e16);
+constexpr double kFar = 1e150;  // padding coordinate: d^2 ~ 1e300, weight 0
+
+std::atomic<int> g_forced{static_cast<int>(SimdPath::kAuto)};
+
+SimdPath detect() {
+#if defined(__x86_64__) && defined(__GNUC__)
+  __builtin_cpu_init();
+  if (__builtin_cpu_supports("avx512f")) return SimdPath::kAvx512;
+  if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) return SimdPath::kAvx2;
+#endif
+  return SimdPath::kScalar;
+}
 }  // namespace
+
+void force_simd_path(SimdPath path) { g_forced.store(static_cast<int>(path), std::memory_order_relaxed); }
+
+SimdPath active_simd_path() {
+  static const SimdPath best = detect();
+  const auto forced = static_cast<SimdPath>(g_forced.load(std::memory_order_relaxed));
+  if (forced == SimdPath::kAuto) return best;
+  // A path the CPU lacks falls back to the best one it has.
+  if (forced == SimdPath::kAvx512 && best != SimdPath::kAvx512) return best;
+  if (forced == SimdPath::kAvx2 && best == SimdPath::kScalar) return best;
+  return forced;
+}
+
+const char* simd_path_name(SimdPath path) {
+  switch (path) {
+    case SimdPath::kAuto: return "auto";
+    case SimdPath::kScalar: return "scalar";
+    case SimdPath::kAvx2: return "avx2";
+    case SimdPath::kAvx512: return "avx512";
+  }
+  return "?";
+}
+
+LocalRegression::Column LocalRegression::aligned_columns(std::size_t count) {
+  return Column(new (std::align_val_t{64}) double[std::max<std::size_t>(count, 1)]);
+}
 
 LocalRegression::LocalRegression(const Dataset* data, const std::array<OutputTemplate, kBodyVars>& templates,
                                  const std::array<double, kInputs>& inv_bandwidth)
@@ -23,73 +60,157 @@ LocalRegression::LocalRegression(const Dataset* data, const std::array<OutputTem
   const auto n = static_cast<int>(data_->rows());
   perm_.resize(static_cast<std::size_t>(n));
   std::iota(perm_.begin(), perm_.end(), 0);
+  // Gram rows: the inputs some output regresses on; columns: those, then the outputs that regress on something.
+  row_of_input_.fill(-1);
+  for (int j = 0; j < kInputs; ++j) {
+    bool used = false;
+    for (const auto& t : templates_) used = used || t.free[static_cast<std::size_t>(j)];
+    if (used) {
+      row_of_input_[static_cast<std::size_t>(j)] = gram_m_;
+      gram_inputs_[static_cast<std::size_t>(gram_m_++)] = j;
+    }
+  }
+  for (int k = 0; k < kBodyVars; ++k) {
+    const auto& t = templates_[static_cast<std::size_t>(k)];
+    if (t.free_count() == 0) continue;
+    gram_outputs_[static_cast<std::size_t>(gram_outputs_count_++)] = k;
+    int g = 0;
+    while (g < group_count_ &&
+           templates_[static_cast<std::size_t>(groups_[static_cast<std::size_t>(g)].outputs[0])].free != t.free)
+      ++g;
+    Group& grp = groups_[static_cast<std::size_t>(g)];
+    if (g == group_count_) {
+      ++group_count_;
+      for (int j = 0; j < kInputs; ++j)
+        if (t.free[static_cast<std::size_t>(j)]) {
+          grp.inputs[static_cast<std::size_t>(grp.size)] = j;
+          grp.rows[static_cast<std::size_t>(grp.size++)] = row_of_input_[static_cast<std::size_t>(j)];
+        }
+    }
+    grp.columns[static_cast<std::size_t>(grp.count)] = gram_m_ + gram_outputs_count_ - 1;
+    grp.outputs[static_cast<std::size_t>(grp.count++)] = k;
+  }
   if (is_global()) {
     global_g_ = data_->x.transpose() * data_->x;
     global_b_ = data_->x.transpose() * data_->y;
     return;
   }
-  z_.resize(n, static_cast<Eigen::Index>(dims_.size()));
+  const int nd = static_cast<int>(dims_.size());
+  const auto und = static_cast<std::size_t>(nd);
+  std::vector<double> z(static_cast<std::size_t>(n) * und);  // row-major, data order
   for (int i = 0; i < n; ++i)
-    for (std::size_t d = 0; d < dims_.size(); ++d)
-      z_(i, static_cast<Eigen::Index>(d)) = data_->x(i, dims_[d]) * inv_h_[static_cast<std::size_t>(dims_[d])];
-  nodes_.reserve(static_cast<std::size_t>(4 * n / kLeafSize + 4));
-  build(0, n, 0);
-  // Store everything in tree order so that leaves are contiguous.
-  decltype(z_) z2(z_.rows(), z_.cols());
-  xp_.resize(n, kInputs);
-  yp_.resize(n, kBodyVars);
-  for (int i = 0; i < n; ++i) {
-    z2.row(i) = z_.row(perm_[static_cast<std::size_t>(i)]);
-    xp_.row(i) = data_->x.row(perm_[static_cast<std::size_t>(i)]);
-    yp_.row(i) = data_->y.row(perm_[static_cast<std::size_t>(i)]);
+    for (std::size_t d = 0; d < und; ++d)
+      z[static_cast<std::size_t>(i) * und + d] = data_->x(i, dims_[d]) * inv_h_[static_cast<std::size_t>(dims_[d])];
+  build(0, n, 0, z);
+  leaf_begin_.push_back(n);
+  // Structure-of-arrays copies in tree order (lwr_kernel.hpp): the Gram columns, then the kernel-only inputs.
+  const int n_pad = (n + detail::kLanes - 1) / detail::kLanes * detail::kLanes;
+  const int leaves = static_cast<int>(leaf_begin_.size()) - 1;
+  const int leaves_pad = (leaves + detail::kLanes - 1) / detail::kLanes * detail::kLanes;
+  const int ncols = gram_m_ + gram_outputs_count_;
+  std::vector<int> source;  // input (>= 0) or ~output of each stored column
+  for (int c = 0; c < gram_m_; ++c) source.push_back(gram_inputs_[static_cast<std::size_t>(c)]);
+  for (int c = 0; c < gram_outputs_count_; ++c) source.push_back(~gram_outputs_[static_cast<std::size_t>(c)]);
+  for (std::size_t d = 0; d < und; ++d) {
+    const int j = dims_[d];
+    if (row_of_input_[static_cast<std::size_t>(j)] >= 0) {
+      kd_.kernel_col[d] = row_of_input_[static_cast<std::size_t>(j)];
+    } else {
+      kd_.kernel_col[d] = static_cast<int>(source.size());
+      source.push_back(j);
+    }
+    kd_.inv_h[d] = inv_h_[static_cast<std::size_t>(j)];
   }
-  z_ = std::move(z2);
+  const auto np = static_cast<std::size_t>(n_pad);
+  const auto lp = static_cast<std::size_t>(leaves_pad);
+  a_ = aligned_columns(source.size() * np);
+  row_ = aligned_columns(np);
+  box_lo_ = aligned_columns(und * lp);
+  box_hi_ = aligned_columns(und * lp);
+  for (std::size_t i = 0; i < np; ++i) {
+    const bool real = i < static_cast<std::size_t>(n);
+    const int r = real ? perm_[i] : -1;
+    row_[i] = r;
+    for (std::size_t c = 0; c < source.size(); ++c)
+      a_[c * np + i] = !real ? 0.0 : source[c] >= 0 ? data_->x(r, source[c]) : data_->y(r, ~source[c]);
+  }
+  for (std::size_t l = 0; l < lp; ++l)
+    for (std::size_t d = 0; d < und; ++d) {
+      double lo = kFar, hi = kFar;
+      if (l < static_cast<std::size_t>(leaves)) {
+        lo = INFINITY;
+        hi = -INFINITY;
+        for (int i = leaf_begin_[l]; i < leaf_begin_[l + 1]; ++i) {
+          const double v = z[static_cast<std::size_t>(perm_[static_cast<std::size_t>(i)]) * und + d];
+          lo = std::min(lo, v);
+          hi = std::max(hi, v);
+        }
+      }
+      box_lo_[d * lp + l] = lo;
+      box_hi_[d * lp + l] = hi;
+    }
+  kd_.n = n;
+  kd_.n_pad = n_pad;
+  kd_.nd = nd;
+  kd_.m = gram_m_;
+  kd_.ncols = ncols;
+  kd_.leaves = leaves;
+  kd_.leaves_pad = leaves_pad;
+  kd_.a = a_.get();
+  kd_.row = row_.get();
+  kd_.box_lo = box_lo_.get();
+  kd_.box_hi = box_hi_.get();
+  kd_.leaf_begin = leaf_begin_.data();
+  // Tile shapes per instruction set (registers: 16 of 4 doubles for AVX2, 32 of 8 for AVX-512).
+  plans_[static_cast<std::size_t>(detail::Isa::kScalar)] = detail::tile_plan(gram_m_, ncols, 1, 4);
+  plans_[static_cast<std::size_t>(detail::Isa::kAvx2)] = detail::tile_plan(gram_m_, ncols, 2, 2);
+  plans_[static_cast<std::size_t>(detail::Isa::kAvx512)] = detail::tile_plan(gram_m_, ncols, 4, 6);
 }
 
-int LocalRegression::build(int begin, int end, int depth) {
-  const int id = static_cast<int>(nodes_.size());
-  nodes_.push_back(Node{begin, end});
-  Node node{begin, end};
+// Splits [begin, end) of perm_ at a multiple of 8 (leaves start on whole vectors) along the widest kernel
+// coordinate, down to leaves of at most kLeaf points; leaves are numbered in storage order.
+int LocalRegression::build(int begin, int end, int depth, const std::vector<double>& z) {
+  const int id = static_cast<int>(tree_.size());
+  tree_.push_back(SplitNode{});
   const auto nd = dims_.size();
-  int widest = 0;
+  std::size_t widest = 0;
   double width = -1;
   for (std::size_t d = 0; d < nd; ++d) {
     double lo = INFINITY, hi = -INFINITY;
     for (int i = begin; i < end; ++i) {
-      const double v = z_(perm_[static_cast<std::size_t>(i)], static_cast<Eigen::Index>(d));
+      const double v = z[static_cast<std::size_t>(perm_[static_cast<std::size_t>(i)]) * nd + d];
       lo = std::min(lo, v);
       hi = std::max(hi, v);
     }
-    node.lo[d] = lo;
-    node.hi[d] = hi;
     if (hi - lo > width) {
       width = hi - lo;
-      widest = static_cast<int>(d);
+      widest = d;
     }
   }
-  if (end - begin > kLeafSize && width > 0 && depth < 60) {
-    const int mid = begin + (end - begin) / 2;
-    std::nth_element(perm_.begin() + begin, perm_.begin() + mid, perm_.begin() + end, [&](int a, int b) {
-      return z_(a, widest) < z_(b, widest);
-    });
-    node.left = build(begin, mid, depth + 1);
-    node.right = build(mid, end, depth + 1);
+  const int mid = begin + (end - begin) / 2 / detail::kLanes * detail::kLanes;
+  if (end - begin <= detail::kLeaf || !(width > 0) || depth >= 60 || mid == begin) {
+    SplitNode leaf;
+    leaf.leaf = static_cast<int>(leaf_begin_.size());
+    leaf_begin_.push_back(begin);
+    tree_[static_cast<std::size_t>(id)] = leaf;
+    return id;
   }
-  nodes_[static_cast<std::size_t>(id)] = node;
+  auto key = [&](int r) { return z[static_cast<std::size_t>(r) * nd + widest]; };
+  std::nth_element(perm_.begin() + begin, perm_.begin() + mid, perm_.begin() + end,
+                   [&](int a, int b) { return key(a) < key(b); });
+  SplitNode node;
+  node.dim = static_cast<int>(widest);
+  node.value = key(perm_[static_cast<std::size_t>(mid)]);
+  const int left = build(begin, mid, depth + 1, z);
+  const int right = build(mid, end, depth + 1, z);
+  node.left = left;
+  node.right = right;
+  tree_[static_cast<std::size_t>(id)] = node;
   return id;
 }
 
-double LocalRegression::box_distance2(const Node& node, const double* zq) const {
-  double s = 0;
-  for (std::size_t d = 0; d < dims_.size(); ++d) {
-    const double v = zq[d];
-    const double e = v < node.lo[d] ? node.lo[d] - v : (v > node.hi[d] ? v - node.hi[d] : 0.0);
-    s += e * e;
-  }
-  return s;
-}
-
 void LocalRegression::solve(const Gram& g, const Cross& b, const InputVec& q, LocalFit* fit) const {
+  bool first = true;
   for (int k = 0; k < kBodyVars; ++k) {
     const auto& tmpl = templates_[static_cast<std::size_t>(k)];
     auto& beta = fit->beta[static_cast<std::size_t>(k)];
@@ -114,7 +235,10 @@ void LocalRegression::solve(const Gram& g, const Cross& b, const InputVec& q, Lo
       dq[r] = q[idx[r]] / d[r];
     }
     Eigen::LLT<decltype(gs)> llt(gs);
-    if (llt.info() != Eigen::Success || !(llt.rcond() >= kSingularRcond)) {
+    const double rc = llt.info() == Eigen::Success ? llt.rcond() : 0.0;
+    fit->rcond = first ? rc : std::min(fit->rcond, rc);
+    first = false;
+    if (!(rc >= kSingularRcond)) {
       fit->singular = true;
       return;
     }
@@ -124,13 +248,56 @@ void LocalRegression::solve(const Gram& g, const Cross& b, const InputVec& q, Lo
   }
 }
 
+// The fast path's solve: one Jacobi-scaled Cholesky factorisation per group of outputs with the same free
+// inputs; the same arithmetic as solve() for each output.
+void LocalRegression::solve_groups(const detail::KernelResult& k, const InputVec& q, LocalFit* fit) const {
+  using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kInputs, kInputs>;
+  using SmallVec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kInputs, 1>;
+  auto g = [&](int r, int c) {
+    return k.sum[static_cast<std::size_t>(std::min(r, c) * detail::kMaxCols + std::max(r, c))];
+  };
+  for (auto& beta : fit->beta) beta.setZero();
+  for (int gi = 0; gi < group_count_; ++gi) {
+    const Group& grp = groups_[static_cast<std::size_t>(gi)];
+    const int m = grp.size;
+    const auto row = [&](int r) { return grp.rows[static_cast<std::size_t>(r)]; };
+    Small gs(m, m);
+    SmallVec dq(m), d(m), bs(m);
+    for (int r = 0; r < m; ++r) {
+      d[r] = std::sqrt(g(row(r), row(r)));
+      if (!(d[r] > 1e-150)) {
+        fit->singular = true;
+        return;
+      }
+    }
+    for (int r = 0; r < m; ++r) {
+      for (int c = 0; c < m; ++c) gs(r, c) = g(row(r), row(c)) / (d[r] * d[c]);
+      dq[r] = q[grp.inputs[static_cast<std::size_t>(r)]] / d[r];
+    }
+    const Eigen::LLT<Small> llt(gs);
+    const double rc = llt.info() == Eigen::Success ? llt.rcond() : 0.0;
+    fit->rcond = gi == 0 ? rc : std::min(fit->rcond, rc);
+    if (!(rc >= kSingularRcond)) {
+      fit->singular = true;
+      return;
+    }
+    const double leverage = dq.dot(llt.solve(dq));
+    for (int o = 0; o < grp.count; ++o) {
+      const int out = grp.outputs[static_cast<std::size_t>(o)];
+      for (int r = 0; r < m; ++r) bs[r] = g(row(r), grp.columns[static_cast<std::size_t>(o)]) / d[r];
+      const SmallVec sol = llt.solve(bs);
+      auto& beta = fit->beta[static_cast<std::size_t>(out)];
+      for (int r = 0; r < m; ++r) beta[grp.inputs[static_cast<std::size_t>(r)]] = sol[r] / d[r];
+      fit->leverage[out] = leverage;
+    }
+  }
+}
+
 LocalFit LocalRegression::fit(const InputVec& q, Eigen::Index exclude_begin, Eigen::Index exclude_end) const {
   LocalFit fit;
-  Gram g;
-  Cross b;
   if (is_global()) {
-    g = global_g_;
-    b = global_b_;
+    Gram g = global_g_;
+    Cross b = global_b_;
     if (exclude_end > exclude_begin) {
       const auto len = exclude_end - exclude_begin;
       const auto xs = data_->x.middleRows(exclude_begin, len);
@@ -143,81 +310,38 @@ LocalFit LocalRegression::fit(const InputVec& q, Eigen::Index exclude_begin, Eig
     solve(g, b, q, &fit);
     return fit;
   }
-  const std::size_t nd = dims_.size();
-  double zq[kInputs];
-  for (std::size_t d = 0; d < nd; ++d) zq[d] = q[dims_[d]] * inv_h_[static_cast<std::size_t>(dims_[d])];
-  auto excluded = [&](int i) {
-    const int row = perm_[static_cast<std::size_t>(i)];
-    return row >= exclude_begin && row < exclude_end;
-  };
-  auto dist2 = [&](int i) {
-    const double* zi = z_.data() + static_cast<std::ptrdiff_t>(i) * static_cast<std::ptrdiff_t>(nd);
-    double s = 0;
-    for (std::size_t d = 0; d < nd; ++d) {
-      const double e = zq[d] - zi[d];
-      s += e * e;
-    }
-    return s;
-  };
-  // One pass, nearer child first: a point enters the sums unless its squared distance exceeds the smallest one
-  // seen so far by more than kCutoff. The final smallest distance is no larger, so every point skipped weighs
-  // less than 1e-16 of the largest weight; points admitted early with a looser bound only add exact terms.
-  g.setZero();
-  b.setZero();
-  Eigen::Matrix<double, kBlock, kInputs, Eigen::RowMajor> xb;
-  Eigen::Matrix<double, kBlock, kBodyVars, Eigen::RowMajor> yb;
-  int filled = 0;
-  auto flush = [&] {
-    if (filled == 0) return;
-    if (filled < kBlock) {
-      xb.bottomRows(kBlock - filled).setZero();
-      yb.bottomRows(kBlock - filled).setZero();
-    }
-    g.selfadjointView<Eigen::Upper>().rankUpdate(xb.transpose());
-    b.noalias() += xb.transpose() * yb;
-    filled = 0;
-  };
-  int stack[128];
-  double best = INFINITY;
-  int top = 0;
-  stack[top++] = 0;
-  while (top > 0) {
-    const Node& node = nodes_[static_cast<std::size_t>(stack[--top])];
-    if (box_distance2(node, zq) > best + kCutoff) continue;
-    if (node.left >= 0) {
-      const double dl = box_distance2(nodes_[static_cast<std::size_t>(node.left)], zq);
-      const double dr = box_distance2(nodes_[static_cast<std::size_t>(node.right)], zq);
-      if (dl < dr) {
-        stack[top++] = node.right;
-        stack[top++] = node.left;
-      } else {
-        stack[top++] = node.left;
-        stack[top++] = node.right;
-      }
-      continue;
-    }
-    for (int i = node.begin; i < node.end; ++i) {
-      if (excluded(i)) continue;
-      const double d2 = dist2(i);
-      if (d2 < best) best = d2;
-      if (d2 > best + kCutoff) continue;
-      const double sw = std::exp(-0.25 * d2);
-      const double w = sw * sw;
-      fit.weight_sum += w;
-      fit.max_weight = std::max(fit.max_weight, w);
-      ++fit.points;
-      xb.row(filled) = sw * xp_.row(i);
-      yb.row(filled) = sw * yp_.row(i);
-      if (++filled == kBlock) flush();
-    }
+  detail::KernelQuery kq;
+  for (std::size_t d = 0; d < dims_.size(); ++d) {
+    kq.q[d] = q[dims_[d]];
+    kq.zq[d] = q[dims_[d]] * inv_h_[static_cast<std::size_t>(dims_[d])];
   }
-  if (!std::isfinite(best)) {
+  kq.exclude_begin = static_cast<double>(exclude_begin);
+  kq.exclude_end = static_cast<double>(exclude_end);
+  kq.cutoff = kCutoff;
+  std::size_t node = 0;
+  while (tree_[node].dim >= 0)
+    node = static_cast<std::size_t>(kq.zq[static_cast<std::size_t>(tree_[node].dim)] < tree_[node].value ? tree_[node].left : tree_[node].right);
+  kq.seed_leaf = tree_[node].leaf;
+  detail::KernelResult k;
+  switch (active_simd_path()) {
+    case SimdPath::kAvx512:
+      detail::gram_avx512(kd_, plans_[static_cast<std::size_t>(detail::Isa::kAvx512)], kq, &k);
+      break;
+    case SimdPath::kAvx2:
+      detail::gram_avx2(kd_, plans_[static_cast<std::size_t>(detail::Isa::kAvx2)], kq, &k);
+      break;
+    default:
+      detail::gram_scalar(kd_, plans_[static_cast<std::size_t>(detail::Isa::kScalar)], kq, &k);
+      break;
+  }
+  fit.weight_sum = k.weight_sum;
+  fit.max_weight = k.max_weight;
+  fit.points = k.points;
+  if (k.points == 0) {
     fit.singular = true;
     return fit;
   }
-  flush();
-  g.triangularView<Eigen::StrictlyLower>() = g.transpose();
-  solve(g, b, q, &fit);
+  solve_groups(k, q, &fit);
   return fit;
 }
 

@@ -8,24 +8,37 @@
 // Sigma_beta = sigma^2 (X'WX)^{-1}, so the predictive variance is sigma^2 (1 + x'(X'WX)^{-1}x) (Eq 5.4).
 //
 // Two paths that agree within 1e-9 relative:
-//   fit_exact: the plain reference: every point, one normal-equation system per output;
-//   fit:       the fast one: the weighted Gram matrix X'WX and X'WY accumulated once for all outputs (each
-//              output solves its sub-block), in blocks of 32 rows through Eigen's symmetric rank updates,
-//              skipping points whose weight is below 1e-16 of the largest weight (d^2 > d_min^2 + 2 ln 1e16)
-//              by a k-d tree over the bandwidth-scaled inputs.
-// The skipping only pays when the bandwidths are narrow compared with the data's spread (bench/sysid_bench.cpp:
-// at the bandwidths cross-validation picks on the shipped flights every point counts, and both paths are
-// compute-bound on the same ~3400 x 16 x 24 multiply-adds). fit allocates nothing; fit_exact does.
+//   fit_exact: the plain reference: every point, std::exp, one normal-equation system per output;
+//   fit:       the fast one (lwr_kernel.hpp): the weighted Gram matrix of the inputs some output regresses on
+//              and the outputs, accumulated once for all outputs over structure-of-arrays data in k-d tree
+//              order, 8 points per vector (AVX-512, AVX2+FMA or scalar, chosen at run time; all give the same
+//              bits), with its own exp; the upper triangle only; outputs that regress on the same inputs (all
+//              six free outputs of the §5.2.2 template) share one Cholesky factorisation. Points whose weight
+//              is below 1e-16 of the largest weight (d^2 > d_min^2 + 2 ln 1e16) are skipped, by whole leaves
+//              where a leaf's bounding box is that far; at the bandwidths cross-validation picks on the shipped
+//              flights every point counts. fit allocates nothing; fit_exact does.
+// A refit depends only on the query (and the window), never on earlier refits or on threads.
 // X'WX counts as singular to numerical precision when a diagonal entry is 0 or the Jacobi-scaled matrix has
 // reciprocal condition number below kSingularRcond.
 #include <array>
+#include <cstddef>
+#include <memory>
+#include <new>
 #include <vector>
 
 #include "pegasus/sysid/body_model.hpp"
+#include "pegasus/sysid/lwr_kernel.hpp"
 
 namespace pegasus::sysid {
 
 inline constexpr double kSingularRcond = 1e-12;
+
+// Which instruction set fit uses: kAuto picks the widest the CPU has. Forcing one is for tests and benchmarks
+// (all give the same bits); not meant to be changed while fits run.
+enum class SimdPath { kAuto, kScalar, kAvx2, kAvx512 };
+void force_simd_path(SimdPath path);
+SimdPath active_simd_path();  // never kAuto
+const char* simd_path_name(SimdPath path);
 
 struct LocalFit {
   std::array<InputVec, kBodyVars> beta{};  // 0 at inputs the template fixes
@@ -34,6 +47,7 @@ struct LocalFit {
   double max_weight = 0;                   // largest weight (exp(-d_min^2 / 2))
   int points = 0;                          // points that entered the sums
   bool singular = false;                   // some output's X'WX is singular to numerical precision
+  double rcond = 0;                        // smallest reciprocal condition number of the Jacobi-scaled X'WX
   // beta' x for output k.
   double predict(int k, const InputVec& x) const { return beta[static_cast<std::size_t>(k)].dot(x); }
 };
@@ -55,26 +69,47 @@ class LocalRegression {
   const std::array<OutputTemplate, kBodyVars>& templates() const { return templates_; }
 
  private:
-  struct Node {
-    int begin, end;        // range in the permuted order
-    int left = -1, right = -1;
-    std::array<double, kInputs> lo{}, hi{};  // bounding box over dims_, in scaled coordinates
+  struct AlignedFree {
+    void operator()(double* p) const { ::operator delete[](p, std::align_val_t{64}); }
+  };
+  using Column = std::unique_ptr<double[], AlignedFree>;
+  static Column aligned_columns(std::size_t count);
+  struct SplitNode {
+    int dim = -1;        // kernel coordinate split on; -1 for a leaf
+    double value = 0;    // points with z[dim] < value went left
+    int left = -1, right = -1, leaf = -1;
+  };
+  // Outputs that regress on the same inputs share one factorisation.
+  struct Group {
+    std::array<int, kInputs> rows{};     // Gram rows of the free inputs
+    std::array<int, kInputs> inputs{};   // the free inputs
+    int size = 0;
+    std::array<int, kBodyVars> outputs{};
+    std::array<int, kBodyVars> columns{};  // Gram column of each output
+    int count = 0;
   };
   using Gram = Eigen::Matrix<double, kInputs, kInputs>;
   using Cross = Eigen::Matrix<double, kInputs, kBodyVars>;
-  int build(int begin, int end, int depth);
-  double box_distance2(const Node& node, const double* zq) const;
+  int build(int begin, int end, int depth, const std::vector<double>& z);
   void solve(const Gram& g, const Cross& b, const InputVec& q, LocalFit* fit) const;
+  void solve_groups(const detail::KernelResult& k, const InputVec& q, LocalFit* fit) const;
 
   const Dataset* data_;
   std::array<OutputTemplate, kBodyVars> templates_;
   std::array<double, kInputs> inv_h_{};
-  std::vector<int> dims_;        // inputs the kernel uses
-  std::vector<int> perm_;        // permuted order -> data row
-  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> z_;  // scaled coordinates, permuted
-  Eigen::Matrix<double, Eigen::Dynamic, kInputs, Eigen::RowMajor> xp_;        // inputs, permuted
-  Eigen::Matrix<double, Eigen::Dynamic, kBodyVars, Eigen::RowMajor> yp_;      // targets, permuted
-  std::vector<Node> nodes_;
+  std::vector<int> dims_;   // inputs the kernel uses
+  std::vector<int> perm_;   // storage order -> data row
+  std::array<int, kInputs> gram_inputs_{};     // input of each Gram row
+  std::array<int, kBodyVars> gram_outputs_{};  // output of each Gram column past the inputs
+  std::array<int, kInputs> row_of_input_{};    // -1 where no output regresses on the input
+  int gram_m_ = 0, gram_outputs_count_ = 0;
+  std::array<Group, kBodyVars> groups_{};
+  int group_count_ = 0;
+  Column a_, row_, box_lo_, box_hi_;
+  std::vector<int> leaf_begin_;
+  std::vector<SplitNode> tree_;
+  detail::KernelData kd_;
+  std::array<detail::TilePlan, 3> plans_;  // per detail::Isa
   Gram global_g_ = Gram::Zero();   // for the global model: sums over all points
   Cross global_b_ = Cross::Zero();
 };

@@ -1,0 +1,82 @@
+#pragma once
+// The weighted Gram kernel behind LocalRegression::fit (lwr.hpp); internal to src/sysid.
+//
+// Data are stored structure-of-arrays in k-d tree order: one contiguous column of n_pad doubles (n rounded up to
+// 8, padding points are 0 and weigh 0) per Gram column (the inputs that some output regresses on, then the
+// outputs that regress on something) and per input only the kernel uses, plus each point's data row as a double
+// (for the cross-validation window). Leaves hold up to kLeaf points and start at multiples of 8. The squared
+// distance is sum_d ((q_d - x_d) / h_d)^2 from the same columns the Gram sums read, so a chunk of points is
+// loaded once (about 600 KB for the shipped 3400 points: it stays in L2).
+//
+// For a query the kernel visits the leaves in storage order, skips a leaf whose bounding box lies more than
+// ln(1e16) * 2 beyond the smallest squared distance seen so far (seeded by the query's own leaf), and for the
+// others computes, 8 points per vector, d^2, w = exp(-d^2 / 2) (own polynomial, below) and the upper triangle of
+// sum_i w_i a_i a_i' over the Gram columns in register tiles (each lane of each entry is summed in point order).
+// Three instruction sets (scalar, AVX2+FMA, AVX-512) run the same operations in the same order with fused
+// multiply-adds everywhere (std::fma in the scalar one), so they agree bit for bit; only the tile shapes differ.
+#include <array>
+#include <vector>
+
+#include "pegasus/sysid/body_model.hpp"
+
+namespace pegasus::sysid::detail {
+
+inline constexpr int kLanes = 8;
+inline constexpr int kLeaf = 32;                     // points per leaf (a multiple of kLanes)
+inline constexpr int kChunk = 128;                   // points per Gram pass (a multiple of kLeaf)
+inline constexpr int kMaxCols = kInputs + kBodyVars;  // Gram columns at most
+inline constexpr int kMaxAcc = kInputs * kMaxCols * kLanes;  // tile accumulators at most (tiles never overlap)
+
+enum class Isa : int { kScalar = 0, kAvx2 = 1, kAvx512 = 2 };
+
+struct Tile {
+  int r0, rows, c0, cols, offset;  // entries [r0, r0+rows) x [c0, c0+cols); accumulators at offset
+};
+struct TilePlan {
+  std::vector<Tile> tiles;
+  int acc_size = 0;
+};
+// Row groups of up to max_rows rows; columns from the group's first row on, in tiles of up to
+// min(max_cols, 24 / rows) columns (AVX-512 keeps 24 accumulators and the rows in its 32 registers).
+TilePlan tile_plan(int rows, int cols, int max_rows, int max_cols);
+
+struct KernelData {
+  int n = 0, n_pad = 0;           // points, padded to a multiple of kLanes
+  int nd = 0;                     // kernel coordinates
+  int m = 0, ncols = 0;           // Gram rows (inputs), Gram columns (inputs then outputs)
+  int leaves = 0, leaves_pad = 0;  // leaves, padded to a multiple of kLanes
+  // Columns of n_pad values: the Gram columns, then inputs the kernel uses but no output regresses on
+  // (padding: 0).
+  const double* a = nullptr;
+  std::array<int, kInputs> kernel_col{};       // column of each kernel coordinate
+  std::array<double, kInputs> inv_h{};          // 1 / bandwidth of each kernel coordinate
+  const double* row = nullptr;     // n_pad: the data row of each point (padding: -1)
+  const double* box_lo = nullptr;  // nd columns of leaves_pad: leaf bounding boxes of x / h (padding: 1e150)
+  const double* box_hi = nullptr;
+  const int* leaf_begin = nullptr;  // leaves + 1 entries
+};
+
+struct KernelQuery {
+  std::array<double, kInputs> q{};   // the query's kernel coordinates (unscaled)
+  std::array<double, kInputs> zq{};  // and scaled by 1 / bandwidth (for the boxes)
+  double exclude_begin = 0, exclude_end = 0;  // data rows [begin, end) weigh 0
+  int seed_leaf = 0;                          // the leaf the query falls in
+  double cutoff = 0;                          // skip points with d^2 > smallest d^2 + cutoff
+};
+
+struct KernelResult {
+  // Upper triangle (c >= r) of sum_i w_i a_ir a_ic at [r * kMaxCols + c], r < m, c < ncols.
+  std::array<double, kInputs * kMaxCols> sum{};
+  double weight_sum = 0, max_weight = 0;
+  int points = 0;
+  double best = 0;  // the smallest squared distance (infinity when every point is excluded)
+};
+
+void gram_scalar(const KernelData& d, const TilePlan& plan, const KernelQuery& q, KernelResult* out);
+void gram_avx2(const KernelData& d, const TilePlan& plan, const KernelQuery& q, KernelResult* out);
+void gram_avx512(const KernelData& d, const TilePlan& plan, const KernelQuery& q, KernelResult* out);
+
+// exp(x) for x <= 0 by the kernel's polynomial (0 below -708), one value, scalar path: for tests.
+double kernel_exp(double x);
+
+}  // namespace pegasus::sysid::detail

@@ -1,0 +1,216 @@
+// The Gram kernel of lwr_kernel.hpp for three instruction sets. The build has no -march flags, so the AVX2 and
+// AVX-512 versions are compiled through `#pragma GCC target` regions and chosen at run time (lwr.cpp).
+//
+// Reproducibility: the three versions run the same IEEE operations in the same order (every multiply-add fused,
+// std::fma in the scalar one; the project compiles without -ffast-math and with -ffp-contract=off, the default of
+// -std=c++20), so a refit gives the same bits whichever runs, on any x86-64 machine, for any thread count. What
+// is not reproducible across machines: the solve after the kernel (Eigen, compiled for the build's baseline
+// instruction set) may round differently under another compiler, other flags or another architecture, and
+// fit_exact uses the C library's exp.
+#include "pegasus/sysid/lwr_kernel.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <utility>
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#define PEGASUS_LWR_X86 1
+#endif
+
+namespace pegasus::sysid::detail {
+
+namespace {
+
+constexpr double kLog2e = 1.4426950408889634074;
+constexpr double kMagic = 6755399441055744.0;           // 1.5 * 2^52: x + kMagic rounds x to an integer
+constexpr double kLn2Hi = 6.93147180369123816490e-01;  // 0x3FE62E42FEE00000 (21 trailing zero bits)
+constexpr double kLn2Lo = 1.90821492927058770002e-10;  // ln 2 - kLn2Hi
+constexpr double kMinExpArg = -708.0;                   // exp(-708) ~ 3.3e-308, still normal
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+// bits(n + kMagic) - kPow2Bias = (n + 1023) for the exponent field of 2^n.
+constexpr std::int64_t kPow2Bias = static_cast<std::int64_t>(0x4338000000000000ULL) - 1023;
+
+constexpr std::array<double, 14> kInvFactorial = [] {
+  std::array<double, 14> c{};
+  double f = 1;
+  for (int k = 0; k < 14; ++k) {
+    if (k > 0) f *= k;  // exact: 13! < 2^53
+    c[static_cast<std::size_t>(k)] = 1.0 / f;
+  }
+  return c;
+}();
+
+}  // namespace
+
+TilePlan tile_plan(int rows, int cols, int max_rows, int max_cols) {
+  TilePlan p;
+  for (int r0 = 0; r0 < rows; r0 += max_rows) {
+    const int r = std::min(max_rows, rows - r0);
+    const int width = std::min({max_cols, 24 / r, 12});
+    for (int c0 = r0; c0 < cols; c0 += width) {
+      const int c = std::min(width, cols - c0);
+      p.tiles.push_back(Tile{r0, r, c0, c, p.acc_size});
+      p.acc_size += r * c * kLanes;
+    }
+  }
+  return p;
+}
+
+// ------------------------------------------------------------------ scalar (any machine)
+namespace scalar_isa {
+struct V {
+  double v[kLanes];
+  static V load(const double* p) {
+    V r;
+    std::memcpy(r.v, p, sizeof r.v);
+    return r;
+  }
+  void store(double* p) const { std::memcpy(p, v, sizeof v); }
+  static V set(double x) {
+    V r;
+    std::fill(r.v, r.v + kLanes, x);
+    return r;
+  }
+  static V zero() { return set(0.0); }
+};
+#define PEGASUS_LWR_LANEWISE(name, expr)      \
+  inline V name(V a, V b) {                   \
+    V r;                                      \
+    for (int i = 0; i < kLanes; ++i) {        \
+      const double x = a.v[i], y = b.v[i];    \
+      r.v[i] = (expr);                        \
+    }                                         \
+    return r;                                 \
+  }
+PEGASUS_LWR_LANEWISE(add, x + y)
+PEGASUS_LWR_LANEWISE(sub, x - y)
+PEGASUS_LWR_LANEWISE(mul, x * y)
+PEGASUS_LWR_LANEWISE(vmin, x < y ? x : y)
+PEGASUS_LWR_LANEWISE(vmax, x > y ? x : y)
+#undef PEGASUS_LWR_LANEWISE
+inline V fma(V a, V b, V c) {
+  V r;
+  for (int i = 0; i < kLanes; ++i) r.v[i] = std::fma(a.v[i], b.v[i], c.v[i]);
+  return r;
+}
+inline V select_le(V a, V b, V x, V y) {
+  V r;
+  for (int i = 0; i < kLanes; ++i) r.v[i] = a.v[i] <= b.v[i] ? x.v[i] : y.v[i];
+  return r;
+}
+inline int count_le(V a, V b) {
+  int n = 0;
+  for (int i = 0; i < kLanes; ++i) n += a.v[i] <= b.v[i] ? 1 : 0;
+  return n;
+}
+inline V pow2_magic(V nm) {
+  V r;
+  for (int i = 0; i < kLanes; ++i) {
+    const auto bits = static_cast<std::uint64_t>(std::bit_cast<std::int64_t>(nm.v[i]) - kPow2Bias) << 52;
+    r.v[i] = std::bit_cast<double>(bits);
+  }
+  return r;
+}
+#include "lwr_kernel.inc"
+}  // namespace scalar_isa
+
+#ifdef PEGASUS_LWR_X86
+// ------------------------------------------------------------------ AVX2 + FMA: two 256-bit halves
+#pragma GCC push_options
+#pragma GCC target("avx2,fma,popcnt")
+namespace avx2_isa {
+struct V {
+  __m256d lo, hi;
+  static V load(const double* p) { return {_mm256_loadu_pd(p), _mm256_loadu_pd(p + 4)}; }
+  void store(double* p) const {
+    _mm256_storeu_pd(p, lo);
+    _mm256_storeu_pd(p + 4, hi);
+  }
+  static V set(double x) { return {_mm256_set1_pd(x), _mm256_set1_pd(x)}; }
+  static V zero() { return {_mm256_setzero_pd(), _mm256_setzero_pd()}; }
+};
+inline V add(V a, V b) { return {_mm256_add_pd(a.lo, b.lo), _mm256_add_pd(a.hi, b.hi)}; }
+inline V sub(V a, V b) { return {_mm256_sub_pd(a.lo, b.lo), _mm256_sub_pd(a.hi, b.hi)}; }
+inline V mul(V a, V b) { return {_mm256_mul_pd(a.lo, b.lo), _mm256_mul_pd(a.hi, b.hi)}; }
+inline V fma(V a, V b, V c) { return {_mm256_fmadd_pd(a.lo, b.lo, c.lo), _mm256_fmadd_pd(a.hi, b.hi, c.hi)}; }
+inline V vmin(V a, V b) { return {_mm256_min_pd(a.lo, b.lo), _mm256_min_pd(a.hi, b.hi)}; }
+inline V vmax(V a, V b) { return {_mm256_max_pd(a.lo, b.lo), _mm256_max_pd(a.hi, b.hi)}; }
+inline V select_le(V a, V b, V x, V y) {
+  return {_mm256_blendv_pd(y.lo, x.lo, _mm256_cmp_pd(a.lo, b.lo, _CMP_LE_OQ)),
+          _mm256_blendv_pd(y.hi, x.hi, _mm256_cmp_pd(a.hi, b.hi, _CMP_LE_OQ))};
+}
+inline int count_le(V a, V b) {
+  return std::popcount(static_cast<unsigned>(_mm256_movemask_pd(_mm256_cmp_pd(a.lo, b.lo, _CMP_LE_OQ)))) +
+         std::popcount(static_cast<unsigned>(_mm256_movemask_pd(_mm256_cmp_pd(a.hi, b.hi, _CMP_LE_OQ))));
+}
+inline __m256d pow2_half(__m256d nm) {
+  const __m256i e = _mm256_sub_epi64(_mm256_castpd_si256(nm), _mm256_set1_epi64x(kPow2Bias));
+  return _mm256_castsi256_pd(_mm256_slli_epi64(e, 52));
+}
+inline V pow2_magic(V nm) { return {pow2_half(nm.lo), pow2_half(nm.hi)}; }
+#include "lwr_kernel.inc"
+}  // namespace avx2_isa
+#pragma GCC pop_options
+
+// ------------------------------------------------------------------ AVX-512: one 512-bit register
+#pragma GCC push_options
+#pragma GCC target("avx512f,avx2,fma,popcnt")
+namespace avx512_isa {
+struct V {
+  __m512d v;
+  static V load(const double* p) { return {_mm512_loadu_pd(p)}; }
+  void store(double* p) const { _mm512_storeu_pd(p, v); }
+  static V set(double x) { return {_mm512_set1_pd(x)}; }
+  static V zero() { return {_mm512_setzero_pd()}; }
+};
+inline V add(V a, V b) { return {_mm512_add_pd(a.v, b.v)}; }
+inline V sub(V a, V b) { return {_mm512_sub_pd(a.v, b.v)}; }
+inline V mul(V a, V b) { return {_mm512_mul_pd(a.v, b.v)}; }
+inline V fma(V a, V b, V c) { return {_mm512_fmadd_pd(a.v, b.v, c.v)}; }
+// The masked forms with every lane selected: GCC 12 warns (-Wmaybe-uninitialized) on the unmasked ones'
+// undefined pass-through operand.
+inline V vmin(V a, V b) { return {_mm512_mask_min_pd(a.v, 0xFF, a.v, b.v)}; }
+inline V vmax(V a, V b) { return {_mm512_mask_max_pd(a.v, 0xFF, a.v, b.v)}; }
+inline V select_le(V a, V b, V x, V y) { return {_mm512_mask_blend_pd(_mm512_cmp_pd_mask(a.v, b.v, _CMP_LE_OQ), y.v, x.v)}; }
+inline int count_le(V a, V b) { return std::popcount(static_cast<unsigned>(_mm512_cmp_pd_mask(a.v, b.v, _CMP_LE_OQ))); }
+inline V pow2_magic(V nm) {
+  const __m512i e = _mm512_sub_epi64(_mm512_castpd_si512(nm.v), _mm512_set1_epi64(kPow2Bias));
+  return {_mm512_castsi512_pd(_mm512_mask_slli_epi64(e, 0xFF, e, 52))};
+}
+#include "lwr_kernel.inc"
+}  // namespace avx512_isa
+#pragma GCC pop_options
+#endif
+
+void gram_scalar(const KernelData& d, const TilePlan& plan, const KernelQuery& q, KernelResult* out) {
+  scalar_isa::gram(d, plan, q, out);
+}
+
+#ifdef PEGASUS_LWR_X86
+void gram_avx2(const KernelData& d, const TilePlan& plan, const KernelQuery& q, KernelResult* out) {
+  avx2_isa::gram(d, plan, q, out);
+}
+void gram_avx512(const KernelData& d, const TilePlan& plan, const KernelQuery& q, KernelResult* out) {
+  avx512_isa::gram(d, plan, q, out);
+}
+#else
+void gram_avx2(const KernelData& d, const TilePlan& plan, const KernelQuery& q, KernelResult* out) {
+  scalar_isa::gram(d, plan, q, out);
+}
+void gram_avx512(const KernelData& d, const TilePlan& plan, const KernelQuery& q, KernelResult* out) {
+  scalar_isa::gram(d, plan, q, out);
+}
+#endif
+
+double kernel_exp(double x) {
+  double out[kLanes];
+  scalar_isa::exp_nonpositive(scalar_isa::V::set(x)).store(out);
+  return out[0];
+}
+
+}  // namespace pegasus::sysid::detail
