@@ -1,13 +1,19 @@
-// The ground-truth helicopter (thesis ch. 5): one 50 Hz step (2 RK4 substeps, rotor inflow by Newton) and a
-// pilot flight.
+// The helicopter (thesis ch. 5): the ground truth and the hover task on the identified model.
 //   BM_HeliAircraftStep            Aircraft::step under trim controls with counter-based noise
 //   BM_HeliPilotFlight_60s         fly_pilot: 60 s of hover and sweeps (3000 steps), per flight
+//   BM_HeliHoverUhat/threads       U-hat of the starting hover policy on the learned model at the thesis's
+//                                  settings (§5.3: 30 scenarios x 35 s at 50 Hz, a refit every 5 steps) on 1
+//                                  or 2 threads; the model is identified from the shipped 339 s pilot log
+//   BM_HeliHoverPolicyAct          one action of the hover policy (body-frame errors, four channel networks)
 #include <benchmark/benchmark.h>
 
 #include <array>
+#include <memory>
 
 #include "pegasus/heli/aircraft.hpp"
+#include "pegasus/heli/hover_task.hpp"
 #include "pegasus/heli/pilot.hpp"
+#include "pegasus/sysid/identify.hpp"
 
 namespace pegasus {
 namespace {
@@ -37,6 +43,42 @@ void BM_HeliPilotFlight_60s(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(heli::fly_pilot(heli, heli::PilotOptions{}, 60.0, ++seed));
 }
 BENCHMARK(BM_HeliPilotFlight_60s)->Unit(benchmark::kMillisecond);
+
+std::shared_ptr<const sysid::IdentifiedModel> shipped_model() {
+  static const auto model = [] {
+    const heli::Aircraft heli;
+    const auto log = heli::fly_pilot(heli, heli::PilotOptions{}, 339, 1).log;
+    ThreadPool pool(2);
+    return std::make_shared<const sysid::IdentifiedModel>(
+        sysid::identify(log, sysid::IdentifyOptions{}, pool));
+  }();
+  return model;
+}
+
+void BM_HeliHoverUhat(benchmark::State& state) {
+  const auto model = shipped_model();
+  const heli::HoverTrainingOptions options;  // 30 scenarios x 35 s, gamma 0.9995, refit every 5 steps
+  auto pool = std::make_shared<ThreadPool>(static_cast<int>(state.range(0)));
+  auto objective = heli::hover_objective(model, options, pool);
+  const Theta theta = objective->parameters().initial();
+  double uhat = 0;
+  for (auto _ : state) benchmark::DoNotOptimize(uhat = objective->evaluate(theta));
+  state.counters["uhat"] = uhat;
+  state.counters["steps"] = static_cast<double>(options.scenarios * options.horizon());
+}
+BENCHMARK(BM_HeliHoverUhat)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_HeliHoverPolicyAct(benchmark::State& state) {
+  const heli::HoverPolicy pi;
+  const Theta theta = pi.parameters().initial();
+  heli::HeliObservation o;
+  o.state = {0.3, -0.2, -10.1, 0.02, -0.01, 0.1, 0.1, 0.2, -0.1, 0.01, 0.02, 0.03};
+  for (auto _ : state) {
+    o.state[0] += 1e-9;
+    benchmark::DoNotOptimize(pi.act(theta, o));
+  }
+}
+BENCHMARK(BM_HeliHoverPolicyAct);
 
 }  // namespace
 }  // namespace pegasus

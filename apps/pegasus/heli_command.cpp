@@ -1,8 +1,16 @@
-// `pegasus heli pilot` and `pegasus heli identify`: the ground-truth aircraft flown by the scripted pilot, and
-// system identification by locally weighted regression (thesis §5.1-5.2).
+// `pegasus heli pilot`, `heli identify`, `heli hover`, `heli fly`, `heli control` and `heli pipeline`: the
+// ground-truth aircraft flown by the scripted pilot, system identification by locally weighted regression
+// (thesis §5.1-5.2), PEGASUS hover training on the identified model and flights of the result on the ground
+// truth (§5.3), a line-by-line controller server, and the whole chain in one command (the demo).
 #include <fmt/format.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
+#include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
 #include <map>
 #include <string>
 #include <vector>
@@ -10,11 +18,18 @@
 #include "experiment_commands.hpp"
 #include "pegasus/core/error.hpp"
 #include "pegasus/heli/aircraft.hpp"
+#include "pegasus/heli/control_loop.hpp"
+#include "pegasus/heli/flights.hpp"
+#include "pegasus/heli/frames.hpp"
+#include "pegasus/heli/hover_task.hpp"
 #include "pegasus/heli/pilot.hpp"
+#include "pegasus/heli/policy_file.hpp"
 #include "pegasus/runs/output.hpp"
 #include "pegasus/runs/svg_plot.hpp"
 #include "pegasus/sysid/flight_log.hpp"
 #include "pegasus/sysid/identify.hpp"
+
+extern char** environ;
 
 namespace pegasus::cli {
 namespace {
@@ -257,6 +272,460 @@ void run_identify(RunContext& ctx) {
   ctx.out << "model: " << (dir.final_path() / "model.json").string() << "\n";
 }
 
+
+// ------------------------------------------------------------------ heli hover
+
+void declare_hover(ConfigSchema& s) {
+  s.add_string("model", "", "identified model (model.json of pegasus heli identify)");
+  s.add_int("scenarios", 30, "PEGASUS scenarios m (thesis 5.3: 30)").range(1, 100000);
+  s.add_double("seconds", 35, "flight per scenario, s (thesis 5.3: 35)").greater_than(0).max(3600);
+  s.add_double("gamma", 0.9995, "discount per 50 Hz step (thesis 5.3: 0.9995)").greater_than(0).max(1);
+  s.add_int("refit_every", 5, "learned model: 50 Hz steps between local-regression refits (thesis 5.2.2: 5)").range(1, 1000);
+  s.add_double("start_pos_sigma", 1.0, "start position perturbation per axis, m").range(0, 100);
+  s.add_double("start_vel_sigma", 0.3, "start velocity perturbation per axis, m/s").range(0, 100);
+  s.add_double_list("target", {0, 0, -10, 0}, "set point x, y, z (m, NED: z < 0 is up) and yaw (rad)")
+      .validate([](const FieldValue& v) {
+        return std::get<std::vector<double>>(v).size() == 4 ? std::string() : std::string("4 numbers: x, y, z, yaw");
+      });
+  s.add_double("reward.position_m", 0.5, "typical position error: alpha_x,y,z = 1 / this^2 (Eq 5.9)").greater_than(0);
+  s.add_double("reward.velocity_mps", 0.5, "typical velocity: alpha_xdot,ydot,zdot = 1 / this^2 (Eq 5.9)").greater_than(0);
+  s.add_double("reward.yaw_rad", 0.1, "typical yaw error: alpha_yaw = 1 / this^2 (Eq 5.9)").greater_than(0);
+  s.add_double("reward.action", 0.1, "typical control departure: alpha_a = 1 / this^2 (Eq 5.10)").greater_than(0);
+  s.add_string("reward.action_centre", "trim", "controls the action cost is taken about: the logs' mean (trim) or 0 (Eq 5.10 as printed)")
+      .choices({"trim", "zero"});
+  s.add_string("optimizer", "gradient", "gradient ascent (then hill climbing, see then_hill_climb) or hill climbing alone")
+      .choices({"gradient", "hill-climb"});
+  s.add_bool("then_hill_climb", true, "after gradient ascent, random-walk hill climbing from its result");
+  s.add_int("gradient.iterations", 20, "gradient ascent iterations at most (2 x 34 + line-search evaluations each)").range(0, 1000000);
+  s.add_double("gradient.relative_step", 0.05, "central-difference half-width, in parameter scales").greater_than(0);
+  s.add_double("gradient.initial_step", 1.0, "first step length, in parameter scales").greater_than(0);
+  s.add_double("gradient.max_step", 4.0, "longest step, in parameter scales").greater_than(0);
+  s.add_int("gradient.max_backtracks", 8, "step halvings tried before an iteration gives up").range(0, 100);
+  s.add_int("hill_climbing.iterations", 20, "hill-climbing iterations at most").range(0, 1000000);
+  s.add_int("hill_climbing.proposals", 8, "hill-climbing proposals per iteration (evaluated in parallel)").range(1, 100000);
+  s.add_double("hill_climbing.initial_step", 0.3, "hill-climbing first perturbation size, in parameter scales").greater_than(0);
+  s.add_constraint([](const ConfigSchema& c) {
+    if (c.get_double("gradient.initial_step") > c.get_double("gradient.max_step"))
+      return std::string("gradient.initial_step: expected at most gradient.max_step");
+    return std::string();
+  });
+}
+
+heli::HoverTrainingOptions hover_options(const RunContext& ctx) {
+  const auto& c = ctx.config;
+  heli::HoverTrainingOptions o;
+  o.scenarios = static_cast<int>(c.get_int("scenarios"));
+  o.seconds = c.get_double("seconds");
+  o.gamma = c.get_double("gamma");
+  o.refit_every = static_cast<int>(c.get_int("refit_every"));
+  o.start_pos_sigma = c.get_double("start_pos_sigma");
+  o.start_vel_sigma = c.get_double("start_vel_sigma");
+  const auto& t = c.get_double_list("target");
+  o.target = {t[0], t[1], t[2], t[3]};
+  o.reward = heli::HoverReward::from_typical(c.get_double("reward.position_m"), c.get_double("reward.velocity_mps"),
+                                             c.get_double("reward.yaw_rad"), c.get_double("reward.action"), {});
+  o.centre_at_trim = c.get_string("reward.action_centre") == "trim";
+  o.optimizer.method = c.get_string("optimizer");
+  o.then_hill_climb = c.get_bool("then_hill_climb");
+  o.optimizer.gradient.max_iterations = c.get_int("gradient.iterations");
+  o.optimizer.gradient.relative_step = c.get_double("gradient.relative_step");
+  o.optimizer.gradient.initial_step = c.get_double("gradient.initial_step");
+  o.optimizer.gradient.max_step = c.get_double("gradient.max_step");
+  o.optimizer.gradient.min_step = std::min(o.optimizer.gradient.min_step, o.optimizer.gradient.initial_step);
+  o.optimizer.gradient.max_backtracks = static_cast<int>(c.get_int("gradient.max_backtracks"));
+  o.optimizer.hill_climbing.max_iterations = c.get_int("hill_climbing.iterations");
+  o.optimizer.hill_climbing.proposals_per_iteration = static_cast<int>(c.get_int("hill_climbing.proposals"));
+  o.optimizer.hill_climbing.initial_step = c.get_double("hill_climbing.initial_step");
+  o.optimizer.hill_climbing.max_step = std::max(o.optimizer.hill_climbing.max_step, o.optimizer.hill_climbing.initial_step);
+  o.optimizer.hill_climbing.min_step = std::min(o.optimizer.hill_climbing.min_step, o.optimizer.hill_climbing.initial_step);
+  o.seed = ctx.seed;
+  std::string error;
+  if (!o.IsValid(&error)) throw InputError(error);
+  return o;
+}
+
+std::shared_ptr<const IdentifiedModel> model_argument(const RunContext& ctx) {
+  const std::string& file = ctx.config.get_string("model");
+  if (file.empty()) throw InputError("--model: expected an identified model (model.json of pegasus heli identify)");
+  return std::make_shared<const IdentifiedModel>(IdentifiedModel::load(file));
+}
+
+std::string curve_svg(const std::vector<IterationRecord>& progress, std::int64_t gradient_iterations) {
+  SvgPlot plot;
+  plot.title("Hover training: U-hat of the best policy so far").x_label("optimizer iteration").y_label("U-hat");
+  PlotSeries g{.name = "gradient ascent", .markers = progress.size() < 60}, h{.name = "hill climbing", .markers = progress.size() < 60};
+  for (const auto& r : progress) {
+    PlotSeries& s = r.iteration <= gradient_iterations ? g : h;
+    s.x.push_back(static_cast<double>(r.iteration));
+    s.y.push_back(r.value);
+  }
+  if (!g.x.empty()) plot.add_series(std::move(g));
+  if (!h.x.empty()) plot.add_series(std::move(h));
+  return plot.render();
+}
+
+void run_hover(RunContext& ctx) {
+  const heli::HoverTrainingOptions o = hover_options(ctx);
+  const auto model = model_argument(ctx);
+  RunDirectory& dir = ctx.run_directory();
+  heli::HoverTrainingHooks hooks;
+  hooks.checkpoint_every = 1;
+  hooks.resume_from = dir.load_checkpoint();
+  const bool two = o.optimizer.method == "gradient" && o.then_hill_climb;
+  const std::int64_t g_iters = o.optimizer.method == "gradient" ? o.optimizer.gradient.max_iterations
+                                                                 : o.optimizer.hill_climbing.max_iterations;
+  auto bar = ctx.progress("optimizer iterations",
+                          static_cast<std::uint64_t>(g_iters + (two ? o.optimizer.hill_climbing.max_iterations : 0)));
+  if (hooks.resume_from) {
+    const auto& r = *hooks.resume_from;
+    std::uint64_t done = 0;
+    if (r.at("phase").get<int>() == 1) done += r.at("gradient").at("iterations").get<std::uint64_t>();
+    if (!r.at("optimizer").is_null()) done += r.at("optimizer").at("iterations").get<std::uint64_t>();
+    bar.skip(done);
+  }
+  std::uint64_t last = 0;
+  hooks.on_checkpoint = [&](const nlohmann::json& c) {
+    dir.save_checkpoint(c);
+    std::uint64_t done = c.at("phase").get<int>() == 1 ? c.at("gradient").at("iterations").get<std::uint64_t>() : 0;
+    if (!c.at("optimizer").is_null()) done += c.at("optimizer").at("iterations").get<std::uint64_t>();
+    if (done > last) bar.advance(done - last);
+    last = done;
+  };
+  const heli::HoverTrainingResult r = heli::train_hover(model, o, hooks, ctx.pool());
+  bar.finish();
+
+  CsvWriter progress({"iteration", "evaluations", "seconds", "objective"});
+  for (const auto& h : r.progress) progress.add_row({h.iteration, h.evaluations, h.seconds, h.value});
+  dir.write_csv("progress.csv", progress);
+  dir.write_text("progress.svg", curve_svg(r.progress, r.gradient.method == "gradient" ? r.gradient.iterations : 0));
+  const heli::HoverPolicy policy = heli::hover_policy_for(*model);
+  heli::PolicyFile file = heli::hover_policy_file(policy, r.theta, o.target, heli::hover_init_from_model(*model).trim);
+  file.provenance = {{"command", "pegasus heli hover"},
+                     {"model", ctx.config.get_string("model")},
+                     {"uhat", r.final_uhat},
+                     {"scenarios", o.scenarios},
+                     {"seconds", o.seconds},
+                     {"seed", ctx.seed}};
+  dir.write_json("policy.json", heli::policy_file_json(file));
+  auto phase = [](const OptimizerSummary& s) -> nlohmann::json {
+    if (s.method.empty()) return nullptr;
+    return {{"method", s.method},
+            {"iterations", s.iterations},
+            {"evaluations", s.evaluations},
+            {"initial_uhat", s.initial_value},
+            {"best_uhat", s.best_value},
+            {"termination", std::string(TerminationTypeName(s.termination_type))},
+            {"message", s.message},
+            {"seconds", s.wall_seconds}};
+  };
+  const double seconds = r.progress.empty() ? 0.0 : r.progress.back().seconds;
+  const std::int64_t evaluations = r.progress.empty() ? 0 : r.progress.back().evaluations;
+  dir.write_json("summary.json", {{"initial_uhat", r.initial_uhat},
+                                  {"final_uhat", r.final_uhat},
+                                  {"iterations", r.progress.size()},
+                                  {"evaluations", evaluations},
+                                  {"train_seconds", seconds},
+                                  {"scenarios", o.scenarios},
+                                  {"scenario_seconds", o.seconds},
+                                  {"gamma", o.gamma},
+                                  {"gradient", phase(r.gradient)},
+                                  {"hill_climb", phase(r.hill_climb)},
+                                  {"policy", "policy.json"}});
+  ctx.out << fmt::format("hover training: U-hat {:.6g} -> {:.6g} in {} iterations, {} evaluations, {:.1f} s\n",
+                         r.initial_uhat, r.final_uhat, r.progress.size(), evaluations, seconds);
+  ctx.out << "policy: " << (dir.final_path() / "policy.json").string() << "\n";
+}
+
+// ------------------------------------------------------------------ heli fly
+
+void declare_fly(ConfigSchema& s) {
+  s.add_string("policy", "", "policy file (policy.json of pegasus heli hover or heli maneuver)");
+  s.add_bool("pilot", false, "fly the scripted pilot's hover instead of a policy");
+  s.add_bool("compare_pilot", false, "also fly the scripted pilot's hover from the same starts and gusts");
+  s.add_int("flights", 100, "flights from perturbed starts").range(1, 1000000);
+  s.add_double("seconds", 60, "flight length, s").greater_than(0).max(36000);
+  s.add_double("gust_sigma", 0.5, "turbulence standard deviation per axis, m/s").range(0, 10);
+  s.add_bool("estimate_noise", true, "the controller sees Kalman-filter-like state-estimate errors");
+  s.add_double("start_pos_sigma", 1.0, "start position perturbation per axis, m").range(0, 100);
+  s.add_double("start_vel_sigma", 0.3, "start velocity perturbation per axis, m/s").range(0, 100);
+  s.add_int("trace_flights", 10, "flights written step by step to flights.csv (the first ones)").range(0, 1000000);
+}
+
+nlohmann::json flight_summary_json(const heli::FlightSummary& s) {
+  return {{"flights", s.flights},
+          {"crashes", s.crashes},
+          {"rms_position_m", s.rms_position_m},
+          {"rms_velocity_mps", s.rms_velocity_mps},
+          {"rms_yaw_rad", s.rms_yaw_rad}};
+}
+
+CsvWriter flights_csv(const std::vector<heli::FlightRecord>& flights) {
+  std::vector<std::string> header = {"flight", "t"};
+  for (const char* n : kLoggedStateNames) header.emplace_back(n);
+  for (const char* n : {"a1", "a2", "a3", "a4", "target_x", "target_y", "target_z", "target_yaw"}) header.emplace_back(n);
+  CsvWriter csv(header);
+  for (std::size_t i = 0; i < flights.size(); ++i)
+    for (const auto& row : flights[i].trace) {
+      std::vector<CsvCell> cells = {static_cast<std::int64_t>(i), row.time};
+      for (double v : row.truth) cells.emplace_back(v);
+      for (double v : row.controls) cells.emplace_back(v);
+      for (double v : {row.target.x, row.target.y, row.target.z, row.target.yaw}) cells.emplace_back(v);
+      csv.add_row(std::move(cells));
+    }
+  return csv;
+}
+
+void add_per_flight(CsvWriter& csv, const std::string& who, const std::vector<heli::FlightRecord>& flights) {
+  for (std::size_t i = 0; i < flights.size(); ++i) {
+    const auto& f = flights[i];
+    const double n = std::max(1, f.steps);
+    csv.add_row({who, static_cast<std::int64_t>(i), std::int64_t{f.crashed ? 1 : 0}, crash_reason_name(f.crash),
+                 f.crash_time, std::sqrt(f.sum_sq_position / n), std::sqrt(f.sum_sq_velocity / n),
+                 std::sqrt(f.sum_sq_yaw / n)});
+  }
+}
+
+// Figs 5.6-5.7: one variable of flight 0 against time, the policy (and the pilot).
+void write_trace_plots(RunDirectory& dir, const std::vector<heli::FlightRecord>& main, const std::string& main_name,
+                       const std::vector<heli::FlightRecord>* pilot) {
+  if (main.empty() || main[0].trace.empty()) return;
+  struct Panel {
+    const char* file;
+    const char* title;
+    const char* unit;
+    int index;     // 0..2 world position, 3..5 body velocity
+  };
+  const Panel panels[] = {{"position_x.svg", "x (north), world (Fig 5.7)", "m", 0},
+                          {"position_y.svg", "y (east), world (Fig 5.7)", "m", 1},
+                          {"position_z.svg", "z (down), world (Fig 5.7)", "m", 2},
+                          {"velocity_xb.svg", "xdot_b (forward), body (Fig 5.6)", "m/s", 3},
+                          {"velocity_yb.svg", "ydot_b (right), body (Fig 5.6)", "m/s", 4},
+                          {"velocity_zb.svg", "zdot_b (down), body (Fig 5.6)", "m/s", 5}};
+  auto series = [](const heli::FlightRecord& f, int index, const std::string& name, const char* color) {
+    PlotSeries s{.name = name, .markers = false, .color = color};
+    for (std::size_t k = 0; k < f.trace.size(); k += 2) {
+      const auto& row = f.trace[k];
+      s.x.push_back(row.time);
+      if (index < 3) {
+        s.y.push_back(row.truth[static_cast<std::size_t>(index)]);
+      } else {
+        const heli::Vec3 v_B = heli::body_from_world({row.truth[3], row.truth[4], row.truth[5]},
+                                                     heli::Vec3(row.truth[6], row.truth[7], row.truth[8]));
+        s.y.push_back(v_B[index - 3]);
+      }
+    }
+    return s;
+  };
+  for (const Panel& p : panels) {
+    SvgPlot plot;
+    plot.title(fmt::format("Hover on the ground truth, flight 0: {}", p.title)).x_label("time, s").y_label(p.unit);
+    plot.add_series(series(main[0], p.index, main_name, "#1f77b4"));
+    if (pilot && !pilot->empty() && !(*pilot)[0].trace.empty())
+      plot.add_series(series((*pilot)[0], p.index, "scripted pilot", "#d62728"));
+    dir.write_text(p.file, plot.render());
+  }
+}
+
+void run_fly(RunContext& ctx) {
+  const auto& c = ctx.config;
+  const bool pilot_only = c.get_bool("pilot");
+  const std::string& policy_path = c.get_string("policy");
+  if (!pilot_only && policy_path.empty())
+    throw InputError("--policy: expected a policy file (policy.json of pegasus heli hover), or --pilot");
+  std::unique_ptr<heli::HeliController> controller;
+  heli::SetPoint target;
+  if (!policy_path.empty()) {
+    const heli::PolicyFile file = heli::read_policy_file(policy_path);
+    controller = heli::make_controller(file, policy_path);
+    target = controller->target(0);
+  }
+  AircraftParams p;
+  p.gust_sigma = c.get_double("gust_sigma");
+  if (!c.get_bool("estimate_noise")) p.est_sigma_pos = p.est_sigma_vel = p.est_sigma_angle = p.est_sigma_rate = 0;
+  p.start_p_W = heli::Vec3(target.x, target.y, target.z);
+  p.start_yaw = target.yaw;
+  p.start_pos_sigma = c.get_double("start_pos_sigma");
+  p.start_vel_sigma = c.get_double("start_vel_sigma");
+  std::string error;
+  if (!p.IsValid(&error)) throw InputError(error);
+  const Aircraft aircraft(p);
+  heli::FlightOptions fo;
+  fo.flights = static_cast<int>(c.get_int("flights"));
+  fo.seconds = c.get_double("seconds");
+  fo.seed = ctx.seed;
+  fo.trace_flights = static_cast<int>(c.get_int("trace_flights"));
+  RunDirectory& dir = ctx.run_directory();
+
+  const bool with_pilot = pilot_only || c.get_bool("compare_pilot");
+  std::vector<heli::FlightRecord> flown, pilot;
+  if (!pilot_only) flown = heli::fly_controller(aircraft, *controller, fo, &ctx.pool());
+  if (with_pilot) pilot = heli::fly_pilot_hover(aircraft, PilotOptions{}, target, fo, &ctx.pool());
+  const std::vector<heli::FlightRecord>& main = pilot_only ? pilot : flown;
+  const heli::FlightSummary s = heli::summarize_flights(main);
+  nlohmann::json summary = flight_summary_json(s);
+  summary["controller"] = pilot_only ? "pilot" : policy_path;
+  summary["seconds"] = fo.seconds;
+  CsvWriter per_flight({"controller", "flight", "crashed", "crash_reason", "crash_time", "rms_position_m",
+                        "rms_velocity_mps", "rms_yaw_rad"});
+  add_per_flight(per_flight, pilot_only ? "pilot" : "policy", main);
+  dir.write_csv("flights.csv", flights_csv(main));
+  if (with_pilot && !pilot_only) {
+    const heli::FlightSummary ps = heli::summarize_flights(pilot);
+    summary["pilot"] = flight_summary_json(ps);
+    summary["better_than_pilot"] = {{"position", s.rms_position_m < ps.rms_position_m},
+                                    {"velocity", s.rms_velocity_mps < ps.rms_velocity_mps}};
+    add_per_flight(per_flight, "pilot", pilot);
+    dir.write_csv("pilot_flights.csv", flights_csv(pilot));
+  }
+  dir.write_csv("per_flight.csv", per_flight);
+  write_trace_plots(dir, main, pilot_only ? "scripted pilot" : "learned policy",
+                    with_pilot && !pilot_only ? &pilot : nullptr);
+  dir.write_json("summary.json", summary);
+  auto line = [](const char* who, const heli::FlightSummary& f) {
+    return fmt::format("{}: {} flights, {} crashes, RMS position {:.3f} m, velocity {:.3f} m/s, yaw {:.4f} rad\n", who,
+                       f.flights, f.crashes, f.rms_position_m, f.rms_velocity_mps, f.rms_yaw_rad);
+  };
+  ctx.out << line(pilot_only ? "pilot" : "policy", s);
+  if (with_pilot && !pilot_only) ctx.out << line("pilot", heli::summarize_flights(pilot));
+  ctx.out << "plots: " << (dir.final_path() / "position_x.svg").string() << " (and position_*, velocity_*.svg)\n";
+}
+
+// ------------------------------------------------------------------ heli control
+
+void run_control(RunContext& ctx) {
+  const std::string& path = ctx.config.get_string("policy");
+  if (path.empty()) throw InputError("--policy: expected a policy file (policy.json of pegasus heli hover)");
+  const heli::PolicyFile file = heli::read_policy_file(path);
+  const auto controller = heli::make_controller(file, path);
+  const auto bench = ctx.config.get_int("bench_lines");
+  if (bench == 0) {
+    heli::run_control_loop(*controller, file.trim, stdin, stdout, stderr);
+    return;
+  }
+  // Bench mode: `bench_lines` synthetic hover states through the same loop, output discarded.
+  std::string input;
+  for (std::int64_t i = 0; i < bench; ++i) {
+    const double t = 0.02 * static_cast<double>(i);
+    input += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{}\n", 0.3 * std::sin(t), -0.2 * std::cos(t), -10 + 0.1 * std::sin(0.5 * t),
+                         0.05, -0.01, 0.02 * std::sin(t), 0.1, -0.1, 0.02, 0.01, 0.0, 0.01);
+  }
+  std::FILE* in = fmemopen(input.data(), input.size(), "r");
+  std::FILE* out = std::fopen("/dev/null", "w");
+  if (!in || !out) throw std::runtime_error("bench: cannot open the in-memory input or /dev/null");
+  const auto start = std::chrono::steady_clock::now();
+  const heli::ControlLoopStats stats = heli::run_control_loop(*controller, file.trim, in, out, stderr);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::fclose(in);
+  std::fclose(out);
+  ctx.out << fmt::format("{} lines in {:.3f} s: {:.0f} lines/s (each line parsed, answered and flushed)\n", stats.lines,
+                         seconds, static_cast<double>(stats.lines) / seconds);
+}
+
+// ------------------------------------------------------------------ heli pipeline
+
+void declare_pipeline(ConfigSchema& s) {
+  s.add_double("train_seconds", 339, "pilot training flight, s (thesis 5.2: 339)").range(30, 36000);
+  s.add_double("test_seconds", 140, "pilot hold-out flight, s (thesis 5.2: 140)").range(20, 36000);
+  s.add_int("cv_points", 300, "identification: held-out points per cross-validation evaluation").range(10, 100000);
+  s.add_double_list("scale_grid", {0.5, 1, 2, 4, 8}, "identification: bandwidths tried, in input standard deviations").min(1e-6).min_size(1);
+  s.add_int("coordinate_passes", 1, "identification: passes of per-input bandwidth refinement").range(0, 10);
+  s.add_int("scenarios", 30, "hover training: PEGASUS scenarios").range(1, 100000);
+  s.add_double("scenario_seconds", 35, "hover training: flight per scenario, s").greater_than(0).max(3600);
+  s.add_int("gradient_iterations", 20, "hover training: gradient ascent iterations").range(0, 1000000);
+  s.add_int("hill_climbing_iterations", 20, "hover training: hill-climbing iterations").range(0, 1000000);
+  s.add_int("flights", 100, "flights on the ground truth (policy and pilot)").range(1, 1000000);
+  s.add_double("flight_seconds", 60, "flight length on the ground truth, s").greater_than(0).max(36000);
+}
+
+// Runs `pegasus ARGS` as a child process (so that every stage is exactly the command a user would type); its
+// output goes to ours. Returns the exit code.
+int run_stage(const std::vector<std::string>& args) {
+  std::vector<std::string> argv = {"pegasus"};
+  argv.insert(argv.end(), args.begin(), args.end());
+  std::vector<char*> raw;
+  for (auto& a : argv) raw.push_back(a.data());
+  raw.push_back(nullptr);
+  std::fflush(stdout);
+  std::fflush(stderr);
+  pid_t pid = 0;
+  if (posix_spawn(&pid, "/proc/self/exe", nullptr, nullptr, raw.data(), environ) != 0)
+    throw std::runtime_error("pipeline: cannot start pegasus (/proc/self/exe)");
+  int status = 0;
+  if (waitpid(pid, &status, 0) != pid) throw std::runtime_error("pipeline: lost a stage's process");
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 1;
+}
+
+void run_pipeline(RunContext& ctx) {
+  const auto& c = ctx.config;
+  RunDirectory& dir = ctx.run_directory();
+  const std::filesystem::path root = dir.path();
+  const std::string threads = std::to_string(ctx.threads);
+  auto num = [](double x) { return format_double(x); };
+  auto stage = [&](const std::string& name, std::vector<std::string> args) {
+    const std::filesystem::path out = root / name;
+    if (std::filesystem::exists(out / "summary.json")) {
+      ctx.out << fmt::format("[{}] done before, kept: {}\n", name, (dir.final_path() / name).string());
+      return;
+    }
+    args.insert(args.end(), {"--out", out.string(), "--threads", threads, "--resume"});
+    if (ctx.quiet) args.push_back("--quiet");
+    std::string shown = "pegasus";
+    for (const auto& a : args) shown += " " + a;
+    ctx.out << fmt::format("[{}] {}\n", name, shown);
+    ctx.out.flush();
+    const auto start = std::chrono::steady_clock::now();
+    const int code = run_stage(args);
+    if (code == 2) throw InputError(fmt::format("pipeline stage {}: bad input (its message is above)", name));
+    if (code != 0) throw std::runtime_error(fmt::format("pipeline stage {} failed with exit code {}", name, code));
+    ctx.out << fmt::format("[{}] {:.1f} s\n", name,
+                           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  };
+  const std::uint64_t seed = ctx.seed;
+  std::string grid;
+  for (double g : c.get_double_list("scale_grid")) grid += (grid.empty() ? "" : ",") + num(g);
+  stage("pilot-train", {"heli", "pilot", "--seconds", num(c.get_double("train_seconds")), "--seed", std::to_string(seed)});
+  stage("pilot-test", {"heli", "pilot", "--seconds", num(c.get_double("test_seconds")), "--seed", std::to_string(seed + 1)});
+  stage("identify", {"heli", "identify", "--train", (root / "pilot-train" / "log.csv").string(), "--test",
+                     (root / "pilot-test" / "log.csv").string(), "--cv-points", std::to_string(c.get_int("cv_points")),
+                     "--scale-grid", grid, "--coordinate-passes", std::to_string(c.get_int("coordinate_passes")),
+                     "--variants=false"});
+  stage("hover", {"heli", "hover", "--model", (root / "identify" / "model.json").string(), "--scenarios",
+                  std::to_string(c.get_int("scenarios")), "--seconds", num(c.get_double("scenario_seconds")),
+                  "--gradient.iterations", std::to_string(c.get_int("gradient_iterations")),
+                  "--hill-climbing.iterations", std::to_string(c.get_int("hill_climbing_iterations")), "--seed",
+                  std::to_string(seed)});
+  stage("fly", {"heli", "fly", "--policy", (root / "hover" / "policy.json").string(), "--compare-pilot", "--flights",
+                std::to_string(c.get_int("flights")), "--seconds", num(c.get_double("flight_seconds")), "--seed",
+                std::to_string(seed + 2)});
+
+  const nlohmann::json hover = read_json_file(root / "hover" / "summary.json");
+  const nlohmann::json fly = read_json_file(root / "fly" / "summary.json");
+  const nlohmann::json summary = {{"hover", {{"initial_uhat", hover.at("initial_uhat")}, {"final_uhat", hover.at("final_uhat")}}},
+                                  {"flights", fly.at("flights")},
+                                  {"crashes", fly.at("crashes")},
+                                  {"rms_position_m", fly.at("rms_position_m")},
+                                  {"rms_velocity_mps", fly.at("rms_velocity_mps")},
+                                  {"rms_yaw_rad", fly.at("rms_yaw_rad")},
+                                  {"pilot", fly.at("pilot")},
+                                  {"stages", {"pilot-train", "pilot-test", "identify", "hover", "fly"}}};
+  dir.write_json("summary.json", summary);
+  const auto& pl = fly.at("pilot");
+  const std::filesystem::path final_fly = dir.final_path() / "fly";
+  ctx.out << "\n== helicopter pipeline: headline figures ==\n";
+  ctx.out << fmt::format("hover training U-hat: {:.6g} -> {:.6g}\n", hover.at("initial_uhat").get<double>(),
+                         hover.at("final_uhat").get<double>());
+  ctx.out << fmt::format("learned policy on the ground truth: {} flights of {} s, {} crashes, RMS position {:.3f} m, velocity {:.3f} m/s, yaw {:.4f} rad\n",
+                         fly.at("flights").get<int>(), num(c.get_double("flight_seconds")), fly.at("crashes").get<int>(),
+                         fly.at("rms_position_m").get<double>(), fly.at("rms_velocity_mps").get<double>(),
+                         fly.at("rms_yaw_rad").get<double>());
+  ctx.out << fmt::format("scripted pilot, same starts and gusts:       {} crashes, RMS position {:.3f} m, velocity {:.3f} m/s, yaw {:.4f} rad\n",
+                         pl.at("crashes").get<int>(), pl.at("rms_position_m").get<double>(),
+                         pl.at("rms_velocity_mps").get<double>(), pl.at("rms_yaw_rad").get<double>());
+  ctx.out << "plots: " << (final_fly / "position_x.svg").string() << ", position_y/z.svg, velocity_xb/yb/zb.svg (Figs 5.6-5.7); "
+          << (dir.final_path() / "hover" / "progress.svg").string() << "; "
+          << (dir.final_path() / "identify" / "mse_xdot_b.svg").string() << "\n";
+}
+
 }  // namespace
 
 std::vector<Command> heli_commands() {
@@ -269,6 +738,27 @@ std::vector<Command> heli_commands() {
               .description = "Identify a helicopter model by locally weighted regression from flight logs (thesis 5.2)",
               .declare = declare_identify,
               .run = run_identify},
+      Command{.path = "heli hover",
+              .description = "Learn to hover (thesis 5.3): PEGASUS on the identified model, writes policy.json",
+              .declare = declare_hover,
+              .run = run_hover},
+      Command{.path = "heli fly",
+              .description = "Fly a policy file (or the scripted pilot) on the ground-truth helicopter with gusts",
+              .declare = declare_fly,
+              .run = run_fly},
+      Command{.path = "heli control",
+              .description = "Serve a policy file: one state per line on stdin, four controls per line on stdout",
+              .declare =
+                  [](ConfigSchema& s) {
+                    s.add_string("policy", "", "policy file (policy.json of pegasus heli hover)");
+                    s.add_int("bench_lines", 0, "0: serve stdin; N: time N synthetic lines and print lines/s").range(0, 100000000);
+                  },
+              .run = run_control,
+              .out = OutDir::kNone},
+      Command{.path = "heli pipeline",
+              .description = "The whole helicopter chain: pilot logs, identification, hover training, flights vs the pilot",
+              .declare = declare_pipeline,
+              .run = run_pipeline},
   };
 }
 

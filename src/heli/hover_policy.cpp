@@ -51,10 +51,10 @@ HoverPolicy::HoverPolicy(const HoverPolicyInit& init) {
     double err_scale, vel_scale;
   };
   const std::array<Channel, 4> ch = {
-      Channel{init.k_pos, init.k_vel, init.k_att, init.trim_pitch, 0.01, 0.02},
-      Channel{init.k_pos, init.k_vel, -init.k_att, init.trim_roll, 0.01, 0.02},
-      Channel{init.k_alt, init.k_climb, 0, 0, 0.01, 0.03},
-      Channel{init.k_yaw, init.k_yaw_rate, 0, 0, 0.05, 0.02},
+      Channel{init.k_pos, init.k_vel, init.k_att, init.trim_pitch, 0.02, 0.05},
+      Channel{init.k_pos, init.k_vel, -init.k_att, init.trim_roll, 0.02, 0.05},
+      Channel{init.k_alt, init.k_climb, 0, 0, 0.02, 0.05},
+      Channel{init.k_yaw, init.k_yaw_rate, 0, 0, 0.1, 0.05},
   };
   for (std::size_t c = 0; c < 4; ++c) {
     const auto names = hover_weight_names(static_cast<int>(c));
@@ -75,7 +75,7 @@ HoverPolicy::HoverPolicy(const HoverPolicyInit& init) {
       } else if (w == "vel") {
         p.initial = ch[c].vel, p.scale = ch[c].vel_scale;
       } else if (w == "att") {
-        p.initial = ch[c].att, p.scale = 0.1;
+        p.initial = ch[c].att, p.scale = 0.2;
       } else if (w == "out_tanh_gain") {
         p.initial = 0, p.scale = 0.05;
       } else if (w == "out_tanh_in") {

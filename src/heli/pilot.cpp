@@ -50,6 +50,12 @@ double ScriptedPilot::sweep_offset(double time) const {
   return o_.sweep_amplitude[static_cast<std::size_t>(c)] * fade * std::sin(phase);
 }
 
+void ScriptedPilot::set_hold(double x, double y, double z, double yaw) {
+  hold_ = {};
+  hold_[0] = x, hold_[1] = y, hold_[2] = z, hold_[5] = yaw;
+  have_hold_ = true;
+}
+
 Controls ScriptedPilot::act(const LoggedState& estimate, double time) {
   const AircraftParams& P = aircraft_.params();
   if (!have_hold_) {

@@ -42,6 +42,8 @@ class ScriptedPilot {
   int sweep_channel(double time) const;
   double sweep_offset(double time) const;
   void set_total_seconds(double seconds) { total_seconds_ = seconds; }
+  // Holds this position (W, m) and heading (rad) instead of where the first estimate put the aircraft.
+  void set_hold(double x, double y, double z, double yaw);
 
  private:
   const Aircraft& aircraft_;

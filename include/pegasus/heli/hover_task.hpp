@@ -1,0 +1,140 @@
+#pragma once
+// The hover task of thesis §5.3: the reward (Eqs 5.9-5.10), a model wrapper that adds a set point and the
+// reward to any helicopter simulative model, and PEGASUS training of the hover policy on the identified
+// model (30 scenarios of 35 s, gamma = 0.9995, gradient ascent and random-walk hill climbing).
+//
+// Reward of a transition from s under a (R(s) of the state left, plus R(a); Eq 4.3's convention):
+//   R = -( sum_i alpha_pos_i (p_i - p*_i)^2 + sum_i alpha_vel_i v_i^2 + alpha_yaw wrap(yaw - yaw*)^2 )
+//   (Eq 5.9)
+//       -( sum_c alpha_a_c (a_c - centre_c)^2 ) (Eq 5.10)
+//       + the model's own reward (the learned model's crash penalty, -50000, footnote 13).
+// Positions and velocities are in W; the yaw error wraps about 2 pi (footnote 12). The weights follow the
+// thesis's heuristic: alpha = 1 / typical^2 for a crude guess of each term's typical size, so every term is
+// about 1 at its typical size. The action cost is taken about `centre`, the controls' mean in the pilot's
+// logs (an estimate of the hover trim), not about 0: with a trim collective of ~0.18 a cost about 0 would
+// pay the policy to hang ~alpha_a3 * 0.18 / alpha_z below its set point. Setting centre to 0 gives Eq 5.10
+// literally.
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <span>
+#include <string>
+
+#include "pegasus/heli/hover_policy.hpp"
+#include "pegasus/models/model.hpp"
+#include "pegasus/optimizers/optimizer.hpp"
+#include "pegasus/parallel/thread_pool.hpp"
+#include "pegasus/sysid/learned_model.hpp"
+
+namespace pegasus::heli {
+
+struct HoverReward {
+  std::array<double, 3> alpha_pos{4, 4, 4};            // per m^2 (typical error 0.5 m)
+  std::array<double, 3> alpha_vel{4, 4, 4};            // per (m/s)^2 (typical 0.5 m/s)
+  double alpha_yaw = 25;                               // per rad^2 (typical 0.2 rad)
+  std::array<double, 4> alpha_action{25, 25, 25, 25};  // per unit^2 about centre (typical 0.2)
+  Controls centre{0, 0, 0, 0};
+
+  // alpha = 1 / typical^2 for each term.
+  static HoverReward from_typical(double position_m, double velocity_mps, double yaw_rad, double action,
+                                  Controls centre);
+  bool IsValid(std::string* error) const;
+  // Eq 5.9 without the sign: >= 0, 0 exactly at the set point at rest.
+  double state_cost(const LoggedState& s, const SetPoint& target) const;
+  // Eq 5.10 without the sign: >= 0.
+  double action_cost(const Controls& a) const;
+};
+
+// A helicopter model M (LearnedHeliModel for training; Observation = the 12 logged states) with a fixed set
+// point and the hover reward. Satisfies SimulativeModel; the policy sees HeliObservation.
+template <SimulativeModel M>
+class HoverTask {
+ public:
+  using State = typename M::State;
+  using Action = Controls;
+  using Observation = HeliObservation;
+
+  HoverTask(M model, SetPoint target, HoverReward reward)
+      : model_(std::move(model)), target_(target), reward_(reward) {}
+
+  int state_dim() const { return model_.state_dim(); }
+  int noise_dim() const { return model_.noise_dim(); }
+  int initial_noise_dim() const { return model_.initial_noise_dim(); }
+  ActionSpace action_space() const { return model_.action_space(); }
+  State initial_state(std::span<const double> p0) const { return model_.initial_state(p0); }
+  State step(const State& s, const Action& a, std::span<const double> p) const {
+    return model_.step(s, a, p);
+  }
+  bool terminal(const State& s) const { return model_.terminal(s); }
+  Observation observe(const State& s) const { return {model_.observe(s), target_}; }
+  double reward(const State& s, const Action& a, const State& next) const {
+    return transition_reward(model_, s, a, next) - reward_.state_cost(model_.observe(s), target_) -
+           reward_.action_cost(a);
+  }
+
+  const M& model() const { return model_; }
+  const SetPoint& target() const { return target_; }
+  const HoverReward& hover_reward() const { return reward_; }
+
+ private:
+  M model_;
+  SetPoint target_;
+  HoverReward reward_;
+};
+
+// Trim estimate from the pilot's logs, as the identified model holds them: the mean controls, roll and
+// pitch of the training data (the pilot hovers, and the sweeps are symmetric about the hover).
+HoverPolicyInit hover_init_from_model(const sysid::IdentifiedModel& model);
+
+struct HoverTrainingOptions {
+  int scenarios = 30;             // PEGASUS scenarios m (§5.3: 30)
+  double seconds = 35;            // flight per scenario, s (§5.3: 35)
+  double gamma = 0.9995;          // discount per 50 Hz step (§5.3)
+  int refit_every = 5;            // learned model: steps between local-regression refits (§5.2.2)
+  SetPoint target{0, 0, -10, 0};  // where to hover (the model's start is the target plus the perturbation)
+  double start_pos_sigma = 1.0;   // start position perturbation per axis, m
+  double start_vel_sigma = 0.3;   // start velocity perturbation per axis, m/s
+  HoverReward reward{};           // with centre = the trim estimate unless set
+  bool centre_at_trim = true;     // replace reward.centre by the trim estimate of the logs
+  OptimizerOptions optimizer = default_optimizer();
+  // Run hill climbing after gradient ascent from its result (the thesis tried both; §5.3). Used when
+  // optimizer.method is "gradient".
+  bool then_hill_climb = true;
+  std::uint64_t seed = 1;  // scenarios (and hill climbing's stream)
+
+  static OptimizerOptions default_optimizer();
+  int horizon() const;  // steps of 0.02 s
+  bool IsValid(std::string* error) const;
+};
+
+// The objective U-hat(theta) of the hover task on the learned model: PegasusObjective over a HoverTask.
+std::unique_ptr<Objective> hover_objective(std::shared_ptr<const sysid::IdentifiedModel> model,
+                                           const HoverTrainingOptions& options,
+                                           std::shared_ptr<ThreadPool> pool);
+// The policy class with starting weights from the model's logs.
+HoverPolicy hover_policy_for(const sysid::IdentifiedModel& model);
+// The reward with centre from the model's logs when options.centre_at_trim.
+HoverReward hover_reward_for(const sysid::IdentifiedModel& model, const HoverTrainingOptions& options);
+
+struct HoverTrainingHooks {
+  std::int64_t checkpoint_every = 1;  // optimizer iterations between checkpoints (0: none)
+  // Receives {"phase": 0 (gradient) or 1 (hill climbing), "optimizer": that optimizer's checkpoint (with its
+  // history), "gradient": the finished gradient phase (phase 1 only)}; write it atomically.
+  CheckpointCallback on_checkpoint;
+  std::optional<nlohmann::json> resume_from;  // a checkpoint from on_checkpoint: the run continues exactly
+};
+
+struct HoverTrainingResult {
+  Theta theta;  // the best weights
+  double initial_uhat = 0, final_uhat = 0;
+  OptimizerSummary gradient, hill_climb;  // the phases run (method empty when not run)
+  std::vector<IterationRecord> progress;  // both phases, iterations and evaluations counted on
+};
+
+HoverTrainingResult train_hover(std::shared_ptr<const sysid::IdentifiedModel> model,
+                                const HoverTrainingOptions& options, const HoverTrainingHooks& hooks,
+                                ThreadPool& pool);
+
+}  // namespace pegasus::heli

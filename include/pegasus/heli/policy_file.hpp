@@ -1,0 +1,94 @@
+#pragma once
+// Helicopter policy files: a learned controller saved so that `pegasus heli fly`, `pegasus heli control` or
+// anyone else can fly it. JSON, one object:
+//
+//   {
+//     "format": "pegasus-heli-policy",      required, exactly this string
+//     "version": 1,                         required, 1
+//     "class": "hover",                     required: a registered policy class ("hover", "maneuver", ...)
+//     "parameters": [                       required: every parameter of the class, in the class's order
+//       {"name": "a1.bias", "value": 0.0123}, ...
+//     ],
+//     "target": {"x": 0, "y": 0, "z": -10, "yaw": 0},   required: world NED, m and rad (hover: the set point;
+//                                                        other classes: where their path is anchored)
+//     "trim": {"a1": 0, "a2": 0.036, "a3": 0.184, "a4": 0.194},  required: the hover trim estimate of the
+//                                                        pilot's logs (the class's starting point, and the
+//                                                        safe output of `heli control`), each in [-1, 1]
+//     "options": {...},                     optional: class-specific settings (maneuver: which trajectory
+//     ...) "provenance": {...}                   optional, ignored: how the policy was made (command, U-hat,
+//     ...)
+//   }
+// Doubles are written with the shortest text that reads back to the same bits, so a policy file reproduces
+// the trained controller exactly. Reading checks everything and throws InputError
+// "FILE: FIELD: expected ..., got ..." naming the first bad field (parameters by index and name).
+//
+// A registry maps class names to factories that bind the weights into a HeliController. "hover" is built in;
+// another class registers itself with register_policy_class (or adds one line to the built-in table in
+// src/heli/policy_file.cpp, so that it is there without a call).
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "pegasus/heli/hover_policy.hpp"
+
+namespace pegasus::heli {
+
+inline constexpr const char* kPolicyFormat = "pegasus-heli-policy";
+inline constexpr int kPolicyVersion = 1;
+
+struct PolicyFile {
+  std::string class_name = "hover";
+  std::vector<std::string> names;  // parameter names, in order
+  Theta values;                    // parameter values, same order
+  SetPoint target{};
+  Controls trim{};
+  nlohmann::json options = nlohmann::json::object();
+  nlohmann::json provenance = nlohmann::json::object();
+};
+
+// A policy with its weights bound: what flies. Stateless between calls (a class that needs state, such as a
+// path observer, keeps it from `time` alone), so one controller may serve many flights at once.
+class HeliController {
+ public:
+  virtual ~HeliController() = default;
+  // Controls in [-1, 1]^4 for the state estimate (12 logged states, log column order) `time` seconds after
+  // the flight (or the manoeuvre) began.
+  virtual Controls act(const LoggedState& estimate, double time) const = 0;
+  // The set point the controller steers to at `time` (for traces and errors).
+  virtual SetPoint target(double time) const = 0;
+};
+
+// Factory: builds the controller of a checked file; throws InputError naming `file` and the field when the
+// file does not fit the class (wrong parameter names, bad options).
+using PolicyClassFactory =
+    std::function<std::unique_ptr<HeliController>(const PolicyFile& policy, const std::string& file)>;
+
+// Adds (or replaces) a class. Thread-safe; call before flying.
+void register_policy_class(const std::string& name, PolicyClassFactory factory);
+// Registered class names, sorted.
+std::vector<std::string> policy_class_names();
+
+nlohmann::json policy_file_json(const PolicyFile& policy);
+void write_policy_file(const std::filesystem::path& file, const PolicyFile& policy);  // atomic
+// Parses and checks the common fields (not yet the class's); `file` names the source in messages.
+PolicyFile parse_policy_file(const nlohmann::json& j, const std::string& file);
+PolicyFile read_policy_file(const std::filesystem::path& file);
+// The controller of a checked file through the registry (InputError "FILE: class: ..." when unknown).
+std::unique_ptr<HeliController> make_controller(const PolicyFile& policy, const std::string& file);
+std::unique_ptr<HeliController> load_controller(const std::filesystem::path& file);
+
+// Checks that the file's parameter names are exactly the spec's, in order; InputError naming the file, the
+// index and the names otherwise. Returns the values.
+Theta checked_parameters(const PolicyFile& policy, const ParameterSpec& spec, const std::string& file);
+
+// The hover class: HoverPolicy steering to policy.target at every time.
+std::unique_ptr<HeliController> make_hover_controller(const PolicyFile& policy, const std::string& file);
+// A hover policy file from trained weights.
+PolicyFile hover_policy_file(const HoverPolicy& policy, std::span<const double> theta, const SetPoint& target,
+                             const Controls& trim);
+
+}  // namespace pegasus::heli

@@ -1,0 +1,132 @@
+#include "pegasus/heli/flights.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "pegasus/core/error.hpp"
+#include "pegasus/evaluators/monte_carlo.hpp"
+#include "pegasus/heli/frames.hpp"
+
+namespace pegasus::heli {
+namespace {
+
+// Flies one flight with act(estimate, time) -> controls and target(time) -> set point.
+template <class Act, class Target>
+FlightRecord fly_one(const Aircraft& aircraft, const FlightOptions& o, int flight, Act&& act,
+                     Target&& target) {
+  const double dt = aircraft.params().dt;
+  const auto steps = static_cast<int>(std::llround(o.seconds / dt));
+  const std::uint64_t seed = mix_seed(o.seed, static_cast<std::uint64_t>(flight));
+  UniformStream init(seed, 0), noise(seed, 1);
+  std::array<double, Aircraft::kInitialNoise> p0;
+  for (double& u : p0) u = init.next();
+  Aircraft::State s = aircraft.initial_state(p0);
+  std::array<double, Aircraft::kStepNoise> p;
+  FlightRecord r;
+  const bool trace = flight < o.trace_flights;
+  if (trace) r.trace.reserve(static_cast<std::size_t>(steps));
+  for (int t = 0; t < steps; ++t) {
+    const double time = t * dt;
+    const LoggedState truth = true_logged_state(s);
+    const Controls a = act(aircraft.observe(s), time);
+    const SetPoint sp = target(time);
+    // The set point's velocity by central differences (exactly 0 for a fixed set point).
+    const SetPoint before = target(time - dt), after = target(time + dt);
+    const double vx = (after.x - before.x) / (2 * dt), vy = (after.y - before.y) / (2 * dt),
+                 vz = (after.z - before.z) / (2 * dt);
+    const double ex = truth[0] - sp.x, ey = truth[1] - sp.y, ez = truth[2] - sp.z;
+    const double eu = truth[6] - vx, ev = truth[7] - vy, ew = truth[8] - vz;
+    const double eyaw = wrap_angle(truth[5] - sp.yaw);
+    r.sum_sq_position += ex * ex + ey * ey + ez * ez;
+    r.sum_sq_velocity += eu * eu + ev * ev + ew * ew;
+    r.sum_sq_yaw += eyaw * eyaw;
+    ++r.steps;
+    if (trace) r.trace.push_back({time, truth, a, sp});
+    for (double& u : p) u = noise.next();
+    s = aircraft.step(s, a, p);
+    if (aircraft.terminal(s)) {
+      r.crashed = true;
+      r.crash = s.crash;
+      r.crash_time = time + dt;
+      break;
+    }
+  }
+  return r;
+}
+
+template <class FlyOne>
+std::vector<FlightRecord> fly_all(const FlightOptions& o, ThreadPool* pool, FlyOne&& fly) {
+  std::string error;
+  if (!o.IsValid(&error)) throw InputError("flights: " + error);
+  std::vector<FlightRecord> records(static_cast<std::size_t>(o.flights));
+  auto body = [&](std::size_t i) { records[i] = fly(static_cast<int>(i)); };
+  if (pool) {
+    pool->parallel_for(records.size(), body, 1);
+  } else {
+    for (std::size_t i = 0; i < records.size(); ++i) body(i);
+  }
+  return records;
+}
+
+}  // namespace
+
+bool FlightOptions::IsValid(std::string* error) const {
+  auto fail = [&](std::string m) {
+    if (error) *error = std::move(m);
+    return false;
+  };
+  if (flights < 1) return fail(fmt::format("flights: expected an integer >= 1, got {}", flights));
+  if (!(seconds > 0 && seconds <= 36000))
+    return fail(fmt::format("seconds: expected a number in (0, 36000], got {}", seconds));
+  if (trace_flights < 0)
+    return fail(fmt::format("trace_flights: expected an integer >= 0, got {}", trace_flights));
+  return true;
+}
+
+FlightSummary summarize_flights(const std::vector<FlightRecord>& flights) {
+  FlightSummary s;
+  double pos = 0, vel = 0, yaw = 0;
+  long long steps = 0;
+  for (const auto& f : flights) {
+    ++s.flights;
+    s.crashes += f.crashed ? 1 : 0;
+    pos += f.sum_sq_position;
+    vel += f.sum_sq_velocity;
+    yaw += f.sum_sq_yaw;
+    steps += f.steps;
+  }
+  if (steps > 0) {
+    const auto n = static_cast<double>(steps);
+    s.rms_position_m = std::sqrt(pos / n);
+    s.rms_velocity_mps = std::sqrt(vel / n);
+    s.rms_yaw_rad = std::sqrt(yaw / n);
+  }
+  return s;
+}
+
+std::vector<FlightRecord> fly_controller(const Aircraft& aircraft, const HeliController& controller,
+                                         const FlightOptions& options, ThreadPool* pool) {
+  return fly_all(options, pool, [&](int i) {
+    return fly_one(
+        aircraft, options, i, [&](const LoggedState& est, double time) { return controller.act(est, time); },
+        [&](double time) { return controller.target(time); });
+  });
+}
+
+std::vector<FlightRecord> fly_pilot_hover(const Aircraft& aircraft, const PilotOptions& pilot_options,
+                                          const SetPoint& hold, const FlightOptions& options,
+                                          ThreadPool* pool) {
+  PilotOptions po = pilot_options;
+  po.sweeps = false;
+  return fly_all(options, pool, [&](int i) {
+    ScriptedPilot pilot(aircraft, po, mix_seed(options.seed, static_cast<std::uint64_t>(i)), 2);
+    pilot.set_total_seconds(options.seconds);
+    pilot.set_hold(hold.x, hold.y, hold.z, hold.yaw);
+    return fly_one(
+        aircraft, options, i, [&](const LoggedState& est, double time) { return pilot.act(est, time); },
+        [&](double) { return hold; });
+  });
+}
+
+}  // namespace pegasus::heli

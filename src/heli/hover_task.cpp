@@ -1,0 +1,286 @@
+#include "pegasus/heli/hover_task.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "pegasus/core/error.hpp"
+#include "pegasus/evaluators/monte_carlo.hpp"
+#include "pegasus/evaluators/pegasus_evaluator.hpp"
+#include "pegasus/heli/frames.hpp"
+
+namespace pegasus::heli {
+namespace {
+
+bool fail(std::string* error, std::string message) {
+  if (error) *error = std::move(message);
+  return false;
+}
+
+bool positive_finite(double x) { return x > 0 && std::isfinite(x); }
+bool nonnegative_finite(double x) { return x >= 0 && std::isfinite(x); }
+
+using Task = HoverTask<sysid::LearnedHeliModel>;
+
+sysid::LearnedModelOptions learned_options(const HoverTrainingOptions& o) {
+  sysid::LearnedModelOptions m;
+  m.refit_every = o.refit_every;
+  m.start = {o.target.x, o.target.y, o.target.z, 0, 0, o.target.yaw, 0, 0, 0, 0, 0, 0};
+  m.start_pos_sigma = o.start_pos_sigma;
+  m.start_vel_sigma = o.start_vel_sigma;
+  return m;
+}
+
+nlohmann::json history_json(const std::vector<IterationRecord>& h) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& r : h) out.push_back({r.iteration, r.evaluations, DoubleToJson(r.value), r.seconds});
+  return out;
+}
+
+std::vector<IterationRecord> history_from_json(const nlohmann::json& j) {
+  std::vector<IterationRecord> h;
+  for (const auto& r : j)
+    h.push_back({.iteration = r.at(0).get<std::int64_t>(),
+                 .evaluations = r.at(1).get<std::int64_t>(),
+                 .value = DoubleFromJson(r.at(2), "history"),
+                 .seconds = r.at(3).get<double>()});
+  return h;
+}
+
+nlohmann::json summary_json(const OptimizerSummary& s) {
+  return {{"method", s.method},
+          {"termination", std::string(TerminationTypeName(s.termination_type))},
+          {"message", s.message},
+          {"iterations", s.iterations},
+          {"evaluations", s.evaluations},
+          {"initial_value", DoubleToJson(s.initial_value)},
+          {"best_value", DoubleToJson(s.best_value)},
+          {"best_theta", VectorToJson(s.best_theta)},
+          {"final_step", DoubleToJson(s.final_step)},
+          {"wall_seconds", s.wall_seconds},
+          {"history", history_json(s.history)}};
+}
+
+OptimizerSummary summary_from_json(const nlohmann::json& j) {
+  OptimizerSummary s;
+  s.method = j.at("method").get<std::string>();
+  const std::string t = j.at("termination").get<std::string>();
+  for (auto type :
+       {TerminationType::kConvergence, TerminationType::kMaxIterations, TerminationType::kMaxEvaluations,
+        TerminationType::kSearchComplete, TerminationType::kFailure})
+    if (TerminationTypeName(type) == t) s.termination_type = type;
+  s.message = j.at("message").get<std::string>();
+  s.iterations = j.at("iterations").get<std::int64_t>();
+  s.evaluations = j.at("evaluations").get<std::int64_t>();
+  s.initial_value = DoubleFromJson(j.at("initial_value"), "gradient.initial_value");
+  s.best_value = DoubleFromJson(j.at("best_value"), "gradient.best_value");
+  s.best_theta = VectorFromJson(j.at("best_theta"), "gradient.best_theta");
+  s.final_step = DoubleFromJson(j.at("final_step"), "gradient.final_step");
+  s.wall_seconds = j.at("wall_seconds").get<double>();
+  s.history = history_from_json(j.at("history"));
+  return s;
+}
+
+}  // namespace
+
+// ---- Reward -------------------------------------------------------------------------------------------
+
+HoverReward HoverReward::from_typical(double position_m, double velocity_mps, double yaw_rad, double action,
+                                      Controls centre) {
+  HoverReward r;
+  r.alpha_pos.fill(1 / (position_m * position_m));
+  r.alpha_vel.fill(1 / (velocity_mps * velocity_mps));
+  r.alpha_yaw = 1 / (yaw_rad * yaw_rad);
+  r.alpha_action.fill(1 / (action * action));
+  r.centre = centre;
+  return r;
+}
+
+bool HoverReward::IsValid(std::string* error) const {
+  for (std::size_t i = 0; i < 3; ++i) {
+    if (!nonnegative_finite(alpha_pos[i]))
+      return fail(error, fmt::format("alpha_pos: expected finite numbers >= 0"));
+    if (!nonnegative_finite(alpha_vel[i]))
+      return fail(error, fmt::format("alpha_vel: expected finite numbers >= 0"));
+  }
+  if (!nonnegative_finite(alpha_yaw)) return fail(error, "alpha_yaw: expected a finite number >= 0");
+  for (std::size_t c = 0; c < 4; ++c) {
+    if (!nonnegative_finite(alpha_action[c]))
+      return fail(error, "alpha_action: expected finite numbers >= 0");
+    if (!(std::abs(centre[c]) <= 1)) return fail(error, "centre: expected controls in [-1, 1]");
+  }
+  return true;
+}
+
+double HoverReward::state_cost(const LoggedState& s, const SetPoint& t) const {
+  const double ex = s[0] - t.x, ey = s[1] - t.y, ez = s[2] - t.z;
+  const double eyaw = wrap_angle(s[5] - t.yaw);  // footnote 12: 2 pi - 0.01 vs 0.01 is 0.02 away
+  return alpha_pos[0] * ex * ex + alpha_pos[1] * ey * ey + alpha_pos[2] * ez * ez +
+         alpha_vel[0] * s[6] * s[6] + alpha_vel[1] * s[7] * s[7] + alpha_vel[2] * s[8] * s[8] +
+         alpha_yaw * eyaw * eyaw;
+}
+
+double HoverReward::action_cost(const Controls& a) const {
+  double c = 0;
+  for (std::size_t k = 0; k < 4; ++k) c += alpha_action[k] * (a[k] - centre[k]) * (a[k] - centre[k]);
+  return c;
+}
+
+// ---- Training -----------------------------------------------------------------------------------------
+
+HoverPolicyInit hover_init_from_model(const sysid::IdentifiedModel& model) {
+  const auto& x = model.data().x;
+  HoverPolicyInit init;
+  if (x.rows() == 0) return init;
+  const auto mean = x.colwise().mean();
+  for (int c = 0; c < 4; ++c)
+    init.trim[static_cast<std::size_t>(c)] = std::clamp(mean(sysid::kA1 + c), -1.0, 1.0);
+  init.trim_roll = mean(sysid::kRoll);
+  init.trim_pitch = mean(sysid::kPitch);
+  return init;
+}
+
+HoverPolicy hover_policy_for(const sysid::IdentifiedModel& model) {
+  return HoverPolicy(hover_init_from_model(model));
+}
+
+HoverReward hover_reward_for(const sysid::IdentifiedModel& model, const HoverTrainingOptions& o) {
+  HoverReward r = o.reward;
+  if (o.centre_at_trim) r.centre = hover_init_from_model(model).trim;
+  return r;
+}
+
+OptimizerOptions HoverTrainingOptions::default_optimizer() {
+  OptimizerOptions o;
+  o.method = "gradient";
+  o.gradient.max_iterations = 20;
+  o.gradient.relative_step = 0.05;
+  o.gradient.initial_step = 1.0;
+  o.gradient.max_step = 4.0;
+  o.gradient.min_step = 1e-3;
+  o.gradient.max_backtracks = 8;
+  o.gradient.function_tolerance = 0.0;
+  o.hill_climbing.max_iterations = 20;
+  o.hill_climbing.proposals_per_iteration = 8;
+  o.hill_climbing.initial_step = 0.3;
+  o.hill_climbing.max_step = 2.0;
+  o.hill_climbing.min_step = 1e-3;
+  return o;
+}
+
+int HoverTrainingOptions::horizon() const {
+  return std::max(1, static_cast<int>(std::lround(seconds / 0.02)));
+}
+
+bool HoverTrainingOptions::IsValid(std::string* error) const {
+  if (scenarios < 1)
+    return fail(error, fmt::format("scenarios: expected an integer >= 1, got {}", scenarios));
+  if (!(positive_finite(seconds) && seconds <= 3600))
+    return fail(error, fmt::format("seconds: expected a number in (0, 3600], got {}", seconds));
+  if (!(gamma > 0 && gamma <= 1))
+    return fail(error, fmt::format("gamma: expected a number in (0, 1], got {}", gamma));
+  if (refit_every < 1)
+    return fail(error, fmt::format("refit_every: expected an integer >= 1, got {}", refit_every));
+  if (!(nonnegative_finite(start_pos_sigma) && nonnegative_finite(start_vel_sigma)))
+    return fail(error, "start_pos_sigma, start_vel_sigma: expected finite numbers >= 0");
+  if (!(std::isfinite(target.x) && std::isfinite(target.y) && std::isfinite(target.z) &&
+        std::isfinite(target.yaw)))
+    return fail(error, "target: expected finite numbers");
+  std::string inner;
+  if (!reward.IsValid(&inner)) return fail(error, "reward." + inner);
+  if (!optimizer.IsValid(&inner)) return fail(error, "optimizer." + inner);
+  if (then_hill_climb && optimizer.method == "gradient") {
+    OptimizerOptions hc = optimizer;
+    hc.method = "hill-climb";
+    if (!hc.IsValid(&inner)) return fail(error, "optimizer." + inner);
+  }
+  return true;
+}
+
+std::unique_ptr<Objective> hover_objective(std::shared_ptr<const sysid::IdentifiedModel> model,
+                                           const HoverTrainingOptions& o, std::shared_ptr<ThreadPool> pool) {
+  std::string error;
+  if (!o.IsValid(&error)) throw InputError("hover training: " + error);
+  const HoverReward reward = hover_reward_for(*model, o);
+  const HoverPolicy policy = hover_policy_for(*model);
+  Task task(sysid::LearnedHeliModel(model, learned_options(o)), o.target, reward);
+  ScenarioSet scenarios({.seed = o.seed,
+                         .count = o.scenarios,
+                         .horizon = o.horizon(),
+                         .noise_dim = task.noise_dim(),
+                         .initial_noise_dim = task.initial_noise_dim()});
+  const Discounting d{.gamma = o.gamma, .horizon = o.horizon()};
+  return std::make_unique<PegasusObjective<Task, HoverPolicy>>(
+      PegasusEvaluator<Task, HoverPolicy>(std::move(task), policy, std::move(scenarios), d), std::move(pool));
+}
+
+HoverTrainingResult train_hover(std::shared_ptr<const sysid::IdentifiedModel> model,
+                                const HoverTrainingOptions& o, const HoverTrainingHooks& hooks,
+                                ThreadPool& pool) {
+  std::string error;
+  if (!o.IsValid(&error)) throw InputError("hover training: " + error);
+  auto objective =
+      hover_objective(model, o, std::shared_ptr<ThreadPool>(std::shared_ptr<ThreadPool>(), &pool));
+  HoverTrainingResult result;
+  const bool two_phases = o.optimizer.method == "gradient" && o.then_hill_climb;
+
+  int phase = 0;
+  std::optional<nlohmann::json> resume;
+  if (hooks.resume_from) {
+    phase = hooks.resume_from->at("phase").get<int>();
+    if (phase != 0 && phase != 1) throw InputError("checkpoint: phase: expected 0 or 1");
+    if (!hooks.resume_from->at("optimizer").is_null()) resume = hooks.resume_from->at("optimizer");
+    if (phase == 1) result.gradient = summary_from_json(hooks.resume_from->at("gradient"));
+  }
+  auto checkpointing = [&](OptimizerOptions& opt, int current, const nlohmann::json& gradient) {
+    opt.hill_climbing.seed =
+        mix_seed(o.seed, 0x48696c6c);  // hill climbing's own stream, apart from the scenarios
+    if (!hooks.on_checkpoint || hooks.checkpoint_every <= 0) return;
+    opt.SetCheckpointing(
+        hooks.checkpoint_every,
+        [&hooks, current, gradient](const nlohmann::json& c) {
+          hooks.on_checkpoint({{"phase", current}, {"optimizer", c}, {"gradient", gradient}});
+        },
+        resume);
+  };
+
+  Theta theta;  // the spec's initial values
+  if (phase == 0) {
+    OptimizerOptions opt = o.optimizer;
+    checkpointing(opt, 0, nullptr);
+    OptimizerSummary s;
+    Solve(opt, *objective, &theta, &s);
+    theta = s.best_theta;
+    result.gradient = std::move(s);
+    resume.reset();
+    if (two_phases && hooks.on_checkpoint)
+      hooks.on_checkpoint(
+          {{"phase", 1}, {"optimizer", nullptr}, {"gradient", summary_json(result.gradient)}});
+  } else {
+    theta = result.gradient.best_theta;
+  }
+  result.progress = result.gradient.history;
+  if (two_phases) {
+    OptimizerOptions opt = o.optimizer;
+    opt.method = "hill-climb";
+    checkpointing(opt, 1, summary_json(result.gradient));
+    OptimizerSummary s;
+    Solve(opt, *objective, &theta, &s);
+    result.hill_climb = std::move(s);
+    const IterationRecord last = result.progress.empty() ? IterationRecord{} : result.progress.back();
+    for (IterationRecord r : result.hill_climb.history) {
+      r.iteration += last.iteration;
+      r.evaluations += last.evaluations;
+      r.seconds += result.gradient.wall_seconds;
+      r.value = std::max(r.value, last.value);
+      result.progress.push_back(r);
+    }
+  }
+  const OptimizerSummary& final = two_phases ? result.hill_climb : result.gradient;
+  result.theta = final.best_theta;
+  result.initial_uhat = result.gradient.initial_value;
+  result.final_uhat = final.best_value;
+  return result;
+}
+
+}  // namespace pegasus::heli

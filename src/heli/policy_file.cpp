@@ -1,0 +1,224 @@
+#include "pegasus/heli/policy_file.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <mutex>
+
+#include "pegasus/core/error.hpp"
+#include "pegasus/runs/atomic_file.hpp"
+#include "pegasus/runs/output.hpp"
+
+namespace pegasus::heli {
+namespace {
+
+[[noreturn]] void bad(const std::string& file, const std::string& field, const std::string& what) {
+  throw InputError(fmt::format("{}: {}: {}", file, field, what));
+}
+
+std::string shown(const nlohmann::json& j) {
+  std::string s = j.dump();
+  return s.size() > 40 ? s.substr(0, 37) + "..." : s;
+}
+
+const nlohmann::json& member(const nlohmann::json& j, const char* name, const std::string& file,
+                             const std::string& path) {
+  const auto it = j.find(name);
+  if (it == j.end()) bad(file, path, "missing");
+  return *it;
+}
+
+double finite_number(const nlohmann::json& j, const std::string& file, const std::string& field) {
+  if (!j.is_number()) bad(file, field, "expected a number, got " + shown(j));
+  const double x = j.get<double>();
+  if (!std::isfinite(x)) bad(file, field, "expected a finite number, got " + shown(j));
+  return x;
+}
+
+// The classes every build knows. A new class adds its line here (its factory lives with the class).
+std::map<std::string, PolicyClassFactory> builtin_classes() { return {{"hover", make_hover_controller}}; }
+
+struct Registry {
+  std::mutex mutex;
+  std::map<std::string, PolicyClassFactory> classes = builtin_classes();
+};
+Registry& registry() {
+  static Registry r;
+  return r;
+}
+
+class HoverController final : public HeliController {
+ public:
+  HoverController(Theta theta, SetPoint target) : theta_(std::move(theta)), target_(target) {}
+  Controls act(const LoggedState& estimate, double) const override {
+    return policy_.act(theta_, HeliObservation{estimate, target_});
+  }
+  SetPoint target(double) const override { return target_; }
+
+ private:
+  HoverPolicy policy_;
+  Theta theta_;
+  SetPoint target_;
+};
+
+}  // namespace
+
+void register_policy_class(const std::string& name, PolicyClassFactory factory) {
+  Registry& r = registry();
+  const std::lock_guard lock(r.mutex);
+  r.classes[name] = std::move(factory);
+}
+
+std::vector<std::string> policy_class_names() {
+  Registry& r = registry();
+  const std::lock_guard lock(r.mutex);
+  std::vector<std::string> names;
+  for (const auto& [name, f] : r.classes) names.push_back(name);
+  return names;
+}
+
+nlohmann::json policy_file_json(const PolicyFile& p) {
+  nlohmann::json params = nlohmann::json::array();
+  for (std::size_t i = 0; i < p.values.size(); ++i)
+    params.push_back(
+        {{"name", i < p.names.size() ? p.names[i] : fmt::format("w{}", i)}, {"value", p.values[i]}});
+  nlohmann::json j = {
+      {"format", kPolicyFormat},
+      {"version", kPolicyVersion},
+      {"class", p.class_name},
+      {"parameters", params},
+      {"target", {{"x", p.target.x}, {"y", p.target.y}, {"z", p.target.z}, {"yaw", p.target.yaw}}},
+      {"trim", {{"a1", p.trim[0]}, {"a2", p.trim[1]}, {"a3", p.trim[2]}, {"a4", p.trim[3]}}}};
+  if (!p.options.empty()) j["options"] = p.options;
+  if (!p.provenance.empty()) j["provenance"] = p.provenance;
+  return j;
+}
+
+void write_policy_file(const std::filesystem::path& file, const PolicyFile& policy) {
+  write_file_atomic(file, json_text(policy_file_json(policy)));
+}
+
+PolicyFile parse_policy_file(const nlohmann::json& j, const std::string& file) {
+  if (!j.is_object()) bad(file, "(top level)", "expected a JSON object");
+  PolicyFile p;
+  const auto& format = member(j, "format", file, "format");
+  if (format != kPolicyFormat)
+    bad(file, "format", fmt::format("expected \"{}\", got {}", kPolicyFormat, shown(format)));
+  const auto& version = member(j, "version", file, "version");
+  if (!version.is_number_integer() || version.get<int>() != kPolicyVersion)
+    bad(file, "version", fmt::format("expected {}, got {}", kPolicyVersion, shown(version)));
+  const auto& cls = member(j, "class", file, "class");
+  if (!cls.is_string() || cls.get<std::string>().empty())
+    bad(file, "class", "expected a class name, got " + shown(cls));
+  p.class_name = cls.get<std::string>();
+  const auto& params = member(j, "parameters", file, "parameters");
+  if (!params.is_array() || params.empty())
+    bad(file, "parameters", "expected a non-empty array of {\"name\", \"value\"}");
+  for (std::size_t i = 0; i < params.size(); ++i) {
+    const std::string where = fmt::format("parameters[{}]", i);
+    const auto& e = params[i];
+    if (!e.is_object()) bad(file, where, "expected {\"name\": ..., \"value\": ...}, got " + shown(e));
+    const auto& name = member(e, "name", file, where + ".name");
+    if (!name.is_string()) bad(file, where + ".name", "expected a string, got " + shown(name));
+    p.names.push_back(name.get<std::string>());
+    p.values.push_back(finite_number(member(e, "value", file, where + ".value"), file,
+                                     fmt::format("{}.value ({})", where, p.names.back())));
+  }
+  const auto& target = member(j, "target", file, "target");
+  if (!target.is_object())
+    bad(file, "target", "expected {\"x\", \"y\", \"z\", \"yaw\"}, got " + shown(target));
+  p.target.x = finite_number(member(target, "x", file, "target.x"), file, "target.x");
+  p.target.y = finite_number(member(target, "y", file, "target.y"), file, "target.y");
+  p.target.z = finite_number(member(target, "z", file, "target.z"), file, "target.z");
+  p.target.yaw = finite_number(member(target, "yaw", file, "target.yaw"), file, "target.yaw");
+  const auto& trim = member(j, "trim", file, "trim");
+  if (!trim.is_object()) bad(file, "trim", "expected {\"a1\", \"a2\", \"a3\", \"a4\"}, got " + shown(trim));
+  for (std::size_t c = 0; c < 4; ++c) {
+    const std::string field = fmt::format("trim.a{}", c + 1);
+    const double v = finite_number(member(trim, kControlNames[c], file, field), file, field);
+    if (std::abs(v) > 1) bad(file, field, fmt::format("expected a control in [-1, 1], got {}", v));
+    p.trim[c] = v;
+  }
+  if (const auto it = j.find("options"); it != j.end()) {
+    if (!it->is_object()) bad(file, "options", "expected an object, got " + shown(*it));
+    p.options = *it;
+  }
+  if (const auto it = j.find("provenance"); it != j.end()) p.provenance = *it;
+  return p;
+}
+
+PolicyFile read_policy_file(const std::filesystem::path& file) {
+  std::string text;
+  try {
+    text = read_file(file);
+  } catch (const std::exception&) {
+    throw InputError(fmt::format("{}: cannot read the policy file", file.string()));
+  }
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw InputError(fmt::format("{}: not JSON (byte {}): expected a policy file", file.string(), e.byte));
+  }
+  return parse_policy_file(j, file.string());
+}
+
+std::unique_ptr<HeliController> make_controller(const PolicyFile& policy, const std::string& file) {
+  PolicyClassFactory factory;
+  {
+    Registry& r = registry();
+    const std::lock_guard lock(r.mutex);
+    const auto it = r.classes.find(policy.class_name);
+    if (it == r.classes.end()) {
+      std::string known;
+      for (const auto& [name, f] : r.classes) known += (known.empty() ? "" : ", ") + name;
+      bad(file, "class", fmt::format("expected one of {}, got \"{}\"", known, policy.class_name));
+    }
+    factory = it->second;
+  }
+  return factory(policy, file);
+}
+
+std::unique_ptr<HeliController> load_controller(const std::filesystem::path& file) {
+  return make_controller(read_policy_file(file), file.string());
+}
+
+Theta checked_parameters(const PolicyFile& policy, const ParameterSpec& spec, const std::string& file) {
+  const std::size_t n = std::min(policy.names.size(), spec.size());
+  for (std::size_t i = 0; i < n; ++i)
+    if (policy.names[i] != spec[i].name)
+      bad(file, fmt::format("parameters[{}].name", i),
+          fmt::format("expected \"{}\" (class {}), got \"{}\"", spec[i].name, policy.class_name,
+                      policy.names[i]));
+  if (policy.names.size() != spec.size())
+    bad(file, "parameters",
+        fmt::format("expected {} parameters for class {}, got {}", spec.size(), policy.class_name,
+                    policy.names.size()));
+  for (std::size_t i = 0; i < n; ++i)
+    if (!(policy.values[i] >= spec[i].lower && policy.values[i] <= spec[i].upper))
+      bad(file, fmt::format("parameters[{}].value ({})", i, spec[i].name),
+          fmt::format("expected a value in [{}, {}], got {}", spec[i].lower, spec[i].upper,
+                      policy.values[i]));
+  return policy.values;
+}
+
+std::unique_ptr<HeliController> make_hover_controller(const PolicyFile& policy, const std::string& file) {
+  const HoverPolicy spec_only;
+  return std::make_unique<HoverController>(checked_parameters(policy, spec_only.parameters(), file),
+                                           policy.target);
+}
+
+PolicyFile hover_policy_file(const HoverPolicy& policy, std::span<const double> theta, const SetPoint& target,
+                             const Controls& trim) {
+  PolicyFile p;
+  p.class_name = "hover";
+  for (const auto& param : policy.parameters().all()) p.names.push_back(param.name);
+  p.values.assign(theta.begin(), theta.end());
+  p.target = target;
+  p.trim = trim;
+  return p;
+}
+
+}  // namespace pegasus::heli

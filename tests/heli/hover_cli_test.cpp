@@ -1,0 +1,217 @@
+// End-to-end tests of `pegasus heli hover`, `heli fly` and `heli control` through the built CLI, on a model
+// identified from a one-minute pilot flight and tiny training settings.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <thread>
+
+#include "pegasus/runs/output.hpp"
+#include "support/cli_runner.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using pegasus::test_support::read_text;
+using pegasus::test_support::run_pegasus;
+
+// A model.json shared by every test of this file (a pilot flight and a small identification, ~2 s).
+class HoverCli : public pegasus::test_support::TempDirTest {
+ protected:
+  static void SetUpTestSuite() {
+    shared_ = fs::temp_directory_path() / ("pegasus-HoverCli-model-" + std::to_string(::getpid()));
+    fs::remove_all(shared_);
+    auto r = run_pegasus("heli pilot --seconds 60 --hover-seconds 4 --seed 3 --quiet --out " +
+                         (shared_ / "train").string());
+    ASSERT_EQ(r.code, 0) << r.output;
+    r = run_pegasus("heli identify --train " + (shared_ / "train" / "log.csv").string() + " --test " +
+                    (shared_ / "train" / "log.csv").string() +
+                    " --cv-points 40 --scale-grid 2,4 --coordinate-passes 0 --horizon-s 2 --variants=false "
+                    "--quiet --out " +
+                    (shared_ / "id").string());
+    ASSERT_EQ(r.code, 0) << r.output;
+  }
+  static void TearDownTestSuite() { fs::remove_all(shared_); }
+  static std::string model() { return (shared_ / "id" / "model.json").string(); }
+  std::string out(const std::string& name) const { return " --out " + (dir_ / name).string(); }
+  static std::string tiny() {
+    const bool asan = std::getenv("PEGASUS_SANITIZED") != nullptr;
+    return std::string(" --quiet --scenarios 2 --seconds ") + (asan ? "1" : "3") +
+           " --gradient.iterations 1 --hill-climbing.iterations 2 --hill-climbing.proposals 2";
+  }
+  // A trained policy file in dir_/hover.
+  std::string train() {
+    const auto r = run_pegasus("heli hover --model " + model() + tiny() + out("hover"));
+    EXPECT_EQ(r.code, 0) << r.output;
+    return (dir_ / "hover" / "policy.json").string();
+  }
+  static fs::path shared_;
+};
+fs::path HoverCli::shared_;
+
+nlohmann::json json_file(const fs::path& p) { return nlohmann::json::parse(read_text(p)); }
+
+// progress.csv without its wall-time column.
+std::string objective_column(const fs::path& p) {
+  std::string out;
+  for (const auto& row : pegasus::parse_csv(read_text(p))) out += row[0] + "," + row[1] + "," + row[3] + "\n";
+  return out;
+}
+
+TEST_F(HoverCli, HoverWritesPolicyProgressAndSummary) {
+  const std::string policy = train();
+  const auto s = json_file(dir_ / "hover" / "summary.json");
+  for (const char* key :
+       {"initial_uhat", "final_uhat", "iterations", "evaluations", "gradient", "hill_climb", "policy"})
+    EXPECT_TRUE(s.contains(key)) << key;
+  EXPECT_GE(s.at("final_uhat").get<double>(), s.at("initial_uhat").get<double>());
+  const std::string progress = read_text(dir_ / "hover" / "progress.csv");
+  EXPECT_EQ(progress.substr(0, progress.find('\n')), "iteration,evaluations,seconds,objective");
+  EXPECT_EQ(std::count(progress.begin(), progress.end(), '\n'), 1 + 1 + 2);
+  const auto p = json_file(policy);
+  EXPECT_EQ(p.at("format"), "pegasus-heli-policy");
+  EXPECT_EQ(p.at("version"), 1);
+  EXPECT_EQ(p.at("class"), "hover");
+  EXPECT_EQ(p.at("parameters").size(), 34u);
+  EXPECT_EQ(p.at("parameters")[0].at("name"), "a1.bias");
+  EXPECT_TRUE(p.at("target").contains("yaw"));
+  EXPECT_TRUE(p.at("trim").contains("a4"));
+}
+
+TEST_F(HoverCli, HoverIsTheSameForOneAndTwoThreads) {
+  const std::string args = "heli hover --model " + model() + tiny();
+  ASSERT_EQ(run_pegasus(args + " --threads 1" + out("t1")).code, 0);
+  ASSERT_EQ(run_pegasus(args + " --threads 2" + out("t2")).code, 0);
+  EXPECT_EQ(read_text(dir_ / "t1" / "policy.json"), read_text(dir_ / "t2" / "policy.json"));
+  EXPECT_EQ(objective_column(dir_ / "t1" / "progress.csv"), objective_column(dir_ / "t2" / "progress.csv"));
+}
+
+// SIGKILL after the first checkpoint, then --resume: the policy equals an uninterrupted run's.
+TEST_F(HoverCli, KilledTrainingResumesToTheSamePolicy) {
+  const std::string args =
+      "heli hover --model " + model() +
+      " --quiet --scenarios 2 --seconds 2 --gradient.iterations 2 --hill-climbing.iterations 30 "
+      "--hill-climbing.proposals 2 --threads 1";
+  ASSERT_EQ(run_pegasus(args + out("whole")).code, 0);
+  const fs::path target = dir_ / "killed";
+  const pid_t child = fork();
+  if (child == 0) {
+    const std::string command =
+        std::string(PEGASUS_CLI_PATH) + " " + args + " --out " + target.string() + " >/dev/null 2>&1";
+    execl("/bin/sh", "sh", "-c", ("exec " + command).c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  const fs::path checkpoint = fs::path(target.string() + ".partial") / "checkpoint.json";
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  while (!fs::exists(checkpoint) && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  ASSERT_TRUE(fs::exists(checkpoint));
+  kill(child, SIGKILL);
+  int status = 0;
+  waitpid(child, &status, 0);
+  // 31 iterations remain after the first checkpoint, so the kill lands mid-run.
+  ASSERT_TRUE(WIFSIGNALED(status)) << "the run finished before it could be killed";
+  const auto resumed = run_pegasus(args + " --resume" + out("killed"));
+  ASSERT_EQ(resumed.code, 0) << resumed.output;
+  EXPECT_EQ(read_text(dir_ / "whole" / "policy.json"), read_text(target / "policy.json"));
+  EXPECT_EQ(objective_column(dir_ / "whole" / "progress.csv"), objective_column(target / "progress.csv"));
+}
+
+TEST_F(HoverCli, FlyWritesTheDocumentedSummaryAndTraces) {
+  const std::string policy = train();
+  const auto r = run_pegasus("heli fly --quiet --policy " + policy +
+                             " --compare-pilot --flights 3 --seconds 3 --trace-flights 2" + out("fly"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto s = json_file(dir_ / "fly" / "summary.json");
+  for (const auto* j : {&s, &s.at("pilot")}) {
+    for (const char* key : {"flights", "crashes", "rms_position_m", "rms_velocity_mps", "rms_yaw_rad"})
+      EXPECT_TRUE(j->contains(key)) << key;
+    EXPECT_EQ(j->at("flights"), 3);
+    EXPECT_GT(j->at("rms_position_m").get<double>(), 0.0);
+  }
+  for (const char* file : {"flights.csv", "pilot_flights.csv"}) {
+    const std::string text = read_text(dir_ / "fly" / file);
+    EXPECT_EQ(
+        text.substr(0, text.find('\n')),
+        "flight,t,x,y,z,roll,pitch,yaw,xdot,ydot,zdot,roll_rate,pitch_rate,yaw_rate,a1,a2,a3,a4,target_x,"
+        "target_y,target_z,target_yaw")
+        << file;
+    EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 1 + 2 * 150) << file;
+  }
+  for (const char* file :
+       {"position_x.svg", "position_z.svg", "velocity_xb.svg", "velocity_zb.svg", "per_flight.csv"})
+    EXPECT_TRUE(fs::exists(dir_ / "fly" / file)) << file;
+  const auto p = run_pegasus("heli fly --quiet --pilot --flights 2 --seconds 2" + out("pilot"));
+  ASSERT_EQ(p.code, 0) << p.output;
+  const auto ps = json_file(dir_ / "pilot" / "summary.json");
+  EXPECT_EQ(ps.at("controller"), "pilot");
+  EXPECT_EQ(ps.at("flights"), 2);
+}
+
+TEST_F(HoverCli, BadPolicyFileExitsTwoNamingFileAndField) {
+  const std::string policy = train();
+  auto j = json_file(policy);
+  j["parameters"][5]["value"] = "oops";
+  const fs::path bad = dir_ / "bad.json";
+  std::ofstream(bad) << j.dump();
+  for (const std::string& command :
+       {"heli fly --quiet --flights 1 --seconds 1 --policy " + bad.string() + out("f"),
+        "heli control --policy " + bad.string() + " </dev/null"}) {
+    const auto r = run_pegasus(command);
+    EXPECT_EQ(r.code, 2) << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+    EXPECT_NE(r.output.find(bad.string() + ": parameters[5].value (a1.att): expected a number"),
+              std::string::npos)
+        << r.output;
+    EXPECT_FALSE(fs::exists(dir_ / "f"));
+    EXPECT_FALSE(fs::exists(dir_ / "f.partial"));
+  }
+  const auto missing = run_pegasus("heli fly --quiet --flights 1" + out("f"));
+  EXPECT_EQ(missing.code, 2);
+  EXPECT_NE(missing.output.find("--policy"), std::string::npos) << missing.output;
+}
+
+TEST_F(HoverCli, ControlAnswersEveryLineAndMalformedOnesWithTheTrim) {
+  const std::string policy = train();
+  const fs::path in = dir_ / "in.csv";
+  std::ofstream(in) << "x,y,z,roll,pitch,yaw,xdot,ydot,zdot,roll_rate,pitch_rate,yaw_rate\n"
+                       "0,0,-10,0,0,0,0,0,0,0,0,0\n"
+                       "0,0,-10,oops,0,0,0,0,0,0,0,0\n"
+                       "0.5,0,-10,0,0,0,0.2,0,0,0,0,0\n"
+                       "1,2\n";
+  const fs::path err = dir_ / "err.txt";
+  // stderr to a file, stdout through cat (run_pegasus adds "2>&1", which then applies to cat).
+  const auto r =
+      run_pegasus("heli control --policy " + policy + " <" + in.string() + " 2>" + err.string() + " | cat");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto rows = pegasus::parse_csv(r.output);
+  ASSERT_EQ(rows.size(), 5u) << r.output;
+  EXPECT_EQ(rows[0], (std::vector<std::string>{"a1", "a2", "a3", "a4"}));
+  const auto p = json_file(policy);
+  for (std::size_t line : {std::size_t{2}, std::size_t{4}}) {
+    ASSERT_EQ(rows[line].size(), 4u);
+    for (std::size_t c = 0; c < 4; ++c)
+      EXPECT_EQ(std::stod(rows[line][c]), p.at("trim").at("a" + std::to_string(c + 1)).get<double>()) << line;
+  }
+  for (std::size_t line : {std::size_t{1}, std::size_t{3}})
+    for (const auto& cell : rows[line]) {
+      EXPECT_LE(std::abs(std::stod(cell)), 1.0);
+    }
+  EXPECT_LT(std::stod(rows[3][0]), std::stod(rows[1][0]));  // ahead and moving forward: cyclic back
+  const std::string errors = read_text(err);
+  EXPECT_EQ(std::count(errors.begin(), errors.end(), '\n'), 2) << errors;
+  EXPECT_NE(errors.find("stdin:3: field 4: expected a finite number, got 'oops'; answered the trim controls"),
+            std::string::npos)
+      << errors;
+  EXPECT_NE(errors.find("stdin:5: expected 12, 13 or 17 fields, got 2"), std::string::npos) << errors;
+}
+
+}  // namespace
