@@ -43,6 +43,7 @@ bench: build
 	@mkdir -p $(BUILD)/bench-results
 	@$(BUILD)/bench/pegasus_bench --benchmark_out=$(BUILD)/bench-results/bench.json --benchmark_out_format=json
 	@echo "bench: results in $(BUILD)/bench-results/bench.json"
+	@bash bench/mpi_scaling.sh $(BUILD)
 
 # BENCHMARKS.md from the JSON of the last `make bench` (python3 standard library only).
 benchmarks-md:
