@@ -235,8 +235,11 @@ struct SarsaLane {
   double alpha = 0.0, gamma = 0.0;
   std::int64_t max_steps = 0;
   int episodes = 0;
-  int s = 0, a = 0, episode = 0;
+  // s and a apart: stored next to each other, GCC merges their stores into one 8-byte store, which the
+  // next step's two 4-byte loads cannot always forward from.
+  int s = 0;
   std::int64_t steps = 0;
+  int a = 0, episode = 0;
   double ret = 0.0;
   bool active = true;
 
