@@ -214,4 +214,25 @@ TEST_F(HoverCli, ControlAnswersEveryLineAndMalformedOnesWithTheTrim) {
   EXPECT_NE(errors.find("stdin:5: expected 12, 13 or 17 fields, got 2"), std::string::npos) << errors;
 }
 
+// The main job's chain on a tiny setting: every stage's run directory, the headline summary and the plots.
+TEST_F(HoverCli, PipelineRunsEveryStageAndPrintsTheHeadline) {
+  const std::string args =
+      "heli pipeline --quiet --train-seconds 60 --test-seconds 25 --cv-points 40 --scale-grid 2,4 "
+      "--coordinate-passes 0 --scenarios 2 --scenario-seconds 2 --gradient-iterations 0 "
+      "--hill-climbing-iterations 1 "
+      "--flights 2 --flight-seconds 3";
+  const auto r = run_pegasus(args + out("demo"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  for (const char* stage : {"pilot-train", "pilot-test", "identify", "hover", "fly"})
+    EXPECT_TRUE(fs::exists(dir_ / "demo" / stage / "summary.json")) << stage;
+  const auto s = json_file(dir_ / "demo" / "summary.json");
+  for (const char* key :
+       {"flights", "crashes", "rms_position_m", "rms_velocity_mps", "rms_yaw_rad", "pilot", "hover"})
+    EXPECT_TRUE(s.contains(key)) << key;
+  EXPECT_EQ(s.at("flights"), 2);
+  EXPECT_NE(r.output.find("headline figures"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find((dir_ / "demo" / "fly" / "position_x.svg").string()), std::string::npos)
+      << r.output;
+}
+
 }  // namespace
