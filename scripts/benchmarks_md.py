@@ -170,8 +170,9 @@ def training_table(r):
     bandwidth = one_thread(r, "BM_BandwidthCrossValidation")
     if bandwidth:
         rows.append(("Helicopter identification (bandwidth cross-validation)", seconds(bandwidth), bandwidth["name"]))
-    if not rows:
-        out.append(f"| (none) | {NOT_MEASURED} | |")
+    for label, pattern in (("Helicopter hover (`heli hover`)", "Hover"), ("Helicopter manoeuvres", "Manoeuvre")):
+        if not any(pattern in name for _, _, name in rows):
+            rows.append((label, None, f"BM_Train_Heli{pattern}*"))
     for label, value, name in rows:
         out.append(f"| {label} | {fmt_time(value)} | `{name}` |")
     return out
@@ -247,14 +248,23 @@ def race_section(r, rltools):
                 out.append(f"| RLtools {algorithm} | {run['seed']} | {fmt_time(bar) if bar and bar > 0 else 'never'} | "
                            f"{fmt_time(run.get('cpu_seconds_to_bar')) if bar and bar > 0 else 'never'} | "
                            f"{fmt_time(run.get('total_seconds'))} | {run['final_mean_return_100']:.1f} |")
-            reached = [run["seconds_to_bar"] for run in runs if run.get("seconds_to_bar", -1) > 0]
+            reached = [run for run in runs if run.get("seconds_to_bar", -1) > 0]
+            peg_cpu = [counter(b, "cpu_seconds_to_bar") for b in race if counter(b, "cpu_seconds_to_bar") is not None]
             if reached and peg_bar:
-                ratio = statistics.median(reached) / statistics.median(peg_bar)
-                summary.append(f"RLtools {algorithm}: median {fmt_time(statistics.median(reached))} to the bar "
-                               f"({len(reached)} of {len(runs)} runs reached it), median final mean return "
-                               f"{statistics.median(run['final_mean_return_100'] for run in runs):.1f}; Pegasus: median "
-                               f"{fmt_time(statistics.median(peg_bar))}, median final mean return "
-                               f"{statistics.median(peg_mean):.1f}; ratio of medians {ratio:.0f}x.")
+                wall = statistics.median(run["seconds_to_bar"] for run in reached)
+                cpu = statistics.median(run["cpu_seconds_to_bar"] for run in reached)
+                finals = ", ".join(f"{run['final_mean_return_100']:.1f}" for run in runs)
+                line = (f"RLtools {algorithm}: median {fmt_time(wall)} wall ({fmt_time(cpu)} CPU) to the bar, "
+                        f"{len(reached)} of {len(runs)} runs reached it, final mean returns {finals}. "
+                        f"Pegasus: median {fmt_time(statistics.median(peg_bar))} wall")
+                if peg_cpu:
+                    line += f" ({fmt_time(statistics.median(peg_cpu))} CPU)"
+                line += (f", final mean returns {', '.join(f'{m:.1f}' for m in peg_mean)}. Ratio of medians: "
+                         f"{wall / statistics.median(peg_bar):.0f}x wall")
+                if peg_cpu:
+                    line += f", {cpu / statistics.median(peg_cpu):.0f}x CPU"
+                summary.append(line + ".")
+                summary.append("")
     else:
         summary.append(f"RLtools side: {NOT_MEASURED} (no {{'runs': ...}} file).")
     return out + [""] + summary
