@@ -21,6 +21,8 @@
 //   until ||Delta|| < epsilon and the greedy policy is then polished by policy iteration, which stops at
 //   an exactly optimal policy (every policy is proper: Bertsekas & Tsitsiklis 1996, Prop 2.3); both bounds
 //   are then 0 up to the round-off of the linear solves.
+#include <cstddef>
+#include <cstdint>
 #include <span>
 #include <string>
 #include <vector>
@@ -119,5 +121,17 @@ double bellman_backup(const FiniteMdp& mdp, std::span<const double> value, std::
 std::vector<std::uint64_t> near_optimal_actions(const FiniteMdp& mdp, std::span<const double> q, double tol);
 // Expected return under D: sum_s D(s) V(s).
 double expected_under_initial(const FiniteMdp& mdp, std::span<const double> value);
+
+namespace detail {
+// The kernel of a dense MDP's sweep (every row lists every state): four dot products of consecutive rows
+// with V. The instruction set is chosen once per process from the CPU (AVX-512, else AVX2 with FMA, else
+// SSE2), so results are deterministic on a given machine; the paths sum in different orders and FMA
+// rounds once, so they agree to a few ulps of sum_k |p_k v_k|, not bit for bit. Exposed for tests.
+enum class DenseDotPath { kBaseline, kAvx2Fma, kAvx512 };
+bool dense_dot_path_supported(DenseDotPath path);
+DenseDotPath best_dense_dot_path();
+// out[a] = sum_{k < n} p[a * stride + k] v[k], a = 0..3. `path` must be supported.
+void dense_dot4(DenseDotPath path, const double* p, std::size_t stride, const double* v, int n, double* out);
+}  // namespace detail
 
 }  // namespace pegasus
