@@ -25,6 +25,7 @@
 #include "pegasus/heli/pilot.hpp"
 #include "pegasus/heli/policy_file.hpp"
 #include "pegasus/runs/output.hpp"
+#include "pegasus/runs/progress.hpp"
 #include "pegasus/runs/svg_plot.hpp"
 #include "pegasus/sysid/flight_log.hpp"
 #include "pegasus/sysid/identify.hpp"
@@ -151,7 +152,18 @@ void run_identify(RunContext& ctx) {
   RunDirectory& dir = ctx.run_directory();
 
   IdentifyReport report;
-  const IdentifiedModel model = identify(train, o, pool, &report);
+  // The bandwidth search checkpoints after each cross-validation step; --resume replays the saved steps.
+  IdentifyHooks hooks;
+  if (const auto saved = dir.load_checkpoint(); saved && saved->contains("identify")) hooks.resume_from = saved->at("identify");
+  hooks.checkpoint = [&dir](const nlohmann::json& state) { dir.save_checkpoint({{"identify", state}}); };
+  std::unique_ptr<Progress> bar;
+  hooks.progress = [&](int done, int total, bool replayed) {
+    if (!bar) bar = std::make_unique<Progress>("bandwidth cross-validation", total, Progress::default_enabled(ctx.quiet));
+    const auto k = static_cast<std::uint64_t>(done) - bar->done();
+    replayed ? bar->skip(k) : bar->advance(k);
+  };
+  const IdentifiedModel model = identify(train, o, pool, &report, hooks);
+  if (bar) bar->finish();
   model.save(dir.path() / "model.json");
   CsvWriter cv({"setting", "cv_error"});
   for (const auto& [what, e] : report.cv_trace) cv.add_row({what, e});
@@ -259,7 +271,7 @@ void run_identify(RunContext& ctx) {
                                   {"variants", variant_json},
                                   {"outside_2sigma_fraction", outside},
                                   {"noise_check_steps", nc.steps},
-                                  {"cv_seconds", report.cv_seconds},
+                                  {"cross_validation_steps", report.cv_trace.size()},
                                   {"model", "model.json"}};
   dir.write_json("summary.json", summary);
   const auto& m1 = summary["mse_at_seconds"];

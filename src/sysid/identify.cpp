@@ -199,7 +199,8 @@ double cv_error(const Dataset& data, const std::array<OutputTemplate, kBodyVars>
   return total;
 }
 
-IdentifiedModel identify(const FlightLog& train, const IdentifyOptions& o, ThreadPool& pool, IdentifyReport* report) {
+IdentifiedModel identify(const FlightLog& train, const IdentifyOptions& o, ThreadPool& pool, IdentifyReport* report,
+                         const IdentifyHooks& hooks) {
   std::string error;
   if (!o.IsValid(&error)) throw InputError(error);
   const auto start = std::chrono::steady_clock::now();
@@ -211,28 +212,66 @@ IdentifiedModel identify(const FlightLog& train, const IdentifyOptions& o, Threa
   const auto templates = output_templates(o.structure);
   // Kernel inputs: everything the model regresses on except the constant.
   std::array<double, kInputs> inv_std{};
+  int kernel_inputs = 0;
   for (int j = 0; j < kInputs; ++j) {
     if (j == kOne) continue;
     if (!o.structure.extra_states && (j == kFlapLon || j == kFlapLat || j == kGyro)) continue;
     const double sd = std::sqrt((data.x.col(j).array() - data.x.col(j).mean()).square().mean());
     inv_std[static_cast<std::size_t>(j)] = sd > 0 ? 1 / sd : 0;
+    kernel_inputs += sd > 0 ? 1 : 0;
   }
+  // The search's state for checkpoints: every evaluation so far, in order.
+  std::vector<std::pair<std::string, double>> evaluated;
+  if (!hooks.resume_from.is_null()) {
+    try {
+      for (const auto& e : hooks.resume_from.at("evaluations"))
+        evaluated.emplace_back(e.at("setting").get<std::string>(), e.at("cv_error").get<double>());
+    } catch (const nlohmann::json::exception& e) {
+      throw InputError(fmt::format("identify: unreadable checkpoint: {}", e.what()));
+    }
+  }
+  const int total_steps = static_cast<int>(o.scale_grid.size()) + 3 * kernel_inputs * o.coordinate_passes;
+  int steps = 0;
+  std::size_t next = 0;  // evaluations consumed
+  auto evaluate = [&](const std::string& what, const std::array<double, kInputs>& inv) {
+    double e = 0;
+    const bool replayed = next < evaluated.size();
+    if (replayed) {
+      if (evaluated[next].first != what)
+        throw InputError(fmt::format("identify: the checkpoint's step {} is '{}', this search's is '{}': not the same "
+                                     "search (start afresh with --force)",
+                                     next + 1, evaluated[next].first, what));
+      e = evaluated[next].second;
+    } else {
+      e = cv_error(data, templates, inv, o, pool);
+      evaluated.emplace_back(what, e);
+      if (hooks.checkpoint) {
+        nlohmann::json list = nlohmann::json::array();
+        for (const auto& [setting, value] : evaluated) list.push_back({{"setting", setting}, {"cv_error", value}});
+        hooks.checkpoint({{"evaluations", list}});
+      }
+    }
+    ++next;
+    if (report) report->cv_trace.emplace_back(what, e);
+    ++steps;
+    if (hooks.progress) hooks.progress(steps, total_steps, replayed);
+    return e;
+  };
+  auto skip_steps = [&](int k) {
+    steps += k;
+    if (hooks.progress && k > 0) hooks.progress(steps, total_steps, true);
+  };
   std::array<double, kInputs> best_inv{};
   BodyVec sigma2;
-  double best = 0;
-  auto trace = [&](const std::string& what, double e) {
-    if (report) report->cv_trace.emplace_back(what, e);
-  };
   if (!o.local) {
-    best = cv_error(data, templates, best_inv, o, pool, &sigma2);
-    trace("global", best);
+    const double e = cv_error(data, templates, best_inv, o, pool, &sigma2);
+    if (report) report->cv_trace.emplace_back("global", e);
   } else {
-    best = INFINITY;
+    double best = INFINITY;
     for (double c : o.scale_grid) {
       std::array<double, kInputs> inv{};
       for (int j = 0; j < kInputs; ++j) inv[static_cast<std::size_t>(j)] = inv_std[static_cast<std::size_t>(j)] / c;
-      const double e = cv_error(data, templates, inv, o, pool);
-      trace(fmt::format("scale {}", c), e);
+      const double e = evaluate(fmt::format("scale {}", c), inv);
       if (e < best) {
         best = e;
         best_inv = inv;
@@ -240,18 +279,24 @@ IdentifiedModel identify(const FlightLog& train, const IdentifyOptions& o, Threa
     }
     for (int pass = 0; pass < o.coordinate_passes; ++pass) {
       for (int j = 0; j < kInputs; ++j) {
-        if (best_inv[static_cast<std::size_t>(j)] == 0) continue;
+        if (inv_std[static_cast<std::size_t>(j)] == 0) continue;
+        if (best_inv[static_cast<std::size_t>(j)] == 0) {
+          skip_steps(3);
+          continue;
+        }
+        int tried = 0;
         for (double f : {2.0, 0.5, 0.0}) {
           auto inv = best_inv;
           inv[static_cast<std::size_t>(j)] *= f;
-          const double e = cv_error(data, templates, inv, o, pool);
-          trace(fmt::format("{} x{}", kInputNames[static_cast<std::size_t>(j)], f), e);
+          ++tried;
+          const double e = evaluate(fmt::format("{} x{}", kInputNames[static_cast<std::size_t>(j)], f), inv);
           if (e < best) {
             best = e;
             best_inv = inv;
             break;
           }
         }
+        skip_steps(3 - tried);
       }
     }
     cv_error(data, templates, best_inv, o, pool, &sigma2);
@@ -391,6 +436,37 @@ HorizonMse horizon_mse(const IdentifiedModel& model, const FlightLog& test, doub
   return out;
 }
 
+namespace {
+
+// The EKF's state: the 8 body variables and the 3 extra states (which the body rates drive, and which drive the
+// velocities and rates through the regression).
+constexpr int kEkfStates = kBodyVars + 3;
+using EkfVec = Eigen::Matrix<double, kEkfStates, 1>;
+using EkfMat = Eigen::Matrix<double, kEkfStates, kEkfStates>;
+
+// The model's mean one-step map on the EKF state with the controls and the local fit held.
+EkfVec mean_step(const IdentifiedModel& model, const EkfVec& z, const std::array<double, 4>& a, const LocalFit& fit) {
+  InputVec x;
+  x.head<kBodyVars>() = z.head<kBodyVars>();
+  x[kFlapLon] = z[kBodyVars];
+  x[kFlapLat] = z[kBodyVars + 1];
+  x[kGyro] = z[kBodyVars + 2];
+  for (int c = 0; c < 4; ++c) x[kA1 + c] = a[static_cast<std::size_t>(c)];
+  x[kOne] = 1;
+  EkfVec out;
+  out.head<kBodyVars>() = z.head<kBodyVars>() + model.mean_change(fit, x);
+  double fl = z[kBodyVars], fr = z[kBodyVars + 1], gy = z[kBodyVars + 2];
+  const Vec3 w_B = heli::body_rates_from_euler_rates(Euler{z[kRoll], z[kPitch], 0},
+                                                     Vec3(z[kRollRate], z[kPitchRate], z[kYawRate]));
+  model.structure().extra.advance(model.dt(), w_B, a, &fl, &fr, &gy);
+  out[kBodyVars] = fl;
+  out[kBodyVars + 1] = fr;
+  out[kBodyVars + 2] = gy;
+  return out;
+}
+
+}  // namespace
+
 NoiseCheck noise_check(const IdentifiedModel& model, const FlightLog& test, double reset_s, double trace_seconds) {
   const LogAtRate lr = log_at_rate(model, test);
   const auto k = lr.step;
@@ -404,40 +480,44 @@ NoiseCheck noise_check(const IdentifiedModel& model, const FlightLog& test, doub
     s.flap_lon = lr.extra[r0][0];
     s.flap_lat = lr.extra[r0][1];
     s.gyro = lr.extra[r0][2];
-    BodyVec p = BodyVec::Zero();  // diagonal covariance of the body variables
+    // Full covariance of the EKF state, propagated P' = J P J' + Q with the model's noise Q diagonal (the
+    // outputs' noises are independent, Eqs 5.5-5.6) and J the Jacobian of the mean step. Propagating only the
+    // diagonal of P (dropping cross-covariances) would ignore that attitude errors integrate rate errors and
+    // velocity errors integrate attitude errors: it shrinks the bands of the integrated variables.
+    EkfMat p = EkfMat::Zero();
     for (std::size_t t = 0; t < seg && r0 + (t + 1) * k < test.rows(); ++t) {
       const auto a = mean_controls(test, r0 + t * k, k);
       const InputVec x = sim_input(s, a);
       const LocalFit fit = model.regression().fit(x);
       if (fit.singular) break;
       const BodyVec var = model.predictive_variance(fit);
-      // Jacobian of the one-step map on the body variables: I + d(known)/dx + beta (diagonal covariance
-      // propagation, as the thesis's EKF with diagonal approximations).
-      BodyVec pn = var;
-      for (int kk = 0; kk < kBodyVars; ++kk) {
-        for (int j = 0; j < kBodyVars; ++j) {
-          InputVec xp = x, xm = x;
-          const double h = 1e-6;
-          xp[j] += h;
-          xm[j] -= h;
-          const double dk = (known_change(m, xp, model.dt())[kk] - known_change(m, xm, model.dt())[kk]) / (2 * h);
-          const double jac = (kk == j ? 1.0 : 0.0) + dk + fit.beta[static_cast<std::size_t>(kk)][j];
-          pn[kk] += jac * jac * p[j];
-        }
+      EkfVec z;
+      z.head<kBodyVars>() = x.head<kBodyVars>();
+      z[kBodyVars] = s.flap_lon;
+      z[kBodyVars + 1] = s.flap_lat;
+      z[kBodyVars + 2] = s.gyro;
+      EkfMat jac;
+      for (int j = 0; j < kEkfStates; ++j) {
+        const double h = 1e-6 * std::max(1.0, std::abs(z[j]));
+        EkfVec zp = z, zm = z;
+        zp[j] += h;
+        zm[j] -= h;
+        jac.col(j) = (mean_step(model, zp, a, fit) - mean_step(model, zm, a, fit)) / (2 * h);
       }
-      p = pn;
+      p = jac * p * jac.transpose();
+      p.diagonal().head<kBodyVars>() += var;
       s = sim_advance(m, s, a, model.mean_change(fit, x), model.dt());
       const BodyVec truth = body_from_log_state(test.states[r0 + (t + 1) * k]);
       const BodyVec mean = body_from_log_state(s.world);
       for (int j = 0; j < kBodyVars; ++j)
-        if (std::abs(truth[j] - mean[j]) > 2 * std::sqrt(p[j])) outside[j] += 1;
+        if (std::abs(truth[j] - mean[j]) > 2 * std::sqrt(p(j, j))) outside[j] += 1;
       ++out.steps;
       const double time = test.time[r0 + (t + 1) * k] - test.time[0];
       if (time <= trace_seconds) {
         out.time.push_back(time);
         out.truth.push_back(truth[kV]);
         out.mean.push_back(mean[kV]);
-        out.sd.push_back(std::sqrt(p[kV]));
+        out.sd.push_back(std::sqrt(p(kV, kV)));
       }
     }
   }

@@ -4,6 +4,7 @@
 // noise check with an extended Kalman filter (Fig 5.3), and the model file the hover issue loads.
 #include <array>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -59,12 +60,24 @@ class IdentifiedModel {
 
 struct IdentifyReport {
   std::vector<std::pair<std::string, double>> cv_trace;  // (setting, normalised CV error) in search order
-  double cv_seconds = 0;
+  double cv_seconds = 0;  // wall time of the search (display only: never in results)
 };
 
-// Identifies a model from a training log. Deterministic for any number of threads.
+// Checkpoint, resume and progress of the bandwidth search, one step per cross-validation evaluation. The search
+// is deterministic, so its state is the list of (setting, error) evaluated so far: a resumed search replays
+// those values instead of recomputing them and continues bit for bit as an uninterrupted one.
+struct IdentifyHooks {
+  nlohmann::json resume_from;                              // null, or a state given to `checkpoint`
+  std::function<void(const nlohmann::json&)> checkpoint;  // after each new evaluation
+  // After each step: steps done (replayed ones included), an upper bound of all steps, and whether this step
+  // was replayed from resume_from.
+  std::function<void(int done, int total, bool replayed)> progress;
+};
+
+// Identifies a model from a training log. Deterministic for any number of threads. InputError when
+// hooks.resume_from does not come from the same search.
 IdentifiedModel identify(const FlightLog& train, const IdentifyOptions& options, ThreadPool& pool,
-                         IdentifyReport* report = nullptr);
+                         IdentifyReport* report = nullptr, const IdentifyHooks& hooks = {});
 
 // The windowed leave-one-out error of a bandwidth, normalised per output by the target variance, summed over
 // outputs; and the noise estimate at it.
@@ -88,7 +101,9 @@ struct HorizonMse {
 HorizonMse horizon_mse(const IdentifiedModel& model, const FlightLog& test, double horizon_s, double start_spacing_s,
                        ThreadPool& pool);
 
-// Fig 5.3: +-2 sigma bands from an EKF with diagonal covariances, reset to the true state every reset_s; the
+// Fig 5.3: +-2 sigma bands from an extended Kalman filter over the body variables and the extra states, reset to
+// the logged state every reset_s, with the model's noise covariance diagonal (Eq 5.4 per output, independent
+// across outputs as in Eqs 5.5-5.6) and the state covariance propagated in full (identify.cpp says why); the
 // fraction of steps where each body variable falls outside. Also the traces of one variable for a plot.
 struct NoiseCheck {
   BodyVec outside_fraction = BodyVec::Zero();

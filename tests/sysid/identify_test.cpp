@@ -1,0 +1,146 @@
+// Identification: the noise check's bands (Fig 5.3), the bandwidth search's checkpoint and resume (library and
+// CLI, killed mid-search).
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <thread>
+
+#include "pegasus/core/error.hpp"
+#include "pegasus/heli/aircraft.hpp"
+#include "pegasus/heli/pilot.hpp"
+#include "pegasus/sysid/identify.hpp"
+#include "support/cli_runner.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using namespace pegasus;
+using namespace pegasus::sysid;
+
+struct Logs {
+  FlightLog train, test;
+};
+const Logs& logs() {
+  static const Logs l = [] {
+    const heli::Aircraft heli;
+    heli::PilotOptions o;
+    o.hover_seconds = 4;
+    return Logs{heli::fly_pilot(heli, o, 200, 41).log, heli::fly_pilot(heli, o, 80, 42).log};
+  }();
+  return l;
+}
+
+IdentifyOptions small_search() {
+  IdentifyOptions o;
+  o.cv_points = 60;
+  o.scale_grid = {1, 2, 4};
+  o.coordinate_passes = 1;
+  return o;
+}
+
+TEST(NoiseCheck, BandsOfTheIntegratedVariablesHoldOnHoldOutData) {
+  ThreadPool pool(2);
+  IdentifyOptions o;
+  o.cv_points = 150;
+  o.coordinate_passes = 0;
+  const IdentifiedModel model = identify(logs().train, o, pool);
+  const NoiseCheck nc = noise_check(model, logs().test, 2.0, 10.0);
+  ASSERT_GT(nc.steps, 500);
+  // Attitudes integrate the rates and the horizontal velocities integrate the attitudes (through gravity): with
+  // the full state covariance their bands hold about as often as an honest model's (a diagonal-only
+  // propagation left 9-13% of the velocities outside on the shipped flights).
+  for (int k : {kRoll, kPitch, kU, kV}) EXPECT_LT(nc.outside_fraction[k], 0.08) << kBodyVarNames[static_cast<std::size_t>(k)];
+  for (int k = 0; k < kBodyVars; ++k) EXPECT_GT(nc.outside_fraction[k], 0.0) << kBodyVarNames[static_cast<std::size_t>(k)];
+  // The bands widen within a reset segment.
+  ASSERT_GT(nc.sd.size(), 25u);
+  EXPECT_GT(nc.sd[19], nc.sd[0]);
+}
+
+TEST(IdentifyCheckpoint, ResumedSearchEqualsAnUninterruptedOne) {
+  ThreadPool pool(2);
+  const IdentifyOptions o = small_search();
+  std::vector<nlohmann::json> states;
+  int last_done = 0, total = 0;
+  IdentifyHooks record;
+  record.checkpoint = [&](const nlohmann::json& s) { states.push_back(s); };
+  record.progress = [&](int done, int t, bool replayed) {
+    EXPECT_FALSE(replayed && done <= 3) << "nothing to replay";
+    EXPECT_GT(done, last_done);
+    last_done = done;
+    total = t;
+  };
+  IdentifyReport whole_report;
+  const std::string whole = identify(logs().train, o, pool, &whole_report, record).to_json().dump();
+  ASSERT_GE(states.size(), 5u);
+  EXPECT_EQ(last_done, total);
+  EXPECT_EQ(states.back().at("evaluations").size(), whole_report.cv_trace.size());
+  for (std::size_t k : {std::size_t{0}, std::size_t{3}, states.size() - 1}) {
+    IdentifyHooks resume;
+    resume.resume_from = states[k];
+    int replayed = 0;
+    resume.progress = [&](int, int, bool r) { replayed += r ? 1 : 0; };
+    IdentifyReport report;
+    EXPECT_EQ(identify(logs().train, o, pool, &report, resume).to_json().dump(), whole) << k;
+    EXPECT_EQ(report.cv_trace, whole_report.cv_trace);
+    EXPECT_GE(replayed, static_cast<int>(k) + 1);
+  }
+  // A checkpoint of another search is refused.
+  IdentifyOptions other = o;
+  other.scale_grid = {3, 2, 4};
+  IdentifyHooks wrong;
+  wrong.resume_from = states.back();
+  EXPECT_THROW(identify(logs().train, other, pool, nullptr, wrong), InputError);
+}
+
+class IdentifyCli : public test_support::TempDirTest {};
+
+// SIGKILL as soon as the first cross-validation step is checkpointed, then --resume: the same outputs, byte for
+// byte, as an uninterrupted run.
+TEST_F(IdentifyCli, KilledIdentificationResumesToTheSameResult) {
+  for (const auto& [name, seconds, seed] : {std::tuple{"train", "60", "3"}, std::tuple{"test", "25", "4"}}) {
+    const auto r = test_support::run_pegasus(std::string("heli pilot --hover-seconds 4 --quiet --seconds ") + seconds +
+                                             " --seed " + seed + " --out " + (dir_ / name).string());
+    ASSERT_EQ(r.code, 0) << r.output;
+  }
+  // Slow enough steps (1 thread, many held-out points) that the kill lands in the middle of the search.
+  const std::string args = "heli identify --train " + (dir_ / "train" / "log.csv").string() + " --test " +
+                           (dir_ / "test" / "log.csv").string() +
+                           " --cv-points 1500 --scale-grid 1,2,4,8 --coordinate-passes 1 --horizon-s 2"
+                           " --start-spacing-s 5 --variants=false --threads 1 --quiet";
+  const auto whole = test_support::run_pegasus(args + " --out " + (dir_ / "whole").string());
+  ASSERT_EQ(whole.code, 0) << whole.output;
+  const fs::path target = dir_ / "killed";
+  const pid_t child = fork();
+  if (child == 0) {
+    const std::string command = std::string(PEGASUS_CLI_PATH) + " " + args + " --out " + target.string() + " >/dev/null 2>&1";
+    execl("/bin/sh", "sh", "-c", ("exec " + command).c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  const fs::path checkpoint = fs::path(target.string() + ".partial") / "checkpoint.json";
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  while (!fs::exists(checkpoint) && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  ASSERT_TRUE(fs::exists(checkpoint));
+  kill(child, SIGKILL);
+  int status = 0;
+  waitpid(child, &status, 0);
+  ASSERT_TRUE(WIFSIGNALED(status)) << "the run finished before it could be killed";
+  const auto saved = nlohmann::json::parse(test_support::read_text(checkpoint));
+  const auto steps = saved.at("identify").at("evaluations").size();
+  EXPECT_LT(steps, nlohmann::json::parse(test_support::read_text(dir_ / "whole" / "summary.json"))
+                       .at("cross_validation_steps")
+                       .get<std::size_t>());
+  const auto resumed = test_support::run_pegasus(args + " --resume --out " + target.string());
+  ASSERT_EQ(resumed.code, 0) << resumed.output;
+  for (const char* file : {"summary.json", "model.json", "cross_validation.csv", "mse_vs_horizon.csv", "noise_check.csv"})
+    EXPECT_EQ(test_support::read_text(dir_ / "whole" / file), test_support::read_text(target / file)) << file;
+}
+
+}  // namespace
