@@ -3,7 +3,9 @@
 // headless chromium (playwright-core) and screenshots the key charts to PNG in docs/images/.
 //
 //   node web/figures.mjs --cli build/pegasus --node-modules build/web/node_modules --out docs/images
-//                        [--runs runs/figures] [--only NAME]
+//                        [--runs runs/figures] [--only NAME] [--no-run]
+// --no-run keeps the run directories of an earlier call and only rewrites their reports (after a change to the
+// page code) before photographing them.
 import { createRequire } from 'node:module';
 import { execFileSync } from 'node:child_process';
 import fs from 'node:fs';
@@ -22,6 +24,7 @@ const nodeModules = path.resolve(option('--node-modules', path.join(source, 'bui
 const out = path.resolve(option('--out', path.join(source, 'docs', 'images')));
 const runsDir = path.resolve(option('--runs', path.join(source, 'runs', 'figures')));
 const only = option('--only', '');
+const noRun = args.includes('--no-run');
 const chromiumPath = process.env.PEGASUS_CHROMIUM || '/usr/bin/chromium';
 const { chromium } = createRequire(path.join(nodeModules, 'noop.js'))('playwright-core');
 
@@ -80,7 +83,11 @@ fs.mkdirSync(runsDir, { recursive: true });
 const chosen = figures.filter((f) => !only || f.name === only);
 for (const f of chosen) {
   console.log(`${f.name}:`);
-  f.make();
+  if (!noRun) {
+    f.make();
+  } else {
+    for (const run of new Set(f.shots.map((s) => s.run))) pegasus(['report', dir(run)]);
+  }
 }
 
 const profile = fs.mkdtempSync(path.join(os.tmpdir(), 'pegasus-figures-'));

@@ -84,7 +84,7 @@ function drawBox(div, spec) {
   const layout = baseLayout(spec);
   layout.showlegend = false;
   layout.yaxis = axis(spec.y_title, spec.y_log);
-  layout.xaxis = axis(spec.x_title, false);
+  layout.xaxis = axis(spec.x_title, false, { type: 'category' });
   return Plotly.newPlot(div, traces, layout, plotConfig);
 }
 
@@ -148,9 +148,19 @@ function makeAircraft() {
   nose.rotation.x = -Math.PI / 2;
   nose.position.set(0, 0, -0.85);
   group.add(nose);
-  const skid = new THREE.Mesh(new THREE.BoxGeometry(0.9, 0.04, 1.4), new THREE.MeshStandardMaterial({ color: 0x333333 }));
-  skid.position.set(0, -0.55, 0);
-  group.add(skid);
+  const dark = new THREE.MeshStandardMaterial({ color: 0x333333 });
+  for (const side of [-1, 1]) {
+    const skid = new THREE.Mesh(new THREE.CylinderGeometry(0.03, 0.03, 1.5, 8), dark);
+    skid.rotation.x = Math.PI / 2;
+    skid.position.set(0.38 * side, -0.62, 0);
+    group.add(skid);
+    for (const z of [-0.35, 0.35]) {
+      const strut = new THREE.Mesh(new THREE.CylinderGeometry(0.02, 0.02, 0.3, 6), dark);
+      strut.position.set(0.3 * side, -0.48, z);
+      strut.rotation.z = 0.4 * side;
+      group.add(strut);
+    }
+  }
   return group;
 }
 
@@ -225,7 +235,7 @@ function drawReplay(div, spec) {
   scene.add(aircraft);
 
   const camera = new THREE.PerspectiveCamera(50, 16 / 9, 0.1, size * 20);
-  camera.position.set(center.x + size * 0.7, center.y + size * 0.5, center.z + size * 0.9);
+  camera.position.set(center.x + size * 0.45, center.y + size * 0.3, center.z + size * 0.6);
   camera.lookAt(center);
 
   let renderer = null;
