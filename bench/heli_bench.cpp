@@ -5,12 +5,21 @@
 //                                  settings (§5.3: 30 scenarios x 35 s at 50 Hz, a refit every 5 steps) on 1
 //                                  or 2 threads; the model is identified from the shipped 339 s pilot log
 //   BM_HeliHoverPolicyAct          one action of the hover policy (body-frame errors, four channel networks)
+//   BM_HeliControlLoop             `pegasus heli control`'s loop: 10,000 state lines parsed, answered and
+//   flushed
+//                                  (to /dev/null) per iteration; lines_per_s is the figure to hold against
+//                                  100,000
 #include <benchmark/benchmark.h>
+#include <fmt/format.h>
 
 #include <array>
+#include <cmath>
+#include <cstdio>
 #include <memory>
+#include <string>
 
 #include "pegasus/heli/aircraft.hpp"
+#include "pegasus/heli/control_loop.hpp"
 #include "pegasus/heli/hover_task.hpp"
 #include "pegasus/heli/pilot.hpp"
 #include "pegasus/sysid/identify.hpp"
@@ -79,6 +88,29 @@ void BM_HeliHoverPolicyAct(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_HeliHoverPolicyAct);
+
+void BM_HeliControlLoop(benchmark::State& state) {
+  const heli::HoverPolicy pi;
+  const auto controller = heli::make_controller(
+      heli::hover_policy_file(pi, pi.parameters().initial(), {}, {0, 0.04, 0.18, 0.19}), "bench");
+  std::string input;
+  constexpr int kLines = 10000;
+  for (int i = 0; i < kLines; ++i) {
+    const double t = 0.02 * i;
+    input += fmt::format("{},{},{},0.05,-0.01,{},0.1,-0.1,0.02,0.01,0,0.01\n", 0.3 * std::sin(t),
+                         -0.2 * std::cos(t), -10 + 0.1 * std::sin(0.5 * t), 0.02 * std::sin(t));
+  }
+  std::FILE* out = std::fopen("/dev/null", "w");
+  std::int64_t lines = 0;
+  for (auto _ : state) {
+    std::FILE* in = fmemopen(input.data(), input.size(), "r");
+    lines += heli::run_control_loop(*controller, {0, 0.04, 0.18, 0.19}, in, out, stderr).lines;
+    std::fclose(in);
+  }
+  std::fclose(out);
+  state.counters["lines_per_s"] = benchmark::Counter(static_cast<double>(lines), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_HeliControlLoop)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace pegasus
