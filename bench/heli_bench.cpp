@@ -5,10 +5,9 @@
 //                                  settings (§5.3: 30 scenarios x 35 s at 50 Hz, a refit every 5 steps) on 1
 //                                  or 2 threads; the model is identified from the shipped 339 s pilot log
 //   BM_HeliHoverPolicyAct          one action of the hover policy (body-frame errors, four channel networks)
-//   BM_HeliControlLoop             `pegasus heli control`'s loop: 10,000 state lines parsed, answered and
-//   flushed
-//                                  (to /dev/null) per iteration; lines_per_s is the figure to hold against
-//                                  100,000
+//   BM_HeliControlLoop             heli control's loop: 10,000 state lines parsed, answered and flushed
+//                                  (to /dev/null) per iteration; lines_per_s is per CPU second of the
+//                                  thread (load does not count), the figure to hold against 100,000
 #include <benchmark/benchmark.h>
 #include <fmt/format.h>
 
