@@ -127,6 +127,7 @@ std::vector<Command> commands() {
   };
   for (auto& command : bicycle_commands()) all.push_back(std::move(command));
   for (auto& command : heli_commands()) all.push_back(std::move(command));
+  for (auto& command : heli_maneuver_commands()) all.push_back(std::move(command));
   for (auto& command : pendulum_commands()) all.push_back(std::move(command));
   for (auto& command : shaping_commands()) all.push_back(std::move(command));
   return all;

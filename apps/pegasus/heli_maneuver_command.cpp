@@ -1,0 +1,371 @@
+// `pegasus heli maneuver`: PEGASUS learns to fly an AMA Class III competition manoeuvre on the identified model,
+// then flies it on the ground-truth aircraft with gusts (thesis §5.4, Figs 5.8-5.10). Also trains the two
+// ablations the issue asks for (no learned z delay, no shaping reward) with the same budget, and registers the
+// "maneuver" policy class so that `pegasus heli fly --policy` and `pegasus heli control` fly its policy files.
+#include <fmt/format.h>
+
+#include <cmath>
+#include <limits>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "experiment_commands.hpp"
+#include "pegasus/core/error.hpp"
+#include "pegasus/evaluators/monte_carlo.hpp"
+#include "pegasus/heli/hover_task.hpp"
+#include "pegasus/heli/maneuver_file.hpp"
+#include "pegasus/heli/maneuver_policy.hpp"
+#include "pegasus/heli/maneuver_task.hpp"
+#include "pegasus/heli/policy_file.hpp"
+#include "pegasus/runs/output.hpp"
+#include "pegasus/runs/svg_plot.hpp"
+#include "pegasus/sysid/identify.hpp"
+
+namespace pegasus::cli {
+namespace {
+
+using namespace pegasus::heli;
+
+void declare(ConfigSchema& s) {
+  s.add_string("name", "III.1", "manoeuvre (AMA Class III)").choices({"III.1", "III.2", "III.3"});
+  s.add_string("model", "", "identified model file (model.json of `pegasus heli identify`)");
+  s.add_string("hover_policy", "", "optional: a trained hover policy file to start from (else the model's trim and default gains)");
+  // Trajectory
+  s.add_double("speed", 2.5, "set-point speed limit along the path, m/s").range(0.1, 20);
+  s.add_double("accel", 1.0, "set-point acceleration limit, m/s^2").range(0.1, 20);
+  s.add_double("yaw_rate", 1.0, "pirouette rate limit, rad/s").range(0.1, 10);
+  s.add_double("yaw_accel", 1.0, "pirouette acceleration limit, rad/s^2").range(0.1, 20);
+  s.add_double("triangle_base", 20, "III.1: base of the triangle, m (apex at half of it above)").range(1, 200);
+  s.add_double("circle_radius", 10, "III.2: radius of the circle, m").range(1, 100);
+  s.add_double("pause_s", 2, "III.2: pause on the circle before circling, s").range(0, 60);
+  s.add_double("rectangle_width", 20, "III.3: width of the rectangle, m").range(1, 200);
+  s.add_double("rectangle_height", 10, "III.3: height of the rectangle, m").range(1, 100);
+  s.add_double("hold_end_s", 3, "hover after the last leg, s").range(0, 60);
+  // Training
+  s.add_int("scenarios", 30, "PEGASUS scenarios m").range(1, 100000);
+  s.add_double("gamma", 0.9995, "discount per 50 Hz step").greater_than(0).max(1);
+  s.add_int("refit_every", 5, "learned model: 50 Hz steps between local-regression refits").range(1, 1000);
+  s.add_double("start_pos_sigma", 0.5, "start position perturbation per axis, m").range(0, 10);
+  s.add_double("start_vel_sigma", 0.2, "start velocity perturbation per axis, m/s").range(0, 10);
+  s.add_double("reward.alpha_pos", 4, "per m^2 of distance to the path's projection").min(0);
+  s.add_double("reward.alpha_yaw", 4, "per rad^2 of yaw error to the projection").min(0);
+  s.add_double("reward.alpha_vel", 1, "per (m/s)^2 of velocity minus the path's velocity at the projection").min(0);
+  s.add_double("reward.alpha_action", 4, "per unit^2 of each control about the trim").min(0);
+  s.add_bool("shaping", true, "potential-based shaping reward growing along the path");
+  s.add_double("shaping_per_metre", 5, "shaping potential per m of progress along the path").min(0);
+  s.add_bool("learn_delay", true, "learn the delay t of the vertical set point in angled climbs and descents");
+  s.add_bool("feedforward", true, "the hover networks see the velocity relative to the set point's (learned gain)");
+  s.add_string("optimizer", "gradient", "optimizer").choices({"gradient", "hill-climb"});
+  s.add_int("iterations", 10, "optimizer iterations at most").range(0, 100000);
+  s.add_double("gradient.relative_step", 0.05, "central-difference half-width, in parameter scales").greater_than(0);
+  s.add_double("gradient.initial_step", 0.5, "first step length, in parameter scales").greater_than(0);
+  s.add_double("gradient.max_step", 2.0, "longest step, in parameter scales").greater_than(0);
+  s.add_int("hill_climbing.proposals", 8, "proposals per hill-climbing iteration").range(1, 100000);
+  s.add_double("hill_climbing.initial_step", 0.3, "first hill-climbing perturbation, in parameter scales").greater_than(0);
+  s.add_bool("ablations", true, "also train without the learned delay and without shaping (same budget) and fly them");
+  // Flights on the ground truth
+  s.add_int("flights", 20, "flights on the ground-truth aircraft per policy").range(1, 100000);
+  s.add_double("gust_sigma", 0.5, "turbulence per axis on the ground truth, m/s").range(0, 10);
+  s.add_double("flight_start_sigma", 0.5, "start position perturbation of the flights, m").range(0, 10);
+  s.add_int("trace_flights", 20, "flights written to flights.csv").range(0, 100000);
+}
+
+struct Variant {
+  std::string key;    // "full", "no_delay", "no_shaping"
+  std::string label;  // for plots
+  ManeuverTrainingOptions options;
+};
+
+ManeuverTrainingOptions training_options(const RunContext& ctx) {
+  const auto& c = ctx.config;
+  ManeuverTrainingOptions o;
+  o.name = c.get_string("name");
+  o.limits = {.speed = c.get_double("speed"), .accel = c.get_double("accel"), .yaw_rate = c.get_double("yaw_rate"),
+              .yaw_accel = c.get_double("yaw_accel")};
+  o.size.triangle_base = c.get_double("triangle_base");
+  o.size.circle_radius = c.get_double("circle_radius");
+  o.size.pause_s = c.get_double("pause_s");
+  o.size.rectangle_width = c.get_double("rectangle_width");
+  o.size.rectangle_height = c.get_double("rectangle_height");
+  o.size.hold_end_s = c.get_double("hold_end_s");
+  o.scenarios = static_cast<int>(c.get_int("scenarios"));
+  o.gamma = c.get_double("gamma");
+  o.refit_every = static_cast<int>(c.get_int("refit_every"));
+  o.start_pos_sigma = c.get_double("start_pos_sigma");
+  o.start_vel_sigma = c.get_double("start_vel_sigma");
+  o.reward.alpha_pos = c.get_double("reward.alpha_pos");
+  o.reward.alpha_yaw = c.get_double("reward.alpha_yaw");
+  o.reward.alpha_vel = c.get_double("reward.alpha_vel");
+  o.reward.alpha_action.fill(c.get_double("reward.alpha_action"));
+  o.shaping = c.get_bool("shaping");
+  o.shaping_per_metre = c.get_double("shaping_per_metre");
+  o.policy.learn_delay = c.get_bool("learn_delay");
+  o.policy.feedforward = c.get_bool("feedforward");
+  o.optimizer.method = c.get_string("optimizer");
+  o.optimizer.gradient.max_iterations = c.get_int("iterations");
+  o.optimizer.gradient.relative_step = c.get_double("gradient.relative_step");
+  o.optimizer.gradient.max_step = c.get_double("gradient.max_step");
+  o.optimizer.gradient.initial_step = std::min(c.get_double("gradient.initial_step"), o.optimizer.gradient.max_step);
+  o.optimizer.gradient.min_step = std::min(o.optimizer.gradient.min_step, o.optimizer.gradient.initial_step);
+  o.optimizer.hill_climbing.max_iterations = c.get_int("iterations");
+  o.optimizer.hill_climbing.proposals_per_iteration = static_cast<int>(c.get_int("hill_climbing.proposals"));
+  o.optimizer.hill_climbing.initial_step = c.get_double("hill_climbing.initial_step");
+  o.optimizer.hill_climbing.max_step = std::max(o.optimizer.hill_climbing.max_step, o.optimizer.hill_climbing.initial_step);
+  o.seed = ctx.seed;
+  std::string error;
+  if (!o.IsValid(&error)) throw InputError(error);
+  return o;
+}
+
+ManeuverFileOptions file_options(const ManeuverTrainingOptions& o) {
+  return {.name = o.name, .size = o.size, .limits = o.limits, .policy = o.policy};
+}
+
+std::string path_plot(const std::string& title, int a, int b, const char* xl, const char* yl,
+                      const std::vector<std::array<double, 5>>& ideal, const std::vector<ManeuverFlight>& flights,
+                      int max_flights) {
+  SvgPlot plot;
+  plot.title(title).x_label(xl).y_label(yl).size(720, 480);
+  auto axis = [](const std::array<double, 5>& r, int k) { return k == 3 ? -r[3] : r[static_cast<std::size_t>(k)]; };
+  PlotSeries flown{.name = "flights on the ground truth", .line = true, .markers = false};
+  int n = 0;
+  for (const auto& f : flights) {
+    if (n++ >= max_flights) break;
+    for (std::size_t i = 0; i < f.truth.size(); i += 5) {
+      const auto& s = f.truth[i];
+      const std::array<double, 5> r{0, s[0], s[1], s[2], 0};
+      flown.x.push_back(axis(r, a));
+      flown.y.push_back(axis(r, b));
+    }
+    flown.x.push_back(std::numeric_limits<double>::quiet_NaN());
+    flown.y.push_back(std::numeric_limits<double>::quiet_NaN());
+  }
+  plot.add_series(std::move(flown));
+  PlotSeries path{.name = "ideal path", .line = true, .markers = false};
+  for (const auto& r : ideal) {
+    path.x.push_back(axis(r, a));
+    path.y.push_back(axis(r, b));
+  }
+  plot.add_series(std::move(path));
+  return plot.render();
+}
+
+void run(RunContext& ctx) {
+  const auto& c = ctx.config;
+  if (c.get_string("model").empty()) throw InputError("--model: an identified model file is required (heli identify)");
+  const ManeuverTrainingOptions base = training_options(ctx);
+  auto model = std::make_shared<const sysid::IdentifiedModel>(sysid::IdentifiedModel::load(c.get_string("model")));
+
+  // Starting point: the hover weights (a trained hover policy, or the model's trim with default gains).
+  HoverPolicyInit init = hover_init_from_model(*model);
+  Theta hover_theta;
+  if (!c.get_string("hover_policy").empty()) {
+    const std::string file = c.get_string("hover_policy");
+    const PolicyFile hover = read_policy_file(file);
+    if (hover.class_name != "hover") throw InputError(file + ": class: expected \"hover\", got \"" + hover.class_name + "\"");
+    hover_theta = checked_parameters(hover, HoverPolicy(init).parameters(), file);
+    init.trim = hover.trim;
+  }
+
+  std::vector<Variant> variants{{"full", "learned delay, shaping", base}};
+  if (c.get_bool("ablations")) {
+    Variant nd{"no_delay", "no delay", base};
+    nd.options.policy.learn_delay = false;
+    Variant ns{"no_shaping", "no shaping", base};
+    ns.options.shaping = false;
+    variants.push_back(nd);
+    variants.push_back(ns);
+  }
+  for (auto& v : variants)
+    if (v.options.centre_at_trim) v.options.reward.centre = init.trim;
+
+  RunDirectory& dir = ctx.run_directory();
+  ThreadPool& pool = ctx.pool();
+  std::optional<nlohmann::json> state = dir.load_checkpoint();
+  nlohmann::json done = state ? state->value("done", nlohmann::json::object()) : nlohmann::json::object();
+  auto bar = ctx.progress("trainings", variants.size());
+  bar.skip(done.size());
+
+  struct Trained {
+    Theta theta;
+    OptimizerSummary summary;
+    std::shared_ptr<const Trajectory> trajectory;
+    std::unique_ptr<ManeuverPolicy> policy;
+  };
+  std::map<std::string, Trained> trained;
+  for (const auto& v : variants) {
+    Trained t;
+    t.trajectory = maneuver_trajectory_for(v.options);
+    t.policy = std::make_unique<ManeuverPolicy>(t.trajectory, init, v.options.policy);
+    const Theta start = hover_theta.empty() ? t.policy->parameters().initial() : t.policy->from_hover(hover_theta);
+    if (done.contains(v.key)) {
+      t.theta = VectorFromJson(done[v.key].at("theta"), "checkpoint theta");
+      t.summary.initial_value = DoubleFromJson(done[v.key].at("initial_uhat"), "initial_uhat");
+      t.summary.best_value = DoubleFromJson(done[v.key].at("final_uhat"), "final_uhat");
+      t.summary.iterations = done[v.key].at("iterations").get<std::int64_t>();
+      t.summary.evaluations = done[v.key].at("evaluations").get<std::int64_t>();
+      for (const auto& r : done[v.key].at("history"))
+        t.summary.history.push_back({.iteration = r.at(0).get<std::int64_t>(), .evaluations = r.at(1).get<std::int64_t>(),
+                                     .value = DoubleFromJson(r.at(2), "history"), .seconds = r.at(3).get<double>()});
+    } else {
+      ManeuverTrainingHooks hooks;
+      hooks.checkpoint_every = 1;
+      hooks.on_checkpoint = [&](const nlohmann::json& ck) {
+        dir.save_checkpoint({{"done", done}, {"current", v.key}, {"optimizer", ck}});
+      };
+      if (state && state->value("current", "") == v.key && state->contains("optimizer")) hooks.resume_from = state->at("optimizer");
+      ManeuverTrainingResult r = train_maneuver(model, v.options, *t.policy, start, hooks, pool);
+      t.theta = r.theta;
+      t.summary = std::move(r.summary);
+      nlohmann::json history = nlohmann::json::array();
+      for (const auto& h : t.summary.history) history.push_back({h.iteration, h.evaluations, DoubleToJson(h.value), h.seconds});
+      done[v.key] = {{"theta", VectorToJson(t.theta)},
+                     {"initial_uhat", DoubleToJson(t.summary.initial_value)},
+                     {"final_uhat", DoubleToJson(t.summary.best_value)},
+                     {"iterations", t.summary.iterations},
+                     {"evaluations", t.summary.evaluations},
+                     {"history", history}};
+      dir.save_checkpoint({{"done", done}});
+      state.reset();
+    }
+    bar.advance();
+    trained.emplace(v.key, std::move(t));
+  }
+  bar.finish();
+
+  // ---- Flights on the ground truth, the ideal path, the policy files.
+  ManeuverFlightOptions fo;
+  fo.flights = static_cast<int>(c.get_int("flights"));
+  fo.gust_sigma = c.get_double("gust_sigma");
+  fo.start_pos_sigma = c.get_double("flight_start_sigma");
+  fo.seed = mix_seed(ctx.seed, 0x666c79);  // apart from the training scenarios
+  nlohmann::json summary = {{"maneuver", base.name}};
+  std::map<std::string, ManeuverFlightSummary> scores;
+  std::vector<ManeuverFlight> main_flights;
+  for (const auto& v : variants) {
+    const Trained& t = trained.at(v.key);
+    const PathObserver observer(*t.trajectory, v.options.observer);
+    std::vector<ManeuverFlight> flights = fly_maneuver(*t.policy, t.theta, observer, fo, &pool);
+    scores[v.key] = summarize_maneuver_flights(flights, observer.length());
+    PolicyFile file = maneuver_policy_file(file_options(v.options), *t.policy, t.theta, init.trim);
+    file.provenance = {{"command", "pegasus heli maneuver"}, {"variant", v.key}, {"uhat", DoubleToJson(t.summary.best_value)},
+                       {"seed", ctx.seed}};
+    write_policy_file(dir.path() / (v.key == "full" ? std::string("policy.json") : "policy_" + v.key + ".json"), file);
+
+    CsvWriter progress({"iteration", "evaluations", "seconds", "objective"});
+    for (const auto& h : t.summary.history) progress.add_row({h.iteration, h.evaluations, h.seconds, h.value});
+    dir.write_csv(v.key == "full" ? std::string("progress.csv") : "progress_" + v.key + ".csv", progress);
+    if (v.key == "full") {
+      // Untrained yardstick: the starting weights on the same flights.
+      const Theta start = hover_theta.empty() ? t.policy->parameters().initial() : t.policy->from_hover(hover_theta);
+      const auto untrained = summarize_maneuver_flights(fly_maneuver(*t.policy, start, observer, fo, &pool), observer.length());
+      summary["rms_path_deviation_untrained_m"] = untrained.rms_path_deviation_m;
+      summary["crashes_untrained"] = untrained.crashes;
+      summary["initial_uhat"] = DoubleToJson(t.summary.initial_value);
+      summary["final_uhat"] = DoubleToJson(t.summary.best_value);
+      summary["iterations"] = t.summary.iterations;
+      summary["evaluations"] = t.summary.evaluations;
+      summary["z_delay_s"] = t.policy->z_delay(t.theta);
+      summary["feedforward"] = t.policy->feedforward(t.theta);
+      summary["trajectory_seconds"] = t.trajectory->duration();
+      summary["path_length_m"] = observer.length();
+      main_flights = std::move(flights);
+    }
+  }
+  const Trained& full = trained.at("full");
+  const auto ideal = full.trajectory->sample(0.02);
+  CsvWriter ideal_csv({"t", "x", "y", "z", "yaw"});
+  for (const auto& r : ideal) ideal_csv.add_row({r[0], r[1], r[2], r[3], r[4]});
+  dir.write_csv("ideal_path.csv", ideal_csv);
+
+  CsvWriter flights_csv({"flight", "t", "x", "y", "z", "roll", "pitch", "yaw", "xdot", "ydot", "zdot", "roll_rate",
+                         "pitch_rate", "yaw_rate", "a1", "a2", "a3", "a4", "target_x", "target_y", "target_z", "target_yaw",
+                         "path_deviation"});
+  const auto trace = static_cast<std::size_t>(c.get_int("trace_flights"));
+  for (std::size_t i = 0; i < main_flights.size() && i < trace; ++i) {
+    const auto& f = main_flights[i];
+    for (std::size_t k = 0; k < f.truth.size(); ++k) {
+      std::vector<CsvCell> row{static_cast<std::int64_t>(i), static_cast<double>(k) * 0.02};
+      for (double x : f.truth[k]) row.emplace_back(x);
+      for (double x : f.controls[k]) row.emplace_back(x);
+      row.emplace_back(f.targets[k].x);
+      row.emplace_back(f.targets[k].y);
+      row.emplace_back(f.targets[k].z);
+      row.emplace_back(f.targets[k].yaw);
+      row.emplace_back(f.deviation[k]);
+      flights_csv.add_row(row);
+    }
+  }
+  dir.write_csv("flights.csv", flights_csv);
+  dir.write_text("paths_side.svg", path_plot(fmt::format("{}: flights on the ground truth, side view (x north, altitude)", base.name),
+                                            1, 3, "x (north), m", "altitude, m", ideal, main_flights, 20));
+  dir.write_text("paths_top.svg", path_plot(fmt::format("{}: flights on the ground truth, top view", base.name), 2, 1,
+                                           "y (east), m", "x (north), m", ideal, main_flights, 20));
+  {
+    SvgPlot plot;
+    plot.title(fmt::format("{}: U-hat against optimizer iterations", base.name)).x_label("iteration").y_label("U-hat");
+    for (const auto& v : variants) {
+      PlotSeries s{.name = v.label, .markers = true};
+      for (const auto& h : trained.at(v.key).summary.history) {
+        s.x.push_back(static_cast<double>(h.iteration));
+        s.y.push_back(h.value);
+      }
+      if (!s.x.empty()) plot.add_series(std::move(s));
+    }
+    dir.write_text("progress.svg", plot.render());
+  }
+  {
+    SvgPlot plot;
+    plot.title(fmt::format("{}: distance to the ideal path (ground truth, gusts)", base.name)).x_label("time, s").y_label("m");
+    int n = 0;
+    for (const auto& f : main_flights) {
+      if (n++ >= 5) break;
+      PlotSeries s{.name = fmt::format("flight {}", n - 1), .markers = false};
+      for (std::size_t k = 0; k < f.deviation.size(); k += 5) {
+        s.x.push_back(static_cast<double>(k) * 0.02);
+        s.y.push_back(f.deviation[k]);
+      }
+      plot.add_series(std::move(s));
+    }
+    dir.write_text("deviation.svg", plot.render());
+  }
+
+  const auto& m = scores.at("full");
+  summary["flights"] = m.flights;
+  summary["crashes"] = m.crashes;
+  summary["completed"] = m.completed;
+  summary["rms_path_deviation_m"] = m.rms_path_deviation_m;
+  summary["max_path_deviation_m"] = m.max_path_deviation_m;
+  summary["target_met"] = m.crashes == 0 && m.rms_path_deviation_m < 1.0;
+  for (const char* key : {"no_delay", "no_shaping"}) {
+    if (!scores.contains(key)) continue;
+    summary[fmt::format("rms_path_deviation_{}_m", key)] = scores.at(key).rms_path_deviation_m;
+    summary[fmt::format("crashes_{}", key)] = scores.at(key).crashes;
+    summary[fmt::format("final_uhat_{}", key)] = DoubleToJson(trained.at(key).summary.best_value);
+  }
+  summary["gust_sigma"] = fo.gust_sigma;
+  summary["policy"] = "policy.json";
+  dir.write_json("summary.json", summary);
+  ctx.out << fmt::format("{}: {} flights on the ground truth, {} crashes, RMS deviation from the path {:.3f} m (max {:.2f} m)\n",
+                         base.name, m.flights, m.crashes, m.rms_path_deviation_m, m.max_path_deviation_m);
+  for (const char* key : {"no_delay", "no_shaping"})
+    if (scores.contains(key))
+      ctx.out << fmt::format("  {}: {} crashes, RMS deviation {:.3f} m\n", key, scores.at(key).crashes,
+                             scores.at(key).rms_path_deviation_m);
+  ctx.out << "policy: " << (dir.final_path() / "policy.json").string() << "\n";
+}
+
+}  // namespace
+
+std::vector<Command> heli_maneuver_commands() {
+  // The "maneuver" class of policy files, for `heli fly` and `heli control` (registered with the command table,
+  // before any command runs).
+  register_policy_class("maneuver", make_maneuver_controller);
+  return {Command{.path = "heli maneuver",
+                  .description = "Learn an AMA Class III manoeuvre (III.1, III.2, III.3) with PEGASUS and fly it on the ground truth (thesis 5.4)",
+                  .declare = declare,
+                  .run = run}};
+}
+
+}  // namespace pegasus::cli

@@ -1,0 +1,120 @@
+#include "pegasus/heli/maneuver_file.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "pegasus/core/error.hpp"
+
+namespace pegasus::heli {
+namespace {
+
+class ManeuverController final : public HeliController {
+ public:
+  ManeuverController(ManeuverPolicy policy, Theta theta)
+      : policy_(std::move(policy)), theta_(std::move(theta)) {}
+  Controls act(const LoggedState& estimate, double time) const override {
+    return policy_.act(theta_, ManeuverObservation{estimate, time});
+  }
+  SetPoint target(double time) const override { return policy_.target(theta_, time); }
+
+ private:
+  ManeuverPolicy policy_;
+  Theta theta_;
+};
+
+double number(const nlohmann::json& j, const char* field, double fallback, const std::string& file) {
+  if (!j.contains(field)) return fallback;
+  const auto& v = j.at(field);
+  if (!v.is_number() || !std::isfinite(v.get<double>()))
+    throw InputError(fmt::format("{}: options.{}: expected a finite number, got {}", file, field, v.dump()));
+  return v.get<double>();
+}
+
+bool boolean(const nlohmann::json& j, const char* field, bool fallback, const std::string& file) {
+  if (!j.contains(field)) return fallback;
+  if (!j.at(field).is_boolean())
+    throw InputError(
+        fmt::format("{}: options.{}: expected true or false, got {}", file, field, j.at(field).dump()));
+  return j.at(field).get<bool>();
+}
+
+}  // namespace
+
+nlohmann::json maneuver_options_json(const ManeuverFileOptions& o) {
+  return {{"name", o.name},
+          {"learn_delay", o.policy.learn_delay},
+          {"feedforward", o.policy.feedforward},
+          {"max_delay_s", o.policy.max_delay_s},
+          {"speed", o.limits.speed},
+          {"accel", o.limits.accel},
+          {"yaw_rate", o.limits.yaw_rate},
+          {"yaw_accel", o.limits.yaw_accel},
+          {"triangle_base", o.size.triangle_base},
+          {"circle_radius", o.size.circle_radius},
+          {"pause_s", o.size.pause_s},
+          {"rectangle_width", o.size.rectangle_width},
+          {"rectangle_height", o.size.rectangle_height},
+          {"hold_start_s", o.size.hold_start_s},
+          {"hold_end_s", o.size.hold_end_s}};
+}
+
+ManeuverFileOptions maneuver_options_from_json(const nlohmann::json& j, const std::string& file) {
+  if (!j.is_object()) throw InputError(file + ": options: expected an object naming the manoeuvre");
+  ManeuverFileOptions o;
+  if (!j.contains("name") || !j.at("name").is_string())
+    throw InputError(file + ": options.name: expected \"III.1\", \"III.2\" or \"III.3\"");
+  o.name = j.at("name").get<std::string>();
+  if (std::find(kManeuverNames.begin(), kManeuverNames.end(), o.name) == kManeuverNames.end())
+    throw InputError(fmt::format("{}: options.name: expected \"III.1\", \"III.2\" or \"III.3\", got \"{}\"",
+                                 file, o.name));
+  o.policy.learn_delay = boolean(j, "learn_delay", o.policy.learn_delay, file);
+  o.policy.feedforward = boolean(j, "feedforward", o.policy.feedforward, file);
+  o.policy.max_delay_s = number(j, "max_delay_s", o.policy.max_delay_s, file);
+  o.limits.speed = number(j, "speed", o.limits.speed, file);
+  o.limits.accel = number(j, "accel", o.limits.accel, file);
+  o.limits.yaw_rate = number(j, "yaw_rate", o.limits.yaw_rate, file);
+  o.limits.yaw_accel = number(j, "yaw_accel", o.limits.yaw_accel, file);
+  o.size.triangle_base = number(j, "triangle_base", o.size.triangle_base, file);
+  o.size.circle_radius = number(j, "circle_radius", o.size.circle_radius, file);
+  o.size.pause_s = number(j, "pause_s", o.size.pause_s, file);
+  o.size.rectangle_width = number(j, "rectangle_width", o.size.rectangle_width, file);
+  o.size.rectangle_height = number(j, "rectangle_height", o.size.rectangle_height, file);
+  o.size.hold_start_s = number(j, "hold_start_s", o.size.hold_start_s, file);
+  o.size.hold_end_s = number(j, "hold_end_s", o.size.hold_end_s, file);
+  std::string error;
+  if (!o.limits.IsValid(&error) || !o.size.IsValid(&error)) throw InputError(file + ": options." + error);
+  if (!(o.policy.max_delay_s > 0)) throw InputError(file + ": options.max_delay_s: expected a number > 0");
+  return o;
+}
+
+PolicyFile maneuver_policy_file(const ManeuverFileOptions& options, const ManeuverPolicy& policy,
+                                std::span<const double> theta, const Controls& trim) {
+  PolicyFile p;
+  p.class_name = "maneuver";
+  for (const auto& param : policy.parameters().all()) p.names.push_back(param.name);
+  p.values.assign(theta.begin(), theta.end());
+  const Vec3 s0 = policy.trajectory().start_W();
+  p.target = {s0.x(), s0.y(), s0.z(), 0.0};
+  p.trim = trim;
+  p.options = maneuver_options_json(options);
+  return p;
+}
+
+std::unique_ptr<HeliController> make_maneuver_controller(const PolicyFile& policy, const std::string& file) {
+  ManeuverFileOptions o = maneuver_options_from_json(policy.options, file);
+  if (policy.target.yaw != 0)
+    throw InputError(file + ": target.yaw: expected 0 for a manoeuvre (flown nose north)");
+  o.size.start_W = Vec3(policy.target.x, policy.target.y, policy.target.z);
+  std::string error;
+  if (!o.size.IsValid(&error)) throw InputError(file + ": target: " + error);
+  auto trajectory = std::make_shared<const Trajectory>(maneuver_trajectory(o.name, o.size, o.limits));
+  HoverPolicyInit init;
+  init.trim = policy.trim;
+  ManeuverPolicy p(std::move(trajectory), init, o.policy);
+  Theta theta = checked_parameters(policy, p.parameters(), file);
+  return std::make_unique<ManeuverController>(std::move(p), std::move(theta));
+}
+
+}  // namespace pegasus::heli

@@ -1,0 +1,61 @@
+#include "pegasus/heli/maneuver_policy.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "pegasus/core/error.hpp"
+
+namespace pegasus::heli {
+
+ManeuverPolicy::ManeuverPolicy(std::shared_ptr<const Trajectory> trajectory, const HoverPolicyInit& init,
+                               ManeuverPolicyOptions options)
+    : trajectory_(std::move(trajectory)), init_(init), options_(options) {
+  if (!trajectory_) throw InputError("manoeuvre policy: expected a trajectory");
+  if (!(options_.max_delay_s > 0 && std::isfinite(options_.max_delay_s)))
+    throw InputError("manoeuvre policy: max_delay_s: expected a number > 0");
+  const HoverPolicy hover(init);
+  for (const auto& p : hover.parameters().all()) spec_.add(p);
+  spec_.add({.name = "couple.tail_to_lat", .initial = 0.0, .lower = -2.0, .upper = 2.0, .scale = 0.05});
+  spec_.add({.name = "couple.coll_to_tail", .initial = 0.0, .lower = -2.0, .upper = 2.0, .scale = 0.05});
+  if (options_.learn_delay) {
+    delay_index_ = static_cast<int>(spec_.size());
+    spec_.add({.name = "z_delay", .initial = 0.0, .lower = 0.0, .upper = options_.max_delay_s, .scale = 0.2});
+  }
+  if (options_.feedforward) {
+    ff_index_ = static_cast<int>(spec_.size());
+    spec_.add({.name = "feedforward", .initial = 1.0, .lower = 0.0, .upper = 1.5, .scale = 0.05});
+  }
+}
+
+SetPoint ManeuverPolicy::target(std::span<const double> theta, double time) const {
+  const TrajectoryPoint p = trajectory_->delayed(time, z_delay(theta));
+  return SetPoint{.x = p.p_W.x(), .y = p.p_W.y(), .z = p.p_W.z(), .yaw = wrap_angle(p.yaw)};
+}
+
+Controls ManeuverPolicy::act(std::span<const double> theta, const ManeuverObservation& o) const {
+  const TrajectoryPoint p = trajectory_->delayed(o.time, z_delay(theta));
+  HeliObservation h{.state = o.state, .target = {p.p_W.x(), p.p_W.y(), p.p_W.z(), wrap_angle(p.yaw)}};
+  const double k = feedforward(theta);
+  if (k != 0) {
+    h.state[6] -= k * p.v_W.x();
+    h.state[7] -= k * p.v_W.y();
+    h.state[8] -= k * p.v_W.z();
+    h.state[11] -= k * p.yaw_rate;
+  }
+  Controls a = HoverPolicy::unclipped(theta.first(kHover), hover_inputs(h));
+  const double tail = a[3] - init_.trim[3], coll = a[2] - init_.trim[2];
+  a[1] += theta[kTailToLat] * tail;
+  a[3] += theta[kCollToTail] * coll;
+  for (double& x : a) x = std::isnan(x) ? 0.0 : std::clamp(x, -1.0, 1.0);
+  return a;
+}
+
+Theta ManeuverPolicy::from_hover(std::span<const double> hover_theta) const {
+  if (hover_theta.size() != static_cast<std::size_t>(kHover))
+    throw InputError("manoeuvre policy: expected the 34 weights of a hover policy");
+  Theta theta = spec_.initial();
+  std::copy(hover_theta.begin(), hover_theta.end(), theta.begin());
+  return theta;
+}
+
+}  // namespace pegasus::heli

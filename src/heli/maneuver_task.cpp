@@ -1,0 +1,261 @@
+#include "pegasus/heli/maneuver_task.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "pegasus/core/error.hpp"
+#include "pegasus/evaluators/monte_carlo.hpp"
+#include "pegasus/evaluators/pegasus_evaluator.hpp"
+#include "pegasus/scenarios/scenario_set.hpp"
+#include "pegasus/shaping/potential_shaping.hpp"
+
+namespace pegasus::heli {
+namespace {
+
+bool fail(std::string* error, std::string message) {
+  if (error) *error = std::move(message);
+  return false;
+}
+
+bool nonnegative_finite(double x) { return x >= 0 && std::isfinite(x); }
+
+using Learned = sysid::LearnedHeliModel;
+using Task = ManeuverTask<Learned>;
+
+sysid::LearnedModelOptions learned_options(const ManeuverTrainingOptions& o, const Trajectory& t) {
+  sysid::LearnedModelOptions m;
+  m.refit_every = o.refit_every;
+  const Vec3 p = t.start_W();
+  m.start = {p.x(), p.y(), p.z(), 0, 0, wrap_angle(t.start_yaw()), 0, 0, 0, 0, 0, 0};
+  m.start_pos_sigma = o.start_pos_sigma;
+  m.start_vel_sigma = o.start_vel_sigma;
+  return m;
+}
+
+}  // namespace
+
+bool ManeuverReward::IsValid(std::string* error) const {
+  if (!nonnegative_finite(alpha_pos))
+    return fail(error, fmt::format("alpha_pos: expected a number >= 0, got {}", alpha_pos));
+  if (!nonnegative_finite(alpha_yaw))
+    return fail(error, fmt::format("alpha_yaw: expected a number >= 0, got {}", alpha_yaw));
+  if (!nonnegative_finite(alpha_vel))
+    return fail(error, fmt::format("alpha_vel: expected a number >= 0, got {}", alpha_vel));
+  for (std::size_t c = 0; c < 4; ++c) {
+    if (!nonnegative_finite(alpha_action[c]))
+      return fail(error, fmt::format("alpha_action[{}]: expected a number >= 0, got {}", c, alpha_action[c]));
+    if (!(std::abs(centre[c]) <= 1))
+      return fail(error, fmt::format("centre[{}]: expected a number in [-1, 1], got {}", c, centre[c]));
+  }
+  return true;
+}
+
+double ManeuverReward::state_cost(const LoggedState& s, const PathProjection& p) const {
+  const double dx = s[0] - p.p_W.x(), dy = s[1] - p.p_W.y(), dz = s[2] - p.p_W.z();
+  const double dyaw = wrap_angle(s[5] - p.yaw);
+  const double vx = s[6] - p.v_W.x(), vy = s[7] - p.v_W.y(), vz = s[8] - p.v_W.z();
+  return alpha_pos * (dx * dx + dy * dy + dz * dz) + alpha_yaw * dyaw * dyaw +
+         alpha_vel * (vx * vx + vy * vy + vz * vz);
+}
+
+double ManeuverReward::action_cost(const Controls& a) const {
+  double c = 0;
+  for (std::size_t k = 0; k < 4; ++k) c += alpha_action[k] * (a[k] - centre[k]) * (a[k] - centre[k]);
+  return c;
+}
+
+OptimizerOptions ManeuverTrainingOptions::default_optimizer() {
+  OptimizerOptions o;
+  o.method = "gradient";
+  o.gradient.max_iterations = 10;
+  o.gradient.relative_step = 0.05;
+  o.gradient.initial_step = 0.5;
+  o.gradient.max_step = 2.0;
+  o.gradient.min_step = 1e-3;
+  o.gradient.max_backtracks = 6;
+  o.gradient.function_tolerance = 0.0;
+  o.hill_climbing.max_iterations = 10;
+  o.hill_climbing.proposals_per_iteration = 8;
+  o.hill_climbing.initial_step = 0.3;
+  o.hill_climbing.max_step = 2.0;
+  o.hill_climbing.min_step = 1e-3;
+  return o;
+}
+
+bool ManeuverTrainingOptions::IsValid(std::string* error) const {
+  if (std::find(kManeuverNames.begin(), kManeuverNames.end(), name) == kManeuverNames.end())
+    return fail(error, fmt::format("name: expected III.1, III.2 or III.3, got \"{}\"", name));
+  std::string inner;
+  if (!size.IsValid(&inner)) return fail(error, inner);
+  if (!limits.IsValid(&inner)) return fail(error, inner);
+  if (!observer.IsValid(&inner)) return fail(error, "observer." + inner);
+  if (scenarios < 1)
+    return fail(error, fmt::format("scenarios: expected an integer >= 1, got {}", scenarios));
+  if (!(gamma > 0 && gamma <= 1))
+    return fail(error, fmt::format("gamma: expected a number in (0, 1], got {}", gamma));
+  if (refit_every < 1)
+    return fail(error, fmt::format("refit_every: expected an integer >= 1, got {}", refit_every));
+  if (!nonnegative_finite(start_pos_sigma))
+    return fail(error, fmt::format("start_pos_sigma: expected a number >= 0, got {}", start_pos_sigma));
+  if (!nonnegative_finite(start_vel_sigma))
+    return fail(error, fmt::format("start_vel_sigma: expected a number >= 0, got {}", start_vel_sigma));
+  if (!reward.IsValid(&inner)) return fail(error, "reward." + inner);
+  if (!nonnegative_finite(shaping_per_metre))
+    return fail(error, fmt::format("shaping_per_metre: expected a number >= 0, got {}", shaping_per_metre));
+  if (!optimizer.IsValid(&inner)) return fail(error, "optimizer." + inner);
+  return true;
+}
+
+std::shared_ptr<const Trajectory> maneuver_trajectory_for(const ManeuverTrainingOptions& o) {
+  return std::make_shared<const Trajectory>(maneuver_trajectory(o.name, o.size, o.limits));
+}
+
+int maneuver_horizon(const Trajectory& trajectory) {
+  return std::max(1, static_cast<int>(std::ceil(trajectory.duration() / 0.02 - 1e-9)));
+}
+
+std::unique_ptr<Objective> maneuver_objective(std::shared_ptr<const sysid::IdentifiedModel> model,
+                                              const ManeuverTrainingOptions& o, const ManeuverPolicy& policy,
+                                              std::shared_ptr<ThreadPool> pool) {
+  std::string error;
+  if (!o.IsValid(&error)) throw InputError("manoeuvre training: " + error);
+  auto observer = std::make_shared<const PathObserver>(policy.trajectory(), o.observer);
+  const Task task(Learned(std::move(model), learned_options(o, policy.trajectory())), observer, o.reward);
+  const int horizon = maneuver_horizon(policy.trajectory());
+  const ScenarioSet scenarios({.seed = o.seed,
+                               .count = o.scenarios,
+                               .horizon = horizon,
+                               .noise_dim = task.noise_dim(),
+                               .initial_noise_dim = task.initial_noise_dim()});
+  const Discounting d{.gamma = o.gamma, .horizon = horizon};
+  if (o.shaping) {
+    auto shaped = shape(task, PathProgressPotential{o.shaping_per_metre}, o.gamma);
+    using Model = decltype(shaped);
+    return std::make_unique<PegasusObjective<Model, ManeuverPolicy>>(
+        PegasusEvaluator<Model, ManeuverPolicy>(std::move(shaped), policy, scenarios, d), std::move(pool));
+  }
+  return std::make_unique<PegasusObjective<Task, ManeuverPolicy>>(
+      PegasusEvaluator<Task, ManeuverPolicy>(task, policy, scenarios, d), std::move(pool));
+}
+
+ManeuverTrainingResult train_maneuver(std::shared_ptr<const sysid::IdentifiedModel> model,
+                                      const ManeuverTrainingOptions& o, const ManeuverPolicy& policy,
+                                      const Theta& start, const ManeuverTrainingHooks& hooks,
+                                      ThreadPool& pool) {
+  auto objective = maneuver_objective(std::move(model), o, policy,
+                                      std::shared_ptr<ThreadPool>(std::shared_ptr<ThreadPool>(), &pool));
+  OptimizerOptions opt = o.optimizer;
+  opt.hill_climbing.seed =
+      mix_seed(o.seed, 0x48696c6c);  // hill climbing's own stream, apart from the scenarios
+  if (hooks.on_checkpoint && hooks.checkpoint_every > 0)
+    opt.SetCheckpointing(hooks.checkpoint_every, hooks.on_checkpoint, hooks.resume_from);
+  ManeuverTrainingResult result;
+  result.theta = start;
+  Solve(opt, *objective, &result.theta, &result.summary);
+  if (!result.summary.best_theta.empty()) result.theta = result.summary.best_theta;
+  return result;
+}
+
+// ---- Flights on the ground truth ------------------------------------------------------------------------
+
+bool ManeuverFlightOptions::IsValid(std::string* error) const {
+  if (flights < 1 || flights > 100000)
+    return fail(error, fmt::format("flights: expected an integer in [1, 100000], got {}", flights));
+  if (!(extra_seconds >= 0 && extra_seconds <= 600))
+    return fail(error, fmt::format("extra_seconds: expected a number in [0, 600], got {}", extra_seconds));
+  if (!(gust_sigma >= 0 && gust_sigma <= 10))
+    return fail(error, fmt::format("gust_sigma: expected a number in [0, 10], got {}", gust_sigma));
+  if (!nonnegative_finite(start_pos_sigma))
+    return fail(error, fmt::format("start_pos_sigma: expected a number >= 0, got {}", start_pos_sigma));
+  if (!nonnegative_finite(start_vel_sigma))
+    return fail(error, fmt::format("start_vel_sigma: expected a number >= 0, got {}", start_vel_sigma));
+  return true;
+}
+
+std::vector<ManeuverFlight> fly_maneuver(const ManeuverPolicy& policy, std::span<const double> theta,
+                                         const PathObserver& observer, const ManeuverFlightOptions& o,
+                                         ThreadPool* pool) {
+  std::string error;
+  if (!o.IsValid(&error)) throw InputError("manoeuvre flights: " + error);
+  if (theta.size() != policy.parameters().size())
+    throw InputError(fmt::format("manoeuvre flights: expected {} policy parameters, got {}",
+                                 policy.parameters().size(), theta.size()));
+  const Trajectory& traj = policy.trajectory();
+  AircraftParams params;
+  params.gust_sigma = o.gust_sigma;
+  params.start_p_W = traj.start_W();
+  params.start_yaw = wrap_angle(traj.start_yaw());
+  params.start_pos_sigma = o.start_pos_sigma;
+  params.start_vel_sigma = o.start_vel_sigma;
+  const Aircraft aircraft(params);
+  const int steps = static_cast<int>(std::ceil((traj.duration() + o.extra_seconds) / params.dt - 1e-9));
+  const ScenarioSet noise({.seed = o.seed,
+                           .count = o.flights,
+                           .horizon = std::max(1, steps),
+                           .noise_dim = Aircraft::kStepNoise,
+                           .initial_noise_dim = Aircraft::kInitialNoise});
+  std::vector<ManeuverFlight> flights(static_cast<std::size_t>(o.flights));
+  auto fly = [&](std::size_t i) {
+    ManeuverFlight& f = flights[i];
+    f.truth.reserve(static_cast<std::size_t>(steps) + 1);
+    std::array<double, Aircraft::kInitialNoise> p0;
+    noise.initial_noise(static_cast<int>(i), p0);
+    AircraftState s = aircraft.initial_state(p0);
+    PathProjection path = observer.start();
+    auto record = [&](const LoggedState& truth, double t) {
+      path = observer.update(path, Vec3(truth[0], truth[1], truth[2]), truth[5]);
+      f.truth.push_back(truth);
+      f.targets.push_back(policy.target(theta, t));
+      f.deviation.push_back((Vec3(truth[0], truth[1], truth[2]) - path.p_W).norm());
+    };
+    record(true_logged_state(s), 0.0);
+    std::array<double, Aircraft::kStepNoise> p;
+    for (int t = 0; t < steps && !aircraft.terminal(s); ++t) {
+      const double time = t * params.dt;
+      const Controls a = policy.act(theta, ManeuverObservation{aircraft.observe(s), time});
+      f.controls.push_back(a);
+      noise.step_noise(static_cast<int>(i), t, p);
+      s = aircraft.step(s, a, p);
+      if (aircraft.terminal(s)) {
+        f.crash = s.crash;
+        f.crash_time = (t + 1) * params.dt;
+        break;
+      }
+      record(true_logged_state(s), (t + 1) * params.dt);
+    }
+    f.controls.push_back(f.controls.empty() ? Controls{} : f.controls.back());
+    f.controls.resize(f.truth.size());
+    f.final_progress = path.progress;
+  };
+  if (pool) {
+    pool->parallel_for(flights.size(), fly, 1);
+  } else {
+    for (std::size_t i = 0; i < flights.size(); ++i) fly(i);
+  }
+  return flights;
+}
+
+ManeuverFlightSummary summarize_maneuver_flights(const std::vector<ManeuverFlight>& flights,
+                                                 double path_length) {
+  ManeuverFlightSummary s;
+  s.flights = static_cast<int>(flights.size());
+  double sum2 = 0;
+  std::size_t n = 0;
+  for (const auto& f : flights) {
+    if (f.crash != CrashReason::kNone)
+      ++s.crashes;
+    else if (f.final_progress >= path_length - 1.0)
+      ++s.completed;
+    for (double d : f.deviation) {
+      sum2 += d * d;
+      s.max_path_deviation_m = std::max(s.max_path_deviation_m, d);
+    }
+    n += f.deviation.size();
+  }
+  s.rms_path_deviation_m = n > 0 ? std::sqrt(sum2 / static_cast<double>(n)) : 0.0;
+  return s;
+}
+
+}  // namespace pegasus::heli

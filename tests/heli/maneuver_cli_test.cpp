@@ -1,0 +1,99 @@
+// End-to-end tests of `pegasus heli maneuver` on a small identified model and a shrunken manoeuvre: training
+// improves U-hat, the documented files, --threads never changes a result, bad input is refused.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <unistd.h>
+
+#include "support/cli_runner.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using pegasus::test_support::read_text;
+using pegasus::test_support::run_pegasus;
+
+class ManeuverCli : public pegasus::test_support::TempDirTest {
+ protected:
+  // One small identified model for the whole suite.
+  static void SetUpTestSuite() {
+    shared_ = fs::temp_directory_path() / ("pegasus-maneuver-model-" + std::to_string(::getpid()));
+    fs::remove_all(shared_);
+    auto r = run_pegasus("heli pilot --seconds 60 --hover-seconds 4 --seed 3 --quiet --out " + (shared_ / "train").string());
+    ASSERT_EQ(r.code, 0) << r.output;
+    r = run_pegasus("heli pilot --seconds 20 --hover-seconds 4 --seed 4 --quiet --out " + (shared_ / "test").string());
+    ASSERT_EQ(r.code, 0) << r.output;
+    r = run_pegasus("heli identify --train " + (shared_ / "train" / "log.csv").string() + " --test " +
+                    (shared_ / "test" / "log.csv").string() +
+                    " --cv-points 40 --scale-grid 2,4 --coordinate-passes 0 --horizon-s 5 --start-spacing-s 5 --variants=false"
+                    " --quiet --out " + (shared_ / "id").string());
+    ASSERT_EQ(r.code, 0) << r.output;
+  }
+  static void TearDownTestSuite() { fs::remove_all(shared_); }
+
+  // A 2 m nose-in circle flown slowly: about 20 s of flight per scenario.
+  static std::string small(const std::string& out) {
+    return "heli maneuver --name III.2 --model " + (shared_ / "id" / "model.json").string() +
+           " --circle-radius 2 --pause-s 0.5 --hold-end-s 0.5 --speed 1 --scenarios 2 --optimizer hill-climb"
+           " --iterations 3 --hill-climbing.proposals 4 --flights 2 --quiet --out " + out;
+  }
+  static inline fs::path shared_;
+};
+
+nlohmann::json json_of(const fs::path& p) { return nlohmann::json::parse(read_text(p)); }
+
+std::string first_line(const std::string& text) { return text.substr(0, text.find('\n')); }
+
+TEST_F(ManeuverCli, TrainingImprovesUhatAndWritesTheDocumentedFiles) {
+  const auto r = run_pegasus(small((dir_ / "run").string()) + " --ablations=false");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto s = json_of(dir_ / "run" / "summary.json");
+  EXPECT_EQ(s.at("maneuver"), "III.2");
+  EXPECT_GT(s.at("final_uhat").get<double>(), s.at("initial_uhat").get<double>());
+  EXPECT_EQ(s.at("flights"), 2);
+  for (const char* key : {"crashes", "rms_path_deviation_m", "max_path_deviation_m", "z_delay_s", "completed"})
+    EXPECT_TRUE(s.contains(key)) << key;
+  EXPECT_FALSE(s.contains("rms_path_deviation_no_delay_m"));  // no ablations asked for
+  EXPECT_EQ(first_line(read_text(dir_ / "run" / "progress.csv")), "iteration,evaluations,seconds,objective");
+  EXPECT_EQ(first_line(read_text(dir_ / "run" / "ideal_path.csv")), "t,x,y,z,yaw");
+  EXPECT_EQ(first_line(read_text(dir_ / "run" / "flights.csv")).rfind(
+                "flight,t,x,y,z,roll,pitch,yaw,xdot,ydot,zdot,roll_rate,pitch_rate,yaw_rate,a1,a2,a3,a4,target_x,target_y,"
+                "target_z,target_yaw",
+                0),
+            0u);
+  const auto policy = json_of(dir_ / "run" / "policy.json");
+  EXPECT_EQ(policy.at("class"), "maneuver");
+  EXPECT_EQ(policy.at("options").at("name"), "III.2");
+  EXPECT_EQ(policy.at("options").at("circle_radius"), 2.0);
+  EXPECT_TRUE(fs::exists(dir_ / "run" / "paths_top.svg"));
+}
+
+TEST_F(ManeuverCli, ThreadCountNeverChangesTheResult) {
+  const std::string small_ablations = " --iterations 1 --hill-climbing.proposals 2";
+  auto a = run_pegasus(small((dir_ / "one").string()) + small_ablations + " --threads 1");
+  ASSERT_EQ(a.code, 0) << a.output;
+  auto b = run_pegasus(small((dir_ / "two").string()) + small_ablations + " --threads 2");
+  ASSERT_EQ(b.code, 0) << b.output;
+  const auto sa = json_of(dir_ / "one" / "summary.json"), sb = json_of(dir_ / "two" / "summary.json");
+  for (const char* key : {"final_uhat", "initial_uhat", "rms_path_deviation_m", "rms_path_deviation_no_delay_m",
+                          "rms_path_deviation_no_shaping_m", "crashes"})
+    EXPECT_EQ(sa.at(key), sb.at(key)) << key;
+  EXPECT_EQ(json_of(dir_ / "one" / "policy.json").at("parameters"), json_of(dir_ / "two" / "policy.json").at("parameters"));
+  EXPECT_EQ(read_text(dir_ / "one" / "flights.csv"), read_text(dir_ / "two" / "flights.csv"));
+}
+
+TEST_F(ManeuverCli, RefusesBadInputWithOneClearLine) {
+  auto r = run_pegasus("heli maneuver --name III.9 --model x.json --quiet --out " + (dir_ / "bad").string());
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("III.9"), std::string::npos) << r.output;
+  r = run_pegasus("heli maneuver --name III.1 --quiet --out " + (dir_ / "bad").string());
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("--model"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir_ / "bad"));
+}
+
+}  // namespace
