@@ -1,17 +1,18 @@
 #!/usr/bin/env python3
 """Writes BENCHMARKS.md from the JSON of `make bench` (Google Benchmark's --benchmark_out format).
 
-    python3 scripts/benchmarks_md.py [BENCH_JSON] [--mpi MPI_JSON] [--rltools RLTOOLS_JSON] [--out BENCHMARKS.md]
+    python3 scripts/benchmarks_md.py [BENCH_JSON] [--mpi MPI_JSON] [--race RACE_JSON] [--out BENCHMARKS.md]
 
-Defaults: build/bench-results/bench.json, build/bench-results/mpi.json, bench/rltools_pendulum_race.json,
+Defaults: build/bench-results/bench.json, build/bench-results/mpi.json, bench/pendulum_race.json,
 BENCHMARKS.md. Python 3 standard library only.
 
 The optional MPI file (written by the distributed-evaluation benchmark) is either Google Benchmark JSON whose
 benchmark names carry "ranks:N", or {"rows": [{"workload": str, "ranks": int, "threads": int,
 "seconds": float}, ...]}. Missing files and missing benchmarks are reported as "not measured".
 
-The optional RLtools file holds the other side of the Pendulum-v1 race, measured outside the repository:
-{"machine": str, "runs": [{"algorithm": "TD3", "seed": int, "seconds_to_bar": float,
+The race file holds the Pendulum-v1 race against RLtools, both sides measured in one window (RLtools is
+built and run outside the repository): {"machine": str, "load": [str], "rltools": str, "pegasus": str,
+"runs": [{"side": "Pegasus" | "RLtools TD3" | ..., "seed": int, "seconds_to_bar": float (<= 0: never),
 "cpu_seconds_to_bar": float, "total_seconds": float, "final_mean_return_100": float}, ...]}.
 """
 import argparse
@@ -85,6 +86,16 @@ def counter(b, name):
     return None if b is None or name not in b else float(b[name])
 
 
+def cpu_rate(b, name):
+    """A rate counter per CPU second. Google Benchmark divides rates by wall time in `real_time` benchmarks;
+    for a single-threaded benchmark on a loaded machine, dividing by CPU time instead measures the code, not
+    the load."""
+    value = counter(b, name)
+    if value is None or not b["name"].endswith("real_time") or not b.get("cpu_time"):
+        return value
+    return value * b["real_time"] / b["cpu_time"]
+
+
 def steps_table(r):
     # (environment, benchmark, what one step is). Rates are single-threaded, so per core; Google Benchmark
     # divides by CPU time unless the benchmark uses real time.
@@ -100,7 +111,7 @@ def steps_table(r):
     out = ["| Environment | Steps per second per core | Benchmark |", "|---|---:|---|"]
     for label, pattern, key in rows:
         b = r.find(pattern)
-        out.append(f"| {label} | {fmt_rate(counter(b, key))} | `{b['name'] if b else pattern}` |")
+        out.append(f"| {label} | {fmt_rate(cpu_rate(b, key))} | `{b['name'] if b else pattern}` |")
     return out
 
 
@@ -128,53 +139,61 @@ def uhat_table(r):
         ("Helicopter hover", "BM_HeliHoverUhat", None),
         ("Pendulum-v1, m = 32, H = 200", "BM_PendulumUhat_m32_H200", None),
     ]
-    out = ["| Training problem | U-hat evaluation time (1 thread) | Benchmark |", "|---|---:|---|"]
+    out = ["| Training problem | U-hat evaluation, CPU time (1 thread) | Wall time | Benchmark |", "|---|---:|---:|---|"]
     for label, family, per_s in rows:
         b = one_thread(r, family)
-        if b is None:
-            value = None
-        elif per_s:
-            value = 1.0 / counter(b, per_s) if counter(b, per_s) else None
-        else:
-            value = seconds(b)
-        out.append(f"| {label} | {fmt_time(value)} | `{b['name'] if b else family}` |")
+        cpu = wall = None
+        if b is not None and per_s:
+            if counter(b, per_s):
+                per_iteration = counter(b, per_s) * seconds(b)  # policies evaluated per benchmark iteration
+                cpu, wall = seconds(b, "cpu_time") / per_iteration, seconds(b) / per_iteration
+        elif b is not None:
+            cpu, wall = seconds(b, "cpu_time"), seconds(b)
+        out.append(f"| {label} | {fmt_time(cpu)} | {fmt_time(wall)} | `{b['name'] if b else family}` |")
     return out
 
 
 def refit_table(r):
-    out = ["| Local regression refit | Time | Points used | Benchmark |", "|---|---:|---:|---|"]
-    for label, name in (
-        ("Fast path (k-d tree), default bandwidth", "BM_LwrRefit_Fast"),
-        ("Exact, default bandwidth", "BM_LwrRefit_Exact"),
-        ("Fast path, narrow bandwidth", "BM_LwrRefit_Fast_Narrow"),
-        ("Exact, narrow bandwidth", "BM_LwrRefit_Exact_Narrow"),
-    ):
-        b = r.find("^" + name + "$")
+    out = ["| Local regression refit | CPU time | Points used | Benchmark |", "|---|---:|---:|---|"]
+    labels = {
+        "BM_LwrRefit_Fast": "Fast path (k-d tree), default bandwidth",
+        "BM_LwrRefit_Fast_Avx2": "Fast path, AVX2 kernel, default bandwidth",
+        "BM_LwrRefit_Exact": "Exact, default bandwidth",
+        "BM_LwrRefit_Fast_Narrow": "Fast path, narrow bandwidth",
+        "BM_LwrRefit_Exact_Narrow": "Exact, narrow bandwidth",
+    }
+    found = r.find_all(r"^BM_LwrRefit")
+    if not found:
+        out.append(f"| (none) | {NOT_MEASURED} | | |")
+    for b in found:
         used = counter(b, "points_used")
-        out.append(f"| {label} | {fmt_time(seconds(b, 'cpu_time') if b else None)} | "
-                   f"{f'{used:.0f}' if used is not None else NOT_MEASURED} | `{name}` |")
+        out.append(f"| {labels.get(b['name'], b['name'])} | {fmt_time(seconds(b, 'cpu_time'))} | "
+                   f"{f'{used:.0f}' if used is not None else NOT_MEASURED} | `{b['name']}` |")
     return out
 
 
 def training_table(r):
-    out = ["| Experiment | End-to-end training time | Benchmark |", "|---|---:|---|"]
+    """One training per benchmark iteration, single-threaded: CPU time is the code's cost, wall time adds the
+    machine's load."""
+    out = ["| Experiment | CPU time | Wall time | Benchmark |", "|---|---:|---:|---|"]
     rows = []
     for b in r.find_all(r"^BM_Train"):
-        value = counter(b, "training_seconds")
-        rows.append((b["name"][len("BM_Train"):].strip("_/"), value if value is not None else seconds(b), b["name"]))
+        label = b["name"][len("BM_Train"):].strip("_/").split("/")[0]
+        rows.append((label, seconds(b, "cpu_time"), seconds(b), b["name"]))
     race = r.find_all(r"^BM_PendulumRaceToBar/")
     if race:
-        values = [counter(b, "training_seconds") for b in race if counter(b, "training_seconds") is not None]
-        rows.append(("Pendulum-v1 (`pendulum train`, shipped config, mean over seeds)",
-                     statistics.mean(values) if values else None, "BM_PendulumRaceToBar"))
+        rows.append(("Pendulum-v1 (`pendulum train`, shipped config, mean over 3 seeds)",
+                     statistics.mean(seconds(b, "cpu_time") for b in race),
+                     statistics.mean(seconds(b) for b in race), "BM_PendulumRaceToBar"))
     bandwidth = one_thread(r, "BM_BandwidthCrossValidation")
     if bandwidth:
-        rows.append(("Helicopter identification (bandwidth cross-validation)", seconds(bandwidth), bandwidth["name"]))
+        rows.append(("Helicopter identification (bandwidth cross-validation)", seconds(bandwidth, "cpu_time"),
+                     seconds(bandwidth), bandwidth["name"]))
     for label, pattern in (("Helicopter hover (`heli hover`)", "Hover"), ("Helicopter manoeuvres", "Manoeuvre")):
-        if not any(pattern in name for _, _, name in rows):
-            rows.append((label, None, f"BM_Train_Heli{pattern}*"))
-    for label, value, name in rows:
-        out.append(f"| {label} | {fmt_time(value)} | `{name}` |")
+        if not any(pattern in name for _, _, _, name in rows):
+            rows.append((label, None, None, f"BM_Train_Heli{pattern}*"))
+    for label, cpu, wall, name in rows:
+        out.append(f"| {label} | {fmt_time(cpu)} | {fmt_time(wall)} | `{name}` |")
     return out
 
 
@@ -223,51 +242,59 @@ def mpi_rows(mpi):
     return rows or None
 
 
-def race_section(r, rltools):
+def race_section(r, race_file):
     out = []
-    race = r.find_all(r"^BM_PendulumRaceToBar/")
-    if not race:
-        return [f"Pegasus side: {NOT_MEASURED}."]
-    out.append("| Side | Seed | Wall time to bar | CPU time to bar | Whole training | Final mean return (100 starts) |")
-    out.append("|---|---:|---:|---:|---:|---:|")
-    peg_bar = []
-    peg_mean = []
-    for b in race:
-        seed = b["name"].split("seed:")[1].split("/")[0] if "seed:" in b["name"] else "?"
-        peg_bar.append(counter(b, "seconds_to_bar"))
-        peg_mean.append(counter(b, "mean_return_100"))
-        out.append(f"| Pegasus (PEGASUS, hill climbing, 1 thread) | {seed} | {fmt_time(counter(b, 'seconds_to_bar'))} | "
-                   f"{fmt_time(counter(b, 'cpu_seconds_to_bar'))} | {fmt_time(counter(b, 'training_seconds'))} | "
-                   f"{counter(b, 'mean_return_100'):.1f} |")
-    summary = []
-    if rltools:
-        for algorithm in sorted({run["algorithm"] for run in rltools.get("runs", [])}):
-            runs = [run for run in rltools["runs"] if run["algorithm"] == algorithm]
-            for run in runs:
+    if race_file and race_file.get("runs"):
+        runs = race_file["runs"]
+        out.append(f"Measured in one window with both sides interleaved ({race_file.get('machine', '?')}; load "
+                   f"{'; '.join(l.split('load average:')[-1].strip() for l in race_file.get('load', [])[:1])} at the "
+                   f"start). RLtools: {race_file.get('rltools', '?')}. Pegasus: {race_file.get('pegasus', '?')}.")
+        out.append("")
+        out.append("| Side | Seed | Wall time to bar | CPU time to bar | Whole training (wall) | "
+                   "Final mean return (100 starts) |")
+        out.append("|---|---:|---:|---:|---:|---:|")
+        sides = []
+        for run in runs:
+            if run["side"] not in sides:
+                sides.append(run["side"])
+        for side in sides:
+            for run in (x for x in runs if x["side"] == side):
                 bar = run.get("seconds_to_bar")
-                out.append(f"| RLtools {algorithm} | {run['seed']} | {fmt_time(bar) if bar and bar > 0 else 'never'} | "
-                           f"{fmt_time(run.get('cpu_seconds_to_bar')) if bar and bar > 0 else 'never'} | "
+                reached = bar is not None and bar > 0
+                out.append(f"| {side} | {run['seed']} | {fmt_time(bar) if reached else 'never'} | "
+                           f"{fmt_time(run.get('cpu_seconds_to_bar')) if reached else 'never'} | "
                            f"{fmt_time(run.get('total_seconds'))} | {run['final_mean_return_100']:.1f} |")
-            reached = [run for run in runs if run.get("seconds_to_bar", -1) > 0]
-            peg_cpu = [counter(b, "cpu_seconds_to_bar") for b in race if counter(b, "cpu_seconds_to_bar") is not None]
-            if reached and peg_bar:
-                wall = statistics.median(run["seconds_to_bar"] for run in reached)
-                cpu = statistics.median(run["cpu_seconds_to_bar"] for run in reached)
-                finals = ", ".join(f"{run['final_mean_return_100']:.1f}" for run in runs)
-                line = (f"RLtools {algorithm}: median {fmt_time(wall)} wall ({fmt_time(cpu)} CPU) to the bar, "
-                        f"{len(reached)} of {len(runs)} runs reached it, final mean returns {finals}. "
-                        f"Pegasus: median {fmt_time(statistics.median(peg_bar))} wall")
-                if peg_cpu:
-                    line += f" ({fmt_time(statistics.median(peg_cpu))} CPU)"
-                line += (f", final mean returns {', '.join(f'{m:.1f}' for m in peg_mean)}. Ratio of medians: "
-                         f"{wall / statistics.median(peg_bar):.0f}x wall")
-                if peg_cpu:
-                    line += f", {cpu / statistics.median(peg_cpu):.0f}x CPU"
-                summary.append(line + ".")
-                summary.append("")
+        out.append("")
+        pegasus = [x for x in runs if x["side"] == "Pegasus" and x.get("seconds_to_bar", -1) > 0]
+        for side in sides:
+            if side == "Pegasus" or not pegasus:
+                continue
+            theirs = [x for x in runs if x["side"] == side]
+            reached = [x for x in theirs if x.get("seconds_to_bar", -1) > 0]
+            if not reached:
+                out.append(f"{side}: never reached the bar.")
+                continue
+            wall = statistics.median(x["seconds_to_bar"] for x in reached)
+            cpu = statistics.median(x["cpu_seconds_to_bar"] for x in reached)
+            pw = statistics.median(x["seconds_to_bar"] for x in pegasus)
+            pc = statistics.median(x["cpu_seconds_to_bar"] for x in pegasus)
+            out.append(f"- {side} vs Pegasus, medians: {fmt_time(wall)} vs {fmt_time(pw)} wall to the bar "
+                       f"(**{wall / pw:.0f}x**), {fmt_time(cpu)} vs {fmt_time(pc)} CPU ({cpu / pc:.0f}x); final mean "
+                       f"return {statistics.median(x['final_mean_return_100'] for x in theirs):.1f} vs "
+                       f"{statistics.median(x['final_mean_return_100'] for x in runs if x['side'] == 'Pegasus'):.1f} "
+                       f"({len(reached)} of {len(theirs)} {side} runs reached the bar).")
     else:
-        summary.append(f"RLtools side: {NOT_MEASURED} (no {{'runs': ...}} file).")
-    return out + [""] + summary
+        out.append(f"RLtools side: {NOT_MEASURED} (no race file).")
+    race = r.find_all(r"^BM_PendulumRaceToBar/")
+    if race:
+        out.append("")
+        out.append("Pegasus in this `make bench` run (its own load, see the header): " + "; ".join(
+            f"seed {b['name'].split('seed:')[1].split('/')[0]}: {fmt_time(counter(b, 'seconds_to_bar'))} wall / "
+            f"{fmt_time(counter(b, 'cpu_seconds_to_bar'))} CPU to the bar, final mean return "
+            f"{counter(b, 'mean_return_100'):.1f} (100 starts)"
+            + (f", {counter(b, 'mean_return_5000'):.1f} (5000 other starts)" if counter(b, 'mean_return_5000') else "")
+            for b in race) + ".")
+    return out
 
 
 def header(r, bench_path):
@@ -281,10 +308,12 @@ def header(r, bench_path):
         f"(`{bench_path}`); regenerate with `make benchmarks-md`. Do not edit by hand.",
         "",
         f"- Run: {c.get('date', 'unknown date')} on host `{c.get('host_name', '?')}`, {c.get('num_cpus', '?')} CPUs "
-        f"at {c.get('mhz_per_cpu', '?')} MHz, Google Benchmark library build: {c.get('library_build_type', '?')}.",
+        f"at {c.get('mhz_per_cpu', '?')} MHz; Pegasus built Release (Google Benchmark's own library build: "
+        f"{c.get('library_build_type', '?')}).",
         f"- Load average at the start (1, 5, 15 min): {load_text}. The machine is shared: wall times and "
         "thread/rank efficiencies are noisy when the load exceeds the core count; rates are per CPU second "
-        "(robust to load) unless the benchmark name ends in `real_time`.",
+        "(robust to load): a rate that Google Benchmark divided by wall time (`real_time` in the name) is "
+        "converted to CPU time for single-threaded runs.",
     ]
 
 
@@ -292,7 +321,7 @@ def main(argv):
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("bench", nargs="?", default="build/bench-results/bench.json")
     p.add_argument("--mpi", default="build/bench-results/mpi.json")
-    p.add_argument("--rltools", default="bench/rltools_pendulum_race.json")
+    p.add_argument("--race", default="bench/pendulum_race.json")
     p.add_argument("--out", default="BENCHMARKS.md")
     a = p.parse_args(argv)
     data = load(a.bench)
@@ -310,9 +339,9 @@ def main(argv):
     lines += [""] + efficiency_table(r, load(a.mpi))
     lines += ["", "## Pendulum-v1 race against RLtools", "",
               "Wall time until the mean return over 100 fresh starts is >= -200, and the final policy's mean "
-              "return (Gymnasium's Pendulum-v1, 200-step episodes). RLtools (TD3 and SAC examples, OpenBLAS, "
-              "one BLAS thread) was built outside the repository and run in the same session."]
-    lines += [""] + race_section(r, load(a.rltools))
+              "return over those starts (Gymnasium's Pendulum-v1, 200-step episodes; each side draws its own "
+              "starts, so a 100-start mean carries about +-8 of sampling noise)."]
+    lines += [""] + race_section(r, load(a.race))
     with open(a.out, "w", encoding="utf-8") as f:
         f.write("\n".join(lines) + "\n")
     print(f"benchmarks_md: wrote {a.out}")
