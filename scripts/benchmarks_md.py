@@ -3,12 +3,12 @@
 
     python3 scripts/benchmarks_md.py [BENCH_JSON] [--mpi MPI_JSON] [--race RACE_JSON] [--out BENCHMARKS.md]
 
-Defaults: build/bench-results/bench.json, build/bench-results/mpi.json, bench/pendulum_race.json,
+Defaults: build/bench-results/bench.json, mpi_scaling.json beside it, bench/pendulum_race.json,
 BENCHMARKS.md. Python 3 standard library only.
 
-The optional MPI file (written by the distributed-evaluation benchmark) is either Google Benchmark JSON whose
-benchmark names carry "ranks:N", or {"rows": [{"workload": str, "ranks": int, "threads": int,
-"seconds": float}, ...]}. Missing files and missing benchmarks are reported as "not measured".
+The optional MPI file is the mpi_scaling.json of bench/mpi_scaling_model.py (1 process vs 2 ranks x 1
+thread), or Google Benchmark JSON whose benchmark names carry "ranks:N", or {"rows": [{"workload": str,
+"ranks": int, "threads": int, "seconds": float}, ...]}. Missing files and benchmarks read "not measured".
 
 The race file holds the Pendulum-v1 race against RLtools, both sides measured in one window (RLtools is
 built and run outside the repository): {"machine": str, "load": [str], "rltools": str, "pegasus": str,
@@ -111,7 +111,9 @@ def steps_table(r):
     out = ["| Environment | Steps per second per core | Benchmark |", "|---|---:|---|"]
     for label, pattern, key in rows:
         b = r.find(pattern)
-        out.append(f"| {label} | {fmt_rate(cpu_rate(b, key))} | `{b['name'] if b else pattern}` |")
+        # A benchmark that measures its own thread's CPU time says so in a *_per_cpu_s counter.
+        own = counter(b, key.replace("_per_s", "_per_cpu_s"))
+        out.append(f"| {label} | {fmt_rate(own if own else cpu_rate(b, key))} | `{b['name'] if b else pattern}` |")
     return out
 
 
@@ -235,6 +237,15 @@ def mpi_rows(mpi):
             if m:
                 workload = re.sub(r"/?ranks:\d+", "", b["name"])
                 times.setdefault(workload, {})[int(m.group(1))] = seconds(b)
+    if mpi.get("benchmark") == "mpi_scaling":  # bench/mpi_scaling_model.py
+        problem = mpi.get("problem", "?")
+        for label, key in (("U-hat", "uhat_seconds"), ("one gradient iteration", "iteration_seconds")):
+            if f"{key}_1process" in mpi and f"{key}_2ranks" in mpi:
+                times.setdefault(f"{label}, {problem}, wall", {}).update(
+                    {1: float(mpi[f"{key}_1process"]), 2: float(mpi[f"{key}_2ranks"])})
+        if mpi.get("uhat_cpu_seconds_1process") and mpi.get("uhat_cpu_seconds_slowest_rank_2ranks"):
+            times.setdefault(f"U-hat, {problem}, CPU of the slowest rank", {}).update(
+                {1: float(mpi["uhat_cpu_seconds_1process"]), 2: float(mpi["uhat_cpu_seconds_slowest_rank_2ranks"])})
     for row in mpi.get("rows", []):
         label = row["workload"] + (f", {row['threads']} thread(s) per rank" if "threads" in row else "")
         times.setdefault(label, {})[int(row["ranks"])] = float(row["seconds"])
@@ -320,10 +331,12 @@ def header(r, bench_path):
 def main(argv):
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("bench", nargs="?", default="build/bench-results/bench.json")
-    p.add_argument("--mpi", default="build/bench-results/mpi.json")
+    p.add_argument("--mpi", default=None, help="default: mpi_scaling.json beside BENCH_JSON")
     p.add_argument("--race", default="bench/pendulum_race.json")
     p.add_argument("--out", default="BENCHMARKS.md")
     a = p.parse_args(argv)
+    if a.mpi is None:
+        a.mpi = os.path.join(os.path.dirname(a.bench), "mpi_scaling.json")
     data = load(a.bench)
     if data is None:
         print(f"benchmarks_md: {a.bench}: no such file (run `make bench` first)", file=sys.stderr)
