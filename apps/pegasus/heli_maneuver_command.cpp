@@ -20,6 +20,7 @@
 #include "pegasus/heli/policy_file.hpp"
 #include "pegasus/runs/output.hpp"
 #include "pegasus/runs/svg_plot.hpp"
+#include "pegasus/sysid/flight_log.hpp"
 #include "pegasus/sysid/identify.hpp"
 
 namespace pegasus::cli {
@@ -356,6 +357,48 @@ void run(RunContext& ctx) {
   ctx.out << "policy: " << (dir.final_path() / "policy.json").string() << "\n";
 }
 
+// ---- heli maneuver-pilot: identification data covering the manoeuvres
+
+void declare_pilot(ConfigSchema& s) {
+  s.add_double("seconds", 339, "hover and sweeps before the manoeuvres, s (as heli pilot)").range(1, 36000);
+  s.add_double("hover_seconds", 10, "plain hover before the sweeps, s").range(0, 36000);
+  s.add_int("repeats", 2, "times the three manoeuvres are flown, one after another").range(1, 100);
+  s.add_double("speed", 2.5, "set-point speed limit along the path, m/s").range(0.1, 20);
+  s.add_double("accel", 1.0, "set-point acceleration limit, m/s^2").range(0.1, 20);
+  s.add_double("yaw_rate", 1.0, "pirouette rate limit, rad/s").range(0.1, 10);
+  s.add_double("yaw_accel", 1.0, "pirouette acceleration limit, rad/s^2").range(0.1, 20);
+  s.add_double("gust_sigma", 0.5, "turbulence standard deviation per axis, m/s").range(0, 10);
+}
+
+void run_pilot(RunContext& ctx) {
+  const auto& c = ctx.config;
+  AircraftParams p;
+  p.gust_sigma = c.get_double("gust_sigma");
+  const Aircraft aircraft(p);
+  PilotOptions o;
+  o.hover_seconds = c.get_double("hover_seconds");
+  const TrajectoryLimits limits{.speed = c.get_double("speed"), .accel = c.get_double("accel"),
+                                .yaw_rate = c.get_double("yaw_rate"), .yaw_accel = c.get_double("yaw_accel")};
+  std::vector<Trajectory> trajectories;
+  for (std::int64_t r = 0; r < c.get_int("repeats"); ++r)
+    for (auto name : kManeuverNames) trajectories.push_back(maneuver_trajectory(name, ManeuverSize{}, limits));
+  const PilotFlight f = fly_pilot_maneuvers(aircraft, o, c.get_double("seconds"), trajectories, ctx.seed);
+  RunDirectory& dir = ctx.run_directory();
+  dir.write_text("log.csv", sysid::flight_log_csv(f.log));
+  const double seconds = static_cast<double>(f.log.rows()) * p.dt;
+  dir.write_json("summary.json", {{"seconds", seconds},
+                                  {"rows", f.log.rows()},
+                                  {"crashed", f.crash != CrashReason::kNone},
+                                  {"crash_reason", crash_reason_name(f.crash)},
+                                  {"crash_time", f.crash_time},
+                                  {"log", "log.csv"}});
+  ctx.out << fmt::format("flew {:.1f} s (sweeps, then the manoeuvres {} times){}; log: {}\n", seconds, c.get_int("repeats"),
+                         f.crash != CrashReason::kNone ? ", CRASHED: " + crash_reason_name(f.crash) : "",
+                         (dir.final_path() / "log.csv").string());
+  if (f.crash != CrashReason::kNone)
+    throw std::runtime_error(fmt::format("the pilot crashed ({}) at {} s", crash_reason_name(f.crash), f.crash_time));
+}
+
 }  // namespace
 
 std::vector<Command> heli_maneuver_commands() {
@@ -365,7 +408,11 @@ std::vector<Command> heli_maneuver_commands() {
   return {Command{.path = "heli maneuver",
                   .description = "Learn an AMA Class III manoeuvre (III.1, III.2, III.3) with PEGASUS and fly it on the ground truth (thesis 5.4)",
                   .declare = declare,
-                  .run = run}};
+                  .run = run},
+          Command{.path = "heli maneuver-pilot",
+                  .description = "Fly the scripted pilot through hover, sweeps and the three manoeuvres: identification data that covers them",
+                  .declare = declare_pilot,
+                  .run = run_pilot}};
 }
 
 }  // namespace pegasus::cli

@@ -258,4 +258,60 @@ ManeuverFlightSummary summarize_maneuver_flights(const std::vector<ManeuverFligh
   return s;
 }
 
+// ---- Identification data for manoeuvres ------------------------------------------------------------------
+
+PilotFlight fly_pilot_maneuvers(const Aircraft& aircraft, const PilotOptions& options, double sweep_seconds,
+                                const std::vector<Trajectory>& trajectories, std::uint64_t seed) {
+  const double dt = aircraft.params().dt;
+  const auto sweep_steps = static_cast<std::size_t>(std::llround(sweep_seconds / dt));
+  std::size_t steps = sweep_steps;
+  for (const auto& t : trajectories) steps += static_cast<std::size_t>(std::ceil(t.duration() / dt));
+  // Counter families as fly_pilot: stream 0 the initial state, 1 the aircraft's noise, 2 and 3 the two pilots.
+  UniformStream init(seed, 0), noise(seed, 1);
+  std::array<double, 32> p{};
+  for (int j = 0; j < Aircraft::kInitialNoise; ++j) p[static_cast<std::size_t>(j)] = init.next();
+  Aircraft::State s = aircraft.initial_state(std::span<const double>(p.data(), Aircraft::kInitialNoise));
+  ScriptedPilot sweeper(aircraft, options, seed, 2);
+  sweeper.set_total_seconds(sweep_seconds);
+  PilotOptions plain = options;
+  plain.sweeps = false;
+  ScriptedPilot flyer(aircraft, plain, seed, 3);
+  PilotFlight f;
+  f.log.time.reserve(steps);
+  f.log.states.reserve(steps);
+  f.log.controls.reserve(steps);
+  f.truth.reserve(steps);
+  std::size_t leg = 0;
+  double leg_start = sweep_seconds;
+  for (std::size_t t = 0; t < steps; ++t) {
+    const double time = static_cast<double>(t) * dt;
+    const LoggedState est = aircraft.observe(s);
+    Controls a;
+    if (t < sweep_steps) {
+      a = sweeper.act(est, time);
+    } else {
+      while (leg + 1 < trajectories.size() && time >= leg_start + trajectories[leg].duration()) {
+        leg_start += trajectories[leg].duration();
+        ++leg;
+      }
+      const Trajectory& traj = trajectories[leg];
+      const TrajectoryPoint sp = traj.at(time - leg_start);
+      flyer.set_hold(sp.p_W.x(), sp.p_W.y(), sp.p_W.z(), wrap_angle(sp.yaw));
+      a = flyer.act(est, time);
+    }
+    f.log.time.push_back(time);
+    f.log.states.push_back(est);
+    f.log.controls.push_back(a);
+    f.truth.push_back(true_logged_state(s));
+    for (int j = 0; j < Aircraft::kStepNoise; ++j) p[static_cast<std::size_t>(j)] = noise.next();
+    s = aircraft.step(s, a, std::span<const double>(p.data(), Aircraft::kStepNoise));
+    if (aircraft.terminal(s)) {
+      f.crash = s.crash;
+      f.crash_time = time + dt;
+      break;
+    }
+  }
+  return f;
+}
+
 }  // namespace pegasus::heli

@@ -5,10 +5,13 @@
 
 #include <cmath>
 #include <memory>
+#include <filesystem>
 #include <span>
+#include <unistd.h>
 
 #include "pegasus/core/error.hpp"
 #include "pegasus/evaluators/rollout.hpp"
+#include "pegasus/heli/maneuver_file.hpp"
 #include "pegasus/heli/maneuver_policy.hpp"
 #include "pegasus/heli/maneuver_task.hpp"
 #include "pegasus/shaping/potential_shaping.hpp"
@@ -197,6 +200,65 @@ TEST(ManeuverFlights, OnTheGroundTruthAreDeterministicForAnyThreadCount) {
   EXPECT_EQ(s.flights, 3);
   EXPECT_GE(s.rms_path_deviation_m, 0.0);
   EXPECT_LE(s.rms_path_deviation_m, s.max_path_deviation_m);
+}
+
+}  // namespace
+
+namespace {
+
+using namespace pegasus;
+using namespace pegasus::heli;
+
+TEST(ManeuverPilot, LogCoversTheManoeuvresSpeedsAndPirouettes) {
+  const Aircraft heli;
+  std::vector<Trajectory> trajectories{maneuver_trajectory("III.1"), maneuver_trajectory("III.2")};
+  const double total = 20 + trajectories[0].duration() + trajectories[1].duration();
+  const PilotFlight f = fly_pilot_maneuvers(heli, PilotOptions{}, 20, trajectories, 5);
+  ASSERT_EQ(f.crash, CrashReason::kNone);
+  EXPECT_NEAR(static_cast<double>(f.log.rows()) * 0.02, total, 0.05);
+  double speed = 0, yaw_rate = 0;
+  for (const auto& s : f.truth) {
+    speed = std::max(speed, std::hypot(s[6], s[7]));
+    yaw_rate = std::max(yaw_rate, std::abs(s[11]));
+  }
+  // Hover and sweeps alone stay near 0.7 rad/s of yaw rate; the manoeuvres go beyond.
+  EXPECT_GT(speed, 2.0);
+  EXPECT_GT(yaw_rate, 0.8);
+}
+
+TEST(ManeuverPolicyFile, RoundTripsThroughTheRegistryAndFliesTheSame) {
+  register_policy_class("maneuver", make_maneuver_controller);
+  ManeuverFileOptions o;
+  o.name = "III.3";
+  o.size.rectangle_height = 6;
+  auto trajectory = std::make_shared<const Trajectory>(maneuver_trajectory(o.name, o.size, o.limits));
+  HoverPolicyInit init;
+  init.trim = {0.01, 0.03, 0.18, 0.19};
+  const ManeuverPolicy policy(trajectory, init, o.policy);
+  Theta theta = policy.parameters().initial();
+  theta[ManeuverPolicy::kTailToLat] = 0.1;
+  theta[36] = 0.4;
+  const auto dir = std::filesystem::temp_directory_path() / ("pegasus-maneuver-file-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  write_policy_file(dir / "p.json", maneuver_policy_file(o, policy, theta, init.trim));
+  const auto controller = load_controller(dir / "p.json");
+  ManeuverObservation obs;
+  obs.state[0] = 0.3, obs.state[2] = -10.2, obs.state[5] = 0.1, obs.state[6] = 0.5;
+  for (double t : {0.0, 3.0, 17.5, 40.0}) {
+    obs.time = t;
+    EXPECT_EQ(controller->act(obs.state, t), policy.act(theta, obs)) << t;
+    EXPECT_EQ(controller->target(t), policy.target(theta, t)) << t;
+  }
+  // A file whose options name no manoeuvre is refused, naming the field.
+  PolicyFile bad = maneuver_policy_file(o, policy, theta, init.trim);
+  bad.options["name"] = "IV.1";
+  try {
+    make_controller(bad, "bad.json");
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("options.name"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

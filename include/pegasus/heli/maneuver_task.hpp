@@ -30,6 +30,7 @@
 #include "pegasus/heli/aircraft.hpp"
 #include "pegasus/heli/maneuver_policy.hpp"
 #include "pegasus/heli/path_observer.hpp"
+#include "pegasus/heli/pilot.hpp"
 #include "pegasus/models/model.hpp"
 #include "pegasus/optimizers/optimizer.hpp"
 #include "pegasus/parallel/thread_pool.hpp"
@@ -192,5 +193,15 @@ std::vector<ManeuverFlight> fly_maneuver(const ManeuverPolicy& policy, std::span
                                          const PathObserver& observer, const ManeuverFlightOptions& options,
                                          ThreadPool* pool = nullptr);
 ManeuverFlightSummary summarize_maneuver_flights(const std::vector<ManeuverFlight>& flights, double path_length);
+
+// ---- Identification data for manoeuvres ------------------------------------------------------------------
+
+// The identified model is only good where the pilot flew (§5.2): hover and small sweeps do not cover 2.5 m/s
+// backwards flight, 1.8 m/s climbs or 1 rad/s pirouettes, and the learned model leaves its data's support there.
+// This flight gives the scripted pilot (pilot.hpp) `sweep_seconds` of its usual plan (hover, then a sweep in each
+// channel), then has it fly the set points of each trajectory in turn, as a pilot practising the manoeuvres
+// would (no sweeps, its own delay and noise). One continuous 50 Hz log; everything drawn from `seed`.
+PilotFlight fly_pilot_maneuvers(const Aircraft& aircraft, const PilotOptions& options, double sweep_seconds,
+                                const std::vector<Trajectory>& trajectories, std::uint64_t seed);
 
 }  // namespace pegasus::heli
