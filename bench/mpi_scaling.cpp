@@ -6,7 +6,7 @@
 //                                  [--iteration-seconds 1] [--out FILE.json]
 //
 // Workload: the learned helicopter model identified from the default 339 s pilot log (as `heli identify`
-// does), the hover task and policy class (34 weights, the starting weights from the log), m scenarios.
+// does; every rank identifies it, untimed), the hover task and policy class (34 weights, the starting weights from the log), m scenarios.
 //   uhat          U-hat(theta_0) on m scenarios of `seconds` s: `repeats` timed calls, median.
 //   iteration     one gradient-ascent iteration (2n probes in one batch, then the uphill line search) on m
 //                 scenarios of `iteration_seconds` s (short flights keep it quick: less computation per
@@ -15,7 +15,7 @@
 //                 time outside the objective; the checkpoint's share also apart), compute (rollouts on this rank), wait (the barrier before each allgather: the
 //                 slowest rank's lag) and comm (the allgather itself, measured after that barrier).
 //   allgather     MPI_Allgatherv of the real message sizes (one U-hat: m doubles; a gradient batch: 2n m),
-//                 after a barrier, `allgather_repeats` times each; seconds per call.
+//                 after a barrier, `allgather_repeats` times each; median and mean seconds per call.
 // Keys of the JSON are described in docs/scaling.md.
 #include <fmt/format.h>
 #include <time.h>
@@ -33,16 +33,8 @@
 
 #include "pegasus/evaluators/pegasus_evaluator.hpp"
 #include "pegasus/heli/aircraft.hpp"
-#include "pegasus/heli/pilot.hpp"
-// The hover task arrives with the hover issue; until then the bicycle stands in (same engine, n = 30).
-#if __has_include("pegasus/heli/hover_task.hpp")
 #include "pegasus/heli/hover_task.hpp"
-#define PEGASUS_BENCH_HOVER 1
-#else
-#include "pegasus/envs/bicycle.hpp"
-#include "pegasus/envs/bicycle_policy.hpp"
-#include "pegasus/experiments/bicycle_experiment.hpp"
-#endif
+#include "pegasus/heli/pilot.hpp"
 #include "pegasus/optimizers/optimizer.hpp"
 #include "pegasus/parallel/mpi.hpp"
 #include "pegasus/runs/atomic_file.hpp"
@@ -124,7 +116,6 @@ Args parse(int argc, char** argv) {
   return a;
 }
 
-#ifdef PEGASUS_BENCH_HOVER
 constexpr const char* kProblem = "hover (learned model, hover policy, PEGASUS U-hat)";
 using Task = heli::HoverTask<sysid::LearnedHeliModel>;
 using Policy = heli::HoverPolicy;
@@ -146,25 +137,6 @@ struct Problem {
   }
   static OptimizerOptions optimizer() { return heli::HoverTrainingOptions::default_optimizer(); }
 };
-#else
-constexpr const char* kProblem = "bicycle (stand-in until the hover task is in; PEGASUS U-hat)";
-using Task = Bicycle;
-using Policy = BicyclePolicy;
-
-struct Problem {
-  explicit Problem(ThreadPool&) {}
-  std::unique_ptr<Objective> objective(int scenarios, double seconds, std::shared_ptr<ThreadPool> pool) const {
-    const int horizon = static_cast<int>(seconds / BicycleConstants::dt);
-    ScenarioSet set({.seed = 1, .count = scenarios, .horizon = horizon, .noise_dim = 1, .initial_noise_dim = 5});
-    const Discounting d{.gamma = 0.998, .horizon = horizon};
-    return std::make_unique<PegasusObjective<Task, Policy>>(
-        PegasusEvaluator<Task, Policy>(Bicycle(BicycleTrainingOptions::default_bicycle()), make_bicycle_policy(),
-                                       std::move(set), d),
-        std::move(pool));
-  }
-  static OptimizerOptions optimizer() { return BicycleTrainingOptions::default_optimizer(); }
-};
-#endif
 
 int run(const Args& a) {
   const auto start = Clock::now();
@@ -255,18 +227,24 @@ int run(const Args& a) {
       {"value", summary.best_value},
   };
 
-  // Allgather of the real message sizes.
+  // Allgather of the real message sizes, each call timed after a barrier; the median resists a busy
+  // machine's descheduling better than the mean.
   nlohmann::json allgather = nlohmann::json::array();
   for (const std::size_t doubles : {static_cast<std::size_t>(a.scenarios), 2 * n * static_cast<std::size_t>(a.scenarios)}) {
-    std::vector<double> values(doubles, 1.0);
+    std::vector<double> values(doubles, 1.0), per_call;
     const mpi::Share share{mpi::rank(), mpi::size()};
-    mpi::reset_comm_stats();
-    for (int r = 0; r < a.allgather_repeats; ++r) mpi::allgather_shares(values, share.size > 1 ? share : mpi::Share{});
-    const mpi::CommStats c = mpi::comm_stats();
+    for (int r = 0; r < a.allgather_repeats && share.size > 1; ++r) {
+      mpi::reset_comm_stats();
+      mpi::allgather_shares(values, share);
+      per_call.push_back(mpi::comm_stats().seconds);
+    }
+    double mean = 0.0;
+    for (double t : per_call) mean += t / static_cast<double>(per_call.size());
     allgather.push_back({{"doubles", doubles},
                          {"bytes", doubles * sizeof(double)},
-                         {"calls", c.calls},
-                         {"seconds_per_call", c.calls > 0 ? c.seconds / static_cast<double>(c.calls) : 0.0}});
+                         {"calls", per_call.size()},
+                         {"seconds_per_call", per_call.empty() ? 0.0 : median(per_call)},
+                         {"mean_seconds_per_call", mean}});
   }
   mpi::set_measure_wait(false);
   if (!checkpoint_file.empty() && mpi::is_root()) std::filesystem::remove(checkpoint_file);
