@@ -76,6 +76,15 @@ const figures = [
       { run: 'heli-test', replay: true, file: 'heli-replay.png' },
     ],
   },
+  {
+    name: 'hover',
+    // The helicopter main job (make demo): its `fly` stage flies the learned hover policy and the pilot.
+    make: () => pegasus(['heli', 'pipeline', '--config', 'experiments/heli-demo.toml', '--out', dir('heli-demo'), '--force', '--quiet']),
+    shots: [
+      { run: 'heli-demo/fly', section: 'hover', file: 'fig-5-6-5-7-hover-vs-pilot.png' },
+      { run: 'heli-demo/fly', replay: true, file: 'heli-hover-replay.png' },
+    ],
+  },
 ];
 
 fs.mkdirSync(out, { recursive: true });

@@ -296,31 +296,36 @@ std::string table_html(const std::vector<std::string>& header,
 
 // Objective (U-hat) against iterations, evaluations and time, one trace per run/trial/method if such a
 // column is there.
-void add_progress(Page& page, const Series& s, const std::string& y_column, const std::string& caption,
-                  const ReportOptions& options) {
-  const auto groups = group_rows(s, {"method", "run", "trial"});
-  const auto y = s.numbers(y_column);
+void add_progress(Page& page, const std::vector<std::pair<std::string, Series>>& series,
+                  const std::string& y_column, const std::string& caption, const ReportOptions& options) {
   std::string charts;
+  const Series& s = series.front().second;
   const std::vector<std::pair<std::string, std::string>> xs = {
       {"iteration", "iterations"},
       {"evaluations", "evaluations of U-hat (policies x scenario sets)"},
       {"seconds", "time (s)"}};
   for (const auto& [column, label] : xs) {
     if (!s.has(column)) continue;
-    const auto x = s.numbers(column);
     json spec = xy_chart("U-hat against " + column, label, "U-hat", s.name());
-    for (const auto& [name, rows] : groups) {
-      auto kept = rows;
-      const std::size_t stride = thin(kept, options.max_points);
-      json t = trace(name.empty() ? "U-hat" : name, pick(x, kept), pick(y, kept));
-      t["mode"] = "lines+markers";
-      if (stride > 1) t["stride"] = stride;
-      spec["traces"].push_back(std::move(t));
+    for (const auto& [label_of_file, file] : series) {
+      if (!file.has(column)) continue;
+      const auto x = file.numbers(column);
+      const auto y = file.numbers(y_column);
+      for (const auto& [name, rows] : group_rows(file, {"method", "run", "trial"})) {
+        auto kept = rows;
+        const std::size_t stride = thin(kept, options.max_points);
+        std::string trace_name = label_of_file;
+        if (!name.empty()) trace_name += (trace_name.empty() ? "" : " ") + name;
+        json t = trace(trace_name.empty() ? "U-hat" : trace_name, pick(x, kept), pick(y, kept));
+        t["mode"] = "lines+markers";
+        if (stride > 1) t["stride"] = stride;
+        spec["traces"].push_back(std::move(t));
+      }
     }
     charts += page.chart(std::move(spec));
   }
   page.section("progress", "Optimizer progress", caption, grid(charts));
-  page.consumed(s.name());
+  for (const auto& [label_of_file, file] : series) page.consumed(file.name());
 }
 
 void add_learning_curves(Page& page, const Series& s, const ReportOptions& options) {
@@ -867,6 +872,15 @@ void add_other_series(Page& page, const fs::path& dir, const ReportOptions& opti
     page.consumed(name);
   }
   if (!charts.empty()) page.section("series", "Other series", "", grid(charts));
+  // Small tables that are not series (one row per flight, per run, ...).
+  for (const auto& name : names) {
+    if (page.used.count(name)) continue;
+    const auto s = Series::load(dir, name);
+    if (s && s->rows() > 0 && s->rows() <= 60 && s->header().size() <= 16) {
+      page.section("table-" + name.substr(0, name.size() - 4), name, "", table_html(s->header(), s->cells()));
+      page.consumed(name);
+    }
+  }
 }
 
 void add_policy(Page& page, const fs::path& dir) {
@@ -1037,13 +1051,28 @@ json report_data(const fs::path& run_dir, const ReportOptions& options) {
 
   // Series, by file.
   if (auto s = Series::load(run_dir, "progress.csv")) {
+    // progress.csv, and progress_<variant>.csv of the runs that train several variants, as one trace each.
+    std::vector<std::pair<std::string, Series>> files;
+    std::vector<std::string> variants;
+    for (const auto& e : fs::directory_iterator(run_dir)) {
+      const std::string n = e.path().filename().string();
+      if (n.starts_with("progress_") && ends_with(n, ".csv")) variants.push_back(n);
+    }
+    std::sort(variants.begin(), variants.end());
+    files.emplace_back(variants.empty() ? "" : "progress", std::move(*s));
+    for (const auto& n : variants) {
+      auto v = Series::load(run_dir, n);
+      if (v && v->has("objective")) files.emplace_back(n.substr(9, n.size() - 13), std::move(*v));
+    }
     add_progress(
-        page, *s, "objective",
+        page, files, "objective",
         "U-hat of the best policy so far against optimizer iterations, evaluations and time (progress.csv).",
         options);
   } else if (auto lc = Series::load(run_dir, "learning_curve.csv");
              lc && lc->has("uhat") && lc->has("iteration")) {
-    add_progress(page, *lc, "uhat",
+    std::vector<std::pair<std::string, Series>> files;
+    files.emplace_back("", std::move(*lc));
+    add_progress(page, files, "uhat",
                  "U-hat of the current policy on the training scenarios, by iteration and by evaluations "
                  "(learning_curve.csv).",
                  options);
@@ -1070,6 +1099,35 @@ json report_data(const fs::path& run_dir, const ReportOptions& options) {
   add_pilot_log(page, run_dir, options);
   add_policy(page, run_dir);
   add_other_series(page, run_dir, options);
+
+  // Runs inside this one (the stages of a pipeline): links to their own reports.
+  std::vector<fs::path> parts;
+  for (const auto& e : fs::directory_iterator(run_dir)) {
+    std::error_code e2;
+    if (e.is_directory(e2) && fs::is_regular_file(e.path() / "summary.json", e2)) parts.push_back(e.path());
+  }
+  std::sort(parts.begin(), parts.end());
+  if (!parts.empty()) {
+    std::string list = "<ul class=\"parts\">\n";
+    for (const auto& part : parts) {
+      const std::string n = part.filename().string();
+      std::string command;
+      try {
+        const json r = read_json_file(part / "run.json");
+        if (r.contains("command") && r["command"].is_string())
+          command = "pegasus " + r["command"].get<std::string>();
+      } catch (const std::exception&) {
+      }
+      std::error_code e2;
+      list += fs::is_regular_file(part / "report.html", e2)
+                  ? fmt::format("<li><a href=\"{0}/report.html\">{0}</a> {1}</li>\n", html_escape(n),
+                                html_escape(command))
+                  : fmt::format("<li>{} {} (no report.html yet: pegasus report {})</li>\n", html_escape(n),
+                                html_escape(command), html_escape(part.string()));
+    }
+    page.section("parts", "Parts of this run",
+                 "Each stage is a run directory of its own, with its own report.", list + "</ul>\n");
+  }
 
   // The files of the run directory.
   std::vector<std::vector<std::string>> files;

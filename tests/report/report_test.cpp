@@ -28,18 +28,16 @@ using pegasus::test_support::input_error_message;
 using pegasus::test_support::read_text;
 using pegasus::test_support::run_pegasus;
 
-constexpr const char *kFakeBundle =
-    "window.pegasusFakeBundle = 1; /* bundle */";
+constexpr const char* kFakeBundle = "window.pegasusFakeBundle = 1; /* bundle */";
 
-void write(const fs::path &file, const std::string &text) {
+void write(const fs::path& file, const std::string& text) {
   fs::create_directories(file.parent_path());
   std::ofstream(file) << text;
 }
 
 // The JSON block of a report page.
-json embedded_data(const std::string &html) {
-  const std::string open =
-      "<script type=\"application/json\" id=\"pegasus-data\">";
+json embedded_data(const std::string& html) {
+  const std::string open = "<script type=\"application/json\" id=\"pegasus-data\">";
   const auto begin = html.find(open);
   EXPECT_NE(begin, std::string::npos);
   const auto start = begin + open.size();
@@ -47,49 +45,41 @@ json embedded_data(const std::string &html) {
   return json::parse(html.substr(start, end - start));
 }
 
-const json &chart_from(const json &data, const std::string &source,
-                       const std::string &title_part = "") {
-  for (const auto &c : data["charts"]) {
-    if (c.value("source", "") == source &&
-        c.value("title", "").find(title_part) != std::string::npos)
+const json& chart_from(const json& data, const std::string& source, const std::string& title_part = "") {
+  for (const auto& c : data["charts"]) {
+    if (c.value("source", "") == source && c.value("title", "").find(title_part) != std::string::npos)
       return c;
   }
   static const json none;
-  ADD_FAILURE() << "no chart from " << source << " titled *" << title_part
-                << "*";
+  ADD_FAILURE() << "no chart from " << source << " titled *" << title_part << "*";
   return none;
 }
 
-std::vector<double> doubles(const json &a) {
+std::vector<double> doubles(const json& a) {
   std::vector<double> out;
-  for (const auto &v : a)
-    out.push_back(v.is_null() ? std::nan("") : v.get<double>());
+  for (const auto& v : a) out.push_back(v.is_null() ? std::nan("") : v.get<double>());
   return out;
 }
 
-std::vector<double> column(const fs::path &csv, std::size_t c) {
+std::vector<double> column(const fs::path& csv, std::size_t c) {
   const auto rows = pegasus::parse_csv(read_text(csv));
   std::vector<double> out;
-  for (std::size_t r = 1; r < rows.size(); ++r)
-    out.push_back(std::stod(rows[r][c]));
+  for (std::size_t r = 1; r < rows.size(); ++r) out.push_back(std::stod(rows[r][c]));
   return out;
 }
 
 class Report : public pegasus::test_support::TempDirTest {
-protected:
+ protected:
   fs::path run_ = dir_ / "run";
   void SetUp() override {
     TempDirTest::SetUp();
     run_ = dir_ / "run";
-    write(
-        run_ / "summary.json",
-        R"({"experiment": "shaping-gridworld", "runs": 3, "optimal_expected_steps": 22.0,
+    write(run_ / "summary.json",
+          R"({"experiment": "shaping-gridworld", "runs": 3, "optimal_expected_steps": 22.0,
                                      "nested": {"a": 0.1}})");
     write(run_ / "config.toml", "# the resolved configuration\nsize = 10\n");
   }
-  std::string render() const {
-    return pegasus::report::render_report(run_, kFakeBundle);
-  }
+  std::string render() const { return pegasus::report::render_report(run_, kFakeBundle); }
 };
 
 TEST_F(Report, PageIsSelfContainedWithTheBundleInlinedOnce) {
@@ -110,28 +100,21 @@ TEST_F(Report, PageIsSelfContainedWithTheBundleInlinedOnce) {
   // Every chart has its placeholder.
   const json data = embedded_data(html);
   ASSERT_FALSE(data["charts"].empty());
-  for (const auto &c : data["charts"]) {
-    EXPECT_NE(html.find("id=\"" + c["id"].get<std::string>() + "\""),
-              std::string::npos)
-        << c["id"];
+  for (const auto& c : data["charts"]) {
+    EXPECT_NE(html.find("id=\"" + c["id"].get<std::string>() + "\""), std::string::npos) << c["id"];
   }
 }
 
 TEST_F(Report, TextFromTheRunCannotEndTheScriptElements) {
-  write(run_ / "trials.csv",
-        "method,trial,x\n\"</script><script>alert(1)//\",0,1\n");
-  write(run_ / "rides.csv",
-        "method,trial,ride,distance_km,reached,fell\n</SCRIPT>,0,0,1.0,1,0\n");
+  write(run_ / "trials.csv", "method,trial,x\n\"</script><script>alert(1)//\",0,1\n");
+  write(run_ / "rides.csv", "method,trial,ride,distance_km,reached,fell\n</SCRIPT>,0,0,1.0,1,0\n");
   const std::string bundle = "var s = \"</script>\"; /<!--x/.test(s);";
   const std::string html = pegasus::report::render_report(run_, bundle);
   std::size_t closes = 0;
   std::string lower = html;
-  std::transform(lower.begin(), lower.end(), lower.begin(),
-                 [](unsigned char c) { return std::tolower(c); });
-  for (auto p = lower.find("</script"); p != std::string::npos;
-       p = lower.find("</script", p + 1))
-    ++closes;
-  EXPECT_EQ(closes, 2u); // the end of the data block and of the bundle
+  std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
+  for (auto p = lower.find("</script"); p != std::string::npos; p = lower.find("</script", p + 1)) ++closes;
+  EXPECT_EQ(closes, 2u);  // the end of the data block and of the bundle
   EXPECT_EQ(lower.find("<!--"), std::string::npos);
   EXPECT_NE(html.find("var s = \"<\\/script>\""), std::string::npos);
   // The JSON still reads back to the original text.
@@ -144,15 +127,15 @@ TEST_F(Report, ShapingCurvesEmbedTheCsvValuesWithStandardErrorBands) {
         "trial,none_mean,none_stderr,phi0_mean,phi0_stderr\n1,704.6,61.5,75.6,"
         "9.25\n2,0.1,0.2,1e-300,0\n3,nan,1,3,1\n");
   const json data = embedded_data(render());
-  const json &c = chart_from(data, "curves.csv", "against trial");
+  const json& c = chart_from(data, "curves.csv", "against trial");
   ASSERT_EQ(c["traces"].size(), 2u);
-  const json &none = c["traces"][0];
+  const json& none = c["traces"][0];
   EXPECT_EQ(none["name"], "none");
   EXPECT_EQ(doubles(none["x"]), (std::vector<double>{1, 2, 3}));
   EXPECT_EQ(none["y"][0].get<double>(), 704.6);
   EXPECT_EQ(none["y"][1].get<double>(),
-            0.1); // exact: shortest round-trip text both ways
-  EXPECT_TRUE(none["y"][2].is_null()); // nan
+            0.1);                       // exact: shortest round-trip text both ways
+  EXPECT_TRUE(none["y"][2].is_null());  // nan
   EXPECT_EQ(none["lower"][0].get<double>(), 704.6 - 61.5);
   EXPECT_EQ(none["upper"][1].get<double>(), 0.1 + 0.2);
   EXPECT_EQ(c["traces"][1]["y"][1].get<double>(), 1e-300);
@@ -161,26 +144,23 @@ TEST_F(Report, ShapingCurvesEmbedTheCsvValuesWithStandardErrorBands) {
 }
 
 TEST_F(Report, ValueAgainstMHasErrorBarsAndTheBestInClassLine) {
-  write(
-      run_ / "summary.json",
-      R"({"experiment": "pomdp-gridworld", "best_in_class_value": -9.409113125406012})");
-  write(run_ / "results.csv", "model,estimator,m,trials,mean_true_value,stderr_"
-                              "true_value,mean_estimate,mean_sup_deviation\n"
-                              "normal,pegasus,1,5,-12.87,1.94,-9.5,45\nnormal,"
-                              "pegasus,2,5,-10.12,0.56,-9.1,37\n"
-                              "hashed,pegasus,1,5,-17.44,2.06,-8.2,47\nhashed,"
-                              "pegasus,2,5,-13.41,1.80,-8.0,38\n");
+  write(run_ / "summary.json",
+        R"({"experiment": "pomdp-gridworld", "best_in_class_value": -9.409113125406012})");
+  write(run_ / "results.csv",
+        "model,estimator,m,trials,mean_true_value,stderr_"
+        "true_value,mean_estimate,mean_sup_deviation\n"
+        "normal,pegasus,1,5,-12.87,1.94,-9.5,45\nnormal,"
+        "pegasus,2,5,-10.12,0.56,-9.1,37\n"
+        "hashed,pegasus,1,5,-17.44,2.06,-8.2,47\nhashed,"
+        "pegasus,2,5,-13.41,1.80,-8.0,38\n");
   const json data = embedded_data(render());
-  const json &c = chart_from(data, "results.csv", "Value");
+  const json& c = chart_from(data, "results.csv", "Value");
   ASSERT_EQ(c["traces"].size(), 2u);
   EXPECT_EQ(c["traces"][0]["name"], "normal pegasus");
   EXPECT_EQ(doubles(c["traces"][0]["x"]), (std::vector<double>{1, 2}));
-  EXPECT_EQ(doubles(c["traces"][0]["y"]),
-            (std::vector<double>{-12.87, -10.12}));
-  EXPECT_EQ(doubles(c["traces"][0]["error"]),
-            (std::vector<double>{1.94, 0.56}));
-  EXPECT_EQ(doubles(c["traces"][1]["y"]),
-            (std::vector<double>{-17.44, -13.41}));
+  EXPECT_EQ(doubles(c["traces"][0]["y"]), (std::vector<double>{-12.87, -10.12}));
+  EXPECT_EQ(doubles(c["traces"][0]["error"]), (std::vector<double>{1.94, 0.56}));
+  EXPECT_EQ(doubles(c["traces"][1]["y"]), (std::vector<double>{-17.44, -13.41}));
   EXPECT_EQ(c["hlines"][0]["y"].get<double>(), -9.409113125406012);
   EXPECT_TRUE(c["x_log"].get<bool>());
 }
@@ -191,57 +171,52 @@ TEST_F(Report, FlightsGiveReplayAndBodyVelocitiesFromTheWorldFrame) {
       "rate,a1,a2,a3,a4,target_x,target_y,"
       "target_z,target_yaw\n";
   std::string rows;
-  const double yaw = std::numbers::pi / 2; // nose east
+  const double yaw = std::numbers::pi / 2;  // nose east
   for (int f = 0; f < 2; ++f) {
     for (int k = 0; k < 5; ++k) {
-      rows += fmt::format(
-          "{},{},{},{},{},0.1,-0.05,{},1,0,0.5,0,0,0,0,0,0,0,0,0,-10,0\n", f,
-          0.02 * k, 0.1 * k + f, -0.2 * k, -10 - 0.01 * k, yaw);
+      rows += fmt::format("{},{},{},{},{},0.1,-0.05,{},1,0,0.5,0,0,0,0,0,0,0,0,0,-10,0\n", f, 0.02 * k,
+                          0.1 * k + f, -0.2 * k, -10 - 0.01 * k, yaw);
     }
   }
   write(run_ / "flights.csv", header + rows);
   write(run_ / "pilot_flights.csv", header + rows);
   write(run_ / "ideal_path.csv", "t,x,y,z,yaw\n0,0,0,-10,0\n1,5,0,-10,0\n");
   const json data = embedded_data(render());
-  const json *replay = nullptr;
-  for (const auto &c : data["charts"]) {
-    if (c["kind"] == "replay")
-      replay = &c;
+  const json* replay = nullptr;
+  for (const auto& c : data["charts"]) {
+    if (c["kind"] == "replay") replay = &c;
   }
   ASSERT_NE(replay, nullptr);
   ASSERT_EQ((*replay)["flights"].size(),
-            4u); // 2 policy flights, 2 pilot flights
-  const json &f1 = (*replay)["flights"][1];
+            4u);  // 2 policy flights, 2 pilot flights
+  const json& f1 = (*replay)["flights"][1];
   EXPECT_EQ(f1["name"], "policy flight 1");
-  EXPECT_EQ(doubles(f1["x"]),
-            (std::vector<double>{1, 1.1, 1.2, 1.3 /* 0.1*3+1 */, 1.4}));
+  EXPECT_EQ(doubles(f1["x"]), (std::vector<double>{1, 1.1, 1.2, 1.3 /* 0.1*3+1 */, 1.4}));
   EXPECT_EQ(f1["z"][4].get<double>(), -10 - 0.01 * 4);
   EXPECT_EQ(f1["yaw"][0].get<double>(), yaw);
   EXPECT_EQ(doubles((*replay)["ideal"]["x"]), (std::vector<double>{0, 5}));
   // Fig 5.6: body velocities, R_WB^T v_W, the one transform of heli/frames.hpp.
-  const json &ydot_b = chart_from(data, "flights.csv", "ydot_b");
-  const pegasus::heli::Vec3 v_B =
-      pegasus::heli::body_from_world({0.1, -0.05, yaw}, {1, 0, 0.5});
+  const json& ydot_b = chart_from(data, "flights.csv", "ydot_b");
+  const pegasus::heli::Vec3 v_B = pegasus::heli::body_from_world({0.1, -0.05, yaw}, {1, 0, 0.5});
   EXPECT_EQ(ydot_b["traces"][0]["y"][0].get<double>(), v_B[1]);
   EXPECT_NEAR(v_B[1], -1,
-              0.1); // flying north with the nose east: sideways to the left
-  EXPECT_EQ(ydot_b["traces"][2]["dash"], "dash"); // the pilot's flights
-  const json &altitude = chart_from(data, "flights.csv", "Altitude -z");
+              0.1);                                // flying north with the nose east: sideways to the left
+  EXPECT_EQ(ydot_b["traces"][2]["dash"], "dash");  // the pilot's flights
+  const json& altitude = chart_from(data, "flights.csv", "Altitude -z");
   EXPECT_EQ(altitude["traces"][0]["y"][1].get<double>(), -(-10 - 0.01));
 }
 
 TEST_F(Report, LongSeriesKeepEveryKthRowAndTheLast) {
   std::string text = "iteration,evaluations,seconds,objective\n";
-  for (int i = 0; i < 1001; ++i)
-    text += fmt::format("{},{},{},{}\n", i, 10 * i, 0.5 * i, std::sqrt(i));
+  for (int i = 0; i < 1001; ++i) text += fmt::format("{},{},{},{}\n", i, 10 * i, 0.5 * i, std::sqrt(i));
   write(run_ / "progress.csv", text);
   pegasus::report::ReportOptions options;
   options.max_points = 100;
   const json data = pegasus::report::report_data(run_, options);
-  const json &c = chart_from(data, "progress.csv", "iteration");
+  const json& c = chart_from(data, "progress.csv", "iteration");
   const auto x = doubles(c["traces"][0]["x"]);
-  EXPECT_EQ(c["traces"][0]["stride"], 11); // ceil(1001 / 100)
-  ASSERT_EQ(x.size(), 92u);                // 0, 11, ..., 990 and 1000
+  EXPECT_EQ(c["traces"][0]["stride"], 11);  // ceil(1001 / 100)
+  ASSERT_EQ(x.size(), 92u);                 // 0, 11, ..., 990 and 1000
   EXPECT_EQ(x[1], 11);
   EXPECT_EQ(x.back(), 1000);
   const auto y = doubles(c["traces"][0]["y"]);
@@ -249,51 +224,61 @@ TEST_F(Report, LongSeriesKeepEveryKthRowAndTheLast) {
   EXPECT_EQ(y[5], objective[55]);
   EXPECT_EQ(y.back(), objective[1000]);
   // Against evaluations and time as well.
-  EXPECT_EQ(doubles(chart_from(data, "progress.csv",
-                               "evaluations")["traces"][0]["x"])[1],
-            110);
-  EXPECT_EQ(
-      doubles(chart_from(data, "progress.csv", "seconds")["traces"][0]["x"])[1],
-      5.5);
+  EXPECT_EQ(doubles(chart_from(data, "progress.csv", "evaluations")["traces"][0]["x"])[1], 110);
+  EXPECT_EQ(doubles(chart_from(data, "progress.csv", "seconds")["traces"][0]["x"])[1], 5.5);
+}
+
+TEST_F(Report, VariantProgressFilesAreTracesAndOtherSmallCsvsAreTables) {
+  write(run_ / "progress.csv", "iteration,evaluations,seconds,objective\n1,10,0.5,-4\n2,20,1,-3\n");
+  write(run_ / "progress_nofeed.csv", "iteration,evaluations,seconds,objective\n1,10,0.5,-6\n");
+  write(run_ / "per_flight.csv", "controller,flight,rms_position_m\nlearned,0,0.25\npilot,0,0.61\n");
+  const std::string html = render();
+  const json data = embedded_data(html);
+  const json& c = chart_from(data, "progress.csv", "evaluations");
+  ASSERT_EQ(c["traces"].size(), 2u);
+  EXPECT_EQ(c["traces"][1]["name"], "nofeed");
+  EXPECT_EQ(doubles(c["traces"][1]["y"]), (std::vector<double>{-6}));
+  EXPECT_EQ(doubles(c["traces"][0]["x"]), (std::vector<double>{10, 20}));
+  EXPECT_NE(html.find("<td>pilot</td><td class=\"num\">0</td><td class=\"num\">0.61</td>"),
+            std::string::npos);
+}
+
+TEST_F(Report, StagesOfAPipelineAreLinkedToTheirReports) {
+  write(run_ / "hover" / "summary.json", "{}");
+  write(run_ / "hover" / "run.json", R"({"command": "heli hover"})");
+  write(run_ / "hover" / "report.html", "<html></html>");
+  write(run_ / "fly" / "summary.json", "{}");
+  fs::create_directories(run_ / "policies");  // not a run
+  const std::string html = render();
+  EXPECT_NE(html.find("<a href=\"hover/report.html\">hover</a> pegasus heli hover"), std::string::npos);
+  EXPECT_NE(html.find("fly  (no report.html yet"), std::string::npos);
+  EXPECT_EQ(html.find("policies/report.html"), std::string::npos);
 }
 
 TEST_F(Report, BadRunDirectoriesAreInputErrorsNamingTheFile) {
   using pegasus::report::report_data;
-  EXPECT_NE(input_error_message([&] {
-              report_data(dir_ / "nope");
-            }).find("no such directory"),
+  EXPECT_NE(input_error_message([&] { report_data(dir_ / "nope"); }).find("no such directory"),
             std::string::npos);
   write(dir_ / "file", "x");
-  EXPECT_NE(input_error_message([&] {
-              report_data(dir_ / "file");
-            }).find("expected a run directory"),
+  EXPECT_NE(input_error_message([&] { report_data(dir_ / "file"); }).find("expected a run directory"),
             std::string::npos);
   fs::create_directories(dir_ / "empty");
-  EXPECT_NE(input_error_message([&] {
-              report_data(dir_ / "empty");
-            }).find("summary.json: not found"),
+  EXPECT_NE(input_error_message([&] { report_data(dir_ / "empty"); }).find("summary.json: not found"),
             std::string::npos);
   write(dir_ / "badjson" / "summary.json", "{\"a\": ");
-  EXPECT_NE(input_error_message([&] {
-              report_data(dir_ / "badjson");
-            }).find("invalid JSON"),
+  EXPECT_NE(input_error_message([&] { report_data(dir_ / "badjson"); }).find("invalid JSON"),
             std::string::npos);
   write(run_ / "curves.csv", "trial,none_mean,none_stderr\n1,2,3\n2,x7,3\n");
-  EXPECT_NE(
-      input_error_message([&] {
-        report_data(run_);
-      }).find("curves.csv:3: column 'none_mean': expected a number, got 'x7'"),
-      std::string::npos);
-  write(run_ / "curves.csv", "trial,none_mean,none_stderr\n1,2\n");
   EXPECT_NE(input_error_message([&] {
               report_data(run_);
-            }).find("curves.csv:2: expected 3 fields"),
+            }).find("curves.csv:3: column 'none_mean': expected a number, got 'x7'"),
+            std::string::npos);
+  write(run_ / "curves.csv", "trial,none_mean,none_stderr\n1,2\n");
+  EXPECT_NE(input_error_message([&] { report_data(run_); }).find("curves.csv:2: expected 3 fields"),
             std::string::npos);
   write(run_ / "curves.csv", "trial,none_mean\n1,2\n");
   write(run_ / "flights.csv", "flight,t,x,y\n0,0,0,0\n");
-  EXPECT_NE(input_error_message([&] {
-              report_data(run_);
-            }).find("flights.csv: expected a column 'z'"),
+  EXPECT_NE(input_error_message([&] { report_data(run_); }).find("flights.csv: expected a column 'z'"),
             std::string::npos);
 }
 
@@ -302,10 +287,8 @@ TEST_F(Report, AMissingBundleIsNamedWithWhereToGetIt) {
   try {
     pegasus::report::find_bundle();
     ADD_FAILURE() << "no error";
-  } catch (const std::runtime_error &e) {
-    EXPECT_NE(std::string(e.what()).find("PEGASUS_REPORT_BUNDLE"),
-              std::string::npos)
-        << e.what();
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("PEGASUS_REPORT_BUNDLE"), std::string::npos) << e.what();
   }
   write(dir_ / "b.js", kFakeBundle);
   ::setenv(pegasus::report::kBundleEnv, (dir_ / "b.js").c_str(), 1);
@@ -316,23 +299,21 @@ TEST_F(Report, AMissingBundleIsNamedWithWhereToGetIt) {
 // --- the CLI
 // --------------------------------------------------------------------------------------------------
 
-std::string quoted(const fs::path &p) { return "'" + p.string() + "'"; }
+std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
 
 TEST_F(Report, CliRefusesABadRunDirectoryWithExit2AndWritesNothing) {
   write(run_ / "curves.csv", "trial,none_mean\n1,2\n2,oops\n");
   const auto r = run_pegasus("report " + quoted(run_));
   EXPECT_EQ(r.code, 2) << r.output;
   EXPECT_EQ(r.output.rfind("pegasus: ", 0), 0u) << r.output;
-  EXPECT_EQ(r.output.find('\n'), r.output.size() - 1)
-      << "one line: " << r.output;
+  EXPECT_EQ(r.output.find('\n'), r.output.size() - 1) << "one line: " << r.output;
   EXPECT_NE(r.output.find("curves.csv:3"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(run_ / "report.html"));
   EXPECT_FALSE(fs::exists(run_ / ".report.html.tmp"));
 
   const auto missing = run_pegasus("report " + quoted(dir_ / "nope"));
   EXPECT_EQ(missing.code, 2) << missing.output;
-  EXPECT_NE(missing.output.find("no such directory"), std::string::npos)
-      << missing.output;
+  EXPECT_NE(missing.output.find("no such directory"), std::string::npos) << missing.output;
   const auto none = run_pegasus("report");
   EXPECT_EQ(none.code, 2) << none.output;
   EXPECT_NE(none.output.find("RUN_DIR"), std::string::npos) << none.output;
@@ -343,42 +324,35 @@ TEST_F(Report, CliNamesAMissingBundleInOneLine) {
   const auto r = run_pegasus("report " + quoted(run_));
   ::unsetenv(pegasus::report::kBundleEnv);
   EXPECT_EQ(r.code, 1) << r.output;
-  EXPECT_EQ(
-      r.output.rfind("pegasus: error: report JavaScript bundle not found", 0),
-      0u)
-      << r.output;
+  EXPECT_EQ(r.output.rfind("pegasus: error: report JavaScript bundle not found", 0), 0u) << r.output;
   EXPECT_EQ(r.output.find('\n'), r.output.size() - 1) << r.output;
   EXPECT_FALSE(fs::exists(run_ / "report.html"));
 }
 
 bool bundle_built() {
-  return fs::exists(fs::path(PEGASUS_CLI_PATH).parent_path() /
-                    pegasus::report::kBundleName);
+  return fs::exists(fs::path(PEGASUS_CLI_PATH).parent_path() / pegasus::report::kBundleName);
 }
 
 TEST_F(Report, EveryRunEndsWithItsReportAndTheCommandRemakesIt) {
   if (!bundle_built())
     GTEST_SKIP() << "no pegasus-report.js next to the CLI (node/npm missing at "
                     "configure time)";
-  const auto r = run_pegasus("horizon --gamma 0.9 --epsilon 0.1 --out " +
-                             quoted(dir_ / "h") + " --quiet");
+  const auto r = run_pegasus("horizon --gamma 0.9 --epsilon 0.1 --out " + quoted(dir_ / "h") + " --quiet");
   ASSERT_EQ(r.code, 0) << r.output;
-  EXPECT_EQ(r.output, "{\"horizon\":51}\n"); // no note about the report
+  EXPECT_EQ(r.output, "{\"horizon\":51}\n");  // no note about the report
   const std::string html = read_text(dir_ / "h" / "report.html");
   EXPECT_NE(html.find("pegasus horizon"), std::string::npos);
   EXPECT_NE(html.find("plotly.js-dist-min"),
-            std::string::npos); // the real bundle
+            std::string::npos);  // the real bundle
   EXPECT_NE(html.find("three"), std::string::npos);
 
-  write(run_ / "progress.csv",
-        "iteration,evaluations,seconds,objective\n1,10,0.1,-3\n2,20,0.2,-2\n");
+  write(run_ / "progress.csv", "iteration,evaluations,seconds,objective\n1,10,0.1,-3\n2,20,0.2,-2\n");
   const auto again = run_pegasus("report " + quoted(run_));
   ASSERT_EQ(again.code, 0) << again.output;
   EXPECT_NE(again.output.find("report.html"), std::string::npos);
   const json data = embedded_data(read_text(run_ / "report.html"));
-  EXPECT_EQ(
-      doubles(chart_from(data, "progress.csv", "iteration")["traces"][0]["y"]),
-      (std::vector<double>{-3, -2}));
+  EXPECT_EQ(doubles(chart_from(data, "progress.csv", "iteration")["traces"][0]["y"]),
+            (std::vector<double>{-3, -2}));
 }
 
-} // namespace
+}  // namespace
