@@ -25,7 +25,8 @@ namespace detail {
 enum class PhiloxPath { kScalar, kAvx2, kAvx512 };
 
 // out[4 j + w] = (word w of Philox4x32-10({c, c >> 32, stream, domain}, key) + 0.5) 2^-32 with
-// c = first_call + j, for j in [0, calls): what BlockUniformStream's buffer holds.
+// c = first_call + j, for j in [0, calls): what BlockUniformStream's buffer holds. `path` must be
+// supported by this CPU (philox_path_supported).
 void philox_uniforms(PhiloxPath path, std::uint32_t key0, std::uint32_t key1, std::uint64_t first_call,
                      std::uint32_t stream, std::uint32_t domain, int calls, double* out);
 // The fastest path this CPU supports (kAvx512 needs AVX-512F, kAvx2 needs AVX2).
