@@ -169,13 +169,19 @@ void run(RunContext& ctx) {
     init.trim = hover.trim;
   }
 
-  std::vector<Variant> variants{{"full", "learned delay, shaping", base}};
+  // The delay acts only on angled climbs and descents (III.1's upper edges); without such legs the parameter
+  // would do nothing, so the class leaves it out and the no-delay ablation is the trained policy itself.
+  bool angled = false;
+  for (const auto& leg : maneuver_trajectory_for(base)->legs()) angled = angled || leg.angled();
+  ManeuverTrainingOptions full_options = base;
+  full_options.policy.learn_delay = base.policy.learn_delay && angled;
+  std::vector<Variant> variants{{"full", "learned delay, shaping", full_options}};
   if (c.get_bool("ablations")) {
-    Variant nd{"no_delay", "no delay", base};
+    Variant nd{"no_delay", "no delay", full_options};
     nd.options.policy.learn_delay = false;
-    Variant ns{"no_shaping", "no shaping", base};
+    Variant ns{"no_shaping", "no shaping", full_options};
     ns.options.shaping = false;
-    variants.push_back(nd);
+    if (full_options.policy.learn_delay) variants.push_back(nd);
     variants.push_back(ns);
   }
   for (auto& v : variants)
@@ -339,11 +345,17 @@ void run(RunContext& ctx) {
   summary["rms_path_deviation_m"] = m.rms_path_deviation_m;
   summary["max_path_deviation_m"] = m.max_path_deviation_m;
   summary["target_met"] = m.crashes == 0 && m.rms_path_deviation_m < 1.0;
+  summary["z_delay_acts"] = angled;
+  if (c.get_bool("ablations") && !scores.contains("no_delay")) {
+    // No angled legs: the policy without the delay is the trained one.
+    scores["no_delay"] = m;
+  }
   for (const char* key : {"no_delay", "no_shaping"}) {
     if (!scores.contains(key)) continue;
     summary[fmt::format("rms_path_deviation_{}_m", key)] = scores.at(key).rms_path_deviation_m;
     summary[fmt::format("crashes_{}", key)] = scores.at(key).crashes;
-    summary[fmt::format("final_uhat_{}", key)] = DoubleToJson(trained.at(key).summary.best_value);
+    const std::string trained_key = trained.contains(key) ? key : "full";
+    summary[fmt::format("final_uhat_{}", key)] = DoubleToJson(trained.at(trained_key).summary.best_value);
   }
   summary["gust_sigma"] = fo.gust_sigma;
   summary["policy"] = "policy.json";
