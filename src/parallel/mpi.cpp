@@ -25,7 +25,7 @@ namespace {
 
 int g_rank = 0;
 int g_size = 1;
-bool g_started = false;  // MPI_Init_thread was called by this process
+[[maybe_unused]] bool g_started = false;  // MPI_Init_thread was called by this process
 std::thread::id g_main_thread;
 CommStats g_stats;
 bool g_measure_wait = false;
@@ -59,7 +59,7 @@ int launched_size() {
   return 0;
 }
 
-void read_fault_injection() {
+[[maybe_unused]] void read_fault_injection() {
   const char* v = std::getenv("PEGASUS_TEST_MPI_KILL");
   if (!v) return;
   int rank = -1;
@@ -70,7 +70,7 @@ void read_fault_injection() {
   }
 }
 
-double now_seconds() {
+[[maybe_unused]] double now_seconds() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
