@@ -5,7 +5,9 @@
 //                                     counter-based generator, ScenarioSet::step_noise) before every step
 //   BM_BicycleRollout_Policy15_H500   scenario_return: the 15-feature sigmoid policy, counter-based noise,
 //                                     shaping, 500 steps; one scenario per iteration
-//   BM_BicycleUhat_m30_H500/threads   one PEGASUS U-hat (30 scenarios x 500 steps) on 1 or 2 threads
+//   BM_BicycleUhat_m30_H500/threads   one PEGASUS U-hat (30 scenarios x 500 steps) on 1 or 2 threads, as the
+//                                     training computes it (bicycle_uhat: rollouts four at a time in lockstep)
+//   BM_BicycleUhat_OneAtATime_m30_H500  the same U-hat by PegasusEvaluator, one rollout at a time (1 thread)
 // Every benchmark reports steps_per_s (simulated bicycle steps per wall second).
 #include <benchmark/benchmark.h>
 
@@ -119,6 +121,24 @@ void BM_BicycleUhat_m30_H500(benchmark::State& state) {
   state.counters["steps_per_s"] = benchmark::Counter(static_cast<double>(steps), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_BicycleUhat_m30_H500)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_BicycleUhat_OneAtATime_m30_H500(benchmark::State& state) {
+  const BicycleTrainingOptions o;
+  const Bicycle bike(o.bicycle);
+  const PegasusEvaluator evaluator(shape(bike, BicycleProgressPotential{bike, o.shaping_per_metre}, o.gamma),
+                                   make_bicycle_policy(),
+                                   ScenarioSet({.seed = o.seed, .count = o.scenarios, .horizon = o.horizon,
+                                                .noise_dim = 1, .initial_noise_dim = 5}),
+                                   Discounting{.gamma = o.gamma, .horizon = o.horizon});
+  const Theta theta = bicycle_balancing_theta();
+  std::uint64_t steps = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(evaluator.evaluate(theta));
+    steps += 30 * 500;
+  }
+  state.counters["steps_per_s"] = benchmark::Counter(static_cast<double>(steps), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_BicycleUhat_OneAtATime_m30_H500)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace pegasus

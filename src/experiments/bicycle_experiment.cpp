@@ -10,8 +10,10 @@
 #include <sstream>
 
 #include "pegasus/core/error.hpp"
+#include "pegasus/envs/bicycle_lockstep.hpp"
 #include "pegasus/evaluators/monte_carlo.hpp"
 #include "pegasus/evaluators/pegasus_evaluator.hpp"
+#include "pegasus/parallel/mpi.hpp"
 #include "pegasus/shaping/potential_shaping.hpp"
 
 namespace pegasus {
@@ -50,6 +52,59 @@ std::unique_ptr<Objective> with_training_model(const BicycleTrainingOptions& o, 
   return make(bike);
 }
 
+// PEGASUS's U-hat with the rollouts stepped four at a time (envs/bicycle_lockstep.hpp): the same (theta,
+// scenario) pairs, owned by the same threads and MPI ranks as PegasusEvaluator's (pair k on rank k mod N),
+// each return bit-identical to scenario_return's, summed in scenario order; so U-hat is PegasusObjective's,
+// bit for bit, about 1.2x faster.
+template <class Model>
+class LockstepPegasusObjective final : public Objective {
+ public:
+  static constexpr int kLanes = 4;
+  LockstepPegasusObjective(PegasusEvaluator<Model, BicyclePolicy> evaluator, std::shared_ptr<ThreadPool> pool)
+      : evaluator_(std::move(evaluator)), pool_(std::move(pool)) {}
+  const ParameterSpec& parameters() const override { return evaluator_.policy().parameters(); }
+  double evaluate(std::span<const double> theta) override {
+    const Theta one(theta.begin(), theta.end());
+    double value = 0.0;
+    evaluate_batch(std::span<const Theta>(&one, 1), std::span<double>(&value, 1));
+    return value;
+  }
+  void evaluate_batch(std::span<const Theta> thetas, std::span<double> values) override {
+    const auto m = static_cast<std::size_t>(evaluator_.scenarios().size());
+    std::vector<double> returns(thetas.size() * m);
+    const mpi::Share share = mpi::collective_share();
+    const std::size_t owned = share.count(returns.size());
+    auto group = [&](std::size_t g) {
+      std::array<std::span<const double>, kLanes> lane_theta;
+      std::array<int, kLanes> lane_scenario{};
+      std::array<double, kLanes> lane_return{};
+      const std::size_t first = g * kLanes, lanes = std::min<std::size_t>(kLanes, owned - first);
+      for (std::size_t j = 0; j < lanes; ++j) {
+        const std::size_t k = share.item(first + j);
+        lane_theta[j] = thetas[k / m];
+        lane_scenario[j] = static_cast<int>(k % m);
+      }
+      lockstep_returns<kLanes>(evaluator_.model(), evaluator_.policy(), std::span(lane_theta).first(lanes),
+                               std::span<const int>(lane_scenario).first(lanes), evaluator_.scenarios(),
+                               evaluator_.discounting(), std::span(lane_return).first(lanes));
+      for (std::size_t j = 0; j < lanes; ++j) returns[share.item(first + j)] = lane_return[j];
+    };
+    const std::size_t groups = (owned + kLanes - 1) / kLanes;
+    if (pool_) {
+      pool_->parallel_for(groups, group);
+    } else {
+      for (std::size_t g = 0; g < groups; ++g) group(g);
+    }
+    mpi::allgather_shares(returns, share);
+    for (std::size_t k = 0; k < thetas.size(); ++k)
+      values[k] = ordered_mean(std::span<const double>(returns.data() + k * m, m));
+  }
+
+ private:
+  PegasusEvaluator<Model, BicyclePolicy> evaluator_;
+  std::shared_ptr<ThreadPool> pool_;
+};
+
 std::unique_ptr<Objective> training_objective(const BicycleTrainingOptions& o, std::shared_ptr<ThreadPool> pool) {
   const Discounting d{.gamma = o.gamma, .horizon = o.horizon};
   return with_training_model(o, [&](auto model) -> std::unique_ptr<Objective> {
@@ -58,7 +113,7 @@ std::unique_ptr<Objective> training_objective(const BicycleTrainingOptions& o, s
       return std::make_unique<MonteCarloObjective<Model, BicyclePolicy>>(
           MonteCarloEvaluator<Model, BicyclePolicy>(model, make_bicycle_policy(), o.scenarios, d, o.seed), pool);
     }
-    return std::make_unique<PegasusObjective<Model, BicyclePolicy>>(
+    return std::make_unique<LockstepPegasusObjective<Model>>(
         PegasusEvaluator<Model, BicyclePolicy>(model, make_bicycle_policy(), training_scenarios(o), d), pool);
   });
 }
