@@ -712,7 +712,8 @@ void add_flight_traces(Page& page, const std::vector<FlightTable>& tables, const
       const FlightTable& table = tables[k];
       const auto values = q.values(*table.series);
       const auto t = table.series->numbers(table.time_column);
-      for (std::size_t f = 0; f < table.flights.size(); ++f) {
+      // One flight of each controller, as in the thesis's figures; every flight is in the 3-D replay.
+      for (std::size_t f = 0; f < std::min<std::size_t>(table.flights.size(), 1); ++f) {
         auto rows = table.flights[f].rows;
         const std::size_t stride = thin(rows, options.max_points);
         json tr = trace(table.flights[f].name, pick(t, rows), pick(values, rows));
@@ -737,10 +738,13 @@ void add_flights(Page& page, const fs::path& dir, const ReportOptions& options) 
   if (pilot) tables.push_back(flight_table(*pilot, "pilot flight", options.max_flights));
   add_flight_traces(
       page, tables, "hover", pilot ? "Flights against the pilot (Figs 5.6-5.7)" : "Flight traces",
-      pilot ? "Blue, solid: the learned controller; red, dashed: the scripted pilot. Body-frame "
-              "velocities (Fig 5.6) and world positions (Fig 5.7); click a legend entry to show "
-              "further flights (flights.csv, pilot_flights.csv)."
-            : "Body-frame velocities and world positions of each flight (flights.csv).",
+      pilot
+          ? "Blue, solid: the learned controller; red, dashed: the scripted pilot; the first flight of each "
+            "(all of them are in the 3-D replay). Body-frame velocities (Fig 5.6) and world positions "
+            "(Fig 5.7) (flights.csv, pilot_flights.csv)."
+          : "Body-frame velocities and world positions of the first flight; all of them are in the 3-D "
+            "replay "
+            "(flights.csv).",
       options);
 
   json replay = {{"kind", "replay"},

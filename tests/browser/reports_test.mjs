@@ -123,7 +123,14 @@ if (!only || 'heli-identify'.includes(only)) {
     path.join(test, 'log.csv'), '--cv-points', '30', '--scale-grid', '1,2', '--coordinate-passes', '0',
     '--horizon-s', '1', '--window-s', '1', '--start-spacing-s', '1', '--variants=false']);
 }
-// The helicopter commands being written now: their files, synthetic.
+if (fs.existsSync(path.join(work, 'heli-identify', 'model.json'))) {
+  run('heli-hover', ['heli', 'hover', '--model', path.join(work, 'heli-identify', 'model.json'), '--scenarios', '2',
+    '--seconds', '2', '--gradient.iterations', '1', '--hill-climbing.iterations', '1']);
+  run('heli-fly', ['heli', 'fly', '--policy', path.join(work, 'heli-hover', 'policy.json'), '--compare-pilot',
+    '--flights', '2', '--seconds', '5'], { replay: 1 });
+}
+// The file formats of the helicopter commands (notes/heli_conventions.md), synthetic: a hover run and a
+// manoeuvre run with its ideal path.
 writeRun('heli-hover-synthetic', {
   'summary.json': JSON.stringify({ experiment: 'heli hover', flights: 3, rms_position_error_m: 0.21 }),
   'config.toml': 'scenarios = 30\ngamma = 0.9995\n',

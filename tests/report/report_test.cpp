@@ -200,8 +200,10 @@ TEST_F(Report, FlightsGiveReplayAndBodyVelocitiesFromTheWorldFrame) {
   const pegasus::heli::Vec3 v_B = pegasus::heli::body_from_world({0.1, -0.05, yaw}, {1, 0, 0.5});
   EXPECT_EQ(ydot_b["traces"][0]["y"][0].get<double>(), v_B[1]);
   EXPECT_NEAR(v_B[1], -1,
-              0.1);                                // flying north with the nose east: sideways to the left
-  EXPECT_EQ(ydot_b["traces"][2]["dash"], "dash");  // the pilot's flights
+              0.1);                        // flying north with the nose east: sideways to the left
+  ASSERT_EQ(ydot_b["traces"].size(), 2u);  // the first flight of each controller
+  EXPECT_EQ(ydot_b["traces"][1]["name"], "pilot flight 0");
+  EXPECT_EQ(ydot_b["traces"][1]["dash"], "dash");
   const json& altitude = chart_from(data, "flights.csv", "Altitude -z");
   EXPECT_EQ(altitude["traces"][0]["y"][1].get<double>(), -(-10 - 0.01));
 }

@@ -195,13 +195,16 @@ function drawReplay(div, spec) {
     <span class="replay-time">t = 0.00 s</span>
     <label>flight <select class="replay-flight"></select></label>
     <label>speed <select class="replay-speed"><option>0.5</option><option selected>1</option><option>2</option>
-    <option>4</option><option>8</option></select></label>`;
+    <option>4</option><option>8</option></select></label>
+    <label>aircraft <select class="replay-scale"><option value="1">true size</option><option value="0.5">1/2 size</option>
+    <option value="0.25">1/4 size</option></select></label>`;
   div.append(view, controls);
   const play = controls.querySelector('.replay-play');
   const slider = controls.querySelector('.replay-slider');
   const timeLabel = controls.querySelector('.replay-time');
   const flightSelect = controls.querySelector('.replay-flight');
   const speedSelect = controls.querySelector('.replay-speed');
+  const scaleSelect = controls.querySelector('.replay-scale');
   flights.forEach((f, i) => flightSelect.add(new Option(f.name, String(i))));
 
   const scene = new THREE.Scene();
@@ -212,10 +215,13 @@ function drawReplay(div, spec) {
   scene.add(sun);
 
   const all = [];
-  flights.forEach((f, i) => {
+  const lines = flights.map((f, i) => {
     const points = f.t.map((_, k) => nedToThree(f.x[k], f.y[k], f.z[k]));
     all.push(...points);
-    scene.add(pathLine(points, new THREE.Color(PALETTE[i % PALETTE.length]), false));
+    const line = pathLine(points, new THREE.Color(PALETTE[i % PALETTE.length]), false);
+    line.material.transparent = true;
+    scene.add(line);
+    return line;
   });
   if (spec.ideal) {
     const p = spec.ideal;
@@ -225,7 +231,7 @@ function drawReplay(div, spec) {
   }
   const box = new THREE.Box3().setFromPoints(all.length ? all : [new THREE.Vector3()]);
   const center = box.getCenter(new THREE.Vector3());
-  const size = Math.max(box.getSize(new THREE.Vector3()).length(), 12);
+  const size = Math.max(box.getSize(new THREE.Vector3()).length(), 5);
   const ground = new THREE.GridHelper(Math.ceil(size * 1.5), 20, 0x99a3b3, 0xccd3de);
   ground.position.set(center.x, Math.min(0, box.min.y - 1), center.z);
   scene.add(ground);
@@ -233,6 +239,10 @@ function drawReplay(div, spec) {
 
   const aircraft = makeAircraft();
   scene.add(aircraft);
+  // Hover flights stay within a metre or two: there the 3.6 m aircraft would hide them, so it starts smaller.
+  const extent = box.getSize(new THREE.Vector3()).length();
+  scaleSelect.value = extent < 6 ? '0.25' : extent < 15 ? '0.5' : '1';
+  aircraft.scale.setScalar(Number(scaleSelect.value));
 
   const camera = new THREE.PerspectiveCamera(50, 16 / 9, 0.1, size * 20);
   camera.position.set(center.x + size * 0.45, center.y + size * 0.3, center.z + size * 0.6);
@@ -276,6 +286,8 @@ function drawReplay(div, spec) {
   }
   function selectFlight(i) {
     state.flight = i;
+    // The followed flight stands out; the others stay faint for comparison.
+    lines.forEach((line, k) => { line.material.opacity = k === i ? 1 : 0.18; });
     slider.max = String(flights[i].t.length - 1);
     state.index = Math.min(state.index, flights[i].t.length - 1);
     place();
@@ -309,6 +321,7 @@ function drawReplay(div, spec) {
   slider.addEventListener('input', () => { state.index = Number(slider.value); place(); });
   flightSelect.addEventListener('change', () => selectFlight(Number(flightSelect.value)));
   speedSelect.addEventListener('change', () => { state.speed = Number(speedSelect.value); });
+  scaleSelect.addEventListener('change', () => { aircraft.scale.setScalar(Number(scaleSelect.value)); render(); });
   window.addEventListener('resize', () => { resize(); render(); });
   resize();
   selectFlight(0);
