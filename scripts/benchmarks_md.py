@@ -349,6 +349,11 @@ def main(argv):
     lines += ["", "## End-to-end training", ""] + training_table(r)
     lines += ["", "## Parallel efficiency, 1 vs 2 threads and 1 vs 2 ranks", "",
               "Efficiency = T(1) / (2 T(2)) on the same work; 100% is perfect scaling on 2 cores."]
+    busy = r.context.get("load_avg") and r.context.get("num_cpus") and r.context["load_avg"][0] > r.context["num_cpus"]
+    if busy:
+        lines += ["", f"**This run's load average ({r.context['load_avg'][0]:.1f} on {r.context['num_cpus']} CPUs) "
+                  "means the 2-thread and 2-rank runs competed with other work for the cores: the wall-time "
+                  "efficiencies below describe the machine's load, not the code. Rerun on a quiet machine.**"]
     lines += [""] + efficiency_table(r, load(a.mpi))
     lines += ["", "## Pendulum-v1 race against RLtools", "",
               "Wall time until the mean return over 100 fresh starts is >= -200, and the final policy's mean "
