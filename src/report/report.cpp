@@ -92,8 +92,10 @@ class Series {
   bool has(std::string_view column) const { return index(column).has_value(); }
 
   // The column as numbers (empty cells, "nan" -> NaN); InputError naming file:line and column otherwise.
-  std::vector<double> numbers(std::string_view column) const {
+  // Parsed once per column (flight tables are read by several charts).
+  const std::vector<double>& numbers(std::string_view column) const {
     const std::size_t c = require(column);
+    if (auto it = parsed_.find(c); it != parsed_.end()) return it->second;
     std::vector<double> out;
     out.reserve(rows_.size());
     for (std::size_t i = 0; i < rows_.size(); ++i) {
@@ -109,7 +111,7 @@ class Series {
       }
       out.push_back(*x);
     }
-    return out;
+    return parsed_.emplace(c, std::move(out)).first->second;
   }
   // True when every cell of the column is a number (or empty).
   bool numeric(std::string_view column) const {
@@ -145,6 +147,7 @@ class Series {
   std::vector<std::string> header_;
   std::vector<std::vector<std::string>> rows_;
   std::vector<std::size_t> lines_;  // the file line of each row
+  mutable std::map<std::size_t, std::vector<double>> parsed_;
 };
 
 // Rows of `series` grouped by the values of `keys` (joined by " "), in order of first appearance.
@@ -660,6 +663,7 @@ FlightTable flight_table(const Series& s, const std::string& label, std::size_t 
 }
 
 json replay_flight(const FlightTable& table, const Flight& f, std::size_t max_points) {
+  // The replay needs fewer samples than a chart: 25 Hz is smooth on screen.
   const Series& s = *table.series;
   auto rows = f.rows;
   const std::size_t stride = thin(rows, max_points);
@@ -754,7 +758,7 @@ void add_flights(Page& page, const fs::path& dir, const ReportOptions& options) 
                  {"ideal", nullptr}};
   for (const auto& table : tables) {
     for (const auto& f : table.flights)
-      replay["flights"].push_back(replay_flight(table, f, options.max_points));
+      replay["flights"].push_back(replay_flight(table, f, options.max_replay_points));
   }
   std::string extra;
   if (ideal) {
@@ -833,7 +837,7 @@ void add_pilot_log(Page& page, const fs::path& dir, const ReportOptions& options
                  {"ideal", nullptr}};
   for (const auto& table : tables) {
     for (const auto& f : table.flights)
-      replay["flights"].push_back(replay_flight(table, f, options.max_points));
+      replay["flights"].push_back(replay_flight(table, f, options.max_replay_points));
   }
   page.section("replay", "3-D replay",
                "Drag to turn the view, scroll to zoom; Play runs the flight in real time, the slider moves "

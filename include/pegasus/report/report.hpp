@@ -34,6 +34,8 @@ struct ReportOptions {
   // Most rows of one series embedded in the page; longer series keep every k-th row (and the last) so that
   // a report stays a few MB. The stride is recorded with the series.
   std::size_t max_points = 4000;
+  // Most samples of one flight in the 3-D replay (1500: 25 Hz over a minute).
+  std::size_t max_replay_points = 1500;
   // Most flights of flights.csv / pilot_flights.csv drawn (the first ones).
   std::size_t max_flights = 10;
 };
