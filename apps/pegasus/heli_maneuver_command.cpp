@@ -287,8 +287,9 @@ void run(RunContext& ctx) {
   dir.write_csv("ideal_path.csv", ideal_csv);
 
   CsvWriter flights_csv({"flight", "t", "x", "y", "z", "roll", "pitch", "yaw", "xdot", "ydot", "zdot", "roll_rate",
-                         "pitch_rate", "yaw_rate", "a1", "a2", "a3", "a4", "target_x", "target_y", "target_z", "target_yaw",
-                         "path_deviation"});
+                         "pitch_rate", "yaw_rate", "a1", "a2", "a3", "a4", "target_x", "target_y", "target_z", "target_yaw"});
+  // The distance to the path per step, apart from flights.csv (whose columns are shared by every heli command).
+  CsvWriter deviation_csv({"flight", "t", "path_deviation_m", "progress_m"});
   const auto trace = static_cast<std::size_t>(c.get_int("trace_flights"));
   for (std::size_t i = 0; i < main_flights.size() && i < trace; ++i) {
     const auto& f = main_flights[i];
@@ -300,11 +301,12 @@ void run(RunContext& ctx) {
       row.emplace_back(f.targets[k].y);
       row.emplace_back(f.targets[k].z);
       row.emplace_back(f.targets[k].yaw);
-      row.emplace_back(f.deviation[k]);
       flights_csv.add_row(row);
+      deviation_csv.add_row({static_cast<std::int64_t>(i), static_cast<double>(k) * 0.02, f.deviation[k], f.progress[k]});
     }
   }
   dir.write_csv("flights.csv", flights_csv);
+  dir.write_csv("path_deviation.csv", deviation_csv);
   dir.write_text("paths_side.svg", path_plot(fmt::format("{}: flights on the ground truth, side view (x north, altitude)", base.name),
                                             1, 3, "x (north), m", "altitude, m", ideal, main_flights, 20));
   dir.write_text("paths_top.svg", path_plot(fmt::format("{}: flights on the ground truth, top view", base.name), 2, 1,

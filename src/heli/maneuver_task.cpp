@@ -209,6 +209,7 @@ std::vector<ManeuverFlight> fly_maneuver(const ManeuverPolicy& policy, std::span
       f.truth.push_back(truth);
       f.targets.push_back(policy.target(theta, t));
       f.deviation.push_back((Vec3(truth[0], truth[1], truth[2]) - path.p_W).norm());
+      f.progress.push_back(path.progress);
     };
     record(true_logged_state(s), 0.0);
     std::array<double, Aircraft::kStepNoise> p;

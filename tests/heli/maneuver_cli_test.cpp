@@ -65,6 +65,7 @@ TEST_F(ManeuverCli, TrainingImprovesUhatAndWritesTheDocumentedFiles) {
                 "target_z,target_yaw",
                 0),
             0u);
+  EXPECT_EQ(first_line(read_text(dir_ / "run" / "path_deviation.csv")), "flight,t,path_deviation_m,progress_m");
   const auto policy = json_of(dir_ / "run" / "policy.json");
   EXPECT_EQ(policy.at("class"), "maneuver");
   EXPECT_EQ(policy.at("options").at("name"), "III.2");

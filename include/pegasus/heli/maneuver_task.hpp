@@ -177,6 +177,7 @@ struct ManeuverFlight {
   std::vector<Controls> controls;   // the controls applied at each row (the last row repeats the one before)
   std::vector<SetPoint> targets;    // the set point of each row
   std::vector<double> deviation;    // distance of the true position to its projection on the path, m
+  std::vector<double> progress;     // the observer's progress along the path, m
   double final_progress = 0;        // m along the path at the end
   CrashReason crash = CrashReason::kNone;
   double crash_time = -1;
