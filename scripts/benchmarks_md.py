@@ -262,8 +262,8 @@ def race_section(r, race_file):
                    f"start). RLtools: {race_file.get('rltools', '?')}. Pegasus: {race_file.get('pegasus', '?')}.")
         out.append("")
         out.append("| Side | Seed | Wall time to bar | CPU time to bar | Whole training (wall) | "
-                   "Final mean return (100 starts) |")
-        out.append("|---|---:|---:|---:|---:|---:|")
+                   "Final mean return (100 starts) | Final mean return (many starts) |")
+        out.append("|---|---:|---:|---:|---:|---:|---:|")
         sides = []
         for run in runs:
             if run["side"] not in sides:
@@ -274,8 +274,12 @@ def race_section(r, race_file):
                 reached = bar is not None and bar > 0
                 out.append(f"| {side} | {run['seed']} | {fmt_time(bar) if reached else 'never'} | "
                            f"{fmt_time(run.get('cpu_seconds_to_bar')) if reached else 'never'} | "
-                           f"{fmt_time(run.get('total_seconds'))} | {run['final_mean_return_100']:.1f} |")
+                           f"{fmt_time(run.get('total_seconds'))} | {run['final_mean_return_100']:.1f} | "
+                           + (f"{run['final_mean_return_large']:.1f} ({run.get('large_starts', '?')})"
+                              if run.get("final_mean_return_large") is not None else NOT_MEASURED) + " |")
         out.append("")
+        if race_file.get("large"):
+            out += [race_file["large"] + ".", ""]
         pegasus = [x for x in runs if x["side"] == "Pegasus" and x.get("seconds_to_bar", -1) > 0]
         for side in sides:
             if side == "Pegasus" or not pegasus:
@@ -289,11 +293,17 @@ def race_section(r, race_file):
             cpu = statistics.median(x["cpu_seconds_to_bar"] for x in reached)
             pw = statistics.median(x["seconds_to_bar"] for x in pegasus)
             pc = statistics.median(x["cpu_seconds_to_bar"] for x in pegasus)
-            out.append(f"- {side} vs Pegasus, medians: {fmt_time(wall)} vs {fmt_time(pw)} wall to the bar "
-                       f"(**{wall / pw:.0f}x**), {fmt_time(cpu)} vs {fmt_time(pc)} CPU ({cpu / pc:.0f}x); final mean "
-                       f"return {statistics.median(x['final_mean_return_100'] for x in theirs):.1f} vs "
-                       f"{statistics.median(x['final_mean_return_100'] for x in runs if x['side'] == 'Pegasus'):.1f} "
-                       f"({len(reached)} of {len(theirs)} {side} runs reached the bar).")
+            line = (f"- {side} vs Pegasus, medians: {fmt_time(wall)} vs {fmt_time(pw)} wall to the bar "
+                    f"(**{wall / pw:.0f}x**), {fmt_time(cpu)} vs {fmt_time(pc)} CPU ({cpu / pc:.0f}x); final mean "
+                    f"return over 100 starts {statistics.median(x['final_mean_return_100'] for x in theirs):.1f} vs "
+                    f"{statistics.median(x['final_mean_return_100'] for x in runs if x['side'] == 'Pegasus'):.1f}")
+            theirs_large = [x["final_mean_return_large"] for x in theirs if x.get("final_mean_return_large") is not None]
+            ours_large = [x["final_mean_return_large"] for x in runs
+                          if x["side"] == "Pegasus" and x.get("final_mean_return_large") is not None]
+            if theirs_large and ours_large:
+                line += (f", over many starts {statistics.mean(theirs_large):.1f} vs {statistics.mean(ours_large):.1f} "
+                         f"(mean over seeds)")
+            out.append(line + f" ({len(reached)} of {len(theirs)} {side} runs reached the bar).")
     else:
         out.append(f"RLtools side: {NOT_MEASURED} (no race file).")
     race = r.find_all(r"^BM_PendulumRaceToBar/")
