@@ -9,7 +9,9 @@
 //   BM_LearnedModelStep    one 50 Hz step of the learned simulative model (a refit every 5 steps)
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <memory>
 
 #include "pegasus/heli/aircraft.hpp"
@@ -46,17 +48,19 @@ void refit(benchmark::State& state, sysid::SimdPath path = sysid::SimdPath::kAut
   sysid::force_simd_path(path);
   if (kFast) state.SetLabel(sysid::simd_path_name(sysid::active_simd_path()));
   Eigen::Index i = 0;
-  double points = 0, fits = 0;
+  double points = 0, fits = 0, rcond = INFINITY;
   for (auto _ : state) {
     const sysid::InputVec q = w.queries.x.row(i).transpose();
     const sysid::LocalFit fit = kFast ? w.model->regression().fit(q) : w.model->regression().fit_exact(q);
     benchmark::DoNotOptimize(fit);
     points += fit.points;
     fits += 1;
+    rcond = std::min(rcond, fit.rcond);
     i = (i + 7) % w.queries.rows();
   }
   state.counters["training_rows"] = static_cast<double>(w.model->data().rows());
   state.counters["points_used"] = points / fits;
+  state.counters["rcond_min"] = rcond;  // the 1e-9 agreement holds where rcond >= 1e-4 (lwr.hpp)
   sysid::force_simd_path(sysid::SimdPath::kAuto);
 }
 void BM_LwrRefit_Fast(benchmark::State& state) { refit<true>(state); }

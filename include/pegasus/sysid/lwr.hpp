@@ -7,7 +7,10 @@
 // flat prior where point i has noise variance sigma^2 / w_i, the posterior covariance is
 // Sigma_beta = sigma^2 (X'WX)^{-1}, so the predictive variance is sigma^2 (1 + x'(X'WX)^{-1}x) (Eq 5.4).
 //
-// Two paths that agree within 1e-9 relative:
+// Two paths that agree within 1e-9 relative wherever the Jacobi-scaled X'WX is reasonably conditioned (rcond >=
+// 1e-4; at the shipped bandwidths the smallest rcond over the hold-out queries is reported by
+// bench/sysid_bench.cpp); nearer the singular threshold they agree within about 1e-13 / rcond, since no two
+// summation orders of the Gram sums agree better than the condition number times the rounding (tests/sysid):
 //   fit_exact: the plain reference: every point, std::exp, one normal-equation system per output;
 //   fit:       the fast one (lwr_kernel.hpp): the weighted Gram matrix of the inputs some output regresses on
 //              and the outputs, accumulated once for all outputs over structure-of-arrays data in k-d tree
@@ -93,6 +96,9 @@ class LocalRegression {
   int build(int begin, int end, int depth, const std::vector<double>& z);
   void solve(const Gram& g, const Cross& b, const InputVec& q, LocalFit* fit) const;
   void solve_groups(const detail::KernelResult& k, const InputVec& q, LocalFit* fit) const;
+  template <class Mat, class Vec>
+  bool solve_group(const detail::KernelResult& k, const Group& grp, const InputVec& q, bool first,
+                   LocalFit* fit) const;
 
   const Dataset* data_;
   std::array<OutputTemplate, kBodyVars> templates_;
