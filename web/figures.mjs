@@ -79,10 +79,17 @@ const figures = [
   {
     name: 'hover',
     // The helicopter main job (make demo): its `fly` stage flies the learned hover policy and the pilot.
-    make: () => pegasus(['heli', 'pipeline', '--config', 'experiments/heli-demo.toml', '--out', dir('heli-demo'), '--force', '--quiet']),
+    // Then a manoeuvre (III.2, the nose-in circle) on the model the pipeline identified.
+    make: () => {
+      pegasus(['heli', 'pipeline', '--config', 'experiments/heli-demo.toml', '--out', dir('heli-demo'), '--force', '--quiet']);
+      pegasus(['heli', 'maneuver', '--config', 'experiments/heli-maneuver-demo.toml', '--model',
+        path.join(dir('heli-demo'), 'identify', 'model.json'), '--out', dir('heli-maneuver'), '--force', '--quiet']);
+    },
     shots: [
       { run: 'heli-demo/fly', section: 'hover', file: 'fig-5-6-5-7-hover-vs-pilot.png' },
       { run: 'heli-demo/fly', replay: true, file: 'heli-hover-replay.png' },
+      { run: 'heli-maneuver', replay: true, file: 'fig-5-10-maneuver-replay.png' },
+      { run: 'heli-maneuver', chart: 'Seen from above', file: 'fig-5-10-maneuver-from-above.png' },
     ],
   },
 ];

@@ -792,6 +792,23 @@ void add_flights(Page& page, const fs::path& dir, const ReportOptions& options) 
     extra = grid(page.chart(std::move(top)) + page.chart(std::move(side)));
     page.consumed(ideal->name());
   }
+  if (const auto deviation = Series::load(dir, "path_deviation.csv");
+      deviation && deviation->has("flight") && deviation->has("t") && deviation->has("path_deviation_m")) {
+    json chart =
+        xy_chart("Distance to the ideal path", "time (s)", "distance to the path (m)", deviation->name());
+    const auto t = deviation->numbers("t");
+    const auto d = deviation->numbers("path_deviation_m");
+    for (const auto& [name, rows] : group_rows(*deviation, {"flight"})) {
+      auto kept = rows;
+      const std::size_t stride = thin(kept, options.max_points);
+      json tr = trace("flight " + name, pick(t, kept), pick(d, kept));
+      tr["width"] = 1.2;
+      if (stride > 1) tr["stride"] = stride;
+      chart["traces"].push_back(std::move(tr));
+    }
+    extra += page.chart(std::move(chart), "wide");
+    page.consumed(deviation->name());
+  }
   page.section(
       "replay", ideal ? "3-D replay against the ideal path (Fig 5.10)" : "3-D replay",
       "Drag to turn the view, scroll to zoom; Play runs the flight in real time (speed adjustable), the "

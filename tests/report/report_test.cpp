@@ -181,6 +181,8 @@ TEST_F(Report, FlightsGiveReplayAndBodyVelocitiesFromTheWorldFrame) {
   write(run_ / "flights.csv", header + rows);
   write(run_ / "pilot_flights.csv", header + rows);
   write(run_ / "ideal_path.csv", "t,x,y,z,yaw\n0,0,0,-10,0\n1,5,0,-10,0\n");
+  write(run_ / "path_deviation.csv",
+        "flight,t,path_deviation_m,progress_m\n0,0,0.5,0\n0,0.02,0.25,0.1\n1,0,0.75,0\n");
   const json data = embedded_data(render());
   const json* replay = nullptr;
   for (const auto& c : data["charts"]) {
@@ -204,6 +206,10 @@ TEST_F(Report, FlightsGiveReplayAndBodyVelocitiesFromTheWorldFrame) {
   ASSERT_EQ(ydot_b["traces"].size(), 2u);  // the first flight of each controller
   EXPECT_EQ(ydot_b["traces"][1]["name"], "pilot flight 0");
   EXPECT_EQ(ydot_b["traces"][1]["dash"], "dash");
+  const json& deviation = chart_from(data, "path_deviation.csv", "Distance to the ideal path");
+  ASSERT_EQ(deviation["traces"].size(), 2u);
+  EXPECT_EQ(doubles(deviation["traces"][0]["y"]), (std::vector<double>{0.5, 0.25}));
+  EXPECT_EQ(doubles(deviation["traces"][1]["x"]), (std::vector<double>{0}));
   const json& altitude = chart_from(data, "flights.csv", "Altitude -z");
   EXPECT_EQ(altitude["traces"][0]["y"][1].get<double>(), -(-10 - 0.01));
 }
