@@ -128,6 +128,9 @@ if (fs.existsSync(path.join(work, 'heli-identify', 'model.json'))) {
     '--seconds', '2', '--gradient.iterations', '1', '--hill-climbing.iterations', '1']);
   run('heli-fly', ['heli', 'fly', '--policy', path.join(work, 'heli-hover', 'policy.json'), '--compare-pilot',
     '--flights', '2', '--seconds', '5'], { replay: 1 });
+  run('heli-maneuver', ['heli', 'maneuver', '--config', 'experiments/heli-maneuver-demo.toml', '--model',
+    path.join(work, 'heli-identify', 'model.json'), '--scenarios', '1', '--iterations', '1',
+    '--hill-climbing.proposals', '2', '--flights', '2', '--trace-flights', '2'], { replay: 1 });
 }
 // The file formats of the helicopter commands (notes/heli_conventions.md), synthetic: a hover run and a
 // manoeuvre run with its ideal path.
