@@ -172,7 +172,8 @@ void run(RunContext& ctx) {
   // The delay acts only on angled climbs and descents (III.1's upper edges); without such legs the parameter
   // would do nothing, so the class leaves it out and the no-delay ablation is the trained policy itself.
   bool angled = false;
-  for (const auto& leg : maneuver_trajectory_for(base)->legs()) angled = angled || leg.angled();
+  const auto base_trajectory = maneuver_trajectory_for(base);  // kept alive while its legs are read
+  for (const auto& leg : base_trajectory->legs()) angled = angled || leg.angled();
   ManeuverTrainingOptions full_options = base;
   full_options.policy.learn_delay = base.policy.learn_delay && angled;
   std::vector<Variant> variants{{"full", "learned delay, shaping", full_options}};
