@@ -24,6 +24,7 @@ build: deps
 demo: build
 	@$(BUILD)/pegasus heli pipeline --config experiments/heli-demo.toml --out $(DEMO_OUT) --force
 	@echo "demo: results in $(DEMO_OUT) (summary.json; sub-runs pilot-train, pilot-test, identify, hover, fly)"
+	@echo "demo: report: $(DEMO_OUT)/report.html (flights against the pilot and their 3-D replay: $(DEMO_OUT)/fly/report.html)"
 
 # The whole suite in Release, then again under AddressSanitizer + UndefinedBehaviorSanitizer (-O1 with line
 # tables: cheap to compile on 2 cores, and enough for readable reports).
