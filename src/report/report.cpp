@@ -26,30 +26,6 @@ using json = nlohmann::json;
 
 namespace {
 
-std::string html_escape(std::string_view s) {
-  std::string out;
-  out.reserve(s.size());
-  for (char c : s) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
-
 bool ends_with(std::string_view s, std::string_view tail) {
   return s.size() >= tail.size() && s.substr(s.size() - tail.size()) == tail;
 }
@@ -218,7 +194,7 @@ class Page {
   }
   void section(const std::string& id, const std::string& title, const std::string& intro_html,
                const std::string& content_html) {
-    body += fmt::format("<section id=\"{}\">\n<h2>{}</h2>\n", id, html_escape(title));
+    body += fmt::format("<section id=\"{}\">\n<h2>{}</h2>\n", id, escape_markup(title));
     if (!intro_html.empty()) body += "<p class=\"intro\">" + intro_html + "</p>\n";
     body += content_html + "</section>\n";
     sections.push_back({{"id", id}, {"title", title}});
@@ -279,7 +255,7 @@ std::string table_html(const std::vector<std::string>& header,
                        const std::vector<std::vector<std::string>>& rows, const std::string& css_class = "") {
   std::string out =
       css_class.empty() ? "<table>\n<thead><tr>" : "<table class=\"" + css_class + "\">\n<thead><tr>";
-  for (const auto& h : header) out += "<th>" + html_escape(h) + "</th>";
+  for (const auto& h : header) out += "<th>" + escape_markup(h) + "</th>";
   out += "</tr></thead>\n<tbody>\n";
   for (const auto& row : rows) {
     out += "<tr>";
@@ -287,7 +263,7 @@ std::string table_html(const std::vector<std::string>& header,
       const bool number = parse_double(cell).has_value();
       std::string shown = cell;
       if (number && cell.size() > 10) shown = format_number(*parse_double(cell));
-      out += (number ? "<td class=\"num\">" : "<td>") + html_escape(shown) + "</td>";
+      out += (number ? "<td class=\"num\">" : "<td>") + escape_markup(shown) + "</td>";
     }
     out += "</tr>\n";
   }
@@ -405,7 +381,7 @@ void add_shaping_curves(Page& page, const Series& s, const json& summary, const 
       "shaping", "Shaping curves (" + figure + ")",
       fmt::format("Sarsa's steps to the goal per trial, mean over {} runs, for each potential; the shaded "
                   "band is +-1 standard error (curves.csv).",
-                  html_escape(runs)),
+                  escape_markup(runs)),
       grid(page.chart(std::move(linear)) + page.chart(std::move(loglog))));
   page.consumed(s.name());
 }
@@ -456,7 +432,7 @@ void add_value_vs_m(Page& page, const Series& s, const json& summary) {
 void add_small_table(Page& page, const Series& s, const std::string& id, const std::string& title,
                      std::size_t max_rows = 60) {
   if (s.rows() == 0 || s.rows() > max_rows) return;
-  page.section(id, title, "(" + html_escape(s.name()) + ")", table_html(s.header(), s.cells()));
+  page.section(id, title, "(" + escape_markup(s.name()) + ")", table_html(s.header(), s.cells()));
   page.consumed(s.name());
 }
 
@@ -479,7 +455,7 @@ std::string svg_image(const fs::path& file) {
             i + 1 < text.size() ? kBase64[(v >> 6) & 63] : '=', '='};
   }
   return fmt::format("<img class=\"svg\" alt=\"{}\" src=\"data:image/svg+xml;base64,{}\">\n",
-                     html_escape(file.filename().string()), out);
+                     escape_markup(file.filename().string()), out);
 }
 
 // Bicycle (thesis §4.6): distances ridden, and the rides seen from above.
@@ -1059,13 +1035,13 @@ json report_data(const fs::path& run_dir, const ReportOptions& options) {
   std::string head = rows.empty() ? std::string("<p>(no scalar figures)</p>\n")
                                   : table_html({"figure", "value"}, rows, "headline");
   head +=
-      "<details><summary>summary.json</summary>\n<pre>" + html_escape(summary.dump(2)) + "</pre></details>\n";
+      "<details><summary>summary.json</summary>\n<pre>" + escape_markup(summary.dump(2)) + "</pre></details>\n";
   page.section("headline", "Headline figures", "From summary.json.", head);
   const std::string config = read_text_or_empty(run_dir / "config.toml");
   std::string config_html =
-      "<details open><summary>config.toml</summary>\n<pre>" + html_escape(config) + "</pre></details>\n";
+      "<details open><summary>config.toml</summary>\n<pre>" + escape_markup(config) + "</pre></details>\n";
   if (run.is_object() && !run.empty()) {
-    config_html += "<details><summary>run.json (provenance)</summary>\n<pre>" + html_escape(run.dump(2)) +
+    config_html += "<details><summary>run.json (provenance)</summary>\n<pre>" + escape_markup(run.dump(2)) +
                    "</pre></details>\n";
   }
   page.section("config", "Configuration",
@@ -1145,10 +1121,10 @@ json report_data(const fs::path& run_dir, const ReportOptions& options) {
       }
       std::error_code e2;
       list += fs::is_regular_file(part / "report.html", e2)
-                  ? fmt::format("<li><a href=\"{0}/report.html\">{0}</a> {1}</li>\n", html_escape(n),
-                                html_escape(command))
-                  : fmt::format("<li>{} {} (no report.html yet: pegasus report {})</li>\n", html_escape(n),
-                                html_escape(command), html_escape(part.string()));
+                  ? fmt::format("<li><a href=\"{0}/report.html\">{0}</a> {1}</li>\n", escape_markup(n),
+                                escape_markup(command))
+                  : fmt::format("<li>{} {} (no report.html yet: pegasus report {})</li>\n", escape_markup(n),
+                                escape_markup(command), escape_markup(part.string()));
     }
     page.section("parts", "Parts of this run",
                  "Each stage is a run directory of its own, with its own report.", list + "</ul>\n");
@@ -1203,10 +1179,10 @@ std::string script_safe(std::string_view js) {
 
 std::string render_data(json data, std::string_view bundle_js) {
   const std::string title = data["title"];
-  std::string meta = html_escape(data["run_dir"].get<std::string>());
+  std::string meta = escape_markup(data["run_dir"].get<std::string>());
   const json& run = data["run"];
   if (run.contains("version"))
-    meta += " &middot; pegasus " + html_escape(run["version"].is_string() ? run["version"].get<std::string>()
+    meta += " &middot; pegasus " + escape_markup(run["version"].is_string() ? run["version"].get<std::string>()
                                                                           : run["version"].dump());
   if (run.contains("wall_time_s") && run["wall_time_s"].is_number()) {
     meta += fmt::format(" &middot; {:.3g} s wall time", run["wall_time_s"].get<double>());
@@ -1216,7 +1192,7 @@ std::string render_data(json data, std::string_view bundle_js) {
   std::string nav;
   for (const auto& s : data["sections"]) {
     nav += fmt::format("<a href=\"#{}\">{}</a>", s["id"].get<std::string>(),
-                       html_escape(s["title"].get<std::string>()));
+                       escape_markup(s["title"].get<std::string>()));
   }
   const json embedded = {{"title", title}, {"charts", data["charts"]}};
   std::string data_text = embedded.dump();
@@ -1235,10 +1211,10 @@ std::string render_data(json data, std::string_view bundle_js) {
   html += "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n";
   html += "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n";
   html += "<meta name=\"generator\" content=\"pegasus report\">\n";
-  html += "<title>" + html_escape(title) + " &middot; " + html_escape(data["run_dir"].get<std::string>()) +
+  html += "<title>" + escape_markup(title) + " &middot; " + escape_markup(data["run_dir"].get<std::string>()) +
           "</title>\n";
   html += "<style>" + std::string(kStyle) + "</style>\n</head>\n<body>\n";
-  html += "<header><h1>" + html_escape(title) + "</h1><p class=\"meta\">" + meta + "</p></header>\n";
+  html += "<header><h1>" + escape_markup(title) + "</h1><p class=\"meta\">" + meta + "</p></header>\n";
   html += "<nav>" + nav + "</nav>\n<main>\n" + data["body"].get<std::string>() + "</main>\n";
   html +=
       "<footer>Written by <code>pegasus report</code>. Charts drawn with plotly.js, the 3-D replay with "

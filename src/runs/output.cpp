@@ -31,6 +31,22 @@ std::string json_text(const nlohmann::json& value) {
   return value.dump(2) + "\n";
 }
 
+std::string escape_markup(std::string_view text) {
+  std::string out;
+  out.reserve(text.size());
+  for (char c : text) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      case '\'': out += "&#39;"; break;  // &apos; is not HTML 4; &#39; is valid in HTML and SVG alike
+      default: out += c;
+    }
+  }
+  return out;
+}
+
 nlohmann::json read_json_file(const std::filesystem::path& file) {
   try {
     return nlohmann::json::parse(read_file(file));

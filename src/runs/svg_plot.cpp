@@ -1,5 +1,7 @@
 #include "pegasus/runs/svg_plot.hpp"
 
+#include "pegasus/runs/output.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -13,32 +15,6 @@ namespace {
 
 constexpr const char* kPalette[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728",
                                     "#9467bd", "#8c564b", "#e377c2", "#7f7f7f"};
-
-std::string xml_escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      case '\'':
-        out += "&apos;";
-        break;
-      default:
-        if (static_cast<unsigned char>(c) >= 0x20 || c == '\t') out += c;  // XML 1.0 forbids most controls
-    }
-  }
-  return out;
-}
 
 double nice_number(double x, bool round) {
   const double exponent = std::floor(std::log10(x));
@@ -201,30 +177,30 @@ std::string SvgPlot::render() const {
       width_, height_, left, top, pw, ph);
   if (!title_.empty()) {
     svg += fmt::format("<text x=\"{:.2f}\" y=\"25\" text-anchor=\"middle\" font-size=\"15\">{}</text>\n",
-                       left + pw / 2, xml_escape(title_));
+                       left + pw / 2, escape_markup(title_));
   }
   // Grid and tick labels.
   for (double t : ax.ticks) {
     svg += fmt::format(
         "<line x1=\"{0:.2f}\" y1=\"{1:.2f}\" x2=\"{0:.2f}\" y2=\"{2:.2f}\" stroke=\"#e0e0e0\"/>\n"
         "<text x=\"{0:.2f}\" y=\"{3:.2f}\" text-anchor=\"middle\">{4}</text>\n",
-        tx(t), top, top + ph, top + ph + 16, xml_escape(ax.label(t)));
+        tx(t), top, top + ph, top + ph + 16, escape_markup(ax.label(t)));
   }
   for (double t : ay.ticks) {
     svg += fmt::format(
         "<line x1=\"{0:.2f}\" y1=\"{1:.2f}\" x2=\"{2:.2f}\" y2=\"{1:.2f}\" stroke=\"#e0e0e0\"/>\n"
         "<text x=\"{3:.2f}\" y=\"{4:.2f}\" text-anchor=\"end\">{5}</text>\n",
-        left, ty(t), left + pw, left - 6, ty(t) + 4, xml_escape(ay.label(t)));
+        left, ty(t), left + pw, left - 6, ty(t) + 4, escape_markup(ay.label(t)));
   }
   svg += fmt::format(
       "<rect id=\"plot-area\" x=\"{:.2f}\" y=\"{:.2f}\" width=\"{:.2f}\" height=\"{:.2f}\" "
       "fill=\"none\" stroke=\"#333\"/>\n",
       left, top, pw, ph);
   svg += fmt::format("<text x=\"{:.2f}\" y=\"{:.2f}\" text-anchor=\"middle\">{}</text>\n", left + pw / 2,
-                     height_ - 15.0, xml_escape(x_label_));
+                     height_ - 15.0, escape_markup(x_label_));
   svg +=
       fmt::format("<text transform=\"translate(18 {:.2f}) rotate(-90)\" text-anchor=\"middle\">{}</text>\n",
-                  top + ph / 2, xml_escape(y_label_));
+                  top + ph / 2, escape_markup(y_label_));
 
   // Series: bands first, so lines and markers stay on top. Unusable points split a series into runs.
   svg += "<g clip-path=\"url(#plot-clip)\">\n";
@@ -273,7 +249,7 @@ std::string SvgPlot::render() const {
         "stroke=\"#555\" "
         "stroke-dasharray=\"6 4\"/>\n<text x=\"{3:.2f}\" y=\"{4:.2f}\" text-anchor=\"end\" "
         "fill=\"#555\">{5}</text>\n",
-        left, py(r.y), left + pw, left + pw - 4, py(r.y) - 4, xml_escape(r.label));
+        left, py(r.y), left + pw, left + pw - 4, py(r.y) - 4, escape_markup(r.label));
   }
   svg += "</g>\n";
 
@@ -284,14 +260,14 @@ std::string SvgPlot::render() const {
     svg += fmt::format(
         "<line x1=\"{0:.2f}\" y1=\"{1:.2f}\" x2=\"{2:.2f}\" y2=\"{1:.2f}\" stroke=\"{3}\" "
         "stroke-width=\"2\"/>\n<text x=\"{4:.2f}\" y=\"{5:.2f}\">{6}</text>\n",
-        lx, ly, lx + 22, s.color, lx + 28, ly + 4, xml_escape(s.name));
+        lx, ly, lx + 22, s.color, lx + 28, ly + 4, escape_markup(s.name));
     ly += 18;
   }
   for (const auto& r : references_) {
     svg += fmt::format(
         "<line x1=\"{0:.2f}\" y1=\"{1:.2f}\" x2=\"{2:.2f}\" y2=\"{1:.2f}\" stroke=\"#555\" "
         "stroke-dasharray=\"6 4\"/>\n<text x=\"{3:.2f}\" y=\"{4:.2f}\">{5}</text>\n",
-        lx, ly, lx + 22, lx + 28, ly + 4, xml_escape(r.label));
+        lx, ly, lx + 22, lx + 28, ly + 4, escape_markup(r.label));
     ly += 18;
   }
   return svg + "</svg>\n";

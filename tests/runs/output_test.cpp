@@ -89,3 +89,9 @@ TEST(JsonOutput, UnreadableOrInvalidFileNamesTheFile) {
 
 }  // namespace
 }  // namespace pegasus
+
+TEST(EscapeMarkup, EscapesEveryMarkupCharacterAndNothingElse) {
+  EXPECT_EQ(pegasus::escape_markup("a<b> & \"c\" 'd' \u00e9"),
+            "a&lt;b&gt; &amp; &quot;c&quot; &#39;d&#39; \u00e9");
+  EXPECT_EQ(pegasus::escape_markup(""), "");
+}

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <string_view>
 #include <variant>
 #include <vector>
 
@@ -20,6 +21,8 @@ namespace pegasus {
 std::string json_text(const nlohmann::json& value);
 // Parses a JSON file; std::runtime_error naming the file on failure.
 nlohmann::json read_json_file(const std::filesystem::path& file);
+// Text made safe inside markup (SVG, HTML) elements and quoted attributes: & < > " ' escaped.
+std::string escape_markup(std::string_view text);
 
 using CsvCell = std::variant<std::int64_t, double, std::string>;
 
