@@ -125,22 +125,10 @@ TEST_F(BicycleCli, KilledExperimentResumesToTheSameResult) {
   const std::string args = "bicycle experiment --trials 6 --rides 3 --lesson-trials 0 --threads 1" + kSmall;
   ASSERT_EQ(run(args + out("whole")).code, 0);
   const fs::path target = dir_ / "killed";
-  const pid_t child = fork();
-  if (child == 0) {
-    const std::string command = std::string(PEGASUS_CLI_PATH) + " " + args + " --out " + target.string() + " >/dev/null 2>&1";
-    execl("/bin/sh", "sh", "-c", ("exec " + command).c_str(), static_cast<char*>(nullptr));
-    _exit(127);
-  }
-  const fs::path checkpoint = fs::path(target.string() + ".partial") / "checkpoint.json";
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
-  while (!fs::exists(checkpoint) && std::chrono::steady_clock::now() < deadline)
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
-  ASSERT_TRUE(fs::exists(checkpoint));
-  kill(child, SIGKILL);
-  int status = 0;
-  waitpid(child, &status, 0);
   // Five trials remain after the first checkpoint, so the kill always lands mid-run.
-  ASSERT_TRUE(WIFSIGNALED(status)) << "the run finished before it could be killed";
+  ASSERT_EQ(pegasus::test_support::kill_pegasus_after_first_checkpoint(args, target),
+            pegasus::test_support::KillOutcome::kKilled)
+      << "the run left no checkpoint or finished before it could be killed";
   const auto resumed = run(args + " --resume" + out("killed"));
   ASSERT_EQ(resumed.code, 0) << resumed.output;
   for (const char* file : {"summary.json", "rides.csv", "learning_curves.csv", "trials.csv"})

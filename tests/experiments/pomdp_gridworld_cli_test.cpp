@@ -73,21 +73,9 @@ TEST_F(PomdpGridworldCli, KilledRunResumesToTheSameResult) {
   ASSERT_EQ(run(args + " --out " + (dir_ / "whole").string()).code, 0);
 
   const fs::path out = dir_ / "killed";
-  const pid_t child = fork();
-  if (child == 0) {
-    const std::string command = std::string(PEGASUS_CLI_PATH) + " " + args + " --out " + out.string() + " >/dev/null 2>&1";
-    execl("/bin/sh", "sh", "-c", ("exec " + command).c_str(), static_cast<char*>(nullptr));
-    _exit(127);
-  }
-  const fs::path checkpoint = fs::path(out.string() + ".partial") / "checkpoint.json";
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
-  while (!fs::exists(checkpoint) && std::chrono::steady_clock::now() < deadline)
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  ASSERT_TRUE(fs::exists(checkpoint));
-  kill(child, SIGKILL);
-  int status = 0;
-  waitpid(child, &status, 0);
-  ASSERT_TRUE(WIFSIGNALED(status)) << "the run finished before it could be killed";
+  ASSERT_EQ(pegasus::test_support::kill_pegasus_after_first_checkpoint(args, out),
+            pegasus::test_support::KillOutcome::kKilled)
+      << "the run left no checkpoint or finished before it could be killed";
   EXPECT_FALSE(fs::exists(out));
 
   const auto refused = run(args + " --out " + out.string());

@@ -102,23 +102,10 @@ TEST_F(HoverCli, KilledTrainingResumesToTheSamePolicy) {
       "--hill-climbing.proposals 2 --threads 1";
   ASSERT_EQ(run_pegasus(args + out("whole")).code, 0);
   const fs::path target = dir_ / "killed";
-  const pid_t child = fork();
-  if (child == 0) {
-    const std::string command =
-        std::string(PEGASUS_CLI_PATH) + " " + args + " --out " + target.string() + " >/dev/null 2>&1";
-    execl("/bin/sh", "sh", "-c", ("exec " + command).c_str(), static_cast<char*>(nullptr));
-    _exit(127);
-  }
-  const fs::path checkpoint = fs::path(target.string() + ".partial") / "checkpoint.json";
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
-  while (!fs::exists(checkpoint) && std::chrono::steady_clock::now() < deadline)
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  ASSERT_TRUE(fs::exists(checkpoint));
-  kill(child, SIGKILL);
-  int status = 0;
-  waitpid(child, &status, 0);
   // 31 iterations remain after the first checkpoint, so the kill lands mid-run.
-  ASSERT_TRUE(WIFSIGNALED(status)) << "the run finished before it could be killed";
+  ASSERT_EQ(pegasus::test_support::kill_pegasus_after_first_checkpoint(args, target),
+            pegasus::test_support::KillOutcome::kKilled)
+      << "the run left no checkpoint or finished before it could be killed";
   const auto resumed = run_pegasus(args + " --resume" + out("killed"));
   ASSERT_EQ(resumed.code, 0) << resumed.output;
   EXPECT_EQ(read_text(dir_ / "whole" / "policy.json"), read_text(target / "policy.json"));

@@ -4,11 +4,14 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <thread>
 
 namespace pegasus::test_support {
 
@@ -28,6 +31,30 @@ inline CliResult run_pegasus(const std::string& args) {
   const int status = pclose(pipe);
   result.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return result;
+}
+
+enum class KillOutcome { kKilled, kNoCheckpoint, kFinishedFirst };
+
+// Starts `pegasus <args> --out OUT` in a child process, waits (at most 120 s) for OUT.partial/checkpoint.json,
+// then SIGKILLs it: the kill/resume tests' way of interrupting a run after its first checkpoint. kKilled when
+// the kill landed mid-run; kFinishedFirst when the run ended before it.
+inline KillOutcome kill_pegasus_after_first_checkpoint(const std::string& args, const std::filesystem::path& out) {
+  const pid_t child = fork();
+  if (child == 0) {
+    const std::string command = std::string(PEGASUS_CLI_PATH) + " " + args + " --out " + out.string() + " >/dev/null 2>&1";
+    execl("/bin/sh", "sh", "-c", ("exec " + command).c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  const std::filesystem::path checkpoint = std::filesystem::path(out.string() + ".partial") / "checkpoint.json";
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  while (!std::filesystem::exists(checkpoint) && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  const bool checkpointed = std::filesystem::exists(checkpoint);
+  kill(child, SIGKILL);
+  int status = 0;
+  waitpid(child, &status, 0);
+  if (!checkpointed) return KillOutcome::kNoCheckpoint;
+  return WIFSIGNALED(status) ? KillOutcome::kKilled : KillOutcome::kFinishedFirst;
 }
 
 inline std::string read_text(const std::filesystem::path& path) {

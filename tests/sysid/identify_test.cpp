@@ -117,21 +117,10 @@ TEST_F(IdentifyCli, KilledIdentificationResumesToTheSameResult) {
   const auto whole = test_support::run_pegasus(args + " --out " + (dir_ / "whole").string());
   ASSERT_EQ(whole.code, 0) << whole.output;
   const fs::path target = dir_ / "killed";
-  const pid_t child = fork();
-  if (child == 0) {
-    const std::string command = std::string(PEGASUS_CLI_PATH) + " " + args + " --out " + target.string() + " >/dev/null 2>&1";
-    execl("/bin/sh", "sh", "-c", ("exec " + command).c_str(), static_cast<char*>(nullptr));
-    _exit(127);
-  }
+  ASSERT_EQ(pegasus::test_support::kill_pegasus_after_first_checkpoint(args, target),
+            pegasus::test_support::KillOutcome::kKilled)
+      << "the run left no checkpoint or finished before it could be killed";
   const fs::path checkpoint = fs::path(target.string() + ".partial") / "checkpoint.json";
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
-  while (!fs::exists(checkpoint) && std::chrono::steady_clock::now() < deadline)
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
-  ASSERT_TRUE(fs::exists(checkpoint));
-  kill(child, SIGKILL);
-  int status = 0;
-  waitpid(child, &status, 0);
-  ASSERT_TRUE(WIFSIGNALED(status)) << "the run finished before it could be killed";
   const auto saved = nlohmann::json::parse(test_support::read_text(checkpoint));
   const auto steps = saved.at("identify").at("evaluations").size();
   EXPECT_LT(steps, nlohmann::json::parse(test_support::read_text(dir_ / "whole" / "summary.json"))
