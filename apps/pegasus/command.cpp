@@ -217,10 +217,12 @@ int execute(Leaf& leaf, std::vector<std::string> argv, std::ostream& out, std::o
   } catch (const InputError& e) {
     err << "pegasus: " << one_line(e.what()) << std::endl;
     if (running && mpi::size() > 1) {
-      // Bad input is normally met by every rank alike: rank 0 says it and ends the job. A rank alone with it
-      // (a file only its node lacks) says it after a moment.
+      // Bad input is normally met by every rank alike: rank 0 says it and ends the job, which kills this rank
+      // well within the wait below. A rank alone with it (a file only its node lacks) says it after the wait;
+      // the wait is long because Open MPI's abort can take seconds to arrive on a loaded or sandboxed
+      // machine (2 s once let a second copy of the line through in CI).
       if (!mpi::is_root()) {
-        std::this_thread::sleep_for(std::chrono::seconds(2));
+        std::this_thread::sleep_for(std::chrono::seconds(15));
         std::cerr << rank_prefix() << one_line(e.what()) << std::endl;
       }
       mpi::abort_job(2);
