@@ -31,56 +31,6 @@ sysid::LearnedModelOptions learned_options(const HoverTrainingOptions& o) {
   return m;
 }
 
-nlohmann::json history_json(const std::vector<IterationRecord>& h) {
-  nlohmann::json out = nlohmann::json::array();
-  for (const auto& r : h) out.push_back({r.iteration, r.evaluations, DoubleToJson(r.value), r.seconds});
-  return out;
-}
-
-std::vector<IterationRecord> history_from_json(const nlohmann::json& j) {
-  std::vector<IterationRecord> h;
-  for (const auto& r : j)
-    h.push_back({.iteration = r.at(0).get<std::int64_t>(),
-                 .evaluations = r.at(1).get<std::int64_t>(),
-                 .value = DoubleFromJson(r.at(2), "history"),
-                 .seconds = r.at(3).get<double>()});
-  return h;
-}
-
-nlohmann::json summary_json(const OptimizerSummary& s) {
-  return {{"method", s.method},
-          {"termination", std::string(TerminationTypeName(s.termination_type))},
-          {"message", s.message},
-          {"iterations", s.iterations},
-          {"evaluations", s.evaluations},
-          {"initial_value", DoubleToJson(s.initial_value)},
-          {"best_value", DoubleToJson(s.best_value)},
-          {"best_theta", VectorToJson(s.best_theta)},
-          {"final_step", DoubleToJson(s.final_step)},
-          {"wall_seconds", s.wall_seconds},
-          {"history", history_json(s.history)}};
-}
-
-OptimizerSummary summary_from_json(const nlohmann::json& j) {
-  OptimizerSummary s;
-  s.method = j.at("method").get<std::string>();
-  const std::string t = j.at("termination").get<std::string>();
-  for (auto type :
-       {TerminationType::kConvergence, TerminationType::kMaxIterations, TerminationType::kMaxEvaluations,
-        TerminationType::kSearchComplete, TerminationType::kFailure})
-    if (TerminationTypeName(type) == t) s.termination_type = type;
-  s.message = j.at("message").get<std::string>();
-  s.iterations = j.at("iterations").get<std::int64_t>();
-  s.evaluations = j.at("evaluations").get<std::int64_t>();
-  s.initial_value = DoubleFromJson(j.at("initial_value"), "gradient.initial_value");
-  s.best_value = DoubleFromJson(j.at("best_value"), "gradient.best_value");
-  s.best_theta = VectorFromJson(j.at("best_theta"), "gradient.best_theta");
-  s.final_step = DoubleFromJson(j.at("final_step"), "gradient.final_step");
-  s.wall_seconds = j.at("wall_seconds").get<double>();
-  s.history = history_from_json(j.at("history"));
-  return s;
-}
-
 }  // namespace
 
 // ---- Reward -------------------------------------------------------------------------------------------
@@ -230,7 +180,7 @@ HoverTrainingResult train_hover(std::shared_ptr<const sysid::IdentifiedModel> mo
     phase = hooks.resume_from->at("phase").get<int>();
     if (phase != 0 && phase != 1) throw InputError("checkpoint: phase: expected 0 or 1");
     if (!hooks.resume_from->at("optimizer").is_null()) resume = hooks.resume_from->at("optimizer");
-    if (phase == 1) result.gradient = summary_from_json(hooks.resume_from->at("gradient"));
+    if (phase == 1) result.gradient = SummaryFromJson(hooks.resume_from->at("gradient"), "gradient");
   }
   auto checkpointing = [&](OptimizerOptions& opt, int current, const nlohmann::json& gradient) {
     opt.hill_climbing.seed =
@@ -255,7 +205,7 @@ HoverTrainingResult train_hover(std::shared_ptr<const sysid::IdentifiedModel> mo
     resume.reset();
     if (two_phases && hooks.on_checkpoint)
       hooks.on_checkpoint(
-          {{"phase", 1}, {"optimizer", nullptr}, {"gradient", summary_json(result.gradient)}});
+          {{"phase", 1}, {"optimizer", nullptr}, {"gradient", SummaryToJson(result.gradient)}});
   } else {
     theta = result.gradient.best_theta;
   }
@@ -263,7 +213,7 @@ HoverTrainingResult train_hover(std::shared_ptr<const sysid::IdentifiedModel> mo
   if (two_phases) {
     OptimizerOptions opt = o.optimizer;
     opt.method = "hill-climb";
-    checkpointing(opt, 1, summary_json(result.gradient));
+    checkpointing(opt, 1, SummaryToJson(result.gradient));
     OptimizerSummary s;
     Solve(opt, *objective, &theta, &s);
     result.hill_climb = std::move(s);

@@ -45,6 +45,46 @@ std::vector<double> VectorFromJson(const json& values, std::string_view field) {
   return out;
 }
 
+json SummaryToJson(const OptimizerSummary& s) {
+  json history = json::array();
+  for (const auto& r : s.history) history.push_back({r.iteration, r.evaluations, DoubleToJson(r.value), r.seconds});
+  return {{"method", s.method},
+          {"termination", std::string(TerminationTypeName(s.termination_type))},
+          {"message", s.message},
+          {"iterations", s.iterations},
+          {"evaluations", s.evaluations},
+          {"initial_value", DoubleToJson(s.initial_value)},
+          {"best_value", DoubleToJson(s.best_value)},
+          {"best_theta", VectorToJson(s.best_theta)},
+          {"final_step", DoubleToJson(s.final_step)},
+          {"wall_seconds", s.wall_seconds},
+          {"history", history}};
+}
+
+OptimizerSummary SummaryFromJson(const json& j, std::string_view field) {
+  const std::string f(field);
+  OptimizerSummary s;
+  s.method = j.at("method").get<std::string>();
+  const std::string t = j.at("termination").get<std::string>();
+  for (auto type : {TerminationType::kConvergence, TerminationType::kMaxIterations, TerminationType::kMaxEvaluations,
+                    TerminationType::kSearchComplete, TerminationType::kFailure})
+    if (TerminationTypeName(type) == t) s.termination_type = type;
+  s.message = j.at("message").get<std::string>();
+  s.iterations = j.at("iterations").get<std::int64_t>();
+  s.evaluations = j.at("evaluations").get<std::int64_t>();
+  s.initial_value = DoubleFromJson(j.at("initial_value"), f + ".initial_value");
+  s.best_value = DoubleFromJson(j.at("best_value"), f + ".best_value");
+  s.best_theta = VectorFromJson(j.at("best_theta"), f + ".best_theta");
+  s.final_step = DoubleFromJson(j.at("final_step"), f + ".final_step");
+  s.wall_seconds = j.at("wall_seconds").get<double>();
+  for (const auto& r : j.at("history"))
+    s.history.push_back({.iteration = r.at(0).get<std::int64_t>(),
+                         .evaluations = r.at(1).get<std::int64_t>(),
+                         .value = DoubleFromJson(r.at(2), f + ".history"),
+                         .seconds = r.at(3).get<double>()});
+  return s;
+}
+
 namespace {
 
 const json& Field(const json& object, const char* name, std::string_view context) {

@@ -127,6 +127,29 @@ json WithoutSeconds(json checkpoint) {
   return checkpoint;
 }
 
+TEST(CheckpointJson, AFinishedSummaryRoundTripsThroughJsonText) {
+  ParameterSpec spec;
+  spec.add({.name = "x", .initial = -1.0, .lower = -3.0, .upper = 3.0, .scale = 0.5});
+  spec.add({.name = "y", .initial = 2.0, .lower = -3.0, .upper = 3.0, .scale = 0.5});
+  auto objective = ConcaveQuadratic(spec, {0.3, -0.7}, {1.0, 2.0});
+  OptimizerOptions options;
+  options.method = "hill-climb";
+  options.hill_climbing.max_iterations = 25;
+  options.hill_climbing.proposals_per_iteration = 3;
+  Theta theta;
+  OptimizerSummary summary;
+  Solve(options, objective, &theta, &summary);
+  ASSERT_EQ(summary.history.size(), 25u);
+  const OptimizerSummary read = SummaryFromJson(json::parse(SummaryToJson(summary).dump()), "stage");
+  std::string difference;
+  EXPECT_TRUE(SameOutcome(read, summary, &difference)) << difference;
+  EXPECT_EQ(read.wall_seconds, summary.wall_seconds);
+  json bad = SummaryToJson(summary);
+  bad["best_value"] = "many";
+  EXPECT_THAT([&] { SummaryFromJson(bad, "stage"); },
+              ::testing::ThrowsMessage<InputError>(HasSubstr("stage.best_value")));
+}
+
 TEST(CheckpointResume, EveryMethodEndsBitIdenticallyWhenResumedFromAnyOfSeveralCheckpoints) {
   for (const auto& c : EveryMethod()) {
     SCOPED_TRACE(c.method);

@@ -42,6 +42,12 @@ double DoubleFromJson(const nlohmann::json& value, std::string_view field);
 nlohmann::json VectorToJson(std::span<const double> values);
 std::vector<double> VectorFromJson(const nlohmann::json& values, std::string_view field);
 
+// A finished run's summary as JSON and back, for tasks that chain optimizer runs and must checkpoint the
+// earlier ones: method, termination, message, iterations, evaluations, initial_value, best_value,
+// best_theta, final_step, wall_seconds, history. `field` prefixes the names in the InputError of a bad value.
+nlohmann::json SummaryToJson(const OptimizerSummary& summary);
+OptimizerSummary SummaryFromJson(const nlohmann::json& summary, std::string_view field);
+
 // The "method" of a checkpoint, so a caller can pick the optimizer that wrote it. Throws InputError when
 // the JSON is not a checkpoint.
 std::string CheckpointMethod(const nlohmann::json& checkpoint);
