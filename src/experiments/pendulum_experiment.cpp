@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <ctime>
 #include <cmath>
@@ -29,37 +30,45 @@ std::shared_ptr<ThreadPool> borrow_pool(ThreadPool* pool, int threads) {
 
 using Evaluator = PegasusEvaluator<Pendulum, PendulumSwingUpPolicy>;
 
-Evaluator episodes_evaluator(int episodes, int horizon, std::uint64_t seed, ScenarioVariant variant) {
-  return Evaluator(Pendulum{}, PendulumSwingUpPolicy{},
+Evaluator episodes_evaluator(int episodes, int horizon, std::uint64_t seed, ScenarioVariant variant,
+                             bool refinements = true) {
+  return Evaluator(Pendulum{}, PendulumSwingUpPolicy(refinements),
                    ScenarioSet({.seed = seed, .count = episodes, .horizon = horizon, .noise_dim = 0,
                                 .initial_noise_dim = 2, .variant = variant}),
                    Discounting{.gamma = 1.0, .horizon = horizon});
 }
 
 // The training objective seen through a window: each new best U-hat is checked against the bar on the
-// evaluation episodes, until the bar is reached. Values pass through unchanged, so the search is the same
-// with or without the watch.
+// evaluation episodes (the theta padded with zeros to the full class), until the bar is reached. Values
+// pass through unchanged, so the search is the same with or without the watch. One watch serves both
+// stages (watch(), which also forgets the best U-hat: the stages' scenario sets differ), so the clocks and
+// the evaluation count run on across them.
 class BarWatch final : public Objective {
  public:
-  BarWatch(Objective& inner, const Evaluator& evaluation, ThreadPool* pool, double bar, double seconds_before,
+  BarWatch(const Evaluator& evaluation, ThreadPool* pool, double bar, double seconds_before,
            double cpu_seconds_before, std::int64_t evaluations_before, PendulumTrainingResult& result)
-      : inner_(inner), evaluation_(evaluation), pool_(pool), bar_(bar), seconds_before_(seconds_before),
+      : evaluation_(evaluation), pool_(pool), bar_(bar), seconds_before_(seconds_before),
         cpu_seconds_before_(cpu_seconds_before), evaluations_(evaluations_before), result_(result),
         start_(Clock::now()), cpu_start_(std::clock()) {}
 
-  const ParameterSpec& parameters() const override { return inner_.parameters(); }
+  void watch(Objective& inner) {
+    inner_ = &inner;
+    best_ = -std::numeric_limits<double>::infinity();
+  }
+  const ParameterSpec& parameters() const override { return inner_->parameters(); }
   std::int64_t evaluations() const { return evaluations_; }
+  double seconds() const { return seconds_before_ + std::chrono::duration<double>(Clock::now() - start_).count(); }
   double cpu_seconds() const {
     return cpu_seconds_before_ + static_cast<double>(std::clock() - cpu_start_) / CLOCKS_PER_SEC;
   }
   double evaluate(std::span<const double> theta) override {
-    const double v = inner_.evaluate(theta);
+    const double v = inner_->evaluate(theta);
     ++evaluations_;
     note(theta, v);
     return v;
   }
   void evaluate_batch(std::span<const Theta> thetas, std::span<double> values) override {
-    inner_.evaluate_batch(thetas, values);
+    inner_->evaluate_batch(thetas, values);
     evaluations_ += static_cast<std::int64_t>(thetas.size());
     std::size_t best = thetas.size();
     for (std::size_t k = 0; k < thetas.size(); ++k)
@@ -71,8 +80,8 @@ class BarWatch final : public Objective {
   void note(std::span<const double> theta, double v) {
     if (!(v > best_) || result_.evaluations_to_bar >= 0) return;
     best_ = v;
-    const double mean = evaluation_.evaluate(theta, pool_);
-    const double seconds = seconds_before_ + std::chrono::duration<double>(Clock::now() - start_).count();
+    const double mean = evaluation_.evaluate(pendulum_full_theta(theta), pool_);
+    const double seconds = this->seconds();
     result_.checks.push_back({seconds, evaluations_, v, mean});
     if (mean >= bar_) {
       result_.seconds_to_bar = seconds;
@@ -81,7 +90,7 @@ class BarWatch final : public Objective {
     }
   }
 
-  Objective& inner_;
+  Objective* inner_ = nullptr;
   const Evaluator& evaluation_;
   ThreadPool* pool_;
   double bar_, seconds_before_, cpu_seconds_before_;
@@ -100,6 +109,12 @@ nlohmann::json checks_json(const std::vector<PendulumBarCheck>& checks) {
 
 }  // namespace
 
+Theta pendulum_full_theta(std::span<const double> theta) {
+  Theta full = PendulumSwingUpPolicy().parameters().initial();
+  std::copy_n(theta.begin(), std::min(theta.size(), full.size()), full.begin());
+  return full;
+}
+
 OptimizerOptions PendulumTrainingOptions::default_optimizer() {
   OptimizerOptions o;
   o.method = "hill-climb";
@@ -114,8 +129,18 @@ OptimizerOptions PendulumTrainingOptions::default_optimizer() {
   return o;
 }
 
+OptimizerOptions PendulumTrainingOptions::default_refine_optimizer() {
+  OptimizerOptions o = default_optimizer();
+  o.hill_climbing.max_iterations = 100;
+  o.hill_climbing.initial_step = 0.3;
+  o.hill_climbing.max_step = 1.0;
+  return o;
+}
+
 bool PendulumTrainingOptions::IsValid(std::string* error) const {
   if (scenarios < 1) return fail(error, fmt::format("scenarios: expected an integer >= 1, got {}", scenarios));
+  if (refine_scenarios < 0)
+    return fail(error, fmt::format("refine_scenarios: expected an integer >= 0, got {}", refine_scenarios));
   if (horizon < 1) return fail(error, fmt::format("horizon: expected an integer >= 1, got {}", horizon));
   if (evaluation_episodes < 1)
     return fail(error, fmt::format("evaluation_episodes: expected an integer >= 1, got {}", evaluation_episodes));
@@ -123,10 +148,12 @@ bool PendulumTrainingOptions::IsValid(std::string* error) const {
   if (threads < 1) return fail(error, fmt::format("threads: expected an integer >= 1, got {}", threads));
   std::string inner;
   if (!optimizer.IsValid(&inner)) return fail(error, "optimizer." + inner);
+  if (refine_scenarios > 0 && !refine_optimizer.IsValid(&inner)) return fail(error, "refine_optimizer." + inner);
   return true;
 }
 
 std::uint64_t pendulum_evaluation_seed(std::uint64_t seed) { return mix_seed(seed, 0x4576616c);  /* "Eval" */ }
+std::uint64_t pendulum_large_evaluation_seed(std::uint64_t seed) { return mix_seed(seed, 0x4c617267); /* "Larg" */ }
 
 std::vector<double> pendulum_episode_returns(const Theta& theta, int episodes, std::uint64_t seed, ThreadPool* pool) {
   const Evaluator evaluator = episodes_evaluator(episodes, PendulumConstants::episode_steps, seed, ScenarioVariant::kPlain);
@@ -143,16 +170,16 @@ PendulumTrainingResult train_pendulum(const PendulumTrainingOptions& options, co
   std::string error;
   if (!options.IsValid(&error)) throw InputError("pendulum training: " + error);
   auto shared_pool = borrow_pool(pool, options.threads);
-  PegasusObjective<Pendulum, PendulumSwingUpPolicy> objective(
-      episodes_evaluator(options.scenarios, options.horizon, options.seed, options.variant), shared_pool);
   const Evaluator evaluation = episodes_evaluator(options.evaluation_episodes, PendulumConstants::episode_steps,
                                                   pendulum_evaluation_seed(options.seed), ScenarioVariant::kPlain);
+  const bool refine = options.refine_scenarios > 0;
 
   PendulumTrainingResult result;
   result.seconds_to_bar = std::numeric_limits<double>::quiet_NaN();
   result.cpu_seconds_to_bar = std::numeric_limits<double>::quiet_NaN();
   double seconds_before = 0.0, cpu_seconds_before = 0.0;
   std::int64_t evaluations_before = 0;
+  int stage = 1;
   std::optional<nlohmann::json> optimizer_resume;
   if (hooks.resume_from) {
     const nlohmann::json& bar = hooks.resume_from->at("bar");
@@ -167,38 +194,69 @@ PendulumTrainingResult train_pendulum(const PendulumTrainingOptions& options, co
       result.cpu_seconds_to_bar = bar.at("cpu_seconds_to_bar").get<double>();
       result.evaluations_to_bar = bar.at("evaluations_to_bar").get<std::int64_t>();
     }
-    optimizer_resume = hooks.resume_from->at("optimizer");
+    stage = hooks.resume_from->value("stage", 1);
+    if (stage != 1 && (stage != 2 || !refine))
+      throw InputError(fmt::format("checkpoint stage: expected 1{}, got {}", refine ? " or 2" : "", stage));
+    if (stage == 2) result.summary = SummaryFromJson(hooks.resume_from->at("race"), "race");
+    if (!hooks.resume_from->at("optimizer").is_null()) optimizer_resume = hooks.resume_from->at("optimizer");
   }
-  BarWatch watch(objective, evaluation, shared_pool.get(), options.bar, seconds_before, cpu_seconds_before,
-                 evaluations_before, result);
-  const auto start = Clock::now();
+  BarWatch watch(evaluation, shared_pool.get(), options.bar, seconds_before, cpu_seconds_before, evaluations_before,
+                 result);
+  const bool checkpointing = hooks.on_checkpoint && hooks.checkpoint_every > 0;
+  auto checkpoint = [&](int current, const nlohmann::json& optimizer_state) {
+    const bool reached = result.evaluations_to_bar >= 0;
+    nlohmann::json state = {
+        {"stage", current},
+        {"optimizer", optimizer_state},
+        {"bar",
+         {{"seconds", watch.seconds()},
+          {"cpu_seconds", watch.cpu_seconds()},
+          {"evaluations", watch.evaluations()},
+          {"checks", checks_json(result.checks)},
+          {"seconds_to_bar", reached ? nlohmann::json(result.seconds_to_bar) : nlohmann::json(nullptr)},
+          {"cpu_seconds_to_bar", reached ? nlohmann::json(result.cpu_seconds_to_bar) : nlohmann::json(nullptr)},
+          {"evaluations_to_bar", result.evaluations_to_bar}}}};
+    if (current == 2) state["race"] = SummaryToJson(result.summary);
+    hooks.on_checkpoint(state);
+  };
 
-  OptimizerOptions optimizer = options.optimizer;
-  optimizer.hill_climbing.seed = mix_seed(options.seed, 0x48696c6c);  // hill climbing's own stream
-  optimizer.nlopt.seed = mix_seed(options.seed, 0x4e4c6f70);
-  if (hooks.on_checkpoint && hooks.checkpoint_every > 0) {
-    optimizer.SetCheckpointing(
-        hooks.checkpoint_every,
-        [&](const nlohmann::json& state) {
-          const double seconds = seconds_before + std::chrono::duration<double>(Clock::now() - start).count();
-          const bool reached = result.evaluations_to_bar >= 0;
-          hooks.on_checkpoint(
-              {{"optimizer", state},
-               {"bar",
-                {{"seconds", seconds},
-                 {"cpu_seconds", watch.cpu_seconds()},
-                 {"evaluations", watch.evaluations()},
-                 {"checks", checks_json(result.checks)},
-                 {"seconds_to_bar", reached ? nlohmann::json(result.seconds_to_bar) : nlohmann::json(nullptr)},
-                 {"cpu_seconds_to_bar", reached ? nlohmann::json(result.cpu_seconds_to_bar) : nlohmann::json(nullptr)},
-                 {"evaluations_to_bar", result.evaluations_to_bar}}}});
-        },
-        optimizer_resume);
+  if (stage == 1) {
+    PegasusObjective<Pendulum, PendulumSwingUpPolicy> race(
+        episodes_evaluator(options.scenarios, options.horizon, options.seed, options.variant, false), shared_pool);
+    watch.watch(race);
+    OptimizerOptions optimizer = options.optimizer;
+    optimizer.hill_climbing.seed = mix_seed(options.seed, 0x48696c6c);  // hill climbing's own stream
+    optimizer.nlopt.seed = mix_seed(options.seed, 0x4e4c6f70);
+    if (checkpointing)
+      optimizer.SetCheckpointing(
+          hooks.checkpoint_every, [&](const nlohmann::json& state) { checkpoint(1, state); }, optimizer_resume);
+    Theta theta = race.parameters().initial();
+    Solve(optimizer, watch, &theta, &result.summary);
+    optimizer_resume.reset();
+    if (refine && checkpointing) checkpoint(2, nullptr);
   }
-  result.theta = PendulumSwingUpPolicy().parameters().initial();
-  Solve(optimizer, watch, &result.theta, &result.summary);
-  if (!result.summary.best_theta.empty()) result.theta = result.summary.best_theta;
-  result.mean_return_100 = evaluation.evaluate(result.theta, shared_pool.get());
+  const Theta race_theta = pendulum_full_theta(result.summary.best_theta);
+  result.race_mean_return_100 = evaluation.evaluate(race_theta, shared_pool.get());
+  result.theta = race_theta;
+
+  if (refine) {
+    PegasusObjective<Pendulum, PendulumSwingUpPolicy> refinement(
+        episodes_evaluator(options.refine_scenarios, options.horizon, mix_seed(options.seed, 0x52656669),  // "Refi"
+                           options.variant),
+        shared_pool);
+    watch.watch(refinement);
+    OptimizerOptions optimizer = options.refine_optimizer;
+    optimizer.hill_climbing.seed = mix_seed(options.seed, 0x52486c6c);  // "RHll"
+    optimizer.nlopt.seed = mix_seed(options.seed, 0x524e4c6f);
+    if (checkpointing)
+      optimizer.SetCheckpointing(
+          hooks.checkpoint_every, [&](const nlohmann::json& state) { checkpoint(2, state); }, optimizer_resume);
+    Theta theta = race_theta;
+    Solve(optimizer, watch, &theta, &result.refine_summary);
+    if (!result.refine_summary.best_theta.empty()) result.theta = result.refine_summary.best_theta;
+  }
+  result.mean_return_100 =
+      refine ? evaluation.evaluate(result.theta, shared_pool.get()) : result.race_mean_return_100;
   return result;
 }
 

@@ -20,7 +20,7 @@ class PendulumCli : public pegasus::test_support::TempDirTest {
   std::string out(const std::string& name) const { return " --out " + (dir_ / name).string(); }
 };
 
-const std::string kSmall = " --scenarios 16 --iterations 40 --quiet --seed 3";
+const std::string kSmall = " --scenarios 16 --iterations 40 --refine-scenarios 24 --refine-iterations 8 --quiet --seed 3";
 
 TEST_F(PendulumCli, TrainWritesTheDocumentedSummaryAndClearsTheBar) {
   const auto r = run_pegasus("pendulum train --config " + std::string(PEGASUS_SOURCE_DIR) +
@@ -28,15 +28,23 @@ TEST_F(PendulumCli, TrainWritesTheDocumentedSummaryAndClearsTheBar) {
   ASSERT_EQ(r.code, 0) << r.output;
   const auto s = read_json(dir_ / "run" / "summary.json");
   for (const char* key : {"mean_return_100", "seconds_to_bar", "evaluations_to_bar", "training_seconds", "bar",
-                          "evaluation_episodes", "initial_uhat", "final_uhat", "iterations", "evaluations"})
+                          "evaluation_episodes", "initial_uhat", "final_uhat", "iterations", "evaluations",
+                          "race_mean_return_100", "mean_return_5000", "refine_scenarios", "refine_initial_uhat",
+                          "refine_final_uhat", "refine_iterations", "refine_evaluations", "refine_seconds"})
     EXPECT_TRUE(s.contains(key)) << key;
   EXPECT_GE(s["mean_return_100"].get<double>(), -200.0);
+  EXPECT_GE(s["mean_return_5000"].get<double>(), -200.0);
+  EXPECT_EQ(s["refine_scenarios"], 24);
+  EXPECT_EQ(s["refine_iterations"], 8);
+  EXPECT_GE(s["refine_final_uhat"].get<double>(), s["refine_initial_uhat"].get<double>());
   EXPECT_GT(s["seconds_to_bar"].get<double>(), 0.0);
   EXPECT_LT(s["initial_uhat"].get<double>(), -1000.0);  // no torque at all: the pendulum only swings
   EXPECT_GT(s["final_uhat"].get<double>(), s["initial_uhat"].get<double>());
   const auto policy = read_json(dir_ / "run" / "policy.json");
   EXPECT_EQ(policy["policy"], "pendulum-swing-up");
-  EXPECT_EQ(policy["parameters"].size(), 5u);
+  EXPECT_EQ(policy["parameters"].size(), 7u);
+  EXPECT_TRUE(policy["parameters"].contains("swing.lead"));
+  EXPECT_TRUE(policy["parameters"].contains("stabilise.skew"));
   for (const char* file : {"learning_curve.csv", "bar_checks.csv", "episode_returns.csv", "learning_curve.svg"})
     EXPECT_TRUE(fs::exists(dir_ / "run" / file)) << file;
 }
@@ -49,6 +57,7 @@ TEST_F(PendulumCli, ThreadCountNeverChangesTheResult) {
     s->erase("seconds_to_bar");
     s->erase("cpu_seconds_to_bar");
     s->erase("training_seconds");
+    s->erase("refine_seconds");
   }
   EXPECT_EQ(a, b);
   EXPECT_EQ(read_json(dir_ / "a" / "policy.json"), read_json(dir_ / "b" / "policy.json"));
