@@ -61,7 +61,7 @@ BENCHMARK(BM_PendulumUhat_m32_H200)->Arg(1)->Arg(2)->ArgName("threads")->Unit(be
 
 // The race: the default search of `pegasus pendulum train` (the race: five numbers on m = 32 stratified
 // starts, hill climbing, 150 x 8 proposals, from all gains zero; then the refinement of all seven numbers
-// on m = 256, 100 x 8) on one thread, for training seeds 1, 2, 3. Counters: seconds_to_bar (wall time until
+// on m = 256, 60 x 8) on one thread, for training seeds 1, 2, 3. Counters: seconds_to_bar (wall time until
 // the mean return over 100 fresh starts first reached -200, those checks included; cpu_seconds_to_bar the
 // processor time until then, robust on a shared machine), race_mean_return_100 (the race's policy on
 // those starts), mean_return_100 (final policy, same starts), mean_return_5000 (final policy on 5000

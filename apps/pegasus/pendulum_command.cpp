@@ -27,7 +27,7 @@ void declare_training(ConfigSchema& s) {
   s.add_int("refine_scenarios", 256, "scenarios of the refinement of all seven numbers (0: no refinement)")
       .min(0)
       .max(1000000);
-  s.add_int("refine_iterations", 100, "hill-climbing iterations of the refinement at most").min(0).max(1000000);
+  s.add_int("refine_iterations", 60, "hill-climbing iterations of the refinement at most").min(0).max(1000000);
   s.add_double("refine_initial_step", 0.3, "first perturbation size of the refinement (scaled units)")
       .greater_than(0)
       .max(1);

@@ -131,7 +131,7 @@ OptimizerOptions PendulumTrainingOptions::default_optimizer() {
 
 OptimizerOptions PendulumTrainingOptions::default_refine_optimizer() {
   OptimizerOptions o = default_optimizer();
-  o.hill_climbing.max_iterations = 100;
+  o.hill_climbing.max_iterations = 60;
   o.hill_climbing.initial_step = 0.3;
   o.hill_climbing.max_step = 1.0;
   return o;
