@@ -15,6 +15,34 @@ constexpr double kFar = 1e150;  // padding coordinate: d^2 ~ 1e300, weight 0
 
 std::atomic<int> g_forced{static_cast<int>(SimdPath::kAuto)};
 
+// The inverse of a symmetric positive definite matrix a (Jacobi-scaled X'WX) from its Cholesky factor L
+// (Eigen): the rows of L^-1 by forward substitution, all columns at once, then a^-1 = L^-T L^-1. Gives L^-1
+// (for leverages x'a^-1 x = |L^-1 x|^2) and the exact 1-norm reciprocal condition number
+// 1 / (|a|_1 |a^-1|_1); false (rcond 0) when the factorisation meets a pivot that is not positive. Both paths
+// (fit and fit_exact) solve through here, so they differ only by their Gram sums. An explicit inverse rather
+// than Eigen's triangular solves and condition estimate: those run one dependent chain at a time and took
+// 3.4 us of a 27 us refit (14 inputs, 6 outputs); this takes about 1 us.
+template <class Mat>
+bool spd_inverse(const Mat& a, Mat* inverse, Mat* inverse_factor, double* rcond) {
+  *rcond = 0;
+  const Eigen::LLT<Mat> llt(a);
+  if (llt.info() != Eigen::Success) return false;
+  const auto& l = llt.matrixLLT();  // lower triangle
+  const Eigen::Index n = a.rows();
+  Eigen::Matrix<double, Mat::RowsAtCompileTime, Mat::ColsAtCompileTime, Eigen::RowMajor, Mat::MaxRowsAtCompileTime,
+                Mat::MaxColsAtCompileTime>
+      x = Mat::Identity(n, n);
+  for (Eigen::Index j = 0; j < n; ++j) {
+    x.row(j) /= l(j, j);
+    for (Eigen::Index i = j + 1; i < n; ++i) x.row(i) -= l(i, j) * x.row(j);
+  }
+  inverse->noalias() = x.transpose() * x;
+  *inverse_factor = x;
+  const double norms = a.cwiseAbs().colwise().sum().maxCoeff() * inverse->cwiseAbs().colwise().sum().maxCoeff();
+  *rcond = norms > 0 && std::isfinite(norms) ? 1 / norms : 0;
+  return true;
+}
+
 SimdPath detect() {
 #if defined(__x86_64__) && defined(__GNUC__)
   __builtin_cpu_init();
@@ -103,7 +131,7 @@ LocalRegression::LocalRegression(const Dataset* data, const std::array<OutputTem
       z[static_cast<std::size_t>(i) * und + d] = data_->x(i, dims_[d]) * inv_h_[static_cast<std::size_t>(dims_[d])];
   build(0, n, 0, z);
   leaf_begin_.push_back(n);
-  // Structure-of-arrays copies in tree order (lwr_kernel.hpp): the Gram columns, then the kernel-only inputs.
+  // Blocked copies in tree order (lwr_kernel.hpp): the Gram columns, then the kernel-only inputs.
   const int n_pad = (n + detail::kLanes - 1) / detail::kLanes * detail::kLanes;
   const int leaves = static_cast<int>(leaf_begin_.size()) - 1;
   const int leaves_pad = (leaves + detail::kLanes - 1) / detail::kLanes * detail::kLanes;
@@ -127,12 +155,14 @@ LocalRegression::LocalRegression(const Dataset* data, const std::array<OutputTem
   row_ = aligned_columns(np);
   box_lo_ = aligned_columns(und * lp);
   box_hi_ = aligned_columns(und * lp);
+  const std::size_t stride = source.size() * detail::kLanes;
   for (std::size_t i = 0; i < np; ++i) {
     const bool real = i < static_cast<std::size_t>(n);
     const int r = real ? perm_[i] : -1;
     row_[i] = r;
     for (std::size_t c = 0; c < source.size(); ++c)
-      a_[c * np + i] = !real ? 0.0 : source[c] >= 0 ? data_->x(r, source[c]) : data_->y(r, ~source[c]);
+      a_[i / detail::kLanes * stride + c * detail::kLanes + i % detail::kLanes] =
+          !real ? 0.0 : source[c] >= 0 ? data_->x(r, source[c]) : data_->y(r, ~source[c]);
   }
   for (std::size_t l = 0; l < lp; ++l)
     for (std::size_t d = 0; d < und; ++d) {
@@ -151,6 +181,7 @@ LocalRegression::LocalRegression(const Dataset* data, const std::array<OutputTem
     }
   kd_.n = n;
   kd_.n_pad = n_pad;
+  kd_.stride = static_cast<int>(stride);
   kd_.nd = nd;
   kd_.m = gram_m_;
   kd_.ncols = ncols;
@@ -234,17 +265,18 @@ void LocalRegression::solve(const Gram& g, const Cross& b, const InputVec& q, Lo
       bs[r] = b(idx[r], k) / d[r];
       dq[r] = q[idx[r]] / d[r];
     }
-    Eigen::LLT<decltype(gs)> llt(gs);
-    const double rc = llt.info() == Eigen::Success ? llt.rcond() : 0.0;
+    decltype(gs) inverse(m, m), inverse_factor(m, m);
+    double rc = 0;
+    spd_inverse(gs, &inverse, &inverse_factor, &rc);
     fit->rcond = first ? rc : std::min(fit->rcond, rc);
     first = false;
     if (!(rc >= kSingularRcond)) {
       fit->singular = true;
       return;
     }
-    const auto sol = llt.solve(bs).eval();
+    const auto sol = (inverse * bs).eval();
     for (int r = 0; r < m; ++r) beta[idx[r]] = sol[r] / d[r];
-    fit->leverage[k] = dq.dot(llt.solve(dq));
+    fit->leverage[k] = (inverse_factor * dq).squaredNorm();
   }
 }
 
@@ -266,15 +298,16 @@ bool LocalRegression::solve_group(const detail::KernelResult& k, const Group& gr
     for (int c = 0; c < m; ++c) gs(r, c) = g(row(r), row(c)) / (d[r] * d[c]);
     dq[r] = q[grp.inputs[static_cast<std::size_t>(r)]] / d[r];
   }
-  const Eigen::LLT<Mat> llt(gs);
-  const double rc = llt.info() == Eigen::Success ? llt.rcond() : 0.0;
+  Mat inverse(m, m), inverse_factor(m, m);
+  double rc = 0;
+  spd_inverse(gs, &inverse, &inverse_factor, &rc);
   fit->rcond = first ? rc : std::min(fit->rcond, rc);
   if (!(rc >= kSingularRcond)) return false;
-  const double leverage = dq.dot(llt.solve(dq));
+  const double leverage = (inverse_factor * dq).squaredNorm();
   for (int o = 0; o < grp.count; ++o) {
     const int out = grp.outputs[static_cast<std::size_t>(o)];
     for (int r = 0; r < m; ++r) bs[r] = g(row(r), grp.columns[static_cast<std::size_t>(o)]) / d[r];
-    const Vec sol = llt.solve(bs);
+    const Vec sol = inverse * bs;
     auto& beta = fit->beta[static_cast<std::size_t>(out)];
     for (int r = 0; r < m; ++r) beta[grp.inputs[static_cast<std::size_t>(r)]] = sol[r] / d[r];
     fit->leverage[out] = leverage;
@@ -282,9 +315,8 @@ bool LocalRegression::solve_group(const detail::KernelResult& k, const Group& gr
   return true;
 }
 
-// The fast path's solve: one Jacobi-scaled Cholesky factorisation per group of outputs with the same free
-// inputs (the same arithmetic as solve() for each output); fixed-size matrices for the 14 free inputs of the
-// §5.2.2 template. The solve is about 5% of a refit's instructions (callgrind), the Gram kernel the rest.
+// The fast path's solve: one Jacobi-scaled inverse per group of outputs with the same free inputs (the same
+// arithmetic as solve() for each output); fixed-size matrices for the 14 free inputs of the §5.2.2 template.
 void LocalRegression::solve_groups(const detail::KernelResult& k, const InputVec& q, LocalFit* fit) const {
   for (auto& beta : fit->beta) beta.setZero();
   for (int gi = 0; gi < group_count_; ++gi) {

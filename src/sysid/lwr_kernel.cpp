@@ -116,6 +116,7 @@ inline V pow2_magic(V nm) {
   }
   return r;
 }
+constexpr int kDistanceBlock = 2;
 #include "lwr_kernel.inc"
 }  // namespace scalar_isa
 
@@ -153,6 +154,7 @@ inline __m256d pow2_half(__m256d nm) {
   return _mm256_castsi256_pd(_mm256_slli_epi64(e, 52));
 }
 inline V pow2_magic(V nm) { return {pow2_half(nm.lo), pow2_half(nm.hi)}; }
+constexpr int kDistanceBlock = 4;  // 8 accumulators of 16 registers
 #include "lwr_kernel.inc"
 }  // namespace avx2_isa
 #pragma GCC pop_options
@@ -182,6 +184,7 @@ inline V pow2_magic(V nm) {
   const __m512i e = _mm512_sub_epi64(_mm512_castpd_si512(nm.v), _mm512_set1_epi64(kPow2Bias));
   return {_mm512_castsi512_pd(_mm512_mask_slli_epi64(e, 0xFF, e, 52))};
 }
+constexpr int kDistanceBlock = 8;  // 8 accumulators of 32 registers
 #include "lwr_kernel.inc"
 }  // namespace avx512_isa
 #pragma GCC pop_options

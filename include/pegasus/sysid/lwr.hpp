@@ -13,16 +13,18 @@
 // summation orders of the Gram sums agree better than the condition number times the rounding (tests/sysid):
 //   fit_exact: the plain reference: every point, std::exp, one normal-equation system per output;
 //   fit:       the fast one (lwr_kernel.hpp): the weighted Gram matrix of the inputs some output regresses on
-//              and the outputs, accumulated once for all outputs over structure-of-arrays data in k-d tree
+//              and the outputs, accumulated once for all outputs over data blocked by 8 points in k-d tree
 //              order, 8 points per vector (AVX-512, AVX2+FMA or scalar, chosen at run time; all give the same
-//              bits), with its own exp; the upper triangle only; outputs that regress on the same inputs (all
-//              six free outputs of the §5.2.2 template) share one Cholesky factorisation. Points whose weight
+//              bits), with its own exp, as sum_i (sqrt(w_i) a_i)(sqrt(w_i) a_i)'; the upper triangle only;
+//              outputs that regress on the same inputs (all six free outputs of the §5.2.2 template) share
+//              one inverse. Points whose weight
 //              is below 1e-16 of the largest weight (d^2 > d_min^2 + 2 ln 1e16) are skipped, by whole leaves
 //              where a leaf's bounding box is that far; at the bandwidths cross-validation picks on the shipped
 //              flights every point counts. fit allocates nothing; fit_exact does.
 // A refit depends only on the query (and the window), never on earlier refits or on threads.
-// X'WX counts as singular to numerical precision when a diagonal entry is 0 or the Jacobi-scaled matrix has
-// reciprocal condition number below kSingularRcond.
+// Both paths solve through one explicit inverse of the Jacobi-scaled X'WX (Cholesky, then L^-T L^-1), which also
+// gives its exact 1-norm reciprocal condition number rcond = 1 / (|A|_1 |A^-1|_1). X'WX counts as singular to
+// numerical precision when a diagonal entry is 0, the Cholesky factorisation fails, or rcond < kSingularRcond.
 #include <array>
 #include <cstddef>
 #include <memory>
@@ -50,7 +52,7 @@ struct LocalFit {
   double max_weight = 0;                   // largest weight (exp(-d_min^2 / 2))
   int points = 0;                          // points that entered the sums
   bool singular = false;                   // some output's X'WX is singular to numerical precision
-  double rcond = 0;                        // smallest reciprocal condition number of the Jacobi-scaled X'WX
+  double rcond = 0;                        // smallest 1-norm reciprocal condition number of the Jacobi-scaled X'WX
   // beta' x for output k.
   double predict(int k, const InputVec& x) const { return beta[static_cast<std::size_t>(k)].dot(x); }
 };
