@@ -3,6 +3,7 @@
 // singular cases; the same bits from every instruction set and any thread count; the kernel's exp.
 #include <gtest/gtest.h>
 
+#include <Eigen/LU>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -136,6 +137,57 @@ TEST(FastRefit, SingularCasesAgree) {
   const LocalRegression twin(&data, templates, inverse_bandwidth(data, 2));
   EXPECT_TRUE(twin.fit(q).singular);
   EXPECT_TRUE(twin.fit_exact(q).singular);
+}
+
+// rcond is the exact 1-norm reciprocal condition number of the Jacobi-scaled X'WX (lwr.hpp), here rebuilt from
+// the weights and inverted independently (full-pivoting LU), at chosen-like and narrow bandwidths.
+TEST(FastRefit, RcondIsTheExactOneNormConditionOfTheScaledGram) {
+  const Dataset data = build_dataset(train_log(), ModelStructure{});
+  const auto templates = output_templates(ModelStructure{});
+  std::mt19937_64 rng(11);
+  std::uniform_int_distribution<Eigen::Index> pick(0, data.rows() - 1);
+  int checked = 0;
+  for (double scale : {1.0, 0.3}) {
+    const auto inv = inverse_bandwidth(data, scale);
+    const LocalRegression lwr(&data, templates, inv);
+    for (int t = 0; t < 6; ++t) {
+      const InputVec q = data.x.row(pick(rng)).transpose();
+      Eigen::VectorXd w(data.rows());
+      for (Eigen::Index i = 0; i < data.rows(); ++i) {
+        double d2 = 0;
+        for (int j = 0; j < kInputs; ++j) {
+          const double e = (q[j] - data.x(i, j)) * inv[static_cast<std::size_t>(j)];
+          d2 += j == kOne ? 0.0 : e * e;
+        }
+        w[i] = std::exp(-0.5 * d2);
+      }
+      const Eigen::MatrixXd gram = data.x.transpose() * w.asDiagonal() * data.x;
+      double expected = INFINITY;
+      for (const auto& tmpl : templates) {
+        if (tmpl.free_count() == 0) continue;
+        std::vector<int> idx;
+        for (int j = 0; j < kInputs; ++j)
+          if (tmpl.free[static_cast<std::size_t>(j)]) idx.push_back(j);
+        const auto m = static_cast<Eigen::Index>(idx.size());
+        Eigen::MatrixXd a(m, m);
+        for (Eigen::Index r = 0; r < m; ++r)
+          for (Eigen::Index c = 0; c < m; ++c)
+            a(r, c) = gram(idx[r], idx[c]) / std::sqrt(gram(idx[r], idx[r]) * gram(idx[c], idx[c]));
+        const Eigen::MatrixXd a_inv = a.fullPivLu().inverse();
+        expected = std::min(expected, 1 / (a.cwiseAbs().colwise().sum().maxCoeff() *
+                                           a_inv.cwiseAbs().colwise().sum().maxCoeff()));
+      }
+      const LocalFit exact = lwr.fit_exact(q);
+      const LocalFit fast = lwr.fit(q);
+      if (exact.singular) continue;
+      // Two inverses of the same matrix agree within about cond * eps.
+      const double tol = std::max(1e-9, 1e-13 / expected);
+      EXPECT_LT(rel(exact.rcond, expected), tol) << "scale " << scale << " query " << t;
+      EXPECT_LT(rel(fast.rcond, expected), tol) << "scale " << scale << " query " << t;
+      ++checked;
+    }
+  }
+  EXPECT_GE(checked, 10);
 }
 
 TEST(FastRefit, EveryInstructionSetGivesTheSameBits) {
