@@ -195,7 +195,7 @@ LocalRegression::LocalRegression(const Dataset* data, const std::array<OutputTem
   // Tile shapes per instruction set (registers: 16 of 4 doubles for AVX2, 32 of 8 for AVX-512).
   plans_[static_cast<std::size_t>(detail::Isa::kScalar)] = detail::tile_plan(gram_m_, ncols, 1, 4);
   plans_[static_cast<std::size_t>(detail::Isa::kAvx2)] = detail::tile_plan(gram_m_, ncols, 2, 2);
-  plans_[static_cast<std::size_t>(detail::Isa::kAvx512)] = detail::tile_plan(gram_m_, ncols, 4, 6);
+  plans_[static_cast<std::size_t>(detail::Isa::kAvx512)] = detail::tile_plan(gram_m_, ncols, 4, 12);
 }
 
 // Splits [begin, end) of perm_ at a multiple of 8 (leaves start on whole vectors) along the widest kernel

@@ -52,10 +52,14 @@ TilePlan tile_plan(int rows, int cols, int max_rows, int max_cols) {
   for (int r0 = 0; r0 < rows; r0 += max_rows) {
     const int r = std::min(max_rows, rows - r0);
     const int width = std::min({max_cols, 24 / r, 12});
-    for (int c0 = r0; c0 < cols; c0 += width) {
-      const int c = std::min(width, cols - c0);
+    // As few tiles as the width allows, of balanced widths (6,6,6,2 becomes 5,5,5,5: no narrow tile that loads
+    // almost as much as it multiplies).
+    const int span = cols - r0, count = (span + width - 1) / width;
+    for (int k = 0, c0 = r0; k < count; ++k) {
+      const int c = span / count + (k < span % count ? 1 : 0);
       p.tiles.push_back(Tile{r0, r, c0, c, p.acc_size});
       p.acc_size += r * c * kLanes;
+      c0 += c;
     }
   }
   return p;
