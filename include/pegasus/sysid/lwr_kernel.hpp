@@ -17,8 +17,8 @@
 // AVX2+FMA, AVX-512) run the same operations in the same order with fused multiply-adds everywhere (std::fma in
 // the scalar one), so they agree bit for bit; only the tile shapes differ.
 //
-// Where a refit's time goes (AVX-512, Zen 5, shipped model, rdtsc per phase): distances about 18%, weights and
-// scaling 26%, the Gram tiles 52% (at about 70% of the two-FMA-per-cycle peak), the solve 4%.
+// Where a refit's time goes (AVX-512, Zen 5, shipped model, rdtsc per phase): distances about 16%, weights and
+// scaling 21%, the Gram tiles 54% (at about 75% of the two-FMA-per-cycle peak), solve and set-up 9%.
 #include <array>
 #include <vector>
 
