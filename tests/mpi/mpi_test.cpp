@@ -13,9 +13,7 @@
 // Open MPI itself keeps allocated at exit, in plugins it has unloaded by then, so no suppression can name them.
 // Linking Open MPI without starting it (every other test) leaks nothing.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -33,6 +31,7 @@ namespace {
 using pegasus::mpi::Share;
 using pegasus::test_support::CliResult;
 using pegasus::test_support::read_text;
+using pegasus::test_support::run_shell;
 
 // ---- In process: ownership and the one-rank path --------------------------------------------------------
 
@@ -86,17 +85,6 @@ std::string find_mpirun() {
     start = end + 1;
   }
   return {};
-}
-
-CliResult run_shell(const std::string& command) {
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-  CliResult result;
-  if (!pipe) return result;
-  char buffer[4096];
-  while (std::fgets(buffer, sizeof buffer, pipe)) result.output += buffer;
-  const int status = pclose(pipe);
-  result.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return result;
 }
 
 int count_lines_with(const std::string& text, const std::string& needle) {

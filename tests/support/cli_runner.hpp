@@ -20,10 +20,9 @@ struct CliResult {
   std::string output;  // stdout and stderr together
 };
 
-// Runs `pegasus <args>` through the shell and collects its output.
-inline CliResult run_pegasus(const std::string& args) {
-  const std::string command = std::string(PEGASUS_CLI_PATH) + " " + args + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
+// Runs a shell command line and collects its output (stdout and stderr together).
+inline CliResult run_shell(const std::string& command) {
+  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
   CliResult result;
   if (!pipe) return result;
   char buffer[4096];
@@ -32,6 +31,9 @@ inline CliResult run_pegasus(const std::string& args) {
   result.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return result;
 }
+
+// Runs `pegasus <args>` through the shell and collects its output.
+inline CliResult run_pegasus(const std::string& args) { return run_shell(std::string(PEGASUS_CLI_PATH) + " " + args); }
 
 enum class KillOutcome { kKilled, kNoCheckpoint, kFinishedFirst };
 
