@@ -167,6 +167,15 @@ void set_up_config(Leaf& leaf) {
   throw InputError("rank " + ranks + " could not read the configuration (see its message)");
 }
 
+// After a failure has been said (by rank 0; the other ranks print nothing for one met by all): mpirun stops
+// the remaining ranks once the first exits with an error, so rank 0 must not then add its "job was stopped"
+// line, and a failure in the set-up, which every rank meets alike (set_up_config and RunDirectory::open agree
+// on it), lets the ranks leave together only once rank 0 has said it.
+void leave_after_saying(bool running) {
+  mpi::stop_message_said();
+  if (!running) mpi::barrier();
+}
+
 // Runs the command of `leaf` after parsing succeeded.
 int execute(Leaf& leaf, std::vector<std::string> argv, std::ostream& out, std::ostream& err) {
   std::optional<RunDirectory> run_dir;
@@ -216,13 +225,12 @@ int execute(Leaf& leaf, std::vector<std::string> argv, std::ostream& out, std::o
     return context.exit_code;
   } catch (const InputError& e) {
     err << "pegasus: " << one_line(e.what()) << std::endl;
+    leave_after_saying(running);
     if (running && mpi::size() > 1) {
-      // Bad input is normally met by every rank alike: rank 0 says it and ends the job, which kills this rank
-      // well within the wait below. A rank alone with it (a file only its node lacks) says it after the wait;
-      // the wait is long because Open MPI's abort can take seconds to arrive on a loaded or sandboxed
-      // machine (2 s once let a second copy of the line through in CI).
+      // Bad input is normally met by every rank alike: rank 0 says it and ends the job. A rank alone with it
+      // (a file only its node lacks) says it after a moment.
       if (!mpi::is_root()) {
-        std::this_thread::sleep_for(std::chrono::seconds(15));
+        std::this_thread::sleep_for(std::chrono::seconds(2));
         std::cerr << rank_prefix() << one_line(e.what()) << std::endl;
       }
       mpi::abort_job(2);
@@ -239,6 +247,7 @@ int execute(Leaf& leaf, std::vector<std::string> argv, std::ostream& out, std::o
     } else {
       std::cerr << rank_prefix() << "error: " << one_line(e.what()) << std::endl;
     }
+    leave_after_saying(running);
     if (running && mpi::size() > 1) mpi::abort_job(1);
     return 1;
   }

@@ -200,11 +200,23 @@ void abort_job(int code) {
   std::fflush(stderr);
 #ifdef PEGASUS_HAVE_MPI
   if (g_started && g_size > 1) {
-    std::signal(SIGTERM, SIG_DFL);  // this rank reported already; no second line
+    stop_message_said();
     MPI_Abort(MPI_COMM_WORLD, code);
   }
 #endif
   std::exit(code);
+}
+
+void barrier() {
+#ifdef PEGASUS_HAVE_MPI
+  if (g_started && g_size > 1) MPI_Barrier(MPI_COMM_WORLD);
+#endif
+}
+
+void stop_message_said() {
+#ifdef PEGASUS_HAVE_MPI
+  if (g_started && g_size > 1 && g_rank == 0) std::signal(SIGTERM, SIG_DFL);
+#endif
 }
 
 void set_stop_message(const std::string& line) {

@@ -96,6 +96,9 @@ std::string broadcast_from_root(const std::string& text);
 // Collective: every rank's value, indexed by rank (with one rank: {value}).
 std::vector<int> allgather_int(int value);
 
+// Collective: returns once every rank has called it (nothing with one rank).
+void barrier();
+
 // Ends the whole job at once with exit status `code` (MPI_Abort: every rank is stopped). Only meaningful with
 // size() > 1; with one rank it is std::exit(code).
 [[noreturn]] void abort_job(int code);
@@ -103,6 +106,8 @@ std::vector<int> allgather_int(int value);
 // The line rank 0 writes to stderr when the job is stopped from outside (another rank died, or mpirun was
 // interrupted): mpirun then sends it SIGTERM. Set by the CLI to name the run directory to resume.
 void set_stop_message(const std::string& line);
+// Rank 0 has said why the job ends: when mpirun then stops it (another rank exited first), no second line.
+void stop_message_said();
 
 // Time and volume of the allgathers of this process, for benchmarks.
 struct CommStats {
