@@ -15,7 +15,7 @@
 //   fit:       the fast one (lwr_kernel.hpp): the weighted Gram matrix of the inputs some output regresses on
 //              and the outputs, accumulated once for all outputs over data blocked by 8 points in k-d tree
 //              order, 8 points per vector (AVX-512, AVX2+FMA or scalar, chosen at run time; all give the same
-//              bits), with its own exp, as sum_i (sqrt(w_i) a_i)(sqrt(w_i) a_i)'; the upper triangle only;
+//              bits), with its own exp, as sum_i (w_i a_i) a_i'; the upper triangle only;
 //              outputs that regress on the same inputs (all six free outputs of the §5.2.2 template) share
 //              one inverse. Points whose weight
 //              is below 1e-16 of the largest weight (d^2 > d_min^2 + 2 ln 1e16) are skipped, by whole leaves

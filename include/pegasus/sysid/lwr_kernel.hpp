@@ -9,16 +9,18 @@
 // Leaves hold up to kLeaf points and start at multiples of 8.
 //
 // For a query the kernel visits the leaves in storage order, skips a leaf whose bounding box lies more than
-// ln(1e16) * 2 beyond the smallest squared distance seen so far (seeded by the query's own leaf), and gathers
-// the others into chunks of up to kChunk points. For a chunk it computes, 8 points per vector, the squared
-// distances d^2 = sum_d ((q_d - x_d) / h_d)^2, sqrt(w) = exp(-d^2 / 4) (own polynomial, below), the Gram
-// columns scaled by sqrt(w) (b = sqrt(w) a, a copy that stays in L1), and adds the upper triangle of sum_i b_i
-// b_i' in register tiles (each lane of each entry is summed in point order). Three instruction sets (scalar,
+// ln(1e16) * 2 beyond the smallest squared distance seen so far (seeded by the query's own leaf), and cuts each
+// run of admitted leaves that follow one another into chunks of kChunk points. For a chunk it computes, 8 points
+// per vector, the squared distances d^2 = sum_d ((q_d - x_d) / h_d)^2, the weights w = exp(-d^2 / 2) (own
+// polynomial, below), and adds the upper triangle of sum_i (w_i a_i) a_i' in register tiles: the rows scaled by
+// w (a copy the first tile of each row group makes), the columns read straight from the data blocks. Each lane
+// of each entry is summed in point order within a chunk, and chunk by chunk. Three instruction sets (scalar,
 // AVX2+FMA, AVX-512) run the same operations in the same order with fused multiply-adds everywhere (std::fma in
 // the scalar one), so they agree bit for bit; only the tile shapes differ.
 //
-// Where a refit's time goes (AVX-512, Zen 5, shipped model, rdtsc per phase): distances about 16%, weights and
-// scaling 21%, the Gram tiles 54% (at about 75% of the two-FMA-per-cycle peak), solve and set-up 9%.
+// Where a refit's time goes (AVX-512, Zen 5, shipped model; per vector of 8 points, from a phase-by-phase
+// harness): distances about 20% (bound by bringing the data in from L2), weights 10%, the Gram tiles 70% (about
+// 80% of the two-FMA-per-cycle peak); the solve after the kernel adds about 8% to a refit.
 #include <array>
 #include <vector>
 
@@ -28,7 +30,7 @@ namespace pegasus::sysid::detail {
 
 inline constexpr int kLanes = 8;
 inline constexpr int kLeaf = 32;                     // points per leaf (a multiple of kLanes)
-inline constexpr int kChunk = 128;                  // points per Gram pass (a multiple of kLeaf)
+inline constexpr int kChunk = 192;                  // points per Gram pass (a multiple of 8 kLanes)
 inline constexpr int kMaxCols = kInputs + kBodyVars;  // Gram columns at most
 inline constexpr int kMaxAcc = kInputs * kMaxCols * kLanes;  // tile accumulators at most (tiles never overlap)
 
