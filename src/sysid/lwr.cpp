@@ -15,33 +15,108 @@ constexpr double kFar = 1e150;  // padding coordinate: d^2 ~ 1e300, weight 0
 
 std::atomic<int> g_forced{static_cast<int>(SimdPath::kAuto)};
 
-// The inverse of a symmetric positive definite matrix a (Jacobi-scaled X'WX) from its Cholesky factor L
-// (Eigen): the rows of L^-1 by forward substitution, all columns at once, then a^-1 = L^-T L^-1. Gives L^-1
-// (for leverages x'a^-1 x = |L^-1 x|^2) and the exact 1-norm reciprocal condition number
-// 1 / (|a|_1 |a^-1|_1); false (rcond 0) when the factorisation meets a pivot that is not positive. Both paths
-// (fit and fit_exact) solve through here, so they differ only by their Gram sums. An explicit inverse rather
-// than Eigen's triangular solves and condition estimate: those run one dependent chain at a time and took
-// 3.4 us of a 27 us refit (14 inputs, 6 outputs); this takes about 1 us.
-template <class Mat>
-bool spd_inverse(const Mat& a, Mat* inverse, Mat* inverse_factor, double* rcond) {
-  *rcond = 0;
-  const Eigen::LLT<Mat> llt(a);
-  if (llt.info() != Eigen::Success) return false;
-  const auto& l = llt.matrixLLT();  // lower triangle
-  const Eigen::Index n = a.rows();
-  Eigen::Matrix<double, Mat::RowsAtCompileTime, Mat::ColsAtCompileTime, Eigen::RowMajor, Mat::MaxRowsAtCompileTime,
-                Mat::MaxColsAtCompileTime>
-      x = Mat::Identity(n, n);
-  for (Eigen::Index j = 0; j < n; ++j) {
-    x.row(j) /= l(j, j);
-    for (Eigen::Index i = j + 1; i < n; ++i) x.row(i) -= l(i, j) * x.row(j);
+// The Jacobi-scaled inverse of a symmetric positive definite m x m matrix G (m <= kInputs; the X'WX of one
+// output's free inputs): A = D^-1 G D^-1 with D = diag(sqrt(G_rr)), its Cholesky factor A = L L', X = L^-1, A^-1 =
+// X'X, and the exact 1-norm reciprocal condition number rcond = 1 / (|A|_1 |A^-1|_1). Both paths (fit and
+// fit_exact) solve through here, so they differ only by their Gram sums. Plain loops over the triangles.
+class ScaledInverse {
+ public:
+  // g(r, c) gives G's entries. False when a diagonal entry is too small to scale by (G is singular).
+  template <class Entry>
+  bool scale(int m, Entry g) {
+    m_ = m;
+    for (int r = 0; r < m; ++r) {
+      const double d = std::sqrt(g(r, r));
+      if (!(d > 1e-150)) return false;
+      dinv_[r] = 1 / d;
+    }
+    for (int r = 0; r < m; ++r)
+      for (int c = 0; c < m; ++c) a_[r][c] = g(r, c) * dinv_[r] * dinv_[c];
+    return true;
   }
-  inverse->noalias() = x.transpose() * x;
-  *inverse_factor = x;
-  const double norms = a.cwiseAbs().colwise().sum().maxCoeff() * inverse->cwiseAbs().colwise().sum().maxCoeff();
-  *rcond = norms > 0 && std::isfinite(norms) ? 1 / norms : 0;
-  return true;
-}
+
+  // Factorises and inverts A; returns rcond, 0 when a pivot of the factorisation is not positive.
+  double invert() {
+    const int m = m_;
+    double l[kInputs][kInputs];
+    for (int j = 0; j < m; ++j) {
+      double pivot = a_[j][j];
+      for (int k = 0; k < j; ++k) pivot -= l[j][k] * l[j][k];
+      if (!(pivot > 0)) return 0;
+      const double ljj = std::sqrt(pivot), inv_ljj = 1 / ljj;
+      l[j][j] = ljj;
+      for (int i = j + 1; i < m; ++i) {
+        double t = a_[i][j];
+        for (int k = 0; k < j; ++k) t -= l[i][k] * l[j][k];
+        l[i][j] = t * inv_ljj;
+      }
+    }
+    // Rows of X = L^-1: x_i = (e_i - sum_{k<i} l_ik x_k) / l_ii; x_i is 0 beyond column i.
+    for (int i = 0; i < m; ++i) {
+      double xi[kInputs] = {};  // apart from x_, so that the row operations vectorise (no aliasing)
+      for (int k = 0; k < i; ++k) {
+        const double lik = l[i][k];
+        for (int j = 0; j <= k; ++j) xi[j] -= lik * x_[k][j];
+      }
+      const double inv_lii = 1 / l[i][i];
+      for (int j = 0; j < i; ++j) x_[i][j] = xi[j] * inv_lii;
+      x_[i][i] = inv_lii;
+    }
+    // A^-1 = X'X = sum over k of x_k x_k' (exactly symmetric: both triangles take the same products in the same
+    // order).
+    for (int i = 0; i < m; ++i)
+      for (int j = 0; j < m; ++j) inv_[i][j] = 0;
+    for (int k = 0; k < m; ++k)
+      for (int i = 0; i <= k; ++i) {
+        const double xki = x_[k][i];
+        for (int j = 0; j <= k; ++j) inv_[i][j] += xki * x_[k][j];
+      }
+    double norm_a = 0, norm_inv = 0;
+    for (int c = 0; c < m; ++c) {
+      double sa = 0, si = 0;
+      for (int r = 0; r < m; ++r) {
+        sa += std::abs(a_[r][c]);
+        si += std::abs(inv_[r][c]);
+      }
+      norm_a = std::max(norm_a, sa);
+      norm_inv = std::max(norm_inv, si);
+    }
+    const double norms = norm_a * norm_inv;
+    return norms > 0 && std::isfinite(norms) ? 1 / norms : 0;
+  }
+
+  // beta = G^-1 b = D^-1 A^-1 D^-1 b, for b given by b(r).
+  template <class Entry>
+  void solve(Entry b, double* beta) const {
+    double sol[kInputs] = {};
+    for (int c = 0; c < m_; ++c) {
+      const double bc = b(c) * dinv_[c];
+      for (int j = 0; j < m_; ++j) sol[j] += bc * inv_[c][j];  // row c of A^-1 is its column c
+    }
+    for (int r = 0; r < m_; ++r) beta[r] = sol[r] * dinv_[r];
+  }
+
+  // The leverage v'G^-1 v = |X D^-1 v|^2 (a sum of squares, so never negative), for v given by v(r).
+  template <class Entry>
+  double leverage(Entry v) const {
+    double scaled[kInputs];
+    for (int r = 0; r < m_; ++r) scaled[r] = v(r) * dinv_[r];
+    double sum = 0;
+    for (int i = 0; i < m_; ++i) {
+      double y = 0;
+      for (int k = 0; k <= i; ++k) y += x_[i][k] * scaled[k];
+      sum += y * y;
+    }
+    return sum;
+  }
+
+ private:
+  int m_ = 0;
+  double dinv_[kInputs];
+  alignas(64) double a_[kInputs][kInputs];
+  alignas(64) double x_[kInputs][kInputs];
+  alignas(64) double inv_[kInputs][kInputs];
+};
 
 SimdPath detect() {
 #if defined(__x86_64__) && defined(__GNUC__)
@@ -251,82 +326,56 @@ void LocalRegression::solve(const Gram& g, const Cross& b, const InputVec& q, Lo
     for (int j = 0; j < kInputs; ++j)
       if (tmpl.free[static_cast<std::size_t>(j)]) idx[m++] = j;
     if (m == 0) continue;
-    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kInputs, kInputs> gs(m, m);
-    Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kInputs, 1> bs(m), dq(m), d(m);
-    for (int r = 0; r < m; ++r) {
-      d[r] = std::sqrt(g(idx[r], idx[r]));
-      if (!(d[r] > 1e-150)) {
-        fit->singular = true;
-        return;
-      }
+    ScaledInverse inverse;
+    if (!inverse.scale(m, [&](int r, int c) { return g(idx[r], idx[c]); })) {
+      fit->singular = true;
+      return;
     }
-    for (int r = 0; r < m; ++r) {
-      for (int c = 0; c < m; ++c) gs(r, c) = g(idx[r], idx[c]) / (d[r] * d[c]);
-      bs[r] = b(idx[r], k) / d[r];
-      dq[r] = q[idx[r]] / d[r];
-    }
-    decltype(gs) inverse(m, m), inverse_factor(m, m);
-    double rc = 0;
-    spd_inverse(gs, &inverse, &inverse_factor, &rc);
+    const double rc = inverse.invert();
     fit->rcond = first ? rc : std::min(fit->rcond, rc);
     first = false;
     if (!(rc >= kSingularRcond)) {
       fit->singular = true;
       return;
     }
-    const auto sol = (inverse * bs).eval();
-    for (int r = 0; r < m; ++r) beta[idx[r]] = sol[r] / d[r];
-    fit->leverage[k] = (inverse_factor * dq).squaredNorm();
+    double sol[kInputs];
+    inverse.solve([&](int r) { return b(idx[r], k); }, sol);
+    for (int r = 0; r < m; ++r) beta[idx[r]] = sol[r];
+    fit->leverage[k] = inverse.leverage([&](int r) { return q[idx[r]]; });
   }
 }
 
-template <class Mat, class Vec>
 bool LocalRegression::solve_group(const detail::KernelResult& k, const Group& grp, const InputVec& q, bool first,
                                   LocalFit* fit) const {
   auto g = [&](int r, int c) {
     return k.sum[static_cast<std::size_t>(std::min(r, c) * detail::kMaxCols + std::max(r, c))];
   };
-  const int m = grp.size;
   const auto row = [&](int r) { return grp.rows[static_cast<std::size_t>(r)]; };
-  Mat gs(m, m);
-  Vec dq(m), d(m), bs(m);
-  for (int r = 0; r < m; ++r) {
-    d[r] = std::sqrt(g(row(r), row(r)));
-    if (!(d[r] > 1e-150)) return false;
-  }
-  for (int r = 0; r < m; ++r) {
-    for (int c = 0; c < m; ++c) gs(r, c) = g(row(r), row(c)) / (d[r] * d[c]);
-    dq[r] = q[grp.inputs[static_cast<std::size_t>(r)]] / d[r];
-  }
-  Mat inverse(m, m), inverse_factor(m, m);
-  double rc = 0;
-  spd_inverse(gs, &inverse, &inverse_factor, &rc);
+  const auto input = [&](int r) { return grp.inputs[static_cast<std::size_t>(r)]; };
+  ScaledInverse inverse;
+  if (!inverse.scale(grp.size, [&](int r, int c) { return g(row(r), row(c)); })) return false;
+  const double rc = inverse.invert();
   fit->rcond = first ? rc : std::min(fit->rcond, rc);
   if (!(rc >= kSingularRcond)) return false;
-  const double leverage = (inverse_factor * dq).squaredNorm();
+  const double leverage = inverse.leverage([&](int r) { return q[input(r)]; });
   for (int o = 0; o < grp.count; ++o) {
-    const int out = grp.outputs[static_cast<std::size_t>(o)];
-    for (int r = 0; r < m; ++r) bs[r] = g(row(r), grp.columns[static_cast<std::size_t>(o)]) / d[r];
-    const Vec sol = inverse * bs;
+    const int out = grp.outputs[static_cast<std::size_t>(o)], column = grp.columns[static_cast<std::size_t>(o)];
+    double sol[kInputs];
+    inverse.solve([&](int r) { return g(row(r), column); }, sol);
     auto& beta = fit->beta[static_cast<std::size_t>(out)];
-    for (int r = 0; r < m; ++r) beta[grp.inputs[static_cast<std::size_t>(r)]] = sol[r] / d[r];
+    for (int r = 0; r < grp.size; ++r) beta[input(r)] = sol[r];
     fit->leverage[out] = leverage;
   }
   return true;
 }
 
 // The fast path's solve: one Jacobi-scaled inverse per group of outputs with the same free inputs (the same
-// arithmetic as solve() for each output); fixed-size matrices for the 14 free inputs of the §5.2.2 template.
+// arithmetic as solve() for each output).
 void LocalRegression::solve_groups(const detail::KernelResult& k, const InputVec& q, LocalFit* fit) const {
   for (auto& beta : fit->beta) beta.setZero();
   for (int gi = 0; gi < group_count_; ++gi) {
     const Group& grp = groups_[static_cast<std::size_t>(gi)];
-    const bool ok =
-        grp.size == 14
-            ? solve_group<Eigen::Matrix<double, 14, 14>, Eigen::Matrix<double, 14, 1>>(k, grp, q, gi == 0, fit)
-            : solve_group<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kInputs, kInputs>,
-                          Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kInputs, 1>>(k, grp, q, gi == 0, fit);
-    if (!ok) {
+    if (!solve_group(k, grp, q, gi == 0, fit)) {
       fit->singular = true;
       return;
     }

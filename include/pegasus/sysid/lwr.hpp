@@ -98,7 +98,6 @@ class LocalRegression {
   int build(int begin, int end, int depth, const std::vector<double>& z);
   void solve(const Gram& g, const Cross& b, const InputVec& q, LocalFit* fit) const;
   void solve_groups(const detail::KernelResult& k, const InputVec& q, LocalFit* fit) const;
-  template <class Mat, class Vec>
   bool solve_group(const detail::KernelResult& k, const Group& grp, const InputVec& q, bool first,
                    LocalFit* fit) const;
 
