@@ -9,7 +9,7 @@
 namespace pegasus::sysid {
 
 namespace {
-// Points whose weight is below 1e-16 of the largest one are skipped: d^2 > d_min^2 + 2 ln(1e16).
+// Points whose weight is below 1e-16 of the largest one seen before them are skipped: d^2 > d_min^2 + 2 ln(1e16).
 const double kCutoff = 2 * std::log(1e16);
 constexpr double kFar = 1e150;  // padding coordinate: d^2 ~ 1e300, weight 0
 

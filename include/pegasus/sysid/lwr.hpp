@@ -18,9 +18,10 @@
 //              bits), with its own exp, as sum_i (w_i a_i) a_i'; the upper triangle only;
 //              outputs that regress on the same inputs (all six free outputs of the §5.2.2 template) share
 //              one inverse. Points whose weight
-//              is below 1e-16 of the largest weight (d^2 > d_min^2 + 2 ln 1e16) are skipped, by whole leaves
-//              where a leaf's bounding box is that far; at the bandwidths cross-validation picks on the shipped
-//              flights every point counts. fit allocates nothing; fit_exact does.
+//              is below 1e-16 of the largest weight seen before them (d^2 > d_min^2 + 2 ln 1e16, d_min over the
+//              query's own leaf and the chunks before) are skipped, by whole leaves where a leaf's bounding box is
+//              that far; at the bandwidths cross-validation picks on the shipped flights every point counts. fit
+//              allocates nothing; fit_exact does.
 // A refit depends only on the query (and the window), never on earlier refits or on threads.
 // Both paths solve through one explicit inverse of the Jacobi-scaled X'WX (Cholesky, then L^-T L^-1), which also
 // gives its exact 1-norm reciprocal condition number rcond = 1 / (|A|_1 |A^-1|_1). X'WX counts as singular to

@@ -12,7 +12,7 @@
 // ln(1e16) * 2 beyond the smallest squared distance seen so far (seeded by the query's own leaf), and cuts each
 // run of admitted leaves that follow one another into chunks of kChunk points. For a chunk it computes, 8 points
 // per vector, the squared distances d^2 = sum_d ((q_d - x_d) / h_d)^2, the weights w = exp(-d^2 / 2) (own
-// polynomial, below), and adds the upper triangle of sum_i (w_i a_i) a_i' in register tiles: the rows scaled by
+// polynomial, below; 0 beyond the same threshold from the smallest d^2 before the chunk), and adds the upper triangle of sum_i (w_i a_i) a_i' in register tiles: the rows scaled by
 // w (a copy the first tile of each row group makes), the columns read straight from the data blocks. Each lane
 // of each entry is summed in point order within a chunk, and chunk by chunk. Three instruction sets (scalar,
 // AVX2+FMA, AVX-512) run the same operations in the same order with fused multiply-adds everywhere (std::fma in
