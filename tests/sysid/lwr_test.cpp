@@ -1,6 +1,7 @@
 // The fast local-regression refit (lwr_kernel.hpp) against the plain reference: agreement within 1e-9 relative
 // at random queries, bandwidths (wide, chosen-like, narrow where leaves are skipped), windows and templates;
-// singular cases; the same bits from every instruction set and any thread count; the kernel's exp.
+// singular cases; the shared solve against an independent one; the same bits from every instruction set and any
+// thread count; the kernel's exp.
 #include <gtest/gtest.h>
 
 #include <Eigen/LU>
@@ -139,9 +140,11 @@ TEST(FastRefit, SingularCasesAgree) {
   EXPECT_TRUE(twin.fit_exact(q).singular);
 }
 
-// rcond is the exact 1-norm reciprocal condition number of the Jacobi-scaled X'WX (lwr.hpp), here rebuilt from
-// the weights and inverted independently (full-pivoting LU), at chosen-like and narrow bandwidths.
-TEST(FastRefit, RcondIsTheExactOneNormConditionOfTheScaledGram) {
+// Both paths solve through one shared inverse (lwr.cpp), so their agreement cannot catch a fault in it. Here
+// X'WX is rebuilt from the weights and solved independently (full-pivoting LU), at chosen-like and narrow
+// bandwidths: rcond is its exact 1-norm reciprocal condition number (lwr.hpp), and the coefficients and
+// leverages x'(X'WX)^-1 x of every output match.
+TEST(FastRefit, SolveMatchesAnIndependentInverseOfTheScaledGram) {
   const Dataset data = build_dataset(train_log(), ModelStructure{});
   const auto templates = output_templates(ModelStructure{});
   std::mt19937_64 rng(11);
@@ -162,28 +165,53 @@ TEST(FastRefit, RcondIsTheExactOneNormConditionOfTheScaledGram) {
         w[i] = std::exp(-0.5 * d2);
       }
       const Eigen::MatrixXd gram = data.x.transpose() * w.asDiagonal() * data.x;
+      const Eigen::MatrixXd cross = data.x.transpose() * w.asDiagonal() * data.y;
+      const LocalFit exact = lwr.fit_exact(q);
+      const LocalFit fast = lwr.fit(q);
+      if (exact.singular) continue;
       double expected = INFINITY;
-      for (const auto& tmpl : templates) {
+      std::array<Eigen::VectorXd, kBodyVars> beta;
+      std::array<double, kBodyVars> leverage{};
+      for (int k = 0; k < kBodyVars; ++k) {
+        const auto& tmpl = templates[static_cast<std::size_t>(k)];
+        beta[static_cast<std::size_t>(k)] = Eigen::VectorXd::Zero(kInputs);
         if (tmpl.free_count() == 0) continue;
         std::vector<int> idx;
         for (int j = 0; j < kInputs; ++j)
           if (tmpl.free[static_cast<std::size_t>(j)]) idx.push_back(j);
         const auto m = static_cast<Eigen::Index>(idx.size());
-        Eigen::MatrixXd a(m, m);
-        for (Eigen::Index r = 0; r < m; ++r)
-          for (Eigen::Index c = 0; c < m; ++c)
-            a(r, c) = gram(idx[r], idx[c]) / std::sqrt(gram(idx[r], idx[r]) * gram(idx[c], idx[c]));
+        Eigen::MatrixXd g(m, m), a(m, m);
+        Eigen::VectorXd b(m), x(m);
+        for (Eigen::Index r = 0; r < m; ++r) {
+          b[r] = cross(idx[r], k);
+          x[r] = q[idx[r]];
+          for (Eigen::Index c = 0; c < m; ++c) {
+            g(r, c) = gram(idx[r], idx[c]);
+            a(r, c) = g(r, c) / std::sqrt(gram(idx[r], idx[r]) * gram(idx[c], idx[c]));
+          }
+        }
         const Eigen::MatrixXd a_inv = a.fullPivLu().inverse();
         expected = std::min(expected, 1 / (a.cwiseAbs().colwise().sum().maxCoeff() *
                                            a_inv.cwiseAbs().colwise().sum().maxCoeff()));
+        const auto lu = g.fullPivLu();
+        const Eigen::VectorXd sol = lu.solve(b);
+        for (Eigen::Index r = 0; r < m; ++r) beta[static_cast<std::size_t>(k)][idx[r]] = sol[r];
+        leverage[static_cast<std::size_t>(k)] = x.dot(lu.solve(x));
       }
-      const LocalFit exact = lwr.fit_exact(q);
-      const LocalFit fast = lwr.fit(q);
-      if (exact.singular) continue;
       // Two inverses of the same matrix agree within about cond * eps.
       const double tol = std::max(1e-9, 1e-13 / expected);
-      EXPECT_LT(rel(exact.rcond, expected), tol) << "scale " << scale << " query " << t;
-      EXPECT_LT(rel(fast.rcond, expected), tol) << "scale " << scale << " query " << t;
+      for (const LocalFit* fit : {&exact, &fast}) {
+        const char* path = fit == &exact ? "exact" : "fast";
+        EXPECT_LT(rel(fit->rcond, expected), tol) << path << " scale " << scale << " query " << t;
+        for (int k = 0; k < kBodyVars; ++k) {
+          const Eigen::VectorXd got = fit->beta[static_cast<std::size_t>(k)];
+          const auto& want = beta[static_cast<std::size_t>(k)];
+          EXPECT_LE((got - want).cwiseAbs().maxCoeff(), tol * want.cwiseAbs().maxCoeff() + 1e-300)
+              << path << " scale " << scale << " query " << t << " output " << k;
+          EXPECT_LT(rel(fit->leverage[k], leverage[static_cast<std::size_t>(k)]), tol)
+              << path << " scale " << scale << " query " << t << " output " << k;
+        }
+      }
       ++checked;
     }
   }
