@@ -1,6 +1,6 @@
 #include "pegasus/sysid/lwr.hpp"
 
-#include <Eigen/Dense>
+#include <Eigen/Core>
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -21,7 +21,44 @@ std::atomic<int> g_forced{static_cast<int>(SimdPath::kAuto)};
 // fit_exact) solve through here, so they differ only by their Gram sums. Plain loops over the triangles.
 class ScaledInverse {
  public:
-  // g(r, c) gives G's entries. False when a diagonal entry is too small to scale by (G is singular).
+  // Scales G and inverts A, g(r, c) giving G's entries, and records rcond in fit (the smallest over the calls;
+  // `first` starts it). False when G is singular to numerical precision: a diagonal entry too small to scale by,
+  // a pivot that is not positive, or rcond < kSingularRcond.
+  template <class Entry>
+  bool factor(int m, Entry g, bool first, LocalFit* fit) {
+    if (!scale(m, g)) return false;
+    const double rc = invert();
+    fit->rcond = first ? rc : std::min(fit->rcond, rc);
+    return rc >= kSingularRcond;
+  }
+
+  // beta = G^-1 b = D^-1 A^-1 D^-1 b, for b given by b(r).
+  template <class Entry>
+  void solve(Entry b, double* beta) const {
+    double sol[kInputs] = {};
+    for (int c = 0; c < m_; ++c) {
+      const double bc = b(c) * dinv_[c];
+      for (int j = 0; j < m_; ++j) sol[j] += bc * inv_[c][j];  // row c of A^-1 is its column c
+    }
+    for (int r = 0; r < m_; ++r) beta[r] = sol[r] * dinv_[r];
+  }
+
+  // The leverage v'G^-1 v = |X D^-1 v|^2 (a sum of squares, so never negative), for v given by v(r).
+  template <class Entry>
+  double leverage(Entry v) const {
+    double scaled[kInputs];
+    for (int r = 0; r < m_; ++r) scaled[r] = v(r) * dinv_[r];
+    double sum = 0;
+    for (int i = 0; i < m_; ++i) {
+      double y = 0;
+      for (int k = 0; k <= i; ++k) y += x_[i][k] * scaled[k];
+      sum += y * y;
+    }
+    return sum;
+  }
+
+ private:
+  // False when a diagonal entry is too small to scale by.
   template <class Entry>
   bool scale(int m, Entry g) {
     m_ = m;
@@ -85,32 +122,6 @@ class ScaledInverse {
     return norms > 0 && std::isfinite(norms) ? 1 / norms : 0;
   }
 
-  // beta = G^-1 b = D^-1 A^-1 D^-1 b, for b given by b(r).
-  template <class Entry>
-  void solve(Entry b, double* beta) const {
-    double sol[kInputs] = {};
-    for (int c = 0; c < m_; ++c) {
-      const double bc = b(c) * dinv_[c];
-      for (int j = 0; j < m_; ++j) sol[j] += bc * inv_[c][j];  // row c of A^-1 is its column c
-    }
-    for (int r = 0; r < m_; ++r) beta[r] = sol[r] * dinv_[r];
-  }
-
-  // The leverage v'G^-1 v = |X D^-1 v|^2 (a sum of squares, so never negative), for v given by v(r).
-  template <class Entry>
-  double leverage(Entry v) const {
-    double scaled[kInputs];
-    for (int r = 0; r < m_; ++r) scaled[r] = v(r) * dinv_[r];
-    double sum = 0;
-    for (int i = 0; i < m_; ++i) {
-      double y = 0;
-      for (int k = 0; k <= i; ++k) y += x_[i][k] * scaled[k];
-      sum += y * y;
-    }
-    return sum;
-  }
-
- private:
   int m_ = 0;
   double dinv_[kInputs];
   alignas(64) double a_[kInputs][kInputs];
@@ -327,17 +338,11 @@ void LocalRegression::solve(const Gram& g, const Cross& b, const InputVec& q, Lo
       if (tmpl.free[static_cast<std::size_t>(j)]) idx[m++] = j;
     if (m == 0) continue;
     ScaledInverse inverse;
-    if (!inverse.scale(m, [&](int r, int c) { return g(idx[r], idx[c]); })) {
+    if (!inverse.factor(m, [&](int r, int c) { return g(idx[r], idx[c]); }, first, fit)) {
       fit->singular = true;
       return;
     }
-    const double rc = inverse.invert();
-    fit->rcond = first ? rc : std::min(fit->rcond, rc);
     first = false;
-    if (!(rc >= kSingularRcond)) {
-      fit->singular = true;
-      return;
-    }
     double sol[kInputs];
     inverse.solve([&](int r) { return b(idx[r], k); }, sol);
     for (int r = 0; r < m; ++r) beta[idx[r]] = sol[r];
@@ -353,10 +358,7 @@ bool LocalRegression::solve_group(const detail::KernelResult& k, const Group& gr
   const auto row = [&](int r) { return grp.rows[static_cast<std::size_t>(r)]; };
   const auto input = [&](int r) { return grp.inputs[static_cast<std::size_t>(r)]; };
   ScaledInverse inverse;
-  if (!inverse.scale(grp.size, [&](int r, int c) { return g(row(r), row(c)); })) return false;
-  const double rc = inverse.invert();
-  fit->rcond = first ? rc : std::min(fit->rcond, rc);
-  if (!(rc >= kSingularRcond)) return false;
+  if (!inverse.factor(grp.size, [&](int r, int c) { return g(row(r), row(c)); }, first, fit)) return false;
   const double leverage = inverse.leverage([&](int r) { return q[input(r)]; });
   for (int o = 0; o < grp.count; ++o) {
     const int out = grp.outputs[static_cast<std::size_t>(o)], column = grp.columns[static_cast<std::size_t>(o)];
