@@ -11,17 +11,19 @@
 // For a query the kernel visits the leaves in storage order, skips a leaf whose bounding box lies more than
 // ln(1e16) * 2 beyond the smallest squared distance seen so far (seeded by the query's own leaf), and cuts each
 // run of admitted leaves that follow one another into chunks of kChunk points. For a chunk it computes, 8 points
-// per vector, the squared distances d^2 = sum_d ((q_d - x_d) / h_d)^2, the weights w = exp(-d^2 / 2) (own
-// polynomial, below; 0 beyond the same threshold from the smallest d^2 before the chunk), and adds the upper triangle of sum_i (w_i a_i) a_i' in register tiles: the rows scaled by
-// w (a copy the first tile of each row group makes), the columns read straight from the data blocks. Each lane
-// of each entry is summed in point order within a chunk, and chunk by chunk. Three instruction sets (scalar,
-// AVX2+FMA, AVX-512) run the same operations in the same order with fused multiply-adds everywhere (std::fma in
-// the scalar one), so they agree bit for bit; only the tile shapes differ.
+// per vector, the squared distances d^2 = sum_d ((q_d - x_d) / h_d)^2 and the weights w = exp(-d^2 / 2) (own
+// polynomial, below; 0 beyond the same threshold from the smallest d^2 before the chunk), and adds the upper
+// triangle of sum_i (w_i a_i) a_i' in register tiles: the rows scaled by w (a copy the first tile of each row
+// group makes), the columns read straight from the data blocks. Each lane of each entry is summed in point order
+// within a chunk, and chunk by chunk. Three instruction sets (scalar, AVX2+FMA, AVX-512) run the same operations
+// in the same order with fused multiply-adds everywhere (std::fma in the scalar one), so they agree bit for bit;
+// only the tile shapes differ.
 //
-// Where a refit's time goes (AVX-512, Zen 5, shipped model, rdtsc per phase, minimum over samples): distances
-// 3.5 us (about 31 cycles per vector of 8 points, bound by bringing the data in from L2: 17 cycles when they are
-// in L1), weights 1.6 us, the Gram tiles 13.9 us (126 cycles per vector against a floor of 101.5 for their 189
-// multiply-adds and 14 multiplies; 112 with all operands in L1), then the solve about 1.8 us.
+// Where a refit's time goes (AVX-512, Zen 5, shipped model, rdtsc per phase, minimum over 200 samples of 1000
+// refits): distances and weights together 4.5 us (the distances are bound by bringing the data in from L2: 31
+// cycles per vector of 8 points, 17 when the data are in L1), the Gram tiles 12.9 us (117 cycles per vector
+// against a floor of 101.5 for their 189 multiply-adds and 14 multiplies; 112 with all operands in L1), the
+// solve 1.5 us, the set-up 0.2 us.
 #include <array>
 #include <vector>
 
