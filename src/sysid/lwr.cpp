@@ -16,9 +16,10 @@ constexpr double kFar = 1e150;  // padding coordinate: d^2 ~ 1e300, weight 0
 std::atomic<int> g_forced{static_cast<int>(SimdPath::kAuto)};
 
 // The Jacobi-scaled inverse of a symmetric positive definite m x m matrix G (m <= kInputs; the X'WX of one
-// output's free inputs): A = D^-1 G D^-1 with D = diag(sqrt(G_rr)), its Cholesky factor A = L L', X = L^-1, A^-1 =
-// X'X, and the exact 1-norm reciprocal condition number rcond = 1 / (|A|_1 |A^-1|_1). Both paths (fit and
-// fit_exact) solve through here, so they differ only by their Gram sums. Plain loops over the triangles.
+// output's free inputs): A = D^-1 G D^-1 with D = diag(sqrt(G_rr)), its Cholesky factor A = L L', A^-1 =
+// L^-T L^-1, and the exact 1-norm reciprocal condition number rcond = 1 / (|A|_1 |A^-1|_1). Both paths (fit and
+// fit_exact) solve through here, so they differ only by their Gram sums. The factorisation and the products with
+// A^-1 run on the kernel's instruction set (lwr_kernel.hpp: Factor), with the same bits on each.
 class ScaledInverse {
  public:
   // Scales G and inverts A, g(r, c) giving G's entries, and records rcond in fit (the smallest over the calls;
@@ -32,27 +33,32 @@ class ScaledInverse {
     return rc >= kSingularRcond;
   }
 
-  // beta = G^-1 b = D^-1 A^-1 D^-1 b, for b given by b(r).
+  // beta[o] = G^-1 b_o = D^-1 A^-1 D^-1 b_o for o < count, b_o given by b(o, r).
   template <class Entry>
-  void solve(Entry b, double* beta) const {
-    double sol[kInputs] = {};
-    for (int c = 0; c < m_; ++c) {
-      const double bc = b(c) * dinv_[c];
-      for (int j = 0; j < m_; ++j) sol[j] += bc * inv_[c][j];  // row c of A^-1 is its column c
+  void solve(int count, Entry b, detail::Row* beta) const {
+    alignas(64) detail::Row v[kBodyVars] = {};
+    for (int o = 0; o < count; ++o)
+      for (int c = 0; c < m_; ++c) v[o][c] = b(o, c) * dinv_[c];
+    switch (path_) {
+      case SimdPath::kAvx512: detail::multiply_inverse_avx512(m_, f_, count, v, beta); break;
+      case SimdPath::kAvx2: detail::multiply_inverse_avx2(m_, f_, count, v, beta); break;
+      default: detail::multiply_inverse_scalar(m_, f_, count, v, beta); break;
     }
-    for (int r = 0; r < m_; ++r) beta[r] = sol[r] * dinv_[r];
+    for (int o = 0; o < count; ++o)
+      for (int r = 0; r < m_; ++r) beta[o][r] *= dinv_[r];
   }
 
-  // The leverage v'G^-1 v = |X D^-1 v|^2 (a sum of squares, so never negative), for v given by v(r).
+  // The leverage v'G^-1 v = |L^-1 D^-1 v|^2 (a sum of squares, so never negative), for v given by v(r): forward
+  // substitution.
   template <class Entry>
   double leverage(Entry v) const {
-    double scaled[kInputs];
-    for (int r = 0; r < m_; ++r) scaled[r] = v(r) * dinv_[r];
+    double y[kInputs];
     double sum = 0;
     for (int i = 0; i < m_; ++i) {
-      double y = 0;
-      for (int k = 0; k <= i; ++k) y += x_[i][k] * scaled[k];
-      sum += y * y;
+      double t = v(i) * dinv_[i];
+      for (int k = 0; k < i; ++k) t -= f_.l[k][i] * y[k];
+      y[i] = t * f_.inv_diag[i];
+      sum += y[i] * y[i];
     }
     return sum;
   }
@@ -67,66 +73,24 @@ class ScaledInverse {
       if (!(d > 1e-150)) return false;
       dinv_[r] = 1 / d;
     }
-    for (int r = 0; r < m; ++r)
-      for (int c = 0; c < m; ++c) a_[r][c] = g(r, c) * dinv_[r] * dinv_[c];
+    for (int r = 0; r < kInputs; ++r)
+      for (int c = 0; c < kInputs; ++c) f_.a[r][c] = r < m && c < m ? g(r, c) * dinv_[r] * dinv_[c] : 0.0;
     return true;
   }
 
-  // Factorises and inverts A; returns rcond, 0 when a pivot of the factorisation is not positive.
+  // rcond, 0 when a pivot of the factorisation is not positive.
   double invert() {
-    const int m = m_;
-    double l[kInputs][kInputs];
-    for (int j = 0; j < m; ++j) {
-      double pivot = a_[j][j];
-      for (int k = 0; k < j; ++k) pivot -= l[j][k] * l[j][k];
-      if (!(pivot > 0)) return 0;
-      const double ljj = std::sqrt(pivot), inv_ljj = 1 / ljj;
-      l[j][j] = ljj;
-      for (int i = j + 1; i < m; ++i) {
-        double t = a_[i][j];
-        for (int k = 0; k < j; ++k) t -= l[i][k] * l[j][k];
-        l[i][j] = t * inv_ljj;
-      }
+    switch (path_) {
+      case SimdPath::kAvx512: return detail::invert_avx512(m_, &f_);
+      case SimdPath::kAvx2: return detail::invert_avx2(m_, &f_);
+      default: return detail::invert_scalar(m_, &f_);
     }
-    // Rows of X = L^-1: x_i = (e_i - sum_{k<i} l_ik x_k) / l_ii; x_i is 0 beyond column i.
-    for (int i = 0; i < m; ++i) {
-      double xi[kInputs] = {};  // apart from x_, so that the row operations vectorise (no aliasing)
-      for (int k = 0; k < i; ++k) {
-        const double lik = l[i][k];
-        for (int j = 0; j <= k; ++j) xi[j] -= lik * x_[k][j];
-      }
-      const double inv_lii = 1 / l[i][i];
-      for (int j = 0; j < i; ++j) x_[i][j] = xi[j] * inv_lii;
-      x_[i][i] = inv_lii;
-    }
-    // A^-1 = X'X = sum over k of x_k x_k' (exactly symmetric: both triangles take the same products in the same
-    // order).
-    for (int i = 0; i < m; ++i)
-      for (int j = 0; j < m; ++j) inv_[i][j] = 0;
-    for (int k = 0; k < m; ++k)
-      for (int i = 0; i <= k; ++i) {
-        const double xki = x_[k][i];
-        for (int j = 0; j <= k; ++j) inv_[i][j] += xki * x_[k][j];
-      }
-    double norm_a = 0, norm_inv = 0;
-    for (int c = 0; c < m; ++c) {
-      double sa = 0, si = 0;
-      for (int r = 0; r < m; ++r) {
-        sa += std::abs(a_[r][c]);
-        si += std::abs(inv_[r][c]);
-      }
-      norm_a = std::max(norm_a, sa);
-      norm_inv = std::max(norm_inv, si);
-    }
-    const double norms = norm_a * norm_inv;
-    return norms > 0 && std::isfinite(norms) ? 1 / norms : 0;
   }
 
+  SimdPath path_ = active_simd_path();
   int m_ = 0;
   double dinv_[kInputs];
-  alignas(64) double a_[kInputs][kInputs];
-  alignas(64) double x_[kInputs][kInputs];
-  alignas(64) double inv_[kInputs][kInputs];
+  detail::Factor f_;
 };
 
 SimdPath detect() {
@@ -217,7 +181,8 @@ LocalRegression::LocalRegression(const Dataset* data, const std::array<OutputTem
       z[static_cast<std::size_t>(i) * und + d] = data_->x(i, dims_[d]) * inv_h_[static_cast<std::size_t>(dims_[d])];
   build(0, n, 0, z);
   leaf_begin_.push_back(n);
-  // Blocked copies in tree order (lwr_kernel.hpp): the Gram columns, then the kernel-only inputs.
+  // Blocked copies in tree order (lwr_kernel.hpp): the Gram columns, then the kernel-only inputs; the kernel
+  // coordinates divided by their bandwidths (stored_scale).
   const int n_pad = (n + detail::kLanes - 1) / detail::kLanes * detail::kLanes;
   const int leaves = static_cast<int>(leaf_begin_.size()) - 1;
   const int leaves_pad = (leaves + detail::kLanes - 1) / detail::kLanes * detail::kLanes;
@@ -233,7 +198,6 @@ LocalRegression::LocalRegression(const Dataset* data, const std::array<OutputTem
       kd_.kernel_col[d] = static_cast<int>(source.size());
       source.push_back(j);
     }
-    kd_.inv_h[d] = inv_h_[static_cast<std::size_t>(j)];
   }
   const auto np = static_cast<std::size_t>(n_pad);
   const auto lp = static_cast<std::size_t>(leaves_pad);
@@ -248,7 +212,7 @@ LocalRegression::LocalRegression(const Dataset* data, const std::array<OutputTem
     row_[i] = r;
     for (std::size_t c = 0; c < source.size(); ++c)
       a_[i / detail::kLanes * stride + c * detail::kLanes + i % detail::kLanes] =
-          !real ? 0.0 : source[c] >= 0 ? data_->x(r, source[c]) : data_->y(r, ~source[c]);
+          !real ? 0.0 : source[c] >= 0 ? data_->x(r, source[c]) * stored_scale(source[c]) : data_->y(r, ~source[c]);
   }
   for (std::size_t l = 0; l < lp; ++l)
     for (std::size_t d = 0; d < und; ++d) {
@@ -343,8 +307,8 @@ void LocalRegression::solve(const Gram& g, const Cross& b, const InputVec& q, Lo
       return;
     }
     first = false;
-    double sol[kInputs];
-    inverse.solve([&](int r) { return b(idx[r], k); }, sol);
+    detail::Row sol;
+    inverse.solve(1, [&](int, int r) { return b(idx[r], k); }, &sol);
     for (int r = 0; r < m; ++r) beta[idx[r]] = sol[r];
     fit->leverage[k] = inverse.leverage([&](int r) { return q[idx[r]]; });
   }
@@ -357,15 +321,17 @@ bool LocalRegression::solve_group(const detail::KernelResult& k, const Group& gr
   };
   const auto row = [&](int r) { return grp.rows[static_cast<std::size_t>(r)]; };
   const auto input = [&](int r) { return grp.inputs[static_cast<std::size_t>(r)]; };
+  // The kernel's sums are those of the stored inputs S x (S = diag(stored_scale)): X'WX is S G S, its right-hand
+  // sides S b, so beta = S beta_s, and the leverage is q'G^-1 q = (S q)'(S G S)^-1 (S q).
   ScaledInverse inverse;
   if (!inverse.factor(grp.size, [&](int r, int c) { return g(row(r), row(c)); }, first, fit)) return false;
-  const double leverage = inverse.leverage([&](int r) { return q[input(r)]; });
+  const double leverage = inverse.leverage([&](int r) { return q[input(r)] * stored_scale(input(r)); });
+  detail::Row sol[kBodyVars];
+  inverse.solve(grp.count, [&](int o, int r) { return g(row(r), grp.columns[static_cast<std::size_t>(o)]); }, sol);
   for (int o = 0; o < grp.count; ++o) {
-    const int out = grp.outputs[static_cast<std::size_t>(o)], column = grp.columns[static_cast<std::size_t>(o)];
-    double sol[kInputs];
-    inverse.solve([&](int r) { return g(row(r), column); }, sol);
+    const int out = grp.outputs[static_cast<std::size_t>(o)];
     auto& beta = fit->beta[static_cast<std::size_t>(out)];
-    for (int r = 0; r < grp.size; ++r) beta[input(r)] = sol[r];
+    for (int r = 0; r < grp.size; ++r) beta[input(r)] = sol[o][r] * stored_scale(input(r));
     fit->leverage[out] = leverage;
   }
   return true;
@@ -403,7 +369,6 @@ LocalFit LocalRegression::fit(const InputVec& q, Eigen::Index exclude_begin, Eig
   }
   detail::KernelQuery kq;
   for (std::size_t d = 0; d < dims_.size(); ++d) {
-    kq.q[d] = q[dims_[d]];
     kq.zq[d] = q[dims_[d]] * inv_h_[static_cast<std::size_t>(dims_[d])];
   }
   kq.exclude_begin = static_cast<double>(exclude_begin);

@@ -1,12 +1,13 @@
-// The Gram kernel of lwr_kernel.hpp for three instruction sets. The build has no -march flags, so the AVX2 and
-// AVX-512 versions are compiled through `#pragma GCC target` regions and chosen at run time (lwr.cpp).
+// The Gram kernel and the solve's factorisation (Factor) of lwr_kernel.hpp for three instruction sets. The build
+// has no -march flags, so the AVX2 and AVX-512 versions are compiled through `#pragma GCC target` regions and
+// chosen at run time (lwr.cpp).
 //
 // Reproducibility: the three versions run the same IEEE operations in the same order (every multiply-add fused,
 // std::fma in the scalar one; the project compiles without -ffast-math and with -ffp-contract=off, the default of
 // -std=c++20), so a refit gives the same bits whichever runs, on any x86-64 machine, for any thread count. What
-// is not reproducible across machines: the solve after the kernel (Eigen, compiled for the build's baseline
-// instruction set) may round differently under another compiler, other flags or another architecture, and
-// fit_exact uses the C library's exp.
+// is not reproducible across machines: the solve's few steps outside Factor (lwr.cpp: scaling, the leverage's
+// substitution; compiled for the build's baseline instruction set) may round differently under another
+// compiler, other flags or another architecture, and fit_exact uses the C library's exp.
 #include "pegasus/sysid/lwr_kernel.hpp"
 
 #include <algorithm>
@@ -197,6 +198,10 @@ constexpr int kDistanceBlock = 8;  // 8 accumulators of 32 registers
 void gram_scalar(const KernelData& d, const TilePlan& plan, const KernelQuery& q, KernelResult* out) {
   scalar_isa::gram(d, plan, q, out);
 }
+double invert_scalar(int m, Factor* f) { return scalar_isa::invert(m, f); }
+void multiply_inverse_scalar(int m, const Factor& f, int count, const Row* v, Row* out) {
+  scalar_isa::multiply_inverse(m, f, count, v, out);
+}
 
 #ifdef PEGASUS_LWR_X86
 void gram_avx2(const KernelData& d, const TilePlan& plan, const KernelQuery& q, KernelResult* out) {
@@ -205,12 +210,28 @@ void gram_avx2(const KernelData& d, const TilePlan& plan, const KernelQuery& q, 
 void gram_avx512(const KernelData& d, const TilePlan& plan, const KernelQuery& q, KernelResult* out) {
   avx512_isa::gram(d, plan, q, out);
 }
+double invert_avx2(int m, Factor* f) { return avx2_isa::invert(m, f); }
+double invert_avx512(int m, Factor* f) { return avx512_isa::invert(m, f); }
+void multiply_inverse_avx2(int m, const Factor& f, int count, const Row* v, Row* out) {
+  avx2_isa::multiply_inverse(m, f, count, v, out);
+}
+void multiply_inverse_avx512(int m, const Factor& f, int count, const Row* v, Row* out) {
+  avx512_isa::multiply_inverse(m, f, count, v, out);
+}
 #else
 void gram_avx2(const KernelData& d, const TilePlan& plan, const KernelQuery& q, KernelResult* out) {
   scalar_isa::gram(d, plan, q, out);
 }
 void gram_avx512(const KernelData& d, const TilePlan& plan, const KernelQuery& q, KernelResult* out) {
   scalar_isa::gram(d, plan, q, out);
+}
+double invert_avx2(int m, Factor* f) { return scalar_isa::invert(m, f); }
+double invert_avx512(int m, Factor* f) { return scalar_isa::invert(m, f); }
+void multiply_inverse_avx2(int m, const Factor& f, int count, const Row* v, Row* out) {
+  scalar_isa::multiply_inverse(m, f, count, v, out);
+}
+void multiply_inverse_avx512(int m, const Factor& f, int count, const Row* v, Row* out) {
+  scalar_isa::multiply_inverse(m, f, count, v, out);
 }
 #endif
 

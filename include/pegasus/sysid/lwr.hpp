@@ -101,6 +101,12 @@ class LocalRegression {
   void solve_groups(const detail::KernelResult& k, const InputVec& q, LocalFit* fit) const;
   bool solve_group(const detail::KernelResult& k, const Group& grp, const InputVec& q, bool first,
                    LocalFit* fit) const;
+  // The factor the kernel's copy of an input carries: 1 / bandwidth for a kernel coordinate (so that distances
+  // need no multiply), else 1.
+  double stored_scale(int input) const {
+    const double s = inv_h_[static_cast<std::size_t>(input)];
+    return s > 0 ? s : 1.0;
+  }
 
   const Dataset* data_;
   std::array<OutputTemplate, kBodyVars> templates_;

@@ -5,13 +5,15 @@
 // 0): a block holds, for its 8 points, one vector per stored column (the Gram columns, i.e. the inputs that some
 // output regresses on and then the outputs that regress on something, followed by the inputs only the kernel
 // uses), so the points of a chunk are one contiguous stretch (the whole set, about 600 KB for the shipped 3400
-// points, lives in L2). Each point's data row is kept apart as a double (for the cross-validation window).
+// points, lives in L2). Kernel coordinates are stored divided by their bandwidths (z = x / h), so a distance
+// needs no multiply; the sums are then those of the scaled inputs, which lwr.cpp maps back. Each point's data
+// row is kept apart as a double (for the cross-validation window).
 // Leaves hold up to kLeaf points and start at multiples of 8.
 //
 // For a query the kernel visits the leaves in storage order, skips a leaf whose bounding box lies more than
 // ln(1e16) * 2 beyond the smallest squared distance seen so far (seeded by the query's own leaf), and cuts each
 // run of admitted leaves that follow one another into chunks of kChunk points. For a chunk it computes, 8 points
-// per vector, the squared distances d^2 = sum_d ((q_d - x_d) / h_d)^2 and the weights w = exp(-d^2 / 2) (own
+// per vector, the squared distances d^2 = sum_d (zq_d - z_d)^2 and the weights w = exp(-d^2 / 2) (own
 // polynomial, below; 0 beyond the same threshold from the smallest d^2 before the chunk), and adds the upper
 // triangle of sum_i (w_i a_i) a_i' in register tiles: the rows scaled by w (a copy the first tile of each row
 // group makes), the columns read straight from the data blocks. Each lane of each entry is summed in point order
@@ -60,7 +62,6 @@ struct KernelData {
   // no output regresses on, kLanes values each (padding: 0).
   const double* a = nullptr;
   std::array<int, kInputs> kernel_col{};       // column of each kernel coordinate
-  std::array<double, kInputs> inv_h{};          // 1 / bandwidth of each kernel coordinate
   const double* row = nullptr;     // n_pad: the data row of each point (padding: -1)
   const double* box_lo = nullptr;  // nd columns of leaves_pad: leaf bounding boxes of x / h (padding: 1e150)
   const double* box_hi = nullptr;
@@ -73,8 +74,7 @@ inline const double* block_column(const KernelData& d, int col, int p) {
 }
 
 struct KernelQuery {
-  std::array<double, kInputs> q{};   // the query's kernel coordinates (unscaled)
-  std::array<double, kInputs> zq{};  // and scaled by 1 / bandwidth (for the boxes)
+  std::array<double, kInputs> zq{};  // the query's kernel coordinates divided by their bandwidths
   double exclude_begin = 0, exclude_end = 0;  // data rows [begin, end) weigh 0
   int seed_leaf = 0;                          // the leaf the query falls in
   double cutoff = 0;                          // skip points with d^2 > smallest d^2 + cutoff
@@ -91,6 +91,27 @@ struct KernelResult {
 void gram_scalar(const KernelData& d, const TilePlan& plan, const KernelQuery& q, KernelResult* out);
 void gram_avx2(const KernelData& d, const TilePlan& plan, const KernelQuery& q, KernelResult* out);
 void gram_avx512(const KernelData& d, const TilePlan& plan, const KernelQuery& q, KernelResult* out);
+
+// The factorisation behind LocalRegression's solve (lwr.cpp, ScaledInverse), on kInputs x kInputs row-major
+// arrays whose entries beyond the first m rows and columns are 0, run on rows of kInputs / kLanes vectors by the
+// same instruction sets as the kernel, with fused multiply-adds everywhere, so that they too agree bit for bit.
+struct Factor {
+  alignas(64) double a[kInputs][kInputs];    // in: the Jacobi-scaled matrix A (symmetric, unit diagonal)
+  alignas(64) double l[kInputs][kInputs];    // out: row j holds column j of A's Cholesky factor L (l[j][i] = L_ij,
+                                             // i >= j; the entries left of the diagonal are scratch)
+  alignas(64) double inv[kInputs][kInputs];  // out: A^-1 = L^-T L^-1 (exactly symmetric)
+  double inv_diag[kInputs];                  // out: 1 / L_ii
+};
+// Factorises A = L L' and inverts it; returns rcond = 1 / (|A|_1 |A^-1|_1), or 0 when a pivot is not positive
+// (then l and inv are unspecified).
+double invert_scalar(int m, Factor* f);
+double invert_avx2(int m, Factor* f);
+double invert_avx512(int m, Factor* f);
+// out[o] = A^-1 v[o] for o < count.
+using Row = double[kInputs];
+void multiply_inverse_scalar(int m, const Factor& f, int count, const Row* v, Row* out);
+void multiply_inverse_avx2(int m, const Factor& f, int count, const Row* v, Row* out);
+void multiply_inverse_avx512(int m, const Factor& f, int count, const Row* v, Row* out);
 
 // exp(x) for x <= 0 by the kernel's polynomial (0 below -708), one value, scalar path: for tests.
 double kernel_exp(double x);
