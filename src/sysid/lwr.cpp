@@ -187,8 +187,13 @@ LocalRegression::LocalRegression(const Dataset* data, const std::array<OutputTem
   const int leaves = static_cast<int>(leaf_begin_.size()) - 1;
   const int leaves_pad = (leaves + detail::kLanes - 1) / detail::kLanes * detail::kLanes;
   const int ncols = gram_m_ + gram_outputs_count_;
+  // The constant input, when some output regresses on it, is the last Gram row (kOne is the last input); the
+  // kernel weighs it without storing it.
+  kd_.weight_row = gram_m_ > 0 && gram_inputs_[static_cast<std::size_t>(gram_m_ - 1)] == kOne;
+  const int kernel_cols = ncols - (kd_.weight_row ? 1 : 0);
   std::vector<int> source;  // input (>= 0) or ~output of each stored column
-  for (int c = 0; c < gram_m_; ++c) source.push_back(gram_inputs_[static_cast<std::size_t>(c)]);
+  for (int c = 0; c < gram_m_; ++c)
+    if (gram_inputs_[static_cast<std::size_t>(c)] != kOne) source.push_back(gram_inputs_[static_cast<std::size_t>(c)]);
   for (int c = 0; c < gram_outputs_count_; ++c) source.push_back(~gram_outputs_[static_cast<std::size_t>(c)]);
   for (std::size_t d = 0; d < und; ++d) {
     const int j = dims_[d];
@@ -243,9 +248,9 @@ LocalRegression::LocalRegression(const Dataset* data, const std::array<OutputTem
   kd_.box_hi = box_hi_.get();
   kd_.leaf_begin = leaf_begin_.data();
   // Tile shapes per instruction set (registers: 16 of 4 doubles for AVX2, 32 of 8 for AVX-512).
-  plans_[static_cast<std::size_t>(detail::Isa::kScalar)] = detail::tile_plan(gram_m_, ncols, 1, 4);
-  plans_[static_cast<std::size_t>(detail::Isa::kAvx2)] = detail::tile_plan(gram_m_, ncols, 2, 2);
-  plans_[static_cast<std::size_t>(detail::Isa::kAvx512)] = detail::tile_plan(gram_m_, ncols, 4, 12);
+  plans_[static_cast<std::size_t>(detail::Isa::kScalar)] = detail::tile_plan(gram_m_, kernel_cols, 1, 4);
+  plans_[static_cast<std::size_t>(detail::Isa::kAvx2)] = detail::tile_plan(gram_m_, kernel_cols, 2, 2);
+  plans_[static_cast<std::size_t>(detail::Isa::kAvx512)] = detail::tile_plan(gram_m_, kernel_cols, 4, 12);
 }
 
 // Splits [begin, end) of perm_ at a multiple of 8 (leaves start on whole vectors) along the widest kernel

@@ -33,14 +33,19 @@ constexpr double kLn2Hi = 6.93147180369123816490e-01;  // 0x3FE62E42FEE00000 (21
 constexpr double kLn2Lo = 1.90821492927058770002e-10;  // ln 2 - kLn2Hi
 constexpr double kMinExpArg = -708.0;                   // exp(-708) ~ 3.3e-308, still normal
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
-// bits(n + kMagic) - kPow2Bias = (n + 1023) for the exponent field of 2^n.
-constexpr std::int64_t kPow2Bias = static_cast<std::int64_t>(0x4338000000000000ULL) - 1023;
+// 2^(j/8), j = 0..7, rounded to nearest (computed to 60 digits).
+alignas(64) constexpr double kExp2Eighths[kLanes] = {0x1.0000000000000p+0, 0x1.172b83c7d517bp+0, 0x1.306fe0a31b715p+0,
+                                                     0x1.4bfdad5362a27p+0, 0x1.6a09e667f3bcdp+0, 0x1.8ace5422aa0dbp+0,
+                                                     0x1.ae89f995ad3adp+0, 0x1.d5818dcfba487p+0};
+// For nm = n + kMagic (|n| < 2^51), n = 8e + j: bits(nm) << 49 puts j's 3 bits just below the exponent field (they
+// are cleared) and e's in it (kMagic's bits shift out), so adding it to the bits of 2^(j/8) scales that by 2^e.
+constexpr std::uint64_t kExponentField = 0xFFF0000000000000ULL;
 
-constexpr std::array<double, 14> kInvFactorial = [] {
-  std::array<double, 14> c{};
+constexpr std::array<double, 9> kInvFactorial = [] {
+  std::array<double, 9> c{};
   double f = 1;
-  for (int k = 0; k < 14; ++k) {
-    if (k > 0) f *= k;  // exact: 13! < 2^53
+  for (int k = 0; k < 9; ++k) {
+    if (k > 0) f *= k;  // exact
     c[static_cast<std::size_t>(k)] = 1.0 / f;
   }
   return c;
@@ -113,11 +118,11 @@ inline int count_le(V a, V b) {
   for (int i = 0; i < kLanes; ++i) n += a.v[i] <= b.v[i] ? 1 : 0;
   return n;
 }
-inline V pow2_magic(V nm) {
+inline V pow2_table(V nm) {
   V r;
   for (int i = 0; i < kLanes; ++i) {
-    const auto bits = static_cast<std::uint64_t>(std::bit_cast<std::int64_t>(nm.v[i]) - kPow2Bias) << 52;
-    r.v[i] = std::bit_cast<double>(bits);
+    const auto bits = std::bit_cast<std::uint64_t>(nm.v[i]);
+    r.v[i] = std::bit_cast<double>(std::bit_cast<std::uint64_t>(kExp2Eighths[bits & 7]) + ((bits << 49) & kExponentField));
   }
   return r;
 }
@@ -155,10 +160,12 @@ inline int count_le(V a, V b) {
          std::popcount(static_cast<unsigned>(_mm256_movemask_pd(_mm256_cmp_pd(a.hi, b.hi, _CMP_LE_OQ))));
 }
 inline __m256d pow2_half(__m256d nm) {
-  const __m256i e = _mm256_sub_epi64(_mm256_castpd_si256(nm), _mm256_set1_epi64x(kPow2Bias));
-  return _mm256_castsi256_pd(_mm256_slli_epi64(e, 52));
+  const __m256i bits = _mm256_castpd_si256(nm);
+  const __m256i t = _mm256_castpd_si256(_mm256_i64gather_pd(kExp2Eighths, _mm256_and_si256(bits, _mm256_set1_epi64x(7)), 8));
+  const __m256i e = _mm256_and_si256(_mm256_slli_epi64(bits, 49), _mm256_set1_epi64x(static_cast<long long>(kExponentField)));
+  return _mm256_castsi256_pd(_mm256_add_epi64(t, e));
 }
-inline V pow2_magic(V nm) { return {pow2_half(nm.lo), pow2_half(nm.hi)}; }
+inline V pow2_table(V nm) { return {pow2_half(nm.lo), pow2_half(nm.hi)}; }
 constexpr int kDistanceBlock = 4;  // 8 accumulators of 16 registers
 #include "lwr_kernel.inc"
 }  // namespace avx2_isa
@@ -185,9 +192,12 @@ inline V vmin(V a, V b) { return {_mm512_mask_min_pd(a.v, 0xFF, a.v, b.v)}; }
 inline V vmax(V a, V b) { return {_mm512_mask_max_pd(a.v, 0xFF, a.v, b.v)}; }
 inline V select_le(V a, V b, V x, V y) { return {_mm512_mask_blend_pd(_mm512_cmp_pd_mask(a.v, b.v, _CMP_LE_OQ), y.v, x.v)}; }
 inline int count_le(V a, V b) { return std::popcount(static_cast<unsigned>(_mm512_cmp_pd_mask(a.v, b.v, _CMP_LE_OQ))); }
-inline V pow2_magic(V nm) {
-  const __m512i e = _mm512_sub_epi64(_mm512_castpd_si512(nm.v), _mm512_set1_epi64(kPow2Bias));
-  return {_mm512_castsi512_pd(_mm512_mask_slli_epi64(e, 0xFF, e, 52))};
+inline V pow2_table(V nm) {
+  const __m512i bits = _mm512_castpd_si512(nm.v);
+  const __m512d table = _mm512_load_pd(kExp2Eighths);
+  const __m512i t = _mm512_castpd_si512(_mm512_mask_permutexvar_pd(table, 0xFF, bits, table));
+  const __m512i e = _mm512_and_si512(_mm512_mask_slli_epi64(bits, 0xFF, bits, 49), _mm512_set1_epi64(static_cast<long long>(kExponentField)));
+  return {_mm512_castsi512_pd(_mm512_add_epi64(t, e))};
 }
 constexpr int kDistanceBlock = 8;  // 8 accumulators of 32 registers
 #include "lwr_kernel.inc"

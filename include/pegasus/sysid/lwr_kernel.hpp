@@ -4,7 +4,7 @@
 // Data are stored in k-d tree order in blocks of 8 points (n rounded up to 8; padding points are 0 and weigh
 // 0): a block holds, for its 8 points, one vector per stored column (the Gram columns, i.e. the inputs that some
 // output regresses on and then the outputs that regress on something, followed by the inputs only the kernel
-// uses), so the points of a chunk are one contiguous stretch (the whole set, about 600 KB for the shipped 3400
+// uses; the constant input is not stored, see weight_row), so the points of a chunk are one contiguous stretch (the whole set, about 600 KB for the shipped 3400
 // points, lives in L2). Kernel coordinates are stored divided by their bandwidths (z = x / h), so a distance
 // needs no multiply; the sums are then those of the scaled inputs, which lwr.cpp maps back. Each point's data
 // row is kept apart as a double (for the cross-validation window).
@@ -57,6 +57,9 @@ struct KernelData {
   int stride = 0;                 // doubles per block of kLanes points (stored columns x kLanes)
   int nd = 0;                     // kernel coordinates
   int m = 0, ncols = 0;           // Gram rows (inputs), Gram columns (inputs then outputs)
+  // The last Gram row is the constant input's: its column is not stored (its entries are sums of w and of the
+  // scaled rows w a_r), and the kernel's columns past it sit one to the left of their Gram columns.
+  bool weight_row = false;
   int leaves = 0, leaves_pad = 0;  // leaves, padded to a multiple of kLanes
   // n_pad / kLanes blocks of `stride` doubles: per block the Gram columns, then the inputs the kernel uses but
   // no output regresses on, kLanes values each (padding: 0).
