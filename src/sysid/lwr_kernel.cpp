@@ -41,6 +41,14 @@ alignas(64) constexpr double kExp2Eighths[kLanes] = {0x1.0000000000000p+0, 0x1.1
 // are cleared) and e's in it (kMagic's bits shift out), so adding it to the bits of 2^(j/8) scales that by 2^e.
 constexpr std::uint64_t kExponentField = 0xFFF0000000000000ULL;
 
+// The 8 lanes of a vector summed in a fixed tree order (every instruction set's hsum8 keeps it).
+inline double lane_tree_sum(const double* l) { return ((l[0] + l[1]) + (l[2] + l[3])) + ((l[4] + l[5]) + (l[6] + l[7])); }
+
+// hsum8 of the instruction sets without a shuffle form: lane by lane.
+inline void hsum8_lanewise(const double* v, double* out) {
+  for (int i = 0; i < 8; ++i) out[i] = lane_tree_sum(v + i * kLanes);
+}
+
 constexpr std::array<double, 9> kInvFactorial = [] {
   std::array<double, 9> c{};
   double f = 1;
@@ -126,6 +134,7 @@ inline V pow2_table(V nm) {
   }
   return r;
 }
+inline void hsum8(const double* v, double* out) { hsum8_lanewise(v, out); }
 constexpr int kDistanceBlock = 2;
 #include "lwr_kernel.inc"
 }  // namespace scalar_isa
@@ -166,6 +175,7 @@ inline __m256d pow2_half(__m256d nm) {
   return _mm256_castsi256_pd(_mm256_add_epi64(t, e));
 }
 inline V pow2_table(V nm) { return {pow2_half(nm.lo), pow2_half(nm.hi)}; }
+inline void hsum8(const double* v, double* out) { hsum8_lanewise(v, out); }
 constexpr int kDistanceBlock = 4;  // 8 accumulators of 16 registers
 #include "lwr_kernel.inc"
 }  // namespace avx2_isa
@@ -198,6 +208,25 @@ inline V pow2_table(V nm) {
   const __m512i t = _mm512_castpd_si512(_mm512_mask_permutexvar_pd(table, 0xFF, bits, table));
   const __m512i e = _mm512_and_si512(_mm512_mask_slli_epi64(bits, 0xFF, bits, 49), _mm512_set1_epi64(static_cast<long long>(kExponentField)));
   return {_mm512_castsi512_pd(_mm512_add_epi64(t, e))};
+}
+// Lane sums of 8 vectors a..h at once: pairs (l0+l1, l2+l3, ...) of two vectors interleaved, then those pairs
+// summed across 128-bit lanes twice, which ends with the 8 sums in order; each sum takes lane_tree_sum's order.
+// (Masked forms with every lane selected, as above, for GCC 12's warning.)
+inline void hsum8(const double* v, double* out) {
+  __m512d pair[4];
+  for (int i = 0; i < 4; ++i) {
+    const __m512d a = _mm512_loadu_pd(v + 2 * i * kLanes), b = _mm512_loadu_pd(v + (2 * i + 1) * kLanes);
+    // a01 b01 a23 b23 a45 b45 a67 b67
+    pair[i] = _mm512_add_pd(_mm512_mask_unpacklo_pd(a, 0xFF, a, b), _mm512_mask_unpackhi_pd(a, 0xFF, a, b));
+  }
+  __m512d quad[2];
+  for (int i = 0; i < 2; ++i) {
+    const __m512d x = pair[2 * i], y = pair[2 * i + 1];  // quad: a0-3 b0-3 a4-7 b4-7 c0-3 d0-3 c4-7 d4-7
+    quad[i] = _mm512_add_pd(_mm512_mask_shuffle_f64x2(x, 0xFF, x, y, 0x88), _mm512_mask_shuffle_f64x2(x, 0xFF, x, y, 0xDD));
+  }
+  const __m512d q0 = quad[0], q1 = quad[1];
+  _mm512_storeu_pd(out, _mm512_add_pd(_mm512_mask_shuffle_f64x2(q0, 0xFF, q0, q1, 0x88),
+                                      _mm512_mask_shuffle_f64x2(q0, 0xFF, q0, q1, 0xDD)));
 }
 constexpr int kDistanceBlock = 8;  // 8 accumulators of 32 registers
 #include "lwr_kernel.inc"
