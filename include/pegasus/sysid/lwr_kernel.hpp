@@ -21,11 +21,12 @@
 // in the same order with fused multiply-adds everywhere (std::fma in the scalar one), so they agree bit for bit;
 // only the tile shapes differ.
 //
-// Where a refit's time goes (AVX-512, Zen 5, shipped model, rdtsc per phase, minimum over 200 samples of 1000
-// refits): distances and weights together 4.5 us (the distances are bound by bringing the data in from L2: 31
-// cycles per vector of 8 points, 17 when the data are in L1), the Gram tiles 12.9 us (117 cycles per vector
-// against a floor of 101.5 for their 189 multiply-adds and 14 multiplies; 112 with all operands in L1), the
-// solve 1.5 us, the set-up 0.2 us.
+// Where a refit's time goes (AVX-512, Zen 5, shipped model; interleaved runs that each leave one phase out,
+// minimum over samples of 200 refits; whole refit about 17.5 us): the Gram tiles about 11.7 us (175 multiply-adds
+// and 13 multiplies per vector of 8 points, about 106 cycles against a floor of 94; adding each tile's sums into
+// the accumulators at the end of a chunk is about 3% of the refit, and larger chunks, which would do that less
+// often, no longer fit L1), the distances, weights, leaf tests and lane sums about 5.3 us (the exp about 1 us of it;
+// the distances wait on the data coming in from L2), the solve about 0.7 us.
 #include <array>
 #include <vector>
 
