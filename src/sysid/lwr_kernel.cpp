@@ -234,45 +234,33 @@ constexpr int kDistanceBlock = 8;  // 8 accumulators of 32 registers
 #pragma GCC pop_options
 #endif
 
+#ifndef PEGASUS_LWR_X86
+// Elsewhere every entry point runs the scalar version.
+namespace avx2_isa = scalar_isa;
+namespace avx512_isa = scalar_isa;
+#endif
+
 void gram_scalar(const KernelData& d, const TilePlan& plan, const KernelQuery& q, KernelResult* out) {
   scalar_isa::gram(d, plan, q, out);
 }
-double invert_scalar(int m, Factor* f) { return scalar_isa::invert(m, f); }
-void multiply_inverse_scalar(int m, const Factor& f, int count, const Row* v, Row* out) {
-  scalar_isa::multiply_inverse(m, f, count, v, out);
-}
-
-#ifdef PEGASUS_LWR_X86
 void gram_avx2(const KernelData& d, const TilePlan& plan, const KernelQuery& q, KernelResult* out) {
   avx2_isa::gram(d, plan, q, out);
 }
 void gram_avx512(const KernelData& d, const TilePlan& plan, const KernelQuery& q, KernelResult* out) {
   avx512_isa::gram(d, plan, q, out);
 }
+double invert_scalar(int m, Factor* f) { return scalar_isa::invert(m, f); }
 double invert_avx2(int m, Factor* f) { return avx2_isa::invert(m, f); }
 double invert_avx512(int m, Factor* f) { return avx512_isa::invert(m, f); }
+void multiply_inverse_scalar(int m, const Factor& f, int count, const Row* v, Row* out) {
+  scalar_isa::multiply_inverse(m, f, count, v, out);
+}
 void multiply_inverse_avx2(int m, const Factor& f, int count, const Row* v, Row* out) {
   avx2_isa::multiply_inverse(m, f, count, v, out);
 }
 void multiply_inverse_avx512(int m, const Factor& f, int count, const Row* v, Row* out) {
   avx512_isa::multiply_inverse(m, f, count, v, out);
 }
-#else
-void gram_avx2(const KernelData& d, const TilePlan& plan, const KernelQuery& q, KernelResult* out) {
-  scalar_isa::gram(d, plan, q, out);
-}
-void gram_avx512(const KernelData& d, const TilePlan& plan, const KernelQuery& q, KernelResult* out) {
-  scalar_isa::gram(d, plan, q, out);
-}
-double invert_avx2(int m, Factor* f) { return scalar_isa::invert(m, f); }
-double invert_avx512(int m, Factor* f) { return scalar_isa::invert(m, f); }
-void multiply_inverse_avx2(int m, const Factor& f, int count, const Row* v, Row* out) {
-  scalar_isa::multiply_inverse(m, f, count, v, out);
-}
-void multiply_inverse_avx512(int m, const Factor& f, int count, const Row* v, Row* out) {
-  scalar_isa::multiply_inverse(m, f, count, v, out);
-}
-#endif
 
 double kernel_exp(double x) {
   double out[kLanes];
