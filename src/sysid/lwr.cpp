@@ -18,8 +18,9 @@ std::atomic<int> g_forced{static_cast<int>(SimdPath::kAuto)};
 // The Jacobi-scaled inverse of a symmetric positive definite m x m matrix G (m <= kInputs; the X'WX of one
 // output's free inputs): A = D^-1 G D^-1 with D = diag(sqrt(G_rr)), its Cholesky factor A = L L', A^-1 =
 // L^-T L^-1, and the exact 1-norm reciprocal condition number rcond = 1 / (|A|_1 |A^-1|_1). Both paths (fit and
-// fit_exact) solve through here, so they differ only by their Gram sums. The factorisation and the products with
-// A^-1 run on the kernel's instruction set (lwr_kernel.hpp: Factor), with the same bits on each.
+// fit_exact) solve through here, so they differ only by their Gram sums (fit's over the stored, scaled inputs,
+// which Jacobi scaling cancels). The factorisation and the products with A^-1 run on the kernel's instruction set
+// (lwr_kernel.hpp: Factor), with the same bits on each.
 class ScaledInverse {
  public:
   // Scales G and inverts A, g(r, c) giving G's entries, and records rcond in fit (the smallest over the calls;
@@ -189,6 +190,7 @@ LocalRegression::LocalRegression(const Dataset* data, const std::array<OutputTem
   const int ncols = gram_m_ + gram_outputs_count_;
   // The constant input, when some output regresses on it, is the last Gram row (kOne is the last input); the
   // kernel weighs it without storing it.
+  static_assert(kOne == kInputs - 1, "the constant input is the last Gram row (KernelData::weight_row)");
   kd_.weight_row = gram_m_ > 0 && gram_inputs_[static_cast<std::size_t>(gram_m_ - 1)] == kOne;
   const int kernel_cols = ncols - (kd_.weight_row ? 1 : 0);
   std::vector<int> source;  // input (>= 0) or ~output of each stored column
