@@ -250,9 +250,9 @@ LocalRegression::LocalRegression(const Dataset* data, const std::array<OutputTem
   kd_.box_hi = box_hi_.get();
   kd_.leaf_begin = leaf_begin_.data();
   // Tile shapes per instruction set (registers: 16 of 4 doubles for AVX2, 32 of 8 for AVX-512).
-  plans_[static_cast<std::size_t>(detail::Isa::kScalar)] = detail::tile_plan(gram_m_, kernel_cols, 1, 4);
-  plans_[static_cast<std::size_t>(detail::Isa::kAvx2)] = detail::tile_plan(gram_m_, kernel_cols, 2, 2);
-  plans_[static_cast<std::size_t>(detail::Isa::kAvx512)] = detail::tile_plan(gram_m_, kernel_cols, 4, 12);
+  plans_[static_cast<std::size_t>(detail::Isa::kScalar)] = detail::tile_plan(gram_m_, kernel_cols, 1, 4, kd_.weight_row);
+  plans_[static_cast<std::size_t>(detail::Isa::kAvx2)] = detail::tile_plan(gram_m_, kernel_cols, 2, 2, kd_.weight_row);
+  plans_[static_cast<std::size_t>(detail::Isa::kAvx512)] = detail::tile_plan(gram_m_, kernel_cols, 4, 12, kd_.weight_row);
 }
 
 // Splits [begin, end) of perm_ at a multiple of 8 (leaves start on whole vectors) along the widest kernel

@@ -42,7 +42,9 @@ alignas(64) constexpr double kExp2Eighths[kLanes] = {0x1.0000000000000p+0, 0x1.1
 constexpr std::uint64_t kExponentField = 0xFFF0000000000000ULL;
 
 // The 8 lanes of a vector summed in a fixed tree order (every instruction set's hsum8 keeps it).
-inline double lane_tree_sum(const double* l) { return ((l[0] + l[1]) + (l[2] + l[3])) + ((l[4] + l[5]) + (l[6] + l[7])); }
+inline double lane_tree_sum(const double* l) {
+  return ((l[0] + l[1]) + (l[2] + l[3])) + ((l[4] + l[5]) + (l[6] + l[7]));
+}
 
 // hsum8 of the instruction sets without a shuffle form: lane by lane.
 inline void hsum8_lanewise(const double* v, double* out) {
@@ -61,7 +63,7 @@ constexpr std::array<double, 9> kInvFactorial = [] {
 
 }  // namespace
 
-TilePlan tile_plan(int rows, int cols, int max_rows, int max_cols) {
+TilePlan tile_plan(int rows, int cols, int max_rows, int max_cols, bool weight_row) {
   TilePlan p;
   for (int r0 = 0; r0 < rows; r0 += max_rows) {
     const int r = std::min(max_rows, rows - r0);
@@ -71,7 +73,11 @@ TilePlan tile_plan(int rows, int cols, int max_rows, int max_cols) {
     const int span = cols - r0, count = (span + width - 1) / width;
     for (int k = 0, c0 = r0; k < count; ++k) {
       const int c = span / count + (k < span % count ? 1 : 0);
-      p.tiles.push_back(Tile{r0, r, c0, c, p.acc_size});
+      const TileKind kind = k > 0             ? kOffDiagonal
+                            : !weight_row       ? kDiagonalTile
+                            : r0 + r == rows    ? kDiagonalWeightRow
+                                                : kDiagonalMoments;
+      p.tiles.push_back(Tile{r0, r, c0, c, p.acc_size, kind});
       p.acc_size += r * c * kLanes;
       c0 += c;
     }
@@ -130,7 +136,8 @@ inline V pow2_table(V nm) {
   V r;
   for (int i = 0; i < kLanes; ++i) {
     const auto bits = std::bit_cast<std::uint64_t>(nm.v[i]);
-    r.v[i] = std::bit_cast<double>(std::bit_cast<std::uint64_t>(kExp2Eighths[bits & 7]) + ((bits << 49) & kExponentField));
+    const auto table = std::bit_cast<std::uint64_t>(kExp2Eighths[bits & 7]);
+    r.v[i] = std::bit_cast<double>(table + ((bits << 49) & kExponentField));
   }
   return r;
 }
@@ -170,8 +177,10 @@ inline int count_le(V a, V b) {
 }
 inline __m256d pow2_half(__m256d nm) {
   const __m256i bits = _mm256_castpd_si256(nm);
-  const __m256i t = _mm256_castpd_si256(_mm256_i64gather_pd(kExp2Eighths, _mm256_and_si256(bits, _mm256_set1_epi64x(7)), 8));
-  const __m256i e = _mm256_and_si256(_mm256_slli_epi64(bits, 49), _mm256_set1_epi64x(static_cast<long long>(kExponentField)));
+  const __m256i j = _mm256_and_si256(bits, _mm256_set1_epi64x(7));
+  const __m256i t = _mm256_castpd_si256(_mm256_i64gather_pd(kExp2Eighths, j, 8));
+  const __m256i field = _mm256_set1_epi64x(static_cast<long long>(kExponentField));
+  const __m256i e = _mm256_and_si256(_mm256_slli_epi64(bits, 49), field);
   return _mm256_castsi256_pd(_mm256_add_epi64(t, e));
 }
 inline V pow2_table(V nm) { return {pow2_half(nm.lo), pow2_half(nm.hi)}; }
@@ -206,7 +215,8 @@ inline V pow2_table(V nm) {
   const __m512i bits = _mm512_castpd_si512(nm.v);
   const __m512d table = _mm512_load_pd(kExp2Eighths);
   const __m512i t = _mm512_castpd_si512(_mm512_mask_permutexvar_pd(table, 0xFF, bits, table));
-  const __m512i e = _mm512_and_si512(_mm512_mask_slli_epi64(bits, 0xFF, bits, 49), _mm512_set1_epi64(static_cast<long long>(kExponentField)));
+  const __m512i field = _mm512_set1_epi64(static_cast<long long>(kExponentField));
+  const __m512i e = _mm512_and_si512(_mm512_mask_slli_epi64(bits, 0xFF, bits, 49), field);
   return {_mm512_castsi512_pd(_mm512_add_epi64(t, e))};
 }
 // Lane sums of 8 vectors a..h at once: pairs (l0+l1, l2+l3, ...) of two vectors interleaved, then those pairs
@@ -222,7 +232,8 @@ inline void hsum8(const double* v, double* out) {
   __m512d quad[2];
   for (int i = 0; i < 2; ++i) {
     const __m512d x = pair[2 * i], y = pair[2 * i + 1];  // quad: a0-3 b0-3 a4-7 b4-7 c0-3 d0-3 c4-7 d4-7
-    quad[i] = _mm512_add_pd(_mm512_mask_shuffle_f64x2(x, 0xFF, x, y, 0x88), _mm512_mask_shuffle_f64x2(x, 0xFF, x, y, 0xDD));
+    quad[i] = _mm512_add_pd(_mm512_mask_shuffle_f64x2(x, 0xFF, x, y, 0x88),
+                            _mm512_mask_shuffle_f64x2(x, 0xFF, x, y, 0xDD));
   }
   const __m512d q0 = quad[0], q1 = quad[1];
   _mm512_storeu_pd(out, _mm512_add_pd(_mm512_mask_shuffle_f64x2(q0, 0xFF, q0, q1, 0x88),

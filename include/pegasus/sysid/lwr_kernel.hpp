@@ -4,10 +4,10 @@
 // Data are stored in k-d tree order in blocks of 8 points (n rounded up to 8; padding points are 0 and weigh
 // 0): a block holds, for its 8 points, one vector per stored column (the Gram columns, i.e. the inputs that some
 // output regresses on and then the outputs that regress on something, followed by the inputs only the kernel
-// uses; the constant input is not stored, see weight_row), so the points of a chunk are one contiguous stretch (the whole set, about 600 KB for the shipped 3400
-// points, lives in L2). Kernel coordinates are stored divided by their bandwidths (z = x / h), so a distance
-// needs no multiply; the sums are then those of the scaled inputs, which lwr.cpp maps back. Each point's data
-// row is kept apart as a double (for the cross-validation window).
+// uses; the constant input is not stored, see weight_row), so the points of a chunk are one contiguous stretch
+// (the whole set, about 570 KB for the shipped 3400 points, lives in L2). Kernel coordinates are stored divided by
+// their bandwidths (z = x / h), so a distance needs no multiply; the sums are then those of the scaled inputs,
+// which lwr.cpp maps back. Each point's data row is kept apart as a double (for the cross-validation window).
 // Leaves hold up to kLeaf points and start at multiples of 8.
 //
 // For a query the kernel visits the leaves in storage order, skips a leaf whose bounding box lies more than
@@ -42,16 +42,22 @@ inline constexpr int kMaxAcc = kInputs * kMaxCols * kLanes;  // tile accumulator
 
 enum class Isa : int { kScalar = 0, kAvx2 = 1, kAvx512 = 2 };
 
+// Which tile code runs (lwr_kernel.inc: tile): off the diagonal, or the first tile of a row group, on the
+// diagonal, which also sums the constant input's column (moments) when it is not stored, and in the last row group
+// also stands in w for that input's row.
+enum TileKind : int { kOffDiagonal = 0, kDiagonalTile = 1, kDiagonalMoments = 2, kDiagonalWeightRow = 3 };
 struct Tile {
   int r0, rows, c0, cols, offset;  // entries [r0, r0+rows) x [c0, c0+cols); accumulators at offset
+  TileKind kind;
 };
 struct TilePlan {
   std::vector<Tile> tiles;
   int acc_size = 0;
 };
 // Row groups of up to max_rows rows; columns from the group's first row on, in tiles of up to
-// min(max_cols, 24 / rows) columns (AVX-512 keeps 24 accumulators and the rows in its 32 registers).
-TilePlan tile_plan(int rows, int cols, int max_rows, int max_cols);
+// min(max_cols, 24 / rows) columns (AVX-512 keeps 24 accumulators and the rows in its 32 registers); each tile's
+// kind from its place and weight_row (KernelData).
+TilePlan tile_plan(int rows, int cols, int max_rows, int max_cols, bool weight_row);
 
 struct KernelData {
   int n = 0, n_pad = 0;           // points, padded to a multiple of kLanes
