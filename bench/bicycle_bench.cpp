@@ -6,7 +6,8 @@
 //   BM_BicycleRollout_Policy15_H500   scenario_return: the 15-feature sigmoid policy, counter-based noise,
 //                                     shaping, 500 steps; one scenario per iteration
 //   BM_BicycleUhat_m30_H500/threads   one PEGASUS U-hat (30 scenarios x 500 steps) on 1 or 2 threads, as the
-//                                     training computes it (bicycle_uhat: rollouts four at a time in lockstep)
+//                                     training computes it (bicycle_uhat: rollouts four at a time in
+//                                     lockstep)
 //   BM_BicycleUhat_OneAtATime_m30_H500  the same U-hat by PegasusEvaluator, one rollout at a time (1 thread)
 // Every benchmark reports steps_per_s (simulated bicycle steps per wall second).
 #include <benchmark/benchmark.h>
@@ -71,7 +72,8 @@ void BM_BicycleStep_ScenarioNoise_1M(benchmark::State& state) {
   const std::array<double, 5> p0 = {0.7, 0.4, 0.6, 0.5, 0.3};
   const BicycleState start = bike.initial_state(p0);
   constexpr int kHorizon = 1000;
-  const ScenarioSet scenarios({.seed = 3, .count = kSteps / kHorizon, .horizon = kHorizon, .noise_dim = 1, .initial_noise_dim = 5});
+  const ScenarioSet scenarios(
+      {.seed = 3, .count = kSteps / kHorizon, .horizon = kHorizon, .noise_dim = 1, .initial_noise_dim = 5});
   std::uint64_t steps = 0;
   for (auto _ : state) {
     BicycleState s = start;
@@ -95,7 +97,8 @@ void BM_BicycleRollout_Policy15_H500(benchmark::State& state) {
   const auto model = shape(bike, BicycleProgressPotential{bike, 1.0}, 0.998);
   const BicyclePolicy policy = make_bicycle_policy();
   const Theta theta = bicycle_balancing_theta();
-  const ScenarioSet scenarios({.seed = 1, .count = 64, .horizon = 500, .noise_dim = 1, .initial_noise_dim = 5});
+  const ScenarioSet scenarios(
+      {.seed = 1, .count = 64, .horizon = 500, .noise_dim = 1, .initial_noise_dim = 5});
   const Discounting d{.gamma = 0.998, .horizon = 500};
   std::uint64_t steps = 0;
   int i = 0;
@@ -127,8 +130,11 @@ void BM_BicycleUhat_OneAtATime_m30_H500(benchmark::State& state) {
   const Bicycle bike(o.bicycle);
   const PegasusEvaluator evaluator(shape(bike, BicycleProgressPotential{bike, o.shaping_per_metre}, o.gamma),
                                    make_bicycle_policy(),
-                                   ScenarioSet({.seed = o.seed, .count = o.scenarios, .horizon = o.horizon,
-                                                .noise_dim = 1, .initial_noise_dim = 5}),
+                                   ScenarioSet({.seed = o.seed,
+                                                .count = o.scenarios,
+                                                .horizon = o.horizon,
+                                                .noise_dim = 1,
+                                                .initial_noise_dim = 5}),
                                    Discounting{.gamma = o.gamma, .horizon = o.horizon});
   const Theta theta = bicycle_balancing_theta();
   std::uint64_t steps = 0;

@@ -24,7 +24,6 @@
 //                                         and steps_per_cpu_s (per second of the thread's CPU time: the
 //                                         figure to compare when other processes share the cores).
 #include <benchmark/benchmark.h>
-
 #include <time.h>
 
 #include <algorithm>
@@ -134,7 +133,9 @@ void BM_ValueIteration_Corner20x20_Certified1e6(benchmark::State& s) { certified
 void BM_ValueIteration_Corner20x20_CertifiedAsAIToolbox(benchmark::State& s) {
   certified_bench(s, corner20(), 3.96e-6);
 }
-void BM_ValueIteration_RandomDense500x4_Certified1e6(benchmark::State& s) { certified_bench(s, dense500(), 1e-6); }
+void BM_ValueIteration_RandomDense500x4_Certified1e6(benchmark::State& s) {
+  certified_bench(s, dense500(), 1e-6);
+}
 void BM_ValueIteration_RandomDense500x4_CertifiedAsAIToolbox(benchmark::State& s) {
   certified_bench(s, dense500(), 1.84e-4);
 }
@@ -147,7 +148,8 @@ void BM_BellmanSweep_RandomDense500x4(benchmark::State& state) {
   }
   const double bytes = 8.0 * static_cast<double>(m.num_entries());  // the probabilities; V and R are tiny
   state.counters["bytes_per_sweep"] = bytes;
-  state.counters["GB_per_s"] = benchmark::Counter(bytes * 1e-9, benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["GB_per_s"] =
+      benchmark::Counter(bytes * 1e-9, benchmark::Counter::kIsIterationInvariantRate);
 }
 BENCHMARK(BM_ValueIteration_Corner20x20_Residual1e5)->Unit(benchmark::kMicrosecond)->MinTime(0.5);
 BENCHMARK(BM_ValueIteration_Corner20x20_EpsOptimal1e5)->Unit(benchmark::kMicrosecond)->MinTime(0.5);
@@ -158,7 +160,9 @@ BENCHMARK(BM_PolicyIteration_RandomDense500x4)->Unit(benchmark::kMicrosecond)->M
 BENCHMARK(BM_ValueIteration_Corner20x20_Certified1e6)->Unit(benchmark::kMicrosecond)->MinTime(0.5);
 BENCHMARK(BM_ValueIteration_Corner20x20_CertifiedAsAIToolbox)->Unit(benchmark::kMicrosecond)->MinTime(0.5);
 BENCHMARK(BM_ValueIteration_RandomDense500x4_Certified1e6)->Unit(benchmark::kMicrosecond)->MinTime(0.5);
-BENCHMARK(BM_ValueIteration_RandomDense500x4_CertifiedAsAIToolbox)->Unit(benchmark::kMicrosecond)->MinTime(0.5);
+BENCHMARK(BM_ValueIteration_RandomDense500x4_CertifiedAsAIToolbox)
+    ->Unit(benchmark::kMicrosecond)
+    ->MinTime(0.5);
 BENCHMARK(BM_BellmanSweep_RandomDense500x4)->Unit(benchmark::kMicrosecond)->MinTime(0.5);
 
 // ---- 1000 x 1000 gridworld: memory bandwidth of a sweep -------------------------------------------------

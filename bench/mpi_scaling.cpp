@@ -6,14 +6,16 @@
 //                                  [--iteration-seconds 1] [--out FILE.json]
 //
 // Workload: the learned helicopter model identified from the default 339 s pilot log (as `heli identify`
-// does; every rank identifies it, untimed), the hover task and policy class (34 weights, the starting weights from the log), m scenarios.
+// does; every rank identifies it, untimed), the hover task and policy class (34 weights, the starting weights
+// from the log), m scenarios.
 //   uhat          U-hat(theta_0) on m scenarios of `seconds` s: `repeats` timed calls, median.
 //   iteration     one gradient-ascent iteration (2n probes in one batch, then the uphill line search) on m
 //                 scenarios of `iteration_seconds` s (short flights keep it quick: less computation per
 //                 byte sent, so its communication share is an upper bound for the real 35 s flights).
 //                 Split into: serial (optimizer bookkeeping, the reductions and rank 0's checkpoint: wall
-//                 time outside the objective; the checkpoint's share also apart), compute (rollouts on this rank), wait (the barrier before each allgather: the
-//                 slowest rank's lag) and comm (the allgather itself, measured after that barrier).
+//                 time outside the objective; the checkpoint's share also apart), compute (rollouts on this
+//                 rank), wait (the barrier before each allgather: the slowest rank's lag) and comm (the
+//                 allgather itself, measured after that barrier).
 //   allgather     MPI_Allgatherv of the real message sizes (one U-hat: m doubles; a gradient batch: 2n m),
 //                 after a barrier, `allgather_repeats` times each; median and mean seconds per call.
 // Keys of the JSON are described in docs/scaling.md.
@@ -104,14 +106,22 @@ Args parse(int argc, char** argv) {
       if (i + 1 >= argc) throw std::runtime_error(k + ": expected a value");
       return argv[++i];
     };
-    if (k == "--threads") a.threads = std::stoi(value());
-    else if (k == "--scenarios") a.scenarios = std::stoi(value());
-    else if (k == "--repeats") a.repeats = std::stoi(value());
-    else if (k == "--allgather-repeats") a.allgather_repeats = std::stoi(value());
-    else if (k == "--seconds") a.seconds = std::stod(value());
-    else if (k == "--iteration-seconds") a.iteration_seconds = std::stod(value());
-    else if (k == "--out") a.out = value();
-    else throw std::runtime_error("unknown option " + k);
+    if (k == "--threads")
+      a.threads = std::stoi(value());
+    else if (k == "--scenarios")
+      a.scenarios = std::stoi(value());
+    else if (k == "--repeats")
+      a.repeats = std::stoi(value());
+    else if (k == "--allgather-repeats")
+      a.allgather_repeats = std::stoi(value());
+    else if (k == "--seconds")
+      a.seconds = std::stod(value());
+    else if (k == "--iteration-seconds")
+      a.iteration_seconds = std::stod(value());
+    else if (k == "--out")
+      a.out = value();
+    else
+      throw std::runtime_error("unknown option " + k);
   }
   return a;
 }
@@ -127,9 +137,11 @@ struct Problem {
   explicit Problem(ThreadPool& pool) {
     const heli::Aircraft aircraft;
     const sysid::FlightLog log = heli::fly_pilot(aircraft, heli::PilotOptions{}, 339, 1).log;
-    model = std::make_shared<const sysid::IdentifiedModel>(sysid::identify(log, sysid::IdentifyOptions{}, pool));
+    model =
+        std::make_shared<const sysid::IdentifiedModel>(sysid::identify(log, sysid::IdentifyOptions{}, pool));
   }
-  std::unique_ptr<Objective> objective(int scenarios, double seconds, std::shared_ptr<ThreadPool> pool) const {
+  std::unique_ptr<Objective> objective(int scenarios, double seconds,
+                                       std::shared_ptr<ThreadPool> pool) const {
     heli::HoverTrainingOptions o;
     o.scenarios = scenarios;
     o.seconds = seconds;
@@ -230,7 +242,8 @@ int run(const Args& a) {
   // Allgather of the real message sizes, each call timed after a barrier; the median resists a busy
   // machine's descheduling better than the mean.
   nlohmann::json allgather = nlohmann::json::array();
-  for (const std::size_t doubles : {static_cast<std::size_t>(a.scenarios), 2 * n * static_cast<std::size_t>(a.scenarios)}) {
+  for (const std::size_t doubles :
+       {static_cast<std::size_t>(a.scenarios), 2 * n * static_cast<std::size_t>(a.scenarios)}) {
     std::vector<double> values(doubles, 1.0), per_call;
     const mpi::Share share{mpi::rank(), mpi::size()};
     for (int r = 0; r < a.allgather_repeats && share.size > 1; ++r) {
@@ -274,9 +287,10 @@ int run(const Args& a) {
     std::cout << text;
   } else {
     std::ofstream(a.out) << text;
-    std::cout << fmt::format("mpi_scaling: {} rank(s) x {} thread(s): U-hat {:.3f} s, iteration {:.3f} s (comm {:.2f}%) -> {}\n",
-                             mpi::size(), a.threads, median(uhat_times), iteration_seconds,
-                             100.0 * it_comm.seconds / iteration_seconds, a.out);
+    std::cout << fmt::format(
+        "mpi_scaling: {} rank(s) x {} thread(s): U-hat {:.3f} s, iteration {:.3f} s (comm {:.2f}%) -> {}\n",
+        mpi::size(), a.threads, median(uhat_times), iteration_seconds,
+        100.0 * it_comm.seconds / iteration_seconds, a.out);
   }
   return 0;
 }

@@ -57,7 +57,12 @@ void BM_PendulumUhat_m32_H200(benchmark::State& state) {
   state.counters["steps_per_s"] =
       benchmark::Counter(32.0 * 200.0 * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
-BENCHMARK(BM_PendulumUhat_m32_H200)->Arg(1)->Arg(2)->ArgName("threads")->Unit(benchmark::kMicrosecond)->UseRealTime();
+BENCHMARK(BM_PendulumUhat_m32_H200)
+    ->Arg(1)
+    ->Arg(2)
+    ->ArgName("threads")
+    ->Unit(benchmark::kMicrosecond)
+    ->UseRealTime();
 
 // The race: the default search of `pegasus pendulum train` (the race: five numbers on m = 32 stratified
 // starts, hill climbing, 150 x 8 proposals, from all gains zero; then the refinement of all seven numbers
@@ -93,6 +98,13 @@ void BM_PendulumRaceToBar(benchmark::State& state) {
   state.counters["mean_return_5000"] =
       ordered_mean(pendulum_episode_returns(theta, 5000, pendulum_large_evaluation_seed(options.seed)));
 }
-BENCHMARK(BM_PendulumRaceToBar)->Arg(1)->Arg(2)->Arg(3)->ArgName("seed")->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
+BENCHMARK(BM_PendulumRaceToBar)
+    ->Arg(1)
+    ->Arg(2)
+    ->Arg(3)
+    ->ArgName("seed")
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(3);
 
 }  // namespace

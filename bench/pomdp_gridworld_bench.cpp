@@ -20,10 +20,13 @@ namespace {
 constexpr int kM = 32;
 const Discounting kD{.gamma = 0.99, .horizon = 100};
 
-ScenarioSet scenarios() { return ScenarioSet({.seed = 2024, .count = kM, .horizon = 100, .noise_dim = 1, .initial_noise_dim = 0}); }
+ScenarioSet scenarios() {
+  return ScenarioSet({.seed = 2024, .count = kM, .horizon = 100, .noise_dim = 1, .initial_noise_dim = 0});
+}
 
 // Returns the number of simulated steps; writes U-hat of every policy.
-std::uint64_t naive_loop(const PomdpGridworld& g, const std::vector<double>& noise, std::vector<double>& values) {
+std::uint64_t naive_loop(const PomdpGridworld& g, const std::vector<double>& noise,
+                         std::vector<double>& values) {
   std::uint64_t steps = 0;
   const int policies = 65536;
   int table[8];
@@ -50,7 +53,8 @@ std::uint64_t naive_loop(const PomdpGridworld& g, const std::vector<double>& noi
 std::vector<double> noise_table(const ScenarioSet& set) {
   std::vector<double> noise(static_cast<std::size_t>(kM) * 100);
   for (int i = 0; i < kM; ++i)
-    for (int t = 0; t < 100; ++t) set.step_noise(i, t, std::span<double>(&noise[static_cast<std::size_t>(i * 100 + t)], 1));
+    for (int t = 0; t < 100; ++t)
+      set.step_noise(i, t, std::span<double>(&noise[static_cast<std::size_t>(i * 100 + t)], 1));
   return noise;
 }
 
@@ -73,7 +77,8 @@ void BM_ExhaustiveNaiveLoop(benchmark::State& state) {
     benchmark::DoNotOptimize(values.data());
   }
   state.counters["steps"] = static_cast<double>(steps);
-  state.counters["naive_steps_per_s"] = benchmark::Counter(static_cast<double>(steps), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["naive_steps_per_s"] =
+      benchmark::Counter(static_cast<double>(steps), benchmark::Counter::kIsIterationInvariantRate);
 }
 BENCHMARK(BM_ExhaustiveNaiveLoop)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 
@@ -89,10 +94,16 @@ void BM_ExhaustiveSharedSearch(benchmark::State& state) {
     benchmark::DoNotOptimize(values.data());
   }
   state.counters["leaves"] = static_cast<double>(leaves);
-  state.counters["naive_steps_per_s"] =
-      benchmark::Counter(static_cast<double>(naive_step_count()), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["naive_steps_per_s"] = benchmark::Counter(static_cast<double>(naive_step_count()),
+                                                           benchmark::Counter::kIsIterationInvariantRate);
 }
-BENCHMARK(BM_ExhaustiveSharedSearch)->Arg(1)->Arg(2)->ArgName("threads")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
+BENCHMARK(BM_ExhaustiveSharedSearch)
+    ->Arg(1)
+    ->Arg(2)
+    ->ArgName("threads")
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MinTime(1.0);
 
 // U-hat of 256 policies on 32 scenarios through the generic evaluator (the path every optimizer uses).
 void BM_UhatBatchGridworld(benchmark::State& state) {
@@ -107,9 +118,16 @@ void BM_UhatBatchGridworld(benchmark::State& state) {
     ev.evaluate_batch(thetas, values, &pool);
     benchmark::DoNotOptimize(values.data());
   }
-  state.counters["policies_per_s"] = benchmark::Counter(static_cast<double>(thetas.size()), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["policies_per_s"] =
+      benchmark::Counter(static_cast<double>(thetas.size()), benchmark::Counter::kIsIterationInvariantRate);
 }
-BENCHMARK(BM_UhatBatchGridworld)->Arg(1)->Arg(2)->ArgName("threads")->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
+BENCHMARK(BM_UhatBatchGridworld)
+    ->Arg(1)
+    ->Arg(2)
+    ->ArgName("threads")
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MinTime(1.0);
 
 }  // namespace
 }  // namespace pegasus

@@ -35,7 +35,8 @@ const Workload& workload() {
     x.train = heli::fly_pilot(heli, heli::PilotOptions{}, 339, 1).log;
     x.test = heli::fly_pilot(heli, heli::PilotOptions{}, 140, 2).log;
     ThreadPool pool(2);
-    x.model = std::make_shared<const sysid::IdentifiedModel>(sysid::identify(x.train, sysid::IdentifyOptions{}, pool));
+    x.model = std::make_shared<const sysid::IdentifiedModel>(
+        sysid::identify(x.train, sysid::IdentifyOptions{}, pool));
     x.queries = sysid::build_dataset(x.test, x.model->structure());
     return x;
   }();
@@ -117,7 +118,8 @@ void BM_LearnedModelStep(benchmark::State& state) {
     }
     benchmark::DoNotOptimize(s);
   }
-  state.counters["steps_per_s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["steps_per_s"] =
+      benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_LearnedModelStep)->Unit(benchmark::kMicrosecond);
 

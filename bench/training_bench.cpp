@@ -18,8 +18,8 @@ void BM_Train_PomdpGridworld_Demo_2of20Trials(benchmark::State& state) {
   o.trials = 2;
   o.montecarlo_max_m = 8;
   for (auto _ : state) benchmark::DoNotOptimize(run_pomdp_gridworld(o).records.size());
-  state.counters["training_seconds"] = benchmark::Counter(1.0, benchmark::Counter::kIsIterationInvariantRate |
-                                                                   benchmark::Counter::kInvert);
+  state.counters["training_seconds"] =
+      benchmark::Counter(1.0, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 BENCHMARK(BM_Train_PomdpGridworld_Demo_2of20Trials)->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
 
@@ -29,8 +29,8 @@ void BM_Train_ShapingGridworld10(benchmark::State& state) {
   o.size = 10;
   o.trials = 10000;
   for (auto _ : state) benchmark::DoNotOptimize(run_shaping_experiment(o).runs.size());
-  state.counters["training_seconds"] = benchmark::Counter(1.0, benchmark::Counter::kIsIterationInvariantRate |
-                                                                   benchmark::Counter::kInvert);
+  state.counters["training_seconds"] =
+      benchmark::Counter(1.0, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 BENCHMARK(BM_Train_ShapingGridworld10)->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
 
@@ -40,8 +40,8 @@ void BM_Train_Bicycle_OnePolicy(benchmark::State& state) {
   const BicycleTrainingOptions o;
   std::int64_t iterations = 0;
   for (auto _ : state) iterations += train_bicycle(o).summary.iterations;
-  state.counters["training_seconds"] = benchmark::Counter(1.0, benchmark::Counter::kIsIterationInvariantRate |
-                                                                   benchmark::Counter::kInvert);
+  state.counters["training_seconds"] =
+      benchmark::Counter(1.0, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
   state.counters["optimizer_iterations"] = static_cast<double>(iterations);
 }
 BENCHMARK(BM_Train_Bicycle_OnePolicy)->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);

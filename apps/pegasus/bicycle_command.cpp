@@ -22,22 +22,31 @@ void declare_training(ConfigSchema& s) {
   s.add_int("horizon", 500, "training rollout length H (steps of 0.01 s)").min(1).max(1000000);
   s.add_double("shaping_per_metre", 1.0, "shaping potential per metre of progress towards the goal").min(0);
   s.add_double("fall_reward", -100.0, "reward of falling over (absorbing)").max(0);
-  s.add_string("variant", "plain", "scenario variant").choices({"plain", "antithetic", "stratified", "sobol"});
-  s.add_string("initial_policy", "balance", "starting weights: a crude hand-set balancing feedback, or all zero")
+  s.add_string("variant", "plain", "scenario variant")
+      .choices({"plain", "antithetic", "stratified", "sobol"});
+  s.add_string("initial_policy", "balance",
+               "starting weights: a crude hand-set balancing feedback, or all zero")
       .choices({"balance", "zero"});
-  s.add_string("optimizer", "gradient", "bounded-step gradient ascent (thesis 4.6) or random-walk hill climbing")
+  s.add_string("optimizer", "gradient",
+               "bounded-step gradient ascent (thesis 4.6) or random-walk hill climbing")
       .choices({"gradient", "hill-climb"});
   s.add_int("iterations", 200, "optimizer iterations at most").min(0).max(1000000);
   s.add_double("gradient.relative_step", 0.05, "central-difference half-width (weights)").greater_than(0);
   s.add_double("gradient.max_step", 0.5, "bound on the length of a gradient step (weights)").greater_than(0);
-  s.add_double("gradient.min_step", 1e-3, "stop when backtracking shrinks the step below this").greater_than(0);
+  s.add_double("gradient.min_step", 1e-3, "stop when backtracking shrinks the step below this")
+      .greater_than(0);
   s.add_int("hill_climbing.proposals", 16, "hill-climbing proposals per iteration").min(1).max(100000);
-  s.add_double("hill_climbing.initial_step", 0.3, "hill-climbing first perturbation size (weights)").greater_than(0);
+  s.add_double("hill_climbing.initial_step", 0.3, "hill-climbing first perturbation size (weights)")
+      .greater_than(0);
 }
 
 void declare_riding(ConfigSchema& s, std::int64_t rides) {
-  s.add_int("rides", rides, "rides of each policy, from the initial-state distribution with fresh noise").min(0).max(1000000);
-  s.add_double("max_km", 10.0, "a ride that has not reached the goal stops after this distance").greater_than(0).max(1000);
+  s.add_int("rides", rides, "rides of each policy, from the initial-state distribution with fresh noise")
+      .min(0)
+      .max(1000000);
+  s.add_double("max_km", 10.0, "a ride that has not reached the goal stops after this distance")
+      .greater_than(0)
+      .max(1000);
   s.add_double("goal_km", 1.0, "distance of the goal from the start").greater_than(0).max(100);
   s.add_double("goal_radius", 10.0, "radius of the goal circle (m)").greater_than(0);
 }
@@ -56,12 +65,15 @@ BicycleTrainingOptions training_options(const RunContext& ctx) {
   o.optimizer.gradient.max_iterations = c.get_int("iterations");
   o.optimizer.gradient.relative_step = c.get_double("gradient.relative_step");
   o.optimizer.gradient.max_step = c.get_double("gradient.max_step");
-  o.optimizer.gradient.initial_step = std::min(o.optimizer.gradient.initial_step, o.optimizer.gradient.max_step);
-  o.optimizer.gradient.min_step = std::min(c.get_double("gradient.min_step"), o.optimizer.gradient.initial_step);
+  o.optimizer.gradient.initial_step =
+      std::min(o.optimizer.gradient.initial_step, o.optimizer.gradient.max_step);
+  o.optimizer.gradient.min_step =
+      std::min(c.get_double("gradient.min_step"), o.optimizer.gradient.initial_step);
   o.optimizer.hill_climbing.max_iterations = c.get_int("iterations");
   o.optimizer.hill_climbing.proposals_per_iteration = static_cast<int>(c.get_int("hill_climbing.proposals"));
   o.optimizer.hill_climbing.initial_step = c.get_double("hill_climbing.initial_step");
-  o.optimizer.hill_climbing.max_step = std::max(o.optimizer.hill_climbing.max_step, o.optimizer.hill_climbing.initial_step);
+  o.optimizer.hill_climbing.max_step =
+      std::max(o.optimizer.hill_climbing.max_step, o.optimizer.hill_climbing.initial_step);
   o.seed = ctx.seed;
   o.threads = ctx.threads;
   return o;
@@ -80,7 +92,9 @@ BicycleRideOptions ride_options(const RunContext& ctx) {
 
 // ---- Output -------------------------------------------------------------------------------------------
 
-nlohmann::json number_or_null(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
+nlohmann::json number_or_null(double x) {
+  return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
+}
 
 nlohmann::json ride_summary_json(const BicycleRideSummary& s) {
   return {{"median_distance_km", number_or_null(s.median_distance_km)},
@@ -90,14 +104,16 @@ nlohmann::json ride_summary_json(const BicycleRideSummary& s) {
           {"rides", s.rides}};
 }
 
-void add_ride_rows(CsvWriter& csv, const std::string& method, int trial, const std::vector<BicycleRide>& rides) {
+void add_ride_rows(CsvWriter& csv, const std::string& method, int trial,
+                   const std::vector<BicycleRide>& rides) {
   for (std::size_t i = 0; i < rides.size(); ++i)
     csv.add_row({method, std::int64_t{trial}, static_cast<std::int64_t>(i), rides[i].distance_km,
                  std::int64_t{rides[i].reached ? 1 : 0}, std::int64_t{rides[i].fell ? 1 : 0}});
 }
 
 // The rides seen from above, the goal circle and the start.
-std::string rides_plot(const std::vector<BicycleRide>& rides, const BicycleGoal& goal, const std::string& title) {
+std::string rides_plot(const std::vector<BicycleRide>& rides, const BicycleGoal& goal,
+                       const std::string& title) {
   SvgPlot plot;
   plot.title(title).x_label("x (m)").y_label("y (m)").size(720, 480);
   PlotSeries paths{.name = "front tyre", .line = true, .markers = false};
@@ -166,16 +182,16 @@ void run_experiment(RunContext& ctx) {
 
   CsvWriter rides({"method", "trial", "ride", "distance_km", "reached", "fell"});
   CsvWriter curves({"method", "trial", "iteration", "uhat"});
-  CsvWriter trials({"method", "trial", "initial_uhat", "final_uhat", "pegasus_uhat", "iterations", "evaluations",
-                    "median_distance_km", "worst_distance_km", "reached", "falls"});
+  CsvWriter trials({"method", "trial", "initial_uhat", "final_uhat", "pegasus_uhat", "iterations",
+                    "evaluations", "median_distance_km", "worst_distance_km", "reached", "falls"});
   nlohmann::json policies = nlohmann::json::array(), lessons = nlohmann::json::array();
   std::vector<std::pair<std::string, std::vector<double>>> curve_series;
   for (const auto& t : result.trials) {
     add_ride_rows(rides, t.method, t.trial, t.rides);
     for (std::size_t k = 0; k < t.curve.size(); ++k)
       curves.add_row({t.method, std::int64_t{t.trial}, static_cast<std::int64_t>(k + 1), t.curve[k]});
-    trials.add_row({t.method, std::int64_t{t.trial}, t.initial_uhat, t.final_uhat, t.pegasus_uhat, t.iterations,
-                    t.evaluations, t.summary.median_distance_km, t.summary.worst_distance_km,
+    trials.add_row({t.method, std::int64_t{t.trial}, t.initial_uhat, t.final_uhat, t.pegasus_uhat,
+                    t.iterations, t.evaluations, t.summary.median_distance_km, t.summary.worst_distance_km,
                     std::int64_t{t.summary.reached}, std::int64_t{t.summary.falls}});
     nlohmann::json row = ride_summary_json(t.summary);
     if (t.method == "pegasus") {
@@ -197,8 +213,9 @@ void run_experiment(RunContext& ctx) {
   const BicycleTrial& first = result.trials.front();
   BicycleRideOptions riding = o.riding;
   riding.seed = bicycle_ride_seed(o.seed, first.trial);
-  dir.write_text("rides_trial0.svg", rides_plot(rides_with_paths(first.theta, riding, ctx.pool()), riding.bicycle.goal,
-                                                "The rides of the trial-0 policy, seen from above"));
+  dir.write_text("rides_trial0.svg",
+                 rides_plot(rides_with_paths(first.theta, riding, ctx.pool()), riding.bicycle.goal,
+                            "The rides of the trial-0 policy, seen from above"));
   dir.write_json("summary.json", {{"experiment", "bicycle"},
                                   {"policies", policies},
                                   {"median_of_medians_km", number_or_null(result.median_of_medians_km)},
@@ -210,9 +227,9 @@ void run_experiment(RunContext& ctx) {
                            policies[k]["median_distance_km"].dump(), policies[k]["worst_distance_km"].dump(),
                            policies[k]["falls"].dump(), policies[k]["reached"].dump(), o.riding.rides);
   for (const auto& l : lessons)
-    ctx.out << fmt::format("lesson {} {}: median {} km, worst {} km, {} falls, {} reached\n", l["method"].get<std::string>(),
-                           l["trial"].dump(), l["median_distance_km"].dump(), l["worst_distance_km"].dump(),
-                           l["falls"].dump(), l["reached"].dump());
+    ctx.out << fmt::format("lesson {} {}: median {} km, worst {} km, {} falls, {} reached\n",
+                           l["method"].get<std::string>(), l["trial"].dump(), l["median_distance_km"].dump(),
+                           l["worst_distance_km"].dump(), l["falls"].dump(), l["reached"].dump());
   ctx.out << "median of medians: " << number_or_null(result.median_of_medians_km).dump() << " km\n";
 }
 
@@ -242,13 +259,11 @@ void run_train(RunContext& ctx) {
   dir.write_csv("learning_curve.csv", curve);
   dir.write_text("learning_curve.svg", curve_plot({{"PEGASUS", values}}));
   dir.write_json("policy.json", bicycle_policy_json(trained.theta));
-  nlohmann::json summary = {{"experiment", "bicycle train"},
-                            {"initial_uhat", s.initial_value},
-                            {"final_uhat", s.best_value},
-                            {"iterations", s.iterations},
-                            {"evaluations", s.evaluations},
-                            {"termination", std::string(TerminationTypeName(s.termination_type))},
-                            {"message", s.message}};
+  nlohmann::json summary = {
+      {"experiment", "bicycle train"}, {"initial_uhat", s.initial_value},
+      {"final_uhat", s.best_value},    {"iterations", s.iterations},
+      {"evaluations", s.evaluations},  {"termination", std::string(TerminationTypeName(s.termination_type))},
+      {"message", s.message}};
   ctx.out << s.BriefReport() << "\n";
   if (ctx.config.get_int("rides") > 0) {
     const BicycleRideOptions riding = ride_options(ctx);
@@ -258,10 +273,11 @@ void run_train(RunContext& ctx) {
     CsvWriter csv({"method", "trial", "ride", "distance_km", "reached", "fell"});
     add_ride_rows(csv, "pegasus", 0, rides);
     dir.write_csv("rides.csv", csv);
-    dir.write_text("rides.svg", rides_plot(rides, riding.bicycle.goal, "Rides of the trained policy, seen from above"));
+    dir.write_text("rides.svg",
+                   rides_plot(rides, riding.bicycle.goal, "Rides of the trained policy, seen from above"));
     ctx.out << fmt::format("rides: median {} km, worst {} km, {} falls, {} of {} reached\n",
-                           number_or_null(rs.median_distance_km).dump(), number_or_null(rs.worst_distance_km).dump(),
-                           rs.falls, rs.reached, rs.rides);
+                           number_or_null(rs.median_distance_km).dump(),
+                           number_or_null(rs.worst_distance_km).dump(), rs.falls, rs.reached, rs.rides);
   }
   dir.write_json("summary.json", summary);
 }
@@ -270,7 +286,8 @@ void run_train(RunContext& ctx) {
 
 Theta policy_argument(const RunContext& ctx) {
   const std::string& file = ctx.config.get_string("policy");
-  if (file.empty()) throw InputError("--policy: expected a policy file (policy.json of pegasus bicycle train)");
+  if (file.empty())
+    throw InputError("--policy: expected a policy file (policy.json of pegasus bicycle train)");
   return read_bicycle_policy(file);
 }
 
@@ -288,8 +305,8 @@ void run_ride(RunContext& ctx) {
   dir.write_text("rides.svg", rides_plot(rides, riding.bicycle.goal, "Rides seen from above"));
   dir.write_json("summary.json", ride_summary_json(rs));
   ctx.out << fmt::format("median {} km, worst {} km, {} falls, {} of {} reached\n",
-                         number_or_null(rs.median_distance_km).dump(), number_or_null(rs.worst_distance_km).dump(),
-                         rs.falls, rs.reached, rs.rides);
+                         number_or_null(rs.median_distance_km).dump(),
+                         number_or_null(rs.worst_distance_km).dump(), rs.falls, rs.reached, rs.rides);
 }
 
 // ---- pegasus bicycle variance -------------------------------------------------------------------------
@@ -325,7 +342,8 @@ void run_variance(RunContext& ctx) {
   bar.finish();
   RunDirectory& dir = ctx.run_directory();
   dir.write_csv("uhat.csv", csv);
-  dir.write_json("summary.json", {{"uhat_std", stds}, {"uhat_mean", means}, {"sets", sets}, {"scenarios", o.scenarios}});
+  dir.write_json("summary.json",
+                 {{"uhat_std", stds}, {"uhat_mean", means}, {"sets", sets}, {"scenarios", o.scenarios}});
 }
 
 }  // namespace
@@ -333,12 +351,14 @@ void run_variance(RunContext& ctx) {
 std::vector<Command> bicycle_commands() {
   return {
       Command{.path = "bicycle experiment",
-              .description = "Thesis 4.6: train PEGASUS policies (trials) and ride each to a goal 1 km away (rides)",
+              .description =
+                  "Thesis 4.6: train PEGASUS policies (trials) and ride each to a goal 1 km away (rides)",
               .declare =
                   [](ConfigSchema& s) {
                     s.add_int("trials", 10, "independent trainings (scenario sets)").min(1).max(100000);
-                    s.add_int("lesson_trials", 2,
-                              "scenario sets on which the progress bonus and naive Monte Carlo are also trained")
+                    s.add_int(
+                         "lesson_trials", 2,
+                         "scenario sets on which the progress bonus and naive Monte Carlo are also trained")
                         .min(0)
                         .max(100000);
                     declare_training(s);
@@ -362,15 +382,16 @@ std::vector<Command> bicycle_commands() {
                     declare_riding(s, 50);
                   },
               .run = run_ride},
-      Command{.path = "bicycle variance",
-              .description = "Thesis 4.7: spread of U-hat over scenario sets, plain/antithetic/stratified/Sobol",
-              .declare =
-                  [](ConfigSchema& s) {
-                    s.add_string("policy", "", "policy file (JSON with parameter names and values)");
-                    s.add_int("sets", 100, "independent scenario sets per method").min(2).max(1000000);
-                    declare_training(s);
-                  },
-              .run = run_variance},
+      Command{
+          .path = "bicycle variance",
+          .description = "Thesis 4.7: spread of U-hat over scenario sets, plain/antithetic/stratified/Sobol",
+          .declare =
+              [](ConfigSchema& s) {
+                s.add_string("policy", "", "policy file (JSON with parameter names and values)");
+                s.add_int("sets", 100, "independent scenario sets per method").min(2).max(1000000);
+                declare_training(s);
+              },
+          .run = run_variance},
   };
 }
 

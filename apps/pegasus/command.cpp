@@ -103,7 +103,8 @@ void declare_options(Leaf& leaf) {
       const auto& positionals = leaf.command->positionals;
       if (std::find(positionals.begin(), positionals.end(), f.name()) != positionals.end()) {
         std::string upper = f.name();  // `run_dir` is the positional RUN_DIR and the option --run-dir
-        std::transform(upper.begin(), upper.end(), upper.begin(), [](unsigned char c) { return std::toupper(c); });
+        std::transform(upper.begin(), upper.end(), upper.begin(),
+                       [](unsigned char c) { return std::toupper(c); });
         names = upper + "," + names;
       }
       option = app->add_option(names, leaf.texts[i], help)->type_name(type_name(f.type()));
@@ -130,7 +131,8 @@ void declare_options(Leaf& leaf) {
 // inside a collective, prints its line and ends the whole job (MPI_Abort), and rank 0 names the kept
 // DIR.partial when it is stopped that way.
 std::string rank_prefix() {
-  return mpi::is_root() ? std::string("pegasus: ") : fmt::format("pegasus: rank {} of {}: ", mpi::rank(), mpi::size());
+  return mpi::is_root() ? std::string("pegasus: ")
+                        : fmt::format("pegasus: rank {} of {}: ", mpi::rank(), mpi::size());
 }
 
 // Loads the config file and the overrides, and validates them. With several ranks, every rank learns whether
@@ -187,9 +189,10 @@ int execute(Leaf& leaf, std::vector<std::string> argv, std::ostream& out, std::o
     const auto start = std::chrono::steady_clock::now();
     if (!leaf.out.empty()) {
       run_dir.emplace(RunDirectory::open(leaf.out, schema, {.force = leaf.force, .resume = leaf.resume}));
-      mpi::set_stop_message(fmt::format("pegasus: error: the MPI job was stopped (a rank failed or the job was "
-                                        "killed); partial results kept in {}: rerun with --resume to continue",
-                                        run_dir->path().string()));
+      mpi::set_stop_message(
+          fmt::format("pegasus: error: the MPI job was stopped (a rank failed or the job was "
+                      "killed); partial results kept in {}: rerun with --resume to continue",
+                      run_dir->path().string()));
     } else if (leaf.command->out == OutDir::kRequired) {
       throw InputError("--out: expected a directory name, got an empty value");
     }
@@ -218,7 +221,8 @@ int execute(Leaf& leaf, std::vector<std::string> argv, std::ostream& out, std::o
         provenance["allgather_seconds"] = comm.seconds;
       }
       run_dir->write_json("run.json", provenance);
-      // The run's HTML report (report/report.hpp), by rank 0 alone; a failure costs only the report (one note).
+      // The run's HTML report (report/report.hpp), by rank 0 alone; a failure costs only the report (one
+      // note).
       if (mpi::is_root()) report::write_report_or_note(run_dir->path(), err);
       run_dir->commit();
     }

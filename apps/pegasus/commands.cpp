@@ -111,10 +111,15 @@ Command dev_count_command() {
 std::vector<CommandGroup> command_groups() {
   return {
       {.path = "dev", .description = "Framework self-tests", .hidden = true},
-      {.path = "bicycle", .description = "Randlov and Alstrom's bicycle ridden to a goal by PEGASUS (thesis 4.6)"},
-      {.path = "pendulum", .description = "Gymnasium's Pendulum-v1 swung up by PEGASUS (the race against RLtools)"},
-      {.path = "heli", .description = "Autonomous helicopter (thesis ch. 5): ground-truth aircraft, pilot logs, system identification"},
-      {.path = "shaping", .description = "Reward shaping (thesis ch. 3): the shaping audit and the 3.4 experiments"},
+      {.path = "bicycle",
+       .description = "Randlov and Alstrom's bicycle ridden to a goal by PEGASUS (thesis 4.6)"},
+      {.path = "pendulum",
+       .description = "Gymnasium's Pendulum-v1 swung up by PEGASUS (the race against RLtools)"},
+      {.path = "heli",
+       .description =
+           "Autonomous helicopter (thesis ch. 5): ground-truth aircraft, pilot logs, system identification"},
+      {.path = "shaping",
+       .description = "Reward shaping (thesis ch. 3): the shaping audit and the 3.4 experiments"},
   };
 }
 

@@ -41,7 +41,8 @@ using namespace pegasus::sysid;
 // ------------------------------------------------------------------ heli pilot
 
 void declare_pilot(ConfigSchema& s) {
-  s.add_double("seconds", 339, "flight length, s (the thesis used 339 s to train, 140 s to test)").range(1, 36000);
+  s.add_double("seconds", 339, "flight length, s (the thesis used 339 s to train, 140 s to test)")
+      .range(1, 36000);
   s.add_double("hover_seconds", 10, "plain hover before the sweeps, s").range(0, 36000);
   s.add_bool("sweeps", true, "fly a frequency sweep (0.1 to 3 Hz) in each channel in turn after the hover");
   s.add_double("gust_sigma", 0.5, "turbulence standard deviation per axis, m/s").range(0, 10);
@@ -52,7 +53,8 @@ void run_pilot(RunContext& ctx) {
   const auto& c = ctx.config;
   AircraftParams p;
   p.gust_sigma = c.get_double("gust_sigma");
-  if (!c.get_bool("estimate_noise")) p.est_sigma_pos = p.est_sigma_vel = p.est_sigma_angle = p.est_sigma_rate = 0;
+  if (!c.get_bool("estimate_noise"))
+    p.est_sigma_pos = p.est_sigma_vel = p.est_sigma_angle = p.est_sigma_rate = 0;
   const Aircraft aircraft(p);
   PilotOptions o;
   o.hover_seconds = c.get_double("hover_seconds");
@@ -76,23 +78,29 @@ void run_pilot(RunContext& ctx) {
   }
   dir.write_text("position.svg", plot.render());
   const auto& trim = aircraft.hover_trim();
-  const nlohmann::json summary = {
-      {"seconds", static_cast<double>(f.log.rows()) * p.dt},
-      {"rows", f.log.rows()},
-      {"rate_hz", 1 / p.dt},
-      {"crashed", f.crash != CrashReason::kNone},
-      {"crash_reason", crash_reason_name(f.crash)},
-      {"crash_time", f.crash_time},
-      {"trim", {{"a1", trim.controls[0]}, {"a2", trim.controls[1]}, {"a3", trim.controls[2]}, {"a4", trim.controls[3]},
-                {"roll", trim.roll}, {"pitch", trim.pitch}}},
-      {"log", "log.csv"},
-      {"truth", "truth.csv"}};
+  const nlohmann::json summary = {{"seconds", static_cast<double>(f.log.rows()) * p.dt},
+                                  {"rows", f.log.rows()},
+                                  {"rate_hz", 1 / p.dt},
+                                  {"crashed", f.crash != CrashReason::kNone},
+                                  {"crash_reason", crash_reason_name(f.crash)},
+                                  {"crash_time", f.crash_time},
+                                  {"trim",
+                                   {{"a1", trim.controls[0]},
+                                    {"a2", trim.controls[1]},
+                                    {"a3", trim.controls[2]},
+                                    {"a4", trim.controls[3]},
+                                    {"roll", trim.roll},
+                                    {"pitch", trim.pitch}}},
+                                  {"log", "log.csv"},
+                                  {"truth", "truth.csv"}};
   dir.write_json("summary.json", summary);
   ctx.out << fmt::format("flew {:.1f} s ({} rows at 50 Hz){}; log: {}\n", summary["seconds"].get<double>(),
-                         f.log.rows(), f.crash != CrashReason::kNone ? ", CRASHED: " + crash_reason_name(f.crash) : "",
+                         f.log.rows(),
+                         f.crash != CrashReason::kNone ? ", CRASHED: " + crash_reason_name(f.crash) : "",
                          (dir.final_path() / "log.csv").string());
   if (f.crash != CrashReason::kNone)
-    throw std::runtime_error(fmt::format("the pilot crashed ({}) at {} s", crash_reason_name(f.crash), f.crash_time));
+    throw std::runtime_error(
+        fmt::format("the pilot crashed ({}) at {} s", crash_reason_name(f.crash), f.crash_time));
 }
 
 // ------------------------------------------------------------------ heli identify
@@ -105,13 +113,18 @@ void declare_identify(ConfigSchema& s) {
   s.add_bool("extra_states", true, "use the flapping and yaw-gyro states of the published model");
   s.add_bool("intercept", true, "regress on a constant");
   s.add_bool("templates", true, "fix kinematic and gravity coefficients (thesis 5.2.2)");
-  s.add_double("window_s", 16, "cross-validation leaves out this window around each held-out point, s").range(0, 1000);
+  s.add_double("window_s", 16, "cross-validation leaves out this window around each held-out point, s")
+      .range(0, 1000);
   s.add_int("cv_points", 300, "held-out points per cross-validation evaluation").range(10, 100000);
-  s.add_double_list("scale_grid", {0.5, 1, 2, 4, 8}, "bandwidths tried, in input standard deviations").min(1e-6).min_size(1);
+  s.add_double_list("scale_grid", {0.5, 1, 2, 4, 8}, "bandwidths tried, in input standard deviations")
+      .min(1e-6)
+      .min_size(1);
   s.add_int("coordinate_passes", 1, "passes of per-input bandwidth refinement").range(0, 10);
   s.add_double("horizon_s", 10, "longest prediction horizon of the report, s").range(0.1, 100);
-  s.add_double("start_spacing_s", 2, "spacing of the open-loop prediction starts on the test log, s").range(0.02, 1000);
-  s.add_double("reset_s", 2, "the noise check's EKF is reset to the true state this often, s").range(0.1, 100);
+  s.add_double("start_spacing_s", 2, "spacing of the open-loop prediction starts on the test log, s")
+      .range(0.02, 1000);
+  s.add_double("reset_s", 2, "the noise check's EKF is reset to the true state this often, s")
+      .range(0.1, 100);
   s.add_bool("variants", true, "also report the model-selection variants of Fig 5.2");
 }
 
@@ -154,11 +167,14 @@ void run_identify(RunContext& ctx) {
   IdentifyReport report;
   // The bandwidth search checkpoints after each cross-validation step; --resume replays the saved steps.
   IdentifyHooks hooks;
-  if (const auto saved = dir.load_checkpoint(); saved && saved->contains("identify")) hooks.resume_from = saved->at("identify");
+  if (const auto saved = dir.load_checkpoint(); saved && saved->contains("identify"))
+    hooks.resume_from = saved->at("identify");
   hooks.checkpoint = [&dir](const nlohmann::json& state) { dir.save_checkpoint({{"identify", state}}); };
   std::unique_ptr<Progress> bar;
   hooks.progress = [&](int done, int total, bool replayed) {
-    if (!bar) bar = std::make_unique<Progress>("bandwidth cross-validation", total, Progress::default_enabled(ctx.quiet));
+    if (!bar)
+      bar = std::make_unique<Progress>("bandwidth cross-validation", total,
+                                       Progress::default_enabled(ctx.quiet));
     const auto k = static_cast<std::uint64_t>(done) - bar->done();
     replayed ? bar->skip(k) : bar->advance(k);
   };
@@ -204,7 +220,8 @@ void run_identify(RunContext& ctx) {
       if (std::abs(hz - o.structure.rate_hz) < 1e-9) continue;
       m = o.structure;
       m.rate_hz = hz;
-      variants.push_back({fmt::format("identified at {} Hz", hz), horizon_mse(variant_model(m, true), test, horizon, spacing, pool)});
+      variants.push_back({fmt::format("identified at {} Hz", hz),
+                          horizon_mse(variant_model(m, true), test, horizon, spacing, pool)});
     }
   }
   CsvWriter mse_csv({"model", "seconds", "variable", "mse", "rollouts"});
@@ -234,15 +251,19 @@ void run_identify(RunContext& ctx) {
 
   const NoiseCheck nc = noise_check(model, test, c.get_double("reset_s"), 10.0);
   CsvWriter nc_csv({"time", "ydot_b_true", "ydot_b_predicted", "sd"});
-  for (std::size_t i = 0; i < nc.time.size(); ++i) nc_csv.add_row({nc.time[i], nc.truth[i], nc.mean[i], nc.sd[i]});
+  for (std::size_t i = 0; i < nc.time.size(); ++i)
+    nc_csv.add_row({nc.time[i], nc.truth[i], nc.mean[i], nc.sd[i]});
   dir.write_csv("noise_check.csv", nc_csv);
   {
     SvgPlot plot;
-    plot.title("ydot_b on hold-out data with +-2 sd bands, EKF reset every 2 s (Fig 5.3)").x_label("time, s").y_label("m/s");
+    plot.title("ydot_b on hold-out data with +-2 sd bands, EKF reset every 2 s (Fig 5.3)")
+        .x_label("time, s")
+        .y_label("m/s");
     plot.add_series({.name = "true", .x = nc.time, .y = nc.truth, .markers = false});
     std::vector<double> two_sd(nc.sd.size());
     for (std::size_t i = 0; i < nc.sd.size(); ++i) two_sd[i] = 2 * nc.sd[i];
-    plot.add_series({.name = "predicted +- 2 sd", .x = nc.time, .y = nc.mean, .error = two_sd, .markers = false});
+    plot.add_series(
+        {.name = "predicted +- 2 sd", .x = nc.time, .y = nc.mean, .error = two_sd, .markers = false});
     dir.write_text("noise_check.svg", plot.render());
   }
 
@@ -250,14 +271,16 @@ void run_identify(RunContext& ctx) {
   for (int j = 0; j < kInputs; ++j) {
     if (j == kOne) continue;
     const double ih = model.inv_bandwidth()[static_cast<std::size_t>(j)];
-    bandwidth[kInputNames[static_cast<std::size_t>(j)]] = ih > 0 ? nlohmann::json(1 / ih) : nlohmann::json("inf");
+    bandwidth[kInputNames[static_cast<std::size_t>(j)]] =
+        ih > 0 ? nlohmann::json(1 / ih) : nlohmann::json("inf");
   }
   for (int k = 0; k < kBodyVars; ++k) {
     sigma2[kBodyVarNames[static_cast<std::size_t>(k)]] = model.sigma2()[k];
     outside[kBodyVarNames[static_cast<std::size_t>(k)]] = nc.outside_fraction[k];
   }
   nlohmann::json variant_json = nlohmann::json::array();
-  for (const auto& v : variants) variant_json.push_back({{"model", v.name}, {"mse_at_seconds", mse_at(v.mse)}});
+  for (const auto& v : variants)
+    variant_json.push_back({{"model", v.name}, {"mse_at_seconds", mse_at(v.mse)}});
   const nlohmann::json summary = {{"train_seconds", train.seconds()},
                                   {"test_seconds", test.seconds()},
                                   {"rate_hz", o.structure.rate_hz},
@@ -276,14 +299,13 @@ void run_identify(RunContext& ctx) {
   dir.write_json("summary.json", summary);
   const auto& m1 = summary["mse_at_seconds"];
   const auto& g1 = summary["global_linear"]["mse_at_seconds"];
-  ctx.out << fmt::format("identified on {:.0f} s ({} rows at {} Hz), cross-validation {:.1f} s\n", train.seconds(),
-                         model.data().rows(), o.structure.rate_hz, report.cv_seconds);
+  ctx.out << fmt::format("identified on {:.0f} s ({} rows at {} Hz), cross-validation {:.1f} s\n",
+                         train.seconds(), model.data().rows(), o.structure.rate_hz, report.cv_seconds);
   if (m1.contains("1") && g1.contains("1"))
     ctx.out << fmt::format("hold-out MSE at 1 s, xdot_b: {:.4g} (chosen) vs {:.4g} (global linear)\n",
                            m1["1"]["xdot_b"].get<double>(), g1["1"]["xdot_b"].get<double>());
   ctx.out << "model: " << (dir.final_path() / "model.json").string() << "\n";
 }
-
 
 // ------------------------------------------------------------------ heli hover
 
@@ -292,30 +314,43 @@ void declare_hover(ConfigSchema& s) {
   s.add_int("scenarios", 30, "PEGASUS scenarios m (thesis 5.3: 30)").range(1, 100000);
   s.add_double("seconds", 35, "flight per scenario, s (thesis 5.3: 35)").greater_than(0).max(3600);
   s.add_double("gamma", 0.9995, "discount per 50 Hz step (thesis 5.3: 0.9995)").greater_than(0).max(1);
-  s.add_int("refit_every", 5, "learned model: 50 Hz steps between local-regression refits (thesis 5.2.2: 5)").range(1, 1000);
+  s.add_int("refit_every", 5, "learned model: 50 Hz steps between local-regression refits (thesis 5.2.2: 5)")
+      .range(1, 1000);
   s.add_double("start_pos_sigma", 1.0, "start position perturbation per axis, m").range(0, 100);
   s.add_double("start_vel_sigma", 0.3, "start velocity perturbation per axis, m/s").range(0, 100);
   s.add_double_list("target", {0, 0, -10, 0}, "set point x, y, z (m, NED: z < 0 is up) and yaw (rad)")
       .validate([](const FieldValue& v) {
-        return std::get<std::vector<double>>(v).size() == 4 ? std::string() : std::string("4 numbers: x, y, z, yaw");
+        return std::get<std::vector<double>>(v).size() == 4 ? std::string()
+                                                            : std::string("4 numbers: x, y, z, yaw");
       });
-  s.add_double("reward.position_m", 0.5, "typical position error: alpha_x,y,z = 1 / this^2 (Eq 5.9)").greater_than(0);
-  s.add_double("reward.velocity_mps", 0.5, "typical velocity: alpha_xdot,ydot,zdot = 1 / this^2 (Eq 5.9)").greater_than(0);
+  s.add_double("reward.position_m", 0.5, "typical position error: alpha_x,y,z = 1 / this^2 (Eq 5.9)")
+      .greater_than(0);
+  s.add_double("reward.velocity_mps", 0.5, "typical velocity: alpha_xdot,ydot,zdot = 1 / this^2 (Eq 5.9)")
+      .greater_than(0);
   s.add_double("reward.yaw_rad", 0.1, "typical yaw error: alpha_yaw = 1 / this^2 (Eq 5.9)").greater_than(0);
-  s.add_double("reward.action", 0.1, "typical control departure: alpha_a = 1 / this^2 (Eq 5.10)").greater_than(0);
-  s.add_string("reward.action_centre", "trim", "controls the action cost is taken about: the logs' mean (trim) or 0 (Eq 5.10 as printed)")
+  s.add_double("reward.action", 0.1, "typical control departure: alpha_a = 1 / this^2 (Eq 5.10)")
+      .greater_than(0);
+  s.add_string("reward.action_centre", "trim",
+               "controls the action cost is taken about: the logs' mean (trim) or 0 (Eq 5.10 as printed)")
       .choices({"trim", "zero"});
-  s.add_string("optimizer", "gradient", "gradient ascent (then hill climbing, see then_hill_climb) or hill climbing alone")
+  s.add_string("optimizer", "gradient",
+               "gradient ascent (then hill climbing, see then_hill_climb) or hill climbing alone")
       .choices({"gradient", "hill-climb"});
   s.add_bool("then_hill_climb", true, "after gradient ascent, random-walk hill climbing from its result");
-  s.add_int("gradient.iterations", 20, "gradient ascent iterations at most (2 x 34 + line-search evaluations each)").range(0, 1000000);
-  s.add_double("gradient.relative_step", 0.05, "central-difference half-width, in parameter scales").greater_than(0);
+  s.add_int("gradient.iterations", 20,
+            "gradient ascent iterations at most (2 x 34 + line-search evaluations each)")
+      .range(0, 1000000);
+  s.add_double("gradient.relative_step", 0.05, "central-difference half-width, in parameter scales")
+      .greater_than(0);
   s.add_double("gradient.initial_step", 1.0, "first step length, in parameter scales").greater_than(0);
   s.add_double("gradient.max_step", 4.0, "longest step, in parameter scales").greater_than(0);
   s.add_int("gradient.max_backtracks", 8, "step halvings tried before an iteration gives up").range(0, 100);
   s.add_int("hill_climbing.iterations", 20, "hill-climbing iterations at most").range(0, 1000000);
-  s.add_int("hill_climbing.proposals", 8, "hill-climbing proposals per iteration (evaluated in parallel)").range(1, 100000);
-  s.add_double("hill_climbing.initial_step", 0.3, "hill-climbing first perturbation size, in parameter scales").greater_than(0);
+  s.add_int("hill_climbing.proposals", 8, "hill-climbing proposals per iteration (evaluated in parallel)")
+      .range(1, 100000);
+  s.add_double("hill_climbing.initial_step", 0.3,
+               "hill-climbing first perturbation size, in parameter scales")
+      .greater_than(0);
   s.add_constraint([](const ConfigSchema& c) {
     if (c.get_double("gradient.initial_step") > c.get_double("gradient.max_step"))
       return std::string("gradient.initial_step: expected at most gradient.max_step");
@@ -334,8 +369,9 @@ heli::HoverTrainingOptions hover_options(const RunContext& ctx) {
   o.start_vel_sigma = c.get_double("start_vel_sigma");
   const auto& t = c.get_double_list("target");
   o.target = {t[0], t[1], t[2], t[3]};
-  o.reward = heli::HoverReward::from_typical(c.get_double("reward.position_m"), c.get_double("reward.velocity_mps"),
-                                             c.get_double("reward.yaw_rad"), c.get_double("reward.action"), {});
+  o.reward =
+      heli::HoverReward::from_typical(c.get_double("reward.position_m"), c.get_double("reward.velocity_mps"),
+                                      c.get_double("reward.yaw_rad"), c.get_double("reward.action"), {});
   o.centre_at_trim = c.get_string("reward.action_centre") == "trim";
   o.optimizer.method = c.get_string("optimizer");
   o.then_hill_climb = c.get_bool("then_hill_climb");
@@ -348,8 +384,10 @@ heli::HoverTrainingOptions hover_options(const RunContext& ctx) {
   o.optimizer.hill_climbing.max_iterations = c.get_int("hill_climbing.iterations");
   o.optimizer.hill_climbing.proposals_per_iteration = static_cast<int>(c.get_int("hill_climbing.proposals"));
   o.optimizer.hill_climbing.initial_step = c.get_double("hill_climbing.initial_step");
-  o.optimizer.hill_climbing.max_step = std::max(o.optimizer.hill_climbing.max_step, o.optimizer.hill_climbing.initial_step);
-  o.optimizer.hill_climbing.min_step = std::min(o.optimizer.hill_climbing.min_step, o.optimizer.hill_climbing.initial_step);
+  o.optimizer.hill_climbing.max_step =
+      std::max(o.optimizer.hill_climbing.max_step, o.optimizer.hill_climbing.initial_step);
+  o.optimizer.hill_climbing.min_step =
+      std::min(o.optimizer.hill_climbing.min_step, o.optimizer.hill_climbing.initial_step);
   o.seed = ctx.seed;
   std::string error;
   if (!o.IsValid(&error)) throw InputError(error);
@@ -358,14 +396,18 @@ heli::HoverTrainingOptions hover_options(const RunContext& ctx) {
 
 std::shared_ptr<const IdentifiedModel> model_argument(const RunContext& ctx) {
   const std::string& file = ctx.config.get_string("model");
-  if (file.empty()) throw InputError("--model: expected an identified model (model.json of pegasus heli identify)");
+  if (file.empty())
+    throw InputError("--model: expected an identified model (model.json of pegasus heli identify)");
   return std::make_shared<const IdentifiedModel>(IdentifiedModel::load(file));
 }
 
 std::string curve_svg(const std::vector<IterationRecord>& progress, std::int64_t gradient_iterations) {
   SvgPlot plot;
-  plot.title("Hover training: U-hat of the best policy so far").x_label("optimizer iteration").y_label("U-hat");
-  PlotSeries g{.name = "gradient ascent", .markers = progress.size() < 60}, h{.name = "hill climbing", .markers = progress.size() < 60};
+  plot.title("Hover training: U-hat of the best policy so far")
+      .x_label("optimizer iteration")
+      .y_label("U-hat");
+  PlotSeries g{.name = "gradient ascent", .markers = progress.size() < 60},
+      h{.name = "hill climbing", .markers = progress.size() < 60};
   for (const auto& r : progress) {
     PlotSeries& s = r.iteration <= gradient_iterations ? g : h;
     s.x.push_back(static_cast<double>(r.iteration));
@@ -385,9 +427,10 @@ void run_hover(RunContext& ctx) {
   hooks.resume_from = dir.load_checkpoint();
   const bool two = o.optimizer.method == "gradient" && o.then_hill_climb;
   const std::int64_t g_iters = o.optimizer.method == "gradient" ? o.optimizer.gradient.max_iterations
-                                                                 : o.optimizer.hill_climbing.max_iterations;
-  auto bar = ctx.progress("optimizer iterations",
-                          static_cast<std::uint64_t>(g_iters + (two ? o.optimizer.hill_climbing.max_iterations : 0)));
+                                                                : o.optimizer.hill_climbing.max_iterations;
+  auto bar = ctx.progress(
+      "optimizer iterations",
+      static_cast<std::uint64_t>(g_iters + (two ? o.optimizer.hill_climbing.max_iterations : 0)));
   if (hooks.resume_from) {
     const auto& r = *hooks.resume_from;
     std::uint64_t done = 0;
@@ -398,7 +441,8 @@ void run_hover(RunContext& ctx) {
   std::uint64_t last = 0;
   hooks.on_checkpoint = [&](const nlohmann::json& c) {
     dir.save_checkpoint(c);
-    std::uint64_t done = c.at("phase").get<int>() == 1 ? c.at("gradient").at("iterations").get<std::uint64_t>() : 0;
+    std::uint64_t done =
+        c.at("phase").get<int>() == 1 ? c.at("gradient").at("iterations").get<std::uint64_t>() : 0;
     if (!c.at("optimizer").is_null()) done += c.at("optimizer").at("iterations").get<std::uint64_t>();
     if (done > last) bar.advance(done - last);
     last = done;
@@ -409,9 +453,11 @@ void run_hover(RunContext& ctx) {
   CsvWriter progress({"iteration", "evaluations", "seconds", "objective"});
   for (const auto& h : r.progress) progress.add_row({h.iteration, h.evaluations, h.seconds, h.value});
   dir.write_csv("progress.csv", progress);
-  dir.write_text("progress.svg", curve_svg(r.progress, r.gradient.method == "gradient" ? r.gradient.iterations : 0));
+  dir.write_text("progress.svg",
+                 curve_svg(r.progress, r.gradient.method == "gradient" ? r.gradient.iterations : 0));
   const heli::HoverPolicy policy = heli::hover_policy_for(*model);
-  heli::PolicyFile file = heli::hover_policy_file(policy, r.theta, o.target, heli::hover_init_from_model(*model).trim);
+  heli::PolicyFile file =
+      heli::hover_policy_file(policy, r.theta, o.target, heli::hover_init_from_model(*model).trim);
   file.provenance = {{"command", "pegasus heli hover"},
                      {"model", ctx.config.get_string("model")},
                      {"uhat", r.final_uhat},
@@ -421,14 +467,11 @@ void run_hover(RunContext& ctx) {
   dir.write_json("policy.json", heli::policy_file_json(file));
   auto phase = [](const OptimizerSummary& s) -> nlohmann::json {
     if (s.method.empty()) return nullptr;
-    return {{"method", s.method},
-            {"iterations", s.iterations},
-            {"evaluations", s.evaluations},
-            {"initial_uhat", s.initial_value},
-            {"best_uhat", s.best_value},
-            {"termination", std::string(TerminationTypeName(s.termination_type))},
-            {"message", s.message},
-            {"seconds", s.wall_seconds}};
+    return {
+        {"method", s.method},           {"iterations", s.iterations},
+        {"evaluations", s.evaluations}, {"initial_uhat", s.initial_value},
+        {"best_uhat", s.best_value},    {"termination", std::string(TerminationTypeName(s.termination_type))},
+        {"message", s.message},         {"seconds", s.wall_seconds}};
   };
   const double seconds = r.progress.empty() ? 0.0 : r.progress.back().seconds;
   const std::int64_t evaluations = r.progress.empty() ? 0 : r.progress.back().evaluations;
@@ -443,8 +486,9 @@ void run_hover(RunContext& ctx) {
                                   {"gradient", phase(r.gradient)},
                                   {"hill_climb", phase(r.hill_climb)},
                                   {"policy", "policy.json"}});
-  ctx.out << fmt::format("hover training: U-hat {:.6g} -> {:.6g} in {} iterations, {} evaluations, {:.1f} s\n",
-                         r.initial_uhat, r.final_uhat, r.progress.size(), evaluations, seconds);
+  ctx.out << fmt::format(
+      "hover training: U-hat {:.6g} -> {:.6g} in {} iterations, {} evaluations, {:.1f} s\n", r.initial_uhat,
+      r.final_uhat, r.progress.size(), evaluations, seconds);
   ctx.out << "policy: " << (dir.final_path() / "policy.json").string() << "\n";
 }
 
@@ -460,7 +504,8 @@ void declare_fly(ConfigSchema& s) {
   s.add_bool("estimate_noise", true, "the controller sees Kalman-filter-like state-estimate errors");
   s.add_double("start_pos_sigma", 1.0, "start position perturbation per axis, m").range(0, 100);
   s.add_double("start_vel_sigma", 0.3, "start velocity perturbation per axis, m/s").range(0, 100);
-  s.add_int("trace_flights", 10, "flights written step by step to flights.csv (the first ones)").range(0, 1000000);
+  s.add_int("trace_flights", 10, "flights written step by step to flights.csv (the first ones)")
+      .range(0, 1000000);
 }
 
 nlohmann::json flight_summary_json(const heli::FlightSummary& s) {
@@ -474,7 +519,8 @@ nlohmann::json flight_summary_json(const heli::FlightSummary& s) {
 CsvWriter flights_csv(const std::vector<heli::FlightRecord>& flights) {
   std::vector<std::string> header = {"flight", "t"};
   for (const char* n : kLoggedStateNames) header.emplace_back(n);
-  for (const char* n : {"a1", "a2", "a3", "a4", "target_x", "target_y", "target_z", "target_yaw"}) header.emplace_back(n);
+  for (const char* n : {"a1", "a2", "a3", "a4", "target_x", "target_y", "target_z", "target_yaw"})
+    header.emplace_back(n);
   CsvWriter csv(header);
   for (std::size_t i = 0; i < flights.size(); ++i)
     for (const auto& row : flights[i].trace) {
@@ -491,21 +537,21 @@ void add_per_flight(CsvWriter& csv, const std::string& who, const std::vector<he
   for (std::size_t i = 0; i < flights.size(); ++i) {
     const auto& f = flights[i];
     const double n = std::max(1, f.steps);
-    csv.add_row({who, static_cast<std::int64_t>(i), std::int64_t{f.crashed ? 1 : 0}, crash_reason_name(f.crash),
-                 f.crash_time, std::sqrt(f.sum_sq_position / n), std::sqrt(f.sum_sq_velocity / n),
-                 std::sqrt(f.sum_sq_yaw / n)});
+    csv.add_row({who, static_cast<std::int64_t>(i), std::int64_t{f.crashed ? 1 : 0},
+                 crash_reason_name(f.crash), f.crash_time, std::sqrt(f.sum_sq_position / n),
+                 std::sqrt(f.sum_sq_velocity / n), std::sqrt(f.sum_sq_yaw / n)});
   }
 }
 
 // Figs 5.6-5.7: one variable of flight 0 against time, the policy (and the pilot).
-void write_trace_plots(RunDirectory& dir, const std::vector<heli::FlightRecord>& main, const std::string& main_name,
-                       const std::vector<heli::FlightRecord>* pilot) {
+void write_trace_plots(RunDirectory& dir, const std::vector<heli::FlightRecord>& main,
+                       const std::string& main_name, const std::vector<heli::FlightRecord>* pilot) {
   if (main.empty() || main[0].trace.empty()) return;
   struct Panel {
     const char* file;
     const char* title;
     const char* unit;
-    int index;     // 0..2 world position, 3..5 body velocity
+    int index;  // 0..2 world position, 3..5 body velocity
   };
   const Panel panels[] = {{"position_x.svg", "x (north), world (Fig 5.7)", "m", 0},
                           {"position_y.svg", "y (east), world (Fig 5.7)", "m", 1},
@@ -530,7 +576,9 @@ void write_trace_plots(RunDirectory& dir, const std::vector<heli::FlightRecord>&
   };
   for (const Panel& p : panels) {
     SvgPlot plot;
-    plot.title(fmt::format("Hover on the ground truth, flight 0: {}", p.title)).x_label("time, s").y_label(p.unit);
+    plot.title(fmt::format("Hover on the ground truth, flight 0: {}", p.title))
+        .x_label("time, s")
+        .y_label(p.unit);
     plot.add_series(series(main[0], p.index, main_name, "#1f77b4"));
     if (pilot && !pilot->empty() && !(*pilot)[0].trace.empty())
       plot.add_series(series((*pilot)[0], p.index, "scripted pilot", "#d62728"));
@@ -553,7 +601,8 @@ void run_fly(RunContext& ctx) {
   }
   AircraftParams p;
   p.gust_sigma = c.get_double("gust_sigma");
-  if (!c.get_bool("estimate_noise")) p.est_sigma_pos = p.est_sigma_vel = p.est_sigma_angle = p.est_sigma_rate = 0;
+  if (!c.get_bool("estimate_noise"))
+    p.est_sigma_pos = p.est_sigma_vel = p.est_sigma_angle = p.est_sigma_rate = 0;
   p.start_p_W = heli::Vec3(target.x, target.y, target.z);
   p.start_yaw = target.yaw;
   p.start_pos_sigma = c.get_double("start_pos_sigma");
@@ -594,12 +643,14 @@ void run_fly(RunContext& ctx) {
                     with_pilot && !pilot_only ? &pilot : nullptr);
   dir.write_json("summary.json", summary);
   auto line = [](const char* who, const heli::FlightSummary& f) {
-    return fmt::format("{}: {} flights, {} crashes, RMS position {:.3f} m, velocity {:.3f} m/s, yaw {:.4f} rad\n", who,
-                       f.flights, f.crashes, f.rms_position_m, f.rms_velocity_mps, f.rms_yaw_rad);
+    return fmt::format(
+        "{}: {} flights, {} crashes, RMS position {:.3f} m, velocity {:.3f} m/s, yaw {:.4f} rad\n", who,
+        f.flights, f.crashes, f.rms_position_m, f.rms_velocity_mps, f.rms_yaw_rad);
   };
   ctx.out << line(pilot_only ? "pilot" : "policy", s);
   if (with_pilot && !pilot_only) ctx.out << line("pilot", heli::summarize_flights(pilot));
-  ctx.out << "plots: " << (dir.final_path() / "position_x.svg").string() << " (and position_*, velocity_*.svg)\n";
+  ctx.out << "plots: " << (dir.final_path() / "position_x.svg").string()
+          << " (and position_*, velocity_*.svg)\n";
 }
 
 // ------------------------------------------------------------------ heli control
@@ -618,8 +669,9 @@ void run_control(RunContext& ctx) {
   std::string input;
   for (std::int64_t i = 0; i < bench; ++i) {
     const double t = 0.02 * static_cast<double>(i);
-    input += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{}\n", 0.3 * std::sin(t), -0.2 * std::cos(t), -10 + 0.1 * std::sin(0.5 * t),
-                         0.05, -0.01, 0.02 * std::sin(t), 0.1, -0.1, 0.02, 0.01, 0.0, 0.01);
+    input += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{}\n", 0.3 * std::sin(t), -0.2 * std::cos(t),
+                         -10 + 0.1 * std::sin(0.5 * t), 0.05, -0.01, 0.02 * std::sin(t), 0.1, -0.1, 0.02,
+                         0.01, 0.0, 0.01);
   }
   std::FILE* in = fmemopen(input.data(), input.size(), "r");
   std::FILE* out = std::fopen("/dev/null", "w");
@@ -629,8 +681,8 @@ void run_control(RunContext& ctx) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::fclose(in);
   std::fclose(out);
-  ctx.out << fmt::format("{} lines in {:.3f} s: {:.0f} lines/s (each line parsed, answered and flushed)\n", stats.lines,
-                         seconds, static_cast<double>(stats.lines) / seconds);
+  ctx.out << fmt::format("{} lines in {:.3f} s: {:.0f} lines/s (each line parsed, answered and flushed)\n",
+                         stats.lines, seconds, static_cast<double>(stats.lines) / seconds);
 }
 
 // ------------------------------------------------------------------ heli pipeline
@@ -638,8 +690,12 @@ void run_control(RunContext& ctx) {
 void declare_pipeline(ConfigSchema& s) {
   s.add_double("train_seconds", 339, "pilot training flight, s (thesis 5.2: 339)").range(30, 36000);
   s.add_double("test_seconds", 140, "pilot hold-out flight, s (thesis 5.2: 140)").range(20, 36000);
-  s.add_int("cv_points", 300, "identification: held-out points per cross-validation evaluation").range(10, 100000);
-  s.add_double_list("scale_grid", {0.5, 1, 2, 4, 8}, "identification: bandwidths tried, in input standard deviations").min(1e-6).min_size(1);
+  s.add_int("cv_points", 300, "identification: held-out points per cross-validation evaluation")
+      .range(10, 100000);
+  s.add_double_list("scale_grid", {0.5, 1, 2, 4, 8},
+                    "identification: bandwidths tried, in input standard deviations")
+      .min(1e-6)
+      .min_size(1);
   s.add_int("coordinate_passes", 1, "identification: passes of per-input bandwidth refinement").range(0, 10);
   s.add_int("scenarios", 30, "hover training: PEGASUS scenarios").range(1, 100000);
   s.add_double("scenario_seconds", 35, "hover training: flight per scenario, s").greater_than(0).max(3600);
@@ -688,52 +744,61 @@ void run_pipeline(RunContext& ctx) {
     const auto start = std::chrono::steady_clock::now();
     const int code = run_stage(args);
     if (code == 2) throw InputError(fmt::format("pipeline stage {}: bad input (its message is above)", name));
-    if (code != 0) throw std::runtime_error(fmt::format("pipeline stage {} failed with exit code {}", name, code));
+    if (code != 0)
+      throw std::runtime_error(fmt::format("pipeline stage {} failed with exit code {}", name, code));
     ctx.out << fmt::format("[{}] {:.1f} s\n", name,
                            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   };
   const std::uint64_t seed = ctx.seed;
   std::string grid;
   for (double g : c.get_double_list("scale_grid")) grid += (grid.empty() ? "" : ",") + num(g);
-  stage("pilot-train", {"heli", "pilot", "--seconds", num(c.get_double("train_seconds")), "--seed", std::to_string(seed)});
-  stage("pilot-test", {"heli", "pilot", "--seconds", num(c.get_double("test_seconds")), "--seed", std::to_string(seed + 1)});
+  stage("pilot-train",
+        {"heli", "pilot", "--seconds", num(c.get_double("train_seconds")), "--seed", std::to_string(seed)});
+  stage("pilot-test", {"heli", "pilot", "--seconds", num(c.get_double("test_seconds")), "--seed",
+                       std::to_string(seed + 1)});
   stage("identify", {"heli", "identify", "--train", (root / "pilot-train" / "log.csv").string(), "--test",
-                     (root / "pilot-test" / "log.csv").string(), "--cv-points", std::to_string(c.get_int("cv_points")),
-                     "--scale-grid", grid, "--coordinate-passes", std::to_string(c.get_int("coordinate_passes")),
-                     "--variants=false"});
+                     (root / "pilot-test" / "log.csv").string(), "--cv-points",
+                     std::to_string(c.get_int("cv_points")), "--scale-grid", grid, "--coordinate-passes",
+                     std::to_string(c.get_int("coordinate_passes")), "--variants=false"});
   stage("hover", {"heli", "hover", "--model", (root / "identify" / "model.json").string(), "--scenarios",
                   std::to_string(c.get_int("scenarios")), "--seconds", num(c.get_double("scenario_seconds")),
                   "--gradient.iterations", std::to_string(c.get_int("gradient_iterations")),
-                  "--hill-climbing.iterations", std::to_string(c.get_int("hill_climbing_iterations")), "--seed",
-                  std::to_string(seed)});
-  stage("fly", {"heli", "fly", "--policy", (root / "hover" / "policy.json").string(), "--compare-pilot", "--flights",
-                std::to_string(c.get_int("flights")), "--seconds", num(c.get_double("flight_seconds")), "--seed",
-                std::to_string(seed + 2)});
+                  "--hill-climbing.iterations", std::to_string(c.get_int("hill_climbing_iterations")),
+                  "--seed", std::to_string(seed)});
+  stage("fly", {"heli", "fly", "--policy", (root / "hover" / "policy.json").string(), "--compare-pilot",
+                "--flights", std::to_string(c.get_int("flights")), "--seconds",
+                num(c.get_double("flight_seconds")), "--seed", std::to_string(seed + 2)});
 
   const nlohmann::json hover = read_json_file(root / "hover" / "summary.json");
   const nlohmann::json fly = read_json_file(root / "fly" / "summary.json");
-  const nlohmann::json summary = {{"hover", {{"initial_uhat", hover.at("initial_uhat")}, {"final_uhat", hover.at("final_uhat")}}},
-                                  {"flights", fly.at("flights")},
-                                  {"crashes", fly.at("crashes")},
-                                  {"rms_position_m", fly.at("rms_position_m")},
-                                  {"rms_velocity_mps", fly.at("rms_velocity_mps")},
-                                  {"rms_yaw_rad", fly.at("rms_yaw_rad")},
-                                  {"pilot", fly.at("pilot")},
-                                  {"stages", {"pilot-train", "pilot-test", "identify", "hover", "fly"}}};
+  const nlohmann::json summary = {
+      {"hover", {{"initial_uhat", hover.at("initial_uhat")}, {"final_uhat", hover.at("final_uhat")}}},
+      {"flights", fly.at("flights")},
+      {"crashes", fly.at("crashes")},
+      {"rms_position_m", fly.at("rms_position_m")},
+      {"rms_velocity_mps", fly.at("rms_velocity_mps")},
+      {"rms_yaw_rad", fly.at("rms_yaw_rad")},
+      {"pilot", fly.at("pilot")},
+      {"stages", {"pilot-train", "pilot-test", "identify", "hover", "fly"}}};
   dir.write_json("summary.json", summary);
   const auto& pl = fly.at("pilot");
   const std::filesystem::path final_fly = dir.final_path() / "fly";
   ctx.out << "\n== helicopter pipeline: headline figures ==\n";
   ctx.out << fmt::format("hover training U-hat: {:.6g} -> {:.6g}\n", hover.at("initial_uhat").get<double>(),
                          hover.at("final_uhat").get<double>());
-  ctx.out << fmt::format("learned policy on the ground truth: {} flights of {} s, {} crashes, RMS position {:.3f} m, velocity {:.3f} m/s, yaw {:.4f} rad\n",
-                         fly.at("flights").get<int>(), num(c.get_double("flight_seconds")), fly.at("crashes").get<int>(),
-                         fly.at("rms_position_m").get<double>(), fly.at("rms_velocity_mps").get<double>(),
-                         fly.at("rms_yaw_rad").get<double>());
-  ctx.out << fmt::format("scripted pilot, same starts and gusts:       {} crashes, RMS position {:.3f} m, velocity {:.3f} m/s, yaw {:.4f} rad\n",
-                         pl.at("crashes").get<int>(), pl.at("rms_position_m").get<double>(),
-                         pl.at("rms_velocity_mps").get<double>(), pl.at("rms_yaw_rad").get<double>());
-  ctx.out << "plots: " << (final_fly / "position_x.svg").string() << ", position_y/z.svg, velocity_xb/yb/zb.svg (Figs 5.6-5.7); "
+  ctx.out << fmt::format(
+      "learned policy on the ground truth: {} flights of {} s, {} crashes, RMS position {:.3f} m, velocity "
+      "{:.3f} m/s, yaw {:.4f} rad\n",
+      fly.at("flights").get<int>(), num(c.get_double("flight_seconds")), fly.at("crashes").get<int>(),
+      fly.at("rms_position_m").get<double>(), fly.at("rms_velocity_mps").get<double>(),
+      fly.at("rms_yaw_rad").get<double>());
+  ctx.out << fmt::format(
+      "scripted pilot, same starts and gusts:       {} crashes, RMS position {:.3f} m, velocity {:.3f} m/s, "
+      "yaw {:.4f} rad\n",
+      pl.at("crashes").get<int>(), pl.at("rms_position_m").get<double>(),
+      pl.at("rms_velocity_mps").get<double>(), pl.at("rms_yaw_rad").get<double>());
+  ctx.out << "plots: " << (final_fly / "position_x.svg").string()
+          << ", position_y/z.svg, velocity_xb/yb/zb.svg (Figs 5.6-5.7); "
           << (dir.final_path() / "hover" / "progress.svg").string() << "; "
           << (dir.final_path() / "identify" / "mse_xdot_b.svg").string() << "\n";
 }
@@ -743,34 +808,42 @@ void run_pipeline(RunContext& ctx) {
 std::vector<Command> heli_commands() {
   return {
       Command{.path = "heli pilot",
-              .description = "Fly the ground-truth helicopter with the scripted pilot (hover, then sweeps) and log it at 50 Hz",
+              .description = "Fly the ground-truth helicopter with the scripted pilot (hover, then sweeps) "
+                             "and log it at 50 Hz",
               .declare = declare_pilot,
               .run = run_pilot},
       Command{.path = "heli identify",
-              .description = "Identify a helicopter model by locally weighted regression from flight logs (thesis 5.2)",
+              .description =
+                  "Identify a helicopter model by locally weighted regression from flight logs (thesis 5.2)",
               .declare = declare_identify,
               .run = run_identify},
-      Command{.path = "heli hover",
-              .description = "Learn to hover (thesis 5.3): PEGASUS on the identified model, writes policy.json",
-              .declare = declare_hover,
-              .run = run_hover},
+      Command{
+          .path = "heli hover",
+          .description = "Learn to hover (thesis 5.3): PEGASUS on the identified model, writes policy.json",
+          .declare = declare_hover,
+          .run = run_hover},
       Command{.path = "heli fly",
-              .description = "Fly a policy file (or the scripted pilot) on the ground-truth helicopter with gusts",
+              .description =
+                  "Fly a policy file (or the scripted pilot) on the ground-truth helicopter with gusts",
               .declare = declare_fly,
               .run = run_fly},
-      Command{.path = "heli control",
-              .description = "Serve a policy file: one state per line on stdin, four controls per line on stdout",
-              .declare =
-                  [](ConfigSchema& s) {
-                    s.add_string("policy", "", "policy file (policy.json of pegasus heli hover)");
-                    s.add_int("bench_lines", 0, "0: serve stdin; N: time N synthetic lines and print lines/s").range(0, 100000000);
-                  },
-              .run = run_control,
-              .out = OutDir::kNone},
-      Command{.path = "heli pipeline",
-              .description = "The whole helicopter chain: pilot logs, identification, hover training, flights vs the pilot",
-              .declare = declare_pipeline,
-              .run = run_pipeline},
+      Command{
+          .path = "heli control",
+          .description = "Serve a policy file: one state per line on stdin, four controls per line on stdout",
+          .declare =
+              [](ConfigSchema& s) {
+                s.add_string("policy", "", "policy file (policy.json of pegasus heli hover)");
+                s.add_int("bench_lines", 0, "0: serve stdin; N: time N synthetic lines and print lines/s")
+                    .range(0, 100000000);
+              },
+          .run = run_control,
+          .out = OutDir::kNone},
+      Command{
+          .path = "heli pipeline",
+          .description =
+              "The whole helicopter chain: pilot logs, identification, hover training, flights vs the pilot",
+          .declare = declare_pipeline,
+          .run = run_pipeline},
   };
 }
 

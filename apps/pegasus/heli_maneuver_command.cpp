@@ -1,7 +1,8 @@
-// `pegasus heli maneuver`: PEGASUS learns to fly an AMA Class III competition manoeuvre on the identified model,
-// then flies it on the ground-truth aircraft with gusts (thesis §5.4, Figs 5.8-5.10). Also trains the two
-// ablations the issue asks for (no learned z delay, no shaping reward) with the same budget, and registers the
-// "maneuver" policy class so that `pegasus heli fly --policy` and `pegasus heli control` fly its policy files.
+// `pegasus heli maneuver`: PEGASUS learns to fly an AMA Class III competition manoeuvre on the identified
+// model, then flies it on the ground-truth aircraft with gusts (thesis §5.4, Figs 5.8-5.10). Also trains the
+// two ablations the issue asks for (no learned z delay, no shaping reward) with the same budget, and
+// registers the "maneuver" policy class so that `pegasus heli fly --policy` and `pegasus heli control` fly
+// its policy files.
 #include <fmt/format.h>
 
 #include <cmath>
@@ -31,13 +32,16 @@ using namespace pegasus::heli;
 void declare(ConfigSchema& s) {
   s.add_string("name", "III.1", "manoeuvre (AMA Class III)").choices({"III.1", "III.2", "III.3"});
   s.add_string("model", "", "identified model file (model.json of `pegasus heli identify`)");
-  s.add_string("hover_policy", "", "optional: a trained hover policy file to start from (else the model's trim and default gains)");
+  s.add_string(
+      "hover_policy", "",
+      "optional: a trained hover policy file to start from (else the model's trim and default gains)");
   // Trajectory
   s.add_double("speed", 2.5, "set-point speed limit along the path, m/s").range(0.1, 20);
   s.add_double("accel", 1.0, "set-point acceleration limit, m/s^2").range(0.1, 20);
   s.add_double("yaw_rate", 1.0, "pirouette rate limit, rad/s").range(0.1, 10);
   s.add_double("yaw_accel", 1.0, "pirouette acceleration limit, rad/s^2").range(0.1, 20);
-  s.add_double("triangle_base", 20, "III.1: base of the triangle, m (apex at half of it above)").range(1, 200);
+  s.add_double("triangle_base", 20, "III.1: base of the triangle, m (apex at half of it above)")
+      .range(1, 200);
   s.add_double("circle_radius", 10, "III.2: radius of the circle, m").range(1, 100);
   s.add_double("pause_s", 2, "III.2: pause on the circle before circling, s").range(0, 60);
   s.add_double("rectangle_width", 20, "III.3: width of the rectangle, m").range(1, 200);
@@ -51,20 +55,26 @@ void declare(ConfigSchema& s) {
   s.add_double("start_vel_sigma", 0.2, "start velocity perturbation per axis, m/s").range(0, 10);
   s.add_double("reward.alpha_pos", 4, "per m^2 of distance to the path's projection").min(0);
   s.add_double("reward.alpha_yaw", 4, "per rad^2 of yaw error to the projection").min(0);
-  s.add_double("reward.alpha_vel", 1, "per (m/s)^2 of velocity minus the path's velocity at the projection").min(0);
+  s.add_double("reward.alpha_vel", 1, "per (m/s)^2 of velocity minus the path's velocity at the projection")
+      .min(0);
   s.add_double("reward.alpha_action", 4, "per unit^2 of each control about the trim").min(0);
   s.add_bool("shaping", true, "potential-based shaping reward growing along the path");
   s.add_double("shaping_per_metre", 5, "shaping potential per m of progress along the path").min(0);
-  s.add_bool("learn_delay", true, "learn the delay t of the vertical set point in angled climbs and descents");
-  s.add_bool("feedforward", true, "the hover networks see the velocity relative to the set point's (learned gain)");
+  s.add_bool("learn_delay", true,
+             "learn the delay t of the vertical set point in angled climbs and descents");
+  s.add_bool("feedforward", true,
+             "the hover networks see the velocity relative to the set point's (learned gain)");
   s.add_string("optimizer", "gradient", "optimizer").choices({"gradient", "hill-climb"});
   s.add_int("iterations", 10, "optimizer iterations at most").range(0, 100000);
-  s.add_double("gradient.relative_step", 0.05, "central-difference half-width, in parameter scales").greater_than(0);
+  s.add_double("gradient.relative_step", 0.05, "central-difference half-width, in parameter scales")
+      .greater_than(0);
   s.add_double("gradient.initial_step", 0.5, "first step length, in parameter scales").greater_than(0);
   s.add_double("gradient.max_step", 2.0, "longest step, in parameter scales").greater_than(0);
   s.add_int("hill_climbing.proposals", 8, "proposals per hill-climbing iteration").range(1, 100000);
-  s.add_double("hill_climbing.initial_step", 0.3, "first hill-climbing perturbation, in parameter scales").greater_than(0);
-  s.add_bool("ablations", true, "also train without the learned delay and without shaping (same budget) and fly them");
+  s.add_double("hill_climbing.initial_step", 0.3, "first hill-climbing perturbation, in parameter scales")
+      .greater_than(0);
+  s.add_bool("ablations", true,
+             "also train without the learned delay and without shaping (same budget) and fly them");
   // Flights on the ground truth
   s.add_int("flights", 20, "flights on the ground-truth aircraft per policy").range(1, 100000);
   s.add_double("gust_sigma", 0.5, "turbulence per axis on the ground truth, m/s").range(0, 10);
@@ -82,7 +92,9 @@ ManeuverTrainingOptions training_options(const RunContext& ctx) {
   const auto& c = ctx.config;
   ManeuverTrainingOptions o;
   o.name = c.get_string("name");
-  o.limits = {.speed = c.get_double("speed"), .accel = c.get_double("accel"), .yaw_rate = c.get_double("yaw_rate"),
+  o.limits = {.speed = c.get_double("speed"),
+              .accel = c.get_double("accel"),
+              .yaw_rate = c.get_double("yaw_rate"),
               .yaw_accel = c.get_double("yaw_accel")};
   o.size.triangle_base = c.get_double("triangle_base");
   o.size.circle_radius = c.get_double("circle_radius");
@@ -107,12 +119,14 @@ ManeuverTrainingOptions training_options(const RunContext& ctx) {
   o.optimizer.gradient.max_iterations = c.get_int("iterations");
   o.optimizer.gradient.relative_step = c.get_double("gradient.relative_step");
   o.optimizer.gradient.max_step = c.get_double("gradient.max_step");
-  o.optimizer.gradient.initial_step = std::min(c.get_double("gradient.initial_step"), o.optimizer.gradient.max_step);
+  o.optimizer.gradient.initial_step =
+      std::min(c.get_double("gradient.initial_step"), o.optimizer.gradient.max_step);
   o.optimizer.gradient.min_step = std::min(o.optimizer.gradient.min_step, o.optimizer.gradient.initial_step);
   o.optimizer.hill_climbing.max_iterations = c.get_int("iterations");
   o.optimizer.hill_climbing.proposals_per_iteration = static_cast<int>(c.get_int("hill_climbing.proposals"));
   o.optimizer.hill_climbing.initial_step = c.get_double("hill_climbing.initial_step");
-  o.optimizer.hill_climbing.max_step = std::max(o.optimizer.hill_climbing.max_step, o.optimizer.hill_climbing.initial_step);
+  o.optimizer.hill_climbing.max_step =
+      std::max(o.optimizer.hill_climbing.max_step, o.optimizer.hill_climbing.initial_step);
   o.seed = ctx.seed;
   std::string error;
   if (!o.IsValid(&error)) throw InputError(error);
@@ -124,11 +138,13 @@ ManeuverFileOptions file_options(const ManeuverTrainingOptions& o) {
 }
 
 std::string path_plot(const std::string& title, int a, int b, const char* xl, const char* yl,
-                      const std::vector<std::array<double, 5>>& ideal, const std::vector<ManeuverFlight>& flights,
-                      int max_flights) {
+                      const std::vector<std::array<double, 5>>& ideal,
+                      const std::vector<ManeuverFlight>& flights, int max_flights) {
   SvgPlot plot;
   plot.title(title).x_label(xl).y_label(yl).size(720, 480);
-  auto axis = [](const std::array<double, 5>& r, int k) { return k == 3 ? -r[3] : r[static_cast<std::size_t>(k)]; };
+  auto axis = [](const std::array<double, 5>& r, int k) {
+    return k == 3 ? -r[3] : r[static_cast<std::size_t>(k)];
+  };
   PlotSeries flown{.name = "flights on the ground truth", .line = true, .markers = false};
   int n = 0;
   for (const auto& f : flights) {
@@ -154,9 +170,11 @@ std::string path_plot(const std::string& title, int a, int b, const char* xl, co
 
 void run(RunContext& ctx) {
   const auto& c = ctx.config;
-  if (c.get_string("model").empty()) throw InputError("--model: an identified model file is required (heli identify)");
+  if (c.get_string("model").empty())
+    throw InputError("--model: an identified model file is required (heli identify)");
   const ManeuverTrainingOptions base = training_options(ctx);
-  auto model = std::make_shared<const sysid::IdentifiedModel>(sysid::IdentifiedModel::load(c.get_string("model")));
+  auto model =
+      std::make_shared<const sysid::IdentifiedModel>(sysid::IdentifiedModel::load(c.get_string("model")));
 
   // Starting point: the hover weights (a trained hover policy, or the model's trim with default gains).
   HoverPolicyInit init = hover_init_from_model(*model);
@@ -164,7 +182,8 @@ void run(RunContext& ctx) {
   if (!c.get_string("hover_policy").empty()) {
     const std::string file = c.get_string("hover_policy");
     const PolicyFile hover = read_policy_file(file);
-    if (hover.class_name != "hover") throw InputError(file + ": class: expected \"hover\", got \"" + hover.class_name + "\"");
+    if (hover.class_name != "hover")
+      throw InputError(file + ": class: expected \"hover\", got \"" + hover.class_name + "\"");
     hover_theta = checked_parameters(hover, HoverPolicy(init).parameters(), file);
     init.trim = hover.trim;
   }
@@ -206,7 +225,8 @@ void run(RunContext& ctx) {
     Trained t;
     t.trajectory = maneuver_trajectory_for(v.options);
     t.policy = std::make_unique<ManeuverPolicy>(t.trajectory, init, v.options.policy);
-    const Theta start = hover_theta.empty() ? t.policy->parameters().initial() : t.policy->from_hover(hover_theta);
+    const Theta start =
+        hover_theta.empty() ? t.policy->parameters().initial() : t.policy->from_hover(hover_theta);
     if (done.contains(v.key)) {
       t.theta = VectorFromJson(done[v.key].at("theta"), "checkpoint theta");
       t.summary.initial_value = DoubleFromJson(done[v.key].at("initial_uhat"), "initial_uhat");
@@ -214,20 +234,24 @@ void run(RunContext& ctx) {
       t.summary.iterations = done[v.key].at("iterations").get<std::int64_t>();
       t.summary.evaluations = done[v.key].at("evaluations").get<std::int64_t>();
       for (const auto& r : done[v.key].at("history"))
-        t.summary.history.push_back({.iteration = r.at(0).get<std::int64_t>(), .evaluations = r.at(1).get<std::int64_t>(),
-                                     .value = DoubleFromJson(r.at(2), "history"), .seconds = r.at(3).get<double>()});
+        t.summary.history.push_back({.iteration = r.at(0).get<std::int64_t>(),
+                                     .evaluations = r.at(1).get<std::int64_t>(),
+                                     .value = DoubleFromJson(r.at(2), "history"),
+                                     .seconds = r.at(3).get<double>()});
     } else {
       ManeuverTrainingHooks hooks;
       hooks.checkpoint_every = 1;
       hooks.on_checkpoint = [&](const nlohmann::json& ck) {
         dir.save_checkpoint({{"done", done}, {"current", v.key}, {"optimizer", ck}});
       };
-      if (state && state->value("current", "") == v.key && state->contains("optimizer")) hooks.resume_from = state->at("optimizer");
+      if (state && state->value("current", "") == v.key && state->contains("optimizer"))
+        hooks.resume_from = state->at("optimizer");
       ManeuverTrainingResult r = train_maneuver(model, v.options, *t.policy, start, hooks, pool);
       t.theta = r.theta;
       t.summary = std::move(r.summary);
       nlohmann::json history = nlohmann::json::array();
-      for (const auto& h : t.summary.history) history.push_back({h.iteration, h.evaluations, DoubleToJson(h.value), h.seconds});
+      for (const auto& h : t.summary.history)
+        history.push_back({h.iteration, h.evaluations, DoubleToJson(h.value), h.seconds});
       done[v.key] = {{"theta", VectorToJson(t.theta)},
                      {"initial_uhat", DoubleToJson(t.summary.initial_value)},
                      {"final_uhat", DoubleToJson(t.summary.best_value)},
@@ -257,17 +281,23 @@ void run(RunContext& ctx) {
     std::vector<ManeuverFlight> flights = fly_maneuver(*t.policy, t.theta, observer, fo, &pool);
     scores[v.key] = summarize_maneuver_flights(flights, observer.length());
     PolicyFile file = maneuver_policy_file(file_options(v.options), *t.policy, t.theta, init.trim);
-    file.provenance = {{"command", "pegasus heli maneuver"}, {"variant", v.key}, {"uhat", DoubleToJson(t.summary.best_value)},
+    file.provenance = {{"command", "pegasus heli maneuver"},
+                       {"variant", v.key},
+                       {"uhat", DoubleToJson(t.summary.best_value)},
                        {"seed", ctx.seed}};
-    write_policy_file(dir.path() / (v.key == "full" ? std::string("policy.json") : "policy_" + v.key + ".json"), file);
+    write_policy_file(
+        dir.path() / (v.key == "full" ? std::string("policy.json") : "policy_" + v.key + ".json"), file);
 
     CsvWriter progress({"iteration", "evaluations", "seconds", "objective"});
-    for (const auto& h : t.summary.history) progress.add_row({h.iteration, h.evaluations, h.seconds, h.value});
+    for (const auto& h : t.summary.history)
+      progress.add_row({h.iteration, h.evaluations, h.seconds, h.value});
     dir.write_csv(v.key == "full" ? std::string("progress.csv") : "progress_" + v.key + ".csv", progress);
     if (v.key == "full") {
       // Untrained yardstick: the starting weights on the same flights.
-      const Theta start = hover_theta.empty() ? t.policy->parameters().initial() : t.policy->from_hover(hover_theta);
-      const auto untrained = summarize_maneuver_flights(fly_maneuver(*t.policy, start, observer, fo, &pool), observer.length());
+      const Theta start =
+          hover_theta.empty() ? t.policy->parameters().initial() : t.policy->from_hover(hover_theta);
+      const auto untrained =
+          summarize_maneuver_flights(fly_maneuver(*t.policy, start, observer, fo, &pool), observer.length());
       summary["rms_path_deviation_untrained_m"] = untrained.rms_path_deviation_m;
       summary["crashes_untrained"] = untrained.crashes;
       summary["initial_uhat"] = DoubleToJson(t.summary.initial_value);
@@ -287,9 +317,11 @@ void run(RunContext& ctx) {
   for (const auto& r : ideal) ideal_csv.add_row({r[0], r[1], r[2], r[3], r[4]});
   dir.write_csv("ideal_path.csv", ideal_csv);
 
-  CsvWriter flights_csv({"flight", "t", "x", "y", "z", "roll", "pitch", "yaw", "xdot", "ydot", "zdot", "roll_rate",
-                         "pitch_rate", "yaw_rate", "a1", "a2", "a3", "a4", "target_x", "target_y", "target_z", "target_yaw"});
-  // The distance to the path per step, apart from flights.csv (whose columns are shared by every heli command).
+  CsvWriter flights_csv({"flight", "t",    "x",        "y",         "z",          "roll",      "pitch", "yaw",
+                         "xdot",   "ydot", "zdot",     "roll_rate", "pitch_rate", "yaw_rate",  "a1",    "a2",
+                         "a3",     "a4",   "target_x", "target_y",  "target_z",   "target_yaw"});
+  // The distance to the path per step, apart from flights.csv (whose columns are shared by every heli
+  // command).
   CsvWriter deviation_csv({"flight", "t", "path_deviation_m", "progress_m"});
   const auto trace = static_cast<std::size_t>(c.get_int("trace_flights"));
   for (std::size_t i = 0; i < main_flights.size() && i < trace; ++i) {
@@ -303,18 +335,24 @@ void run(RunContext& ctx) {
       row.emplace_back(f.targets[k].z);
       row.emplace_back(f.targets[k].yaw);
       flights_csv.add_row(row);
-      deviation_csv.add_row({static_cast<std::int64_t>(i), static_cast<double>(k) * 0.02, f.deviation[k], f.progress[k]});
+      deviation_csv.add_row(
+          {static_cast<std::int64_t>(i), static_cast<double>(k) * 0.02, f.deviation[k], f.progress[k]});
     }
   }
   dir.write_csv("flights.csv", flights_csv);
   dir.write_csv("path_deviation.csv", deviation_csv);
-  dir.write_text("paths_side.svg", path_plot(fmt::format("{}: flights on the ground truth, side view (x north, altitude)", base.name),
-                                            1, 3, "x (north), m", "altitude, m", ideal, main_flights, 20));
-  dir.write_text("paths_top.svg", path_plot(fmt::format("{}: flights on the ground truth, top view", base.name), 2, 1,
-                                           "y (east), m", "x (north), m", ideal, main_flights, 20));
+  dir.write_text(
+      "paths_side.svg",
+      path_plot(fmt::format("{}: flights on the ground truth, side view (x north, altitude)", base.name), 1,
+                3, "x (north), m", "altitude, m", ideal, main_flights, 20));
+  dir.write_text("paths_top.svg",
+                 path_plot(fmt::format("{}: flights on the ground truth, top view", base.name), 2, 1,
+                           "y (east), m", "x (north), m", ideal, main_flights, 20));
   {
     SvgPlot plot;
-    plot.title(fmt::format("{}: U-hat against optimizer iterations", base.name)).x_label("iteration").y_label("U-hat");
+    plot.title(fmt::format("{}: U-hat against optimizer iterations", base.name))
+        .x_label("iteration")
+        .y_label("U-hat");
     for (const auto& v : variants) {
       PlotSeries s{.name = v.label, .markers = true};
       for (const auto& h : trained.at(v.key).summary.history) {
@@ -327,7 +365,9 @@ void run(RunContext& ctx) {
   }
   {
     SvgPlot plot;
-    plot.title(fmt::format("{}: distance to the ideal path (ground truth, gusts)", base.name)).x_label("time, s").y_label("m");
+    plot.title(fmt::format("{}: distance to the ideal path (ground truth, gusts)", base.name))
+        .x_label("time, s")
+        .y_label("m");
     int n = 0;
     for (const auto& f : main_flights) {
       if (n++ >= 5) break;
@@ -363,8 +403,9 @@ void run(RunContext& ctx) {
   summary["gust_sigma"] = fo.gust_sigma;
   summary["policy"] = "policy.json";
   dir.write_json("summary.json", summary);
-  ctx.out << fmt::format("{}: {} flights on the ground truth, {} crashes, RMS deviation from the path {:.3f} m (max {:.2f} m)\n",
-                         base.name, m.flights, m.crashes, m.rms_path_deviation_m, m.max_path_deviation_m);
+  ctx.out << fmt::format(
+      "{}: {} flights on the ground truth, {} crashes, RMS deviation from the path {:.3f} m (max {:.2f} m)\n",
+      base.name, m.flights, m.crashes, m.rms_path_deviation_m, m.max_path_deviation_m);
   for (const char* key : {"no_delay", "no_shaping"})
     if (scores.contains(key))
       ctx.out << fmt::format("  {}: {} crashes, RMS deviation {:.3f} m\n", key, scores.at(key).crashes,
@@ -392,11 +433,14 @@ void run_pilot(RunContext& ctx) {
   const Aircraft aircraft(p);
   PilotOptions o;
   o.hover_seconds = c.get_double("hover_seconds");
-  const TrajectoryLimits limits{.speed = c.get_double("speed"), .accel = c.get_double("accel"),
-                                .yaw_rate = c.get_double("yaw_rate"), .yaw_accel = c.get_double("yaw_accel")};
+  const TrajectoryLimits limits{.speed = c.get_double("speed"),
+                                .accel = c.get_double("accel"),
+                                .yaw_rate = c.get_double("yaw_rate"),
+                                .yaw_accel = c.get_double("yaw_accel")};
   std::vector<Trajectory> trajectories;
   for (std::int64_t r = 0; r < c.get_int("repeats"); ++r)
-    for (auto name : kManeuverNames) trajectories.push_back(maneuver_trajectory(name, ManeuverSize{}, limits));
+    for (auto name : kManeuverNames)
+      trajectories.push_back(maneuver_trajectory(name, ManeuverSize{}, limits));
   const PilotFlight f = fly_pilot_maneuvers(aircraft, o, c.get_double("seconds"), trajectories, ctx.seed);
   RunDirectory& dir = ctx.run_directory();
   dir.write_text("log.csv", sysid::flight_log_csv(f.log));
@@ -407,25 +451,29 @@ void run_pilot(RunContext& ctx) {
                                   {"crash_reason", crash_reason_name(f.crash)},
                                   {"crash_time", f.crash_time},
                                   {"log", "log.csv"}});
-  ctx.out << fmt::format("flew {:.1f} s (sweeps, then the manoeuvres {} times){}; log: {}\n", seconds, c.get_int("repeats"),
+  ctx.out << fmt::format("flew {:.1f} s (sweeps, then the manoeuvres {} times){}; log: {}\n", seconds,
+                         c.get_int("repeats"),
                          f.crash != CrashReason::kNone ? ", CRASHED: " + crash_reason_name(f.crash) : "",
                          (dir.final_path() / "log.csv").string());
   if (f.crash != CrashReason::kNone)
-    throw std::runtime_error(fmt::format("the pilot crashed ({}) at {} s", crash_reason_name(f.crash), f.crash_time));
+    throw std::runtime_error(
+        fmt::format("the pilot crashed ({}) at {} s", crash_reason_name(f.crash), f.crash_time));
 }
 
 }  // namespace
 
 std::vector<Command> heli_maneuver_commands() {
-  // The "maneuver" class of policy files, for `heli fly` and `heli control` (registered with the command table,
-  // before any command runs).
+  // The "maneuver" class of policy files, for `heli fly` and `heli control` (registered with the command
+  // table, before any command runs).
   register_policy_class("maneuver", make_maneuver_controller);
   return {Command{.path = "heli maneuver",
-                  .description = "Learn an AMA Class III manoeuvre (III.1, III.2, III.3) with PEGASUS and fly it on the ground truth (thesis 5.4)",
+                  .description = "Learn an AMA Class III manoeuvre (III.1, III.2, III.3) with PEGASUS and "
+                                 "fly it on the ground truth (thesis 5.4)",
                   .declare = declare,
                   .run = run},
           Command{.path = "heli maneuver-pilot",
-                  .description = "Fly the scripted pilot through hover, sweeps and the three manoeuvres: identification data that covers them",
+                  .description = "Fly the scripted pilot through hover, sweeps and the three manoeuvres: "
+                                 "identification data that covers them",
                   .declare = declare_pilot,
                   .run = run_pilot}};
 }

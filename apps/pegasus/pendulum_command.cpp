@@ -16,22 +16,31 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-nlohmann::json number_or_null(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
+nlohmann::json number_or_null(double x) {
+  return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
+}
 
 void declare_training(ConfigSchema& s) {
   s.add_int("scenarios", 32, "PEGASUS scenarios m (training start states)").min(1).max(1000000);
-  s.add_string("variant", "stratified", "scenario variant (both stages)").choices({"plain", "antithetic", "stratified", "sobol"});
+  s.add_string("variant", "stratified", "scenario variant (both stages)")
+      .choices({"plain", "antithetic", "stratified", "sobol"});
   s.add_int("iterations", 150, "hill-climbing iterations at most").min(0).max(1000000);
-  s.add_int("proposals", 8, "hill-climbing proposals per iteration (evaluated in parallel)").min(1).max(100000);
+  s.add_int("proposals", 8, "hill-climbing proposals per iteration (evaluated in parallel)")
+      .min(1)
+      .max(100000);
   s.add_double("initial_step", 1.0, "first perturbation size (scaled units)").greater_than(0).max(4);
   s.add_int("refine_scenarios", 256, "scenarios of the refinement of all seven numbers (0: no refinement)")
       .min(0)
       .max(1000000);
-  s.add_int("refine_iterations", 60, "hill-climbing iterations of the refinement at most").min(0).max(1000000);
+  s.add_int("refine_iterations", 60, "hill-climbing iterations of the refinement at most")
+      .min(0)
+      .max(1000000);
   s.add_double("refine_initial_step", 0.3, "first perturbation size of the refinement (scaled units)")
       .greater_than(0)
       .max(1);
-  s.add_int("evaluation_episodes", 100, "fresh starts for the bar and the final mean return").min(1).max(1000000);
+  s.add_int("evaluation_episodes", 100, "fresh starts for the bar and the final mean return")
+      .min(1)
+      .max(1000000);
   s.add_double("bar", -200.0, "mean return over the evaluation episodes that counts as solved").max(0);
 }
 
@@ -45,7 +54,8 @@ PendulumTrainingOptions training_options(const RunContext& ctx) {
   o.optimizer.hill_climbing.initial_step = c.get_double("initial_step");
   o.refine_scenarios = static_cast<int>(c.get_int("refine_scenarios"));
   o.refine_optimizer.hill_climbing.max_iterations = c.get_int("refine_iterations");
-  o.refine_optimizer.hill_climbing.proposals_per_iteration = o.optimizer.hill_climbing.proposals_per_iteration;
+  o.refine_optimizer.hill_climbing.proposals_per_iteration =
+      o.optimizer.hill_climbing.proposals_per_iteration;
   o.refine_optimizer.hill_climbing.initial_step = c.get_double("refine_initial_step");
   o.evaluation_episodes = static_cast<int>(c.get_int("evaluation_episodes"));
   o.bar = c.get_double("bar");
@@ -95,62 +105,73 @@ void run_train(RunContext& ctx) {
     fresh.y.push_back(c.mean_return);
   }
   CsvWriter episodes({"episode", "return"});
-  const auto returns = pendulum_episode_returns(r.theta, o.evaluation_episodes, pendulum_evaluation_seed(o.seed), &ctx.pool());
-  for (std::size_t i = 0; i < returns.size(); ++i) episodes.add_row({static_cast<std::int64_t>(i), returns[i]});
+  const auto returns =
+      pendulum_episode_returns(r.theta, o.evaluation_episodes, pendulum_evaluation_seed(o.seed), &ctx.pool());
+  for (std::size_t i = 0; i < returns.size(); ++i)
+    episodes.add_row({static_cast<std::int64_t>(i), returns[i]});
   SvgPlot plot;
-  plot.title("Pendulum-v1: PEGASUS swing-up search").x_label("U-hat evaluations").y_label("return (200 steps)");
+  plot.title("Pendulum-v1: PEGASUS swing-up search")
+      .x_label("U-hat evaluations")
+      .y_label("return (200 steps)");
   plot.add_series(std::move(uhat));
   if (refine) plot.add_series(std::move(uhat_refined));
   plot.add_series(std::move(fresh));
-  plot.add_series({.name = "bar", .x = {1.0, static_cast<double>(std::max<std::int64_t>(2, all_evaluations))},
-                   .y = {o.bar, o.bar}, .line = true, .markers = false});
+  plot.add_series({.name = "bar",
+                   .x = {1.0, static_cast<double>(std::max<std::int64_t>(2, all_evaluations))},
+                   .y = {o.bar, o.bar},
+                   .line = true,
+                   .markers = false});
   dir.write_csv("learning_curve.csv", curve);
   dir.write_csv("bar_checks.csv", checks);
   dir.write_csv("episode_returns.csv", episodes);
   dir.write_text("learning_curve.svg", plot.render());
   dir.write_json("policy.json", pendulum_policy_json(r.theta));
   // The final policy on many other starts: a 100-start mean carries about +-8 of sampling noise.
-  const double mean_return_5000 =
-      ordered_mean(pendulum_episode_returns(r.theta, 5000, pendulum_large_evaluation_seed(o.seed), &ctx.pool()));
-  dir.write_json("summary.json", {{"experiment", "pendulum train"},
-                                  {"mean_return_100", r.mean_return_100},
-                                  {"race_mean_return_100", r.race_mean_return_100},
-                                  {"mean_return_5000", mean_return_5000},
-                                  {"evaluation_episodes", o.evaluation_episodes},
-                                  {"bar", o.bar},
-                                  {"seconds_to_bar", number_or_null(r.seconds_to_bar)},
-                                  {"cpu_seconds_to_bar", number_or_null(r.cpu_seconds_to_bar)},
-                                  {"evaluations_to_bar", r.evaluations_to_bar},
-                                  {"training_seconds", s.wall_seconds + refined.wall_seconds},
-                                  {"initial_uhat", number_or_null(s.initial_value)},
-                                  {"final_uhat", s.best_value},
-                                  {"iterations", s.iterations},
-                                  {"evaluations", s.evaluations},
-                                  {"scenarios", o.scenarios},
-                                  {"termination", std::string(TerminationTypeName(s.termination_type))},
-                                  {"message", s.message},
-                                  {"refine_scenarios", refine ? o.refine_scenarios : 0},
-                                  {"refine_initial_uhat", number_or_null(refine ? refined.initial_value : kNaN)},
-                                  {"refine_final_uhat", number_or_null(refine ? refined.best_value : kNaN)},
-                                  {"refine_iterations", refined.iterations},
-                                  {"refine_evaluations", refined.evaluations},
-                                  {"refine_seconds", refined.wall_seconds}});
+  const double mean_return_5000 = ordered_mean(
+      pendulum_episode_returns(r.theta, 5000, pendulum_large_evaluation_seed(o.seed), &ctx.pool()));
+  dir.write_json("summary.json",
+                 {{"experiment", "pendulum train"},
+                  {"mean_return_100", r.mean_return_100},
+                  {"race_mean_return_100", r.race_mean_return_100},
+                  {"mean_return_5000", mean_return_5000},
+                  {"evaluation_episodes", o.evaluation_episodes},
+                  {"bar", o.bar},
+                  {"seconds_to_bar", number_or_null(r.seconds_to_bar)},
+                  {"cpu_seconds_to_bar", number_or_null(r.cpu_seconds_to_bar)},
+                  {"evaluations_to_bar", r.evaluations_to_bar},
+                  {"training_seconds", s.wall_seconds + refined.wall_seconds},
+                  {"initial_uhat", number_or_null(s.initial_value)},
+                  {"final_uhat", s.best_value},
+                  {"iterations", s.iterations},
+                  {"evaluations", s.evaluations},
+                  {"scenarios", o.scenarios},
+                  {"termination", std::string(TerminationTypeName(s.termination_type))},
+                  {"message", s.message},
+                  {"refine_scenarios", refine ? o.refine_scenarios : 0},
+                  {"refine_initial_uhat", number_or_null(refine ? refined.initial_value : kNaN)},
+                  {"refine_final_uhat", number_or_null(refine ? refined.best_value : kNaN)},
+                  {"refine_iterations", refined.iterations},
+                  {"refine_evaluations", refined.evaluations},
+                  {"refine_seconds", refined.wall_seconds}});
   ctx.out << "race: " << s.BriefReport() << "\n";
   if (refine) ctx.out << "refinement: " << refined.BriefReport() << "\n";
-  ctx.out << fmt::format("mean return over {} fresh starts: {:.2f} (race {:.2f}), over 5000 others {:.2f}; bar {} "
-                         "reached after {} s ({} evaluations)\n",
-                         o.evaluation_episodes, r.mean_return_100, r.race_mean_return_100, mean_return_5000, o.bar,
-                         number_or_null(r.seconds_to_bar).dump(), r.evaluations_to_bar);
+  ctx.out << fmt::format(
+      "mean return over {} fresh starts: {:.2f} (race {:.2f}), over 5000 others {:.2f}; bar {} "
+      "reached after {} s ({} evaluations)\n",
+      o.evaluation_episodes, r.mean_return_100, r.race_mean_return_100, mean_return_5000, o.bar,
+      number_or_null(r.seconds_to_bar).dump(), r.evaluations_to_bar);
 }
 
 }  // namespace
 
 std::vector<Command> pendulum_commands() {
   return {
-      Command{.path = "pendulum train",
-              .description = "Gymnasium's Pendulum-v1: PEGASUS search of a swing-up policy, timed to a mean return of -200",
-              .declare = declare_training,
-              .run = run_train},
+      Command{
+          .path = "pendulum train",
+          .description =
+              "Gymnasium's Pendulum-v1: PEGASUS search of a swing-up policy, timed to a mean return of -200",
+          .declare = declare_training,
+          .run = run_train},
   };
 }
 

@@ -12,19 +12,27 @@ namespace pegasus::cli {
 namespace {
 
 void declare(ConfigSchema& s) {
-  s.add_int_list("scenarios", {1, 2, 4, 8, 16, 32, 64}, "the numbers of scenarios m to try").min(1).max(100000).min_size(1);
+  s.add_int_list("scenarios", {1, 2, 4, 8, 16, 32, 64}, "the numbers of scenarios m to try")
+      .min(1)
+      .max(100000)
+      .min_size(1);
   s.add_int("trials", 200, "independent scenario sets per m (the thesis averaged 10000)").min(1).max(1000000);
-  s.add_int("montecarlo_max_m", 16, "naive Monte Carlo runs only for m up to this (0: never)").min(0).max(100000);
+  s.add_int("montecarlo_max_m", 16, "naive Monte Carlo runs only for m up to this (0: never)")
+      .min(0)
+      .max(100000);
   s.add_double("gamma", 0.99, "discount factor").range(0.0, 1.0);
   s.add_int("horizon", 100, "steps per rollout H").min(1).max(3000);
   s.add_bool("hashed", true, "also run PEGASUS on the hashed model g'(s,a,p) = g(s,a,h_sa(p))");
   s.add_bool("montecarlo", true, "also run naive Monte Carlo with fresh randomness per evaluation");
-  s.add_string("variant", "plain", "scenario variant").choices({"plain", "antithetic", "stratified", "sobol"});
+  s.add_string("variant", "plain", "scenario variant")
+      .choices({"plain", "antithetic", "stratified", "sobol"});
 }
 
 // The curves of both plots, in legend order: (model, estimator, legend name).
 const std::vector<std::tuple<std::string, std::string, std::string>> kSeries = {
-    {"normal", "pegasus", "PEGASUS"}, {"hashed", "pegasus", "PEGASUS, hashed model"}, {"normal", "montecarlo", "naive Monte Carlo"}};
+    {"normal", "pegasus", "PEGASUS"},
+    {"hashed", "pegasus", "PEGASUS, hashed model"},
+    {"normal", "montecarlo", "naive Monte Carlo"}};
 
 nlohmann::json summary_json(const PomdpGridworldResult& r, const PomdpGridworldOptions& o) {
   nlohmann::json rows = nlohmann::json::array();
@@ -69,7 +77,8 @@ std::string value_plot(const PomdpGridworldResult& r) {
       .x_label("scenarios m")
       .y_label("exact value of argmax U-hat")
       .x_scale(AxisScale::kLog2);
-  add_curves(plot, r, &PomdpGridworldSummaryRow::mean_true_value, &PomdpGridworldSummaryRow::stderr_true_value);
+  add_curves(plot, r, &PomdpGridworldSummaryRow::mean_true_value,
+             &PomdpGridworldSummaryRow::stderr_true_value);
   plot.add_reference_line(r.best_in_class_value, "best in class");
   return plot.render();
 }
@@ -111,13 +120,14 @@ void run(RunContext& ctx) {
   const PomdpGridworldResult result = run_pomdp_gridworld(o, hooks);
   bar.finish();
 
-  CsvWriter trials({"trial", "model", "estimator", "m", "chosen_policy", "true_value", "estimate", "sup_deviation"});
+  CsvWriter trials(
+      {"trial", "model", "estimator", "m", "chosen_policy", "true_value", "estimate", "sup_deviation"});
   for (const auto& r : result.records)
-    trials.add_row({std::int64_t{r.trial}, r.model, r.estimator, std::int64_t{r.m}, std::int64_t{r.chosen_policy},
-                    r.true_value, r.estimate, r.sup_deviation});
+    trials.add_row({std::int64_t{r.trial}, r.model, r.estimator, std::int64_t{r.m},
+                    std::int64_t{r.chosen_policy}, r.true_value, r.estimate, r.sup_deviation});
   dir.write_csv("trials.csv", trials);
-  CsvWriter rows({"model", "estimator", "m", "trials", "mean_true_value", "stderr_true_value", "mean_estimate",
-                  "mean_sup_deviation"});
+  CsvWriter rows({"model", "estimator", "m", "trials", "mean_true_value", "stderr_true_value",
+                  "mean_estimate", "mean_sup_deviation"});
   for (const auto& r : result.rows)
     rows.add_row({r.model, r.estimator, std::int64_t{r.m}, std::int64_t{r.trials}, r.mean_true_value,
                   r.stderr_true_value, r.mean_estimate, r.mean_sup_deviation});
@@ -129,17 +139,18 @@ void run(RunContext& ctx) {
   ctx.out << "best in class (exact): " << result.best_in_class_value << "\n";
   for (const auto& r : result.rows)
     ctx.out << r.model << "/" << r.estimator << " m=" << r.m << ": value " << r.mean_true_value << " +- "
-            << r.stderr_true_value << ", estimate " << r.mean_estimate << ", sup |U-hat - U| " << r.mean_sup_deviation
-            << "\n";
+            << r.stderr_true_value << ", estimate " << r.mean_estimate << ", sup |U-hat - U| "
+            << r.mean_sup_deviation << "\n";
 }
 
 }  // namespace
 
 Command pomdp_gridworld_command() {
-  return Command{.path = "pomdp-gridworld",
-                 .description = "POMDP gridworld of thesis 4.6: PEGASUS vs hashed model vs naive Monte Carlo (Fig 4.5b)",
-                 .declare = declare,
-                 .run = run};
+  return Command{
+      .path = "pomdp-gridworld",
+      .description = "POMDP gridworld of thesis 4.6: PEGASUS vs hashed model vs naive Monte Carlo (Fig 4.5b)",
+      .declare = declare,
+      .run = run};
 }
 
 }  // namespace pegasus::cli

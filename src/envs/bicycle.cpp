@@ -18,7 +18,8 @@ bool BicycleOptions::IsValid(std::string* error) const {
   if (!goal.at_infinity) {
     if (!finite(goal.x)) return reject(error, "goal.x", "a finite number", goal.x);
     if (!finite(goal.y)) return reject(error, "goal.y", "a finite number", goal.y);
-    if (!(goal.radius > 0.0 && finite(goal.radius))) return reject(error, "goal.radius", "a number > 0", goal.radius);
+    if (!(goal.radius > 0.0 && finite(goal.radius)))
+      return reject(error, "goal.radius", "a number > 0", goal.radius);
   } else if (!finite(goal.direction)) {
     return reject(error, "goal.direction", "a finite number", goal.direction);
   }

@@ -3,13 +3,14 @@
 namespace pegasus {
 
 std::vector<std::string> BicycleFeatures::names() {
-  return {"omega",     "omega_sq",     "omega_cube",     "omega_dot", "omega_dot_sq", "omega_dot_cube",
-          "theta",     "theta_sq",     "theta_cube",     "theta_dot", "theta_dot_sq", "theta_dot_cube",
-          "goal",      "goal_sq",      "goal_sin"};
+  return {"omega",          "omega_sq",       "omega_cube", "omega_dot",  "omega_dot_sq",
+          "omega_dot_cube", "theta",          "theta_sq",   "theta_cube", "theta_dot",
+          "theta_dot_sq",   "theta_dot_cube", "goal",       "goal_sq",    "goal_sin"};
 }
 
 BicyclePolicy make_bicycle_policy() {
-  return BicyclePolicy(BicycleFeatures{}, Bicycle().action_space(), {"T", "d"}, BicycleFeatures::names(), 1.0);
+  return BicyclePolicy(BicycleFeatures{}, Bicycle().action_space(), {"T", "d"}, BicycleFeatures::names(),
+                       1.0);
 }
 
 Theta bicycle_balancing_theta() {

@@ -6,17 +6,23 @@
 
 namespace pegasus {
 
-FlagWorld::FlagWorld(GridGeometry geometry, Cell start, std::vector<Cell> flags, double intended, double step_reward)
-    : geometry_(std::move(geometry)), intended_(intended), step_reward_(step_reward), slip_scale_(slip_scale(intended)) {
+FlagWorld::FlagWorld(GridGeometry geometry, Cell start, std::vector<Cell> flags, double intended,
+                     double step_reward)
+    : geometry_(std::move(geometry)),
+      intended_(intended),
+      step_reward_(step_reward),
+      slip_scale_(slip_scale(intended)) {
   cells_ = geometry_.num_cells();
-  if (!geometry_.inside(start)) throw InputError(fmt::format("flags: start ({}, {}) outside the grid", start.x, start.y));
+  if (!geometry_.inside(start))
+    throw InputError(fmt::format("flags: start ({}, {}) outside the grid", start.x, start.y));
   if (flags.empty()) throw InputError("flags: expected at least one flag (the goal)");
   if (static_cast<long long>(cells_) * static_cast<long long>(flags.size()) >= (1LL << 30))
     throw InputError("flags: too many states");
   start_ = geometry_.index(start);
   for (std::size_t i = 0; i < flags.size(); ++i) {
     const Cell c = flags[i];
-    if (!geometry_.inside(c)) throw InputError(fmt::format("flags: flag {} at ({}, {}) outside the grid", i + 1, c.x, c.y));
+    if (!geometry_.inside(c))
+      throw InputError(fmt::format("flags: flag {} at ({}, {}) outside the grid", i + 1, c.x, c.y));
     const int idx = geometry_.index(c);
     if (idx == start_) throw InputError(fmt::format("flags: flag {} lies on the start cell", i + 1));
     if (geometry_.blocked(idx)) throw InputError(fmt::format("flags: flag {} lies on a blocked cell", i + 1));
@@ -24,7 +30,8 @@ FlagWorld::FlagWorld(GridGeometry geometry, Cell start, std::vector<Cell> flags,
       if (f == idx) throw InputError(fmt::format("flags: flag {} repeats an earlier flag's cell", i + 1));
     flags_.push_back(idx);
   }
-  if (!(intended > 0.0 && intended <= 1.0)) throw InputError(fmt::format("flags: intended probability {} outside (0, 1]", intended));
+  if (!(intended > 0.0 && intended <= 1.0))
+    throw InputError(fmt::format("flags: intended probability {} outside (0, 1]", intended));
   terminal_state_ = num_flags() * cells_;
 }
 
@@ -45,7 +52,8 @@ FlagWorld flags_5x5(double intended) {
 }
 
 FlagWorld flags_8x8(double intended) {
-  return FlagWorld(GridGeometry(8, 8), Cell{0, 0}, {{6, 1}, {2, 3}, {7, 5}, {0, 6}, {3, 7}, {5, 3}, {7, 7}}, intended);
+  return FlagWorld(GridGeometry(8, 8), Cell{0, 0}, {{6, 1}, {2, 3}, {7, 5}, {0, 6}, {3, 7}, {5, 3}, {7, 7}},
+                   intended);
 }
 
 FlagWorld flag_world(int size, double intended) {
@@ -76,13 +84,15 @@ FiniteMdp to_finite_mdp(const FlagWorld& w, double gamma) {
 std::vector<double> flags_phi0(const FlagWorld& w) {
   const double n = w.num_flags(), t = w.estimated_steps();
   std::vector<double> phi(static_cast<std::size_t>(w.num_states()), 0.0);
-  for (int s = 0; s < w.terminal_state(); ++s) phi[static_cast<std::size_t>(s)] = -((n - w.collected(s) - 0.5) / n) * t;
+  for (int s = 0; s < w.terminal_state(); ++s)
+    phi[static_cast<std::size_t>(s)] = -((n - w.collected(s) - 0.5) / n) * t;
   return phi;
 }
 
 std::vector<double> flags_phi1(const FlagWorld& w) {
   std::vector<double> phi(static_cast<std::size_t>(w.num_states()), 0.0);
-  for (int s = 0; s < w.terminal_state(); ++s) phi[static_cast<std::size_t>(s)] = -w.remaining_path_length(s) / w.intended();
+  for (int s = 0; s < w.terminal_state(); ++s)
+    phi[static_cast<std::size_t>(s)] = -w.remaining_path_length(s) / w.intended();
   return phi;
 }
 

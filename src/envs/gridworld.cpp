@@ -15,12 +15,15 @@ constexpr std::array<int, kGridActions> kDx = {0, 1, 0, -1};
 constexpr std::array<int, kGridActions> kDy = {1, 0, -1, 0};
 }  // namespace
 
-GridGeometry::GridGeometry(int width, int height, std::vector<Cell> blocked) : width_(width), height_(height) {
+GridGeometry::GridGeometry(int width, int height, std::vector<Cell> blocked)
+    : width_(width), height_(height) {
   if (width < 1 || height < 1 || static_cast<long long>(width) * height > (1LL << 30))
-    throw InputError(fmt::format("gridworld: size {} x {} must be at least 1 x 1 and at most 2^30 cells", width, height));
+    throw InputError(
+        fmt::format("gridworld: size {} x {} must be at least 1 x 1 and at most 2^30 cells", width, height));
   blocked_.assign(static_cast<std::size_t>(num_cells()), 0);
   for (const Cell& c : blocked) {
-    if (!inside(c)) throw InputError(fmt::format("gridworld: blocked cell ({}, {}) outside the grid", c.x, c.y));
+    if (!inside(c))
+      throw InputError(fmt::format("gridworld: blocked cell ({}, {}) outside the grid", c.x, c.y));
     blocked_[static_cast<std::size_t>(index(c))] = 1;
   }
   moves_.resize(static_cast<std::size_t>(num_cells()) * kGridActions);
@@ -40,14 +43,21 @@ int GridGeometry::manhattan(int a, int b) const {
 }
 
 GridWorld::GridWorld(GridGeometry geometry, Cell start, Cell goal, double intended, double step_reward)
-    : geometry_(std::move(geometry)), intended_(intended), step_reward_(step_reward), slip_scale_(slip_scale(intended)) {
-  if (!geometry_.inside(start)) throw InputError(fmt::format("gridworld: start ({}, {}) outside the grid", start.x, start.y));
-  if (!geometry_.inside(goal)) throw InputError(fmt::format("gridworld: goal ({}, {}) outside the grid", goal.x, goal.y));
+    : geometry_(std::move(geometry)),
+      intended_(intended),
+      step_reward_(step_reward),
+      slip_scale_(slip_scale(intended)) {
+  if (!geometry_.inside(start))
+    throw InputError(fmt::format("gridworld: start ({}, {}) outside the grid", start.x, start.y));
+  if (!geometry_.inside(goal))
+    throw InputError(fmt::format("gridworld: goal ({}, {}) outside the grid", goal.x, goal.y));
   start_ = geometry_.index(start);
   goal_ = geometry_.index(goal);
   if (start_ == goal_) throw InputError("gridworld: start and goal must differ");
-  if (geometry_.blocked(start_) || geometry_.blocked(goal_)) throw InputError("gridworld: start and goal must not be blocked");
-  if (!(intended > 0.0 && intended <= 1.0)) throw InputError(fmt::format("gridworld: intended probability {} outside (0, 1]", intended));
+  if (geometry_.blocked(start_) || geometry_.blocked(goal_))
+    throw InputError("gridworld: start and goal must not be blocked");
+  if (!(intended > 0.0 && intended <= 1.0))
+    throw InputError(fmt::format("gridworld: intended probability {} outside (0, 1]", intended));
 }
 
 GridWorld corner_gridworld(int n, double intended) {
@@ -59,7 +69,8 @@ FiniteMdp to_finite_mdp(const GridWorld& w, double gamma) {
   // Written straight into the CSR arrays (no per-row containers): the 1000 x 1000 benchmark grid has 4M
   // rows. Directions that end in the same cell (walls) are merged into one entry.
   const GridGeometry& g = w.geometry();
-  if (!(gamma >= 0.0 && gamma <= 1.0)) throw InputError(fmt::format("gridworld: gamma must lie in [0, 1], got {}", gamma));
+  if (!(gamma >= 0.0 && gamma <= 1.0))
+    throw InputError(fmt::format("gridworld: gamma must lie in [0, 1], got {}", gamma));
   FiniteMdp m;
   m.num_states = w.num_states();
   m.num_actions = kGridActions;

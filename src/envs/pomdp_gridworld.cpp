@@ -10,11 +10,13 @@ namespace pegasus {
 
 PomdpGridworld::PomdpGridworld(Layout layout) : layout_(std::move(layout)) {
   const int w = layout_.width, h = layout_.height;
-  if (w < 2 || h < 2 || w * h > 4096) throw InputError(fmt::format("gridworld: expected 2..64 squares per side, got {}x{}", w, h));
+  if (w < 2 || h < 2 || w * h > 4096)
+    throw InputError(fmt::format("gridworld: expected 2..64 squares per side, got {}x{}", w, h));
   auto inside = [&](int x, int y) { return x >= 0 && y >= 0 && x < w && y < h; };
   auto cell = [&](int x, int y) { return y * w + x; };
   for (auto [x, y] : {layout_.start, layout_.goal})
-    if (!inside(x, y)) throw InputError(fmt::format("gridworld: square ({}, {}) lies outside the grid", x, y));
+    if (!inside(x, y))
+      throw InputError(fmt::format("gridworld: square ({}, {}) lies outside the grid", x, y));
   wall_.assign(static_cast<std::size_t>(w * h), false);
   for (auto [x, y] : layout_.walls) {
     if (!inside(x, y)) throw InputError(fmt::format("gridworld: wall ({}, {}) lies outside the grid", x, y));
@@ -37,7 +39,8 @@ PomdpGridworld::PomdpGridworld(Layout layout) : layout_(std::move(layout)) {
       // up, left, down, right
       const int mx[4] = {0, -1, 0, 1}, my[4] = {1, 0, -1, 0};
       for (int a = 0; a < kActions; ++a)
-        moves_[static_cast<std::size_t>(s * kActions + a)] = blocked(x + mx[a], y + my[a]) ? s : cell(x + mx[a], y + my[a]);
+        moves_[static_cast<std::size_t>(s * kActions + a)] =
+            blocked(x + mx[a], y + my[a]) ? s : cell(x + mx[a], y + my[a]);
       if (s == goal_ || wall_[static_cast<std::size_t>(s)]) continue;
       unsigned mask = 0;
       for (int k = 0; k < 8; ++k)
@@ -51,14 +54,17 @@ PomdpGridworld::PomdpGridworld(Layout layout) : layout_(std::move(layout)) {
     }
   observations_ = static_cast<int>(masks_.size());
   observation_[static_cast<std::size_t>(goal_)] = observations_;
-  if (observations_ > 16) throw InputError("gridworld: more than 16 observation classes; the table policy class would be too large");
+  if (observations_ > 16)
+    throw InputError(
+        "gridworld: more than 16 observation classes; the table policy class would be too large");
 }
 
 std::array<std::pair<PomdpGridworld::State, double>, 5> PomdpGridworld::transitions(State s, Action a) const {
   std::array<std::pair<State, double>, 5> out;
   double lower = 0.0;
   for (int k = 0; k < 4; ++k) {
-    out[static_cast<std::size_t>(k)] = {moves_[static_cast<std::size_t>(s * kActions + k)], kSlipThresholds[static_cast<std::size_t>(k)] - lower};
+    out[static_cast<std::size_t>(k)] = {moves_[static_cast<std::size_t>(s * kActions + k)],
+                                        kSlipThresholds[static_cast<std::size_t>(k)] - lower};
     lower = kSlipThresholds[static_cast<std::size_t>(k)];
   }
   out[4] = {moves_[static_cast<std::size_t>(s * kActions + a)], 1.0 - lower};
@@ -83,7 +89,8 @@ double PomdpGridworld::exact_value(std::span<const double> theta, const Discount
   return v[static_cast<std::size_t>(start_)];
 }
 
-std::vector<double> PomdpGridworld::exact_values_of_all_policies(const Discounting& d, ThreadPool* pool) const {
+std::vector<double> PomdpGridworld::exact_values_of_all_policies(const Discounting& d,
+                                                                 ThreadPool* pool) const {
   std::size_t count = 1;
   for (int o = 0; o < observations_; ++o) count *= kActions;
   std::vector<double> values(count);
@@ -94,7 +101,8 @@ std::vector<double> PomdpGridworld::exact_values_of_all_policies(const Discounti
       theta[static_cast<std::size_t>(o)] = static_cast<double>(rest % kActions);
       rest /= kActions;
     }
-    values[index] = exact_value(std::span<const double>(theta.data(), static_cast<std::size_t>(observations_)), d);
+    values[index] =
+        exact_value(std::span<const double>(theta.data(), static_cast<std::size_t>(observations_)), d);
   };
   if (pool) {
     pool->parallel_for(count, body, 64);

@@ -45,7 +45,8 @@ ScenarioSet training_scenarios(const BicycleTrainingOptions& o) {
 template <class Make>
 std::unique_ptr<Objective> with_training_model(const BicycleTrainingOptions& o, Make&& make) {
   const Bicycle bike(o.bicycle);
-  if (o.shaping == "potential") return make(shape(bike, BicycleProgressPotential{bike, o.shaping_per_metre}, o.gamma));
+  if (o.shaping == "potential")
+    return make(shape(bike, BicycleProgressPotential{bike, o.shaping_per_metre}, o.gamma));
   if (o.shaping == "progress-bonus")
     return make(ProgressBonusModel<Bicycle, BicycleGoalDistance>(bike, BicycleGoalDistance{bike},
                                                                  o.shaping_per_metre * K::v * K::dt));
@@ -105,13 +106,15 @@ class LockstepPegasusObjective final : public Objective {
   std::shared_ptr<ThreadPool> pool_;
 };
 
-std::unique_ptr<Objective> training_objective(const BicycleTrainingOptions& o, std::shared_ptr<ThreadPool> pool) {
+std::unique_ptr<Objective> training_objective(const BicycleTrainingOptions& o,
+                                              std::shared_ptr<ThreadPool> pool) {
   const Discounting d{.gamma = o.gamma, .horizon = o.horizon};
   return with_training_model(o, [&](auto model) -> std::unique_ptr<Objective> {
     using Model = decltype(model);
     if (o.estimator == "montecarlo") {
       return std::make_unique<MonteCarloObjective<Model, BicyclePolicy>>(
-          MonteCarloEvaluator<Model, BicyclePolicy>(model, make_bicycle_policy(), o.scenarios, d, o.seed), pool);
+          MonteCarloEvaluator<Model, BicyclePolicy>(model, make_bicycle_policy(), o.scenarios, d, o.seed),
+          pool);
     }
     return std::make_unique<LockstepPegasusObjective<Model>>(
         PegasusEvaluator<Model, BicyclePolicy>(model, make_bicycle_policy(), training_scenarios(o), d), pool);
@@ -157,13 +160,17 @@ OptimizerOptions BicycleTrainingOptions::default_optimizer() {
 }
 
 bool BicycleTrainingOptions::IsValid(std::string* error) const {
-  if (scenarios < 1) return fail(error, fmt::format("scenarios: expected an integer >= 1, got {}", scenarios));
-  if (!(gamma > 0.0 && gamma <= 1.0)) return fail(error, fmt::format("gamma: expected a number in (0, 1], got {}", gamma));
+  if (scenarios < 1)
+    return fail(error, fmt::format("scenarios: expected an integer >= 1, got {}", scenarios));
+  if (!(gamma > 0.0 && gamma <= 1.0))
+    return fail(error, fmt::format("gamma: expected a number in (0, 1], got {}", gamma));
   if (horizon < 1) return fail(error, fmt::format("horizon: expected an integer >= 1, got {}", horizon));
   if (shaping != "potential" && shaping != "progress-bonus" && shaping != "none")
-    return fail(error, fmt::format("shaping: expected one of potential, progress-bonus, none; got \"{}\"", shaping));
+    return fail(error,
+                fmt::format("shaping: expected one of potential, progress-bonus, none; got \"{}\"", shaping));
   if (!(shaping_per_metre >= 0.0 && std::isfinite(shaping_per_metre)))
-    return fail(error, fmt::format("shaping_per_metre: expected a finite number >= 0, got {}", shaping_per_metre));
+    return fail(error,
+                fmt::format("shaping_per_metre: expected a finite number >= 0, got {}", shaping_per_metre));
   if (estimator != "pegasus" && estimator != "montecarlo")
     return fail(error, fmt::format("estimator: expected pegasus or montecarlo, got \"{}\"", estimator));
   if (initial_policy != "balance" && initial_policy != "zero")
@@ -187,7 +194,8 @@ BicycleTrainingResult train_bicycle(const BicycleTrainingOptions& options, const
                                options.estimator == "pegasus" ? hooks.resume_from : std::nullopt);
   }
   BicycleTrainingResult result;
-  result.theta = options.initial_policy == "balance" ? bicycle_balancing_theta() : Theta(2 * BicycleFeatures::kCount, 0.0);
+  result.theta = options.initial_policy == "balance" ? bicycle_balancing_theta()
+                                                     : Theta(2 * BicycleFeatures::kCount, 0.0);
   Solve(optimizer, *objective, &result.theta, &result.summary);
   result.theta = result.summary.best_theta.empty() ? result.theta : result.summary.best_theta;
   return result;
@@ -204,23 +212,31 @@ double bicycle_uhat(const BicycleTrainingOptions& options, const Theta& theta, T
 
 bool BicycleRideOptions::IsValid(std::string* error) const {
   if (rides < 1) return fail(error, fmt::format("rides: expected an integer >= 1, got {}", rides));
-  if (!(max_km > 0.0 && max_km <= 1000.0)) return fail(error, fmt::format("max_km: expected a number in (0, 1000], got {}", max_km));
-  if (path_every < 0) return fail(error, fmt::format("path_every: expected an integer >= 0, got {}", path_every));
+  if (!(max_km > 0.0 && max_km <= 1000.0))
+    return fail(error, fmt::format("max_km: expected a number in (0, 1000], got {}", max_km));
+  if (path_every < 0)
+    return fail(error, fmt::format("path_every: expected an integer >= 0, got {}", path_every));
   std::string inner;
   if (!bicycle.IsValid(&inner)) return fail(error, "bicycle." + inner);
   return true;
 }
 
-std::vector<BicycleRide> ride_bicycle(const Theta& theta, const BicycleRideOptions& options, ThreadPool* pool) {
+std::vector<BicycleRide> ride_bicycle(const Theta& theta, const BicycleRideOptions& options,
+                                      ThreadPool* pool) {
   std::string error;
   if (!options.IsValid(&error)) throw InputError("bicycle rides: " + error);
   const Bicycle bike(options.bicycle);
   const BicyclePolicy policy = make_bicycle_policy();
   if (theta.size() != policy.parameters().size())
-    throw InputError(fmt::format("bicycle rides: expected {} policy parameters, got {}", policy.parameters().size(), theta.size()));
+    throw InputError(fmt::format("bicycle rides: expected {} policy parameters, got {}",
+                                 policy.parameters().size(), theta.size()));
   constexpr double step_km = K::v * K::dt / 1000.0;
   const int max_steps = static_cast<int>(std::ceil(options.max_km / step_km));
-  const ScenarioSet noise({.seed = options.seed, .count = options.rides, .horizon = max_steps, .noise_dim = 1, .initial_noise_dim = 5});
+  const ScenarioSet noise({.seed = options.seed,
+                           .count = options.rides,
+                           .horizon = max_steps,
+                           .noise_dim = 1,
+                           .initial_noise_dim = 5});
 
   std::vector<BicycleRide> rides(static_cast<std::size_t>(options.rides));
   auto ride = [&](std::size_t i) {
@@ -266,8 +282,8 @@ BicycleRideSummary summarize_rides(const std::vector<BicycleRide>& rides) {
   }
   s.reached = static_cast<int>(reached.size());
   s.median_distance_km = median(reached);
-  s.worst_distance_km =
-      reached.empty() ? std::numeric_limits<double>::quiet_NaN() : *std::max_element(reached.begin(), reached.end());
+  s.worst_distance_km = reached.empty() ? std::numeric_limits<double>::quiet_NaN()
+                                        : *std::max_element(reached.begin(), reached.end());
   return s;
 }
 
@@ -279,7 +295,8 @@ std::uint64_t bicycle_ride_seed(std::uint64_t seed, int trial) { return derived_
 bool BicycleExperimentOptions::IsValid(std::string* error) const {
   if (trials < 1) return fail(error, fmt::format("trials: expected an integer >= 1, got {}", trials));
   if (lesson_trials < 0 || lesson_trials > trials)
-    return fail(error, fmt::format("lesson_trials: expected an integer in [0, trials], got {}", lesson_trials));
+    return fail(error,
+                fmt::format("lesson_trials: expected an integer in [0, trials], got {}", lesson_trials));
   if (threads < 1) return fail(error, fmt::format("threads: expected an integer >= 1, got {}", threads));
   std::string inner;
   if (!training.IsValid(&inner)) return fail(error, inner);
@@ -314,7 +331,8 @@ BicycleTrial bicycle_trial_from_json(const nlohmann::json& j) {
   t.evaluations = j.at("evaluations").get<std::int64_t>();
   t.curve = VectorFromJson(j.at("curve"), "curve");
   for (const auto& r : j.at("rides"))
-    t.rides.push_back({.distance_km = r.at(0).get<double>(), .reached = r.at(1).get<bool>(), .fell = r.at(2).get<bool>()});
+    t.rides.push_back(
+        {.distance_km = r.at(0).get<double>(), .reached = r.at(1).get<bool>(), .fell = r.at(2).get<bool>()});
   t.summary = summarize_rides(t.rides);
   return t;
 }
@@ -374,7 +392,8 @@ BicycleExperimentResult run_bicycle_experiment(const BicycleExperimentOptions& o
     for (const auto& h : trained.summary.history) trial.curve.push_back(h.value);
     BicycleTrainingOptions yardstick = options.training;
     yardstick.seed = training.seed;
-    trial.pegasus_uhat = job.method == "pegasus" ? trial.final_uhat : bicycle_uhat(yardstick, trial.theta, &pool);
+    trial.pegasus_uhat =
+        job.method == "pegasus" ? trial.final_uhat : bicycle_uhat(yardstick, trial.theta, &pool);
 
     BicycleRideOptions riding = options.riding;
     riding.seed = bicycle_ride_seed(options.seed, job.trial);
@@ -398,7 +417,8 @@ BicycleExperimentResult run_bicycle_experiment(const BicycleExperimentOptions& o
 nlohmann::json bicycle_policy_json(const Theta& theta) {
   const BicyclePolicy policy = make_bicycle_policy();
   nlohmann::json parameters = nlohmann::json::object();
-  for (std::size_t k = 0; k < policy.parameters().size(); ++k) parameters[policy.parameters()[k].name] = theta.at(k);
+  for (std::size_t k = 0; k < policy.parameters().size(); ++k)
+    parameters[policy.parameters()[k].name] = theta.at(k);
   return {{"policy", "bicycle-sigmoid-15"}, {"parameters", parameters}};
 }
 
@@ -407,19 +427,23 @@ Theta bicycle_policy_from_json(const nlohmann::json& j, const std::string& sourc
   if (!j.contains("policy") || j.at("policy") != "bicycle-sigmoid-15")
     throw InputError(fmt::format("{}: field 'policy': expected \"bicycle-sigmoid-15\"", source));
   if (!j.contains("parameters") || !j.at("parameters").is_object())
-    throw InputError(fmt::format("{}: field 'parameters': expected an object of parameter names and numbers", source));
+    throw InputError(
+        fmt::format("{}: field 'parameters': expected an object of parameter names and numbers", source));
   const BicyclePolicy policy = make_bicycle_policy();
   const auto& parameters = j.at("parameters");
   for (const auto& [name, value] : parameters.items())
     if (policy.parameters().index_of(name) == policy.parameters().size())
-      throw InputError(fmt::format("{}: field 'parameters.{}': not a parameter of the bicycle policy", source, name));
+      throw InputError(
+          fmt::format("{}: field 'parameters.{}': not a parameter of the bicycle policy", source, name));
   Theta theta(policy.parameters().size());
   for (std::size_t k = 0; k < theta.size(); ++k) {
     const std::string& name = policy.parameters()[k].name;
-    if (!parameters.contains(name)) throw InputError(fmt::format("{}: field 'parameters.{}': missing", source, name));
+    if (!parameters.contains(name))
+      throw InputError(fmt::format("{}: field 'parameters.{}': missing", source, name));
     const auto& value = parameters.at(name);
     if (!value.is_number() || !std::isfinite(value.get<double>()))
-      throw InputError(fmt::format("{}: field 'parameters.{}': expected a finite number, got {}", source, name, value.dump()));
+      throw InputError(fmt::format("{}: field 'parameters.{}': expected a finite number, got {}", source,
+                                   name, value.dump()));
     theta[k] = value.get<double>();
   }
   return theta;

@@ -4,8 +4,8 @@
 
 #include <algorithm>
 #include <chrono>
-#include <ctime>
 #include <cmath>
+#include <ctime>
 #include <limits>
 #include <memory>
 
@@ -33,8 +33,12 @@ using Evaluator = PegasusEvaluator<Pendulum, PendulumSwingUpPolicy>;
 Evaluator episodes_evaluator(int episodes, int horizon, std::uint64_t seed, ScenarioVariant variant,
                              bool refinements = true) {
   return Evaluator(Pendulum{}, PendulumSwingUpPolicy(refinements),
-                   ScenarioSet({.seed = seed, .count = episodes, .horizon = horizon, .noise_dim = 0,
-                                .initial_noise_dim = 2, .variant = variant}),
+                   ScenarioSet({.seed = seed,
+                                .count = episodes,
+                                .horizon = horizon,
+                                .noise_dim = 0,
+                                .initial_noise_dim = 2,
+                                .variant = variant}),
                    Discounting{.gamma = 1.0, .horizon = horizon});
 }
 
@@ -47,9 +51,15 @@ class BarWatch final : public Objective {
  public:
   BarWatch(const Evaluator& evaluation, ThreadPool* pool, double bar, double seconds_before,
            double cpu_seconds_before, std::int64_t evaluations_before, PendulumTrainingResult& result)
-      : evaluation_(evaluation), pool_(pool), bar_(bar), seconds_before_(seconds_before),
-        cpu_seconds_before_(cpu_seconds_before), evaluations_(evaluations_before), result_(result),
-        start_(Clock::now()), cpu_start_(std::clock()) {}
+      : evaluation_(evaluation),
+        pool_(pool),
+        bar_(bar),
+        seconds_before_(seconds_before),
+        cpu_seconds_before_(cpu_seconds_before),
+        evaluations_(evaluations_before),
+        result_(result),
+        start_(Clock::now()),
+        cpu_start_(std::clock()) {}
 
   void watch(Objective& inner) {
     inner_ = &inner;
@@ -57,7 +67,9 @@ class BarWatch final : public Objective {
   }
   const ParameterSpec& parameters() const override { return inner_->parameters(); }
   std::int64_t evaluations() const { return evaluations_; }
-  double seconds() const { return seconds_before_ + std::chrono::duration<double>(Clock::now() - start_).count(); }
+  double seconds() const {
+    return seconds_before_ + std::chrono::duration<double>(Clock::now() - start_).count();
+  }
   double cpu_seconds() const {
     return cpu_seconds_before_ + static_cast<double>(std::clock() - cpu_start_) / CLOCKS_PER_SEC;
   }
@@ -138,25 +150,32 @@ OptimizerOptions PendulumTrainingOptions::default_refine_optimizer() {
 }
 
 bool PendulumTrainingOptions::IsValid(std::string* error) const {
-  if (scenarios < 1) return fail(error, fmt::format("scenarios: expected an integer >= 1, got {}", scenarios));
+  if (scenarios < 1)
+    return fail(error, fmt::format("scenarios: expected an integer >= 1, got {}", scenarios));
   if (refine_scenarios < 0)
     return fail(error, fmt::format("refine_scenarios: expected an integer >= 0, got {}", refine_scenarios));
   if (horizon < 1) return fail(error, fmt::format("horizon: expected an integer >= 1, got {}", horizon));
   if (evaluation_episodes < 1)
-    return fail(error, fmt::format("evaluation_episodes: expected an integer >= 1, got {}", evaluation_episodes));
+    return fail(error,
+                fmt::format("evaluation_episodes: expected an integer >= 1, got {}", evaluation_episodes));
   if (!std::isfinite(bar)) return fail(error, fmt::format("bar: expected a finite number, got {}", bar));
   if (threads < 1) return fail(error, fmt::format("threads: expected an integer >= 1, got {}", threads));
   std::string inner;
   if (!optimizer.IsValid(&inner)) return fail(error, "optimizer." + inner);
-  if (refine_scenarios > 0 && !refine_optimizer.IsValid(&inner)) return fail(error, "refine_optimizer." + inner);
+  if (refine_scenarios > 0 && !refine_optimizer.IsValid(&inner))
+    return fail(error, "refine_optimizer." + inner);
   return true;
 }
 
-std::uint64_t pendulum_evaluation_seed(std::uint64_t seed) { return mix_seed(seed, 0x4576616c);  /* "Eval" */ }
-std::uint64_t pendulum_large_evaluation_seed(std::uint64_t seed) { return mix_seed(seed, 0x4c617267); /* "Larg" */ }
+std::uint64_t pendulum_evaluation_seed(std::uint64_t seed) { return mix_seed(seed, 0x4576616c); /* "Eval" */ }
+std::uint64_t pendulum_large_evaluation_seed(std::uint64_t seed) {
+  return mix_seed(seed, 0x4c617267); /* "Larg" */
+}
 
-std::vector<double> pendulum_episode_returns(const Theta& theta, int episodes, std::uint64_t seed, ThreadPool* pool) {
-  const Evaluator evaluator = episodes_evaluator(episodes, PendulumConstants::episode_steps, seed, ScenarioVariant::kPlain);
+std::vector<double> pendulum_episode_returns(const Theta& theta, int episodes, std::uint64_t seed,
+                                             ThreadPool* pool) {
+  const Evaluator evaluator =
+      episodes_evaluator(episodes, PendulumConstants::episode_steps, seed, ScenarioVariant::kPlain);
   if (theta.size() != evaluator.policy().parameters().size())
     throw InputError(fmt::format("pendulum: expected {} policy parameters, got {}",
                                  evaluator.policy().parameters().size(), theta.size()));
@@ -165,13 +184,14 @@ std::vector<double> pendulum_episode_returns(const Theta& theta, int episodes, s
   return returns;
 }
 
-PendulumTrainingResult train_pendulum(const PendulumTrainingOptions& options, const PendulumTrainingHooks& hooks,
-                                      ThreadPool* pool) {
+PendulumTrainingResult train_pendulum(const PendulumTrainingOptions& options,
+                                      const PendulumTrainingHooks& hooks, ThreadPool* pool) {
   std::string error;
   if (!options.IsValid(&error)) throw InputError("pendulum training: " + error);
   auto shared_pool = borrow_pool(pool, options.threads);
-  const Evaluator evaluation = episodes_evaluator(options.evaluation_episodes, PendulumConstants::episode_steps,
-                                                  pendulum_evaluation_seed(options.seed), ScenarioVariant::kPlain);
+  const Evaluator evaluation =
+      episodes_evaluator(options.evaluation_episodes, PendulumConstants::episode_steps,
+                         pendulum_evaluation_seed(options.seed), ScenarioVariant::kPlain);
   const bool refine = options.refine_scenarios > 0;
 
   PendulumTrainingResult result;
@@ -187,8 +207,8 @@ PendulumTrainingResult train_pendulum(const PendulumTrainingOptions& options, co
     cpu_seconds_before = bar.at("cpu_seconds").get<double>();
     evaluations_before = bar.at("evaluations").get<std::int64_t>();
     for (const auto& c : bar.at("checks"))
-      result.checks.push_back({c.at(0).get<double>(), c.at(1).get<std::int64_t>(), c.at(2).get<double>(),
-                               c.at(3).get<double>()});
+      result.checks.push_back(
+          {c.at(0).get<double>(), c.at(1).get<std::int64_t>(), c.at(2).get<double>(), c.at(3).get<double>()});
     if (!bar.at("seconds_to_bar").is_null()) {
       result.seconds_to_bar = bar.at("seconds_to_bar").get<double>();
       result.cpu_seconds_to_bar = bar.at("cpu_seconds_to_bar").get<double>();
@@ -200,8 +220,8 @@ PendulumTrainingResult train_pendulum(const PendulumTrainingOptions& options, co
     if (stage == 2) result.summary = SummaryFromJson(hooks.resume_from->at("race"), "race");
     if (!hooks.resume_from->at("optimizer").is_null()) optimizer_resume = hooks.resume_from->at("optimizer");
   }
-  BarWatch watch(evaluation, shared_pool.get(), options.bar, seconds_before, cpu_seconds_before, evaluations_before,
-                 result);
+  BarWatch watch(evaluation, shared_pool.get(), options.bar, seconds_before, cpu_seconds_before,
+                 evaluations_before, result);
   const bool checkpointing = hooks.on_checkpoint && hooks.checkpoint_every > 0;
   auto checkpoint = [&](int current, const nlohmann::json& optimizer_state) {
     const bool reached = result.evaluations_to_bar >= 0;
@@ -214,7 +234,8 @@ PendulumTrainingResult train_pendulum(const PendulumTrainingOptions& options, co
           {"evaluations", watch.evaluations()},
           {"checks", checks_json(result.checks)},
           {"seconds_to_bar", reached ? nlohmann::json(result.seconds_to_bar) : nlohmann::json(nullptr)},
-          {"cpu_seconds_to_bar", reached ? nlohmann::json(result.cpu_seconds_to_bar) : nlohmann::json(nullptr)},
+          {"cpu_seconds_to_bar",
+           reached ? nlohmann::json(result.cpu_seconds_to_bar) : nlohmann::json(nullptr)},
           {"evaluations_to_bar", result.evaluations_to_bar}}}};
     if (current == 2) state["race"] = SummaryToJson(result.summary);
     hooks.on_checkpoint(state);
@@ -222,14 +243,16 @@ PendulumTrainingResult train_pendulum(const PendulumTrainingOptions& options, co
 
   if (stage == 1) {
     PegasusObjective<Pendulum, PendulumSwingUpPolicy> race(
-        episodes_evaluator(options.scenarios, options.horizon, options.seed, options.variant, false), shared_pool);
+        episodes_evaluator(options.scenarios, options.horizon, options.seed, options.variant, false),
+        shared_pool);
     watch.watch(race);
     OptimizerOptions optimizer = options.optimizer;
     optimizer.hill_climbing.seed = mix_seed(options.seed, 0x48696c6c);  // hill climbing's own stream
     optimizer.nlopt.seed = mix_seed(options.seed, 0x4e4c6f70);
     if (checkpointing)
       optimizer.SetCheckpointing(
-          hooks.checkpoint_every, [&](const nlohmann::json& state) { checkpoint(1, state); }, optimizer_resume);
+          hooks.checkpoint_every, [&](const nlohmann::json& state) { checkpoint(1, state); },
+          optimizer_resume);
     Theta theta = race.parameters().initial();
     Solve(optimizer, watch, &theta, &result.summary);
     optimizer_resume.reset();
@@ -241,7 +264,8 @@ PendulumTrainingResult train_pendulum(const PendulumTrainingOptions& options, co
 
   if (refine) {
     PegasusObjective<Pendulum, PendulumSwingUpPolicy> refinement(
-        episodes_evaluator(options.refine_scenarios, options.horizon, mix_seed(options.seed, 0x52656669),  // "Refi"
+        episodes_evaluator(options.refine_scenarios, options.horizon,
+                           mix_seed(options.seed, 0x52656669),  // "Refi"
                            options.variant),
         shared_pool);
     watch.watch(refinement);
@@ -250,7 +274,8 @@ PendulumTrainingResult train_pendulum(const PendulumTrainingOptions& options, co
     optimizer.nlopt.seed = mix_seed(options.seed, 0x524e4c6f);
     if (checkpointing)
       optimizer.SetCheckpointing(
-          hooks.checkpoint_every, [&](const nlohmann::json& state) { checkpoint(2, state); }, optimizer_resume);
+          hooks.checkpoint_every, [&](const nlohmann::json& state) { checkpoint(2, state); },
+          optimizer_resume);
     Theta theta = race_theta;
     Solve(optimizer, watch, &theta, &result.refine_summary);
     if (!result.refine_summary.best_theta.empty()) result.theta = result.refine_summary.best_theta;

@@ -21,11 +21,12 @@ constexpr int kObservations = 8;
 // Seeds of the independent pieces of one trial, derived from the run's seed.
 enum class SeedRole : std::uint64_t { kScenarios = 1, kHash = 2, kMonteCarlo = 3 };
 std::uint64_t trial_seed(std::uint64_t seed, int trial, SeedRole role, int m = 0) {
-  return mix_seed(mix_seed(seed, static_cast<std::uint64_t>(role)), (static_cast<std::uint64_t>(trial) << 20) | static_cast<std::uint64_t>(m));
+  return mix_seed(mix_seed(seed, static_cast<std::uint64_t>(role)),
+                  (static_cast<std::uint64_t>(trial) << 20) | static_cast<std::uint64_t>(m));
 }
 
-PomdpGridworldRecord score(int trial, const char* model, const char* estimator, int m, const std::vector<double>& estimates,
-                           const std::vector<double>& exact) {
+PomdpGridworldRecord score(int trial, const char* model, const char* estimator, int m,
+                           const std::vector<double>& estimates, const std::vector<double>& exact) {
   PomdpGridworldRecord r{.trial = trial, .model = model, .estimator = estimator, .m = m};
   std::size_t best = 0;
   double sup = 0.0;
@@ -49,19 +50,27 @@ bool PomdpGridworldOptions::IsValid(std::string* error) const {
   };
   if (scenarios.empty()) return fail("scenarios: expected a non-empty list of m values");
   for (int m : scenarios)
-    if (m < 1 || m > 100000) return fail(fmt::format("scenarios: expected every m in [1, 100000], got {}", m));
+    if (m < 1 || m > 100000)
+      return fail(fmt::format("scenarios: expected every m in [1, 100000], got {}", m));
   if (trials < 1) return fail(fmt::format("trials: expected an integer >= 1, got {}", trials));
   if (montecarlo_max_m < 0) return fail("montecarlo_max_m: expected an integer >= 0");
-  if (!(gamma >= 0.0 && gamma <= 1.0)) return fail(fmt::format("gamma: expected a number in [0, 1], got {}", gamma));
-  if (horizon < 1 || horizon > 100000) return fail(fmt::format("horizon: expected an integer in [1, 100000], got {}", horizon));
+  if (!(gamma >= 0.0 && gamma <= 1.0))
+    return fail(fmt::format("gamma: expected a number in [0, 1], got {}", gamma));
+  if (horizon < 1 || horizon > 100000)
+    return fail(fmt::format("horizon: expected an integer in [1, 100000], got {}", horizon));
   if (threads < 1) return fail(fmt::format("threads: expected an integer >= 1, got {}", threads));
   return true;
 }
 
 nlohmann::json to_json(const PomdpGridworldRecord& r) {
-  return {{"trial", r.trial},           {"model", r.model},       {"estimator", r.estimator},
-          {"m", r.m},                   {"chosen_policy", r.chosen_policy}, {"true_value", r.true_value},
-          {"estimate", r.estimate},     {"sup_deviation", r.sup_deviation}};
+  return {{"trial", r.trial},
+          {"model", r.model},
+          {"estimator", r.estimator},
+          {"m", r.m},
+          {"chosen_policy", r.chosen_policy},
+          {"true_value", r.true_value},
+          {"estimate", r.estimate},
+          {"sup_deviation", r.sup_deviation}};
 }
 
 PomdpGridworldRecord record_from_json(const nlohmann::json& j) {
@@ -81,7 +90,8 @@ std::vector<PomdpGridworldSummaryRow> summarize(const std::vector<PomdpGridworld
   for (const auto& r : records) groups[{r.model, r.estimator, r.m}].push_back(&r);
   std::vector<PomdpGridworldSummaryRow> rows;
   for (const auto& [key, group] : groups) {
-    PomdpGridworldSummaryRow row{.model = std::get<0>(key), .estimator = std::get<1>(key), .m = std::get<2>(key)};
+    PomdpGridworldSummaryRow row{
+        .model = std::get<0>(key), .estimator = std::get<1>(key), .m = std::get<2>(key)};
     row.trials = static_cast<int>(group.size());
     double sum = 0, sum2 = 0, est = 0, sup = 0;
     for (const auto* r : group) {
@@ -101,7 +111,8 @@ std::vector<PomdpGridworldSummaryRow> summarize(const std::vector<PomdpGridworld
   return rows;
 }
 
-PomdpGridworldResult run_pomdp_gridworld(const PomdpGridworldOptions& options, const PomdpGridworldHooks& hooks) {
+PomdpGridworldResult run_pomdp_gridworld(const PomdpGridworldOptions& options,
+                                         const PomdpGridworldHooks& hooks) {
   std::string error;
   if (!options.IsValid(&error)) throw InputError(error);
   const PomdpGridworld grid;
@@ -128,8 +139,11 @@ PomdpGridworldResult run_pomdp_gridworld(const PomdpGridworldOptions& options, c
 
   for (int trial = first_trial; trial < options.trials; ++trial) {
     // One scenario set per trial; m scenarios are its first m (common random numbers across m).
-    const ScenarioOptions base{.seed = trial_seed(options.seed, trial, SeedRole::kScenarios), .count = max_m,
-                               .horizon = options.horizon, .noise_dim = 1, .initial_noise_dim = 0,
+    const ScenarioOptions base{.seed = trial_seed(options.seed, trial, SeedRole::kScenarios),
+                               .count = max_m,
+                               .horizon = options.horizon,
+                               .noise_dim = 1,
+                               .initial_noise_dim = 0,
                                .variant = options.variant};
     const HashedModel<PomdpGridworld> hashed(grid, trial_seed(options.seed, trial, SeedRole::kHash));
     for (int m : options.scenarios) {

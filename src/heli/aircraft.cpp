@@ -12,13 +12,20 @@ namespace pegasus::heli {
 
 std::string crash_reason_name(CrashReason r) {
   switch (r) {
-    case CrashReason::kNone: return "none";
-    case CrashReason::kGround: return "ground impact";
-    case CrashReason::kAttitude: return "attitude limit";
-    case CrashReason::kRate: return "angular rate limit";
-    case CrashReason::kRotorOverload: return "rotor overload";
-    case CrashReason::kNumerical: return "numerical blow-up";
-    case CrashReason::kModelSupport: return "left the model's support";
+    case CrashReason::kNone:
+      return "none";
+    case CrashReason::kGround:
+      return "ground impact";
+    case CrashReason::kAttitude:
+      return "attitude limit";
+    case CrashReason::kRate:
+      return "angular rate limit";
+    case CrashReason::kRotorOverload:
+      return "rotor overload";
+    case CrashReason::kNumerical:
+      return "numerical blow-up";
+    case CrashReason::kModelSupport:
+      return "left the model's support";
   }
   return "unknown";
 }
@@ -30,8 +37,10 @@ bool AircraftParams::IsValid(std::string* error) const {
   };
   if (!(mass_kg > 0 && ixx > 0 && iyy > 0 && izz > 0)) return fail("mass and inertias must be positive");
   if (!(dt > 0 && substeps >= 1)) return fail("dt must be positive and substeps >= 1");
-  if (!(tau_flap > 0 && gyro_tau > 0 && est_tau > 0 && gust_tau > 0)) return fail("time constants must be positive");
-  if (!(gust_sigma >= 0 && est_sigma_pos >= 0 && est_sigma_vel >= 0 && est_sigma_angle >= 0 && est_sigma_rate >= 0))
+  if (!(tau_flap > 0 && gyro_tau > 0 && est_tau > 0 && gust_tau > 0))
+    return fail("time constants must be positive");
+  if (!(gust_sigma >= 0 && est_sigma_pos >= 0 && est_sigma_vel >= 0 && est_sigma_angle >= 0 &&
+        est_sigma_rate >= 0))
     return fail("noise levels must be >= 0");
   if (!(servo_rate > 0)) return fail("servo_rate must be positive");
   return true;
@@ -120,8 +129,8 @@ Aircraft::Derivative Aircraft::derivative(const State& s, const Vec3& wind_W, Ro
   const double w_rel = air_B.z() - v_i;
   const double v_inf = std::sqrt(air_B.x() * air_B.x() + air_B.y() * air_B.y() + w_rel * w_rel);
   const double half_rho = 0.5 * P.air_density;
-  const Vec3 f_fus_B(-half_rho * P.fus_area_x * air_B.x() * v_inf, -half_rho * P.fus_area_y * air_B.y() * v_inf,
-                     -half_rho * P.fus_area_z * w_rel * v_inf);
+  const Vec3 f_fus_B(-half_rho * P.fus_area_x * air_B.x() * v_inf,
+                     -half_rho * P.fus_area_y * air_B.y() * v_inf, -half_rho * P.fus_area_z * w_rel * v_inf);
 
   const Vec3 g_B = r_WB.transpose() * Vec3(0.0, 0.0, P.gravity);
   Derivative d;
@@ -199,7 +208,8 @@ Aircraft::State Aircraft::step(const State& s, const Action& a, std::span<const 
   // Turbulence: exact discretisation of a Gauss-Markov process per axis (Dryden's low-frequency form).
   const double rho_g = std::exp(-P.dt / P.gust_tau);
   const double k_g = P.gust_sigma * std::sqrt(1 - rho_g * rho_g);
-  for (int i = 0; i < 3; ++i) x.gust_W[i] = rho_g * s.gust_W[i] + k_g * normal_quantile(p[static_cast<std::size_t>(i)]);
+  for (int i = 0; i < 3; ++i)
+    x.gust_W[i] = rho_g * s.gust_W[i] + k_g * normal_quantile(p[static_cast<std::size_t>(i)]);
   const double rho_e = std::exp(-P.dt / P.est_tau);
   const double k_e = std::sqrt(1 - rho_e * rho_e);
   const double sig[4] = {P.est_sigma_pos, P.est_sigma_angle, P.est_sigma_vel, P.est_sigma_rate};
@@ -221,10 +231,12 @@ void Aircraft::check_crash(State& s) const {
       s.crash = CrashReason::kNumerical;
       return;
     }
-  if (s.p_W.z() >= 0) s.crash = CrashReason::kGround;
+  if (s.p_W.z() >= 0)
+    s.crash = CrashReason::kGround;
   else if (std::abs(s.attitude.roll) > P.max_tilt_rad || std::abs(s.attitude.pitch) > P.max_tilt_rad)
     s.crash = CrashReason::kAttitude;
-  else if (s.w_B.cwiseAbs().maxCoeff() > P.max_rate_rad_s) s.crash = CrashReason::kRate;
+  else if (s.w_B.cwiseAbs().maxCoeff() > P.max_rate_rad_s)
+    s.crash = CrashReason::kRate;
   else if (std::abs(rotor.thrust_coeff_over_solidity) > P.max_thrust_coeff_over_solidity)
     s.crash = CrashReason::kRotorOverload;
 }
@@ -287,7 +299,8 @@ Aircraft::State Aircraft::initial_state(std::span<const double> p0) const {
   }
   s.v_B = body_from_world(s.attitude, v_W);
   const double sig[4] = {P.est_sigma_pos, P.est_sigma_angle, P.est_sigma_vel, P.est_sigma_rate};
-  for (int i = 0; i < kLoggedStates; ++i) s.estimate_error[static_cast<std::size_t>(i)] = sig[i / 3] * n(9 + i);
+  for (int i = 0; i < kLoggedStates; ++i)
+    s.estimate_error[static_cast<std::size_t>(i)] = sig[i / 3] * n(9 + i);
   return s;
 }
 
@@ -295,12 +308,13 @@ LoggedState true_logged_state(const AircraftState& s) {
   const Vec3 v_W = world_from_body(s.attitude, s.v_B);
   const Vec3 rates = euler_rates_from_body_rates(s.attitude, s.w_B);
   return {s.p_W.x(), s.p_W.y(), s.p_W.z(), s.attitude.roll, s.attitude.pitch, s.attitude.yaw,
-          v_W.x(),   v_W.y(),   v_W.z(),   rates.x(),        rates.y(),         rates.z()};
+          v_W.x(),   v_W.y(),   v_W.z(),   rates.x(),       rates.y(),        rates.z()};
 }
 
 Aircraft::Observation Aircraft::observe(const State& s) const {
   LoggedState o = true_logged_state(s);
-  for (int i = 0; i < kLoggedStates; ++i) o[static_cast<std::size_t>(i)] += s.estimate_error[static_cast<std::size_t>(i)];
+  for (int i = 0; i < kLoggedStates; ++i)
+    o[static_cast<std::size_t>(i)] += s.estimate_error[static_cast<std::size_t>(i)];
   o[5] = wrap_angle(o[5]);
   return o;
 }

@@ -267,7 +267,8 @@ PilotFlight fly_pilot_maneuvers(const Aircraft& aircraft, const PilotOptions& op
   const auto sweep_steps = static_cast<std::size_t>(std::llround(sweep_seconds / dt));
   std::size_t steps = sweep_steps;
   for (const auto& t : trajectories) steps += static_cast<std::size_t>(std::ceil(t.duration() / dt));
-  // Counter families as fly_pilot: stream 0 the initial state, 1 the aircraft's noise, 2 and 3 the two pilots.
+  // Counter families as fly_pilot: stream 0 the initial state, 1 the aircraft's noise, 2 and 3 the two
+  // pilots.
   UniformStream init(seed, 0), noise(seed, 1);
   std::array<double, 32> p{};
   for (int j = 0; j < Aircraft::kInitialNoise; ++j) p[static_cast<std::size_t>(j)] = init.next();

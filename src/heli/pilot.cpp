@@ -22,7 +22,8 @@ bool PilotOptions::IsValid(std::string* error) const {
   return true;
 }
 
-ScriptedPilot::ScriptedPilot(const Aircraft& aircraft, PilotOptions options, std::uint64_t seed, std::uint32_t stream)
+ScriptedPilot::ScriptedPilot(const Aircraft& aircraft, PilotOptions options, std::uint64_t seed,
+                             std::uint32_t stream)
     : aircraft_(aircraft), o_(std::move(options)), rng_(seed, stream) {
   std::string error;
   if (!o_.IsValid(&error)) throw std::invalid_argument(error);
@@ -45,7 +46,8 @@ double ScriptedPilot::sweep_offset(double time) const {
   const double t = time - o_.hover_seconds - c * each;
   // Exponential chirp from f0 to f1 over the segment, faded in and out over 2 s.
   const double k = o_.sweep_f1_hz / o_.sweep_f0_hz;
-  const double phase = 2 * std::numbers::pi * o_.sweep_f0_hz * each / std::log(k) * (std::pow(k, t / each) - 1);
+  const double phase =
+      2 * std::numbers::pi * o_.sweep_f0_hz * each / std::log(k) * (std::pow(k, t / each) - 1);
   const double fade = std::clamp(std::min(t, each - t) / 2.0, 0.0, 1.0);
   return o_.sweep_amplitude[static_cast<std::size_t>(c)] * fade * std::sin(phase);
 }
@@ -98,7 +100,8 @@ Controls ScriptedPilot::act(const LoggedState& estimate, double time) {
   return out;
 }
 
-PilotFlight fly_pilot(const Aircraft& aircraft, const PilotOptions& options, double seconds, std::uint64_t seed) {
+PilotFlight fly_pilot(const Aircraft& aircraft, const PilotOptions& options, double seconds,
+                      std::uint64_t seed) {
   const auto steps = static_cast<std::size_t>(std::llround(seconds / aircraft.params().dt));
   // Counter families: stream 0 the aircraft's initial state, 1 its per-step noise, 2 the pilot.
   UniformStream init(seed, 0), noise(seed, 1);

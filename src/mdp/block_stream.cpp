@@ -27,7 +27,8 @@ void philox_scalar(std::uint32_t key0, std::uint32_t key1, std::uint64_t first_c
   const r123::Philox4x32::key_type key = {{key0, key1}};
   for (int j = 0; j < calls; ++j) {
     const std::uint64_t c = first_call + static_cast<std::uint64_t>(j);
-    const r123::Philox4x32::ctr_type ctr = {{static_cast<std::uint32_t>(c), static_cast<std::uint32_t>(c >> 32), stream, domain}};
+    const r123::Philox4x32::ctr_type ctr = {
+        {static_cast<std::uint32_t>(c), static_cast<std::uint32_t>(c >> 32), stream, domain}};
     const auto r = philox(ctr, key);
     for (int w = 0; w < 4; ++w)
       out[4 * j + w] = (static_cast<double>(r[static_cast<std::size_t>(w)]) + 0.5) * 0x1.0p-32;
@@ -52,7 +53,8 @@ __attribute__((target("avx2"))) inline __m256d unit_avx2(__m256i x) {
 }
 
 // Words x0..x3 of four calls -> out[4 call + word] (a 4 x 4 transpose).
-__attribute__((target("avx2"))) inline void store_avx2(__m256i x0, __m256i x1, __m256i x2, __m256i x3, double* o) {
+__attribute__((target("avx2"))) inline void store_avx2(__m256i x0, __m256i x1, __m256i x2, __m256i x3,
+                                                       double* o) {
   const __m256d d0 = unit_avx2(x0), d1 = unit_avx2(x1), d2 = unit_avx2(x2), d3 = unit_avx2(x3);
   const __m256d t0 = _mm256_unpacklo_pd(d0, d1), t1 = _mm256_unpackhi_pd(d0, d1);
   const __m256d t2 = _mm256_unpacklo_pd(d2, d3), t3 = _mm256_unpackhi_pd(d2, d3);
@@ -62,17 +64,19 @@ __attribute__((target("avx2"))) inline void store_avx2(__m256i x0, __m256i x1, _
   _mm256_storeu_pd(o + 12, _mm256_permute2f128_pd(t1, t3, 0x31));
 }
 
-__attribute__((target("avx2"))) void philox_avx2(std::uint32_t key0, std::uint32_t key1, std::uint64_t first_call,
-                                                 std::uint32_t stream, std::uint32_t domain, int calls,
-                                                 double* out) {
+__attribute__((target("avx2"))) void philox_avx2(std::uint32_t key0, std::uint32_t key1,
+                                                 std::uint64_t first_call, std::uint32_t stream,
+                                                 std::uint32_t domain, int calls, double* out) {
   const __m256i m0 = _mm256_set1_epi64x(kM0), m1 = _mm256_set1_epi64x(kM1);
   const __m256i lanes = _mm256_set_epi64x(3, 2, 1, 0);
   int j = 0;
   // Two groups of four calls at a time: the rounds are a dependency chain, two chains fill the pipeline.
   for (; j + 8 <= calls; j += 8) {
-    const __m256i ca = _mm256_add_epi64(_mm256_set1_epi64x(static_cast<long long>(first_call + static_cast<std::uint64_t>(j))), lanes);
+    const __m256i ca = _mm256_add_epi64(
+        _mm256_set1_epi64x(static_cast<long long>(first_call + static_cast<std::uint64_t>(j))), lanes);
     const __m256i cb = _mm256_add_epi64(ca, _mm256_set1_epi64x(4));
-    __m256i a0 = ca, a1 = _mm256_srli_epi64(ca, 32), a2 = _mm256_set1_epi64x(stream), a3 = _mm256_set1_epi64x(domain);
+    __m256i a0 = ca, a1 = _mm256_srli_epi64(ca, 32), a2 = _mm256_set1_epi64x(stream),
+            a3 = _mm256_set1_epi64x(domain);
     __m256i b0 = cb, b1 = _mm256_srli_epi64(cb, 32), b2 = a2, b3 = a3;
     std::uint32_t k0 = key0, k1 = key1;
     for (int round = 0; round < kRounds; ++round) {
@@ -93,26 +97,32 @@ __attribute__((target("avx2"))) void philox_avx2(std::uint32_t key0, std::uint32
     store_avx2(a0, a1, a2, a3, out + 4 * j);
     store_avx2(b0, b1, b2, b3, out + 4 * j + 16);
   }
-  if (j < calls) philox_scalar(key0, key1, first_call + static_cast<std::uint64_t>(j), stream, domain, calls - j, out + 4 * j);
+  if (j < calls)
+    philox_scalar(key0, key1, first_call + static_cast<std::uint64_t>(j), stream, domain, calls - j,
+                  out + 4 * j);
 }
 
 __attribute__((target("avx512f"))) inline __m512d unit_avx512(__m512i x) {
   const __m512i low = _mm512_set1_epi64(0xffffffffll);
   const __m512i exp_bits = _mm512_set1_epi64(static_cast<long long>(kTwo52Bits));
-  const __m512d d = _mm512_castsi512_pd(_mm512_ternarylogic_epi64(x, low, exp_bits, 0xEA));  // (x & low) | exp
+  const __m512d d =
+      _mm512_castsi512_pd(_mm512_ternarylogic_epi64(x, low, exp_bits, 0xEA));  // (x & low) | exp
   return _mm512_mul_pd(_mm512_sub_pd(d, _mm512_set1_pd(kTwo52MinusHalf)), _mm512_set1_pd(0x1.0p-32));
 }
 
 // Words x0..x3 of eight calls -> out[4 call + word]: interleave words (0, 1) and (2, 3) of calls 0-3 and
 // 4-7, then merge the pairs.
-__attribute__((target("avx512f"))) inline void store_avx512(__m512i x0, __m512i x1, __m512i x2, __m512i x3, double* o) {
+__attribute__((target("avx512f"))) inline void store_avx512(__m512i x0, __m512i x1, __m512i x2, __m512i x3,
+                                                            double* o) {
   const __m512i pair_lo = _mm512_set_epi64(11, 3, 10, 2, 9, 1, 8, 0);
   const __m512i pair_hi = _mm512_set_epi64(15, 7, 14, 6, 13, 5, 12, 4);
   const __m512i quad_a = _mm512_set_epi64(11, 10, 3, 2, 9, 8, 1, 0);
   const __m512i quad_b = _mm512_set_epi64(15, 14, 7, 6, 13, 12, 5, 4);
   const __m512d d0 = unit_avx512(x0), d1 = unit_avx512(x1), d2 = unit_avx512(x2), d3 = unit_avx512(x3);
-  const __m512d p01l = _mm512_permutex2var_pd(d0, pair_lo, d1), p23l = _mm512_permutex2var_pd(d2, pair_lo, d3);
-  const __m512d p01h = _mm512_permutex2var_pd(d0, pair_hi, d1), p23h = _mm512_permutex2var_pd(d2, pair_hi, d3);
+  const __m512d p01l = _mm512_permutex2var_pd(d0, pair_lo, d1),
+                p23l = _mm512_permutex2var_pd(d2, pair_lo, d3);
+  const __m512d p01h = _mm512_permutex2var_pd(d0, pair_hi, d1),
+                p23h = _mm512_permutex2var_pd(d2, pair_hi, d3);
   _mm512_storeu_pd(o, _mm512_permutex2var_pd(p01l, quad_a, p23l));
   _mm512_storeu_pd(o + 8, _mm512_permutex2var_pd(p01l, quad_b, p23l));
   _mm512_storeu_pd(o + 16, _mm512_permutex2var_pd(p01h, quad_a, p23h));
@@ -126,9 +136,11 @@ __attribute__((target("avx512f"))) void philox_avx512(std::uint32_t key0, std::u
   const __m512i lanes = _mm512_set_epi64(7, 6, 5, 4, 3, 2, 1, 0);
   int j = 0;
   for (; j + 16 <= calls; j += 16) {
-    const __m512i ca = _mm512_add_epi64(_mm512_set1_epi64(static_cast<long long>(first_call + static_cast<std::uint64_t>(j))), lanes);
+    const __m512i ca = _mm512_add_epi64(
+        _mm512_set1_epi64(static_cast<long long>(first_call + static_cast<std::uint64_t>(j))), lanes);
     const __m512i cb = _mm512_add_epi64(ca, _mm512_set1_epi64(8));
-    __m512i a0 = ca, a1 = _mm512_srli_epi64(ca, 32), a2 = _mm512_set1_epi64(stream), a3 = _mm512_set1_epi64(domain);
+    __m512i a0 = ca, a1 = _mm512_srli_epi64(ca, 32), a2 = _mm512_set1_epi64(stream),
+            a3 = _mm512_set1_epi64(domain);
     __m512i b0 = cb, b1 = _mm512_srli_epi64(cb, 32), b2 = a2, b3 = a3;
     std::uint32_t k0 = key0, k1 = key1;
     for (int round = 0; round < kRounds; ++round) {
@@ -150,7 +162,9 @@ __attribute__((target("avx512f"))) void philox_avx512(std::uint32_t key0, std::u
     store_avx512(a0, a1, a2, a3, out + 4 * j);
     store_avx512(b0, b1, b2, b3, out + 4 * j + 32);
   }
-  if (j < calls) philox_avx2(key0, key1, first_call + static_cast<std::uint64_t>(j), stream, domain, calls - j, out + 4 * j);
+  if (j < calls)
+    philox_avx2(key0, key1, first_call + static_cast<std::uint64_t>(j), stream, domain, calls - j,
+                out + 4 * j);
 }
 
 #endif

@@ -31,7 +31,8 @@ FiniteMdpBuilder::FiniteMdpBuilder(int num_states, int num_actions, double gamma
     : S_(num_states), A_(num_actions), gamma_(gamma) {
   if (num_states < 1) throw InputError(fmt::format("mdp: expected at least 1 state, got {}", num_states));
   if (num_actions < 1) throw InputError(fmt::format("mdp: expected at least 1 action, got {}", num_actions));
-  if (!(gamma >= 0.0 && gamma <= 1.0)) throw InputError(fmt::format("mdp: gamma must lie in [0, 1], got {}", gamma));
+  if (!(gamma >= 0.0 && gamma <= 1.0))
+    throw InputError(fmt::format("mdp: gamma must lie in [0, 1], got {}", gamma));
   const auto rows = static_cast<std::size_t>(S_) * static_cast<std::size_t>(A_);
   rows_.resize(rows);
   given_.assign(rows, 0);
@@ -41,10 +42,9 @@ FiniteMdpBuilder::FiniteMdpBuilder(int num_states, int num_actions, double gamma
   absorbing_.assign(static_cast<std::size_t>(S_), 0);
 }
 
-#define PEGASUS_CHECK_STATE(s, what)                                                                   \
-  if ((s) < 0 || (s) >= S_)                                                                            \
-    throw InputError(fmt::format("mdp: {} {} outside [0, {})", what, s, S_));
-#define PEGASUS_CHECK_ACTION(a)                                                                        \
+#define PEGASUS_CHECK_STATE(s, what) \
+  if ((s) < 0 || (s) >= S_) throw InputError(fmt::format("mdp: {} {} outside [0, {})", what, s, S_));
+#define PEGASUS_CHECK_ACTION(a) \
   if ((a) < 0 || (a) >= A_) throw InputError(fmt::format("mdp: action {} outside [0, {})", a, A_));
 
 void FiniteMdpBuilder::set_absorbing(int s) {
@@ -171,23 +171,29 @@ void validate(const FiniteMdp& m, const std::string& what) {
   for (std::size_t r = 0; r < rows; ++r) {
     const int s = static_cast<int>(r / static_cast<std::size_t>(m.num_actions));
     const int a = static_cast<int>(r % static_cast<std::size_t>(m.num_actions));
-    if (m.row_start[r + 1] < m.row_start[r]) throw InputError(fmt::format("{}: row_start decreases at row {}", what, r));
+    if (m.row_start[r + 1] < m.row_start[r])
+      throw InputError(fmt::format("{}: row_start decreases at row {}", what, r));
     double sum = 0.0;
     for (std::uint32_t k = m.row_start[r]; k < m.row_start[r + 1]; ++k) {
       const int n = m.next_state[k];
       const double p = m.probability[k];
       if (n < 0 || n >= m.num_states)
-        throw InputError(fmt::format("{}: state {} action {}: successor {} outside [0, {})", what, s, a, n, m.num_states));
+        throw InputError(
+            fmt::format("{}: state {} action {}: successor {} outside [0, {})", what, s, a, n, m.num_states));
       if (!(p >= 0.0 && p <= 1.0))
-        throw InputError(fmt::format("{}: state {} action {}: probability {} of successor {} outside [0, 1]", what, s, a, p, n));
+        throw InputError(fmt::format("{}: state {} action {}: probability {} of successor {} outside [0, 1]",
+                                     what, s, a, p, n));
       if (!std::isfinite(m.reward[k]))
-        throw InputError(fmt::format("{}: state {} action {}: reward of successor {} is not finite", what, s, a, n));
+        throw InputError(
+            fmt::format("{}: state {} action {}: reward of successor {} is not finite", what, s, a, n));
       if (m.is_absorbing(s) && (n != s || m.reward[k] != 0.0))
-        throw InputError(fmt::format("{}: absorbing state {} must loop to itself with reward 0 under action {}", what, s, a));
+        throw InputError(fmt::format(
+            "{}: absorbing state {} must loop to itself with reward 0 under action {}", what, s, a));
       sum += p;
     }
     if (std::abs(sum - 1.0) > kSumTolerance)
-      throw InputError(fmt::format("{}: state {} action {}: probabilities sum to {:.12g}, expected 1 within 1e-9", what, s, a, sum));
+      throw InputError(fmt::format(
+          "{}: state {} action {}: probabilities sum to {:.12g}, expected 1 within 1e-9", what, s, a, sum));
   }
   double dsum = 0.0;
   for (std::size_t s = 0; s < S; ++s) {
@@ -197,7 +203,8 @@ void validate(const FiniteMdp& m, const std::string& what) {
     dsum += p;
   }
   if (std::abs(dsum - 1.0) > kSumTolerance)
-    throw InputError(fmt::format("{}: initial distribution sums to {:.12g}, expected 1 within 1e-9", what, dsum));
+    throw InputError(
+        fmt::format("{}: initial distribution sums to {:.12g}, expected 1 within 1e-9", what, dsum));
   if (m.gamma == 1.0) check_proper(m, what);
 }
 
@@ -211,8 +218,10 @@ std::optional<int> find_improper_state(const FiniteMdp& m) {
   std::vector<int> trapping(static_cast<std::size_t>(S), 0);  // rows of s with outside == 0
   // Predecessor lists (row ids that have s as a successor), CSR-built.
   std::vector<std::uint32_t> pred_start(static_cast<std::size_t>(S) + 1, 0);
-  for (std::size_t k = 0; k < m.num_entries(); ++k) ++pred_start[static_cast<std::size_t>(m.next_state[k]) + 1];
-  for (int s = 0; s < S; ++s) pred_start[static_cast<std::size_t>(s) + 1] += pred_start[static_cast<std::size_t>(s)];
+  for (std::size_t k = 0; k < m.num_entries(); ++k)
+    ++pred_start[static_cast<std::size_t>(m.next_state[k]) + 1];
+  for (int s = 0; s < S; ++s)
+    pred_start[static_cast<std::size_t>(s) + 1] += pred_start[static_cast<std::size_t>(s)];
   std::vector<std::uint32_t> pred_row(m.num_entries());
   {
     std::vector<std::uint32_t> fill(pred_start.begin(), pred_start.end() - 1);
@@ -234,7 +243,8 @@ std::optional<int> find_improper_state(const FiniteMdp& m) {
   for (int s : queue) in_x[static_cast<std::size_t>(s)] = 0;
   for (std::size_t qi = 0; qi < queue.size(); ++qi) {
     const int t = queue[qi];
-    for (std::uint32_t j = pred_start[static_cast<std::size_t>(t)]; j < pred_start[static_cast<std::size_t>(t) + 1]; ++j) {
+    for (std::uint32_t j = pred_start[static_cast<std::size_t>(t)];
+         j < pred_start[static_cast<std::size_t>(t) + 1]; ++j) {
       const std::size_t r = pred_row[j];
       const int s = static_cast<int>(r / static_cast<std::size_t>(A));
       if (!in_x[static_cast<std::size_t>(s)]) continue;
@@ -252,7 +262,8 @@ std::optional<int> find_improper_state(const FiniteMdp& m) {
 void check_proper(const FiniteMdp& m, const std::string& what) {
   if (const auto s = find_improper_state(m))
     throw InputError(fmt::format(
-        "{}: gamma = 1 requires a proper MDP, but from state {} some policy never reaches an absorbing state", what, *s));
+        "{}: gamma = 1 requires a proper MDP, but from state {} some policy never reaches an absorbing state",
+        what, *s));
 }
 
 FiniteMdp with_gamma(FiniteMdp mdp, double gamma) {

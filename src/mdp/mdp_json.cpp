@@ -73,7 +73,8 @@ FiniteMdp mdp_from_json(const json& j, const std::string& src) {
   }
   if (j.contains("initial")) {
     const auto& init = j.at("initial");
-    if (!init.is_array() || init.empty()) fail(src, "initial", "expected a non-empty array of [state, probability]");
+    if (!init.is_array() || init.empty())
+      fail(src, "initial", "expected a non-empty array of [state, probability]");
     for (std::size_t i = 0; i < init.size(); ++i) {
       const std::string f = fmt::format("initial[{}]", i);
       if (!init[i].is_array() || init[i].size() != 2) fail(src, f, "expected [state, probability]");
@@ -89,8 +90,10 @@ FiniteMdp mdp_from_json(const json& j, const std::string& src) {
       fail(src, "state_rewards", fmt::format("expected an array of {} numbers", S));
     for (int s = 0; s < S; ++s) {
       const double r = as_number(sr[static_cast<std::size_t>(s)], src, fmt::format("state_rewards[{}]", s));
-      if (!absorbing[static_cast<std::size_t>(s)]) b.set_state_reward(s, r);
-      else if (r != 0.0) fail(src, fmt::format("state_rewards[{}]", s), "absorbing states must have reward 0");
+      if (!absorbing[static_cast<std::size_t>(s)])
+        b.set_state_reward(s, r);
+      else if (r != 0.0)
+        fail(src, fmt::format("state_rewards[{}]", s), "absorbing states must have reward 0");
     }
   }
   const auto& tr = required(j, "transitions", src);
@@ -105,18 +108,21 @@ FiniteMdp mdp_from_json(const json& j, const std::string& src) {
     if (!t.contains("next")) fail(src, f + ".next", "missing required field");
     const int s = as_index(t.at("state"), S, src, f + ".state", "state");
     const int a = as_index(t.at("action"), A, src, f + ".action", "action");
-    if (absorbing[static_cast<std::size_t>(s)]) fail(src, f + ".state", fmt::format("state {} is absorbing and takes no transitions", s));
+    if (absorbing[static_cast<std::size_t>(s)])
+      fail(src, f + ".state", fmt::format("state {} is absorbing and takes no transitions", s));
     auto& flag = seen[static_cast<std::size_t>(s) * A + a];
     if (flag) fail(src, f, fmt::format("state {} action {} given twice", s, a));
     flag = 1;
     if (t.contains("reward")) b.set_state_action_reward(s, a, as_number(t.at("reward"), src, f + ".reward"));
     const auto& next = t.at("next");
-    if (!next.is_array() || next.empty()) fail(src, f + ".next", "expected a non-empty array of [successor, probability(, reward)]");
+    if (!next.is_array() || next.empty())
+      fail(src, f + ".next", "expected a non-empty array of [successor, probability(, reward)]");
     double sum = 0.0;
     for (std::size_t k = 0; k < next.size(); ++k) {
       const std::string fk = fmt::format("{}.next[{}]", f, k);
       const auto& e = next[k];
-      if (!e.is_array() || (e.size() != 2 && e.size() != 3)) fail(src, fk, "expected [successor, probability] or [successor, probability, reward]");
+      if (!e.is_array() || (e.size() != 2 && e.size() != 3))
+        fail(src, fk, "expected [successor, probability] or [successor, probability, reward]");
       const int n = as_index(e[0], S, src, fk + "[0]", "successor");
       const double p = as_number(e[1], src, fk + "[1]");
       if (!(p >= 0.0 && p <= 1.0)) fail(src, fk + "[1]", fmt::format("probability {} outside [0, 1]", p));
@@ -155,7 +161,8 @@ json mdp_to_json(const FiniteMdp& m) {
   j["absorbing"] = abs;
   json init = json::array();
   for (int s = 0; s < m.num_states; ++s)
-    if (m.initial[static_cast<std::size_t>(s)] > 0.0) init.push_back(json::array({s, m.initial[static_cast<std::size_t>(s)]}));
+    if (m.initial[static_cast<std::size_t>(s)] > 0.0)
+      init.push_back(json::array({s, m.initial[static_cast<std::size_t>(s)]}));
   j["initial"] = init;
   json tr = json::array();
   for (int s = 0; s < m.num_states; ++s) {
@@ -171,8 +178,10 @@ json mdp_to_json(const FiniteMdp& m) {
       if (shared && e > b) t["reward"] = m.reward[b];
       json next = json::array();
       for (std::uint32_t k = b; k < e; ++k) {
-        if (shared) next.push_back(json::array({m.next_state[k], m.probability[k]}));
-        else next.push_back(json::array({m.next_state[k], m.probability[k], m.reward[k]}));
+        if (shared)
+          next.push_back(json::array({m.next_state[k], m.probability[k]}));
+        else
+          next.push_back(json::array({m.next_state[k], m.probability[k], m.reward[k]}));
       }
       t["next"] = next;
       tr.push_back(std::move(t));

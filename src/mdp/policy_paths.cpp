@@ -9,7 +9,8 @@ namespace pegasus {
 PolicyPath most_likely_path(const FiniteMdp& m, std::span<const int> policy, int start, int max_length) {
   if (policy.size() != static_cast<std::size_t>(m.num_states))
     throw InputError(fmt::format("policy path: expected {} actions, got {}", m.num_states, policy.size()));
-  if (start < 0 || start >= m.num_states) throw InputError(fmt::format("policy path: start state {} outside [0, {})", start, m.num_states));
+  if (start < 0 || start >= m.num_states)
+    throw InputError(fmt::format("policy path: start state {} outside [0, {})", start, m.num_states));
   PolicyPath path;
   std::vector<int> seen_at(static_cast<std::size_t>(m.num_states), -1);
   int s = start;
@@ -25,7 +26,9 @@ PolicyPath most_likely_path(const FiniteMdp& m, std::span<const int> policy, int
       break;
     }
     const int a = policy[static_cast<std::size_t>(s)];
-    if (a < 0 || a >= m.num_actions) throw InputError(fmt::format("policy path: action {} of state {} outside [0, {})", a, s, m.num_actions));
+    if (a < 0 || a >= m.num_actions)
+      throw InputError(
+          fmt::format("policy path: action {} of state {} outside [0, {})", a, s, m.num_actions));
     const std::size_t r = m.row(s, a);
     std::uint32_t best = m.row_start[r];
     for (std::uint32_t k = m.row_start[r] + 1; k < m.row_start[r + 1]; ++k)

@@ -45,7 +45,8 @@ FiniteMdp random_mdp(const RandomMdpOptions& o, UniformStream& rng) {
       if (episodic && leak) pool.pop_back();  // the leak adds `end` itself (lo <= end always)
       const int k = std::min<int>(o.successors, static_cast<int>(pool.size()));
       for (int i = 0; i < k; ++i) {  // partial Fisher-Yates
-        const auto j = static_cast<std::size_t>(i) + rng.next_below(pool.size() - static_cast<std::size_t>(i));
+        const auto j =
+            static_cast<std::size_t>(i) + rng.next_below(pool.size() - static_cast<std::size_t>(i));
         std::swap(pool[static_cast<std::size_t>(i)], pool[j]);
       }
       w.assign(static_cast<std::size_t>(k), 0.0);

@@ -99,8 +99,8 @@ __attribute__((target("avx2,fma"))) inline double hsum_avx2(__m256d x) {
   return _mm_cvtsd_f64(_mm_add_sd(s, _mm_unpackhi_pd(s, s)));
 }
 
-__attribute__((target("avx2,fma"))) void dot4_avx2(const double* p, std::size_t stride, const double* v, int n,
-                                                   double* out) {
+__attribute__((target("avx2,fma"))) void dot4_avx2(const double* p, std::size_t stride, const double* v,
+                                                   int n, double* out) {
   const double* q[4] = {p, p + stride, p + 2 * stride, p + 3 * stride};
   // Two accumulators per row: eight independent FMA chains cover the FMA latency.
   __m256d acc[4][2];
@@ -120,8 +120,8 @@ __attribute__((target("avx2,fma"))) void dot4_avx2(const double* p, std::size_t 
   }
 }
 
-__attribute__((target("avx512f"))) void dot4_avx512(const double* p, std::size_t stride, const double* v, int n,
-                                                    double* out) {
+__attribute__((target("avx512f"))) void dot4_avx512(const double* p, std::size_t stride, const double* v,
+                                                    int n, double* out) {
   const double* q[4] = {p, p + stride, p + 2 * stride, p + 3 * stride};
   __m512d acc[4][2];
   for (auto& r : acc) r[0] = r[1] = _mm512_setzero_pd();
@@ -185,7 +185,8 @@ struct Kernel {
         gamma(m.gamma),
         S(m.num_states),
         A(m.num_actions),
-        all_dense(m.num_states >= 16 && m.num_entries() == m.num_rows() * static_cast<std::size_t>(m.num_states)) {}
+        all_dense(m.num_states >= 16 &&
+                  m.num_entries() == m.num_rows() * static_cast<std::size_t>(m.num_states)) {}
 
   double q(std::size_t r, const double* __restrict v) const {
     const std::uint32_t b = row_start[r], e = row_start[r + 1];
@@ -281,7 +282,8 @@ struct Kernel {
   void evaluate_in_place(const int* policy, double* v) const {
     for (int s = 0; s < S; ++s) {
       if (absorbing[s]) continue;
-      v[s] = q(static_cast<std::size_t>(s) * static_cast<std::size_t>(A) + static_cast<std::size_t>(policy[s]), v);
+      v[s] = q(
+          static_cast<std::size_t>(s) * static_cast<std::size_t>(A) + static_cast<std::size_t>(policy[s]), v);
     }
   }
 };
@@ -295,7 +297,8 @@ void require_valid(bool valid, const std::string& error) {
 }
 
 std::vector<double> start_values(const FiniteMdp& m, const std::vector<double>& given) {
-  std::vector<double> v = given.empty() ? std::vector<double>(static_cast<std::size_t>(m.num_states), 0.0) : given;
+  std::vector<double> v =
+      given.empty() ? std::vector<double>(static_cast<std::size_t>(m.num_states), 0.0) : given;
   for (int s = 0; s < m.num_states; ++s)
     if (m.is_absorbing(s)) v[static_cast<std::size_t>(s)] = 0.0;
   return v;
@@ -330,9 +333,7 @@ class BandLu {
     w_ = kl + ku + 1;
     a_.assign(static_cast<std::size_t>(n) * static_cast<std::size_t>(w_), 0.0);
   }
-  std::int64_t position(int i, int j) const {
-    return static_cast<std::int64_t>(i) * w_ + (j - i + kl_);
-  }
+  std::int64_t position(int i, int j) const { return static_cast<std::int64_t>(i) * w_ + (j - i + kl_); }
   double* values() { return a_.data(); }
   std::size_t size() const { return a_.size(); }
 
@@ -387,7 +388,8 @@ class PolicyEvaluator {
       if (!m.is_absorbing(s)) index_[static_cast<std::size_t>(s)] = n_++;
     if (n_ == 0) return;
     // Average pattern of one action above a quarter full: dense LU, no sparse structure needed.
-    dense_ = static_cast<double>(m.num_entries()) / m.num_actions > 0.25 * static_cast<double>(n_) * static_cast<double>(n_);
+    dense_ = static_cast<double>(m.num_entries()) / m.num_actions >
+             0.25 * static_cast<double>(n_) * static_cast<double>(n_);
     if (dense_) return;
     if (try_band()) return;
     std::vector<Eigen::Triplet<double>> trip;
@@ -499,7 +501,8 @@ class PolicyEvaluator {
     for (int s = 0; s < m_.num_states; ++s) {
       const int i = index_[static_cast<std::size_t>(s)];
       if (i < 0) continue;
-      for (std::uint32_t k = m_.row_start[m_.row(s, 0)]; k < m_.row_start[m_.row(s, m_.num_actions - 1) + 1]; ++k) {
+      for (std::uint32_t k = m_.row_start[m_.row(s, 0)]; k < m_.row_start[m_.row(s, m_.num_actions - 1) + 1];
+           ++k) {
         const int j = index_[static_cast<std::size_t>(m_.next_state[k])];
         if (j < 0) continue;
         kl = std::max(kl, i - j);
@@ -517,7 +520,8 @@ class PolicyEvaluator {
       const int i = index_[static_cast<std::size_t>(s)];
       if (i < 0) continue;
       diag_pos_[static_cast<std::size_t>(i)] = lu_band_.position(i, i);
-      for (std::uint32_t k = m_.row_start[m_.row(s, 0)]; k < m_.row_start[m_.row(s, m_.num_actions - 1) + 1]; ++k) {
+      for (std::uint32_t k = m_.row_start[m_.row(s, 0)]; k < m_.row_start[m_.row(s, m_.num_actions - 1) + 1];
+           ++k) {
         const int j = index_[static_cast<std::size_t>(m_.next_state[k])];
         if (j >= 0) entry_pos_[k] = lu_band_.position(i, j);
       }
@@ -544,7 +548,8 @@ void run_policy_iteration(const FiniteMdp& m, std::vector<int> policy, int max_i
   *steps = 0;
   bool stable = false;
   while (*steps < max_iterations) {
-    v = evaluator.evaluate([&policy](int s, int a) { return policy[static_cast<std::size_t>(s)] == a ? 1.0 : 0.0; });
+    v = evaluator.evaluate(
+        [&policy](int s, int a) { return policy[static_cast<std::size_t>(s)] == a ? 1.0 : 0.0; });
     ++*steps;
     stable = true;
     for (int s = 0; s < m.num_states; ++s) {
@@ -587,7 +592,8 @@ bool ValueIterationOptions::IsValid(const FiniteMdp& mdp, std::string* error) co
   if (!(tolerance > 0.0)) return bad(fmt::format("tolerance must be > 0, got {}", tolerance));
   if (max_iterations < 1) return bad(fmt::format("max_iterations must be >= 1, got {}", max_iterations));
   if (!initial_values.empty() && initial_values.size() != static_cast<std::size_t>(mdp.num_states))
-    return bad(fmt::format("initial_values must have {} entries, got {}", mdp.num_states, initial_values.size()));
+    return bad(
+        fmt::format("initial_values must have {} entries, got {}", mdp.num_states, initial_values.size()));
   return true;
 }
 
@@ -603,7 +609,8 @@ bool PolicyIterationOptions::IsValid(const FiniteMdp& mdp, std::string* error) c
       return bad(fmt::format("initial_policy must have {} entries", mdp.num_states));
     for (std::size_t s = 0; s < initial_policy.size(); ++s)
       if (initial_policy[s] < 0 || initial_policy[s] >= mdp.num_actions)
-        return bad(fmt::format("initial_policy[{}] = {} outside [0, {})", s, initial_policy[s], mdp.num_actions));
+        return bad(
+            fmt::format("initial_policy[{}] = {} outside [0, {})", s, initial_policy[s], mdp.num_actions));
   }
   return true;
 }
@@ -614,15 +621,16 @@ bool ModifiedPolicyIterationOptions::IsValid(const FiniteMdp&, std::string* erro
     return false;
   };
   if (!(epsilon > 0.0)) return bad(fmt::format("epsilon must be > 0, got {}", epsilon));
-  if (evaluation_sweeps < 1) return bad(fmt::format("evaluation_sweeps must be >= 1, got {}", evaluation_sweeps));
+  if (evaluation_sweeps < 1)
+    return bad(fmt::format("evaluation_sweeps must be >= 1, got {}", evaluation_sweeps));
   if (max_iterations < 1) return bad(fmt::format("max_iterations must be >= 1, got {}", max_iterations));
   return true;
 }
 
 std::string SolveSummary::BriefReport() const {
   return fmt::format("{} after {} iterations (+{} polish), residual {:.3g}, policy loss <= {:.3g}, {:.3g} s",
-                     termination_name(termination), iterations, polish_iterations, residual, policy_loss_bound,
-                     seconds);
+                     termination_name(termination), iterations, polish_iterations, residual,
+                     policy_loss_bound, seconds);
 }
 
 namespace {
@@ -684,7 +692,9 @@ SolveSummary value_iteration(const FiniteMdp& m, const ValueIterationOptions& o)
     } else {
       // A Gauss-Seidel sweep's change only says when to try the certificate, which needs a Jacobi pass.
       const double change = k.gauss_seidel(v.data());
-      const double try_below = residual_rule ? o.tolerance : g < 1.0 ? o.epsilon * (1.0 - g) / 2.0 : o.epsilon;
+      const double try_below = residual_rule ? o.tolerance
+                               : g < 1.0     ? o.epsilon * (1.0 - g) / 2.0
+                                             : o.epsilon;
       if (change < try_below || g == 0.0) {
         last = k.jacobi(v.data(), w.data(), policy.data());
         std::swap(v, w);
@@ -703,8 +713,10 @@ SolveSummary value_iteration(const FiniteMdp& m, const ValueIterationOptions& o)
     sum.polish_iterations = steps;
     sum.value_error_bound = 0.0;
   } else {
-    if (g < 1.0 && it > 0) finish_discounted(m, last, !residual_rule, v, &sum);
-    else sum.residual = last.max_abs();
+    if (g < 1.0 && it > 0)
+      finish_discounted(m, last, !residual_rule, v, &sum);
+    else
+      sum.residual = last.max_abs();
     sum.value = std::move(v);
     sum.policy = std::move(policy);
   }
@@ -719,9 +731,11 @@ SolveSummary policy_iteration(const FiniteMdp& m, const PolicyIterationOptions& 
   std::string err;
   require_valid(o.IsValid(m, &err), err);
   std::vector<int> policy = o.initial_policy;
-  if (policy.empty()) policy = greedy_policy(m, std::vector<double>(static_cast<std::size_t>(m.num_states), 0.0));
+  if (policy.empty())
+    policy = greedy_policy(m, std::vector<double>(static_cast<std::size_t>(m.num_states), 0.0));
   SolveSummary sum;
-  run_policy_iteration(m, std::move(policy), o.max_iterations, o.improvement_tolerance, &sum, &sum.iterations);
+  run_policy_iteration(m, std::move(policy), o.max_iterations, o.improvement_tolerance, &sum,
+                       &sum.iterations);
   sum.seconds = seconds_since(t0);
   sum.message = fmt::format("policy iteration {}", termination_name(sum.termination));
   return sum;
@@ -755,7 +769,8 @@ SolveSummary modified_policy_iteration(const FiniteMdp& m, const ModifiedPolicyI
     ++it;
     last = k.jacobi(v.data(), w.data(), policy.data());
     std::swap(v, w);
-    const bool done = g == 0.0 || (g < 1.0 ? last.span() / (1.0 - g) <= o.epsilon : last.max_abs() < o.epsilon);
+    const bool done =
+        g == 0.0 || (g < 1.0 ? last.span() / (1.0 - g) <= o.epsilon : last.max_abs() < o.epsilon);
     if (done) {
       sum.termination = SolverTermination::kConverged;
       break;
@@ -771,8 +786,10 @@ SolveSummary modified_policy_iteration(const FiniteMdp& m, const ModifiedPolicyI
     sum.value_error_bound = 0.0;
   } else {
     // The certificate concerns the last improvement sweep only (partial evaluations came before it).
-    if (g < 1.0) finish_discounted(m, last, true, v, &sum);
-    else sum.residual = last.max_abs();
+    if (g < 1.0)
+      finish_discounted(m, last, true, v, &sum);
+    else
+      sum.residual = last.max_abs();
     sum.value = std::move(v);
     sum.policy = std::move(policy);
   }
@@ -791,7 +808,8 @@ StochasticPolicy StochasticPolicy::from_deterministic(const FiniteMdp& m, std::s
   p.probs.assign(m.num_rows(), 0.0);
   for (int s = 0; s < m.num_states; ++s) {
     const int a = policy[static_cast<std::size_t>(s)];
-    check(a >= 0 && a < m.num_actions, fmt::format("policy: action {} of state {} outside [0, {})", a, s, m.num_actions));
+    check(a >= 0 && a < m.num_actions,
+          fmt::format("policy: action {} of state {} outside [0, {})", a, s, m.num_actions));
     p.probs[m.row(s, a)] = 1.0;
   }
   return p;
@@ -808,10 +826,12 @@ std::vector<double> evaluate_policy(const FiniteMdp& m, const StochasticPolicy& 
     double total = 0.0;
     for (int a = 0; a < m.num_actions; ++a) {
       const double w = pi.probs[m.row(s, a)];
-      check(w >= 0.0 && w <= 1.0, fmt::format("policy: probability {} of action {} in state {} outside [0, 1]", w, a, s));
+      check(w >= 0.0 && w <= 1.0,
+            fmt::format("policy: probability {} of action {} in state {} outside [0, 1]", w, a, s));
       total += w;
     }
-    check(std::abs(total - 1.0) <= 1e-9, fmt::format("policy: action probabilities of state {} sum to {}", s, total));
+    check(std::abs(total - 1.0) <= 1e-9,
+          fmt::format("policy: action probabilities of state {} sum to {}", s, total));
   }
   PolicyEvaluator evaluator(m);
   return evaluator.evaluate([&](int s, int a) { return pi.probs[m.row(s, a)]; });
@@ -866,7 +886,8 @@ std::vector<std::uint64_t> near_optimal_actions(const FiniteMdp& m, std::span<co
 
 double expected_under_initial(const FiniteMdp& m, std::span<const double> value) {
   double sum = 0.0;
-  for (int s = 0; s < m.num_states; ++s) sum += m.initial[static_cast<std::size_t>(s)] * value[static_cast<std::size_t>(s)];
+  for (int s = 0; s < m.num_states; ++s)
+    sum += m.initial[static_cast<std::size_t>(s)] * value[static_cast<std::size_t>(s)];
   return sum;
 }
 
@@ -888,9 +909,10 @@ bool dense_dot_path_supported(DenseDotPath path) {
 }
 
 DenseDotPath best_dense_dot_path() {
-  static const DenseDotPath best = dense_dot_path_supported(DenseDotPath::kAvx512)    ? DenseDotPath::kAvx512
-                                   : dense_dot_path_supported(DenseDotPath::kAvx2Fma) ? DenseDotPath::kAvx2Fma
-                                                                                       : DenseDotPath::kBaseline;
+  static const DenseDotPath best = dense_dot_path_supported(DenseDotPath::kAvx512) ? DenseDotPath::kAvx512
+                                   : dense_dot_path_supported(DenseDotPath::kAvx2Fma)
+                                       ? DenseDotPath::kAvx2Fma
+                                       : DenseDotPath::kBaseline;
   return best;
 }
 

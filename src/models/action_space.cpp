@@ -18,7 +18,8 @@ ActionSpace ActionSpace::box(std::vector<double> low, std::vector<double> high) 
   if (low.empty() || low.size() != high.size())
     throw InputError("action space: expected box bounds of equal, non-zero length");
   for (std::size_t i = 0; i < low.size(); ++i)
-    if (!(low[i] <= high[i])) throw InputError(fmt::format("action space: expected low[{0}] <= high[{0}]", i));
+    if (!(low[i] <= high[i]))
+      throw InputError(fmt::format("action space: expected low[{0}] <= high[{0}]", i));
   ActionSpace s;
   s.low_ = std::move(low);
   s.high_ = std::move(high);

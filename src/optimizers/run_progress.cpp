@@ -47,7 +47,8 @@ std::vector<double> VectorFromJson(const json& values, std::string_view field) {
 
 json SummaryToJson(const OptimizerSummary& s) {
   json history = json::array();
-  for (const auto& r : s.history) history.push_back({r.iteration, r.evaluations, DoubleToJson(r.value), r.seconds});
+  for (const auto& r : s.history)
+    history.push_back({r.iteration, r.evaluations, DoubleToJson(r.value), r.seconds});
   return {{"method", s.method},
           {"termination", std::string(TerminationTypeName(s.termination_type))},
           {"message", s.message},
@@ -66,8 +67,9 @@ OptimizerSummary SummaryFromJson(const json& j, std::string_view field) {
   OptimizerSummary s;
   s.method = j.at("method").get<std::string>();
   const std::string t = j.at("termination").get<std::string>();
-  for (auto type : {TerminationType::kConvergence, TerminationType::kMaxIterations, TerminationType::kMaxEvaluations,
-                    TerminationType::kSearchComplete, TerminationType::kFailure})
+  for (auto type :
+       {TerminationType::kConvergence, TerminationType::kMaxIterations, TerminationType::kMaxEvaluations,
+        TerminationType::kSearchComplete, TerminationType::kFailure})
     if (TerminationTypeName(type) == t) s.termination_type = type;
   s.message = j.at("message").get<std::string>();
   s.iterations = j.at("iterations").get<std::int64_t>();

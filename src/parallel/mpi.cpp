@@ -101,11 +101,12 @@ Session::Session([[maybe_unused]] int* argc, [[maybe_unused]] char*** argv) {
 #else
   if (launched > 1) {
     if (launched_rank() == 0)
-      std::fprintf(stderr,
-                   "pegasus: this build has no MPI (configured with PEGASUS_MPI=OFF or without Open MPI): under "
-                   "mpirun -np %d every process would run the whole job alone; rebuild with Open MPI "
-                   "(libopenmpi-dev) or run without mpirun\n",
-                   launched);
+      std::fprintf(
+          stderr,
+          "pegasus: this build has no MPI (configured with PEGASUS_MPI=OFF or without Open MPI): under "
+          "mpirun -np %d every process would run the whole job alone; rebuild with Open MPI "
+          "(libopenmpi-dev) or run without mpirun\n",
+          launched);
     std::exit(2);
   }
 #endif
@@ -125,14 +126,16 @@ int rank() { return g_rank; }
 int size() { return g_size; }
 
 Share collective_share() {
-  if (g_size == 1 || std::this_thread::get_id() != g_main_thread || ThreadPool::inside_parallel_for()) return {};
+  if (g_size == 1 || std::this_thread::get_id() != g_main_thread || ThreadPool::inside_parallel_for())
+    return {};
   return {g_rank, g_size};
 }
 
 void allgather_shares([[maybe_unused]] std::span<double> values, const Share& share) {
   if (share.size == 1) return;
 #ifdef PEGASUS_HAVE_MPI
-  if (share.size != g_size || share.rank != g_rank) throw std::logic_error("allgather_shares: not this rank's share");
+  if (share.size != g_size || share.rank != g_rank)
+    throw std::logic_error("allgather_shares: not this rank's share");
   ++g_stats.calls;
   if (g_kill_rank == g_rank && g_stats.calls >= g_kill_after) std::raise(SIGKILL);
   const std::size_t n = values.size();
@@ -153,8 +156,8 @@ void allgather_shares([[maybe_unused]] std::span<double> values, const Share& sh
     g_stats.wait_seconds += now_seconds() - start;
   }
   const double start = now_seconds();
-  const int rc = MPI_Allgatherv(mine.data(), static_cast<int>(mine.size()), MPI_DOUBLE, all.data(), counts.data(),
-                                displs.data(), MPI_DOUBLE, MPI_COMM_WORLD);
+  const int rc = MPI_Allgatherv(mine.data(), static_cast<int>(mine.size()), MPI_DOUBLE, all.data(),
+                                counts.data(), displs.data(), MPI_DOUBLE, MPI_COMM_WORLD);
   g_stats.seconds += now_seconds() - start;
   g_stats.bytes += static_cast<std::int64_t>(n * sizeof(double));
   if (rc != MPI_SUCCESS) throw std::runtime_error("MPI_Allgatherv failed");

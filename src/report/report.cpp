@@ -1034,8 +1034,8 @@ json report_data(const fs::path& run_dir, const ReportOptions& options) {
   for (auto& [k, v] : headline) rows.push_back({k, v});
   std::string head = rows.empty() ? std::string("<p>(no scalar figures)</p>\n")
                                   : table_html({"figure", "value"}, rows, "headline");
-  head +=
-      "<details><summary>summary.json</summary>\n<pre>" + escape_markup(summary.dump(2)) + "</pre></details>\n";
+  head += "<details><summary>summary.json</summary>\n<pre>" + escape_markup(summary.dump(2)) +
+          "</pre></details>\n";
   page.section("headline", "Headline figures", "From summary.json.", head);
   const std::string config = read_text_or_empty(run_dir / "config.toml");
   std::string config_html =
@@ -1182,8 +1182,9 @@ std::string render_data(json data, std::string_view bundle_js) {
   std::string meta = escape_markup(data["run_dir"].get<std::string>());
   const json& run = data["run"];
   if (run.contains("version"))
-    meta += " &middot; pegasus " + escape_markup(run["version"].is_string() ? run["version"].get<std::string>()
-                                                                          : run["version"].dump());
+    meta +=
+        " &middot; pegasus " +
+        escape_markup(run["version"].is_string() ? run["version"].get<std::string>() : run["version"].dump());
   if (run.contains("wall_time_s") && run["wall_time_s"].is_number()) {
     meta += fmt::format(" &middot; {:.3g} s wall time", run["wall_time_s"].get<double>());
   }
@@ -1211,8 +1212,8 @@ std::string render_data(json data, std::string_view bundle_js) {
   html += "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n";
   html += "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n";
   html += "<meta name=\"generator\" content=\"pegasus report\">\n";
-  html += "<title>" + escape_markup(title) + " &middot; " + escape_markup(data["run_dir"].get<std::string>()) +
-          "</title>\n";
+  html += "<title>" + escape_markup(title) + " &middot; " +
+          escape_markup(data["run_dir"].get<std::string>()) + "</title>\n";
   html += "<style>" + std::string(kStyle) + "</style>\n</head>\n<body>\n";
   html += "<header><h1>" + escape_markup(title) + "</h1><p class=\"meta\">" + meta + "</p></header>\n";
   html += "<nav>" + nav + "</nav>\n<main>\n" + data["body"].get<std::string>() + "</main>\n";

@@ -33,7 +33,9 @@ Progress::Progress(std::string label, std::uint64_t total, bool enabled, std::FI
 Progress::~Progress() { finish(); }
 
 // Under mpirun only rank 0 draws (every rank runs the same work).
-bool Progress::default_enabled(bool quiet) { return !quiet && mpi::is_root() && ::isatty(STDERR_FILENO) == 1; }
+bool Progress::default_enabled(bool quiet) {
+  return !quiet && mpi::is_root() && ::isatty(STDERR_FILENO) == 1;
+}
 
 void Progress::advance(std::uint64_t k) {
   done_.fetch_add(k, std::memory_order_relaxed);

@@ -42,9 +42,11 @@ void remove_stale_temporaries(const fs::path& dir) {
 
 // A private folder for a shadow's direct writes, removed when the last copy of the pointer goes.
 std::shared_ptr<const fs::path> make_scratch() {
-  std::string pattern = (fs::temp_directory_path() / fmt::format("pegasus-rank{}-XXXXXX", mpi::rank())).string();
+  std::string pattern =
+      (fs::temp_directory_path() / fmt::format("pegasus-rank{}-XXXXXX", mpi::rank())).string();
   if (::mkdtemp(pattern.data()) == nullptr)
-    throw std::runtime_error(fmt::format("cannot create a scratch folder {}: {}", pattern, std::strerror(errno)));
+    throw std::runtime_error(
+        fmt::format("cannot create a scratch folder {}: {}", pattern, std::strerror(errno)));
   return std::shared_ptr<const fs::path>(new fs::path(pattern), [](const fs::path* p) {
     std::error_code ec;
     fs::remove_all(*p, ec);
@@ -54,7 +56,8 @@ std::shared_ptr<const fs::path> make_scratch() {
 
 }  // namespace
 
-RunDirectory RunDirectory::open(const fs::path& dir, const ConfigSchema& config, RunDirectoryOptions options) {
+RunDirectory RunDirectory::open(const fs::path& dir, const ConfigSchema& config,
+                                RunDirectoryOptions options) {
   if (mpi::size() == 1) return open_here(dir, config, options);
   // Rank 0 opens; every rank learns the outcome, so all go on or all throw the same error.
   std::optional<RunDirectory> opened;
@@ -62,7 +65,9 @@ RunDirectory RunDirectory::open(const fs::path& dir, const ConfigSchema& config,
   if (mpi::is_root()) {
     try {
       opened.emplace(open_here(dir, config, options));
-      outcome = {{"ok", true}, {"final", opened->final_.string()}, {"staging", opened->staging_.string()},
+      outcome = {{"ok", true},
+                 {"final", opened->final_.string()},
+                 {"staging", opened->staging_.string()},
                  {"resumed", opened->resumed_}};
     } catch (const InputError& e) {
       outcome = {{"ok", false}, {"input", true}, {"message", e.what()}};

@@ -1,13 +1,13 @@
 #include "pegasus/runs/svg_plot.hpp"
 
-#include "pegasus/runs/output.hpp"
-
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+
+#include "pegasus/runs/output.hpp"
 
 namespace pegasus {
 
@@ -159,7 +159,8 @@ std::string SvgPlot::render() const {
   std::size_t longest = 0;
   for (const auto& series : series_) longest = std::max(longest, series.name.size());
   for (const auto& reference : references_) longest = std::max(longest, reference.label.size());
-  const double legend_width = series_.empty() && references_.empty() ? 20 : 50 + 7.0 * static_cast<double>(longest);
+  const double legend_width =
+      series_.empty() && references_.empty() ? 20 : 50 + 7.0 * static_cast<double>(longest);
   const double pw = width_ - left - legend_width, ph = height_ - top - bottom;
   auto px = [&](double x) { return left + ax.unit(x) * pw; };
   auto py = [&](double y) { return top + ph - ay.unit(y) * ph; };

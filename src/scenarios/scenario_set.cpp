@@ -1,9 +1,9 @@
 #include "pegasus/scenarios/scenario_set.hpp"
 
-#include <boost/random/sobol.hpp>
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <boost/random/sobol.hpp>
 #include <numeric>
 
 #include "pegasus/core/error.hpp"
@@ -15,15 +15,20 @@ ScenarioVariant parse_scenario_variant(const std::string& name) {
   if (name == "antithetic") return ScenarioVariant::kAntithetic;
   if (name == "stratified") return ScenarioVariant::kStratified;
   if (name == "sobol") return ScenarioVariant::kSobol;
-  throw InputError("scenario variant: expected one of plain, antithetic, stratified, sobol; got '" + name + "'");
+  throw InputError("scenario variant: expected one of plain, antithetic, stratified, sobol; got '" + name +
+                   "'");
 }
 
 std::string to_string(ScenarioVariant variant) {
   switch (variant) {
-    case ScenarioVariant::kPlain: return "plain";
-    case ScenarioVariant::kAntithetic: return "antithetic";
-    case ScenarioVariant::kStratified: return "stratified";
-    case ScenarioVariant::kSobol: return "sobol";
+    case ScenarioVariant::kPlain:
+      return "plain";
+    case ScenarioVariant::kAntithetic:
+      return "antithetic";
+    case ScenarioVariant::kStratified:
+      return "stratified";
+    case ScenarioVariant::kSobol:
+      return "sobol";
   }
   return "plain";
 }
@@ -68,7 +73,8 @@ ScenarioSet::ScenarioSet(const ScenarioOptions& options) : options_(options), rn
     sobol_points_.resize(m * sobol_dim_);
     for (std::size_t i = 0; i < m; ++i)
       for (std::size_t d = 0; d < sobol_dim_; ++d) {
-        const std::uint64_t x = (i == 0 ? 0 : static_cast<std::uint64_t>(engine())) ^ shift[d];  // digital shift
+        const std::uint64_t x =
+            (i == 0 ? 0 : static_cast<std::uint64_t>(engine())) ^ shift[d];  // digital shift
         sobol_points_[i * sobol_dim_ + d] =
             CounterRng::to_unit(static_cast<std::uint32_t>(x >> 32), static_cast<std::uint32_t>(x));
       }
@@ -128,7 +134,8 @@ void ScenarioSet::step_noise(int i, int t, std::span<double> out) const {
     case ScenarioVariant::kSobol: {
       const std::size_t base = static_cast<std::size_t>(options_.initial_noise_dim) +
                                static_cast<std::size_t>(t) * static_cast<std::size_t>(d);
-      for (int j = 0; j < d; ++j) out[static_cast<std::size_t>(j)] = sobol(i, base + static_cast<std::size_t>(j));
+      for (int j = 0; j < d; ++j)
+        out[static_cast<std::size_t>(j)] = sobol(i, base + static_cast<std::size_t>(j));
       return;
     }
   }

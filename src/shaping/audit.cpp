@@ -45,14 +45,18 @@ class Scope {
           support.push_back({s, a, m.next_state[k], 0.0});
       }
     }
-    auto less = [](const Triple& x, const Triple& y) { return std::tie(x.s, x.a, x.n) < std::tie(y.s, y.a, y.n); };
+    auto less = [](const Triple& x, const Triple& y) {
+      return std::tie(x.s, x.a, x.n) < std::tie(y.s, y.a, y.n);
+    };
     std::vector<Triple> listed;
     for (const auto& e : table.entries())
       if (!m.is_absorbing(e.state)) listed.push_back({e.state, e.action, e.next, e.value});
-    std::merge(support.begin(), support.end(), listed.begin(), listed.end(), std::back_inserter(triples_), less);
-    triples_.erase(std::unique(triples_.begin(), triples_.end(),
-                               [](const Triple& x, const Triple& y) { return x.s == y.s && x.a == y.a && x.n == y.n; }),
-                   triples_.end());
+    std::merge(support.begin(), support.end(), listed.begin(), listed.end(), std::back_inserter(triples_),
+               less);
+    triples_.erase(
+        std::unique(triples_.begin(), triples_.end(),
+                    [](const Triple& x, const Triple& y) { return x.s == y.s && x.a == y.a && x.n == y.n; }),
+        triples_.end());
     for (auto& t : triples_) t.f = table(t.s, t.a, t.n);
     // Pairs, grouped by (s, n).
     std::vector<std::size_t> order(triples_.size());
@@ -86,9 +90,9 @@ class Scope {
   // F extended off the scope: the triple's own value, else the pair's, else 0.
   double f_ext(int s, int a, int n) const {
     const Triple probe{s, a, n, 0.0};
-    const auto it = std::lower_bound(triples_.begin(), triples_.end(), probe, [](const Triple& x, const Triple& y) {
-      return std::tie(x.s, x.a, x.n) < std::tie(y.s, y.a, y.n);
-    });
+    const auto it = std::lower_bound(
+        triples_.begin(), triples_.end(), probe,
+        [](const Triple& x, const Triple& y) { return std::tie(x.s, x.a, x.n) < std::tie(y.s, y.a, y.n); });
     if (it != triples_.end() && it->s == s && it->a == a && it->n == n) return it->f;
     return f_pair(s, n);
   }
@@ -98,7 +102,9 @@ class Scope {
   }
 
  private:
-  std::uint64_t key(int s, int n) const { return static_cast<std::uint64_t>(s) * static_cast<std::uint64_t>(S_) + static_cast<std::uint64_t>(n); }
+  std::uint64_t key(int s, int n) const {
+    return static_cast<std::uint64_t>(s) * static_cast<std::uint64_t>(S_) + static_cast<std::uint64_t>(n);
+  }
   int S_;
   std::vector<Triple> triples_;
   std::vector<Pair> pairs_;
@@ -138,11 +144,13 @@ void fit_potential(const FiniteMdp& m, const Scope& scope, ShapingAudit* out) {
     if (qr.info() != Eigen::Success) throw InputError("shaping audit: least-squares factorisation failed");
     const Eigen::VectorXd x = qr.solve(rhs);
     for (int s = 0; s < S; ++s)
-      if (index[static_cast<std::size_t>(s)] >= 0) out->potential[static_cast<std::size_t>(s)] = x[index[static_cast<std::size_t>(s)]];
+      if (index[static_cast<std::size_t>(s)] >= 0)
+        out->potential[static_cast<std::size_t>(s)] = x[index[static_cast<std::size_t>(s)]];
   }
   double worst = 0.0, sq = 0.0;
   for (const auto& t : tr) {
-    const double e = m.gamma * out->potential[static_cast<std::size_t>(t.n)] - out->potential[static_cast<std::size_t>(t.s)] - t.f;
+    const double e = m.gamma * out->potential[static_cast<std::size_t>(t.n)] -
+                     out->potential[static_cast<std::size_t>(t.s)] - t.f;
     worst = std::max(worst, std::abs(e));
     sq += e * e;
   }
@@ -239,16 +247,19 @@ int first_absorbing(const FiniteMdp& m) {
 
 // Lemma 4: all actions lead from s to the same place, R(s, b) = (g_max - g_b)/2 makes the actions with the
 // smallest shaping g_b optimal in M and those with the largest optimal in M + F.
-std::optional<Counterexample> lemma4_counterexample(const FiniteMdp& m, const Scope& scope, const ActionDependence& w,
-                                                    double tol) {
+std::optional<Counterexample> lemma4_counterexample(const FiniteMdp& m, const Scope& scope,
+                                                    const ActionDependence& w, double tol) {
   const int s = w.state, n = w.next_state, A = m.num_actions;
   const int z = first_absorbing(m);
   for (double q : {0.5, 0.25}) {
     std::vector<double> g(static_cast<std::size_t>(A));
     for (int b = 0; b < A; ++b) {
-      if (n != s) g[static_cast<std::size_t>(b)] = scope.f_ext(s, b, n);
-      else if (z >= 0) g[static_cast<std::size_t>(b)] = q * scope.f_ext(s, b, s) + (1 - q) * scope.f_ext(s, b, z);
-      else g[static_cast<std::size_t>(b)] = scope.f_ext(s, b, s);
+      if (n != s)
+        g[static_cast<std::size_t>(b)] = scope.f_ext(s, b, n);
+      else if (z >= 0)
+        g[static_cast<std::size_t>(b)] = q * scope.f_ext(s, b, s) + (1 - q) * scope.f_ext(s, b, z);
+      else
+        g[static_cast<std::size_t>(b)] = scope.f_ext(s, b, s);
     }
     const double gmax = *std::max_element(g.begin(), g.end()), gmin = *std::min_element(g.begin(), g.end());
     if (!(gmax - gmin > tol)) continue;
@@ -269,7 +280,8 @@ std::optional<Counterexample> lemma4_counterexample(const FiniteMdp& m, const Sc
     Counterexample cx{b.build(), {}, s, 0, 0, gmax - gmin, false, false, {}};
     cx.uses_only_scope = n != s ? scope.has_pair(s, n) : (z < 0 || scope.has_pair(s, z));
     cx.description = fmt::format(
-        "Lemma 4: every action takes state {} to {}{}; R(s, b) = (max_b' g - g_b)/2 for the shaping g_b each action "
+        "Lemma 4: every action takes state {} to {}{}; R(s, b) = (max_b' g - g_b)/2 for the shaping g_b each "
+        "action "
         "collects, so M prefers the actions F rewards least and M + F those it rewards most (spread {:.6g})",
         s, n, n == s && z >= 0 ? fmt::format(" (probability {}, else absorbing {})", q, z) : "", gmax - gmin);
     verify(scope, &cx);
@@ -283,8 +295,8 @@ std::optional<Counterexample> lemma4_counterexample(const FiniteMdp& m, const Sc
 // Delta is the extra shaping of the second route. For potential-based F both routes collect -Phi(s1)
 // (Phi(z) = 0 or the self-loop's stationary value), so Delta = 0; otherwise some (s1, s2) in the scope has
 // Delta != 0 (for an absorbing anchor, Phi(s) = -F(s, z) would be a potential otherwise).
-std::optional<Counterexample> appendix_counterexample(const FiniteMdp& m, const Scope& scope, const AuditOptions& o,
-                                                      double tol, std::string* note) {
+std::optional<Counterexample> appendix_counterexample(const FiniteMdp& m, const Scope& scope,
+                                                      const AuditOptions& o, double tol, std::string* note) {
   if (m.num_actions < 2) {
     *note = "with a single action every policy is the same, so no shaping can change it";
     return std::nullopt;
@@ -294,7 +306,8 @@ std::optional<Counterexample> appendix_counterexample(const FiniteMdp& m, const 
   for (int s = 0; s < m.num_states && static_cast<int>(anchors.size()) < o.max_anchors; ++s)
     if (m.is_absorbing(s)) anchors.push_back(s);
   if (anchors.empty())
-    for (int s = 0; s < m.num_states && static_cast<int>(anchors.size()) < o.max_anchors; ++s) anchors.push_back(s);
+    for (int s = 0; s < m.num_states && static_cast<int>(anchors.size()) < o.max_anchors; ++s)
+      anchors.push_back(s);
   constexpr double q = 0.5;
   struct Best {
     int z = -1, s1 = -1, s2 = -1, off = 1 << 30;
@@ -319,7 +332,8 @@ std::optional<Counterexample> appendix_counterexample(const FiniteMdp& m, const 
       }
       const double delta = gb - ga;
       if (!(std::abs(delta) > tol)) continue;
-      if (off < best.off || (off == best.off && std::abs(delta) > std::abs(best.delta))) best = {z, s1, s2, off, delta};
+      if (off < best.off || (off == best.off && std::abs(delta) > std::abs(best.delta)))
+        best = {z, s1, s2, off, delta};
     }
   }
   if (best.z < 0) {
@@ -350,7 +364,8 @@ std::optional<Counterexample> appendix_counterexample(const FiniteMdp& m, const 
   b.set_initial(s1, 1.0);
   Counterexample cx{b.build(), {}, s1, 0, 0, best.delta, false, best.off == 0, {}};
   cx.description = fmt::format(
-      "Appendix 3.A: from state {}, action 0 goes to {} state {} with reward Delta/2; the other actions go {} "
+      "Appendix 3.A: from state {}, action 0 goes to {} state {} with reward Delta/2; the other actions go "
+      "{} "
       "with reward 0; Delta = {:.6g} is the extra shaping the second route collects, so M and M + F disagree",
       s1, m.is_absorbing(z) ? "absorbing" : "anchor", z,
       s2 == s1 ? fmt::format("back to {} with probability 1/2 (else to {})", s1, z)
@@ -402,28 +417,31 @@ bool AuditOptions::IsValid(std::string* error) const {
 
 std::string ShapingAudit::BriefReport() const {
   if (potential_based)
-    return fmt::format("potential-based (least-squares residual max {:.3g}, rms {:.3g} over {} transitions); "
-                       "optimal policy {}",
-                       max_residual, rms_residual, scope_size, policy_change.changes ? "CHANGES" : "unchanged");
-  std::string why = action_dependence ? fmt::format("F depends on the action at state {} -> {}", action_dependence->state,
-                                                    action_dependence->next_state)
-                    : cycle ? fmt::format("a cycle of {} states collects net shaping {:.6g}", cycle->states.size(),
-                                          cycle->net_shaping)
-                            : std::string("no potential fits");
-  return fmt::format("NOT potential-based: {} (residual max {:.3g}); counterexample {}; optimal policy of the given "
-                     "MDP {}",
-                     why, max_residual,
-                     counterexample ? (counterexample->verified ? "flips (verified)" : "built but NOT verified")
-                                    : "not built",
-                     policy_change.changes ? "CHANGES" : "unchanged");
+    return fmt::format(
+        "potential-based (least-squares residual max {:.3g}, rms {:.3g} over {} transitions); "
+        "optimal policy {}",
+        max_residual, rms_residual, scope_size, policy_change.changes ? "CHANGES" : "unchanged");
+  std::string why = action_dependence ? fmt::format("F depends on the action at state {} -> {}",
+                                                    action_dependence->state, action_dependence->next_state)
+                    : cycle           ? fmt::format("a cycle of {} states collects net shaping {:.6g}",
+                                                    cycle->states.size(), cycle->net_shaping)
+                                      : std::string("no potential fits");
+  return fmt::format(
+      "NOT potential-based: {} (residual max {:.3g}); counterexample {}; optimal policy of the given "
+      "MDP {}",
+      why, max_residual,
+      counterexample ? (counterexample->verified ? "flips (verified)" : "built but NOT verified")
+                     : "not built",
+      policy_change.changes ? "CHANGES" : "unchanged");
 }
 
 ShapingAudit audit_shaping(const FiniteMdp& m, const ShapingTable& f, const AuditOptions& o) {
   std::string err;
   if (!o.IsValid(&err)) throw InputError(err);
   if (f.num_states() != m.num_states || f.num_actions() != m.num_actions)
-    throw InputError(fmt::format("shaping audit: the shaping table is {} states x {} actions but the MDP is {} x {}",
-                                 f.num_states(), f.num_actions(), m.num_states, m.num_actions));
+    throw InputError(
+        fmt::format("shaping audit: the shaping table is {} states x {} actions but the MDP is {} x {}",
+                    f.num_states(), f.num_actions(), m.num_states, m.num_actions));
   ShapingAudit out;
   const Scope scope(m, f);
   out.scope_size = scope.triples().size();
@@ -440,10 +458,12 @@ ShapingAudit audit_shaping(const FiniteMdp& m, const ShapingTable& f, const Audi
   const Pair* worst = nullptr;
   for (const auto& p : scope.pairs())
     if (p.fmax - p.fmin > tol && (!worst || p.fmax - p.fmin > worst->fmax - worst->fmin)) worst = &p;
-  if (worst) out.action_dependence = ActionDependence{worst->s, worst->n, worst->amax, worst->amin, worst->fmax, worst->fmin};
+  if (worst)
+    out.action_dependence =
+        ActionDependence{worst->s, worst->n, worst->amax, worst->amin, worst->fmax, worst->fmin};
 
-  if (m.gamma == 1.0 &&
-      static_cast<double>(m.num_states) * static_cast<double>(scope.pairs().size()) <= o.max_cycle_search_work) {
+  if (m.gamma == 1.0 && static_cast<double>(m.num_states) * static_cast<double>(scope.pairs().size()) <=
+                            o.max_cycle_search_work) {
     out.cycle = find_cycle(m, scope, +1.0, tol);
     if (!out.cycle) out.cycle = find_cycle(m, scope, -1.0, tol);
   }
@@ -453,7 +473,8 @@ ShapingAudit audit_shaping(const FiniteMdp& m, const ShapingTable& f, const Audi
       out.counterexample_note = "a single action";
     } else {
       out.counterexample = lemma4_counterexample(m, scope, *out.action_dependence, tol);
-      if (!out.counterexample) out.counterexample_note = "the action dependence cancels out in every construction tried";
+      if (!out.counterexample)
+        out.counterexample_note = "the action dependence cancels out in every construction tried";
     }
   } else {
     out.counterexample = appendix_counterexample(m, scope, o, tol, &out.counterexample_note);

@@ -24,16 +24,16 @@ ShapingTable::ShapingTable(int num_states, int num_actions, std::vector<ShapingE
   for (std::size_t i = 0; i < entries_.size(); ++i) {
     const auto& e = entries_[i];
     if (e.state < 0 || e.state >= S_ || e.next < 0 || e.next >= S_ || e.action < 0 || e.action >= A_)
-      throw InputError(fmt::format("shaping: entry ({}, {}, {}) outside {} states x {} actions", e.state, e.action,
-                                   e.next, S_, A_));
+      throw InputError(fmt::format("shaping: entry ({}, {}, {}) outside {} states x {} actions", e.state,
+                                   e.action, e.next, S_, A_));
     if (!std::isfinite(e.value))
       throw InputError(fmt::format("shaping: F({}, {}, {}) is not finite", e.state, e.action, e.next));
   }
   std::sort(entries_.begin(), entries_.end(), [](const auto& x, const auto& y) { return key(x) < key(y); });
   for (std::size_t i = 1; i < entries_.size(); ++i)
     if (key(entries_[i]) == key(entries_[i - 1]))
-      throw InputError(fmt::format("shaping: triple ({}, {}, {}) listed twice", entries_[i].state, entries_[i].action,
-                                   entries_[i].next));
+      throw InputError(fmt::format("shaping: triple ({}, {}, {}) listed twice", entries_[i].state,
+                                   entries_[i].action, entries_[i].next));
 }
 
 double ShapingTable::operator()(int s, int a, int next) const {
@@ -67,9 +67,11 @@ ShapingTable ShapingTable::from_potential(const FiniteMdp& mdp, std::span<const 
   return ShapingTable(mdp.num_states, mdp.num_actions, std::move(e));
 }
 
-ShapingTable ShapingTable::progress_bonus(const FiniteMdp& mdp, std::span<const double> distance, double bonus) {
+ShapingTable ShapingTable::progress_bonus(const FiniteMdp& mdp, std::span<const double> distance,
+                                          double bonus) {
   if (distance.size() != static_cast<std::size_t>(mdp.num_states))
-    throw InputError(fmt::format("progress bonus: expected {} distances, got {}", mdp.num_states, distance.size()));
+    throw InputError(
+        fmt::format("progress bonus: expected {} distances, got {}", mdp.num_states, distance.size()));
   std::vector<ShapingEntry> e;
   for (int s = 0; s < mdp.num_states; ++s) {
     if (mdp.is_absorbing(s)) continue;
@@ -77,7 +79,8 @@ ShapingTable ShapingTable::progress_bonus(const FiniteMdp& mdp, std::span<const 
       const std::size_t r = mdp.row(s, a);
       for (std::uint32_t k = mdp.row_start[r]; k < mdp.row_start[r + 1]; ++k) {
         const int n = mdp.next_state[k];
-        if (distance[static_cast<std::size_t>(n)] < distance[static_cast<std::size_t>(s)]) e.push_back({s, a, n, bonus});
+        if (distance[static_cast<std::size_t>(n)] < distance[static_cast<std::size_t>(s)])
+          e.push_back({s, a, n, bonus});
       }
     }
   }
@@ -96,7 +99,8 @@ ShapingTable shaping_from_json(const nlohmann::json& j, const std::string& src) 
     throw InputError(fmt::format("{}: {}: {}", src, field, msg));
   };
   if (!j.is_object()) fail("(top level)", "expected a JSON object");
-  if (!j.contains("format") || !j["format"].is_string() || j["format"].get<std::string>() != "pegasus-shaping")
+  if (!j.contains("format") || !j["format"].is_string() ||
+      j["format"].get<std::string>() != "pegasus-shaping")
     fail("format", "expected \"pegasus-shaping\"");
   if (!j.contains("version") || !j["version"].is_number_integer() || j["version"].get<long long>() != 1)
     fail("version", "expected 1");
@@ -120,9 +124,11 @@ ShapingTable shaping_from_json(const nlohmann::json& j, const std::string& src) 
     int idx[3];
     for (int c = 0; c < 3; ++c) {
       const int limit = c == 1 ? A : S;
-      if (!e[static_cast<std::size_t>(c)].is_number_integer()) fail(fmt::format("{}[{}]", f, c), fmt::format("{} must be an integer", names[c]));
+      if (!e[static_cast<std::size_t>(c)].is_number_integer())
+        fail(fmt::format("{}[{}]", f, c), fmt::format("{} must be an integer", names[c]));
       const long long v = e[static_cast<std::size_t>(c)].get<long long>();
-      if (v < 0 || v >= limit) fail(fmt::format("{}[{}]", f, c), fmt::format("{} {} outside [0, {})", names[c], v, limit));
+      if (v < 0 || v >= limit)
+        fail(fmt::format("{}[{}]", f, c), fmt::format("{} {} outside [0, {})", names[c], v, limit));
       idx[c] = static_cast<int>(v);
     }
     if (!e[3].is_number() || !std::isfinite(e[3].get<double>())) fail(f + "[3]", "F must be a finite number");

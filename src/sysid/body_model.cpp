@@ -23,8 +23,9 @@ void ExtraStateModel::advance(double dt, const Eigen::Vector3d& w_B, const std::
 }
 
 std::string ModelStructure::describe() const {
-  return fmt::format("{} Hz, {} extra states, {} intercept, {} templates", rate_hz, extra_states ? "with" : "without",
-                     intercept ? "with" : "without", templates ? "with" : "without");
+  return fmt::format("{} Hz, {} extra states, {} intercept, {} templates", rate_hz,
+                     extra_states ? "with" : "without", intercept ? "with" : "without",
+                     templates ? "with" : "without");
 }
 
 int OutputTemplate::free_count() const {

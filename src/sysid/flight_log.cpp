@@ -46,7 +46,8 @@ std::vector<std::string_view> split(std::string_view line) {
   std::size_t start = 0;
   while (true) {
     const std::size_t comma = line.find(',', start);
-    std::string_view f = line.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start);
+    std::string_view f =
+        line.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start);
     while (!f.empty() && (f.front() == ' ' || f.front() == '\t')) f.remove_prefix(1);
     while (!f.empty() && (f.back() == ' ' || f.back() == '\t' || f.back() == '\r')) f.remove_suffix(1);
     out.push_back(f);
@@ -80,9 +81,10 @@ FlightLog parse_flight_log(const std::string& text, const std::string& name, con
     for (std::size_t h = 0; h < header.size(); ++h)
       if (header[h] == required[r]) found = h;
     if (found == header.size())
-      throw InputError(fmt::format("{}:1:{}: required column missing from the header (need time, x, y, z, roll, "
-                                   "pitch, yaw, xdot, ydot, zdot, roll_rate, pitch_rate, yaw_rate, a1, a2, a3, a4)",
-                                   name, required[r]));
+      throw InputError(
+          fmt::format("{}:1:{}: required column missing from the header (need time, x, y, z, roll, "
+                      "pitch, yaw, xdot, ydot, zdot, roll_rate, pitch_rate, yaw_rate, a1, a2, a3, a4)",
+                      name, required[r]));
     index[r] = found;
   }
   FlightLog log;
@@ -92,19 +94,22 @@ FlightLog parse_flight_log(const std::string& text, const std::string& name, con
     if (line.find_first_not_of(" \t\r") == std::string_view::npos) continue;  // blank lines
     const auto fields = split(line);
     if (fields.size() != header.size())
-      throw InputError(fmt::format("{}:{}: expected {} comma-separated fields as in the header, found {}", name, li + 1,
-                                   header.size(), fields.size()));
+      throw InputError(fmt::format("{}:{}: expected {} comma-separated fields as in the header, found {}",
+                                   name, li + 1, header.size(), fields.size()));
     std::array<double, 17> v{};
     for (std::size_t r = 0; r < required.size(); ++r) {
       const std::string_view f = fields[index[r]];
       double x = 0;
       const auto res = std::from_chars(f.data(), f.data() + f.size(), x);
       if (f.empty() || res.ec != std::errc() || res.ptr != f.data() + f.size())
-        throw InputError(fmt::format("{}:{}:{}: expected a number, found '{}'", name, li + 1, required[r], f));
+        throw InputError(
+            fmt::format("{}:{}:{}: expected a number, found '{}'", name, li + 1, required[r], f));
       if (!std::isfinite(x))
-        throw InputError(fmt::format("{}:{}:{}: expected a finite number, found '{}'", name, li + 1, required[r], f));
+        throw InputError(
+            fmt::format("{}:{}:{}: expected a finite number, found '{}'", name, li + 1, required[r], f));
       if (r >= 13 && std::abs(x) > 1.0 + 1e-9)
-        throw InputError(fmt::format("{}:{}:{}: expected a control in [-1, 1], found {}", name, li + 1, required[r], x));
+        throw InputError(
+            fmt::format("{}:{}:{}: expected a control in [-1, 1], found {}", name, li + 1, required[r], x));
       v[r] = x;
     }
     log.time.push_back(v[0]);
@@ -125,8 +130,9 @@ FlightLog parse_flight_log(const std::string& text, const std::string& name, con
   for (std::size_t i = 1; i < log.rows(); ++i) {
     const double step = log.time[i] - log.time[i - 1];
     if (std::abs(step - dt) > options.rate_tolerance * dt)
-      throw InputError(fmt::format("{}:{}:time: expected a constant sample interval {} s (within {}%), found {} s",
-                                   name, line_of[i], dt, 100 * options.rate_tolerance, step));
+      throw InputError(
+          fmt::format("{}:{}:time: expected a constant sample interval {} s (within {}%), found {} s", name,
+                      line_of[i], dt, 100 * options.rate_tolerance, step));
   }
   return log;
 }

@@ -18,8 +18,8 @@ using heli::Euler;
 using heli::Vec3;
 
 const std::array<const char*, kReportVars> kReportVarNames = {
-    "x",        "y",         "z",        "roll",   "pitch",  "yaw",    "xdot", "ydot",
-    "zdot",     "roll_rate", "pitch_rate", "yaw_rate", "xdot_b", "ydot_b", "zdot_b"};
+    "x",    "y",         "z",          "roll",     "pitch",  "yaw",    "xdot",  "ydot",
+    "zdot", "roll_rate", "pitch_rate", "yaw_rate", "xdot_b", "ydot_b", "zdot_b"};
 
 bool IdentifyOptions::IsValid(std::string* error) const {
   auto fail = [&](const std::string& what) {
@@ -38,8 +38,8 @@ bool IdentifyOptions::IsValid(std::string* error) const {
 
 // ---------------------------------------------------------------- model
 
-IdentifiedModel::IdentifiedModel(ModelStructure structure, Dataset data, std::array<double, kInputs> inv_bandwidth,
-                                 BodyVec sigma2)
+IdentifiedModel::IdentifiedModel(ModelStructure structure, Dataset data,
+                                 std::array<double, kInputs> inv_bandwidth, BodyVec sigma2)
     : structure_(std::move(structure)),
       data_(std::make_shared<const Dataset>(std::move(data))),
       sigma2_(sigma2),
@@ -109,7 +109,8 @@ IdentifiedModel IdentifiedModel::from_json(const nlohmann::json& j) {
   d.dt = j.at("dt").get<double>();
   const auto& xs = j.at("x");
   const auto& ys = j.at("y");
-  if (xs.size() != ys.size() || xs.empty()) throw InputError("model: x and y must be non-empty and of equal length");
+  if (xs.size() != ys.size() || xs.empty())
+    throw InputError("model: x and y must be non-empty and of equal length");
   const auto n = static_cast<Eigen::Index>(xs.size());
   d.x.resize(n, kInputs);
   d.y.resize(n, kBodyVars);
@@ -117,14 +118,16 @@ IdentifiedModel IdentifiedModel::from_json(const nlohmann::json& j) {
     const auto xr = xs[static_cast<std::size_t>(i)].get<std::vector<double>>();
     const auto yr = ys[static_cast<std::size_t>(i)].get<std::vector<double>>();
     if (xr.size() != kInputs || yr.size() != kBodyVars)
-      throw InputError(fmt::format("model: row {} must have {} inputs and {} outputs", i, kInputs, kBodyVars));
+      throw InputError(
+          fmt::format("model: row {} must have {} inputs and {} outputs", i, kInputs, kBodyVars));
     for (int c = 0; c < kInputs; ++c) d.x(i, c) = xr[static_cast<std::size_t>(c)];
     for (int c = 0; c < kBodyVars; ++c) d.y(i, c) = yr[static_cast<std::size_t>(c)];
   }
   d.time = j.at("time").get<std::vector<double>>();
   const auto ih = j.at("inv_bandwidth").get<std::vector<double>>();
   const auto s2 = j.at("sigma2").get<std::vector<double>>();
-  if (ih.size() != kInputs || s2.size() != kBodyVars) throw InputError("model: wrong inv_bandwidth or sigma2 size");
+  if (ih.size() != kInputs || s2.size() != kBodyVars)
+    throw InputError("model: wrong inv_bandwidth or sigma2 size");
   std::array<double, kInputs> inv{};
   std::copy(ih.begin(), ih.end(), inv.begin());
   BodyVec sigma2;
@@ -132,7 +135,9 @@ IdentifiedModel IdentifiedModel::from_json(const nlohmann::json& j) {
   return IdentifiedModel(m, std::move(d), inv, sigma2);
 }
 
-void IdentifiedModel::save(const std::filesystem::path& file) const { write_file_atomic(file, to_json().dump() + "\n"); }
+void IdentifiedModel::save(const std::filesystem::path& file) const {
+  write_file_atomic(file, to_json().dump() + "\n");
+}
 
 IdentifiedModel IdentifiedModel::load(const std::filesystem::path& file) {
   nlohmann::json j;
@@ -170,7 +175,8 @@ double cv_error(const Dataset& data, const std::array<OutputTemplate, kBodyVars>
   const int m = static_cast<int>(std::min<Eigen::Index>(o.cv_points, n));
   std::vector<BodyVec> sq(static_cast<std::size_t>(m)), scaled(static_cast<std::size_t>(m));
   pool.parallel_for(static_cast<std::size_t>(m), [&](std::size_t p) {
-    const Eigen::Index i = static_cast<Eigen::Index>((static_cast<double>(p) + 0.5) * static_cast<double>(n) / m);
+    const Eigen::Index i =
+        static_cast<Eigen::Index>((static_cast<double>(p) + 0.5) * static_cast<double>(n) / m);
     const auto [lo, hi] = window_rows(data, i, o.window_s);
     const InputVec x = data.x.row(i).transpose();
     const LocalFit fit = lwr.fit(x, lo, hi);
@@ -199,16 +205,16 @@ double cv_error(const Dataset& data, const std::array<OutputTemplate, kBodyVars>
   return total;
 }
 
-IdentifiedModel identify(const FlightLog& train, const IdentifyOptions& o, ThreadPool& pool, IdentifyReport* report,
-                         const IdentifyHooks& hooks) {
+IdentifiedModel identify(const FlightLog& train, const IdentifyOptions& o, ThreadPool& pool,
+                         IdentifyReport* report, const IdentifyHooks& hooks) {
   std::string error;
   if (!o.IsValid(&error)) throw InputError(error);
   const auto start = std::chrono::steady_clock::now();
   Dataset data = build_dataset(train, o.structure);
   const auto min_rows = 4 * kInputs;
   if (data.rows() < min_rows)
-    throw InputError(fmt::format("identify: the training log gives {} rows at {} Hz; need at least {}", data.rows(),
-                                 o.structure.rate_hz, min_rows));
+    throw InputError(fmt::format("identify: the training log gives {} rows at {} Hz; need at least {}",
+                                 data.rows(), o.structure.rate_hz, min_rows));
   const auto templates = output_templates(o.structure);
   // Kernel inputs: everything the model regresses on except the constant.
   std::array<double, kInputs> inv_std{};
@@ -238,16 +244,18 @@ IdentifiedModel identify(const FlightLog& train, const IdentifyOptions& o, Threa
     const bool replayed = next < evaluated.size();
     if (replayed) {
       if (evaluated[next].first != what)
-        throw InputError(fmt::format("identify: the checkpoint's step {} is '{}', this search's is '{}': not the same "
-                                     "search (start afresh with --force)",
-                                     next + 1, evaluated[next].first, what));
+        throw InputError(
+            fmt::format("identify: the checkpoint's step {} is '{}', this search's is '{}': not the same "
+                        "search (start afresh with --force)",
+                        next + 1, evaluated[next].first, what));
       e = evaluated[next].second;
     } else {
       e = cv_error(data, templates, inv, o, pool);
       evaluated.emplace_back(what, e);
       if (hooks.checkpoint) {
         nlohmann::json list = nlohmann::json::array();
-        for (const auto& [setting, value] : evaluated) list.push_back({{"setting", setting}, {"cv_error", value}});
+        for (const auto& [setting, value] : evaluated)
+          list.push_back({{"setting", setting}, {"cv_error", value}});
         hooks.checkpoint({{"evaluations", list}});
       }
     }
@@ -270,7 +278,8 @@ IdentifiedModel identify(const FlightLog& train, const IdentifyOptions& o, Threa
     double best = INFINITY;
     for (double c : o.scale_grid) {
       std::array<double, kInputs> inv{};
-      for (int j = 0; j < kInputs; ++j) inv[static_cast<std::size_t>(j)] = inv_std[static_cast<std::size_t>(j)] / c;
+      for (int j = 0; j < kInputs; ++j)
+        inv[static_cast<std::size_t>(j)] = inv_std[static_cast<std::size_t>(j)] / c;
       const double e = evaluate(fmt::format("scale {}", c), inv);
       if (e < best) {
         best = e;
@@ -303,7 +312,8 @@ IdentifiedModel identify(const FlightLog& train, const IdentifyOptions& o, Threa
   }
   // Outputs fixed by the template: sigma^2 is the mean square of what the template leaves.
   for (int k = 0; k < kBodyVars; ++k)
-    if (templates[static_cast<std::size_t>(k)].free_count() == 0) sigma2[k] = data.y.col(k).squaredNorm() / data.rows();
+    if (templates[static_cast<std::size_t>(k)].free_count() == 0)
+      sigma2[k] = data.y.col(k).squaredNorm() / data.rows();
   if (report)
     report->cv_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return IdentifiedModel(o.structure, std::move(data), best_inv, sigma2);
@@ -336,7 +346,8 @@ SimState sim_advance(const ModelStructure& m, const SimState& s, const std::arra
   w[11] = b1[kYawRate];
   const Vec3 v_W = heli::world_from_body(Euler{w[3], w[4], w[5]}, Vec3(b1[kU], b1[kV], b1[kW]));
   for (int i = 0; i < 3; ++i) {
-    w[static_cast<std::size_t>(i)] = s.world[static_cast<std::size_t>(i)] + dt * 0.5 * (s.world[static_cast<std::size_t>(6 + i)] + v_W[i]);
+    w[static_cast<std::size_t>(i)] =
+        s.world[static_cast<std::size_t>(i)] + dt * 0.5 * (s.world[static_cast<std::size_t>(6 + i)] + v_W[i]);
     w[static_cast<std::size_t>(6 + i)] = v_W[i];
   }
   const Euler e0{s.world[3], s.world[4], s.world[5]};
@@ -366,8 +377,8 @@ LogAtRate log_at_rate(const IdentifiedModel& model, const FlightLog& log) {
   const double ratio = model.dt() / log.dt();
   const long k = std::lround(ratio);
   if (k < 1 || std::abs(ratio - static_cast<double>(k)) > 0.01)
-    throw InputError(fmt::format("the test log's rate {} Hz is not a multiple of the model rate {} Hz", 1 / log.dt(),
-                                 1 / model.dt()));
+    throw InputError(fmt::format("the test log's rate {} Hz is not a multiple of the model rate {} Hz",
+                                 1 / log.dt(), 1 / model.dt()));
   return {static_cast<std::size_t>(k), extra_states_along(log, model.structure())};
 }
 
@@ -381,12 +392,13 @@ std::array<double, 4> mean_controls(const FlightLog& log, std::size_t row, std::
 
 }  // namespace
 
-HorizonMse horizon_mse(const IdentifiedModel& model, const FlightLog& test, double horizon_s, double start_spacing_s,
-                       ThreadPool& pool) {
+HorizonMse horizon_mse(const IdentifiedModel& model, const FlightLog& test, double horizon_s,
+                       double start_spacing_s, ThreadPool& pool) {
   const LogAtRate lr = log_at_rate(model, test);
   const auto k = lr.step;
   const auto steps = static_cast<std::size_t>(std::lround(horizon_s / model.dt()));
-  const auto spacing = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(start_spacing_s / test.dt())));
+  const auto spacing =
+      std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(start_spacing_s / test.dt())));
   const auto refit_every = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(0.1 / model.dt())));
   std::vector<std::size_t> starts;
   for (std::size_t r = 0; r + steps * k < test.rows(); r += spacing) starts.push_back(r);
@@ -427,7 +439,8 @@ HorizonMse horizon_mse(const IdentifiedModel& model, const FlightLog& test, doub
   for (std::size_t t = 0; t <= steps; ++t) out.seconds[t] = static_cast<double>(t) * model.dt();
   for (const Errors& e : per_start)
     for (std::size_t t = 0; t < e.size(); ++t) {
-      for (int v = 0; v < kReportVars; ++v) out.mse[t][static_cast<std::size_t>(v)] += e[t][static_cast<std::size_t>(v)];
+      for (int v = 0; v < kReportVars; ++v)
+        out.mse[t][static_cast<std::size_t>(v)] += e[t][static_cast<std::size_t>(v)];
       ++out.count[t];
     }
   for (std::size_t t = 0; t <= steps; ++t)
@@ -438,14 +451,15 @@ HorizonMse horizon_mse(const IdentifiedModel& model, const FlightLog& test, doub
 
 namespace {
 
-// The EKF's state: the 8 body variables and the 3 extra states (which the body rates drive, and which drive the
-// velocities and rates through the regression).
+// The EKF's state: the 8 body variables and the 3 extra states (which the body rates drive, and which drive
+// the velocities and rates through the regression).
 constexpr int kEkfStates = kBodyVars + 3;
 using EkfVec = Eigen::Matrix<double, kEkfStates, 1>;
 using EkfMat = Eigen::Matrix<double, kEkfStates, kEkfStates>;
 
 // The model's mean one-step map on the EKF state with the controls and the local fit held.
-EkfVec mean_step(const IdentifiedModel& model, const EkfVec& z, const std::array<double, 4>& a, const LocalFit& fit) {
+EkfVec mean_step(const IdentifiedModel& model, const EkfVec& z, const std::array<double, 4>& a,
+                 const LocalFit& fit) {
   InputVec x;
   x.head<kBodyVars>() = z.head<kBodyVars>();
   x[kFlapLon] = z[kBodyVars];
@@ -467,7 +481,8 @@ EkfVec mean_step(const IdentifiedModel& model, const EkfVec& z, const std::array
 
 }  // namespace
 
-NoiseCheck noise_check(const IdentifiedModel& model, const FlightLog& test, double reset_s, double trace_seconds) {
+NoiseCheck noise_check(const IdentifiedModel& model, const FlightLog& test, double reset_s,
+                       double trace_seconds) {
   const LogAtRate lr = log_at_rate(model, test);
   const auto k = lr.step;
   const auto seg = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(reset_s / model.dt())));

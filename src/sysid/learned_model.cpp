@@ -28,7 +28,9 @@ LearnedHeliModel::LearnedHeliModel(std::shared_ptr<const IdentifiedModel> model,
   min_weight_ = std::exp(-0.5 * options_.support_bandwidths * options_.support_bandwidths);
 }
 
-ActionSpace LearnedHeliModel::action_space() const { return ActionSpace::box({-1, -1, -1, -1}, {1, 1, 1, 1}); }
+ActionSpace LearnedHeliModel::action_space() const {
+  return ActionSpace::box({-1, -1, -1, -1}, {1, 1, 1, 1});
+}
 
 LearnedHeliModel::State LearnedHeliModel::initial_state(std::span<const double> p0) const {
   State s;
@@ -40,7 +42,8 @@ LearnedHeliModel::State LearnedHeliModel::initial_state(std::span<const double> 
   return s;
 }
 
-LearnedHeliModel::State LearnedHeliModel::step(const State& s, const Action& a_in, std::span<const double> p) const {
+LearnedHeliModel::State LearnedHeliModel::step(const State& s, const Action& a_in,
+                                               std::span<const double> p) const {
   if (s.crashed) return s;
   State n = s;
   Action a;
@@ -59,11 +62,13 @@ LearnedHeliModel::State LearnedHeliModel::step(const State& s, const Action& a_i
   BodyVec delta = known_change(model_->structure(), x, options_.dt);
   for (int k = 0; k < kBodyVars; ++k) {
     delta[k] += f * n.beta[static_cast<std::size_t>(k)].dot(x);
-    if (options_.noise) delta[k] += std::sqrt(n.variance[k] * f) * heli::normal_quantile(p[static_cast<std::size_t>(k)]);
+    if (options_.noise)
+      delta[k] += std::sqrt(n.variance[k] * f) * heli::normal_quantile(p[static_cast<std::size_t>(k)]);
   }
   n.sim = sim_advance(model_->structure(), s.sim, a, delta, options_.dt);
   n.step = s.step + 1;
-  bool bad = std::abs(n.sim.world[3]) > options_.max_tilt_rad || std::abs(n.sim.world[4]) > options_.max_tilt_rad;
+  bool bad =
+      std::abs(n.sim.world[3]) > options_.max_tilt_rad || std::abs(n.sim.world[4]) > options_.max_tilt_rad;
   for (double v : n.sim.world) bad = bad || !std::isfinite(v);
   if (bad) n.crashed = true;
   return n;

@@ -9,7 +9,8 @@
 namespace pegasus::sysid {
 
 namespace {
-// Points whose weight is below 1e-16 of the largest one seen before them are skipped: d^2 > d_min^2 + 2 ln(1e16).
+// Points whose weight is below 1e-16 of the largest one seen before them are skipped: d^2 > d_min^2 + 2
+// ln(1e16).
 const double kCutoff = 2 * std::log(1e16);
 constexpr double kFar = 1e150;  // padding coordinate: d^2 ~ 1e300, weight 0
 
@@ -17,15 +18,15 @@ std::atomic<int> g_forced{static_cast<int>(SimdPath::kAuto)};
 
 // The Jacobi-scaled inverse of a symmetric positive definite m x m matrix G (m <= kInputs; the X'WX of one
 // output's free inputs): A = D^-1 G D^-1 with D = diag(sqrt(G_rr)), its Cholesky factor A = L L', A^-1 =
-// L^-T L^-1, and the exact 1-norm reciprocal condition number rcond = 1 / (|A|_1 |A^-1|_1). Both paths (fit and
-// fit_exact) solve through here, so they differ only by their Gram sums (fit's over the stored, scaled inputs,
-// which Jacobi scaling cancels). The factorisation and the products with A^-1 run on the kernel's instruction set
-// (lwr_kernel.hpp: Factor), with the same bits on each.
+// L^-T L^-1, and the exact 1-norm reciprocal condition number rcond = 1 / (|A|_1 |A^-1|_1). Both paths (fit
+// and fit_exact) solve through here, so they differ only by their Gram sums (fit's over the stored, scaled
+// inputs, which Jacobi scaling cancels). The factorisation and the products with A^-1 run on the kernel's
+// instruction set (lwr_kernel.hpp: Factor), with the same bits on each.
 class ScaledInverse {
  public:
-  // Scales G and inverts A, g(r, c) giving G's entries, and records rcond in fit (the smallest over the calls;
-  // `first` starts it). False when G is singular to numerical precision: a diagonal entry too small to scale by,
-  // a pivot that is not positive, or rcond < kSingularRcond.
+  // Scales G and inverts A, g(r, c) giving G's entries, and records rcond in fit (the smallest over the
+  // calls; `first` starts it). False when G is singular to numerical precision: a diagonal entry too small to
+  // scale by, a pivot that is not positive, or rcond < kSingularRcond.
   template <class Entry>
   bool factor(int m, Entry g, bool first, LocalFit* fit) {
     if (!scale(m, g)) return false;
@@ -41,16 +42,22 @@ class ScaledInverse {
     for (int o = 0; o < count; ++o)
       for (int c = 0; c < m_; ++c) v[o][c] = b(o, c) * dinv_[c];
     switch (path_) {
-      case SimdPath::kAvx512: detail::multiply_inverse_avx512(m_, f_, count, v, beta); break;
-      case SimdPath::kAvx2: detail::multiply_inverse_avx2(m_, f_, count, v, beta); break;
-      default: detail::multiply_inverse_scalar(m_, f_, count, v, beta); break;
+      case SimdPath::kAvx512:
+        detail::multiply_inverse_avx512(m_, f_, count, v, beta);
+        break;
+      case SimdPath::kAvx2:
+        detail::multiply_inverse_avx2(m_, f_, count, v, beta);
+        break;
+      default:
+        detail::multiply_inverse_scalar(m_, f_, count, v, beta);
+        break;
     }
     for (int o = 0; o < count; ++o)
       for (int r = 0; r < m_; ++r) beta[o][r] *= dinv_[r];
   }
 
-  // The leverage v'G^-1 v = |L^-1 D^-1 v|^2 (a sum of squares, so never negative), for v given by v(r): forward
-  // substitution.
+  // The leverage v'G^-1 v = |L^-1 D^-1 v|^2 (a sum of squares, so never negative), for v given by v(r):
+  // forward substitution.
   template <class Entry>
   double leverage(Entry v) const {
     double y[kInputs];
@@ -82,9 +89,12 @@ class ScaledInverse {
   // rcond, 0 when a pivot of the factorisation is not positive.
   double invert() {
     switch (path_) {
-      case SimdPath::kAvx512: return detail::invert_avx512(m_, &f_);
-      case SimdPath::kAvx2: return detail::invert_avx2(m_, &f_);
-      default: return detail::invert_scalar(m_, &f_);
+      case SimdPath::kAvx512:
+        return detail::invert_avx512(m_, &f_);
+      case SimdPath::kAvx2:
+        return detail::invert_avx2(m_, &f_);
+      default:
+        return detail::invert_scalar(m_, &f_);
     }
   }
 
@@ -118,10 +128,14 @@ SimdPath active_simd_path() {
 
 const char* simd_path_name(SimdPath path) {
   switch (path) {
-    case SimdPath::kAuto: return "auto";
-    case SimdPath::kScalar: return "scalar";
-    case SimdPath::kAvx2: return "avx2";
-    case SimdPath::kAvx512: return "avx512";
+    case SimdPath::kAuto:
+      return "auto";
+    case SimdPath::kScalar:
+      return "scalar";
+    case SimdPath::kAvx2:
+      return "avx2";
+    case SimdPath::kAvx512:
+      return "avx512";
   }
   return "?";
 }
@@ -139,7 +153,8 @@ LocalRegression::LocalRegression(const Dataset* data, const std::array<OutputTem
   const auto n = static_cast<int>(data_->rows());
   perm_.resize(static_cast<std::size_t>(n));
   std::iota(perm_.begin(), perm_.end(), 0);
-  // Gram rows: the inputs some output regresses on; columns: those, then the outputs that regress on something.
+  // Gram rows: the inputs some output regresses on; columns: those, then the outputs that regress on
+  // something.
   row_of_input_.fill(-1);
   for (int j = 0; j < kInputs; ++j) {
     bool used = false;
@@ -155,7 +170,8 @@ LocalRegression::LocalRegression(const Dataset* data, const std::array<OutputTem
     gram_outputs_[static_cast<std::size_t>(gram_outputs_count_++)] = k;
     int g = 0;
     while (g < group_count_ &&
-           templates_[static_cast<std::size_t>(groups_[static_cast<std::size_t>(g)].outputs[0])].free != t.free)
+           templates_[static_cast<std::size_t>(groups_[static_cast<std::size_t>(g)].outputs[0])].free !=
+               t.free)
       ++g;
     Group& grp = groups_[static_cast<std::size_t>(g)];
     if (g == group_count_) {
@@ -179,7 +195,8 @@ LocalRegression::LocalRegression(const Dataset* data, const std::array<OutputTem
   std::vector<double> z(static_cast<std::size_t>(n) * und);  // row-major, data order
   for (int i = 0; i < n; ++i)
     for (std::size_t d = 0; d < und; ++d)
-      z[static_cast<std::size_t>(i) * und + d] = data_->x(i, dims_[d]) * inv_h_[static_cast<std::size_t>(dims_[d])];
+      z[static_cast<std::size_t>(i) * und + d] =
+          data_->x(i, dims_[d]) * inv_h_[static_cast<std::size_t>(dims_[d])];
   build(0, n, 0, z);
   leaf_begin_.push_back(n);
   // Blocked copies in tree order (lwr_kernel.hpp): the Gram columns, then the kernel-only inputs; the kernel
@@ -195,7 +212,8 @@ LocalRegression::LocalRegression(const Dataset* data, const std::array<OutputTem
   const int kernel_cols = ncols - (kd_.weight_row ? 1 : 0);
   std::vector<int> source;  // input (>= 0) or ~output of each stored column
   for (int c = 0; c < gram_m_; ++c)
-    if (gram_inputs_[static_cast<std::size_t>(c)] != kOne) source.push_back(gram_inputs_[static_cast<std::size_t>(c)]);
+    if (gram_inputs_[static_cast<std::size_t>(c)] != kOne)
+      source.push_back(gram_inputs_[static_cast<std::size_t>(c)]);
   for (int c = 0; c < gram_outputs_count_; ++c) source.push_back(~gram_outputs_[static_cast<std::size_t>(c)]);
   for (std::size_t d = 0; d < und; ++d) {
     const int j = dims_[d];
@@ -219,7 +237,9 @@ LocalRegression::LocalRegression(const Dataset* data, const std::array<OutputTem
     row_[i] = r;
     for (std::size_t c = 0; c < source.size(); ++c)
       a_[i / detail::kLanes * stride + c * detail::kLanes + i % detail::kLanes] =
-          !real ? 0.0 : source[c] >= 0 ? data_->x(r, source[c]) * stored_scale(source[c]) : data_->y(r, ~source[c]);
+          !real            ? 0.0
+          : source[c] >= 0 ? data_->x(r, source[c]) * stored_scale(source[c])
+                           : data_->y(r, ~source[c]);
   }
   for (std::size_t l = 0; l < lp; ++l)
     for (std::size_t d = 0; d < und; ++d) {
@@ -250,9 +270,12 @@ LocalRegression::LocalRegression(const Dataset* data, const std::array<OutputTem
   kd_.box_hi = box_hi_.get();
   kd_.leaf_begin = leaf_begin_.data();
   // Tile shapes per instruction set (registers: 16 of 4 doubles for AVX2, 32 of 8 for AVX-512).
-  plans_[static_cast<std::size_t>(detail::Isa::kScalar)] = detail::tile_plan(gram_m_, kernel_cols, 1, 4, kd_.weight_row);
-  plans_[static_cast<std::size_t>(detail::Isa::kAvx2)] = detail::tile_plan(gram_m_, kernel_cols, 2, 2, kd_.weight_row);
-  plans_[static_cast<std::size_t>(detail::Isa::kAvx512)] = detail::tile_plan(gram_m_, kernel_cols, 4, 12, kd_.weight_row);
+  plans_[static_cast<std::size_t>(detail::Isa::kScalar)] =
+      detail::tile_plan(gram_m_, kernel_cols, 1, 4, kd_.weight_row);
+  plans_[static_cast<std::size_t>(detail::Isa::kAvx2)] =
+      detail::tile_plan(gram_m_, kernel_cols, 2, 2, kd_.weight_row);
+  plans_[static_cast<std::size_t>(detail::Isa::kAvx512)] =
+      detail::tile_plan(gram_m_, kernel_cols, 4, 12, kd_.weight_row);
 }
 
 // Splits [begin, end) of perm_ at a multiple of 8 (leaves start on whole vectors) along the widest kernel
@@ -309,32 +332,37 @@ void LocalRegression::solve(const Gram& g, const Cross& b, const InputVec& q, Lo
       if (tmpl.free[static_cast<std::size_t>(j)]) idx[m++] = j;
     if (m == 0) continue;
     ScaledInverse inverse;
-    if (!inverse.factor(m, [&](int r, int c) { return g(idx[r], idx[c]); }, first, fit)) {
+    if (!inverse.factor(
+            m, [&](int r, int c) { return g(idx[r], idx[c]); }, first, fit)) {
       fit->singular = true;
       return;
     }
     first = false;
     detail::Row sol;
-    inverse.solve(1, [&](int, int r) { return b(idx[r], k); }, &sol);
+    inverse.solve(
+        1, [&](int, int r) { return b(idx[r], k); }, &sol);
     for (int r = 0; r < m; ++r) beta[idx[r]] = sol[r];
     fit->leverage[k] = inverse.leverage([&](int r) { return q[idx[r]]; });
   }
 }
 
-bool LocalRegression::solve_group(const detail::KernelResult& k, const Group& grp, const InputVec& q, bool first,
-                                  LocalFit* fit) const {
+bool LocalRegression::solve_group(const detail::KernelResult& k, const Group& grp, const InputVec& q,
+                                  bool first, LocalFit* fit) const {
   auto g = [&](int r, int c) {
     return k.sum[static_cast<std::size_t>(std::min(r, c) * detail::kMaxCols + std::max(r, c))];
   };
   const auto row = [&](int r) { return grp.rows[static_cast<std::size_t>(r)]; };
   const auto input = [&](int r) { return grp.inputs[static_cast<std::size_t>(r)]; };
-  // The kernel's sums are those of the stored inputs S x (S = diag(stored_scale)): X'WX is S G S, its right-hand
-  // sides S b, so beta = S beta_s, and the leverage is q'G^-1 q = (S q)'(S G S)^-1 (S q).
+  // The kernel's sums are those of the stored inputs S x (S = diag(stored_scale)): X'WX is S G S, its
+  // right-hand sides S b, so beta = S beta_s, and the leverage is q'G^-1 q = (S q)'(S G S)^-1 (S q).
   ScaledInverse inverse;
-  if (!inverse.factor(grp.size, [&](int r, int c) { return g(row(r), row(c)); }, first, fit)) return false;
+  if (!inverse.factor(
+          grp.size, [&](int r, int c) { return g(row(r), row(c)); }, first, fit))
+    return false;
   const double leverage = inverse.leverage([&](int r) { return q[input(r)] * stored_scale(input(r)); });
   detail::Row sol[kBodyVars];
-  inverse.solve(grp.count, [&](int o, int r) { return g(row(r), grp.columns[static_cast<std::size_t>(o)]); }, sol);
+  inverse.solve(
+      grp.count, [&](int o, int r) { return g(row(r), grp.columns[static_cast<std::size_t>(o)]); }, sol);
   for (int o = 0; o < grp.count; ++o) {
     const int out = grp.outputs[static_cast<std::size_t>(o)];
     auto& beta = fit->beta[static_cast<std::size_t>(out)];
@@ -383,7 +411,9 @@ LocalFit LocalRegression::fit(const InputVec& q, Eigen::Index exclude_begin, Eig
   kq.cutoff = kCutoff;
   std::size_t node = 0;
   while (tree_[node].dim >= 0)
-    node = static_cast<std::size_t>(kq.zq[static_cast<std::size_t>(tree_[node].dim)] < tree_[node].value ? tree_[node].left : tree_[node].right);
+    node = static_cast<std::size_t>(kq.zq[static_cast<std::size_t>(tree_[node].dim)] < tree_[node].value
+                                        ? tree_[node].left
+                                        : tree_[node].right);
   kq.seed_leaf = tree_[node].leaf;
   detail::KernelResult k;
   switch (active_simd_path()) {
@@ -408,7 +438,8 @@ LocalFit LocalRegression::fit(const InputVec& q, Eigen::Index exclude_begin, Eig
   return fit;
 }
 
-LocalFit LocalRegression::fit_exact(const InputVec& q, Eigen::Index exclude_begin, Eigen::Index exclude_end) const {
+LocalFit LocalRegression::fit_exact(const InputVec& q, Eigen::Index exclude_begin,
+                                    Eigen::Index exclude_end) const {
   LocalFit fit;
   const Eigen::Index n = data_->rows();
   std::vector<double> w(static_cast<std::size_t>(n), 0.0);

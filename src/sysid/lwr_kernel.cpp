@@ -1,13 +1,14 @@
-// The Gram kernel and the solve's factorisation (Factor) of lwr_kernel.hpp for three instruction sets. The build
-// has no -march flags, so the AVX2 and AVX-512 versions are compiled through `#pragma GCC target` regions and
-// chosen at run time (lwr.cpp).
+// The Gram kernel and the solve's factorisation (Factor) of lwr_kernel.hpp for three instruction sets. The
+// build has no -march flags, so the AVX2 and AVX-512 versions are compiled through `#pragma GCC target`
+// regions and chosen at run time (lwr.cpp).
 //
-// Reproducibility: the three versions run the same IEEE operations in the same order (every multiply-add fused,
-// std::fma in the scalar one; the project compiles without -ffast-math and with -ffp-contract=off, the default of
-// -std=c++20), so a refit gives the same bits whichever runs, on any x86-64 machine, for any thread count. What
-// is not reproducible across machines: the solve's few steps outside Factor (lwr.cpp: scaling, the leverage's
-// substitution; compiled for the build's baseline instruction set) may round differently under another
-// compiler, other flags or another architecture, and fit_exact uses the C library's exp.
+// Reproducibility: the three versions run the same IEEE operations in the same order (every multiply-add
+// fused, std::fma in the scalar one; the project compiles without -ffast-math and with -ffp-contract=off, the
+// default of -std=c++20), so a refit gives the same bits whichever runs, on any x86-64 machine, for any
+// thread count. What is not reproducible across machines: the solve's few steps outside Factor (lwr.cpp:
+// scaling, the leverage's substitution; compiled for the build's baseline instruction set) may round
+// differently under another compiler, other flags or another architecture, and fit_exact uses the C library's
+// exp.
 #include "pegasus/sysid/lwr_kernel.hpp"
 
 #include <algorithm>
@@ -28,17 +29,18 @@ namespace pegasus::sysid::detail {
 namespace {
 
 constexpr double kLog2e = 1.4426950408889634074;
-constexpr double kMagic = 6755399441055744.0;           // 1.5 * 2^52: x + kMagic rounds x to an integer
+constexpr double kMagic = 6755399441055744.0;          // 1.5 * 2^52: x + kMagic rounds x to an integer
 constexpr double kLn2Hi = 6.93147180369123816490e-01;  // 0x3FE62E42FEE00000 (21 trailing zero bits)
 constexpr double kLn2Lo = 1.90821492927058770002e-10;  // ln 2 - kLn2Hi
-constexpr double kMinExpArg = -708.0;                   // exp(-708) ~ 3.3e-308, still normal
+constexpr double kMinExpArg = -708.0;                  // exp(-708) ~ 3.3e-308, still normal
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 // 2^(j/8), j = 0..7, rounded to nearest (computed to 60 digits).
-alignas(64) constexpr double kExp2Eighths[kLanes] = {0x1.0000000000000p+0, 0x1.172b83c7d517bp+0, 0x1.306fe0a31b715p+0,
-                                                     0x1.4bfdad5362a27p+0, 0x1.6a09e667f3bcdp+0, 0x1.8ace5422aa0dbp+0,
-                                                     0x1.ae89f995ad3adp+0, 0x1.d5818dcfba487p+0};
-// For nm = n + kMagic (|n| < 2^51), n = 8e + j: bits(nm) << 49 puts j's 3 bits just below the exponent field (they
-// are cleared) and e's in it (kMagic's bits shift out), so adding it to the bits of 2^(j/8) scales that by 2^e.
+alignas(64) constexpr double kExp2Eighths[kLanes] = {
+    0x1.0000000000000p+0, 0x1.172b83c7d517bp+0, 0x1.306fe0a31b715p+0, 0x1.4bfdad5362a27p+0,
+    0x1.6a09e667f3bcdp+0, 0x1.8ace5422aa0dbp+0, 0x1.ae89f995ad3adp+0, 0x1.d5818dcfba487p+0};
+// For nm = n + kMagic (|n| < 2^51), n = 8e + j: bits(nm) << 49 puts j's 3 bits just below the exponent field
+// (they are cleared) and e's in it (kMagic's bits shift out), so adding it to the bits of 2^(j/8) scales that
+// by 2^e.
 constexpr std::uint64_t kExponentField = 0xFFF0000000000000ULL;
 
 // The 8 lanes of a vector summed in a fixed tree order (every instruction set's hsum8 keeps it).
@@ -68,15 +70,15 @@ TilePlan tile_plan(int rows, int cols, int max_rows, int max_cols, bool weight_r
   for (int r0 = 0; r0 < rows; r0 += max_rows) {
     const int r = std::min(max_rows, rows - r0);
     const int width = std::min({max_cols, 24 / r, 12});
-    // As few tiles as the width allows, of balanced widths (6,6,6,2 becomes 5,5,5,5: no narrow tile that loads
-    // almost as much as it multiplies).
+    // As few tiles as the width allows, of balanced widths (6,6,6,2 becomes 5,5,5,5: no narrow tile that
+    // loads almost as much as it multiplies).
     const int span = cols - r0, count = (span + width - 1) / width;
     for (int k = 0, c0 = r0; k < count; ++k) {
       const int c = span / count + (k < span % count ? 1 : 0);
-      const TileKind kind = k > 0             ? kOffDiagonal
-                            : !weight_row       ? kDiagonalTile
-                            : r0 + r == rows    ? kDiagonalWeightRow
-                                                : kDiagonalMoments;
+      const TileKind kind = k > 0            ? kOffDiagonal
+                            : !weight_row    ? kDiagonalTile
+                            : r0 + r == rows ? kDiagonalWeightRow
+                                             : kDiagonalMoments;
       p.tiles.push_back(Tile{r0, r, c0, c, p.acc_size, kind});
       p.acc_size += r * c * kLanes;
       c0 += c;
@@ -102,18 +104,18 @@ struct V {
   }
   static V zero() { return set(0.0); }
 };
-#define PEGASUS_LWR_LANEWISE(name, expr)      \
-  inline V name(V a, V b) {                   \
-    V r;                                      \
-    for (int i = 0; i < kLanes; ++i) {        \
-      const double x = a.v[i], y = b.v[i];    \
-      r.v[i] = (expr);                        \
-    }                                         \
-    return r;                                 \
+#define PEGASUS_LWR_LANEWISE(name, expr)   \
+  inline V name(V a, V b) {                \
+    V r;                                   \
+    for (int i = 0; i < kLanes; ++i) {     \
+      const double x = a.v[i], y = b.v[i]; \
+      r.v[i] = (expr);                     \
+    }                                      \
+    return r;                              \
   }
 PEGASUS_LWR_LANEWISE(add, x + y)
 PEGASUS_LWR_LANEWISE(sub, x - y)
-PEGASUS_LWR_LANEWISE(mul, x * y)
+PEGASUS_LWR_LANEWISE(mul, x* y)
 PEGASUS_LWR_LANEWISE(vmin, x < y ? x : y)
 PEGASUS_LWR_LANEWISE(vmax, x > y ? x : y)
 #undef PEGASUS_LWR_LANEWISE
@@ -209,8 +211,12 @@ inline V fma(V a, V b, V c) { return {_mm512_fmadd_pd(a.v, b.v, c.v)}; }
 // undefined pass-through operand.
 inline V vmin(V a, V b) { return {_mm512_mask_min_pd(a.v, 0xFF, a.v, b.v)}; }
 inline V vmax(V a, V b) { return {_mm512_mask_max_pd(a.v, 0xFF, a.v, b.v)}; }
-inline V select_le(V a, V b, V x, V y) { return {_mm512_mask_blend_pd(_mm512_cmp_pd_mask(a.v, b.v, _CMP_LE_OQ), y.v, x.v)}; }
-inline int count_le(V a, V b) { return std::popcount(static_cast<unsigned>(_mm512_cmp_pd_mask(a.v, b.v, _CMP_LE_OQ))); }
+inline V select_le(V a, V b, V x, V y) {
+  return {_mm512_mask_blend_pd(_mm512_cmp_pd_mask(a.v, b.v, _CMP_LE_OQ), y.v, x.v)};
+}
+inline int count_le(V a, V b) {
+  return std::popcount(static_cast<unsigned>(_mm512_cmp_pd_mask(a.v, b.v, _CMP_LE_OQ)));
+}
 inline V pow2_table(V nm) {
   const __m512i bits = _mm512_castpd_si512(nm.v);
   const __m512d table = _mm512_load_pd(kExp2Eighths);
@@ -220,8 +226,8 @@ inline V pow2_table(V nm) {
   return {_mm512_castsi512_pd(_mm512_add_epi64(t, e))};
 }
 // Lane sums of 8 vectors a..h at once: pairs (l0+l1, l2+l3, ...) of two vectors interleaved, then those pairs
-// summed across 128-bit lanes twice, which ends with the 8 sums in order; each sum takes lane_tree_sum's order.
-// (Masked forms with every lane selected, as above, for GCC 12's warning.)
+// summed across 128-bit lanes twice, which ends with the 8 sums in order; each sum takes lane_tree_sum's
+// order. (Masked forms with every lane selected, as above, for GCC 12's warning.)
 inline void hsum8(const double* v, double* out) {
   __m512d pair[4];
   for (int i = 0; i < 4; ++i) {

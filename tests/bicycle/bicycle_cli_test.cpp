@@ -13,14 +13,15 @@
 
 #include "pegasus/envs/bicycle_policy.hpp"
 #include "pegasus/experiments/bicycle_experiment.hpp"
-
 #include "support/cli_runner.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-pegasus::test_support::CliResult run(const std::string& args) { return pegasus::test_support::run_pegasus(args); }
+pegasus::test_support::CliResult run(const std::string& args) {
+  return pegasus::test_support::run_pegasus(args);
+}
 std::string read(const fs::path& p) { return pegasus::test_support::read_text(p); }
 nlohmann::json read_json(const fs::path& p) { return nlohmann::json::parse(read(p)); }
 
@@ -40,7 +41,8 @@ TEST_F(BicycleCli, ExperimentWritesTheDocumentedSummaryAndArtifacts) {
   ASSERT_EQ(summary.at("policies").size(), 2u);
   for (const auto& p : summary.at("policies")) {
     EXPECT_EQ(p.size(), 4u) << p.dump();
-    for (const char* key : {"median_distance_km", "worst_distance_km", "falls", "reached"}) EXPECT_TRUE(p.contains(key)) << key;
+    for (const char* key : {"median_distance_km", "worst_distance_km", "falls", "reached"})
+      EXPECT_TRUE(p.contains(key)) << key;
     EXPECT_TRUE(p.at("falls").is_number_integer());
     EXPECT_TRUE(p.at("reached").is_number_integer());
     EXPECT_LE(p.at("falls").get<int>() + p.at("reached").get<int>(), 4);
@@ -51,8 +53,9 @@ TEST_F(BicycleCli, ExperimentWritesTheDocumentedSummaryAndArtifacts) {
   }
   EXPECT_TRUE(summary.contains("median_of_medians_km"));
   ASSERT_EQ(summary.at("lessons").size(), 2u);  // progress bonus and naive Monte Carlo on one scenario set
-  for (const char* file : {"config.toml", "rides.csv", "learning_curves.csv", "trials.csv", "learning_curves.svg",
-                           "rides_trial0.svg", "policies/trial-0.json", "policies/trial-1.json"})
+  for (const char* file :
+       {"config.toml", "rides.csv", "learning_curves.csv", "trials.csv", "learning_curves.svg",
+        "rides_trial0.svg", "policies/trial-0.json", "policies/trial-1.json"})
     EXPECT_TRUE(fs::exists(dir_ / "run" / file)) << file;
   // A policy file of the experiment rides again.
   const auto again = run("bicycle ride --rides 2 --max-km 1 --goal-km 0.3 --quiet --policy " +
@@ -64,7 +67,8 @@ TEST_F(BicycleCli, ThreadCountNeverChangesTheResult) {
   const std::string args = "bicycle experiment --trials 2 --rides 4 --lesson-trials 1" + kSmall;
   ASSERT_EQ(run(args + " --threads 1" + out("a")).code, 0);
   ASSERT_EQ(run(args + " --threads 2" + out("b")).code, 0);
-  for (const char* file : {"summary.json", "rides.csv", "learning_curves.csv", "trials.csv", "policies/trial-1.json"})
+  for (const char* file :
+       {"summary.json", "rides.csv", "learning_curves.csv", "trials.csv", "policies/trial-1.json"})
     EXPECT_EQ(read(dir_ / "a" / file), read(dir_ / "b" / file)) << file;
 }
 
@@ -80,11 +84,13 @@ TEST_F(BicycleCli, TrainingBeatsTheStartingPolicy) {
   EXPECT_TRUE(fs::exists(dir_ / "train" / "learning_curve.csv"));
   EXPECT_TRUE(fs::exists(dir_ / "train" / "rides.svg"));
 
-  std::ofstream(dir_ / "start.json") << pegasus::bicycle_policy_json(pegasus::bicycle_balancing_theta()).dump();
+  std::ofstream(dir_ / "start.json")
+      << pegasus::bicycle_policy_json(pegasus::bicycle_balancing_theta()).dump();
   const std::string rides = "bicycle ride --rides 6 --max-km 1 --goal-km 0.3 --quiet --seed 3 --policy ";
   ASSERT_EQ(run(rides + (dir_ / "train" / "policy.json").string() + out("trained")).code, 0);
   ASSERT_EQ(run(rides + (dir_ / "start.json").string() + out("start")).code, 0);
-  const auto trained = read_json(dir_ / "trained" / "summary.json"), start = read_json(dir_ / "start" / "summary.json");
+  const auto trained = read_json(dir_ / "trained" / "summary.json"),
+             start = read_json(dir_ / "start" / "summary.json");
   EXPECT_LE(trained.at("falls").get<int>(), start.at("falls").get<int>());
   EXPECT_GE(trained.at("reached").get<int>(), start.at("reached").get<int>());
 }
@@ -98,8 +104,11 @@ TEST_F(BicycleCli, BadPolicyFilesGetOneLineNamingFileAndFieldExitTwo) {
   auto unknown = parameters;
   unknown["parameters"]["w.T.speed"] = 1.0;
   const std::vector<std::pair<std::string, std::string>> cases = {
-      {missing.dump(), "w.d.goal_sin"}, {wrong.dump(), "w.T.theta"}, {unknown.dump(), "w.T.speed"},
-      {"{\"policy\": \"bicycle-sigmoid-15\"", "JSON"}, {"[1, 2]", "object"}};
+      {missing.dump(), "w.d.goal_sin"},
+      {wrong.dump(), "w.T.theta"},
+      {unknown.dump(), "w.T.speed"},
+      {"{\"policy\": \"bicycle-sigmoid-15\"", "JSON"},
+      {"[1, 2]", "object"}};
   for (std::size_t k = 0; k < cases.size(); ++k) {
     const fs::path file = dir_ / ("bad" + std::to_string(k) + ".json");
     std::ofstream(file) << cases[k].first;
@@ -113,7 +122,8 @@ TEST_F(BicycleCli, BadPolicyFilesGetOneLineNamingFileAndFieldExitTwo) {
   }
   const auto absent = run("bicycle ride --quiet --policy " + (dir_ / "none.json").string() + out("bad"));
   EXPECT_EQ(absent.code, 2) << absent.output;
-  for (const std::string bad : {"--rides -1", "--gamma 1.5", "--scenarios 0", "--optimizer newton", "--max-km 0"}) {
+  for (const std::string bad :
+       {"--rides -1", "--gamma 1.5", "--scenarios 0", "--optimizer newton", "--max-km 0"}) {
     const auto r = run("bicycle train --quiet " + bad + out("bad"));
     EXPECT_EQ(r.code, 2) << bad << ": " << r.output;
     EXPECT_FALSE(fs::exists(dir_ / "bad.partial")) << bad;

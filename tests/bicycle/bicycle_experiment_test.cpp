@@ -1,4 +1,6 @@
 // The bicycle experiment as a library: shaping, rides, checkpoints.
+#include "pegasus/experiments/bicycle_experiment.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -6,7 +8,6 @@
 #include "pegasus/envs/bicycle.hpp"
 #include "pegasus/envs/bicycle_policy.hpp"
 #include "pegasus/evaluators/rollout.hpp"
-#include "pegasus/experiments/bicycle_experiment.hpp"
 #include "pegasus/shaping/potential_shaping.hpp"
 
 namespace pegasus {
@@ -21,7 +22,8 @@ TEST(BicycleShaping, PotentialShapingPaysTheDiscountedProgress) {
   const double gamma = 0.998;
   const auto shaped = shape(bike, BicycleProgressPotential{bike, 2.0}, gamma);
   const BicyclePolicy policy = make_bicycle_policy();
-  const ScenarioSet scenarios({.seed = 4, .count = 6, .horizon = 400, .noise_dim = 1, .initial_noise_dim = 5});
+  const ScenarioSet scenarios(
+      {.seed = 4, .count = 6, .horizon = 400, .noise_dim = 1, .initial_noise_dim = 5});
   const Discounting d{.gamma = gamma, .horizon = 400};
   for (const Theta& theta : {bicycle_balancing_theta(), Theta(30, 0.0)}) {
     for (int i = 0; i < scenarios.size(); ++i) {
@@ -79,7 +81,8 @@ TEST(BicycleExperiment, ResumingFromAMidTrainingCheckpointGivesTheSameResult) {
   ASSERT_EQ(whole.trials.size(), resumed.trials.size());
   for (std::size_t k = 0; k < whole.trials.size(); ++k)
     EXPECT_EQ(to_json(whole.trials[k]).dump(), to_json(resumed.trials[k]).dump()) << k;
-  EXPECT_EQ(nlohmann::json(DoubleToJson(whole.median_of_medians_km)), nlohmann::json(DoubleToJson(resumed.median_of_medians_km)));
+  EXPECT_EQ(nlohmann::json(DoubleToJson(whole.median_of_medians_km)),
+            nlohmann::json(DoubleToJson(resumed.median_of_medians_km)));
 }
 
 TEST(BicycleExperiment, TrialsRoundTripThroughJson) {
@@ -88,7 +91,8 @@ TEST(BicycleExperiment, TrialsRoundTripThroughJson) {
   t.trial = 3;
   t.theta = bicycle_balancing_theta();
   t.curve = {0.1, 0.30000000000000004};
-  t.rides = {{.distance_km = 0.99123456789, .reached = true, .fell = false}, {.distance_km = 0.2, .reached = false, .fell = true}};
+  t.rides = {{.distance_km = 0.99123456789, .reached = true, .fell = false},
+             {.distance_km = 0.2, .reached = false, .fell = true}};
   const BicycleTrial back = bicycle_trial_from_json(to_json(t));
   EXPECT_EQ(to_json(back).dump(), to_json(t).dump());
   EXPECT_EQ(back.summary.reached, 1);

@@ -1,11 +1,12 @@
 // Rollouts stepped in lockstep (envs/bicycle_lockstep.hpp) are the single rollouts, bit for bit.
+#include "pegasus/envs/bicycle_lockstep.hpp"
+
 #include <gtest/gtest.h>
 
 #include <array>
 #include <vector>
 
 #include "pegasus/envs/bicycle.hpp"
-#include "pegasus/envs/bicycle_lockstep.hpp"
 #include "pegasus/envs/bicycle_policy.hpp"
 #include "pegasus/evaluators/pegasus_evaluator.hpp"
 #include "pegasus/experiments/bicycle_experiment.hpp"
@@ -48,8 +49,9 @@ void expect_lockstep_matches_single(const Model& model, const ScenarioSet& scena
       lane_theta[j] = thetas[static_cast<std::size_t>(pairs[first + j].first)];
       lane_scenario[j] = pairs[first + j].second;
     }
-    lockstep_returns<4>(model, policy, std::span(lane_theta).first(lanes), std::span<const int>(lane_scenario).first(lanes),
-                        scenarios, d, std::span(out).first(lanes));
+    lockstep_returns<4>(model, policy, std::span(lane_theta).first(lanes),
+                        std::span<const int>(lane_scenario).first(lanes), scenarios, d,
+                        std::span(out).first(lanes));
     for (std::size_t j = 0; j < lanes; ++j) {
       const double single = scenario_return(model, policy, lane_theta[j], scenarios, lane_scenario[j], d);
       EXPECT_EQ(out[j], single) << "pair " << first + j;  // bit for bit
@@ -69,7 +71,8 @@ TEST(BicycleLockstep, ReturnsAreTheSingleRolloutsBitForBit) {
     expect_lockstep_matches_single(bike, scenarios, d);
     expect_lockstep_matches_single(shape(bike, BicycleProgressPotential{bike, 1.0}, d.gamma), scenarios, d);
     expect_lockstep_matches_single(
-        ProgressBonusModel<Bicycle, BicycleGoalDistance>(bike, BicycleGoalDistance{bike}, 0.0278), scenarios, d);
+        ProgressBonusModel<Bicycle, BicycleGoalDistance>(bike, BicycleGoalDistance{bike}, 0.0278), scenarios,
+        d);
   }
 }
 
@@ -82,8 +85,11 @@ TEST(BicycleLockstep, TrainingObjectiveIsPegasusEvaluatorsUhat) {
   const Bicycle bike(o.bicycle);
   const PegasusEvaluator evaluator(shape(bike, BicycleProgressPotential{bike, o.shaping_per_metre}, o.gamma),
                                    make_bicycle_policy(),
-                                   ScenarioSet({.seed = o.seed, .count = o.scenarios, .horizon = o.horizon,
-                                                .noise_dim = 1, .initial_noise_dim = 5}),
+                                   ScenarioSet({.seed = o.seed,
+                                                .count = o.scenarios,
+                                                .horizon = o.horizon,
+                                                .noise_dim = 1,
+                                                .initial_noise_dim = 5}),
                                    Discounting{.gamma = o.gamma, .horizon = o.horizon});
   for (const Theta& theta : assorted_thetas()) {
     const double expected = evaluator.evaluate(theta);

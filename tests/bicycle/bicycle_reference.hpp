@@ -32,7 +32,8 @@ inline BicycleState step(const Bicycle& bike, const BicycleState& s, double T, d
   const double phi = omega + std::atan(d / h);
   const double omega_d_dot =
       (h * M * g * std::sin(phi) -
-       std::cos(phi) * (I_dc * sigma_dot * theta_dot + sgn(theta) * v * v * (Md * R * (1.0 / rf + 1.0 / rb) + M * h / rCM))) /
+       std::cos(phi) * (I_dc * sigma_dot * theta_dot +
+                        sgn(theta) * v * v * (Md * R * (1.0 / rf + 1.0 / rb) + M * h / rCM))) /
       I_bike;
   const double theta_d_dot = (T - I_dv * omega_dot * sigma_dot) / I_dl;
 
@@ -43,14 +44,18 @@ inline BicycleState step(const Bicycle& bike, const BicycleState& s, double T, d
   if (std::fabs(theta) > 1.3963) theta = sgn(theta) * 1.3963;
 
   double temp = v * dt / (2 * rf);
-  if (temp > 1) temp = sgn(psi + theta) * pi / 2;
-  else temp = sgn(psi + theta) * std::asin(temp);
+  if (temp > 1)
+    temp = sgn(psi + theta) * pi / 2;
+  else
+    temp = sgn(psi + theta) * std::asin(temp);
   xf += v * dt * (-std::sin(psi + theta + temp));
   yf += v * dt * std::cos(psi + theta + temp);
 
   temp = v * dt / (2 * rb);
-  if (temp > 1) temp = sgn(psi) * pi / 2;
-  else temp = sgn(psi) * std::asin(temp);
+  if (temp > 1)
+    temp = sgn(psi) * pi / 2;
+  else
+    temp = sgn(psi) * std::asin(temp);
   xb += v * dt * (-std::sin(psi + temp));
   yb += v * dt * (std::cos(psi + temp));
 
@@ -63,8 +68,10 @@ inline BicycleState step(const Bicycle& bike, const BicycleState& s, double T, d
   if ((xf == xb) && (temp < 0)) {
     psi = pi;
   } else {
-    if (temp > 0) psi = std::atan((xb - xf) / temp);
-    else psi = sgn(xb - xf) * (pi / 2) - std::atan(temp / (xb - xf));
+    if (temp > 0)
+      psi = std::atan((xb - xf) / temp);
+    else
+      psi = sgn(xb - xf) * (pi / 2) - std::atan(temp / (xb - xf));
   }
 
   BicycleState n;

@@ -1,4 +1,6 @@
 // The bicycle simulator (Randlov and Alstrom's bike.c) and its policy features.
+#include "pegasus/envs/bicycle.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -6,7 +8,6 @@
 #include <numbers>
 
 #include "bicycle_reference.hpp"
-#include "pegasus/envs/bicycle.hpp"
 #include "pegasus/envs/bicycle_policy.hpp"
 #include "pegasus/evaluators/rollout.hpp"
 #include "pegasus/scenarios/counter_rng.hpp"
@@ -16,7 +17,8 @@ namespace {
 
 using K = BicycleConstants;
 
-BicycleState make_state(double omega, double omega_dot, double theta, double theta_dot, double xb, double yb, double psi) {
+BicycleState make_state(double omega, double omega_dot, double theta, double theta_dot, double xb, double yb,
+                        double psi) {
   BicycleState s;
   s.omega = omega;
   s.omega_dot = omega_dot;
@@ -62,14 +64,14 @@ BicycleState expected(std::initializer_list<double> v) {
 TEST(BicycleDynamics, MatchesHandComputedSteps) {
   const Bicycle bike;
   expect_state_near(step(bike, make_state(0.05, -0.2, 0.3, 1.5, 0.0, 0.0, 0.3), 1.0, 0.01, 0.75),
-                    expected({0.047929479474746114, -0.2070520525253889, 0.3165079041997422, 1.650790419974218,
-                              -0.3441719430655228, 1.0830279187941254, -0.008311547035892949, 0.026505152784727426,
-                              0.30778980878184115}),
+                    expected({0.047929479474746114, -0.2070520525253889, 0.3165079041997422,
+                              1.650790419974218, -0.3441719430655228, 1.0830279187941254,
+                              -0.008311547035892949, 0.026505152784727426, 0.30778980878184115}),
                     1e-12, "turning step");
   expect_state_near(step(bike, make_state(-0.1, 0.4, 0.6, -3.0, 3.0, -2.0, 2.9), -2.0, -0.02, 0.1),
-                    expected({-0.09627765599568411, 0.3722344004315903, 0.5669841916005156, -3.301580839948436,
-                              2.7434989718952107, -3.1040203248524856, 2.9935853083679533, -2.027026961899876,
-                              2.9134283362853584}),
+                    expected({-0.09627765599568411, 0.3722344004315903, 0.5669841916005156,
+                              -3.301580839948436, 2.7434989718952107, -3.1040203248524856, 2.9935853083679533,
+                              -2.027026961899876, 2.9134283362853584}),
                     1e-12, "psi + theta > pi");
   expect_state_near(step(bike, make_state(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, -0.7), 0.0, 0.0, 0.5),
                     expected({0.0, 0.0, 0.0, 0.0, 0.7329765686199474, 0.8702204441743862, 0.01789493578611033,
@@ -82,8 +84,8 @@ TEST(BicycleDynamics, FastStepMatchesThePlainTranscriptionOfBikeC) {
   UniformStream rng(7, 0);
   for (int k = 0; k < 2000; ++k) {
     auto u = [&](double lo, double hi) { return lo + (hi - lo) * rng.next(); };
-    const BicycleState s = make_state(u(-0.2, 0.2), u(-2, 2), u(-1.39, 1.39), u(-5, 5), u(-50, 50), u(-50, 50),
-                                      u(-std::numbers::pi, std::numbers::pi));
+    const BicycleState s = make_state(u(-0.2, 0.2), u(-2, 2), u(-1.39, 1.39), u(-5, 5), u(-50, 50),
+                                      u(-50, 50), u(-std::numbers::pi, std::numbers::pi));
     const double T = u(-2, 2), d = u(-0.02, 0.02), p = rng.next();
     expect_state_near(step(bike, s, T, d, p), bicycle_reference::step(bike, s, T, d, p), 1e-12,
                       "random state " + std::to_string(k));
@@ -153,7 +155,8 @@ TEST(BicycleDynamics, InlinedFunctionsMatchTheLibrary) {
   for (int k = 0; k < 20000; ++k) {
     const double u = 2.0 * rng.next() - 1.0;
     const double wide = std::ldexp(u, static_cast<int>(60 * rng.next()) - 30);  // 1e-9 .. 1e9
-    ASSERT_NEAR(atan_rational(wide), std::atan(wide), 2.3e-16 * std::max(1.0, std::abs(std::atan(wide)))) << wide;
+    ASSERT_NEAR(atan_rational(wide), std::atan(wide), 2.3e-16 * std::max(1.0, std::abs(std::atan(wide))))
+        << wide;
     ASSERT_EQ(atan_rational(-wide), -atan_rational(wide));
     double s, c;
     handlebar_sincos(1.4 * u, s, c);
@@ -165,7 +168,8 @@ TEST(BicycleDynamics, InlinedFunctionsMatchTheLibrary) {
     const double beyond = std::copysign(0.31 + 2.5 * std::abs(u), u);  // beyond the series: the library
     small_sincos(beyond, s, c);
     ASSERT_EQ(s, std::sin(beyond));
-    ASSERT_NEAR(angle_sin(std::numbers::pi * u), std::sin(std::numbers::pi * u), 4e-16) << std::numbers::pi * u;
+    ASSERT_NEAR(angle_sin(std::numbers::pi * u), std::sin(std::numbers::pi * u), 4e-16)
+        << std::numbers::pi * u;
     ASSERT_NEAR(small_atan(0.05 * u), std::atan(0.05 * u), 1e-17);
     const double angle = 20.0 * u;
     const double wrapped = wrap_angle(angle);
@@ -251,7 +255,7 @@ TEST(BicycleDynamics, InitialStateFollowsTheDistribution) {
   const BicycleState q = bike.initial_state(quarter);
   EXPECT_NEAR(q.omega, 0.05, 1e-15);
   EXPECT_NEAR(q.omega_dot, -0.1, 1e-15);
-  EXPECT_NEAR(q.psi, 0.0, 1e-12);  // pointing north, as bike.c starts
+  EXPECT_NEAR(q.psi, 0.0, 1e-12);                                        // pointing north, as bike.c starts
   EXPECT_NEAR(bike.observe(q).goal_angle, -std::numbers::pi / 2, 2e-3);  // seen from the front tyre
   EXPECT_NEAR(std::hypot(q.xf - q.xb, q.yf - q.yb), K::l, 1e-15);
 }
@@ -297,11 +301,14 @@ TEST(BicycleFeatures, AreTheDocumentedFifteen) {
   const BicycleFeatures f;
   ASSERT_EQ(f.size(), 15);
   EXPECT_EQ(BicycleFeatures::names().size(), 15u);
-  const BicycleObservation o{.omega = std::numbers::pi / 30, .omega_dot = -0.5, .theta = std::numbers::pi / 8,
-                             .theta_dot = 4.0, .goal_angle = -std::numbers::pi / 2};
+  const BicycleObservation o{.omega = std::numbers::pi / 30,
+                             .omega_dot = -0.5,
+                             .theta = std::numbers::pi / 8,
+                             .theta_dot = 4.0,
+                             .goal_angle = -std::numbers::pi / 2};
   std::array<double, 15> x;
   f(o, x);
-  const std::array<double, 15> want = {0.5,  0.25,  0.125, -0.5, -0.25, -0.125, 0.5,  0.25,
+  const std::array<double, 15> want = {0.5,   0.25, 0.125, -0.5, -0.25, -0.125, 0.5, 0.25,
                                        0.125, 2.0,  4.0,   8.0,  -0.5,  -0.25,  -1.0};
   for (int k = 0; k < 15; ++k) EXPECT_NEAR(x[k], want[k], 1e-15) << BicycleFeatures::names()[k];
 }
@@ -315,8 +322,10 @@ TEST(BicycleFeatures, PoliciesAreMirrorSymmetricAndZeroWeightsDoNothing) {
   Theta theta(30);
   for (double& w : theta) w = 6 * rng.next() - 3;
   for (int k = 0; k < 100; ++k) {
-    const BicycleObservation o{.omega = 0.4 * rng.next() - 0.2, .omega_dot = 2 * rng.next() - 1,
-                               .theta = 2.8 * rng.next() - 1.4, .theta_dot = 8 * rng.next() - 4,
+    const BicycleObservation o{.omega = 0.4 * rng.next() - 0.2,
+                               .omega_dot = 2 * rng.next() - 1,
+                               .theta = 2.8 * rng.next() - 1.4,
+                               .theta_dot = 8 * rng.next() - 4,
                                .goal_angle = 6 * rng.next() - 3};
     const BicycleObservation m{-o.omega, -o.omega_dot, -o.theta, -o.theta_dot, -o.goal_angle};
     const auto a = policy.act(theta, o), b = policy.act(theta, m);

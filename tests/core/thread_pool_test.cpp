@@ -18,7 +18,8 @@ TEST(ThreadPool, RunsEveryIndexExactlyOnceForAnyThreadCount) {
     ThreadPool pool(threads);
     for (std::size_t n : {0u, 1u, 7u, 1000u}) {
       std::vector<std::atomic<int>> hits(n);
-      pool.parallel_for(n, [&](std::size_t i) { hits[i].fetch_add(1); }, 3);
+      pool.parallel_for(
+          n, [&](std::size_t i) { hits[i].fetch_add(1); }, 3);
       for (std::size_t i = 0; i < n; ++i) EXPECT_EQ(hits[i].load(), 1) << "threads=" << threads;
     }
   }
@@ -26,9 +27,10 @@ TEST(ThreadPool, RunsEveryIndexExactlyOnceForAnyThreadCount) {
 
 TEST(ThreadPool, RethrowsTheExceptionOfAFailingChunk) {
   ThreadPool pool(2);
-  EXPECT_THROW(pool.parallel_for(100, [](std::size_t i) {
-    if (i == 57) throw std::runtime_error("boom");
-  }),
+  EXPECT_THROW(pool.parallel_for(100,
+                                 [](std::size_t i) {
+                                   if (i == 57) throw std::runtime_error("boom");
+                                 }),
                std::runtime_error);
   // The pool stays usable afterwards.
   std::atomic<int> sum{0};

@@ -27,7 +27,8 @@ Theta sensible_policy(const PomdpGridworld& g) {
   for (int o = 0; o < g.observations(); ++o) {
     const unsigned mask = g.mask_of_observation(o);
     const bool wall_east = mask & (1u << 2), wall_north = mask & (1u << 0);
-    theta[static_cast<std::size_t>(o)] = (!wall_east && wall_north) ? PomdpGridworld::kRight : PomdpGridworld::kUp;
+    theta[static_cast<std::size_t>(o)] =
+        (!wall_east && wall_north) ? PomdpGridworld::kRight : PomdpGridworld::kUp;
     if (wall_north && wall_east) theta[static_cast<std::size_t>(o)] = PomdpGridworld::kUp;
   }
   return theta;
@@ -58,7 +59,8 @@ TEST(PomdpGridworld, TransitionProbabilitiesSumToOneAndMatchSampledFrequencies) 
     const double p = rng.next();
     sampled[static_cast<std::size_t>(g.step(s, a, std::span<const double>(&p, 1)))] += 1.0 / n;
   }
-  for (int c = 0; c < 25; ++c) EXPECT_NEAR(sampled[static_cast<std::size_t>(c)], exact[static_cast<std::size_t>(c)], 0.005);
+  for (int c = 0; c < 25; ++c)
+    EXPECT_NEAR(sampled[static_cast<std::size_t>(c)], exact[static_cast<std::size_t>(c)], 0.005);
 }
 
 TEST(PomdpGridworld, PegasusEstimatesAverageToTheExactValue) {
@@ -111,7 +113,8 @@ void expect_table_values_match_plain_evaluation(const Model& model, int m, std::
   ThreadPool pool(2);
   const auto leaves = fast.compute(values, &pool);
   EXPECT_LT(leaves, fast.policy_count());  // trajectories really were shared
-  for (std::uint64_t k = 0; k < fast.policy_count(); k += 7) ASSERT_EQ(values[k], ev.evaluate(pi.theta_of_index(k))) << k;
+  for (std::uint64_t k = 0; k < fast.policy_count(); k += 7)
+    ASSERT_EQ(values[k], ev.evaluate(pi.theta_of_index(k))) << k;
 }
 
 TEST(TablePolicyValues, EveryValueIsBitIdenticalToPlainPegasusEvaluation) {
@@ -200,7 +203,9 @@ TEST(TrajectoryTrees, WorkWithAGenerativeModelAndAverageToTheTrueValue) {
   std::vector<double> v(5, 0.0);
   for (int k = 0; k < d.horizon; ++k) {
     std::vector<double> next(5, 0.0);
-    for (int s = 0; s < 4; ++s) next[static_cast<std::size_t>(s)] = -1.1 + d.gamma * (0.2 * v[static_cast<std::size_t>(s)] + 0.8 * v[static_cast<std::size_t>(s + 1)]);
+    for (int s = 0; s < 4; ++s)
+      next[static_cast<std::size_t>(s)] =
+          -1.1 + d.gamma * (0.2 * v[static_cast<std::size_t>(s)] + 0.8 * v[static_cast<std::size_t>(s + 1)]);
     v = next;
   }
   ThreadPool pool(2);
@@ -215,11 +220,13 @@ TEST(TrajectoryTrees, WorkWithAGenerativeModelAndAverageToTheTrueValue) {
 }
 
 TEST(TrajectoryTrees, RefuseExponentiallyLargeTrees) {
-  EXPECT_THROW(TrajectoryTrees(PomdpGridworld{}, 10, Discounting{.gamma = 0.99, .horizon = 40}, 1), InputError);
+  EXPECT_THROW(TrajectoryTrees(PomdpGridworld{}, 10, Discounting{.gamma = 0.99, .horizon = 40}, 1),
+               InputError);
 }
 
 // Continuous-time discounting (footnote 9): a point moving at speed 0.3 per step enters the goal x >= 1
-// during the fourth step, at fraction tau = (1 - 0.9) / 0.3 of it; the reward 1 is discounted by gamma^(3 + tau).
+// during the fourth step, at fraction tau = (1 - 0.9) / 0.3 of it; the reward 1 is discounted by gamma^(3 +
+// tau).
 struct Glide {
   using State = double;
   using Action = int;
@@ -237,7 +244,8 @@ struct Glide {
 };
 
 TEST(Rollout, ContinuousTimeDiscountingUsesTheFractionOfTheStep) {
-  auto pi = make_program_policy<double>(ParameterSpec{}, [](std::span<const double>, const double&) { return 0; });
+  auto pi =
+      make_program_policy<double>(ParameterSpec{}, [](std::span<const double>, const double&) { return 0; });
   ScenarioSet one({.seed = 1, .count = 1, .horizon = 10, .noise_dim = 0, .initial_noise_dim = 0});
   PegasusEvaluator ev(Glide{}, pi, one, Discounting{.gamma = 0.9, .horizon = 10});
   const double x3 = 0.3 + 0.3 + 0.3;
@@ -279,23 +287,31 @@ TEST(Theorem11, IntervalModelKeepsTheBestEstimateStuckAtOneWhileEveryTrueValueIs
   for (std::uint64_t i = 0; i < actions; i += 97) EXPECT_EQ(IntervalMdp::measure(i), 0.5);
   const Discounting d{.gamma = 1.0, .horizon = 2};
   auto constant = make_program_policy<int>(
-      ParameterSpec({{.name = "i", .initial = 0, .lower = 0, .upper = static_cast<double>(actions - 1), .integer = true}}),
+      ParameterSpec({{.name = "i",
+                      .initial = 0,
+                      .lower = 0,
+                      .upper = static_cast<double>(actions - 1),
+                      .integer = true}}),
       [](std::span<const double> w, const int&) { return static_cast<IntervalMdp::Action>(w[0]); });
   for (int m : {1, 2, 4, 8}) {
     for (std::uint64_t seed = 1; seed <= 5; ++seed) {
-      const ScenarioSet scenarios({.seed = seed, .count = m, .horizon = 2, .noise_dim = 1, .initial_noise_dim = 0});
+      const ScenarioSet scenarios(
+          {.seed = seed, .count = m, .horizon = 2, .noise_dim = 1, .initial_noise_dim = 0});
       PegasusEvaluator complex(IntervalMdp(false), constant, scenarios, d);
       PegasusEvaluator simple(IntervalMdp(true), constant, scenarios, d);
       double best = -2.0;
-      for (std::uint64_t i = 0; i < actions && best < 1.0; ++i) best = std::max(best, complex.evaluate(Theta{static_cast<double>(i)}));
+      for (std::uint64_t i = 0; i < actions && best < 1.0; ++i)
+        best = std::max(best, complex.evaluate(Theta{static_cast<double>(i)}));
       EXPECT_EQ(best, 1.0) << "m=" << m;
       // The simple model gives every action the same estimate, so none looks better than the others.
       const double first = simple.evaluate(Theta{0.0});
-      for (std::uint64_t i = 1; i < actions; i += 1001) EXPECT_EQ(simple.evaluate(Theta{static_cast<double>(i)}), first);
+      for (std::uint64_t i = 1; i < actions; i += 1001)
+        EXPECT_EQ(simple.evaluate(Theta{static_cast<double>(i)}), first);
     }
   }
   // Exact U of every policy is 0: R(s0) + (1/2)(-1) + (1/2)(+1).
-  for (std::uint64_t i = 0; i < actions; i += 131) EXPECT_EQ(0.0 + IntervalMdp::measure(i) * -1.0 + (1 - IntervalMdp::measure(i)) * 1.0, 0.0);
+  for (std::uint64_t i = 0; i < actions; i += 131)
+    EXPECT_EQ(0.0 + IntervalMdp::measure(i) * -1.0 + (1 - IntervalMdp::measure(i)) * 1.0, 0.0);
 }
 
 }  // namespace

@@ -1,5 +1,3 @@
-#include "pegasus/scenarios/scenario_set.hpp"
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -7,6 +5,7 @@
 #include <vector>
 
 #include "pegasus/core/error.hpp"
+#include "pegasus/scenarios/scenario_set.hpp"
 
 namespace pegasus {
 namespace {
@@ -30,7 +29,8 @@ std::vector<double> all_numbers(const ScenarioSet& set) {
 }
 
 TEST(ScenarioSet, SameSeedGivesIdenticalNumbersAndAnotherSeedDifferent) {
-  for (auto v : {ScenarioVariant::kPlain, ScenarioVariant::kAntithetic, ScenarioVariant::kStratified, ScenarioVariant::kSobol}) {
+  for (auto v : {ScenarioVariant::kPlain, ScenarioVariant::kAntithetic, ScenarioVariant::kStratified,
+                 ScenarioVariant::kSobol}) {
     auto a = all_numbers(ScenarioSet(options(v)));
     auto b = all_numbers(ScenarioSet(options(v)));
     auto other = options(v);
@@ -62,7 +62,8 @@ TEST(ScenarioSet, AntitheticPairsMirrorEveryUniform) {
     for (int t = 0; t < 20; ++t) {
       set.step_noise(2 * pair, t, a);
       set.step_noise(2 * pair + 1, t, b);
-      for (int j = 0; j < 3; ++j) EXPECT_DOUBLE_EQ(a[static_cast<std::size_t>(j)] + b[static_cast<std::size_t>(j)], 1.0);
+      for (int j = 0; j < 3; ++j)
+        EXPECT_DOUBLE_EQ(a[static_cast<std::size_t>(j)] + b[static_cast<std::size_t>(j)], 1.0);
     }
 }
 

@@ -21,7 +21,9 @@ namespace {
 using pegasus::test_support::read_text;
 using PomdpGridworldCli = pegasus::test_support::TempDirTest;
 
-pegasus::test_support::CliResult run(const std::string& args) { return pegasus::test_support::run_pegasus(args); }
+pegasus::test_support::CliResult run(const std::string& args) {
+  return pegasus::test_support::run_pegasus(args);
+}
 std::string read(const fs::path& p) { return read_text(p); }
 
 const char* kSmall = "pomdp-gridworld --scenarios 1,4,16 --trials 3 --montecarlo-max-m 1 --quiet --seed 5";
@@ -34,13 +36,15 @@ TEST_F(PomdpGridworldCli, WritesTheDocumentedSummaryKeysAndArtifacts) {
   const auto& results = summary.at("results");
   ASSERT_EQ(results.size(), 3u + 3u + 1u);  // normal and hashed at 3 m values, Monte Carlo at m = 1
   for (const auto& row : results) {
-    for (const char* key : {"model", "estimator", "m", "trials", "mean_true_value", "stderr_true_value", "mean_estimate",
-                            "mean_sup_deviation"})
+    for (const char* key : {"model", "estimator", "m", "trials", "mean_true_value", "stderr_true_value",
+                            "mean_estimate", "mean_sup_deviation"})
       EXPECT_TRUE(row.contains(key)) << key;
     EXPECT_EQ(row.at("trials"), 3);
-    EXPECT_LE(row.at("mean_true_value").get<double>(), summary.at("best_in_class_value").get<double>() + 1e-12);
+    EXPECT_LE(row.at("mean_true_value").get<double>(),
+              summary.at("best_in_class_value").get<double>() + 1e-12);
   }
-  for (const char* file : {"config.toml", "results.csv", "trials.csv", "value_vs_m.svg", "sup_deviation_vs_m.svg"})
+  for (const char* file :
+       {"config.toml", "results.csv", "trials.csv", "value_vs_m.svg", "sup_deviation_vs_m.svg"})
     EXPECT_TRUE(fs::exists(dir_ / "run" / file)) << file;
   EXPECT_FALSE(fs::exists(dir_ / "run.partial"));
 }
@@ -53,8 +57,8 @@ TEST_F(PomdpGridworldCli, ThreadCountNeverChangesTheResult) {
 }
 
 TEST_F(PomdpGridworldCli, BadInputGetsOneLineExitTwoAndNoRunDirectory) {
-  for (const std::string bad : {"--scenarios 0,4", "--gamma 1.5", "--horizon 0", "--threads 0", "--trials -1",
-                                "--variant lhs"}) {
+  for (const std::string bad :
+       {"--scenarios 0,4", "--gamma 1.5", "--horizon 0", "--threads 0", "--trials -1", "--variant lhs"}) {
     const auto r = run("pomdp-gridworld --quiet --out " + (dir_ / "bad").string() + " " + bad);
     EXPECT_EQ(r.code, 2) << bad << ": " << r.output;
     EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
@@ -62,14 +66,17 @@ TEST_F(PomdpGridworldCli, BadInputGetsOneLineExitTwoAndNoRunDirectory) {
     EXPECT_FALSE(fs::exists(dir_ / "bad.partial")) << bad;
   }
   std::ofstream(dir_ / "bad.toml") << "trials = 3\nsceanrios = [1, 2]\n";
-  const auto r = run("pomdp-gridworld --quiet --out " + (dir_ / "bad").string() + " --config " + (dir_ / "bad.toml").string());
+  const auto r = run("pomdp-gridworld --quiet --out " + (dir_ / "bad").string() + " --config " +
+                     (dir_ / "bad.toml").string());
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.output.find("bad.toml:2"), std::string::npos) << r.output;
 }
 
 // SIGKILL in the middle of a run, then --resume: the finished run equals an uninterrupted one bit for bit.
 TEST_F(PomdpGridworldCli, KilledRunResumesToTheSameResult) {
-  const std::string args = "pomdp-gridworld --scenarios 64 --trials 10 --montecarlo=false --hashed=false --quiet --seed 9 --threads 1";
+  const std::string args =
+      "pomdp-gridworld --scenarios 64 --trials 10 --montecarlo=false --hashed=false --quiet --seed 9 "
+      "--threads 1";
   ASSERT_EQ(run(args + " --out " + (dir_ / "whole").string()).code, 0);
 
   const fs::path out = dir_ / "killed";

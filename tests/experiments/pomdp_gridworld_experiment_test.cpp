@@ -9,7 +9,8 @@
 namespace pegasus {
 namespace {
 
-std::map<std::tuple<std::string, std::string, int>, PomdpGridworldSummaryRow> by_key(const PomdpGridworldResult& r) {
+std::map<std::tuple<std::string, std::string, int>, PomdpGridworldSummaryRow> by_key(
+    const PomdpGridworldResult& r) {
   std::map<std::tuple<std::string, std::string, int>, PomdpGridworldSummaryRow> out;
   for (const auto& row : r.rows) out[{row.model, row.estimator, row.m}] = row;
   return out;

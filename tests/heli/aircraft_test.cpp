@@ -1,4 +1,6 @@
 // The ground-truth helicopter: frames, trim, control signs, reproducibility, crash detection.
+#include "pegasus/heli/aircraft.hpp"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -6,7 +8,6 @@
 #include <numbers>
 #include <vector>
 
-#include "pegasus/heli/aircraft.hpp"
 #include "pegasus/heli/frames.hpp"
 #include "pegasus/heli/gaussian.hpp"
 #include "pegasus/heli/pilot.hpp"
@@ -84,14 +85,16 @@ TEST(HeliAircraft, HoverTrimIsFoundWithSmallRightRollAndExpectedCollective) {
   const double v_i = trim.rotor.inflow_ratio * P.omega_mr * P.radius_mr;
   const double download = 0.5 * P.air_density * P.fus_area_z * v_i * v_i;
   // The tail thrust (along -y of the rolled body) also lifts a little.
-  const double lift = (trim.rotor.thrust_n * std::cos(trim.roll) + trim.rotor.tail_thrust_n * std::sin(trim.roll)) *
-                      std::cos(trim.pitch);
+  const double lift =
+      (trim.rotor.thrust_n * std::cos(trim.roll) + trim.rotor.tail_thrust_n * std::sin(trim.roll)) *
+      std::cos(trim.pitch);
   EXPECT_NEAR(lift, P.mass_kg * P.gravity + download, 0.1);
   EXPECT_NEAR(trim.rotor.tail_thrust_n * P.arm_tr, trim.rotor.torque_nm, 0.3);
   // Collective from momentum theory by hand: C_T = W / (rho A (Omega R)^2), lambda = sqrt(C_T / 2),
   // theta0 = 3 (2 C_T / (a sigma) + lambda / 2).
   const double tip = P.omega_mr * P.radius_mr;
-  const double ct = P.mass_kg * P.gravity / (P.air_density * std::numbers::pi * P.radius_mr * P.radius_mr * tip * tip);
+  const double ct =
+      P.mass_kg * P.gravity / (P.air_density * std::numbers::pi * P.radius_mr * P.radius_mr * tip * tip);
   const double sigma = 2 * P.chord_mr / (std::numbers::pi * P.radius_mr);
   const double theta0 = 3 * (2 * ct / (P.lift_slope_mr * sigma) + std::sqrt(ct / 2) / 2);
   const double theta_trim = P.collective_mid_rad + P.collective_span_rad * trim.controls[2];

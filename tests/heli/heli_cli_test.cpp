@@ -15,7 +15,9 @@ namespace {
 using pegasus::test_support::read_text;
 using HeliCli = pegasus::test_support::TempDirTest;
 
-pegasus::test_support::CliResult run(const std::string& args) { return pegasus::test_support::run_pegasus(args); }
+pegasus::test_support::CliResult run(const std::string& args) {
+  return pegasus::test_support::run_pegasus(args);
+}
 
 const char* kIdentifySmall =
     " --cv-points 40 --scale-grid 2,4 --coordinate-passes 0 --horizon-s 10 --start-spacing-s 5 --quiet";
@@ -24,13 +26,15 @@ class HeliCliWithLogs : public HeliCli {
  protected:
   void SetUp() override {
     HeliCli::SetUp();
-    auto r = run("heli pilot --seconds 60 --hover-seconds 4 --seed 3 --quiet --out " + (dir_ / "train").string());
+    auto r =
+        run("heli pilot --seconds 60 --hover-seconds 4 --seed 3 --quiet --out " + (dir_ / "train").string());
     ASSERT_EQ(r.code, 0) << r.output;
     r = run("heli pilot --seconds 25 --hover-seconds 4 --seed 4 --quiet --out " + (dir_ / "test").string());
     ASSERT_EQ(r.code, 0) << r.output;
   }
   std::string logs() const {
-    return " --train " + (dir_ / "train" / "log.csv").string() + " --test " + (dir_ / "test" / "log.csv").string();
+    return " --train " + (dir_ / "train" / "log.csv").string() + " --test " +
+           (dir_ / "test" / "log.csv").string();
   }
 };
 
@@ -94,7 +98,8 @@ TEST_F(HeliCli, IdentifyRejectsBadLogNamingFileLineAndColumn) {
   const auto r = run("heli identify --train " + bad.string() + " --test " + bad.string() + " --quiet --out " +
                      (dir_ / "id").string());
   EXPECT_EQ(r.code, 2) << r.output;
-  EXPECT_NE(r.output.find(bad.string() + ":59:x: expected a number, found 'oops'"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(bad.string() + ":59:x: expected a number, found 'oops'"), std::string::npos)
+      << r.output;
   EXPECT_FALSE(fs::exists(dir_ / "id"));
   const auto missing = run("heli identify --quiet --out " + (dir_ / "id").string());
   EXPECT_EQ(missing.code, 2);

@@ -1,12 +1,12 @@
 // End-to-end tests of `pegasus heli maneuver` on a small identified model and a shrunken manoeuvre: training
 // improves U-hat, the documented files, --threads never changes a result, bad input is refused.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
-#include <unistd.h>
 
 #include "support/cli_runner.hpp"
 
@@ -23,14 +23,18 @@ class ManeuverCli : public pegasus::test_support::TempDirTest {
   static void SetUpTestSuite() {
     shared_ = fs::temp_directory_path() / ("pegasus-maneuver-model-" + std::to_string(::getpid()));
     fs::remove_all(shared_);
-    auto r = run_pegasus("heli pilot --seconds 60 --hover-seconds 4 --seed 3 --quiet --out " + (shared_ / "train").string());
+    auto r = run_pegasus("heli pilot --seconds 60 --hover-seconds 4 --seed 3 --quiet --out " +
+                         (shared_ / "train").string());
     ASSERT_EQ(r.code, 0) << r.output;
-    r = run_pegasus("heli pilot --seconds 20 --hover-seconds 4 --seed 4 --quiet --out " + (shared_ / "test").string());
+    r = run_pegasus("heli pilot --seconds 20 --hover-seconds 4 --seed 4 --quiet --out " +
+                    (shared_ / "test").string());
     ASSERT_EQ(r.code, 0) << r.output;
     r = run_pegasus("heli identify --train " + (shared_ / "train" / "log.csv").string() + " --test " +
                     (shared_ / "test" / "log.csv").string() +
-                    " --cv-points 40 --scale-grid 2,4 --coordinate-passes 0 --horizon-s 5 --start-spacing-s 5 --variants=false"
-                    " --quiet --out " + (shared_ / "id").string());
+                    " --cv-points 40 --scale-grid 2,4 --coordinate-passes 0 --horizon-s 5 --start-spacing-s "
+                    "5 --variants=false"
+                    " --quiet --out " +
+                    (shared_ / "id").string());
     ASSERT_EQ(r.code, 0) << r.output;
   }
   static void TearDownTestSuite() { fs::remove_all(shared_); }
@@ -39,7 +43,8 @@ class ManeuverCli : public pegasus::test_support::TempDirTest {
   static std::string small(const std::string& out) {
     return "heli maneuver --name III.2 --model " + (shared_ / "id" / "model.json").string() +
            " --circle-radius 2 --pause-s 0.5 --hold-end-s 0.5 --speed 1 --scenarios 2 --optimizer hill-climb"
-           " --iterations 3 --hill-climbing.proposals 4 --flights 2 --quiet --out " + out;
+           " --iterations 3 --hill-climbing.proposals 4 --flights 2 --quiet --out " +
+           out;
   }
   static inline fs::path shared_;
 };
@@ -55,17 +60,20 @@ TEST_F(ManeuverCli, TrainingImprovesUhatAndWritesTheDocumentedFiles) {
   EXPECT_EQ(s.at("maneuver"), "III.2");
   EXPECT_GT(s.at("final_uhat").get<double>(), s.at("initial_uhat").get<double>());
   EXPECT_EQ(s.at("flights"), 2);
-  for (const char* key : {"crashes", "rms_path_deviation_m", "max_path_deviation_m", "z_delay_s", "completed"})
+  for (const char* key :
+       {"crashes", "rms_path_deviation_m", "max_path_deviation_m", "z_delay_s", "completed"})
     EXPECT_TRUE(s.contains(key)) << key;
   EXPECT_FALSE(s.contains("rms_path_deviation_no_delay_m"));  // no ablations asked for
   EXPECT_EQ(first_line(read_text(dir_ / "run" / "progress.csv")), "iteration,evaluations,seconds,objective");
   EXPECT_EQ(first_line(read_text(dir_ / "run" / "ideal_path.csv")), "t,x,y,z,yaw");
-  EXPECT_EQ(first_line(read_text(dir_ / "run" / "flights.csv")).rfind(
-                "flight,t,x,y,z,roll,pitch,yaw,xdot,ydot,zdot,roll_rate,pitch_rate,yaw_rate,a1,a2,a3,a4,target_x,target_y,"
-                "target_z,target_yaw",
-                0),
+  EXPECT_EQ(first_line(read_text(dir_ / "run" / "flights.csv"))
+                .rfind("flight,t,x,y,z,roll,pitch,yaw,xdot,ydot,zdot,roll_rate,pitch_rate,yaw_rate,a1,a2,a3,"
+                       "a4,target_x,target_y,"
+                       "target_z,target_yaw",
+                       0),
             0u);
-  EXPECT_EQ(first_line(read_text(dir_ / "run" / "path_deviation.csv")), "flight,t,path_deviation_m,progress_m");
+  EXPECT_EQ(first_line(read_text(dir_ / "run" / "path_deviation.csv")),
+            "flight,t,path_deviation_m,progress_m");
   const auto policy = json_of(dir_ / "run" / "policy.json");
   EXPECT_EQ(policy.at("class"), "maneuver");
   EXPECT_EQ(policy.at("options").at("name"), "III.2");
@@ -80,10 +88,11 @@ TEST_F(ManeuverCli, ThreadCountNeverChangesTheResult) {
   auto b = run_pegasus(small((dir_ / "two").string()) + small_ablations + " --threads 2");
   ASSERT_EQ(b.code, 0) << b.output;
   const auto sa = json_of(dir_ / "one" / "summary.json"), sb = json_of(dir_ / "two" / "summary.json");
-  for (const char* key : {"final_uhat", "initial_uhat", "rms_path_deviation_m", "rms_path_deviation_no_delay_m",
-                          "rms_path_deviation_no_shaping_m", "crashes"})
+  for (const char* key : {"final_uhat", "initial_uhat", "rms_path_deviation_m",
+                          "rms_path_deviation_no_delay_m", "rms_path_deviation_no_shaping_m", "crashes"})
     EXPECT_EQ(sa.at(key), sb.at(key)) << key;
-  EXPECT_EQ(json_of(dir_ / "one" / "policy.json").at("parameters"), json_of(dir_ / "two" / "policy.json").at("parameters"));
+  EXPECT_EQ(json_of(dir_ / "one" / "policy.json").at("parameters"),
+            json_of(dir_ / "two" / "policy.json").at("parameters"));
   EXPECT_EQ(read_text(dir_ / "one" / "flights.csv"), read_text(dir_ / "two" / "flights.csv"));
 }
 

@@ -1,19 +1,20 @@
 // The manoeuvre task (thesis §5.4): the reward pays distance to the path, not lag behind the set point; the
 // shaping potential grows along the path, is 0 at the start and at absorbing (crash) states, and telescopes;
 // the manoeuvre policy's couplings and delay; flights on the ground truth are deterministic.
+#include "pegasus/heli/maneuver_task.hpp"
+
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
-#include <memory>
 #include <filesystem>
+#include <memory>
 #include <span>
-#include <unistd.h>
 
 #include "pegasus/core/error.hpp"
 #include "pegasus/evaluators/rollout.hpp"
 #include "pegasus/heli/maneuver_file.hpp"
 #include "pegasus/heli/maneuver_policy.hpp"
-#include "pegasus/heli/maneuver_task.hpp"
 #include "pegasus/shaping/potential_shaping.hpp"
 
 namespace {
@@ -21,8 +22,8 @@ namespace {
 using namespace pegasus;
 using namespace pegasus::heli;
 
-// A point "helicopter" for checking the wrapper: the action a1..a3 is the velocity (m/s) in W, a4 the yaw rate; it
-// crashes (absorbing) below the ground or when told to (a velocity above 5 m/s).
+// A point "helicopter" for checking the wrapper: the action a1..a3 is the velocity (m/s) in W, a4 the yaw
+// rate; it crashes (absorbing) below the ground or when told to (a velocity above 5 m/s).
 struct PointModel {
   struct State {
     LoggedState s{};
@@ -51,13 +52,16 @@ struct PointModel {
   }
   bool terminal(const State& s) const { return s.crashed; }
   Observation observe(const State& s) const { return s.s; }
-  double reward(const State& s, const Action&, const State& n) const { return !s.crashed && n.crashed ? -1000.0 : 0.0; }
+  double reward(const State& s, const Action&, const State& n) const {
+    return !s.crashed && n.crashed ? -1000.0 : 0.0;
+  }
 };
 static_assert(SimulativeModel<PointModel>);
 static_assert(SimulativeModel<ManeuverTask<PointModel>>);
 
 struct Fixture {
-  std::shared_ptr<const Trajectory> trajectory = std::make_shared<const Trajectory>(maneuver_trajectory("III.1"));
+  std::shared_ptr<const Trajectory> trajectory =
+      std::make_shared<const Trajectory>(maneuver_trajectory("III.1"));
   std::shared_ptr<const PathObserver> observer = std::make_shared<const PathObserver>(*trajectory);
   ManeuverReward reward{};
   ManeuverTask<PointModel> task{PointModel{}, observer, reward};
@@ -98,7 +102,8 @@ TEST(ManeuverTask, ShapingPotentialIsZeroAtTheStartAndAtTheAbsorbingCrash) {
   const auto shaped = shape(f.task, PathProgressPotential{per_metre}, gamma);
   const auto& before = states[states.size() - 2];
   EXPECT_GT(before.path.progress, 5.0);
-  EXPECT_DOUBLE_EQ(shaped.shaping(before, Controls{9, 0, 0, 0}, states.back()), -per_metre * before.path.progress);
+  EXPECT_DOUBLE_EQ(shaped.shaping(before, Controls{9, 0, 0, 0}, states.back()),
+                   -per_metre * before.path.progress);
   EXPECT_NEAR(sum, 0.0, 1e-9);
 }
 
@@ -111,7 +116,8 @@ TEST(ManeuverTask, ShapingTelescopesToTheProgressAtTheHorizon) {
   ASSERT_FALSE(f.task.terminal(states.back()));
   EXPECT_NEAR(sum, std::pow(gamma, steps) * per_metre * states.back().path.progress, 1e-9);
   // Progress grows along the flown path and the projection is the set point itself.
-  for (std::size_t k = 1; k < states.size(); ++k) ASSERT_GE(states[k].path.progress, states[k - 1].path.progress);
+  for (std::size_t k = 1; k < states.size(); ++k)
+    ASSERT_GE(states[k].path.progress, states[k - 1].path.progress);
   EXPECT_GT(states.back().path.progress, 15.0);
 }
 
@@ -169,7 +175,9 @@ TEST(ManeuverPolicy, FollowsTheSetPointAndAppliesTheCouplingsAboutTrim) {
   EXPECT_NEAR(coupled[0], plain[0], 1e-15);
   EXPECT_NEAR(coupled[2], plain[2], 1e-15);
   // Without the delay and feed-forward the class has 36 parameters.
-  EXPECT_EQ(ManeuverPolicy(trajectory, init, {.learn_delay = false, .feedforward = false}).parameters().size(), 36u);
+  EXPECT_EQ(
+      ManeuverPolicy(trajectory, init, {.learn_delay = false, .feedforward = false}).parameters().size(),
+      36u);
 }
 
 TEST(ManeuverFlights, OnTheGroundTruthAreDeterministicForAnyThreadCount) {
@@ -238,7 +246,8 @@ TEST(ManeuverPolicyFile, RoundTripsThroughTheRegistryAndFliesTheSame) {
   Theta theta = policy.parameters().initial();
   theta[ManeuverPolicy::kTailToLat] = 0.1;
   theta[36] = 0.4;
-  const auto dir = std::filesystem::temp_directory_path() / ("pegasus-maneuver-file-" + std::to_string(::getpid()));
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("pegasus-maneuver-file-" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   write_policy_file(dir / "p.json", maneuver_policy_file(o, policy, theta, init.trim));
   const auto controller = load_controller(dir / "p.json");

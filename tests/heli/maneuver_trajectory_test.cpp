@@ -1,6 +1,6 @@
 // Manoeuvre trajectories (thesis §5.4, Fig 5.8) and the path observer: sizes, speed and acceleration limits,
-// smoothness, the geometry each manoeuvre promises, exact projection of points on the path, monotone progress,
-// and the loop-back of III.2.
+// smoothness, the geometry each manoeuvre promises, exact projection of points on the path, monotone
+// progress, and the loop-back of III.2.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -103,10 +103,13 @@ TEST_P(EveryManeuver, ProgressIsMonotoneAndCompleteOnAWobblyFlight) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Maneuvers, EveryManeuver, ::testing::Values("III.1", "III.2", "III.3"),
-                         [](const auto& param_info) { return "III_" + std::string(1, param_info.param.back()); });
+                         [](const auto& param_info) {
+                           return "III_" + std::string(1, param_info.param.back());
+                         });
 
 TEST(ManeuverTrajectory, SizesAndDurationsAreThoseDocumented) {
-  const Trajectory t1 = maneuver_trajectory("III.1"), t2 = maneuver_trajectory("III.2"), t3 = maneuver_trajectory("III.3");
+  const Trajectory t1 = maneuver_trajectory("III.1"), t2 = maneuver_trajectory("III.2"),
+                   t3 = maneuver_trajectory("III.3");
   EXPECT_NEAR(position_length(t1), 20 + 2 * std::sqrt(200.0), 1e-3);
   EXPECT_NEAR(position_length(t2), 20 + 2 * kPi * 10, 1e-3);
   EXPECT_NEAR(position_length(t3), 2 * 20 + 2 * 10, 1e-3);
@@ -167,7 +170,7 @@ TEST(ManeuverTrajectory, RectanglePirouettesAreOppositeFullTurnsHalfwayUp) {
   for (const auto& leg : t.legs())
     if (leg.kind == TrajectoryLeg::Kind::kTurn) {
       sweeps.push_back(leg.sweep);
-      EXPECT_NEAR(-leg.from_W.z(), 15, 1e-9);   // halfway up the 10 m side of a rectangle based at 10 m
+      EXPECT_NEAR(-leg.from_W.z(), 15, 1e-9);  // halfway up the 10 m side of a rectangle based at 10 m
       EXPECT_NEAR(std::abs(leg.from_W.x()), 10, 1e-9);  // on a vertical side
     }
   ASSERT_EQ(sweeps.size(), 2u);
@@ -208,7 +211,8 @@ TEST(PathObserver, IsNotFooledWhereTheNoseInCircleLoopsBack) {
   const TrajectoryLeg& out = t.legs()[1];
   ASSERT_EQ(out.kind, TrajectoryLeg::Kind::kLine);
   PathProjection p = obs.start();
-  for (double s = 0; s <= out.t0 + out.duration; s += 0.02) p = obs.update(p, t.at(s).p_W, wrap_angle(t.at(s).yaw));
+  for (double s = 0; s <= out.t0 + out.duration; s += 0.02)
+    p = obs.update(p, t.at(s).p_W, wrap_angle(t.at(s).yaw));
   EXPECT_NEAR(p.progress, 10, 1e-6);
   // Hovering at the rim for a long time (the pause and more) does not skip round the circle.
   for (int k = 0; k < 500; ++k) p = obs.update(p, out.to_W, 0.0);

@@ -47,7 +47,8 @@ TEST(GridWorld, TabulatedMdpMatchesTheSimulativeModel) {
     for (int a = 0; a < 4; ++a) {
       std::vector<double> p(16, 0.0);
       const int n = 20000;
-      for (int i = 0; i < n; ++i) p[static_cast<std::size_t>(w.step(s, a, std::array<double, 1>{(i + 0.5) / n}))] += 1.0 / n;
+      for (int i = 0; i < n; ++i)
+        p[static_cast<std::size_t>(w.step(s, a, std::array<double, 1>{(i + 0.5) / n}))] += 1.0 / n;
       const std::size_t r = m.row(s, a);
       for (std::uint32_t k = m.row_start[r]; k < m.row_start[r + 1]; ++k)
         EXPECT_NEAR(p[static_cast<std::size_t>(m.next_state[k])], m.probability[k], 1e-9);
@@ -124,7 +125,8 @@ TEST(MdpModel, SamplesSuccessorsWithTheRowProbabilities) {
   for (int a = 0; a < 4; ++a) {
     std::vector<double> p(9, 0.0);
     const int n = 10000;
-    for (int i = 0; i < n; ++i) p[static_cast<std::size_t>(model.step(4, a, std::array<double, 1>{(i + 0.5) / n}))] += 1.0 / n;
+    for (int i = 0; i < n; ++i)
+      p[static_cast<std::size_t>(model.step(4, a, std::array<double, 1>{(i + 0.5) / n}))] += 1.0 / n;
     const std::size_t r = m.row(4, a);
     for (std::uint32_t k = m.row_start[r]; k < m.row_start[r + 1]; ++k)
       EXPECT_NEAR(p[static_cast<std::size_t>(m.next_state[k])], m.probability[k], 1e-3);

@@ -3,12 +3,11 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "support/input_error.hpp"
-
 #include <functional>
 
 #include "pegasus/core/error.hpp"
 #include "pegasus/mdp/random_mdp.hpp"
+#include "support/input_error.hpp"
 
 namespace pegasus {
 
@@ -68,7 +67,8 @@ TEST(FiniteMdp, RejectsProbabilitiesOutsideTheUnitInterval) {
   // And in an MDP assembled by hand.
   FiniteMdp m = chain(0.9);
   m.probability[0] = 1.25;
-  EXPECT_THAT(input_error_message([&] { validate(m, "hand.json"); }), HasSubstr("hand.json: state 0 action 0: probability 1.25"));
+  EXPECT_THAT(input_error_message([&] { validate(m, "hand.json"); }),
+              HasSubstr("hand.json: state 0 action 0: probability 1.25"));
 }
 
 TEST(FiniteMdp, RejectsMissingRowsBadIndicesAndBadGamma) {
@@ -76,13 +76,18 @@ TEST(FiniteMdp, RejectsMissingRowsBadIndicesAndBadGamma) {
   b.add_transition(0, 0, 1, 1.0);
   b.add_transition(1, 0, 1, 1.0);
   b.add_transition(1, 1, 1, 1.0);
-  EXPECT_THAT(input_error_message([&] { b.build(); }), HasSubstr("no transitions given for state 0 action 1"));
-  EXPECT_THAT(input_error_message([&] { b.add_transition(0, 0, 7, 1.0); }), HasSubstr("successor state 7 outside [0, 2)"));
-  EXPECT_THAT(input_error_message([&] { b.add_transition(0, 2, 0, 1.0); }), HasSubstr("action 2 outside [0, 2)"));
-  EXPECT_THAT(input_error_message([] { FiniteMdpBuilder(2, 2, 1.5); }), HasSubstr("gamma must lie in [0, 1]"));
+  EXPECT_THAT(input_error_message([&] { b.build(); }),
+              HasSubstr("no transitions given for state 0 action 1"));
+  EXPECT_THAT(input_error_message([&] { b.add_transition(0, 0, 7, 1.0); }),
+              HasSubstr("successor state 7 outside [0, 2)"));
+  EXPECT_THAT(input_error_message([&] { b.add_transition(0, 2, 0, 1.0); }),
+              HasSubstr("action 2 outside [0, 2)"));
+  EXPECT_THAT(input_error_message([] { FiniteMdpBuilder(2, 2, 1.5); }),
+              HasSubstr("gamma must lie in [0, 1]"));
   FiniteMdp m = chain(0.9);
   m.reward[m.row_start[m.row(2, 0)]] = 1.0;  // an absorbing state that pays
-  EXPECT_THAT(input_error_message([&] { validate(m); }), HasSubstr("absorbing state 2 must loop to itself with reward 0"));
+  EXPECT_THAT(input_error_message([&] { validate(m); }),
+              HasSubstr("absorbing state 2 must loop to itself with reward 0"));
 }
 
 TEST(FiniteMdp, UndiscountedMdpMustBeProperUnderEveryPolicy) {

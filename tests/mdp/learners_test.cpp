@@ -1,8 +1,7 @@
 #include "pegasus/mdp/learners.hpp"
 
-#include <gtest/gtest.h>
-
 #include <Random123/philox.h>
+#include <gtest/gtest.h>
 
 #include <cmath>
 
@@ -56,20 +55,24 @@ TEST(BlockUniformStream, VectorPhiloxPathsMatchScalarPhiloxBitForBit) {
       // Counters crossing 2^32 exercise the second counter word; odd counts exercise the tails.
       for (const int calls : {1, 3, 4, 7, 8, 15, 16, 31, 32, 33, 64, 67}) {
         std::vector<double> want(static_cast<std::size_t>(4 * calls));
-        const r123::Philox4x32::key_type key = {{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32)}};
+        const r123::Philox4x32::key_type key = {
+            {static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32)}};
         for (int j = 0; j < calls; ++j) {
           const std::uint64_t c = first + static_cast<std::uint64_t>(j);
-          const auto r = philox({{static_cast<std::uint32_t>(c), static_cast<std::uint32_t>(c >> 32), 9u, kBlockStreamDomain}}, key);
+          const auto r = philox(
+              {{static_cast<std::uint32_t>(c), static_cast<std::uint32_t>(c >> 32), 9u, kBlockStreamDomain}},
+              key);
           for (int w = 0; w < 4; ++w)
-            want[static_cast<std::size_t>(4 * j + w)] = (static_cast<double>(r[static_cast<std::size_t>(w)]) + 0.5) * 0x1.0p-32;
+            want[static_cast<std::size_t>(4 * j + w)] =
+                (static_cast<double>(r[static_cast<std::size_t>(w)]) + 0.5) * 0x1.0p-32;
         }
         for (const PhiloxPath path : {PhiloxPath::kScalar, PhiloxPath::kAvx2, PhiloxPath::kAvx512}) {
           if (!detail::philox_path_supported(path)) continue;
           std::vector<double> got(want.size(), -1.0);
           detail::philox_uniforms(path, key[0], key[1], first, 9u, kBlockStreamDomain, calls, got.data());
           for (std::size_t i = 0; i < want.size(); ++i)
-            ASSERT_EQ(got[i], want[i]) << "path " << static_cast<int>(path) << " seed " << seed << " first " << first
-                                       << " calls " << calls << " index " << i;
+            ASSERT_EQ(got[i], want[i]) << "path " << static_cast<int>(path) << " seed " << seed << " first "
+                                       << first << " calls " << calls << " index " << i;
         }
       }
     }

@@ -4,8 +4,6 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "support/input_error.hpp"
-
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -14,14 +12,15 @@
 #include "pegasus/core/error.hpp"
 #include "pegasus/envs/flags.hpp"
 #include "pegasus/mdp/random_mdp.hpp"
+#include "support/input_error.hpp"
 
 namespace pegasus {
 
 using test_support::input_error_message;
 namespace {
 
-using ::testing::HasSubstr;
 using nlohmann::json;
+using ::testing::HasSubstr;
 
 void expect_same(const FiniteMdp& a, const FiniteMdp& b) {
   EXPECT_EQ(a.num_states, b.num_states);
@@ -83,29 +82,37 @@ TEST(MdpJson, ErrorsNameTheFileAndTheField) {
     edit(j);
     return input_error_message([&] { mdp_from_json(j, "m.json"); });
   };
-  EXPECT_THAT(with([](json& j) { j["format"] = "other"; }), HasSubstr("m.json: format: expected \"pegasus-mdp\""));
+  EXPECT_THAT(with([](json& j) { j["format"] = "other"; }),
+              HasSubstr("m.json: format: expected \"pegasus-mdp\""));
   EXPECT_THAT(with([](json& j) { j.erase("gamma"); }), HasSubstr("m.json: gamma: missing required field"));
   EXPECT_THAT(with([](json& j) { j["gamma"] = 1.5; }), HasSubstr("m.json: gamma: 1.5 outside [0, 1]"));
-  EXPECT_THAT(with([](json& j) { j["num_states"] = "three"; }), HasSubstr("m.json: num_states: expected an integer"));
+  EXPECT_THAT(with([](json& j) { j["num_states"] = "three"; }),
+              HasSubstr("m.json: num_states: expected an integer"));
   EXPECT_THAT(with([](json& j) { j["transitions"][1]["next"][0][1] = 1.2; }),
               HasSubstr("m.json: transitions[1].next[0][1]: probability 1.2 outside [0, 1]"));
   EXPECT_THAT(with([](json& j) { j["transitions"][0]["next"][0][1] = 0.7; }),
               HasSubstr("m.json: transitions[0].next: probabilities sum to 0.9"));
   EXPECT_THAT(with([](json& j) { j["transitions"][2]["next"][0][0] = 9; }),
               HasSubstr("m.json: transitions[2].next[0][0]: successor 9 outside [0, 3)"));
-  EXPECT_THAT(with([](json& j) { j["transitions"].erase(3); }), HasSubstr("m.json: transitions: no entry for state 1 action 1"));
+  EXPECT_THAT(with([](json& j) { j["transitions"].erase(3); }),
+              HasSubstr("m.json: transitions: no entry for state 1 action 1"));
   EXPECT_THAT(with([](json& j) { j["transitions"].push_back(j["transitions"][0]); }),
               HasSubstr("m.json: transitions[4]: state 0 action 0 given twice"));
-  EXPECT_THAT(with([](json& j) { j["absorbing"] = json::array({7}); }), HasSubstr("m.json: absorbing[0]: state 7 outside"));
-  EXPECT_THAT(with([](json& j) { j["initial"] = json::array({json::array({0, 0.5})}); }),
+  EXPECT_THAT(with([](json& j) { j["absorbing"] = json::array({7}); }),
+              HasSubstr("m.json: absorbing[0]: state 7 outside"));
+  EXPECT_THAT(with([](json& j) {
+                j["initial"] = json::array({json::array({0, 0.5})});
+              }),
               HasSubstr("m.json: initial distribution sums to 0.5"));
-  // gamma = 1 with a policy that loops forever between 0 and 1 (action 1 of state 1, action 0 of state 0 kept).
+  // gamma = 1 with a policy that loops forever between 0 and 1 (action 1 of state 1, action 0 of state 0
+  // kept).
   EXPECT_THAT(with([](json& j) {
                 j["gamma"] = 1.0;
                 j["transitions"][0]["next"] = json::array({json::array({1, 1.0})});
               }),
               HasSubstr("m.json: gamma = 1 requires a proper MDP"));
-  EXPECT_THAT(input_error_message([] { load_mdp("/nonexistent/m.json"); }), HasSubstr("/nonexistent/m.json: cannot open"));
+  EXPECT_THAT(input_error_message([] { load_mdp("/nonexistent/m.json"); }),
+              HasSubstr("/nonexistent/m.json: cannot open"));
   const auto bad = std::filesystem::temp_directory_path() / "pegasus_bad_mdp.json";
   std::ofstream(bad) << "{ not json";
   EXPECT_THAT(input_error_message([&] { load_mdp(bad.string()); }), HasSubstr("not valid JSON"));

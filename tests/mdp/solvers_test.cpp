@@ -3,8 +3,6 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "support/input_error.hpp"
-
 #include <algorithm>
 #include <cmath>
 
@@ -12,6 +10,7 @@
 #include "pegasus/envs/gridworld.hpp"
 #include "pegasus/mdp/policy_paths.hpp"
 #include "pegasus/mdp/random_mdp.hpp"
+#include "support/input_error.hpp"
 
 namespace pegasus {
 namespace {
@@ -36,8 +35,8 @@ TEST(Solvers, EverySolverMatchesTheHandSolvedDiscountedMdp) {
   const FiniteMdp m = stay_or_go();
   ValueIterationOptions gs;
   gs.gauss_seidel = true;
-  for (const SolveSummary& s : {value_iteration(m), value_iteration(m, gs), policy_iteration(m),
-                                modified_policy_iteration(m)}) {
+  for (const SolveSummary& s :
+       {value_iteration(m), value_iteration(m, gs), policy_iteration(m), modified_policy_iteration(m)}) {
     ASSERT_TRUE(s.converged()) << s.message;
     EXPECT_NEAR(s.value[0], 18.0, 1e-6) << s.message;
     EXPECT_NEAR(s.value[1], 20.0, 1e-6) << s.message;
@@ -51,8 +50,8 @@ TEST(Solvers, EverySolverMatchesTheHandSolvedTwoByTwoGridworld) {
   const FiniteMdp m = to_finite_mdp(corner_gridworld(2));
   ValueIterationOptions gs;
   gs.gauss_seidel = true;
-  for (const SolveSummary& s : {value_iteration(m), value_iteration(m, gs), policy_iteration(m),
-                                modified_policy_iteration(m)}) {
+  for (const SolveSummary& s :
+       {value_iteration(m), value_iteration(m, gs), policy_iteration(m), modified_policy_iteration(m)}) {
     ASSERT_TRUE(s.converged()) << s.message;
     EXPECT_NEAR(s.value[0], -40.0 / 17.0, 1e-9) << s.message;
     EXPECT_NEAR(s.value[1], -190.0 / 153.0, 1e-9) << s.message;
@@ -167,7 +166,8 @@ FiniteMdp renumbered(const FiniteMdp& m, const std::vector<int>& perm) {
     }
     for (int a = 0; a < m.num_actions; ++a)
       for (std::uint32_t k = m.row_start[m.row(s, a)]; k < m.row_start[m.row(s, a) + 1]; ++k)
-        b.add_transition(t, a, perm[static_cast<std::size_t>(m.next_state[k])], m.probability[k], m.reward[k]);
+        b.add_transition(t, a, perm[static_cast<std::size_t>(m.next_state[k])], m.probability[k],
+                         m.reward[k]);
   }
   return b.build();
 }
@@ -187,7 +187,8 @@ TEST(Solvers, BandAndSparseExactEvaluationAgree) {
     for (int s = 0; s < m.num_states; ++s) pi.probs[m.row(s, s % 4)] = 0.7;
     StochasticPolicy pi_shuffled{m.num_states, 4, std::vector<double>(m.num_rows())};
     for (int s = 0; s < m.num_states; ++s)
-      for (int a = 0; a < 4; ++a) pi_shuffled.probs[m.row(perm[static_cast<std::size_t>(s)], a)] = pi.probs[m.row(s, a)];
+      for (int a = 0; a < 4; ++a)
+        pi_shuffled.probs[m.row(perm[static_cast<std::size_t>(s)], a)] = pi.probs[m.row(s, a)];
     const auto v = evaluate_policy(m, pi), w = evaluate_policy(shuffled, pi_shuffled);
     double scale = 0.0, residual = 0.0, disagreement = 0.0;
     const auto q = q_from_values(m, v);
@@ -197,7 +198,9 @@ TEST(Solvers, BandAndSparseExactEvaluationAgree) {
       if (m.is_absorbing(s)) backup = 0.0;
       scale = std::max(scale, std::abs(v[static_cast<std::size_t>(s)]));
       residual = std::max(residual, std::abs(backup - v[static_cast<std::size_t>(s)]));
-      disagreement = std::max(disagreement, std::abs(v[static_cast<std::size_t>(s)] - w[static_cast<std::size_t>(perm[static_cast<std::size_t>(s)])]));
+      disagreement =
+          std::max(disagreement, std::abs(v[static_cast<std::size_t>(s)] -
+                                          w[static_cast<std::size_t>(perm[static_cast<std::size_t>(s)])]));
     }
     EXPECT_GT(scale, 10.0) << gamma;
     EXPECT_LT(residual, 1e-12 * scale) << gamma;
@@ -246,7 +249,8 @@ TEST(Solvers, DenseKernelPathsAgreeWithPlainDotProducts) {
       for (int a = 0; a < 4; ++a) {
         long double exact = 0.0L, magnitude = 0.0L;
         for (int k = 0; k < n; ++k) {
-          const long double t = static_cast<long double>(p[static_cast<std::size_t>(a * n + k)]) * v[static_cast<std::size_t>(k)];
+          const long double t = static_cast<long double>(p[static_cast<std::size_t>(a * n + k)]) *
+                                v[static_cast<std::size_t>(k)];
           exact += t;
           magnitude += t < 0 ? -t : t;
         }

@@ -3,15 +3,18 @@
 //
 // The mpirun tests skip, saying why, when this build has no MPI or mpirun is not on PATH. They set, for
 // themselves and the ranks they start:
-//   OMPI_ALLOW_RUN_AS_ROOT=1, OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1   CI runs as root; Open MPI refuses root without
+//   OMPI_ALLOW_RUN_AS_ROOT=1, OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1   CI runs as root; Open MPI refuses root
+//   without
 //                                                                 both
 //   OMPI_MCA_btl_vader_single_copy_mechanism=none                 containers often forbid the cross-memory
 //                                                                 attach Open MPI's shared-memory transport
 //                                                                 uses; plain copies work everywhere
 //   OMPI_MCA_rmaps_base_oversubscribe=1                           more ranks than cores on a small CI machine
 // Under the sanitizers (PEGASUS_SANITIZED=1) the mpirun tests skip, saying why: LeakSanitizer reports what
-// Open MPI itself keeps allocated at exit, in plugins it has unloaded by then, so no suppression can name them.
-// Linking Open MPI without starting it (every other test) leaks nothing.
+// Open MPI itself keeps allocated at exit, in plugins it has unloaded by then, so no suppression can name
+// them. Linking Open MPI without starting it (every other test) leaks nothing.
+#include "pegasus/parallel/mpi.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -21,7 +24,6 @@
 #include <string>
 #include <vector>
 
-#include "pegasus/parallel/mpi.hpp"
 #include "support/cli_runner.hpp"
 
 namespace fs = std::filesystem;
@@ -49,7 +51,8 @@ TEST(MpiShare, EveryItemHasExactlyOneOwner) {
         }
       }
       EXPECT_EQ(total, n);
-      for (std::size_t k = 0; k < n; ++k) EXPECT_EQ(owners[k], 1) << "item " << k << " of " << n << ", " << size << " ranks";
+      for (std::size_t k = 0; k < n; ++k)
+        EXPECT_EQ(owners[k], 1) << "item " << k << " of " << n << ", " << size << " ranks";
     }
   }
 }
@@ -61,13 +64,15 @@ TEST(MpiShare, OneProcessIsOneRankAndFillsEverything) {
   EXPECT_EQ(whole.size, 1);
   pegasus::ThreadPool pool(3);
   std::vector<double> values(100, -1.0);
-  pegasus::mpi::distributed_fill(std::span<double>(values), &pool, [](std::size_t k) { return 0.5 * static_cast<double>(k); });
+  pegasus::mpi::distributed_fill(std::span<double>(values), &pool,
+                                 [](std::size_t k) { return 0.5 * static_cast<double>(k); });
   for (std::size_t k = 0; k < values.size(); ++k) EXPECT_EQ(values[k], 0.5 * static_cast<double>(k));
   EXPECT_EQ(pegasus::mpi::comm_stats().calls, 0);
   // Inside a parallel_for body the calling thread may not start a collective, whatever the rank count (the
   // workers never may: they are not the main thread).
   pegasus::ThreadPool caller_only(1);
-  caller_only.parallel_for(4, [](std::size_t) { EXPECT_TRUE(pegasus::ThreadPool::inside_parallel_for()); }, 1);
+  caller_only.parallel_for(
+      4, [](std::size_t) { EXPECT_TRUE(pegasus::ThreadPool::inside_parallel_for()); }, 1);
   EXPECT_FALSE(pegasus::ThreadPool::inside_parallel_for());
 }
 
@@ -102,9 +107,11 @@ class MpiCli : public pegasus::test_support::TempDirTest {
  protected:
   void SetUp() override {
     TempDirTest::SetUp();
-    if (!pegasus::mpi::compiled_with_mpi()) GTEST_SKIP() << "this build has no MPI (PEGASUS_MPI=OFF): nothing to distribute";
+    if (!pegasus::mpi::compiled_with_mpi())
+      GTEST_SKIP() << "this build has no MPI (PEGASUS_MPI=OFF): nothing to distribute";
     mpirun_ = find_mpirun();
-    if (mpirun_.empty()) GTEST_SKIP() << "mpirun is not on PATH (Debian: openmpi-bin): the MPI tests cannot run";
+    if (mpirun_.empty())
+      GTEST_SKIP() << "mpirun is not on PATH (Debian: openmpi-bin): the MPI tests cannot run";
     setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
     setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
     setenv("OMPI_MCA_btl_vader_single_copy_mechanism", "none", 1);
@@ -113,16 +120,21 @@ class MpiCli : public pegasus::test_support::TempDirTest {
       // LeakSanitizer reports what Open MPI keeps allocated until exit, from plugins it has unloaded (frames
       // of "<unknown module>", which no suppression can name). The code under test is the single-process code
       // that every other test folder runs under the sanitizers; the in-process tests above run here too.
-      GTEST_SKIP() << "sanitizer build: the mpirun tests run in the Release build only (LeakSanitizer reports "
-                      "Open MPI's own allocations from its unloaded plugins)";
+      GTEST_SKIP()
+          << "sanitizer build: the mpirun tests run in the Release build only (LeakSanitizer reports "
+             "Open MPI's own allocations from its unloaded plugins)";
     }
   }
 
-  CliResult single(const std::string& args) const { return run_shell(std::string(PEGASUS_CLI_PATH) + " " + args); }
-  // mpirun -np n pegasus args, with TMPDIR (Open MPI's session files, the ranks' scratch folders) in dir_/tmp.
+  CliResult single(const std::string& args) const {
+    return run_shell(std::string(PEGASUS_CLI_PATH) + " " + args);
+  }
+  // mpirun -np n pegasus args, with TMPDIR (Open MPI's session files, the ranks' scratch folders) in
+  // dir_/tmp.
   CliResult ranks(int n, const std::string& args, const std::string& env = "") const {
     fs::create_directories(dir_ / "tmp");
-    return run_shell("TMPDIR=" + (dir_ / "tmp").string() + " " + env + " " + mpirun_ + " -np " + std::to_string(n) + " --oversubscribe " + PEGASUS_CLI_PATH + " " + args);
+    return run_shell("TMPDIR=" + (dir_ / "tmp").string() + " " + env + " " + mpirun_ + " -np " +
+                     std::to_string(n) + " --oversubscribe " + PEGASUS_CLI_PATH + " " + args);
   }
   std::string out(const std::string& name) const { return " --out " + (dir_ / name).string(); }
   // The result files of a run directory that must match bit for bit (run.json holds wall time and argv).
@@ -130,10 +142,13 @@ class MpiCli : public pegasus::test_support::TempDirTest {
                            const std::vector<std::string>& files) const {
     for (const auto& f : files) {
       ASSERT_TRUE(fs::exists(dir_ / reference / f)) << f;
-      EXPECT_EQ(read_text(dir_ / other / f), read_text(dir_ / reference / f)) << other << "/" << f << " differs";
+      EXPECT_EQ(read_text(dir_ / other / f), read_text(dir_ / reference / f))
+          << other << "/" << f << " differs";
     }
   }
-  nlohmann::json run_json(const std::string& name) const { return nlohmann::json::parse(read_text(dir_ / name / "run.json")); }
+  nlohmann::json run_json(const std::string& name) const {
+    return nlohmann::json::parse(read_text(dir_ / name / "run.json"));
+  }
 
   std::string mpirun_;
 };
@@ -143,7 +158,8 @@ class MpiCli : public pegasus::test_support::TempDirTest {
 const std::string kTrain =
     "bicycle train --scenarios 6 --horizon 100 --optimizer hill-climb --iterations 12 --rides 3 --max-km 1 "
     "--goal-km 0.3 --quiet --seed 3";
-const std::vector<std::string> kTrainFiles = {"summary.json", "policy.json", "learning_curve.csv", "rides.csv"};
+const std::vector<std::string> kTrainFiles = {"summary.json", "policy.json", "learning_curve.csv",
+                                              "rides.csv"};
 
 TEST_F(MpiCli, TrainingGivesTheSameFilesOnAnyNumberOfRanksAndThreads) {
   const auto one = single(kTrain + " --threads 1" + out("single"));
@@ -181,15 +197,17 @@ TEST_F(MpiCli, ExperimentWithNaiveMonteCarloGivesTheSameFiles) {
   ASSERT_EQ(one.code, 0) << one.output;
   const auto three = ranks(3, args + out("np3"));
   ASSERT_EQ(three.code, 0) << three.output;
-  expect_same_results("single", "np3",
-                      {"summary.json", "trials.csv", "learning_curves.csv", "rides.csv", "policies/trial-0.json"});
+  expect_same_results(
+      "single", "np3",
+      {"summary.json", "trials.csv", "learning_curves.csv", "rides.csv", "policies/trial-0.json"});
   EXPECT_GT(run_json("np3").at("allgathers").get<int>(), 0);
 }
 
 // The gridworld's shared-trajectory search is not split (it takes milliseconds): every rank runs it whole,
 // and the results are still those of one process. Its naive Monte Carlo batches are split.
 TEST_F(MpiCli, CommandsThatRunWholeOnEveryRankGiveTheSameResults) {
-  const std::string args = "pomdp-gridworld --scenarios 1,2 --trials 2 --montecarlo-max-m 2 --horizon 20 --quiet --threads 1";
+  const std::string args =
+      "pomdp-gridworld --scenarios 1,2 --trials 2 --montecarlo-max-m 2 --horizon 20 --quiet --threads 1";
   const auto one = single(args + out("single"));
   ASSERT_EQ(one.code, 0) << one.output;
   const auto two = ranks(2, args + out("np2"));
@@ -226,7 +244,8 @@ TEST_F(MpiCli, BadInputIsReportedOnceWithExitCode2AndNoRunDirectory) {
   EXPECT_EQ(count_lines_with(bad.output, "pegasus: "), 1) << bad.output;
   EXPECT_NE(bad.output.find("--gamma"), std::string::npos) << bad.output;
   // Found by the command while running (a missing policy file): rank 0 reports it and ends the job with 2.
-  const auto missing = ranks(2, "bicycle ride --rides 2 --quiet --policy " + (dir_ / "absent.json").string() + out("b"));
+  const auto missing =
+      ranks(2, "bicycle ride --rides 2 --quiet --policy " + (dir_ / "absent.json").string() + out("b"));
   EXPECT_EQ(missing.code, 2) << missing.output;
   EXPECT_EQ(count_lines_with(missing.output, "absent.json"), 1) << missing.output;
   // An existing run directory: rank 0's refusal reaches every rank.
@@ -234,7 +253,8 @@ TEST_F(MpiCli, BadInputIsReportedOnceWithExitCode2AndNoRunDirectory) {
   const auto exists = ranks(2, kTrain + out("c"));
   EXPECT_EQ(exists.code, 2) << exists.output;
   EXPECT_EQ(count_lines_with(exists.output, "already exists"), 1) << exists.output;
-  for (const char* name : {"a", "a.partial", "b", "b.partial", "c.partial"}) EXPECT_FALSE(fs::exists(dir_ / name)) << name;
+  for (const char* name : {"a", "a.partial", "b", "b.partial", "c.partial"})
+    EXPECT_FALSE(fs::exists(dir_ / name)) << name;
 }
 
 }  // namespace

@@ -13,24 +13,28 @@ namespace {
 
 using pegasus::test_support::run_pegasus;
 
-nlohmann::json read_json(const fs::path& p) { return nlohmann::json::parse(pegasus::test_support::read_text(p)); }
+nlohmann::json read_json(const fs::path& p) {
+  return nlohmann::json::parse(pegasus::test_support::read_text(p));
+}
 
 class PendulumCli : public pegasus::test_support::TempDirTest {
  protected:
   std::string out(const std::string& name) const { return " --out " + (dir_ / name).string(); }
 };
 
-const std::string kSmall = " --scenarios 16 --iterations 40 --refine-scenarios 24 --refine-iterations 8 --quiet --seed 3";
+const std::string kSmall =
+    " --scenarios 16 --iterations 40 --refine-scenarios 24 --refine-iterations 8 --quiet --seed 3";
 
 TEST_F(PendulumCli, TrainWritesTheDocumentedSummaryAndClearsTheBar) {
   const auto r = run_pegasus("pendulum train --config " + std::string(PEGASUS_SOURCE_DIR) +
                              "/experiments/pendulum.toml" + kSmall + out("run"));
   ASSERT_EQ(r.code, 0) << r.output;
   const auto s = read_json(dir_ / "run" / "summary.json");
-  for (const char* key : {"mean_return_100", "seconds_to_bar", "evaluations_to_bar", "training_seconds", "bar",
-                          "evaluation_episodes", "initial_uhat", "final_uhat", "iterations", "evaluations",
-                          "race_mean_return_100", "mean_return_5000", "refine_scenarios", "refine_initial_uhat",
-                          "refine_final_uhat", "refine_iterations", "refine_evaluations", "refine_seconds"})
+  for (const char* key :
+       {"mean_return_100", "seconds_to_bar", "evaluations_to_bar", "training_seconds", "bar",
+        "evaluation_episodes", "initial_uhat", "final_uhat", "iterations", "evaluations",
+        "race_mean_return_100", "mean_return_5000", "refine_scenarios", "refine_initial_uhat",
+        "refine_final_uhat", "refine_iterations", "refine_evaluations", "refine_seconds"})
     EXPECT_TRUE(s.contains(key)) << key;
   EXPECT_GE(s["mean_return_100"].get<double>(), -200.0);
   EXPECT_GE(s["mean_return_5000"].get<double>(), -200.0);
@@ -45,7 +49,8 @@ TEST_F(PendulumCli, TrainWritesTheDocumentedSummaryAndClearsTheBar) {
   EXPECT_EQ(policy["parameters"].size(), 7u);
   EXPECT_TRUE(policy["parameters"].contains("swing.lead"));
   EXPECT_TRUE(policy["parameters"].contains("stabilise.skew"));
-  for (const char* file : {"learning_curve.csv", "bar_checks.csv", "episode_returns.csv", "learning_curve.svg"})
+  for (const char* file :
+       {"learning_curve.csv", "bar_checks.csv", "episode_returns.csv", "learning_curve.svg"})
     EXPECT_TRUE(fs::exists(dir_ / "run" / file)) << file;
 }
 

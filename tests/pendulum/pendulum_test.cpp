@@ -1,6 +1,8 @@
 // Pendulum-v1 (envs/pendulum.hpp): the model against steps of Gymnasium's equations worked out by hand
 // (Python floats, which are IEEE doubles like numpy's float64), the reward, angle normalisation,
 // determinism, the swing-up policy class, and a small training that clears the bar of issue 7.
+#include "pegasus/envs/pendulum.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -8,13 +10,12 @@
 #include <numbers>
 #include <vector>
 
-#include "pegasus/envs/pendulum.hpp"
+#include "pegasus/core/error.hpp"
 #include "pegasus/envs/pendulum_policy.hpp"
+#include "pegasus/evaluators/monte_carlo.hpp"
 #include "pegasus/evaluators/pegasus_evaluator.hpp"
 #include "pegasus/experiments/pendulum_experiment.hpp"
 #include "pegasus/models/model.hpp"
-#include "pegasus/core/error.hpp"
-#include "pegasus/evaluators/monte_carlo.hpp"
 
 namespace pegasus {
 namespace {
@@ -26,17 +27,19 @@ constexpr double kPi = std::numbers::pi;
 const std::span<const double> kNoNoise{};
 
 struct HandStep {
-  double theta, theta_dot, u;               // state and action
+  double theta, theta_dot, u;                 // state and action
   double next_theta, next_theta_dot, reward;  // pendulum.py's result
 };
 
 // Each row: one call of pendulum.py's step, computed in Python with its expressions in its order.
 const HandStep kHandSteps[] = {
     {1.0, 0.5, 1.0, 1.064055161930296, 1.2811032386059225, -1.0259999999999998},
-    {kPi / 2, 7.9, 5.0, 1.9707963267948965, 8.0, -8.71240110027234},    // torque and speed clipped
+    {kPi / 2, 7.9, 5.0, 1.9707963267948965, 8.0, -8.71240110027234},  // torque and speed clipped
     {-2.5, -3.0, -0.7, -2.6776927054038984, -3.5538541080779673, -7.1504900000000005},
-    {4.0, 1.0, 0.0, 4.021619906425952, 0.4323981285190538, -5.312935146920741},  // reward of the wrapped angle
-    {-7.5, -7.9, -3.0, -7.9, -8.0, -7.725637996663638},  // both clips at the negative end, theta never wrapped
+    {4.0, 1.0, 0.0, 4.021619906425952, 0.4323981285190538,
+     -5.312935146920741},  // reward of the wrapped angle
+    {-7.5, -7.9, -3.0, -7.9, -8.0,
+     -7.725637996663638},  // both clips at the negative end, theta never wrapped
 };
 
 TEST(Pendulum, StepsAndRewardsMatchGymnasiumComputedByHand) {
@@ -125,7 +128,8 @@ TEST(PendulumPolicy, TheFullClassExtendsTheFiveNumberClassByTheLeadAndTheSkew) {
 TEST(PendulumPolicy, LeadAndSkewAtZeroActExactlyAsTheFiveNumberPolicy) {
   const PendulumSwingUpPolicy policy;
   const Pendulum pendulum;
-  const std::vector<Theta> fives = {{0.1, 0.5, 9.0, 2.2, 1.0}, {0.3, -2.0, 20.0, 5.0, 0.4}, {5.0, 8.0, 1.0, 0.1, 2.5}};
+  const std::vector<Theta> fives = {
+      {0.1, 0.5, 9.0, 2.2, 1.0}, {0.3, -2.0, 20.0, 5.0, 0.4}, {5.0, 8.0, 1.0, 0.1, 2.5}};
   for (const Theta& five : fives) {
     const Theta full = pendulum_full_theta(five);
     ASSERT_EQ(full.size(), static_cast<std::size_t>(PendulumSwingUpPolicy::kCount));
@@ -173,12 +177,14 @@ TEST(PendulumPolicy, TheSkewCatchesAPendulumArrivingFastAndLetsOneLeaving) {
   const Pendulum pendulum;
   Theta w = swing_up_theta();  // region 1 rad
   w[PendulumSwingUpPolicy::kStabiliseSkew] = 0.2;
-  const double k_p = w[PendulumSwingUpPolicy::kStabiliseAngle], k_d = w[PendulumSwingUpPolicy::kStabiliseRate];
+  const double k_p = w[PendulumSwingUpPolicy::kStabiliseAngle],
+               k_d = w[PendulumSwingUpPolicy::kStabiliseRate];
   // 1.2 rad off upright, arriving at 2 rad/s: 1.2 - 0.4 = 0.8 < 1, so the stabiliser acts (saturated here).
   EXPECT_EQ(policy.act(w, pendulum.observe({1.2, -2.0})), std::clamp(-k_p * 1.2 + k_d * 2.0, -2.0, 2.0));
   // 0.9 rad off and leaving at 1 rad/s: 0.9 + 0.2 = 1.1, so the swing-up acts (its energy formula).
   const double energy = 0.5 + 15.0 * std::cos(0.9);
-  EXPECT_EQ(policy.act(w, pendulum.observe({0.9, 1.0})), std::clamp(0.1 * (15.0 + 0.5 - energy) * 1.0, -2.0, 2.0));
+  EXPECT_EQ(policy.act(w, pendulum.observe({0.9, 1.0})),
+            std::clamp(0.1 * (15.0 + 0.5 - energy) * 1.0, -2.0, 2.0));
 }
 
 TEST(PendulumPolicy, ZeroGainsApplyNoTorque) {
@@ -295,7 +301,8 @@ TEST(PendulumTraining, ResumedFromACheckpointOfEitherStageEndsLikeAnUninterrupte
     EXPECT_EQ(resumed.evaluations_to_bar, whole.evaluations_to_bar) << k;
     std::string difference;
     EXPECT_TRUE(SameOutcome(resumed.summary, whole.summary, &difference)) << k << ": " << difference;
-    EXPECT_TRUE(SameOutcome(resumed.refine_summary, whole.refine_summary, &difference)) << k << ": " << difference;
+    EXPECT_TRUE(SameOutcome(resumed.refine_summary, whole.refine_summary, &difference))
+        << k << ": " << difference;
   }
   // A stage-2 checkpoint cannot continue a run configured without the refinement.
   PendulumTrainingOptions race_only = o;
@@ -317,12 +324,17 @@ TEST(PendulumTraining, TheRaceIsTheFiveNumberSearchAndTheRefinementStartsWhereIt
   std::string difference;
   EXPECT_TRUE(SameOutcome(both.summary, race.summary, &difference)) << difference;
   EXPECT_EQ(both.race_mean_return_100, race.race_mean_return_100);
-  EXPECT_EQ(both.refine_summary.parameter_names.size(), static_cast<std::size_t>(PendulumSwingUpPolicy::kCount));
+  EXPECT_EQ(both.refine_summary.parameter_names.size(),
+            static_cast<std::size_t>(PendulumSwingUpPolicy::kCount));
   // The refinement's first U-hat is the race's policy on the refinement's starts; it only goes up.
   const PegasusEvaluator<Pendulum, PendulumSwingUpPolicy> refinement(
       Pendulum{}, PendulumSwingUpPolicy{},
-      ScenarioSet({.seed = mix_seed(3, 0x52656669), .count = 24, .horizon = 200, .noise_dim = 0,
-                   .initial_noise_dim = 2, .variant = ScenarioVariant::kStratified}),
+      ScenarioSet({.seed = mix_seed(3, 0x52656669),
+                   .count = 24,
+                   .horizon = 200,
+                   .noise_dim = 0,
+                   .initial_noise_dim = 2,
+                   .variant = ScenarioVariant::kStratified}),
       Discounting{.gamma = 1.0, .horizon = 200});
   EXPECT_EQ(both.refine_summary.initial_value, refinement.evaluate(race.theta));
   EXPECT_GE(both.refine_summary.best_value, both.refine_summary.initial_value);
@@ -336,7 +348,8 @@ TEST(PendulumTraining, TheRefinedPolicyBeatsTheRaceOnManyFreshStarts) {
   o.refine_scenarios = 64;
   o.refine_optimizer.hill_climbing.max_iterations = 30;
   const auto r = train_pendulum(o);
-  const double race = ordered_mean(pendulum_episode_returns(pendulum_full_theta(r.summary.best_theta), 1000, 99));
+  const double race =
+      ordered_mean(pendulum_episode_returns(pendulum_full_theta(r.summary.best_theta), 1000, 99));
   const double refined = ordered_mean(pendulum_episode_returns(r.theta, 1000, 99));
   EXPECT_GT(refined, race + 1.0) << race << " -> " << refined;  // -145.49 -> -142.68 when written
   EXPECT_GT(refined, -145.0);

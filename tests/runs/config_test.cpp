@@ -2,8 +2,6 @@
 
 #include <gtest/gtest.h>
 
-#include "support/input_error.hpp"
-
 #include <bit>
 #include <cmath>
 #include <filesystem>
@@ -12,6 +10,7 @@
 #include <random>
 
 #include "pegasus/core/error.hpp"
+#include "support/input_error.hpp"
 
 namespace pegasus {
 
@@ -115,12 +114,14 @@ TEST(ConfigSchema, SyntaxErrorAndUnreadableFileNameTheFile) {
   const std::string syntax =
       input_error_message([&] { s.load_toml_string("gamma = 0.5\nscenarios = = 3\n", "c.toml"); });
   EXPECT_EQ(syntax.rfind("c.toml:2: invalid TOML: ", 0), 0u) << syntax;
-  EXPECT_EQ(
-      input_error_message([&] { s.load_toml_string("gamma = 0.5\ngamma = 0.6\n", "c.toml"); }).rfind("c.toml:2:", 0),
-      0u);
+  EXPECT_EQ(input_error_message([&] {
+              s.load_toml_string("gamma = 0.5\ngamma = 0.6\n", "c.toml");
+            }).rfind("c.toml:2:", 0),
+            0u);
   const std::string missing = input_error_message([&] { s.load_toml_file("/nonexistent/dir/run.toml"); });
   EXPECT_EQ(missing, "/nonexistent/dir/run.toml: cannot read config file: No such file or directory");
-  EXPECT_EQ(input_error_message([&] { s.load_toml_file("/tmp"); }).rfind("/tmp: cannot read config file", 0), 0u);
+  EXPECT_EQ(input_error_message([&] { s.load_toml_file("/tmp"); }).rfind("/tmp: cannot read config file", 0),
+            0u);
 }
 
 TEST(ConfigSchema, CliErrorsNameTheOptionAndExpectation) {
@@ -166,7 +167,8 @@ TEST(ConfigSchema, CustomValidatorsAndConstraints) {
   s.set_from_cli("m", "16");
   s.validate();
   s.set_from_cli("lo", "2");
-  EXPECT_EQ(input_error_message([&] { s.validate(); }), "--lo/--hi: expected lo < hi, got lo (--lo) >= hi (default)");
+  EXPECT_EQ(input_error_message([&] { s.validate(); }),
+            "--lo/--hi: expected lo < hi, got lo (--lo) >= hi (default)");
 }
 
 TEST(ConfigSchema, ResolvedTomlLoadsBackToTheSameValues) {

@@ -1,8 +1,6 @@
 #include "pegasus/runs/run_directory.hpp"
 
 #include <gtest/gtest.h>
-
-#include "support/input_error.hpp"
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -13,6 +11,7 @@
 
 #include "pegasus/core/error.hpp"
 #include "pegasus/runs/atomic_file.hpp"
+#include "support/input_error.hpp"
 
 namespace pegasus {
 

@@ -3,8 +3,6 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "support/input_error.hpp"
-
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -15,6 +13,7 @@
 #include "pegasus/mdp/policy_paths.hpp"
 #include "pegasus/mdp/solvers.hpp"
 #include "pegasus/shaping/potential_shaping.hpp"
+#include "support/input_error.hpp"
 
 namespace pegasus {
 
@@ -70,7 +69,8 @@ TEST(ShapingAudit, RecognisesTheGridworldPotentialAndRecoversPhi) {
   ASSERT_TRUE(audit.potential_based);
   EXPECT_LT(audit.max_residual, 1e-9);
   // gamma = 1 and every state connects to the goal, where Phi = 0: Phi is unique.
-  for (int s = 0; s < m.num_states; ++s) EXPECT_NEAR(audit.potential[static_cast<std::size_t>(s)], phi0[static_cast<std::size_t>(s)], 1e-8);
+  for (int s = 0; s < m.num_states; ++s)
+    EXPECT_NEAR(audit.potential[static_cast<std::size_t>(s)], phi0[static_cast<std::size_t>(s)], 1e-8);
   EXPECT_FALSE(audit.policy_change.changes);
   EXPECT_THAT(audit.BriefReport(), HasSubstr("potential-based"));
 }
@@ -101,7 +101,8 @@ TEST(ShapingAudit, ProgressBonusHasAPositiveCycleAndChangesTheGridworldPolicy) {
   EXPECT_TRUE(audit.policy_change.changes);
   EXPECT_GT(audit.policy_change.loss_under_initial, 1.0);  // the shaped optimum dawdles
   // A small bonus still is not potential-based (the audit does not care about the size).
-  EXPECT_FALSE(audit_shaping(m, ShapingTable::progress_bonus(m, manhattan_distances(w), 0.1)).potential_based);
+  EXPECT_FALSE(
+      audit_shaping(m, ShapingTable::progress_bonus(m, manhattan_distances(w), 0.1)).potential_based);
 }
 
 // The bug itself: the optimal policy of the gridworld with the progress bonus, followed along its most
@@ -125,10 +126,12 @@ TEST(ProgressBonus, OptimalPolicyCyclesWhereThePotentialVersionReachesTheGoal) {
 
 TEST(ShapingAudit, ScopeIncludesListedTransitionsThatCannotHappen) {
   const FiniteMdp m = line();
-  // Consistent with Phi = (-2, -1, 0) on the support, but the listed 0 -> 0 entry demands Phi(0) - Phi(0) = 5.
+  // Consistent with Phi = (-2, -1, 0) on the support, but the listed 0 -> 0 entry demands Phi(0) - Phi(0)
+  // = 5.
   const ShapingTable ok(3, 2, {{0, 0, 1, 1.0}, {0, 1, 1, 1.0}, {1, 0, 2, 1.0}, {1, 1, 2, 1.0}});
   EXPECT_TRUE(audit_shaping(m, ok).potential_based);
-  const ShapingTable bad(3, 2, {{0, 0, 1, 1.0}, {0, 1, 1, 1.0}, {1, 0, 2, 1.0}, {1, 1, 2, 1.0}, {0, 0, 0, 5.0}});
+  const ShapingTable bad(3, 2,
+                         {{0, 0, 1, 1.0}, {0, 1, 1, 1.0}, {1, 0, 2, 1.0}, {1, 1, 2, 1.0}, {0, 0, 0, 5.0}});
   const ShapingAudit audit = audit_shaping(m, bad);
   EXPECT_FALSE(audit.potential_based);
   EXPECT_EQ(audit.scope_size, 5u);
@@ -138,10 +141,12 @@ TEST(ShapingAudit, ScopeIncludesListedTransitionsThatCannotHappen) {
 
 TEST(ShapingAudit, RejectsTablesOfAnotherShapeAndBadOptions) {
   const FiniteMdp m = line();
-  EXPECT_THAT(input_error_message([&] { audit_shaping(m, ShapingTable(4, 2, {})); }), HasSubstr("4 states x 2 actions"));
+  EXPECT_THAT(input_error_message([&] { audit_shaping(m, ShapingTable(4, 2, {})); }),
+              HasSubstr("4 states x 2 actions"));
   AuditOptions o;
   o.tolerance = 0.0;
-  EXPECT_THAT(input_error_message([&] { audit_shaping(m, ShapingTable(3, 2, {}), o); }), HasSubstr("tolerance must be > 0"));
+  EXPECT_THAT(input_error_message([&] { audit_shaping(m, ShapingTable(3, 2, {}), o); }),
+              HasSubstr("tolerance must be > 0"));
 }
 
 TEST(ShapingTable, RoundTripsThroughJsonAndNamesFileAndFieldInErrors) {
@@ -157,17 +162,22 @@ TEST(ShapingTable, RoundTripsThroughJsonAndNamesFileAndFieldInErrors) {
 
   auto j = shaping_to_json(f);
   j["entries"][1][2] = 3;
-  EXPECT_THAT(input_error_message([&] { shaping_from_json(j, "f.json"); }), HasSubstr("f.json: entries[1][2]: next_state 3 outside [0, 3)"));
+  EXPECT_THAT(input_error_message([&] { shaping_from_json(j, "f.json"); }),
+              HasSubstr("f.json: entries[1][2]: next_state 3 outside [0, 3)"));
   j = shaping_to_json(f);
   j["entries"].push_back(j["entries"][0]);
-  EXPECT_THAT(input_error_message([&] { shaping_from_json(j, "f.json"); }), HasSubstr("f.json: entries: triple (0, 1, 1) listed twice"));
+  EXPECT_THAT(input_error_message([&] { shaping_from_json(j, "f.json"); }),
+              HasSubstr("f.json: entries: triple (0, 1, 1) listed twice"));
   j = shaping_to_json(f);
   j["entries"][0] = nlohmann::json::array({0, 1, 1});
-  EXPECT_THAT(input_error_message([&] { shaping_from_json(j, "f.json"); }), HasSubstr("f.json: entries[0]: expected [state, action, next_state, F]"));
+  EXPECT_THAT(input_error_message([&] { shaping_from_json(j, "f.json"); }),
+              HasSubstr("f.json: entries[0]: expected [state, action, next_state, F]"));
   j = shaping_to_json(f);
   j.erase("num_actions");
-  EXPECT_THAT(input_error_message([&] { shaping_from_json(j, "f.json"); }), HasSubstr("f.json: num_actions: missing required field"));
-  EXPECT_THAT(input_error_message([] { load_shaping("/nonexistent/f.json"); }), HasSubstr("/nonexistent/f.json: cannot open"));
+  EXPECT_THAT(input_error_message([&] { shaping_from_json(j, "f.json"); }),
+              HasSubstr("f.json: num_actions: missing required field"));
+  EXPECT_THAT(input_error_message([] { load_shaping("/nonexistent/f.json"); }),
+              HasSubstr("/nonexistent/f.json: cannot open"));
 }
 
 }  // namespace

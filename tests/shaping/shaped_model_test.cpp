@@ -25,13 +25,16 @@ TEST(ShapedModel, AddsGammaPhiNextMinusPhiWithZeroAtTerminalStates) {
   const auto phi = manhattan_potential(w);
   const auto shaped = shape(w, TablePotential{phi}, 0.9);
   const int s = w.geometry().index({1, 1}), n = w.geometry().index({1, 2});
-  EXPECT_DOUBLE_EQ(shaped.reward(s, kNorth, n), -1.0 + 0.9 * phi[static_cast<std::size_t>(n)] - phi[static_cast<std::size_t>(s)]);
+  EXPECT_DOUBLE_EQ(shaped.reward(s, kNorth, n),
+                   -1.0 + 0.9 * phi[static_cast<std::size_t>(n)] - phi[static_cast<std::size_t>(s)]);
   // Entering the goal: Phi(goal) counts as 0 whatever the table says.
   TablePotential odd{phi};
   odd.values[static_cast<std::size_t>(w.goal())] = 100.0;
   const int near = w.geometry().index({3, 2});
-  EXPECT_DOUBLE_EQ(shape(w, odd, 0.9).reward(near, kNorth, w.goal()), -1.0 - phi[static_cast<std::size_t>(near)]);
-  EXPECT_DOUBLE_EQ(shape(w, odd, 0.9, false).reward(near, kNorth, w.goal()), -1.0 + 90.0 - phi[static_cast<std::size_t>(near)]);
+  EXPECT_DOUBLE_EQ(shape(w, odd, 0.9).reward(near, kNorth, w.goal()),
+                   -1.0 - phi[static_cast<std::size_t>(near)]);
+  EXPECT_DOUBLE_EQ(shape(w, odd, 0.9, false).reward(near, kNorth, w.goal()),
+                   -1.0 + 90.0 - phi[static_cast<std::size_t>(near)]);
   // Everything but the reward is the wrapped model's.
   const std::array<double, 1> u{0.3};
   EXPECT_EQ(shaped.step(s, kEast, u), w.step(s, kEast, u));
@@ -105,7 +108,9 @@ TEST(ShapedModel, SmdpFormTelescopesUnderContinuousTimeDiscounting) {
 // A model with an event at fraction tau of the step into the goal (footnote 9 of §4.4): the evaluator
 // discounts that reward by gamma^(t + tau); the wrapper pre-scales F so that it still telescopes.
 struct EventChain : TimedChain {
-  double event_fraction(const State&, const Action&, const State& next) const { return next == length ? 0.4 : 0.0; }
+  double event_fraction(const State&, const Action&, const State& next) const {
+    return next == length ? 0.4 : 0.0;
+  }
 };
 static_assert(HasEventFraction<EventChain>);
 
@@ -183,7 +188,8 @@ TEST(FlagShaping, Phi0AndPhi1ArePotentialShapingOfTheFlagWorld) {
   for (const auto& phi : {flags_phi0(w), flags_phi1(w)}) {
     const auto shaped = policy_iteration(shape_with_potential(m, phi)).value;
     for (int s = 0; s < m.num_states; ++s)
-      EXPECT_NEAR(shaped[static_cast<std::size_t>(s)], base[static_cast<std::size_t>(s)] - phi[static_cast<std::size_t>(s)], 1e-8);
+      EXPECT_NEAR(shaped[static_cast<std::size_t>(s)],
+                  base[static_cast<std::size_t>(s)] - phi[static_cast<std::size_t>(s)], 1e-8);
   }
 }
 

@@ -100,7 +100,8 @@ TEST(ConstantRewardOffset, LeavesOptimalPolicyUnchangedForDiscountedMdps) {
               optimal_action_sets(offset, q_from_values(offset, so.value)))
         << "MDP " << i;
     for (int s = 0; s < m.num_states; ++s)
-      ASSERT_NEAR(so.value[static_cast<std::size_t>(s)], sm.value[static_cast<std::size_t>(s)] + c / (1.0 - m.gamma),
+      ASSERT_NEAR(so.value[static_cast<std::size_t>(s)],
+                  sm.value[static_cast<std::size_t>(s)] + c / (1.0 - m.gamma),
                   1e-8 * (1.0 + std::abs(c) / (1.0 - m.gamma)));
     ++tested;
   }
@@ -143,15 +144,16 @@ TEST(Theorem5, ShapedPolicyWithSmallerDiscountIsNearOptimal) {
     double loss = 0.0;
     for (int s = 0; s < m.num_states; ++s)
       loss = std::max(loss, exact.value[static_cast<std::size_t>(s)] - v_pi[static_cast<std::size_t>(s)]);
-    ASSERT_LE(loss, bound + 1e-9) << "MDP " << i << " gamma " << m.gamma << " gamma' " << gamma2 << " eps " << eps;
+    ASSERT_LE(loss, bound + 1e-9) << "MDP " << i << " gamma " << m.gamma << " gamma' " << gamma2 << " eps "
+                                  << eps;
     worst_ratio = std::max(worst_ratio, loss / bound);
     sum_ratio += loss / bound;
     lossy += loss > 1e-9;
     ++cases;
   }
   EXPECT_EQ(cases, kSuiteSize);
-  std::printf("[ Theorem 5 ] %d MDPs, %d with a positive loss; loss/bound: max %.3g, mean %.3g\n", cases, lossy,
-              worst_ratio, sum_ratio / cases);
+  std::printf("[ Theorem 5 ] %d MDPs, %d with a positive loss; loss/bound: max %.3g, mean %.3g\n", cases,
+              lossy, worst_ratio, sum_ratio / cases);
   RecordProperty("worst_loss_over_bound", std::to_string(worst_ratio));
   RecordProperty("mean_loss_over_bound", std::to_string(sum_ratio / cases));
 }
@@ -160,7 +162,8 @@ TEST(Theorem5, ShapedPolicyWithSmallerDiscountIsNearOptimal) {
 // alone that no potential explains (Appendix 3.A).
 ShapingTable random_non_potential(const FiniteMdp& m, UniformStream& rng, bool action_dependent) {
   std::vector<ShapingEntry> e;
-  std::vector<double> pair_value(static_cast<std::size_t>(m.num_states) * static_cast<std::size_t>(m.num_states));
+  std::vector<double> pair_value(static_cast<std::size_t>(m.num_states) *
+                                 static_cast<std::size_t>(m.num_states));
   for (auto& x : pair_value) x = 2.0 * rng.next() - 1.0;
   for (int s = 0; s < m.num_states; ++s) {
     if (m.is_absorbing(s)) continue;
@@ -168,9 +171,11 @@ ShapingTable random_non_potential(const FiniteMdp& m, UniformStream& rng, bool a
       const std::size_t r = m.row(s, a);
       for (std::uint32_t k = m.row_start[r]; k < m.row_start[r + 1]; ++k) {
         const int n = m.next_state[k];
-        const double v = action_dependent ? 2.0 * rng.next() - 1.0
-                                          : pair_value[static_cast<std::size_t>(s) * static_cast<std::size_t>(m.num_states) +
-                                                       static_cast<std::size_t>(n)];
+        const double v =
+            action_dependent
+                ? 2.0 * rng.next() - 1.0
+                : pair_value[static_cast<std::size_t>(s) * static_cast<std::size_t>(m.num_states) +
+                             static_cast<std::size_t>(n)];
         e.push_back({s, a, n, v});
       }
     }
@@ -200,8 +205,9 @@ TEST(PotentialShaping, NonPotentialShapingFlipsTheAuditCounterexample) {
     (audit.action_dependence ? lemma4 : appendix) += 1;
     in_scope += cx.uses_only_scope;
   }
-  std::printf("[ necessity ] %d flipped (%d Lemma 4, %d Appendix 3.A, %d within the scope), %d potential by chance\n",
-              flipped, lemma4, appendix, in_scope, potential_by_chance);
+  std::printf(
+      "[ necessity ] %d flipped (%d Lemma 4, %d Appendix 3.A, %d within the scope), %d potential by chance\n",
+      flipped, lemma4, appendix, in_scope, potential_by_chance);
   EXPECT_GE(flipped, kSuiteSize * 9 / 10);
   EXPECT_GT(appendix, kSuiteSize / 4);
 }

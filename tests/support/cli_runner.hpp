@@ -33,21 +33,26 @@ inline CliResult run_shell(const std::string& command) {
 }
 
 // Runs `pegasus <args>` through the shell and collects its output.
-inline CliResult run_pegasus(const std::string& args) { return run_shell(std::string(PEGASUS_CLI_PATH) + " " + args); }
+inline CliResult run_pegasus(const std::string& args) {
+  return run_shell(std::string(PEGASUS_CLI_PATH) + " " + args);
+}
 
 enum class KillOutcome { kKilled, kNoCheckpoint, kFinishedFirst };
 
-// Starts `pegasus <args> --out OUT` in a child process, waits (at most 120 s) for OUT.partial/checkpoint.json,
-// then SIGKILLs it: the kill/resume tests' way of interrupting a run after its first checkpoint. kKilled when
-// the kill landed mid-run; kFinishedFirst when the run ended before it.
-inline KillOutcome kill_pegasus_after_first_checkpoint(const std::string& args, const std::filesystem::path& out) {
+// Starts `pegasus <args> --out OUT` in a child process, waits (at most 120 s) for
+// OUT.partial/checkpoint.json, then SIGKILLs it: the kill/resume tests' way of interrupting a run after its
+// first checkpoint. kKilled when the kill landed mid-run; kFinishedFirst when the run ended before it.
+inline KillOutcome kill_pegasus_after_first_checkpoint(const std::string& args,
+                                                       const std::filesystem::path& out) {
   const pid_t child = fork();
   if (child == 0) {
-    const std::string command = std::string(PEGASUS_CLI_PATH) + " " + args + " --out " + out.string() + " >/dev/null 2>&1";
+    const std::string command =
+        std::string(PEGASUS_CLI_PATH) + " " + args + " --out " + out.string() + " >/dev/null 2>&1";
     execl("/bin/sh", "sh", "-c", ("exec " + command).c_str(), static_cast<char*>(nullptr));
     _exit(127);
   }
-  const std::filesystem::path checkpoint = std::filesystem::path(out.string() + ".partial") / "checkpoint.json";
+  const std::filesystem::path checkpoint =
+      std::filesystem::path(out.string() + ".partial") / "checkpoint.json";
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
   while (!std::filesystem::exists(checkpoint) && std::chrono::steady_clock::now() < deadline)
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
@@ -71,8 +76,8 @@ class TempDirTest : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = std::filesystem::temp_directory_path() /
-           ("pegasus-" + std::string(info->test_suite_name()) + "-" + info->name() + "-" + std::to_string(::getpid()));
+    dir_ = std::filesystem::temp_directory_path() / ("pegasus-" + std::string(info->test_suite_name()) + "-" +
+                                                     info->name() + "-" + std::to_string(::getpid()));
     std::filesystem::remove_all(dir_);
     std::filesystem::create_directories(dir_);
   }

@@ -1,5 +1,7 @@
-// Identification: the noise check's bands (Fig 5.3), the bandwidth search's checkpoint and resume (library and
-// CLI, killed mid-search).
+// Identification: the noise check's bands (Fig 5.3), the bandwidth search's checkpoint and resume (library
+// and CLI, killed mid-search).
+#include "pegasus/sysid/identify.hpp"
+
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -14,7 +16,6 @@
 #include "pegasus/core/error.hpp"
 #include "pegasus/heli/aircraft.hpp"
 #include "pegasus/heli/pilot.hpp"
-#include "pegasus/sysid/identify.hpp"
 #include "support/cli_runner.hpp"
 
 namespace fs = std::filesystem;
@@ -53,11 +54,13 @@ TEST(NoiseCheck, BandsOfTheIntegratedVariablesHoldOnHoldOutData) {
   const IdentifiedModel model = identify(logs().train, o, pool);
   const NoiseCheck nc = noise_check(model, logs().test, 2.0, 10.0);
   ASSERT_GT(nc.steps, 500);
-  // Attitudes integrate the rates and the horizontal velocities integrate the attitudes (through gravity): with
-  // the full state covariance their bands hold about as often as an honest model's (a diagonal-only
+  // Attitudes integrate the rates and the horizontal velocities integrate the attitudes (through gravity):
+  // with the full state covariance their bands hold about as often as an honest model's (a diagonal-only
   // propagation left 9-13% of the velocities outside on the shipped flights).
-  for (int k : {kRoll, kPitch, kU, kV}) EXPECT_LT(nc.outside_fraction[k], 0.08) << kBodyVarNames[static_cast<std::size_t>(k)];
-  for (int k = 0; k < kBodyVars; ++k) EXPECT_GT(nc.outside_fraction[k], 0.0) << kBodyVarNames[static_cast<std::size_t>(k)];
+  for (int k : {kRoll, kPitch, kU, kV})
+    EXPECT_LT(nc.outside_fraction[k], 0.08) << kBodyVarNames[static_cast<std::size_t>(k)];
+  for (int k = 0; k < kBodyVars; ++k)
+    EXPECT_GT(nc.outside_fraction[k], 0.0) << kBodyVarNames[static_cast<std::size_t>(k)];
   // The bands widen within a reset segment.
   ASSERT_GT(nc.sd.size(), 25u);
   EXPECT_GT(nc.sd[19], nc.sd[0]);
@@ -101,12 +104,13 @@ TEST(IdentifyCheckpoint, ResumedSearchEqualsAnUninterruptedOne) {
 
 class IdentifyCli : public test_support::TempDirTest {};
 
-// SIGKILL as soon as the first cross-validation step is checkpointed, then --resume: the same outputs, byte for
-// byte, as an uninterrupted run.
+// SIGKILL as soon as the first cross-validation step is checkpointed, then --resume: the same outputs, byte
+// for byte, as an uninterrupted run.
 TEST_F(IdentifyCli, KilledIdentificationResumesToTheSameResult) {
   for (const auto& [name, seconds, seed] : {std::tuple{"train", "60", "3"}, std::tuple{"test", "25", "4"}}) {
-    const auto r = test_support::run_pegasus(std::string("heli pilot --hover-seconds 4 --quiet --seconds ") + seconds +
-                                             " --seed " + seed + " --out " + (dir_ / name).string());
+    const auto r =
+        test_support::run_pegasus(std::string("heli pilot --hover-seconds 4 --quiet --seconds ") + seconds +
+                                  " --seed " + seed + " --out " + (dir_ / name).string());
     ASSERT_EQ(r.code, 0) << r.output;
   }
   // Slow enough steps (1 thread, many held-out points) that the kill lands in the middle of the search.
@@ -128,7 +132,8 @@ TEST_F(IdentifyCli, KilledIdentificationResumesToTheSameResult) {
                        .get<std::size_t>());
   const auto resumed = test_support::run_pegasus(args + " --resume --out " + target.string());
   ASSERT_EQ(resumed.code, 0) << resumed.output;
-  for (const char* file : {"summary.json", "model.json", "cross_validation.csv", "mse_vs_horizon.csv", "noise_check.csv"})
+  for (const char* file :
+       {"summary.json", "model.json", "cross_validation.csv", "mse_vs_horizon.csv", "noise_check.csv"})
     EXPECT_EQ(test_support::read_text(dir_ / "whole" / file), test_support::read_text(target / file)) << file;
 }
 

@@ -1,7 +1,9 @@
-// The fast local-regression refit (lwr_kernel.hpp) against the plain reference: agreement within 1e-9 relative
-// at random queries, bandwidths (wide, chosen-like, narrow where leaves are skipped), windows and templates;
-// singular cases; the shared solve against an independent one; the same bits from every instruction set and any
-// thread count; the kernel's exp.
+// The fast local-regression refit (lwr_kernel.hpp) against the plain reference: agreement within 1e-9
+// relative at random queries, bandwidths (wide, chosen-like, narrow where leaves are skipped), windows and
+// templates; singular cases; the shared solve against an independent one; the same bits from every
+// instruction set and any thread count; the kernel's exp.
+#include "pegasus/sysid/lwr.hpp"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/LU>
@@ -12,7 +14,6 @@
 #include "pegasus/heli/aircraft.hpp"
 #include "pegasus/heli/pilot.hpp"
 #include "pegasus/parallel/thread_pool.hpp"
-#include "pegasus/sysid/lwr.hpp"
 #include "pegasus/sysid/lwr_kernel.hpp"
 
 namespace {
@@ -44,7 +45,7 @@ double rel(double a, double b) { return std::abs(a - b) / std::max({std::abs(a),
 
 // Compares fast and exact at one query; returns the reciprocal condition number, -1 when both are singular.
 double expect_agree(const LocalRegression& lwr, const InputVec& q, Eigen::Index lo, Eigen::Index hi,
-                  const std::string& where) {
+                    const std::string& where) {
   const LocalFit fast = lwr.fit(q, lo, hi);
   const LocalFit exact = lwr.fit_exact(q, lo, hi);
   EXPECT_EQ(fast.singular, exact.singular) << where;
@@ -52,15 +53,17 @@ double expect_agree(const LocalRegression& lwr, const InputVec& q, Eigen::Index 
   EXPECT_LT(rel(fast.weight_sum, exact.weight_sum), 1e-12) << where;
   EXPECT_LT(rel(fast.max_weight, exact.max_weight), 1e-12) << where;
   EXPECT_LE(fast.points, exact.points) << where;
-  // Within 1e-9 relative wherever the Jacobi-scaled X'WX is reasonably conditioned; near the singular threshold
-  // no two summation orders agree better than about cond * 1e-15 (measured here: below 60 eps / rcond).
+  // Within 1e-9 relative wherever the Jacobi-scaled X'WX is reasonably conditioned; near the singular
+  // threshold no two summation orders agree better than about cond * 1e-15 (measured here: below 60 eps /
+  // rcond).
   const double tol = std::max(1e-9, 1e-13 / exact.rcond);
   for (int k = 0; k < kBodyVars; ++k) {
     const auto& bf = fast.beta[static_cast<std::size_t>(k)];
     const auto& be = exact.beta[static_cast<std::size_t>(k)];
     EXPECT_LT(rel(fast.predict(k, q), exact.predict(k, q)), tol) << where << " output " << k;
     EXPECT_LT(rel(fast.leverage[k], exact.leverage[k]), tol) << where << " output " << k;
-    EXPECT_LE((bf - be).cwiseAbs().maxCoeff(), tol * be.cwiseAbs().maxCoeff() + 1e-300) << where << " output " << k;
+    EXPECT_LE((bf - be).cwiseAbs().maxCoeff(), tol * be.cwiseAbs().maxCoeff() + 1e-300)
+        << where << " output " << k;
   }
   return true;
 }
@@ -80,10 +83,12 @@ TEST(FastRefit, AgreesWithExactAtRandomQueriesBandwidthsAndWindows) {
       InputVec q = data.x.row(i).transpose();
       // Off the data: a random step of up to about one bandwidth in each kernel input.
       for (int j = 0; j < kOne; ++j)
-        if (inv[static_cast<std::size_t>(j)] > 0) q[j] += 0.5 * normal(rng) / inv[static_cast<std::size_t>(j)];
+        if (inv[static_cast<std::size_t>(j)] > 0)
+          q[j] += 0.5 * normal(rng) / inv[static_cast<std::size_t>(j)];
       const Eigen::Index lo = t % 3 == 0 ? 0 : std::max<Eigen::Index>(0, i - 80);
       const Eigen::Index hi = t % 3 == 0 ? 0 : std::min(data.rows(), i + 80);
-      const double rc = expect_agree(lwr, q, lo, hi, "scale " + std::to_string(scale) + " row " + std::to_string(i));
+      const double rc =
+          expect_agree(lwr, q, lo, hi, "scale " + std::to_string(scale) + " row " + std::to_string(i));
       compared += rc >= 0 ? 1 : 0;
       strict += rc >= 1e-4 ? 1 : 0;  // compared at 1e-9
       pruned += lwr.fit(q, lo, hi).points < data.rows() - (hi - lo) ? 1 : 0;

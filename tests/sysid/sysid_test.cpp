@@ -5,9 +5,9 @@
 #include <atomic>
 #include <cmath>
 #include <cstdlib>
-#include <new>
 #include <filesystem>
 #include <fstream>
+#include <new>
 #include <string>
 
 #include "pegasus/core/error.hpp"
@@ -82,7 +82,8 @@ TEST(FlightLogFormat, ErrorsNameFileLineAndColumn) {
   EXPECT_NE(expect_input_error(std::string(kHeader) + row(0) + row(0.02, "abc") + row(0.04))
                 .find("log.csv:3:x: expected a number, found 'abc'"),
             std::string::npos);
-  EXPECT_NE(expect_input_error(std::string(kHeader) + row(0) + row(0.02) + row(0.04, "nan")).find("log.csv:4:x: expected a finite"),
+  EXPECT_NE(expect_input_error(std::string(kHeader) + row(0) + row(0.02) + row(0.04, "nan"))
+                .find("log.csv:4:x: expected a finite"),
             std::string::npos);
   EXPECT_NE(expect_input_error(std::string(kHeader) + row(0) + row(0.02) + row(0.02) + row(0.04))
                 .find("log.csv:4:time: expected time to increase strictly"),
@@ -90,10 +91,12 @@ TEST(FlightLogFormat, ErrorsNameFileLineAndColumn) {
   EXPECT_NE(expect_input_error(std::string(kHeader) + row(0) + row(0.02) + row(0.05) + row(0.06))
                 .find(":time: expected a constant sample interval"),
             std::string::npos);
-  EXPECT_NE(expect_input_error(std::string(kHeader) + row(0) + row(0.02)).find("expected at least 3 data rows"),
-            std::string::npos);
-  EXPECT_NE(expect_input_error(std::string(kHeader) + row(0) + "1,2\n" + row(0.04)).find("log.csv:3: expected 17"),
-            std::string::npos);
+  EXPECT_NE(
+      expect_input_error(std::string(kHeader) + row(0) + row(0.02)).find("expected at least 3 data rows"),
+      std::string::npos);
+  EXPECT_NE(
+      expect_input_error(std::string(kHeader) + row(0) + "1,2\n" + row(0.04)).find("log.csv:3: expected 17"),
+      std::string::npos);
 }
 
 TEST(FlightLogFormat, MissingFileIsAnInputError) {
@@ -134,7 +137,8 @@ TEST(LocalRegressionPaths, FastAgreesWithExactWithin1e9Relative) {
           EXPECT_LT(rel_diff(fast.predict(k, q), exact.predict(k, q)), 1e-9) << scale << " " << i << " " << k;
           EXPECT_LT(rel_diff(fast.leverage[k], exact.leverage[k]), 1e-9);
           for (int j = 0; j < kInputs; ++j)
-            EXPECT_LE(std::abs(fast.beta[static_cast<std::size_t>(k)][j] - exact.beta[static_cast<std::size_t>(k)][j]),
+            EXPECT_LE(std::abs(fast.beta[static_cast<std::size_t>(k)][j] -
+                               exact.beta[static_cast<std::size_t>(k)][j]),
                       1e-9 * exact.beta[static_cast<std::size_t>(k)].cwiseAbs().maxCoeff() + 1e-300);
         }
         ++compared;
@@ -198,7 +202,7 @@ TEST(Identification, LocallyWeightedBeatsGlobalLinearOnWindowedHoldOut) {
   const HorizonMse mg = horizon_mse(global, fixture().test, 1.0, 1.0, pool);
   EXPECT_EQ(mg.seconds.size(), 11u);
   EXPECT_GT(mg.count.back(), 20);
-  EXPECT_EQ(mg.mse.front()[0], 0.0);  // the start state is exact
+  EXPECT_EQ(mg.mse.front()[0], 0.0);          // the start state is exact
   EXPECT_GT(mg.mse.back()[6], mg.mse[1][6]);  // errors grow with the horizon
 }
 
@@ -250,7 +254,8 @@ TEST(LearnedModel, IsDeterministicAndCrashesOutsideTheData) {
   EXPECT_FALSE(s1.crashed);
   // Steps, refits included, allocate nothing (STYLE.md).
   const long before = pegasus_test_allocation_count();
-  for (int t = 0; t < 20; ++t) s1 = sim.step(s1, fixture().train.controls[static_cast<std::size_t>(550 + t)], p);
+  for (int t = 0; t < 20; ++t)
+    s1 = sim.step(s1, fixture().train.controls[static_cast<std::size_t>(550 + t)], p);
   EXPECT_EQ(pegasus_test_allocation_count(), before);
   // A state far outside anything the pilot flew: 30 m/s sideways at a 0.8 rad roll.
   auto far = s1;

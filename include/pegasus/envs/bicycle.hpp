@@ -49,35 +49,35 @@ namespace pegasus {
 
 // bike.c's constants (SI units) and the moments of inertia derived from them.
 struct BicycleConstants {
-  static constexpr double dt = 0.01;        // s
-  static constexpr double v = 10.0 / 3.6;   // m/s (10 km/h)
-  static constexpr double g = 9.82;         // m/s^2
-  static constexpr double dCM = 0.3;        // m: height of the rider's centre of mass above the bicycle's
-  static constexpr double c = 0.66;         // m: horizontal distance from front tyre contact to centre of mass
-  static constexpr double h = 0.94;         // m: height of the centre of mass
-  static constexpr double Mc = 15.0;        // kg: bicycle
-  static constexpr double Md = 1.7;         // kg: one tyre
-  static constexpr double Mp = 60.0;        // kg: rider
-  static constexpr double M = Mc + Mp;      // kg
-  static constexpr double R = 0.34;         // m: tyre radius
-  static constexpr double l = 1.11;         // m: wheelbase (distance between the tyres' contact points)
-  static constexpr double sigma_dot = v / R;                                    // rad/s: tyre angular velocity
+  static constexpr double dt = 0.01;       // s
+  static constexpr double v = 10.0 / 3.6;  // m/s (10 km/h)
+  static constexpr double g = 9.82;        // m/s^2
+  static constexpr double dCM = 0.3;       // m: height of the rider's centre of mass above the bicycle's
+  static constexpr double c = 0.66;        // m: horizontal distance from front tyre contact to centre of mass
+  static constexpr double h = 0.94;        // m: height of the centre of mass
+  static constexpr double Mc = 15.0;       // kg: bicycle
+  static constexpr double Md = 1.7;        // kg: one tyre
+  static constexpr double Mp = 60.0;       // kg: rider
+  static constexpr double M = Mc + Mp;     // kg
+  static constexpr double R = 0.34;        // m: tyre radius
+  static constexpr double l = 1.11;        // m: wheelbase (distance between the tyres' contact points)
+  static constexpr double sigma_dot = v / R;  // rad/s: tyre angular velocity
   static constexpr double I_bike = 13.0 / 3.0 * Mc * h * h + Mp * (h + dCM) * (h + dCM);  // kg m^2
-  static constexpr double I_dc = Md * R * R;                                    // tyre, about its axle
-  static constexpr double I_dv = 1.5 * Md * R * R;                              // tyre, about a vertical diameter
-  static constexpr double I_dl = 0.5 * Md * R * R;                              // tyre, about a horizontal diameter
-  static constexpr double max_handlebar = 1.3963;          // rad: bike.c's clip (80 degrees)
-  static constexpr double straight_radius = 9999999.0;     // m: bike.c's turning radius for theta = 0
+  static constexpr double I_dc = Md * R * R;                     // tyre, about its axle
+  static constexpr double I_dv = 1.5 * Md * R * R;               // tyre, about a vertical diameter
+  static constexpr double I_dl = 0.5 * Md * R * R;               // tyre, about a horizontal diameter
+  static constexpr double max_handlebar = 1.3963;                // rad: bike.c's clip (80 degrees)
+  static constexpr double straight_radius = 9999999.0;           // m: bike.c's turning radius for theta = 0
   static constexpr double fall_angle = std::numbers::pi / 15.0;  // rad: |omega| beyond this is a fall
-  static constexpr double max_torque = 2.0;                // N m
-  static constexpr double max_displacement = 0.02;         // m
-  static constexpr double max_noise = 0.02;                // m: bike.c's noise on the displacement
+  static constexpr double max_torque = 2.0;                      // N m
+  static constexpr double max_displacement = 0.02;               // m
+  static constexpr double max_noise = 0.02;                      // m: bike.c's noise on the displacement
 };
 
 // The bicycle's state. Small and copyable (MuJoCo's data): each rollout owns its own.
 struct BicycleState {
-  double omega = 0, omega_dot = 0;  // tilt from vertical (rad, > 0 leaning left) and its rate (rad/s)
-  double theta = 0, theta_dot = 0;  // handlebar angle (rad, > 0 steering left) and its rate (rad/s)
+  double omega = 0, omega_dot = 0;          // tilt from vertical (rad, > 0 leaning left) and its rate (rad/s)
+  double theta = 0, theta_dot = 0;          // handlebar angle (rad, > 0 steering left) and its rate (rad/s)
   double xf = 0, yf = BicycleConstants::l;  // front tyre contact point, world frame (m)
   double xb = 0, yb = 0;                    // back tyre contact point, world frame (m)
   double psi = 0;                           // heading, from +y counter-clockwise, (-pi, pi]
@@ -109,10 +109,10 @@ struct BicycleGoal {
 // The initial-state distribution D: each variable uniform in [-max, max]. The back tyre starts at the
 // origin and the frame points at the given angle from the direction of the goal (from the origin).
 struct BicycleStart {
-  double omega = 0.05;              // rad (a quarter of the fall angle)
-  double omega_dot = 0.1;           // rad/s
-  double theta = 0.05;              // rad
-  double theta_dot = 0.2;           // rad/s
+  double omega = 0.05;                   // rad (a quarter of the fall angle)
+  double omega_dot = 0.1;                // rad/s
+  double theta = 0.05;                   // rad
+  double theta_dot = 0.2;                // rad/s
   double goal_angle = std::numbers::pi;  // rad: pi = any heading
 };
 
@@ -152,12 +152,18 @@ inline double angle_sin(double x) {
                    f13 = 1.0 / 6227020800.0, f15 = 1.0 / 1307674368000.0, f17 = 1.0 / 355687428096000.0,
                    f19 = 1.0 / 121645100408832000.0, f21 = 1.0 / 51090942171709440000.0;
   const double x2 = x * x;
-  return x * (1.0 - x2 * (f3 - x2 * (f5 - x2 * (f7 - x2 * (f9 - x2 * (f11 - x2 * (f13 - x2 * (f15 -
-              x2 * (f17 - x2 * (f19 - x2 * f21))))))))));
+  return x *
+         (1.0 -
+          x2 *
+              (f3 -
+               x2 * (f5 -
+                     x2 * (f7 - x2 * (f9 - x2 * (f11 -
+                                                 x2 * (f13 -
+                                                       x2 * (f15 - x2 * (f17 - x2 * (f19 - x2 * f21))))))))));
 }
-// sin and cos of a small angle, |x| <= 0.3 (the tilt of the centre of mass, |phi| < pi/15 + atan(0.04/h) while
-// riding): Taylor series to x^13 and x^12, whose first omitted terms are below 1e-19; std::sin and std::cos
-// beyond.
+// sin and cos of a small angle, |x| <= 0.3 (the tilt of the centre of mass, |phi| < pi/15 + atan(0.04/h)
+// while riding): Taylor series to x^13 and x^12, whose first omitted terms are below 1e-19; std::sin and
+// std::cos beyond.
 inline void small_sincos(double x, double& sin_x, double& cos_x) {
   if (!(std::abs(x) <= 0.3)) {
     sin_x = std::sin(x);
@@ -165,10 +171,14 @@ inline void small_sincos(double x, double& sin_x, double& cos_x) {
     return;
   }
   const double x2 = x * x;
-  sin_x = x * (1.0 - x2 * (1.0 / 6 - x2 * (1.0 / 120 - x2 * (1.0 / 5040 - x2 * (1.0 / 362880 -
-                   x2 * (1.0 / 39916800 - x2 * (1.0 / 6227020800.0)))))));
-  cos_x = 1.0 - x2 * (0.5 - x2 * (1.0 / 24 - x2 * (1.0 / 720 - x2 * (1.0 / 40320 - x2 * (1.0 / 3628800 -
-                   x2 * (1.0 / 479001600))))));
+  sin_x =
+      x * (1.0 - x2 * (1.0 / 6 -
+                       x2 * (1.0 / 120 -
+                             x2 * (1.0 / 5040 - x2 * (1.0 / 362880 -
+                                                      x2 * (1.0 / 39916800 - x2 * (1.0 / 6227020800.0)))))));
+  cos_x = 1.0 - x2 * (0.5 - x2 * (1.0 / 24 -
+                                  x2 * (1.0 / 720 -
+                                        x2 * (1.0 / 40320 - x2 * (1.0 / 3628800 - x2 * (1.0 / 479001600))))));
 }
 // sin and cos of the handlebar angle, |x| <= 1.4 (the clip is 1.3963): Taylor series to x^19 and x^20, whose
 // first omitted terms are below 3e-17 (the series' own rounding is a few units in the last place); std::sin
@@ -187,10 +197,19 @@ inline void handlebar_sincos(double x, double& sin_x, double& cos_x) {
                    f18 = 1.0 / 6402373705728000.0, f19 = 1.0 / 121645100408832000.0,
                    f20 = 1.0 / 2432902008176640000.0;
   const double x2 = x * x;
-  sin_x = x * (1.0 - x2 * (f3 - x2 * (f5 - x2 * (f7 - x2 * (f9 - x2 * (f11 - x2 * (f13 - x2 * (f15 -
-                   x2 * (f17 - x2 * f19)))))))));
-  cos_x = 1.0 - x2 * (f2 - x2 * (f4 - x2 * (f6 - x2 * (f8 - x2 * (f10 - x2 * (f12 - x2 * (f14 - x2 * (f16 -
-                   x2 * (f18 - x2 * f20)))))))));
+  sin_x =
+      x *
+      (1.0 -
+       x2 * (f3 -
+             x2 * (f5 -
+                   x2 * (f7 - x2 * (f9 - x2 * (f11 - x2 * (f13 - x2 * (f15 - x2 * (f17 - x2 * f19)))))))));
+  cos_x =
+      1.0 -
+      x2 * (f2 -
+            x2 * (f4 -
+                  x2 * (f6 -
+                        x2 * (f8 -
+                              x2 * (f10 - x2 * (f12 - x2 * (f14 - x2 * (f16 - x2 * (f18 - x2 * f20)))))))));
 }
 // bike.c's half-step arc correction turns a tyre by sgn * asin(x), x = v dt / (2 r) >= 0 (pi/2 when x > 1):
 // its sine and cosine are sgn * min(x, 1) and sqrt(1 - sin^2), no inverse sine needed.
@@ -214,8 +233,9 @@ inline double atan_rational(double x) {
   constexpr double P0 = -8.750608600031904122785e-1, P1 = -1.615753718733365076637e1,
                    P2 = -7.500855792314704667340e1, P3 = -1.228866684490136173410e2,
                    P4 = -6.485021904942025371773e1;
-  constexpr double Q0 = 2.485846490142306297962e1, Q1 = 1.650270098316988542046e2, Q2 = 4.328810604912902668951e2,
-                   Q3 = 4.853903996359136964868e2, Q4 = 1.945506571482613964425e2;
+  constexpr double Q0 = 2.485846490142306297962e1, Q1 = 1.650270098316988542046e2,
+                   Q2 = 4.328810604912902668951e2, Q3 = 4.853903996359136964868e2,
+                   Q4 = 1.945506571482613964425e2;
   constexpr double more_bits = 6.123233995736765886130e-17;  // pi/2 - double(pi/2)
   const double a = std::abs(x);
   double base, u, extra;
@@ -271,7 +291,8 @@ class Bicycle {
   State step(const State& s, const Action& a, std::span<const double> p) const {
     using namespace bicycle_detail;
     const double T = std::clamp(a[0], -K::max_torque, K::max_torque);
-    const double d = std::clamp(a[1], -K::max_displacement, K::max_displacement) + options_.noise * (2.0 * p[0] - 1.0);
+    const double d =
+        std::clamp(a[1], -K::max_displacement, K::max_displacement) + options_.noise * (2.0 * p[0] - 1.0);
 
     // 1. Inverse turning radii (bike.c: r = 9999999 m for theta = 0).
     double inv_rf = 1.0 / K::straight_radius, inv_rb = inv_rf, inv_rcm = inv_rf;
@@ -288,11 +309,11 @@ class Bicycle {
     const double phi = s.omega + small_atan(d * (1.0 / K::h));
     double sin_phi, cos_phi;
     small_sincos(phi, sin_phi, cos_phi);
-    const double omega_dd =
-        (K::h * K::M * K::g * sin_phi -
-         cos_phi * (K::I_dc * K::sigma_dot * s.theta_dot +
-                    sgn(s.theta) * K::v * K::v * (K::Md * K::R * (inv_rf + inv_rb) + K::M * K::h * inv_rcm))) *
-        (1.0 / K::I_bike);
+    const double omega_dd = (K::h * K::M * K::g * sin_phi -
+                             cos_phi * (K::I_dc * K::sigma_dot * s.theta_dot +
+                                        sgn(s.theta) * K::v * K::v *
+                                            (K::Md * K::R * (inv_rf + inv_rb) + K::M * K::h * inv_rcm))) *
+                            (1.0 / K::I_bike);
     const double theta_dd = (T - K::I_dv * s.omega_dot * K::sigma_dot) * (1.0 / K::I_dl);
 
     // 3. Semi-implicit Euler, handlebar clipped. (The new state is kept in locals and written once at the
@@ -347,8 +368,8 @@ class Bicycle {
     n.cos_theta = cos_theta;
     n.trig_of = theta;
     n.status = std::abs(omega) > K::fall_angle ? State::kFallen
-               : inside_goal(xf, yf)         ? State::kAtGoal
-                                             : State::kRiding;
+               : inside_goal(xf, yf)           ? State::kAtGoal
+                                               : State::kRiding;
     return n;
   }
 
@@ -357,8 +378,9 @@ class Bicycle {
   Observation observe(const State& s) const {
     // The frame points along psi + pi/2 counter-clockwise from +x.
     const double frame = s.psi + std::numbers::pi / 2;
-    const double to_goal = options_.goal.at_infinity ? options_.goal.direction
-                                                     : std::atan2(options_.goal.y - s.yf, options_.goal.x - s.xf);
+    const double to_goal = options_.goal.at_infinity
+                               ? options_.goal.direction
+                               : std::atan2(options_.goal.y - s.yf, options_.goal.x - s.xf);
     return {s.omega, s.omega_dot, s.theta, s.theta_dot, bicycle_detail::wrap_angle(to_goal - frame)};
   }
 

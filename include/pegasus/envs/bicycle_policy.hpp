@@ -42,8 +42,8 @@ struct BicycleFeatures {
 
   int size() const { return kCount; }
   void operator()(const BicycleObservation& o, std::span<double> x) const {
-    const std::array<double, 4> v = {o.omega / kOmegaScale, o.omega_dot / kOmegaDotScale, o.theta / kThetaScale,
-                                     o.theta_dot / kThetaDotScale};
+    const std::array<double, 4> v = {o.omega / kOmegaScale, o.omega_dot / kOmegaDotScale,
+                                     o.theta / kThetaScale, o.theta_dot / kThetaDotScale};
     for (std::size_t k = 0; k < 4; ++k) {
       x[3 * k] = v[k];
       x[3 * k + 1] = v[k] * std::abs(v[k]);

@@ -31,7 +31,8 @@ class FlagWorld {
   State step(State s, Action a, std::span<const double> p) const {
     if (s == terminal_state_) return s;
     const int collected = s / cells_;
-    const int cell = geometry_.move(s - collected * cells_, realised_direction(a, p[0], intended_, slip_scale_));
+    const int cell =
+        geometry_.move(s - collected * cells_, realised_direction(a, p[0], intended_, slip_scale_));
     if (cell != flags_[static_cast<std::size_t>(collected)]) return collected * cells_ + cell;
     return collected + 1 == num_flags() ? terminal_state_ : (collected + 1) * cells_ + cell;
   }

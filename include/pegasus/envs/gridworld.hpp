@@ -40,7 +40,9 @@ class GridGeometry {
   bool inside(Cell c) const { return c.x >= 0 && c.y >= 0 && c.x < width_ && c.y < height_; }
   bool blocked(int index) const { return blocked_[static_cast<std::size_t>(index)] != 0; }
   // The cell reached from `index` by moving in direction d (itself at walls and blocked cells).
-  int move(int index, int d) const { return moves_[static_cast<std::size_t>(index) * kGridActions + static_cast<std::size_t>(d)]; }
+  int move(int index, int d) const {
+    return moves_[static_cast<std::size_t>(index) * kGridActions + static_cast<std::size_t>(d)];
+  }
   int manhattan(int a, int b) const;
 
  private:

@@ -26,15 +26,15 @@
 namespace pegasus {
 
 struct PendulumConstants {
-  static constexpr double g = 10.0;          // m/s^2 (Pendulum-v1's default)
-  static constexpr double m = 1.0;           // kg
-  static constexpr double l = 1.0;           // m
-  static constexpr double dt = 0.05;         // s
-  static constexpr double max_speed = 8.0;   // rad/s: thetadot is clipped to +-max_speed
-  static constexpr double max_torque = 2.0;  // N m: u is clipped to +-max_torque
+  static constexpr double g = 10.0;                        // m/s^2 (Pendulum-v1's default)
+  static constexpr double m = 1.0;                         // kg
+  static constexpr double l = 1.0;                         // m
+  static constexpr double dt = 0.05;                       // s
+  static constexpr double max_speed = 8.0;                 // rad/s: thetadot is clipped to +-max_speed
+  static constexpr double max_torque = 2.0;                // N m: u is clipped to +-max_torque
   static constexpr double start_angle = std::numbers::pi;  // theta0 ~ U[-start_angle, start_angle]
-  static constexpr double start_speed = 1.0;                // thetadot0 ~ U[-start_speed, start_speed]
-  static constexpr int episode_steps = 200;                 // Gymnasium's TimeLimit
+  static constexpr double start_speed = 1.0;               // thetadot0 ~ U[-start_speed, start_speed]
+  static constexpr int episode_steps = 200;                // Gymnasium's TimeLimit
 };
 
 // Gymnasium's angle_normalize: ((x + pi) mod 2 pi) - pi with the modulo of Python (and numpy), whose
@@ -71,13 +71,18 @@ class Pendulum {
     return {K::start_angle * (2.0 * p0[0] - 1.0), K::start_speed * (2.0 * p0[1] - 1.0)};
   }
 
-  static double clip_torque(double u) { return u < -K::max_torque ? -K::max_torque : (u > K::max_torque ? K::max_torque : u); }
+  static double clip_torque(double u) {
+    return u < -K::max_torque ? -K::max_torque : (u > K::max_torque ? K::max_torque : u);
+  }
 
   // One step of pendulum.py, in its order of operations (so that the doubles agree bit for bit).
   State step(const State& s, const Action& a, std::span<const double> /*p*/) const {
     const double u = clip_torque(a);
-    double theta_dot = s.theta_dot + (3.0 * K::g / (2.0 * K::l) * std::sin(s.theta) + 3.0 / (K::m * K::l * K::l) * u) * K::dt;
-    theta_dot = theta_dot < -K::max_speed ? -K::max_speed : (theta_dot > K::max_speed ? K::max_speed : theta_dot);
+    double theta_dot =
+        s.theta_dot +
+        (3.0 * K::g / (2.0 * K::l) * std::sin(s.theta) + 3.0 / (K::m * K::l * K::l) * u) * K::dt;
+    theta_dot =
+        theta_dot < -K::max_speed ? -K::max_speed : (theta_dot > K::max_speed ? K::max_speed : theta_dot);
     return {s.theta + theta_dot * K::dt, theta_dot};
   }
 

@@ -50,7 +50,8 @@ class PendulumSwingUpPolicy {
     kStabiliseSkew,
     kCount
   };
-  static constexpr std::size_t kBaseCount = kSwingLead;  // the five numbers of the swing-up without refinements
+  static constexpr std::size_t kBaseCount =
+      kSwingLead;  // the five numbers of the swing-up without refinements
 
   // refinements = false: the spec lists the first kBaseCount parameters only.
   explicit PendulumSwingUpPolicy(bool refinements = true);

@@ -24,7 +24,11 @@ template <GenerativeModel M, class P>
 class MonteCarloEvaluator {
  public:
   MonteCarloEvaluator(M model, P policy, int rollouts, Discounting discounting, std::uint64_t seed)
-      : model_(std::move(model)), policy_(std::move(policy)), rollouts_(rollouts), d_(discounting), seed_(seed) {
+      : model_(std::move(model)),
+        policy_(std::move(policy)),
+        rollouts_(rollouts),
+        d_(discounting),
+        seed_(seed) {
     validate(d_);
     if (rollouts < 1) throw InputError("monte carlo: expected m >= 1 rollouts per evaluation");
   }

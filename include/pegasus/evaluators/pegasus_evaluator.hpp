@@ -28,10 +28,14 @@ template <SimulativeModel M, class P>
 class PegasusEvaluator {
  public:
   PegasusEvaluator(M model, P policy, ScenarioSet scenarios, Discounting discounting)
-      : model_(std::move(model)), policy_(std::move(policy)), scenarios_(std::move(scenarios)), d_(discounting) {
+      : model_(std::move(model)),
+        policy_(std::move(policy)),
+        scenarios_(std::move(scenarios)),
+        d_(discounting) {
     validate(d_);
     check_noise_dims(model_);
-    if (scenarios_.noise_dim() != model_.noise_dim() || scenarios_.initial_noise_dim() != model_.initial_noise_dim())
+    if (scenarios_.noise_dim() != model_.noise_dim() ||
+        scenarios_.initial_noise_dim() != model_.initial_noise_dim())
       throw InputError("scenarios: noise dimensions differ from the model's");
     if (scenarios_.horizon() < d_.horizon) throw InputError("scenarios: hold fewer steps than the horizon");
   }
@@ -57,11 +61,13 @@ class PegasusEvaluator {
     return ordered_mean(returns);
   }
 
-  void evaluate_batch(std::span<const Theta> thetas, std::span<double> values, ThreadPool* pool = nullptr) const {
+  void evaluate_batch(std::span<const Theta> thetas, std::span<double> values,
+                      ThreadPool* pool = nullptr) const {
     const auto m = static_cast<std::size_t>(scenarios_.size());
     std::vector<double> returns(thetas.size() * m);
-    mpi::distributed_fill(std::span<double>(returns), pool,
-                          [&](std::size_t k) { return scenario_value(thetas[k / m], static_cast<int>(k % m)); });
+    mpi::distributed_fill(std::span<double>(returns), pool, [&](std::size_t k) {
+      return scenario_value(thetas[k / m], static_cast<int>(k % m));
+    });
     for (std::size_t k = 0; k < thetas.size(); ++k)
       values[k] = ordered_mean(std::span<const double>(returns.data() + k * m, m));
   }

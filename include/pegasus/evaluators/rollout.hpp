@@ -35,11 +35,13 @@ inline void accumulate_transition(const M& m, const typename M::State& s, const 
 
 // The return of scenario i under (policy, theta): the summand of PEGASUS's U-hat (Eq 4.22).
 template <SimulativeModel M, class P>
-double scenario_return(const M& m, const P& policy, std::span<const double> theta, const ScenarioSet& scenarios,
-                       int i, const Discounting& d) {
+double scenario_return(const M& m, const P& policy, std::span<const double> theta,
+                       const ScenarioSet& scenarios, int i, const Discounting& d) {
   std::array<double, kMaxNoiseDim> p;
-  scenarios.initial_noise(i, std::span<double>(p.data(), static_cast<std::size_t>(scenarios.initial_noise_dim())));
-  auto s = m.initial_state(std::span<const double>(p.data(), static_cast<std::size_t>(scenarios.initial_noise_dim())));
+  scenarios.initial_noise(
+      i, std::span<double>(p.data(), static_cast<std::size_t>(scenarios.initial_noise_dim())));
+  auto s = m.initial_state(
+      std::span<const double>(p.data(), static_cast<std::size_t>(scenarios.initial_noise_dim())));
   const auto noise = std::span<double>(p.data(), static_cast<std::size_t>(scenarios.noise_dim()));
   double ret = 0.0, weight = 1.0;
   for (int t = 0; t < d.horizon; ++t) {

@@ -15,31 +15,40 @@
 namespace pegasus {
 
 template <SimulativeModel M>
-  requires std::convertible_to<typename M::Observation, int> && std::convertible_to<int, typename M::Action>
+requires std::convertible_to<typename M::Observation, int> && std::convertible_to<int, typename M::Action>
 class TablePolicyValues {
  public:
   // observations: number of observation classes a policy maps; values are indexed as TablePolicy
   // enumerates policies (observation 0 least significant). Keeps references to model and scenarios: both
   // must outlive this object.
   TablePolicyValues(const M& model, int observations, const ScenarioSet& scenarios, Discounting d)
-      : model_(model), observations_(observations), actions_(model.action_space().count()), scenarios_(scenarios), d_(d) {
+      : model_(model),
+        observations_(observations),
+        actions_(model.action_space().count()),
+        scenarios_(scenarios),
+        d_(d) {
     validate(d_);
-    if (observations < 1 || observations > 16) throw InputError("table policy search: expected 1..16 observations");
+    if (observations < 1 || observations > 16)
+      throw InputError("table policy search: expected 1..16 observations");
     if (scenarios.horizon() < d.horizon) throw InputError("scenarios: hold fewer steps than the horizon");
     policies_ = 1;
     for (int o = 0; o < observations; ++o) policies_ *= static_cast<std::uint64_t>(actions_);
     if (policies_ > (1ull << 32)) throw InputError("table policy search: more than 2^32 policies");
     // The scenarios' noise is read once into a flat table: the walk revisits the same steps many times.
     const int m = scenarios.size(), dp = model.noise_dim();
-    noise_.resize(static_cast<std::size_t>(m) * static_cast<std::size_t>(d.horizon) * static_cast<std::size_t>(dp));
+    noise_.resize(static_cast<std::size_t>(m) * static_cast<std::size_t>(d.horizon) *
+                  static_cast<std::size_t>(dp));
     for (int i = 0; i < m; ++i)
       for (int t = 0; t < d.horizon; ++t)
-        scenarios.step_noise(i, t, std::span<double>(noise_.data() + noise_index(i, t), static_cast<std::size_t>(dp)));
+        scenarios.step_noise(
+            i, t, std::span<double>(noise_.data() + noise_index(i, t), static_cast<std::size_t>(dp)));
     initial_.resize(static_cast<std::size_t>(m));
     std::array<double, kMaxNoiseDim> p0;
     for (int i = 0; i < m; ++i) {
-      scenarios.initial_noise(i, std::span<double>(p0.data(), static_cast<std::size_t>(model.initial_noise_dim())));
-      initial_[static_cast<std::size_t>(i)] = model.initial_state(std::span<const double>(p0.data(), static_cast<std::size_t>(model.initial_noise_dim())));
+      scenarios.initial_noise(
+          i, std::span<double>(p0.data(), static_cast<std::size_t>(model.initial_noise_dim())));
+      initial_[static_cast<std::size_t>(i)] = model.initial_state(
+          std::span<const double>(p0.data(), static_cast<std::size_t>(model.initial_noise_dim())));
     }
   }
 
@@ -84,7 +93,8 @@ class TablePolicyValues {
   };
 
   std::size_t noise_index(int i, int t) const {
-    return (static_cast<std::size_t>(i) * static_cast<std::size_t>(d_.horizon) + static_cast<std::size_t>(t)) *
+    return (static_cast<std::size_t>(i) * static_cast<std::size_t>(d_.horizon) +
+            static_cast<std::size_t>(t)) *
            static_cast<std::size_t>(model_.noise_dim());
   }
 
@@ -100,7 +110,8 @@ class TablePolicyValues {
         return;
       }
       const auto action = static_cast<typename M::Action>(a);
-      const State next = model_.step(w.s, action, std::span<const double>(noise_.data() + noise_index(i, w.t), dp));
+      const State next =
+          model_.step(w.s, action, std::span<const double>(noise_.data() + noise_index(i, w.t), dp));
       accumulate_transition(model_, w.s, action, next, d_.gamma, w.weight, w.ret);
       w.weight *= d_.gamma;
       w.s = next;
@@ -165,7 +176,8 @@ class TablePolicyValues {
     }
   }
 
-  void expand(const Node& node, int depth, std::vector<Node>& tasks, std::span<double> values, std::uint64_t& leaves) const {
+  void expand(const Node& node, int depth, std::vector<Node>& tasks, std::span<double> values,
+              std::uint64_t& leaves) const {
     const int o = branch_observation(node);
     if (o < 0) {
       fill_leaf(node, values);
@@ -183,7 +195,8 @@ class TablePolicyValues {
     }
   }
 
-  std::uint64_t walk(const Node& node, std::vector<Node>& stack, std::size_t level, std::span<double> values) const {
+  std::uint64_t walk(const Node& node, std::vector<Node>& stack, std::size_t level,
+                     std::span<double> values) const {
     const int o = branch_observation(node);
     if (o < 0) {
       fill_leaf(node, values);

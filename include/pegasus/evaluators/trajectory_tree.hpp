@@ -83,7 +83,8 @@ class TrajectoryTrees {
       const State& s = states_[base + n];
       const bool absorbing = model_.terminal(s);
       for (int a = 0; a < actions_; ++a) {
-        const std::size_t child = base + n * static_cast<std::uint64_t>(actions_) + 1 + static_cast<std::uint64_t>(a);
+        const std::size_t child =
+            base + n * static_cast<std::uint64_t>(actions_) + 1 + static_cast<std::uint64_t>(a);
         if (absorbing) {  // never followed: a policy's path stops at an absorbing state
           states_[child] = s;
           continue;

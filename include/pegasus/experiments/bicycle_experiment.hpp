@@ -27,11 +27,10 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "pegasus/envs/bicycle.hpp"
 #include "pegasus/envs/bicycle_policy.hpp"
@@ -42,11 +41,11 @@
 namespace pegasus {
 
 struct BicycleTrainingOptions {
-  int scenarios = 30;              // m
-  double gamma = 0.998;            // discount per step of 0.01 s
-  int horizon = 500;               // H (steps)
+  int scenarios = 30;                 // m
+  double gamma = 0.998;               // discount per step of 0.01 s
+  int horizon = 500;                  // H (steps)
   std::string shaping = "potential";  // "potential" | "progress-bonus" | "none"
-  double shaping_per_metre = 1.0;  // Phi = per_metre * progress (m); the bonus is per_metre * v dt
+  double shaping_per_metre = 1.0;     // Phi = per_metre * progress (m); the bonus is per_metre * v dt
   std::string estimator = "pegasus";  // "pegasus" | "montecarlo"
   ScenarioVariant variant = ScenarioVariant::kPlain;
   std::string initial_policy = "balance";  // "balance" (bicycle_balancing_theta) | "zero"
@@ -63,26 +62,26 @@ struct BicycleTrainingOptions {
 };
 
 struct BicycleTrainingHooks {
-  std::int64_t checkpoint_every = 0;  // optimizer iterations between checkpoints (0: none)
-  CheckpointCallback on_checkpoint;   // receives the optimizer's checkpoint
+  std::int64_t checkpoint_every = 0;          // optimizer iterations between checkpoints (0: none)
+  CheckpointCallback on_checkpoint;           // receives the optimizer's checkpoint
   std::optional<nlohmann::json> resume_from;  // an optimizer checkpoint to continue (PEGASUS only)
 };
 
 struct BicycleTrainingResult {
-  Theta theta;              // the learned weights
+  Theta theta;               // the learned weights
   OptimizerSummary summary;  // iterations, evaluations, U-hat history
 };
 
 // Trains on `pool` when given (else a pool of options.threads).
-BicycleTrainingResult train_bicycle(const BicycleTrainingOptions& options, const BicycleTrainingHooks& hooks = {},
-                                    ThreadPool* pool = nullptr);
+BicycleTrainingResult train_bicycle(const BicycleTrainingOptions& options,
+                                    const BicycleTrainingHooks& hooks = {}, ThreadPool* pool = nullptr);
 
 // U-hat of theta on m scenarios of the training problem (the objective train_bicycle maximises).
 double bicycle_uhat(const BicycleTrainingOptions& options, const Theta& theta, ThreadPool* pool = nullptr);
 
 struct BicycleRideOptions {
   int rides = 50;
-  double max_km = 10.0;  // a ride that has not reached the goal after this path length stops
+  double max_km = 10.0;      // a ride that has not reached the goal after this path length stops
   BicycleOptions bicycle{};  // default: the goal circle of bike.c, (1000, 0) m, radius 10 m
   std::uint64_t seed = 1;
   int path_every = 0;  // keep every k-th front tyre position for plots (0: none)
@@ -102,7 +101,8 @@ struct BicycleRideSummary {
   double median_distance_km = 0.0, worst_distance_km = 0.0;
 };
 
-std::vector<BicycleRide> ride_bicycle(const Theta& theta, const BicycleRideOptions& options, ThreadPool* pool = nullptr);
+std::vector<BicycleRide> ride_bicycle(const Theta& theta, const BicycleRideOptions& options,
+                                      ThreadPool* pool = nullptr);
 BicycleRideSummary summarize_rides(const std::vector<BicycleRide>& rides);
 
 struct BicycleExperimentOptions {
@@ -131,14 +131,14 @@ struct BicycleTrial {
 };
 
 struct BicycleExperimentHooks {
-  std::function<void(const BicycleTrial&)> on_trial;      // after each finished trial
+  std::function<void(const BicycleTrial&)> on_trial;         // after each finished trial
   std::function<void(const nlohmann::json&)> on_checkpoint;  // state to save (trials so far, optimizer)
   std::optional<nlohmann::json> resume_from;
   std::int64_t checkpoint_every = 10;  // optimizer iterations between mid-training checkpoints
 };
 
 struct BicycleExperimentResult {
-  std::vector<BicycleTrial> trials;  // PEGASUS trials first (trial order), then the lessons
+  std::vector<BicycleTrial> trials;   // PEGASUS trials first (trial order), then the lessons
   double median_of_medians_km = 0.0;  // over the PEGASUS policies
 };
 

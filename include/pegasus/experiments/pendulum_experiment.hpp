@@ -17,12 +17,11 @@
 // the start of training (evaluations included) is seconds_to_bar. The search then runs on to its budget,
 // and the final policy's mean return over the same episodes is mean_return_100.
 #include <cstdint>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <span>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "pegasus/envs/pendulum.hpp"
 #include "pegasus/envs/pendulum_policy.hpp"
@@ -33,7 +32,7 @@
 namespace pegasus {
 
 struct PendulumTrainingOptions {
-  int scenarios = 32;  // m of the race: training start states
+  int scenarios = 32;                              // m of the race: training start states
   int horizon = PendulumConstants::episode_steps;  // H (steps of 0.05 s), both stages
   // Both stages. Stratified (Latin hypercube) start states cover the start box evenly, which keeps the
   // searches from fitting the quirks of a few starts: on 60000 other starts the final policies of seeds
@@ -69,27 +68,27 @@ struct PendulumTrainingHooks {
 
 // One look at the evaluation episodes, made when the search found a new best U-hat.
 struct PendulumBarCheck {
-  double seconds = 0.0;           // wall time since training began
-  std::int64_t evaluations = 0;   // U-hat evaluations so far
-  double uhat = 0.0;              // the new best U-hat (training scenarios)
-  double mean_return = 0.0;       // mean return over the evaluation episodes
+  double seconds = 0.0;          // wall time since training began
+  std::int64_t evaluations = 0;  // U-hat evaluations so far
+  double uhat = 0.0;             // the new best U-hat (training scenarios)
+  double mean_return = 0.0;      // mean return over the evaluation episodes
 };
 
 struct PendulumTrainingResult {
-  Theta theta;                     // the final policy, all PendulumSwingUpPolicy::kCount numbers
-  OptimizerSummary summary;        // the race (five numbers, `scenarios` start states)
-  OptimizerSummary refine_summary; // the refinement; method empty when it did not run
+  Theta theta;                        // the final policy, all PendulumSwingUpPolicy::kCount numbers
+  OptimizerSummary summary;           // the race (five numbers, `scenarios` start states)
+  OptimizerSummary refine_summary;    // the refinement; method empty when it did not run
   double race_mean_return_100 = 0.0;  // the race's policy, evaluation episodes
   double mean_return_100 = 0.0;       // final policy, evaluation episodes
-  double seconds_to_bar = 0.0;    // NaN when the bar was never reached
+  double seconds_to_bar = 0.0;        // NaN when the bar was never reached
   // Processor time of this process (all its threads) until then: robust when the machine is shared.
   double cpu_seconds_to_bar = 0.0;
   std::int64_t evaluations_to_bar = -1;  // -1 when never reached
   std::vector<PendulumBarCheck> checks;
 };
 
-PendulumTrainingResult train_pendulum(const PendulumTrainingOptions& options, const PendulumTrainingHooks& hooks = {},
-                                      ThreadPool* pool = nullptr);
+PendulumTrainingResult train_pendulum(const PendulumTrainingOptions& options,
+                                      const PendulumTrainingHooks& hooks = {}, ThreadPool* pool = nullptr);
 
 // A theta of the five-number class (or of the full one) as the full class: the numbers it lacks at their
 // initial values (the lead and the skew 0), which acts exactly as the five-number policy.

@@ -6,11 +6,10 @@
 // model, and naive Monte Carlo (fresh randomness for every policy evaluation).
 #include <cstdint>
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "pegasus/scenarios/scenario_set.hpp"
 
@@ -18,8 +17,8 @@ namespace pegasus {
 
 struct PomdpGridworldOptions {
   std::vector<int> scenarios = {1, 2, 4, 8, 16, 32, 64};  // the values of m
-  int trials = 200;                                        // T independent scenario sets per m
-  int montecarlo_max_m = 16;                               // naive Monte Carlo only for m <= this
+  int trials = 200;                                       // T independent scenario sets per m
+  int montecarlo_max_m = 16;                              // naive Monte Carlo only for m <= this
   double gamma = 0.99;
   int horizon = 100;
   bool hashed = true;      // also run PEGASUS on the hashed model g'
@@ -50,7 +49,7 @@ struct PomdpGridworldSummaryRow {
 };
 
 struct PomdpGridworldResult {
-  double best_in_class_value = 0;       // exact value of the best table policy
+  double best_in_class_value = 0;  // exact value of the best table policy
   std::uint32_t best_in_class_policy = 0;
   std::vector<PomdpGridworldRecord> records;  // in (trial, model, estimator, m) order
   std::vector<PomdpGridworldSummaryRow> rows;
@@ -65,7 +64,8 @@ struct PomdpGridworldHooks {
   std::optional<nlohmann::json> resume_from;
 };
 
-PomdpGridworldResult run_pomdp_gridworld(const PomdpGridworldOptions& options, const PomdpGridworldHooks& hooks = {});
+PomdpGridworldResult run_pomdp_gridworld(const PomdpGridworldOptions& options,
+                                         const PomdpGridworldHooks& hooks = {});
 
 // Aggregates per-trial records into the summary rows (mean, standard error) in a fixed order.
 std::vector<PomdpGridworldSummaryRow> summarize(const std::vector<PomdpGridworldRecord>& records);

@@ -21,7 +21,8 @@
 // nothing.
 //
 // Controls a in [-1, 1]^4 (§5.1): a1 longitudinal cyclic (+: disc forward, nose down, accelerate forward),
-// a2 lateral cyclic (+: disc right, roll right), a3 main collective (+: more thrust, climb), a4 tail collective
+// a2 lateral cyclic (+: disc right, roll right), a3 main collective (+: more thrust, climb), a4 tail
+// collective
 // (+: more tail thrust, yaw right, i.e. clockwise seen from above).
 #include <array>
 #include <cstdint>
@@ -41,38 +42,46 @@ inline constexpr std::array<const char*, 4> kControlNames = {"a1", "a2", "a3", "
 using LoggedState = std::array<double, kLoggedStates>;
 using Controls = std::array<double, 4>;
 
-enum class CrashReason : int { kNone = 0, kGround, kAttitude, kRate, kRotorOverload, kNumerical, kModelSupport };
+enum class CrashReason : int {
+  kNone = 0,
+  kGround,
+  kAttitude,
+  kRate,
+  kRotorOverload,
+  kNumerical,
+  kModelSupport
+};
 std::string crash_reason_name(CrashReason r);
 
 struct AircraftParams {
   // --- Rigid body [GMF01, Table 1] ---
-  double mass_kg = 8.2;     // [GMF01] m
-  double ixx = 0.18;        // [GMF01] I_xx, kg m^2
-  double iyy = 0.34;        // [GMF01] I_yy, kg m^2
-  double izz = 0.28;        // [GMF01] I_zz, kg m^2
-  double gravity = 9.81;    // m/s^2
+  double mass_kg = 8.2;        // [GMF01] m
+  double ixx = 0.18;           // [GMF01] I_xx, kg m^2
+  double iyy = 0.34;           // [GMF01] I_yy, kg m^2
+  double izz = 0.28;           // [GMF01] I_zz, kg m^2
+  double gravity = 9.81;       // m/s^2
   double air_density = 1.204;  // kg/m^3, ISA sea level at 20 C
   // --- Main rotor [GMF01] ---
-  double omega_mr = 167.0;   // [GMF01] nominal rotor speed, rad/s (1600 rpm)
-  double radius_mr = 0.775;  // [GMF01] R_mr, m
-  double chord_mr = 0.058;   // [GMF01] c_mr, m
-  double lift_slope_mr = 5.5;  // [GMF01] a_mr, 1/rad
+  double omega_mr = 167.0;         // [GMF01] nominal rotor speed, rad/s (1600 rpm)
+  double radius_mr = 0.775;        // [GMF01] R_mr, m
+  double chord_mr = 0.058;         // [GMF01] c_mr, m
+  double lift_slope_mr = 5.5;      // [GMF01] a_mr, 1/rad
   double profile_drag_mr = 0.024;  // [GMF01] C_D0, blade profile drag coefficient
-  double hub_height = 0.235;  // [GMF01] h_mr, hub above the centre of mass, m
-  double hub_stiffness = 54.0;  // [GMF01] K_beta, effective hub torsional stiffness, N m/rad
-  double tau_flap = 0.1;        // [GMF01] tau_e, rotor-with-stabilizer-bar time constant, s
-  double a_lon = 4.2;           // [GMF01] A_lon, flapping per longitudinal cyclic, rad/rad
-  double b_lat = 4.2;           // [GMF01] B_lat, flapping per lateral cyclic, rad/rad
-  double cyclic_max_rad = 0.05;  // cyclic blade pitch at full stick, rad (chosen: 0.21 rad of steady flap)
+  double hub_height = 0.235;       // [GMF01] h_mr, hub above the centre of mass, m
+  double hub_stiffness = 54.0;     // [GMF01] K_beta, effective hub torsional stiffness, N m/rad
+  double tau_flap = 0.1;           // [GMF01] tau_e, rotor-with-stabilizer-bar time constant, s
+  double a_lon = 4.2;              // [GMF01] A_lon, flapping per longitudinal cyclic, rad/rad
+  double b_lat = 4.2;              // [GMF01] B_lat, flapping per lateral cyclic, rad/rad
+  double cyclic_max_rad = 0.05;    // cyclic blade pitch at full stick, rad (chosen: 0.21 rad of steady flap)
   double collective_mid_rad = 0.08;   // main collective at a3 = 0, rad (chosen; hover needs about 0.1)
   double collective_span_rad = 0.10;  // main collective change at a3 = +-1, rad
   // --- Tail rotor [GMF01] ---
-  double gear_tr = 4.66;      // [GMF01] n_tr, tail/main rotor speed ratio
-  double radius_tr = 0.13;    // [GMF01] R_tr, m
-  double chord_tr = 0.029;    // [GMF01] c_tr, m
-  double lift_slope_tr = 5.0;  // [GMF01] a_tr, 1/rad
-  double arm_tr = 0.91;       // [GMF01] l_tr, tail rotor hub behind the centre of mass, m
-  double height_tr = 0.08;    // [GMF01] h_tr, tail rotor hub above the centre of mass, m
+  double gear_tr = 4.66;        // [GMF01] n_tr, tail/main rotor speed ratio
+  double radius_tr = 0.13;      // [GMF01] R_tr, m
+  double chord_tr = 0.029;      // [GMF01] c_tr, m
+  double lift_slope_tr = 5.0;   // [GMF01] a_tr, 1/rad
+  double arm_tr = 0.91;         // [GMF01] l_tr, tail rotor hub behind the centre of mass, m
+  double height_tr = 0.08;      // [GMF01] h_tr, tail rotor hub above the centre of mass, m
   double tail_mid_rad = 0.15;   // tail collective at a4 = 0, rad (chosen)
   double tail_span_rad = 0.25;  // tail collective change at a4 = +-1, rad
   // --- Yaw-rate gyro (the X-Cell flies with a rate gyro on the tail servo [GMF01]; gain and lag chosen) ---
@@ -86,42 +95,42 @@ struct AircraftParams {
   double servo_rate = 8.0;  // normalised units per second
   // --- Disturbances ---
   Vec3 mean_wind_W = Vec3::Zero();  // m/s
-  double gust_sigma = 0.5;  // turbulence standard deviation per axis, m/s
-  double gust_tau = 2.0;    // turbulence correlation time L/V, s
+  double gust_sigma = 0.5;          // turbulence standard deviation per axis, m/s
+  double gust_tau = 2.0;            // turbulence correlation time L/V, s
   // State-estimate errors (§5.1: a Kalman filter fusing DGPS with 2 cm resolution, INS and compass)
-  double est_sigma_pos = 0.02;    // m
-  double est_sigma_vel = 0.03;    // m/s
+  double est_sigma_pos = 0.02;     // m
+  double est_sigma_vel = 0.03;     // m/s
   double est_sigma_angle = 0.005;  // rad
-  double est_sigma_rate = 0.01;   // rad/s
-  double est_tau = 0.3;           // correlation time of the filter's error, s
+  double est_sigma_rate = 0.01;    // rad/s
+  double est_tau = 0.3;            // correlation time of the filter's error, s
   // --- Crash limits ---
-  double max_tilt_rad = 1.0;     // |roll| or |pitch| beyond this: crash
-  double max_rate_rad_s = 6.0;   // |p|, |q| or |r| beyond this: crash
+  double max_tilt_rad = 1.0;                     // |roll| or |pitch| beyond this: crash
+  double max_rate_rad_s = 6.0;                   // |p|, |q| or |r| beyond this: crash
   double max_thrust_coeff_over_solidity = 0.15;  // C_T / sigma beyond this: blade stall, rotor overload
   // --- Integration ---
-  double dt = 0.02;      // one control step, s (50 Hz, §5.1)
-  int substeps = 2;      // RK4 substeps per control step
+  double dt = 0.02;  // one control step, s (50 Hz, §5.1)
+  int substeps = 2;  // RK4 substeps per control step
   // --- Start ---
   Vec3 start_p_W{0.0, 0.0, -10.0};  // hover 10 m above the ground
   double start_yaw = 0.0;
-  double start_pos_sigma = 0.0;   // initial position perturbation, m
-  double start_vel_sigma = 0.0;   // initial velocity perturbation, m/s
+  double start_pos_sigma = 0.0;  // initial position perturbation, m
+  double start_vel_sigma = 0.0;  // initial velocity perturbation, m/s
 
   bool IsValid(std::string* error) const;
 };
 
 struct AircraftState {
-  Vec3 p_W = Vec3::Zero();   // position of the centre of mass in W, m
-  Vec3 v_B = Vec3::Zero();   // velocity of the centre of mass expressed in B, m/s
-  Euler attitude{};          // rad
-  Vec3 w_B = Vec3::Zero();   // body angular rate (p, q, r), rad/s
-  double flap_lon = 0;       // tip-path-plane tilt relative to the shaft, + forward, rad
-  double flap_lat = 0;       // + right, rad
-  double gyro_rate = 0;      // the gyro's lagged yaw rate, rad/s
-  Controls servo{};          // actuator positions in [-1, 1]
-  Vec3 gust_W = Vec3::Zero();  // turbulence velocity in W, m/s
+  Vec3 p_W = Vec3::Zero();       // position of the centre of mass in W, m
+  Vec3 v_B = Vec3::Zero();       // velocity of the centre of mass expressed in B, m/s
+  Euler attitude{};              // rad
+  Vec3 w_B = Vec3::Zero();       // body angular rate (p, q, r), rad/s
+  double flap_lon = 0;           // tip-path-plane tilt relative to the shaft, + forward, rad
+  double flap_lat = 0;           // + right, rad
+  double gyro_rate = 0;          // the gyro's lagged yaw rate, rad/s
+  Controls servo{};              // actuator positions in [-1, 1]
+  Vec3 gust_W = Vec3::Zero();    // turbulence velocity in W, m/s
   LoggedState estimate_error{};  // state estimate minus truth, per logged state
-  double time = 0;           // s
+  double time = 0;               // s
   CrashReason crash = CrashReason::kNone;
 };
 
@@ -136,7 +145,7 @@ class Aircraft {
   using Action = Controls;
   using Observation = LoggedState;
 
-  static constexpr int kStepNoise = 3 + kLoggedStates;          // gusts, estimate errors
+  static constexpr int kStepNoise = 3 + kLoggedStates;             // gusts, estimate errors
   static constexpr int kInitialNoise = 3 + 3 + 3 + kLoggedStates;  // position, velocity, gusts, estimate
 
   explicit Aircraft(AircraftParams params = {});

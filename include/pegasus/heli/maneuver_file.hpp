@@ -1,17 +1,20 @@
 #pragma once
-// The "maneuver" class of helicopter policy files (policy_file.hpp): a ManeuverPolicy (maneuver_policy.hpp) with
-// its weights, flying the manoeuvre its options name.
+// The "maneuver" class of helicopter policy files (policy_file.hpp): a ManeuverPolicy (maneuver_policy.hpp)
+// with its weights, flying the manoeuvre its options name.
 //
 //   "class": "maneuver"
-//   "parameters": the ManeuverPolicy's parameters in order (34 hover weights, the two couplings, then "z_delay"
+//   "parameters": the ManeuverPolicy's parameters in order (34 hover weights, the two couplings, then
+//   "z_delay"
 //                 and "feedforward" when options.learn_delay / options.feedforward)
-//   "target":     the start of the manoeuvre (its x, y, z; yaw must be 0: the manoeuvres are flown nose north)
-//   "trim":       the trim the couplings act about
-//   "options":    {"name": "III.1" | "III.2" | "III.3", "learn_delay": bool, "feedforward": bool, "max_delay_s",
+//   "target":     the start of the manoeuvre (its x, y, z; yaw must be 0: the manoeuvres are flown nose
+//   north) "trim":       the trim the couplings act about "options":    {"name": "III.1" | "III.2" | "III.3",
+//   "learn_delay": bool, "feedforward": bool, "max_delay_s",
 //                  "speed", "accel", "yaw_rate", "yaw_accel", "triangle_base", "circle_radius", "pause_s",
-//                  "rectangle_width", "rectangle_height", "hold_start_s", "hold_end_s"}; missing sizes and limits
+//                  "rectangle_width", "rectangle_height", "hold_start_s", "hold_end_s"}; missing sizes and
+//                  limits
 //                 take the defaults of trajectory.hpp
-// The controller's time is the time since the manoeuvre began; after the trajectory's end it holds the end point.
+// The controller's time is the time since the manoeuvre began; after the trajectory's end it holds the end
+// point.
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <span>

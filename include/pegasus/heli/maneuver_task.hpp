@@ -1,21 +1,21 @@
 #pragma once
-// The manoeuvre task of thesis §5.4: reward, model wrapper, shaping potential, PEGASUS training on the identified
-// model, and flights of a trained policy on the ground-truth aircraft.
+// The manoeuvre task of thesis §5.4: reward, model wrapper, shaping potential, PEGASUS training on the
+// identified model, and flights of a trained policy on the ground-truth aircraft.
 //
 // Reward of a transition from s under a (R(s) of the state left plus R(a), as the hover task):
 //   R = -( alpha_pos |p - p_p|^2 + alpha_yaw wrap(yaw - yaw_p)^2 + alpha_vel |v - v_p|^2 )
 //       -( sum_c alpha_a_c (a_c - centre_c)^2 )              (Eq 5.10 about the trim, as hover_task.hpp)
 //       + the model's own reward (the learned model's crash penalty, footnote 13)
-// where (p_p, yaw_p) is the observer's projection of the helicopter onto the ideal path (path_observer.hpp) and
-// v_p the ideal set-point velocity there: deviation from the path is paid, lagging behind the moving set point is
-// not (§5.4's argument against Eq 5.9 with a moving (x*, y*, z*, omega*)).
+// where (p_p, yaw_p) is the observer's projection of the helicopter onto the ideal path (path_observer.hpp)
+// and v_p the ideal set-point velocity there: deviation from the path is paid, lagging behind the moving set
+// point is not (§5.4's argument against Eq 5.9 with a moving (x*, y*, z*, omega*)).
 //
 // Shaping (§5.4 with chapter 3): the model is wrapped in ShapedModel (shaping/potential_shaping.hpp) with
 // Phi(s) = per_metre * progress(s), progress the observer's arc length along the path, so F = gamma Phi(s') -
-// Phi(s) pays forward progress. Theorem 1's episodic condition holds: Phi is 0 at the absorbing states (the crash;
-// ShapedModel's zero_at_terminal) and at the start of the path. Over a PEGASUS rollout of H steps the shaping
-// telescopes to gamma^H Phi(s_H) - Phi(s_0): a crashed flight keeps nothing, and a flight that is further along
-// the path when the horizon ends keeps more.
+// Phi(s) pays forward progress. Theorem 1's episodic condition holds: Phi is 0 at the absorbing states (the
+// crash; ShapedModel's zero_at_terminal) and at the start of the path. Over a PEGASUS rollout of H steps the
+// shaping telescopes to gamma^H Phi(s_H) - Phi(s_0): a crashed flight keeps nothing, and a flight that is
+// further along the path when the horizon ends keeps more.
 //
 // Time: the wrapper counts 50 Hz steps; the policy sees the time since the manoeuvre began.
 #include <array>
@@ -39,9 +39,9 @@
 namespace pegasus::heli {
 
 struct ManeuverReward {
-  double alpha_pos = 4;   // per m^2 of distance to the projection (typical 0.5 m)
-  double alpha_yaw = 4;   // per rad^2 of wrapped yaw error to the projection (typical 0.5 rad in pirouettes)
-  double alpha_vel = 1;   // per (m/s)^2 of velocity minus the ideal velocity at the projection (typical 1 m/s)
+  double alpha_pos = 4;  // per m^2 of distance to the projection (typical 0.5 m)
+  double alpha_yaw = 4;  // per rad^2 of wrapped yaw error to the projection (typical 0.5 rad in pirouettes)
+  double alpha_vel = 1;  // per (m/s)^2 of velocity minus the ideal velocity at the projection (typical 1 m/s)
   std::array<double, 4> alpha_action{4, 4, 4, 4};  // per unit^2 about centre (typical 0.5)
   Controls centre{0, 0, 0, 0};
   bool IsValid(std::string* error) const;
@@ -83,8 +83,8 @@ class ManeuverTask {
   bool terminal(const State& s) const { return model_.terminal(s.base); }
   Observation observe(const State& s) const { return {model_.observe(s.base), s.step * dt_}; }
   double reward(const State& s, const Action& a, const State& next) const {
-    return transition_reward(model_, s.base, a, next.base) - reward_.state_cost(model_.observe(s.base), s.path) -
-           reward_.action_cost(a);
+    return transition_reward(model_, s.base, a, next.base) -
+           reward_.state_cost(model_.observe(s.base), s.path) - reward_.action_cost(a);
   }
 
   const M& model() const { return model_; }
@@ -117,15 +117,15 @@ struct ManeuverTrainingOptions {
   TrajectoryLimits limits{};
   PathObserverOptions observer{};
   ManeuverPolicyOptions policy{};
-  int scenarios = 30;             // PEGASUS scenarios m (§5.3's 30)
-  double gamma = 0.9995;          // per 50 Hz step (§5.3)
-  int refit_every = 5;            // learned model: steps between refits (§5.2.2)
-  double start_pos_sigma = 0.5;   // start position perturbation per axis, m
-  double start_vel_sigma = 0.2;   // start velocity perturbation per axis, m/s
+  int scenarios = 30;            // PEGASUS scenarios m (§5.3's 30)
+  double gamma = 0.9995;         // per 50 Hz step (§5.3)
+  int refit_every = 5;           // learned model: steps between refits (§5.2.2)
+  double start_pos_sigma = 0.5;  // start position perturbation per axis, m
+  double start_vel_sigma = 0.2;  // start velocity perturbation per axis, m/s
   ManeuverReward reward{};
-  bool centre_at_trim = true;     // replace reward.centre by the trim estimate of the logs
-  bool shaping = true;            // potential-based shaping on progress (false: the ablation)
-  double shaping_per_metre = 5;   // Phi per m of progress
+  bool centre_at_trim = true;    // replace reward.centre by the trim estimate of the logs
+  bool shaping = true;           // potential-based shaping on progress (false: the ablation)
+  double shaping_per_metre = 5;  // Phi per m of progress
   OptimizerOptions optimizer = default_optimizer();
   std::uint64_t seed = 1;
 
@@ -141,8 +141,8 @@ int maneuver_horizon(const Trajectory& trajectory);
 
 // U-hat(theta) of the manoeuvre task on the learned model (PegasusObjective; shaped when options.shaping).
 std::unique_ptr<Objective> maneuver_objective(std::shared_ptr<const sysid::IdentifiedModel> model,
-                                              const ManeuverTrainingOptions& options, const ManeuverPolicy& policy,
-                                              std::shared_ptr<ThreadPool> pool);
+                                              const ManeuverTrainingOptions& options,
+                                              const ManeuverPolicy& policy, std::shared_ptr<ThreadPool> pool);
 
 struct ManeuverTrainingHooks {
   std::int64_t checkpoint_every = 1;
@@ -158,7 +158,8 @@ struct ManeuverTrainingResult {
 // PEGASUS training from `start` (empty: the policy's initial values).
 ManeuverTrainingResult train_maneuver(std::shared_ptr<const sysid::IdentifiedModel> model,
                                       const ManeuverTrainingOptions& options, const ManeuverPolicy& policy,
-                                      const Theta& start, const ManeuverTrainingHooks& hooks, ThreadPool& pool);
+                                      const Theta& start, const ManeuverTrainingHooks& hooks,
+                                      ThreadPool& pool);
 
 // ---- Flights on the ground truth ------------------------------------------------------------------------
 
@@ -173,12 +174,12 @@ struct ManeuverFlightOptions {
 };
 
 struct ManeuverFlight {
-  std::vector<LoggedState> truth;   // true states, one per 50 Hz step (row 0 = the start)
-  std::vector<Controls> controls;   // the controls applied at each row (the last row repeats the one before)
-  std::vector<SetPoint> targets;    // the set point of each row
-  std::vector<double> deviation;    // distance of the true position to its projection on the path, m
-  std::vector<double> progress;     // the observer's progress along the path, m
-  double final_progress = 0;        // m along the path at the end
+  std::vector<LoggedState> truth;  // true states, one per 50 Hz step (row 0 = the start)
+  std::vector<Controls> controls;  // the controls applied at each row (the last row repeats the one before)
+  std::vector<SetPoint> targets;   // the set point of each row
+  std::vector<double> deviation;   // distance of the true position to its projection on the path, m
+  std::vector<double> progress;    // the observer's progress along the path, m
+  double final_progress = 0;       // m along the path at the end
   CrashReason crash = CrashReason::kNone;
   double crash_time = -1;
 };
@@ -188,20 +189,22 @@ struct ManeuverFlightSummary {
   double rms_path_deviation_m = 0, max_path_deviation_m = 0;
 };
 
-// Flies the policy on the ground-truth aircraft (gusts and state-estimate noise on) from perturbed starts at the
-// trajectory's start. The policy sees the state estimate; the deviation is measured on the true state.
+// Flies the policy on the ground-truth aircraft (gusts and state-estimate noise on) from perturbed starts at
+// the trajectory's start. The policy sees the state estimate; the deviation is measured on the true state.
 std::vector<ManeuverFlight> fly_maneuver(const ManeuverPolicy& policy, std::span<const double> theta,
                                          const PathObserver& observer, const ManeuverFlightOptions& options,
                                          ThreadPool* pool = nullptr);
-ManeuverFlightSummary summarize_maneuver_flights(const std::vector<ManeuverFlight>& flights, double path_length);
+ManeuverFlightSummary summarize_maneuver_flights(const std::vector<ManeuverFlight>& flights,
+                                                 double path_length);
 
 // ---- Identification data for manoeuvres ------------------------------------------------------------------
 
 // The identified model is only good where the pilot flew (§5.2): hover and small sweeps do not cover 2.5 m/s
-// backwards flight, 1.8 m/s climbs or 1 rad/s pirouettes, and the learned model leaves its data's support there.
-// This flight gives the scripted pilot (pilot.hpp) `sweep_seconds` of its usual plan (hover, then a sweep in each
-// channel), then has it fly the set points of each trajectory in turn, as a pilot practising the manoeuvres
-// would (no sweeps, its own delay and noise). One continuous 50 Hz log; everything drawn from `seed`.
+// backwards flight, 1.8 m/s climbs or 1 rad/s pirouettes, and the learned model leaves its data's support
+// there. This flight gives the scripted pilot (pilot.hpp) `sweep_seconds` of its usual plan (hover, then a
+// sweep in each channel), then has it fly the set points of each trajectory in turn, as a pilot practising
+// the manoeuvres would (no sweeps, its own delay and noise). One continuous 50 Hz log; everything drawn from
+// `seed`.
 PilotFlight fly_pilot_maneuvers(const Aircraft& aircraft, const PilotOptions& options, double sweep_seconds,
                                 const std::vector<Trajectory>& trajectories, std::uint64_t seed);
 

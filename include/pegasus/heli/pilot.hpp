@@ -24,7 +24,7 @@ struct PilotOptions {
   double sweep_f0_hz = 0.1, sweep_f1_hz = 3.0;
   std::array<double, 4> sweep_amplitude{0.15, 0.15, 0.15, 0.15};  // per channel
   // Stabilising gains (heading frame): position and velocity to desired attitude, attitude to cyclic.
-  double k_pos = 0.25, k_vel = 0.7;    // desired acceleration per m and per m/s
+  double k_pos = 0.25, k_vel = 0.7;       // desired acceleration per m and per m/s
   double k_att = 1.0, k_att_rate = 0.05;  // cyclic per rad of attitude error and per rad/s
   double k_alt = 0.05, k_climb = 0.15;    // collective per m and per m/s
   double k_yaw = 0.4, k_yaw_rate = 0.05;  // tail per rad and per rad/s
@@ -58,13 +58,14 @@ class ScriptedPilot {
 };
 
 struct PilotFlight {
-  sysid::FlightLog log;               // the 50 Hz estimate and the controls (what the learning side sees)
-  std::vector<LoggedState> truth;     // the true states, same rows
+  sysid::FlightLog log;            // the 50 Hz estimate and the controls (what the learning side sees)
+  std::vector<LoggedState> truth;  // the true states, same rows
   CrashReason crash = CrashReason::kNone;
   double crash_time = -1;
 };
 
 // Flies `seconds` of the pilot's plan on the aircraft from its initial state; all randomness from `seed`.
-PilotFlight fly_pilot(const Aircraft& aircraft, const PilotOptions& options, double seconds, std::uint64_t seed);
+PilotFlight fly_pilot(const Aircraft& aircraft, const PilotOptions& options, double seconds,
+                      std::uint64_t seed);
 
 }  // namespace pegasus::heli

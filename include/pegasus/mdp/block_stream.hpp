@@ -67,12 +67,15 @@ class BlockUniformStream {
 
   std::uint64_t seed() const { return seed_; }
   std::uint32_t stream() const { return stream_; }
-  std::uint64_t position() const { return (next_call_ - kCallsPerBlock) * 4 + static_cast<std::uint64_t>(index_); }
+  std::uint64_t position() const {
+    return (next_call_ - kCallsPerBlock) * 4 + static_cast<std::uint64_t>(index_);
+  }
 
  private:
   // Out of line, so that next() stays small enough to inline into a learner's step.
   [[gnu::noinline]] void refill() {
-    detail::philox_uniforms(key0_, key1_, next_call_, stream_, kBlockStreamDomain, kCallsPerBlock, buffer_.data());
+    detail::philox_uniforms(key0_, key1_, next_call_, stream_, kBlockStreamDomain, kCallsPerBlock,
+                            buffer_.data());
     next_call_ += kCallsPerBlock;
     index_ = 0;
   }

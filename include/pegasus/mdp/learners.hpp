@@ -43,8 +43,12 @@ struct QTable {
   QTable() = default;
   QTable(int s, int a, double init = 0.0)
       : num_states(s), num_actions(a), q(static_cast<std::size_t>(s) * static_cast<std::size_t>(a), init) {}
-  double* row(int s) { return q.data() + static_cast<std::size_t>(s) * static_cast<std::size_t>(num_actions); }
-  const double* row(int s) const { return q.data() + static_cast<std::size_t>(s) * static_cast<std::size_t>(num_actions); }
+  double* row(int s) {
+    return q.data() + static_cast<std::size_t>(s) * static_cast<std::size_t>(num_actions);
+  }
+  const double* row(int s) const {
+    return q.data() + static_cast<std::size_t>(s) * static_cast<std::size_t>(num_actions);
+  }
   // argmax_a Q(s, a), lowest action on ties.
   int greedy(int s) const {
     const double* r = row(s);
@@ -81,9 +85,11 @@ struct TdOptions {
     };
     if (episodes < 1) return bad(fmt::format("episodes must be >= 1, got {}", episodes));
     if (!(alpha > 0.0 && alpha <= 1.0)) return bad(fmt::format("alpha must lie in (0, 1], got {}", alpha));
-    if (!(epsilon >= 0.0 && epsilon <= 1.0)) return bad(fmt::format("epsilon must lie in [0, 1], got {}", epsilon));
+    if (!(epsilon >= 0.0 && epsilon <= 1.0))
+      return bad(fmt::format("epsilon must lie in [0, 1], got {}", epsilon));
     if (!(gamma >= 0.0 && gamma <= 1.0)) return bad(fmt::format("gamma must lie in [0, 1], got {}", gamma));
-    if (!(lambda >= 0.0 && lambda <= 1.0)) return bad(fmt::format("lambda must lie in [0, 1], got {}", lambda));
+    if (!(lambda >= 0.0 && lambda <= 1.0))
+      return bad(fmt::format("lambda must lie in [0, 1], got {}", lambda));
     if (!(trace_cutoff >= 0.0 && trace_cutoff < 1.0)) return bad("trace_cutoff must lie in [0, 1)");
     if (max_steps_per_episode < 1) return bad("max_steps_per_episode must be >= 1");
     return true;
@@ -107,7 +113,8 @@ inline constexpr std::array<std::array<std::int8_t, 4>, 16> kTieAction = [] {
   for (int m = 0; m < 16; ++m) {
     int k = 0;
     for (int a = 0; a < 4; ++a)
-      if (m >> a & 1) t[static_cast<std::size_t>(m)][static_cast<std::size_t>(k++)] = static_cast<std::int8_t>(a);
+      if (m >> a & 1)
+        t[static_cast<std::size_t>(m)][static_cast<std::size_t>(k++)] = static_cast<std::int8_t>(a);
   }
   return t;
 }();
@@ -152,7 +159,8 @@ class EpsilonGreedy {
       // are all unpredictable, and mispredictions would cost more than the rest of a Sarsa step.
       const unsigned mask = detail::argmax_mask4(q);
       const int ties = detail::kTieCount[mask];
-      int pick = static_cast<int>(std::max(0.0, (u - epsilon_) * exploit_scale_) * detail::kTieCountDouble[mask]);
+      int pick =
+          static_cast<int>(std::max(0.0, (u - epsilon_) * exploit_scale_) * detail::kTieCountDouble[mask]);
       pick = pick < ties ? pick : ties - 1;
       const int greedy = detail::kTieAction[mask][static_cast<std::size_t>(pick)];
       int explore = static_cast<int>(u * explore_scale_);
@@ -213,8 +221,8 @@ void check_learner_input(const M& m, const TdOptions& o, const QTable& q) {
   if (!o.IsValid(&err)) throw InputError(err);
   check_noise_dims(m);
   if (q.num_states != m.num_states() || q.num_actions != m.num_actions())
-    throw InputError(fmt::format("learner: Q table is {} x {}, the model {} x {}", q.num_states, q.num_actions,
-                                 m.num_states(), m.num_actions()));
+    throw InputError(fmt::format("learner: Q table is {} x {}, the model {} x {}", q.num_states,
+                                 q.num_actions, m.num_states(), m.num_actions()));
 }
 
 }  // namespace detail
@@ -300,7 +308,8 @@ struct SarsaLane {
     qsa += alpha * (r + gamma * Q[static_cast<std::ptrdiff_t>(s2) * A + a2] - qsa);
     s = s2;
     a = a2;
-    if (n == max_steps) [[unlikely]] finish_episode(true);
+    if (n == max_steps) [[unlikely]]
+      finish_episode(true);
   }
 };
 
@@ -322,7 +331,8 @@ LearningCurve sarsa(const M& m, const TdOptions& o, G& rng, QTable& q) {
 // state), so a single run leaves most of the core idle; interleaving runs fills it. Each run's result is
 // identical to sarsa(m, o, rngs[i], qs[i]).
 template <TabularModel M, UniformSource G>
-std::vector<LearningCurve> sarsa_runs(const M& m, const TdOptions& o, std::span<G> rngs, std::span<QTable> qs) {
+std::vector<LearningCurve> sarsa_runs(const M& m, const TdOptions& o, std::span<G> rngs,
+                                      std::span<QTable> qs) {
   if (rngs.size() != qs.size()) throw InputError("sarsa_runs: one generator per Q table expected");
   for (const QTable& q : qs) detail::check_learner_input(m, o, q);
   constexpr std::size_t kLanes = 4;
@@ -330,7 +340,8 @@ std::vector<LearningCurve> sarsa_runs(const M& m, const TdOptions& o, std::span<
   for (std::size_t first = 0; first < qs.size(); first += kLanes) {
     const std::size_t n = std::min(kLanes, qs.size() - first);
     std::array<detail::SarsaLane<M, G>, kLanes> lanes;
-    for (std::size_t j = 0; j < n; ++j) lanes[j].start(m, o, rngs[first + j], qs[first + j], curves[first + j]);
+    for (std::size_t j = 0; j < n; ++j)
+      lanes[j].start(m, o, rngs[first + j], qs[first + j], curves[first + j]);
     for (std::size_t j = n; j < kLanes; ++j) lanes[j].active = false;
     if (n == kLanes) {
       while (lanes[0].active && lanes[1].active && lanes[2].active && lanes[3].active) {
@@ -456,7 +467,10 @@ struct SoftmaxPolicy {
   std::vector<double> theta;
 
   SoftmaxPolicy() = default;
-  SoftmaxPolicy(int s, int a) : num_states(s), num_actions(a), theta(static_cast<std::size_t>(s) * static_cast<std::size_t>(a), 0.0) {}
+  SoftmaxPolicy(int s, int a)
+      : num_states(s),
+        num_actions(a),
+        theta(static_cast<std::size_t>(s) * static_cast<std::size_t>(a), 0.0) {}
   // Writes pi(. | s) into out (size num_actions).
   void probabilities(int s, double* out) const {
     const double* t = theta.data() + static_cast<std::size_t>(s) * static_cast<std::size_t>(num_actions);
@@ -543,7 +557,8 @@ LearningCurve reinforce(const M& m, const ReinforceOptions& o, G& rng, SoftmaxPo
       pi.probabilities(st, probs.data());
       double* th = pi.theta.data() + static_cast<std::size_t>(st) * static_cast<std::size_t>(A);
       const double step = o.alpha * discount * (returns[t] - b);
-      for (int a = 0; a < A; ++a) th[a] += step * ((a == actions[t] ? 1.0 : 0.0) - probs[static_cast<std::size_t>(a)]);
+      for (int a = 0; a < A; ++a)
+        th[a] += step * ((a == actions[t] ? 1.0 : 0.0) - probs[static_cast<std::size_t>(a)]);
       discount *= o.gamma;
     }
     if (o.baseline) {

@@ -23,9 +23,8 @@
 // with the shortest decimal that reads back to the same double, so load(save(m)) == m exactly.
 // Errors are InputError messages naming the file and the field, e.g.
 //   "m.json: transitions[3].next[1][1]: probability 1.2 outside [0, 1]".
-#include <string>
-
 #include <nlohmann/json_fwd.hpp>
+#include <string>
 
 #include "pegasus/mdp/finite_mdp.hpp"
 

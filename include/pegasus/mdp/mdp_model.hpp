@@ -15,10 +15,10 @@ namespace pegasus {
 // Models the tabular learners accept: integer states and actions with known table sizes.
 template <class M>
 concept TabularModel = SimulativeModel<M> && std::same_as<typename M::State, int> &&
-                       std::same_as<typename M::Action, int> && requires(const M& m) {
-                         { m.num_states() } -> std::convertible_to<int>;
-                         { m.num_actions() } -> std::convertible_to<int>;
-                       };
+    std::same_as<typename M::Action, int> && requires(const M& m) {
+  { m.num_states() } -> std::convertible_to<int>;
+  { m.num_actions() } -> std::convertible_to<int>;
+};
 
 class MdpModel {
  public:
@@ -31,21 +31,26 @@ class MdpModel {
     cumulative_.resize(mdp.num_entries());
     for (std::size_t r = 0; r < mdp.num_rows(); ++r) {
       double c = 0.0;
-      for (std::uint32_t k = mdp.row_start[r]; k < mdp.row_start[r + 1]; ++k) cumulative_[k] = (c += mdp.probability[k]);
+      for (std::uint32_t k = mdp.row_start[r]; k < mdp.row_start[r + 1]; ++k)
+        cumulative_[k] = (c += mdp.probability[k]);
     }
     initial_cumulative_.resize(static_cast<std::size_t>(mdp.num_states));
     double c = 0.0;
-    for (int s = 0; s < mdp.num_states; ++s) initial_cumulative_[static_cast<std::size_t>(s)] = (c += mdp.initial[static_cast<std::size_t>(s)]);
+    for (int s = 0; s < mdp.num_states; ++s)
+      initial_cumulative_[static_cast<std::size_t>(s)] = (c += mdp.initial[static_cast<std::size_t>(s)]);
   }
 
   int state_dim() const { return 1; }
   int noise_dim() const { return 1; }
   int initial_noise_dim() const { return 1; }
   State initial_state(std::span<const double> p) const {
-    const auto it = std::upper_bound(initial_cumulative_.begin(), initial_cumulative_.end(), p[0] * initial_cumulative_.back());
+    const auto it = std::upper_bound(initial_cumulative_.begin(), initial_cumulative_.end(),
+                                     p[0] * initial_cumulative_.back());
     return static_cast<int>(std::min<std::ptrdiff_t>(it - initial_cumulative_.begin(), mdp_->num_states - 1));
   }
-  State step(State s, Action a, std::span<const double> p) const { return mdp_->next_state[entry(s, a, p[0])]; }
+  State step(State s, Action a, std::span<const double> p) const {
+    return mdp_->next_state[entry(s, a, p[0])];
+  }
   // R(s, a, s'): the reward of the (s, a) entry whose successor is s'.
   double reward(State s, Action a, State next) const {
     const std::size_t r = mdp_->row(s, a);

@@ -96,7 +96,8 @@ struct SolveSummary {
 
 SolveSummary value_iteration(const FiniteMdp& mdp, const ValueIterationOptions& options = {});
 SolveSummary policy_iteration(const FiniteMdp& mdp, const PolicyIterationOptions& options = {});
-SolveSummary modified_policy_iteration(const FiniteMdp& mdp, const ModifiedPolicyIterationOptions& options = {});
+SolveSummary modified_policy_iteration(const FiniteMdp& mdp,
+                                       const ModifiedPolicyIterationOptions& options = {});
 
 // A stochastic policy: probs[s * A + a] = pi(a | s); each row sums to 1.
 struct StochasticPolicy {

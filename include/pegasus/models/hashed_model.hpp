@@ -39,7 +39,9 @@ class HashedModel {
 
   static constexpr std::uint32_t kMaxMultiplier = 1000;
 
-  HashedModel(M base, std::uint64_t hash_seed) : base_(std::move(base)), keys_(hash_seed) { check_noise_dims(base_); }
+  HashedModel(M base, std::uint64_t hash_seed) : base_(std::move(base)), keys_(hash_seed) {
+    check_noise_dims(base_);
+  }
 
   const M& base() const { return base_; }
   int state_dim() const { return base_.state_dim(); }
@@ -59,8 +61,9 @@ class HashedModel {
   // k(s, a) for noise coordinate j, in {1, ..., 1000}.
   std::uint32_t multiplier(const State& s, const Action& a, int j) const {
     const std::uint64_t ks = model_key(s), ka = model_key(a);
-    const std::uint64_t bits = keys_.bits64(RngDomain::kModelHash, static_cast<std::uint32_t>(ks ^ (ks >> 32)),
-                                            static_cast<std::uint32_t>(ka ^ (ka >> 32)), static_cast<std::uint32_t>(j));
+    const std::uint64_t bits =
+        keys_.bits64(RngDomain::kModelHash, static_cast<std::uint32_t>(ks ^ (ks >> 32)),
+                     static_cast<std::uint32_t>(ka ^ (ka >> 32)), static_cast<std::uint32_t>(j));
     return 1 + static_cast<std::uint32_t>(bits % kMaxMultiplier);
   }
 

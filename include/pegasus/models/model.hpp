@@ -21,7 +21,8 @@
 //     discounting, footnote 9 of §4.4).
 //
 // A GenerativeModel only samples internally: instead of step/initial_state it offers
-//   State sample_initial(UniformStream&) const;  State sample_step(const State&, const Action&, UniformStream&) const;
+//   State sample_initial(UniformStream&) const;  State sample_step(const State&, const Action&,
+//   UniformStream&) const;
 // Every SimulativeModel is also usable as a generative model (generative_step below draws its p).
 #include <algorithm>
 #include <array>
@@ -60,21 +61,21 @@ concept ModelBasics = requires(const M& m, const typename M::State& s) {
   { m.terminal(s) } -> std::convertible_to<bool>;
   { m.observe(s) } -> std::convertible_to<typename M::Observation>;
   { m.action_space() } -> std::convertible_to<ActionSpace>;
-} && (HasTransitionReward<M> || HasStateActionReward<M> || HasStateReward<M>);
+}
+&&(HasTransitionReward<M> || HasStateActionReward<M> || HasStateReward<M>);
 
 template <class M>
-concept SimulativeModel =
-    ModelBasics<M> && requires(const M& m, const typename M::State& s, const typename M::Action& a,
-                               std::span<const double> p) {
-      { m.noise_dim() } -> std::convertible_to<int>;
-      { m.initial_noise_dim() } -> std::convertible_to<int>;
-      { m.initial_state(p) } -> std::convertible_to<typename M::State>;
-      { m.step(s, a, p) } -> std::convertible_to<typename M::State>;
-    };
+concept SimulativeModel = ModelBasics<M> &&
+    requires(const M& m, const typename M::State& s, const typename M::Action& a, std::span<const double> p) {
+  { m.noise_dim() } -> std::convertible_to<int>;
+  { m.initial_noise_dim() } -> std::convertible_to<int>;
+  { m.initial_state(p) } -> std::convertible_to<typename M::State>;
+  { m.step(s, a, p) } -> std::convertible_to<typename M::State>;
+};
 
 template <class M>
-concept SamplingModel = ModelBasics<M> && requires(const M& m, const typename M::State& s,
-                                                   const typename M::Action& a, UniformStream& rng) {
+concept SamplingModel = ModelBasics<M> &&
+    requires(const M& m, const typename M::State& s, const typename M::Action& a, UniformStream& rng) {
   { m.sample_initial(rng) } -> std::convertible_to<typename M::State>;
   { m.sample_step(s, a, rng) } -> std::convertible_to<typename M::State>;
 };

@@ -112,9 +112,9 @@ void stop_message_said();
 // Time and volume of the allgathers of this process, for benchmarks.
 struct CommStats {
   std::int64_t calls = 0;
-  std::int64_t bytes = 0;         // bytes received per rank (all ranks' doubles)
-  double seconds = 0.0;           // in MPI_Allgatherv (after the barrier when measure_wait is on)
-  double wait_seconds = 0.0;      // in the barrier before it (load imbalance), when measure_wait is on
+  std::int64_t bytes = 0;     // bytes received per rank (all ranks' doubles)
+  double seconds = 0.0;       // in MPI_Allgatherv (after the barrier when measure_wait is on)
+  double wait_seconds = 0.0;  // in the barrier before it (load imbalance), when measure_wait is on
 };
 CommStats comm_stats();
 void reset_comm_stats();

@@ -29,8 +29,10 @@ concept PolicyFor = requires(const P& pi, std::span<const double> theta, const O
 class TablePolicy {
  public:
   // One integer parameter per observation, "action[o]" in [0, actions - 1], initially `initial_action`.
-  TablePolicy(int observations, int actions, int initial_action = 0) : observations_(observations), actions_(actions) {
-    if (observations < 1 || actions < 1) throw InputError("table policy: expected >= 1 observation and action");
+  TablePolicy(int observations, int actions, int initial_action = 0)
+      : observations_(observations), actions_(actions) {
+    if (observations < 1 || actions < 1)
+      throw InputError("table policy: expected >= 1 observation and action");
     for (int o = 0; o < observations; ++o)
       spec_.add({.name = "action[" + std::to_string(o) + "]",
                  .initial = static_cast<double>(initial_action),
@@ -72,8 +74,10 @@ inline ParameterSpec weight_spec(int outputs, int features, const std::vector<st
   ParameterSpec spec;
   for (int k = 0; k < outputs; ++k)
     for (int f = 0; f < features; ++f) {
-      const std::string out = k < static_cast<int>(output_names.size()) ? output_names[k] : "a" + std::to_string(k);
-      const std::string in = f < static_cast<int>(feature_names.size()) ? feature_names[f] : "x" + std::to_string(f);
+      const std::string out =
+          k < static_cast<int>(output_names.size()) ? output_names[k] : "a" + std::to_string(k);
+      const std::string in =
+          f < static_cast<int>(feature_names.size()) ? feature_names[f] : "x" + std::to_string(f);
       spec.add({.name = "w." + out + "." + in, .initial = 0.0, .scale = scale});
     }
   return spec;

@@ -16,14 +16,14 @@
 //   run.write_json("summary.json", summary);
 //   run.commit();
 //
-// Under mpirun (parallel/mpi.hpp) only rank 0 touches DIR: open() runs there and its outcome (or its error) is
-// broadcast, so every rank succeeds or throws alike; on the other ranks the object is a shadow whose writes,
-// checkpoints, commit() and abandon() do nothing, whose load_checkpoint() returns rank 0's checkpoint (a
-// collective: every rank calls it at the same point), and whose path() is a private scratch folder, removed
-// at the end, for code that writes files there directly.
+// Under mpirun (parallel/mpi.hpp) only rank 0 touches DIR: open() runs there and its outcome (or its error)
+// is broadcast, so every rank succeeds or throws alike; on the other ranks the object is a shadow whose
+// writes, checkpoints, commit() and abandon() do nothing, whose load_checkpoint() returns rank 0's checkpoint
+// (a collective: every rank calls it at the same point), and whose path() is a private scratch folder,
+// removed at the end, for code that writes files there directly.
 #include <filesystem>
-#include <nlohmann/json.hpp>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string_view>
 
@@ -78,7 +78,7 @@ class RunDirectory {
 
   std::filesystem::path final_, staging_;
   bool force_ = false, resumed_ = false, created_ = false, committed_ = false;
-  bool shadow_ = false;                         // a rank other than 0: writes nothing
+  bool shadow_ = false;                                   // a rank other than 0: writes nothing
   std::shared_ptr<const std::filesystem::path> scratch_;  // a shadow's staging_, removed with the last copy
 };
 

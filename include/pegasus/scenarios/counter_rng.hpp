@@ -20,7 +20,8 @@ enum class RngDomain : std::uint32_t {
 
 class CounterRng {
  public:
-  explicit CounterRng(std::uint64_t seed) : key_{{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32)}} {}
+  explicit CounterRng(std::uint64_t seed)
+      : key_{{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32)}} {}
 
   // Two uniforms in the open interval (0, 1), each with 53 random bits.
   std::array<double, 2> uniform2(RngDomain domain, std::uint32_t a, std::uint32_t b, std::uint32_t c) const {

@@ -50,7 +50,9 @@ class ScenarioSet {
  private:
   double plain(RngDomain domain, int i, int t, int j) const;
   // Coordinate `dim` of the randomised Sobol point of scenario i.
-  double sobol(int i, std::size_t dim) const { return sobol_points_[static_cast<std::size_t>(i) * sobol_dim_ + dim]; }
+  double sobol(int i, std::size_t dim) const {
+    return sobol_points_[static_cast<std::size_t>(i) * sobol_dim_ + dim];
+  }
 
   ScenarioOptions options_;
   CounterRng rng_;

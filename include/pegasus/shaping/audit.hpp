@@ -55,12 +55,12 @@ struct ShapingCycle {
 };
 
 struct Counterexample {
-  FiniteMdp mdp;                 // the counterexample M (F is applied as described in the header)
-  FiniteMdp shaped;              // M + F
-  int decision_state = 0;        // where the optimal action flips
+  FiniteMdp mdp;                             // the counterexample M (F is applied as described in the header)
+  FiniteMdp shaped;                          // M + F
+  int decision_state = 0;                    // where the optimal action flips
   std::uint64_t optimal_actions = 0;         // bitmask of optimal actions at decision_state in M
   std::uint64_t shaped_optimal_actions = 0;  // ... in M + F
-  double delta = 0.0;            // the Delta of Appendix 3.A (shaping advantage of one option)
+  double delta = 0.0;                        // the Delta of Appendix 3.A (shaping advantage of one option)
   bool verified = false;         // the two masks are disjoint: no optimal policy of M + F is optimal in M
   bool uses_only_scope = false;  // every transition of the counterexample lies in the audit's scope
   std::string description;

@@ -24,7 +24,9 @@
 namespace pegasus {
 
 // Eq 3.1.
-inline double potential_shaping_reward(double gamma, double phi_s, double phi_next) { return gamma * phi_next - phi_s; }
+inline double potential_shaping_reward(double gamma, double phi_s, double phi_next) {
+  return gamma * phi_next - phi_s;
+}
 // §3.5: for a semi-MDP whose action took time tau under discount rate beta (gamma = exp(-beta) per unit).
 inline double smdp_shaping_reward(double beta, double tau, double phi_s, double phi_next) {
   return std::exp(-beta * tau) * phi_next - phi_s;
@@ -56,7 +58,7 @@ struct SmdpDiscount {
 };
 
 template <ModelBasics M, class Potential, class Discount = ConstantDiscount>
-  requires std::invocable<const Potential&, const typename M::State&>
+requires std::invocable<const Potential&, const typename M::State&>
 class ShapedModel {
  public:
   using State = typename M::State;
@@ -66,11 +68,15 @@ class ShapedModel {
   // zero_at_terminal: treat Phi(s') as 0 when model.terminal(s') (see the header comment; keep true for
   // episodic tasks).
   ShapedModel(M model, Potential phi, Discount discount, bool zero_at_terminal = true)
-      : model_(std::move(model)), phi_(std::move(phi)), discount_(std::move(discount)), zero_at_terminal_(zero_at_terminal) {}
+      : model_(std::move(model)),
+        phi_(std::move(phi)),
+        discount_(std::move(discount)),
+        zero_at_terminal_(zero_at_terminal) {}
 
   // F(s, a, s') of this wrapper.
   double shaping(const State& s, const Action& a, const State& next) const {
-    const double phi_next = (zero_at_terminal_ && model_.terminal(next)) ? 0.0 : static_cast<double>(phi_(next));
+    const double phi_next =
+        (zero_at_terminal_ && model_.terminal(next)) ? 0.0 : static_cast<double>(phi_(next));
     const double f = discount_(s, a, next) * phi_next - static_cast<double>(phi_(s));
     if constexpr (HasEventFraction<M> && std::same_as<Discount, ConstantDiscount>) {
       // An event at fraction tau of the step has its reward discounted by gamma^(t + tau) (footnote 9 of
@@ -90,53 +96,30 @@ class ShapedModel {
   Observation observe(const State& s) const { return model_.observe(s); }
   ActionSpace action_space() const { return model_.action_space(); }
 
-  int noise_dim() const
-    requires SimulativeModel<M>
-  {
-    return model_.noise_dim();
-  }
-  int initial_noise_dim() const
-    requires SimulativeModel<M>
-  {
-    return model_.initial_noise_dim();
-  }
-  State initial_state(std::span<const double> p) const
-    requires SimulativeModel<M>
-  {
+  int noise_dim() const requires SimulativeModel<M> { return model_.noise_dim(); }
+  int initial_noise_dim() const requires SimulativeModel<M> { return model_.initial_noise_dim(); }
+  State initial_state(std::span<const double> p) const requires SimulativeModel<M> {
     return model_.initial_state(p);
   }
-  State step(const State& s, const Action& a, std::span<const double> p) const
-    requires SimulativeModel<M>
-  {
+  State step(const State& s, const Action& a, std::span<const double> p) const requires SimulativeModel<M> {
     return model_.step(s, a, p);
   }
-  State sample_initial(UniformStream& rng) const
-    requires SamplingModel<M>
-  {
+  State sample_initial(UniformStream& rng) const requires SamplingModel<M> {
     return model_.sample_initial(rng);
   }
-  State sample_step(const State& s, const Action& a, UniformStream& rng) const
-    requires SamplingModel<M>
-  {
+  State sample_step(const State& s, const Action& a, UniformStream& rng) const requires SamplingModel<M> {
     return model_.sample_step(s, a, rng);
   }
-  double event_fraction(const State& s, const Action& a, const State& next) const
-    requires HasEventFraction<M>
-  {
+  double event_fraction(const State& s, const Action& a,
+                        const State& next) const requires HasEventFraction<M> {
     return model_.event_fraction(s, a, next);
   }
 
   // Tabular models (State = int) keep their table sizes.
-  int num_states() const
-    requires requires(const M& m) { m.num_states(); }
-  {
-    return model_.num_states();
-  }
-  int num_actions() const
-    requires requires(const M& m) { m.num_actions(); }
-  {
-    return model_.num_actions();
-  }
+  int num_states() const requires requires(const M& m) { m.num_states(); }
+  { return model_.num_states(); }
+  int num_actions() const requires requires(const M& m) { m.num_actions(); }
+  { return model_.num_actions(); }
 
   const M& base() const { return model_; }
   const Potential& potential() const { return phi_; }
@@ -151,12 +134,14 @@ class ShapedModel {
 // F = gamma Phi(s') - Phi(s).
 template <ModelBasics M, class Potential>
 ShapedModel<M, Potential> shape(M model, Potential phi, double gamma, bool zero_at_terminal = true) {
-  return ShapedModel<M, Potential>(std::move(model), std::move(phi), ConstantDiscount{gamma}, zero_at_terminal);
+  return ShapedModel<M, Potential>(std::move(model), std::move(phi), ConstantDiscount{gamma},
+                                   zero_at_terminal);
 }
 // F = exp(-beta tau(s, a, s')) Phi(s') - Phi(s) (§3.5).
 template <ModelBasics M, class Potential, class Duration>
-ShapedModel<M, Potential, SmdpDiscount<Duration>> shape_smdp(M model, Potential phi, double beta, Duration duration,
-                                                              bool zero_at_terminal = true) {
+ShapedModel<M, Potential, SmdpDiscount<Duration>> shape_smdp(M model, Potential phi, double beta,
+                                                             Duration duration,
+                                                             bool zero_at_terminal = true) {
   return ShapedModel<M, Potential, SmdpDiscount<Duration>>(
       std::move(model), std::move(phi), SmdpDiscount<Duration>{beta, std::move(duration)}, zero_at_terminal);
 }
@@ -166,7 +151,7 @@ ShapedModel<M, Potential, SmdpDiscount<Duration>> shape_smdp(M model, Potential 
 // shuttles back and forth collects the bonus on every other step (Randlov and Alstrom's bicycle riding in
 // circles); do not use it for learning.
 template <ModelBasics M, class Distance>
-  requires std::invocable<const Distance&, const typename M::State&>
+requires std::invocable<const Distance&, const typename M::State&>
 class ProgressBonusModel {
  public:
   using State = typename M::State;
@@ -186,20 +171,16 @@ class ProgressBonusModel {
   int noise_dim() const { return model_.noise_dim(); }
   int initial_noise_dim() const { return model_.initial_noise_dim(); }
   State initial_state(std::span<const double> p) const { return model_.initial_state(p); }
-  State step(const State& s, const Action& a, std::span<const double> p) const { return model_.step(s, a, p); }
+  State step(const State& s, const Action& a, std::span<const double> p) const {
+    return model_.step(s, a, p);
+  }
   bool terminal(const State& s) const { return model_.terminal(s); }
   Observation observe(const State& s) const { return model_.observe(s); }
   ActionSpace action_space() const { return model_.action_space(); }
-  int num_states() const
-    requires requires(const M& m) { m.num_states(); }
-  {
-    return model_.num_states();
-  }
-  int num_actions() const
-    requires requires(const M& m) { m.num_actions(); }
-  {
-    return model_.num_actions();
-  }
+  int num_states() const requires requires(const M& m) { m.num_states(); }
+  { return model_.num_states(); }
+  int num_actions() const requires requires(const M& m) { m.num_actions(); }
+  { return model_.num_actions(); }
   const M& base() const { return model_; }
 
  private:

@@ -10,11 +10,10 @@
 //   }
 // A triple that is not listed has F = 0. Errors name the file and the field
 // ("f.json: entries[4][2]: next_state 9 outside [0, 3)").
+#include <nlohmann/json_fwd.hpp>
 #include <span>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json_fwd.hpp>
 
 #include "pegasus/mdp/finite_mdp.hpp"
 

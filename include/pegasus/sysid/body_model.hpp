@@ -21,10 +21,25 @@ inline constexpr int kInputs = 16;
 inline constexpr std::array<const char*, kBodyVars> kBodyVarNames = {
     "roll", "pitch", "xdot_b", "ydot_b", "zdot_b", "roll_rate", "pitch_rate", "yaw_rate"};
 inline constexpr std::array<const char*, kInputs> kInputNames = {
-    "roll", "pitch", "xdot_b", "ydot_b", "zdot_b", "roll_rate", "pitch_rate", "yaw_rate",
-    "flap_lon", "flap_lat", "gyro_rate", "a1", "a2", "a3", "a4", "one"};
+    "roll",     "pitch",    "xdot_b",    "ydot_b", "zdot_b", "roll_rate", "pitch_rate", "yaw_rate",
+    "flap_lon", "flap_lat", "gyro_rate", "a1",     "a2",     "a3",        "a4",         "one"};
 enum InputIndex : int {
-  kRoll = 0, kPitch, kU, kV, kW, kRollRate, kPitchRate, kYawRate, kFlapLon, kFlapLat, kGyro, kA1, kA2, kA3, kA4, kOne
+  kRoll = 0,
+  kPitch,
+  kU,
+  kV,
+  kW,
+  kRollRate,
+  kPitchRate,
+  kYawRate,
+  kFlapLon,
+  kFlapLat,
+  kGyro,
+  kA1,
+  kA2,
+  kA3,
+  kA4,
+  kOne
 };
 using InputVec = Eigen::Matrix<double, kInputs, 1>;
 using BodyVec = Eigen::Matrix<double, kBodyVars, 1>;
@@ -32,10 +47,10 @@ using BodyVec = Eigen::Matrix<double, kBodyVars, 1>;
 // The unobserved states' model, from the published identification (Gavrilets, Mettler and Feron, AIAA
 // 2001-4333, [GMF01]); §5.2.2 took them from Shim's model for the same reason: they are not observed.
 struct ExtraStateModel {
-  double tau_flap = 0.1;        // [GMF01] tau_e, s
-  double flap_per_a1 = 0.21;    // [GMF01] A_lon (4.2 rad/rad) times the cyclic range (0.05 rad), rad
-  double flap_per_a2 = 0.21;    // [GMF01] B_lat times the cyclic range, rad
-  double gyro_tau = 0.05;       // the yaw gyro loop's lag, s
+  double tau_flap = 0.1;      // [GMF01] tau_e, s
+  double flap_per_a1 = 0.21;  // [GMF01] A_lon (4.2 rad/rad) times the cyclic range (0.05 rad), rad
+  double flap_per_a2 = 0.21;  // [GMF01] B_lat times the cyclic range, rad
+  double gyro_tau = 0.05;     // the yaw gyro loop's lag, s
   // Advances (flap_lon, flap_lat, gyro_rate) over dt with controls and body rates (p, q, r) held: exact
   // solution of the first-order lags flap' = q + (A a1 - flap) / tau etc.
   void advance(double dt, const Eigen::Vector3d& w_B, const std::array<double, 4>& a, double* flap_lon,
@@ -44,10 +59,10 @@ struct ExtraStateModel {
 
 // Which variants of §5.2.2 the model uses.
 struct ModelStructure {
-  double rate_hz = 10;        // identification rate (the log's 50 Hz downsampled)
-  bool extra_states = true;   // use flap_lon, flap_lat, gyro_rate as inputs
-  bool intercept = true;      // regress on the constant 1
-  bool templates = true;      // kinematic templates (else every coefficient is regressed)
+  double rate_hz = 10;       // identification rate (the log's 50 Hz downsampled)
+  bool extra_states = true;  // use flap_lon, flap_lat, gyro_rate as inputs
+  bool intercept = true;     // regress on the constant 1
+  bool templates = true;     // kinematic templates (else every coefficient is regressed)
   double gravity = 9.81;
   ExtraStateModel extra{};
   std::string describe() const;
@@ -68,10 +83,10 @@ BodyVec body_from_log_state(const std::array<double, kLogStates>& s);
 
 // The regression data at the model rate, in time order.
 struct Dataset {
-  double dt = 0.1;                                             // model step, s
-  Eigen::Matrix<double, Eigen::Dynamic, kInputs, Eigen::RowMajor> x;   // inputs at step t
+  double dt = 0.1;                                                      // model step, s
+  Eigen::Matrix<double, Eigen::Dynamic, kInputs, Eigen::RowMajor> x;    // inputs at step t
   Eigen::Matrix<double, Eigen::Dynamic, kBodyVars, Eigen::RowMajor> y;  // change minus the known part
-  std::vector<double> time;                                     // s, of each row
+  std::vector<double> time;                                             // s, of each row
   Eigen::Index rows() const { return x.rows(); }
 };
 

@@ -23,12 +23,12 @@ inline constexpr std::array<const char*, kLogStates> kLogStateColumns = {
 inline constexpr std::array<const char*, 4> kLogControlColumns = {"a1", "a2", "a3", "a4"};
 
 struct FlightLog {
-  std::vector<double> time;                          // s
+  std::vector<double> time;                            // s
   std::vector<std::array<double, kLogStates>> states;  // columns kLogStateColumns
-  std::vector<std::array<double, 4>> controls;       // a1..a4
+  std::vector<std::array<double, 4>> controls;         // a1..a4
   std::size_t rows() const { return time.size(); }
-  double dt() const;        // mean sample interval, s
-  double seconds() const;   // rows * dt
+  double dt() const;       // mean sample interval, s
+  double seconds() const;  // rows * dt
 };
 
 // The CSV text (header plus rows; doubles in shortest round-trip form).
@@ -36,13 +36,14 @@ std::string flight_log_csv(const FlightLog& log);
 void write_flight_log(const std::filesystem::path& file, const FlightLog& log);
 
 struct LogReadOptions {
-  int min_rows = 100;             // fewer rows: error
-  double rate_tolerance = 0.01;   // every time step within this fraction of the mean step
+  int min_rows = 100;            // fewer rows: error
+  double rate_tolerance = 0.01;  // every time step within this fraction of the mean step
 };
 // Reads and checks a log; InputError "FILE:LINE:COLUMN: what was expected" (LINE 1-based as in an editor,
 // COLUMN the column's name) on any problem.
 FlightLog read_flight_log(const std::filesystem::path& file, const LogReadOptions& options = {});
 // The same checks on CSV text; `name` stands for the file in messages.
-FlightLog parse_flight_log(const std::string& text, const std::string& name, const LogReadOptions& options = {});
+FlightLog parse_flight_log(const std::string& text, const std::string& name,
+                           const LogReadOptions& options = {});
 
 }  // namespace pegasus::sysid

@@ -23,7 +23,7 @@ struct IdentifyOptions {
   double window_s = 16;        // cross-validation leaves out this window around each held-out point (fn 5)
   int cv_points = 300;         // held-out points used by cross-validation and the noise estimate
   std::vector<double> scale_grid{0.5, 1, 2, 4, 8};  // bandwidth = scale * input standard deviation
-  int coordinate_passes = 1;   // passes of per-input refinement (x0.5, x2, ignore) after the grid
+  int coordinate_passes = 1;  // passes of per-input refinement (x0.5, x2, ignore) after the grid
   bool IsValid(std::string* error) const;
 };
 
@@ -63,11 +63,11 @@ struct IdentifyReport {
   double cv_seconds = 0;  // wall time of the search (display only: never in results)
 };
 
-// Checkpoint, resume and progress of the bandwidth search, one step per cross-validation evaluation. The search
-// is deterministic, so its state is the list of (setting, error) evaluated so far: a resumed search replays
-// those values instead of recomputing them and continues bit for bit as an uninterrupted one.
+// Checkpoint, resume and progress of the bandwidth search, one step per cross-validation evaluation. The
+// search is deterministic, so its state is the list of (setting, error) evaluated so far: a resumed search
+// replays those values instead of recomputing them and continues bit for bit as an uninterrupted one.
 struct IdentifyHooks {
-  nlohmann::json resume_from;                              // null, or a state given to `checkpoint`
+  nlohmann::json resume_from;                             // null, or a state given to `checkpoint`
   std::function<void(const nlohmann::json&)> checkpoint;  // after each new evaluation
   // After each step: steps done (replayed ones included), an upper bound of all steps, and whether this step
   // was replayed from resume_from.
@@ -85,32 +85,35 @@ double cv_error(const Dataset& data, const std::array<OutputTemplate, kBodyVars>
                 const std::array<double, kInputs>& inv_bandwidth, const IdentifyOptions& o, ThreadPool& pool,
                 BodyVec* sigma2 = nullptr);
 
-// Open-loop simulation on a log (Fig 5.2): from log row `start`, simulate `horizon_steps` model steps with the
-// recorded controls and the model noise off; returns predicted 12 log states + 3 body velocities per step
+// Open-loop simulation on a log (Fig 5.2): from log row `start`, simulate `horizon_steps` model steps with
+// the recorded controls and the model noise off; returns predicted 12 log states + 3 body velocities per step
 // (step 0 = the start state). Stops early (shorter result) when the fit becomes singular.
 inline constexpr int kReportVars = 15;
-extern const std::array<const char*, kReportVars> kReportVarNames;  // the 12 log states, xdot_b, ydot_b, zdot_b
+extern const std::array<const char*, kReportVars>
+    kReportVarNames;  // the 12 log states, xdot_b, ydot_b, zdot_b
 using ReportState = std::array<double, kReportVars>;
 ReportState report_state(const std::array<double, kLogStates>& s);
 
 struct HorizonMse {
-  std::vector<double> seconds;                 // horizon of each row
+  std::vector<double> seconds;                       // horizon of each row
   std::vector<std::array<double, kReportVars>> mse;  // per horizon, per variable
-  std::vector<int> count;                      // rollouts that reached that horizon
+  std::vector<int> count;                            // rollouts that reached that horizon
 };
-HorizonMse horizon_mse(const IdentifiedModel& model, const FlightLog& test, double horizon_s, double start_spacing_s,
-                       ThreadPool& pool);
+HorizonMse horizon_mse(const IdentifiedModel& model, const FlightLog& test, double horizon_s,
+                       double start_spacing_s, ThreadPool& pool);
 
-// Fig 5.3: +-2 sigma bands from an extended Kalman filter over the body variables and the extra states, reset to
-// the logged state every reset_s, with the model's noise covariance diagonal (Eq 5.4 per output, independent
-// across outputs as in Eqs 5.5-5.6) and the state covariance propagated in full (identify.cpp says why); the
-// fraction of steps where each body variable falls outside. Also the traces of one variable for a plot.
+// Fig 5.3: +-2 sigma bands from an extended Kalman filter over the body variables and the extra states, reset
+// to the logged state every reset_s, with the model's noise covariance diagonal (Eq 5.4 per output,
+// independent across outputs as in Eqs 5.5-5.6) and the state covariance propagated in full (identify.cpp
+// says why); the fraction of steps where each body variable falls outside. Also the traces of one variable
+// for a plot.
 struct NoiseCheck {
   BodyVec outside_fraction = BodyVec::Zero();
   int steps = 0;
   std::vector<double> time, truth, mean, sd;  // ydot_b over the first trace_seconds, for Fig 5.3
 };
-NoiseCheck noise_check(const IdentifiedModel& model, const FlightLog& test, double reset_s, double trace_seconds);
+NoiseCheck noise_check(const IdentifiedModel& model, const FlightLog& test, double reset_s,
+                       double trace_seconds);
 
 }  // namespace pegasus::sysid
 

@@ -23,12 +23,12 @@
 namespace pegasus::sysid {
 
 struct LearnedModelOptions {
-  double dt = 0.02;              // s, 50 Hz (§5.1)
-  int refit_every = 5;           // steps between refits (§5.2.2)
+  double dt = 0.02;               // s, 50 Hz (§5.1)
+  int refit_every = 5;            // steps between refits (§5.2.2)
   double support_bandwidths = 4;  // support margin (see above)
-  double crash_reward = -50000;  // footnote 13
+  double crash_reward = -50000;   // footnote 13
   double max_tilt_rad = 1.0;
-  bool noise = true;             // false: the mean model (p ignored)
+  bool noise = true;  // false: the mean model (p ignored)
   std::array<double, kLogStates> start{0, 0, -10, 0, 0, 0, 0, 0, 0, 0, 0, 0};  // s0 before perturbation
   double start_pos_sigma = 0, start_vel_sigma = 0;  // s0 perturbation from p0 (initial_noise_dim 6)
   bool IsValid(std::string* error) const;

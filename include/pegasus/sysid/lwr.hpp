@@ -7,8 +7,8 @@
 // flat prior where point i has noise variance sigma^2 / w_i, the posterior covariance is
 // Sigma_beta = sigma^2 (X'WX)^{-1}, so the predictive variance is sigma^2 (1 + x'(X'WX)^{-1}x) (Eq 5.4).
 //
-// Two paths that agree within 1e-9 relative wherever the Jacobi-scaled X'WX is reasonably conditioned (rcond >=
-// 1e-4; at the shipped bandwidths the smallest rcond over the hold-out queries is reported by
+// Two paths that agree within 1e-9 relative wherever the Jacobi-scaled X'WX is reasonably conditioned (rcond
+// >= 1e-4; at the shipped bandwidths the smallest rcond over the hold-out queries is reported by
 // bench/sysid_bench.cpp); nearer the singular threshold they agree within about 1e-13 / rcond, since no two
 // summation orders of the Gram sums agree better than the condition number times the rounding (tests/sysid):
 //   fit_exact: the plain reference: every point, std::exp, one normal-equation system per output;
@@ -18,14 +18,15 @@
 //              bits), with its own exp, as sum_i (w_i a_i) a_i'; the upper triangle only;
 //              outputs that regress on the same inputs (all six free outputs of the §5.2.2 template) share
 //              one inverse. Points whose weight
-//              is below 1e-16 of the largest weight seen before them (d^2 > d_min^2 + 2 ln 1e16, d_min over the
-//              query's own leaf and the chunks before) are skipped, by whole leaves where a leaf's bounding box is
-//              that far; at the bandwidths cross-validation picks on the shipped flights every point counts. fit
-//              allocates nothing; fit_exact does.
+//              is below 1e-16 of the largest weight seen before them (d^2 > d_min^2 + 2 ln 1e16, d_min over
+//              the query's own leaf and the chunks before) are skipped, by whole leaves where a leaf's
+//              bounding box is that far; at the bandwidths cross-validation picks on the shipped flights
+//              every point counts. fit allocates nothing; fit_exact does.
 // A refit depends only on the query (and the window), never on earlier refits or on threads.
-// Both paths solve through one explicit inverse of the Jacobi-scaled X'WX (Cholesky, then L^-T L^-1), which also
-// gives its exact 1-norm reciprocal condition number rcond = 1 / (|A|_1 |A^-1|_1). X'WX counts as singular to
-// numerical precision when a diagonal entry is 0, the Cholesky factorisation fails, or rcond < kSingularRcond.
+// Both paths solve through one explicit inverse of the Jacobi-scaled X'WX (Cholesky, then L^-T L^-1), which
+// also gives its exact 1-norm reciprocal condition number rcond = 1 / (|A|_1 |A^-1|_1). X'WX counts as
+// singular to numerical precision when a diagonal entry is 0, the Cholesky factorisation fails, or rcond <
+// kSingularRcond.
 #include <array>
 #include <cstddef>
 #include <memory>
@@ -53,7 +54,7 @@ struct LocalFit {
   double max_weight = 0;                   // largest weight (exp(-d_min^2 / 2))
   int points = 0;                          // points that entered the sums
   bool singular = false;                   // some output's X'WX is singular to numerical precision
-  double rcond = 0;                        // smallest 1-norm reciprocal condition number of the Jacobi-scaled X'WX
+  double rcond = 0;  // smallest 1-norm reciprocal condition number of the Jacobi-scaled X'WX
   // beta' x for output k.
   double predict(int k, const InputVec& x) const { return beta[static_cast<std::size_t>(k)].dot(x); }
 };
@@ -81,14 +82,14 @@ class LocalRegression {
   using Column = std::unique_ptr<double[], AlignedFree>;
   static Column aligned_columns(std::size_t count);
   struct SplitNode {
-    int dim = -1;        // kernel coordinate split on; -1 for a leaf
-    double value = 0;    // points with z[dim] < value went left
+    int dim = -1;      // kernel coordinate split on; -1 for a leaf
+    double value = 0;  // points with z[dim] < value went left
     int left = -1, right = -1, leaf = -1;
   };
   // Outputs that regress on the same inputs share one factorisation.
   struct Group {
-    std::array<int, kInputs> rows{};     // Gram rows of the free inputs
-    std::array<int, kInputs> inputs{};   // the free inputs
+    std::array<int, kInputs> rows{};    // Gram rows of the free inputs
+    std::array<int, kInputs> inputs{};  // the free inputs
     int size = 0;
     std::array<int, kBodyVars> outputs{};
     std::array<int, kBodyVars> columns{};  // Gram column of each output
@@ -101,8 +102,8 @@ class LocalRegression {
   void solve_groups(const detail::KernelResult& k, const InputVec& q, LocalFit* fit) const;
   bool solve_group(const detail::KernelResult& k, const Group& grp, const InputVec& q, bool first,
                    LocalFit* fit) const;
-  // The factor the kernel's copy of an input carries: 1 / bandwidth for a kernel coordinate (so that distances
-  // need no multiply), else 1.
+  // The factor the kernel's copy of an input carries: 1 / bandwidth for a kernel coordinate (so that
+  // distances need no multiply), else 1.
   double stored_scale(int input) const {
     const double s = inv_h_[static_cast<std::size_t>(input)];
     return s > 0 ? s : 1.0;
@@ -111,8 +112,8 @@ class LocalRegression {
   const Dataset* data_;
   std::array<OutputTemplate, kBodyVars> templates_;
   std::array<double, kInputs> inv_h_{};
-  std::vector<int> dims_;   // inputs the kernel uses
-  std::vector<int> perm_;   // storage order -> data row
+  std::vector<int> dims_;                      // inputs the kernel uses
+  std::vector<int> perm_;                      // storage order -> data row
   std::array<int, kInputs> gram_inputs_{};     // input of each Gram row
   std::array<int, kBodyVars> gram_outputs_{};  // output of each Gram column past the inputs
   std::array<int, kInputs> row_of_input_{};    // -1 where no output regresses on the input
@@ -124,7 +125,7 @@ class LocalRegression {
   std::vector<SplitNode> tree_;
   detail::KernelData kd_;
   std::array<detail::TilePlan, 3> plans_;  // per detail::Isa
-  Gram global_g_ = Gram::Zero();   // for the global model: sums over all points
+  Gram global_g_ = Gram::Zero();           // for the global model: sums over all points
   Cross global_b_ = Cross::Zero();
 };
 
