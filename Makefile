@@ -8,7 +8,7 @@ NINJA     := $(shell command -v ninja >/dev/null 2>&1 && echo "-G Ninja")
 # The generator is chosen only when a build directory is first configured.
 gen = $(if $(wildcard $(1)/CMakeCache.txt),,$(NINJA))
 
-.PHONY: all deps build demo test test-release test-asan bench benchmarks-md figures clean
+.PHONY: all deps build demo test test-release test-asan bench benchmarks-md figures format format-check clean
 
 all: build
 
@@ -55,6 +55,15 @@ benchmarks-md:
 # reports and photographs the key charts in headless chromium (web/figures.mjs).
 figures: build
 	@node web/figures.mjs --cli $(BUILD)/pegasus --node-modules $(BUILD)/web/node_modules --out docs/images
+
+# Every C++ file git tracks, formatted by the repo's .clang-format (`format` rewrites, `format-check` fails on a
+# difference; CI runs the check).
+CXX_FILES = $(shell git ls-files '*.cpp' '*.hpp' '*.h' '*.inc')
+format:
+	@clang-format -i $(CXX_FILES)
+
+format-check:
+	@clang-format --dry-run -Werror $(CXX_FILES)
 
 clean:
 	rm -rf $(BUILD) $(ASAN)
