@@ -8,20 +8,29 @@ NINJA     := $(shell command -v ninja >/dev/null 2>&1 && echo "-G Ninja")
 # The generator is chosen only when a build directory is first configured.
 gen = $(if $(wildcard $(1)/CMakeCache.txt),,$(NINJA))
 
-.PHONY: all deps build demo test test-release test-asan bench benchmarks-md figures format format-check clean
+.PHONY: all deps configure cli build demo test test-fast test-release test-asan install bench benchmarks-md figures \
+        format format-check clean
 
 all: build
 
 deps:
 	@bash scripts/install-deps.sh
 
-build: deps
+configure: deps
 	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release $(call gen,$(BUILD)) >/dev/null
+
+# The `pegasus` CLI (with its libraries and the report bundle) and nothing else: what `make demo` needs.
+cli: configure
+	@cmake --build $(BUILD) -j $(JOBS) --target pegasus_cli
+
+# Everything: libraries, CLI, tests, benchmarks.
+build: configure
 	@cmake --build $(BUILD) -j $(JOBS)
 
 # Runs the main job on its shipped small default: the whole helicopter chain (pilot logs, identification, hover
 # training, flights on the ground truth against the pilot), printing the headline figures and where the plots are.
-demo: build
+# It builds the CLI only, not the test suite.
+demo: cli
 	@$(BUILD)/pegasus heli pipeline --config experiments/heli-demo.toml --out $(DEMO_OUT) --force
 	@echo "demo: results in $(DEMO_OUT) (summary.json; sub-runs pilot-train, pilot-test, identify, hover, fly)"
 	@echo "demo: report: $(DEMO_OUT)/report.html (flights against the pilot and their 3-D replay: $(DEMO_OUT)/fly/report.html)"
@@ -32,6 +41,15 @@ test: test-release test-asan
 
 test-release: build
 	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
+# The inner loop: the unit tests only (label `unit`; the CLI, MPI, browser and install tests are left out).
+test-fast: build
+	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS) -L unit
+
+# Installs the libraries, headers, CLI, report bundle and CMake package (PREFIX=/usr/local by default).
+PREFIX ?= /usr/local
+install: build
+	@cmake --install $(BUILD) --prefix $(PREFIX)
 
 test-asan: deps
 	@cmake -S . -B $(ASAN) -DCMAKE_BUILD_TYPE=Sanitize -DCMAKE_CXX_FLAGS_SANITIZE="-O1 -g1" \

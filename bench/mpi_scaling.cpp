@@ -37,10 +37,10 @@
 #include "pegasus/heli/aircraft.hpp"
 #include "pegasus/heli/hover_task.hpp"
 #include "pegasus/heli/pilot.hpp"
+#include "pegasus/io/atomic_file.hpp"
+#include "pegasus/io/json_csv.hpp"
 #include "pegasus/optimizers/optimizer.hpp"
 #include "pegasus/parallel/mpi.hpp"
-#include "pegasus/runs/atomic_file.hpp"
-#include "pegasus/runs/output.hpp"
 #include "pegasus/sysid/identify.hpp"
 
 namespace {

@@ -8,7 +8,8 @@
 #include "experiment_commands.hpp"
 #include "pegasus/core/error.hpp"
 #include "pegasus/experiments/bicycle_experiment.hpp"
-#include "pegasus/runs/output.hpp"
+#include "pegasus/io/json_csv.hpp"
+#include "pegasus/runs/optimizer_config.hpp"
 #include "pegasus/runs/svg_plot.hpp"
 
 namespace pegasus::cli {
@@ -27,17 +28,9 @@ void declare_training(ConfigSchema& s) {
   s.add_string("initial_policy", "balance",
                "starting weights: a crude hand-set balancing feedback, or all zero")
       .choices({"balance", "zero"});
-  s.add_string("optimizer", "gradient",
-               "bounded-step gradient ascent (thesis 4.6) or random-walk hill climbing")
-      .choices({"gradient", "hill-climb"});
-  s.add_int("iterations", 200, "optimizer iterations at most").min(0).max(1000000);
-  s.add_double("gradient.relative_step", 0.05, "central-difference half-width (weights)").greater_than(0);
-  s.add_double("gradient.max_step", 0.5, "bound on the length of a gradient step (weights)").greater_than(0);
-  s.add_double("gradient.min_step", 1e-3, "stop when backtracking shrinks the step below this")
-      .greater_than(0);
-  s.add_int("hill_climbing.proposals", 16, "hill-climbing proposals per iteration").min(1).max(100000);
-  s.add_double("hill_climbing.initial_step", 0.3, "hill-climbing first perturbation size (weights)")
-      .greater_than(0);
+  // Bounded-step gradient ascent (thesis 4.6) by default; every method for a continuous class.
+  declare_optimizer_options(s, "optimizer", BicycleTrainingOptions::default_optimizer(),
+                            {"gradient", "hill-climb", "bobyqa", "sbplx", "crs2", "esch"});
 }
 
 void declare_riding(ConfigSchema& s, std::int64_t rides) {
@@ -61,19 +54,7 @@ BicycleTrainingOptions training_options(const RunContext& ctx) {
   o.bicycle.fall_reward = c.get_double("fall_reward");
   o.variant = parse_scenario_variant(c.get_string("variant"));
   o.initial_policy = c.get_string("initial_policy");
-  o.optimizer.method = c.get_string("optimizer");
-  o.optimizer.gradient.max_iterations = c.get_int("iterations");
-  o.optimizer.gradient.relative_step = c.get_double("gradient.relative_step");
-  o.optimizer.gradient.max_step = c.get_double("gradient.max_step");
-  o.optimizer.gradient.initial_step =
-      std::min(o.optimizer.gradient.initial_step, o.optimizer.gradient.max_step);
-  o.optimizer.gradient.min_step =
-      std::min(c.get_double("gradient.min_step"), o.optimizer.gradient.initial_step);
-  o.optimizer.hill_climbing.max_iterations = c.get_int("iterations");
-  o.optimizer.hill_climbing.proposals_per_iteration = static_cast<int>(c.get_int("hill_climbing.proposals"));
-  o.optimizer.hill_climbing.initial_step = c.get_double("hill_climbing.initial_step");
-  o.optimizer.hill_climbing.max_step =
-      std::max(o.optimizer.hill_climbing.max_step, o.optimizer.hill_climbing.initial_step);
+  read_optimizer_options(c, "optimizer", &o.optimizer);
   o.seed = ctx.seed;
   o.threads = ctx.threads;
   return o;

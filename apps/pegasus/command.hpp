@@ -28,10 +28,9 @@
 #include "pegasus/runs/config.hpp"
 #include "pegasus/runs/progress.hpp"
 #include "pegasus/runs/run_directory.hpp"
+#include "pegasus/version.hpp"
 
 namespace pegasus::cli {
-
-inline constexpr const char* kVersion = "0.1.0";
 
 // Whether a command writes a run directory.
 enum class OutDir {

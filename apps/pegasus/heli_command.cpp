@@ -24,7 +24,9 @@
 #include "pegasus/heli/hover_task.hpp"
 #include "pegasus/heli/pilot.hpp"
 #include "pegasus/heli/policy_file.hpp"
-#include "pegasus/runs/output.hpp"
+#include "pegasus/io/json_csv.hpp"
+#include "pegasus/optimizers/training.hpp"
+#include "pegasus/runs/optimizer_config.hpp"
 #include "pegasus/runs/progress.hpp"
 #include "pegasus/runs/svg_plot.hpp"
 #include "pegasus/sysid/flight_log.hpp"
@@ -323,39 +325,26 @@ void declare_hover(ConfigSchema& s) {
         return std::get<std::vector<double>>(v).size() == 4 ? std::string()
                                                             : std::string("4 numbers: x, y, z, yaw");
       });
-  s.add_double("reward.position_m", 0.5, "typical position error: alpha_x,y,z = 1 / this^2 (Eq 5.9)")
+  s.add_double("reward.position_m", heli::HoverReward::kTypicalPosition,
+               "typical position error: alpha_x,y,z = 1 / this^2 (Eq 5.9)")
       .greater_than(0);
-  s.add_double("reward.velocity_mps", 0.5, "typical velocity: alpha_xdot,ydot,zdot = 1 / this^2 (Eq 5.9)")
+  s.add_double("reward.velocity_mps", heli::HoverReward::kTypicalVelocity,
+               "typical velocity: alpha_xdot,ydot,zdot = 1 / this^2 (Eq 5.9)")
       .greater_than(0);
-  s.add_double("reward.yaw_rad", 0.1, "typical yaw error: alpha_yaw = 1 / this^2 (Eq 5.9)").greater_than(0);
-  s.add_double("reward.action", 0.1, "typical control departure: alpha_a = 1 / this^2 (Eq 5.10)")
+  s.add_double("reward.yaw_rad", heli::HoverReward::kTypicalYaw,
+               "typical yaw error: alpha_yaw = 1 / this^2 (Eq 5.9)")
+      .greater_than(0);
+  s.add_double("reward.action", heli::HoverReward::kTypicalAction,
+               "typical control departure: alpha_a = 1 / this^2 (Eq 5.10)")
       .greater_than(0);
   s.add_string("reward.action_centre", "trim",
                "controls the action cost is taken about: the logs' mean (trim) or 0 (Eq 5.10 as printed)")
       .choices({"trim", "zero"});
-  s.add_string("optimizer", "gradient",
-               "gradient ascent (then hill climbing, see then_hill_climb) or hill climbing alone")
-      .choices({"gradient", "hill-climb"});
-  s.add_bool("then_hill_climb", true, "after gradient ascent, random-walk hill climbing from its result");
-  s.add_int("gradient.iterations", 20,
-            "gradient ascent iterations at most (2 x 34 + line-search evaluations each)")
-      .range(0, 1000000);
-  s.add_double("gradient.relative_step", 0.05, "central-difference half-width, in parameter scales")
-      .greater_than(0);
-  s.add_double("gradient.initial_step", 1.0, "first step length, in parameter scales").greater_than(0);
-  s.add_double("gradient.max_step", 4.0, "longest step, in parameter scales").greater_than(0);
-  s.add_int("gradient.max_backtracks", 8, "step halvings tried before an iteration gives up").range(0, 100);
-  s.add_int("hill_climbing.iterations", 20, "hill-climbing iterations at most").range(0, 1000000);
-  s.add_int("hill_climbing.proposals", 8, "hill-climbing proposals per iteration (evaluated in parallel)")
-      .range(1, 100000);
-  s.add_double("hill_climbing.initial_step", 0.3,
-               "hill-climbing first perturbation size, in parameter scales")
-      .greater_than(0);
-  s.add_constraint([](const ConfigSchema& c) {
-    if (c.get_double("gradient.initial_step") > c.get_double("gradient.max_step"))
-      return std::string("gradient.initial_step: expected at most gradient.max_step");
-    return std::string();
-  });
+  // Gradient ascent by default (thesis 5.3), then hill climbing from its result (then_hill_climb).
+  declare_optimizer_options(s, "optimizer", heli::HoverTrainingOptions::default_optimizer(),
+                            {"gradient", "hill-climb", "bobyqa", "sbplx", "crs2", "esch"});
+  s.add_bool("then_hill_climb", heli::HoverTrainingOptions{}.then_hill_climb,
+             "after gradient ascent, random-walk hill climbing (optimizer.hill_climbing) from its result");
 }
 
 heli::HoverTrainingOptions hover_options(const RunContext& ctx) {
@@ -373,21 +362,8 @@ heli::HoverTrainingOptions hover_options(const RunContext& ctx) {
       heli::HoverReward::from_typical(c.get_double("reward.position_m"), c.get_double("reward.velocity_mps"),
                                       c.get_double("reward.yaw_rad"), c.get_double("reward.action"), {});
   o.centre_at_trim = c.get_string("reward.action_centre") == "trim";
-  o.optimizer.method = c.get_string("optimizer");
+  read_optimizer_options(c, "optimizer", &o.optimizer);
   o.then_hill_climb = c.get_bool("then_hill_climb");
-  o.optimizer.gradient.max_iterations = c.get_int("gradient.iterations");
-  o.optimizer.gradient.relative_step = c.get_double("gradient.relative_step");
-  o.optimizer.gradient.initial_step = c.get_double("gradient.initial_step");
-  o.optimizer.gradient.max_step = c.get_double("gradient.max_step");
-  o.optimizer.gradient.min_step = std::min(o.optimizer.gradient.min_step, o.optimizer.gradient.initial_step);
-  o.optimizer.gradient.max_backtracks = static_cast<int>(c.get_int("gradient.max_backtracks"));
-  o.optimizer.hill_climbing.max_iterations = c.get_int("hill_climbing.iterations");
-  o.optimizer.hill_climbing.proposals_per_iteration = static_cast<int>(c.get_int("hill_climbing.proposals"));
-  o.optimizer.hill_climbing.initial_step = c.get_double("hill_climbing.initial_step");
-  o.optimizer.hill_climbing.max_step =
-      std::max(o.optimizer.hill_climbing.max_step, o.optimizer.hill_climbing.initial_step);
-  o.optimizer.hill_climbing.min_step =
-      std::min(o.optimizer.hill_climbing.min_step, o.optimizer.hill_climbing.initial_step);
   o.seed = ctx.seed;
   std::string error;
   if (!o.IsValid(&error)) throw InputError(error);
@@ -431,19 +407,14 @@ void run_hover(RunContext& ctx) {
   auto bar = ctx.progress(
       "optimizer iterations",
       static_cast<std::uint64_t>(g_iters + (two ? o.optimizer.hill_climbing.max_iterations : 0)));
-  if (hooks.resume_from) {
-    const auto& r = *hooks.resume_from;
-    std::uint64_t done = 0;
-    if (r.at("phase").get<int>() == 1) done += r.at("gradient").at("iterations").get<std::uint64_t>();
-    if (!r.at("optimizer").is_null()) done += r.at("optimizer").at("iterations").get<std::uint64_t>();
-    bar.skip(done);
-  }
   std::uint64_t last = 0;
+  if (hooks.resume_from) {
+    last = static_cast<std::uint64_t>(TrainingCheckpointIterations(*hooks.resume_from));
+    bar.skip(last);
+  }
   hooks.on_checkpoint = [&](const nlohmann::json& c) {
     dir.save_checkpoint(c);
-    std::uint64_t done =
-        c.at("phase").get<int>() == 1 ? c.at("gradient").at("iterations").get<std::uint64_t>() : 0;
-    if (!c.at("optimizer").is_null()) done += c.at("optimizer").at("iterations").get<std::uint64_t>();
+    const auto done = static_cast<std::uint64_t>(TrainingCheckpointIterations(c));
     if (done > last) bar.advance(done - last);
     last = done;
   };
@@ -699,8 +670,13 @@ void declare_pipeline(ConfigSchema& s) {
   s.add_int("coordinate_passes", 1, "identification: passes of per-input bandwidth refinement").range(0, 10);
   s.add_int("scenarios", 30, "hover training: PEGASUS scenarios").range(1, 100000);
   s.add_double("scenario_seconds", 35, "hover training: flight per scenario, s").greater_than(0).max(3600);
-  s.add_int("gradient_iterations", 20, "hover training: gradient ascent iterations").range(0, 1000000);
-  s.add_int("hill_climbing_iterations", 20, "hover training: hill-climbing iterations").range(0, 1000000);
+  s.add_int("gradient_iterations", heli::HoverTrainingOptions::default_optimizer().gradient.max_iterations,
+            "hover training: gradient ascent iterations")
+      .range(0, 1000000);
+  s.add_int("hill_climbing_iterations",
+            heli::HoverTrainingOptions::default_optimizer().hill_climbing.max_iterations,
+            "hover training: hill-climbing iterations")
+      .range(0, 1000000);
   s.add_int("flights", 100, "flights on the ground truth (policy and pilot)").range(1, 1000000);
   s.add_double("flight_seconds", 60, "flight length on the ground truth, s").greater_than(0).max(36000);
 }
@@ -762,9 +738,9 @@ void run_pipeline(RunContext& ctx) {
                      std::to_string(c.get_int("coordinate_passes")), "--variants=false"});
   stage("hover", {"heli", "hover", "--model", (root / "identify" / "model.json").string(), "--scenarios",
                   std::to_string(c.get_int("scenarios")), "--seconds", num(c.get_double("scenario_seconds")),
-                  "--gradient.iterations", std::to_string(c.get_int("gradient_iterations")),
-                  "--hill-climbing.iterations", std::to_string(c.get_int("hill_climbing_iterations")),
-                  "--seed", std::to_string(seed)});
+                  "--optimizer.gradient.max-iterations", std::to_string(c.get_int("gradient_iterations")),
+                  "--optimizer.hill-climbing.max-iterations",
+                  std::to_string(c.get_int("hill_climbing_iterations")), "--seed", std::to_string(seed)});
   stage("fly", {"heli", "fly", "--policy", (root / "hover" / "policy.json").string(), "--compare-pilot",
                 "--flights", std::to_string(c.get_int("flights")), "--seconds",
                 num(c.get_double("flight_seconds")), "--seed", std::to_string(seed + 2)});

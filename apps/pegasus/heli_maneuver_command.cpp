@@ -19,7 +19,8 @@
 #include "pegasus/heli/maneuver_policy.hpp"
 #include "pegasus/heli/maneuver_task.hpp"
 #include "pegasus/heli/policy_file.hpp"
-#include "pegasus/runs/output.hpp"
+#include "pegasus/io/json_csv.hpp"
+#include "pegasus/runs/optimizer_config.hpp"
 #include "pegasus/runs/svg_plot.hpp"
 #include "pegasus/sysid/flight_log.hpp"
 #include "pegasus/sysid/identify.hpp"
@@ -64,15 +65,8 @@ void declare(ConfigSchema& s) {
              "learn the delay t of the vertical set point in angled climbs and descents");
   s.add_bool("feedforward", true,
              "the hover networks see the velocity relative to the set point's (learned gain)");
-  s.add_string("optimizer", "gradient", "optimizer").choices({"gradient", "hill-climb"});
-  s.add_int("iterations", 10, "optimizer iterations at most").range(0, 100000);
-  s.add_double("gradient.relative_step", 0.05, "central-difference half-width, in parameter scales")
-      .greater_than(0);
-  s.add_double("gradient.initial_step", 0.5, "first step length, in parameter scales").greater_than(0);
-  s.add_double("gradient.max_step", 2.0, "longest step, in parameter scales").greater_than(0);
-  s.add_int("hill_climbing.proposals", 8, "proposals per hill-climbing iteration").range(1, 100000);
-  s.add_double("hill_climbing.initial_step", 0.3, "first hill-climbing perturbation, in parameter scales")
-      .greater_than(0);
+  declare_optimizer_options(s, "optimizer", heli::ManeuverTrainingOptions::default_optimizer(),
+                            {"gradient", "hill-climb", "bobyqa", "sbplx", "crs2", "esch"});
   s.add_bool("ablations", true,
              "also train without the learned delay and without shaping (same budget) and fly them");
   // Flights on the ground truth
@@ -115,18 +109,7 @@ ManeuverTrainingOptions training_options(const RunContext& ctx) {
   o.shaping_per_metre = c.get_double("shaping_per_metre");
   o.policy.learn_delay = c.get_bool("learn_delay");
   o.policy.feedforward = c.get_bool("feedforward");
-  o.optimizer.method = c.get_string("optimizer");
-  o.optimizer.gradient.max_iterations = c.get_int("iterations");
-  o.optimizer.gradient.relative_step = c.get_double("gradient.relative_step");
-  o.optimizer.gradient.max_step = c.get_double("gradient.max_step");
-  o.optimizer.gradient.initial_step =
-      std::min(c.get_double("gradient.initial_step"), o.optimizer.gradient.max_step);
-  o.optimizer.gradient.min_step = std::min(o.optimizer.gradient.min_step, o.optimizer.gradient.initial_step);
-  o.optimizer.hill_climbing.max_iterations = c.get_int("iterations");
-  o.optimizer.hill_climbing.proposals_per_iteration = static_cast<int>(c.get_int("hill_climbing.proposals"));
-  o.optimizer.hill_climbing.initial_step = c.get_double("hill_climbing.initial_step");
-  o.optimizer.hill_climbing.max_step =
-      std::max(o.optimizer.hill_climbing.max_step, o.optimizer.hill_climbing.initial_step);
+  read_optimizer_options(c, "optimizer", &o.optimizer);
   o.seed = ctx.seed;
   std::string error;
   if (!o.IsValid(&error)) throw InputError(error);
@@ -463,9 +446,6 @@ void run_pilot(RunContext& ctx) {
 }  // namespace
 
 std::vector<Command> heli_maneuver_commands() {
-  // The "maneuver" class of policy files, for `heli fly` and `heli control` (registered with the command
-  // table, before any command runs).
-  register_policy_class("maneuver", make_maneuver_controller);
   return {Command{.path = "heli maneuver",
                   .description = "Learn an AMA Class III manoeuvre (III.1, III.2, III.3) with PEGASUS and "
                                  "fly it on the ground truth (thesis 5.4)",

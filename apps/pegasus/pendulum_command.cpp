@@ -8,7 +8,8 @@
 #include "pegasus/core/error.hpp"
 #include "pegasus/evaluators/pegasus_evaluator.hpp"
 #include "pegasus/experiments/pendulum_experiment.hpp"
-#include "pegasus/runs/output.hpp"
+#include "pegasus/io/json_csv.hpp"
+#include "pegasus/runs/optimizer_config.hpp"
 #include "pegasus/runs/svg_plot.hpp"
 
 namespace pegasus::cli {
@@ -24,20 +25,14 @@ void declare_training(ConfigSchema& s) {
   s.add_int("scenarios", 32, "PEGASUS scenarios m (training start states)").min(1).max(1000000);
   s.add_string("variant", "stratified", "scenario variant (both stages)")
       .choices({"plain", "antithetic", "stratified", "sobol"});
-  s.add_int("iterations", 150, "hill-climbing iterations at most").min(0).max(1000000);
-  s.add_int("proposals", 8, "hill-climbing proposals per iteration (evaluated in parallel)")
-      .min(1)
-      .max(100000);
-  s.add_double("initial_step", 1.0, "first perturbation size (scaled units)").greater_than(0).max(4);
-  s.add_int("refine_scenarios", 256, "scenarios of the refinement of all seven numbers (0: no refinement)")
+  // The race (thesis 4.6's hill climbing on the five numbers), then the refinement of all seven on more
+  // scenarios; each stage takes every method.
+  declare_optimizer_options(s, "optimizer", PendulumTrainingOptions::default_optimizer());
+  s.add_int("refine_scenarios", PendulumTrainingOptions{}.refine_scenarios,
+            "scenarios of the refinement of all seven numbers (0: no refinement)")
       .min(0)
       .max(1000000);
-  s.add_int("refine_iterations", 60, "hill-climbing iterations of the refinement at most")
-      .min(0)
-      .max(1000000);
-  s.add_double("refine_initial_step", 0.3, "first perturbation size of the refinement (scaled units)")
-      .greater_than(0)
-      .max(1);
+  declare_optimizer_options(s, "refine", PendulumTrainingOptions::default_refine_optimizer());
   s.add_int("evaluation_episodes", 100, "fresh starts for the bar and the final mean return")
       .min(1)
       .max(1000000);
@@ -49,14 +44,9 @@ PendulumTrainingOptions training_options(const RunContext& ctx) {
   PendulumTrainingOptions o;
   o.scenarios = static_cast<int>(c.get_int("scenarios"));
   o.variant = parse_scenario_variant(c.get_string("variant"));
-  o.optimizer.hill_climbing.max_iterations = c.get_int("iterations");
-  o.optimizer.hill_climbing.proposals_per_iteration = static_cast<int>(c.get_int("proposals"));
-  o.optimizer.hill_climbing.initial_step = c.get_double("initial_step");
+  read_optimizer_options(c, "optimizer", &o.optimizer);
   o.refine_scenarios = static_cast<int>(c.get_int("refine_scenarios"));
-  o.refine_optimizer.hill_climbing.max_iterations = c.get_int("refine_iterations");
-  o.refine_optimizer.hill_climbing.proposals_per_iteration =
-      o.optimizer.hill_climbing.proposals_per_iteration;
-  o.refine_optimizer.hill_climbing.initial_step = c.get_double("refine_initial_step");
+  read_optimizer_options(c, "refine", &o.refine_optimizer);
   o.evaluation_episodes = static_cast<int>(c.get_int("evaluation_episodes"));
   o.bar = c.get_double("bar");
   o.seed = ctx.seed;

@@ -5,7 +5,7 @@
 #include "experiment_commands.hpp"
 #include "pegasus/core/error.hpp"
 #include "pegasus/experiments/pomdp_gridworld_experiment.hpp"
-#include "pegasus/runs/output.hpp"
+#include "pegasus/io/json_csv.hpp"
 #include "pegasus/runs/svg_plot.hpp"
 
 namespace pegasus::cli {

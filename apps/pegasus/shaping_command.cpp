@@ -16,7 +16,7 @@
 #include "pegasus/core/error.hpp"
 #include "pegasus/experiments/shaping_experiment.hpp"
 #include "pegasus/experiments/shaping_progress_bonus.hpp"
-#include "pegasus/runs/output.hpp"
+#include "pegasus/io/json_csv.hpp"
 #include "pegasus/runs/svg_plot.hpp"
 
 namespace pegasus::cli {

@@ -10,8 +10,8 @@
 
 #include "experiment_commands.hpp"
 #include "pegasus/core/error.hpp"
+#include "pegasus/io/json_csv.hpp"
 #include "pegasus/mdp/mdp_json.hpp"
-#include "pegasus/runs/output.hpp"
 #include "pegasus/shaping/audit.hpp"
 
 namespace pegasus::cli {

@@ -13,6 +13,7 @@
 #include "pegasus/envs/bicycle_lockstep.hpp"
 #include "pegasus/evaluators/monte_carlo.hpp"
 #include "pegasus/evaluators/pegasus_evaluator.hpp"
+#include "pegasus/optimizers/training.hpp"
 #include "pegasus/parallel/mpi.hpp"
 #include "pegasus/shaping/potential_shaping.hpp"
 
@@ -151,7 +152,7 @@ OptimizerOptions BicycleTrainingOptions::default_optimizer() {
   o.gradient.max_step = 0.5;
   o.gradient.min_step = 1e-3;
   o.gradient.function_tolerance = 0.0;
-  o.hill_climbing.max_iterations = 300;
+  o.hill_climbing.max_iterations = 200;
   o.hill_climbing.proposals_per_iteration = 16;
   o.hill_climbing.initial_step = 0.3;
   o.hill_climbing.max_step = 1.0;
@@ -188,7 +189,7 @@ BicycleTrainingResult train_bicycle(const BicycleTrainingOptions& options, const
   if (!options.IsValid(&error)) throw InputError("bicycle training: " + error);
   auto objective = training_objective(options, borrow_pool(pool, options.threads));
   OptimizerOptions optimizer = options.optimizer;
-  optimizer.hill_climbing.seed = mix_seed(options.seed, 0x48696c6c);  // hill climbing's own stream
+  DeriveOptimizerSeeds(options.seed, SeedDomains{}, &optimizer);  // apart from the scenarios' streams
   if (hooks.on_checkpoint && hooks.checkpoint_every > 0) {
     optimizer.SetCheckpointing(hooks.checkpoint_every, hooks.on_checkpoint,
                                options.estimator == "pegasus" ? hooks.resume_from : std::nullopt);

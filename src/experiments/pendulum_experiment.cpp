@@ -12,6 +12,7 @@
 #include "pegasus/core/error.hpp"
 #include "pegasus/evaluators/monte_carlo.hpp"
 #include "pegasus/evaluators/pegasus_evaluator.hpp"
+#include "pegasus/optimizers/training.hpp"
 
 namespace pegasus {
 namespace {
@@ -247,8 +248,7 @@ PendulumTrainingResult train_pendulum(const PendulumTrainingOptions& options,
         shared_pool);
     watch.watch(race);
     OptimizerOptions optimizer = options.optimizer;
-    optimizer.hill_climbing.seed = mix_seed(options.seed, 0x48696c6c);  // hill climbing's own stream
-    optimizer.nlopt.seed = mix_seed(options.seed, 0x4e4c6f70);
+    DeriveOptimizerSeeds(options.seed, SeedDomains{}, &optimizer);
     if (checkpointing)
       optimizer.SetCheckpointing(
           hooks.checkpoint_every, [&](const nlohmann::json& state) { checkpoint(1, state); },
@@ -270,8 +270,7 @@ PendulumTrainingResult train_pendulum(const PendulumTrainingOptions& options,
         shared_pool);
     watch.watch(refinement);
     OptimizerOptions optimizer = options.refine_optimizer;
-    optimizer.hill_climbing.seed = mix_seed(options.seed, 0x52486c6c);  // "RHll"
-    optimizer.nlopt.seed = mix_seed(options.seed, 0x524e4c6f);
+    DeriveOptimizerSeeds(options.seed, kRefineSeedDomains, &optimizer);
     if (checkpointing)
       optimizer.SetCheckpointing(
           hooks.checkpoint_every, [&](const nlohmann::json& state) { checkpoint(2, state); },

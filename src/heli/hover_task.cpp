@@ -8,6 +8,7 @@
 #include "pegasus/evaluators/monte_carlo.hpp"
 #include "pegasus/evaluators/pegasus_evaluator.hpp"
 #include "pegasus/heli/frames.hpp"
+#include "pegasus/optimizers/training.hpp"
 
 namespace pegasus::heli {
 namespace {
@@ -171,65 +172,33 @@ HoverTrainingResult train_hover(std::shared_ptr<const sysid::IdentifiedModel> mo
   if (!o.IsValid(&error)) throw InputError("hover training: " + error);
   auto objective =
       hover_objective(model, o, std::shared_ptr<ThreadPool>(std::shared_ptr<ThreadPool>(), &pool));
-  HoverTrainingResult result;
-  const bool two_phases = o.optimizer.method == "gradient" && o.then_hill_climb;
-
-  int phase = 0;
-  std::optional<nlohmann::json> resume;
-  if (hooks.resume_from) {
-    phase = hooks.resume_from->at("phase").get<int>();
-    if (phase != 0 && phase != 1) throw InputError("checkpoint: phase: expected 0 or 1");
-    if (!hooks.resume_from->at("optimizer").is_null()) resume = hooks.resume_from->at("optimizer");
-    if (phase == 1) result.gradient = SummaryFromJson(hooks.resume_from->at("gradient"), "gradient");
+  // §5.3: gradient ascent, then random-walk hill climbing from its result. Both stages draw hill climbing's
+  // stream from the first stage's seed domain, as this task always has.
+  TrainingPlan plan;
+  plan.seed = o.seed;
+  plan.stages.push_back({.name = o.optimizer.method, .optimizer = o.optimizer});
+  if (o.optimizer.method == "gradient" && o.then_hill_climb) {
+    OptimizerOptions refine = o.optimizer;
+    refine.method = "hill-climb";
+    plan.stages.push_back({.name = "hill-climb", .optimizer = refine});
   }
-  auto checkpointing = [&](OptimizerOptions& opt, int current, const nlohmann::json& gradient) {
-    opt.hill_climbing.seed =
-        mix_seed(o.seed, 0x48696c6c);  // hill climbing's own stream, apart from the scenarios
-    if (!hooks.on_checkpoint || hooks.checkpoint_every <= 0) return;
-    opt.SetCheckpointing(
-        hooks.checkpoint_every,
-        [&hooks, current, gradient](const nlohmann::json& c) {
-          hooks.on_checkpoint({{"phase", current}, {"optimizer", c}, {"gradient", gradient}});
-        },
-        resume);
-  };
-
+  if (hooks.on_checkpoint && hooks.checkpoint_every > 0) {
+    plan.checkpoint_every = hooks.checkpoint_every;
+    plan.on_checkpoint = hooks.on_checkpoint;
+  }
+  plan.resume_from = hooks.resume_from;
+  plan.callbacks = hooks.callbacks;
   Theta theta;  // the spec's initial values
-  if (phase == 0) {
-    OptimizerOptions opt = o.optimizer;
-    checkpointing(opt, 0, nullptr);
-    OptimizerSummary s;
-    Solve(opt, *objective, &theta, &s);
-    theta = s.best_theta;
-    result.gradient = std::move(s);
-    resume.reset();
-    if (two_phases && hooks.on_checkpoint)
-      hooks.on_checkpoint(
-          {{"phase", 1}, {"optimizer", nullptr}, {"gradient", SummaryToJson(result.gradient)}});
-  } else {
-    theta = result.gradient.best_theta;
-  }
-  result.progress = result.gradient.history;
-  if (two_phases) {
-    OptimizerOptions opt = o.optimizer;
-    opt.method = "hill-climb";
-    checkpointing(opt, 1, SummaryToJson(result.gradient));
-    OptimizerSummary s;
-    Solve(opt, *objective, &theta, &s);
-    result.hill_climb = std::move(s);
-    const IterationRecord last = result.progress.empty() ? IterationRecord{} : result.progress.back();
-    for (IterationRecord r : result.hill_climb.history) {
-      r.iteration += last.iteration;
-      r.evaluations += last.evaluations;
-      r.seconds += result.gradient.wall_seconds;
-      r.value = std::max(r.value, last.value);
-      result.progress.push_back(r);
-    }
-  }
-  const OptimizerSummary& final = two_phases ? result.hill_climb : result.gradient;
-  result.theta = final.best_theta;
-  result.initial_uhat = result.gradient.initial_value;
-  result.final_uhat = final.best_value;
+  TrainingSummary summary;
+  Train(plan, *objective, &theta, &summary);
+
+  HoverTrainingResult result;
+  result.gradient = summary.stages[0];
+  if (summary.stages.size() > 1) result.hill_climb = summary.stages[1];
+  result.progress = std::move(summary.history);
+  result.theta = summary.best_theta;
+  result.initial_uhat = summary.initial_value;
+  result.final_uhat = summary.best_value;
   return result;
 }
 

@@ -8,6 +8,7 @@
 #include "pegasus/core/error.hpp"
 #include "pegasus/evaluators/monte_carlo.hpp"
 #include "pegasus/evaluators/pegasus_evaluator.hpp"
+#include "pegasus/optimizers/training.hpp"
 #include "pegasus/scenarios/scenario_set.hpp"
 #include "pegasus/shaping/potential_shaping.hpp"
 
@@ -147,8 +148,7 @@ ManeuverTrainingResult train_maneuver(std::shared_ptr<const sysid::IdentifiedMod
   auto objective = maneuver_objective(std::move(model), o, policy,
                                       std::shared_ptr<ThreadPool>(std::shared_ptr<ThreadPool>(), &pool));
   OptimizerOptions opt = o.optimizer;
-  opt.hill_climbing.seed =
-      mix_seed(o.seed, 0x48696c6c);  // hill climbing's own stream, apart from the scenarios
+  DeriveOptimizerSeeds(o.seed, SeedDomains{}, &opt);  // apart from the scenarios' streams
   if (hooks.on_checkpoint && hooks.checkpoint_every > 0)
     opt.SetCheckpointing(hooks.checkpoint_every, hooks.on_checkpoint, hooks.resume_from);
   ManeuverTrainingResult result;

@@ -8,8 +8,9 @@
 #include <mutex>
 
 #include "pegasus/core/error.hpp"
-#include "pegasus/runs/atomic_file.hpp"
-#include "pegasus/runs/output.hpp"
+#include "pegasus/heli/maneuver_file.hpp"
+#include "pegasus/io/atomic_file.hpp"
+#include "pegasus/io/json_csv.hpp"
 
 namespace pegasus::heli {
 namespace {
@@ -38,7 +39,9 @@ double finite_number(const nlohmann::json& j, const std::string& file, const std
 }
 
 // The classes every build knows. A new class adds its line here (its factory lives with the class).
-std::map<std::string, PolicyClassFactory> builtin_classes() { return {{"hover", make_hover_controller}}; }
+std::map<std::string, PolicyClassFactory> builtin_classes() {
+  return {{"hover", make_hover_controller}, {"maneuver", make_maneuver_controller}};
+}
 
 struct Registry {
   std::mutex mutex;

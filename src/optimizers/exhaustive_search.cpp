@@ -105,7 +105,7 @@ void Solve(const ExhaustiveSearchOptions& options, Objective& objective, Theta* 
   const ParameterSpec& spec = objective.parameters();
   const auto ranges = IntegerRanges(spec);
   const std::int64_t total = CountPolicies(ranges, options.max_policies);
-  RunProgress run("exhaustive", spec);
+  RunProgress run("exhaustive", spec, options.callbacks);
 
   std::int64_t next_index = 0;
   std::int64_t best_index = -1;
@@ -130,6 +130,7 @@ void Solve(const ExhaustiveSearchOptions& options, Objective& objective, Theta* 
   std::vector<double> values(block_capacity);
   Theta cursor(spec.size());
 
+  bool stopped_early = false;
   while (next_index < total) {
     const auto count =
         static_cast<std::size_t>(std::min<std::int64_t>(options.block_size, total - next_index));
@@ -146,7 +147,10 @@ void Solve(const ExhaustiveSearchOptions& options, Objective& objective, Theta* 
       if (run.Offer(block[k], values[k])) best_index = next_index + static_cast<std::int64_t>(k);
     if (options.keep_all_values) all_values.insert(all_values.end(), values.begin(), values.begin() + count);
     next_index += static_cast<std::int64_t>(count);
-    run.EndIteration();
+    if (!run.EndIteration()) {
+      stopped_early = true;
+      break;
+    }
     if (next_index < total && run.CheckpointDue(options.checkpoint_every)) {
       json state{{"next_index", next_index}, {"best_index", best_index}};
       if (options.keep_all_values) state["all_values"] = VectorToJson(all_values);
@@ -154,9 +158,17 @@ void Solve(const ExhaustiveSearchOptions& options, Objective& objective, Theta* 
     }
   }
 
-  run.Finish(TerminationType::kSearchComplete,
-             fmt::format("evaluated all {} policies; the best has enumeration index {}", total, best_index),
-             summary);
+  if (stopped_early) {
+    run.Finish(TerminationType::kUserRequested,
+               fmt::format("an iteration callback asked to stop after {} of {} policies; the best has "
+                           "enumeration index {}",
+                           next_index, total, best_index),
+               summary);
+  } else {
+    run.Finish(TerminationType::kSearchComplete,
+               fmt::format("evaluated all {} policies; the best has enumeration index {}", total, best_index),
+               summary);
+  }
   summary->all_values = std::move(all_values);
   *theta = summary->best_theta;
 }

@@ -46,7 +46,7 @@ void Solve(const GradientAscentOptions& options, Objective& objective, Theta* th
   const Theta lower = spec.lower();
   const Theta upper = spec.upper();
   const Theta scale = spec.scales();
-  RunProgress run("gradient", spec);
+  RunProgress run("gradient", spec, options.callbacks);
 
   Theta x;
   double value;
@@ -165,7 +165,11 @@ void Solve(const GradientAscentOptions& options, Objective& objective, Theta* th
 
     run.Offer(x, value);
     step = std::min(step * options.step_growth, options.max_step);
-    run.EndIteration();
+    if (!run.EndIteration()) {
+      termination = TerminationType::kUserRequested;
+      message = "an iteration callback asked to stop";
+      break;
+    }
     if (improvement <= options.function_tolerance * std::abs(previous_value)) {
       termination = TerminationType::kConvergence;
       message = fmt::format("relative improvement {:.3g} <= function_tolerance = {:.3g}",

@@ -55,7 +55,7 @@ void Solve(const HillClimbingOptions& options, Objective& objective, Theta* thet
   const Theta lower = spec.lower();
   const Theta upper = spec.upper();
   const Theta scale = spec.scales();
-  RunProgress run("hill-climb", spec);
+  RunProgress run("hill-climb", spec, options.callbacks);
 
   Theta x;
   double value;
@@ -119,7 +119,11 @@ void Solve(const HillClimbingOptions& options, Objective& objective, Theta* thet
     } else {
       step *= options.step_shrink;
     }
-    run.EndIteration();
+    if (!run.EndIteration()) {
+      termination = TerminationType::kUserRequested;
+      message = "an iteration callback asked to stop";
+      break;
+    }
     if (step < options.min_step) {
       termination = TerminationType::kConvergence;
       message = fmt::format("step {:.3g} fell below min_step = {:.3g}", step, options.min_step);

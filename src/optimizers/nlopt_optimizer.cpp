@@ -97,6 +97,7 @@ struct NloptRun {
   nlopt::opt* optimizer = nullptr;
   std::exception_ptr error;
   bool hit_max_evaluations = false;
+  bool stopped_by_callback = false;
 
   json State() const {
     json entries = json::array();
@@ -140,9 +141,13 @@ struct NloptRun {
     log.push_back({Theta(theta.begin(), theta.end()), value, seconds});
     if (log.size() == 1 && SameBits(theta, start)) progress.set_initial_value(value);
     progress.Offer(clamped, value);
-    progress.EndIteration(seconds);
+    const bool go_on = progress.EndIteration(seconds);
     if (!replaying && progress.CheckpointDue(options.checkpoint_every))
       options.on_checkpoint(progress.Checkpoint(State(), /*include_history=*/false));
+    if (!go_on) {
+      stopped_by_callback = true;
+      optimizer->force_stop();
+    }
     // NLopt minimises; NaN becomes the worst value so that it never attracts the search.
     return std::isnan(value) ? HUGE_VAL : -value;
   }
@@ -198,7 +203,7 @@ void Solve(const NloptOptions& options, Objective& objective, Theta* theta, Opti
                                      spec[i].name, name, lower[i], upper[i]));
   }
 
-  RunProgress progress(std::string(name), spec);
+  RunProgress progress(std::string(name), spec, options.callbacks);
   NloptRun run{options, objective, progress, {}, {}, 0, {}, Theta(n), &spec, nullptr, nullptr, false};
   if (options.resume_from) {
     const json& state = progress.Resume(*options.resume_from, /*restore_counters=*/false);
@@ -270,7 +275,8 @@ void Solve(const NloptOptions& options, Objective& objective, Theta* theta, Opti
         break;
     }
   } catch (const nlopt::forced_stop&) {
-    if (!run.error && !run.hit_max_evaluations) message = "NLopt was stopped for an unknown reason";
+    if (!run.error && !run.hit_max_evaluations && !run.stopped_by_callback)
+      message = "NLopt was stopped for an unknown reason";
   } catch (const nlopt::roundoff_limited&) {
     termination = TerminationType::kConvergence;
     message = "NLopt: progress limited by roundoff";
@@ -280,7 +286,10 @@ void Solve(const NloptOptions& options, Objective& objective, Theta* theta, Opti
     message = fmt::format("NLopt failed: {}", e.what());
   }
   if (run.error) std::rethrow_exception(run.error);
-  if (run.hit_max_evaluations) {
+  if (run.stopped_by_callback) {
+    termination = TerminationType::kUserRequested;
+    message = "an iteration callback asked to stop";
+  } else if (run.hit_max_evaluations) {
     termination = TerminationType::kMaxEvaluations;
     message = fmt::format("used max_evaluations = {}", options.max_evaluations);
   }

@@ -35,6 +35,10 @@ void OptimizerOptions::SetCheckpointing(std::int64_t checkpoint_every, Checkpoin
       std::move(resume_from);
 }
 
+void OptimizerOptions::SetCallbacks(const IterationCallbacks& callbacks) {
+  exhaustive.callbacks = gradient.callbacks = hill_climbing.callbacks = nlopt.callbacks = callbacks;
+}
+
 bool OptimizerOptions::IsValid(std::string* error) const {
   std::string inner;
   auto prefixed = [&](bool valid, std::string_view prefix) {

@@ -19,6 +19,8 @@ std::string_view TerminationTypeName(TerminationType type) {
       return "SEARCH_COMPLETE";
     case TerminationType::kFailure:
       return "FAILURE";
+    case TerminationType::kUserRequested:
+      return "USER_REQUESTED";
   }
   return "UNKNOWN";
 }

@@ -157,8 +157,9 @@ bool ValidateCheckpointOptions(std::int64_t checkpoint_every, const CheckpointCa
   return true;
 }
 
-RunProgress::RunProgress(std::string method, const ParameterSpec& spec)
+RunProgress::RunProgress(std::string method, const ParameterSpec& spec, IterationCallbacks callbacks)
     : method_(std::move(method)),
+      callbacks_(std::move(callbacks)),
       initial_value_(std::numeric_limits<double>::quiet_NaN()),
       best_value_(std::numeric_limits<double>::quiet_NaN()),
       started_(std::chrono::steady_clock::now()) {
@@ -175,9 +176,17 @@ bool RunProgress::Offer(std::span<const double> theta, double value) {
   return true;
 }
 
-void RunProgress::EndIteration(double seconds) {
+bool RunProgress::EndIteration(double seconds) {
   ++iterations_;
   history_.push_back({iterations_, evaluations_, best_value_, seconds});
+  bool go_on = true;
+  for (IterationCallback* callback : callbacks_) {
+    const IterationReport report{
+        method_, history_.back(),
+        has_best_ ? std::span<const double>(best_theta_) : std::span<const double>()};
+    if ((*callback)(report) == CallbackReturnType::kTerminate) go_on = false;
+  }
+  return go_on;
 }
 
 double RunProgress::Seconds() const {

@@ -15,9 +15,9 @@
 
 #include "pegasus/core/error.hpp"
 #include "pegasus/heli/frames.hpp"
-#include "pegasus/runs/atomic_file.hpp"
+#include "pegasus/io/atomic_file.hpp"
+#include "pegasus/io/json_csv.hpp"
 #include "pegasus/runs/config.hpp"
-#include "pegasus/runs/output.hpp"
 
 namespace pegasus::report {
 

@@ -217,29 +217,6 @@ std::optional<std::vector<T>> parse_list(std::string_view text, Parse parse) {
 
 }  // namespace
 
-std::optional<double> parse_double(std::string_view text) {
-  text = trim(text);
-  if (!text.empty() && text.front() == '+') text.remove_prefix(1);
-  double x = 0;
-  auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), x);
-  if (ec != std::errc() || end != text.data() + text.size() || text.empty()) return std::nullopt;
-  return x;
-}
-
-std::optional<std::int64_t> parse_int(std::string_view text) {
-  text = trim(text);
-  if (!text.empty() && text.front() == '+') text.remove_prefix(1);
-  std::int64_t x = 0;
-  auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), x);
-  if (ec != std::errc() || end != text.data() + text.size() || text.empty()) return std::nullopt;
-  return x;
-}
-
-std::string format_double(double x) {
-  // fmt's default format is the shortest text that reads back to the same double.
-  return fmt::format("{}", x);
-}
-
 // ---------------------------------------------------------------------------------------------------------
 // ConfigField
 

@@ -9,8 +9,8 @@
 #include <stdexcept>
 
 #include "pegasus/core/error.hpp"
+#include "pegasus/io/atomic_file.hpp"
 #include "pegasus/parallel/mpi.hpp"
-#include "pegasus/runs/atomic_file.hpp"
 
 namespace pegasus {
 

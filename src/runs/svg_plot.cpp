@@ -7,7 +7,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "pegasus/runs/output.hpp"
+#include "pegasus/io/json_csv.hpp"
 
 namespace pegasus {
 

@@ -8,7 +8,7 @@
 #include <sstream>
 
 #include "pegasus/core/error.hpp"
-#include "pegasus/runs/output.hpp"
+#include "pegasus/io/json_csv.hpp"
 
 namespace pegasus::sysid {
 

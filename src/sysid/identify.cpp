@@ -9,8 +9,8 @@
 
 #include "pegasus/core/error.hpp"
 #include "pegasus/heli/frames.hpp"
-#include "pegasus/runs/atomic_file.hpp"
-#include "pegasus/runs/output.hpp"
+#include "pegasus/io/atomic_file.hpp"
+#include "pegasus/io/json_csv.hpp"
 
 namespace pegasus::sysid {
 

@@ -32,7 +32,8 @@ class BicycleCli : public pegasus::test_support::TempDirTest {
 
 // Small settings: 8 scenarios of 2 s, 3 optimizer iterations, short rides to a goal 300 m away.
 const std::string kSmall =
-    " --scenarios 8 --horizon 200 --iterations 3 --max-km 1 --goal-km 0.3 --quiet --seed 3";
+    " --scenarios 8 --horizon 200 --optimizer.gradient.max-iterations 3 --max-km 1 --goal-km 0.3 --quiet "
+    "--seed 3";
 
 TEST_F(BicycleCli, ExperimentWritesTheDocumentedSummaryAndArtifacts) {
   const auto r = run("bicycle experiment --trials 2 --rides 4 --lesson-trials 1" + kSmall + out("run"));
@@ -123,7 +124,7 @@ TEST_F(BicycleCli, BadPolicyFilesGetOneLineNamingFileAndFieldExitTwo) {
   const auto absent = run("bicycle ride --quiet --policy " + (dir_ / "none.json").string() + out("bad"));
   EXPECT_EQ(absent.code, 2) << absent.output;
   for (const std::string bad :
-       {"--rides -1", "--gamma 1.5", "--scenarios 0", "--optimizer newton", "--max-km 0"}) {
+       {"--rides -1", "--gamma 1.5", "--scenarios 0", "--optimizer.method newton", "--max-km 0"}) {
     const auto r = run("bicycle train --quiet " + bad + out("bad"));
     EXPECT_EQ(r.code, 2) << bad << ": " << r.output;
     EXPECT_FALSE(fs::exists(dir_ / "bad.partial")) << bad;

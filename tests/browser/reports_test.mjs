@@ -106,8 +106,8 @@ run('shaping-progress-bonus', ['shaping', 'progress-bonus', '--size', '5', '--ep
 run('shaping-audit', ['shaping', 'audit', '--mdp', 'experiments/audit/gridworld-4x4.mdp.json', '--shaping',
   'experiments/audit/gridworld-4x4-phi0.shaping.json']);
 run('bicycle-experiment', ['bicycle', 'experiment', '--trials', '2', '--lesson-trials', '0', '--scenarios', '4',
-  '--horizon', '100', '--iterations', '2', '--rides', '2', '--goal-km', '0.05', '--max-km', '0.1']);
-run('bicycle-train', ['bicycle', 'train', '--scenarios', '4', '--horizon', '100', '--iterations', '2', '--rides',
+  '--horizon', '100', '--optimizer.gradient.max-iterations', '2', '--rides', '2', '--goal-km', '0.05', '--max-km', '0.1']);
+run('bicycle-train', ['bicycle', 'train', '--scenarios', '4', '--horizon', '100', '--optimizer.gradient.max-iterations', '2', '--rides',
   '2', '--goal-km', '0.05', '--max-km', '0.1']);
 if (fs.existsSync(path.join(work, 'bicycle-train', 'policy.json'))) {
   run('bicycle-ride', ['bicycle', 'ride', '--policy', path.join(work, 'bicycle-train', 'policy.json'), '--rides',
@@ -125,12 +125,12 @@ if (!only || 'heli-identify'.includes(only)) {
 }
 if (fs.existsSync(path.join(work, 'heli-identify', 'model.json'))) {
   run('heli-hover', ['heli', 'hover', '--model', path.join(work, 'heli-identify', 'model.json'), '--scenarios', '2',
-    '--seconds', '2', '--gradient.iterations', '1', '--hill-climbing.iterations', '1']);
+    '--seconds', '2', '--optimizer.gradient.max-iterations', '1', '--optimizer.hill-climbing.max-iterations', '1']);
   run('heli-fly', ['heli', 'fly', '--policy', path.join(work, 'heli-hover', 'policy.json'), '--compare-pilot',
     '--flights', '2', '--seconds', '5'], { replay: 1 });
   run('heli-maneuver', ['heli', 'maneuver', '--config', 'experiments/heli-maneuver-demo.toml', '--model',
-    path.join(work, 'heli-identify', 'model.json'), '--scenarios', '1', '--iterations', '1',
-    '--hill-climbing.proposals', '2', '--flights', '2', '--trace-flights', '2'], { replay: 1 });
+    path.join(work, 'heli-identify', 'model.json'), '--scenarios', '1', '--optimizer.gradient.max-iterations', '1',
+    '--optimizer.hill-climbing.proposals-per-iteration', '2', '--flights', '2', '--trace-flights', '2'], { replay: 1 });
 }
 // The file formats of the helicopter commands (notes/heli_conventions.md), synthetic: a hover run and a
 // manoeuvre run with its ideal path.

@@ -13,7 +13,7 @@
 #include <string>
 #include <thread>
 
-#include "pegasus/runs/output.hpp"
+#include "pegasus/io/json_csv.hpp"
 #include "support/cli_runner.hpp"
 
 namespace fs = std::filesystem;
@@ -45,7 +45,8 @@ class HoverCli : public pegasus::test_support::TempDirTest {
   static std::string tiny() {
     const bool asan = std::getenv("PEGASUS_SANITIZED") != nullptr;
     return std::string(" --quiet --scenarios 2 --seconds ") + (asan ? "1" : "3") +
-           " --gradient.iterations 1 --hill-climbing.iterations 2 --hill-climbing.proposals 2";
+           " --optimizer.gradient.max-iterations 1 --optimizer.hill-climbing.max-iterations 2 "
+           "--optimizer.hill-climbing.proposals-per-iteration 2";
   }
   // A trained policy file in dir_/hover.
   std::string train() {
@@ -96,10 +97,10 @@ TEST_F(HoverCli, HoverIsTheSameForOneAndTwoThreads) {
 
 // SIGKILL after the first checkpoint, then --resume: the policy equals an uninterrupted run's.
 TEST_F(HoverCli, KilledTrainingResumesToTheSamePolicy) {
-  const std::string args =
-      "heli hover --model " + model() +
-      " --quiet --scenarios 2 --seconds 2 --gradient.iterations 2 --hill-climbing.iterations 30 "
-      "--hill-climbing.proposals 2 --threads 1";
+  const std::string args = "heli hover --model " + model() +
+                           " --quiet --scenarios 2 --seconds 2 --optimizer.gradient.max-iterations 2 "
+                           "--optimizer.hill-climbing.max-iterations 30 "
+                           "--optimizer.hill-climbing.proposals-per-iteration 2 --threads 1";
   ASSERT_EQ(run_pegasus(args + out("whole")).code, 0);
   const fs::path target = dir_ / "killed";
   // 31 iterations remain after the first checkpoint, so the kill lands mid-run.
@@ -205,8 +206,8 @@ TEST_F(HoverCli, ControlAnswersEveryLineAndMalformedOnesWithTheTrim) {
 TEST_F(HoverCli, PipelineRunsEveryStageAndPrintsTheHeadline) {
   const std::string args =
       "heli pipeline --quiet --train-seconds 60 --test-seconds 25 --cv-points 40 --scale-grid 2,4 "
-      "--coordinate-passes 0 --scenarios 2 --scenario-seconds 2 --gradient-iterations 0 "
-      "--hill-climbing-iterations 1 "
+      "--coordinate-passes 0 --scenarios 2 --scenario-seconds 2 --optimizer.gradient.max-iterations 0 "
+      "--optimizer.hill-climbing.max-iterations 1 "
       "--flights 2 --flight-seconds 3";
   const auto r = run_pegasus(args + out("demo"));
   ASSERT_EQ(r.code, 0) << r.output;

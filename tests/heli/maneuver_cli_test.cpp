@@ -42,8 +42,10 @@ class ManeuverCli : public pegasus::test_support::TempDirTest {
   // A 2 m nose-in circle flown slowly: about 20 s of flight per scenario.
   static std::string small(const std::string& out) {
     return "heli maneuver --name III.2 --model " + (shared_ / "id" / "model.json").string() +
-           " --circle-radius 2 --pause-s 0.5 --hold-end-s 0.5 --speed 1 --scenarios 2 --optimizer hill-climb"
-           " --iterations 3 --hill-climbing.proposals 4 --flights 2 --quiet --out " +
+           " --circle-radius 2 --pause-s 0.5 --hold-end-s 0.5 --speed 1 --scenarios 2 --optimizer.method "
+           "hill-climb"
+           " --optimizer.hill-climbing.max-iterations 3 --optimizer.hill-climbing.proposals-per-iteration 4 "
+           "--flights 2 --quiet --out " +
            out;
   }
   static inline fs::path shared_;
@@ -82,7 +84,9 @@ TEST_F(ManeuverCli, TrainingImprovesUhatAndWritesTheDocumentedFiles) {
 }
 
 TEST_F(ManeuverCli, ThreadCountNeverChangesTheResult) {
-  const std::string small_ablations = " --iterations 1 --hill-climbing.proposals 2";
+  const std::string small_ablations =
+      " --optimizer.gradient.max-iterations 1 --optimizer.hill-climbing.max-iterations 1"
+      " --optimizer.hill-climbing.proposals-per-iteration 2";
   auto a = run_pegasus(small((dir_ / "one").string()) + small_ablations + " --threads 1");
   ASSERT_EQ(a.code, 0) << a.output;
   auto b = run_pegasus(small((dir_ / "two").string()) + small_ablations + " --threads 2");

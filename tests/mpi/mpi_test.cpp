@@ -156,7 +156,8 @@ class MpiCli : public pegasus::test_support::TempDirTest {
 // Bicycle training on small settings: 6 scenarios of 1 s, hill climbing (one batch of 16 proposals per
 // iteration, so the run cannot stop early) for 12 iterations; a checkpoint every 5 iterations.
 const std::string kTrain =
-    "bicycle train --scenarios 6 --horizon 100 --optimizer hill-climb --iterations 12 --rides 3 --max-km 1 "
+    "bicycle train --scenarios 6 --horizon 100 --optimizer.method hill-climb "
+    "--optimizer.hill-climbing.max-iterations 12 --rides 3 --max-km 1 "
     "--goal-km 0.3 --quiet --seed 3";
 const std::vector<std::string> kTrainFiles = {"summary.json", "policy.json", "learning_curve.csv",
                                               "rides.csv"};
@@ -191,7 +192,8 @@ TEST_F(MpiCli, TrainingGivesTheSameFilesOnAnyNumberOfRanksAndThreads) {
 // rollouts are split too), then rides each policy.
 TEST_F(MpiCli, ExperimentWithNaiveMonteCarloGivesTheSameFiles) {
   const std::string args =
-      "bicycle experiment --trials 1 --lesson-trials 1 --scenarios 4 --horizon 100 --iterations 2 --rides 2 "
+      "bicycle experiment --trials 1 --lesson-trials 1 --scenarios 4 --horizon 100 "
+      "--optimizer.gradient.max-iterations 2 --rides 2 "
       "--max-km 1 --goal-km 0.3 --quiet --seed 5 --threads 1";
   const auto one = single(args + out("single"));
   ASSERT_EQ(one.code, 0) << one.output;
@@ -249,7 +251,7 @@ TEST_F(MpiCli, BadInputIsReportedOnceWithExitCode2AndNoRunDirectory) {
   EXPECT_EQ(missing.code, 2) << missing.output;
   EXPECT_EQ(count_lines_with(missing.output, "absent.json"), 1) << missing.output;
   // An existing run directory: rank 0's refusal reaches every rank.
-  ASSERT_EQ(single(kTrain + " --iterations 1 --rides 0" + out("c")).code, 0);
+  ASSERT_EQ(single(kTrain + " --optimizer.hill-climbing.max-iterations 1 --rides 0" + out("c")).code, 0);
   const auto exists = ranks(2, kTrain + out("c"));
   EXPECT_EQ(exists.code, 2) << exists.output;
   EXPECT_EQ(count_lines_with(exists.output, "already exists"), 1) << exists.output;

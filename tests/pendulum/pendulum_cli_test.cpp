@@ -23,7 +23,8 @@ class PendulumCli : public pegasus::test_support::TempDirTest {
 };
 
 const std::string kSmall =
-    " --scenarios 16 --iterations 40 --refine-scenarios 24 --refine-iterations 8 --quiet --seed 3";
+    " --scenarios 16 --optimizer.hill-climbing.max-iterations 40 --refine-scenarios 24 "
+    "--refine.hill-climbing.max-iterations 8 --quiet --seed 3";
 
 TEST_F(PendulumCli, TrainWritesTheDocumentedSummaryAndClearsTheBar) {
   const auto r = run_pegasus("pendulum train --config " + std::string(PEGASUS_SOURCE_DIR) +
@@ -55,8 +56,14 @@ TEST_F(PendulumCli, TrainWritesTheDocumentedSummaryAndClearsTheBar) {
 }
 
 TEST_F(PendulumCli, ThreadCountNeverChangesTheResult) {
-  ASSERT_EQ(run_pegasus("pendulum train" + kSmall + " --iterations 10 --threads 1" + out("a")).code, 0);
-  ASSERT_EQ(run_pegasus("pendulum train" + kSmall + " --iterations 10 --threads 2" + out("b")).code, 0);
+  ASSERT_EQ(run_pegasus("pendulum train" + kSmall +
+                        " --optimizer.hill-climbing.max-iterations 10 --threads 1" + out("a"))
+                .code,
+            0);
+  ASSERT_EQ(run_pegasus("pendulum train" + kSmall +
+                        " --optimizer.hill-climbing.max-iterations 10 --threads 2" + out("b"))
+                .code,
+            0);
   auto a = read_json(dir_ / "a" / "summary.json"), b = read_json(dir_ / "b" / "summary.json");
   for (auto* s : {&a, &b}) {  // wall times differ from run to run
     s->erase("seconds_to_bar");

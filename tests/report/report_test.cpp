@@ -16,7 +16,7 @@
 
 #include "pegasus/core/error.hpp"
 #include "pegasus/heli/frames.hpp"
-#include "pegasus/runs/output.hpp"
+#include "pegasus/io/json_csv.hpp"
 #include "support/cli_runner.hpp"
 #include "support/input_error.hpp"
 

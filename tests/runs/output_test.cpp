@@ -1,5 +1,3 @@
-#include "pegasus/runs/output.hpp"
-
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -10,7 +8,8 @@
 #include <limits>
 #include <random>
 
-#include "pegasus/runs/atomic_file.hpp"
+#include "pegasus/io/atomic_file.hpp"
+#include "pegasus/io/json_csv.hpp"
 
 namespace pegasus {
 namespace {

@@ -10,7 +10,7 @@
 #include <thread>
 
 #include "pegasus/core/error.hpp"
-#include "pegasus/runs/atomic_file.hpp"
+#include "pegasus/io/atomic_file.hpp"
 #include "support/input_error.hpp"
 
 namespace pegasus {

@@ -9,7 +9,7 @@
 #include <limits>
 #include <regex>
 
-#include "pegasus/runs/atomic_file.hpp"
+#include "pegasus/io/atomic_file.hpp"
 
 namespace pegasus {
 namespace {

@@ -31,10 +31,20 @@
 namespace pegasus::heli {
 
 struct HoverReward {
-  std::array<double, 3> alpha_pos{4, 4, 4};            // per m^2 (typical error 0.5 m)
-  std::array<double, 3> alpha_vel{4, 4, 4};            // per (m/s)^2 (typical 0.5 m/s)
-  double alpha_yaw = 25;                               // per rad^2 (typical 0.2 rad)
-  std::array<double, 4> alpha_action{25, 25, 25, 25};  // per unit^2 about centre (typical 0.2)
+  // The typical sizes the default weights stand for (alpha = 1 / typical^2, as from_typical computes them):
+  // the one place `heli hover`'s defaults and every other user of HoverReward{} read them from.
+  static constexpr double kTypicalPosition = 0.5;  // m
+  static constexpr double kTypicalVelocity = 0.5;  // m/s
+  static constexpr double kTypicalYaw = 0.1;       // rad
+  static constexpr double kTypicalAction = 0.1;    // control units about the centre
+  static constexpr double kPosition = 1 / (kTypicalPosition * kTypicalPosition);
+  static constexpr double kVelocity = 1 / (kTypicalVelocity * kTypicalVelocity);
+  static constexpr double kAction = 1 / (kTypicalAction * kTypicalAction);
+
+  std::array<double, 3> alpha_pos{kPosition, kPosition, kPosition};        // per m^2
+  std::array<double, 3> alpha_vel{kVelocity, kVelocity, kVelocity};        // per (m/s)^2
+  double alpha_yaw = 1 / (kTypicalYaw * kTypicalYaw);                      // per rad^2
+  std::array<double, 4> alpha_action{kAction, kAction, kAction, kAction};  // per unit^2 about centre
   Controls centre{0, 0, 0, 0};
 
   // alpha = 1 / typical^2 for each term.
@@ -120,10 +130,11 @@ HoverReward hover_reward_for(const sysid::IdentifiedModel& model, const HoverTra
 
 struct HoverTrainingHooks {
   std::int64_t checkpoint_every = 1;  // optimizer iterations between checkpoints (0: none)
-  // Receives {"phase": 0 (gradient) or 1 (hill climbing), "optimizer": that optimizer's checkpoint (with its
-  // history), "gradient": the finished gradient phase (phase 1 only)}; write it atomically.
+  // Receives the training plan's checkpoints (optimizers/training.hpp: the stage, the finished stages and the
+  // running optimizer's checkpoint); write it atomically.
   CheckpointCallback on_checkpoint;
   std::optional<nlohmann::json> resume_from;  // a checkpoint from on_checkpoint: the run continues exactly
+  IterationCallbacks callbacks;               // told after every optimizer iteration (progress, early stops)
 };
 
 struct HoverTrainingResult {

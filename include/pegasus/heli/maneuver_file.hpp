@@ -37,7 +37,7 @@ ManeuverFileOptions maneuver_options_from_json(const nlohmann::json& j, const st
 
 PolicyFile maneuver_policy_file(const ManeuverFileOptions& options, const ManeuverPolicy& policy,
                                 std::span<const double> theta, const Controls& trim);
-// The registry's factory for "maneuver" (register_policy_class("maneuver", make_maneuver_controller)).
+// The factory of the built-in "maneuver" class of policy files (policy_file.cpp lists it).
 std::unique_ptr<HeliController> make_maneuver_controller(const PolicyFile& policy, const std::string& file);
 
 }  // namespace pegasus::heli

@@ -65,6 +65,8 @@ struct NloptOptions {
   CheckpointCallback on_checkpoint;
   // Replay the log in this checkpoint, then continue (see above). The starting theta is then ignored.
   std::optional<nlohmann::json> resume_from;
+  // Told after every iteration; one may stop the run early (run_progress.hpp). Not owned.
+  IterationCallbacks callbacks;
 
   // False, with "field: expected ..., got ..." in *error, when a field is out of range.
   bool IsValid(std::string* error) const;

@@ -44,6 +44,9 @@ struct OptimizerOptions {
   void SetCheckpointing(std::int64_t checkpoint_every, CheckpointCallback on_checkpoint,
                         std::optional<nlohmann::json> resume_from = std::nullopt);
 
+  // Sets the iteration callbacks of every method's options at once.
+  void SetCallbacks(const IterationCallbacks& callbacks);
+
   // False when `method` is unknown or the selected method's options are invalid; *error then names the
   // field with its prefix ("method", "gradient.max_step", "nlopt.population", ...).
   bool IsValid(std::string* error) const;

@@ -17,9 +17,10 @@ enum class TerminationType {
   kMaxEvaluations,  // the objective-evaluation limit was reached
   kSearchComplete,  // exhaustive search enumerated every policy
   kFailure,         // the method could not continue (non-finite derivative, NLopt failure)
+  kUserRequested,   // an IterationCallback asked to stop (an early stop; the best so far is the result)
 };
 
-// "CONVERGENCE", "MAX_ITERATIONS", "MAX_EVALUATIONS", "SEARCH_COMPLETE", "FAILURE".
+// "CONVERGENCE", "MAX_ITERATIONS", "MAX_EVALUATIONS", "SEARCH_COMPLETE", "FAILURE", "USER_REQUESTED".
 std::string_view TerminationTypeName(TerminationType type);
 
 // One row of the history, written at the end of every iteration.

@@ -29,6 +29,29 @@
 
 namespace pegasus {
 
+// What an IterationCallback is told at the end of every iteration of every optimizer (in the manner of
+// Ceres's IterationSummary): the method, the iteration's record and the best theta so far.
+struct IterationReport {
+  std::string_view method;
+  IterationRecord record;              // iteration, evaluations so far, best U-hat so far, seconds
+  std::span<const double> best_theta;  // valid during the call only
+};
+
+enum class CallbackReturnType {
+  kContinue,   // go on
+  kTerminate,  // stop after this iteration: TerminationType::kUserRequested, the best so far is the result
+};
+
+// Called after every iteration (progress bars, logs, early stops; Ceres's IterationCallback). It must not
+// change the objective; a run whose callbacks always continue is bit-identical to one without callbacks.
+class IterationCallback {
+ public:
+  virtual ~IterationCallback() = default;
+  virtual CallbackReturnType operator()(const IterationReport& report) = 0;
+};
+// Not owned: each must outlive the run.
+using IterationCallbacks = std::vector<IterationCallback*>;
+
 // Receives every checkpoint an optimizer writes. To survive a crash, write it atomically (to a temporary
 // file, then rename it over the old one).
 using CheckpointCallback = std::function<void(const nlohmann::json&)>;
@@ -74,7 +97,7 @@ bool ValidateCheckpointOptions(std::int64_t checkpoint_every, const CheckpointCa
 
 class RunProgress {
  public:
-  RunProgress(std::string method, const ParameterSpec& spec);
+  RunProgress(std::string method, const ParameterSpec& spec, IterationCallbacks callbacks = {});
 
   std::int64_t iterations() const { return iterations_; }
   std::int64_t evaluations() const { return evaluations_; }
@@ -88,9 +111,10 @@ class RunProgress {
   void AddEvaluations(std::int64_t count) { evaluations_ += count; }
   // Keeps theta as the best so far when IsImprovement(value, best); returns whether it did.
   bool Offer(std::span<const double> theta, double value);
-  // Counts a completed iteration and appends it to the history.
-  void EndIteration() { EndIteration(Seconds()); }
-  void EndIteration(double seconds);
+  // Counts a completed iteration, appends it to the history and tells the callbacks; false when one of them
+  // asked to stop (the optimizer then finishes with TerminationType::kUserRequested).
+  bool EndIteration() { return EndIteration(Seconds()); }
+  bool EndIteration(double seconds);
   // True when a checkpoint is due after the iteration just ended.
   bool CheckpointDue(std::int64_t checkpoint_every) const {
     return checkpoint_every > 0 && iterations_ > 0 && iterations_ % checkpoint_every == 0;
@@ -113,6 +137,7 @@ class RunProgress {
   const nlohmann::json& ResumeUnchecked(const nlohmann::json& checkpoint, bool restore_counters);
 
   std::string method_;
+  IterationCallbacks callbacks_;
   std::vector<std::string> parameter_names_;
   std::int64_t iterations_ = 0;
   std::int64_t evaluations_ = 0;

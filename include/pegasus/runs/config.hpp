@@ -29,6 +29,8 @@
 #include <variant>
 #include <vector>
 
+#include "pegasus/io/json_csv.hpp"
+
 namespace pegasus {
 
 enum class FieldType { kInt, kDouble, kBool, kString, kIntList, kDoubleList };
@@ -154,12 +156,5 @@ class ConfigSchema {
   std::vector<std::string> origins_;
   std::vector<Constraint> constraints_;
 };
-
-// Parses a double exactly as written (shortest round-trip text reads back to the same bits); nullopt if
-// `text` is not entirely a number.
-std::optional<double> parse_double(std::string_view text);
-std::optional<std::int64_t> parse_int(std::string_view text);
-// Shortest text that reads back to exactly `x` ("0.1", "1e-300", "inf").
-std::string format_double(double x);
 
 }  // namespace pegasus

@@ -27,8 +27,8 @@
 #include <optional>
 #include <string_view>
 
+#include "pegasus/io/json_csv.hpp"
 #include "pegasus/runs/config.hpp"
-#include "pegasus/runs/output.hpp"
 
 namespace pegasus {
 

@@ -1,4 +1,4 @@
-#include "pegasus/runs/atomic_file.hpp"
+#include "pegasus/io/atomic_file.hpp"
 
 #include <fcntl.h>
 #include <unistd.h>

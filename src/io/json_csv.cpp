@@ -1,11 +1,11 @@
-#include "pegasus/runs/output.hpp"
+#include "pegasus/io/json_csv.hpp"
 
 #include <fmt/format.h>
 
+#include <charconv>
 #include <stdexcept>
 
-#include "pegasus/runs/atomic_file.hpp"
-#include "pegasus/runs/config.hpp"
+#include "pegasus/io/atomic_file.hpp"
 
 namespace pegasus {
 
@@ -24,7 +24,36 @@ std::string csv_cell(const CsvCell& cell) {
   return csv_field(std::get<std::string>(cell));
 }
 
+std::string_view trim_blanks(std::string_view s) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
+  return s;
+}
+
 }  // namespace
+
+std::optional<double> parse_double(std::string_view text) {
+  text = trim_blanks(text);
+  if (!text.empty() && text.front() == '+') text.remove_prefix(1);
+  double x = 0;
+  auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), x);
+  if (ec != std::errc() || end != text.data() + text.size() || text.empty()) return std::nullopt;
+  return x;
+}
+
+std::optional<std::int64_t> parse_int(std::string_view text) {
+  text = trim_blanks(text);
+  if (!text.empty() && text.front() == '+') text.remove_prefix(1);
+  std::int64_t x = 0;
+  auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), x);
+  if (ec != std::errc() || end != text.data() + text.size() || text.empty()) return std::nullopt;
+  return x;
+}
+
+std::string format_double(double x) {
+  // fmt's default format is the shortest text that reads back to the same double.
+  return fmt::format("{}", x);
+}
 
 std::string json_text(const nlohmann::json& value) {
   // nlohmann writes doubles with the shortest text that reads back to the same value.

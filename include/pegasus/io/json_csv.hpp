@@ -10,12 +10,20 @@
 #include <cstdint>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <variant>
 #include <vector>
 
 namespace pegasus {
+
+// Parses a double exactly as written (shortest round-trip text reads back to the same bits); nullopt if
+// `text` is not entirely a number.
+std::optional<double> parse_double(std::string_view text);
+std::optional<std::int64_t> parse_int(std::string_view text);
+// Shortest text that reads back to exactly `x` ("0.1", "1e-300", "inf").
+std::string format_double(double x);
 
 // Pretty-printed JSON text with a final newline; doubles round-trip exactly.
 std::string json_text(const nlohmann::json& value);

@@ -1,0 +1,102 @@
+#pragma once
+// The training layer: a plan of optimizer stages run one after another, the best theta of each the start of
+// the next (thesis §5.3: gradient ascent, then random-walk hill climbing from its result), with
+//   - seeds derived per stage in one place (DeriveOptimizerSeeds), apart from the scenarios' streams;
+//   - one checkpoint schema for the whole plan (below), so a killed run resumes bit-identically in any stage;
+//   - one merged history: iterations, evaluations and seconds count on across stages;
+//   - iteration callbacks (run_progress.hpp's IterationCallback) for progress, logging and early stops.
+//
+//   TrainingPlan plan;
+//   plan.seed = run_seed;
+//   plan.stages = {{.name = "gradient", .optimizer = gradient_options},
+//                  {.name = "refine", .optimizer = hill_climbing_options}};
+//   TrainingSummary summary;
+//   Theta theta;                      // empty: the spec's initial values
+//   Train(plan, objective, &theta, &summary);
+//
+// Checkpoint (a JSON object, handed to plan.on_checkpoint after every checkpoint of a stage and at the end of
+// every stage but the last):
+//   format     "pegasus.training.checkpoint"
+//   version    1
+//   stage      index of the stage running (or about to run)
+//   finished   [SummaryToJson of each finished stage]
+//   optimizer  the running stage's optimizer checkpoint, or null at a stage boundary
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "pegasus/optimizers/optimizer.hpp"
+
+namespace pegasus {
+
+inline constexpr std::string_view kTrainingCheckpointFormat = "pegasus.training.checkpoint";
+inline constexpr int kTrainingCheckpointVersion = 1;
+
+// The seed domains of a stage's optimizers: each method that draws random numbers gets
+// mix_seed(run seed, its domain), so a stage's optimizer never shares a stream with the scenarios or with
+// another stage. The defaults are those every trainer has used for its first stage.
+struct SeedDomains {
+  std::uint32_t hill_climbing = 0x48696c6c;  // "Hill"
+  std::uint32_t nlopt = 0x4e4c6f70;          // "NLop"
+};
+// A refinement stage's domains ("RHll", "RNLo"): apart from the first stage's.
+inline constexpr SeedDomains kRefineSeedDomains{0x52486c6c, 0x524e4c6f};
+
+// Sets every random method's seed in *options from the run's seed and the stage's domains.
+void DeriveOptimizerSeeds(std::uint64_t run_seed, const SeedDomains& domains, OptimizerOptions* options);
+
+struct TrainingStage {
+  // Names the stage in reports and messages ("race", "refine"). Non-empty.
+  std::string name;
+  // The stage's optimizer (its seeds are set by Train from the plan's seed and `seeds`; its checkpointing by
+  // the plan). method "none" skips the stage.
+  OptimizerOptions optimizer;
+  SeedDomains seeds{};
+  // The stage's objective; null: the one passed to Train (a refinement may use more scenarios).
+  Objective* objective = nullptr;
+};
+
+struct TrainingPlan {
+  std::vector<TrainingStage> stages;
+  // The run's seed: the root of every stage's optimizer seeds.
+  std::uint64_t seed = 1;
+  // Optimizer iterations between checkpoints (0: none); every checkpoint goes to on_checkpoint.
+  std::int64_t checkpoint_every = 0;
+  CheckpointCallback on_checkpoint;
+  // A checkpoint from on_checkpoint: the plan continues exactly where it was.
+  std::optional<nlohmann::json> resume_from;
+  // Called after every iteration of every stage (not owned). A kTerminate ends the current stage with
+  // USER_REQUESTED and skips the stages after it.
+  IterationCallbacks callbacks;
+
+  // False, with "stages[k].<field>: expected ..." in *error, when the plan cannot run.
+  bool IsValid(std::string* error) const;
+};
+
+struct TrainingSummary {
+  // One per stage that ran, in order (skipped stages have none).
+  std::vector<OptimizerSummary> stages;
+  std::vector<std::string> stage_names;
+  // Merged: iterations, evaluations and seconds count on from the previous stage, and the value is the best
+  // so far over all stages.
+  std::vector<IterationRecord> history;
+  double initial_value = 0;  // the first stage's initial U-hat
+  double best_value = 0;     // the last stage's best U-hat
+  Theta best_theta;
+  bool stopped_by_callback = false;
+
+  std::string BriefReport() const;  // one line per stage
+};
+
+// Optimizer iterations done by the plan that wrote `checkpoint` (its finished stages and the running one):
+// where a progress bar of a resumed run starts. InputError when it is not a training checkpoint.
+std::int64_t TrainingCheckpointIterations(const nlohmann::json& checkpoint);
+
+// Runs the plan from *theta (empty: the spec's initial values); *theta becomes the last stage's best.
+// InputError for an invalid plan or a checkpoint that does not belong to it.
+void Train(const TrainingPlan& plan, Objective& objective, Theta* theta, TrainingSummary* summary);
+
+}  // namespace pegasus

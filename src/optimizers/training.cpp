@@ -1,0 +1,163 @@
+#include "pegasus/optimizers/training.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+
+#include "pegasus/core/error.hpp"
+#include "pegasus/evaluators/monte_carlo.hpp"
+
+namespace pegasus {
+namespace {
+
+using json = nlohmann::json;
+
+bool fail(std::string* error, std::string message) {
+  if (error != nullptr) *error = std::move(message);
+  return false;
+}
+
+json PlanCheckpoint(std::size_t stage, const json& finished, json optimizer) {
+  return json{{"format", kTrainingCheckpointFormat},
+              {"version", kTrainingCheckpointVersion},
+              {"stage", stage},
+              {"finished", finished},
+              {"optimizer", std::move(optimizer)}};
+}
+
+// Appends a stage's history to the merged one, counting on from the stages before it.
+void AppendHistory(const OptimizerSummary& stage, double seconds_before,
+                   std::vector<IterationRecord>* merged) {
+  const IterationRecord last = merged->empty() ? IterationRecord{} : merged->back();
+  const bool first = merged->empty();
+  for (IterationRecord r : stage.history) {
+    if (!first) {
+      r.iteration += last.iteration;
+      r.evaluations += last.evaluations;
+      r.seconds += seconds_before;
+      r.value = std::max(r.value, last.value);
+    }
+    merged->push_back(r);
+  }
+}
+
+}  // namespace
+
+void DeriveOptimizerSeeds(std::uint64_t run_seed, const SeedDomains& domains, OptimizerOptions* options) {
+  options->hill_climbing.seed = mix_seed(run_seed, domains.hill_climbing);
+  options->nlopt.seed = mix_seed(run_seed, domains.nlopt);
+}
+
+bool TrainingPlan::IsValid(std::string* error) const {
+  if (stages.empty()) return fail(error, "stages: expected at least one stage");
+  for (std::size_t k = 0; k < stages.size(); ++k) {
+    const TrainingStage& s = stages[k];
+    if (s.name.empty()) return fail(error, fmt::format("stages[{}].name: expected a non-empty name", k));
+    if (s.optimizer.method == "none") continue;
+    std::string inner;
+    if (!s.optimizer.IsValid(&inner)) return fail(error, fmt::format("stages[{}].optimizer.{}", k, inner));
+  }
+  if (checkpoint_every < 0)
+    return fail(error, fmt::format("checkpoint_every: expected an integer >= 0, got {}", checkpoint_every));
+  if (checkpoint_every > 0 && !on_checkpoint)
+    return fail(error, "on_checkpoint: expected a callback when checkpoint_every > 0");
+  for (const IterationCallback* c : callbacks)
+    if (c == nullptr) return fail(error, "callbacks: expected no null callback");
+  return true;
+}
+
+std::string TrainingSummary::BriefReport() const {
+  std::string out;
+  for (std::size_t k = 0; k < stages.size(); ++k)
+    out += fmt::format("{}{}: {}", k == 0 ? "" : "\n", stage_names[k], stages[k].BriefReport());
+  return out;
+}
+
+std::int64_t TrainingCheckpointIterations(const json& checkpoint) {
+  if (!checkpoint.is_object() || checkpoint.value("format", "") != kTrainingCheckpointFormat)
+    throw InputError(fmt::format("checkpoint: expected format \"{}\"", kTrainingCheckpointFormat));
+  std::int64_t done = 0;
+  for (const json& s : checkpoint.value("finished", json::array()))
+    done += s.value("iterations", std::int64_t{0});
+  const json optimizer = checkpoint.value("optimizer", json());
+  if (optimizer.is_object()) done += optimizer.value("iterations", std::int64_t{0});
+  return done;
+}
+
+void Train(const TrainingPlan& plan, Objective& objective, Theta* theta, TrainingSummary* summary) {
+  std::string error;
+  if (!plan.IsValid(&error)) throw InputError("training plan: " + error);
+  if (theta == nullptr || summary == nullptr)
+    throw InputError("training: theta and summary must be non-null");
+  *summary = TrainingSummary{};
+
+  std::size_t first_stage = 0;
+  json finished = json::array();
+  std::optional<json> resume;
+  if (plan.resume_from) {
+    const json& c = *plan.resume_from;
+    if (!c.is_object() || c.value("format", "") != kTrainingCheckpointFormat)
+      throw InputError(fmt::format("checkpoint: expected format \"{}\"", kTrainingCheckpointFormat));
+    if (c.value("version", 0) != kTrainingCheckpointVersion)
+      throw InputError(fmt::format("checkpoint: version: expected {}", kTrainingCheckpointVersion));
+    if (!c.contains("stage") || !c["stage"].is_number_unsigned() ||
+        c["stage"].get<std::size_t>() >= plan.stages.size())
+      throw InputError(fmt::format("checkpoint: stage: expected an index below {}", plan.stages.size()));
+    first_stage = c["stage"].get<std::size_t>();
+    if (!c.contains("finished") || !c["finished"].is_array() || c["finished"].size() > first_stage)
+      throw InputError("checkpoint: finished: expected the summaries of the stages before `stage`");
+    finished = c["finished"];
+    if (c.contains("optimizer") && !c["optimizer"].is_null()) resume = c["optimizer"];
+  }
+
+  // The stages already finished, from the checkpoint.
+  double seconds_before = 0;
+  std::size_t next_finished = 0;
+  for (std::size_t k = 0; k < first_stage; ++k) {
+    if (plan.stages[k].optimizer.method == "none") continue;
+    if (next_finished >= finished.size())
+      throw InputError(fmt::format("checkpoint: finished: expected a summary of stage {}", k));
+    OptimizerSummary s = SummaryFromJson(finished[next_finished++], fmt::format("finished[{}]", k));
+    AppendHistory(s, seconds_before, &summary->history);
+    seconds_before += s.wall_seconds;
+    *theta = s.best_theta;
+    summary->stage_names.push_back(plan.stages[k].name);
+    summary->stages.push_back(std::move(s));
+  }
+
+  for (std::size_t k = first_stage; k < plan.stages.size(); ++k) {
+    const TrainingStage& stage = plan.stages[k];
+    if (stage.optimizer.method == "none") continue;
+    OptimizerOptions options = stage.optimizer;
+    DeriveOptimizerSeeds(plan.seed, stage.seeds, &options);
+    if (plan.checkpoint_every > 0) {
+      options.SetCheckpointing(
+          plan.checkpoint_every,
+          [&plan, k, &finished](const json& c) { plan.on_checkpoint(PlanCheckpoint(k, finished, c)); },
+          k == first_stage ? resume : std::nullopt);
+    }
+    options.SetCallbacks(plan.callbacks);
+    OptimizerSummary s;
+    Solve(options, stage.objective != nullptr ? *stage.objective : objective, theta, &s);
+    *theta = s.best_theta;
+    const bool stopped = s.termination_type == TerminationType::kUserRequested;
+    AppendHistory(s, seconds_before, &summary->history);
+    seconds_before += s.wall_seconds;
+    finished.push_back(SummaryToJson(s));
+    summary->stage_names.push_back(stage.name);
+    summary->stages.push_back(std::move(s));
+    if (stopped) {
+      summary->stopped_by_callback = true;
+      break;
+    }
+    // A stage boundary is a checkpoint: a kill now resumes at the next stage, not in this one.
+    if (plan.checkpoint_every > 0 && k + 1 < plan.stages.size())
+      plan.on_checkpoint(PlanCheckpoint(k + 1, finished, nullptr));
+  }
+  if (summary->stages.empty()) throw InputError("training plan: every stage has method \"none\"");
+  summary->initial_value = summary->stages.front().initial_value;
+  summary->best_value = summary->stages.back().best_value;
+  summary->best_theta = summary->stages.back().best_theta;
+}
+
+}  // namespace pegasus

@@ -1,0 +1,199 @@
+// The training layer: stages chain their best thetas, histories merge, seeds come from one place, a plan
+// killed after any checkpoint resumes bit-identically, and an iteration callback stops a run early.
+#include "pegasus/optimizers/training.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "pegasus/core/error.hpp"
+#include "pegasus/optimizers/test_problems.hpp"
+#include "pegasus/evaluators/monte_carlo.hpp"
+
+namespace pegasus {
+namespace {
+
+using nlohmann::json;
+using ::testing::HasSubstr;
+
+ParameterSpec Box(std::size_t n) {
+  std::vector<Parameter> p;
+  for (std::size_t i = 0; i < n; ++i)
+    p.push_back({.name = "x" + std::to_string(i), .initial = -1.2, .lower = -3, .upper = 3, .scale = 1});
+  return ParameterSpec(std::move(p));
+}
+
+// Gradient ascent, then hill climbing from its result: the hover's plan (thesis §5.3).
+TrainingPlan GradientThenHillClimb() {
+  TrainingPlan plan;
+  plan.seed = 11;
+  OptimizerOptions g;
+  g.method = "gradient";
+  g.gradient.max_iterations = 6;
+  OptimizerOptions h;
+  h.method = "hill-climb";
+  h.hill_climbing.max_iterations = 7;
+  h.hill_climbing.proposals_per_iteration = 3;
+  plan.stages = {{.name = "gradient", .optimizer = g},
+                 {.name = "refine", .optimizer = h, .seeds = kRefineSeedDomains}};
+  return plan;
+}
+
+TEST(Training, EachStageStartsFromTheBestOfTheOneBefore) {
+  auto objective = NegatedRosenbrock(Box(3));
+  TrainingPlan plan = GradientThenHillClimb();
+  Theta theta;
+  TrainingSummary summary;
+  Train(plan, objective, &theta, &summary);
+  ASSERT_EQ(summary.stages.size(), 2u);
+  EXPECT_EQ(summary.stage_names, (std::vector<std::string>{"gradient", "refine"}));
+  // The second stage's first evaluation is the first stage's best theta.
+  EXPECT_EQ(summary.stages[1].initial_value, summary.stages[0].best_value);
+  EXPECT_GE(summary.best_value, summary.stages[0].best_value);
+  EXPECT_EQ(theta, summary.stages[1].best_theta);
+  EXPECT_EQ(summary.initial_value, objective.evaluate(std::vector<double>(3, -1.2)));
+}
+
+TEST(Training, HistoryCountsOnAcrossStages) {
+  auto objective = NegatedRosenbrock(Box(3));
+  Theta theta;
+  TrainingSummary summary;
+  Train(GradientThenHillClimb(), objective, &theta, &summary);
+  const auto& first = summary.stages[0];
+  const auto& second = summary.stages[1];
+  ASSERT_EQ(summary.history.size(), first.history.size() + second.history.size());
+  const IterationRecord& boundary = first.history.back();
+  for (std::size_t i = 0; i < second.history.size(); ++i) {
+    const IterationRecord& merged = summary.history[first.history.size() + i];
+    EXPECT_EQ(merged.iteration, boundary.iteration + second.history[i].iteration);
+    EXPECT_EQ(merged.evaluations, boundary.evaluations + second.history[i].evaluations);
+    EXPECT_EQ(merged.value, std::max(second.history[i].value, boundary.value));
+  }
+}
+
+TEST(Training, SeedsComeFromTheRunSeedAndTheStagesDomains) {
+  OptimizerOptions o;
+  DeriveOptimizerSeeds(5, SeedDomains{}, &o);
+  EXPECT_EQ(o.hill_climbing.seed, mix_seed(5, 0x48696c6c));
+  EXPECT_EQ(o.nlopt.seed, mix_seed(5, 0x4e4c6f70));
+  DeriveOptimizerSeeds(5, kRefineSeedDomains, &o);
+  EXPECT_EQ(o.hill_climbing.seed, mix_seed(5, 0x52486c6c));
+  // Another run seed gives another hill-climbing run; the same seed the same bits.
+  auto objective = NegatedRastrigin(Box(2));
+  auto run = [&](std::uint64_t seed) {
+    TrainingPlan plan = GradientThenHillClimb();
+    plan.stages.erase(plan.stages.begin());
+    plan.seed = seed;
+    Theta theta;
+    TrainingSummary s;
+    Train(plan, objective, &theta, &s);
+    return s.stages[0];
+  };
+  EXPECT_TRUE(SameOutcome(run(3), run(3)));
+  EXPECT_FALSE(SameOutcome(run(3), run(4)));
+}
+
+TEST(Training, ResumingFromAnyCheckpointEndsBitIdentically) {
+  auto objective = NegatedRosenbrock(Box(3));
+  std::vector<json> checkpoints;
+  TrainingPlan plan = GradientThenHillClimb();
+  plan.checkpoint_every = 1;
+  plan.on_checkpoint = [&](const json& c) { checkpoints.push_back(c); };
+  Theta theta;
+  TrainingSummary whole;
+  Train(plan, objective, &theta, &whole);
+  // One per iteration of each stage, plus the stage boundary.
+  ASSERT_EQ(checkpoints.size(),
+            static_cast<std::size_t>(whole.stages[0].iterations + whole.stages[1].iterations + 1));
+  for (std::size_t c = 0; c < checkpoints.size(); ++c) {
+    TrainingPlan resumed = GradientThenHillClimb();
+    resumed.checkpoint_every = 1;
+    resumed.on_checkpoint = [](const json&) {};
+    resumed.resume_from = json::parse(checkpoints[c].dump());  // through text, as from a file
+    Theta t;
+    TrainingSummary s;
+    Train(resumed, objective, &t, &s);
+    ASSERT_EQ(s.stages.size(), 2u) << "checkpoint " << c;
+    for (std::size_t k = 0; k < 2; ++k) {
+      std::string difference;
+      EXPECT_TRUE(SameOutcome(s.stages[k], whole.stages[k], &difference))
+          << "checkpoint " << c << ", stage " << k << ": " << difference;
+    }
+    EXPECT_EQ(t, theta);
+    ASSERT_EQ(s.history.size(), whole.history.size());
+    for (std::size_t i = 0; i < s.history.size(); ++i) {
+      EXPECT_EQ(s.history[i].iteration, whole.history[i].iteration);
+      EXPECT_EQ(s.history[i].value, whole.history[i].value);
+    }
+  }
+}
+
+class StopAfter final : public IterationCallback {
+ public:
+  explicit StopAfter(std::int64_t iterations) : iterations_(iterations) {}
+  CallbackReturnType operator()(const IterationReport& report) override {
+    seen.push_back(report.record.iteration);
+    return report.record.iteration >= iterations_ ? CallbackReturnType::kTerminate
+                                                  : CallbackReturnType::kContinue;
+  }
+  std::vector<std::int64_t> seen;
+
+ private:
+  std::int64_t iterations_;
+};
+
+TEST(Training, AnIterationCallbackStopsTheRunEarly) {
+  auto objective = NegatedRosenbrock(Box(3));
+  TrainingPlan plan = GradientThenHillClimb();
+  StopAfter stop(2);
+  plan.callbacks = {&stop};
+  Theta theta;
+  TrainingSummary summary;
+  Train(plan, objective, &theta, &summary);
+  ASSERT_EQ(summary.stages.size(), 1u);  // the refinement never ran
+  EXPECT_TRUE(summary.stopped_by_callback);
+  EXPECT_EQ(summary.stages[0].iterations, 2);
+  EXPECT_EQ(summary.stages[0].termination_type, TerminationType::kUserRequested);
+  EXPECT_EQ(stop.seen, (std::vector<std::int64_t>{1, 2}));
+}
+
+TEST(Training, EveryMethodTellsItsCallbacksEachIteration) {
+  auto objective = ConcaveQuadratic(Box(2), {0.5, -0.5}, {1, 2});
+  for (const char* method : {"gradient", "hill-climb", "bobyqa", "sbplx"}) {
+    OptimizerOptions o;
+    o.method = method;
+    o.gradient.max_iterations = 4;
+    o.hill_climbing.max_iterations = 4;
+    o.nlopt.max_evaluations = 4;
+    StopAfter never(1000);
+    o.SetCallbacks({&never});
+    Theta theta;
+    OptimizerSummary s;
+    Solve(o, objective, &theta, &s);
+    ASSERT_EQ(never.seen.size(), static_cast<std::size_t>(s.iterations)) << method;
+    for (std::size_t i = 0; i < never.seen.size(); ++i)
+      EXPECT_EQ(never.seen[i], static_cast<std::int64_t>(i + 1));
+  }
+}
+
+TEST(Training, AnInvalidPlanNamesTheStageAndField) {
+  auto objective = NegatedRosenbrock(Box(2));
+  TrainingPlan plan = GradientThenHillClimb();
+  plan.stages[1].optimizer.hill_climbing.initial_step = -1;
+  std::string error;
+  EXPECT_FALSE(plan.IsValid(&error));
+  EXPECT_THAT(error, HasSubstr("stages[1].optimizer.hill_climbing.initial_step"));
+  Theta theta;
+  TrainingSummary summary;
+  EXPECT_THROW(Train(plan, objective, &theta, &summary), InputError);
+  TrainingPlan bad = GradientThenHillClimb();
+  bad.resume_from = json{{"format", "pegasus.training.checkpoint"}, {"version", 1}, {"stage", 7}};
+  try {
+    Train(bad, objective, &theta, &summary);
+    FAIL() << "a checkpoint of another plan was accepted";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("stage"));
+  }
+}
+
+}  // namespace
+}  // namespace pegasus
