@@ -343,6 +343,10 @@ TEST_F(CPolicyExport, BadPolicyFilesAreOneLineNamingTheFieldOrByte) {
               export_c_policy(pendulum_policy_json({1, 2, 3, 4, 5}), "p.json", {.prefix = "9lives"});
             }),
             "prefix: expected a C identifier (letters, digits, _), got \"9lives\"");
+  nlohmann::json four = pendulum_policy_json({1, 2, 3, 4, 5});
+  four["parameters"].erase("stabilise.rate");
+  EXPECT_EQ(input_error_message([&] { export_c_policy(four, "p.json"); }),
+            "p.json: field 'parameters.stabilise.rate': missing");
   std::ofstream(dir_ / "broken.json") << "{\"policy\": ";
   EXPECT_EQ(input_error_message([&] { export_c_policy_file(dir_ / "broken.json"); }),
             (dir_ / "broken.json").string() + ": not JSON (byte 12): expected a policy file");
@@ -387,6 +391,62 @@ int main(void) {
   EXPECT_TRUE(same_bits(std::strtod(hex, nullptr),
                         PendulumSwingUpPolicy().act(theta, PendulumObservation{-1.0, 0.0, 0.5})))
       << built.output;
+}
+
+// What a flight computer sees: the same state lines through `pegasus heli control` and through a program
+// built on the exported hover controller give the same controls, bit for bit.
+TEST_F(CPolicyExport, ExportedHoverAnswersHeliControlLinesWithHeliControlsBits) {
+  const heli::PolicyFile file = hover_file(11, 1.0, {1.0, 2.0, -10.0, 0.3});
+  heli::write_policy_file(dir_ / "hover.json", file);
+  const auto out = dir_ / "c";
+  const auto exported = test_support::run_pegasus(
+      fmt::format("export --policy {} --out {}", (dir_ / "hover.json").string(), out.string()));
+  ASSERT_EQ(exported.code, 0) << exported.output;
+  std::ofstream(out / "main.c") << R"(#include "pegasus_policy.h"
+#include <stdio.h>
+int main(void) {
+  double o[PEGASUS_POLICY_OBSERVATION_SIZE], a[PEGASUS_POLICY_ACTION_SIZE];
+  for (;;) {
+    int i;
+    for (i = 0; i < PEGASUS_POLICY_OBSERVATION_SIZE; ++i)
+      if (scanf(i ? " ,%lf" : "%lf", &o[i]) != 1) return 0;
+    pegasus_policy_act(o, a);
+    printf("%a,%a,%a,%a\n", a[0], a[1], a[2], a[3]);
+  }
+}
+)";
+  std::mt19937_64 rng(12);
+  std::string lines;
+  for (int i = 0; i < 500; ++i) {
+    const LoggedState s = random_state(rng, file.target);
+    lines += fmt::format("{}", 0.02 * i);
+    for (const double x : s) lines += fmt::format(",{}", x);
+    lines += "\n";
+  }
+  std::ofstream(dir_ / "states.csv") << lines;
+  const auto flight_computer = test_support::run_shell(
+      fmt::format("cd {} && gcc {} main.c pegasus_policy.c -o main -lm && ./main < {}", out.string(), kCFlags,
+                  (dir_ / "states.csv").string()));
+  ASSERT_EQ(flight_computer.code, 0) << flight_computer.output;
+  const auto served = test_support::run_pegasus(fmt::format(
+      "heli control --policy {} < {}", (dir_ / "hover.json").string(), (dir_ / "states.csv").string()));
+  ASSERT_EQ(served.code, 0) << served.output;
+  auto numbers = [](const std::string& text) {
+    std::vector<double> v;
+    std::string field;
+    for (const char ch : text + "\n")
+      if (ch == ',' || ch == '\n') {
+        if (!field.empty()) v.push_back(std::strtod(field.c_str(), nullptr));
+        field.clear();
+      } else {
+        field += ch;
+      }
+    return v;
+  };
+  const std::vector<double> c = numbers(flight_computer.output), cpp = numbers(served.output);
+  ASSERT_EQ(c.size(), 2000u);
+  ASSERT_EQ(cpp.size(), 2000u);
+  for (std::size_t i = 0; i < c.size(); ++i) ASSERT_TRUE(same_bits(c[i], cpp[i])) << "line " << i / 4 + 1;
 }
 
 TEST_F(CPolicyExport, CommandRejectsBadInputWithOneLineExit2AndNoOutputDirectory) {
