@@ -73,17 +73,23 @@ heli::PolicyFile hover_file(std::uint64_t seed, double spread, const heli::SetPo
                                  kTrimmedInit.trim);
 }
 
-heli::PolicyFile maneuver_file(const std::string& name, std::uint64_t seed, double spread = 0.5) {
+// A manoeuvre file; `ablated` drops the learned delay and the feed-forward, as the ablations of heli
+// maneuver.
+heli::PolicyFile maneuver_file(const std::string& name, std::uint64_t seed, double spread = 0.5,
+                               bool ablated = false) {
   heli::ManeuverFileOptions options;
   options.name = name;
+  options.policy.learn_delay = options.policy.feedforward = !ablated;
   auto trajectory = std::make_shared<const heli::Trajectory>(heli::maneuver_trajectory(name));
   const heli::ManeuverPolicy policy(trajectory, kTrimmedInit, options.policy);
   std::mt19937_64 rng(seed);
   Theta theta = policy.from_hover(perturbed_hover_theta(heli::HoverPolicy(kTrimmedInit), rng, spread));
   theta[heli::ManeuverPolicy::kTailToLat] = 0.2;
   theta[heli::ManeuverPolicy::kCollToTail] = -0.3;
-  theta[heli::ManeuverPolicy::kHover + 2] = 0.7;  // z_delay, s
-  theta[heli::ManeuverPolicy::kHover + 3] = 0.9;  // feedforward
+  if (!ablated) {
+    theta[heli::ManeuverPolicy::kHover + 2] = 0.7;  // z_delay, s
+    theta[heli::ManeuverPolicy::kHover + 3] = 0.9;  // feedforward
+  }
   return heli::maneuver_policy_file(options, policy, theta, kTrimmedInit.trim);
 }
 
@@ -187,6 +193,11 @@ TEST_F(CPolicyExport, ManeuversAreBitIdenticalToTheCppPolicyOn100000StatesAndTim
     const double duration = heli::maneuver_trajectory(name).duration();
     expect_heli_bit_identical(file, c, duration + 2.0, 4);
   }
+  // Without the learned delay and the feed-forward (the other branches of the set point).
+  const heli::PolicyFile ablated = maneuver_file("III.1", 3, 0.5, true);
+  EXPECT_EQ(ablated.names.size(), 36u);
+  const LoadedCPolicy c(export_c_policy(heli::policy_file_json(ablated), "ablated.json"), dir_ / "ablated");
+  expect_heli_bit_identical(ablated, c, heli::maneuver_trajectory("III.1").duration() + 2.0, 5);
 }
 
 TEST_F(CPolicyExport, HeliNonFiniteObservationGetsTheTrimAsHeliControlAnswers) {
