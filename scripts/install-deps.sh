@@ -14,6 +14,8 @@ packages=(
   libopenmpi-dev openmpi-bin
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev python3
+  # the C compiler that builds exported controllers (pegasus export) in tests/export and the export benchmark
+  gcc
   # the HTML report's browser test
   chromium
 )

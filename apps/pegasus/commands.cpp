@@ -125,10 +125,7 @@ std::vector<CommandGroup> command_groups() {
 
 std::vector<Command> commands() {
   std::vector<Command> all = {
-      pomdp_gridworld_command(),
-      horizon_command(),
-      dev_count_command(),
-      report_command(),
+      pomdp_gridworld_command(), horizon_command(), dev_count_command(), report_command(), export_command(),
   };
   for (auto& command : bicycle_commands()) all.push_back(std::move(command));
   for (auto& command : heli_commands()) all.push_back(std::move(command));

@@ -12,5 +12,6 @@ std::vector<Command> pendulum_commands();       // pendulum train (Pendulum-v1, 
 Command shaping_audit_command();
 std::vector<Command> shaping_commands();  // shaping audit, gridworld, flags, progress-bonus
 Command report_command();                 // report RUN_DIR (report_command.cpp)
+Command export_command();                 // export --policy P.json --lang c (export_command.cpp)
 
 }  // namespace pegasus::cli

@@ -102,7 +102,7 @@ PolicyFile maneuver_policy_file(const ManeuverFileOptions& options, const Maneuv
   return p;
 }
 
-std::unique_ptr<HeliController> make_maneuver_controller(const PolicyFile& policy, const std::string& file) {
+CheckedManeuverPolicy checked_maneuver_policy(const PolicyFile& policy, const std::string& file) {
   ManeuverFileOptions o = maneuver_options_from_json(policy.options, file);
   if (policy.target.yaw != 0)
     throw InputError(file + ": target.yaw: expected 0 for a manoeuvre (flown nose north)");
@@ -114,7 +114,12 @@ std::unique_ptr<HeliController> make_maneuver_controller(const PolicyFile& polic
   init.trim = policy.trim;
   ManeuverPolicy p(std::move(trajectory), init, o.policy);
   Theta theta = checked_parameters(policy, p.parameters(), file);
-  return std::make_unique<ManeuverController>(std::move(p), std::move(theta));
+  return {std::move(p), std::move(theta)};
+}
+
+std::unique_ptr<HeliController> make_maneuver_controller(const PolicyFile& policy, const std::string& file) {
+  CheckedManeuverPolicy checked = checked_maneuver_policy(policy, file);
+  return std::make_unique<ManeuverController>(std::move(checked.policy), std::move(checked.theta));
 }
 
 }  // namespace pegasus::heli

@@ -106,5 +106,8 @@ std::vector<double> pendulum_episode_returns(const Theta& theta, int episodes, s
 
 // {"policy": "pendulum-swing-up", "parameters": {"swing.gain": ..., ...}}: all seven numbers.
 nlohmann::json pendulum_policy_json(const Theta& theta);
+// The theta of such a file: all seven numbers, or the first five (the class without lead and skew, which
+// act() reads as 0). InputError "SOURCE: field 'F': ..." naming the first bad field.
+Theta pendulum_policy_from_json(const nlohmann::json& j, const std::string& source);
 
 }  // namespace pegasus

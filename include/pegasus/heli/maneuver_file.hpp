@@ -37,6 +37,13 @@ ManeuverFileOptions maneuver_options_from_json(const nlohmann::json& j, const st
 
 PolicyFile maneuver_policy_file(const ManeuverFileOptions& options, const ManeuverPolicy& policy,
                                 std::span<const double> theta, const Controls& trim);
+// The manoeuvre policy of a "maneuver" file (its trajectory from the options and target) and its checked
+// weights; InputError "FILE: FIELD: ..." as make_maneuver_controller.
+struct CheckedManeuverPolicy {
+  ManeuverPolicy policy;
+  Theta theta;
+};
+CheckedManeuverPolicy checked_maneuver_policy(const PolicyFile& policy, const std::string& file);
 // The factory of the built-in "maneuver" class of policy files (policy_file.cpp lists it).
 std::unique_ptr<HeliController> make_maneuver_controller(const PolicyFile& policy, const std::string& file);
 

@@ -1,0 +1,59 @@
+// pegasus export --policy P.json --lang c --out DIR: a policy file becomes a dependency-free C99 header and
+// source for a flight computer (include/pegasus/codegen/c_policy.hpp: the classes, the API, the guarantee).
+#include <fmt/format.h>
+
+#include <ostream>
+
+#include "command.hpp"
+#include "experiment_commands.hpp"
+#include "pegasus/codegen/c_policy.hpp"
+#include "pegasus/core/error.hpp"
+
+namespace pegasus::cli {
+
+Command export_command() {
+  return {
+      .path = "export",
+      .description =
+          "Write a policy file as a dependency-free C99 controller (PREFIX.h, PREFIX.c), bit-identical "
+          "to the C++ policy",
+      .declare =
+          [](ConfigSchema& s) {
+            s.add_string(
+                "policy", "",
+                "policy file: policy.json of heli hover, heli maneuver, bicycle train or pendulum train");
+            s.add_string("lang", "c", "language of the generated code").choices({"c"});
+            s.add_string("prefix", "pegasus_policy", "file name and symbol prefix of the generated code");
+          },
+      .run =
+          [](RunContext& ctx) {
+            const std::string& policy = ctx.config.get_string("policy");
+            if (policy.empty()) throw InputError("--policy: expected a policy file");
+            const codegen::CPolicyOptions options{.prefix = ctx.config.get_string("prefix")};
+            std::string error;
+            if (!options.IsValid(&error)) throw InputError("--" + error);
+            const codegen::CPolicyCode code = codegen::export_c_policy_file(policy, options);
+            RunDirectory& dir = ctx.run_directory();
+            dir.write_text(code.header_name, code.header);
+            dir.write_text(code.source_name, code.source);
+            dir.write_json("summary.json",
+                           {{"class", code.class_name},
+                            {"lang", "c"},
+                            {"header_file", code.header_name},
+                            {"source_file", code.source_name},
+                            {"act_function", options.prefix + "_act"},
+                            {"target_function", code.has_target ? nlohmann::json(options.prefix + "_target")
+                                                                : nlohmann::json(nullptr)},
+                            {"observation_size", code.observation_names.size()},
+                            {"action_size", code.action_names.size()},
+                            {"observation_names", code.observation_names},
+                            {"action_names", code.action_names}});
+            ctx.out << fmt::format("class {}: {} observations -> {} actions\n", code.class_name,
+                                   code.observation_names.size(), code.action_names.size());
+            ctx.out << fmt::format("header: {}\nsource: {}\n", (dir.final_path() / code.header_name).string(),
+                                   (dir.final_path() / code.source_name).string());
+          },
+  };
+}
+
+}  // namespace pegasus::cli

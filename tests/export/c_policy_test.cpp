@@ -1,0 +1,487 @@
+// Controllers out (codegen/c_policy.hpp): the generated C compiles with gcc -std=c99 -Wall -Wextra -Werror
+// -pedantic, and its outputs equal the C++ policy's bit for bit on 100,000 inputs per class and inside the
+// ground-truth flight loop.
+#include "pegasus/codegen/c_policy.hpp"
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <numbers>
+#include <random>
+
+#include "pegasus/codegen/c_loader.hpp"
+#include "pegasus/envs/bicycle_policy.hpp"
+#include "pegasus/envs/pendulum_policy.hpp"
+#include "pegasus/experiments/bicycle_experiment.hpp"
+#include "pegasus/experiments/pendulum_experiment.hpp"
+#include "pegasus/heli/flights.hpp"
+#include "pegasus/heli/maneuver_file.hpp"
+#include "pegasus/heli/policy_file.hpp"
+#include "support/cli_runner.hpp"
+#include "support/input_error.hpp"
+
+namespace pegasus::codegen {
+namespace {
+
+using heli::Controls;
+using heli::LoggedState;
+using test_support::TempDirTest;
+
+constexpr int kInputs = 100000;
+
+bool same_bits(double a, double b) {
+  return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
+}
+
+// Counts the inputs where the C action differs in any bit from the C++ one; `report` describes the first.
+struct Mismatches {
+  int count = 0;
+  std::string first;
+  template <std::size_t N>
+  void check(const std::array<double, N>& cpp, const double* c, const std::string& where) {
+    for (std::size_t k = 0; k < N; ++k)
+      if (!same_bits(cpp[k], c[k])) {
+        if (count++ == 0) first = fmt::format("{}: output {}: C++ {:a}, C {:a}", where, k, cpp[k], c[k]);
+        return;
+      }
+  }
+};
+
+// A hover theta away from the linear start: every tanh path carries weight.
+Theta perturbed_hover_theta(const heli::HoverPolicy& policy, std::mt19937_64& rng, double spread) {
+  std::normal_distribution<double> normal;
+  Theta theta = policy.parameters().initial();
+  for (std::size_t i = 0; i < theta.size(); ++i) {
+    const Parameter& p = policy.parameters()[i];
+    theta[i] = std::clamp(theta[i] + spread * p.scale * normal(rng), p.lower, p.upper);
+  }
+  return theta;
+}
+
+const heli::HoverPolicyInit kTrimmedInit{.trim = {0.0, 0.036, 0.184, 0.194}};
+
+heli::PolicyFile hover_file(std::uint64_t seed, double spread, const heli::SetPoint& target) {
+  std::mt19937_64 rng(seed);
+  const heli::HoverPolicy policy(kTrimmedInit);
+  return heli::hover_policy_file(policy, perturbed_hover_theta(policy, rng, spread), target,
+                                 kTrimmedInit.trim);
+}
+
+// A manoeuvre file; `ablated` drops the learned delay and the feed-forward, as the ablations of heli
+// maneuver.
+heli::PolicyFile maneuver_file(const std::string& name, std::uint64_t seed, double spread = 0.5,
+                               bool ablated = false) {
+  heli::ManeuverFileOptions options;
+  options.name = name;
+  options.policy.learn_delay = options.policy.feedforward = !ablated;
+  auto trajectory = std::make_shared<const heli::Trajectory>(heli::maneuver_trajectory(name));
+  const heli::ManeuverPolicy policy(trajectory, kTrimmedInit, options.policy);
+  std::mt19937_64 rng(seed);
+  Theta theta = policy.from_hover(perturbed_hover_theta(heli::HoverPolicy(kTrimmedInit), rng, spread));
+  theta[heli::ManeuverPolicy::kTailToLat] = 0.2;
+  theta[heli::ManeuverPolicy::kCollToTail] = -0.3;
+  if (!ablated) {
+    theta[heli::ManeuverPolicy::kHover + 2] = 0.7;  // z_delay, s
+    theta[heli::ManeuverPolicy::kHover + 3] = 0.9;  // feedforward
+  }
+  return heli::maneuver_policy_file(options, policy, theta, kTrimmedInit.trim);
+}
+
+// Random helicopter states around `around` (m), wide enough to clip, wrap the yaw and turn the body.
+LoggedState random_state(std::mt19937_64& rng, const heli::SetPoint& around) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  return {around.x + 15 * u(rng),
+          around.y + 15 * u(rng),
+          around.z + 15 * u(rng),
+          1.5 * u(rng),
+          1.2 * u(rng),
+          5.0 * u(rng),
+          6 * u(rng),
+          6 * u(rng),
+          6 * u(rng),
+          3 * u(rng),
+          3 * u(rng),
+          3 * u(rng)};
+}
+
+// C and C++ helicopter controllers on kInputs (time, state) pairs; returns how many actions were clipped.
+int expect_heli_bit_identical(const heli::PolicyFile& file, const LoadedCPolicy& c, double max_time,
+                              std::uint64_t seed) {
+  const auto cpp = heli::make_controller(file, "policy.json");
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> time(-1.0, max_time);
+  Mismatches actions, targets;
+  int clipped = 0;
+  for (int i = 0; i < kInputs; ++i) {
+    const double t = time(rng);
+    const heli::SetPoint sp = cpp->target(t);
+    const LoggedState s = random_state(rng, sp);
+    std::array<double, 13> observation;
+    observation[0] = t;
+    std::copy(s.begin(), s.end(), observation.begin() + 1);
+    double action[4], target[4];
+    EXPECT_EQ(c.act()(observation.data(), action), 0);
+    const Controls a = cpp->act(s, t);
+    actions.check(a, action, fmt::format("input {} (t = {})", i, t));
+    c.target()(t, target);
+    targets.check(std::array<double, 4>{sp.x, sp.y, sp.z, sp.yaw}, target,
+                  fmt::format("target at t = {}", t));
+    clipped += std::abs(a[0]) == 1 || std::abs(a[1]) == 1 || std::abs(a[2]) == 1 || std::abs(a[3]) == 1;
+  }
+  EXPECT_EQ(actions.count, 0) << actions.first;
+  EXPECT_EQ(targets.count, 0) << targets.first;
+  return clipped;
+}
+
+class CPolicyExport : public TempDirTest {
+ protected:
+  void SetUp() override {
+    TempDirTest::SetUp();
+    // As the CLI does (heli_maneuver_command.cpp), so that make_controller knows the manoeuvre class.
+    heli::register_policy_class("maneuver", heli::make_maneuver_controller);
+  }
+};
+
+TEST_F(CPolicyExport, HoverIsBitIdenticalToTheCppPolicyOn100000States) {
+  const heli::PolicyFile file = hover_file(1, 1.0, {3.0, -2.0, -12.0, 0.7});
+  const CPolicyCode code = export_c_policy(heli::policy_file_json(file), "hover.json");
+  EXPECT_EQ(code.class_name, "hover");
+  const LoadedCPolicy c(code, dir_);
+  const int clipped = expect_heli_bit_identical(file, c, 60.0, 2);
+  // Both sides of the clip are exercised.
+  EXPECT_GT(clipped, kInputs / 20);
+  EXPECT_LT(clipped, kInputs);
+}
+
+TEST_F(CPolicyExport, TheComparisonSeesOneReorderedSum) {
+  // The same code with row 2 of the body-frame rotation summed left to right, as a careless transcription
+  // would: the comparison must tell (Eigen sums that row as a0 + (a1 + a2)).
+  const heli::PolicyFile file = hover_file(1, 1.0, {3.0, -2.0, -12.0, 0.7});
+  CPolicyCode code = export_c_policy(heli::policy_file_json(file), "hover.json");
+  const std::string exact = "r02 * dx + (r12 * dy + r22 * dz)";
+  ASSERT_NE(code.source.find(exact), std::string::npos);
+  code.source.replace(code.source.find(exact), exact.size(), "r02 * dx + r12 * dy + r22 * dz");
+  const LoadedCPolicy c(code, dir_);
+  const auto cpp = heli::make_controller(file, "hover.json");
+  std::mt19937_64 rng(2);
+  int differ = 0;
+  for (int i = 0; i < 10000; ++i) {
+    const LoggedState s = random_state(rng, file.target);
+    std::array<double, 13> observation{};
+    std::copy(s.begin(), s.end(), observation.begin() + 1);
+    double action[4];
+    c.act()(observation.data(), action);
+    const Controls a = cpp->act(s, 0.0);
+    differ += !std::equal(a.begin(), a.end(), action, same_bits);
+  }
+  EXPECT_GT(differ, 100);
+}
+
+TEST_F(CPolicyExport, ManeuversAreBitIdenticalToTheCppPolicyOn100000StatesAndTimes) {
+  for (const auto name : heli::kManeuverNames) {
+    SCOPED_TRACE(std::string(name));
+    const heli::PolicyFile file = maneuver_file(std::string(name), 3);
+    const CPolicyCode code = export_c_policy(heli::policy_file_json(file), "maneuver.json");
+    EXPECT_EQ(code.class_name, "maneuver");
+    const LoadedCPolicy c(code, dir_ / std::string(name));
+    const double duration = heli::maneuver_trajectory(name).duration();
+    expect_heli_bit_identical(file, c, duration + 2.0, 4);
+  }
+  // Without the learned delay and the feed-forward (the other branches of the set point).
+  const heli::PolicyFile ablated = maneuver_file("III.1", 3, 0.5, true);
+  EXPECT_EQ(ablated.names.size(), 36u);
+  const LoadedCPolicy c(export_c_policy(heli::policy_file_json(ablated), "ablated.json"), dir_ / "ablated");
+  expect_heli_bit_identical(ablated, c, heli::maneuver_trajectory("III.1").duration() + 2.0, 5);
+}
+
+TEST_F(CPolicyExport, HeliNonFiniteObservationGetsTheTrimAsHeliControlAnswers) {
+  const heli::PolicyFile file = hover_file(1, 1.0, {0, 0, -10, 0});
+  const LoadedCPolicy c(export_c_policy(heli::policy_file_json(file), "hover.json"), dir_);
+  std::array<double, 13> observation{};
+  observation[3] = -10;
+  observation[6] = std::numeric_limits<double>::quiet_NaN();
+  double action[4];
+  EXPECT_EQ(c.act()(observation.data(), action), 1);
+  for (std::size_t k = 0; k < 4; ++k) EXPECT_EQ(action[k], file.trim[k]);
+}
+
+TEST_F(CPolicyExport, BicycleIsBitIdenticalToTheCppPolicyOn100000Observations) {
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> normal;
+  Theta theta(30);
+  for (double& w : theta) w = 2 * normal(rng);
+  const LoadedCPolicy c(export_c_policy(bicycle_policy_json(theta), "bicycle.json"), dir_);
+  const BicyclePolicy policy = make_bicycle_policy();
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Mismatches m;
+  for (int i = 0; i < kInputs; ++i) {
+    // Angles to the goal mostly in (-pi, pi], some beyond (angle_sin's std::sin path).
+    const BicycleObservation o{0.3 * u(rng), 2 * u(rng), 1.2 * u(rng), 4 * u(rng), 3.5 * u(rng)};
+    const double observation[5] = {o.omega, o.omega_dot, o.theta, o.theta_dot, o.goal_angle};
+    double action[2];
+    EXPECT_EQ(c.act()(observation, action), 0);
+    m.check(policy.act(theta, o), action, fmt::format("input {}", i));
+  }
+  EXPECT_EQ(m.count, 0) << m.first;
+}
+
+TEST_F(CPolicyExport, PendulumIsBitIdenticalToTheCppPolicyOn100000ObservationsWithFiveOrSevenNumbers) {
+  const Theta seven = {0.3, 1.5, 20.0, 4.0, 0.6, 1.5, 0.05};
+  for (const std::size_t count : {PendulumSwingUpPolicy::kBaseCount, seven.size()}) {
+    SCOPED_TRACE(count);
+    const Theta theta(seven.begin(), seven.begin() + static_cast<std::ptrdiff_t>(count));
+    const LoadedCPolicy c(export_c_policy(pendulum_policy_json(theta), "pendulum.json"),
+                          dir_ / std::to_string(count));
+    const PendulumSwingUpPolicy policy;
+    std::mt19937_64 rng(6);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    Mismatches m;
+    int stabilising = 0, saturated = 0;
+    for (int i = 0; i < kInputs; ++i) {
+      const double angle = std::numbers::pi * u(rng);
+      const PendulumObservation o{std::cos(angle), std::sin(angle), 8 * u(rng)};
+      const double observation[3] = {o.cos_theta, o.sin_theta, o.theta_dot};
+      double action[1];
+      EXPECT_EQ(c.act()(observation, action), 0);
+      const double torque = policy.act(theta, o);
+      m.check(std::array<double, 1>{torque}, action, fmt::format("input {}", i));
+      stabilising += std::abs(std::atan2(o.sin_theta, o.cos_theta)) < 0.5;
+      saturated += std::abs(torque) == PendulumConstants::max_torque;
+    }
+    EXPECT_EQ(m.count, 0) << m.first;
+    EXPECT_GT(stabilising, kInputs / 20);  // both branches of the class are exercised
+    EXPECT_GT(saturated, kInputs / 20);
+    EXPECT_LT(saturated, kInputs);
+  }
+}
+
+// The exported controller served to the ground-truth flight loop (heli/flights.hpp) through the same
+// interface as the C++ one.
+class CController final : public heli::HeliController {
+ public:
+  explicit CController(const LoadedCPolicy& c) : c_(c) {}
+  Controls act(const LoggedState& estimate, double time) const override {
+    std::array<double, 13> observation;
+    observation[0] = time;
+    std::copy(estimate.begin(), estimate.end(), observation.begin() + 1);
+    Controls a;
+    c_.act()(observation.data(), a.data());
+    return a;
+  }
+  heli::SetPoint target(double time) const override {
+    double sp[4];
+    c_.target()(time, sp);
+    return {sp[0], sp[1], sp[2], sp[3]};
+  }
+
+ private:
+  const LoadedCPolicy& c_;
+};
+
+void expect_same_flights(const std::vector<heli::FlightRecord>& cpp,
+                         const std::vector<heli::FlightRecord>& c) {
+  ASSERT_EQ(cpp.size(), c.size());
+  for (std::size_t i = 0; i < cpp.size(); ++i) {
+    SCOPED_TRACE(i);
+    EXPECT_EQ(cpp[i].crashed, c[i].crashed);
+    EXPECT_EQ(cpp[i].steps, c[i].steps);
+    EXPECT_TRUE(same_bits(cpp[i].sum_sq_position, c[i].sum_sq_position));
+    EXPECT_TRUE(same_bits(cpp[i].sum_sq_velocity, c[i].sum_sq_velocity));
+    EXPECT_TRUE(same_bits(cpp[i].sum_sq_yaw, c[i].sum_sq_yaw));
+    ASSERT_EQ(cpp[i].trace.size(), c[i].trace.size());
+    for (std::size_t t = 0; t < cpp[i].trace.size(); ++t) {
+      const auto& a = cpp[i].trace[t];
+      const auto& b = c[i].trace[t];
+      bool same = true;
+      for (std::size_t k = 0; k < a.truth.size(); ++k) same = same && same_bits(a.truth[k], b.truth[k]);
+      for (std::size_t k = 0; k < 4; ++k) same = same && same_bits(a.controls[k], b.controls[k]);
+      same = same && same_bits(a.target.x, b.target.x) && same_bits(a.target.z, b.target.z) &&
+             same_bits(a.target.yaw, b.target.yaw);
+      ASSERT_TRUE(same) << "step " << t;
+    }
+  }
+}
+
+TEST_F(CPolicyExport, ExportedControllersFlyTheGroundTruthExactlyAsTheCppPolicies) {
+  heli::AircraftParams params;
+  params.start_pos_sigma = 1.0;
+  params.start_vel_sigma = 0.3;
+  const heli::Aircraft aircraft(params);
+  heli::FlightOptions options;
+  options.flights = 3;
+  options.seconds = 20;
+  options.trace_flights = 3;
+  options.seed = 7;
+  // The hover controller at its trimmed start with tanh terms switched on, and a manoeuvre.
+  const heli::PolicyFile files[] = {hover_file(8, 0.2, {0, 0, -10, 0}), maneuver_file("III.1", 9, 0.1)};
+  for (const auto& file : files) {
+    SCOPED_TRACE(file.class_name);
+    const LoadedCPolicy c(export_c_policy(heli::policy_file_json(file), "policy.json"),
+                          dir_ / file.class_name);
+    const auto cpp_flights =
+        heli::fly_controller(aircraft, *heli::make_controller(file, "policy.json"), options);
+    const auto c_flights = heli::fly_controller(aircraft, CController(c), options);
+    expect_same_flights(cpp_flights, c_flights);
+    // A flight that flies: the comparison covers the whole 20 s, not a crash after a few steps.
+    EXPECT_FALSE(cpp_flights[0].crashed);
+  }
+}
+
+TEST_F(CPolicyExport, BadPolicyFilesAreOneLineNamingTheFieldOrByte) {
+  using test_support::input_error_message;
+  EXPECT_EQ(
+      input_error_message([] {
+        export_c_policy({{"policy", "mystery"}}, "p.json");
+      }),
+      "p.json: policy: expected a policy file of class hover, maneuver (\"format\": "
+      "\"pegasus-heli-policy\"), bicycle-sigmoid-15 or pendulum-swing-up (\"policy\": ...), got \"mystery\"");
+  nlohmann::json unknown = heli::policy_file_json(hover_file(1, 0, {0, 0, -10, 0}));
+  unknown["class"] = "spline";
+  EXPECT_EQ(input_error_message([&] { export_c_policy(unknown, "p.json"); }),
+            "p.json: class: expected \"hover\" or \"maneuver\" (the helicopter classes export knows), got "
+            "\"spline\"");
+  nlohmann::json short_file = heli::policy_file_json(hover_file(1, 0, {0, 0, -10, 0}));
+  short_file["parameters"].erase(33);
+  EXPECT_EQ(input_error_message([&] { export_c_policy(short_file, "p.json"); }),
+            "p.json: parameters: expected 34 parameters for class hover, got 33");
+  EXPECT_EQ(input_error_message([&] {
+              export_c_policy(pendulum_policy_json({1, 2, 3, 4, 5}), "p.json", {.prefix = "9lives"});
+            }),
+            "prefix: expected a C identifier (letters, digits, _), got \"9lives\"");
+  nlohmann::json four = pendulum_policy_json({1, 2, 3, 4, 5});
+  four["parameters"].erase("stabilise.rate");
+  EXPECT_EQ(input_error_message([&] { export_c_policy(four, "p.json"); }),
+            "p.json: field 'parameters.stabilise.rate': missing");
+  std::ofstream(dir_ / "broken.json") << "{\"policy\": ";
+  EXPECT_EQ(input_error_message([&] { export_c_policy_file(dir_ / "broken.json"); }),
+            (dir_ / "broken.json").string() + ": not JSON (byte 12): expected a policy file");
+}
+
+// ---- The command, end to end ----------------------------------------------------------------------------
+
+TEST_F(CPolicyExport, CommandWritesHeaderSourceAndSummaryThatCompileAndAct) {
+  const Theta theta = {0.3, 1.5, 20.0, 4.0, 0.6, 1.5, 0.05};
+  std::ofstream(dir_ / "policy.json") << pendulum_policy_json(theta).dump();
+  const auto out = dir_ / "out";
+  const auto r =
+      test_support::run_pegasus(fmt::format("export --policy {} --lang c --prefix swing --out {} --quiet",
+                                            (dir_ / "policy.json").string(), out.string()));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("class pendulum-swing-up: 3 observations -> 1 actions"), std::string::npos)
+      << r.output;
+  const auto summary = nlohmann::json::parse(test_support::read_text(out / "summary.json"));
+  EXPECT_EQ(summary["class"], "pendulum-swing-up");
+  EXPECT_EQ(summary["act_function"], "swing_act");
+  EXPECT_EQ(summary["observation_names"], nlohmann::json({"cos_theta", "sin_theta", "theta_dot"}));
+  EXPECT_TRUE(std::filesystem::exists(out / "config.toml"));
+  // A flight computer's build: the header and source as written, compiled on their own, no -lm missing.
+  const std::string main_c = R"(#include "swing.h"
+#include <stdio.h>
+int main(void) {
+  const double o[SWING_OBSERVATION_SIZE] = {-1.0, 0.0, 0.5};
+  double a[SWING_ACTION_SIZE];
+  const int rc = swing_act(o, a);
+  printf("%d %a\n", rc, a[0]);
+  return 0;
+}
+)";
+  std::ofstream(out / "main.c") << main_c;
+  const auto built = test_support::run_shell(
+      fmt::format("cd {} && gcc {} main.c swing.c -o main -lm && ./main", out.string(), kCFlags));
+  ASSERT_EQ(built.code, 0) << built.output;
+  int rc = -1;
+  char hex[64] = {};
+  ASSERT_EQ(std::sscanf(built.output.c_str(), "%d %63s", &rc, hex), 2) << built.output;
+  EXPECT_EQ(rc, 0);
+  EXPECT_TRUE(same_bits(std::strtod(hex, nullptr),
+                        PendulumSwingUpPolicy().act(theta, PendulumObservation{-1.0, 0.0, 0.5})))
+      << built.output;
+}
+
+// What a flight computer sees: the same state lines through `pegasus heli control` and through a program
+// built on the exported hover controller give the same controls, bit for bit.
+TEST_F(CPolicyExport, ExportedHoverAnswersHeliControlLinesWithHeliControlsBits) {
+  const heli::PolicyFile file = hover_file(11, 1.0, {1.0, 2.0, -10.0, 0.3});
+  heli::write_policy_file(dir_ / "hover.json", file);
+  const auto out = dir_ / "c";
+  const auto exported = test_support::run_pegasus(
+      fmt::format("export --policy {} --out {}", (dir_ / "hover.json").string(), out.string()));
+  ASSERT_EQ(exported.code, 0) << exported.output;
+  std::ofstream(out / "main.c") << R"(#include "pegasus_policy.h"
+#include <stdio.h>
+int main(void) {
+  double o[PEGASUS_POLICY_OBSERVATION_SIZE], a[PEGASUS_POLICY_ACTION_SIZE];
+  for (;;) {
+    int i;
+    for (i = 0; i < PEGASUS_POLICY_OBSERVATION_SIZE; ++i)
+      if (scanf(i ? " ,%lf" : "%lf", &o[i]) != 1) return 0;
+    pegasus_policy_act(o, a);
+    printf("%a,%a,%a,%a\n", a[0], a[1], a[2], a[3]);
+  }
+}
+)";
+  std::mt19937_64 rng(12);
+  std::string lines;
+  for (int i = 0; i < 500; ++i) {
+    const LoggedState s = random_state(rng, file.target);
+    lines += fmt::format("{}", 0.02 * i);
+    for (const double x : s) lines += fmt::format(",{}", x);
+    lines += "\n";
+  }
+  std::ofstream(dir_ / "states.csv") << lines;
+  const auto flight_computer = test_support::run_shell(
+      fmt::format("cd {} && gcc {} main.c pegasus_policy.c -o main -lm && ./main < {}", out.string(), kCFlags,
+                  (dir_ / "states.csv").string()));
+  ASSERT_EQ(flight_computer.code, 0) << flight_computer.output;
+  const auto served = test_support::run_pegasus(fmt::format(
+      "heli control --policy {} < {}", (dir_ / "hover.json").string(), (dir_ / "states.csv").string()));
+  ASSERT_EQ(served.code, 0) << served.output;
+  auto numbers = [](const std::string& text) {
+    std::vector<double> v;
+    std::string field;
+    for (const char ch : text + "\n")
+      if (ch == ',' || ch == '\n') {
+        if (!field.empty()) v.push_back(std::strtod(field.c_str(), nullptr));
+        field.clear();
+      } else {
+        field += ch;
+      }
+    return v;
+  };
+  const std::vector<double> c = numbers(flight_computer.output), cpp = numbers(served.output);
+  ASSERT_EQ(c.size(), 2000u);
+  ASSERT_EQ(cpp.size(), 2000u);
+  for (std::size_t i = 0; i < c.size(); ++i) ASSERT_TRUE(same_bits(c[i], cpp[i])) << "line " << i / 4 + 1;
+}
+
+TEST_F(CPolicyExport, CommandRejectsBadInputWithOneLineExit2AndNoOutputDirectory) {
+  std::ofstream(dir_ / "malformed.json") << "{\"format\": \"pegasus-heli-policy\",";
+  std::ofstream(dir_ / "unknown.json") << R"({"policy": "cart-pole-pid", "parameters": {}})";
+  const std::pair<std::string, std::string> cases[] = {
+      {"malformed.json", "malformed.json: not JSON (byte 34): expected a policy file"},
+      {"unknown.json", "unknown.json: policy: expected a policy file of class hover"},
+  };
+  for (const auto& [file, message] : cases) {
+    const auto out = dir_ / ("out-" + file);
+    const auto r = test_support::run_pegasus(
+        fmt::format("export --policy {} --lang c --out {}", (dir_ / file).string(), out.string()));
+    EXPECT_EQ(r.code, 2) << r.output;
+    EXPECT_NE(r.output.find(message), std::string::npos) << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+    EXPECT_FALSE(std::filesystem::exists(out));
+    EXPECT_FALSE(std::filesystem::exists(out.string() + ".partial"));
+  }
+  const auto r = test_support::run_pegasus(fmt::format(
+      "export --policy {} --lang rust --out {}", (dir_ / "unknown.json").string(), (dir_ / "o").string()));
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "o"));
+}
+
+}  // namespace
+}  // namespace pegasus::codegen
