@@ -100,10 +100,11 @@ std::string excerpt(std::string_view s) {
 class Parser {
  public:
   Parser(std::span<const std::uint8_t> bytes, std::string_view name, const UlogReadOptions& options)
-      : b_(bytes), name_(name), options_(options), topic_of_id_(65536, -1) {}
+      : b_(bytes), name_(name), options_(options) {}
 
   UlogFile run() {
     read_header();
+    count_records();
     std::size_t pos = kHeaderBytes;
     const std::size_t n = b_.size();
     while (pos < n) {
@@ -153,6 +154,26 @@ class Parser {
     f_.start_us = load<std::uint64_t>(&b_[8]);
   }
 
+  // A first pass over the message headers only: data messages and their bytes per msg_id, so that each
+  // topic's buffers are allocated once, at their final size, when it is subscribed. A hint only (a corrupt
+  // file is found by the real pass); the reservation is bounded by twice the bytes the messages carry.
+  void count_records() {
+    for (std::size_t pos = kHeaderBytes; pos + kMessageHeaderBytes <= b_.size();) {
+      const std::size_t size = load<std::uint16_t>(&b_[pos]);
+      if (pos + kMessageHeaderBytes + size > b_.size()) break;
+      if (b_[pos + 2] == 'D' && size >= 2) {
+        const std::uint16_t id = load<std::uint16_t>(&b_[pos + kMessageHeaderBytes]);
+        if (id >= record_count_.size()) {  // sized by the largest msg_id, not by all 65536
+          record_count_.resize(id + 1u, 0);
+          record_bytes_.resize(id + 1u, 0);
+        }
+        ++record_count_[id];
+        record_bytes_[id] += size - 2;
+      }
+      pos += kMessageHeaderBytes + size;
+    }
+  }
+
   std::size_t next_boundary(std::size_t pos) const {
     for (std::size_t o : boundaries_)
       if (o > pos) return o;
@@ -194,7 +215,8 @@ class Parser {
         return subscribe(pos, p);
       case 'R': {
         need(pos, type, p, 2);
-        topic_of_id_[load<std::uint16_t>(p.data())] = -1;
+        if (const std::uint16_t id = load<std::uint16_t>(p.data()); id < topic_of_id_.size())
+          topic_of_id_[id] = -1;
         return;
       }
       case 'D':
@@ -390,21 +412,29 @@ class Parser {
                                  [](const UlogLeaf& l) { return l.name == "timestamp"; });
     if (ts == fm.leaves.end() || ts->type != UlogType::kUint64)
       fail(pos, fmt::format("expected a 'uint64_t timestamp' field in format {} (it is subscribed)", name));
+    if (msg_id >= topic_of_id_.size()) topic_of_id_.resize(msg_id + 1u, -1);
     if (topic_of_id_[msg_id] >= 0)
       fail(pos, fmt::format("msg_id {} is subscribed a second time without an 'R' message", msg_id));
     int index = -1;
     for (std::size_t i = 0; i < f_.topics.size(); ++i)
       if (f_.topics[i].name == name && f_.topics[i].multi_id == multi_id) index = static_cast<int>(i);
     if (index < 0) {
+      const bool keep = options_.topics.empty() || std::find(options_.topics.begin(), options_.topics.end(),
+                                                             name) != options_.topics.end();
       UlogTopic t;
       t.name = name;
       t.multi_id = multi_id;
       t.record_size = fm.size;
       t.leaves = fm.leaves;
+      if (keep) {
+        if (msg_id < record_count_.size()) {
+          const std::size_t rows = record_count_[msg_id];
+          t.timestamps.reserve(rows);
+          t.data.reserve(std::min(rows * fm.size, 2 * record_bytes_[msg_id]));
+        }
+      }
       f_.topics.push_back(std::move(t));
       index = static_cast<int>(f_.topics.size() - 1);
-      const bool keep = options_.topics.empty() || std::find(options_.topics.begin(), options_.topics.end(),
-                                                             name) != options_.topics.end();
       state_.push_back({ts->offset, fm.size - fm.trailing_padding, keep});
     }
     topic_of_id_[msg_id] = index;
@@ -413,7 +443,7 @@ class Parser {
   void data(std::size_t pos, std::span<const std::uint8_t> p) {
     need(pos, 'D', p, 2);
     const std::uint16_t msg_id = load<std::uint16_t>(p.data());
-    const int index = topic_of_id_[msg_id];
+    const int index = msg_id < topic_of_id_.size() ? topic_of_id_[msg_id] : -1;
     if (index < 0)
       fail(pos, fmt::format("expected a subscription ('A') of msg_id {} before its data", msg_id));
     UlogTopic& t = f_.topics[static_cast<std::size_t>(index)];
@@ -494,7 +524,9 @@ class Parser {
   std::string_view name_;
   const UlogReadOptions& options_;
   UlogFile f_;
-  std::vector<int> topic_of_id_;  // msg_id -> index in f_.topics, -1 when not subscribed
+  std::vector<int> topic_of_id_;             // msg_id -> index in f_.topics, -1 when not subscribed
+  std::vector<std::uint32_t> record_count_;  // msg_id -> data messages (count_records)
+  std::vector<std::size_t> record_bytes_;    // msg_id -> their payload bytes
   std::vector<TopicState> state_;
   std::map<std::string, std::string> format_text_;
   std::vector<std::string> resolving_;   // formats being resolved, outermost first (finds cycles)
