@@ -386,13 +386,18 @@ struct LogAtRate {
   std::vector<std::array<double, 3>> extra;
 };
 
-LogAtRate log_at_rate(const IdentifiedModel& model, const FlightLog& log) {
-  const double ratio = model.dt() / log.dt();
+// Log rows per model step of dt; InputError unless the log's rate is a multiple of the model's.
+std::size_t rows_per_step(double dt, const FlightLog& log) {
+  const double ratio = dt / log.dt();
   const long k = std::lround(ratio);
   if (k < 1 || std::abs(ratio - static_cast<double>(k)) > 0.01)
     throw InputError(fmt::format("the test log's rate {} Hz is not a multiple of the model rate {} Hz",
-                                 1 / log.dt(), 1 / model.dt()));
-  return {static_cast<std::size_t>(k), extra_states_along(log, model.structure())};
+                                 1 / log.dt(), 1 / dt));
+  return static_cast<std::size_t>(k);
+}
+
+LogAtRate log_at_rate(const IdentifiedModel& model, const FlightLog& log) {
+  return {rows_per_step(model.dt(), log), extra_states_along(log, model.structure())};
 }
 
 std::array<double, 4> mean_controls(const FlightLog& log, std::size_t row, std::size_t k) {
@@ -448,12 +453,7 @@ HorizonMse average(const std::vector<Errors>& per_start, std::size_t steps, doub
 }  // namespace
 
 HorizonMse constant_velocity_mse(const FlightLog& test, double dt, double horizon_s, double start_spacing_s) {
-  const double ratio = dt / test.dt();
-  const long rows_per_step = std::lround(ratio);
-  if (rows_per_step < 1 || std::abs(ratio - static_cast<double>(rows_per_step)) > 0.01)
-    throw InputError(fmt::format("the test log's rate {} Hz is not a multiple of the model rate {} Hz",
-                                 1 / test.dt(), 1 / dt));
-  const auto k = static_cast<std::size_t>(rows_per_step);
+  const std::size_t k = rows_per_step(dt, test);
   const auto steps = static_cast<std::size_t>(std::lround(horizon_s / dt));
   const auto starts = prediction_starts(test, k, steps, start_spacing_s);
   std::vector<Errors> per_start(starts.size());
