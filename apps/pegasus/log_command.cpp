@@ -33,6 +33,9 @@ void declare_import(ConfigSchema& s) {
       .range(0, 1e6);
   s.add_double("end_s", 0, "end this many seconds after that time (0: where the first topic ends)")
       .range(0, 1e6);
+  s.add_string("truncated_tail", "discard",
+               "a last message cut off by the end of the file: discard it (the ULog spec's rule) or error")
+      .choices({"discard", "error"});
   s.add_bool("identify", true, "identify a model on the first part and report hold-out prediction errors");
   s.add_double("train_fraction", 0.7, "the first part of the log used for identification").range(0.1, 0.95);
   s.add_bool("local", true, "locally weighted regression (false: globally linear)");
@@ -85,7 +88,11 @@ void run_import(RunContext& ctx) {
     throw InputError("--vehicle: a vehicle file with a [log] section is required");
   const std::filesystem::path file = c.get_string("ulog");
   const logs::VehicleLogSpec spec = logs::read_vehicle_log_spec(c.get_string("vehicle"));
-  const logs::UlogFile ulog = logs::read_ulog(file, {.topics = spec.topic_names()});
+  const logs::UlogFile ulog =
+      logs::read_ulog(file, {.truncated_tail = c.get_string("truncated_tail") == "error"
+                                                   ? logs::UlogReadOptions::TruncatedTail::kError
+                                                   : logs::UlogReadOptions::TruncatedTail::kDiscard,
+                             .topics = spec.topic_names()});
   logs::ImportProvenance provenance;
   const FlightLog log =
       logs::import_ulog(ulog, spec, file.string(),
@@ -133,6 +140,9 @@ void run_import(RunContext& ctx) {
   ctx.out << fmt::format("imported {:.1f} s ({} rows at {} Hz) of {} from {}; {} dropouts ({} ms)\n",
                          log.seconds(), log.rows(), spec.rate_hz, topics, file.filename().string(),
                          ulog.dropouts.size(), prov["dropout_total_ms"].get<double>());
+  if (ulog.truncated_at)
+    ctx.out << fmt::format("warning: the file ends inside the message at byte {}; read up to it\n",
+                           *ulog.truncated_at);
   for (const auto& name : constant_controls)
     ctx.out << fmt::format(
         "warning: {} is constant over the log: nothing about its effect can be identified\n",

@@ -356,4 +356,34 @@ TEST_F(LogImportCli, CorruptFileIsOneLineNamingTheByteAndExitTwo) {
   EXPECT_FALSE(fs::exists(out.string() + ".partial"));
 }
 
+TEST_F(LogImportCli, CutFileIsReadToItsLastWholeMessageOrRefusedOnRequest) {
+  REQUIRE_SAMPLE();
+  std::ifstream in(kSample, std::ios::binary);
+  std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  // Cut 2 bytes into the first message that starts after 3 MB.
+  std::size_t pos = 16;
+  while (pos < 3000000)
+    pos += 3 + (static_cast<unsigned char>(bytes[pos]) | (static_cast<unsigned char>(bytes[pos + 1]) << 8));
+  bytes.resize(pos + 2);
+  const fs::path cut = dir_ / "cut.ulg";
+  std::ofstream(cut, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  const std::string args =
+      "log import " + cut.string() + " --vehicle " + kVehicle.string() + " --identify=false --quiet";
+  const auto r = test_support::run_pegasus(args + " --out " + (dir_ / "run").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("warning: the file ends inside the message at byte " + std::to_string(pos)),
+            std::string::npos)
+      << r.output;
+  const auto summary = nlohmann::json::parse(test_support::read_text(dir_ / "run" / "summary.json"));
+  EXPECT_EQ(summary["truncated_at_byte"], pos);
+  const auto strict =
+      test_support::run_pegasus(args + " --truncated-tail error --out " + (dir_ / "strict").string());
+  EXPECT_EQ(strict.code, 2);
+  EXPECT_EQ(strict.output,
+            "pegasus: " + cut.string() + ": byte " + std::to_string(pos) +
+                ": the file ends inside a message: expected a 3-byte message header, found 2 bytes "
+                "before the end of the file\n");
+  EXPECT_FALSE(fs::exists(dir_ / "strict"));
+}
+
 }  // namespace
