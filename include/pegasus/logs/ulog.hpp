@@ -1,5 +1,6 @@
 #pragma once
-// A reader for PX4's ULog flight logs (the format PX4 documents in docs/en/dev_log/ulog_file_format.md).
+// A reader for PX4's ULog flight logs, written from the format PX4 documents
+// (docs/en/dev_log/ulog_file_format.md): hand-written because no Debian package reads ULog.
 //
 // Layout: a 16-byte header (magic "ULog" 01 12 35, version byte, uint64 start time in us), then messages,
 // each a 3-byte header (uint16 size without the header, uint8 type) and its payload, all little-endian:
