@@ -10,6 +10,8 @@ packages=(
   # libraries (README "Dependencies" says why each is here)
   libeigen3-dev libnlopt-cxx-dev librandom123-dev libboost-dev
   libcli11-dev libtomlplusplus-dev nlohmann-json3-dev libfmt-dev
+  # SHA-256 of imported flight logs (their provenance)
+  libssl-dev
   # distributed evaluation (optional at configure time; mpirun runs the MPI tests)
   libopenmpi-dev openmpi-bin
   # tests and benchmarks

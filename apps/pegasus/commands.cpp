@@ -118,6 +118,8 @@ std::vector<CommandGroup> command_groups() {
       {.path = "heli",
        .description =
            "Autonomous helicopter (thesis ch. 5): ground-truth aircraft, pilot logs, system identification"},
+      {.path = "log",
+       .description = "Real flight logs: PX4 ULog import, identification and prediction error"},
       {.path = "shaping",
        .description = "Reward shaping (thesis ch. 3): the shaping audit and the 3.4 experiments"},
   };
@@ -130,6 +132,7 @@ std::vector<Command> commands() {
   for (auto& command : bicycle_commands()) all.push_back(std::move(command));
   for (auto& command : heli_commands()) all.push_back(std::move(command));
   for (auto& command : heli_maneuver_commands()) all.push_back(std::move(command));
+  for (auto& command : log_commands()) all.push_back(std::move(command));
   for (auto& command : pendulum_commands()) all.push_back(std::move(command));
   for (auto& command : shaping_commands()) all.push_back(std::move(command));
   return all;

@@ -8,6 +8,7 @@ Command pomdp_gridworld_command();
 std::vector<Command> bicycle_commands();        // bicycle experiment, train, ride, variance
 std::vector<Command> heli_commands();           // heli pilot, identify
 std::vector<Command> heli_maneuver_commands();  // heli maneuver (heli_maneuver_command.cpp)
+std::vector<Command> log_commands();            // log import (log_command.cpp)
 std::vector<Command> pendulum_commands();       // pendulum train (Pendulum-v1, the RLtools race)
 Command shaping_audit_command();
 std::vector<Command> shaping_commands();  // shaping audit, gridworld, flags, progress-bonus

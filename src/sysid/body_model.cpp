@@ -23,9 +23,14 @@ void ExtraStateModel::advance(double dt, const Eigen::Vector3d& w_B, const std::
 }
 
 std::string ModelStructure::describe() const {
-  return fmt::format("{} Hz, {} extra states, {} intercept, {} templates", rate_hz,
+  std::string constant;
+  for (int j = 0; j < kInputs; ++j)
+    if (constant_inputs[static_cast<std::size_t>(j)])
+      constant += (constant.empty() ? "" : ", ") + std::string(kInputNames[static_cast<std::size_t>(j)]);
+  return fmt::format("{} Hz, {} extra states, {} intercept, {} templates{}", rate_hz,
                      extra_states ? "with" : "without", intercept ? "with" : "without",
-                     templates ? "with" : "without");
+                     templates ? "with" : "without",
+                     constant.empty() ? "" : ", constant in the data (left out): " + constant);
 }
 
 int OutputTemplate::free_count() const {
@@ -50,6 +55,8 @@ std::array<OutputTemplate, kBodyVars> output_templates(const ModelStructure& m) 
     }
     if (!m.extra_states) f[kFlapLon] = f[kFlapLat] = f[kGyro] = false;
     if (!m.intercept) f[kOne] = false;
+    for (int j = 0; j < kInputs; ++j)
+      if (j != kOne && m.constant_inputs[static_cast<std::size_t>(j)]) f[static_cast<std::size_t>(j)] = false;
   }
   return t;
 }
@@ -125,6 +132,14 @@ Dataset build_dataset(const FlightLog& log, const ModelStructure& m) {
     d.time[r] = log.time[i];
   }
   return d;
+}
+
+std::array<bool, kInputs> constant_inputs(const Dataset& data) {
+  std::array<bool, kInputs> out{};
+  if (data.rows() == 0) return out;
+  for (int j = 0; j < kInputs; ++j)
+    out[static_cast<std::size_t>(j)] = j != kOne && (data.x.col(j).array() == data.x(0, j)).all();
+  return out;
 }
 
 }  // namespace pegasus::sysid

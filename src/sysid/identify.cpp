@@ -72,6 +72,9 @@ nlohmann::json IdentifiedModel::to_json() const {
                     {"flap_per_a1", structure_.extra.flap_per_a1},
                     {"flap_per_a2", structure_.extra.flap_per_a2},
                     {"gyro_tau", structure_.extra.gyro_tau}};
+  for (int c = 0; c < kInputs; ++c)
+    if (structure_.constant_inputs[static_cast<std::size_t>(c)])
+      j["structure"]["constant_inputs"].push_back(kInputNames[static_cast<std::size_t>(c)]);
   j["dt"] = dt();
   j["inputs"] = kInputNames;
   j["outputs"] = kBodyVarNames;
@@ -105,6 +108,13 @@ IdentifiedModel IdentifiedModel::from_json(const nlohmann::json& j) {
   m.extra.flap_per_a1 = s.at("flap_per_a1").get<double>();
   m.extra.flap_per_a2 = s.at("flap_per_a2").get<double>();
   m.extra.gyro_tau = s.at("gyro_tau").get<double>();
+  if (s.contains("constant_inputs"))
+    for (const auto& name : s.at("constant_inputs")) {
+      const auto it = std::find(kInputNames.begin(), kInputNames.end(), name.get<std::string>());
+      if (it == kInputNames.end() || it == kInputNames.end() - 1)
+        throw InputError(fmt::format("model: unknown constant input '{}'", name.get<std::string>()));
+      m.constant_inputs[static_cast<std::size_t>(it - kInputNames.begin())] = true;
+    }
   Dataset d;
   d.dt = j.at("dt").get<double>();
   const auto& xs = j.at("x");
@@ -215,13 +225,16 @@ IdentifiedModel identify(const FlightLog& train, const IdentifyOptions& o, Threa
   if (data.rows() < min_rows)
     throw InputError(fmt::format("identify: the training log gives {} rows at {} Hz; need at least {}",
                                  data.rows(), o.structure.rate_hz, min_rows));
-  const auto templates = output_templates(o.structure);
+  ModelStructure structure = o.structure;
+  structure.constant_inputs = constant_inputs(data);
+  const auto templates = output_templates(structure);
   // Kernel inputs: everything the model regresses on except the constant.
   std::array<double, kInputs> inv_std{};
   int kernel_inputs = 0;
   for (int j = 0; j < kInputs; ++j) {
     if (j == kOne) continue;
     if (!o.structure.extra_states && (j == kFlapLon || j == kFlapLat || j == kGyro)) continue;
+    if (structure.constant_inputs[static_cast<std::size_t>(j)]) continue;
     const double sd = std::sqrt((data.x.col(j).array() - data.x.col(j).mean()).square().mean());
     inv_std[static_cast<std::size_t>(j)] = sd > 0 ? 1 / sd : 0;
     kernel_inputs += sd > 0 ? 1 : 0;
@@ -316,7 +329,7 @@ IdentifiedModel identify(const FlightLog& train, const IdentifyOptions& o, Threa
       sigma2[k] = data.y.col(k).squaredNorm() / data.rows();
   if (report)
     report->cv_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return IdentifiedModel(o.structure, std::move(data), best_inv, sigma2);
+  return IdentifiedModel(structure, std::move(data), best_inv, sigma2);
 }
 
 // ---------------------------------------------------------------- simulation
@@ -373,13 +386,18 @@ struct LogAtRate {
   std::vector<std::array<double, 3>> extra;
 };
 
-LogAtRate log_at_rate(const IdentifiedModel& model, const FlightLog& log) {
-  const double ratio = model.dt() / log.dt();
+// Log rows per model step of dt; InputError unless the log's rate is a multiple of the model's.
+std::size_t rows_per_step(double dt, const FlightLog& log) {
+  const double ratio = dt / log.dt();
   const long k = std::lround(ratio);
   if (k < 1 || std::abs(ratio - static_cast<double>(k)) > 0.01)
     throw InputError(fmt::format("the test log's rate {} Hz is not a multiple of the model rate {} Hz",
-                                 1 / log.dt(), 1 / model.dt()));
-  return {static_cast<std::size_t>(k), extra_states_along(log, model.structure())};
+                                 1 / log.dt(), 1 / dt));
+  return static_cast<std::size_t>(k);
+}
+
+LogAtRate log_at_rate(const IdentifiedModel& model, const FlightLog& log) {
+  return {rows_per_step(model.dt(), log), extra_states_along(log, model.structure())};
 }
 
 std::array<double, 4> mean_controls(const FlightLog& log, std::size_t row, std::size_t k) {
@@ -390,19 +408,73 @@ std::array<double, 4> mean_controls(const FlightLog& log, std::size_t row, std::
   return a;
 }
 
+// The log rows where open-loop predictions of `steps` model steps of `k` log rows start.
+std::vector<std::size_t> prediction_starts(const FlightLog& test, std::size_t k, std::size_t steps,
+                                           double start_spacing_s) {
+  const auto spacing =
+      std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(start_spacing_s / test.dt())));
+  std::vector<std::size_t> starts;
+  for (std::size_t r = 0; r + steps * k < test.rows(); r += spacing) starts.push_back(r);
+  return starts;
+}
+
+using Errors = std::vector<std::array<double, kReportVars>>;
+
+// Squared prediction errors of every report variable (yaw's wrapped).
+std::array<double, kReportVars> squared_errors(const std::array<double, kLogStates>& predicted,
+                                               const std::array<double, kLogStates>& truth) {
+  const ReportState p = report_state(predicted), t = report_state(truth);
+  std::array<double, kReportVars> sq{};
+  for (std::size_t v = 0; v < sq.size(); ++v) {
+    const double d = v == 5 ? heli::wrap_angle(p[v] - t[v]) : p[v] - t[v];
+    sq[v] = d * d;
+  }
+  return sq;
+}
+
+HorizonMse average(const std::vector<Errors>& per_start, std::size_t steps, double dt) {
+  HorizonMse out;
+  out.seconds.resize(steps + 1);
+  out.mse.assign(steps + 1, {});
+  out.count.assign(steps + 1, 0);
+  for (std::size_t t = 0; t <= steps; ++t) out.seconds[t] = static_cast<double>(t) * dt;
+  for (const Errors& e : per_start)
+    for (std::size_t t = 0; t < e.size(); ++t) {
+      for (int v = 0; v < kReportVars; ++v)
+        out.mse[t][static_cast<std::size_t>(v)] += e[t][static_cast<std::size_t>(v)];
+      ++out.count[t];
+    }
+  for (std::size_t t = 0; t <= steps; ++t)
+    if (out.count[t] > 0)
+      for (double& v : out.mse[t]) v /= out.count[t];
+  return out;
+}
+
 }  // namespace
+
+HorizonMse constant_velocity_mse(const FlightLog& test, double dt, double horizon_s, double start_spacing_s) {
+  const std::size_t k = rows_per_step(dt, test);
+  const auto steps = static_cast<std::size_t>(std::lround(horizon_s / dt));
+  const auto starts = prediction_starts(test, k, steps, start_spacing_s);
+  std::vector<Errors> per_start(starts.size());
+  for (std::size_t si = 0; si < starts.size(); ++si) {
+    const auto& s0 = test.states[starts[si]];
+    for (std::size_t t = 0; t <= steps; ++t) {
+      auto predicted = s0;
+      for (std::size_t i = 0; i < 3; ++i) predicted[i] = s0[i] + static_cast<double>(t) * dt * s0[6 + i];
+      per_start[si].push_back(squared_errors(predicted, test.states[starts[si] + t * k]));
+    }
+  }
+  return average(per_start, steps, dt);
+}
 
 HorizonMse horizon_mse(const IdentifiedModel& model, const FlightLog& test, double horizon_s,
                        double start_spacing_s, ThreadPool& pool) {
   const LogAtRate lr = log_at_rate(model, test);
   const auto k = lr.step;
   const auto steps = static_cast<std::size_t>(std::lround(horizon_s / model.dt()));
-  const auto spacing =
-      std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(start_spacing_s / test.dt())));
   const auto refit_every = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(0.1 / model.dt())));
-  std::vector<std::size_t> starts;
-  for (std::size_t r = 0; r + steps * k < test.rows(); r += spacing) starts.push_back(r);
-  using Errors = std::vector<std::array<double, kReportVars>>;
+  const std::vector<std::size_t> starts = prediction_starts(test, k, steps, start_spacing_s);
   std::vector<Errors> per_start(starts.size());
   pool.parallel_for(starts.size(), [&](std::size_t si) {
     const std::size_t r0 = starts[si];
@@ -415,15 +487,7 @@ HorizonMse horizon_mse(const IdentifiedModel& model, const FlightLog& test, doub
     e.reserve(steps + 1);
     LocalFit fit;
     for (std::size_t t = 0; t <= steps; ++t) {
-      const ReportState truth = report_state(test.states[r0 + t * k]);
-      const ReportState pred = report_state(s.world);
-      std::array<double, kReportVars> sq{};
-      for (int v = 0; v < kReportVars; ++v) {
-        double d = pred[static_cast<std::size_t>(v)] - truth[static_cast<std::size_t>(v)];
-        if (v == 5) d = heli::wrap_angle(d);
-        sq[static_cast<std::size_t>(v)] = d * d;
-      }
-      e.push_back(sq);
+      e.push_back(squared_errors(s.world, test.states[r0 + t * k]));
       if (t == steps) break;
       const auto a = mean_controls(test, r0 + t * k, k);
       const InputVec x = sim_input(s, a);
@@ -432,21 +496,7 @@ HorizonMse horizon_mse(const IdentifiedModel& model, const FlightLog& test, doub
       s = sim_advance(model.structure(), s, a, model.mean_change(fit, x), model.dt());
     }
   });
-  HorizonMse out;
-  out.seconds.resize(steps + 1);
-  out.mse.assign(steps + 1, {});
-  out.count.assign(steps + 1, 0);
-  for (std::size_t t = 0; t <= steps; ++t) out.seconds[t] = static_cast<double>(t) * model.dt();
-  for (const Errors& e : per_start)
-    for (std::size_t t = 0; t < e.size(); ++t) {
-      for (int v = 0; v < kReportVars; ++v)
-        out.mse[t][static_cast<std::size_t>(v)] += e[t][static_cast<std::size_t>(v)];
-      ++out.count[t];
-    }
-  for (std::size_t t = 0; t <= steps; ++t)
-    if (out.count[t] > 0)
-      for (double& v : out.mse[t]) v /= out.count[t];
-  return out;
+  return average(per_start, steps, model.dt());
 }
 
 namespace {

@@ -65,6 +65,11 @@ struct ModelStructure {
   bool templates = true;     // kinematic templates (else every coefficient is regressed)
   double gravity = 9.81;
   ExtraStateModel extra{};
+  // Inputs left out of every output's regression because they do not vary in the training data (a control
+  // the pilot never moved, a rotor that never spun): their coefficients would be unidentifiable (X'WX
+  // singular with the intercept), so they are fixed at 0 and the intercept carries their constant value.
+  // identify() sets them from the data; empty for the X-Cell's logs, where every input moves.
+  std::array<bool, kInputs> constant_inputs{};
   std::string describe() const;
 };
 
@@ -94,6 +99,8 @@ struct Dataset {
 // log's controls over it), runs the extra-state model along the full-rate log, and builds inputs and
 // targets. InputError when the log's rate is not a multiple of the model rate.
 Dataset build_dataset(const FlightLog& log, const ModelStructure& m);
+// The inputs (the constant 1 aside) whose every row equals the first: ModelStructure::constant_inputs.
+std::array<bool, kInputs> constant_inputs(const Dataset& data);
 // The extra states along a full-rate log (one row per log row).
 std::vector<std::array<double, 3>> extra_states_along(const FlightLog& log, const ModelStructure& m);
 

@@ -101,6 +101,9 @@ struct HorizonMse {
 };
 HorizonMse horizon_mse(const IdentifiedModel& model, const FlightLog& test, double horizon_s,
                        double start_spacing_s, ThreadPool& pool);
+// The baseline a model must beat: from the same starts and steps as horizon_mse at model step dt, the
+// position moves on with the start's world velocity and every other state stays as it was at the start.
+HorizonMse constant_velocity_mse(const FlightLog& test, double dt, double horizon_s, double start_spacing_s);
 
 // Fig 5.3: +-2 sigma bands from an extended Kalman filter over the body variables and the extra states, reset
 // to the logged state every reset_s, with the model's noise covariance diagonal (Eq 5.4 per output,

@@ -1,0 +1,79 @@
+#pragma once
+// A PX4 ULog flight turned into the project's CSV flight log (sysid/flight_log.hpp): the topics a vehicle
+// file's [log] section names are aligned on one time grid at a constant rate, resampled, converted to the
+// log's frames (world NED position and velocity, Z-Y-X Euler angles, Euler-angle rates) and its four
+// control columns. The README's "Vehicle files: the [log] section" documents the schema.
+//
+//   const VehicleLogSpec spec = read_vehicle_log_spec("experiments/vehicles/px4-quadrotor.toml");
+//   const logs::UlogFile ulog = logs::read_ulog(file, {.topics = spec.topic_names()});
+//   ImportProvenance provenance;
+//   const sysid::FlightLog log = import_ulog(ulog, spec, file.string(), &provenance);
+#include <array>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "pegasus/logs/ulog.hpp"
+#include "pegasus/sysid/flight_log.hpp"
+
+namespace pegasus::logs {
+
+// Fields of one topic that make one vector quantity.
+struct TopicFields {
+  std::string topic;
+  std::vector<std::string> fields;
+};
+
+// One control column a1..a4 of the flight log: value = scale * field + offset, which must lie in [-1, 1].
+struct ControlChannel {
+  std::string topic;
+  std::string field;
+  double scale = 1;
+  double offset = 0;
+};
+
+// The [log] section of a vehicle file.
+struct VehicleLogSpec {
+  std::string vehicle;        // [vehicle] name
+  std::string file;           // the vehicle file, for messages
+  double rate_hz = 50;        // the flight log's constant rate
+  double model_rate_hz = 10;  // the identification rate; must divide rate_hz
+  int instance = 0;           // multi_id of every topic
+  double max_gap_s = 0.5;     // a longer gap between records of a topic inside the range is an error
+  // How the log gives each quantity.
+  std::string attitude_form = "quaternion";  // "quaternion" (w, x, y, z; body to world NED) or "euler"
+  std::string velocity_frame = "world";      // "world" (NED) or "body"
+  std::string rates_form = "body";           // "body" (p, q, r) or "euler" (roll, pitch, yaw rates)
+  TopicFields position, velocity, attitude, rates;
+  std::array<ControlChannel, 4> controls;  // a1..a4
+  // Names of the topics used (each once), for UlogReadOptions::topics.
+  std::vector<std::string> topic_names() const;
+};
+
+// Reads a vehicle file's [vehicle] name and [log] section; InputError "FILE:LINE: key: expected ..." on a
+// missing or bad entry.
+VehicleLogSpec read_vehicle_log_spec(const std::filesystem::path& file);
+
+struct ImportOptions {
+  double start_s = 0;  // cut: seconds after the first common timestamp
+  double end_s = 0;    // cut: seconds after the first common timestamp; 0 = to the end
+};
+
+// What the import used and found, for provenance.json.
+struct ImportProvenance {
+  nlohmann::json json;
+};
+
+// The flight log on the grid t_k = t0 + k / rate_hz inside the time range every used topic covers (cut by
+// options). Positions, velocities and rates are interpolated linearly, the attitude quaternion by normalised
+// linear interpolation, controls held from their last record (what the actuators had). InputError naming the
+// file, topic and field for a missing topic or field, a timestamp that goes back, a gap over max_gap_s, a
+// control outside [-1, 1] after scaling, or fewer than 2 rows.
+sysid::FlightLog import_ulog(const UlogFile& ulog, const VehicleLogSpec& spec, const std::string& file,
+                             const ImportOptions& options = {}, ImportProvenance* provenance = nullptr);
+
+// SHA-256 of a file's bytes as 64 hex digits (OpenSSL); InputError when it cannot be read.
+std::string file_sha256(const std::filesystem::path& file);
+
+}  // namespace pegasus::logs

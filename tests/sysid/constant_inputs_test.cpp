@@ -1,0 +1,87 @@
+// What identification needed for logs other than the X-Cell's: inputs that never move in the training data
+// leave the regression (else X'WX is singular next to the intercept), and the constant-velocity baseline of
+// the prediction report.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "pegasus/heli/aircraft.hpp"
+#include "pegasus/heli/pilot.hpp"
+#include "pegasus/sysid/identify.hpp"
+
+namespace {
+
+using namespace pegasus;
+using namespace pegasus::sysid;
+
+FlightLog pilot_log(double seconds, std::uint64_t seed) {
+  const heli::Aircraft heli;
+  heli::PilotOptions o;
+  o.hover_seconds = 4;
+  return heli::fly_pilot(heli, o, seconds, seed).log;
+}
+
+IdentifyOptions global_fit() {
+  IdentifyOptions o;
+  o.local = false;
+  o.cv_points = 60;
+  return o;
+}
+
+TEST(ConstantInputs, AControlThatNeverMovesLeavesTheRegressionInsteadOfMakingItSingular) {
+  ThreadPool pool(2);
+  FlightLog train = pilot_log(60, 5), test = pilot_log(30, 6);
+  for (auto* log : {&train, &test})
+    for (auto& a : log->controls) a[2] = -1;  // collective pinned, as a disarmed quadrotor's thrust
+  const IdentifiedModel model = identify(train, global_fit(), pool);
+  for (int j = 0; j < kInputs; ++j)
+    EXPECT_EQ(model.structure().constant_inputs[static_cast<std::size_t>(j)], j == kA3) << kInputNames[j];
+  for (int k = 0; k < kBodyVars; ++k) EXPECT_FALSE(model.regression().templates()[k].free[kA3]);
+  const LocalFit fit = model.regression().fit(model.data().x.row(10).transpose());
+  EXPECT_FALSE(fit.singular);
+  const HorizonMse h = horizon_mse(model, test, 1.0, 2.0, pool);
+  EXPECT_EQ(h.count.back(), h.count.front());  // no rollout stopped on a singular fit
+  // The same structure without the rule is singular: the pinned column equals -1 times the intercept's.
+  ModelStructure pinned = model.structure();
+  pinned.constant_inputs = {};
+  const Dataset data = build_dataset(train, pinned);
+  const LocalRegression plain(&data, output_templates(pinned), std::array<double, kInputs>{});
+  EXPECT_TRUE(plain.fit(data.x.row(10).transpose()).singular);
+  // The rule is saved with the model and read back.
+  const IdentifiedModel back = IdentifiedModel::from_json(model.to_json());
+  EXPECT_EQ(back.structure().constant_inputs, model.structure().constant_inputs);
+  EXPECT_NE(model.structure().describe().find("constant in the data (left out): a3"), std::string::npos);
+}
+
+TEST(ConstantInputs, NoneOnTheXCellsOwnLogs) {
+  ThreadPool pool(2);
+  const IdentifiedModel model = identify(pilot_log(60, 5), global_fit(), pool);
+  EXPECT_EQ(model.structure().constant_inputs, (std::array<bool, kInputs>{}));
+  EXPECT_FALSE(model.to_json()["structure"].contains("constant_inputs"));  // model files as before
+}
+
+// A flight at constant world velocity and attitude is the baseline's exact prediction; with a constant
+// acceleration its position error is a t^2 / 2, its velocity error a t.
+TEST(ConstantVelocityBaseline, ErrorIsTheUnmodelledAcceleration) {
+  FlightLog log;
+  const double dt = 0.02, a = 0.3;
+  for (int i = 0; i < 500; ++i) {
+    const double t = i * dt;
+    log.time.push_back(t);
+    log.states.push_back({1 + 2 * t, -t + 0.5 * a * t * t, -10, 0.1, -0.05, 0.3, 2, -1 + a * t, 0, 0, 0, 0});
+    log.controls.push_back({0, 0, 0, 0});
+  }
+  const HorizonMse h = constant_velocity_mse(log, 0.1, 2.0, 0.5);
+  ASSERT_EQ(h.seconds.size(), 21u);
+  const int starts = (500 - 100 - 1) / 25 + 1;
+  for (std::size_t t = 0; t < h.seconds.size(); ++t) {
+    const double s = h.seconds[t];
+    EXPECT_EQ(h.count[t], starts);
+    EXPECT_NEAR(h.mse[t][0], 0, 1e-20);                                // x
+    EXPECT_NEAR(std::sqrt(h.mse[t][1]), 0.5 * a * s * s, 1e-12) << s;  // y
+    EXPECT_NEAR(std::sqrt(h.mse[t][7]), a * s, 1e-12) << s;            // ydot
+    EXPECT_NEAR(h.mse[t][3] + h.mse[t][4] + h.mse[t][5], 0, 1e-20);    // attitude held, and it is held
+  }
+}
+
+}  // namespace
