@@ -32,9 +32,11 @@ def best_of(f, repeats):
     return min(times)
 
 
-def cpp_figure(bench, name, repetitions=5):
+def cpp_figure(bench, name, repetitions):
+    """Best of `repetitions` single calls (min_time 1 ms: one iteration each), measured as the Python side is."""
     out = subprocess.run([bench, f"--benchmark_filter=^{name}$", "--benchmark_format=json",
-                          f"--benchmark_repetitions={repetitions}"], capture_output=True, text=True, check=True)
+                          "--benchmark_min_time=0.001", f"--benchmark_repetitions={repetitions}"],
+                         capture_output=True, text=True, check=True)
     runs = [b for b in json.loads(out.stdout)["benchmarks"] if b.get("run_type") == "iteration"]
     scale = {"ms": 1e-3, "us": 1e-6, "ns": 1e-9, "s": 1.0}[runs[0]["time_unit"]]
     return min(b["real_time"] for b in runs) * scale
@@ -56,8 +58,8 @@ def main():
 
     theta = pegasus.bicycle_balancing_theta()
     options = pegasus.BicycleTrainingOptions()
-    py_uhat = best_of(lambda: pegasus.bicycle_uhat(options, theta), args.repeats)
-    cpp_uhat = cpp_figure(args.bench, "BM_BicycleUhat_m30_H500/1/real_time")
+    py_uhat = best_of(lambda: pegasus.bicycle_uhat(options, theta), 6 * args.repeats)
+    cpp_uhat = cpp_figure(args.bench, "BM_BicycleUhat_m30_H500/1/real_time", 6 * args.repeats)
     print(f"U-hat, built-in bicycle, m=30 H=500: Python {py_uhat * 1e3:.2f} ms, C++ {cpp_uhat * 1e3:.2f} ms, "
           f"ratio {py_uhat / cpp_uhat:.3f}")
 
@@ -71,18 +73,18 @@ def main():
                                                horizon=500, gamma=gamma)
     t_numpy = best_of(lambda: numpy_policy.uhat_batch(thetas), max(2, args.repeats // 2))
     t_builtin = best_of(lambda: builtin_policy.uhat_batch(thetas), max(2, args.repeats // 2))
-    cpp_batch = cpp_figure(args.bench, "BM_BicycleUhatBatch_31x30_H500")
+    cpp_batch = cpp_figure(args.bench, "BM_BicycleUhatBatch_31x30_H500", args.repeats)
     print(f"batch U-hat 31 x 30 x 500: numpy bicycle + numpy policy {t_numpy:.3f} s "
           f"({t_numpy / cpp_batch:.1f}x C++), numpy bicycle + built-in SigmoidPolicy {t_builtin:.3f} s "
           f"({t_builtin / cpp_batch:.1f}x C++), C++ bicycle {cpp_batch:.3f} s")
 
-    imports = []
-    for _ in range(args.repeats):
-        start = time.perf_counter()
-        subprocess.run([sys.executable, "-c", "import pegasus"], check=True)
-        imports.append(time.perf_counter() - start)
-    baseline = best_of(lambda: subprocess.run([sys.executable, "-c", "pass"], check=True), args.repeats)
-    print(f"import pegasus in a fresh interpreter: {min(imports):.3f} s (interpreter start alone {baseline:.3f} s)")
+    def fresh(code):
+        return best_of(lambda: subprocess.run([sys.executable, "-c", code], check=True), args.repeats)
+    baseline = fresh("pass")
+    print(f"import in a fresh interpreter, interpreter start ({baseline:.3f} s) subtracted: "
+          f"import pegasus {fresh('import pegasus') - baseline:.3f} s, "
+          f"import numpy {fresh('import numpy') - baseline:.3f} s, "
+          f"import pegasus then a first numpy call {fresh('import pegasus; pegasus.bicycle_balancing_theta()') - baseline:.3f} s")
 
 
 if __name__ == "__main__":

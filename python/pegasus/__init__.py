@@ -17,7 +17,23 @@ from ._pegasus import *  # noqa: F401,F403
 from ._pegasus import (BicycleProblem, BoxPolicy, FiniteMdp, FunctionObjective, Objective,  # noqa: F401
                        OptimizerOptions, OptimizerSummary, Parameter, ParameterSpec, ScenarioSet,
                        VectorizedProblem, solve)
-from .mdp import add_shaping, audit_shaping, finite_mdp  # noqa: F401
-from . import gym  # noqa: F401
+
+# The pure-Python parts load on first use (PEP 562), so that `import pegasus` does not import numpy: the extension
+# itself imports numpy only when it first exchanges an array.
+_LAZY = {"finite_mdp": "mdp", "add_shaping": "mdp", "audit_shaping": "mdp", "gym": None}
+
+
+def __getattr__(name):
+    if name not in _LAZY:
+        raise AttributeError(f"module 'pegasus' has no attribute '{name}'")
+    import importlib
+    module = importlib.import_module(f".{_LAZY[name] or name}", __name__)
+    value = module if _LAZY[name] is None else getattr(module, name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(list(globals()) + list(_LAZY))
 
 __version__ = "0.1.0"

@@ -1,5 +1,6 @@
-// Built-in environments as objects: the bicycle (thesis §4.6) and Pendulum-v1 as batch models, their policy
-// classes and PEGASUS problems, and the bicycle training of experiments/bicycle_experiment.hpp.
+// Built-in environments as objects: the bicycle (thesis §4.6) and Pendulum-v1 as batch models, the gridworlds
+// (§3.4, §4.6), their policy classes and PEGASUS problems, and the bicycle training of
+// experiments/bicycle_experiment.hpp.
 #include <fmt/format.h>
 
 #include <memory>
@@ -7,10 +8,13 @@
 #include "common.hpp"
 #include "pegasus/envs/bicycle.hpp"
 #include "pegasus/envs/bicycle_policy.hpp"
+#include "pegasus/envs/gridworld.hpp"
 #include "pegasus/envs/pendulum.hpp"
 #include "pegasus/envs/pendulum_policy.hpp"
+#include "pegasus/envs/pomdp_gridworld.hpp"
 #include "pegasus/evaluators/pegasus_evaluator.hpp"
 #include "pegasus/experiments/bicycle_experiment.hpp"
+#include "pegasus/mdp/finite_mdp.hpp"
 
 namespace pegasus::python {
 
@@ -68,6 +72,16 @@ class BuiltinProblem final : public Objective {
 };
 using BicycleProblem = BuiltinProblem<Bicycle, BicyclePolicy>;
 using PendulumProblem = BuiltinProblem<Pendulum, PendulumSwingUpPolicy>;
+using GridworldProblem = BuiltinProblem<GridWorld, TablePolicy>;
+using PomdpGridworldProblem = BuiltinProblem<PomdpGridworld, TablePolicy>;
+
+GridWorld checked_corner_gridworld(std::int64_t n, double intended) {
+  if (n < 2 || n > 10000)
+    throw py::value_error(fmt::format("n: expected an integer in [2, 10000], got {}", n));
+  if (!(intended > 0.0 && intended <= 1.0))
+    throw py::value_error(fmt::format("intended: expected a number in (0, 1], got {}", intended));
+  return corner_gridworld(static_cast<int>(n), intended);
+}
 
 template <class Problem>
 void bind_returns(py::class_<Problem, Objective>& c) {
@@ -266,6 +280,57 @@ on Pendulum-v1: m scenarios, horizon H, discount gamma, on `threads` threads.)do
       py::kw_only(), py::arg("seed"), py::arg("scenarios"), py::arg("horizon"), py::arg("gamma") = 1.0,
       py::arg("variant") = "plain", py::arg("threads") = 1, py::arg("refinements") = true);
   bind_returns(pendulum_problem);
+
+  m.def(
+      "corner_gridworld_mdp",
+      [](std::int64_t n, double intended, double gamma) {
+        return to_finite_mdp(checked_corner_gridworld(n, intended), gamma);
+      },
+      py::arg("n"), py::arg("intended") = 0.8, py::arg("gamma") = 1.0,
+      "The §3.4 gridworld (n x n, start (0, 0), goal (n-1, n-1), moves as intended with probability "
+      "`intended`, "
+      "-1 per step) as a FiniteMdp; state = y * n + x.");
+  m.def(
+      "corner_gridworld_potential",
+      [](std::int64_t n, double intended, double scale) {
+        return vector_array(manhattan_potential(checked_corner_gridworld(n, intended), scale));
+      },
+      py::arg("n"), py::arg("intended") = 0.8, py::arg("scale") = 1.0,
+      "Phi0(s) = -scale * manhattan(s, goal) / intended, the §3.4 estimate of V*; Phi(goal) = 0.");
+  auto gridworld_problem = py::class_<GridworldProblem, Objective>(m, "GridworldProblem", R"doc(
+PEGASUS U-hat of table policies (one integer action per cell, TablePolicy) on the §3.4 corner gridworld,
+m scenarios of the given seed, horizon H, discount gamma, on `threads` threads.)doc");
+  gridworld_problem.def(
+      py::init([](std::int64_t n, double intended, py::object seed, std::int64_t scenarios,
+                  std::int64_t horizon, double gamma, const std::string& variant, std::int64_t threads) {
+        GridWorld world = checked_corner_gridworld(n, intended);
+        TablePolicy policy(world.num_states(), world.num_actions());
+        return std::make_unique<GridworldProblem>(std::move(world), std::move(policy), seed, scenarios,
+                                                  horizon, gamma, variant, threads);
+      }),
+      py::arg("n"), py::arg("intended") = 0.8, py::kw_only(), py::arg("seed"), py::arg("scenarios"),
+      py::arg("horizon"), py::arg("gamma") = 1.0, py::arg("variant") = "plain", py::arg("threads") = 1);
+  bind_returns(gridworld_problem);
+  auto pomdp_problem = py::class_<PomdpGridworldProblem, Objective>(m, "PomdpGridworldProblem", R"doc(
+PEGASUS U-hat of memoryless table policies (one integer action per wall-pattern observation) on the POMDP
+gridworld of thesis §4.6 (width x height, open grid, start (0, 0), goal at the far corner).)doc");
+  pomdp_problem.def(
+      py::init([](std::int64_t width, std::int64_t height, py::object seed, std::int64_t scenarios,
+                  std::int64_t horizon, double gamma, const std::string& variant, std::int64_t threads) {
+        if (width < 2 || width > 1000 || height < 2 || height > 1000)
+          throw py::value_error(
+              fmt::format("width, height: expected integers in [2, 1000], got {} and {}", width, height));
+        PomdpGridworld::Layout layout;
+        layout.width = static_cast<int>(width), layout.height = static_cast<int>(height);
+        layout.goal = {layout.width - 1, layout.height - 1};
+        PomdpGridworld world(layout);
+        TablePolicy policy(world.observations(), PomdpGridworld::kActions);
+        return std::make_unique<PomdpGridworldProblem>(std::move(world), std::move(policy), seed, scenarios,
+                                                       horizon, gamma, variant, threads);
+      }),
+      py::arg("width") = 5, py::arg("height") = 5, py::kw_only(), py::arg("seed"), py::arg("scenarios"),
+      py::arg("horizon"), py::arg("gamma") = 1.0, py::arg("variant") = "plain", py::arg("threads") = 1);
+  bind_returns(pomdp_problem);
 
   py::class_<BicycleTrainingOptions>(m, "BicycleTrainingOptions", "The bicycle experiment's training (§4.6).")
       .def(py::init<>())

@@ -43,3 +43,30 @@ def test_pegasus_improves_the_pendulum_swing_up():
     theta, summary = pegasus.solve(problem, options)
     assert summary.best_value > summary.initial_value
     assert problem.uhat(theta) == summary.best_value
+
+
+def test_pegasus_estimates_the_exact_value_of_the_optimal_gridworld_policy():
+    n = 5
+    mdp = pegasus.corner_gridworld_mdp(n, intended=0.8, gamma=1.0)
+    solved = mdp.policy_iteration()
+    problem = pegasus.GridworldProblem(n, 0.8, seed=7, scenarios=2000, horizon=200, threads=2)
+    returns = problem.returns(solved.policy.astype(float))
+    exact = solved.value[0]  # the start cell (0, 0)
+    assert abs(returns.mean() - exact) < 4.0 * returns.std() / np.sqrt(len(returns))
+    assert problem.uhat(solved.policy.astype(float)) == returns.mean() or \
+        problem.uhat(solved.policy.astype(float)) == pytest.approx(returns.mean(), rel=1e-15)
+    phi = pegasus.corner_gridworld_potential(n, 0.8)
+    assert phi[-1] == 0.0 and phi[0] == pytest.approx(-2 * (n - 1) / 0.8)
+
+
+def test_exhaustive_search_solves_the_pomdp_gridworld_table_policy():
+    problem = pegasus.PomdpGridworldProblem(5, 5, seed=3, scenarios=30, horizon=40, threads=2)
+    assert len(problem.parameters) >= 2 and all(p.integer for p in problem.parameters)
+    theta, summary = pegasus.solve(problem, pegasus.OptimizerOptions("exhaustive"))
+    assert summary.termination_type == "SEARCH_COMPLETE"
+    assert summary.evaluations == 4 ** len(problem.parameters)
+    assert summary.best_value > -40.0  # reaches the goal on every scenario before the horizon
+    with pytest.raises(ValueError, match="width, height"):
+        pegasus.PomdpGridworldProblem(1, 5, seed=3, scenarios=3, horizon=4)
+    with pytest.raises(ValueError, match="intended"):
+        pegasus.GridworldProblem(5, 0.0, seed=3, scenarios=3, horizon=4)
