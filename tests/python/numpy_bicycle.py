@@ -54,16 +54,15 @@ class NumpyBicycle:
     def step(self, s, a, p):
         omega, omega_dot, theta, theta_dot = s[:, 0], s[:, 1], s[:, 2], s[:, 3]
         xf, yf, xb, yb, psi = s[:, 4], s[:, 5], s[:, 6], s[:, 7], s[:, 8]
-        T = np.clip(a[:, 0], -2.0, 2.0)
-        d = np.clip(a[:, 1], -0.02, 0.02) + self.noise * (2.0 * p[:, 0] - 1.0)
+        T = np.minimum(np.maximum(a[:, 0], -2.0), 2.0)
+        d = np.minimum(np.maximum(a[:, 1], -0.02), 0.02) + self.noise * (2.0 * p[:, 0] - 1.0)
 
         turning = theta != 0.0
         sin_t, tan_t = np.sin(theta), np.tan(theta)
-        with np.errstate(divide="ignore"):
-            inv_rf = np.where(turning, np.abs(sin_t) / L, 1.0 / STRAIGHT_RADIUS)
-            inv_rb = np.where(turning, np.abs(tan_t) / L, 1.0 / STRAIGHT_RADIUS)
-            r_cm = np.sqrt((L - C) ** 2 + L * L / np.where(turning, tan_t, 1.0) ** 2)
-            inv_rcm = np.where(turning, 1.0 / r_cm, 1.0 / STRAIGHT_RADIUS)
+        safe_tan = np.where(turning, tan_t, 1.0)  # bike.c: r = 9999999 m when theta = 0
+        inv_rf = np.where(turning, np.abs(sin_t) / L, 1.0 / STRAIGHT_RADIUS)
+        inv_rb = np.where(turning, np.abs(tan_t) / L, 1.0 / STRAIGHT_RADIUS)
+        inv_rcm = np.where(turning, 1.0 / np.sqrt((L - C) ** 2 + L * L / (safe_tan * safe_tan)), 1.0 / STRAIGHT_RADIUS)
         phi = omega + np.arctan(d / H)
         omega_dd = (H * M * G * np.sin(phi) - np.cos(phi) * (
             I_DC * SIGMA_DOT * theta_dot + np.sign(theta) * V * V * (M_D * R * (inv_rf + inv_rb) + M * H * inv_rcm))) / I_BIKE
@@ -83,22 +82,25 @@ class NumpyBicycle:
         xb = xb - step * np.sin(psi + turn_b)
         yb = yb + step * np.cos(psi + turn_b)
 
-        length = np.sqrt((xf - xb) ** 2 + (yf - yb) ** 2)
+        length = np.sqrt((xf - xb) * (xf - xb) + (yf - yb) * (yf - yb))
         fix = np.abs(length - L) > 0.01
         xb = np.where(fix, xb + (xb - xf) * (L - length) / length, xb)
         yb = np.where(fix, yb + (yb - yf) * (L - length) / length, yb)
 
         dy, dx = yf - yb, xb - xf
-        with np.errstate(divide="ignore", invalid="ignore"):
-            psi = np.where(dy > 0.0, np.arctan(dx / np.where(dy > 0.0, dy, 1.0)),
-                           np.sign(dx) * (np.pi / 2) - np.arctan(dy / np.where(dx != 0.0, dx, 1.0)))
+        ahead = dy > 0.0
+        psi = np.where(ahead, np.arctan(dx / np.where(ahead, dy, 1.0)),
+                       np.sign(dx) * (np.pi / 2) - np.arctan(dy / np.where(dx != 0.0, dx, 1.0)))
         psi = np.where((dx == 0.0) & (dy < 0.0), np.pi, psi)
 
         status = np.where(np.abs(omega) > FALL_ANGLE, FALLEN, RIDING)
         if self.goal is not None:
             inside = (xf - self.goal[0]) ** 2 + (yf - self.goal[1]) ** 2 <= self.goal[2] ** 2
             status = np.where((status == RIDING) & inside, AT_GOAL, status)
-        return np.stack([omega, omega_dot, theta, theta_dot, xf, yf, xb, yb, psi, status], axis=1)
+        out = np.empty((s.shape[0], 10))
+        for k, column in enumerate((omega, omega_dot, theta, theta_dot, xf, yf, xb, yb, psi, status)):
+            out[:, k] = column
+        return out
 
     def terminal(self, s):
         return s[:, 9] != RIDING
@@ -128,21 +130,29 @@ class NumpyBicycle:
         fallen = nxt[:, 9] == FALLEN
         bound = np.where(nxt[:, 0] > 0.0, FALL_ANGLE, -FALL_ANGLE)
         change = nxt[:, 0] - s[:, 0]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            tau = np.clip((bound - s[:, 0]) / np.where(change != 0.0, change, 1.0), 0.0, 1.0)
-        return np.where(fallen & (change != 0.0), tau, 0.0)
+        moved = change != 0.0
+        tau = np.minimum(np.maximum((bound - s[:, 0]) / np.where(moved, change, 1.0), 0.0), 1.0)
+        return np.where(fallen & moved, tau, 0.0)
+
+
+_FEATURE_SCALES = np.array([np.pi / 15, 1.0, np.pi / 4, 2.0])
 
 
 def features(observations):
     """The bicycle policy's 15 features (envs/bicycle_policy.hpp)."""
-    scaled = observations[:, :4] / np.array([np.pi / 15, 1.0, np.pi / 4, 2.0])
-    cols = []
+    n = observations.shape[0]
+    out = np.empty((n, 15))
+    scaled = observations[:, :4] / _FEATURE_SCALES
     for k in range(4):
         v = scaled[:, k]
-        cols += [v, v * np.abs(v), v ** 3]
+        out[:, 3 * k] = v
+        out[:, 3 * k + 1] = v * np.abs(v)
+        out[:, 3 * k + 2] = v * v * v
     g = observations[:, 4] / np.pi
-    cols += [g, g * np.abs(g), np.sin(observations[:, 4])]
-    return np.stack(cols, axis=1)
+    out[:, 12] = g
+    out[:, 13] = g * np.abs(g)
+    out[:, 14] = np.sin(observations[:, 4])
+    return out
 
 
 class NumpyBicyclePolicy:
