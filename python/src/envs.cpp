@@ -201,6 +201,31 @@ Randlov and Alstrom's bicycle (thesis §4.6) as a batch model. A state row is
       "bicycle_policy_parameters", [] { return make_bicycle_policy().parameters(); },
       "The bicycle policy class's 30 parameters w.T.<feature>, w.d.<feature>.");
   m.def(
+      "read_bicycle_policy", [](const std::string& path) { return vector_array(read_bicycle_policy(path)); },
+      py::arg("path"),
+      "The weights of a bicycle policy file (`pegasus bicycle train`'s policy.json); ValueError naming the "
+      "file and "
+      "field when it is not one.");
+  m.def(
+      "bicycle_controls",
+      [](py::object theta, py::object observations) {
+        const BicyclePolicy policy = make_bicycle_policy();
+        const Theta w = as_theta(theta, "theta", policy.parameters());
+        const Array o = as_matrix(observations, "observations", -1, 5);
+        require_finite(o, "observations");
+        Array out = matrix(o.shape(0), 2);
+        for (py::ssize_t r = 0; r < o.shape(0); ++r) {
+          const double* x = o.data() + r * 5;
+          const auto a = policy.act(w, BicycleObservation{x[0], x[1], x[2], x[3], x[4]});
+          out.mutable_data()[2 * r] = a[0], out.mutable_data()[2 * r + 1] = a[1];
+        }
+        return out;
+      },
+      py::arg("theta"), py::arg("observations"),
+      "The controls [T, d] of the bicycle policy theta for each row of observations [omega, omega_dot, "
+      "theta, "
+      "theta_dot, goal_angle].");
+  m.def(
       "bicycle_balancing_theta", [] { return vector_array(bicycle_balancing_theta()); },
       "A crude hand-set balancing policy of the bicycle class (ignores the goal).");
 

@@ -3,7 +3,9 @@ import json
 import subprocess
 
 import numpy as np
+import pytest
 
+import numpy_bicycle
 import pegasus
 
 SMALL = ["--scenarios", "8", "--horizon", "150", "--iterations", "3", "--rides", "0", "--seed", "3"]
@@ -36,6 +38,22 @@ def test_bicycle_training_gives_the_cli_figures_bit_for_bit(cli, tmp_path):
     names = pegasus.bicycle_policy_parameters().names
     assert [policy_json["parameters"][n] for n in names] == list(theta)
     assert summary.best_value > summary.initial_value
+    # The policy file as a controller: the controls of a batch of states.
+    read = pegasus.read_bicycle_policy(str(tmp_path / "cli" / "policy.json"))
+    assert np.array_equal(read, theta)
+    observations = np.random.default_rng(2).normal(scale=0.1, size=(20, 5))
+    controls = pegasus.bicycle_controls(read, observations)
+    assert controls == pytest.approx(numpy_bicycle.NumpyBicyclePolicy().act(np.tile(read, (20, 1)), observations),
+                                     rel=1e-13, abs=1e-15)
+
+
+def test_a_file_that_is_not_a_policy_is_refused_naming_it(tmp_path):
+    bad = tmp_path / "policy.json"
+    bad.write_text('{"policy": "bicycle-sigmoid-15", "parameters": {"w.T.omega": "fast"}}')
+    with pytest.raises(ValueError, match="policy.json"):
+        pegasus.read_bicycle_policy(str(bad))
+    with pytest.raises(ValueError, match=r"observations: expected a 2-D array of shape \(any, 5\)"):
+        pegasus.bicycle_controls(pegasus.bicycle_balancing_theta(), np.zeros((3, 4)))
 
 
 def test_threads_never_change_the_result():
