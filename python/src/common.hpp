@@ -46,5 +46,6 @@ void bind_optimizers(py::module_& m);
 void bind_vectorized(py::module_& m);
 void bind_envs(py::module_& m);
 void bind_mdp(py::module_& m);
+void bind_sysid(py::module_& m);
 
 }  // namespace pegasus::python

@@ -19,4 +19,5 @@ PYBIND11_MODULE(_pegasus, m) {
   pegasus::python::bind_vectorized(m);
   pegasus::python::bind_envs(m);
   pegasus::python::bind_mdp(m);
+  pegasus::python::bind_sysid(m);
 }

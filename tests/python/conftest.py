@@ -10,12 +10,12 @@ HERE = pathlib.Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))  # numpy_bicycle
 
 
-@pytest.fixture
+@pytest.fixture(scope="session")
 def source_dir():
     return pathlib.Path(os.environ.get("PEGASUS_SOURCE_DIR", HERE.parent.parent))
 
 
-@pytest.fixture
+@pytest.fixture(scope="session")
 def cli(source_dir):
     path = os.environ.get("PEGASUS_CLI", str(source_dir / "build" / "pegasus"))
     if not os.path.exists(path):
