@@ -9,6 +9,11 @@
 //                                     training computes it (bicycle_uhat: rollouts four at a time in
 //                                     lockstep)
 //   BM_BicycleUhat_OneAtATime_m30_H500  the same U-hat by PegasusEvaluator, one rollout at a time (1 thread)
+//   BM_BicycleUhatBatch_31x30_H500    a gradient's batch: 31 thetas (the balancing policy and +-0.05 on each
+//   of
+//                                     its first 15 weights) x 30 scenarios x 500 steps, PegasusEvaluator's
+//                                     evaluate_batch on 1 thread; the C++ side of bench/python_bench.py's
+//                                     numpy-bicycle comparison
 // Every benchmark reports steps_per_s (simulated bicycle steps per wall second).
 #include <benchmark/benchmark.h>
 
@@ -145,6 +150,29 @@ void BM_BicycleUhat_OneAtATime_m30_H500(benchmark::State& state) {
   state.counters["steps_per_s"] = benchmark::Counter(static_cast<double>(steps), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_BicycleUhat_OneAtATime_m30_H500)->Unit(benchmark::kMillisecond);
+
+void BM_BicycleUhatBatch_31x30_H500(benchmark::State& state) {
+  const BicycleTrainingOptions o;
+  const Bicycle bike(o.bicycle);
+  const PegasusEvaluator evaluator(
+      shape(bike, BicycleProgressPotential{bike, o.shaping_per_metre}, o.gamma), make_bicycle_policy(),
+      ScenarioSet({.seed = 1, .count = 30, .horizon = 500, .noise_dim = 1, .initial_noise_dim = 5}),
+      Discounting{.gamma = o.gamma, .horizon = 500});
+  std::vector<Theta> thetas(31, bicycle_balancing_theta());
+  for (std::size_t k = 0; k < 15; ++k) {
+    thetas[1 + 2 * k][k] += 0.05;
+    thetas[2 + 2 * k][k] -= 0.05;
+  }
+  std::vector<double> values(thetas.size());
+  std::uint64_t steps = 0;
+  for (auto _ : state) {
+    evaluator.evaluate_batch(thetas, values);
+    benchmark::DoNotOptimize(values.data());
+    steps += 31 * 30 * 500;  // an upper bound: rollouts that fall stop early
+  }
+  state.counters["steps_per_s"] = benchmark::Counter(static_cast<double>(steps), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_BicycleUhatBatch_31x30_H500)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace pegasus

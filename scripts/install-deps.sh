@@ -20,6 +20,9 @@ packages=(
   gcc
   # the HTML report's browser test
   chromium
+  # the Python package (python/, `import pegasus`): pybind11 bindings for Debian's /usr/bin/python3, numpy
+  # arrays, scipy.sparse MDPs, and the pytest suite in tests/python
+  python3-dev python3-numpy python3-scipy python3-pytest pybind11-dev
 )
 # the report's JavaScript comes from npm; a node/npm installed some other way (e.g. NodeSource) is kept
 command -v node >/dev/null 2>&1 || packages+=(nodejs)

@@ -1,0 +1,319 @@
+"""Type stubs of the compiled extension (python/src/*.cpp); see help(pegasus.X) for each item."""
+from typing import Any, Callable, Optional, Sequence, Tuple
+
+import numpy as np
+import numpy.typing as npt
+
+ArrayLike = npt.ArrayLike
+Array = npt.NDArray[np.float64]
+
+class ScenarioSet:
+    def __init__(self, seed: int, count: int, horizon: int, noise_dim: int, initial_noise_dim: int = 0,
+                 variant: str = "plain") -> None: ...
+    count: int
+    horizon: int
+    noise_dim: int
+    initial_noise_dim: int
+    seed: int
+    variant: str
+    def initial_noise(self) -> Array: ...
+    def step_noise(self) -> Array: ...
+
+class Parameter:
+    def __init__(self, name: str, initial: float = 0.0, lower: float = ..., upper: float = ...,
+                 scale: float = 1.0, integer: bool = False) -> None: ...
+    name: str
+    initial: float
+    lower: float
+    upper: float
+    scale: float
+    integer: bool
+
+class ParameterSpec:
+    def __init__(self, parameters: Sequence[Parameter] = ...) -> None: ...
+    @staticmethod
+    def from_names(names: Sequence[str], initial: float = 0.0, scale: float = 1.0) -> ParameterSpec: ...
+    def add(self, parameter: Parameter) -> ParameterSpec: ...
+    def __len__(self) -> int: ...
+    def __getitem__(self, i: int) -> Parameter: ...
+    names: list[str]
+    initial: Array
+    lower: Array
+    upper: Array
+    scales: Array
+    def index_of(self, name: str) -> int: ...
+
+class Objective:
+    parameters: ParameterSpec
+    def uhat(self, theta: ArrayLike) -> float: ...
+    def uhat_batch(self, thetas: ArrayLike) -> Array: ...
+
+class FunctionObjective(Objective):
+    def __init__(self, parameters: ParameterSpec, f: Callable[[Array], float]) -> None: ...
+
+class _Checkpointing:
+    checkpoint_every: int
+    on_checkpoint: Any
+    resume_from: Optional[dict]
+    def is_valid(self) -> Tuple[bool, str]: ...
+
+class GradientAscentOptions(_Checkpointing):
+    max_iterations: int
+    max_evaluations: int
+    relative_step: float
+    initial_step: float
+    max_step: float
+    min_step: float
+    step_growth: float
+    max_backtracks: int
+    function_tolerance: float
+
+class HillClimbingOptions(_Checkpointing):
+    seed: int
+    stream: int
+    max_iterations: int
+    max_evaluations: int
+    proposals_per_iteration: int
+    initial_step: float
+    max_step: float
+    min_step: float
+    step_growth: float
+    step_shrink: float
+
+class ExhaustiveSearchOptions(_Checkpointing):
+    max_policies: int
+    block_size: int
+    keep_all_values: bool
+
+class NloptOptions(_Checkpointing):
+    algorithm: str
+    max_evaluations: int
+    initial_step: float
+    x_tolerance: float
+    function_tolerance: float
+    population: int
+    seed: int
+
+class OptimizerOptions:
+    def __init__(self, method: str = "gradient") -> None: ...
+    method: str
+    exhaustive: ExhaustiveSearchOptions
+    gradient: GradientAscentOptions
+    hill_climbing: HillClimbingOptions
+    nlopt: NloptOptions
+    def set_checkpointing(self, checkpoint_every: int, on_checkpoint: Optional[Callable[[dict], None]] = None,
+                          resume_from: Optional[dict] = None) -> None: ...
+    def is_valid(self) -> Tuple[bool, str]: ...
+
+def optimizer_methods() -> list[str]: ...
+
+class IterationRecord:
+    iteration: int
+    evaluations: int
+    value: float
+    seconds: float
+
+class OptimizerSummary:
+    method: str
+    parameter_names: list[str]
+    termination_type: str
+    message: str
+    iterations: int
+    evaluations: int
+    replayed_evaluations: int
+    resumed: bool
+    initial_value: float
+    best_value: float
+    best_theta: Array
+    final_step: float
+    wall_seconds: float
+    history: list[IterationRecord]
+    all_values: Array
+    def brief_report(self) -> str: ...
+    def full_report(self) -> str: ...
+    def same_outcome(self, other: OptimizerSummary) -> Tuple[bool, str]: ...
+
+def solve(objective: Objective, options: OptimizerOptions = ..., theta: Optional[ArrayLike] = None
+          ) -> Tuple[Array, OptimizerSummary]: ...
+
+class BoxPolicy:
+    parameters: ParameterSpec
+    observation_dim: int
+    action_dim: int
+    def act(self, thetas: ArrayLike, observations: ArrayLike) -> Array: ...
+
+def LinearPolicy(observation_dim: int, low: Sequence[float], high: Sequence[float], scale: float = 1.0
+                 ) -> BoxPolicy: ...
+def SigmoidPolicy(observation_dim: int, low: Sequence[float], high: Sequence[float], scale: float = 1.0
+                  ) -> BoxPolicy: ...
+
+class VectorizedProblem(Objective):
+    def __init__(self, model: Any, policy: Any, *, seed: int, scenarios: int, horizon: int, gamma: float = 1.0,
+                 variant: str = "plain") -> None: ...
+    scenarios: ScenarioSet
+    gamma: float
+    horizon: int
+    def returns(self, thetas: ArrayLike) -> Array: ...
+
+class BicycleGoal:
+    @staticmethod
+    def circle(x: float, y: float, radius: float) -> BicycleGoal: ...
+    @staticmethod
+    def infinitely_far(direction: float) -> BicycleGoal: ...
+    at_infinity: bool
+    x: float
+    y: float
+    radius: float
+    direction: float
+
+class BicycleStart:
+    omega: float
+    omega_dot: float
+    theta: float
+    theta_dot: float
+    goal_angle: float
+
+class BicycleOptions:
+    goal: BicycleGoal
+    start: BicycleStart
+    fall_reward: float
+    goal_reward: float
+    noise: float
+    def is_valid(self) -> Tuple[bool, str]: ...
+
+class Bicycle:
+    def __init__(self, options: BicycleOptions = ...) -> None: ...
+    options: BicycleOptions
+    noise_dim: int
+    initial_noise_dim: int
+    def initial_state(self, noise: ArrayLike) -> Array: ...
+    def step(self, states: ArrayLike, actions: ArrayLike, noise: ArrayLike) -> Array: ...
+    def observe(self, states: ArrayLike) -> Array: ...
+
+def bicycle_features(observations: ArrayLike) -> Array: ...
+def bicycle_policy_parameters() -> ParameterSpec: ...
+def bicycle_balancing_theta() -> Array: ...
+def read_bicycle_policy(path: str) -> Array: ...
+def bicycle_controls(theta: ArrayLike, observations: ArrayLike) -> Array: ...
+
+class BicycleProblem(Objective):
+    def __init__(self, bicycle: BicycleOptions = ..., *, seed: int, scenarios: int, horizon: int,
+                 gamma: float = 1.0, variant: str = "plain", threads: int = 1) -> None: ...
+    def returns(self, theta: ArrayLike) -> Array: ...
+
+class BicycleTrainingOptions:
+    scenarios: int
+    gamma: float
+    horizon: int
+    shaping: str
+    shaping_per_metre: float
+    estimator: str
+    variant: str
+    initial_policy: str
+    bicycle: BicycleOptions
+    optimizer: OptimizerOptions
+    seed: int
+    threads: int
+    def is_valid(self) -> Tuple[bool, str]: ...
+
+def train_bicycle(options: BicycleTrainingOptions, *, checkpoint_every: int = 0,
+                  on_checkpoint: Optional[Callable[[dict], None]] = None, resume_from: Optional[dict] = None
+                  ) -> Tuple[Array, OptimizerSummary]: ...
+def bicycle_uhat(options: BicycleTrainingOptions, theta: ArrayLike) -> float: ...
+
+class PendulumProblem(Objective):
+    def __init__(self, *, seed: int, scenarios: int, horizon: int, gamma: float = 1.0, variant: str = "plain",
+                 threads: int = 1, refinements: bool = True) -> None: ...
+    def returns(self, theta: ArrayLike) -> Array: ...
+
+class Pendulum:
+    noise_dim: int
+    initial_noise_dim: int
+    def initial_state(self, noise: ArrayLike) -> Array: ...
+    def step(self, states: ArrayLike, actions: ArrayLike) -> Array: ...
+    def reward(self, states: ArrayLike, actions: ArrayLike) -> Array: ...
+
+def pendulum_policy_parameters(refinements: bool = True) -> ParameterSpec: ...
+
+class GridworldProblem(Objective):
+    def __init__(self, n: int, intended: float = 0.8, *, seed: int, scenarios: int, horizon: int,
+                 gamma: float = 1.0, variant: str = "plain", threads: int = 1) -> None: ...
+    def returns(self, theta: ArrayLike) -> Array: ...
+
+class PomdpGridworldProblem(Objective):
+    def __init__(self, width: int = 5, height: int = 5, *, seed: int, scenarios: int, horizon: int,
+                 gamma: float = 1.0, variant: str = "plain", threads: int = 1) -> None: ...
+    def returns(self, theta: ArrayLike) -> Array: ...
+
+def corner_gridworld_mdp(n: int, intended: float = 0.8, gamma: float = 1.0) -> FiniteMdp: ...
+def corner_gridworld_potential(n: int, intended: float = 0.8, scale: float = 1.0) -> Array: ...
+
+class SolveSummary:
+    value: Array
+    policy: npt.NDArray[np.int64]
+    iterations: int
+    polish_iterations: int
+    residual: float
+    policy_loss_bound: float
+    value_error_bound: float
+    converged: bool
+    message: str
+    def brief_report(self) -> str: ...
+
+class PolicyChange:
+    changes: bool
+    states: list[int]
+    loss_under_initial: float
+    max_loss: float
+
+class ShapingAudit:
+    potential_based: bool
+    potential: Array
+    max_residual: float
+    rms_residual: float
+    scope_size: int
+    has_action_dependence: bool
+    has_cycle: bool
+    counterexample_verified: bool
+    counterexample_note: str
+    policy_change: PolicyChange
+    def brief_report(self) -> str: ...
+
+class FiniteMdp:
+    num_states: int
+    num_actions: int
+    gamma: float
+    absorbing: list[int]
+    initial: Array
+    expected_reward: Array
+    def value_iteration(self, epsilon: float = 1e-8, gauss_seidel: bool = False, max_iterations: int = 1000000
+                        ) -> SolveSummary: ...
+    def policy_iteration(self, max_iterations: int = 10000) -> SolveSummary: ...
+    def evaluate_policy(self, policy: ArrayLike) -> Array: ...
+    def shape_with_potential(self, phi: ArrayLike) -> FiniteMdp: ...
+
+class FlightLog:
+    rows: int
+    dt: float
+    time: Array
+    states: Array
+    controls: Array
+
+def read_flight_log(path: str, min_rows: int = 100) -> FlightLog: ...
+def flight_log(data: ArrayLike, columns: Sequence[str], min_rows: int = 100) -> FlightLog: ...
+
+class IdentifiedModel:
+    dt: float
+    is_global: bool
+    sigma2: Array
+    inv_bandwidth: Array
+    def to_json(self) -> dict: ...
+    def save(self, path: str) -> None: ...
+    @staticmethod
+    def load(path: str) -> IdentifiedModel: ...
+
+def identify(log: FlightLog, *, rate_hz: float = 10.0, local: bool = True, extra_states: bool = True,
+             intercept: bool = True, templates: bool = True, window_s: float = 16.0, cv_points: int = 300,
+             scale_grid: Sequence[float] = ..., coordinate_passes: int = 1, threads: int = 1) -> IdentifiedModel: ...
+def horizon_mse(model: IdentifiedModel, test: FlightLog, *, horizon_s: float = 10.0, start_spacing_s: float = 2.0,
+                threads: int = 1) -> dict: ...

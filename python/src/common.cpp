@@ -1,0 +1,109 @@
+#include "common.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+namespace pegasus::python {
+
+namespace {
+std::string shape_of(const py::array& a) {
+  std::string s = "(";
+  for (py::ssize_t k = 0; k < a.ndim(); ++k) s += (k ? ", " : "") + std::to_string(a.shape(k));
+  return s + (a.ndim() == 1 ? ",)" : ")");
+}
+std::string dim_text(py::ssize_t n) { return n < 0 ? "any" : std::to_string(n); }
+}  // namespace
+
+Array as_array(py::handle object, const std::string& name) {
+  if (object.is_none()) throw py::value_error(name + ": expected an array of real numbers, got None");
+  py::array a;
+  try {
+    a = py::array::ensure(object);
+  } catch (const py::error_already_set&) {
+    a = py::array();
+  }
+  if (!a) throw py::value_error(name + ": expected an array of real numbers");
+  const char kind = a.dtype().kind();
+  if (kind != 'b' && kind != 'i' && kind != 'u' && kind != 'f')
+    throw py::value_error(fmt::format("{}: expected an array of real numbers, got dtype {}", name,
+                                      py::str(a.dtype()).cast<std::string>()));
+  return Array::ensure(a);
+}
+
+Array as_matrix(py::handle object, const std::string& name, py::ssize_t rows, py::ssize_t cols) {
+  Array a = as_array(object, name);
+  if (a.ndim() != 2 || (rows >= 0 && a.shape(0) != rows) || (cols >= 0 && a.shape(1) != cols))
+    throw py::value_error(fmt::format("{}: expected a 2-D array of shape ({}, {}), got shape {}", name,
+                                      dim_text(rows), dim_text(cols), shape_of(a)));
+  return a;
+}
+
+Array as_vector(py::handle object, const std::string& name, py::ssize_t size) {
+  Array a = as_array(object, name);
+  if (a.ndim() != 1 || (size >= 0 && a.shape(0) != size))
+    throw py::value_error(fmt::format("{}: expected a 1-D array of length {}, got shape {}", name,
+                                      dim_text(size), shape_of(a)));
+  return a;
+}
+
+void require_finite(const Array& array, const std::string& name) {
+  const double* x = array.data();
+  for (py::ssize_t k = 0; k < array.size(); ++k)
+    if (!std::isfinite(x[k]))
+      throw py::value_error(
+          fmt::format("{}: expected finite numbers, got {} at flat index {}", name, x[k], k));
+}
+
+Theta as_theta(py::handle object, const std::string& name, const ParameterSpec& spec) {
+  const Array a = as_vector(object, name, static_cast<py::ssize_t>(spec.size()));
+  require_finite(a, name);
+  return Theta(a.data(), a.data() + a.size());
+}
+
+std::vector<Theta> as_thetas(py::handle object, const std::string& name, const ParameterSpec& spec) {
+  const auto n = static_cast<py::ssize_t>(spec.size());
+  Array a = as_array(object, name);
+  if (a.ndim() == 1) return {as_theta(a, name, spec)};
+  a = as_matrix(a, name, -1, n);
+  require_finite(a, name);
+  std::vector<Theta> thetas;
+  for (py::ssize_t k = 0; k < a.shape(0); ++k) thetas.emplace_back(a.data() + k * n, a.data() + (k + 1) * n);
+  return thetas;
+}
+
+std::uint64_t as_seed(py::handle object, const std::string& name) {
+  if (!py::isinstance<py::int_>(object) || py::isinstance<py::bool_>(object))
+    throw py::value_error(name + ": expected an integer in [0, 2**64)");
+  const py::int_ value = py::reinterpret_borrow<py::int_>(object);
+  if (value < py::int_(0) || value >= py::int_(1).attr("__lshift__")(64))
+    throw py::value_error(name + ": expected an integer in [0, 2**64), got " +
+                          py::repr(object).cast<std::string>());
+  return value.cast<std::uint64_t>();
+}
+
+Array matrix(py::ssize_t rows, py::ssize_t cols) { return Array({rows, cols}); }
+
+Array vector_array(std::span<const double> values) {
+  Array a(static_cast<py::ssize_t>(values.size()));
+  std::copy(values.begin(), values.end(), a.mutable_data());
+  return a;
+}
+
+py::object to_python(const nlohmann::json& j) { return py::module_::import("json").attr("loads")(j.dump()); }
+
+nlohmann::json from_python(py::handle object, const std::string& name) {
+  std::string text;
+  try {
+    text = py::module_::import("json").attr("dumps")(object).cast<std::string>();
+  } catch (const py::error_already_set& e) {
+    throw py::value_error(name + ": expected JSON-serialisable data (" + std::string(e.what()) + ")");
+  }
+  try {
+    return nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception& e) {
+    throw py::value_error(name + ": " + e.what());
+  }
+}
+
+}  // namespace pegasus::python

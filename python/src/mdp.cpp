@@ -1,0 +1,236 @@
+// Finite MDPs (thesis §2.1) from transition triplets (python/pegasus/mdp.py builds them from numpy arrays or
+// scipy.sparse), their solvers (§2.2-2.3), potential shaping (§3.3, Eq 3.1) and the shaping audit.
+#include <fmt/format.h>
+
+#include "common.hpp"
+#include "pegasus/mdp/finite_mdp.hpp"
+#include "pegasus/mdp/solvers.hpp"
+#include "pegasus/shaping/audit.hpp"
+#include "pegasus/shaping/potential_shaping.hpp"
+#include "pegasus/shaping/shaping_table.hpp"
+
+namespace pegasus::python {
+
+namespace {
+
+std::vector<int> as_indices(py::handle object, const std::string& name, py::ssize_t size, int bound) {
+  const Array a = as_vector(object, name, size);
+  std::vector<int> out(static_cast<std::size_t>(a.size()));
+  for (py::ssize_t k = 0; k < a.size(); ++k) {
+    const double x = a.data()[k];
+    if (!(x >= 0 && x < bound && x == std::floor(x)))
+      throw py::value_error(
+          fmt::format("{}: expected integers in [0, {}), got {} at index {}", name, bound, x, k));
+    out[static_cast<std::size_t>(k)] = static_cast<int>(x);
+  }
+  return out;
+}
+
+FiniteMdp from_triplets(std::int64_t num_states, std::int64_t num_actions, double gamma, py::object state,
+                        py::object action, py::object next, py::object probability, py::object reward,
+                        py::object state_reward, py::object state_action_reward, py::object absorbing,
+                        py::object initial) {
+  if (num_states < 1 || num_states > (1 << 30))
+    throw py::value_error(fmt::format("num_states: expected an integer in [1, 2^30], got {}", num_states));
+  if (num_actions < 1 || num_actions > 64)
+    throw py::value_error(fmt::format("num_actions: expected an integer in [1, 64], got {}", num_actions));
+  const int S = static_cast<int>(num_states), A = static_cast<int>(num_actions);
+  const Array p = as_vector(probability, "P", -1);
+  require_finite(p, "P");
+  const auto nnz = p.shape(0);
+  const auto s = as_indices(state, "P (states)", nnz, S), a = as_indices(action, "P (actions)", nnz, A),
+             n = as_indices(next, "P (next states)", nnz, S);
+  const Array r = as_vector(reward, "R", nnz);
+  require_finite(r, "R");
+  FiniteMdpBuilder builder(S, A, gamma);
+  std::vector<std::uint8_t> is_absorbing(static_cast<std::size_t>(S), 0);
+  if (!absorbing.is_none())
+    for (int x : as_indices(absorbing, "absorbing", -1, S)) {
+      builder.set_absorbing(x);
+      is_absorbing[static_cast<std::size_t>(x)] = 1;
+    }
+  for (py::ssize_t k = 0; k < nnz; ++k) {
+    const auto i = static_cast<std::size_t>(k);
+    if (is_absorbing[static_cast<std::size_t>(s[i])] || p.data()[k] == 0.0) continue;
+    builder.add_transition(s[i], a[i], n[i], p.data()[k], r.data()[k]);
+  }
+  if (!state_reward.is_none()) {
+    const Array x = as_vector(state_reward, "R", S);
+    require_finite(x, "R");
+    for (int i = 0; i < S; ++i) builder.set_state_reward(i, x.data()[i]);
+  }
+  if (!state_action_reward.is_none()) {
+    const Array x = as_matrix(state_action_reward, "R", S, A);
+    require_finite(x, "R");
+    for (int i = 0; i < S; ++i)
+      for (int j = 0; j < A; ++j) builder.set_state_action_reward(i, j, x.data()[i * A + j]);
+  }
+  if (!initial.is_none()) {
+    const Array x = as_vector(initial, "initial", S);
+    require_finite(x, "initial");
+    for (int i = 0; i < S; ++i)
+      if (x.data()[i] != 0.0) builder.set_initial(i, x.data()[i]);
+  }
+  return builder.build();
+}
+
+ShapingTable shaping_table(const FiniteMdp& mdp, py::object state, py::object action, py::object next,
+                           py::object value) {
+  const Array v = as_vector(value, "F", -1);
+  require_finite(v, "F");
+  const auto nnz = v.shape(0);
+  const auto s = as_indices(state, "F (states)", nnz, mdp.num_states),
+             a = as_indices(action, "F (actions)", nnz, mdp.num_actions),
+             n = as_indices(next, "F (next states)", nnz, mdp.num_states);
+  std::vector<ShapingEntry> entries;
+  for (std::size_t k = 0; k < s.size(); ++k)
+    if (v.data()[k] != 0.0) entries.push_back({s[k], a[k], n[k], v.data()[k]});
+  return ShapingTable(mdp.num_states, mdp.num_actions, std::move(entries));
+}
+
+}  // namespace
+
+void bind_mdp(py::module_& m) {
+  py::class_<FiniteMdp>(m, "FiniteMdp", R"doc(
+A finite MDP (S, D, A, P, gamma, R) of thesis §2.1, stored as sparse rows. Build it with pegasus.finite_mdp(P, R,
+gamma, absorbing=..., initial=...) from numpy arrays or scipy.sparse matrices.)doc")
+      .def_static("_from_triplets", &from_triplets, py::arg("num_states"), py::arg("num_actions"),
+                  py::arg("gamma"), py::arg("state"), py::arg("action"), py::arg("next"),
+                  py::arg("probability"), py::arg("reward"), py::arg("state_reward") = py::none(),
+                  py::arg("state_action_reward") = py::none(), py::arg("absorbing") = py::none(),
+                  py::arg("initial") = py::none())
+      .def_readonly("num_states", &FiniteMdp::num_states)
+      .def_readonly("num_actions", &FiniteMdp::num_actions)
+      .def_readonly("gamma", &FiniteMdp::gamma)
+      .def_property_readonly("absorbing",
+                             [](const FiniteMdp& mdp) {
+                               std::vector<int> out;
+                               for (int s = 0; s < mdp.num_states; ++s)
+                                 if (mdp.is_absorbing(s)) out.push_back(s);
+                               return out;
+                             })
+      .def_property_readonly("initial", [](const FiniteMdp& mdp) { return vector_array(mdp.initial); })
+      .def_property_readonly(
+          "expected_reward",
+          [](const FiniteMdp& mdp) {
+            Array out = matrix(mdp.num_states, mdp.num_actions);
+            std::copy(mdp.expected_reward.begin(), mdp.expected_reward.end(), out.mutable_data());
+            return out;
+          },
+          "R(s, a) = sum_s' P_sa(s') R(s, a, s'), shape (S, A).")
+      .def(
+          "value_iteration",
+          [](const FiniteMdp& mdp, double epsilon, bool gauss_seidel, int max_iterations) {
+            ValueIterationOptions o;
+            o.epsilon = epsilon, o.gauss_seidel = gauss_seidel, o.max_iterations = max_iterations;
+            std::string error;
+            if (!o.IsValid(mdp, &error)) throw py::value_error(error);
+            py::gil_scoped_release release;
+            return value_iteration(mdp, o);
+          },
+          py::arg("epsilon") = 1e-8, py::arg("gauss_seidel") = false, py::arg("max_iterations") = 1'000'000,
+          "Value iteration with a certified epsilon-optimal greedy policy; returns a SolveSummary.")
+      .def(
+          "policy_iteration",
+          [](const FiniteMdp& mdp, int max_iterations) {
+            PolicyIterationOptions o;
+            o.max_iterations = max_iterations;
+            std::string error;
+            if (!o.IsValid(mdp, &error)) throw py::value_error(error);
+            py::gil_scoped_release release;
+            return policy_iteration(mdp, o);
+          },
+          py::arg("max_iterations") = 10'000,
+          "Policy iteration with exact evaluation; returns a SolveSummary.")
+      .def(
+          "evaluate_policy",
+          [](const FiniteMdp& mdp, py::object policy) {
+            const Array a = as_array(policy, "policy");
+            if (a.ndim() == 2) {
+              const Array probs = as_matrix(a, "policy", mdp.num_states, mdp.num_actions);
+              require_finite(probs, "policy");
+              StochasticPolicy pi{mdp.num_states, mdp.num_actions,
+                                  std::vector<double>(probs.data(), probs.data() + probs.size())};
+              std::vector<double> v;
+              {
+                py::gil_scoped_release release;
+                v = evaluate_policy(mdp, pi);
+              }
+              return vector_array(v);
+            }
+            const std::vector<int> pi = as_indices(a, "policy", mdp.num_states, mdp.num_actions);
+            std::vector<double> v;
+            {
+              py::gil_scoped_release release;
+              v = evaluate_policy(mdp, std::span<const int>(pi));
+            }
+            return vector_array(v);
+          },
+          py::arg("policy"),
+          "V^pi exactly (Eq 2.8) of a deterministic policy (S actions) or a stochastic one (S x A "
+          "probabilities).")
+      .def(
+          "shape_with_potential",
+          [](const FiniteMdp& mdp, py::object phi) {
+            const Array p = as_vector(phi, "phi", mdp.num_states);
+            require_finite(p, "phi");
+            return shape_with_potential(
+                mdp, std::span<const double>(p.data(), static_cast<std::size_t>(p.size())));
+          },
+          py::arg("phi"), "M' = M + F with F = gamma Phi(s') - Phi(s) (Eq 3.1; Phi of absorbing states 0).")
+      .def("_add_shaping", [](const FiniteMdp& mdp, py::object s, py::object a, py::object n,
+                              py::object v) { return add_shaping(mdp, shaping_table(mdp, s, a, n, v)); })
+      .def("_audit_shaping", [](const FiniteMdp& mdp, py::object s, py::object a, py::object n, py::object v,
+                                double tolerance) {
+        AuditOptions o;
+        o.tolerance = tolerance;
+        std::string error;
+        if (!o.IsValid(&error)) throw py::value_error(error);
+        const ShapingTable f = shaping_table(mdp, s, a, n, v);
+        py::gil_scoped_release release;
+        return audit_shaping(mdp, f, o);
+      });
+
+  py::class_<SolveSummary>(m, "SolveSummary", "A finite-MDP solver's result: value, policy and bounds.")
+      .def_property_readonly("value", [](const SolveSummary& s) { return vector_array(s.value); })
+      .def_property_readonly("policy",
+                             [](const SolveSummary& s) {
+                               py::array_t<std::int64_t> p(static_cast<py::ssize_t>(s.policy.size()));
+                               std::copy(s.policy.begin(), s.policy.end(), p.mutable_data());
+                               return p;
+                             })
+      .def_readonly("iterations", &SolveSummary::iterations)
+      .def_readonly("polish_iterations", &SolveSummary::polish_iterations)
+      .def_readonly("residual", &SolveSummary::residual)
+      .def_readonly("policy_loss_bound", &SolveSummary::policy_loss_bound)
+      .def_readonly("value_error_bound", &SolveSummary::value_error_bound)
+      .def_property_readonly("converged", &SolveSummary::converged)
+      .def_readonly("message", &SolveSummary::message)
+      .def("brief_report", &SolveSummary::BriefReport);
+
+  py::class_<PolicyChange>(m, "PolicyChange")
+      .def_readonly("changes", &PolicyChange::changes)
+      .def_readonly("states", &PolicyChange::states)
+      .def_readonly("loss_under_initial", &PolicyChange::loss_under_initial)
+      .def_readonly("max_loss", &PolicyChange::max_loss);
+  py::class_<ShapingAudit>(m, "ShapingAudit", R"doc(
+The shaping audit: is F potential-based (least-squares Phi and residuals), and if not, the evidence of thesis
+§3.A (an action dependence, a cycle with net shaping, a verified counterexample) and whether this MDP's
+optimal policy changes under F.)doc")
+      .def_readonly("potential_based", &ShapingAudit::potential_based)
+      .def_property_readonly("potential", [](const ShapingAudit& a) { return vector_array(a.potential); })
+      .def_readonly("max_residual", &ShapingAudit::max_residual)
+      .def_readonly("rms_residual", &ShapingAudit::rms_residual)
+      .def_readonly("scope_size", &ShapingAudit::scope_size)
+      .def_property_readonly("has_action_dependence",
+                             [](const ShapingAudit& a) { return a.action_dependence.has_value(); })
+      .def_property_readonly("has_cycle", [](const ShapingAudit& a) { return a.cycle.has_value(); })
+      .def_property_readonly(
+          "counterexample_verified",
+          [](const ShapingAudit& a) { return a.counterexample && a.counterexample->verified; })
+      .def_readonly("counterexample_note", &ShapingAudit::counterexample_note)
+      .def_readonly("policy_change", &ShapingAudit::policy_change)
+      .def("brief_report", &ShapingAudit::BriefReport);
+}
+
+}  // namespace pegasus::python

@@ -1,0 +1,23 @@
+// The compiled half of `import pegasus` (python/pegasus/__init__.py re-exports it).
+#include "common.hpp"
+#include "pegasus/core/error.hpp"
+
+PYBIND11_MODULE(_pegasus, m) {
+  namespace py = pybind11;
+  m.doc() =
+      "Pegasus: PEGASUS policy search and reward shaping (the compiled extension; use `import pegasus`).";
+  // Bad input found by the library (InputError) is a ValueError on this side, with the library's message.
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const pegasus::InputError& e) {
+      PyErr_SetString(PyExc_ValueError, e.what());
+    }
+  });
+  pegasus::python::bind_scenarios(m);
+  pegasus::python::bind_optimizers(m);
+  pegasus::python::bind_vectorized(m);
+  pegasus::python::bind_envs(m);
+  pegasus::python::bind_mdp(m);
+  pegasus::python::bind_sysid(m);
+}

@@ -1,0 +1,168 @@
+// Flight logs, system identification and open-loop prediction of thesis §5.2 (sysid/): a model identified
+// from a CSV path or from numpy arrays with column names, saved and loaded as `pegasus heli identify` does.
+#include <fmt/format.h>
+
+#include <sstream>
+
+#include "common.hpp"
+#include "pegasus/parallel/thread_pool.hpp"
+#include "pegasus/sysid/flight_log.hpp"
+#include "pegasus/sysid/identify.hpp"
+
+namespace pegasus::python {
+
+namespace {
+
+using sysid::FlightLog;
+using sysid::IdentifiedModel;
+
+ThreadPool checked_pool(std::int64_t threads) {
+  if (threads < 1 || threads > 1024)
+    throw py::value_error(fmt::format("threads: expected an integer in [1, 1024], got {}", threads));
+  return ThreadPool(static_cast<int>(threads));
+}
+
+sysid::LogReadOptions read_options(std::int64_t min_rows) {
+  if (min_rows < 2)
+    throw py::value_error(fmt::format("min_rows: expected an integer >= 2, got {}", min_rows));
+  sysid::LogReadOptions o;
+  o.min_rows = static_cast<int>(min_rows);
+  return o;
+}
+
+// A log from numpy data [rows, columns] and the columns' names, through the CSV reader's checks.
+FlightLog log_from_arrays(py::object data, const std::vector<std::string>& columns, std::int64_t min_rows) {
+  const Array a = as_matrix(data, "data", -1, static_cast<py::ssize_t>(columns.size()));
+  std::ostringstream text;
+  for (std::size_t c = 0; c < columns.size(); ++c) {
+    if (columns[c].find_first_of(",\n\"") != std::string::npos)
+      throw py::value_error(
+          fmt::format("columns[{}]: expected a name without commas, quotes or newlines", c));
+    text << (c ? "," : "") << columns[c];
+  }
+  text << '\n';
+  for (py::ssize_t r = 0; r < a.shape(0); ++r) {
+    for (py::ssize_t c = 0; c < a.shape(1); ++c)
+      text << (c ? "," : "") << fmt::format("{}", a.data()[r * a.shape(1) + c]);
+    text << '\n';
+  }
+  return sysid::parse_flight_log(text.str(), "data", read_options(min_rows));
+}
+
+}  // namespace
+
+void bind_sysid(py::module_& m) {
+  py::class_<FlightLog>(m, "FlightLog", R"doc(
+A helicopter flight log (thesis §5.2): time, the 12 world-frame states (x, y, z, roll, pitch, yaw, xdot, ydot,
+zdot, roll_rate, pitch_rate, yaw_rate) and the controls a1..a4. From read_flight_log(path) or
+flight_log(data, columns).)doc")
+      .def_property_readonly("rows", &FlightLog::rows)
+      .def_property_readonly("dt", &FlightLog::dt)
+      .def_property_readonly("time", [](const FlightLog& log) { return vector_array(log.time); })
+      .def_property_readonly("states",
+                             [](const FlightLog& log) {
+                               Array out = matrix(static_cast<py::ssize_t>(log.rows()), sysid::kLogStates);
+                               for (std::size_t r = 0; r < log.rows(); ++r)
+                                 std::copy(log.states[r].begin(), log.states[r].end(),
+                                           out.mutable_data() + r * sysid::kLogStates);
+                               return out;
+                             })
+      .def_property_readonly("controls", [](const FlightLog& log) {
+        Array out = matrix(static_cast<py::ssize_t>(log.rows()), 4);
+        for (std::size_t r = 0; r < log.rows(); ++r)
+          std::copy(log.controls[r].begin(), log.controls[r].end(), out.mutable_data() + r * 4);
+        return out;
+      });
+  m.def(
+      "read_flight_log",
+      [](const std::string& path, std::int64_t min_rows) {
+        return sysid::read_flight_log(path, read_options(min_rows));
+      },
+      py::arg("path"), py::arg("min_rows") = 100,
+      "Reads and checks a CSV flight log (README's format); ValueError 'FILE:LINE:COLUMN: what was "
+      "expected'.");
+  m.def("flight_log", &log_from_arrays, py::arg("data"), py::arg("columns"), py::arg("min_rows") = 100,
+        "A flight log from numpy data [rows, columns] with the columns' names (time, x, ..., a4; others "
+        "ignored).");
+
+  py::class_<IdentifiedModel>(m, "IdentifiedModel", R"doc(
+An identified helicopter model (thesis §5.2): locally weighted (or global linear) regression of the body
+variables' changes, its bandwidth and noise. Save it as the model.json `pegasus heli hover` loads.)doc")
+      .def_property_readonly("dt", &IdentifiedModel::dt)
+      .def_property_readonly("is_global", &IdentifiedModel::is_global)
+      .def_property_readonly(
+          "sigma2",
+          [](const IdentifiedModel& model) {
+            return vector_array(std::span<const double>(model.sigma2().data(), sysid::kBodyVars));
+          })
+      .def_property_readonly("inv_bandwidth",
+                             [](const IdentifiedModel& model) { return vector_array(model.inv_bandwidth()); })
+      .def("to_json", [](const IdentifiedModel& model) { return to_python(model.to_json()); })
+      .def(
+          "save", [](const IdentifiedModel& model, const std::string& path) { model.save(path); },
+          py::arg("path"))
+      .def_static(
+          "load", [](const std::string& path) { return IdentifiedModel::load(path); }, py::arg("path"));
+
+  m.def(
+      "identify",
+      [](const FlightLog& log, double rate_hz, bool local, bool extra_states, bool intercept, bool templates,
+         double window_s, std::int64_t cv_points, std::vector<double> scale_grid,
+         std::int64_t coordinate_passes, std::int64_t threads) {
+        sysid::IdentifyOptions o;
+        o.structure.rate_hz = rate_hz;
+        o.structure.extra_states = extra_states;
+        o.structure.intercept = intercept;
+        o.structure.templates = templates;
+        o.local = local;
+        o.window_s = window_s;
+        o.cv_points = static_cast<int>(std::clamp<std::int64_t>(cv_points, -1, 1 << 30));
+        o.scale_grid = std::move(scale_grid);
+        o.coordinate_passes = static_cast<int>(std::clamp<std::int64_t>(coordinate_passes, -1, 1 << 30));
+        std::string error;
+        if (!o.IsValid(&error)) throw py::value_error(error);
+        ThreadPool pool = checked_pool(threads);
+        py::gil_scoped_release release;
+        return std::make_unique<IdentifiedModel>(sysid::identify(log, o, pool));
+      },
+      py::arg("log"), py::kw_only(), py::arg("rate_hz") = 10.0, py::arg("local") = true,
+      py::arg("extra_states") = true, py::arg("intercept") = true, py::arg("templates") = true,
+      py::arg("window_s") = 16.0, py::arg("cv_points") = 300,
+      py::arg("scale_grid") = std::vector<double>{0.5, 1, 2, 4, 8}, py::arg("coordinate_passes") = 1,
+      py::arg("threads") = 1,
+      "Identifies a model from a training log as `pegasus heli identify` does (same options, same bits, any "
+      "threads).");
+
+  m.def(
+      "horizon_mse",
+      [](const IdentifiedModel& model, const FlightLog& test, double horizon_s, double start_spacing_s,
+         std::int64_t threads) {
+        if (!(horizon_s > 0 && std::isfinite(horizon_s)))
+          throw py::value_error(fmt::format("horizon_s: expected a finite number > 0, got {}", horizon_s));
+        if (!(start_spacing_s > 0 && std::isfinite(start_spacing_s)))
+          throw py::value_error(
+              fmt::format("start_spacing_s: expected a finite number > 0, got {}", start_spacing_s));
+        ThreadPool pool = checked_pool(threads);
+        sysid::HorizonMse h;
+        {
+          py::gil_scoped_release release;
+          h = sysid::horizon_mse(model, test, horizon_s, start_spacing_s, pool);
+        }
+        Array mse = matrix(static_cast<py::ssize_t>(h.mse.size()), sysid::kReportVars);
+        for (std::size_t t = 0; t < h.mse.size(); ++t)
+          std::copy(h.mse[t].begin(), h.mse[t].end(), mse.mutable_data() + t * sysid::kReportVars);
+        std::vector<std::string> names(sysid::kReportVarNames.begin(), sysid::kReportVarNames.end());
+        py::dict out;
+        out["seconds"] = vector_array(h.seconds);
+        out["mse"] = mse;
+        out["count"] = h.count;
+        out["names"] = names;
+        return out;
+      },
+      py::arg("model"), py::arg("test"), py::kw_only(), py::arg("horizon_s") = 10.0,
+      py::arg("start_spacing_s") = 2.0, py::arg("threads") = 1,
+      "Open-loop prediction error against horizon on a test log (thesis Fig 5.2): seconds, mse [T, 15], "
+      "count, names.");
+}
+
+}  // namespace pegasus::python

@@ -1,0 +1,74 @@
+"""Logs, identified models and controllers: a model identified from a CSV path or from numpy arrays with column
+names is the one `pegasus heli identify` writes, bit for bit; prediction errors grow with the horizon."""
+import json
+import subprocess
+
+import numpy as np
+import pytest
+
+import pegasus
+
+IDENTIFY = ["--cv-points", "60", "--scale-grid", "1,4", "--coordinate-passes", "0", "--horizon-s", "2",
+            "--start-spacing-s", "5", "--variants=false", "--quiet"]
+
+
+@pytest.fixture(scope="module")
+def logs(tmp_path_factory, cli):
+    root = tmp_path_factory.mktemp("logs")
+    for name, seconds, seed in [("train", "40", "3"), ("test", "20", "4")]:
+        result = subprocess.run([cli, "heli", "pilot", "--hover-seconds", "4", "--quiet", "--seconds", seconds,
+                                 "--seed", seed, "--out", str(root / name)], capture_output=True, text=True)
+        assert result.returncode == 0, result.stdout + result.stderr
+    return root
+
+
+def test_a_model_from_a_csv_path_or_arrays_is_the_cli_model(logs, cli, tmp_path):
+    train, test = str(logs / "train" / "log.csv"), str(logs / "test" / "log.csv")
+    result = subprocess.run([cli, "heli", "identify", "--train", train, "--test", test, *IDENTIFY, "--threads", "2",
+                             "--out", str(tmp_path / "cli")], capture_output=True, text=True)
+    assert result.returncode == 0, result.stdout + result.stderr
+    cli_model = json.loads((tmp_path / "cli" / "model.json").read_text())
+
+    options = dict(cv_points=60, scale_grid=[1.0, 4.0], coordinate_passes=0)
+    from_path = pegasus.identify(pegasus.read_flight_log(train), threads=1, **options)
+    assert from_path.to_json() == cli_model
+
+    names = open(train).readline().strip().split(",")
+    data = np.loadtxt(train, delimiter=",", skiprows=1)
+    log = pegasus.flight_log(data[:, ::-1], names[::-1])  # any column order
+    assert np.array_equal(log.states, pegasus.read_flight_log(train).states)
+    from_arrays = pegasus.identify(log, threads=2, **options)
+    assert from_arrays.to_json() == cli_model
+
+    from_path.save(str(tmp_path / "model.json"))
+    assert pegasus.IdentifiedModel.load(str(tmp_path / "model.json")).to_json() == cli_model
+
+    errors = pegasus.horizon_mse(from_path, pegasus.read_flight_log(test), horizon_s=2.0, start_spacing_s=5.0)
+    mse = errors["mse"]
+    assert mse.shape == (len(errors["seconds"]), 15) and errors["names"][0] == "x"
+    assert np.all(np.isfinite(mse)) and mse[-1, 0] > mse[1, 0]  # position error grows with the horizon
+
+
+def test_the_model_from_logs_example_runs(logs, source_dir):
+    import sys
+    result = subprocess.run([sys.executable, str(source_dir / "examples" / "python" / "model_from_logs.py"),
+                             str(logs / "train" / "log.csv"), str(logs / "test" / "log.csv")],
+                            capture_output=True, text=True, timeout=300)
+    assert result.returncode == 0, result.stdout + result.stderr
+
+
+def test_bad_logs_raise_value_error_naming_the_place(logs, tmp_path):
+    names = open(logs / "train" / "log.csv").readline().strip().split(",")
+    data = np.loadtxt(logs / "train" / "log.csv", delimiter=",", skiprows=1)
+    with pytest.raises(ValueError, match="a4"):
+        pegasus.flight_log(data[:, :-1], names[:-1])
+    bad = data.copy()
+    bad[5, 1] = np.nan
+    with pytest.raises(ValueError, match="data:7"):
+        pegasus.flight_log(bad, names)
+    with pytest.raises(ValueError, match=r"data: expected a 2-D array of shape \(any, 3\)"):
+        pegasus.flight_log(data, names[:3])
+    with pytest.raises(ValueError, match="nothing.csv"):
+        pegasus.read_flight_log(str(tmp_path / "nothing.csv"))
+    with pytest.raises(ValueError, match="cv_points"):
+        pegasus.identify(pegasus.read_flight_log(str(logs / "train" / "log.csv")), cv_points=-1)
