@@ -22,10 +22,10 @@
 //
 // Randomness comes only from UniformStream(seed, stream) (FillStandardNormals, a fixed order per
 // generation): the run is a pure function of the options and the objective, on any library. Ranking breaks
-// ties by candidate index, and NaN ranks last (IsImprovement). Checkpoint state: {"population", "mean", "sigma", "C" (row
-// by row), "B", "D", "p_sigma", "p_c", "eigen_iteration", "recent_best", "stream_position"}: everything the
-// next generation reads, so a resumed run continues bit for bit. The mean is a point of the search space
-// (it may lie beyond a bound); every theta evaluated is inside.
+// ties by candidate index, and NaN ranks last (IsImprovement). Checkpoint state: {"population", "mean",
+// "sigma", "C" (row by row), "B", "D", "p_sigma", "p_c", "eigen_iteration", "recent_best",
+// "stream_position"}: everything the next generation reads, so a resumed run continues bit for bit. The
+// mean is a point of the search space (it may lie beyond a bound); every theta evaluated is inside.
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <optional>
