@@ -209,6 +209,32 @@ TEST(Cmaes, ResumedFromACheckpointEndsBitIdenticallyToTheUninterruptedRun) {
   EXPECT_EQ(counting.evaluate_calls, 0);
 }
 
+TEST(Cmaes, ARunEndedByTheFunctionToleranceEndsAtTheSameGenerationWhenResumed) {
+  // The function tolerance looks back over recent generations, so the checkpoint must carry them.
+  auto make = [] { return ConcaveQuadratic(Box(3, 2.0, 10.0), {0.5, -1.0, 3.0}, {1.0, 0.3, 2.0}); };
+  CmaesOptions options;
+  options.x_tolerance = 0.0;
+  std::vector<json> checkpoints;
+  options.checkpoint_every = 5;
+  options.on_checkpoint = [&](const json& j) { checkpoints.push_back(j); };
+  auto objective = make();
+  Theta reference_theta;
+  OptimizerSummary reference;
+  Solve(options, objective, &reference_theta, &reference);
+  ASSERT_EQ(reference.termination_type, TerminationType::kConvergence);
+  ASSERT_THAT(reference.message, HasSubstr("function_tolerance"));
+  ASSERT_GE(checkpoints.size(), 2u);
+
+  options.on_checkpoint = [](const json&) {};
+  options.resume_from = checkpoints.back();
+  auto fresh = make();
+  Theta theta;
+  OptimizerSummary resumed;
+  Solve(options, fresh, &theta, &resumed);
+  std::string difference;
+  EXPECT_TRUE(SameOutcome(resumed, reference, &difference)) << difference;
+}
+
 TEST(Cmaes, RefusesACheckpointOfAnotherPopulationSizeOrAMalformedState) {
   auto objective = NegatedRosenbrock(Box(3, 0.0, 5.0));
   CmaesOptions options;
