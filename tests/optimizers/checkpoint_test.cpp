@@ -115,6 +115,12 @@ std::vector<MethodCase> EveryMethod() {
          o.nlopt.seed = 3;
        },
        50},
+      {"cmaes", rosenbrock,
+       [](OptimizerOptions& o) {
+         o.cmaes.max_iterations = 120;
+         o.cmaes.seed = 2;
+       },
+       11},
   };
 }
 

@@ -18,7 +18,7 @@ ParameterSpec Box() {
 }
 
 TEST(OptimizerDispatch, EveryMethodNameRunsThatMethodAndFindsTheMaximum) {
-  ASSERT_EQ(OptimizerMethodNames().size(), 7u);
+  ASSERT_EQ(OptimizerMethodNames().size(), 8u);
   for (const std::string_view name : OptimizerMethodNames()) {
     SCOPED_TRACE(name);
     // Maximal at (1, -1), a point of the integer grid so exhaustive search can hit it exactly.

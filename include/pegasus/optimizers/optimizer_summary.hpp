@@ -41,7 +41,8 @@ struct OptimizerSummary {
   std::string message = "Solve was not called";
 
   // Completed iterations. What an iteration is depends on the method: one gradient step (gradient), one
-  // batch of proposals (hill-climb), one block of policies (exhaustive), one evaluation (NLopt methods).
+  // batch of proposals (hill-climb), one block of policies (exhaustive), one evaluation (NLopt methods),
+  // one generation (cmaes).
   std::int64_t iterations = 0;
   // Objective evaluations from the start of the run, including those made before a resume.
   std::int64_t evaluations = 0;
@@ -54,7 +55,8 @@ struct OptimizerSummary {
   double initial_value = std::numeric_limits<double>::quiet_NaN();
   double best_value = std::numeric_limits<double>::quiet_NaN();
   Theta best_theta;
-  // Gradient ascent and hill climbing: the step length (scaled units) when the run stopped; NaN otherwise.
+  // Gradient ascent and hill climbing: the step length (scaled units) when the run stopped; CMA-ES: sigma
+  // (scaled units); NaN otherwise.
   double final_step = std::numeric_limits<double>::quiet_NaN();
 
   // Wall time of the whole run, including the time spent before a resume.
