@@ -202,7 +202,7 @@ void Solve(const CmaesOptions& options, Objective& objective, Theta* theta, Opti
   std::vector<BoxTransform> box;
   for (std::size_t i = 0; i < n; ++i) box.emplace_back(lower[i], upper[i], scale[i]);
   const auto lambda = static_cast<std::size_t>(strategy.lambda);
-  RunProgress run("cmaes", spec);
+  RunProgress run("cmaes", spec, options.callbacks);
 
   Distribution d;
   std::deque<double> recent_best;  // best U-hat of each of the last tolfun_window generations
@@ -319,10 +319,15 @@ void Solve(const CmaesOptions& options, Objective& objective, Theta* theta, Opti
     d.C = (1.0 + strategy.c_1 * delta_h - strategy.c_1 - strategy.c_mu * strategy.weight_sum) * d.C +
           strategy.c_1 * d.p_c * d.p_c.transpose() + strategy.c_mu * rank_mu;
 
-    run.EndIteration();
+    const bool go_on = run.EndIteration();
 
     recent_best.push_back(values[order[0]]);
     if (recent_best.size() > strategy.tolfun_window) recent_best.pop_front();
+    if (!go_on) {
+      termination = TerminationType::kUserRequested;
+      message = "an iteration callback asked to stop";
+      break;
+    }
 
     if (!std::isfinite(d.sigma) || !d.C.allFinite()) {
       termination = TerminationType::kFailure;

@@ -36,7 +36,8 @@ void OptimizerOptions::SetCheckpointing(std::int64_t checkpoint_every, Checkpoin
 }
 
 void OptimizerOptions::SetCallbacks(const IterationCallbacks& callbacks) {
-  exhaustive.callbacks = gradient.callbacks = hill_climbing.callbacks = nlopt.callbacks = callbacks;
+  exhaustive.callbacks = gradient.callbacks = hill_climbing.callbacks = nlopt.callbacks = cmaes.callbacks =
+      callbacks;
 }
 
 bool OptimizerOptions::IsValid(std::string* error) const {

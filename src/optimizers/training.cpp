@@ -46,6 +46,7 @@ void AppendHistory(const OptimizerSummary& stage, double seconds_before,
 void DeriveOptimizerSeeds(std::uint64_t run_seed, const SeedDomains& domains, OptimizerOptions* options) {
   options->hill_climbing.seed = mix_seed(run_seed, domains.hill_climbing);
   options->nlopt.seed = mix_seed(run_seed, domains.nlopt);
+  options->cmaes.seed = mix_seed(run_seed, domains.cmaes);
 }
 
 bool TrainingPlan::IsValid(std::string* error) const {

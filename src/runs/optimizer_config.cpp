@@ -58,6 +58,19 @@ void visit_optimizer_fields(Visitor& v, OptimizerOptions& o) {
          "NLopt methods: stop when a step changes U-hat by a smaller fraction (0: off)", 0, kInf);
   v.integer32("nlopt.population", n.population, "crs2, esch: population size (0: NLopt's default)", 0);
 
+  auto& c = o.cmaes;
+  v.integer("cmaes.max_iterations", c.max_iterations, "CMA-ES: generations at most", 0);
+  v.integer("cmaes.max_evaluations", c.max_evaluations, "CMA-ES: U-hat evaluations at most", 1);
+  v.integer32("cmaes.population_size", c.population_size,
+              "CMA-ES: samples per generation (0: 4 + floor(3 ln n), Hansen's default)", 0);
+  v.real("cmaes.initial_step", c.initial_step, "CMA-ES: first sigma, in parameter scales", 0, kInf, true);
+  v.real("cmaes.x_tolerance", c.x_tolerance, "CMA-ES: stop when every step is below this, in scales (0: off)",
+         0, kInf);
+  v.real("cmaes.function_tolerance", c.function_tolerance,
+         "CMA-ES: stop when recent best U-hats differ by less than this (0: off)", 0, kInf);
+  v.real("cmaes.max_condition", c.max_condition,
+         "CMA-ES: fail when the covariance's condition number passes this", 1, kInf);
+
   auto& e = o.exhaustive;
   v.integer("exhaustive.max_policies", e.max_policies, "exhaustive search: refuse a larger policy class", 1);
   v.integer("exhaustive.block_size", e.block_size, "exhaustive search: policies per parallel batch", 1);

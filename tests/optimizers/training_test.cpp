@@ -6,8 +6,8 @@
 #include <gtest/gtest.h>
 
 #include "pegasus/core/error.hpp"
-#include "pegasus/optimizers/test_problems.hpp"
 #include "pegasus/evaluators/monte_carlo.hpp"
+#include "pegasus/optimizers/test_problems.hpp"
 
 namespace pegasus {
 namespace {
@@ -75,6 +75,7 @@ TEST(Training, SeedsComeFromTheRunSeedAndTheStagesDomains) {
   DeriveOptimizerSeeds(5, SeedDomains{}, &o);
   EXPECT_EQ(o.hill_climbing.seed, mix_seed(5, 0x48696c6c));
   EXPECT_EQ(o.nlopt.seed, mix_seed(5, 0x4e4c6f70));
+  EXPECT_EQ(o.cmaes.seed, mix_seed(5, 0x434d4145));
   DeriveOptimizerSeeds(5, kRefineSeedDomains, &o);
   EXPECT_EQ(o.hill_climbing.seed, mix_seed(5, 0x52486c6c));
   // Another run seed gives another hill-climbing run; the same seed the same bits.
@@ -158,12 +159,13 @@ TEST(Training, AnIterationCallbackStopsTheRunEarly) {
 
 TEST(Training, EveryMethodTellsItsCallbacksEachIteration) {
   auto objective = ConcaveQuadratic(Box(2), {0.5, -0.5}, {1, 2});
-  for (const char* method : {"gradient", "hill-climb", "bobyqa", "sbplx"}) {
+  for (const char* method : {"gradient", "hill-climb", "bobyqa", "sbplx", "cmaes"}) {
     OptimizerOptions o;
     o.method = method;
     o.gradient.max_iterations = 4;
     o.hill_climbing.max_iterations = 4;
     o.nlopt.max_evaluations = 4;
+    o.cmaes.max_iterations = 4;
     StopAfter never(1000);
     o.SetCallbacks({&never});
     Theta theta;

@@ -65,6 +65,8 @@ struct CmaesOptions {
   CheckpointCallback on_checkpoint;
   // Continue the run that wrote this checkpoint; the starting theta passed to Solve is then ignored.
   std::optional<nlohmann::json> resume_from;
+  // Told after every generation; one may stop the run early (run_progress.hpp). Not owned.
+  IterationCallbacks callbacks;
 
   // False, with "field: expected ..., got ..." in *error, when a field is out of range.
   bool IsValid(std::string* error) const;
