@@ -12,6 +12,8 @@ packages=(
   libcli11-dev libtomlplusplus-dev nlohmann-json3-dev libfmt-dev
   # distributed evaluation (optional at configure time; mpirun runs the MPI tests)
   libopenmpi-dev openmpi-bin
+  # MuJoCo physics (optional at configure time: PEGASUS_MUJOCO) and its sample models (a shipped task loads one)
+  libmujoco-dev libmujoco-samples
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev python3
   # the HTML report's browser test

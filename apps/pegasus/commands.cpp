@@ -118,6 +118,9 @@ std::vector<CommandGroup> command_groups() {
       {.path = "heli",
        .description =
            "Autonomous helicopter (thesis ch. 5): ground-truth aircraft, pilot logs, system identification"},
+#ifdef PEGASUS_HAVE_MUJOCO
+      {.path = "mujoco", .description = "PEGASUS policy search on any MuJoCo (MJCF) model with a task file"},
+#endif
       {.path = "shaping",
        .description = "Reward shaping (thesis ch. 3): the shaping audit and the 3.4 experiments"},
   };
@@ -135,6 +138,7 @@ std::vector<Command> commands() {
   for (auto& command : heli_maneuver_commands()) all.push_back(std::move(command));
   for (auto& command : pendulum_commands()) all.push_back(std::move(command));
   for (auto& command : shaping_commands()) all.push_back(std::move(command));
+  for (auto& command : mujoco_commands()) all.push_back(std::move(command));
   return all;
 }
 

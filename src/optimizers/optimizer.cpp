@@ -11,8 +11,8 @@ namespace pegasus {
 
 namespace {
 
-constexpr std::array<std::string_view, 7> kMethodNames = {"exhaustive", "gradient", "hill-climb", "bobyqa",
-                                                          "sbplx",      "crs2",     "esch"};
+constexpr std::array<std::string_view, 8> kMethodNames = {"exhaustive", "gradient", "hill-climb", "bobyqa",
+                                                          "sbplx",      "crs2",     "esch",       "ars"};
 
 // The NLopt options with the algorithm named by `method`.
 NloptOptions NloptOptionsFor(const OptimizerOptions& options, NloptAlgorithm algorithm) {
@@ -28,11 +28,11 @@ std::span<const std::string_view> OptimizerMethodNames() { return kMethodNames; 
 void OptimizerOptions::SetCheckpointing(std::int64_t checkpoint_every, CheckpointCallback on_checkpoint,
                                         std::optional<nlohmann::json> resume_from) {
   exhaustive.checkpoint_every = gradient.checkpoint_every = hill_climbing.checkpoint_every =
-      nlopt.checkpoint_every = checkpoint_every;
+      nlopt.checkpoint_every = ars.checkpoint_every = checkpoint_every;
   exhaustive.on_checkpoint = gradient.on_checkpoint = hill_climbing.on_checkpoint = nlopt.on_checkpoint =
-      std::move(on_checkpoint);
+      ars.on_checkpoint = std::move(on_checkpoint);
   exhaustive.resume_from = gradient.resume_from = hill_climbing.resume_from = nlopt.resume_from =
-      std::move(resume_from);
+      ars.resume_from = std::move(resume_from);
 }
 
 bool OptimizerOptions::IsValid(std::string* error) const {
@@ -44,6 +44,7 @@ bool OptimizerOptions::IsValid(std::string* error) const {
   if (method == "exhaustive") return prefixed(exhaustive.IsValid(&inner), "exhaustive");
   if (method == "gradient") return prefixed(gradient.IsValid(&inner), "gradient");
   if (method == "hill-climb") return prefixed(hill_climbing.IsValid(&inner), "hill_climbing");
+  if (method == "ars") return prefixed(ars.IsValid(&inner), "ars");
   if (const auto algorithm = NloptAlgorithmFromName(method))
     return prefixed(NloptOptionsFor(*this, *algorithm).IsValid(&inner), "nlopt");
   if (error)
@@ -57,6 +58,7 @@ void Solve(const OptimizerOptions& options, Objective& objective, Theta* theta, 
   if (options.method == "exhaustive") return Solve(options.exhaustive, objective, theta, summary);
   if (options.method == "gradient") return Solve(options.gradient, objective, theta, summary);
   if (options.method == "hill-climb") return Solve(options.hill_climbing, objective, theta, summary);
+  if (options.method == "ars") return Solve(options.ars, objective, theta, summary);
   Solve(NloptOptionsFor(options, *NloptAlgorithmFromName(options.method)), objective, theta, summary);
 }
 

@@ -10,7 +10,7 @@
 //   OptimizerSummary summary;
 //   Solve(options, objective, &theta, &summary);
 //
-// Methods: "exhaustive", "gradient", "hill-climb", "bobyqa", "sbplx", "crs2", "esch".
+// Methods: "exhaustive", "gradient", "hill-climb", "bobyqa", "sbplx", "crs2", "esch", "ars".
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -18,6 +18,7 @@
 #include <string>
 #include <string_view>
 
+#include "pegasus/optimizers/augmented_random_search.hpp"
 #include "pegasus/optimizers/exhaustive_search.hpp"
 #include "pegasus/optimizers/gradient_ascent.hpp"
 #include "pegasus/optimizers/hill_climbing.hpp"
@@ -39,6 +40,8 @@ struct OptimizerOptions {
   HillClimbingOptions hill_climbing;
   // Used by "bobyqa", "sbplx", "crs2" and "esch"; its `algorithm` is overridden by `method`.
   NloptOptions nlopt;
+  // Augmented Random Search ("ars").
+  AugmentedRandomSearchOptions ars;
 
   // Sets checkpoint_every, on_checkpoint and resume_from of every method's options at once.
   void SetCheckpointing(std::int64_t checkpoint_every, CheckpointCallback on_checkpoint,
