@@ -60,12 +60,13 @@ TEST_F(MujocoTaskFile, EveryMissingNameIsReportedWithItsFieldAndKind) {
 }
 
 TEST_F(MujocoTaskFile, WrongFieldsTermsRangesAndSyntaxAreNamed) {
-  EXPECT_THAT(task_error(minimal("horizn = 3\n")), HasSubstr("horizn: unknown field (expected one of"));
+  EXPECT_THAT(task_error("horizn = 3\n" + minimal("")),
+              HasSubstr("task.toml: horizn: unknown field (expected one of"));
   EXPECT_THAT(task_error(minimal("[[reward]]\nterm = \"speed\"\n")),
               HasSubstr("reward[1].term: expected one of body_velocity"));
-  EXPECT_THAT(task_error(minimal("discount = 1.5\n")),
+  EXPECT_THAT(task_error("discount = 1.5\n" + minimal("")),
               HasSubstr("discount: expected a number in [0, 1], got 1.5"));
-  EXPECT_THAT(task_error(minimal("frame_skip = 0\n")),
+  EXPECT_THAT(task_error("frame_skip = 0\n" + minimal("")),
               HasSubstr("frame_skip: expected an integer in [1, 1000]"));
   EXPECT_THAT(task_error("[[reward]]\nterm = \"healthy\"\n"), HasSubstr("observation: missing"));
   EXPECT_THAT(task_error("[observation]\nqpos = [\"slider\"]\n"), HasSubstr("reward: missing"));
