@@ -171,6 +171,9 @@ MujocoStepOutcome MujocoEnvironment::step(MujocoSlot& slot, std::span<const doub
       case RewardKind::kJointTarget:
         value = std::abs(d->qpos[term.adr] - term.target[0]);
         break;
+      case RewardKind::kJointSpeed:
+        value = std::abs(d->qvel[term.adr]);
+        break;
       case RewardKind::kControlCost:
         for (const double a : action) value += std::clamp(a, -1.0, 1.0) * std::clamp(a, -1.0, 1.0);
         break;

@@ -313,14 +313,19 @@ MujocoTask load_mujoco_task(const std::filesystem::path& path, const MujocoModel
       out.adr = m->jnt_qposadr[out.id];
       if (!v["target"]) r.fail(prefix + ".target", "missing (expected the joint's target position)");
       out.target[0] = r.number(v["target"], prefix + ".target", 0.0);
+    } else if (term == "joint_speed") {
+      out.kind = RewardKind::kJointSpeed;
+      out.name = r.string(v["joint"], prefix + ".joint");
+      out.id = r.scalar_joint(out.name, prefix + ".joint");
+      out.adr = m->jnt_dofadr[out.id];
     } else if (term == "control_cost") {
       out.kind = RewardKind::kControlCost;
     } else if (term == "contact_cost") {
       out.kind = RewardKind::kContactCost;
     } else {
       r.fail(prefix + ".term",
-             fmt::format("expected one of body_velocity, healthy, site_distance, joint_target, control_cost, "
-                         "contact_cost; got \"{}\"",
+             fmt::format("expected one of body_velocity, healthy, site_distance, joint_target, joint_speed, "
+                         "control_cost, contact_cost; got \"{}\"",
                          term));
     }
     task.reward.push_back(out);

@@ -86,7 +86,7 @@ TEST_F(MujocoTaskFile, TheShippedTaskResolvesToTheModelsAddresses) {
   EXPECT_EQ(task.frame_skip, 2);
   ASSERT_EQ(task.initial_qpos.size(), 1u);
   EXPECT_EQ(task.initial_qpos[0].first, 1);  // the hinge's qpos address
-  ASSERT_EQ(task.reward.size(), 3u);
+  ASSERT_EQ(task.reward.size(), 4u);
   EXPECT_EQ(task.reward[1].kind, RewardKind::kSiteDistance);
 }
 

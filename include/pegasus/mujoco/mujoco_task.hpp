@@ -19,7 +19,8 @@
 //               push_bodies = ["torso"], push_force = 20.0, push_probability = 0.02   random pushes
 //   [observation] qpos = [...], qpos_sincos = [...], qvel = [...], sensors = [...], site_pos = [...],
 //                 body_linvel = [...], clip = 10.0
-//   [[reward]]  term = "body_velocity" | "healthy" | "site_distance" | "joint_target" | "control_cost" |
+//   [[reward]]  term = "body_velocity" | "healthy" | "site_distance" | "joint_target" | "joint_speed" |
+//               "control_cost" |
 //               "contact_cost", weight = ..., and the term's fields (body/axis, site/target, joint/target)
 //   [[termination]] quantity = "qpos" | "qvel" | "body_height" | "site_height", name = ..., min = .., max =
 //   ..
@@ -61,13 +62,22 @@ struct ObservationItem {
   int dim = 1;  // numbers this item adds to the observation
 };
 
-enum class RewardKind { kBodyVelocity, kHealthy, kSiteDistance, kJointTarget, kControlCost, kContactCost };
+enum class RewardKind {
+  kBodyVelocity,
+  kHealthy,
+  kSiteDistance,
+  kJointTarget,
+  kJointSpeed,
+  kControlCost,
+  kContactCost
+};
 // One term of the reward of a control step; the reward is the sum of weight * value over the terms:
 //   body_velocity  the body's world-frame linear velocity along `axis` (0 x, 1 y, 2 z), m/s, at the end of
 //                  the step (forward progress, as in the locomotion tasks)
 //   healthy        1 for every step that ends inside every termination range (the "healthy" bonus)
 //   site_distance  |site position - target| in metres (a negative weight rewards getting close)
 //   joint_target   |qpos of the scalar joint - target| (radians or metres)
+//   joint_speed    |qvel of the scalar joint| (rad/s or m/s; a negative weight discourages spinning)
 //   control_cost   sum of squared actions in [-1, 1] (a negative weight makes it a cost)
 //   contact_cost   sum over contacts of the squared contact force (N^2) after the last physics step
 struct RewardTerm {
