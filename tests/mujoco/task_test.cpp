@@ -50,6 +50,8 @@ TEST_F(MujocoTaskFile, EveryMissingNameIsReportedWithItsFieldAndKind) {
   EXPECT_THAT(
       task_error(minimal("[[reward]]\nterm = \"site_distance\"\nsite = \"hand\"\ntarget = [0, 0, 1]\n")),
       HasSubstr("reward[1].site: the model has no site \"hand\""));
+  EXPECT_THAT(task_error(minimal("[[reward]]\nterm = \"joint_speed\"\njoint = \"wrist\"\n")),
+              HasSubstr("reward[1].joint: the model has no joint \"wrist\""));
   EXPECT_THAT(task_error("[observation]\nsensors = [\"gyro\"]\n[[reward]]\nterm = \"healthy\"\n"),
               HasSubstr("observation.sensors[0]: the model has no sensor \"gyro\" (sensors: none)"));
   EXPECT_THAT(
@@ -86,7 +88,7 @@ TEST_F(MujocoTaskFile, TheShippedTaskResolvesToTheModelsAddresses) {
   EXPECT_EQ(task.frame_skip, 2);
   ASSERT_EQ(task.initial_qpos.size(), 1u);
   EXPECT_EQ(task.initial_qpos[0].first, 1);  // the hinge's qpos address
-  ASSERT_EQ(task.reward.size(), 4u);
+  ASSERT_EQ(task.reward.size(), 3u);
   EXPECT_EQ(task.reward[1].kind, RewardKind::kSiteDistance);
 }
 
