@@ -9,6 +9,7 @@
 #include "mujoco_test_support.hpp"
 #include "pegasus/mujoco/mujoco_objective.hpp"
 #include "pegasus/parallel/thread_pool.hpp"
+#include "support/cli_runner.hpp"
 
 namespace pegasus {
 namespace {
@@ -103,8 +104,10 @@ TEST(MujocoObjective, UhatAndCountsAreBitIdenticalForOneAndThreeThreads) {
   EXPECT_EQ(a.evaluate(theta), b.evaluate(theta));
 }
 
-TEST(MujocoEnvironment, InstabilityEndsTheRolloutAsACrashWithThePenalty) {
-  const auto dir = test_support::fresh_test_dir("crash");
+class MujocoCrash : public test_support::TempDirTest {};
+
+TEST_F(MujocoCrash, InstabilityEndsTheRolloutAsACrashWithThePenalty) {
+  const auto& dir = dir_;
   // A stiff joint at a huge timestep: explicit Euler blows up within a few steps.
   const auto xml = test_support::write_file(dir / "unstable.xml", R"(
 <mujoco><option timestep="0.5"/>

@@ -24,8 +24,10 @@ std::string small_train(const std::filesystem::path& out, int threads) {
          std::to_string(threads) + " --out " + out.string();
 }
 
-TEST(MujocoCli, TrainGivesTheSameSummaryOnOneAndTwoThreadsAndRolloutReplaysThePolicy) {
-  const auto dir = test_support::fresh_test_dir("cli-train");
+class MujocoCli : public test_support::TempDirTest {};
+
+TEST_F(MujocoCli, TrainGivesTheSameSummaryOnOneAndTwoThreadsAndRolloutReplaysThePolicy) {
+  const auto& dir = dir_;
   const auto one = run_pegasus(small_train(dir / "one", 1));
   ASSERT_EQ(one.code, 0) << one.output;
   const auto two = run_pegasus(small_train(dir / "two", 2));
@@ -54,9 +56,11 @@ TEST(MujocoCli, TrainGivesTheSameSummaryOnOneAndTwoThreadsAndRolloutReplaysThePo
   EXPECT_GT(std::count(trajectory.begin(), trajectory.end(), '\n'), 2);
 }
 
-TEST(MujocoCli, ResumingAfterAKillGivesTheUninterruptedSummary) {
-  const auto dir = test_support::fresh_test_dir("cli-resume");
-  const std::string args = small_train(dir / "whole", 1);
+TEST_F(MujocoCli, ResumingAfterAKillGivesTheUninterruptedSummary) {
+  const auto& dir = dir_;
+  // 40 iterations with a checkpoint after each: the kill lands mid-run.
+  std::string args = small_train(dir / "whole", 1);
+  args.replace(args.find("--iterations 3 "), 15, "--iterations 40 ");
   ASSERT_EQ(run_pegasus(args).code, 0);
   const std::string killed_args = args.substr(0, args.find(" --out "));
   const auto outcome = test_support::kill_pegasus_after_first_checkpoint(killed_args, dir / "cut");
@@ -66,11 +70,12 @@ TEST(MujocoCli, ResumingAfterAKillGivesTheUninterruptedSummary) {
   } else {
     ASSERT_EQ(outcome, test_support::KillOutcome::kFinishedFirst);
   }
+  EXPECT_EQ(nlohmann::json::parse(read_text(dir / "cut" / "summary.json")).at("iterations"), 40);
   EXPECT_EQ(read_text(dir / "cut" / "summary.json"), read_text(dir / "whole" / "summary.json"));
 }
 
-TEST(MujocoCli, BadInputIsOneLineExitTwoAndNoRunDirectory) {
-  const auto dir = test_support::fresh_test_dir("cli-bad");
+TEST_F(MujocoCli, BadInputIsOneLineExitTwoAndNoRunDirectory) {
+  const auto& dir = dir_;
   const auto exp = test_support::mujoco_experiments();
   const auto bad_task = test_support::write_file(
       dir / "bad.toml",

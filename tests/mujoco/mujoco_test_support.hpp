@@ -1,6 +1,6 @@
 #pragma once
 // The shipped cart-pole (experiments/mujoco/) as a test environment, and small MJCF/task files written on the
-// fly for the bad-input and crash tests.
+// fly (into TempDirTest's folder, support/cli_runner.hpp) for the bad-input and crash tests.
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -18,14 +18,6 @@ inline std::shared_ptr<const MujocoEnvironment> cartpole_environment() {
   MujocoModel model = MujocoModel::load(mujoco_experiments() / "cartpole.xml");
   MujocoTask task = load_mujoco_task(mujoco_experiments() / "cartpole_swingup.toml", model);
   return std::make_shared<const MujocoEnvironment>(std::move(model), std::move(task));
-}
-
-// A fresh folder under the build's temporary directory for one test.
-inline std::filesystem::path fresh_test_dir(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / ("pegasus-mujoco-" + name);
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir;
 }
 
 inline std::filesystem::path write_file(const std::filesystem::path& path, const std::string& text) {

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "mujoco_test_support.hpp"
+#include "support/cli_runner.hpp"
 #include "support/input_error.hpp"
 
 namespace pegasus {
@@ -13,10 +14,10 @@ using test_support::input_error_message;
 using ::testing::AllOf;
 using ::testing::HasSubstr;
 
-class MujocoTaskFile : public ::testing::Test {
+class MujocoTaskFile : public test_support::TempDirTest {
  protected:
   void SetUp() override {
-    dir_ = test_support::fresh_test_dir(::testing::UnitTest::GetInstance()->current_test_info()->name());
+    TempDirTest::SetUp();
     model_ =
         std::make_unique<MujocoModel>(MujocoModel::load(test_support::mujoco_experiments() / "cartpole.xml"));
   }
@@ -28,7 +29,6 @@ class MujocoTaskFile : public ::testing::Test {
   static std::string minimal(const std::string& extra) {
     return "[observation]\nqpos = [\"slider\"]\n[[reward]]\nterm = \"healthy\"\n" + extra;
   }
-  std::filesystem::path dir_;
   std::unique_ptr<MujocoModel> model_;
 };
 
