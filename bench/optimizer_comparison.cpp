@@ -44,8 +44,8 @@
 #include "pegasus/heli/aircraft.hpp"
 #include "pegasus/heli/hover_task.hpp"
 #include "pegasus/heli/pilot.hpp"
+#include "pegasus/io/atomic_file.hpp"
 #include "pegasus/optimizers/optimizer.hpp"
-#include "pegasus/runs/atomic_file.hpp"
 #include "pegasus/sysid/identify.hpp"
 
 namespace {

@@ -14,6 +14,8 @@ packages=(
   libssl-dev
   # distributed evaluation (optional at configure time; mpirun runs the MPI tests)
   libopenmpi-dev openmpi-bin
+  # MuJoCo physics (optional at configure time: PEGASUS_MUJOCO) and its sample models (a shipped task loads one)
+  libmujoco-dev libmujoco-samples
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev python3
   # the C compiler that builds exported controllers (pegasus export) in tests/export and the export benchmark

@@ -30,7 +30,7 @@ void declare_training(ConfigSchema& s) {
       .choices({"balance", "zero"});
   // Bounded-step gradient ascent (thesis 4.6) by default; every method for a continuous class.
   declare_optimizer_options(s, "optimizer", BicycleTrainingOptions::default_optimizer(),
-                            {"gradient", "hill-climb", "bobyqa", "sbplx", "crs2", "esch", "cmaes"});
+                            {"gradient", "hill-climb", "bobyqa", "sbplx", "crs2", "esch", "cmaes", "ars"});
 }
 
 void declare_riding(ConfigSchema& s, std::int64_t rides) {

@@ -120,6 +120,9 @@ std::vector<CommandGroup> command_groups() {
            "Autonomous helicopter (thesis ch. 5): ground-truth aircraft, pilot logs, system identification"},
       {.path = "log",
        .description = "Real flight logs: PX4 ULog import, identification and prediction error"},
+#ifdef PEGASUS_HAVE_MUJOCO
+      {.path = "mujoco", .description = "PEGASUS policy search on any MuJoCo (MJCF) model with a task file"},
+#endif
       {.path = "shaping",
        .description = "Reward shaping (thesis ch. 3): the shaping audit and the 3.4 experiments"},
   };
@@ -135,6 +138,7 @@ std::vector<Command> commands() {
   for (auto& command : log_commands()) all.push_back(std::move(command));
   for (auto& command : pendulum_commands()) all.push_back(std::move(command));
   for (auto& command : shaping_commands()) all.push_back(std::move(command));
+  for (auto& command : mujoco_commands()) all.push_back(std::move(command));
   return all;
 }
 

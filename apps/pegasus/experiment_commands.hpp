@@ -10,6 +10,7 @@ std::vector<Command> heli_commands();           // heli pilot, identify
 std::vector<Command> heli_maneuver_commands();  // heli maneuver (heli_maneuver_command.cpp)
 std::vector<Command> log_commands();            // log import (log_command.cpp)
 std::vector<Command> pendulum_commands();       // pendulum train (Pendulum-v1, the RLtools race)
+std::vector<Command> mujoco_commands();         // mujoco train, rollout (empty without PEGASUS_MUJOCO)
 Command shaping_audit_command();
 std::vector<Command> shaping_commands();  // shaping audit, gridworld, flags, progress-bonus
 Command report_command();                 // report RUN_DIR (report_command.cpp)

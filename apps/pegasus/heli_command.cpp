@@ -342,7 +342,7 @@ void declare_hover(ConfigSchema& s) {
       .choices({"trim", "zero"});
   // Gradient ascent by default (thesis 5.3), then hill climbing from its result (then_hill_climb).
   declare_optimizer_options(s, "optimizer", heli::HoverTrainingOptions::default_optimizer(),
-                            {"gradient", "hill-climb", "bobyqa", "sbplx", "crs2", "esch", "cmaes"});
+                            {"gradient", "hill-climb", "bobyqa", "sbplx", "crs2", "esch", "cmaes", "ars"});
   s.add_bool("then_hill_climb", heli::HoverTrainingOptions{}.then_hill_climb,
              "after gradient ascent, random-walk hill climbing (optimizer.hill_climbing) from its result");
 }

@@ -66,7 +66,7 @@ void declare(ConfigSchema& s) {
   s.add_bool("feedforward", true,
              "the hover networks see the velocity relative to the set point's (learned gain)");
   declare_optimizer_options(s, "optimizer", heli::ManeuverTrainingOptions::default_optimizer(),
-                            {"gradient", "hill-climb", "bobyqa", "sbplx", "crs2", "esch", "cmaes"});
+                            {"gradient", "hill-climb", "bobyqa", "sbplx", "crs2", "esch", "cmaes", "ars"});
   s.add_bool("ablations", true,
              "also train without the learned delay and without shaping (same budget) and fly them");
   // Flights on the ground truth

@@ -11,8 +11,8 @@ namespace pegasus {
 
 namespace {
 
-constexpr std::array<std::string_view, 8> kMethodNames = {"exhaustive", "gradient", "hill-climb", "bobyqa",
-                                                          "sbplx",      "crs2",     "esch",       "cmaes"};
+constexpr std::array<std::string_view, 9> kMethodNames = {
+    "exhaustive", "gradient", "hill-climb", "bobyqa", "sbplx", "crs2", "esch", "cmaes", "ars"};
 
 // The NLopt options with the algorithm named by `method`.
 NloptOptions NloptOptionsFor(const OptimizerOptions& options, NloptAlgorithm algorithm) {
@@ -28,16 +28,26 @@ std::span<const std::string_view> OptimizerMethodNames() { return kMethodNames; 
 void OptimizerOptions::SetCheckpointing(std::int64_t checkpoint_every, CheckpointCallback on_checkpoint,
                                         std::optional<nlohmann::json> resume_from) {
   exhaustive.checkpoint_every = gradient.checkpoint_every = hill_climbing.checkpoint_every =
-      nlopt.checkpoint_every = cmaes.checkpoint_every = checkpoint_every;
+      nlopt.checkpoint_every = cmaes.checkpoint_every = ars.checkpoint_every = checkpoint_every;
   exhaustive.on_checkpoint = gradient.on_checkpoint = hill_climbing.on_checkpoint = nlopt.on_checkpoint =
-      cmaes.on_checkpoint = std::move(on_checkpoint);
+      cmaes.on_checkpoint = ars.on_checkpoint = std::move(on_checkpoint);
   exhaustive.resume_from = gradient.resume_from = hill_climbing.resume_from = nlopt.resume_from =
-      cmaes.resume_from = std::move(resume_from);
+      cmaes.resume_from = ars.resume_from = std::move(resume_from);
+}
+
+std::int64_t OptimizerOptions::IterationLimit() const {
+  if (method == "gradient") return gradient.max_iterations;
+  if (method == "hill-climb") return hill_climbing.max_iterations;
+  if (method == "cmaes") return cmaes.max_iterations;
+  if (method == "ars") return ars.max_iterations;
+  if (method == "exhaustive")
+    return (exhaustive.max_policies + exhaustive.block_size - 1) / exhaustive.block_size;
+  return nlopt.max_evaluations;
 }
 
 void OptimizerOptions::SetCallbacks(const IterationCallbacks& callbacks) {
   exhaustive.callbacks = gradient.callbacks = hill_climbing.callbacks = nlopt.callbacks = cmaes.callbacks =
-      callbacks;
+      ars.callbacks = callbacks;
 }
 
 bool OptimizerOptions::IsValid(std::string* error) const {
@@ -50,6 +60,7 @@ bool OptimizerOptions::IsValid(std::string* error) const {
   if (method == "gradient") return prefixed(gradient.IsValid(&inner), "gradient");
   if (method == "hill-climb") return prefixed(hill_climbing.IsValid(&inner), "hill_climbing");
   if (method == "cmaes") return prefixed(cmaes.IsValid(&inner), "cmaes");
+  if (method == "ars") return prefixed(ars.IsValid(&inner), "ars");
   if (const auto algorithm = NloptAlgorithmFromName(method))
     return prefixed(NloptOptionsFor(*this, *algorithm).IsValid(&inner), "nlopt");
   if (error)
@@ -64,6 +75,7 @@ void Solve(const OptimizerOptions& options, Objective& objective, Theta* theta, 
   if (options.method == "gradient") return Solve(options.gradient, objective, theta, summary);
   if (options.method == "hill-climb") return Solve(options.hill_climbing, objective, theta, summary);
   if (options.method == "cmaes") return Solve(options.cmaes, objective, theta, summary);
+  if (options.method == "ars") return Solve(options.ars, objective, theta, summary);
   Solve(NloptOptionsFor(options, *NloptAlgorithmFromName(options.method)), objective, theta, summary);
 }
 

@@ -47,6 +47,7 @@ void DeriveOptimizerSeeds(std::uint64_t run_seed, const SeedDomains& domains, Op
   options->hill_climbing.seed = mix_seed(run_seed, domains.hill_climbing);
   options->nlopt.seed = mix_seed(run_seed, domains.nlopt);
   options->cmaes.seed = mix_seed(run_seed, domains.cmaes);
+  options->ars.seed = mix_seed(run_seed, domains.ars);
 }
 
 bool TrainingPlan::IsValid(std::string* error) const {

@@ -71,6 +71,15 @@ void visit_optimizer_fields(Visitor& v, OptimizerOptions& o) {
   v.real("cmaes.max_condition", c.max_condition,
          "CMA-ES: fail when the covariance's condition number passes this", 1, kInf);
 
+  auto& a = o.ars;
+  v.integer("ars.max_iterations", a.max_iterations, "ARS: iterations at most", 0);
+  v.integer("ars.max_evaluations", a.max_evaluations, "ARS: U-hat evaluations at most", 1);
+  v.integer32("ars.directions", a.directions, "ARS: random directions per iteration (each evaluated +-)", 1);
+  v.integer32("ars.top_directions", a.top_directions, "ARS: best directions that move theta (b)", 1);
+  v.real("ars.step_size", a.step_size, "ARS: step size alpha, in parameter scales", 0, kInf, true);
+  v.real("ars.exploration_noise", a.exploration_noise, "ARS: direction size nu, in parameter scales", 0, kInf,
+         true);
+
   auto& e = o.exhaustive;
   v.integer("exhaustive.max_policies", e.max_policies, "exhaustive search: refuse a larger policy class", 1);
   v.integer("exhaustive.block_size", e.block_size, "exhaustive search: policies per parallel batch", 1);

@@ -188,6 +188,27 @@ TEST_F(MpiCli, TrainingGivesTheSameFilesOnAnyNumberOfRanksAndThreads) {
   }
 }
 
+#ifdef PEGASUS_HAVE_MUJOCO
+// MuJoCo cart-pole by ARS with observation normalisation (experiments/mujoco/): the normaliser's rollouts run
+// on every rank, the perturbations' rollouts are split; step and crash counts are summed over ranks.
+TEST_F(MpiCli, MujocoTrainingGivesTheSameFilesOnOneTwoAndThreeRanks) {
+  const std::string exp = std::string(PEGASUS_SOURCE_DIR) + "/experiments/mujoco/";
+  const std::string args =
+      "mujoco train --model " + exp + "cartpole.xml --task " + exp +
+      "cartpole_swingup.toml --policy mlp --hidden 4 --scenarios 5 --optimizer.ars.max-iterations 2 "
+      "--optimizer.ars.directions 3 --optimizer.ars.top-directions 2 --evaluation-episodes 4 --quiet --seed "
+      "4";
+  const auto one = single(args + " --threads 1" + out("single"));
+  ASSERT_EQ(one.code, 0) << one.output;
+  for (const int n : {1, 2, 3}) {
+    const std::string name = "np" + std::to_string(n);
+    const auto r = ranks(n, args + " --threads 1" + out(name));
+    ASSERT_EQ(r.code, 0) << r.output;
+    expect_same_results("single", name, {"summary.json", "policy.json", "evaluation.csv"});
+  }
+}
+#endif
+
 // The bicycle experiment trains with PEGASUS, with the progress bonus and with naive Monte Carlo (whose
 // rollouts are split too), then rides each policy.
 TEST_F(MpiCli, ExperimentWithNaiveMonteCarloGivesTheSameFiles) {

@@ -121,6 +121,14 @@ std::vector<MethodCase> EveryMethod() {
          o.cmaes.seed = 2;
        },
        11},
+      {"ars", rosenbrock,
+       [](OptimizerOptions& o) {
+         o.ars.max_iterations = 40;
+         o.ars.directions = 3;
+         o.ars.top_directions = 2;
+         o.ars.seed = 5;
+       },
+       9},
   };
 }
 

@@ -159,13 +159,14 @@ TEST(Training, AnIterationCallbackStopsTheRunEarly) {
 
 TEST(Training, EveryMethodTellsItsCallbacksEachIteration) {
   auto objective = ConcaveQuadratic(Box(2), {0.5, -0.5}, {1, 2});
-  for (const char* method : {"gradient", "hill-climb", "bobyqa", "sbplx", "cmaes"}) {
+  for (const char* method : {"gradient", "hill-climb", "bobyqa", "sbplx", "cmaes", "ars"}) {
     OptimizerOptions o;
     o.method = method;
     o.gradient.max_iterations = 4;
     o.hill_climbing.max_iterations = 4;
     o.nlopt.max_evaluations = 4;
     o.cmaes.max_iterations = 4;
+    o.ars.max_iterations = 4;
     StopAfter never(1000);
     o.SetCallbacks({&never});
     Theta theta;

@@ -10,7 +10,7 @@
 //   OptimizerSummary summary;
 //   Solve(options, objective, &theta, &summary);
 //
-// Methods: "exhaustive", "gradient", "hill-climb", "bobyqa", "sbplx", "crs2", "esch", "cmaes".
+// Methods: "exhaustive", "gradient", "hill-climb", "bobyqa", "sbplx", "crs2", "esch", "cmaes", "ars".
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -18,6 +18,7 @@
 #include <string>
 #include <string_view>
 
+#include "pegasus/optimizers/augmented_random_search.hpp"
 #include "pegasus/optimizers/cmaes.hpp"
 #include "pegasus/optimizers/exhaustive_search.hpp"
 #include "pegasus/optimizers/gradient_ascent.hpp"
@@ -41,10 +42,16 @@ struct OptimizerOptions {
   // Used by "bobyqa", "sbplx", "crs2" and "esch"; its `algorithm` is overridden by `method`.
   NloptOptions nlopt;
   CmaesOptions cmaes;
+  // Augmented Random Search ("ars").
+  AugmentedRandomSearchOptions ars;
 
   // Sets checkpoint_every, on_checkpoint and resume_from of every method's options at once.
   void SetCheckpointing(std::int64_t checkpoint_every, CheckpointCallback on_checkpoint,
                         std::optional<nlohmann::json> resume_from = std::nullopt);
+
+  // The selected method's iteration limit (evaluations for the NLopt methods, whose iteration is one
+  // evaluation; policy blocks at most for exhaustive search): what a progress bar counts to.
+  std::int64_t IterationLimit() const;
 
   // Sets the iteration callbacks of every method's options at once.
   void SetCallbacks(const IterationCallbacks& callbacks);

@@ -42,9 +42,10 @@ struct SeedDomains {
   std::uint32_t hill_climbing = 0x48696c6c;  // "Hill"
   std::uint32_t nlopt = 0x4e4c6f70;          // "NLop"
   std::uint32_t cmaes = 0x434d4145;          // "CMAE"
+  std::uint32_t ars = 0x41525321;            // "ARS!"
 };
-// A refinement stage's domains ("RHll", "RNLo", "RCMA"): apart from the first stage's.
-inline constexpr SeedDomains kRefineSeedDomains{0x52486c6c, 0x524e4c6f, 0x52434d41};
+// A refinement stage's domains ("RHll", "RNLo", "RCMA", "RARS"): apart from the first stage's.
+inline constexpr SeedDomains kRefineSeedDomains{0x52486c6c, 0x524e4c6f, 0x52434d41, 0x52415253};
 
 // Sets every random method's seed in *options from the run's seed and the stage's domains.
 void DeriveOptimizerSeeds(std::uint64_t run_seed, const SeedDomains& domains, OptimizerOptions* options);

@@ -1,0 +1,290 @@
+// `pegasus mujoco train` and `pegasus mujoco rollout`: PEGASUS policy search on any MJCF model (issue 18).
+// Built only with PEGASUS_MUJOCO (libmujoco-dev); without it the table has no mujoco commands.
+#ifdef PEGASUS_HAVE_MUJOCO
+#include <fmt/format.h>
+#include <mujoco/mujoco.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "experiment_commands.hpp"
+#include "pegasus/core/error.hpp"
+#include "pegasus/io/json_csv.hpp"
+#include "pegasus/mujoco/mujoco_objective.hpp"
+#include "pegasus/optimizers/optimizer.hpp"
+#include "pegasus/runs/optimizer_config.hpp"
+
+namespace pegasus::cli {
+namespace {
+
+// Seeds of the held-out evaluation scenarios, apart from the training scenarios' seed.
+std::uint64_t evaluation_seed(std::uint64_t seed) { return seed * 0x9E3779B97F4A7C15ULL + 0x4D4A4556ULL; }
+
+struct Problem {
+  std::shared_ptr<const MujocoEnvironment> env;
+  std::shared_ptr<const MujocoPolicy> policy;
+};
+
+Problem load_problem(const std::string& model_path, const std::string& task_path,
+                     const std::string& policy_class, const std::vector<int>& hidden) {
+  if (model_path.empty()) throw InputError("model: expected an MJCF file (--model M.xml)");
+  if (task_path.empty()) throw InputError("task: expected a task file (--task T.toml)");
+  MujocoModel model = MujocoModel::load(model_path);
+  MujocoTask task = load_mujoco_task(task_path, model);
+  auto env = std::make_shared<const MujocoEnvironment>(std::move(model), std::move(task));
+  auto policy = std::shared_ptr<const MujocoPolicy>(
+      make_mujoco_policy(policy_class, env->observation_dim(), env->action_dim(), hidden));
+  return {env, policy};
+}
+
+nlohmann::json evaluation_json(const std::vector<MujocoRolloutResult>& results, double success_return) {
+  double sum = 0.0;
+  int successes = 0, crashes = 0;
+  std::int64_t steps = 0;
+  for (const auto& r : results) {
+    sum += r.discounted_return;
+    successes += r.discounted_return >= success_return ? 1 : 0;
+    crashes += r.crashed ? 1 : 0;
+    steps += r.steps;
+  }
+  const double n = static_cast<double>(results.size());
+  return {{"episodes", results.size()},
+          {"mean_return", sum / n},
+          {"success_rate", successes / n},
+          {"crashes", crashes},
+          {"control_steps", steps}};
+}
+
+CsvWriter evaluation_csv(const std::vector<MujocoRolloutResult>& results, double success_return) {
+  CsvWriter csv({"episode", "return", "steps", "crashed", "success"});
+  for (std::size_t i = 0; i < results.size(); ++i)
+    csv.add_row({static_cast<std::int64_t>(i), results[i].discounted_return,
+                 static_cast<std::int64_t>(results[i].steps), static_cast<std::int64_t>(results[i].crashed),
+                 static_cast<std::int64_t>(results[i].discounted_return >= success_return)});
+  return csv;
+}
+
+// ARS (Mania, Guy and Recht 2018) by default, 100 iterations of every iterative method.
+OptimizerOptions mujoco_default_optimizer() {
+  OptimizerOptions o;
+  o.method = "ars";
+  o.ars.max_iterations = o.hill_climbing.max_iterations = o.gradient.max_iterations = o.cmaes.max_iterations =
+      100;
+  o.ars.directions = 8;
+  o.ars.top_directions = 4;
+  o.hill_climbing.proposals_per_iteration = 8;
+  o.hill_climbing.initial_step = 0.1;
+  return o;
+}
+
+void declare_train(ConfigSchema& s) {
+  s.add_string("model", "", "MJCF model file");
+  s.add_string("task", "", "task file (TOML) naming the model's joints, bodies, sites, sensors, actuators");
+  s.add_string("policy", "linear", "policy class").choices({"linear", "mlp"});
+  s.add_int_list("hidden", {16}, "hidden layer widths of the mlp policy").min(1).max(4096).min_size(1);
+  s.add_bool("normalize", true, "normalise observations by running statistics frozen per iteration (ARS V2)");
+  declare_optimizer_options(s, "optimizer", mujoco_default_optimizer());
+  s.add_int("scenarios", 8, "PEGASUS scenarios m per evaluation of U-hat").min(1).max(1000000);
+  s.add_string("variant", "plain", "scenario variant")
+      .choices({"plain", "antithetic", "stratified", "sobol"});
+  s.add_int("evaluation_episodes", 100, "held-out scenarios for the final return and success rate")
+      .min(1)
+      .max(1000000);
+  s.add_int("checkpoint_every", 10, "iterations between checkpoints").min(1).max(1000000);
+}
+
+std::vector<int> hidden_widths(const ConfigSchema& c) {
+  std::vector<int> out;
+  for (const auto w : c.get_int_list("hidden")) out.push_back(static_cast<int>(w));
+  return out;
+}
+
+void run_train(RunContext& ctx) {
+  const auto& c = ctx.config;
+  const Problem problem =
+      load_problem(c.get_string("model"), c.get_string("task"), c.get_string("policy"), hidden_widths(c));
+  const MujocoEnvironment& env = *problem.env;
+  OptimizerOptions options = mujoco_default_optimizer();
+  read_optimizer_options(c, "optimizer", &options);
+  // Every random method draws from the run's seed itself (the figures of experiments/mujoco/README.md were
+  // measured so).
+  options.ars.seed = options.hill_climbing.seed = options.nlopt.seed = options.cmaes.seed = ctx.seed;
+  std::string error;
+  if (!options.IsValid(&error)) throw InputError(error);
+
+  RunDirectory& dir = ctx.run_directory();
+  const int m = static_cast<int>(c.get_int("scenarios"));
+  MujocoObjective objective(problem.env, problem.policy,
+                            env.scenarios(ctx.seed, m, parse_scenario_variant(c.get_string("variant"))),
+                            &ctx.pool(), c.get_bool("normalize"));
+  auto bar = ctx.progress("iterations", static_cast<std::uint64_t>(options.IterationLimit()));
+  std::int64_t shown = 0;
+  options.SetCheckpointing(
+      c.get_int("checkpoint_every"),
+      [&](const nlohmann::json& checkpoint) {
+        dir.save_checkpoint(checkpoint);
+        const std::int64_t done = checkpoint.at("iterations").get<std::int64_t>();
+        bar.advance(static_cast<std::uint64_t>(done - shown));
+        shown = done;
+      },
+      dir.load_checkpoint());
+  Theta theta;
+  OptimizerSummary summary;
+  Solve(options, objective, &theta, &summary);
+  bar.finish();
+
+  const double success_return = env.task().success_return;
+  const int episodes = static_cast<int>(c.get_int("evaluation_episodes"));
+  const auto results = objective.rollout_all(
+      theta, env.scenarios(evaluation_seed(ctx.seed), episodes, ScenarioVariant::kPlain));
+  const nlohmann::json evaluation = evaluation_json(results, success_return);
+
+  CsvWriter progress({"iteration", "evaluations", "seconds", "objective"});
+  for (const auto& h : summary.history) progress.add_row({h.iteration, h.evaluations, h.seconds, h.value});
+  dir.write_csv("progress.csv", progress);
+  dir.write_csv("evaluation.csv", evaluation_csv(results, success_return));
+  const ObservationNormalizer& normalizer = objective.normalizer();
+  nlohmann::json policy = {
+      {"format", "pegasus.mujoco.policy"},
+      {"version", 1},
+      {"model", std::filesystem::absolute(c.get_string("model")).string()},
+      {"task", std::filesystem::absolute(c.get_string("task")).string()},
+      {"theta", theta},
+      {"normalizer",
+       {{"mean", normalizer.mean}, {"inverse_std", normalizer.inverse_std}, {"clip", normalizer.clip}}}};
+  policy.update(problem.policy->describe());
+  dir.write_json("policy.json", policy);
+  const std::int64_t frame_skip = env.task().frame_skip;
+  dir.write_json("summary.json", {{"experiment", "mujoco train"},
+                                  {"method", summary.method},
+                                  {"policy_class", problem.policy->describe().at("class")},
+                                  {"parameters", problem.policy->parameters().size()},
+                                  {"observation_dim", env.observation_dim()},
+                                  {"action_dim", env.action_dim()},
+                                  {"scenarios", m},
+                                  {"horizon", env.task().horizon},
+                                  {"frame_skip", frame_skip},
+                                  {"termination", std::string(TerminationTypeName(summary.termination_type))},
+                                  {"message", summary.message},
+                                  {"iterations", summary.iterations},
+                                  {"evaluations", summary.evaluations},
+                                  {"initial_uhat", std::isfinite(summary.initial_value)
+                                                       ? nlohmann::json(summary.initial_value)
+                                                       : nlohmann::json(nullptr)},
+                                  {"final_uhat", summary.best_value},
+                                  {"training_rollouts", objective.rollouts()},
+                                  {"training_control_steps", objective.control_steps()},
+                                  {"training_physics_steps", objective.control_steps() * frame_skip},
+                                  {"training_crashes", objective.crashes()},
+                                  {"success_return", success_return},
+                                  {"evaluation", evaluation}});
+  ctx.out << summary.BriefReport() << "\n";
+  ctx.out << fmt::format(
+      "held-out: mean return {:.3f}, success rate {:.3f} over {} episodes ({} crashes); {} training control "
+      "steps\n",
+      evaluation.at("mean_return").get<double>(), evaluation.at("success_rate").get<double>(), episodes,
+      evaluation.at("crashes").get<int>(), objective.control_steps());
+}
+
+void declare_rollout(ConfigSchema& s) {
+  s.add_string("policy", "", "policy.json written by `pegasus mujoco train`");
+  s.add_int("episodes", 10, "scenarios rolled out (the first is recorded step by step)").min(1).max(1000000);
+}
+
+// policy.json, checked; InputError naming the file and the field.
+nlohmann::json read_policy_file(const std::string& path) {
+  if (path.empty()) throw InputError("policy: expected a policy file (--policy FILE)");
+  std::ifstream in(path);
+  if (!in) throw InputError(fmt::format("{}: cannot read the policy file", path));
+  nlohmann::json policy;
+  try {
+    policy = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(fmt::format("{}: not JSON ({})", path, e.what()));
+  }
+  if (!policy.is_object() || policy.value("format", "") != "pegasus.mujoco.policy")
+    throw InputError(fmt::format("{}: format: expected \"pegasus.mujoco.policy\"", path));
+  for (const char* key : {"model", "task", "class", "hidden", "theta", "normalizer"})
+    if (!policy.contains(key)) throw InputError(fmt::format("{}: {}: missing", path, key));
+  return policy;
+}
+
+void run_rollout(RunContext& ctx) {
+  const std::string path = ctx.config.get_string("policy");
+  const nlohmann::json file = read_policy_file(path);
+  const Problem problem =
+      load_problem(file.at("model").get<std::string>(), file.at("task").get<std::string>(),
+                   file.at("class").get<std::string>(), file.at("hidden").get<std::vector<int>>());
+  const MujocoEnvironment& env = *problem.env;
+  const auto theta = file.at("theta").get<std::vector<double>>();
+  if (theta.size() != problem.policy->parameters().size())
+    throw InputError(
+        fmt::format("{}: theta: expected {} numbers for this model, task and policy class, got {}", path,
+                    problem.policy->parameters().size(), theta.size()));
+  ObservationNormalizer normalizer(env.observation_dim(), file.at("normalizer").at("clip").get<double>());
+  normalizer.mean = file.at("normalizer").at("mean").get<std::vector<double>>();
+  normalizer.inverse_std = file.at("normalizer").at("inverse_std").get<std::vector<double>>();
+  if (normalizer.mean.size() != static_cast<std::size_t>(env.observation_dim()) ||
+      normalizer.inverse_std.size() != normalizer.mean.size())
+    throw InputError(
+        fmt::format("{}: normalizer: expected {} observation dimensions", path, env.observation_dim()));
+
+  const int episodes = static_cast<int>(ctx.config.get_int("episodes"));
+  const ScenarioSet scenarios = env.scenarios(evaluation_seed(ctx.seed), episodes, ScenarioVariant::kPlain);
+  const mjModel* m = env.model().get();
+  std::vector<std::string> header = {"step", "time", "reward"};
+  for (int j = 0; j < m->nq; ++j) header.push_back(fmt::format("qpos{}", j));
+  for (int b = 1; b < m->nbody; ++b)
+    for (const char axis : {'x', 'y', 'z'}) {
+      const std::string name = env.model().name_of(mjOBJ_BODY, b);
+      header.push_back(fmt::format("{}_{}", name.empty() ? fmt::format("body{}", b) : name, axis));
+    }
+  CsvWriter trajectory(header);
+  const MujocoStepObserver record = [&](int t, const mjData* d, std::span<const double>, double reward) {
+    std::vector<CsvCell> row = {static_cast<std::int64_t>(t), d->time, reward};
+    for (int j = 0; j < m->nq; ++j) row.push_back(d->qpos[j]);
+    for (int b = 1; b < m->nbody; ++b)
+      for (int k = 0; k < 3; ++k) row.push_back(d->xpos[3 * b + k]);
+    trajectory.add_row(std::move(row));
+  };
+  std::vector<MujocoRolloutResult> results(static_cast<std::size_t>(episodes));
+  MujocoSlot slot(env);
+  for (int i = 0; i < episodes; ++i)
+    results[static_cast<std::size_t>(i)] = env.rollout(*problem.policy, theta, normalizer, scenarios, i, slot,
+                                                       nullptr, i == 0 ? &record : nullptr);
+
+  RunDirectory& dir = ctx.run_directory();
+  dir.write_csv("returns.csv", evaluation_csv(results, env.task().success_return));
+  dir.write_csv("trajectory.csv", trajectory);
+  dir.write_json("summary.json", {{"experiment", "mujoco rollout"},
+                                  {"success_return", env.task().success_return},
+                                  {"evaluation", evaluation_json(results, env.task().success_return)}});
+  ctx.out << fmt::format("mean return {:.3f} over {} episodes\n",
+                         evaluation_json(results, env.task().success_return).at("mean_return").get<double>(),
+                         episodes);
+}
+
+}  // namespace
+
+std::vector<Command> mujoco_commands() {
+  return {
+      Command{.path = "mujoco train",
+              .description = "PEGASUS policy search on an MJCF model and a task file (ARS by default)",
+              .declare = declare_train,
+              .run = run_train},
+      Command{.path = "mujoco rollout",
+              .description = "Roll out a trained MuJoCo policy: returns and a per-step CSV of positions",
+              .declare = declare_rollout,
+              .run = run_rollout},
+  };
+}
+
+}  // namespace pegasus::cli
+#else
+#include "experiment_commands.hpp"
+
+namespace pegasus::cli {
+std::vector<Command> mujoco_commands() { return {}; }
+}  // namespace pegasus::cli
+#endif

@@ -1,0 +1,72 @@
+#pragma once
+// theta -> U-hat(theta) on a MuJoCo environment (thesis §4.4.2, Eq 4.22): the mean discounted return of
+// the policy over m fixed scenarios, each a full rollout's randomness.
+//
+// Work is parallel over (theta, scenario) pairs on the thread pool and, under mpirun, split across ranks
+// (mpi::distributed_fill); every pair writes its own slot and sums run in scenario order, so U-hat, the
+// step counts and the crash counts are bit-identical for any number of threads and ranks. Each thread takes
+// an mjData slot from a small free list for the length of one rollout: slots are made the first time more
+// rollouts run at once than slots exist (at most one per thread), never inside a rollout.
+//
+// Observation normalisation (ARS "V2", optimizers/augmented_random_search.hpp): EvaluateAndUpdateNormalizer
+// runs theta's m rollouts on every rank (no communication: each rank computes them all, the same bits),
+// merges their observation statistics in scenario order into the running moments and freezes them.
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <vector>
+
+#include "pegasus/mujoco/mujoco_env.hpp"
+#include "pegasus/optimizers/augmented_random_search.hpp"
+#include "pegasus/optimizers/objective.hpp"
+#include "pegasus/parallel/thread_pool.hpp"
+
+namespace pegasus {
+
+class MujocoObjective final : public Objective, public ObservationNormalizing {
+ public:
+  // normalize = false keeps the identity normalisation (EvaluateAndUpdateNormalizer then only evaluates).
+  MujocoObjective(std::shared_ptr<const MujocoEnvironment> env, std::shared_ptr<const MujocoPolicy> policy,
+                  ScenarioSet scenarios, ThreadPool* pool, bool normalize = true);
+
+  const ParameterSpec& parameters() const override { return policy_->parameters(); }
+  double evaluate(std::span<const double> theta) override;
+  void evaluate_batch(std::span<const Theta> thetas, std::span<double> values) override;
+
+  double EvaluateAndUpdateNormalizer(std::span<const double> theta) override;
+  nlohmann::json NormalizerState() const override;
+  void RestoreNormalizer(const nlohmann::json& state) override;
+
+  const ObservationNormalizer& normalizer() const { return normalizer_; }
+  const MujocoEnvironment& environment() const { return *env_; }
+  // Totals over every rollout this objective ran (all ranks): control steps (times frame_skip for physics
+  // steps), rollouts and crashed rollouts.
+  std::int64_t control_steps() const { return control_steps_; }
+  std::int64_t rollouts() const { return rollouts_; }
+  std::int64_t crashes() const { return crashes_; }
+
+  // Per-scenario results of theta on `scenarios` with the frozen normaliser, computed on this rank alone
+  // (for final evaluations; not counted in the totals).
+  std::vector<MujocoRolloutResult> rollout_all(std::span<const double> theta, const ScenarioSet& scenarios);
+
+ private:
+  class SlotLease;
+  std::unique_ptr<MujocoSlot> acquire();
+  void release(std::unique_ptr<MujocoSlot> slot);
+
+  std::shared_ptr<const MujocoEnvironment> env_;
+  std::shared_ptr<const MujocoPolicy> policy_;
+  ScenarioSet scenarios_;
+  ThreadPool* pool_;
+  bool normalize_;
+  ObservationNormalizer normalizer_;
+  ObservationMoments moments_;
+  std::vector<ObservationMoments> scenario_moments_;  // one per scenario, merged in order
+  std::vector<double> returns_, steps_, crashed_;     // per (theta, scenario) pair
+  std::int64_t control_steps_ = 0, rollouts_ = 0, crashes_ = 0;
+  std::mutex slots_mutex_;
+  std::vector<std::unique_ptr<MujocoSlot>> free_slots_;
+};
+
+}  // namespace pegasus

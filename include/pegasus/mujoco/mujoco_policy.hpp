@@ -1,0 +1,70 @@
+#pragma once
+// Policy classes for robots (thesis §4.1; issue 18), acting on normalised observations
+//   z = clip((o - mean) / std, -clip, clip)
+// with the mean and standard deviation frozen during an optimizer iteration, as in Augmented Random Search
+// (Mania, Guy and Recht 2018, "V2"). Actions are in [-1, 1] per actuator; the environment maps them onto
+// each actuator's ctrlrange.
+//   linear   a = clip(W z + b, -1, 1)                                     nu (d + 1) parameters
+//   mlp      h_1 = tanh(W_1 z + b_1), ..., a = tanh(W_L h_{L-1} + b_L)     (Eigen)
+// Every parameter starts at 0 (ARS's zero start: the first perturbations explore every weight equally).
+//
+// act writes into caller-owned spans (no allocation in a step) instead of returning the action by value
+// as the project's PolicyFor concept does for small fixed-size actions.
+#include <cstdint>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "pegasus/policies/parameter_spec.hpp"
+
+namespace pegasus {
+
+// Frozen per-dimension mean and 1/std; identity (0, 1) until statistics arrive.
+struct ObservationNormalizer {
+  std::vector<double> mean, inverse_std;
+  double clip = 10.0;
+
+  explicit ObservationNormalizer(int dim = 0, double clip_to = 10.0)
+      : mean(static_cast<std::size_t>(dim), 0.0),
+        inverse_std(static_cast<std::size_t>(dim), 1.0),
+        clip(clip_to) {}
+  void apply(std::span<const double> observation, std::span<double> z) const;
+};
+
+// Running count, mean and sum of squared deviations per dimension (Chan et al.'s parallel merge), so that
+// statistics gathered per rollout merge in scenario order into the same bits on any number of threads.
+struct ObservationMoments {
+  double count = 0.0;
+  std::vector<double> mean, m2;
+
+  explicit ObservationMoments(int dim = 0)
+      : mean(static_cast<std::size_t>(dim), 0.0), m2(static_cast<std::size_t>(dim), 0.0) {}
+  void reset();
+  void add(std::span<const double> observation);
+  void merge(const ObservationMoments& other);
+  // mean and 1/std of everything added; a dimension whose variance is below 1e-8 keeps 1/std = 1.
+  void freeze_into(ObservationNormalizer* normalizer) const;
+  nlohmann::json to_json() const;
+  static ObservationMoments from_json(const nlohmann::json& state, int dim);
+};
+
+class MujocoPolicy {
+ public:
+  virtual ~MujocoPolicy() = default;
+  virtual const ParameterSpec& parameters() const = 0;
+  // action (size nu) in [-1, 1] from z (size d); scratch has scratch_size() doubles.
+  virtual void act(std::span<const double> theta, std::span<const double> z, std::span<double> action,
+                   std::span<double> scratch) const = 0;
+  virtual int scratch_size() const { return 0; }
+  // {"class": "linear" | "mlp", "hidden": [...]}
+  virtual nlohmann::json describe() const = 0;
+};
+
+// kind "linear" or "mlp" (hidden: layer widths, >= 1 layer of >= 1 unit). InputError naming `policy` or
+// `hidden` otherwise.
+std::unique_ptr<MujocoPolicy> make_mujoco_policy(const std::string& kind, int observation_dim, int action_dim,
+                                                 const std::vector<int>& hidden);
+
+}  // namespace pegasus

@@ -1,0 +1,79 @@
+#pragma once
+// Augmented Random Search (Mania, Guy and Recht 2018, "Simple random search provides a competitive approach
+// to reinforcement learning", Algorithm 2): a finite-difference ascent on U-hat along random directions,
+// which pairs naturally with PEGASUS's fixed scenarios (§4.4): both sides of every antithetic pair see the
+// same scenarios, so their difference measures the policy change alone.
+//
+// One iteration, theta in scaled units (theta_i / scale_i):
+//   draw N directions delta_k ~ N(0, I);
+//   evaluate U+_k = U(theta + nu delta_k) and U-_k = U(theta - nu delta_k) in one batch of 2N evaluations;
+//   keep the b directions with the largest max(U+_k, U-_k) (ties: lower k);
+//   sigma_R = standard deviation of those 2b values (1 when it is 0: all equal);
+//   theta <- theta + alpha / (b sigma_R) sum_k (U+_k - U-_k) delta_k, clipped into the bounds;
+//   U(theta) is then evaluated once more (the history's value).
+// When the objective also implements ObservationNormalizing (ARS's "V2"), that last evaluation is made by
+// EvaluateAndUpdateNormalizer: the observations of theta's rollouts join the running statistics, which are
+// frozen for the next iteration's 2N evaluations. The values of different iterations were then measured
+// under different normalisations, so the result is the final theta (with the final statistics), not the
+// best one seen: best_theta is the final theta and best_value its last U-hat.
+//
+// Evaluations per iteration: 2N + 1; in environment steps, each evaluation is m rollouts of at most H
+// control steps (the objective counts them exactly: MujocoObjective::environment_steps).
+//
+// Randomness comes only from UniformStream(seed, stream). Checkpoint state: {"theta", "value",
+// "stream_position", "normalizer" (null without normalisation)}; a resumed run continues bit for bit.
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+
+#include "pegasus/optimizers/objective.hpp"
+#include "pegasus/optimizers/optimizer_summary.hpp"
+#include "pegasus/optimizers/run_progress.hpp"
+
+namespace pegasus {
+
+// An objective whose policies act on observations normalised by statistics gathered from rollouts.
+class ObservationNormalizing {
+ public:
+  virtual ~ObservationNormalizing() = default;
+  // U-hat(theta) under the current frozen statistics; then the observations of these rollouts join the
+  // running statistics, which become the frozen ones.
+  virtual double EvaluateAndUpdateNormalizer(std::span<const double> theta) = 0;
+  virtual nlohmann::json NormalizerState() const = 0;
+  virtual void RestoreNormalizer(const nlohmann::json& state) = 0;
+};
+
+struct AugmentedRandomSearchOptions {
+  // Seed and stream of the UniformStream that draws every direction.
+  std::uint64_t seed = 0;
+  std::uint32_t stream = 0x41525321;  // "ARS!"
+  // Stop after this many iterations. >= 0.
+  std::int64_t max_iterations = 100;
+  // Stop before an iteration that would pass this many evaluations in total. >= 1.
+  std::int64_t max_evaluations = 1'000'000;
+  // N: directions per iteration (2N evaluations in one batch). >= 1.
+  int directions = 8;
+  // b: the best directions used in the step. 1 <= top_directions <= directions.
+  int top_directions = 8;
+  // alpha: step size (scaled units). > 0.
+  double step_size = 0.02;
+  // nu: standard deviation of the exploration noise (scaled units). > 0.
+  double exploration_noise = 0.03;
+
+  std::int64_t checkpoint_every = 0;
+  CheckpointCallback on_checkpoint;
+  std::optional<nlohmann::json> resume_from;
+  // Told after every iteration; one may stop the run early (run_progress.hpp). Not owned.
+  IterationCallbacks callbacks;
+
+  // False, with "field: expected ..., got ..." in *error, when a field is out of range.
+  bool IsValid(std::string* error) const;
+};
+
+// Maximises objective from *theta (clamped; empty = the spec's initial values). On return *theta is the
+// final theta. Throws InputError for invalid options or a foreign checkpoint.
+void Solve(const AugmentedRandomSearchOptions& options, Objective& objective, Theta* theta,
+           OptimizerSummary* summary);
+
+}  // namespace pegasus

@@ -1,0 +1,252 @@
+#include "pegasus/mujoco/mujoco_env.hpp"
+
+#include <mujoco/mujoco.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "pegasus/core/error.hpp"
+
+namespace pegasus {
+
+MujocoSlot::MujocoSlot(const MujocoEnvironment& env)
+    : data(mj_makeData(env.model().get())),
+      observation(static_cast<std::size_t>(env.observation_dim())),
+      normalized(static_cast<std::size_t>(env.observation_dim())),
+      action(static_cast<std::size_t>(env.action_dim())),
+      initial_noise(static_cast<std::size_t>(env.initial_noise_dim())),
+      step_noise(static_cast<std::size_t>(env.noise_dim())) {
+  if (!data) throw std::runtime_error("mujoco: mj_makeData failed");
+}
+
+MujocoSlot::~MujocoSlot() { mj_deleteData(data); }
+
+MujocoEnvironment::MujocoEnvironment(MujocoModel model, MujocoTask task, RewardHook hook)
+    : model_(std::move(model)), task_(std::move(task)), hook_(std::move(hook)) {
+  const mjModel* m = model_.get();
+  observation_dim_ = task_.observation_dim();
+  const bool perturb = task_.initial_qpos_noise > 0.0 || task_.initial_qvel_noise > 0.0;
+  initial_noise_dim_ = perturb ? m->nq + m->nv : 0;
+  noise_dim_ = (task_.actuator_noise > 0.0 ? m->nu : 0) + 4 * static_cast<int>(task_.push_bodies.size());
+  for (int k = 0; k < m->nu; ++k) {
+    // An unlimited actuator takes a in [-1, 1] as its ctrl directly.
+    const bool limited = m->actuator_ctrllimited[k] != 0;
+    const double lo = limited ? m->actuator_ctrlrange[2 * k] : -1.0;
+    const double hi = limited ? m->actuator_ctrlrange[2 * k + 1] : 1.0;
+    ctrl_mid_.push_back(0.5 * (lo + hi));
+    ctrl_half_.push_back(0.5 * (hi - lo));
+  }
+}
+
+int MujocoEnvironment::action_dim() const { return model_.get()->nu; }
+
+ScenarioSet MujocoEnvironment::scenarios(std::uint64_t seed, int count, ScenarioVariant variant) const {
+  return ScenarioSet(ScenarioOptions{.seed = seed,
+                                     .count = count,
+                                     .horizon = task_.horizon,
+                                     .noise_dim = noise_dim_,
+                                     .initial_noise_dim = initial_noise_dim_,
+                                     .variant = variant});
+}
+
+void MujocoEnvironment::reset(MujocoSlot& slot, std::span<const double> p0) const {
+  const mjModel* m = model_.get();
+  mjData* d = slot.data;
+  mj_resetData(m, d);
+  for (const auto& [adr, value] : task_.initial_qpos) d->qpos[adr] = value;
+  if (initial_noise_dim_ > 0) {
+    for (int j = 0; j < m->nq; ++j)
+      d->qpos[j] += task_.initial_qpos_noise * (2.0 * p0[static_cast<std::size_t>(j)] - 1.0);
+    for (int j = 0; j < m->nv; ++j)
+      d->qvel[j] += task_.initial_qvel_noise * (2.0 * p0[static_cast<std::size_t>(m->nq + j)] - 1.0);
+  }
+  mj_step1(m, d);
+}
+
+bool MujocoEnvironment::healthy(const mjData* d) const {
+  for (const auto& range : task_.termination) {
+    double x = 0.0;
+    switch (range.kind) {
+      case QuantityKind::kQpos:
+        x = d->qpos[range.adr];
+        break;
+      case QuantityKind::kQvel:
+        x = d->qvel[range.adr];
+        break;
+      case QuantityKind::kBodyHeight:
+        x = d->xpos[3 * range.id + 2];
+        break;
+      case QuantityKind::kSiteHeight:
+        x = d->site_xpos[3 * range.id + 2];
+        break;
+    }
+    if (!(x >= range.lower && x <= range.upper)) return false;
+  }
+  return true;
+}
+
+namespace {
+
+bool unstable(const mjModel* m, const mjData* d) {
+  if (d->warning[mjWARN_BADQPOS].number > 0 || d->warning[mjWARN_BADQVEL].number > 0 ||
+      d->warning[mjWARN_BADQACC].number > 0)
+    return true;
+  for (int j = 0; j < m->nq; ++j)
+    if (!std::isfinite(d->qpos[j])) return true;
+  for (int j = 0; j < m->nv; ++j)
+    if (!std::isfinite(d->qvel[j])) return true;
+  return false;
+}
+
+double body_linear_velocity(const mjModel* m, const mjData* d, int body, int axis) {
+  mjtNum velocity[6];  // (angular, linear), world orientation, at the body frame's origin
+  mj_objectVelocity(m, d, mjOBJ_BODY, body, velocity, 0);
+  return velocity[3 + axis];
+}
+
+double contact_force_squared(const mjModel* m, const mjData* d) {
+  double sum = 0.0;
+  for (int c = 0; c < d->ncon; ++c) {
+    mjtNum force[6];
+    mj_contactForce(m, d, c, force);
+    sum += force[0] * force[0] + force[1] * force[1] + force[2] * force[2];
+  }
+  return sum;
+}
+
+}  // namespace
+
+MujocoStepOutcome MujocoEnvironment::step(MujocoSlot& slot, std::span<const double> action,
+                                          std::span<const double> p) const {
+  const mjModel* m = model_.get();
+  mjData* d = slot.data;
+  std::size_t next = 0;
+  for (int k = 0; k < m->nu; ++k) {
+    const auto ku = static_cast<std::size_t>(k);
+    double ctrl = ctrl_mid_[ku] + ctrl_half_[ku] * std::clamp(action[ku], -1.0, 1.0);
+    if (task_.actuator_noise > 0.0) ctrl += task_.actuator_noise * ctrl_half_[ku] * (2.0 * p[next++] - 1.0);
+    d->ctrl[k] = ctrl;
+  }
+  for (const int body : task_.push_bodies) {
+    const bool push = p[next] < task_.push_probability;
+    for (int axis = 0; axis < 3; ++axis)
+      d->xfrc_applied[6 * body + axis] =
+          push ? task_.push_force * (2.0 * p[next + 1 + static_cast<std::size_t>(axis)] - 1.0) : 0.0;
+    next += 4;
+  }
+
+  double contact_cost = 0.0;
+  for (int k = 0; k < task_.frame_skip; ++k) {
+    mj_step2(m, d);
+    // Contact forces of the step just integrated, before mj_step1 rebuilds the contacts of the new state.
+    if (k + 1 == task_.frame_skip)
+      for (const auto& term : task_.reward)
+        if (term.kind == RewardKind::kContactCost) contact_cost = contact_force_squared(m, d);
+    mj_step1(m, d);
+  }
+
+  MujocoStepOutcome out;
+  if (unstable(m, d)) {
+    out.reward = task_.crash_penalty;
+    out.terminal = out.crashed = true;
+    return out;
+  }
+  const bool is_healthy = healthy(d);
+  double reward = 0.0;
+  for (const auto& term : task_.reward) {
+    double value = 0.0;
+    switch (term.kind) {
+      case RewardKind::kBodyVelocity:
+        value = body_linear_velocity(m, d, term.id, term.axis);
+        break;
+      case RewardKind::kHealthy:
+        value = is_healthy ? 1.0 : 0.0;
+        break;
+      case RewardKind::kSiteDistance: {
+        const double* x = d->site_xpos + 3 * term.id;
+        const double dx = x[0] - term.target[0], dy = x[1] - term.target[1], dz = x[2] - term.target[2];
+        value = std::sqrt(dx * dx + dy * dy + dz * dz);
+        break;
+      }
+      case RewardKind::kJointTarget:
+        value = std::abs(d->qpos[term.adr] - term.target[0]);
+        break;
+      case RewardKind::kJointSpeed:
+        value = std::abs(d->qvel[term.adr]);
+        break;
+      case RewardKind::kControlCost:
+        for (const double a : action) value += std::clamp(a, -1.0, 1.0) * std::clamp(a, -1.0, 1.0);
+        break;
+      case RewardKind::kContactCost:
+        value = contact_cost;
+        break;
+    }
+    reward += term.weight * value;
+  }
+  if (hook_) reward += hook_(m, d, action);
+  out.reward = reward;
+  out.terminal = !is_healthy;
+  return out;
+}
+
+void MujocoEnvironment::observe(const MujocoSlot& slot, std::span<double> out) const {
+  const mjModel* m = model_.get();
+  const mjData* d = slot.data;
+  std::size_t k = 0;
+  for (const auto& item : task_.observation) {
+    switch (item.kind) {
+      case ObservationKind::kQpos:
+        out[k++] = d->qpos[item.adr];
+        break;
+      case ObservationKind::kQposSinCos:
+        out[k++] = std::cos(d->qpos[item.adr]);
+        out[k++] = std::sin(d->qpos[item.adr]);
+        break;
+      case ObservationKind::kQvel:
+        out[k++] = d->qvel[item.adr];
+        break;
+      case ObservationKind::kSensor:
+        for (int j = 0; j < item.dim; ++j) out[k++] = d->sensordata[item.adr + j];
+        break;
+      case ObservationKind::kSitePos:
+        for (int j = 0; j < 3; ++j) out[k++] = d->site_xpos[3 * item.id + j];
+        break;
+      case ObservationKind::kBodyLinearVelocity:
+        for (int j = 0; j < 3; ++j) out[k++] = body_linear_velocity(m, d, item.id, j);
+        break;
+    }
+  }
+}
+
+MujocoRolloutResult MujocoEnvironment::rollout(const MujocoPolicy& policy, std::span<const double> theta,
+                                               const ObservationNormalizer& normalizer,
+                                               const ScenarioSet& scenarios, int i, MujocoSlot& slot,
+                                               ObservationMoments* moments,
+                                               const MujocoStepObserver* observer) const {
+  if (slot.scratch.size() < static_cast<std::size_t>(policy.scratch_size()))
+    slot.scratch.resize(static_cast<std::size_t>(policy.scratch_size()));  // once per slot and policy class
+  scenarios.initial_noise(i, slot.initial_noise);
+  reset(slot, slot.initial_noise);
+  if (observer) (*observer)(0, slot.data, {}, 0.0);
+  MujocoRolloutResult result;
+  double weight = 1.0;
+  for (int t = 0; t < task_.horizon; ++t) {
+    observe(slot, slot.observation);
+    if (moments) moments->add(slot.observation);
+    normalizer.apply(slot.observation, slot.normalized);
+    policy.act(theta, slot.normalized, slot.action, slot.scratch);
+    scenarios.step_noise(i, t, slot.step_noise);
+    const MujocoStepOutcome outcome = step(slot, slot.action, slot.step_noise);
+    result.discounted_return += weight * outcome.reward;
+    weight *= task_.discount;
+    ++result.steps;
+    if (observer) (*observer)(t + 1, slot.data, slot.action, outcome.reward);
+    if (outcome.terminal) {
+      result.crashed = outcome.crashed;
+      break;
+    }
+  }
+  return result;
+}
+
+}  // namespace pegasus

@@ -1,0 +1,156 @@
+#include "pegasus/mujoco/mujoco_policy.hpp"
+
+#include <fmt/format.h>
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+
+#include "pegasus/core/error.hpp"
+#include "pegasus/optimizers/run_progress.hpp"
+
+namespace pegasus {
+
+void ObservationNormalizer::apply(std::span<const double> observation, std::span<double> z) const {
+  for (std::size_t k = 0; k < observation.size(); ++k)
+    z[k] = std::clamp((observation[k] - mean[k]) * inverse_std[k], -clip, clip);
+}
+
+void ObservationMoments::reset() {
+  count = 0.0;
+  std::fill(mean.begin(), mean.end(), 0.0);
+  std::fill(m2.begin(), m2.end(), 0.0);
+}
+
+void ObservationMoments::add(std::span<const double> observation) {
+  count += 1.0;
+  for (std::size_t k = 0; k < observation.size(); ++k) {
+    const double delta = observation[k] - mean[k];
+    mean[k] += delta / count;
+    m2[k] += delta * (observation[k] - mean[k]);
+  }
+}
+
+void ObservationMoments::merge(const ObservationMoments& other) {
+  if (other.count == 0.0) return;
+  const double total = count + other.count;
+  for (std::size_t k = 0; k < mean.size(); ++k) {
+    const double delta = other.mean[k] - mean[k];
+    mean[k] += delta * other.count / total;
+    m2[k] += other.m2[k] + delta * delta * count * other.count / total;
+  }
+  count = total;
+}
+
+void ObservationMoments::freeze_into(ObservationNormalizer* normalizer) const {
+  for (std::size_t k = 0; k < mean.size(); ++k) {
+    normalizer->mean[k] = mean[k];
+    const double variance = count > 1.0 ? m2[k] / count : 0.0;
+    normalizer->inverse_std[k] = variance < 1e-8 ? 1.0 : 1.0 / std::sqrt(variance);
+  }
+}
+
+nlohmann::json ObservationMoments::to_json() const {
+  return {{"count", DoubleToJson(count)}, {"mean", VectorToJson(mean)}, {"m2", VectorToJson(m2)}};
+}
+
+ObservationMoments ObservationMoments::from_json(const nlohmann::json& state, int dim) {
+  ObservationMoments out(dim);
+  out.count = DoubleFromJson(StateField(state, "count"), "normalizer.count");
+  out.mean = VectorFromJson(StateField(state, "mean"), "normalizer.mean");
+  out.m2 = VectorFromJson(StateField(state, "m2"), "normalizer.m2");
+  if (out.mean.size() != static_cast<std::size_t>(dim) || out.m2.size() != static_cast<std::size_t>(dim))
+    throw InputError(fmt::format("normalizer: expected {} observation dimensions", dim));
+  return out;
+}
+
+namespace {
+
+using MatrixMap = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>;
+using VectorMap = Eigen::Map<const Eigen::VectorXd>;
+
+class LinearPolicy final : public MujocoPolicy {
+ public:
+  LinearPolicy(int d, int nu) : d_(d), nu_(nu) {
+    for (int k = 0; k < nu; ++k) {
+      for (int f = 0; f < d; ++f) spec_.add({.name = fmt::format("W[{}][{}]", k, f)});
+      spec_.add({.name = fmt::format("b[{}]", k)});
+    }
+  }
+  const ParameterSpec& parameters() const override { return spec_; }
+  void act(std::span<const double> theta, std::span<const double> z, std::span<double> action,
+           std::span<double>) const override {
+    // Row k of theta is (W_k, b_k).
+    for (int k = 0; k < nu_; ++k) {
+      const double* w = theta.data() + static_cast<std::size_t>(k) * static_cast<std::size_t>(d_ + 1);
+      double a = w[d_];
+      for (int f = 0; f < d_; ++f) a += w[f] * z[static_cast<std::size_t>(f)];
+      action[static_cast<std::size_t>(k)] = std::clamp(a, -1.0, 1.0);
+    }
+  }
+  nlohmann::json describe() const override {
+    return {{"class", "linear"}, {"hidden", nlohmann::json::array()}};
+  }
+
+ private:
+  int d_, nu_;
+  ParameterSpec spec_;
+};
+
+class TanhMlpPolicy final : public MujocoPolicy {
+ public:
+  TanhMlpPolicy(int d, int nu, std::vector<int> hidden) : hidden_(std::move(hidden)) {
+    widths_.push_back(d);
+    widths_.insert(widths_.end(), hidden_.begin(), hidden_.end());
+    widths_.push_back(nu);
+    for (std::size_t layer = 0; layer + 1 < widths_.size(); ++layer) {
+      for (int o = 0; o < widths_[layer + 1]; ++o)
+        for (int i = 0; i < widths_[layer]; ++i)
+          spec_.add({.name = fmt::format("L{}.W[{}][{}]", layer, o, i)});
+      for (int o = 0; o < widths_[layer + 1]; ++o) spec_.add({.name = fmt::format("L{}.b[{}]", layer, o)});
+    }
+    for (int w : hidden_) scratch_ += 2 * w;
+  }
+  const ParameterSpec& parameters() const override { return spec_; }
+  int scratch_size() const override { return scratch_; }
+  void act(std::span<const double> theta, std::span<const double> z, std::span<double> action,
+           std::span<double> scratch) const override {
+    const double* input = z.data();
+    const double* w = theta.data();
+    double* buffers[2] = {scratch.data(), scratch.data() + (scratch.size() / 2)};
+    for (std::size_t layer = 0; layer + 1 < widths_.size(); ++layer) {
+      const int in = widths_[layer], out = widths_[layer + 1];
+      const bool last = layer + 2 == widths_.size();
+      double* output = last ? action.data() : buffers[layer % 2];
+      const MatrixMap weights(w, out, in);
+      const VectorMap bias(w + static_cast<std::ptrdiff_t>(out) * in, out);
+      Eigen::Map<Eigen::VectorXd> y(output, out);
+      y.noalias() = weights * VectorMap(input, in);
+      y = (y + bias).array().tanh().matrix();
+      w += static_cast<std::ptrdiff_t>(out) * (in + 1);
+      input = output;
+    }
+  }
+  nlohmann::json describe() const override { return {{"class", "mlp"}, {"hidden", hidden_}}; }
+
+ private:
+  std::vector<int> hidden_, widths_;
+  int scratch_ = 0;
+  ParameterSpec spec_;
+};
+
+}  // namespace
+
+std::unique_ptr<MujocoPolicy> make_mujoco_policy(const std::string& kind, int observation_dim, int action_dim,
+                                                 const std::vector<int>& hidden) {
+  if (kind == "linear") return std::make_unique<LinearPolicy>(observation_dim, action_dim);
+  if (kind == "mlp") {
+    if (hidden.empty()) throw InputError("hidden: expected at least one hidden layer for policy = mlp");
+    for (int w : hidden)
+      if (w < 1 || w > 4096) throw InputError(fmt::format("hidden: expected widths in [1, 4096], got {}", w));
+    return std::make_unique<TanhMlpPolicy>(observation_dim, action_dim, hidden);
+  }
+  throw InputError(fmt::format("policy: expected linear or mlp, got \"{}\"", kind));
+}
+
+}  // namespace pegasus

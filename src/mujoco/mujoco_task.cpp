@@ -1,0 +1,382 @@
+#include "pegasus/mujoco/mujoco_task.hpp"
+
+#include <fmt/format.h>
+#include <mujoco/mujoco.h>
+#include <toml++/toml.h>
+
+#include <cmath>
+#include <mutex>
+#include <set>
+
+#include "pegasus/core/error.hpp"
+#include "pegasus/models/model.hpp"
+
+namespace pegasus {
+
+namespace {
+
+// MuJoCo reports instability through mjData's warning counters, which the rollout reads and turns into a
+// crash; its default handler would also print every warning to stdout.
+void silent_warning(const char*) {}
+
+std::string object_kind(int type) {
+  switch (type) {
+    case mjOBJ_BODY:
+      return "body";
+    case mjOBJ_JOINT:
+      return "joint";
+    case mjOBJ_SITE:
+      return "site";
+    case mjOBJ_SENSOR:
+      return "sensor";
+    case mjOBJ_ACTUATOR:
+      return "actuator";
+    default:
+      return "object";
+  }
+}
+
+int object_count(const mjModel* m, int type) {
+  switch (type) {
+    case mjOBJ_BODY:
+      return m->nbody;
+    case mjOBJ_JOINT:
+      return m->njnt;
+    case mjOBJ_SITE:
+      return m->nsite;
+    case mjOBJ_SENSOR:
+      return m->nsensor;
+    case mjOBJ_ACTUATOR:
+      return m->nu;
+    default:
+      return 0;
+  }
+}
+
+class TaskReader {
+ public:
+  TaskReader(const std::filesystem::path& path, const MujocoModel& model) : path_(path), model_(model) {}
+
+  [[noreturn]] void fail(const std::string& field, const std::string& what) const {
+    throw InputError(fmt::format("{}: {}: {}", path_.string(), field, what));
+  }
+
+  // Id of the named object; fails naming the field, the name and the model's objects of that kind.
+  int resolve(int type, const std::string& name, const std::string& field) const {
+    const int id = model_.id_of(type, name);
+    if (id >= 0) return id;
+    std::string known;
+    const int n = object_count(model_.get(), type);
+    for (int i = 0; i < n && i < 12; ++i) known += (i ? ", " : "") + model_.name_of(type, i);
+    if (n > 12) known += ", ...";
+    fail(field, fmt::format("the model has no {} \"{}\" ({}s: {})", object_kind(type), name,
+                            object_kind(type), known.empty() ? "none" : known));
+  }
+
+  // A scalar (hinge or slide) joint: its qpos address.
+  int scalar_joint(const std::string& name, const std::string& field) const {
+    const int id = resolve(mjOBJ_JOINT, name, field);
+    const int type = model_.get()->jnt_type[id];
+    if (type != mjJNT_HINGE && type != mjJNT_SLIDE)
+      fail(field, fmt::format("joint \"{}\" is not a hinge or slide joint", name));
+    return id;
+  }
+
+  double number(const toml::node_view<const toml::node>& node, const std::string& field, double fallback,
+                double lower = -INFINITY, double upper = INFINITY) const {
+    if (!node) return fallback;
+    const auto value = node.value<double>();
+    if (!value) fail(field, "expected a number");
+    if (!(*value >= lower && *value <= upper))
+      fail(field, fmt::format("expected a number in [{}, {}], got {}", lower, upper, *value));
+    return *value;
+  }
+
+  int integer(const toml::node_view<const toml::node>& node, const std::string& field, int fallback,
+              int lower, int upper) const {
+    if (!node) return fallback;
+    const auto value = node.value<std::int64_t>();
+    if (!value || !node.is_integer()) fail(field, "expected an integer");
+    if (*value < lower || *value > upper)
+      fail(field, fmt::format("expected an integer in [{}, {}], got {}", lower, upper, *value));
+    return static_cast<int>(*value);
+  }
+
+  std::string string(const toml::node_view<const toml::node>& node, const std::string& field) const {
+    if (!node) fail(field, "missing (expected a name)");
+    const auto value = node.value<std::string>();
+    if (!value || !node.is_string()) fail(field, "expected a string");
+    return *value;
+  }
+
+  std::vector<std::string> names(const toml::node_view<const toml::node>& node,
+                                 const std::string& field) const {
+    std::vector<std::string> out;
+    if (!node) return out;
+    const toml::array* array = node.as_array();
+    if (!array) fail(field, "expected an array of names");
+    for (std::size_t i = 0; i < array->size(); ++i) {
+      const auto value = (*array)[i].value<std::string>();
+      if (!value || !(*array)[i].is_string()) fail(fmt::format("{}[{}]", field, i), "expected a string");
+      out.push_back(*value);
+    }
+    return out;
+  }
+
+  void check_keys(const toml::table& table, const std::string& prefix,
+                  const std::set<std::string>& allowed) const {
+    for (const auto& [key, value] : table) {
+      (void)value;
+      if (!allowed.contains(std::string(key.str()))) {
+        std::string list;
+        for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+        fail(prefix + std::string(key.str()), fmt::format("unknown field (expected one of {})", list));
+      }
+    }
+  }
+
+ private:
+  std::filesystem::path path_;
+  const MujocoModel& model_;
+};
+
+}  // namespace
+
+MujocoModel MujocoModel::load(const std::filesystem::path& path) {
+  static std::once_flag silence;
+  std::call_once(silence, [] { mju_user_warning = silent_warning; });
+  if (!std::filesystem::is_regular_file(path))
+    throw InputError(fmt::format("{}: no such MJCF file", path.string()));
+  char error[1000] = "";
+  mjModel* m = mj_loadXML(path.string().c_str(), nullptr, error, sizeof error);
+  if (!m) {
+    std::string message = error;
+    for (char& c : message)
+      if (c == '\n') c = ' ';
+    throw InputError(fmt::format("{}: not a valid MJCF model: {}", path.string(), message));
+  }
+  MujocoModel out;
+  out.model_ =
+      std::shared_ptr<const mjModel>(m, [](const mjModel* p) { mj_deleteModel(const_cast<mjModel*>(p)); });
+  out.path_ = path;
+  return out;
+}
+
+int MujocoModel::id_of(int type, const std::string& name) const {
+  return mj_name2id(get(), type, name.c_str());
+}
+
+std::string MujocoModel::name_of(int type, int id) const {
+  const char* name = mj_id2name(get(), type, id);
+  return name ? name : "";
+}
+
+int MujocoTask::observation_dim() const {
+  int d = 0;
+  for (const auto& item : observation) d += item.dim;
+  return d;
+}
+
+MujocoTask load_mujoco_task(const std::filesystem::path& path, const MujocoModel& model) {
+  const mjModel* m = model.get();
+  TaskReader r(path, model);
+  if (!std::filesystem::is_regular_file(path))
+    throw InputError(fmt::format("{}: no such task file", path.string()));
+  toml::table root;
+  try {
+    root = toml::parse_file(path.string());
+  } catch (const toml::parse_error& e) {
+    throw InputError(fmt::format("{}:{}: {}", path.string(), e.source().begin.line, e.description()));
+  }
+  r.check_keys(root, "",
+               {"horizon", "discount", "frame_skip", "crash_penalty", "success_return", "initial", "noise",
+                "observation", "reward", "termination"});
+  MujocoTask task;
+  const toml::node_view<const toml::node> top{root};
+  task.horizon = r.integer(top["horizon"], "horizon", 1000, 1, 1'000'000);
+  task.discount = r.number(top["discount"], "discount", 1.0, 0.0, 1.0);
+  task.frame_skip = r.integer(top["frame_skip"], "frame_skip", 1, 1, 1000);
+  task.crash_penalty = r.number(top["crash_penalty"], "crash_penalty", -100.0);
+  task.success_return = r.number(top["success_return"], "success_return", 0.0);
+
+  if (const toml::table* initial = root["initial"].as_table()) {
+    r.check_keys(*initial, "initial.", {"qpos", "qpos_noise", "qvel_noise"});
+    if (const toml::table* qpos = (*initial)["qpos"].as_table()) {
+      for (const auto& [key, value] : *qpos) {
+        const std::string field = "initial.qpos." + std::string(key.str());
+        const int joint = r.scalar_joint(std::string(key.str()), field);
+        const auto v = value.value<double>();
+        if (!v) r.fail(field, "expected a number");
+        task.initial_qpos.emplace_back(m->jnt_qposadr[joint], *v);
+      }
+    } else if ((*initial)["qpos"]) {
+      r.fail("initial.qpos", "expected a table of joint = value");
+    }
+    const toml::node_view<const toml::node> in{*initial};
+    task.initial_qpos_noise = r.number(in["qpos_noise"], "initial.qpos_noise", 0.0, 0.0, 1e6);
+    task.initial_qvel_noise = r.number(in["qvel_noise"], "initial.qvel_noise", 0.0, 0.0, 1e6);
+  }
+
+  if (const toml::table* noise = root["noise"].as_table()) {
+    r.check_keys(*noise, "noise.", {"actuator", "push_bodies", "push_force", "push_probability"});
+    const toml::node_view<const toml::node> n{*noise};
+    task.actuator_noise = r.number(n["actuator"], "noise.actuator", 0.0, 0.0, 1.0);
+    task.push_body_names = r.names(n["push_bodies"], "noise.push_bodies");
+    for (std::size_t i = 0; i < task.push_body_names.size(); ++i)
+      task.push_bodies.push_back(
+          r.resolve(mjOBJ_BODY, task.push_body_names[i], fmt::format("noise.push_bodies[{}]", i)));
+    task.push_force = r.number(n["push_force"], "noise.push_force", 0.0, 0.0, 1e9);
+    task.push_probability = r.number(n["push_probability"], "noise.push_probability", 0.0, 0.0, 1.0);
+  }
+
+  const toml::table* observation = root["observation"].as_table();
+  if (!observation) r.fail("observation", "missing (expected a table naming what the policy sees)");
+  r.check_keys(*observation, "observation.",
+               {"qpos", "qpos_sincos", "qvel", "sensors", "site_pos", "body_linvel", "clip"});
+  const toml::node_view<const toml::node> obs{*observation};
+  task.observation_clip = r.number(obs["clip"], "observation.clip", 10.0, 1e-6, 1e9);
+  auto add_items = [&](const char* key, ObservationKind kind) {
+    const std::string field = std::string("observation.") + key;
+    const auto list = r.names(obs[key], field);
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const std::string item_field = fmt::format("{}[{}]", field, i);
+      ObservationItem item{.kind = kind, .name = list[i]};
+      switch (kind) {
+        case ObservationKind::kQpos:
+        case ObservationKind::kQposSinCos:
+          item.id = r.scalar_joint(list[i], item_field);
+          item.adr = m->jnt_qposadr[item.id];
+          item.dim = kind == ObservationKind::kQposSinCos ? 2 : 1;
+          break;
+        case ObservationKind::kQvel:
+          item.id = r.scalar_joint(list[i], item_field);
+          item.adr = m->jnt_dofadr[item.id];
+          break;
+        case ObservationKind::kSensor:
+          item.id = r.resolve(mjOBJ_SENSOR, list[i], item_field);
+          item.adr = m->sensor_adr[item.id];
+          item.dim = m->sensor_dim[item.id];
+          break;
+        case ObservationKind::kSitePos:
+          item.id = r.resolve(mjOBJ_SITE, list[i], item_field);
+          item.dim = 3;
+          break;
+        case ObservationKind::kBodyLinearVelocity:
+          item.id = r.resolve(mjOBJ_BODY, list[i], item_field);
+          item.dim = 3;
+          break;
+      }
+      task.observation.push_back(item);
+    }
+  };
+  add_items("qpos", ObservationKind::kQpos);
+  add_items("qpos_sincos", ObservationKind::kQposSinCos);
+  add_items("qvel", ObservationKind::kQvel);
+  add_items("sensors", ObservationKind::kSensor);
+  add_items("site_pos", ObservationKind::kSitePos);
+  add_items("body_linvel", ObservationKind::kBodyLinearVelocity);
+  if (task.observation.empty()) r.fail("observation", "names nothing (expected at least one quantity)");
+
+  const toml::array* reward = root["reward"].as_array();
+  if (!reward || reward->empty()) r.fail("reward", "missing (expected [[reward]] terms)");
+  for (std::size_t i = 0; i < reward->size(); ++i) {
+    const std::string prefix = fmt::format("reward[{}]", i);
+    const toml::table* t = (*reward)[i].as_table();
+    if (!t) r.fail(prefix, "expected a table");
+    r.check_keys(*t, prefix + ".", {"term", "weight", "body", "axis", "site", "joint", "target"});
+    const toml::node_view<const toml::node> v{*t};
+    const std::string term = r.string(v["term"], prefix + ".term");
+    RewardTerm out{};
+    out.weight = r.number(v["weight"], prefix + ".weight", 1.0);
+    if (term == "body_velocity") {
+      out.kind = RewardKind::kBodyVelocity;
+      out.name = r.string(v["body"], prefix + ".body");
+      out.id = r.resolve(mjOBJ_BODY, out.name, prefix + ".body");
+      out.axis = r.integer(v["axis"], prefix + ".axis", 0, 0, 2);
+    } else if (term == "healthy") {
+      out.kind = RewardKind::kHealthy;
+    } else if (term == "site_distance") {
+      out.kind = RewardKind::kSiteDistance;
+      out.name = r.string(v["site"], prefix + ".site");
+      out.id = r.resolve(mjOBJ_SITE, out.name, prefix + ".site");
+      const toml::array* target = v["target"].as_array();
+      if (!target || target->size() != 3) r.fail(prefix + ".target", "expected [x, y, z] in metres");
+      for (int k = 0; k < 3; ++k) {
+        const auto x = (*target)[static_cast<std::size_t>(k)].value<double>();
+        if (!x) r.fail(prefix + ".target", "expected [x, y, z] in metres");
+        out.target[static_cast<std::size_t>(k)] = *x;
+      }
+    } else if (term == "joint_target") {
+      out.kind = RewardKind::kJointTarget;
+      out.name = r.string(v["joint"], prefix + ".joint");
+      out.id = r.scalar_joint(out.name, prefix + ".joint");
+      out.adr = m->jnt_qposadr[out.id];
+      if (!v["target"]) r.fail(prefix + ".target", "missing (expected the joint's target position)");
+      out.target[0] = r.number(v["target"], prefix + ".target", 0.0);
+    } else if (term == "joint_speed") {
+      out.kind = RewardKind::kJointSpeed;
+      out.name = r.string(v["joint"], prefix + ".joint");
+      out.id = r.scalar_joint(out.name, prefix + ".joint");
+      out.adr = m->jnt_dofadr[out.id];
+    } else if (term == "control_cost") {
+      out.kind = RewardKind::kControlCost;
+    } else if (term == "contact_cost") {
+      out.kind = RewardKind::kContactCost;
+    } else {
+      r.fail(prefix + ".term",
+             fmt::format("expected one of body_velocity, healthy, site_distance, joint_target, joint_speed, "
+                         "control_cost, contact_cost; got \"{}\"",
+                         term));
+    }
+    task.reward.push_back(out);
+  }
+
+  if (const toml::array* termination = root["termination"].as_array()) {
+    for (std::size_t i = 0; i < termination->size(); ++i) {
+      const std::string prefix = fmt::format("termination[{}]", i);
+      const toml::table* t = (*termination)[i].as_table();
+      if (!t) r.fail(prefix, "expected a table");
+      r.check_keys(*t, prefix + ".", {"quantity", "name", "min", "max"});
+      const toml::node_view<const toml::node> v{*t};
+      const std::string quantity = r.string(v["quantity"], prefix + ".quantity");
+      TerminationRange out{};
+      out.name = r.string(v["name"], prefix + ".name");
+      if (quantity == "qpos" || quantity == "qvel") {
+        out.kind = quantity == "qpos" ? QuantityKind::kQpos : QuantityKind::kQvel;
+        out.id = r.scalar_joint(out.name, prefix + ".name");
+        out.adr = quantity == "qpos" ? m->jnt_qposadr[out.id] : m->jnt_dofadr[out.id];
+      } else if (quantity == "body_height") {
+        out.kind = QuantityKind::kBodyHeight;
+        out.id = r.resolve(mjOBJ_BODY, out.name, prefix + ".name");
+      } else if (quantity == "site_height") {
+        out.kind = QuantityKind::kSiteHeight;
+        out.id = r.resolve(mjOBJ_SITE, out.name, prefix + ".name");
+      } else {
+        r.fail(prefix + ".quantity",
+               fmt::format("expected one of qpos, qvel, body_height, site_height; got \"{}\"", quantity));
+      }
+      out.lower = r.number(v["min"], prefix + ".min", -INFINITY);
+      out.upper = r.number(v["max"], prefix + ".max", INFINITY);
+      if (!(out.lower < out.upper)) r.fail(prefix + ".max", "expected max > min");
+      task.termination.push_back(out);
+    }
+  } else if (root["termination"]) {
+    r.fail("termination", "expected [[termination]] tables");
+  }
+
+  // Scenario numbers live in stack buffers of kMaxNoiseDim (models/model.hpp).
+  const bool initial_noise = task.initial_qpos_noise > 0.0 || task.initial_qvel_noise > 0.0;
+  if (initial_noise && m->nq + m->nv > kMaxNoiseDim)
+    r.fail("initial.qpos_noise", fmt::format("perturbing the start draws nq + nv = {} numbers, at most {}",
+                                             m->nq + m->nv, kMaxNoiseDim));
+  const int step_noise =
+      (task.actuator_noise > 0.0 ? m->nu : 0) + 4 * static_cast<int>(task.push_bodies.size());
+  if (step_noise > kMaxNoiseDim)
+    r.fail("noise",
+           fmt::format("a step draws {} numbers (nu for the actuators, 4 per pushed body), at most {}",
+                       step_noise, kMaxNoiseDim));
+  if (m->nu < 1) r.fail("model", "has no actuators (nothing for a policy to drive)");
+  return task;
+}
+
+}  // namespace pegasus

@@ -1,0 +1,61 @@
+// A MuJoCo rollout allocates nothing once its slot exists (STYLE.md; issue 18): neither C++ allocations
+// (counted by replacing operator new in this executable) nor MuJoCo's own (counted through mju_user_malloc).
+#ifdef PEGASUS_HAVE_MUJOCO
+#include <gtest/gtest.h>
+#include <mujoco/mujoco.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <new>
+
+#include "mujoco_test_support.hpp"
+
+namespace {
+std::atomic<long> g_allocations{0};
+
+void* counting_mujoco_malloc(std::size_t n) {
+  g_allocations.fetch_add(1, std::memory_order_relaxed);
+  return std::aligned_alloc(64, (n + 63) / 64 * 64);
+}
+void mujoco_free(void* p) { std::free(p); }
+}  // namespace
+
+void* operator new(std::size_t n) {
+  g_allocations.fetch_add(1, std::memory_order_relaxed);
+  if (void* p = std::malloc(n == 0 ? 1 : n)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
+namespace pegasus {
+namespace {
+
+TEST(MujocoAllocation, RolloutsAllocateNothingAfterTheSlotIsMade) {
+  mju_user_malloc = counting_mujoco_malloc;
+  mju_user_free = mujoco_free;
+  for (const std::string policy_class : {"linear", "mlp"}) {
+    SCOPED_TRACE(policy_class);
+    const auto env = test_support::cartpole_environment();
+    const auto policy = make_mujoco_policy(policy_class, env->observation_dim(), env->action_dim(), {8, 8});
+    const ScenarioSet scenarios = env->scenarios(5, 3, ScenarioVariant::kPlain);
+    Theta theta(policy->parameters().size());
+    for (std::size_t k = 0; k < theta.size(); ++k) theta[k] = 0.1 * std::sin(static_cast<double>(k));
+    const ObservationNormalizer normalizer(env->observation_dim());
+    ObservationMoments moments(env->observation_dim());
+    MujocoSlot slot(*env);
+    env->rollout(*policy, theta, normalizer, scenarios, 0, slot);  // sizes the policy's scratch once
+    const long before = g_allocations.load();
+    int steps = 0;
+    for (int i = 0; i < scenarios.size(); ++i)
+      steps += env->rollout(*policy, theta, normalizer, scenarios, i, slot, &moments).steps;
+    EXPECT_EQ(g_allocations.load(), before);
+    EXPECT_GT(steps, 3 * 10);  // the rollouts ran
+  }
+  mju_user_malloc = nullptr;
+  mju_user_free = nullptr;
+}
+
+}  // namespace
+}  // namespace pegasus
+#endif

@@ -1,0 +1,146 @@
+// The MuJoCo environment as a deterministic simulative model: rollouts are pure functions of (theta,
+// scenario), a control step is frame_skip of MuJoCo's own steps, actions land inside the ctrl ranges, and
+// instability ends a rollout as a counted crash.
+#ifdef PEGASUS_HAVE_MUJOCO
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <mujoco/mujoco.h>
+
+#include "mujoco_test_support.hpp"
+#include "pegasus/mujoco/mujoco_objective.hpp"
+#include "pegasus/parallel/thread_pool.hpp"
+#include "support/cli_runner.hpp"
+
+namespace pegasus {
+namespace {
+
+Theta wiggly_theta(const MujocoPolicy& policy) {
+  Theta theta(policy.parameters().size());
+  for (std::size_t k = 0; k < theta.size(); ++k)
+    theta[k] = 0.3 * std::sin(1.7 * static_cast<double>(k) + 0.2);
+  return theta;
+}
+
+TEST(MujocoEnvironment, AControlStepIsFrameSkipPlainMjStepsFromTheSameState) {
+  const auto env = test_support::cartpole_environment();
+  const mjModel* m = env->model().get();
+  MujocoSlot slot(*env);
+  const std::vector<double> p0(static_cast<std::size_t>(env->initial_noise_dim()), 0.8);
+  env->reset(slot, p0);
+  // The reference: MuJoCo's own mj_step loop from a copy of the start state, with the same ctrl.
+  mjData* reference = mj_makeData(m);
+  mju_copy(reference->qpos, slot.data->qpos, m->nq);
+  mju_copy(reference->qvel, slot.data->qvel, m->nv);
+  const std::vector<double> no_noise(static_cast<std::size_t>(env->noise_dim()), 0.5);  // 2u - 1 = 0
+  for (int t = 0; t < 50; ++t) {
+    const double a = std::sin(0.1 * t);
+    env->step(slot, std::span<const double>(&a, 1), no_noise);
+    reference->ctrl[0] = a;  // ctrlrange [-1, 1]: ctrl = a
+    for (int k = 0; k < env->task().frame_skip; ++k) mj_step(m, reference);
+  }
+  for (int j = 0; j < m->nq; ++j) EXPECT_EQ(slot.data->qpos[j], reference->qpos[j]) << j;
+  for (int j = 0; j < m->nv; ++j) EXPECT_EQ(slot.data->qvel[j], reference->qvel[j]) << j;
+  EXPECT_DOUBLE_EQ(slot.data->time, 50 * env->task().frame_skip * m->opt.timestep);
+  mj_deleteData(reference);
+}
+
+TEST(MujocoEnvironment, ActionsMapOntoTheActuatorsCtrlRangeAndAreClipped) {
+  const auto env = test_support::cartpole_environment();
+  MujocoSlot slot(*env);
+  const std::vector<double> p0(static_cast<std::size_t>(env->initial_noise_dim()), 0.5);
+  const std::vector<double> no_noise(static_cast<std::size_t>(env->noise_dim()), 0.5);
+  for (const auto& [action, ctrl] :
+       std::vector<std::pair<double, double>>{{1.0, 1.0}, {-3.0, -1.0}, {0.25, 0.25}}) {
+    env->reset(slot, p0);
+    env->step(slot, std::span<const double>(&action, 1), no_noise);
+    EXPECT_EQ(slot.data->ctrl[0], ctrl);
+  }
+  // Actuator noise: u = 1 adds actuator * half-range (5 % of 1) on top of a full push, beyond the range.
+  const std::vector<double> full_noise(static_cast<std::size_t>(env->noise_dim()), 1.0);
+  env->reset(slot, p0);
+  const double a = 1.0;
+  env->step(slot, std::span<const double>(&a, 1), full_noise);
+  EXPECT_DOUBLE_EQ(slot.data->ctrl[0], 1.05);
+}
+
+TEST(MujocoEnvironment, ARolloutDependsOnlyOnThetaAndTheScenarioNotOnWhatTheSlotRanBefore) {
+  const auto env = test_support::cartpole_environment();
+  const auto policy = make_mujoco_policy("mlp", env->observation_dim(), env->action_dim(), {6});
+  const Theta theta = wiggly_theta(*policy);
+  const ScenarioSet scenarios = env->scenarios(11, 4, ScenarioVariant::kPlain);
+  const ObservationNormalizer normalizer(env->observation_dim());
+  MujocoSlot fresh(*env), used(*env);
+  env->rollout(*policy, theta, normalizer, scenarios, 3, used);
+  env->rollout(*policy, theta, normalizer, scenarios, 1, used);
+  const auto a = env->rollout(*policy, theta, normalizer, scenarios, 2, fresh);
+  const auto b = env->rollout(*policy, theta, normalizer, scenarios, 2, used);
+  EXPECT_EQ(a.discounted_return, b.discounted_return);
+  EXPECT_EQ(a.steps, b.steps);
+  // ... and different scenarios differ (the start and the actuator noise come from the scenario).
+  EXPECT_NE(env->rollout(*policy, theta, normalizer, scenarios, 0, fresh).discounted_return,
+            a.discounted_return);
+}
+
+TEST(MujocoObjective, UhatAndCountsAreBitIdenticalForOneAndThreeThreads) {
+  const auto env = test_support::cartpole_environment();
+  std::shared_ptr<const MujocoPolicy> policy = make_mujoco_policy("linear", env->observation_dim(), 1, {});
+  const Theta theta = wiggly_theta(*policy);
+  std::vector<Theta> batch = {theta, Theta(theta.size(), 0.0), Theta(theta.size(), 0.5)};
+  ThreadPool one(1), three(3);
+  MujocoObjective a(env, policy, env->scenarios(2, 6, ScenarioVariant::kPlain), &one);
+  MujocoObjective b(env, policy, env->scenarios(2, 6, ScenarioVariant::kPlain), &three);
+  std::vector<double> va(3), vb(3);
+  a.evaluate_batch(batch, va);
+  b.evaluate_batch(batch, vb);
+  EXPECT_EQ(va, vb);
+  EXPECT_EQ(a.EvaluateAndUpdateNormalizer(theta), b.EvaluateAndUpdateNormalizer(theta));
+  EXPECT_EQ(a.normalizer().mean, b.normalizer().mean);
+  EXPECT_EQ(a.normalizer().inverse_std, b.normalizer().inverse_std);
+  EXPECT_EQ(a.control_steps(), b.control_steps());
+  EXPECT_EQ(a.rollouts(), 4 * 6);
+  // The statistics moved off the identity: the cart-pole's cos(angle) starts near -1, not 0.
+  EXPECT_LT(a.normalizer().mean[1], -0.5);
+  // evaluate is the batch's first value.
+  EXPECT_EQ(a.evaluate(theta), b.evaluate(theta));
+}
+
+class MujocoCrash : public test_support::TempDirTest {};
+
+TEST_F(MujocoCrash, InstabilityEndsTheRolloutAsACrashWithThePenalty) {
+  const auto& dir = dir_;
+  // A stiff joint at a huge timestep: explicit Euler blows up within a few steps.
+  const auto xml = test_support::write_file(dir / "unstable.xml", R"(
+<mujoco><option timestep="0.5"/>
+  <worldbody><body><joint name="j" type="hinge" stiffness="1e9" damping="0"/>
+    <geom type="capsule" fromto="0 0 0 1 0 0" size="0.05" mass="1"/></body></worldbody>
+  <actuator><motor name="m" joint="j" ctrllimited="true" ctrlrange="-1 1"/></actuator></mujoco>)");
+  const auto toml = test_support::write_file(dir / "task.toml", R"(
+horizon = 1000
+crash_penalty = -7.5
+[initial]
+qpos = { j = 0.3 }
+[observation]
+qpos = ["j"]
+qvel = ["j"]
+[[reward]]
+term = "healthy"
+)");
+  MujocoModel model = MujocoModel::load(xml);
+  MujocoTask task = load_mujoco_task(toml, model);
+  const auto env = std::make_shared<const MujocoEnvironment>(std::move(model), std::move(task));
+  std::shared_ptr<const MujocoPolicy> policy = make_mujoco_policy("linear", 2, 1, {});
+  const Theta theta(policy->parameters().size(), 0.0);
+  MujocoSlot slot(*env);
+  const auto r = env->rollout(*policy, theta, ObservationNormalizer(2),
+                              env->scenarios(1, 1, ScenarioVariant::kPlain), 0, slot);
+  EXPECT_TRUE(r.crashed);
+  EXPECT_LT(r.steps, 1000);
+  EXPECT_EQ(r.discounted_return, (r.steps - 1) * 1.0 - 7.5);  // 1 per healthy step, then the penalty
+  MujocoObjective objective(env, policy, env->scenarios(1, 3, ScenarioVariant::kPlain), nullptr);
+  objective.evaluate(theta);
+  EXPECT_EQ(objective.crashes(), 3);
+}
+
+}  // namespace
+}  // namespace pegasus
+#endif

@@ -1,0 +1,126 @@
+// End to end: `pegasus mujoco train` and `pegasus mujoco rollout` on small settings.
+#ifdef PEGASUS_HAVE_MUJOCO
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "mujoco_test_support.hpp"
+#include "support/cli_runner.hpp"
+
+namespace pegasus {
+namespace {
+
+using test_support::read_text;
+using test_support::run_pegasus;
+using ::testing::HasSubstr;
+
+std::string small_train(const std::filesystem::path& out, int threads) {
+  const auto dir = test_support::mujoco_experiments();
+  return "mujoco train --model " + (dir / "cartpole.xml").string() + " --task " +
+         (dir / "cartpole_swingup.toml").string() +
+         " --policy mlp --hidden 4 --scenarios 3 --optimizer.ars.max-iterations 3 --optimizer.ars.directions "
+         "2 --optimizer.ars.top-directions 1 "
+         "--evaluation-episodes 4 --checkpoint-every 1 --seed 7 --quiet --threads " +
+         std::to_string(threads) + " --out " + out.string();
+}
+
+class MujocoCli : public test_support::TempDirTest {};
+
+TEST_F(MujocoCli, TrainGivesTheSameSummaryOnOneAndTwoThreadsAndRolloutReplaysThePolicy) {
+  const auto& dir = dir_;
+  const auto one = run_pegasus(small_train(dir / "one", 1));
+  ASSERT_EQ(one.code, 0) << one.output;
+  const auto two = run_pegasus(small_train(dir / "two", 2));
+  ASSERT_EQ(two.code, 0) << two.output;
+  const std::string summary = read_text(dir / "one" / "summary.json");
+  EXPECT_EQ(summary, read_text(dir / "two" / "summary.json"));
+  const auto s = nlohmann::json::parse(summary);
+  EXPECT_EQ(s.at("method"), "ars");
+  EXPECT_EQ(s.at("iterations"), 3);
+  EXPECT_EQ(s.at("evaluations"), 1 + 3 * (2 * 2 + 1));
+  // Every evaluation is 3 rollouts; the control steps are counted exactly.
+  EXPECT_EQ(s.at("training_rollouts"), 3 * s.at("evaluations").get<int>());
+  EXPECT_EQ(s.at("training_physics_steps").get<std::int64_t>(),
+            2 * s.at("training_control_steps").get<std::int64_t>());
+  EXPECT_TRUE(std::filesystem::exists(dir / "one" / "progress.csv"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "one" / "report.html"));
+
+  // The rollout of the saved policy on the same held-out seed gives the training run's evaluation back.
+  const auto rollout = run_pegasus("mujoco rollout --policy " + (dir / "one" / "policy.json").string() +
+                                   " --episodes 4 --seed 7 --quiet --out " + (dir / "replay").string());
+  ASSERT_EQ(rollout.code, 0) << rollout.output;
+  const auto r = nlohmann::json::parse(read_text(dir / "replay" / "summary.json"));
+  EXPECT_EQ(r.at("evaluation"), s.at("evaluation"));
+  const std::string trajectory = read_text(dir / "replay" / "trajectory.csv");
+  EXPECT_THAT(trajectory.substr(0, trajectory.find('\n')), HasSubstr("step,time,reward,qpos0,qpos1,cart_x"));
+  EXPECT_GT(std::count(trajectory.begin(), trajectory.end(), '\n'), 2);
+}
+
+TEST_F(MujocoCli, ResumingAfterAKillGivesTheUninterruptedSummary) {
+  const auto& dir = dir_;
+  // 40 iterations with a checkpoint after each: the kill lands mid-run.
+  std::string args = small_train(dir / "whole", 1);
+  args.replace(args.find("--optimizer.ars.max-iterations 3 "), 33, "--optimizer.ars.max-iterations 40 ");
+  ASSERT_EQ(run_pegasus(args).code, 0);
+  const std::string killed_args = args.substr(0, args.find(" --out "));
+  const auto outcome = test_support::kill_pegasus_after_first_checkpoint(killed_args, dir / "cut");
+  if (outcome == test_support::KillOutcome::kKilled) {
+    const auto resumed = run_pegasus(killed_args + " --resume --out " + (dir / "cut").string());
+    ASSERT_EQ(resumed.code, 0) << resumed.output;
+  } else {
+    ASSERT_EQ(outcome, test_support::KillOutcome::kFinishedFirst);
+  }
+  EXPECT_EQ(nlohmann::json::parse(read_text(dir / "cut" / "summary.json")).at("iterations"), 40);
+  EXPECT_EQ(read_text(dir / "cut" / "summary.json"), read_text(dir / "whole" / "summary.json"));
+}
+
+TEST_F(MujocoCli, BadInputIsOneLineExitTwoAndNoRunDirectory) {
+  const auto& dir = dir_;
+  const auto exp = test_support::mujoco_experiments();
+  const auto bad_task = test_support::write_file(
+      dir / "bad.toml",
+      "[observation]\nqpos = [\"slider\"]\n[[reward]]\nterm = \"body_velocity\"\nbody = \"torso\"\n");
+  struct Case {
+    std::string args, expected;
+  };
+  const std::vector<Case> cases = {
+      {"--model " + (dir / "none.xml").string() + " --task " + (exp / "cartpole_swingup.toml").string(),
+       "none.xml: no such MJCF file"},
+      {"--model " + (exp / "cartpole.xml").string() + " --task " + bad_task.string(),
+       "bad.toml: reward[0].body: the model has no body \"torso\""},
+      {"--model " + (exp / "cartpole.xml").string(), "task: expected a task file"},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.args);
+    const auto out = dir / "run";
+    const auto r = run_pegasus("mujoco train " + c.args + " --optimizer.ars.max-iterations 1 --quiet --out " +
+                               out.string());
+    EXPECT_EQ(r.code, 2);
+    EXPECT_THAT(r.output, HasSubstr(c.expected));
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+    EXPECT_FALSE(std::filesystem::exists(out));
+    EXPECT_FALSE(std::filesystem::exists(out.string() + ".partial"));
+  }
+  // A policy file whose theta does not fit the model, task and class.
+  const auto policy = test_support::write_file(
+      dir / "policy.json",
+      nlohmann::json{
+          {"format", "pegasus.mujoco.policy"},
+          {"model", (exp / "cartpole.xml").string()},
+          {"task", (exp / "cartpole_swingup.toml").string()},
+          {"class", "linear"},
+          {"hidden", nlohmann::json::array()},
+          {"theta", {1.0, 2.0}},
+          {"normalizer", {{"mean", {0, 0, 0, 0, 0}}, {"inverse_std", {1, 1, 1, 1, 1}}, {"clip", 10}}}}
+          .dump());
+  const auto r =
+      run_pegasus("mujoco rollout --policy " + policy.string() + " --quiet --out " + (dir / "r").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_THAT(r.output, HasSubstr("theta: expected 6 numbers for this model, task and policy class, got 2"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "r"));
+}
+
+}  // namespace
+}  // namespace pegasus
+#endif

@@ -1,0 +1,97 @@
+// Bad MJCF and task files are rejected with one line naming the file, the field and what is missing.
+#ifdef PEGASUS_HAVE_MUJOCO
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "mujoco_test_support.hpp"
+#include "support/cli_runner.hpp"
+#include "support/input_error.hpp"
+
+namespace pegasus {
+namespace {
+
+using test_support::input_error_message;
+using ::testing::AllOf;
+using ::testing::HasSubstr;
+
+class MujocoTaskFile : public test_support::TempDirTest {
+ protected:
+  void SetUp() override {
+    TempDirTest::SetUp();
+    model_ =
+        std::make_unique<MujocoModel>(MujocoModel::load(test_support::mujoco_experiments() / "cartpole.xml"));
+  }
+  // The message of loading the cart-pole with a task of this text.
+  std::string task_error(const std::string& text) {
+    const auto path = test_support::write_file(dir_ / "task.toml", text);
+    return input_error_message([&] { load_mujoco_task(path, *model_); });
+  }
+  static std::string minimal(const std::string& extra) {
+    return "[observation]\nqpos = [\"slider\"]\n[[reward]]\nterm = \"healthy\"\n" + extra;
+  }
+  std::unique_ptr<MujocoModel> model_;
+};
+
+TEST_F(MujocoTaskFile, AMissingOrMalformedMjcfNamesTheFile) {
+  EXPECT_THAT(input_error_message([&] { MujocoModel::load(dir_ / "absent.xml"); }),
+              AllOf(HasSubstr("absent.xml"), HasSubstr("no such MJCF file")));
+  const auto bad = test_support::write_file(dir_ / "bad.xml", "<mujoco><worldbody><body></mujoco>");
+  const std::string message = input_error_message([&] { MujocoModel::load(bad); });
+  EXPECT_THAT(message, AllOf(HasSubstr("bad.xml"), HasSubstr("not a valid MJCF model")));
+  EXPECT_EQ(message.find('\n'), std::string::npos);
+}
+
+TEST_F(MujocoTaskFile, EveryMissingNameIsReportedWithItsFieldAndKind) {
+  EXPECT_THAT(task_error("[observation]\nqpos = [\"slider\", \"elbow\"]\n[[reward]]\nterm = \"healthy\"\n"),
+              AllOf(HasSubstr("task.toml: observation.qpos[1]: the model has no joint \"elbow\""),
+                    HasSubstr("joints: slider, hinge")));
+  EXPECT_THAT(task_error(minimal("[[reward]]\nterm = \"body_velocity\"\nbody = \"torso\"\n")),
+              HasSubstr("reward[1].body: the model has no body \"torso\""));
+  EXPECT_THAT(
+      task_error(minimal("[[reward]]\nterm = \"site_distance\"\nsite = \"hand\"\ntarget = [0, 0, 1]\n")),
+      HasSubstr("reward[1].site: the model has no site \"hand\""));
+  EXPECT_THAT(task_error(minimal("[[reward]]\nterm = \"joint_speed\"\njoint = \"wrist\"\n")),
+              HasSubstr("reward[1].joint: the model has no joint \"wrist\""));
+  EXPECT_THAT(task_error("[observation]\nsensors = [\"gyro\"]\n[[reward]]\nterm = \"healthy\"\n"),
+              HasSubstr("observation.sensors[0]: the model has no sensor \"gyro\" (sensors: none)"));
+  EXPECT_THAT(
+      task_error(minimal("[[termination]]\nquantity = \"body_height\"\nname = \"torso\"\nmin = 0.5\n")),
+      HasSubstr("termination[0].name: the model has no body \"torso\""));
+  EXPECT_THAT(task_error(minimal("[noise]\npush_bodies = [\"pole\", \"arm\"]\n")),
+              HasSubstr("noise.push_bodies[1]: the model has no body \"arm\""));
+}
+
+TEST_F(MujocoTaskFile, WrongFieldsTermsRangesAndSyntaxAreNamed) {
+  EXPECT_THAT(task_error("horizn = 3\n" + minimal("")),
+              HasSubstr("task.toml: horizn: unknown field (expected one of"));
+  EXPECT_THAT(task_error(minimal("[[reward]]\nterm = \"speed\"\n")),
+              HasSubstr("reward[1].term: expected one of body_velocity"));
+  EXPECT_THAT(task_error("discount = 1.5\n" + minimal("")),
+              HasSubstr("discount: expected a number in [0, 1], got 1.5"));
+  EXPECT_THAT(task_error("frame_skip = 0\n" + minimal("")),
+              HasSubstr("frame_skip: expected an integer in [1, 1000]"));
+  EXPECT_THAT(task_error("[[reward]]\nterm = \"healthy\"\n"), HasSubstr("observation: missing"));
+  EXPECT_THAT(task_error("[observation]\nqpos = [\"slider\"]\n"), HasSubstr("reward: missing"));
+  EXPECT_THAT(task_error("horizon = \n"), HasSubstr("task.toml:1:"));
+  EXPECT_THAT(task_error(minimal("[[reward]]\nterm = \"joint_target\"\njoint = \"hinge\"\n")),
+              HasSubstr("reward[1].target: missing"));
+  EXPECT_THAT(
+      task_error(minimal("[[termination]]\nquantity = \"qpos\"\nname = \"slider\"\nmin = 1\nmax = 0\n")),
+      HasSubstr("termination[0].max: expected max > min"));
+}
+
+TEST_F(MujocoTaskFile, TheShippedTaskResolvesToTheModelsAddresses) {
+  const MujocoTask task =
+      load_mujoco_task(test_support::mujoco_experiments() / "cartpole_swingup.toml", *model_);
+  EXPECT_EQ(task.observation_dim(), 5);  // x, cos, sin, xdot, thetadot
+  EXPECT_EQ(task.horizon, 300);
+  EXPECT_EQ(task.frame_skip, 2);
+  ASSERT_EQ(task.initial_qpos.size(), 1u);
+  EXPECT_EQ(task.initial_qpos[0].first, 1);  // the hinge's qpos address
+  ASSERT_EQ(task.reward.size(), 3u);
+  EXPECT_EQ(task.reward[1].kind, RewardKind::kSiteDistance);
+}
+
+}  // namespace
+}  // namespace pegasus
+#endif
