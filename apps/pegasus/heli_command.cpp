@@ -471,7 +471,7 @@ void run_hover(RunContext& ctx) {
         {"method", s.method},           {"iterations", s.iterations},
         {"evaluations", s.evaluations}, {"initial_uhat", s.initial_value},
         {"best_uhat", s.best_value},    {"termination", std::string(TerminationTypeName(s.termination_type))},
-        {"message", s.message},         {"seconds", s.wall_seconds}};
+        {"message", s.message}};
   };
   const double seconds = r.progress.empty() ? 0.0 : r.progress.back().seconds;
   const std::int64_t evaluations = r.progress.empty() ? 0 : r.progress.back().evaluations;
@@ -479,13 +479,15 @@ void run_hover(RunContext& ctx) {
                                   {"final_uhat", r.final_uhat},
                                   {"iterations", r.progress.size()},
                                   {"evaluations", evaluations},
-                                  {"train_seconds", seconds},
                                   {"scenarios", o.scenarios},
                                   {"scenario_seconds", o.seconds},
                                   {"gamma", o.gamma},
                                   {"gradient", phase(r.gradient)},
                                   {"hill_climb", phase(r.hill_climb)},
                                   {"policy", "policy.json"}});
+  ctx.timings = {{"train_seconds", seconds},
+                 {"gradient_seconds", r.gradient.method.empty() ? 0.0 : r.gradient.wall_seconds},
+                 {"hill_climb_seconds", r.hill_climb.method.empty() ? 0.0 : r.hill_climb.wall_seconds}};
   ctx.out << fmt::format(
       "hover training: U-hat {:.6g} -> {:.6g} in {} iterations, {} evaluations, {:.1f} s\n", r.initial_uhat,
       r.final_uhat, r.progress.size(), evaluations, seconds);

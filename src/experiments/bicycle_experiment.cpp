@@ -14,6 +14,7 @@
 #include "pegasus/evaluators/monte_carlo.hpp"
 #include "pegasus/evaluators/pegasus_evaluator.hpp"
 #include "pegasus/parallel/mpi.hpp"
+#include "pegasus/runs/json_input.hpp"
 #include "pegasus/shaping/potential_shaping.hpp"
 
 namespace pegasus {
@@ -450,17 +451,7 @@ Theta bicycle_policy_from_json(const nlohmann::json& j, const std::string& sourc
 }
 
 Theta read_bicycle_policy(const std::filesystem::path& file) {
-  std::ifstream in(file);
-  if (!in) throw InputError(fmt::format("{}: cannot read the policy file", file.string()));
-  std::stringstream text;
-  text << in.rdbuf();
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(text.str());
-  } catch (const nlohmann::json::parse_error& e) {
-    throw InputError(fmt::format("{}: not valid JSON (byte {})", file.string(), e.byte));
-  }
-  return bicycle_policy_from_json(j, file.string());
+  return bicycle_policy_from_json(read_json_input(file, "bicycle policy"), file.string());
 }
 
 }  // namespace pegasus

@@ -8,7 +8,7 @@
 #include <mutex>
 
 #include "pegasus/core/error.hpp"
-#include "pegasus/runs/atomic_file.hpp"
+#include "pegasus/runs/json_input.hpp"
 #include "pegasus/runs/output.hpp"
 
 namespace pegasus::heli {
@@ -150,19 +150,7 @@ PolicyFile parse_policy_file(const nlohmann::json& j, const std::string& file) {
 }
 
 PolicyFile read_policy_file(const std::filesystem::path& file) {
-  std::string text;
-  try {
-    text = read_file(file);
-  } catch (const std::exception&) {
-    throw InputError(fmt::format("{}: cannot read the policy file", file.string()));
-  }
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw InputError(fmt::format("{}: not JSON (byte {}): expected a policy file", file.string(), e.byte));
-  }
-  return parse_policy_file(j, file.string());
+  return parse_policy_file(read_json_input(file, "policy"), file.string());
 }
 
 std::unique_ptr<HeliController> make_controller(const PolicyFile& policy, const std::string& file) {

@@ -1,6 +1,9 @@
 #include "pegasus/parallel/thread_pool.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
+#include <system_error>
 
 #include "pegasus/core/error.hpp"
 
@@ -17,17 +20,34 @@ struct ParallelRegion {
 bool ThreadPool::inside_parallel_for() { return t_parallel_depth > 0; }
 
 ThreadPool::ThreadPool(int threads) {
-  if (threads < 1) throw InputError("threads: expected an integer >= 1, got " + std::to_string(threads));
-  for (int i = 1; i < threads; ++i) workers_.emplace_back([this] { worker_loop(); });
+  if (threads < 1 || threads > kMaxThreads) {
+    throw InputError(fmt::format("threads: expected an integer in [1, {}], got {}", kMaxThreads, threads));
+  }
+  workers_.reserve(static_cast<std::size_t>(threads - 1));
+  try {
+    for (int i = 1; i < threads; ++i) workers_.emplace_back([this] { worker_loop(); });
+  } catch (const std::system_error& e) {
+    // The destructor does not run for a half-made pool: without this the started workers would still
+    // wait on wake_ while it is destroyed (a hang in pthread_cond_destroy).
+    const std::size_t started = workers_.size() + 1;
+    stop_and_join();
+    throw EnvironmentError(
+        fmt::format("threads: the system refused to start thread {} of {} ({}); use "
+                    "fewer --threads",
+                    started + 1, threads, e.what()));
+  }
 }
 
-ThreadPool::~ThreadPool() {
+ThreadPool::~ThreadPool() { stop_and_join(); }
+
+void ThreadPool::stop_and_join() {
   {
     std::lock_guard lock(mutex_);
     stop_ = true;
   }
   wake_.notify_all();
   for (auto& w : workers_) w.join();
+  workers_.clear();
 }
 
 void ThreadPool::run_chunks() {

@@ -4,6 +4,7 @@
 
 #include <stdexcept>
 
+#include "pegasus/core/untrusted_text.hpp"
 #include "pegasus/runs/atomic_file.hpp"
 #include "pegasus/runs/config.hpp"
 
@@ -27,8 +28,9 @@ std::string csv_cell(const CsvCell& cell) {
 }  // namespace
 
 std::string json_text(const nlohmann::json& value) {
-  // nlohmann writes doubles with the shortest text that reads back to the same value.
-  return value.dump(2) + "\n";
+  // nlohmann writes doubles with the shortest text that reads back to the same value. Strings that are not
+  // UTF-8 (a path named `run\xff`) are written with their bad bytes as \xNN, where dump() would throw.
+  return with_valid_utf8(value).dump(2) + "\n";
 }
 
 std::string escape_markup(std::string_view text) {

@@ -51,12 +51,18 @@ struct Axis {
       for (double k = lo; k <= hi; k += stride) ticks.push_back(k);
       return;
     }
+    // The ticks' arithmetic (the range, the steps past each end) must stay finite: data beyond kMaxLinear
+    // (a goal radius of 1e308, issue 16) is drawn past the frame's edge instead of stretching the axis.
+    constexpr double kMaxLinear = 1e300, kMinPad = 1e-300;
+    vmin = std::clamp(vmin, -kMaxLinear, kMaxLinear);
+    vmax = std::clamp(vmax, -kMaxLinear, kMaxLinear);
     if (vmax == vmin) {
-      const double pad = vmin == 0 ? 1 : std::abs(vmin) * 0.1;
+      const double pad = vmin == 0 ? 1 : std::max(std::abs(vmin) * 0.1, kMinPad);
       vmin -= pad;
       vmax += pad;
     }
     ticks = nice_ticks(vmin, vmax);
+    if (ticks.size() < 2) ticks = {vmin, vmax};
     lo = ticks.front();
     hi = ticks.back();
   }
