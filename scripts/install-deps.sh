@@ -14,6 +14,8 @@ packages=(
   libopenmpi-dev openmpi-bin
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev python3
+  # make fuzz: clang++ 14 with libFuzzer and the sanitizers' runtimes (-fsanitize=fuzzer,address,undefined)
+  clang libclang-rt-14-dev
   # the HTML report's browser test
   chromium
 )

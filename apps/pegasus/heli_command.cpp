@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <string>
 #include <vector>
@@ -323,13 +324,17 @@ void declare_hover(ConfigSchema& s) {
         return std::get<std::vector<double>>(v).size() == 4 ? std::string()
                                                             : std::string("4 numbers: x, y, z, yaw");
       });
+  // Each weight is 1 / this^2 (Eq 5.9, 5.10): below kMinTypicalScale it would be infinite, and the reward's
+  // own check would then blame alpha_pos instead of the option given.
+  constexpr double kMinTypicalScale = 1e-150;
   s.add_double("reward.position_m", 0.5, "typical position error: alpha_x,y,z = 1 / this^2 (Eq 5.9)")
-      .greater_than(0);
+      .min(kMinTypicalScale);
   s.add_double("reward.velocity_mps", 0.5, "typical velocity: alpha_xdot,ydot,zdot = 1 / this^2 (Eq 5.9)")
-      .greater_than(0);
-  s.add_double("reward.yaw_rad", 0.1, "typical yaw error: alpha_yaw = 1 / this^2 (Eq 5.9)").greater_than(0);
+      .min(kMinTypicalScale);
+  s.add_double("reward.yaw_rad", 0.1, "typical yaw error: alpha_yaw = 1 / this^2 (Eq 5.9)")
+      .min(kMinTypicalScale);
   s.add_double("reward.action", 0.1, "typical control departure: alpha_a = 1 / this^2 (Eq 5.10)")
-      .greater_than(0);
+      .min(kMinTypicalScale);
   s.add_string("reward.action_centre", "trim",
                "controls the action cost is taken about: the logs' mean (trim) or 0 (Eq 5.10 as printed)")
       .choices({"trim", "zero"});
@@ -752,6 +757,14 @@ void run_pipeline(RunContext& ctx) {
                            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   };
   const std::uint64_t seed = ctx.seed;
+  // The stages take seed, seed + 1 and seed + 2: all must be valid seeds before the first stage runs.
+  constexpr std::uint64_t kLargestSeed = std::numeric_limits<std::int64_t>::max() - 2;
+  if (seed > kLargestSeed) {
+    throw InputError(
+        fmt::format("--seed: expected an integer in [0, {}] (heli pipeline gives its stages seed + 1 and "
+                    "seed + 2), got {}",
+                    kLargestSeed, seed));
+  }
   std::string grid;
   for (double g : c.get_double_list("scale_grid")) grid += (grid.empty() ? "" : ",") + num(g);
   stage("pilot-train",

@@ -28,7 +28,13 @@ void declare_training(ConfigSchema& s) {
   s.add_int("proposals", 8, "hill-climbing proposals per iteration (evaluated in parallel)")
       .min(1)
       .max(100000);
-  s.add_double("initial_step", 1.0, "first perturbation size (scaled units)").greater_than(0).max(4);
+  // The steps lie between the searches' own smallest and largest steps, so that a bad one is refused
+  // here by its option's name, not later as the optimizer's min_step.
+  const HillClimbingOptions race = PendulumTrainingOptions::default_optimizer().hill_climbing;
+  const HillClimbingOptions refine = PendulumTrainingOptions::default_refine_optimizer().hill_climbing;
+  s.add_double("initial_step", 1.0, "first perturbation size (scaled units)")
+      .min(race.min_step)
+      .max(race.max_step);
   s.add_int("refine_scenarios", 256, "scenarios of the refinement of all seven numbers (0: no refinement)")
       .min(0)
       .max(1000000);
@@ -36,8 +42,8 @@ void declare_training(ConfigSchema& s) {
       .min(0)
       .max(1000000);
   s.add_double("refine_initial_step", 0.3, "first perturbation size of the refinement (scaled units)")
-      .greater_than(0)
-      .max(1);
+      .min(refine.min_step)
+      .max(refine.max_step);
   s.add_int("evaluation_episodes", 100, "fresh starts for the bar and the final mean return")
       .min(1)
       .max(1000000);

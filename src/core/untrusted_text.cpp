@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <utility>
 
+#include "pegasus/core/error.hpp"
+
 namespace pegasus {
 
 namespace {
@@ -71,6 +73,14 @@ bool is_valid_utf8(std::string_view bytes) { return first_invalid_utf8(bytes) ==
 std::string with_invalid_bytes_escaped(std::string_view bytes) { return escape_bytes(bytes, false); }
 
 std::string printable(std::string_view bytes) { return escape_bytes(bytes, true); }
+
+std::string one_line_message(const std::string& message) {
+  std::string line = message;
+  for (char& c : line)
+    if (c == '\n') c = ' ';
+  while (!line.empty() && line.back() == ' ') line.pop_back();
+  return printable(line);
+}
 
 nlohmann::json with_valid_utf8(nlohmann::json value) {
   if (value.is_string()) {

@@ -374,6 +374,23 @@ std::string ConfigField::check(const FieldValue& value) const {
     }
   }
   if (!ok) return expectation();
+  // Every number read from a user is finite: an `inf` that passed a one-sided bound would be refused later
+  // under an internal name, or run to a meaningless result (issue 16).
+  auto finite = [](double x) { return std::isfinite(x); };
+  const bool non_finite =
+      (type_ == FieldType::kDouble && !finite(std::get<double>(value))) ||
+      (type_ == FieldType::kDoubleList && !std::all_of(std::get<std::vector<double>>(value).begin(),
+                                                       std::get<std::vector<double>>(value).end(), finite));
+  if (non_finite) {
+    std::string expected = expectation();
+    for (const std::string_view plain : {"a number", "a list of numbers"}) {
+      if (expected.starts_with(plain)) {
+        expected.insert(plain == "a number" ? 2 : 10, "finite ");
+        break;
+      }
+    }
+    return expected;
+  }
   for (const auto& validator : validators_) {
     std::string expected = validator(value);
     if (!expected.empty()) return expected;

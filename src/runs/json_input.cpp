@@ -35,6 +35,11 @@ nlohmann::json read_json_input(const std::filesystem::path& file, std::string_vi
     if (const auto colon = reason.rfind(": "); colon != std::string::npos) reason.erase(0, colon + 2);
     throw InputError(fmt::format("{}: expected a readable {} file, got '{}'", name, what, reason));
   }
+  return parse_json_input(text, file.string(), what);
+}
+
+nlohmann::json parse_json_input(std::string_view text, std::string_view file_name, std::string_view what) {
+  const std::string name = printable(file_name);
   try {
     return nlohmann::json::parse(text);
   } catch (const nlohmann::json::parse_error& e) {

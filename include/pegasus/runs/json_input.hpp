@@ -15,6 +15,8 @@ namespace pegasus {
 // a directory, no permission); "FILE: byte N: expected JSON, got ..." for a syntax error; "FILE: expected
 // numbers within the range of a double, got ..." for a number too large for a double.
 nlohmann::json read_json_input(const std::filesystem::path& file, std::string_view what);
+// The same for text already read; `name` stands for the file in messages.
+nlohmann::json parse_json_input(std::string_view text, std::string_view name, std::string_view what);
 
 // "FILE: FIELD: expected EXPECTED, got VALUE" with VALUE as JSON text (shortened, bytes made printable):
 // the one form of every JSON reader's field errors.
