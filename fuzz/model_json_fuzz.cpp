@@ -6,9 +6,8 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view text = pegasus::fuzz::as_text(data, size);
-  pegasus::fuzz::keeps_error_contract("fuzz.json", [&] {
-    (void)pegasus::sysid::IdentifiedModel::from_json(pegasus::parse_json_input(text, "fuzz.json", "model"),
-                                                     "fuzz.json");
+  pegasus::fuzz::keeps_error_contract("model.json", [&] {
+    (void)pegasus::sysid::IdentifiedModel::from_json(pegasus::parse_json_input(text, "model.json", "model"));
   });
   return 0;
 }

@@ -14,9 +14,11 @@
 #include <system_error>
 #include <thread>
 
+#include "pegasus/core/environment_error.hpp"
 #include "pegasus/core/error.hpp"
 #include "pegasus/core/untrusted_text.hpp"
 #include "pegasus/parallel/mpi.hpp"
+#include "pegasus/parallel/thread_limits.hpp"
 #include "pegasus/report/report.hpp"
 
 namespace pegasus::cli {
@@ -46,11 +48,7 @@ ThreadPool& RunContext::pool() {
 namespace {
 
 // Every message is one printable line, whatever bytes the paths and values it quotes hold.
-std::string one_line(std::string s) {
-  std::replace(s.begin(), s.end(), '\n', ' ');
-  while (!s.empty() && s.back() == ' ') s.pop_back();
-  return printable(s);
-}
+std::string one_line(const std::string& s) { return one_line_message(s); }
 
 // The options of one command, filled by CLI11 while parsing.
 struct Leaf {
@@ -66,10 +64,8 @@ struct Leaf {
 void add_common_fields(ConfigSchema& schema) {
   schema.add_int("seed", 1, "root of every random number of the run (scenarios, initial policies)").min(0);
   const int hardware = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  schema
-      .add_int("threads", std::min(hardware, ThreadPool::kMaxThreads),
-               "worker threads; results do not depend on it")
-      .range(1, ThreadPool::kMaxThreads)
+  schema.add_int("threads", std::min(hardware, kMaxThreads), "worker threads; results do not depend on it")
+      .range(1, kMaxThreads)
       .affects_results(false);
 }
 

@@ -5,8 +5,6 @@
 #include <cstdint>
 #include <utility>
 
-#include "pegasus/core/error.hpp"
-
 namespace pegasus {
 
 namespace {

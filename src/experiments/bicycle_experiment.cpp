@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "pegasus/core/error.hpp"
+#include "pegasus/core/untrusted_text.hpp"
 #include "pegasus/envs/bicycle_lockstep.hpp"
 #include "pegasus/evaluators/monte_carlo.hpp"
 #include "pegasus/evaluators/pegasus_evaluator.hpp"
@@ -434,8 +435,8 @@ Theta bicycle_policy_from_json(const nlohmann::json& j, const std::string& sourc
   const auto& parameters = j.at("parameters");
   for (const auto& [name, value] : parameters.items())
     if (policy.parameters().index_of(name) == policy.parameters().size())
-      throw InputError(
-          fmt::format("{}: field 'parameters.{}': not a parameter of the bicycle policy", source, name));
+      throw InputError(fmt::format("{}: field 'parameters.{}': not a parameter of the bicycle policy", source,
+                                   printable(name)));
   Theta theta(policy.parameters().size());
   for (std::size_t k = 0; k < theta.size(); ++k) {
     const std::string& name = policy.parameters()[k].name;

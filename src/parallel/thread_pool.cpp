@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <system_error>
 
+#include "pegasus/core/environment_error.hpp"
 #include "pegasus/core/error.hpp"
+#include "pegasus/parallel/thread_limits.hpp"
 
 namespace pegasus {
 
@@ -27,27 +29,28 @@ ThreadPool::ThreadPool(int threads) {
   try {
     for (int i = 1; i < threads; ++i) workers_.emplace_back([this] { worker_loop(); });
   } catch (const std::system_error& e) {
-    // The destructor does not run for a half-made pool: without this the started workers would still
-    // wait on wake_ while it is destroyed (a hang in pthread_cond_destroy).
-    const std::size_t started = workers_.size() + 1;
-    stop_and_join();
+    // The destructor does not run for a half-made pool: the started workers are stopped here, or they
+    // would wait on wake_ while it is destroyed (issue 16: a hang in pthread_cond_destroy).
+    const std::size_t refused = workers_.size() + 2;  // the caller is thread 1
+    {
+      std::lock_guard lock(mutex_);
+      stop_ = true;
+    }
+    wake_.notify_all();
+    for (auto& w : workers_) w.join();
     throw EnvironmentError(
-        fmt::format("threads: the system refused to start thread {} of {} ({}); use "
-                    "fewer --threads",
-                    started + 1, threads, e.what()));
+        fmt::format("threads: the system refused to start thread {} of {} ({}); use fewer --threads", refused,
+                    threads, e.what()));
   }
 }
 
-ThreadPool::~ThreadPool() { stop_and_join(); }
-
-void ThreadPool::stop_and_join() {
+ThreadPool::~ThreadPool() {
   {
     std::lock_guard lock(mutex_);
     stop_ = true;
   }
   wake_.notify_all();
   for (auto& w : workers_) w.join();
-  workers_.clear();
 }
 
 void ThreadPool::run_chunks() {

@@ -10,7 +10,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "pegasus/core/error.hpp"
+#include "pegasus/core/environment_error.hpp"
 
 namespace pegasus {
 

@@ -512,8 +512,8 @@ void ConfigSchema::load_toml_string(std::string_view text, const std::string& so
       for (std::size_t i = 0; i < fields_.size(); ++i) hint += (i ? ", " : " ") + fields_[i].name();
       hint += ")";
     }
-    throw InputError(
-        fmt::format("{}:{}: unknown key '{}'{}", source_name, key.source().begin.line, full, hint));
+    throw InputError(fmt::format("{}:{}: unknown key '{}'{}", printable(source_name), key.source().begin.line,
+                                 printable(full), hint));
   };
 
   std::function<void(const toml::table&, const std::string&)> walk = [&](const toml::table& table,

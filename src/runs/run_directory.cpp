@@ -13,6 +13,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "pegasus/core/environment_error.hpp"
 #include "pegasus/core/error.hpp"
 #include "pegasus/core/untrusted_text.hpp"
 #include "pegasus/parallel/mpi.hpp"

@@ -145,9 +145,8 @@ class ModelFields {
   std::string file_;
 };
 
-}  // namespace
-
-IdentifiedModel IdentifiedModel::from_json(const nlohmann::json& j, const std::string& file) {
+// model.json read as `file`: every field checked where it is read.
+IdentifiedModel model_from_json(const nlohmann::json& j, const std::string& file) {
   const ModelFields f(file);
   if (!j.is_object()) json_field_error(file, "(top level)", "a JSON object", j);
   const nlohmann::json& format = f.at(j, "format");
@@ -198,12 +197,18 @@ IdentifiedModel IdentifiedModel::from_json(const nlohmann::json& j, const std::s
   return IdentifiedModel(m, std::move(d), inv, sigma2);
 }
 
+}  // namespace
+
+IdentifiedModel IdentifiedModel::from_json(const nlohmann::json& j) {
+  return model_from_json(j, "model.json");
+}
+
 void IdentifiedModel::save(const std::filesystem::path& file) const {
   write_file_atomic(file, to_json().dump() + "\n");
 }
 
 IdentifiedModel IdentifiedModel::load(const std::filesystem::path& file) {
-  return from_json(read_json_input(file, "model"), file.string());
+  return model_from_json(read_json_input(file, "model"), file.string());
 }
 
 // ---------------------------------------------------------------- cross-validation

@@ -12,8 +12,10 @@
 #include <limits>
 #include <string>
 
+#include "pegasus/core/environment_error.hpp"
 #include "pegasus/core/error.hpp"
 #include "pegasus/heli/control_loop.hpp"
+#include "pegasus/parallel/thread_limits.hpp"
 #include "pegasus/parallel/thread_pool.hpp"
 #include "pegasus/runs/atomic_file.hpp"
 #include "pegasus/runs/run_directory.hpp"
@@ -41,7 +43,7 @@ int in_child(Body body, unsigned seconds = 60) {
 
 TEST(ThreadPoolLimits, MoreThanTheDocumentedMaximumIsBadInput) {
   EXPECT_NE(pegasus::test_support::input_error_message([] {
-              pegasus::ThreadPool pool(pegasus::ThreadPool::kMaxThreads + 1);
+              pegasus::ThreadPool pool(pegasus::kMaxThreads + 1);
             }).find("threads: expected an integer in [1, 1024], got 1025"),
             std::string::npos);
   EXPECT_NE(pegasus::test_support::input_error_message([] { pegasus::ThreadPool pool(0); }), "(no error)");

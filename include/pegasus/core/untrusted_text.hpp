@@ -25,6 +25,10 @@ std::size_t first_invalid_utf8(std::string_view bytes);
 // ESC, ...; tab kept), written as \xNN: one printable line, whatever the input.
 std::string printable(std::string_view bytes);
 
+// `message` as one printable line: line breaks become spaces, other control bytes and bytes that are not
+// UTF-8 are written \xNN. What the CLI prints of every error.
+std::string one_line_message(const std::string& message);
+
 // `value` with every string and key that is not well-formed UTF-8 made so (its bad bytes written as \xNN):
 // what nlohmann's dump() needs to never throw. Valid strings are unchanged, so most values are returned as
 // they came.

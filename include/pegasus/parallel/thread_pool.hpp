@@ -15,13 +15,7 @@ namespace pegasus {
 
 class ThreadPool {
  public:
-  // The most threads a pool takes (`--threads`): far above any machine we run on, low enough that a typo
-  // (`--threads 5000`, issue 16) is refused by name instead of exhausting the process's memory map.
-  static constexpr int kMaxThreads = 1024;
-
-  // 1 <= threads <= kMaxThreads (else InputError); the calling thread is one of them, so ThreadPool(1)
-  // starts no worker. When the system cannot start a thread, the ones started are stopped and joined and
-  // EnvironmentError names the count reached.
+  // threads >= 1; the calling thread is one of them, so ThreadPool(1) starts no worker.
   explicit ThreadPool(int threads);
   ~ThreadPool();
   ThreadPool(const ThreadPool&) = delete;
@@ -48,7 +42,6 @@ class ThreadPool {
   }
 
  private:
-  void stop_and_join();
   void worker_loop();
   void run_chunks();
 

@@ -46,8 +46,7 @@ class IdentifiedModel {
   BodyVec mean_change(const LocalFit& fit, const InputVec& x) const;
 
   nlohmann::json to_json() const;
-  // Checks every field for meaning; InputError "FILE: FIELD: expected ..., got ..." naming `file`.
-  static IdentifiedModel from_json(const nlohmann::json& j, const std::string& file = "model.json");
+  static IdentifiedModel from_json(const nlohmann::json& j);
   void save(const std::filesystem::path& file) const;
   static IdentifiedModel load(const std::filesystem::path& file);  // InputError naming the file
 
