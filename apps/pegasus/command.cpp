@@ -251,7 +251,7 @@ int execute(Leaf& leaf, std::vector<std::string> argv, std::ostream& out, std::o
                          run_dir->path().string());
     }
     if (mpi::is_root()) {
-      err << "pegasus: error: " << one_line(e.what()) << kept << std::endl;
+      err << "pegasus: error: " << one_line(e.what() + kept) << std::endl;
     } else {
       std::cerr << rank_prefix() << "error: " << one_line(e.what()) << std::endl;
     }

@@ -8,6 +8,7 @@
 #include <mutex>
 
 #include "pegasus/core/error.hpp"
+#include "pegasus/runs/atomic_file.hpp"
 #include "pegasus/runs/json_input.hpp"
 #include "pegasus/runs/output.hpp"
 

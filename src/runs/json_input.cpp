@@ -43,13 +43,13 @@ nlohmann::json parse_json_input(std::string_view text, std::string_view file_nam
   try {
     return nlohmann::json::parse(text);
   } catch (const nlohmann::json::parse_error& e) {
-    throw InputError(fmt::format("{}: byte {}: expected a {} file in JSON, got {}", name, e.byte, what,
-                                 library_reason(e)));
+    throw InputError(
+        fmt::format("{}: byte {}: expected a JSON {} file, got {}", name, e.byte, what, library_reason(e)));
   } catch (const nlohmann::json::out_of_range& e) {
     throw InputError(
         fmt::format("{}: expected numbers within the range of a double, got {}", name, library_reason(e)));
   } catch (const nlohmann::json::exception& e) {
-    throw InputError(fmt::format("{}: expected a {} file in JSON, got {}", name, what, library_reason(e)));
+    throw InputError(fmt::format("{}: expected a JSON {} file, got {}", name, what, library_reason(e)));
   }
 }
 

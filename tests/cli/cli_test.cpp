@@ -122,7 +122,7 @@ TEST_F(Cli, EveryKindOfBadInputExitsTwoWithOneLineAndNoRunDirectory) {
   expect_bad_input("horizon --gamma 0", "--gamma: expected a number in (0, 1)");
   expect_bad_input("horizon --gamma abc", "--gamma: expected a number");
   expect_bad_input("horizon --epsilon -1", "--epsilon: expected a number > 0");
-  expect_bad_input("horizon --threads 0", "--threads: expected an integer >= 1, got '0'");
+  expect_bad_input("horizon --threads 0", "--threads: expected an integer in [1, 1024], got '0'");
   expect_bad_input("horizon --seed -3", "--seed: expected an integer >= 0");
   expect_bad_input("horizon --gama 0.5", "--gama");
   expect_bad_input("horizon --gamma", "--gamma");

@@ -12,8 +12,8 @@
 namespace pegasus {
 
 // The parsed file. InputError "FILE: expected a readable WHAT file, got ..." when it cannot be read (absent,
-// a directory, no permission); "FILE: byte N: expected JSON, got ..." for a syntax error; "FILE: expected
-// numbers within the range of a double, got ..." for a number too large for a double.
+// a directory, no permission); "FILE: byte N: expected a JSON WHAT file, got ..." for a syntax error; "FILE:
+// expected numbers within the range of a double, got ..." for a number too large for a double.
 nlohmann::json read_json_input(const std::filesystem::path& file, std::string_view what);
 // The same for text already read; `name` stands for the file in messages.
 nlohmann::json parse_json_input(std::string_view text, std::string_view name, std::string_view what);
