@@ -38,7 +38,9 @@ struct Axis {
   double base() const { return scale == AxisScale::kLog2 ? 2.0 : 10.0; }
   bool usable(double v) const { return std::isfinite(v) && (!log() || v > 0); }
   double t(double v) const { return log() ? std::log(v) / std::log(base()) : v; }
-  double unit(double v) const { return (t(v) - lo) / (hi - lo); }
+  // 0 to 1 across the frame; data far outside (1e308 on an axis clamped to 1e300, whose distance to the
+  // axis overflows) is held at a finite distance past the edge, where the clip path hides it.
+  double unit(double v) const { return std::clamp((t(v) - lo) / (hi - lo), -1e6, 1e6); }
 
   void fit(double vmin, double vmax) {  // vmin, vmax in t
     if (!(vmin <= vmax)) vmin = 0, vmax = 1;

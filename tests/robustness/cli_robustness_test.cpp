@@ -34,7 +34,7 @@ class CliRobustness : public pegasus::test_support::TempDirTest {
   Run run_with_file_limit(const std::string& args, int blocks) const {
     const auto r =
         run_shell("cd '" + dir_.string() + "' && (trap '' XFSZ; ulimit -f " + std::to_string(blocks) +
-                  "; exec '" PEGASUS_CLI_PATH "' " + args + "); echo \"exit=$?\"");
+                  "; exec '" PEGASUS_CLI_PATH "' " + args + ") 2>&1; echo \"exit=$?\"");
     Run result;
     std::size_t start = 0;
     while (start < r.output.size()) {

@@ -61,7 +61,7 @@ class RunLock : public pegasus::test_support::TempDirTest {
  protected:
   // Forks `pegasus dev count ... --out run FLAG`, its stderr to a file; the child waits until `gate` is
   // closed, so that two children can be let go at the same moment.
-  pid_t start(Mode mode, int gate, const std::string& err_name) const {
+  pid_t start(Mode mode, const std::string& err_name, std::array<int, 2> gate = {-1, -1}) const {
     std::vector<std::string> args = {PEGASUS_CLI_PATH};
     args.insert(args.end(), kRunArgs.begin(), kRunArgs.end());
     args.insert(args.end(), {"--out", (dir_ / "run").string(), "--quiet"});
@@ -70,7 +70,10 @@ class RunLock : public pegasus::test_support::TempDirTest {
     const pid_t child = ::fork();
     if (child == 0) {
       char byte = 0;
-      if (gate >= 0) (void)!::read(gate, &byte, 1);  // returns at EOF, when the parent closes its end
+      if (gate[0] >= 0) {
+        ::close(gate[1]);                  // EOF comes only once every copy of the write end is closed
+        (void)!::read(gate[0], &byte, 1);  // returns at EOF, when the parent closes its end
+      }
       const int fd = ::open(err_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
       if (fd < 0 || ::dup2(fd, 2) < 0) ::_exit(127);
       const int null = ::open("/dev/null", O_WRONLY);
@@ -155,14 +158,14 @@ TEST_F(RunLock, ASecondRunWhileTheFirstHoldsDirIsRefusedNamingItsPid) {
       fs::remove_all(dir_ / "run");
       fs::remove_all(dir_ / "run.partial");
       prepare(first, second);
-      const pid_t a = start(first, -1, "a.err");
+      const pid_t a = start(first, "a.err");
       // The holder writes its pid into DIR.lock right after locking.
       const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
       while (read_text(dir_ / "run.lock") != std::to_string(a) + "\n" &&
              std::chrono::steady_clock::now() < deadline)
         std::this_thread::sleep_for(std::chrono::milliseconds(1));
       const auto started = std::chrono::steady_clock::now();
-      const Exited b = wait_for(start(second, -1, "b.err"), "b.err");
+      const Exited b = wait_for(start(second, "b.err"), "b.err");
       const double refused_after =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
       const Exited winner = wait_for(a, "a.err");
@@ -190,8 +193,8 @@ TEST_F(RunLock, TwoRunsStartedTogetherLeaveOneCompleteDirAndOneSuccess) {
         prepare(first, second);
         std::array<int, 2> gate{};
         ASSERT_EQ(::pipe(gate.data()), 0);
-        const pid_t a = start(first, gate[0], "a.err");
-        const pid_t b = start(second, gate[0], "b.err");
+        const pid_t a = start(first, "a.err", gate);
+        const pid_t b = start(second, "b.err", gate);
         ::close(gate[0]);
         ::close(gate[1]);  // both children go
         const Exited ea = wait_for(a, "a.err"), eb = wait_for(b, "b.err");
