@@ -148,7 +148,7 @@ TEST_F(Cli, EveryKindOfBadInputExitsTwoWithOneLineAndNoRunDirectory) {
                    "range.toml:3: key 'gamma': expected a number in (0, 1), got 1.5");
   write("threads.toml", "threads = 0\n");
   expect_bad_input("horizon --config threads.toml",
-                   "threads.toml:1: key 'threads': expected an integer >= 1, got 0");
+                   "threads.toml:1: key 'threads': expected an integer in [1, 1024], got 0");
   write("syntax.toml", "gamma = 0.9\nepsilon = = 1\n");
   expect_bad_input("horizon --config syntax.toml", "syntax.toml:2: invalid TOML");
   write("nested.toml", "[weights]\nvalue = [1.0]\n");
