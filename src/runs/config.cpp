@@ -376,11 +376,16 @@ std::string ConfigField::check(const FieldValue& value) const {
   if (!ok) return expectation();
   // Every number read from a user is finite: an `inf` that passed a one-sided bound would be refused later
   // under an internal name, or run to a meaningless result (issue 16).
-  auto finite = [](double x) { return std::isfinite(x); };
-  const bool non_finite =
-      (type_ == FieldType::kDouble && !finite(std::get<double>(value))) ||
-      (type_ == FieldType::kDoubleList && !std::all_of(std::get<std::vector<double>>(value).begin(),
-                                                       std::get<std::vector<double>>(value).end(), finite));
+  // A field whose own default is not finite (an "unbounded" limit) takes such values on purpose.
+  auto all_finite = [&](const FieldValue& v) {
+    if (type_ == FieldType::kDouble) return std::isfinite(std::get<double>(v));
+    if (type_ == FieldType::kDoubleList) {
+      const auto& xs = std::get<std::vector<double>>(v);
+      return std::all_of(xs.begin(), xs.end(), [](double x) { return std::isfinite(x); });
+    }
+    return true;
+  };
+  const bool non_finite = all_finite(default_) && !all_finite(value);
   if (non_finite) {
     std::string expected = expectation();
     for (const std::string_view plain : {"a number", "a list of numbers"}) {

@@ -348,6 +348,11 @@ void RunDirectory::commit() {
 
 void RunDirectory::abandon() {
   if (shadow_) scratch_.reset();
+  // An abandoned run is over: DIR is free for the next one, whatever stays of DIR.partial.
+  struct ReleaseLock {
+    std::shared_ptr<const Lock>& lock;
+    ~ReleaseLock() { lock.reset(); }
+  } release{lock_};
   if (!created_ || committed_) return;
   std::error_code ec;
   fs::remove_all(staging_, ec);

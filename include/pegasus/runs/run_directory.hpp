@@ -71,6 +71,7 @@ class RunDirectory {
   // DIR appeared meanwhile and force was not given.
   void commit();
   // Removes DIR.partial if this process created it (bad input found after open); a resumed one is kept.
+  // Either way the run is over and DIR's lock is released.
   void abandon();
 
  private:
