@@ -2,7 +2,7 @@
 // input of `bicycle ride`.
 #include "fuzz_contract.hpp"
 #include "pegasus/experiments/bicycle_experiment.hpp"
-#include "pegasus/runs/json_input.hpp"
+#include "pegasus/io/json_input.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view text = pegasus::fuzz::as_text(data, size);

@@ -2,7 +2,7 @@
 // through the registry), the input of `heli fly`, `heli control` and `heli maneuver`.
 #include "fuzz_contract.hpp"
 #include "pegasus/heli/policy_file.hpp"
-#include "pegasus/runs/json_input.hpp"
+#include "pegasus/io/json_input.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view text = pegasus::fuzz::as_text(data, size);

@@ -1,8 +1,8 @@
 // libFuzzer harness: finite MDP files (mdp/mdp_json: mdp_from_json), the --mdp of the shaping commands.
 // Beyond the error contract: an MDP that loads is written back and must load again.
 #include "fuzz_contract.hpp"
+#include "pegasus/io/json_input.hpp"
 #include "pegasus/mdp/mdp_json.hpp"
-#include "pegasus/runs/json_input.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view text = pegasus::fuzz::as_text(data, size);

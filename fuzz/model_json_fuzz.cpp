@@ -1,7 +1,7 @@
 // libFuzzer harness: identified helicopter models (sysid/identify: IdentifiedModel::from_json), the
 // model.json that `heli identify` writes and `heli hover` / `heli maneuver` read.
 #include "fuzz_contract.hpp"
-#include "pegasus/runs/json_input.hpp"
+#include "pegasus/io/json_input.hpp"
 #include "pegasus/sysid/identify.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

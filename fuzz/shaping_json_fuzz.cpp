@@ -1,7 +1,7 @@
 // libFuzzer harness: shaping tables (shaping/shaping_table: shaping_from_json), the --shaping of the
 // shaping commands.
 #include "fuzz_contract.hpp"
-#include "pegasus/runs/json_input.hpp"
+#include "pegasus/io/json_input.hpp"
 #include "pegasus/shaping/shaping_table.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

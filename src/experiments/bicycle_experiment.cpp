@@ -14,8 +14,8 @@
 #include "pegasus/envs/bicycle_lockstep.hpp"
 #include "pegasus/evaluators/monte_carlo.hpp"
 #include "pegasus/evaluators/pegasus_evaluator.hpp"
+#include "pegasus/io/json_input.hpp"
 #include "pegasus/parallel/mpi.hpp"
-#include "pegasus/runs/json_input.hpp"
 #include "pegasus/shaping/potential_shaping.hpp"
 
 namespace pegasus {

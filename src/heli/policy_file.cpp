@@ -8,8 +8,8 @@
 #include <mutex>
 
 #include "pegasus/core/error.hpp"
+#include "pegasus/io/json_input.hpp"
 #include "pegasus/runs/atomic_file.hpp"
-#include "pegasus/runs/json_input.hpp"
 #include "pegasus/runs/output.hpp"
 
 namespace pegasus::heli {

@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "pegasus/core/error.hpp"
-#include "pegasus/runs/json_input.hpp"
+#include "pegasus/io/json_input.hpp"
 
 namespace pegasus {
 

@@ -10,7 +10,7 @@
 #include <tuple>
 
 #include "pegasus/core/error.hpp"
-#include "pegasus/runs/json_input.hpp"
+#include "pegasus/io/json_input.hpp"
 #include "pegasus/shaping/potential_shaping.hpp"
 
 namespace pegasus {

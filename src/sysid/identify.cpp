@@ -11,8 +11,8 @@
 
 #include "pegasus/core/error.hpp"
 #include "pegasus/heli/frames.hpp"
+#include "pegasus/io/json_input.hpp"
 #include "pegasus/runs/atomic_file.hpp"
-#include "pegasus/runs/json_input.hpp"
 #include "pegasus/runs/output.hpp"
 
 namespace pegasus::sysid {

@@ -1,4 +1,4 @@
-#include "pegasus/runs/json_input.hpp"
+#include "pegasus/io/json_input.hpp"
 
 #include <fmt/format.h>
 
