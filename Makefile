@@ -3,13 +3,15 @@
 JOBS      ?= $(shell nproc)
 BUILD     ?= build
 ASAN      ?= build-asan
+FUZZ      ?= build-fuzz
+FUZZ_SECONDS ?= 60
 DEMO_OUT  ?= runs/demo-heli
 NINJA     := $(shell command -v ninja >/dev/null 2>&1 && echo "-G Ninja")
 # The generator is chosen only when a build directory is first configured.
 gen = $(if $(wildcard $(1)/CMakeCache.txt),,$(NINJA))
 
-.PHONY: all deps configure cli build demo test test-fast test-release test-asan install bench benchmarks-md figures \
-        format format-check clean
+.PHONY: all deps configure cli build demo test test-fast test-release test-asan install fuzz bench benchmarks-md \
+        figures format format-check clean
 
 all: build
 
@@ -58,6 +60,14 @@ test-asan: deps
 	@cd $(ASAN) && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
 	  PEGASUS_SANITIZED=1 ctest --output-on-failure -j $(JOBS)
 
+# Every libFuzzer harness (fuzz/*_fuzz.cpp: the readers of every input) for FUZZ_SECONDS each, built with
+# clang++ under -fsanitize=fuzzer,address,undefined in its own build directory (README "Fuzzing").
+fuzz: deps
+	@cmake -S . -B $(FUZZ) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ -DPEGASUS_FUZZ=ON \
+	  -DPEGASUS_BUILD_TESTS=OFF -DPEGASUS_BUILD_BENCH=OFF -DPEGASUS_MPI=OFF $(call gen,$(FUZZ)) >/dev/null
+	@cmake --build $(FUZZ) -j $(JOBS) --target pegasus_fuzzers
+	@bash fuzz/run.sh $(FUZZ) $(FUZZ_SECONDS)
+
 # Every benchmark in Release, one JSON file.
 bench: build
 	@mkdir -p $(BUILD)/bench-results
@@ -84,4 +94,4 @@ format-check:
 	@clang-format --dry-run -Werror $(CXX_FILES)
 
 clean:
-	rm -rf $(BUILD) $(ASAN)
+	rm -rf $(BUILD) $(ASAN) $(FUZZ)

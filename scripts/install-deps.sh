@@ -20,6 +20,8 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev python3
   # the C compiler that builds exported controllers (pegasus export) in tests/export and the export benchmark
   gcc
+  # make fuzz: clang++ 14 with libFuzzer and the sanitizers' runtimes (-fsanitize=fuzzer,address,undefined)
+  clang libclang-rt-14-dev
   # the HTML report's browser test
   chromium
   # the Python package (python/, `import pegasus`): pybind11 bindings for Debian's /usr/bin/python3, numpy

@@ -6,14 +6,19 @@
 #include <algorithm>
 #include <chrono>
 #include <deque>
+#include <filesystem>
 #include <iostream>
 #include <map>
 #include <optional>
 #include <stdexcept>
+#include <system_error>
 #include <thread>
 
+#include "pegasus/core/environment_error.hpp"
 #include "pegasus/core/error.hpp"
+#include "pegasus/core/untrusted_text.hpp"
 #include "pegasus/parallel/mpi.hpp"
+#include "pegasus/parallel/thread_limits.hpp"
 #include "pegasus/report/report.hpp"
 
 namespace pegasus::cli {
@@ -42,12 +47,8 @@ ThreadPool& RunContext::pool() {
 
 namespace {
 
-// Every message is one line.
-std::string one_line(std::string s) {
-  std::replace(s.begin(), s.end(), '\n', ' ');
-  while (!s.empty() && s.back() == ' ') s.pop_back();
-  return s;
-}
+// Every message is one printable line, whatever bytes the paths and values it quotes hold.
+std::string one_line(const std::string& s) { return one_line_message(s); }
 
 // The options of one command, filled by CLI11 while parsing.
 struct Leaf {
@@ -63,8 +64,8 @@ struct Leaf {
 void add_common_fields(ConfigSchema& schema) {
   schema.add_int("seed", 1, "root of every random number of the run (scenarios, initial policies)").min(0);
   const int hardware = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  schema.add_int("threads", hardware, "worker threads; results do not depend on it")
-      .min(1)
+  schema.add_int("threads", std::min(hardware, kMaxThreads), "worker threads; results do not depend on it")
+      .range(1, kMaxThreads)
       .affects_results(false);
 }
 
@@ -208,13 +209,10 @@ int execute(Leaf& leaf, std::vector<std::string> argv, std::ostream& out, std::o
     if (run_dir) {
       const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       // Provenance that is not a result (wall time varies), kept apart from summary.json.
-      nlohmann::json provenance = {{"command", leaf.command->path},
-                                   {"version", kVersion},
-                                   {"argv", argv},
-                                   {"resumed", run_dir->resumed()},
-                                   {"threads", context.threads},
-                                   {"ranks", mpi::size()},
-                                   {"wall_time_s", wall}};
+      nlohmann::json provenance = {
+          {"command", leaf.command->path}, {"version", kVersion},        {"argv", argv},
+          {"resumed", run_dir->resumed()}, {"threads", context.threads}, {"ranks", mpi::size()},
+          {"wall_time_s", wall},           {"timings", context.timings}};
       if (mpi::size() > 1) {
         const mpi::CommStats comm = mpi::comm_stats();  // rank 0's
         provenance["allgathers"] = comm.calls;
@@ -237,23 +235,29 @@ int execute(Leaf& leaf, std::vector<std::string> argv, std::ostream& out, std::o
         std::this_thread::sleep_for(std::chrono::seconds(2));
         std::cerr << rank_prefix() << one_line(e.what()) << std::endl;
       }
-      mpi::abort_job(2);
+      mpi::abort_job(kExitBadInput);
     }
-    return 2;
+    return kExitBadInput;
   } catch (const std::exception& e) {
+    // Whose fault: the machine's (a full disk, a permission, no memory or thread) or anything else's.
+    const bool environment = dynamic_cast<const EnvironmentError*>(&e) != nullptr ||
+                             dynamic_cast<const std::filesystem::filesystem_error*>(&e) != nullptr ||
+                             dynamic_cast<const std::bad_alloc*>(&e) != nullptr ||
+                             dynamic_cast<const std::system_error*>(&e) != nullptr;
+    const int code = environment ? kExitEnvironment : kExitFailure;
     std::string kept;
-    if (run_dir && !run_dir->committed()) {
+    if (run_dir && !run_dir->committed() && run_dir->resumable()) {
       kept = fmt::format(" (partial results kept in {}: rerun with --resume to continue)",
                          run_dir->path().string());
     }
     if (mpi::is_root()) {
-      err << "pegasus: error: " << one_line(e.what()) << kept << std::endl;
+      err << "pegasus: error: " << one_line(e.what() + kept) << std::endl;
     } else {
       std::cerr << rank_prefix() << "error: " << one_line(e.what()) << std::endl;
     }
     leave_after_saying(running);
-    if (running && mpi::size() > 1) mpi::abort_job(1);
-    return 1;
+    if (running && mpi::size() > 1) mpi::abort_job(code);
+    return code;
   }
 }
 

@@ -14,13 +14,17 @@
 //             ctx.run_directory().write_json("summary.json", {{"violations", 0}});
 //           }};
 //
-// Exit codes: 0 success; 2 bad input (InputError or a command-line parse error), one line on stderr, and no
-// run directory left behind; 1 any other failure, one line on stderr (DIR.partial is kept for --resume).
-// A command that finishes normally may return a verdict through RunContext::exit_code.
+// Exit codes (the same for every command; README "Exit codes"): 0 success; 2 bad input (InputError, a
+// command-line parse error, or a DIR locked by another run), one line on stderr, and no run directory left
+// behind; 3 the environment refused (EnvironmentError, a file-system error, no memory, no thread: a full
+// disk, a missing permission), one line; 1 any other failure, one line. After 1 or 3 in the middle of a run,
+// DIR.partial is kept for --resume. A command that finishes normally may return a verdict through
+// RunContext::exit_code.
 #include <cstdint>
 #include <functional>
 #include <iosfwd>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -31,6 +35,10 @@
 #include "pegasus/version.hpp"
 
 namespace pegasus::cli {
+
+inline constexpr int kExitFailure = 1;      // anything else: a bug, or a failure nothing else names
+inline constexpr int kExitBadInput = 2;     // the user's input (options, config, files) is wrong
+inline constexpr int kExitEnvironment = 3;  // the machine refused (disk full, permission, memory, threads)
 
 // Whether a command writes a run directory.
 enum class OutDir {
@@ -52,6 +60,9 @@ class RunContext {
   // The process exit code when run returns normally: a verdict, not an error (e.g. 1 from `shaping audit`
   // when F is not potential-based). The run directory is still committed. Use 0 or 1; 2 means bad input.
   int exit_code = 0;
+  // Wall-clock figures of the run (seconds of a phase, time to a bar): written to run.json under "timings",
+  // never to summary.json, which stays a function of the inputs alone (two identical runs, identical bytes).
+  nlohmann::json timings = nlohmann::json::object();
 
   bool has_run_directory() const { return run_dir_ != nullptr; }
   // The run directory; std::logic_error without --out (only for OutDir::kOptional commands).

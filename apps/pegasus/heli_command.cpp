@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <string>
 #include <vector>
@@ -325,18 +326,21 @@ void declare_hover(ConfigSchema& s) {
         return std::get<std::vector<double>>(v).size() == 4 ? std::string()
                                                             : std::string("4 numbers: x, y, z, yaw");
       });
+  // Each weight is 1 / this^2 (Eq 5.9, 5.10): below kMinTypicalScale it would be infinite, and the reward's
+  // own check would then blame alpha_pos instead of the option given.
+  constexpr double kMinTypicalScale = 1e-150;
   s.add_double("reward.position_m", heli::HoverReward::kTypicalPosition,
                "typical position error: alpha_x,y,z = 1 / this^2 (Eq 5.9)")
-      .greater_than(0);
+      .min(kMinTypicalScale);
   s.add_double("reward.velocity_mps", heli::HoverReward::kTypicalVelocity,
                "typical velocity: alpha_xdot,ydot,zdot = 1 / this^2 (Eq 5.9)")
-      .greater_than(0);
+      .min(kMinTypicalScale);
   s.add_double("reward.yaw_rad", heli::HoverReward::kTypicalYaw,
                "typical yaw error: alpha_yaw = 1 / this^2 (Eq 5.9)")
-      .greater_than(0);
+      .min(kMinTypicalScale);
   s.add_double("reward.action", heli::HoverReward::kTypicalAction,
                "typical control departure: alpha_a = 1 / this^2 (Eq 5.10)")
-      .greater_than(0);
+      .min(kMinTypicalScale);
   s.add_string("reward.action_centre", "trim",
                "controls the action cost is taken about: the logs' mean (trim) or 0 (Eq 5.10 as printed)")
       .choices({"trim", "zero"});
@@ -442,7 +446,7 @@ void run_hover(RunContext& ctx) {
         {"method", s.method},           {"iterations", s.iterations},
         {"evaluations", s.evaluations}, {"initial_uhat", s.initial_value},
         {"best_uhat", s.best_value},    {"termination", std::string(TerminationTypeName(s.termination_type))},
-        {"message", s.message},         {"seconds", s.wall_seconds}};
+        {"message", s.message}};
   };
   const double seconds = r.progress.empty() ? 0.0 : r.progress.back().seconds;
   const std::int64_t evaluations = r.progress.empty() ? 0 : r.progress.back().evaluations;
@@ -450,13 +454,15 @@ void run_hover(RunContext& ctx) {
                                   {"final_uhat", r.final_uhat},
                                   {"iterations", r.progress.size()},
                                   {"evaluations", evaluations},
-                                  {"train_seconds", seconds},
                                   {"scenarios", o.scenarios},
                                   {"scenario_seconds", o.seconds},
                                   {"gamma", o.gamma},
                                   {"gradient", phase(r.gradient)},
                                   {"hill_climb", phase(r.hill_climb)},
                                   {"policy", "policy.json"}});
+  ctx.timings = {{"train_seconds", seconds},
+                 {"gradient_seconds", r.gradient.method.empty() ? 0.0 : r.gradient.wall_seconds},
+                 {"hill_climb_seconds", r.hill_climb.method.empty() ? 0.0 : r.hill_climb.wall_seconds}};
   ctx.out << fmt::format(
       "hover training: U-hat {:.6g} -> {:.6g} in {} iterations, {} evaluations, {:.1f} s\n", r.initial_uhat,
       r.final_uhat, r.progress.size(), evaluations, seconds);
@@ -726,6 +732,14 @@ void run_pipeline(RunContext& ctx) {
                            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   };
   const std::uint64_t seed = ctx.seed;
+  // The stages take seed, seed + 1 and seed + 2: all must be valid seeds before the first stage runs.
+  constexpr std::uint64_t kLargestSeed = std::numeric_limits<std::int64_t>::max() - 2;
+  if (seed > kLargestSeed) {
+    throw InputError(
+        fmt::format("--seed: expected an integer in [0, {}] (heli pipeline gives its stages seed + 1 and "
+                    "seed + 2), got {}",
+                    kLargestSeed, seed));
+  }
   std::string grid;
   for (double g : c.get_double_list("scale_grid")) grid += (grid.empty() ? "" : ",") + num(g);
   stage("pilot-train",

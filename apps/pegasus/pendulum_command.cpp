@@ -126,10 +126,7 @@ void run_train(RunContext& ctx) {
                   {"mean_return_5000", mean_return_5000},
                   {"evaluation_episodes", o.evaluation_episodes},
                   {"bar", o.bar},
-                  {"seconds_to_bar", number_or_null(r.seconds_to_bar)},
-                  {"cpu_seconds_to_bar", number_or_null(r.cpu_seconds_to_bar)},
                   {"evaluations_to_bar", r.evaluations_to_bar},
-                  {"training_seconds", s.wall_seconds + refined.wall_seconds},
                   {"initial_uhat", number_or_null(s.initial_value)},
                   {"final_uhat", s.best_value},
                   {"iterations", s.iterations},
@@ -141,8 +138,11 @@ void run_train(RunContext& ctx) {
                   {"refine_initial_uhat", number_or_null(refine ? refined.initial_value : kNaN)},
                   {"refine_final_uhat", number_or_null(refine ? refined.best_value : kNaN)},
                   {"refine_iterations", refined.iterations},
-                  {"refine_evaluations", refined.evaluations},
-                  {"refine_seconds", refined.wall_seconds}});
+                  {"refine_evaluations", refined.evaluations}});
+  ctx.timings = {{"seconds_to_bar", number_or_null(r.seconds_to_bar)},
+                 {"cpu_seconds_to_bar", number_or_null(r.cpu_seconds_to_bar)},
+                 {"training_seconds", s.wall_seconds + refined.wall_seconds},
+                 {"refine_seconds", refined.wall_seconds}};
   ctx.out << "race: " << s.BriefReport() << "\n";
   if (refine) ctx.out << "refinement: " << refined.BriefReport() << "\n";
   ctx.out << fmt::format(

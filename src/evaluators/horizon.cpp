@@ -16,12 +16,16 @@ std::int64_t epsilon_horizon(double gamma, double epsilon, double rmax) {
   }
   if (!(rmax > 0) || std::isinf(rmax))
     throw InputError(fmt::format("rmax: expected a finite number > 0, got {}", rmax));
-  // §4.2.2: log_gamma(x) = ln x / ln gamma; log1p keeps ln gamma accurate for gamma near 1.
-  const double h = std::ceil(std::log(epsilon * (1 - gamma) / (2 * rmax)) / std::log1p(gamma - 1));
+  // §4.2.2: log_gamma(x) = ln x / ln gamma; log1p keeps ln gamma accurate for gamma near 1. The logarithm
+  // of the product is taken as a sum, so that a tiny epsilon (4.9e-324) cannot underflow it to ln 0.
+  const double h = std::ceil((std::log(epsilon) + std::log1p(-gamma) - std::log(2.0) - std::log(rmax)) /
+                             std::log1p(gamma - 1));
   constexpr double kMax = 9007199254740992.0;  // 2^53
   if (!(h <= kMax)) {
     throw InputError(
-        fmt::format("gamma: {} is too close to 1: the epsilon-horizon exceeds 2^53 steps", gamma));
+        fmt::format("gamma: {} with epsilon {} and rmax {}: expected an epsilon-horizon of at most 2^53 "
+                    "steps, got {:.3g}",
+                    gamma, epsilon, rmax, h));
   }
   return h < 1 ? 1 : static_cast<std::int64_t>(h);
 }

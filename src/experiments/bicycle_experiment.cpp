@@ -10,9 +10,11 @@
 #include <sstream>
 
 #include "pegasus/core/error.hpp"
+#include "pegasus/core/untrusted_text.hpp"
 #include "pegasus/envs/bicycle_lockstep.hpp"
 #include "pegasus/evaluators/monte_carlo.hpp"
 #include "pegasus/evaluators/pegasus_evaluator.hpp"
+#include "pegasus/io/json_input.hpp"
 #include "pegasus/optimizers/training.hpp"
 #include "pegasus/parallel/mpi.hpp"
 #include "pegasus/shaping/potential_shaping.hpp"
@@ -434,8 +436,8 @@ Theta bicycle_policy_from_json(const nlohmann::json& j, const std::string& sourc
   const auto& parameters = j.at("parameters");
   for (const auto& [name, value] : parameters.items())
     if (policy.parameters().index_of(name) == policy.parameters().size())
-      throw InputError(
-          fmt::format("{}: field 'parameters.{}': not a parameter of the bicycle policy", source, name));
+      throw InputError(fmt::format("{}: field 'parameters.{}': not a parameter of the bicycle policy", source,
+                                   printable(name)));
   Theta theta(policy.parameters().size());
   for (std::size_t k = 0; k < theta.size(); ++k) {
     const std::string& name = policy.parameters()[k].name;
@@ -451,17 +453,7 @@ Theta bicycle_policy_from_json(const nlohmann::json& j, const std::string& sourc
 }
 
 Theta read_bicycle_policy(const std::filesystem::path& file) {
-  std::ifstream in(file);
-  if (!in) throw InputError(fmt::format("{}: cannot read the policy file", file.string()));
-  std::stringstream text;
-  text << in.rdbuf();
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(text.str());
-  } catch (const nlohmann::json::parse_error& e) {
-    throw InputError(fmt::format("{}: not valid JSON (byte {})", file.string(), e.byte));
-  }
-  return bicycle_policy_from_json(j, file.string());
+  return bicycle_policy_from_json(read_json_input(file, "bicycle policy"), file.string());
 }
 
 }  // namespace pegasus

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <cstdlib>
 
+#include "pegasus/core/untrusted_text.hpp"
+
 namespace pegasus::heli {
 namespace {
 
@@ -77,7 +79,9 @@ ControlLoopStats run_control_loop(const HeliController& controller, const Contro
     const ssize_t len = getline(&buffer, &capacity, in);
     if (len < 0) break;
     ++stats.lines;
-    const std::string_view line = trim(std::string_view(buffer, static_cast<std::size_t>(len)));
+    std::string_view line = trim(std::string_view(buffer, static_cast<std::size_t>(len)));
+    if (stats.lines == 1 && line.starts_with(kUtf8ByteOrderMark))
+      line.remove_prefix(kUtf8ByteOrderMark.size());
     if (stats.lines == 1 && is_header(line)) {
       std::fputs("a1,a2,a3,a4\n", out);
       std::fflush(out);
@@ -90,8 +94,10 @@ ControlLoopStats run_control_loop(const HeliController& controller, const Contro
     } else {
       ++stats.malformed;
       write_controls(out, safe);
-      const std::string msg = fmt::format("stdin:{}: {}; answered the trim controls\n", stats.lines, why);
-      std::fputs(msg.c_str(), err);
+      // One line per malformed input line, whatever bytes it held (NUL, CR, invalid UTF-8).
+      const std::string msg =
+          fmt::format("stdin:{}: {}; answered the trim controls\n", stats.lines, printable(why));
+      std::fwrite(msg.data(), 1, msg.size(), err);
       std::fflush(err);
     }
     ++data_lines;

@@ -11,6 +11,7 @@
 #include "pegasus/heli/maneuver_file.hpp"
 #include "pegasus/io/atomic_file.hpp"
 #include "pegasus/io/json_csv.hpp"
+#include "pegasus/io/json_input.hpp"
 
 namespace pegasus::heli {
 namespace {
@@ -153,19 +154,7 @@ PolicyFile parse_policy_file(const nlohmann::json& j, const std::string& file) {
 }
 
 PolicyFile read_policy_file(const std::filesystem::path& file) {
-  std::string text;
-  try {
-    text = read_file(file);
-  } catch (const std::exception&) {
-    throw InputError(fmt::format("{}: cannot read the policy file", file.string()));
-  }
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw InputError(fmt::format("{}: not JSON (byte {}): expected a policy file", file.string(), e.byte));
-  }
-  return parse_policy_file(j, file.string());
+  return parse_policy_file(read_json_input(file, "policy"), file.string());
 }
 
 std::unique_ptr<HeliController> make_controller(const PolicyFile& policy, const std::string& file) {

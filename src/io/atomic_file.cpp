@@ -10,12 +10,14 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "pegasus/core/environment_error.hpp"
+
 namespace pegasus {
 
 namespace {
 
 [[noreturn]] void fail(const std::string& what, const std::filesystem::path& file, int err) {
-  throw std::runtime_error("cannot " + what + " " + file.string() + ": " + std::strerror(err));
+  throw EnvironmentError("cannot " + what + " " + file.string() + ": " + std::strerror(err));
 }
 
 }  // namespace
@@ -33,6 +35,12 @@ void write_file_atomic(const std::filesystem::path& file, std::string_view conte
   const std::filesystem::path temp = atomic_temp_path(file);
   const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0) fail("write", temp, errno);
+  // A failed write (a full disk) leaves no temporary behind: in a committed run directory nothing would
+  // ever remove it, and in a fresh DIR.partial it would pass for an interrupted run.
+  auto fail_and_remove = [&](const std::string& what, int err) {
+    ::unlink(temp.c_str());
+    fail(what, temp, err);
+  };
   const char* data = content.data();
   std::size_t left = content.size();
   while (left > 0) {
@@ -41,22 +49,43 @@ void write_file_atomic(const std::filesystem::path& file, std::string_view conte
       if (errno == EINTR) continue;
       const int err = errno;
       ::close(fd);
-      fail("write", temp, err);
+      fail_and_remove("write", err);
     }
     data += n;
     left -= static_cast<std::size_t>(n);
   }
   // fsync before rename: otherwise a crash of the machine (not just the process) could leave the new name
   // pointing at an empty file.
-  if (::fsync(fd) != 0 || ::close(fd) != 0) fail("flush", temp, errno);
-  if (std::rename(temp.c_str(), file.c_str()) != 0) fail("rename into place", file, errno);
+  if (::fsync(fd) != 0) {
+    const int err = errno;
+    ::close(fd);
+    fail_and_remove("flush", err);
+  }
+  if (::close(fd) != 0) fail_and_remove("flush", errno);
+  if (std::rename(temp.c_str(), file.c_str()) != 0) {
+    const int err = errno;
+    ::unlink(temp.c_str());
+    fail("rename into place", file, err);
+  }
 }
 
 std::string read_file(const std::filesystem::path& file) {
+  // Callers decide whose fault a read failure is (a user's input file, or the run's own), so this one stays
+  // a plain runtime_error; a directory is refused by name before the stream library reports it as
+  // "basic_filebuf::underflow".
+  auto fail_read = [&](int err) {
+    throw std::runtime_error("cannot read " + file.string() + ": " + std::strerror(err));
+  };
+  std::error_code ec;
+  if (std::filesystem::is_directory(file, ec)) fail_read(EISDIR);
   std::ifstream in(file, std::ios::binary);
-  if (!in) fail("read", file, errno != 0 ? errno : ENOENT);
+  if (!in) fail_read(errno != 0 ? errno : ENOENT);
   std::ostringstream text;
-  text << in.rdbuf();
+  try {
+    text << in.rdbuf();
+  } catch (const std::exception&) {
+    fail_read(errno != 0 ? errno : EIO);
+  }
   return text.str();
 }
 

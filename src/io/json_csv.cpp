@@ -5,6 +5,7 @@
 #include <charconv>
 #include <stdexcept>
 
+#include "pegasus/core/untrusted_text.hpp"
 #include "pegasus/io/atomic_file.hpp"
 
 namespace pegasus {
@@ -56,8 +57,9 @@ std::string format_double(double x) {
 }
 
 std::string json_text(const nlohmann::json& value) {
-  // nlohmann writes doubles with the shortest text that reads back to the same value.
-  return value.dump(2) + "\n";
+  // nlohmann writes doubles with the shortest text that reads back to the same value. Strings that are not
+  // UTF-8 (a path named `run\xff`) are written with their bad bytes as \xNN, where dump() would throw.
+  return with_valid_utf8(value).dump(2) + "\n";
 }
 
 std::string escape_markup(std::string_view text) {

@@ -2,12 +2,14 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "pegasus/core/error.hpp"
+#include "pegasus/io/json_input.hpp"
 
 namespace pegasus {
 
@@ -60,6 +62,23 @@ FiniteMdp mdp_from_json(const json& j, const std::string& src) {
   const double gamma = as_number(required(j, "gamma", src), src, "gamma");
   if (!(gamma >= 0.0 && gamma <= 1.0)) fail(src, "gamma", fmt::format("{} outside [0, 1]", gamma));
 
+  // Every state is listed as absorbing or has one transitions entry per action, so the sizes the file
+  // declares are bounded by what it holds: checked before anything of size S*A is allocated (issue 16:
+  // num_states 2147483647 gave std::bad_alloc).
+  {
+    const auto entries =
+        j.contains("transitions") && j.at("transitions").is_array() ? j.at("transitions").size() : 0;
+    const auto listed =
+        j.contains("absorbing") && j.at("absorbing").is_array() ? j.at("absorbing").size() : 0;
+    if (static_cast<std::size_t>(S) > entries + listed)
+      fail(src, "num_states",
+           fmt::format("expected at most {} (the states its transitions and absorbing list describe), got {}",
+                       entries + listed, S));
+    if (static_cast<std::size_t>(A) > std::max<std::size_t>(entries, 1))
+      fail(src, "num_actions",
+           fmt::format("expected at most {} (one transitions entry per state and action), got {}",
+                       std::max<std::size_t>(entries, 1), A));
+  }
   FiniteMdpBuilder b(S, A, gamma);
   std::vector<std::uint8_t> absorbing(static_cast<std::size_t>(S), 0);
   if (j.contains("absorbing")) {
@@ -191,17 +210,7 @@ json mdp_to_json(const FiniteMdp& m) {
   return j;
 }
 
-FiniteMdp load_mdp(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(fmt::format("{}: cannot open MDP file", path));
-  json j;
-  try {
-    in >> j;
-  } catch (const json::parse_error& e) {
-    throw InputError(fmt::format("{}: not valid JSON ({})", path, e.what()));
-  }
-  return mdp_from_json(j, path);
-}
+FiniteMdp load_mdp(const std::string& path) { return mdp_from_json(read_json_input(path, "MDP"), path); }
 
 void save_mdp(const FiniteMdp& mdp, const std::string& path) {
   // Written to a temporary name and renamed, so a reader never sees half a file.

@@ -1,8 +1,13 @@
 #include "pegasus/parallel/thread_pool.hpp"
 
-#include <algorithm>
+#include <fmt/format.h>
 
+#include <algorithm>
+#include <system_error>
+
+#include "pegasus/core/environment_error.hpp"
 #include "pegasus/core/error.hpp"
+#include "pegasus/parallel/thread_limits.hpp"
 
 namespace pegasus {
 
@@ -17,8 +22,26 @@ struct ParallelRegion {
 bool ThreadPool::inside_parallel_for() { return t_parallel_depth > 0; }
 
 ThreadPool::ThreadPool(int threads) {
-  if (threads < 1) throw InputError("threads: expected an integer >= 1, got " + std::to_string(threads));
-  for (int i = 1; i < threads; ++i) workers_.emplace_back([this] { worker_loop(); });
+  if (threads < 1 || threads > kMaxThreads) {
+    throw InputError(fmt::format("threads: expected an integer in [1, {}], got {}", kMaxThreads, threads));
+  }
+  workers_.reserve(static_cast<std::size_t>(threads - 1));
+  try {
+    for (int i = 1; i < threads; ++i) workers_.emplace_back([this] { worker_loop(); });
+  } catch (const std::system_error& e) {
+    // The destructor does not run for a half-made pool: the started workers are stopped here, or they
+    // would wait on wake_ while it is destroyed (issue 16: a hang in pthread_cond_destroy).
+    const std::size_t refused = workers_.size() + 2;  // the caller is thread 1
+    {
+      std::lock_guard lock(mutex_);
+      stop_ = true;
+    }
+    wake_.notify_all();
+    for (auto& w : workers_) w.join();
+    throw EnvironmentError(
+        fmt::format("threads: the system refused to start thread {} of {} ({}); use fewer --threads", refused,
+                    threads, e.what()));
+  }
 }
 
 ThreadPool::~ThreadPool() {

@@ -14,6 +14,7 @@
 #include <stdexcept>
 
 #include "pegasus/core/error.hpp"
+#include "pegasus/core/untrusted_text.hpp"
 
 namespace pegasus {
 
@@ -47,7 +48,10 @@ std::string_view trim(std::string_view s) {
   return s;
 }
 
-std::string toml_quoted(std::string_view s) {
+// TOML holds only UTF-8: other bytes (a path named `m\xff.json`) are stored as the text \xNN, so that
+// config.toml always loads again; same_value compares strings in this stored form.
+std::string toml_quoted(std::string_view raw) {
+  const std::string s = with_invalid_bytes_escaped(raw);
   std::string out = "\"";
   for (char c : s) {
     switch (c) {
@@ -95,6 +99,9 @@ bool same_value(const FieldValue& a, const FieldValue& b) {
     return std::equal(xs->begin(), xs->end(), ys.begin(), ys.end(), [](double x, double y) {
       return std::bit_cast<std::uint64_t>(x) == std::bit_cast<std::uint64_t>(y);
     });
+  }
+  if (const auto* x = std::get_if<std::string>(&a)) {
+    return with_invalid_bytes_escaped(*x) == with_invalid_bytes_escaped(std::get<std::string>(b));
   }
   return a == b;
 }
@@ -344,6 +351,28 @@ std::string ConfigField::check(const FieldValue& value) const {
     }
   }
   if (!ok) return expectation();
+  // Every number read from a user is finite: an `inf` that passed a one-sided bound would be refused later
+  // under an internal name, or run to a meaningless result (issue 16).
+  // A field whose own default is not finite (an "unbounded" limit) takes such values on purpose.
+  auto all_finite = [&](const FieldValue& v) {
+    if (type_ == FieldType::kDouble) return std::isfinite(std::get<double>(v));
+    if (type_ == FieldType::kDoubleList) {
+      const auto& xs = std::get<std::vector<double>>(v);
+      return std::all_of(xs.begin(), xs.end(), [](double x) { return std::isfinite(x); });
+    }
+    return true;
+  };
+  const bool non_finite = all_finite(default_) && !all_finite(value);
+  if (non_finite) {
+    std::string expected = expectation();
+    for (const std::string_view plain : {"a number", "a list of numbers"}) {
+      if (expected.starts_with(plain)) {
+        expected.insert(plain == "a number" ? 2 : 10, "finite ");
+        break;
+      }
+    }
+    return expected;
+  }
   for (const auto& validator : validators_) {
     std::string expected = validator(value);
     if (!expected.empty()) return expected;
@@ -434,6 +463,13 @@ void ConfigSchema::load_toml_file(const std::filesystem::path& file) {
 }
 
 void ConfigSchema::load_toml_string(std::string_view text, const std::string& source_name) {
+  // toml++ 3.3.0 (Debian's) reads past the end on some invalid UTF-8 (fixed upstream later): it never sees
+  // any, and the user learns the line.
+  if (const std::size_t bad = first_invalid_utf8(text); bad != text.size()) {
+    const auto line = 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(bad), '\n');
+    throw InputError(fmt::format("{}:{}: expected UTF-8 text, got the byte 0x{:02X}", printable(source_name),
+                                 line, static_cast<unsigned>(static_cast<unsigned char>(text[bad]))));
+  }
   toml::table root;
   try {
     root = toml::parse(text, source_name);
@@ -458,8 +494,8 @@ void ConfigSchema::load_toml_string(std::string_view text, const std::string& so
       for (std::size_t i = 0; i < fields_.size(); ++i) hint += (i ? ", " : " ") + fields_[i].name();
       hint += ")";
     }
-    throw InputError(
-        fmt::format("{}:{}: unknown key '{}'{}", source_name, key.source().begin.line, full, hint));
+    throw InputError(fmt::format("{}:{}: unknown key '{}'{}", printable(source_name), key.source().begin.line,
+                                 printable(full), hint));
   };
 
   std::function<void(const toml::table&, const std::string&)> walk = [&](const toml::table& table,

@@ -2,13 +2,20 @@
 
 #include <fcntl.h>
 #include <fmt/format.h>
+#include <sys/file.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <cerrno>
+#include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <stdexcept>
+#include <thread>
 
+#include "pegasus/core/environment_error.hpp"
 #include "pegasus/core/error.hpp"
+#include "pegasus/core/untrusted_text.hpp"
 #include "pegasus/io/atomic_file.hpp"
 #include "pegasus/parallel/mpi.hpp"
 
@@ -56,6 +63,79 @@ std::shared_ptr<const fs::path> make_scratch() {
 
 }  // namespace
 
+// The lock of one run directory: an advisory flock on the file DIR.lock next to DIR, which holds the pid of
+// its holder. Without it two runs on one DIR interleave their writes, removals and renames (issue 16: a
+// --force beside a running run left a DIR without config.toml, and both runs reported success).
+class RunDirectory::Lock {
+ public:
+  static std::shared_ptr<const Lock> acquire(const fs::path& final_dir) {
+    fs::path file = final_dir;
+    file += ".lock";
+    for (;;) {
+      const int fd = ::open(file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+      if (fd < 0) {
+        throw EnvironmentError(
+            fmt::format("cannot create the lock file {}: {}", file.string(), std::strerror(errno)));
+      }
+      if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+        const int err = errno;
+        const std::string holder = err == EWOULDBLOCK ? read_holder(fd) : std::string();
+        ::close(fd);
+        if (err != EWOULDBLOCK) {
+          throw EnvironmentError(fmt::format("cannot lock {}: {}", file.string(), std::strerror(err)));
+        }
+        throw InputError(
+            fmt::format("--out: '{}' is in use by another run ({}, holding {}); wait for it to "
+                        "end or choose another directory",
+                        final_dir.string(), holder, file.string()));
+      }
+      // A holder removes the file as it lets go: if that happened between our open and our flock, we hold
+      // a lock on a file nobody else will ever open, so start again on the file now named DIR.lock.
+      struct stat held {
+      }, named{};
+      if (::fstat(fd, &held) == 0 && ::stat(file.c_str(), &named) == 0 && held.st_dev == named.st_dev &&
+          held.st_ino == named.st_ino) {
+        const std::string pid = std::to_string(::getpid()) + "\n";
+        if (::ftruncate(fd, 0) != 0 ||
+            ::pwrite(fd, pid.data(), pid.size(), 0) != static_cast<ssize_t>(pid.size())) {
+          const int err = errno;
+          ::unlink(file.c_str());
+          ::close(fd);
+          throw EnvironmentError(
+              fmt::format("cannot write the lock file {}: {}", file.string(), std::strerror(err)));
+        }
+        return std::shared_ptr<const Lock>(new Lock(std::move(file), fd));
+      }
+      ::close(fd);
+    }
+  }
+
+  Lock(const Lock&) = delete;
+  Lock& operator=(const Lock&) = delete;
+  // Removed while still locked, so no later run can lock this file and believe it alone holds DIR.
+  ~Lock() {
+    ::unlink(file_.c_str());
+    ::close(fd_);
+  }
+
+ private:
+  Lock(fs::path file, int fd) : file_(std::move(file)), fd_(fd) {}
+
+  // The holder writes its pid right after taking the lock; give it a moment to do so.
+  static std::string read_holder(int fd) {
+    for (int attempt = 0; attempt < 50; ++attempt) {
+      char text[32] = {};
+      const ssize_t n = ::pread(fd, text, sizeof text - 1, 0);
+      if (n > 0 && text[n - 1] == '\n') return "pid " + std::string(text, static_cast<std::size_t>(n - 1));
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    return "pid unknown";
+  }
+
+  fs::path file_;
+  int fd_;
+};
+
 RunDirectory RunDirectory::open(const fs::path& dir, const ConfigSchema& config,
                                 RunDirectoryOptions options) {
   if (mpi::size() == 1) return open_here(dir, config, options);
@@ -70,15 +150,19 @@ RunDirectory RunDirectory::open(const fs::path& dir, const ConfigSchema& config,
                  {"staging", opened->staging_.string()},
                  {"resumed", opened->resumed_}};
     } catch (const InputError& e) {
-      outcome = {{"ok", false}, {"input", true}, {"message", e.what()}};
+      outcome = {{"ok", false}, {"kind", "input"}, {"message", e.what()}};
+    } catch (const EnvironmentError& e) {
+      outcome = {{"ok", false}, {"kind", "environment"}, {"message", e.what()}};
     } catch (const std::exception& e) {
-      outcome = {{"ok", false}, {"input", false}, {"message", e.what()}};
+      outcome = {{"ok", false}, {"kind", "other"}, {"message", e.what()}};
     }
   }
-  outcome = nlohmann::json::parse(mpi::broadcast_from_root(outcome.dump()));
+  outcome = nlohmann::json::parse(mpi::broadcast_from_root(with_valid_utf8(outcome).dump()));
   if (!outcome.at("ok").get<bool>()) {
     const std::string message = outcome.at("message").get<std::string>();
-    if (outcome.at("input").get<bool>()) throw InputError(message);
+    const std::string kind = outcome.at("kind").get<std::string>();
+    if (kind == "input") throw InputError(message);
+    if (kind == "environment") throw EnvironmentError(message);
     throw std::runtime_error(message);
   }
   if (opened) return std::move(*opened);
@@ -103,6 +187,17 @@ RunDirectory RunDirectory::open_here(const fs::path& dir, const ConfigSchema& co
   fs::path staging = final_dir;
   staging += ".partial";
 
+  if (final_dir.has_parent_path()) {
+    std::error_code ec;
+    fs::create_directories(final_dir.parent_path(), ec);
+    if (ec) {
+      throw EnvironmentError(
+          fmt::format("cannot create {}: {}", final_dir.parent_path().string(), ec.message()));
+    }
+  }
+  // Everything below (the checks, the removal of an old DIR.partial, the commit) happens under the lock.
+  std::shared_ptr<const Lock> lock = Lock::acquire(final_dir);
+
   if (exists_no_follow(final_dir) && !options.force) {
     throw InputError(
         fmt::format("--out: '{}' already exists (use --force to replace it)", final_dir.string()));
@@ -111,6 +206,7 @@ RunDirectory RunDirectory::open_here(const fs::path& dir, const ConfigSchema& co
   run.final_ = final_dir;
   run.staging_ = staging;
   run.force_ = options.force;
+  run.lock_ = std::move(lock);
 
   const bool partial_exists = exists_no_follow(staging);
   if (partial_exists && !options.resume && !options.force) {
@@ -146,18 +242,22 @@ RunDirectory RunDirectory::open_here(const fs::path& dir, const ConfigSchema& co
     if (partial_exists) {  // --force without --resume: start over
       std::error_code ec;
       fs::remove_all(staging, ec);
-      if (ec) throw std::runtime_error(fmt::format("cannot remove {}: {}", staging.string(), ec.message()));
+      if (ec) throw EnvironmentError(fmt::format("cannot remove {}: {}", staging.string(), ec.message()));
     }
     std::error_code ec;
-    if (final_dir.has_parent_path()) fs::create_directories(final_dir.parent_path(), ec);
-    // create_directory is the claim: of two processes started on the same DIR, one gets it.
-    if (ec || !fs::create_directory(staging, ec) || ec) {
-      throw std::runtime_error(fmt::format("cannot create {}: {}", staging.string(),
-                                           ec ? ec.message() : std::string("it appeared meanwhile")));
+    if (!fs::create_directory(staging, ec) || ec) {
+      throw EnvironmentError(fmt::format("cannot create {}: {}", staging.string(),
+                                         ec ? ec.message() : std::string("it appeared meanwhile")));
     }
     run.created_ = true;
   }
-  run.write_text(kConfigFile, config.to_toml());
+  try {
+    run.write_text(kConfigFile, config.to_toml());
+  } catch (...) {
+    // A fresh DIR.partial without its config.toml (a full disk) is no interrupted run: remove it.
+    run.abandon();
+    throw;
+  }
   return run;
 }
 
@@ -204,10 +304,14 @@ std::optional<nlohmann::json> RunDirectory::load_checkpoint() const {
       outcome = {{"ok", false}, {"message", e.what()}};
     }
   }
-  outcome = nlohmann::json::parse(mpi::broadcast_from_root(outcome.dump()));
+  outcome = nlohmann::json::parse(mpi::broadcast_from_root(with_valid_utf8(outcome).dump()));
   if (!outcome.at("ok").get<bool>()) throw std::runtime_error(outcome.at("message").get<std::string>());
   if (!outcome.contains("state")) return std::nullopt;
   return std::move(outcome.at("state"));
+}
+
+bool RunDirectory::resumable() const {
+  return !shadow_ && !committed_ && exists_no_follow(staging_ / kConfigFile);
 }
 
 void RunDirectory::commit() {
@@ -244,6 +348,11 @@ void RunDirectory::commit() {
 
 void RunDirectory::abandon() {
   if (shadow_) scratch_.reset();
+  // An abandoned run is over: DIR is free for the next one, whatever stays of DIR.partial.
+  struct ReleaseLock {
+    std::shared_ptr<const Lock>& lock;
+    ~ReleaseLock() { lock.reset(); }
+  } release{lock_};
   if (!created_ || committed_) return;
   std::error_code ec;
   fs::remove_all(staging_, ec);

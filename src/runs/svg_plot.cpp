@@ -38,7 +38,9 @@ struct Axis {
   double base() const { return scale == AxisScale::kLog2 ? 2.0 : 10.0; }
   bool usable(double v) const { return std::isfinite(v) && (!log() || v > 0); }
   double t(double v) const { return log() ? std::log(v) / std::log(base()) : v; }
-  double unit(double v) const { return (t(v) - lo) / (hi - lo); }
+  // 0 to 1 across the frame; data far outside (1e308 on an axis clamped to 1e300, whose distance to the
+  // axis overflows) is held at a finite distance past the edge, where the clip path hides it.
+  double unit(double v) const { return std::clamp((t(v) - lo) / (hi - lo), -1e6, 1e6); }
 
   void fit(double vmin, double vmax) {  // vmin, vmax in t
     if (!(vmin <= vmax)) vmin = 0, vmax = 1;
@@ -51,12 +53,18 @@ struct Axis {
       for (double k = lo; k <= hi; k += stride) ticks.push_back(k);
       return;
     }
+    // The ticks' arithmetic (the range, the steps past each end) must stay finite: data beyond kMaxLinear
+    // (a goal radius of 1e308, issue 16) is drawn past the frame's edge instead of stretching the axis.
+    constexpr double kMaxLinear = 1e300, kMinPad = 1e-300;
+    vmin = std::clamp(vmin, -kMaxLinear, kMaxLinear);
+    vmax = std::clamp(vmax, -kMaxLinear, kMaxLinear);
     if (vmax == vmin) {
-      const double pad = vmin == 0 ? 1 : std::abs(vmin) * 0.1;
+      const double pad = vmin == 0 ? 1 : std::max(std::abs(vmin) * 0.1, kMinPad);
       vmin -= pad;
       vmax += pad;
     }
     ticks = nice_ticks(vmin, vmax);
+    if (ticks.size() < 2) ticks = {vmin, vmax};
     lo = ticks.front();
     hi = ticks.back();
   }

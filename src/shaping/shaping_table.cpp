@@ -10,6 +10,7 @@
 #include <tuple>
 
 #include "pegasus/core/error.hpp"
+#include "pegasus/io/json_input.hpp"
 #include "pegasus/shaping/potential_shaping.hpp"
 
 namespace pegasus {
@@ -156,15 +157,7 @@ nlohmann::json shaping_to_json(const ShapingTable& f) {
 }
 
 ShapingTable load_shaping(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(fmt::format("{}: cannot open shaping file", path));
-  nlohmann::json j;
-  try {
-    in >> j;
-  } catch (const nlohmann::json::parse_error& e) {
-    throw InputError(fmt::format("{}: not valid JSON ({})", path, e.what()));
-  }
-  return shaping_from_json(j, path);
+  return shaping_from_json(read_json_input(path, "shaping"), path);
 }
 
 void save_shaping(const ShapingTable& f, const std::string& path) {

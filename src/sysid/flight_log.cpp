@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "pegasus/core/error.hpp"
+#include "pegasus/core/untrusted_text.hpp"
 #include "pegasus/io/json_csv.hpp"
 
 namespace pegasus::sysid {
@@ -62,7 +63,8 @@ std::vector<std::string_view> split(std::string_view line) {
 FlightLog parse_flight_log(const std::string& text, const std::string& name, const LogReadOptions& options) {
   std::vector<std::string_view> lines;
   {
-    std::size_t start = 0;
+    // A UTF-8 byte order mark (spreadsheets write one) is not part of the first column's name.
+    std::size_t start = text.starts_with(kUtf8ByteOrderMark) ? kUtf8ByteOrderMark.size() : 0;
     while (start < text.size()) {
       std::size_t nl = text.find('\n', start);
       if (nl == std::string::npos) nl = text.size();
@@ -103,10 +105,10 @@ FlightLog parse_flight_log(const std::string& text, const std::string& name, con
       const auto res = std::from_chars(f.data(), f.data() + f.size(), x);
       if (f.empty() || res.ec != std::errc() || res.ptr != f.data() + f.size())
         throw InputError(
-            fmt::format("{}:{}:{}: expected a number, found '{}'", name, li + 1, required[r], f));
+            fmt::format("{}:{}:{}: expected a number, found '{}'", name, li + 1, required[r], printable(f)));
       if (!std::isfinite(x))
-        throw InputError(
-            fmt::format("{}:{}:{}: expected a finite number, found '{}'", name, li + 1, required[r], f));
+        throw InputError(fmt::format("{}:{}:{}: expected a finite number, found '{}'", name, li + 1,
+                                     required[r], printable(f)));
       if (r >= 13 && std::abs(x) > 1.0 + 1e-9)
         throw InputError(
             fmt::format("{}:{}:{}: expected a control in [-1, 1], found {}", name, li + 1, required[r], x));
@@ -138,11 +140,15 @@ FlightLog parse_flight_log(const std::string& text, const std::string& name, con
 }
 
 FlightLog read_flight_log(const std::filesystem::path& file, const LogReadOptions& options) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw InputError(fmt::format("{}: cannot open the flight log", file.string()));
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return parse_flight_log(ss.str(), file.string(), options);
+  std::string text;
+  try {
+    text = read_file(file);  // refuses a directory by name, where a stream would throw from underflow
+  } catch (const std::exception& e) {
+    std::string reason = e.what();
+    if (const auto colon = reason.rfind(": "); colon != std::string::npos) reason.erase(0, colon + 2);
+    throw InputError(fmt::format("{}: cannot read the flight log ({})", file.string(), reason));
+  }
+  return parse_flight_log(text, file.string(), options);
 }
 
 }  // namespace pegasus::sysid

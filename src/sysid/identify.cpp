@@ -6,11 +6,14 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <limits>
+#include <string>
 
 #include "pegasus/core/error.hpp"
 #include "pegasus/heli/frames.hpp"
 #include "pegasus/io/atomic_file.hpp"
 #include "pegasus/io/json_csv.hpp"
+#include "pegasus/io/json_input.hpp"
 
 namespace pegasus::sysid {
 
@@ -94,20 +97,77 @@ nlohmann::json IdentifiedModel::to_json() const {
   return j;
 }
 
-IdentifiedModel IdentifiedModel::from_json(const nlohmann::json& j) {
-  if (j.value("format", "") != "pegasus-heli-model" || j.value("version", 0) != 1)
-    throw InputError("model: not a pegasus-heli-model version 1 file");
+namespace {
+
+// The fields of a model.json, each checked for meaning where it is read: a model that passes trains to
+// finite values (issue 16: gravity 1e308 trained to U-hat -inf; version 4294967297 read as 1).
+class ModelFields {
+ public:
+  explicit ModelFields(std::string file) : file_(std::move(file)) {}
+
+  const nlohmann::json& at(const nlohmann::json& j, const std::string& field) const {
+    if (!j.is_object()) json_field_error(file_, field, "an object holding it", j);
+    const auto it = j.find(field.substr(field.rfind('.') + 1));
+    if (it == j.end()) throw InputError(fmt::format("{}: {}: expected a value, got none", file_, field));
+    return *it;
+  }
+  double number(const nlohmann::json& j, const std::string& field, double lo, double hi,
+                bool open_lo = false) const {
+    const nlohmann::json& v = at(j, field);
+    const char* bound = open_lo ? "(" : "[";
+    const std::string expected = fmt::format("a number in {}{}, {}]", bound, lo, hi);
+    if (!v.is_number()) json_field_error(file_, field, expected, v);
+    const double x = v.get<double>();
+    if (!(open_lo ? x > lo : x >= lo) || !(x <= hi)) json_field_error(file_, field, expected, v);
+    return x;
+  }
+  bool flag(const nlohmann::json& j, const std::string& field) const {
+    const nlohmann::json& v = at(j, field);
+    if (!v.is_boolean()) json_field_error(file_, field, "true or false", v);
+    return v.get<bool>();
+  }
+  // An array of exactly `size` finite numbers (any size when size is 0), each at least `lo`.
+  std::vector<double> numbers(const nlohmann::json& v, const std::string& field, std::size_t size,
+                              double lo = -std::numeric_limits<double>::max()) const {
+    const std::string expected =
+        size > 0 ? fmt::format("an array of {} numbers", size) : "an array of numbers";
+    if (!v.is_array() || (size > 0 && v.size() != size)) json_field_error(file_, field, expected, v);
+    std::vector<double> out;
+    out.reserve(v.size());
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      const std::string element = fmt::format("{}[{}]", field, i);
+      if (!v[i].is_number() || !std::isfinite(v[i].get<double>()))
+        json_field_error(file_, element, "a finite number", v[i]);
+      if (v[i].get<double>() < lo) json_field_error(file_, element, fmt::format("a number >= {}", lo), v[i]);
+      out.push_back(v[i].get<double>());
+    }
+    return out;
+  }
+
+ private:
+  std::string file_;
+};
+
+// model.json read as `file`: every field checked where it is read.
+IdentifiedModel model_from_json(const nlohmann::json& j, const std::string& file) {
+  const ModelFields f(file);
+  if (!j.is_object()) json_field_error(file, "(top level)", "a JSON object", j);
+  const nlohmann::json& format = f.at(j, "format");
+  if (format != "pegasus-heli-model") json_field_error(file, "format", "\"pegasus-heli-model\"", format);
+  const nlohmann::json& version = f.at(j, "version");
+  if (!version.is_number_integer() || version != 1) json_field_error(file, "version", "1", version);
+  constexpr double kMax = std::numeric_limits<double>::max();
   ModelStructure m;
-  const auto& s = j.at("structure");
-  m.rate_hz = s.at("rate_hz").get<double>();
-  m.extra_states = s.at("extra_states").get<bool>();
-  m.intercept = s.at("intercept").get<bool>();
-  m.templates = s.at("templates").get<bool>();
-  m.gravity = s.at("gravity").get<double>();
-  m.extra.tau_flap = s.at("tau_flap").get<double>();
-  m.extra.flap_per_a1 = s.at("flap_per_a1").get<double>();
-  m.extra.flap_per_a2 = s.at("flap_per_a2").get<double>();
-  m.extra.gyro_tau = s.at("gyro_tau").get<double>();
+  const auto& s = f.at(j, "structure");
+  m.rate_hz = f.number(s, "structure.rate_hz", 0, 1000, true);
+  m.extra_states = f.flag(s, "structure.extra_states");
+  m.intercept = f.flag(s, "structure.intercept");
+  m.templates = f.flag(s, "structure.templates");
+  m.gravity = f.number(s, "structure.gravity", 0, 100);  // m/s^2: Earth's 9.81, room for other bodies
+  m.extra.tau_flap = f.number(s, "structure.tau_flap", 0, 100, true);  // s, a first-order lag
+  m.extra.flap_per_a1 = f.number(s, "structure.flap_per_a1", -kMax, kMax);
+  m.extra.flap_per_a2 = f.number(s, "structure.flap_per_a2", -kMax, kMax);
+  m.extra.gyro_tau = f.number(s, "structure.gyro_tau", 0, 100, true);
   if (s.contains("constant_inputs"))
     for (const auto& name : s.at("constant_inputs")) {
       const auto it = std::find(kInputNames.begin(), kInputNames.end(), name.get<std::string>());
@@ -116,28 +176,30 @@ IdentifiedModel IdentifiedModel::from_json(const nlohmann::json& j) {
       m.constant_inputs[static_cast<std::size_t>(it - kInputNames.begin())] = true;
     }
   Dataset d;
-  d.dt = j.at("dt").get<double>();
-  const auto& xs = j.at("x");
-  const auto& ys = j.at("y");
-  if (xs.size() != ys.size() || xs.empty())
-    throw InputError("model: x and y must be non-empty and of equal length");
+  d.dt = f.number(j, "dt", 0, 100, true);
+  const auto& xs = f.at(j, "x");
+  const auto& ys = f.at(j, "y");
+  if (!xs.is_array() || xs.empty()) json_field_error(file, "x", "a non-empty array of rows", xs);
+  if (!ys.is_array() || ys.size() != xs.size())
+    json_field_error(file, "y", fmt::format("an array of {} rows, as many as x", xs.size()), ys);
   const auto n = static_cast<Eigen::Index>(xs.size());
   d.x.resize(n, kInputs);
   d.y.resize(n, kBodyVars);
   for (Eigen::Index i = 0; i < n; ++i) {
-    const auto xr = xs[static_cast<std::size_t>(i)].get<std::vector<double>>();
-    const auto yr = ys[static_cast<std::size_t>(i)].get<std::vector<double>>();
-    if (xr.size() != kInputs || yr.size() != kBodyVars)
-      throw InputError(
-          fmt::format("model: row {} must have {} inputs and {} outputs", i, kInputs, kBodyVars));
+    const auto row = static_cast<std::size_t>(i);
+    const auto xr = f.numbers(xs[row], fmt::format("x[{}]", i), kInputs);
+    const auto yr = f.numbers(ys[row], fmt::format("y[{}]", i), kBodyVars);
     for (int c = 0; c < kInputs; ++c) d.x(i, c) = xr[static_cast<std::size_t>(c)];
     for (int c = 0; c < kBodyVars; ++c) d.y(i, c) = yr[static_cast<std::size_t>(c)];
   }
-  d.time = j.at("time").get<std::vector<double>>();
-  const auto ih = j.at("inv_bandwidth").get<std::vector<double>>();
-  const auto s2 = j.at("sigma2").get<std::vector<double>>();
-  if (ih.size() != kInputs || s2.size() != kBodyVars)
-    throw InputError("model: wrong inv_bandwidth or sigma2 size");
+  d.time = f.numbers(f.at(j, "time"), "time", xs.size());
+  // The regression finds its window by binary search over time (window_rows).
+  for (std::size_t i = 1; i < d.time.size(); ++i) {
+    if (d.time[i] < d.time[i - 1])
+      json_field_error(file, fmt::format("time[{}]", i), fmt::format("a time >= time[{}]", i - 1), d.time[i]);
+  }
+  const auto ih = f.numbers(f.at(j, "inv_bandwidth"), "inv_bandwidth", kInputs, 0);
+  const auto s2 = f.numbers(f.at(j, "sigma2"), "sigma2", kBodyVars, 0);
   std::array<double, kInputs> inv{};
   std::copy(ih.begin(), ih.end(), inv.begin());
   BodyVec sigma2;
@@ -145,22 +207,18 @@ IdentifiedModel IdentifiedModel::from_json(const nlohmann::json& j) {
   return IdentifiedModel(m, std::move(d), inv, sigma2);
 }
 
+}  // namespace
+
+IdentifiedModel IdentifiedModel::from_json(const nlohmann::json& j) {
+  return model_from_json(j, "model.json");
+}
+
 void IdentifiedModel::save(const std::filesystem::path& file) const {
   write_file_atomic(file, to_json().dump() + "\n");
 }
 
 IdentifiedModel IdentifiedModel::load(const std::filesystem::path& file) {
-  nlohmann::json j;
-  try {
-    j = read_json_file(file);
-  } catch (const std::exception& e) {
-    throw InputError(fmt::format("{}: cannot read the model file: {}", file.string(), e.what()));
-  }
-  try {
-    return from_json(j);
-  } catch (const std::exception& e) {
-    throw InputError(fmt::format("{}: {}", file.string(), e.what()));
-  }
+  return model_from_json(read_json_input(file, "model"), file.string());
 }
 
 // ---------------------------------------------------------------- cross-validation

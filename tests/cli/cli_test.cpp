@@ -122,7 +122,7 @@ TEST_F(Cli, EveryKindOfBadInputExitsTwoWithOneLineAndNoRunDirectory) {
   expect_bad_input("horizon --gamma 0", "--gamma: expected a number in (0, 1)");
   expect_bad_input("horizon --gamma abc", "--gamma: expected a number");
   expect_bad_input("horizon --epsilon -1", "--epsilon: expected a number > 0");
-  expect_bad_input("horizon --threads 0", "--threads: expected an integer >= 1, got '0'");
+  expect_bad_input("horizon --threads 0", "--threads: expected an integer in [1, 1024], got '0'");
   expect_bad_input("horizon --seed -3", "--seed: expected an integer >= 0");
   expect_bad_input("horizon --gama 0.5", "--gama");
   expect_bad_input("horizon --gamma", "--gamma");
@@ -148,7 +148,7 @@ TEST_F(Cli, EveryKindOfBadInputExitsTwoWithOneLineAndNoRunDirectory) {
                    "range.toml:3: key 'gamma': expected a number in (0, 1), got 1.5");
   write("threads.toml", "threads = 0\n");
   expect_bad_input("horizon --config threads.toml",
-                   "threads.toml:1: key 'threads': expected an integer >= 1, got 0");
+                   "threads.toml:1: key 'threads': expected an integer in [1, 1024], got 0");
   write("syntax.toml", "gamma = 0.9\nepsilon = = 1\n");
   expect_bad_input("horizon --config syntax.toml", "syntax.toml:2: invalid TOML");
   write("nested.toml", "[weights]\nvalue = [1.0]\n");

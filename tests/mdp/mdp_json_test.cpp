@@ -111,11 +111,12 @@ TEST(MdpJson, ErrorsNameTheFileAndTheField) {
                 j["transitions"][0]["next"] = json::array({json::array({1, 1.0})});
               }),
               HasSubstr("m.json: gamma = 1 requires a proper MDP"));
-  EXPECT_THAT(input_error_message([] { load_mdp("/nonexistent/m.json"); }),
-              HasSubstr("/nonexistent/m.json: cannot open"));
+  EXPECT_THAT(
+      input_error_message([] { load_mdp("/nonexistent/m.json"); }),
+      HasSubstr("/nonexistent/m.json: expected a readable MDP file, got 'No such file or directory'"));
   const auto bad = std::filesystem::temp_directory_path() / "pegasus_bad_mdp.json";
   std::ofstream(bad) << "{ not json";
-  EXPECT_THAT(input_error_message([&] { load_mdp(bad.string()); }), HasSubstr("not valid JSON"));
+  EXPECT_THAT(input_error_message([&] { load_mdp(bad.string()); }), HasSubstr("expected a JSON MDP file"));
   std::filesystem::remove(bad);
 }
 

@@ -106,14 +106,16 @@ TEST(RunDirectory, AnInterruptedRunNeedsResumeOrForce) {
             std::string::npos)
       << refused;
 
-  RunDirectory resumed =
-      RunDirectory::open(root / "out", schema(0.9, 8), {.resume = true});  // threads may differ
-  EXPECT_TRUE(resumed.resumed());
-  ASSERT_TRUE(resumed.load_checkpoint().has_value());
-  EXPECT_EQ((*resumed.load_checkpoint())["next"], 3);
-  ConfigSchema stored = schema();
-  stored.load_toml_file(resumed.path() / "config.toml");
-  EXPECT_EQ(stored.get_int("threads"), 8);  // the config of the run that finishes it
+  {  // a run, which holds DIR until it ends
+    RunDirectory resumed =
+        RunDirectory::open(root / "out", schema(0.9, 8), {.resume = true});  // threads may differ
+    EXPECT_TRUE(resumed.resumed());
+    ASSERT_TRUE(resumed.load_checkpoint().has_value());
+    EXPECT_EQ((*resumed.load_checkpoint())["next"], 3);
+    ConfigSchema stored = schema();
+    stored.load_toml_file(resumed.path() / "config.toml");
+    EXPECT_EQ(stored.get_int("threads"), 8);  // the config of the run that finishes it
+  }
 
   RunDirectory fresh = RunDirectory::open(root / "out", schema(), {.force = true});
   EXPECT_FALSE(fresh.resumed());

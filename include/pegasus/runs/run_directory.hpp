@@ -7,8 +7,10 @@
 //                                      equal `config` on every field that affects results, else InputError
 //                                      naming the key) or options.force (discard it, start over)
 //               otherwise           -> a fresh DIR.partial (also with --resume: nothing to resume)
-// open() writes the resolved config to config.toml. It creates nothing when it throws. If the process
-// dies later, DIR.partial stays behind for --resume. Every write is atomic (atomic_file.hpp).
+// open() first takes an advisory lock (flock) on DIR.lock, held until the RunDirectory is destroyed: a second
+// run on the same DIR (plain, --force or --resume, in any mix) gets an InputError naming the holder's pid and
+// touches nothing. open() writes the resolved config to config.toml. It creates nothing when it throws. If
+// the process dies later, DIR.partial stays behind for --resume. Every write is atomic (atomic_file.hpp).
 //
 //   RunDirectory run = RunDirectory::open(out, schema, {.force = f, .resume = r});
 //   if (auto state = run.load_checkpoint()) next = (*state)["next"];
@@ -52,6 +54,8 @@ class RunDirectory {
   // True when this run continues an interrupted one (an existing DIR.partial was reopened).
   bool resumed() const { return resumed_; }
   bool committed() const { return committed_; }
+  // True when DIR.partial holds what --resume needs (its config.toml): what a failure may point the user to.
+  bool resumable() const;
 
   // Atomic writes to a path relative to the run directory (sub-folders are created).
   void write_text(const std::filesystem::path& relative, std::string_view content) const;
@@ -67,12 +71,14 @@ class RunDirectory {
   // DIR appeared meanwhile and force was not given.
   void commit();
   // Removes DIR.partial if this process created it (bad input found after open); a resumed one is kept.
+  // Either way the run is over and DIR's lock is released.
   void abandon();
 
  private:
   RunDirectory() = default;
   static RunDirectory open_here(const std::filesystem::path& dir, const ConfigSchema& config,
                                 RunDirectoryOptions options);
+  class Lock;
   std::filesystem::path resolve(const std::filesystem::path& relative) const;
   std::optional<nlohmann::json> load_checkpoint_here() const;
 
@@ -80,6 +86,7 @@ class RunDirectory {
   bool force_ = false, resumed_ = false, created_ = false, committed_ = false;
   bool shadow_ = false;                                   // a rank other than 0: writes nothing
   std::shared_ptr<const std::filesystem::path> scratch_;  // a shadow's staging_, removed with the last copy
+  std::shared_ptr<const Lock> lock_;                      // DIR.lock, held by rank 0 for the whole run
 };
 
 }  // namespace pegasus

@@ -1,0 +1,15 @@
+// libFuzzer harness: helicopter policy files (heli/policy_file: the common fields, then the class's own
+// through the registry), the input of `heli fly`, `heli control` and `heli maneuver`.
+#include "fuzz_contract.hpp"
+#include "pegasus/heli/policy_file.hpp"
+#include "pegasus/io/json_input.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  const std::string_view text = pegasus::fuzz::as_text(data, size);
+  pegasus::fuzz::keeps_error_contract("fuzz.json", [&] {
+    const pegasus::heli::PolicyFile policy =
+        pegasus::heli::parse_policy_file(pegasus::parse_json_input(text, "fuzz.json", "policy"), "fuzz.json");
+    (void)pegasus::heli::make_controller(policy, "fuzz.json");
+  });
+  return 0;
+}

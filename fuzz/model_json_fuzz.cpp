@@ -1,0 +1,13 @@
+// libFuzzer harness: identified helicopter models (sysid/identify: IdentifiedModel::from_json), the
+// model.json that `heli identify` writes and `heli hover` / `heli maneuver` read.
+#include "fuzz_contract.hpp"
+#include "pegasus/io/json_input.hpp"
+#include "pegasus/sysid/identify.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  const std::string_view text = pegasus::fuzz::as_text(data, size);
+  pegasus::fuzz::keeps_error_contract("model.json", [&] {
+    (void)pegasus::sysid::IdentifiedModel::from_json(pegasus::parse_json_input(text, "model.json", "model"));
+  });
+  return 0;
+}

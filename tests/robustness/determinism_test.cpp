@@ -1,0 +1,81 @@
+// summary.json is a function of the inputs alone (issue 16, case 10: `heli hover` wrote wall-clock seconds
+// into it): two identical runs of each command on small settings give byte-identical summaries, and the
+// timings live in run.json.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "support/cli_runner.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using pegasus::test_support::read_text;
+using pegasus::test_support::run_pegasus;
+
+class SummaryDeterminism : public pegasus::test_support::TempDirTest {
+ protected:
+  // Runs `args` twice (into NAME-a and NAME-b) and expects byte-identical summary.json files.
+  void expect_identical_summaries(const std::string& name, const std::string& args) const {
+    SCOPED_TRACE(args);
+    for (const char* copy : {"-a", "-b"}) {
+      const auto r = run_pegasus(args + " --quiet --out " + (dir_ / (name + copy)).string());
+      ASSERT_EQ(r.code, 0) << r.output;
+    }
+    const std::string a = read_text(dir_ / (name + "-a") / "summary.json");
+    ASSERT_FALSE(a.empty());
+    EXPECT_EQ(a, read_text(dir_ / (name + "-b") / "summary.json"));
+    ++commands_;
+  }
+  std::string path(const std::string& relative) const { return (dir_ / relative).string(); }
+  mutable int commands_ = 0;
+};
+
+const std::string kAudit = std::string(PEGASUS_SOURCE_DIR) + "/experiments/audit/";
+
+TEST_F(SummaryDeterminism, EveryCommandWithoutAHelicopterGivesIdenticalSummaries) {
+  expect_identical_summaries("horizon", "horizon --gamma 0.9");
+  expect_identical_summaries("dev", "dev count --steps 4");
+  expect_identical_summaries("pomdp",
+                             "pomdp-gridworld --scenarios 1,4 --trials 2 --montecarlo-max-m 1 --seed 5");
+  expect_identical_summaries("gridworld", "shaping gridworld --size 4 --runs 2 --trials 5");
+  expect_identical_summaries("flags", "shaping flags --size 5 --runs 2 --trials 20");
+  expect_identical_summaries("bonus", "shaping progress-bonus --size 6 --episodes 2000");
+  expect_identical_summaries("audit", "shaping audit --mdp " + kAudit + "gridworld-4x4.mdp.json --shaping " +
+                                          kAudit + "gridworld-4x4-phi0.shaping.json");
+  expect_identical_summaries("pendulum",
+                             "pendulum train --scenarios 8 --iterations 4 --refine-scenarios 8 "
+                             "--refine-iterations 2 --evaluation-episodes 4 --seed 3");
+  const std::string bicycle = " --scenarios 4 --horizon 100 --iterations 2 --max-km 1 --goal-km 0.3 --seed 3";
+  expect_identical_summaries("bicycle-train", "bicycle train --rides 2" + bicycle);
+  expect_identical_summaries("bicycle-ride", "bicycle ride --rides 2 --max-km 1 --goal-km 0.3 --policy " +
+                                                 path("bicycle-train-a/policy.json"));
+  expect_identical_summaries("bicycle-experiment",
+                             "bicycle experiment --trials 1 --rides 2 --lesson-trials 1" + bicycle);
+  EXPECT_EQ(commands_, 11);
+}
+
+// The helicopter chain on a minute of pilot flight: every stage twice, each from the first copy's inputs.
+TEST_F(SummaryDeterminism, EveryHelicopterCommandGivesIdenticalSummaries) {
+  expect_identical_summaries("pilot", "heli pilot --seconds 40 --hover-seconds 4 --seed 3");
+  const std::string log = path("pilot-a/log.csv");
+  expect_identical_summaries("identify",
+                             "heli identify --train " + log + " --test " + log +
+                                 " --cv-points 20 --scale-grid 2,4 --coordinate-passes 0 --horizon-s 2 "
+                                 "--variants=false");
+  const std::string model = path("identify-a/model.json");
+  expect_identical_summaries("hover", "heli hover --model " + model +
+                                          " --scenarios 2 --seconds 2 --gradient.iterations 1 "
+                                          "--hill-climbing.iterations 2 --hill-climbing.proposals 2");
+  // Its wall-clock figures went to run.json.
+  const auto timings = nlohmann::json::parse(read_text(dir_ / "hover-a" / "run.json"))["timings"];
+  EXPECT_TRUE(timings.contains("train_seconds")) << timings;
+  expect_identical_summaries("fly",
+                             "heli fly --policy " + path("hover-a/policy.json") + " --flights 2 --seconds 2");
+  EXPECT_EQ(commands_, 4);
+}
+
+}  // namespace
