@@ -20,6 +20,7 @@ install(EXPORT pegasusTargets NAMESPACE pegasus:: DESTINATION ${PEGASUS_CMAKE_DI
 # The package file has to find what the static libraries link: the engine's public dependencies, and NLopt
 # (and Open MPI when built with it), which the optimizers and the evaluators call.
 set(PEGASUS_CONFIG_WITH_MPI ${PEGASUS_MPI})
+set(PEGASUS_CONFIG_WITH_MUJOCO ${PEGASUS_MUJOCO})
 configure_package_config_file(cmake/pegasusConfig.cmake.in ${CMAKE_CURRENT_BINARY_DIR}/pegasusConfig.cmake
                               INSTALL_DESTINATION ${PEGASUS_CMAKE_DIR})
 write_basic_package_version_file(${CMAKE_CURRENT_BINARY_DIR}/pegasusConfigVersion.cmake

@@ -9,6 +9,7 @@
 
 #include "pegasus/core/error.hpp"
 #include "pegasus/core/untrusted_text.hpp"
+#include "pegasus/io/atomic_file.hpp"
 #include "pegasus/io/json_csv.hpp"
 
 namespace pegasus::sysid {

@@ -206,8 +206,8 @@ TEST_F(HoverCli, ControlAnswersEveryLineAndMalformedOnesWithTheTrim) {
 TEST_F(HoverCli, PipelineRunsEveryStageAndPrintsTheHeadline) {
   const std::string args =
       "heli pipeline --quiet --train-seconds 60 --test-seconds 25 --cv-points 40 --scale-grid 2,4 "
-      "--coordinate-passes 0 --scenarios 2 --scenario-seconds 2 --optimizer.gradient.max-iterations 0 "
-      "--optimizer.hill-climbing.max-iterations 1 "
+      "--coordinate-passes 0 --scenarios 2 --scenario-seconds 2 --gradient-iterations 0 "
+      "--hill-climbing-iterations 1 "
       "--flights 2 --flight-seconds 3";
   const auto r = run_pegasus(args + out("demo"));
   ASSERT_EQ(r.code, 0) << r.output;

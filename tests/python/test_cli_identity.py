@@ -8,7 +8,7 @@ import pytest
 import numpy_bicycle
 import pegasus
 
-SMALL = ["--scenarios", "8", "--horizon", "150", "--iterations", "3", "--rides", "0", "--seed", "3"]
+SMALL = ["--scenarios", "8", "--horizon", "150", "--optimizer.gradient.max-iterations", "3", "--rides", "0", "--seed", "3"]
 
 
 def small_training(threads=1):
