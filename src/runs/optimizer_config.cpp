@@ -1,5 +1,7 @@
 #include "pegasus/runs/optimizer_config.hpp"
 
+#include <fmt/format.h>
+
 #include <cstdint>
 #include <limits>
 
@@ -156,8 +158,22 @@ void declare_optimizer_options(ConfigSchema& schema, const std::string& prefix,
     std::string error;
     if (options.IsValid(&error)) return {};
     // IsValid names "<method section>.<field>: expected ..."; say where the offending value came from, as
-    // the user wrote it (the option or file:line), like every other value's message.
-    const std::string field = prefix + "." + error.substr(0, error.find(':'));
+    // the user wrote it (the option or file:line), like every other value's message. A cross-field rule
+    // broken by a value the user gave (initial_step below the default min_step) is reported under that value.
+    const std::string section = error.substr(0, error.find('.'));
+    std::string field = prefix + "." + error.substr(0, error.find(':'));
+    if (s.has(field) && s.origin(field) == "default") {
+      for (const ConfigField& f : s.fields()) {
+        const std::string& name = f.name();
+        if (name.rfind(prefix + "." + section + ".", 0) != 0 || s.origin(name) == "default") continue;
+        if (error.find(name.substr(name.rfind('.') + 1)) != std::string::npos) {
+          const std::string& where = s.origin(name);
+          const std::string shown = where.rfind("--", 0) == 0 ? ConfigSchema::option_name(name) : where;
+          return fmt::format("{}: {} breaks {}.{}", shown, ConfigSchema::format_value(s.value(name)), prefix,
+                             error);
+        }
+      }
+    }
     const std::string& where = s.origin(s.has(field) ? field : prefix + ".method");
     const std::string name = where.rfind("--", 0) == 0 ? ConfigSchema::option_name(field) : field;
     const std::string message = name + error.substr(error.find(':'));

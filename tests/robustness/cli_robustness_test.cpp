@@ -77,12 +77,13 @@ TEST_F(CliRobustness, ThreadsOutsideOneToTheDocumentedMaximumAreRefusedByName) {
 TEST_F(CliRobustness, MessagesNameTheOptionTheUserGave) {
   expect_bad_input("heli hover --reward.position-m 4.9e-324",
                    "--reward.position-m: expected a number >= 1e-150");
-  expect_bad_input("pendulum train --initial-step 4.9e-324",
-                   "--initial-step: expected a number in [0.001, 4]");
-  expect_bad_input("pendulum train --initial-step inf",
-                   "--initial-step: expected a number in [0.001, 4], got 'inf'");
+  expect_bad_input("pendulum train --optimizer.hill-climbing.initial-step 4.9e-324",
+                   "--optimizer.hill-climbing.initial-step: 5e-324 breaks optimizer.hill_climbing.min_step");
+  expect_bad_input("pendulum train --optimizer.hill-climbing.initial-step inf",
+                   "--optimizer.hill-climbing.initial-step: expected a number in (0, inf), got 'inf'");
   expect_bad_input("horizon --epsilon inf", "--epsilon: expected a finite number > 0, got 'inf'");
-  expect_bad_input("pendulum train --refine-initial-step 1e-9", "--refine-initial-step");
+  expect_bad_input("pendulum train --refine.hill-climbing.initial-step 1e-9",
+                   "--refine.hill-climbing.initial-step");
   expect_bad_input("heli pipeline --seed 9223372036854775807",
                    "--seed: expected an integer in [0, 9223372036854775805]");
   fs::create_directories(dir_ / "folder.json");
@@ -125,7 +126,8 @@ TEST_F(CliRobustness, ARunDirectoryNamedWithInvalidUtf8WorksResumesAndReloads) {
 // Case 2: a goal radius of 1e308 crashed the rides plot (Axis::fit).
 TEST_F(CliRobustness, AHugeGoalRadiusIsPlottedNotACrash) {
   const Run r =
-      run("bicycle train --scenarios 2 --horizon 50 --iterations 1 --rides 1 --goal-radius 1e308 --quiet "
+      run("bicycle train --scenarios 2 --horizon 50 --optimizer.gradient.max-iterations 1 --rides 1 "
+          "--goal-radius 1e308 --quiet "
           "--out t");
   EXPECT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(fs::exists(dir_ / "t" / "summary.json"));

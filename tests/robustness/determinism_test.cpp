@@ -46,10 +46,12 @@ TEST_F(SummaryDeterminism, EveryCommandWithoutAHelicopterGivesIdenticalSummaries
   expect_identical_summaries("bonus", "shaping progress-bonus --size 6 --episodes 2000");
   expect_identical_summaries("audit", "shaping audit --mdp " + kAudit + "gridworld-4x4.mdp.json --shaping " +
                                           kAudit + "gridworld-4x4-phi0.shaping.json");
-  expect_identical_summaries("pendulum",
-                             "pendulum train --scenarios 8 --iterations 4 --refine-scenarios 8 "
-                             "--refine-iterations 2 --evaluation-episodes 4 --seed 3");
-  const std::string bicycle = " --scenarios 4 --horizon 100 --iterations 2 --max-km 1 --goal-km 0.3 --seed 3";
+  expect_identical_summaries(
+      "pendulum",
+      "pendulum train --scenarios 8 --optimizer.hill-climbing.max-iterations 4 --refine-scenarios 8 "
+      "--refine.hill-climbing.max-iterations 2 --evaluation-episodes 4 --seed 3");
+  const std::string bicycle =
+      " --scenarios 4 --horizon 100 --optimizer.gradient.max-iterations 2 --max-km 1 --goal-km 0.3 --seed 3";
   expect_identical_summaries("bicycle-train", "bicycle train --rides 2" + bicycle);
   expect_identical_summaries("bicycle-ride", "bicycle ride --rides 2 --max-km 1 --goal-km 0.3 --policy " +
                                                  path("bicycle-train-a/policy.json"));
@@ -68,8 +70,9 @@ TEST_F(SummaryDeterminism, EveryHelicopterCommandGivesIdenticalSummaries) {
                                  "--variants=false");
   const std::string model = path("identify-a/model.json");
   expect_identical_summaries("hover", "heli hover --model " + model +
-                                          " --scenarios 2 --seconds 2 --gradient.iterations 1 "
-                                          "--hill-climbing.iterations 2 --hill-climbing.proposals 2");
+                                          " --scenarios 2 --seconds 2 --optimizer.gradient.max-iterations 1 "
+                                          "--optimizer.hill-climbing.max-iterations 2 "
+                                          "--optimizer.hill-climbing.proposals-per-iteration 2");
   // Its wall-clock figures went to run.json.
   const auto timings = nlohmann::json::parse(read_text(dir_ / "hover-a" / "run.json"))["timings"];
   EXPECT_TRUE(timings.contains("train_seconds")) << timings;

@@ -177,7 +177,7 @@ TEST(ShapingTable, RoundTripsThroughJsonAndNamesFileAndFieldInErrors) {
   EXPECT_THAT(input_error_message([&] { shaping_from_json(j, "f.json"); }),
               HasSubstr("f.json: num_actions: missing required field"));
   EXPECT_THAT(input_error_message([] { load_shaping("/nonexistent/f.json"); }),
-              HasSubstr("/nonexistent/f.json: cannot open"));
+              HasSubstr("/nonexistent/f.json: expected a readable shaping file"));
 }
 
 }  // namespace
