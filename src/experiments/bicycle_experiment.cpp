@@ -17,6 +17,7 @@
 #include "pegasus/io/json_input.hpp"
 #include "pegasus/optimizers/training.hpp"
 #include "pegasus/parallel/mpi.hpp"
+#include "pegasus/policies/policy_json.hpp"
 #include "pegasus/shaping/potential_shaping.hpp"
 
 namespace pegasus {
@@ -426,30 +427,10 @@ nlohmann::json bicycle_policy_json(const Theta& theta) {
 }
 
 Theta bicycle_policy_from_json(const nlohmann::json& j, const std::string& source) {
-  if (!j.is_object()) throw InputError(fmt::format("{}: expected a JSON object", source));
-  if (!j.contains("policy") || j.at("policy") != "bicycle-sigmoid-15")
-    throw InputError(fmt::format("{}: field 'policy': expected \"bicycle-sigmoid-15\"", source));
-  if (!j.contains("parameters") || !j.at("parameters").is_object())
-    throw InputError(
-        fmt::format("{}: field 'parameters': expected an object of parameter names and numbers", source));
   const BicyclePolicy policy = make_bicycle_policy();
-  const auto& parameters = j.at("parameters");
-  for (const auto& [name, value] : parameters.items())
-    if (policy.parameters().index_of(name) == policy.parameters().size())
-      throw InputError(fmt::format("{}: field 'parameters.{}': not a parameter of the bicycle policy", source,
-                                   printable(name)));
-  Theta theta(policy.parameters().size());
-  for (std::size_t k = 0; k < theta.size(); ++k) {
-    const std::string& name = policy.parameters()[k].name;
-    if (!parameters.contains(name))
-      throw InputError(fmt::format("{}: field 'parameters.{}': missing", source, name));
-    const auto& value = parameters.at(name);
-    if (!value.is_number() || !std::isfinite(value.get<double>()))
-      throw InputError(fmt::format("{}: field 'parameters.{}': expected a finite number, got {}", source,
-                                   name, value.dump()));
-    theta[k] = value.get<double>();
-  }
-  return theta;
+  const auto& parameters =
+      policy_parameters_json(j, source, "bicycle-sigmoid-15", policy.parameters(), "the bicycle policy");
+  return named_parameters(parameters, source, policy.parameters(), policy.parameters().size());
 }
 
 Theta read_bicycle_policy(const std::filesystem::path& file) {

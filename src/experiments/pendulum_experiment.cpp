@@ -13,6 +13,7 @@
 #include "pegasus/evaluators/monte_carlo.hpp"
 #include "pegasus/evaluators/pegasus_evaluator.hpp"
 #include "pegasus/optimizers/training.hpp"
+#include "pegasus/policies/policy_json.hpp"
 
 namespace pegasus {
 namespace {
@@ -293,34 +294,14 @@ nlohmann::json pendulum_policy_json(const Theta& theta) {
 }
 
 Theta pendulum_policy_from_json(const nlohmann::json& j, const std::string& source) {
-  if (!j.is_object()) throw InputError(fmt::format("{}: expected a JSON object", source));
-  if (!j.contains("policy") || j.at("policy") != "pendulum-swing-up")
-    throw InputError(fmt::format("{}: field 'policy': expected \"pendulum-swing-up\"", source));
-  if (!j.contains("parameters") || !j.at("parameters").is_object())
-    throw InputError(
-        fmt::format("{}: field 'parameters': expected an object of parameter names and numbers", source));
   const PendulumSwingUpPolicy policy;
-  const auto& parameters = j.at("parameters");
-  for (const auto& [name, value] : parameters.items())
-    if (policy.parameters().index_of(name) == policy.parameters().size())
-      throw InputError(
-          fmt::format("{}: field 'parameters.{}': not a parameter of the pendulum policy", source, name));
+  const auto& parameters =
+      policy_parameters_json(j, source, "pendulum-swing-up", policy.parameters(), "the pendulum policy");
   // Five numbers (the class before the lead and the skew) or all seven.
   const std::size_t count = parameters.size() <= PendulumSwingUpPolicy::kBaseCount
                                 ? PendulumSwingUpPolicy::kBaseCount
                                 : policy.parameters().size();
-  Theta theta(count);
-  for (std::size_t k = 0; k < count; ++k) {
-    const std::string& name = policy.parameters()[k].name;
-    if (!parameters.contains(name))
-      throw InputError(fmt::format("{}: field 'parameters.{}': missing", source, name));
-    const auto& value = parameters.at(name);
-    if (!value.is_number() || !std::isfinite(value.get<double>()))
-      throw InputError(fmt::format("{}: field 'parameters.{}': expected a finite number, got {}", source,
-                                   name, value.dump()));
-    theta[k] = value.get<double>();
-  }
-  return theta;
+  return named_parameters(parameters, source, policy.parameters(), count);
 }
 
 }  // namespace pegasus
