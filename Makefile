@@ -66,7 +66,7 @@ fuzz: deps
 	@cmake -S . -B $(FUZZ) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ -DPEGASUS_FUZZ=ON \
 	  -DPEGASUS_BUILD_TESTS=OFF -DPEGASUS_BUILD_BENCH=OFF -DPEGASUS_MPI=OFF $(call gen,$(FUZZ)) >/dev/null
 	@cmake --build $(FUZZ) -j $(JOBS) --target pegasus_fuzzers
-	@bash fuzz/run.sh $(FUZZ) $(FUZZ_SECONDS)
+	@bash fuzz/run.sh $(FUZZ) $(FUZZ_SECONDS) $(JOBS)
 
 # Every benchmark in Release, one JSON file.
 bench: build

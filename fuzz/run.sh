@@ -1,33 +1,59 @@
 #!/usr/bin/env bash
 # Runs every libFuzzer harness built in BUILD_DIR/fuzz for SECONDS each, starting from its seed corpus
 # fuzz/corpus/<harness>/ (copied: what a run finds stays in BUILD_DIR/fuzz-corpus, not in the repository),
-# and prints one line per harness: executions, corpus size, and whether it found anything.
-# Usage: fuzz/run.sh BUILD_DIR SECONDS. Exit status 1 when any harness found a crash, leak or hang; the
-# input that did it is kept in BUILD_DIR/fuzz-findings/<harness>/.
+# JOBS harnesses at a time (default: the number of cores), and prints one line per harness: executions,
+# executions per second, corpus size, and whether it found anything.
+# Usage: fuzz/run.sh BUILD_DIR SECONDS [JOBS]. Exit status 1 when any harness found a crash, leak or hang (or
+# did not run); the input that did it is kept in BUILD_DIR/fuzz-findings/<harness>/.
 set -euo pipefail
 build=${1:?build directory}
 seconds=${2:?seconds per harness}
+jobs=${3:-$(nproc)}
 here=$(cd "$(dirname "$0")" && pwd)
-status=0
-printf '%-22s %12s %10s %8s  %s\n' harness executions exec/s corpus result
-for source in "$here"/*_fuzz.cpp; do
-  name=$(basename "$source" .cpp)
-  binary="$build/fuzz/$name"
-  [ -x "$binary" ] || { echo "fuzz: $binary was not built" >&2; exit 1; }
-  corpus="$build/fuzz-corpus/$name"
-  findings="$build/fuzz-findings/$name"
+
+run_one() {  # NAME: fuzzes one harness; its exit status goes to BUILD/fuzz-findings/NAME.status
+  local name=$1 binary="$build/fuzz/$1" corpus="$build/fuzz-corpus/$1" findings="$build/fuzz-findings/$1"
   mkdir -p "$corpus" "$findings"
   [ -d "$here/corpus/$name" ] && cp -n "$here/corpus/$name"/* "$corpus"/ 2>/dev/null || true
+  local status=0
+  ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+    "$binary" "$corpus" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
+    -print_final_stats=1 -artifact_prefix="$findings/" >"$build/fuzz-findings/$name.log" 2>&1 || status=$?
+  echo "$status" >"$build/fuzz-findings/$name.status"
+}
+
+names=()
+for source in "$here"/*_fuzz.cpp; do
+  name=$(basename "$source" .cpp)
+  [ -x "$build/fuzz/$name" ] || { echo "fuzz: $build/fuzz/$name was not built" >&2; exit 1; }
+  names+=("$name")
+done
+mkdir -p "$build/fuzz-findings"
+rm -f "$build"/fuzz-findings/*.status
+running=0
+for name in "${names[@]}"; do
+  run_one "$name" &
+  running=$((running + 1))
+  if [ "$running" -ge "$jobs" ]; then
+    wait -n || true
+    running=$((running - 1))
+  fi
+done
+wait || true
+
+status=0
+printf '%-22s %12s %10s %8s  %s\n' harness executions exec/s corpus result
+for name in "${names[@]}"; do
   log="$build/fuzz-findings/$name.log"
+  code=$(cat "$build/fuzz-findings/$name.status" 2>/dev/null || echo missing)
   result=ok
-  if ! ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-      "$binary" "$corpus" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
-      -print_final_stats=1 -artifact_prefix="$findings/" >"$log" 2>&1; then
-    result="FOUND (see $log and $findings)"
+  if [ "$code" != 0 ]; then
+    result="FOUND (exit $code; see $log and $build/fuzz-findings/$name/)"
     status=1
   fi
   runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
   rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log" | tail -1)
-  printf '%-22s %12s %10s %8s  %s\n' "$name" "${runs:-?}" "${rate:-?}" "$(ls "$corpus" | wc -l)" "$result"
+  printf '%-22s %12s %10s %8s  %s\n' "$name" "${runs:-?}" "${rate:-?}" "$(ls "$build/fuzz-corpus/$name" | wc -l)" \
+    "$result"
 done
 exit $status

@@ -687,9 +687,10 @@ void declare_pipeline(ConfigSchema& s) {
   s.add_double("flight_seconds", 60, "flight length on the ground truth, s").greater_than(0).max(36000);
 }
 
-// Runs `pegasus ARGS` as a child process (so that every stage is exactly the command a user would type); its
-// output goes to ours. Returns the exit code.
-int run_stage(const std::vector<std::string>& args) {
+// Runs `pegasus ARGS` as a child process in the folder `cwd` (so that every stage is exactly the command a
+// user would type there, and its files name each other by paths relative to the pipeline's run directory,
+// which moves when the run is committed); its output goes to ours. Returns the exit code.
+int run_stage(const std::vector<std::string>& args, const std::filesystem::path& cwd) {
   std::vector<std::string> argv = {"pegasus"};
   argv.insert(argv.end(), args.begin(), args.end());
   std::vector<char*> raw;
@@ -698,8 +699,12 @@ int run_stage(const std::vector<std::string>& args) {
   std::fflush(stdout);
   std::fflush(stderr);
   pid_t pid = 0;
-  if (posix_spawn(&pid, "/proc/self/exe", nullptr, nullptr, raw.data(), environ) != 0)
-    throw std::runtime_error("pipeline: cannot start pegasus (/proc/self/exe)");
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addchdir_np(&actions, cwd.c_str());
+  const int spawned = posix_spawn(&pid, "/proc/self/exe", &actions, nullptr, raw.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (spawned != 0) throw std::runtime_error("pipeline: cannot start pegasus (/proc/self/exe)");
   int status = 0;
   if (waitpid(pid, &status, 0) != pid) throw std::runtime_error("pipeline: lost a stage's process");
   return WIFEXITED(status) ? WEXITSTATUS(status) : 1;
@@ -717,14 +722,14 @@ void run_pipeline(RunContext& ctx) {
       ctx.out << fmt::format("[{}] done before, kept: {}\n", name, (dir.final_path() / name).string());
       return;
     }
-    args.insert(args.end(), {"--out", out.string(), "--threads", threads, "--resume"});
+    args.insert(args.end(), {"--out", name, "--threads", threads, "--resume"});
     if (ctx.quiet) args.push_back("--quiet");
     std::string shown = "pegasus";
     for (const auto& a : args) shown += " " + a;
     ctx.out << fmt::format("[{}] {}\n", name, shown);
     ctx.out.flush();
     const auto start = std::chrono::steady_clock::now();
-    const int code = run_stage(args);
+    const int code = run_stage(args, root);
     if (code == 2) throw InputError(fmt::format("pipeline stage {}: bad input (its message is above)", name));
     if (code != 0)
       throw std::runtime_error(fmt::format("pipeline stage {} failed with exit code {}", name, code));
@@ -746,18 +751,18 @@ void run_pipeline(RunContext& ctx) {
         {"heli", "pilot", "--seconds", num(c.get_double("train_seconds")), "--seed", std::to_string(seed)});
   stage("pilot-test", {"heli", "pilot", "--seconds", num(c.get_double("test_seconds")), "--seed",
                        std::to_string(seed + 1)});
-  stage("identify", {"heli", "identify", "--train", (root / "pilot-train" / "log.csv").string(), "--test",
-                     (root / "pilot-test" / "log.csv").string(), "--cv-points",
-                     std::to_string(c.get_int("cv_points")), "--scale-grid", grid, "--coordinate-passes",
-                     std::to_string(c.get_int("coordinate_passes")), "--variants=false"});
-  stage("hover", {"heli", "hover", "--model", (root / "identify" / "model.json").string(), "--scenarios",
+  stage("identify",
+        {"heli", "identify", "--train", "pilot-train/log.csv", "--test", "pilot-test/log.csv", "--cv-points",
+         std::to_string(c.get_int("cv_points")), "--scale-grid", grid, "--coordinate-passes",
+         std::to_string(c.get_int("coordinate_passes")), "--variants=false"});
+  stage("hover", {"heli", "hover", "--model", "identify/model.json", "--scenarios",
                   std::to_string(c.get_int("scenarios")), "--seconds", num(c.get_double("scenario_seconds")),
                   "--optimizer.gradient.max-iterations", std::to_string(c.get_int("gradient_iterations")),
                   "--optimizer.hill-climbing.max-iterations",
                   std::to_string(c.get_int("hill_climbing_iterations")), "--seed", std::to_string(seed)});
-  stage("fly", {"heli", "fly", "--policy", (root / "hover" / "policy.json").string(), "--compare-pilot",
-                "--flights", std::to_string(c.get_int("flights")), "--seconds",
-                num(c.get_double("flight_seconds")), "--seed", std::to_string(seed + 2)});
+  stage("fly", {"heli", "fly", "--policy", "hover/policy.json", "--compare-pilot", "--flights",
+                std::to_string(c.get_int("flights")), "--seconds", num(c.get_double("flight_seconds")),
+                "--seed", std::to_string(seed + 2)});
 
   const nlohmann::json hover = read_json_file(root / "hover" / "summary.json");
   const nlohmann::json fly = read_json_file(root / "fly" / "summary.json");

@@ -12,6 +12,7 @@
 #include <memory>
 #include <sstream>
 
+#include "../io/toml_input.hpp"
 #include "pegasus/core/error.hpp"
 #include "pegasus/heli/frames.hpp"
 
@@ -193,18 +194,8 @@ std::vector<std::string> VehicleLogSpec::topic_names() const {
   return out;
 }
 
-VehicleLogSpec read_vehicle_log_spec(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw InputError(fmt::format("{}: cannot open the vehicle file", file.string()));
-  std::stringstream text;
-  text << in.rdbuf();
-  toml::table root;
-  try {
-    root = toml::parse(text.str(), file.string());
-  } catch (const toml::parse_error& e) {
-    throw InputError(
-        fmt::format("{}:{}: invalid TOML: {}", file.string(), e.source().begin.line, e.description()));
-  }
+namespace {
+VehicleLogSpec vehicle_log_spec(const toml::table& root, const std::filesystem::path& file) {
   const SpecReader r(root, file.string());
   if (!root.get("log") || !root.get("log")->is_table())
     throw InputError(
@@ -244,6 +235,15 @@ VehicleLogSpec read_vehicle_log_spec(const std::filesystem::path& file) {
     ch.offset = r.number(key + ".offset", 0, -1e6, 1e6);
   }
   return s;
+}
+}  // namespace
+
+VehicleLogSpec read_vehicle_log_spec(const std::filesystem::path& file) {
+  return vehicle_log_spec(read_toml_input(file, "vehicle"), file);
+}
+
+VehicleLogSpec parse_vehicle_log_spec(std::string_view text, const std::filesystem::path& name) {
+  return vehicle_log_spec(parse_toml_input(text, name.string()), name);
 }
 
 sysid::FlightLog import_ulog(const UlogFile& ulog, const VehicleLogSpec& spec, const std::string& file,

@@ -2,9 +2,8 @@
 
 #include <Random123/philox.h>
 
-#if defined(__x86_64__) && defined(__GNUC__)
+#ifdef PEGASUS_X86_KERNELS
 #include <immintrin.h>
-#define PEGASUS_PHILOX_X86 1
 // GCC 12's AVX-512 intrinsics start some results from _mm512_undefined_*() (a variable initialised from
 // itself), which -Wmaybe-uninitialized reports at every use.
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
@@ -35,7 +34,7 @@ void philox_scalar(std::uint32_t key0, std::uint32_t key1, std::uint64_t first_c
   }
 }
 
-#ifdef PEGASUS_PHILOX_X86
+#ifdef PEGASUS_X86_KERNELS
 
 // The vector paths keep one Philox call per 64-bit lane, its 32-bit words in the low halves. The upper
 // halves may hold garbage between rounds: the multiplies (vpmuludq) read only the low halves, XOR works
@@ -171,36 +170,14 @@ __attribute__((target("avx512f"))) void philox_avx512(std::uint32_t key0, std::u
 
 }  // namespace
 
-bool philox_path_supported(PhiloxPath path) {
-  switch (path) {
-    case PhiloxPath::kScalar:
-      return true;
-#ifdef PEGASUS_PHILOX_X86
-    case PhiloxPath::kAvx2:
-      return __builtin_cpu_supports("avx2");
-    case PhiloxPath::kAvx512:
-      return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx2");
-#endif
-    default:
-      return false;
-  }
-}
-
-PhiloxPath best_philox_path() {
-  static const PhiloxPath best = philox_path_supported(PhiloxPath::kAvx512) ? PhiloxPath::kAvx512
-                                 : philox_path_supported(PhiloxPath::kAvx2) ? PhiloxPath::kAvx2
-                                                                            : PhiloxPath::kScalar;
-  return best;
-}
-
-void philox_uniforms(PhiloxPath path, std::uint32_t key0, std::uint32_t key1, std::uint64_t first_call,
+void philox_uniforms(InstructionSet isa, std::uint32_t key0, std::uint32_t key1, std::uint64_t first_call,
                      std::uint32_t stream, std::uint32_t domain, int calls, double* out) {
-  switch (path) {
-#ifdef PEGASUS_PHILOX_X86
-    case PhiloxPath::kAvx512:
+  switch (isa) {
+#ifdef PEGASUS_X86_KERNELS
+    case InstructionSet::kAvx512:
       philox_avx512(key0, key1, first_call, stream, domain, calls, out);
       return;
-    case PhiloxPath::kAvx2:
+    case InstructionSet::kAvx2Fma:
       philox_avx2(key0, key1, first_call, stream, domain, calls, out);
       return;
 #endif
@@ -211,7 +188,7 @@ void philox_uniforms(PhiloxPath path, std::uint32_t key0, std::uint32_t key1, st
 
 void philox_uniforms(std::uint32_t key0, std::uint32_t key1, std::uint64_t first_call, std::uint32_t stream,
                      std::uint32_t domain, int calls, double* out) {
-  philox_uniforms(best_philox_path(), key0, key1, first_call, stream, domain, calls, out);
+  philox_uniforms(best_instruction_set(), key0, key1, first_call, stream, domain, calls, out);
 }
 
 }  // namespace pegasus::detail

@@ -13,9 +13,8 @@
 
 #include "pegasus/core/error.hpp"
 
-#if defined(__x86_64__) && defined(__GNUC__)
+#ifdef PEGASUS_X86_KERNELS
 #include <immintrin.h>
-#define PEGASUS_DENSE_X86 1
 #endif
 
 namespace pegasus {
@@ -57,7 +56,7 @@ void dot4_sse2(const double* p, std::size_t stride, const double* v, int n, doub
   const double* p1 = p + stride;
   const double* p2 = p1 + stride;
   const double* p3 = p2 + stride;
-#ifdef PEGASUS_DENSE_X86
+#ifdef PEGASUS_X86_KERNELS
   __m128d a0 = _mm_setzero_pd(), a1 = a0, a2 = a0, a3 = a0;
   int k = 0;
   for (; k + 2 <= n; k += 2) {
@@ -85,7 +84,7 @@ void dot4_sse2(const double* p, std::size_t stride, const double* v, int n, doub
   }
 }
 
-#ifdef PEGASUS_DENSE_X86
+#ifdef PEGASUS_X86_KERNELS
 
 // GCC 12's AVX-512 intrinsics start some results from _mm512_undefined_*() (a variable initialised from
 // itself), which -Wmaybe-uninitialized and -Wuninitialized report at every use.
@@ -146,12 +145,12 @@ __attribute__((target("avx512f"))) void dot4_avx512(const double* p, std::size_t
 
 #endif
 
-Dot4 dot4_for(detail::DenseDotPath path) {
-  switch (path) {
-#ifdef PEGASUS_DENSE_X86
-    case detail::DenseDotPath::kAvx512:
+Dot4 dot4_for(InstructionSet isa) {
+  switch (isa) {
+#ifdef PEGASUS_X86_KERNELS
+    case InstructionSet::kAvx512:
       return dot4_avx512;
-    case detail::DenseDotPath::kAvx2Fma:
+    case InstructionSet::kAvx2Fma:
       return dot4_avx2;
 #endif
     default:
@@ -161,7 +160,7 @@ Dot4 dot4_for(detail::DenseDotPath path) {
 
 // The best path's kernel, looked up once (a function-local static: safe during static initialisation).
 Dot4 best_dot4() {
-  static const Dot4 dot = dot4_for(detail::best_dense_dot_path());
+  static const Dot4 dot = dot4_for(best_instruction_set());
   return dot;
 }
 
@@ -893,31 +892,9 @@ double expected_under_initial(const FiniteMdp& m, std::span<const double> value)
 
 namespace detail {
 
-bool dense_dot_path_supported(DenseDotPath path) {
-  switch (path) {
-    case DenseDotPath::kBaseline:
-      return true;
-#ifdef PEGASUS_DENSE_X86
-    case DenseDotPath::kAvx2Fma:
-      return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-    case DenseDotPath::kAvx512:
-      return __builtin_cpu_supports("avx512f");
-#endif
-    default:
-      return false;
-  }
-}
-
-DenseDotPath best_dense_dot_path() {
-  static const DenseDotPath best = dense_dot_path_supported(DenseDotPath::kAvx512) ? DenseDotPath::kAvx512
-                                   : dense_dot_path_supported(DenseDotPath::kAvx2Fma)
-                                       ? DenseDotPath::kAvx2Fma
-                                       : DenseDotPath::kBaseline;
-  return best;
-}
-
-void dense_dot4(DenseDotPath path, const double* p, std::size_t stride, const double* v, int n, double* out) {
-  dot4_for(path)(p, stride, v, n, out);
+void dense_dot4(InstructionSet isa, const double* p, std::size_t stride, const double* v, int n,
+                double* out) {
+  dot4_for(isa)(p, stride, v, n, out);
 }
 
 }  // namespace detail

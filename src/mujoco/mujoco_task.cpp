@@ -8,6 +8,7 @@
 #include <mutex>
 #include <set>
 
+#include "../io/toml_input.hpp"
 #include "pegasus/core/error.hpp"
 #include "pegasus/models/model.hpp"
 
@@ -180,14 +181,7 @@ int MujocoTask::observation_dim() const {
 MujocoTask load_mujoco_task(const std::filesystem::path& path, const MujocoModel& model) {
   const mjModel* m = model.get();
   TaskReader r(path, model);
-  if (!std::filesystem::is_regular_file(path))
-    throw InputError(fmt::format("{}: no such task file", path.string()));
-  toml::table root;
-  try {
-    root = toml::parse_file(path.string());
-  } catch (const toml::parse_error& e) {
-    throw InputError(fmt::format("{}:{}: {}", path.string(), e.source().begin.line, e.description()));
-  }
+  const toml::table root = read_toml_input(path, "task");
   r.check_keys(root, "",
                {"horizon", "discount", "frame_skip", "crash_penalty", "success_return", "initial", "noise",
                 "observation", "reward", "termination"});

@@ -13,6 +13,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "../io/toml_input.hpp"
 #include "pegasus/core/error.hpp"
 #include "pegasus/core/untrusted_text.hpp"
 
@@ -463,21 +464,7 @@ void ConfigSchema::load_toml_file(const std::filesystem::path& file) {
 }
 
 void ConfigSchema::load_toml_string(std::string_view text, const std::string& source_name) {
-  // toml++ 3.3.0 (Debian's) reads past the end on some invalid UTF-8 (fixed upstream later): it never sees
-  // any, and the user learns the line.
-  if (const std::size_t bad = first_invalid_utf8(text); bad != text.size()) {
-    const auto line = 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(bad), '\n');
-    throw InputError(fmt::format("{}:{}: expected UTF-8 text, got the byte 0x{:02X}", printable(source_name),
-                                 line, static_cast<unsigned>(static_cast<unsigned char>(text[bad]))));
-  }
-  toml::table root;
-  try {
-    root = toml::parse(text, source_name);
-  } catch (const toml::parse_error& e) {
-    std::string description(e.description());
-    std::replace(description.begin(), description.end(), '\n', ' ');
-    throw InputError(fmt::format("{}:{}: invalid TOML: {}", source_name, e.source().begin.line, description));
-  }
+  const toml::table root = parse_toml_input(text, source_name);
 
   auto unknown = [&](const std::string& full, const toml::key& key) {
     std::string hint;

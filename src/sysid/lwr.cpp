@@ -14,7 +14,8 @@ namespace {
 const double kCutoff = 2 * std::log(1e16);
 constexpr double kFar = 1e150;  // padding coordinate: d^2 ~ 1e300, weight 0
 
-std::atomic<int> g_forced{static_cast<int>(SimdPath::kAuto)};
+constexpr int kNotForced = -1;
+std::atomic<int> g_forced{kNotForced};
 
 // The Jacobi-scaled inverse of a symmetric positive definite m x m matrix G (m <= kInputs; the X'WX of one
 // output's free inputs): A = D^-1 G D^-1 with D = diag(sqrt(G_rr)), its Cholesky factor A = L L', A^-1 =
@@ -42,10 +43,10 @@ class ScaledInverse {
     for (int o = 0; o < count; ++o)
       for (int c = 0; c < m_; ++c) v[o][c] = b(o, c) * dinv_[c];
     switch (path_) {
-      case SimdPath::kAvx512:
+      case InstructionSet::kAvx512:
         detail::multiply_inverse_avx512(m_, f_, count, v, beta);
         break;
-      case SimdPath::kAvx2:
+      case InstructionSet::kAvx2Fma:
         detail::multiply_inverse_avx2(m_, f_, count, v, beta);
         break;
       default:
@@ -89,55 +90,32 @@ class ScaledInverse {
   // rcond, 0 when a pivot of the factorisation is not positive.
   double invert() {
     switch (path_) {
-      case SimdPath::kAvx512:
+      case InstructionSet::kAvx512:
         return detail::invert_avx512(m_, &f_);
-      case SimdPath::kAvx2:
+      case InstructionSet::kAvx2Fma:
         return detail::invert_avx2(m_, &f_);
       default:
         return detail::invert_scalar(m_, &f_);
     }
   }
 
-  SimdPath path_ = active_simd_path();
+  InstructionSet path_ = lwr_instruction_set();
   int m_ = 0;
   double dinv_[kInputs];
   detail::Factor f_;
 };
 
-SimdPath detect() {
-#if defined(__x86_64__) && defined(__GNUC__)
-  __builtin_cpu_init();
-  if (__builtin_cpu_supports("avx512f")) return SimdPath::kAvx512;
-  if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) return SimdPath::kAvx2;
-#endif
-  return SimdPath::kScalar;
-}
 }  // namespace
 
-void force_simd_path(SimdPath path) { g_forced.store(static_cast<int>(path), std::memory_order_relaxed); }
-
-SimdPath active_simd_path() {
-  static const SimdPath best = detect();
-  const auto forced = static_cast<SimdPath>(g_forced.load(std::memory_order_relaxed));
-  if (forced == SimdPath::kAuto) return best;
-  // A path the CPU lacks falls back to the best one it has.
-  if (forced == SimdPath::kAvx512 && best != SimdPath::kAvx512) return best;
-  if (forced == SimdPath::kAvx2 && best == SimdPath::kScalar) return best;
-  return forced;
+void force_lwr_instruction_set(std::optional<InstructionSet> isa) {
+  g_forced.store(isa ? static_cast<int>(*isa) : kNotForced, std::memory_order_relaxed);
 }
 
-const char* simd_path_name(SimdPath path) {
-  switch (path) {
-    case SimdPath::kAuto:
-      return "auto";
-    case SimdPath::kScalar:
-      return "scalar";
-    case SimdPath::kAvx2:
-      return "avx2";
-    case SimdPath::kAvx512:
-      return "avx512";
-  }
-  return "?";
+InstructionSet lwr_instruction_set() {
+  const int forced = g_forced.load(std::memory_order_relaxed);
+  if (forced == kNotForced || !instruction_set_supported(static_cast<InstructionSet>(forced)))
+    return best_instruction_set();
+  return static_cast<InstructionSet>(forced);
 }
 
 LocalRegression::Column LocalRegression::aligned_columns(std::size_t count) {
@@ -270,11 +248,11 @@ LocalRegression::LocalRegression(const Dataset* data, const std::array<OutputTem
   kd_.box_hi = box_hi_.get();
   kd_.leaf_begin = leaf_begin_.data();
   // Tile shapes per instruction set (registers: 16 of 4 doubles for AVX2, 32 of 8 for AVX-512).
-  plans_[static_cast<std::size_t>(detail::Isa::kScalar)] =
+  plans_[static_cast<std::size_t>(InstructionSet::kBaseline)] =
       detail::tile_plan(gram_m_, kernel_cols, 1, 4, kd_.weight_row);
-  plans_[static_cast<std::size_t>(detail::Isa::kAvx2)] =
+  plans_[static_cast<std::size_t>(InstructionSet::kAvx2Fma)] =
       detail::tile_plan(gram_m_, kernel_cols, 2, 2, kd_.weight_row);
-  plans_[static_cast<std::size_t>(detail::Isa::kAvx512)] =
+  plans_[static_cast<std::size_t>(InstructionSet::kAvx512)] =
       detail::tile_plan(gram_m_, kernel_cols, 4, 12, kd_.weight_row);
 }
 
@@ -416,15 +394,15 @@ LocalFit LocalRegression::fit(const InputVec& q, Eigen::Index exclude_begin, Eig
                                         : tree_[node].right);
   kq.seed_leaf = tree_[node].leaf;
   detail::KernelResult k;
-  switch (active_simd_path()) {
-    case SimdPath::kAvx512:
-      detail::gram_avx512(kd_, plans_[static_cast<std::size_t>(detail::Isa::kAvx512)], kq, &k);
+  switch (lwr_instruction_set()) {
+    case InstructionSet::kAvx512:
+      detail::gram_avx512(kd_, plans_[static_cast<std::size_t>(InstructionSet::kAvx512)], kq, &k);
       break;
-    case SimdPath::kAvx2:
-      detail::gram_avx2(kd_, plans_[static_cast<std::size_t>(detail::Isa::kAvx2)], kq, &k);
+    case InstructionSet::kAvx2Fma:
+      detail::gram_avx2(kd_, plans_[static_cast<std::size_t>(InstructionSet::kAvx2Fma)], kq, &k);
       break;
     default:
-      detail::gram_scalar(kd_, plans_[static_cast<std::size_t>(detail::Isa::kScalar)], kq, &k);
+      detail::gram_scalar(kd_, plans_[static_cast<std::size_t>(InstructionSet::kBaseline)], kq, &k);
       break;
   }
   fit.weight_sum = k.weight_sum;

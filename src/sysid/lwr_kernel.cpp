@@ -1,6 +1,6 @@
 // The Gram kernel and the solve's factorisation (Factor) of lwr_kernel.hpp for three instruction sets. The
-// build has no -march flags, so the AVX2 and AVX-512 versions are compiled through `#pragma GCC target`
-// regions and chosen at run time (lwr.cpp).
+// build has no -march flags, so the AVX2 and AVX-512 versions are compiled in target regions
+// (core/instruction_set.hpp) and chosen at run time (lwr.cpp).
 //
 // Reproducibility: the three versions run the same IEEE operations in the same order (every multiply-add
 // fused, std::fma in the scalar one; the project compiles without -ffast-math and with -ffp-contract=off, the
@@ -19,9 +19,10 @@
 #include <limits>
 #include <utility>
 
-#if defined(__x86_64__) && defined(__GNUC__)
+#include "pegasus/core/instruction_set.hpp"
+
+#ifdef PEGASUS_X86_KERNELS
 #include <immintrin.h>
-#define PEGASUS_LWR_X86 1
 #endif
 
 namespace pegasus::sysid::detail {
@@ -148,10 +149,9 @@ constexpr int kDistanceBlock = 2;
 #include "lwr_kernel.inc"
 }  // namespace scalar_isa
 
-#ifdef PEGASUS_LWR_X86
+#ifdef PEGASUS_X86_KERNELS
 // ------------------------------------------------------------------ AVX2 + FMA: two 256-bit halves
-#pragma GCC push_options
-#pragma GCC target("avx2,fma,popcnt")
+PEGASUS_BEGIN_AVX2_FMA_REGION
 namespace avx2_isa {
 struct V {
   __m256d lo, hi;
@@ -190,11 +190,10 @@ inline void hsum8(const double* v, double* out) { hsum8_lanewise(v, out); }
 constexpr int kDistanceBlock = 4;  // 8 accumulators of 16 registers
 #include "lwr_kernel.inc"
 }  // namespace avx2_isa
-#pragma GCC pop_options
+PEGASUS_END_TARGET_REGION
 
 // ------------------------------------------------------------------ AVX-512: one 512-bit register
-#pragma GCC push_options
-#pragma GCC target("avx512f,avx2,fma,popcnt")
+PEGASUS_BEGIN_AVX512_REGION
 namespace avx512_isa {
 struct V {
   __m512d v;
@@ -248,10 +247,10 @@ inline void hsum8(const double* v, double* out) {
 constexpr int kDistanceBlock = 8;  // 8 accumulators of 32 registers
 #include "lwr_kernel.inc"
 }  // namespace avx512_isa
-#pragma GCC pop_options
+PEGASUS_END_TARGET_REGION
 #endif
 
-#ifndef PEGASUS_LWR_X86
+#ifndef PEGASUS_X86_KERNELS
 // Elsewhere every entry point runs the scalar version.
 namespace avx2_isa = scalar_isa;
 namespace avx512_isa = scalar_isa;

@@ -48,7 +48,6 @@ TEST(BlockUniformStream, IsAPureFunctionOfSeedStreamAndPosition) {
 // The vector Philox paths must give Random123's scalar numbers bit for bit: BlockUniformStream's numbers,
 // and so every learner's results, may not depend on the CPU.
 TEST(BlockUniformStream, VectorPhiloxPathsMatchScalarPhiloxBitForBit) {
-  using detail::PhiloxPath;
   const r123::Philox4x32 philox;
   for (const std::uint64_t seed : {0ull, 42ull, 0xfedcba9876543210ull}) {
     for (const std::uint64_t first : {0ull, 5ull, 0xffffffe0ull, 0x1234567890ull}) {
@@ -66,13 +65,12 @@ TEST(BlockUniformStream, VectorPhiloxPathsMatchScalarPhiloxBitForBit) {
             want[static_cast<std::size_t>(4 * j + w)] =
                 (static_cast<double>(r[static_cast<std::size_t>(w)]) + 0.5) * 0x1.0p-32;
         }
-        for (const PhiloxPath path : {PhiloxPath::kScalar, PhiloxPath::kAvx2, PhiloxPath::kAvx512}) {
-          if (!detail::philox_path_supported(path)) continue;
+        for (const InstructionSet path : supported_instruction_sets()) {
           std::vector<double> got(want.size(), -1.0);
           detail::philox_uniforms(path, key[0], key[1], first, 9u, kBlockStreamDomain, calls, got.data());
           for (std::size_t i = 0; i < want.size(); ++i)
-            ASSERT_EQ(got[i], want[i]) << "path " << static_cast<int>(path) << " seed " << seed << " first "
-                                       << first << " calls " << calls << " index " << i;
+            ASSERT_EQ(got[i], want[i]) << "path " << instruction_set_name(path) << " seed " << seed
+                                       << " first " << first << " calls " << calls << " index " << i;
         }
       }
     }

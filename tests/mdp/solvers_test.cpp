@@ -235,14 +235,12 @@ TEST(Solvers, ExactEvaluationRejectsAnImproperPolicy) {
 // (they sum in different orders, and FMA rounds once), and the solvers' dense sweeps agree with the
 // row-by-row Q values.
 TEST(Solvers, DenseKernelPathsAgreeWithPlainDotProducts) {
-  using detail::DenseDotPath;
   UniformStream rng(21, 0);
   for (const int n : {1, 7, 8, 16, 17, 31, 500, 503}) {
     std::vector<double> p(static_cast<std::size_t>(4 * n)), v(static_cast<std::size_t>(n));
     for (double& x : p) x = rng.next();
     for (double& x : v) x = 10.0 * rng.next() - 5.0;
-    for (const DenseDotPath path : {DenseDotPath::kBaseline, DenseDotPath::kAvx2Fma, DenseDotPath::kAvx512}) {
-      if (!detail::dense_dot_path_supported(path)) continue;
+    for (const InstructionSet path : supported_instruction_sets()) {
       double out[4], again[4];
       detail::dense_dot4(path, p.data(), static_cast<std::size_t>(n), v.data(), n, out);
       detail::dense_dot4(path, p.data(), static_cast<std::size_t>(n), v.data(), n, again);
@@ -255,7 +253,7 @@ TEST(Solvers, DenseKernelPathsAgreeWithPlainDotProducts) {
           magnitude += t < 0 ? -t : t;
         }
         EXPECT_NEAR(out[a], static_cast<double>(exact), 1e-15 * n * static_cast<double>(magnitude))
-            << "path " << static_cast<int>(path) << " n " << n << " row " << a;
+            << "path " << instruction_set_name(path) << " n " << n << " row " << a;
         EXPECT_EQ(out[a], again[a]);  // deterministic
       }
     }

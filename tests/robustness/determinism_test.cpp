@@ -18,11 +18,13 @@ using pegasus::test_support::run_pegasus;
 
 class SummaryDeterminism : public pegasus::test_support::TempDirTest {
  protected:
-  // Runs `args` twice (into NAME-a and NAME-b) and expects byte-identical summary.json files.
+  // Runs `args` twice (into NAME-a on one thread and NAME-b on two) and expects byte-identical summary.json
+  // files: a summary is a function of the inputs, and the thread count never changes a result.
   void expect_identical_summaries(const std::string& name, const std::string& args) const {
     SCOPED_TRACE(args);
     for (const char* copy : {"-a", "-b"}) {
-      const auto r = run_pegasus(args + " --quiet --out " + (dir_ / (name + copy)).string());
+      const std::string threads = copy == std::string("-a") ? " --threads 1" : " --threads 2";
+      const auto r = run_pegasus(args + threads + " --quiet --out " + (dir_ / (name + copy)).string());
       ASSERT_EQ(r.code, 0) << r.output;
     }
     const std::string a = read_text(dir_ / (name + "-a") / "summary.json");
@@ -79,6 +81,29 @@ TEST_F(SummaryDeterminism, EveryHelicopterCommandGivesIdenticalSummaries) {
   expect_identical_summaries("fly",
                              "heli fly --policy " + path("hover-a/policy.json") + " --flights 2 --seconds 2");
   EXPECT_EQ(commands_, 4);
+}
+
+// The manoeuvre trainer and the whole pipeline on tiny settings; the pipeline's stages name each other's
+// files by paths relative to its run directory, so every stage's summary is also identical between the two
+// copies.
+TEST_F(SummaryDeterminism, TheManeuverAndThePipelineGiveIdenticalSummaries) {
+  expect_identical_summaries(
+      "pipeline",
+      "heli pipeline --train-seconds 40 --test-seconds 25 --cv-points 20 --scale-grid 2,4 "
+      "--coordinate-passes 0 "
+      "--scenarios 2 --scenario-seconds 2 --gradient-iterations 0 --hill-climbing-iterations 1 --flights 2 "
+      "--flight-seconds 2 --seed 4");
+  for (const char* stage : {"pilot-train", "pilot-test", "identify", "hover", "fly"}) {
+    SCOPED_TRACE(stage);
+    EXPECT_EQ(read_text(dir_ / "pipeline-a" / stage / "summary.json"),
+              read_text(dir_ / "pipeline-b" / stage / "summary.json"));
+  }
+  expect_identical_summaries(
+      "maneuver", "heli maneuver --name III.2 --model " + path("pipeline-a/identify/model.json") +
+                      " --circle-radius 2 --pause-s 0.5 --hold-end-s 0.5 --speed 1 --scenarios 2 "
+                      "--optimizer.method hill-climb --optimizer.hill-climbing.max-iterations 1 "
+                      "--optimizer.hill-climbing.proposals-per-iteration 2 --flights 2 --ablations=false");
+  EXPECT_EQ(commands_, 2);
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 #include "pegasus/core/untrusted_text.hpp"
 #include "pegasus/experiments/bicycle_experiment.hpp"
 #include "pegasus/heli/policy_file.hpp"
+#include "pegasus/logs/ulog_import.hpp"
 #include "pegasus/mdp/mdp_json.hpp"
 #include "pegasus/runs/config.hpp"
 #include "pegasus/shaping/shaping_table.hpp"
@@ -72,6 +73,21 @@ TEST_F(InputFiles, ADirectoryWhereAFileBelongsIsNamedInEveryReader) {
   expect_names(input_error_message([&] { (void)pegasus::sysid::IdentifiedModel::load(f); }), f,
                "Is a directory");
   expect_names(input_error_message([&] { (void)pegasus::sysid::read_flight_log(f); }), f, "Is a directory");
+  expect_names(input_error_message([&] { (void)pegasus::logs::read_vehicle_log_spec(f); }), f,
+               "Is a directory");
+}
+
+// Every TOML reader (run configs, vehicle files, MuJoCo tasks) goes through io/toml_input: bytes that are not
+// UTF-8 never reach toml++ (Debian's 3.3.0 reads past its buffer on some), and the message names the line.
+TEST_F(InputFiles, TomlReadersRefuseInvalidUtf8NamingTheLine) {
+  const std::string vehicle = write("v.toml",
+                                    "[vehicle]\nname = \"q\"\n[log]\nrate_hz = 5\xff"
+                                    "0\n");
+  expect_names(input_error_message([&] { (void)pegasus::logs::read_vehicle_log_spec(vehicle); }),
+               vehicle + ":4", "expected UTF-8 text, got the byte 0xFF");
+  const std::string syntax = write("s.toml", "[log]\nrate_hz = = 5\n");
+  expect_names(input_error_message([&] { (void)pegasus::logs::read_vehicle_log_spec(syntax); }),
+               syntax + ":2", "invalid TOML");
 }
 
 TEST_F(InputFiles, DeclaredMdpSizesAreRefusedBeforeAnythingIsAllocated) {

@@ -228,8 +228,8 @@ TEST(FastRefit, EveryInstructionSetGivesTheSameBits) {
   const LocalRegression lwr(&data, output_templates(ModelStructure{}), inverse_bandwidth(data, 1));
   const LocalRegression narrow(&data, output_templates(ModelStructure{}), inverse_bandwidth(data, 0.2));
   std::vector<LocalFit> reference;
-  for (SimdPath path : {SimdPath::kScalar, SimdPath::kAvx2, SimdPath::kAvx512}) {
-    force_simd_path(path);
+  for (const InstructionSet path : supported_instruction_sets()) {
+    force_lwr_instruction_set(path);
     std::size_t n = 0;
     for (const LocalRegression* r : {&lwr, &narrow})
       for (Eigen::Index i = 1; i < data.rows(); i += 101) {
@@ -237,12 +237,12 @@ TEST(FastRefit, EveryInstructionSetGivesTheSameBits) {
         q[kPitchRate] += 0.05;
         // fit_exact too: its solve runs on the same instruction set.
         const LocalFit f = i % 4 == 1 ? r->fit_exact(q, i - 30, i + 30) : r->fit(q, i - 30, i + 30);
-        if (path == SimdPath::kScalar) {
+        if (path == InstructionSet::kBaseline) {
           reference.push_back(f);
           continue;
         }
         const LocalFit& e = reference[n++];
-        SCOPED_TRACE(simd_path_name(active_simd_path()));
+        SCOPED_TRACE(instruction_set_name(lwr_instruction_set()));
         EXPECT_EQ(f.singular, e.singular);
         EXPECT_EQ(f.points, e.points);
         EXPECT_EQ(f.weight_sum, e.weight_sum);
@@ -254,7 +254,7 @@ TEST(FastRefit, EveryInstructionSetGivesTheSameBits) {
         }
       }
   }
-  force_simd_path(SimdPath::kAuto);
+  force_lwr_instruction_set(std::nullopt);
   EXPECT_GT(reference.size(), 20u);
 }
 

@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "pegasus/logs/ulog.hpp"
@@ -54,6 +55,8 @@ struct VehicleLogSpec {
 // Reads a vehicle file's [vehicle] name and [log] section; InputError "FILE:LINE: key: expected ..." on a
 // missing or bad entry.
 VehicleLogSpec read_vehicle_log_spec(const std::filesystem::path& file);
+// The same for text already read; `name` stands for the file in messages.
+VehicleLogSpec parse_vehicle_log_spec(std::string_view text, const std::filesystem::path& name);
 
 struct ImportOptions {
   double start_s = 0;  // cut: seconds after the first common timestamp

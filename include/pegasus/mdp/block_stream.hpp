@@ -1,4 +1,6 @@
 #pragma once
+
+#include "pegasus/core/instruction_set.hpp"
 // A fast sequential stream of uniforms for tabular learners, drop-in for UniformStream (next(),
 // next_below(), seed/stream/position). Like UniformStream it is a pure function of (seed, stream,
 // position) through Philox4x32-10 (thesis §4.4 determinism: checkpointable, identical on every thread),
@@ -19,20 +21,13 @@ inline constexpr std::uint32_t kBlockStreamDomain = 0x4d445030u;  // "MDP0"
 
 namespace detail {
 
-// Which instruction set computes a block of Philox uniforms. Every path returns bit-identical numbers (the
-// Philox arithmetic is exact integer arithmetic and the conversion to double is exact), so the choice,
-// made once per process from the CPU's features, never changes a result.
-enum class PhiloxPath { kScalar, kAvx2, kAvx512 };
-
 // out[4 j + w] = (word w of Philox4x32-10({c, c >> 32, stream, domain}, key) + 0.5) 2^-32 with
-// c = first_call + j, for j in [0, calls): what BlockUniformStream's buffer holds. `path` must be
-// supported by this CPU (philox_path_supported).
-void philox_uniforms(PhiloxPath path, std::uint32_t key0, std::uint32_t key1, std::uint64_t first_call,
+// c = first_call + j, for j in [0, calls): what BlockUniformStream's buffer holds. `isa` must be supported
+// (instruction_set_supported). Every set returns bit-identical numbers (the Philox arithmetic is exact
+// integer arithmetic and the conversion to double is exact), so the choice never changes a result.
+void philox_uniforms(InstructionSet isa, std::uint32_t key0, std::uint32_t key1, std::uint64_t first_call,
                      std::uint32_t stream, std::uint32_t domain, int calls, double* out);
-// The fastest path this CPU supports (kAvx512 needs AVX-512F, kAvx2 needs AVX2).
-PhiloxPath best_philox_path();
-bool philox_path_supported(PhiloxPath path);
-// philox_uniforms on best_philox_path().
+// philox_uniforms on best_instruction_set().
 void philox_uniforms(std::uint32_t key0, std::uint32_t key1, std::uint64_t first_call, std::uint32_t stream,
                      std::uint32_t domain, int calls, double* out);
 

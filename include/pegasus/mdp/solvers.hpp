@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "pegasus/core/instruction_set.hpp"
 #include "pegasus/mdp/finite_mdp.hpp"
 
 namespace pegasus {
@@ -125,14 +126,11 @@ double expected_under_initial(const FiniteMdp& mdp, std::span<const double> valu
 
 namespace detail {
 // The kernel of a dense MDP's sweep (every row lists every state): four dot products of consecutive rows
-// with V. The instruction set is chosen once per process from the CPU (AVX-512, else AVX2 with FMA, else
-// SSE2), so results are deterministic on a given machine; the paths sum in different orders and FMA
-// rounds once, so they agree to a few ulps of sum_k |p_k v_k|, not bit for bit. Exposed for tests.
-enum class DenseDotPath { kBaseline, kAvx2Fma, kAvx512 };
-bool dense_dot_path_supported(DenseDotPath path);
-DenseDotPath best_dense_dot_path();
-// out[a] = sum_{k < n} p[a * stride + k] v[k], a = 0..3. `path` must be supported.
-void dense_dot4(DenseDotPath path, const double* p, std::size_t stride, const double* v, int n, double* out);
+// with V. The sweep runs on best_instruction_set() (the baseline is SSE2), so results are deterministic on a
+// given machine; the sets sum in different orders and FMA rounds once, so they agree to a few ulps of
+// sum_k |p_k v_k|, not bit for bit. Exposed for tests.
+// out[a] = sum_{k < n} p[a * stride + k] v[k], a = 0..3. `isa` must be supported.
+void dense_dot4(InstructionSet isa, const double* p, std::size_t stride, const double* v, int n, double* out);
 }  // namespace detail
 
 }  // namespace pegasus

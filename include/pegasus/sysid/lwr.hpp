@@ -31,8 +31,10 @@
 #include <cstddef>
 #include <memory>
 #include <new>
+#include <optional>
 #include <vector>
 
+#include "pegasus/core/instruction_set.hpp"
 #include "pegasus/sysid/body_model.hpp"
 #include "pegasus/sysid/lwr_kernel.hpp"
 
@@ -40,12 +42,11 @@ namespace pegasus::sysid {
 
 inline constexpr double kSingularRcond = 1e-12;
 
-// Which instruction set fit uses: kAuto picks the widest the CPU has. Forcing one is for tests and benchmarks
-// (all give the same bits); not meant to be changed while fits run.
-enum class SimdPath { kAuto, kScalar, kAvx2, kAvx512 };
-void force_simd_path(SimdPath path);
-SimdPath active_simd_path();  // never kAuto
-const char* simd_path_name(SimdPath path);
+// Which instruction set fit uses: best_instruction_set() unless one is forced (for tests and benchmarks; all
+// give the same bits; std::nullopt returns to the best). A set the CPU lacks falls back to the best it has.
+// Not meant to be changed while fits run.
+void force_lwr_instruction_set(std::optional<InstructionSet> isa);
+InstructionSet lwr_instruction_set();
 
 struct LocalFit {
   std::array<InputVec, kBodyVars> beta{};  // 0 at inputs the template fixes
@@ -124,7 +125,7 @@ class LocalRegression {
   std::vector<int> leaf_begin_;
   std::vector<SplitNode> tree_;
   detail::KernelData kd_;
-  std::array<detail::TilePlan, 3> plans_;  // per detail::Isa
+  std::array<detail::TilePlan, 3> plans_;  // per InstructionSet
   Gram global_g_ = Gram::Zero();           // for the global model: sums over all points
   Cross global_b_ = Cross::Zero();
 };

@@ -41,8 +41,6 @@ inline constexpr int kMaxCols = kInputs + kBodyVars;  // Gram columns at most
 inline constexpr int kMaxAcc =
     kInputs * kMaxCols * kLanes;  // tile accumulators at most (tiles never overlap)
 
-enum class Isa : int { kScalar = 0, kAvx2 = 1, kAvx512 = 2 };
-
 // Which tile code runs (lwr_kernel.inc: tile): off the diagonal, or the first tile of a row group, on the
 // diagonal, which also sums the constant input's column (moments) when it is not stored, and in the last row
 // group also stands in w for that input's row.

@@ -1,0 +1,49 @@
+#include "toml_input.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "pegasus/core/error.hpp"
+#include "pegasus/core/untrusted_text.hpp"
+
+namespace pegasus {
+
+toml::table parse_toml_input(std::string_view text, std::string_view name) {
+  if (const std::size_t bad = first_invalid_utf8(text); bad != text.size()) {
+    const auto line = 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(bad), '\n');
+    throw InputError(fmt::format("{}:{}: expected UTF-8 text, got the byte 0x{:02X}", printable(name), line,
+                                 static_cast<unsigned>(static_cast<unsigned char>(text[bad]))));
+  }
+  try {
+    return toml::parse(text, std::string(name));
+  } catch (const toml::parse_error& e) {
+    std::string description(e.description());
+    std::replace(description.begin(), description.end(), '\n', ' ');
+    throw InputError(fmt::format("{}:{}: invalid TOML: {}", printable(name), e.source().begin.line,
+                                 printable(description)));
+  }
+}
+
+toml::table read_toml_input(const std::filesystem::path& file, std::string_view what) {
+  std::error_code ec;
+  errno = 0;
+  std::ifstream in(file, std::ios::binary);
+  if (!in || std::filesystem::is_directory(file, ec)) {
+    throw InputError(fmt::format("{}: expected a readable {} file, got {}", printable(file.string()), what,
+                                 std::filesystem::is_directory(file, ec) ? std::strerror(EISDIR)
+                                 : errno != 0                            ? std::strerror(errno)
+                                                                         : "nothing readable"));
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw InputError(fmt::format("{}: cannot read the {} file", printable(file.string()), what));
+  return parse_toml_input(text.str(), file.string());
+}
+
+}  // namespace pegasus
