@@ -191,17 +191,21 @@ BicycleTrainingResult train_bicycle(const BicycleTrainingOptions& options, const
   std::string error;
   if (!options.IsValid(&error)) throw InputError("bicycle training: " + error);
   auto objective = training_objective(options, borrow_pool(pool, options.threads));
-  OptimizerOptions optimizer = options.optimizer;
-  DeriveOptimizerSeeds(options.seed, SeedDomains{}, &optimizer);  // apart from the scenarios' streams
+  TrainingPlan plan;
+  plan.seed = options.seed;
+  plan.stages = {{.name = options.optimizer.method, .optimizer = options.optimizer}};
   if (hooks.on_checkpoint && hooks.checkpoint_every > 0) {
-    optimizer.SetCheckpointing(hooks.checkpoint_every, hooks.on_checkpoint,
-                               options.estimator == "pegasus" ? hooks.resume_from : std::nullopt);
+    plan.checkpoint_every = hooks.checkpoint_every;
+    plan.on_checkpoint = hooks.on_checkpoint;
+    // A Monte Carlo objective draws new numbers at every call, so only PEGASUS training resumes exactly.
+    if (options.estimator == "pegasus") plan.resume_from = hooks.resume_from;
   }
   BicycleTrainingResult result;
   result.theta = options.initial_policy == "balance" ? bicycle_balancing_theta()
                                                      : Theta(2 * BicycleFeatures::kCount, 0.0);
-  Solve(optimizer, *objective, &result.theta, &result.summary);
-  result.theta = result.summary.best_theta.empty() ? result.theta : result.summary.best_theta;
+  TrainingSummary summary;
+  Train(plan, *objective, &result.theta, &summary);
+  result.summary = std::move(summary.stages.front());
   return result;
 }
 

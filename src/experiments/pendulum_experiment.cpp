@@ -8,6 +8,7 @@
 #include <ctime>
 #include <limits>
 #include <memory>
+#include <optional>
 
 #include "pegasus/core/error.hpp"
 #include "pegasus/evaluators/monte_carlo.hpp"
@@ -44,46 +45,42 @@ Evaluator episodes_evaluator(int episodes, int horizon, std::uint64_t seed, Scen
                    Discounting{.gamma = 1.0, .horizon = horizon});
 }
 
-// The training objective seen through a window: each new best U-hat is checked against the bar on the
-// evaluation episodes (the theta padded with zeros to the full class), until the bar is reached. Values
-// pass through unchanged, so the search is the same with or without the watch. One watch serves both
-// stages (watch(), which also forgets the best U-hat: the stages' scenario sets differ), so the clocks and
-// the evaluation count run on across them.
-class BarWatch final : public Objective {
- public:
-  BarWatch(const Evaluator& evaluation, ThreadPool* pool, double bar, double seconds_before,
-           double cpu_seconds_before, std::int64_t evaluations_before, PendulumTrainingResult& result)
-      : evaluation_(evaluation),
-        pool_(pool),
-        bar_(bar),
-        seconds_before_(seconds_before),
-        cpu_seconds_before_(cpu_seconds_before),
-        evaluations_(evaluations_before),
-        result_(result),
-        start_(Clock::now()),
-        cpu_start_(std::clock()) {}
+// The clocks and the evaluation count of a whole training: they run on across the stages and across a
+// resume (the counts before it come from the checkpoint).
+struct BarClock {
+  double seconds_before = 0.0, cpu_seconds_before = 0.0;
+  std::int64_t evaluations = 0;
+  Clock::time_point start = Clock::now();
+  std::clock_t cpu_start = std::clock();
 
-  void watch(Objective& inner) {
-    inner_ = &inner;
-    best_ = -std::numeric_limits<double>::infinity();
-  }
-  const ParameterSpec& parameters() const override { return inner_->parameters(); }
-  std::int64_t evaluations() const { return evaluations_; }
   double seconds() const {
-    return seconds_before_ + std::chrono::duration<double>(Clock::now() - start_).count();
+    return seconds_before + std::chrono::duration<double>(Clock::now() - start).count();
   }
   double cpu_seconds() const {
-    return cpu_seconds_before_ + static_cast<double>(std::clock() - cpu_start_) / CLOCKS_PER_SEC;
+    return cpu_seconds_before + static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
   }
+};
+
+// A stage's training objective seen through a window: each new best U-hat is checked against the bar on the
+// evaluation episodes (the theta padded with zeros to the full class), until the bar is reached. Values
+// pass through unchanged, so the search is the same with or without the watch. Each stage has its own
+// watch (the best U-hat is per stage: the stages' scenario sets differ) on the training's one clock.
+class BarWatch final : public Objective {
+ public:
+  BarWatch(Objective& inner, const Evaluator& evaluation, ThreadPool* pool, double bar, BarClock& clock,
+           PendulumTrainingResult& result)
+      : inner_(inner), evaluation_(evaluation), pool_(pool), bar_(bar), clock_(clock), result_(result) {}
+
+  const ParameterSpec& parameters() const override { return inner_.parameters(); }
   double evaluate(std::span<const double> theta) override {
-    const double v = inner_->evaluate(theta);
-    ++evaluations_;
+    const double v = inner_.evaluate(theta);
+    ++clock_.evaluations;
     note(theta, v);
     return v;
   }
   void evaluate_batch(std::span<const Theta> thetas, std::span<double> values) override {
-    inner_->evaluate_batch(thetas, values);
-    evaluations_ += static_cast<std::int64_t>(thetas.size());
+    inner_.evaluate_batch(thetas, values);
+    clock_.evaluations += static_cast<std::int64_t>(thetas.size());
     std::size_t best = thetas.size();
     for (std::size_t k = 0; k < thetas.size(); ++k)
       if (std::isfinite(values[k]) && (best == thetas.size() || values[k] > values[best])) best = k;
@@ -95,23 +92,21 @@ class BarWatch final : public Objective {
     if (!(v > best_) || result_.evaluations_to_bar >= 0) return;
     best_ = v;
     const double mean = evaluation_.evaluate(pendulum_full_theta(theta), pool_);
-    const double seconds = this->seconds();
-    result_.checks.push_back({seconds, evaluations_, v, mean});
+    const double seconds = clock_.seconds();
+    result_.checks.push_back({seconds, clock_.evaluations, v, mean});
     if (mean >= bar_) {
       result_.seconds_to_bar = seconds;
-      result_.cpu_seconds_to_bar = cpu_seconds();
-      result_.evaluations_to_bar = evaluations_;
+      result_.cpu_seconds_to_bar = clock_.cpu_seconds();
+      result_.evaluations_to_bar = clock_.evaluations;
     }
   }
 
-  Objective* inner_ = nullptr;
+  Objective& inner_;
   const Evaluator& evaluation_;
   ThreadPool* pool_;
-  double bar_, seconds_before_, cpu_seconds_before_;
-  std::int64_t evaluations_;
+  double bar_;
+  BarClock& clock_;
   PendulumTrainingResult& result_;
-  Clock::time_point start_;
-  std::clock_t cpu_start_;
   double best_ = -std::numeric_limits<double>::infinity();
 };
 
@@ -199,15 +194,13 @@ PendulumTrainingResult train_pendulum(const PendulumTrainingOptions& options,
   PendulumTrainingResult result;
   result.seconds_to_bar = std::numeric_limits<double>::quiet_NaN();
   result.cpu_seconds_to_bar = std::numeric_limits<double>::quiet_NaN();
-  double seconds_before = 0.0, cpu_seconds_before = 0.0;
-  std::int64_t evaluations_before = 0;
-  int stage = 1;
-  std::optional<nlohmann::json> optimizer_resume;
+  BarClock clock;
+  // The watch's state travels in the training checkpoint's "caller" entry.
   if (hooks.resume_from) {
-    const nlohmann::json& bar = hooks.resume_from->at("bar");
-    seconds_before = bar.at("seconds").get<double>();
-    cpu_seconds_before = bar.at("cpu_seconds").get<double>();
-    evaluations_before = bar.at("evaluations").get<std::int64_t>();
+    const nlohmann::json& bar = hooks.resume_from->at("caller").at("bar");
+    clock.seconds_before = bar.at("seconds").get<double>();
+    clock.cpu_seconds_before = bar.at("cpu_seconds").get<double>();
+    clock.evaluations = bar.at("evaluations").get<std::int64_t>();
     for (const auto& c : bar.at("checks"))
       result.checks.push_back(
           {c.at(0).get<double>(), c.at(1).get<std::int64_t>(), c.at(2).get<double>(), c.at(3).get<double>()});
@@ -216,68 +209,59 @@ PendulumTrainingResult train_pendulum(const PendulumTrainingOptions& options,
       result.cpu_seconds_to_bar = bar.at("cpu_seconds_to_bar").get<double>();
       result.evaluations_to_bar = bar.at("evaluations_to_bar").get<std::int64_t>();
     }
-    stage = hooks.resume_from->value("stage", 1);
-    if (stage != 1 && (stage != 2 || !refine))
-      throw InputError(fmt::format("checkpoint stage: expected 1{}, got {}", refine ? " or 2" : "", stage));
-    if (stage == 2) result.summary = SummaryFromJson(hooks.resume_from->at("race"), "race");
-    if (!hooks.resume_from->at("optimizer").is_null()) optimizer_resume = hooks.resume_from->at("optimizer");
   }
-  BarWatch watch(evaluation, shared_pool.get(), options.bar, seconds_before, cpu_seconds_before,
-                 evaluations_before, result);
-  const bool checkpointing = hooks.on_checkpoint && hooks.checkpoint_every > 0;
-  auto checkpoint = [&](int current, const nlohmann::json& optimizer_state) {
-    const bool reached = result.evaluations_to_bar >= 0;
-    nlohmann::json state = {
-        {"stage", current},
-        {"optimizer", optimizer_state},
-        {"bar",
-         {{"seconds", watch.seconds()},
-          {"cpu_seconds", watch.cpu_seconds()},
-          {"evaluations", watch.evaluations()},
-          {"checks", checks_json(result.checks)},
-          {"seconds_to_bar", reached ? nlohmann::json(result.seconds_to_bar) : nlohmann::json(nullptr)},
-          {"cpu_seconds_to_bar",
-           reached ? nlohmann::json(result.cpu_seconds_to_bar) : nlohmann::json(nullptr)},
-          {"evaluations_to_bar", result.evaluations_to_bar}}}};
-    if (current == 2) state["race"] = SummaryToJson(result.summary);
-    hooks.on_checkpoint(state);
-  };
 
-  if (stage == 1) {
-    PegasusObjective<Pendulum, PendulumSwingUpPolicy> race(
-        episodes_evaluator(options.scenarios, options.horizon, options.seed, options.variant, false),
-        shared_pool);
-    watch.watch(race);
-    OptimizerOptions optimizer = options.optimizer;
-    DeriveOptimizerSeeds(options.seed, SeedDomains{}, &optimizer);
-    if (checkpointing)
-      optimizer.SetCheckpointing(
-          hooks.checkpoint_every, [&](const nlohmann::json& state) { checkpoint(1, state); },
-          optimizer_resume);
-    Theta theta = race.parameters().initial();
-    Solve(optimizer, watch, &theta, &result.summary);
-    optimizer_resume.reset();
-    if (refine && checkpointing) checkpoint(2, nullptr);
+  // The race searches the five-number class; the refinement frees the lead and the skew, starting from the
+  // race's best padded with zeros, on its own, larger scenario set.
+  PegasusObjective<Pendulum, PendulumSwingUpPolicy> race(
+      episodes_evaluator(options.scenarios, options.horizon, options.seed, options.variant, false),
+      shared_pool);
+  BarWatch race_watch(race, evaluation, shared_pool.get(), options.bar, clock, result);
+  std::optional<PegasusObjective<Pendulum, PendulumSwingUpPolicy>> refinement;
+  std::optional<BarWatch> refine_watch;
+  TrainingPlan plan;
+  plan.seed = options.seed;
+  plan.stages.push_back({.name = "race", .optimizer = options.optimizer, .objective = &race_watch});
+  if (refine) {
+    refinement.emplace(episodes_evaluator(options.refine_scenarios, options.horizon,
+                                          mix_seed(options.seed, 0x52656669),  // "Refi"
+                                          options.variant),
+                       shared_pool);
+    refine_watch.emplace(*refinement, evaluation, shared_pool.get(), options.bar, clock, result);
+    plan.stages.push_back({.name = "refine",
+                           .optimizer = options.refine_optimizer,
+                           .seeds = kRefineSeedDomains,
+                           .objective = &*refine_watch,
+                           .start_from = [](const Theta& t) { return pendulum_full_theta(t); }});
   }
+  if (hooks.on_checkpoint && hooks.checkpoint_every > 0) {
+    plan.checkpoint_every = hooks.checkpoint_every;
+    plan.on_checkpoint = hooks.on_checkpoint;
+    plan.caller_state = [&] {
+      const bool reached = result.evaluations_to_bar >= 0;
+      return nlohmann::json{
+          {"bar",
+           {{"seconds", clock.seconds()},
+            {"cpu_seconds", clock.cpu_seconds()},
+            {"evaluations", clock.evaluations},
+            {"checks", checks_json(result.checks)},
+            {"seconds_to_bar", reached ? nlohmann::json(result.seconds_to_bar) : nlohmann::json(nullptr)},
+            {"cpu_seconds_to_bar",
+             reached ? nlohmann::json(result.cpu_seconds_to_bar) : nlohmann::json(nullptr)},
+            {"evaluations_to_bar", result.evaluations_to_bar}}}};
+    };
+  }
+  plan.resume_from = hooks.resume_from;
+  Theta theta = race.parameters().initial();
+  TrainingSummary summary;
+  Train(plan, race_watch, &theta, &summary);
+
+  result.summary = summary.stages.front();
   const Theta race_theta = pendulum_full_theta(result.summary.best_theta);
   result.race_mean_return_100 = evaluation.evaluate(race_theta, shared_pool.get());
   result.theta = race_theta;
-
-  if (refine) {
-    PegasusObjective<Pendulum, PendulumSwingUpPolicy> refinement(
-        episodes_evaluator(options.refine_scenarios, options.horizon,
-                           mix_seed(options.seed, 0x52656669),  // "Refi"
-                           options.variant),
-        shared_pool);
-    watch.watch(refinement);
-    OptimizerOptions optimizer = options.refine_optimizer;
-    DeriveOptimizerSeeds(options.seed, kRefineSeedDomains, &optimizer);
-    if (checkpointing)
-      optimizer.SetCheckpointing(
-          hooks.checkpoint_every, [&](const nlohmann::json& state) { checkpoint(2, state); },
-          optimizer_resume);
-    Theta theta = race_theta;
-    Solve(optimizer, watch, &theta, &result.refine_summary);
+  if (refine && summary.stages.size() > 1) {
+    result.refine_summary = summary.stages[1];
     if (!result.refine_summary.best_theta.empty()) result.theta = result.refine_summary.best_theta;
   }
   result.mean_return_100 =

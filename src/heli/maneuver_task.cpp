@@ -147,14 +147,19 @@ ManeuverTrainingResult train_maneuver(std::shared_ptr<const sysid::IdentifiedMod
                                       ThreadPool& pool) {
   auto objective = maneuver_objective(std::move(model), o, policy,
                                       std::shared_ptr<ThreadPool>(std::shared_ptr<ThreadPool>(), &pool));
-  OptimizerOptions opt = o.optimizer;
-  DeriveOptimizerSeeds(o.seed, SeedDomains{}, &opt);  // apart from the scenarios' streams
-  if (hooks.on_checkpoint && hooks.checkpoint_every > 0)
-    opt.SetCheckpointing(hooks.checkpoint_every, hooks.on_checkpoint, hooks.resume_from);
+  TrainingPlan plan;
+  plan.seed = o.seed;
+  plan.stages = {{.name = o.optimizer.method, .optimizer = o.optimizer}};
+  if (hooks.on_checkpoint && hooks.checkpoint_every > 0) {
+    plan.checkpoint_every = hooks.checkpoint_every;
+    plan.on_checkpoint = hooks.on_checkpoint;
+    plan.resume_from = hooks.resume_from;
+  }
   ManeuverTrainingResult result;
   result.theta = start;
-  Solve(opt, *objective, &result.theta, &result.summary);
-  if (!result.summary.best_theta.empty()) result.theta = result.summary.best_theta;
+  TrainingSummary summary;
+  Train(plan, *objective, &result.theta, &summary);
+  result.summary = std::move(summary.stages.front());
   return result;
 }
 

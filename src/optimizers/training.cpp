@@ -17,12 +17,13 @@ bool fail(std::string* error, std::string message) {
   return false;
 }
 
-json PlanCheckpoint(std::size_t stage, const json& finished, json optimizer) {
+json PlanCheckpoint(const TrainingPlan& plan, std::size_t stage, const json& finished, json optimizer) {
   return json{{"format", kTrainingCheckpointFormat},
               {"version", kTrainingCheckpointVersion},
               {"stage", stage},
               {"finished", finished},
-              {"optimizer", std::move(optimizer)}};
+              {"optimizer", std::move(optimizer)},
+              {"caller", plan.caller_state ? plan.caller_state() : json(nullptr)}};
 }
 
 // Appends a stage's history to the merged one, counting on from the stages before it.
@@ -135,10 +136,11 @@ void Train(const TrainingPlan& plan, Objective& objective, Theta* theta, Trainin
     if (plan.checkpoint_every > 0) {
       options.SetCheckpointing(
           plan.checkpoint_every,
-          [&plan, k, &finished](const json& c) { plan.on_checkpoint(PlanCheckpoint(k, finished, c)); },
+          [&plan, k, &finished](const json& c) { plan.on_checkpoint(PlanCheckpoint(plan, k, finished, c)); },
           k == first_stage ? resume : std::nullopt);
     }
     options.SetCallbacks(plan.callbacks);
+    if (stage.start_from) *theta = stage.start_from(*theta);
     OptimizerSummary s;
     Solve(options, stage.objective != nullptr ? *stage.objective : objective, theta, &s);
     *theta = s.best_theta;
@@ -154,7 +156,7 @@ void Train(const TrainingPlan& plan, Objective& objective, Theta* theta, Trainin
     }
     // A stage boundary is a checkpoint: a kill now resumes at the next stage, not in this one.
     if (plan.checkpoint_every > 0 && k + 1 < plan.stages.size())
-      plan.on_checkpoint(PlanCheckpoint(k + 1, finished, nullptr));
+      plan.on_checkpoint(PlanCheckpoint(plan, k + 1, finished, nullptr));
   }
   if (summary->stages.empty()) throw InputError("training plan: every stage has method \"none\"");
   summary->initial_value = summary->stages.front().initial_value;

@@ -63,8 +63,8 @@ struct BicycleTrainingOptions {
 
 struct BicycleTrainingHooks {
   std::int64_t checkpoint_every = 0;          // optimizer iterations between checkpoints (0: none)
-  CheckpointCallback on_checkpoint;           // receives the optimizer's checkpoint
-  std::optional<nlohmann::json> resume_from;  // an optimizer checkpoint to continue (PEGASUS only)
+  CheckpointCallback on_checkpoint;           // receives the training layer's checkpoint (training.hpp)
+  std::optional<nlohmann::json> resume_from;  // such a checkpoint to continue (PEGASUS only)
 };
 
 struct BicycleTrainingResult {

@@ -60,8 +60,8 @@ struct PendulumTrainingOptions {
 
 struct PendulumTrainingHooks {
   std::int64_t checkpoint_every = 0;  // optimizer iterations between checkpoints (0: none)
-  // Receives {"stage": 1, "optimizer": ..., "bar": ...} during the race, and {"stage": 2, "optimizer":
-  // ... (null just after the race), "race": the race's summary, "bar": ...} during the refinement.
+  // Receives the training layer's checkpoints (optimizers/training.hpp; stage 0 is the race, 1 the
+  // refinement) with the bar's clocks and checks under "caller": {"bar": ...}.
   CheckpointCallback on_checkpoint;
   std::optional<nlohmann::json> resume_from;  // a state given to on_checkpoint
 };

@@ -146,7 +146,7 @@ std::unique_ptr<Objective> maneuver_objective(std::shared_ptr<const sysid::Ident
 
 struct ManeuverTrainingHooks {
   std::int64_t checkpoint_every = 1;
-  CheckpointCallback on_checkpoint;           // the optimizer's checkpoint; write it atomically
+  CheckpointCallback on_checkpoint;           // the training layer's checkpoint; write it atomically
   std::optional<nlohmann::json> resume_from;  // continue exactly from such a checkpoint
 };
 

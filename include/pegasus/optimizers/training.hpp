@@ -21,7 +21,9 @@
 //   stage      index of the stage running (or about to run)
 //   finished   [SummaryToJson of each finished stage]
 //   optimizer  the running stage's optimizer checkpoint, or null at a stage boundary
+//   caller     plan.caller_state() at that moment, or null without one
 #include <cstdint>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -59,6 +61,9 @@ struct TrainingStage {
   SeedDomains seeds{};
   // The stage's objective; null: the one passed to Train (a refinement may use more scenarios).
   Objective* objective = nullptr;
+  // Maps the theta the stage starts from (the previous stage's best, or Train's start) to this stage's
+  // parameters; null: as it is. For a refinement that frees parameters an earlier stage held fixed.
+  std::function<Theta(const Theta&)> start_from = nullptr;
 };
 
 struct TrainingPlan {
@@ -73,6 +78,10 @@ struct TrainingPlan {
   // Called after every iteration of every stage (not owned). A kTerminate ends the current stage with
   // USER_REQUESTED and skips the stages after it.
   IterationCallbacks callbacks;
+  // The caller's own state, stored in every checkpoint under "caller" (what it must restore on resume besides
+  // the optimizers, such as clocks and measurements taken while training); the caller reads it back from
+  // resume_from->at("caller").
+  std::function<nlohmann::json()> caller_state;
 
   // False, with "stages[k].<field>: expected ..." in *error, when the plan cannot run.
   bool IsValid(std::string* error) const;
