@@ -16,8 +16,10 @@ PYBIND11_MODULE(_pegasus, m) {
   });
   pegasus::python::bind_scenarios(m);
   pegasus::python::bind_optimizers(m);
+  pegasus::python::bind_training(m);
   pegasus::python::bind_vectorized(m);
   pegasus::python::bind_envs(m);
   pegasus::python::bind_mdp(m);
   pegasus::python::bind_sysid(m);
+  pegasus::python::bind_heli(m);
 }
