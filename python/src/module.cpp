@@ -1,4 +1,6 @@
 // The compiled half of `import pegasus` (python/pegasus/__init__.py re-exports it).
+#include <nlohmann/json.hpp>
+
 #include "common.hpp"
 #include "pegasus/core/error.hpp"
 
@@ -11,6 +13,9 @@ PYBIND11_MODULE(_pegasus, m) {
     try {
       if (p) std::rethrow_exception(p);
     } catch (const pegasus::InputError& e) {
+      PyErr_SetString(PyExc_ValueError, e.what());
+    } catch (const nlohmann::json::exception& e) {
+      // A JSON value of the wrong type deep in a checkpoint or file the caller gave: bad input too.
       PyErr_SetString(PyExc_ValueError, e.what());
     }
   });

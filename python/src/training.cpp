@@ -125,7 +125,11 @@ stage's initial U-hat, the last stage's best U-hat and theta, and whether a call
   m.def(
       "training_checkpoint_iterations",
       [](py::object checkpoint) {
-        return TrainingCheckpointIterations(from_python(checkpoint, "checkpoint"));
+        try {
+          return TrainingCheckpointIterations(from_python(checkpoint, "checkpoint"));
+        } catch (const nlohmann::json::exception& e) {
+          throw py::value_error(std::string("checkpoint: ") + e.what());
+        }
       },
       py::arg("checkpoint"),
       "Optimizer iterations done by the plan that wrote this training checkpoint (where a resumed progress "
@@ -165,10 +169,16 @@ stage's initial U-hat, the last stage's best U-hat and theta, and whether a call
         Theta t;
         if (!theta.is_none()) t = as_theta(theta, "theta", objective.parameters());
         TrainingSummary s;
+        std::string json_error;  // a checkpoint field of the wrong JSON type, found deep in the library
         {
           py::gil_scoped_release release;
-          Train(p, objective, &t, &s);
+          try {
+            Train(p, objective, &t, &s);
+          } catch (const nlohmann::json::exception& e) {
+            json_error = e.what();
+          }
         }
+        if (!json_error.empty()) throw py::value_error("plan.resume_from: " + json_error);
         return py::make_tuple(vector_array(t), s);
       },
       py::arg("plan"), py::arg("objective"), py::arg("theta") = py::none(),
