@@ -172,3 +172,24 @@ def test_bad_plans_raise_value_error_naming_the_field():
         pegasus.train({"stages": []}, pendulum())
     with pytest.raises(ValueError, match="checkpoint"):
         pegasus.training_checkpoint_iterations({"format": 1})
+
+
+def test_every_compiled_name_has_a_stub_and_every_new_class_a_docstring(source_dir):
+    import ast
+    tree = ast.parse((source_dir / "python" / "pegasus" / "_pegasus.pyi").read_text())
+    stubbed = set()
+    for node in tree.body:
+        if isinstance(node, (ast.ClassDef, ast.FunctionDef)):
+            stubbed.add(node.name)
+        elif isinstance(node, ast.AnnAssign):
+            stubbed.add(node.target.id)
+        elif isinstance(node, ast.Assign):
+            stubbed.update(t.id for t in node.targets)
+    public = {name for name in dir(pegasus._pegasus) if not name.startswith("__")}
+    assert public <= stubbed, sorted(public - stubbed)
+    for name in ["CmaesOptions", "AugmentedRandomSearchOptions", "TrainingSummary", "SeedDomains", "IterationReport",
+                 "Aircraft", "AircraftParams", "LearnedHeliModel", "LearnedModelOptions", "HoverProblem",
+                 "HoverTrainingOptions", "HoverReward", "HoverPolicy", "HeliPolicy", "SetPoint"]:
+        assert len(getattr(pegasus, name).__doc__ or "") > 40, name
+    for name in ["train", "TrainingPlan", "TrainingStage", "train_hover", "bicycle_training_problem"]:
+        assert len(getattr(pegasus, name).__doc__ or "") > 40, name
