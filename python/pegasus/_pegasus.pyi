@@ -1,5 +1,5 @@
 """Type stubs of the compiled extension (python/src/*.cpp); see help(pegasus.X) for each item."""
-from typing import Any, Callable, Optional, Sequence, Tuple
+from typing import Any, Callable, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -52,6 +52,7 @@ class FunctionObjective(Objective):
     def __init__(self, parameters: ParameterSpec, f: Callable[[Array], float]) -> None: ...
 
 class _Checkpointing:
+    _fields: Tuple[str, ...]
     checkpoint_every: int
     on_checkpoint: Any
     resume_from: Optional[dict]
@@ -94,13 +95,38 @@ class NloptOptions(_Checkpointing):
     population: int
     seed: int
 
+class CmaesOptions(_Checkpointing):
+    seed: int
+    stream: int
+    max_iterations: int
+    max_evaluations: int
+    population_size: int
+    initial_step: float
+    x_tolerance: float
+    function_tolerance: float
+    max_condition: float
+
+class AugmentedRandomSearchOptions(_Checkpointing):
+    seed: int
+    stream: int
+    max_iterations: int
+    max_evaluations: int
+    directions: int
+    top_directions: int
+    step_size: float
+    exploration_noise: float
+
 class OptimizerOptions:
+    _fields: Tuple[str, ...]
     def __init__(self, method: str = "gradient") -> None: ...
     method: str
     exhaustive: ExhaustiveSearchOptions
     gradient: GradientAscentOptions
     hill_climbing: HillClimbingOptions
     nlopt: NloptOptions
+    cmaes: CmaesOptions
+    ars: AugmentedRandomSearchOptions
+    def iteration_limit(self) -> int: ...
     def set_checkpointing(self, checkpoint_every: int, on_checkpoint: Optional[Callable[[dict], None]] = None,
                           resume_from: Optional[dict] = None) -> None: ...
     def is_valid(self) -> Tuple[bool, str]: ...
@@ -108,12 +134,14 @@ class OptimizerOptions:
 def optimizer_methods() -> list[str]: ...
 
 class IterationRecord:
+    _fields: Tuple[str, ...]
     iteration: int
     evaluations: int
     value: float
     seconds: float
 
 class OptimizerSummary:
+    _fields: Tuple[str, ...]
     method: str
     parameter_names: list[str]
     termination_type: str
@@ -133,8 +161,45 @@ class OptimizerSummary:
     def full_report(self) -> str: ...
     def same_outcome(self, other: OptimizerSummary) -> Tuple[bool, str]: ...
 
-def solve(objective: Objective, options: OptimizerOptions = ..., theta: Optional[ArrayLike] = None
-          ) -> Tuple[Array, OptimizerSummary]: ...
+def solve(objective: Objective, options: OptimizerOptions = ..., theta: Optional[ArrayLike] = None, *,
+          callbacks: Optional[Sequence[IterationCallback]] = None) -> Tuple[Array, OptimizerSummary]: ...
+
+class CallbackReturnType:
+    CONTINUE: CallbackReturnType
+    TERMINATE: CallbackReturnType
+
+class IterationReport:
+    method: str
+    record: IterationRecord
+    best_theta: Array
+
+IterationCallback = Callable[[IterationReport], Union[None, bool, CallbackReturnType]]
+
+class SeedDomains:
+    _fields: Tuple[str, ...]
+    def __init__(self, hill_climbing: int = ..., nlopt: int = ..., cmaes: int = ..., ars: int = ...) -> None: ...
+    hill_climbing: int
+    nlopt: int
+    cmaes: int
+    ars: int
+
+REFINE_SEED_DOMAINS: SeedDomains
+def derive_optimizer_seeds(run_seed: int, domains: SeedDomains, options: OptimizerOptions) -> None: ...
+
+class TrainingSummary:
+    _fields: Tuple[str, ...]
+    stages: list[OptimizerSummary]
+    stage_names: list[str]
+    history: list[IterationRecord]
+    initial_value: float
+    best_value: float
+    best_theta: Array
+    stopped_by_callback: bool
+    def brief_report(self) -> str: ...
+    def same_outcome(self, other: TrainingSummary) -> Tuple[bool, str]: ...
+
+def training_checkpoint_iterations(checkpoint: dict) -> int: ...
+def _train(plan: Any, objective: Objective, theta: Optional[ArrayLike] = None) -> Tuple[Array, TrainingSummary]: ...
 
 class BoxPolicy:
     parameters: ParameterSpec
@@ -149,7 +214,8 @@ def SigmoidPolicy(observation_dim: int, low: Sequence[float], high: Sequence[flo
 
 class VectorizedProblem(Objective):
     def __init__(self, model: Any, policy: Any, *, seed: int, scenarios: int, horizon: int, gamma: float = 1.0,
-                 variant: str = "plain") -> None: ...
+                 variant: str = "plain", threads: int = 1) -> None: ...
+    threads: int
     scenarios: ScenarioSet
     gamma: float
     horizon: int
@@ -220,6 +286,7 @@ def train_bicycle(options: BicycleTrainingOptions, *, checkpoint_every: int = 0,
                   on_checkpoint: Optional[Callable[[dict], None]] = None, resume_from: Optional[dict] = None
                   ) -> Tuple[Array, OptimizerSummary]: ...
 def bicycle_uhat(options: BicycleTrainingOptions, theta: ArrayLike) -> float: ...
+def bicycle_training_problem(options: BicycleTrainingOptions) -> Objective: ...
 
 class PendulumProblem(Objective):
     def __init__(self, *, seed: int, scenarios: int, horizon: int, gamma: float = 1.0, variant: str = "plain",
@@ -317,3 +384,195 @@ def identify(log: FlightLog, *, rate_hz: float = 10.0, local: bool = True, extra
              scale_grid: Sequence[float] = ..., coordinate_passes: int = 1, threads: int = 1) -> IdentifiedModel: ...
 def horizon_mse(model: IdentifiedModel, test: FlightLog, *, horizon_s: float = 10.0, start_spacing_s: float = 2.0,
                 threads: int = 1) -> dict: ...
+
+class SetPoint:
+    _fields: Tuple[str, ...]
+    def __init__(self, x: float = 0.0, y: float = 0.0, z: float = -10.0, yaw: float = 0.0) -> None: ...
+    x: float
+    y: float
+    z: float
+    yaw: float
+
+class HoverReward:
+    _fields: Tuple[str, ...]
+    alpha_pos: Array
+    alpha_vel: Array
+    alpha_yaw: float
+    alpha_action: Array
+    centre: Array
+    @staticmethod
+    def from_typical(position_m: float, velocity_mps: float, yaw_rad: float, action: float,
+                     centre: ArrayLike = ...) -> HoverReward: ...
+    def is_valid(self) -> Tuple[bool, str]: ...
+
+class HoverPolicyInit:
+    _fields: Tuple[str, ...]
+    trim: Array
+    trim_roll: float
+    trim_pitch: float
+    k_pos: float
+    k_vel: float
+    k_att: float
+    k_alt: float
+    k_climb: float
+    k_yaw: float
+    k_yaw_rate: float
+
+class HoverPolicy:
+    def __init__(self, init: HoverPolicyInit = ...) -> None: ...
+    parameters: ParameterSpec
+    def act(self, theta: ArrayLike, states: ArrayLike, target: SetPoint = ...) -> Array: ...
+
+class AircraftParams:
+    _fields: Tuple[str, ...]
+    mass_kg: float
+    ixx: float
+    iyy: float
+    izz: float
+    gravity: float
+    air_density: float
+    omega_mr: float
+    radius_mr: float
+    chord_mr: float
+    lift_slope_mr: float
+    profile_drag_mr: float
+    hub_height: float
+    hub_stiffness: float
+    tau_flap: float
+    a_lon: float
+    b_lat: float
+    cyclic_max_rad: float
+    collective_mid_rad: float
+    collective_span_rad: float
+    gear_tr: float
+    radius_tr: float
+    chord_tr: float
+    lift_slope_tr: float
+    arm_tr: float
+    height_tr: float
+    tail_mid_rad: float
+    tail_span_rad: float
+    gyro_gain: float
+    gyro_tau: float
+    fus_area_x: float
+    fus_area_y: float
+    fus_area_z: float
+    servo_rate: float
+    mean_wind_W: Array
+    gust_sigma: float
+    gust_tau: float
+    est_sigma_pos: float
+    est_sigma_vel: float
+    est_sigma_angle: float
+    est_sigma_rate: float
+    est_tau: float
+    max_tilt_rad: float
+    max_rate_rad_s: float
+    max_thrust_coeff_over_solidity: float
+    dt: float
+    substeps: int
+    start_p_W: Array
+    start_yaw: float
+    start_pos_sigma: float
+    start_vel_sigma: float
+    def is_valid(self) -> Tuple[bool, str]: ...
+
+class _HeliBatchModel:
+    STATE_COLUMNS: list[str]
+    noise_dim: int
+    initial_noise_dim: int
+    def initial_state(self, noise: ArrayLike, *, threads: int = 1) -> Array: ...
+    def step(self, states: ArrayLike, actions: ArrayLike, noise: ArrayLike, *, threads: int = 1) -> Array: ...
+    def observe(self, states: ArrayLike) -> Array: ...
+    def terminal(self, states: ArrayLike) -> npt.NDArray[np.bool_]: ...
+    def simulate(self, initial_noise: ArrayLike, noise: ArrayLike, *, actions: Optional[ArrayLike] = None,
+                 policy: Optional[HeliPolicy] = None, threads: int = 1) -> dict: ...
+
+class Aircraft(_HeliBatchModel):
+    def __init__(self, params: AircraftParams = ...) -> None: ...
+    params: AircraftParams
+    hover_trim: dict
+    def true_state(self, states: ArrayLike) -> Array: ...
+    def crash_reason(self, states: ArrayLike) -> list[str]: ...
+
+class LearnedModelOptions:
+    _fields: Tuple[str, ...]
+    dt: float
+    refit_every: int
+    support_bandwidths: float
+    crash_reward: float
+    max_tilt_rad: float
+    noise: bool
+    start: Array
+    start_pos_sigma: float
+    start_vel_sigma: float
+    def is_valid(self) -> Tuple[bool, str]: ...
+
+class LearnedHeliModel(_HeliBatchModel):
+    def __init__(self, model: Union[IdentifiedModel, str], options: LearnedModelOptions = ...) -> None: ...
+    options: LearnedModelOptions
+    def reward(self, states: ArrayLike, actions: ArrayLike, next_states: ArrayLike) -> Array: ...
+
+class HoverTrainingOptions:
+    _fields: Tuple[str, ...]
+    scenarios: int
+    seconds: float
+    gamma: float
+    refit_every: int
+    target: SetPoint
+    start_pos_sigma: float
+    start_vel_sigma: float
+    reward: HoverReward
+    centre_at_trim: bool
+    optimizer: OptimizerOptions
+    then_hill_climb: bool
+    seed: int
+    def horizon(self) -> int: ...
+    def is_valid(self) -> Tuple[bool, str]: ...
+
+class HoverProblem(Objective):
+    def __init__(self, model: Union[Aircraft, LearnedHeliModel], *, target: SetPoint = ..., reward: HoverReward = ...,
+                 init: HoverPolicyInit = ..., seed: int, scenarios: int, horizon: int, gamma: float = 0.9995,
+                 variant: str = "plain", threads: int = 1) -> None: ...
+    @staticmethod
+    def from_training_options(model: Union[IdentifiedModel, str], options: HoverTrainingOptions = ..., *,
+                              threads: int = 1) -> HoverProblem: ...
+    def returns(self, theta: ArrayLike) -> Array: ...
+
+def hover_init_from_model(model: Union[IdentifiedModel, str]) -> HoverPolicyInit: ...
+def hover_reward_for(model: Union[IdentifiedModel, str], options: HoverTrainingOptions = ...) -> HoverReward: ...
+
+class HoverTrainingResult:
+    _fields: Tuple[str, ...]
+    theta: Array
+    initial_uhat: float
+    final_uhat: float
+    gradient: OptimizerSummary
+    hill_climb: OptimizerSummary
+    progress: list[IterationRecord]
+
+def train_hover(model: Union[IdentifiedModel, str], options: HoverTrainingOptions = ..., *, checkpoint_every: int = 1,
+                on_checkpoint: Optional[Callable[[dict], None]] = None, resume_from: Optional[dict] = None,
+                callbacks: Optional[Sequence[IterationCallback]] = None, threads: int = 1) -> HoverTrainingResult: ...
+
+class HeliPolicy:
+    @staticmethod
+    def load(path: str) -> HeliPolicy: ...
+    @staticmethod
+    def from_json(policy: dict, source: str = "policy") -> HeliPolicy: ...
+    @staticmethod
+    def hover(theta: ArrayLike, target: SetPoint = ..., trim: ArrayLike = ..., init: HoverPolicyInit = ...
+              ) -> HeliPolicy: ...
+    class_name: str
+    names: list[str]
+    values: Array
+    target: SetPoint
+    trim: Array
+    options: dict
+    provenance: dict
+    def to_json(self) -> dict: ...
+    def save(self, path: str) -> None: ...
+    def controls(self, states: ArrayLike, time: Union[float, ArrayLike] = 0.0, *, threads: int = 1) -> Array: ...
+    def target_at(self, time: float) -> SetPoint: ...
+
+def heli_policy_classes() -> list[str]: ...

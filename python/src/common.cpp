@@ -90,6 +90,52 @@ Array vector_array(std::span<const double> values) {
   return a;
 }
 
+// A Python object kept alive by C++ copies that may be made and dropped without the GIL: the reference is
+// released under the GIL.
+std::shared_ptr<py::object> hold(py::object object) {
+  return std::shared_ptr<py::object>(new py::object(std::move(object)), [](py::object* o) {
+    py::gil_scoped_acquire gil;
+    delete o;
+  });
+}
+
+CheckpointCallback checkpoint_callback(py::object callback) {
+  if (callback.is_none()) return {};
+  if (!PyCallable_Check(callback.ptr())) throw py::value_error("on_checkpoint: expected a callable or None");
+  auto held = hold(std::move(callback));
+  return [held](const nlohmann::json& state) {
+    py::gil_scoped_acquire gil;
+    (*held)(to_python(state));
+  };
+}
+
+IterationCallbackList::IterationCallbackList(py::handle callbacks) {
+  if (callbacks.is_none()) return;
+  if (!py::isinstance<py::sequence>(callbacks) || py::isinstance<py::str>(callbacks))
+    throw py::value_error("callbacks: expected a list of callables");
+  std::size_t k = 0;
+  for (py::handle f : callbacks) {
+    if (!PyCallable_Check(f.ptr()))
+      throw py::value_error(fmt::format("callbacks[{}]: expected a callable", k));
+    owned_.push_back(std::make_unique<Adapter>(hold(py::reinterpret_borrow<py::object>(f))));
+    pointers_.push_back(owned_.back().get());
+    ++k;
+  }
+}
+
+CallbackReturnType IterationCallbackList::Adapter::operator()(const IterationReport& report) {
+  py::gil_scoped_acquire gil;
+  IterationReportCopy copy{std::string(report.method), report.record,
+                           Theta(report.best_theta.begin(), report.best_theta.end())};
+  const py::object answer = (*f_)(std::move(copy));
+  if (answer.is_none()) return CallbackReturnType::kContinue;
+  if (py::isinstance<CallbackReturnType>(answer)) return answer.cast<CallbackReturnType>();
+  if (py::isinstance<py::bool_>(answer))
+    return answer.cast<bool>() ? CallbackReturnType::kTerminate : CallbackReturnType::kContinue;
+  throw py::value_error(
+      "callbacks: expected a callback to return None, a bool (True: stop) or a CallbackReturnType");
+}
+
 py::object to_python(const nlohmann::json& j) { return py::module_::import("json").attr("loads")(j.dump()); }
 
 nlohmann::json from_python(py::handle object, const std::string& name) {

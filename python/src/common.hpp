@@ -8,7 +8,9 @@
 
 #include <nlohmann/json.hpp>
 #include <string>
+#include <type_traits>
 
+#include "pegasus/optimizers/run_progress.hpp"
 #include "pegasus/policies/parameter_spec.hpp"
 
 namespace pegasus::python {
@@ -41,7 +43,60 @@ Array vector_array(std::span<const double> values);
 py::object to_python(const nlohmann::json& j);
 nlohmann::json from_python(py::handle object, const std::string& name);
 
+// A Python object kept alive by C++ copies that may be made and dropped without the GIL: the reference is
+// released under the GIL.
+std::shared_ptr<py::object> hold(py::object object);
+// A Python callable (or None) as a CheckpointCallback that takes the GIL and passes the checkpoint as a dict.
+CheckpointCallback checkpoint_callback(py::object callback);
+
+// What a Python iteration callback receives: IterationReport with its best theta copied (the C++ span is
+// valid during the call only).
+struct IterationReportCopy {
+  std::string method;
+  IterationRecord record;
+  Theta best_theta;
+};
+
+// Python callables f(IterationReport) -> None | bool | CallbackReturnType as the IterationCallbacks of one
+// run (optimizers/run_progress.hpp): each call takes the GIL; True or TERMINATE stops the run
+// (USER_REQUESTED). ValueError naming `callbacks[k]` for an entry that is not callable.
+class IterationCallbackList {
+ public:
+  explicit IterationCallbackList(py::handle callbacks);
+  const IterationCallbacks& pointers() const { return pointers_; }
+
+ private:
+  class Adapter final : public IterationCallback {
+   public:
+    explicit Adapter(std::shared_ptr<py::object> f) : f_(std::move(f)) {}
+    CallbackReturnType operator()(const IterationReport& report) override;
+
+   private:
+    std::shared_ptr<py::object> f_;
+  };
+  std::vector<std::unique_ptr<Adapter>> owned_;
+  IterationCallbacks pointers_;
+};
+
+// Gives a bound class the dataclass-like attribute `_fields` (its field names, as the C++ struct's); the
+// package adds __repr__, __eq__ and copy from it (python/pegasus/__init__.py).
+template <class C>
+void set_fields(C& c, std::initializer_list<const char*> names) {
+  py::tuple t(names.size());
+  std::size_t k = 0;
+  for (const char* n : names) t[k++] = py::str(n);
+  c.attr("_fields") = t;
+  using T = typename C::type;
+  if constexpr (std::is_copy_constructible_v<T>) {
+    c.def("__copy__", [](const T& x) { return T(x); });
+    c.def(
+        "__deepcopy__", [](const T& x, py::handle) { return T(x); }, py::arg("memo"));
+  }
+}
+
 void bind_scenarios(py::module_& m);
+void bind_training(py::module_& m);
+void bind_heli(py::module_& m);
 void bind_optimizers(py::module_& m);
 void bind_vectorized(py::module_& m);
 void bind_envs(py::module_& m);

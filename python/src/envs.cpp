@@ -5,7 +5,7 @@
 
 #include <memory>
 
-#include "common.hpp"
+#include "builtin_problem.hpp"
 #include "pegasus/envs/bicycle.hpp"
 #include "pegasus/envs/bicycle_policy.hpp"
 #include "pegasus/envs/gridworld.hpp"
@@ -15,12 +15,9 @@
 #include "pegasus/evaluators/pegasus_evaluator.hpp"
 #include "pegasus/experiments/bicycle_experiment.hpp"
 #include "pegasus/mdp/finite_mdp.hpp"
+#include "pegasus/shaping/potential_shaping.hpp"
 
 namespace pegasus::python {
-
-ScenarioSet make_scenario_set(py::object seed, std::int64_t count, std::int64_t horizon,
-                              std::int64_t noise_dim, std::int64_t initial_noise_dim,
-                              const std::string& variant);
 
 namespace {
 
@@ -38,38 +35,6 @@ void write_bicycle_state(const BicycleState& s, double* x) {
   std::copy(std::begin(v), std::end(v), x);
 }
 
-std::unique_ptr<ThreadPool> make_pool(std::int64_t threads) {
-  if (threads < 1 || threads > 1024)
-    throw py::value_error(fmt::format("threads: expected an integer in [1, 1024], got {}", threads));
-  return std::make_unique<ThreadPool>(static_cast<int>(threads));
-}
-
-// PEGASUS U-hat of a built-in model and policy class on fixed scenarios, on its own thread pool.
-template <SimulativeModel M, class P>
-class BuiltinProblem final : public Objective {
- public:
-  BuiltinProblem(M model, P policy, py::object seed, std::int64_t scenarios, std::int64_t horizon,
-                 double gamma, const std::string& variant, std::int64_t threads)
-      : pool_(make_pool(threads)),
-        evaluator_(model, std::move(policy),
-                   make_scenario_set(seed, scenarios, horizon, model.noise_dim(), model.initial_noise_dim(),
-                                     variant),
-                   Discounting{gamma, static_cast<int>(horizon)}) {}
-  const ParameterSpec& parameters() const override { return evaluator_.policy().parameters(); }
-  double evaluate(std::span<const double> theta) override { return evaluator_.evaluate(theta, pool_.get()); }
-  void evaluate_batch(std::span<const Theta> thetas, std::span<double> values) override {
-    evaluator_.evaluate_batch(thetas, values, pool_.get());
-  }
-  std::vector<double> returns(const Theta& theta) const {
-    std::vector<double> out(static_cast<std::size_t>(evaluator_.scenarios().size()));
-    evaluator_.per_scenario(theta, out, pool_.get());
-    return out;
-  }
-
- private:
-  std::unique_ptr<ThreadPool> pool_;
-  PegasusEvaluator<M, P> evaluator_;
-};
 using BicycleProblem = BuiltinProblem<Bicycle, BicyclePolicy>;
 using PendulumProblem = BuiltinProblem<Pendulum, PendulumSwingUpPolicy>;
 using GridworldProblem = BuiltinProblem<GridWorld, TablePolicy>;
@@ -81,22 +46,6 @@ GridWorld checked_corner_gridworld(std::int64_t n, double intended) {
   if (!(intended > 0.0 && intended <= 1.0))
     throw py::value_error(fmt::format("intended: expected a number in (0, 1], got {}", intended));
   return corner_gridworld(static_cast<int>(n), intended);
-}
-
-template <class Problem>
-void bind_returns(py::class_<Problem, Objective>& c) {
-  c.def(
-      "returns",
-      [](const Problem& p, py::object theta) {
-        const Theta t = as_theta(theta, "theta", p.parameters());
-        std::vector<double> r;
-        {
-          py::gil_scoped_release release;
-          r = p.returns(t);
-        }
-        return vector_array(r);
-      },
-      py::arg("theta"), "Per-scenario returns of one theta.");
 }
 
 }  // namespace
@@ -401,6 +350,40 @@ gridworld of thesis §4.6 (width x height, open grid, start (0, 0), goal at the 
       py::arg("options"), py::kw_only(), py::arg("checkpoint_every") = 0,
       py::arg("on_checkpoint") = py::none(), py::arg("resume_from") = py::none(),
       "Trains the bicycle policy as `pegasus bicycle train` does; returns (theta, OptimizerSummary).");
+  m.def(
+      "bicycle_training_problem",
+      [](const BicycleTrainingOptions& o) -> std::unique_ptr<Objective> {
+        std::string error;
+        if (!o.IsValid(&error)) throw py::value_error("options." + error);
+        if (o.estimator != "pegasus")
+          throw py::value_error("options.estimator: expected \"pegasus\" for bicycle_training_problem");
+        const Bicycle bike(o.bicycle);
+        ScenarioSet scenarios({.seed = o.seed,
+                               .count = o.scenarios,
+                               .horizon = o.horizon,
+                               .noise_dim = 1,
+                               .initial_noise_dim = 5,
+                               .variant = o.variant});
+        const Discounting d{.gamma = o.gamma, .horizon = o.horizon};
+        auto pool = make_pool(o.threads);
+        if (o.shaping == "potential") {
+          auto model = shape(bike, BicycleProgressPotential{bike, o.shaping_per_metre}, o.gamma);
+          using Model = decltype(model);
+          return std::make_unique<BuiltinProblem<Model, BicyclePolicy>>(
+              PegasusEvaluator<Model, BicyclePolicy>(model, make_bicycle_policy(), std::move(scenarios), d),
+              pool);
+        }
+        if (o.shaping == "none")
+          return std::make_unique<BicycleProblem>(
+              PegasusEvaluator<Bicycle, BicyclePolicy>(bike, make_bicycle_policy(), std::move(scenarios), d),
+              pool);
+        throw py::value_error(
+            "options.shaping: expected \"potential\" or \"none\" for bicycle_training_problem");
+      },
+      py::arg("options"), R"doc(
+The objective train_bicycle maximises (PEGASUS estimator, shaping "potential" or "none") as an Objective evaluated
+by the C++ PegasusEvaluator on options.threads threads: the same U-hat as bicycle_uhat, bit for bit, and with
+uhat_batch the C++ side of the numpy-bicycle benchmark (bench/bicycle_bench.cpp BM_BicycleUhatBatch_31x30_H500).)doc");
   m.def(
       "bicycle_uhat",
       [](const BicycleTrainingOptions& options, py::object theta) {

@@ -1,4 +1,6 @@
 // The compiled half of `import pegasus` (python/pegasus/__init__.py re-exports it).
+#include <nlohmann/json.hpp>
+
 #include "common.hpp"
 #include "pegasus/core/error.hpp"
 
@@ -12,12 +14,17 @@ PYBIND11_MODULE(_pegasus, m) {
       if (p) std::rethrow_exception(p);
     } catch (const pegasus::InputError& e) {
       PyErr_SetString(PyExc_ValueError, e.what());
+    } catch (const nlohmann::json::exception& e) {
+      // A JSON value of the wrong type deep in a checkpoint or file the caller gave: bad input too.
+      PyErr_SetString(PyExc_ValueError, e.what());
     }
   });
   pegasus::python::bind_scenarios(m);
   pegasus::python::bind_optimizers(m);
+  pegasus::python::bind_training(m);
   pegasus::python::bind_vectorized(m);
   pegasus::python::bind_envs(m);
   pegasus::python::bind_mdp(m);
   pegasus::python::bind_sysid(m);
+  pegasus::python::bind_heli(m);
 }

@@ -6,29 +6,11 @@
 
 #include "common.hpp"
 #include "pegasus/optimizers/optimizer.hpp"
+#include "pegasus/optimizers/training.hpp"
 
 namespace pegasus::python {
 
 namespace {
-
-// A Python object kept alive by C++ copies that may be made and dropped without the GIL: the reference is
-// released under the GIL.
-std::shared_ptr<py::object> hold(py::object object) {
-  return std::shared_ptr<py::object>(new py::object(std::move(object)), [](py::object* o) {
-    py::gil_scoped_acquire gil;
-    delete o;
-  });
-}
-
-CheckpointCallback checkpoint_callback(py::object callback) {
-  if (callback.is_none()) return {};
-  if (!PyCallable_Check(callback.ptr())) throw py::value_error("on_checkpoint: expected a callable or None");
-  auto held = hold(std::move(callback));
-  return [held](const nlohmann::json& state) {
-    py::gil_scoped_acquire gil;
-    (*held)(to_python(state));
-  };
-}
 
 // checkpoint_every, on_checkpoint and resume_from of one method's options.
 template <class Options>
@@ -184,6 +166,9 @@ BicycleProblem, FunctionObjective, ...)doc")
       .def_readwrite("max_backtracks", &GradientAscentOptions::max_backtracks)
       .def_readwrite("function_tolerance", &GradientAscentOptions::function_tolerance);
   bind_checkpointing(gradient);
+  set_fields(gradient, {"max_iterations", "max_evaluations", "relative_step", "initial_step", "max_step",
+                        "min_step", "step_growth", "max_backtracks", "function_tolerance", "checkpoint_every",
+                        "on_checkpoint", "resume_from"});
 
   auto hill = py::class_<HillClimbingOptions>(m, "HillClimbingOptions", "Random-walk hill climbing.");
   hill.def(py::init<>())
@@ -198,6 +183,9 @@ BicycleProblem, FunctionObjective, ...)doc")
       .def_readwrite("step_growth", &HillClimbingOptions::step_growth)
       .def_readwrite("step_shrink", &HillClimbingOptions::step_shrink);
   bind_checkpointing(hill);
+  set_fields(hill, {"seed", "stream", "max_iterations", "max_evaluations", "proposals_per_iteration",
+                    "initial_step", "max_step", "min_step", "step_growth", "step_shrink", "checkpoint_every",
+                    "on_checkpoint", "resume_from"});
 
   auto exhaustive = py::class_<ExhaustiveSearchOptions>(m, "ExhaustiveSearchOptions",
                                                         "Enumerates every policy of integer parameters.");
@@ -206,6 +194,8 @@ BicycleProblem, FunctionObjective, ...)doc")
       .def_readwrite("block_size", &ExhaustiveSearchOptions::block_size)
       .def_readwrite("keep_all_values", &ExhaustiveSearchOptions::keep_all_values);
   bind_checkpointing(exhaustive);
+  set_fields(exhaustive, {"max_policies", "block_size", "keep_all_values", "checkpoint_every",
+                          "on_checkpoint", "resume_from"});
 
   auto nlopt = py::class_<NloptOptions>(m, "NloptOptions", "NLopt: bobyqa, sbplx, crs2, esch.");
   nlopt.def(py::init<>())
@@ -224,53 +214,102 @@ BicycleProblem, FunctionObjective, ...)doc")
       .def_readwrite("population", &NloptOptions::population)
       .def_readwrite("seed", &NloptOptions::seed);
   bind_checkpointing(nlopt);
+  set_fields(nlopt, {"algorithm", "max_evaluations", "initial_step", "x_tolerance", "function_tolerance",
+                     "population", "seed", "checkpoint_every", "on_checkpoint", "resume_from"});
 
-  py::class_<OptimizerOptions>(m, "OptimizerOptions", R"doc(
-Which optimizer runs (method: "exhaustive", "gradient", "hill-climb", "bobyqa", "sbplx", "crs2", "esch") and the
-options of each; only the selected method's are used and validated.)doc")
-      .def(py::init<>())
-      .def(py::init([](const std::string& method) {
-             OptimizerOptions o;
-             o.method = method;
-             return o;
-           }),
-           py::arg("method"))
-      .def_readwrite("method", &OptimizerOptions::method)
-      .def_readwrite("exhaustive", &OptimizerOptions::exhaustive)
-      .def_readwrite("gradient", &OptimizerOptions::gradient)
-      .def_readwrite("hill_climbing", &OptimizerOptions::hill_climbing)
-      .def_readwrite("nlopt", &OptimizerOptions::nlopt)
-      .def(
-          "set_checkpointing",
-          [](OptimizerOptions& o, std::int64_t every, py::object on_checkpoint, py::object resume_from) {
-            std::optional<nlohmann::json> resume;
-            if (!resume_from.is_none()) resume = from_python(resume_from, "resume_from");
-            o.SetCheckpointing(every, checkpoint_callback(std::move(on_checkpoint)), std::move(resume));
-          },
-          py::arg("checkpoint_every"), py::arg("on_checkpoint") = py::none(),
-          py::arg("resume_from") = py::none(),
-          "Checkpointing of every method at once: each checkpoint (a dict) goes to on_checkpoint; "
-          "resume_from "
-          "continues one.")
-      .def("is_valid", [](const OptimizerOptions& o) {
-        std::string error;
-        const bool ok = o.IsValid(&error);
-        return py::make_tuple(ok, error);
-      });
+  auto cmaes = py::class_<CmaesOptions>(m, "CmaesOptions", R"doc(
+CMA-ES (Hansen's tutorial, arXiv:1604.00772): population_size candidates per generation in one batch; bounds by
+pycma's BoundTransform; deterministic from (seed, stream). Fields as optimizers/cmaes.hpp.)doc");
+  cmaes.def(py::init<>())
+      .def_readwrite("seed", &CmaesOptions::seed)
+      .def_readwrite("stream", &CmaesOptions::stream)
+      .def_readwrite("max_iterations", &CmaesOptions::max_iterations,
+                     "Generations at most (0: the start only).")
+      .def_readwrite("max_evaluations", &CmaesOptions::max_evaluations)
+      .def_readwrite("population_size", &CmaesOptions::population_size,
+                     "Candidates per generation; 0: 4 + floor(3 ln n).")
+      .def_readwrite("initial_step", &CmaesOptions::initial_step, "sigma at the start, scaled units.")
+      .def_readwrite("x_tolerance", &CmaesOptions::x_tolerance)
+      .def_readwrite("function_tolerance", &CmaesOptions::function_tolerance)
+      .def_readwrite("max_condition", &CmaesOptions::max_condition);
+  bind_checkpointing(cmaes);
+  set_fields(cmaes, {"seed", "stream", "max_iterations", "max_evaluations", "population_size", "initial_step",
+                     "x_tolerance", "function_tolerance", "max_condition", "checkpoint_every",
+                     "on_checkpoint", "resume_from"});
+
+  auto ars = py::class_<AugmentedRandomSearchOptions>(m, "AugmentedRandomSearchOptions", R"doc(
+Augmented Random Search (Mania, Guy and Recht 2018): N antithetic directions per iteration (2N evaluations in one
+batch), the b best used in the step. Fields as optimizers/augmented_random_search.hpp.)doc");
+  ars.def(py::init<>())
+      .def_readwrite("seed", &AugmentedRandomSearchOptions::seed)
+      .def_readwrite("stream", &AugmentedRandomSearchOptions::stream)
+      .def_readwrite("max_iterations", &AugmentedRandomSearchOptions::max_iterations)
+      .def_readwrite("max_evaluations", &AugmentedRandomSearchOptions::max_evaluations)
+      .def_readwrite("directions", &AugmentedRandomSearchOptions::directions, "N: directions per iteration.")
+      .def_readwrite("top_directions", &AugmentedRandomSearchOptions::top_directions,
+                     "b: the best directions used in the step.")
+      .def_readwrite("step_size", &AugmentedRandomSearchOptions::step_size, "alpha, scaled units.")
+      .def_readwrite("exploration_noise", &AugmentedRandomSearchOptions::exploration_noise,
+                     "nu, scaled units.");
+  bind_checkpointing(ars);
+  set_fields(ars, {"seed", "stream", "max_iterations", "max_evaluations", "directions", "top_directions",
+                   "step_size", "exploration_noise", "checkpoint_every", "on_checkpoint", "resume_from"});
+
+  auto optimizer_options =
+      py::class_<OptimizerOptions>(m, "OptimizerOptions", R"doc(
+Which optimizer runs (method: "exhaustive", "gradient", "hill-climb", "bobyqa", "sbplx", "crs2", "esch", "cmaes",
+"ars"; optimizer_methods() lists them) and the options of each; only the selected method's are used and validated.)doc")
+          .def(py::init<>())
+          .def(py::init([](const std::string& method) {
+                 OptimizerOptions o;
+                 o.method = method;
+                 return o;
+               }),
+               py::arg("method"))
+          .def_readwrite("method", &OptimizerOptions::method)
+          .def_readwrite("exhaustive", &OptimizerOptions::exhaustive)
+          .def_readwrite("gradient", &OptimizerOptions::gradient)
+          .def_readwrite("hill_climbing", &OptimizerOptions::hill_climbing)
+          .def_readwrite("nlopt", &OptimizerOptions::nlopt)
+          .def_readwrite("cmaes", &OptimizerOptions::cmaes)
+          .def_readwrite("ars", &OptimizerOptions::ars)
+          .def("iteration_limit", &OptimizerOptions::IterationLimit,
+               "The selected method's iteration limit (what a progress bar counts to).")
+          .def(
+              "set_checkpointing",
+              [](OptimizerOptions& o, std::int64_t every, py::object on_checkpoint, py::object resume_from) {
+                std::optional<nlohmann::json> resume;
+                if (!resume_from.is_none()) resume = from_python(resume_from, "resume_from");
+                o.SetCheckpointing(every, checkpoint_callback(std::move(on_checkpoint)), std::move(resume));
+              },
+              py::arg("checkpoint_every"), py::arg("on_checkpoint") = py::none(),
+              py::arg("resume_from") = py::none(),
+              "Checkpointing of every method at once: each checkpoint (a dict) goes to on_checkpoint; "
+              "resume_from "
+              "continues one.")
+          .def("is_valid", [](const OptimizerOptions& o) {
+            std::string error;
+            const bool ok = o.IsValid(&error);
+            return py::make_tuple(ok, error);
+          });
+  set_fields(optimizer_options,
+             {"method", "exhaustive", "gradient", "hill_climbing", "nlopt", "cmaes", "ars"});
   m.def("optimizer_methods", [] {
     std::vector<std::string> names;
     for (auto n : OptimizerMethodNames()) names.emplace_back(n);
     return names;
   });
 
-  py::class_<IterationRecord>(m, "IterationRecord")
-      .def_readonly("iteration", &IterationRecord::iteration)
+  auto record = py::class_<IterationRecord>(m, "IterationRecord", "One row of an optimizer's history.");
+  record.def_readonly("iteration", &IterationRecord::iteration)
       .def_readonly("evaluations", &IterationRecord::evaluations)
       .def_readonly("value", &IterationRecord::value)
       .def_readonly("seconds", &IterationRecord::seconds);
+  set_fields(record, {"iteration", "evaluations", "value", "seconds"});
 
-  py::class_<OptimizerSummary>(m, "OptimizerSummary", "What an optimizer run reports (Ceres' Summary shape).")
-      .def(py::init<>())
+  auto summary = py::class_<OptimizerSummary>(m, "OptimizerSummary",
+                                              "What an optimizer run reports (Ceres' Summary shape).");
+  summary.def(py::init<>())
       .def_readonly("method", &OptimizerSummary::method)
       .def_readonly("parameter_names", &OptimizerSummary::parameter_names)
       .def_property_readonly(
@@ -299,24 +338,34 @@ options of each; only the selected method's are used and validated.)doc")
              return py::make_tuple(same, difference);
            })
       .def("__repr__", &OptimizerSummary::BriefReport);
+  set_fields(summary, {"method", "parameter_names", "termination_type", "message", "iterations",
+                       "evaluations", "replayed_evaluations", "resumed", "initial_value", "best_value",
+                       "best_theta", "final_step", "wall_seconds", "history", "all_values"});
 
   m.def(
       "solve",
-      [](Objective& objective, const OptimizerOptions& options, py::object theta) {
+      [](Objective& objective, const OptimizerOptions& options, py::object theta, py::object callbacks) {
         Theta t;
         if (!theta.is_none()) t = as_theta(theta, "theta", objective.parameters());
         std::string error;
         if (!options.IsValid(&error)) throw py::value_error("options." + error);
-        OptimizerSummary summary;
+        const IterationCallbackList list(callbacks);
+        OptimizerOptions o = options;
+        o.SetCallbacks(list.pointers());
+        OptimizerSummary result;
         {
           py::gil_scoped_release release;
-          Solve(options, objective, &t, &summary);
+          Solve(o, objective, &t, &result);
         }
-        return py::make_tuple(theta_array(t), summary);
+        return py::make_tuple(theta_array(t), result);
       },
       py::arg("objective"), py::arg("options") = OptimizerOptions{}, py::arg("theta") = py::none(),
+      py::kw_only(), py::arg("callbacks") = py::none(),
       R"doc(Maximises the objective with options.method, starting from theta (default: the spec's initial
-values). Returns (theta, OptimizerSummary). The GIL is released while the C++ optimizer works.)doc");
+values). Returns (theta, OptimizerSummary). The GIL is released while the C++ optimizer works.
+callbacks: callables f(IterationReport) told after every iteration (the C++ Options' `callbacks`); one that
+returns True or CallbackReturnType.TERMINATE stops the run (termination USER_REQUESTED). A run whose callbacks
+always continue is bit-identical to one without.)doc");
 }
 
 }  // namespace pegasus::python

@@ -85,7 +85,7 @@ flight_log(data, columns).)doc")
         "A flight log from numpy data [rows, columns] with the columns' names (time, x, ..., a4; others "
         "ignored).");
 
-  py::class_<IdentifiedModel>(m, "IdentifiedModel", R"doc(
+  py::class_<IdentifiedModel, std::shared_ptr<IdentifiedModel>>(m, "IdentifiedModel", R"doc(
 An identified helicopter model (thesis §5.2): locally weighted (or global linear) regression of the body
 variables' changes, its bandwidth and noise. Save it as the model.json `pegasus heli hover` loads.)doc")
       .def_property_readonly("dt", &IdentifiedModel::dt)
@@ -102,7 +102,11 @@ variables' changes, its bandwidth and noise. Save it as the model.json `pegasus 
           "save", [](const IdentifiedModel& model, const std::string& path) { model.save(path); },
           py::arg("path"))
       .def_static(
-          "load", [](const std::string& path) { return IdentifiedModel::load(path); }, py::arg("path"));
+          "load",
+          [](const std::string& path) {
+            return std::make_shared<IdentifiedModel>(IdentifiedModel::load(path));
+          },
+          py::arg("path"));
 
   m.def(
       "identify",
@@ -123,7 +127,7 @@ variables' changes, its bandwidth and noise. Save it as the model.json `pegasus 
         if (!o.IsValid(&error)) throw py::value_error(error);
         ThreadPool pool = checked_pool(threads);
         py::gil_scoped_release release;
-        return std::make_unique<IdentifiedModel>(sysid::identify(log, o, pool));
+        return std::make_shared<IdentifiedModel>(sysid::identify(log, o, pool));
       },
       py::arg("log"), py::kw_only(), py::arg("rate_hz") = 10.0, py::arg("local") = true,
       py::arg("extra_states") = true, py::arg("intercept") = true, py::arg("templates") = true,

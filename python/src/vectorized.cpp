@@ -7,15 +7,11 @@
 #include <cmath>
 #include <numeric>
 
-#include "common.hpp"
+#include "builtin_problem.hpp"
 #include "pegasus/evaluators/pegasus_evaluator.hpp"
 #include "pegasus/policies/policies.hpp"
 
 namespace pegasus::python {
-
-ScenarioSet make_scenario_set(py::object seed, std::int64_t count, std::int64_t horizon,
-                              std::int64_t noise_dim, std::int64_t initial_noise_dim,
-                              const std::string& variant);
 
 namespace {
 
@@ -111,8 +107,9 @@ py::object method(const py::object& object, const char* owner, const char* name,
 class VectorizedProblem final : public Objective {
  public:
   VectorizedProblem(py::object model, py::object policy, py::object seed, std::int64_t scenarios,
-                    std::int64_t horizon, double gamma, const std::string& variant)
-      : model_(std::move(model)),
+                    std::int64_t horizon, double gamma, const std::string& variant, std::int64_t threads)
+      : pool_(make_pool(threads)),
+        model_(std::move(model)),
         policy_(std::move(policy)),
         scenarios_(make_scenario_set(seed, scenarios, horizon, int_attribute(model_, "noise_dim"),
                                      int_attribute(model_, "initial_noise_dim"), variant)),
@@ -143,6 +140,7 @@ class VectorizedProblem final : public Objective {
   const ParameterSpec& parameters() const override { return spec_; }
   const ScenarioSet& scenarios() const { return scenarios_; }
   const Discounting& discounting() const { return discounting_; }
+  int threads() const { return pool_->size(); }
 
   double evaluate(std::span<const double> theta) override {
     const Theta t(theta.begin(), theta.end());
@@ -160,6 +158,15 @@ class VectorizedProblem final : public Objective {
   // The return of every (theta k, scenario i) pair at [k * m + i]. Takes the GIL.
   std::vector<double> rollouts(std::span<const Theta> thetas) {
     py::gil_scoped_acquire gil;
+    if (busy_)
+      throw std::runtime_error(
+          "VectorizedProblem: already evaluating (one evaluation at a time per problem; make one per "
+          "thread)");
+    busy_ = true;
+    struct Done {
+      bool& busy;
+      ~Done() { busy = false; }
+    } release_busy{busy_};
     const auto m = static_cast<std::size_t>(scenarios_.size());
     const std::size_t n = thetas.size() * m;
     const auto d0 = static_cast<std::size_t>(scenarios_.initial_noise_dim());
@@ -170,9 +177,11 @@ class VectorizedProblem final : public Objective {
     std::iota(rows.begin(), rows.end(), std::size_t{0});
 
     Array noise0 = matrix(static_cast<py::ssize_t>(n), static_cast<py::ssize_t>(d0));
-    for (std::size_t r = 0; r < n; ++r)
-      scenarios_.initial_noise(static_cast<int>(r % m),
-                               std::span<double>(noise0.mutable_data() + r * d0, d0));
+    double* p0 = noise0.mutable_data();
+    pool_->parallel_for(n, [&](std::size_t r) {
+      scenarios_.initial_noise(static_cast<int>(r % m), std::span<double>(p0 + r * d0, d0));
+    });
+    theta_rows_ = py::none();  // the policy's theta rows are rebuilt when the live rows change
     Array states =
         as_matrix(initial_state_(noise0), "model.initial_state result", static_cast<py::ssize_t>(n), -1);
     const py::ssize_t ds = states.shape(1);
@@ -196,6 +205,7 @@ class VectorizedProblem final : public Objective {
           }
           rows.resize(keep.size());
           states = std::move(live);
+          theta_rows_ = py::none();
         }
         if (rows.empty()) break;
       }
@@ -204,9 +214,10 @@ class VectorizedProblem final : public Objective {
           observe_.is_none() ? states : as_matrix(observe_(states), "model.observe result", na, -1);
       const Array actions = act(thetas, rows, m, observations);
       Array noise = matrix(na, static_cast<py::ssize_t>(dp));
-      for (std::size_t j = 0; j < rows.size(); ++j)
-        scenarios_.step_noise(static_cast<int>(rows[j] % m), t,
-                              std::span<double>(noise.mutable_data() + j * dp, dp));
+      double* pt = noise.mutable_data();
+      pool_->parallel_for(rows.size(), [&](std::size_t j) {
+        scenarios_.step_noise(static_cast<int>(rows[j] % m), t, std::span<double>(pt + j * dp, dp));
+      });
       Array next = as_matrix(step_(states, actions, noise), "model.step result", na, ds);
       const Array r = as_vector(reward_(states, actions, next), "model.reward result", na);
       require_finite(r, "model.reward result");
@@ -232,7 +243,7 @@ class VectorizedProblem final : public Objective {
 
  private:
   Array act(std::span<const Theta> thetas, const std::vector<std::size_t>& rows, std::size_t m,
-            const Array& observations) const {
+            const Array& observations) {
     const auto na = static_cast<py::ssize_t>(rows.size());
     const std::size_t np = spec_.size();
     if (box_) {
@@ -240,24 +251,39 @@ class VectorizedProblem final : public Objective {
         throw py::value_error(fmt::format("model.observe result: expected {} columns for the policy, got {}",
                                           box_->observation_dim(), observations.shape(1)));
       Array out = matrix(na, box_->action_dim());
-      box_->act([&](std::size_t j) { return thetas[rows[j] / m].data(); }, observations.data(), rows.size(),
-                out.mutable_data());
+      const auto no = static_cast<std::size_t>(box_->observation_dim()),
+                 nu = static_cast<std::size_t>(box_->action_dim());
+      const double* o = observations.data();
+      double* u = out.mutable_data();
+      pool_->parallel_for_chunks(rows.size(), 0, [&](std::size_t begin, std::size_t end) {
+        box_->act([&](std::size_t j) { return thetas[rows[begin + j] / m].data(); }, o + begin * no,
+                  end - begin, u + begin * nu);
+      });
       return out;
     }
-    Array theta_rows = matrix(na, static_cast<py::ssize_t>(np));
-    for (std::size_t j = 0; j < rows.size(); ++j)
-      std::copy_n(thetas[rows[j] / m].data(), np, theta_rows.mutable_data() + j * np);
-    Array a = as_array(act_(theta_rows, observations), "policy.act result");
+    if (theta_rows_.is_none()) {  // the same rows as the last step: the same (read-only) array again
+      Array theta_rows = matrix(na, static_cast<py::ssize_t>(np));
+      double* w = theta_rows.mutable_data();
+      pool_->parallel_for(rows.size(),
+                          [&](std::size_t j) { std::copy_n(thetas[rows[j] / m].data(), np, w + j * np); });
+      theta_rows.attr("setflags")(py::arg("write") = false);
+      theta_rows_ = std::move(theta_rows);
+    }
+    Array a = as_array(act_(theta_rows_, observations), "policy.act result");
     if (a.ndim() == 1) a = as_matrix(a.reshape({a.shape(0), py::ssize_t{1}}), "policy.act result", na, 1);
     return as_matrix(a, "policy.act result", na, -1);
   }
 
+  std::shared_ptr<ThreadPool> pool_;
   py::object model_, policy_;
   ScenarioSet scenarios_;
   Discounting discounting_;
   ParameterSpec spec_;
   const BoxPolicy* box_ = nullptr;
   py::object initial_state_, step_, reward_, terminal_, observe_, event_fraction_, act_;
+  py::object theta_rows_ =
+      py::none();      // the theta of each live row, as handed to policy.act (None: to be rebuilt)
+  bool busy_ = false;  // an evaluation is running (the Python calls may let another thread in)
 };
 
 }  // namespace
@@ -301,12 +327,19 @@ model: an object with
 policy: a BoxPolicy (LinearPolicy, SigmoidPolicy) or an object with `parameters` (a ParameterSpec) and
   act(thetas[n, n_params], observations[n, do]) -> actions[n, da] (or [n]).
 Each method is called once per time step for all live (theta, scenario) pairs of an evaluation; the noise
-is the scenario set's (seed, scenarios, horizon, variant), the same numbers as the C++ evaluators'.)doc")
+is the scenario set's (seed, scenarios, horizon, variant), the same numbers as the C++ evaluators'.
+threads: as --threads, and the result is bit-identical for any number. The model's and a Python policy's
+methods are Python calls and run one after another under the GIL (numpy itself may use several cores); the
+threads share what C++ does per step over the rows: the scenario noise, a built-in policy's actions
+(BoxPolicy) and the theta rows handed to policy.act. Every row is computed alone and the returns are
+accumulated per row in time order and summed in scenario order, so no result depends on the thread count.
+policy.act receives the same read-only thetas array on consecutive steps while the live rows do not change.)doc")
       .def(py::init<py::object, py::object, py::object, std::int64_t, std::int64_t, double,
-                    const std::string&>(),
+                    const std::string&, std::int64_t>(),
            py::arg("model"), py::arg("policy"), py::kw_only(), py::arg("seed"), py::arg("scenarios"),
-           py::arg("horizon"), py::arg("gamma") = 1.0, py::arg("variant") = "plain", py::keep_alive<1, 2>(),
-           py::keep_alive<1, 3>())
+           py::arg("horizon"), py::arg("gamma") = 1.0, py::arg("variant") = "plain", py::arg("threads") = 1,
+           py::keep_alive<1, 2>(), py::keep_alive<1, 3>())
+      .def_property_readonly("threads", &VectorizedProblem::threads)
       .def_property_readonly("scenarios", &VectorizedProblem::scenarios)
       .def_property_readonly("gamma", [](const VectorizedProblem& p) { return p.discounting().gamma; })
       .def_property_readonly("horizon", [](const VectorizedProblem& p) { return p.discounting().horizon; })

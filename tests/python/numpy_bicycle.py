@@ -97,10 +97,7 @@ class NumpyBicycle:
         if self.goal is not None:
             inside = (xf - self.goal[0]) ** 2 + (yf - self.goal[1]) ** 2 <= self.goal[2] ** 2
             status = np.where((status == RIDING) & inside, AT_GOAL, status)
-        out = np.empty((s.shape[0], 10))
-        for k, column in enumerate((omega, omega_dot, theta, theta_dot, xf, yf, xb, yb, psi, status)):
-            out[:, k] = column
-        return out
+        return np.column_stack((omega, omega_dot, theta, theta_dot, xf, yf, xb, yb, psi, status))
 
     def terminal(self, s):
         return s[:, 9] != RIDING
@@ -139,15 +136,15 @@ _FEATURE_SCALES = np.array([np.pi / 15, 1.0, np.pi / 4, 2.0])
 
 
 def features(observations):
-    """The bicycle policy's 15 features (envs/bicycle_policy.hpp)."""
+    """The bicycle policy's 15 features (envs/bicycle_policy.hpp): v, v|v|, v^3 of each scaled state variable,
+    then g, g|g| and sin of the goal angle (g = goal angle / pi)."""
     n = observations.shape[0]
     out = np.empty((n, 15))
-    scaled = observations[:, :4] / _FEATURE_SCALES
-    for k in range(4):
-        v = scaled[:, k]
-        out[:, 3 * k] = v
-        out[:, 3 * k + 1] = v * np.abs(v)
-        out[:, 3 * k + 2] = v * v * v
+    v = observations[:, :4] / _FEATURE_SCALES
+    grid = out[:, :12].reshape(n, 4, 3)  # a view: column 3k + j of out
+    grid[:, :, 0] = v
+    grid[:, :, 1] = v * np.abs(v)
+    grid[:, :, 2] = v * v * v
     g = observations[:, 4] / np.pi
     out[:, 12] = g
     out[:, 13] = g * np.abs(g)
@@ -159,13 +156,13 @@ class NumpyBicyclePolicy:
     """T = 4 sigmoid(w_T . x) - 2, d = 0.04 sigmoid(w_d . x) - 0.02: the bicycle policy class in numpy."""
 
     parameters = pegasus.bicycle_policy_parameters()
+    _LOW, _WIDTH = np.array([-2.0, -0.02]), np.array([4.0, 0.04])
 
     def act(self, thetas, observations):
         x = features(observations)
-        z_t = np.einsum("ij,ij->i", thetas[:, :15], x)
-        z_d = np.einsum("ij,ij->i", thetas[:, 15:], x)
+        z = np.einsum("ikj,ij->ik", thetas.reshape(-1, 2, 15), x)  # [w_T . x, w_d . x] of each row
         with np.errstate(over="ignore"):  # exp(-z) = inf gives the low end of the box, as in C++
-            return np.stack([-2.0 + 4.0 / (1.0 + np.exp(-z_t)), -0.02 + 0.04 / (1.0 + np.exp(-z_d))], axis=1)
+            return self._LOW + self._WIDTH / (1.0 + np.exp(-z))
 
 
 class FeatureBicycle(NumpyBicycle):

@@ -77,3 +77,28 @@ def test_a_resumed_training_ends_as_the_uninterrupted_one():
     assert resumed.resumed
     same, difference = full.same_outcome(resumed)
     assert same, difference
+
+
+@pytest.mark.parametrize("method", ["cmaes", "ars"])
+def test_cmaes_and_ars_give_the_cli_figures_bit_for_bit(cli, tmp_path, method):
+    flags = ["--optimizer.method", method, f"--optimizer.{method}.max-iterations", "2"]
+    if method == "cmaes":
+        flags += ["--optimizer.cmaes.population-size", "6"]
+    else:
+        flags += ["--optimizer.ars.directions", "3", "--optimizer.ars.top-directions", "2"]
+    summary_json, policy_json = run_cli(cli, tmp_path / "cli", "--threads", "2", *flags)
+    options = small_training(threads=1)
+    options.optimizer.method = method
+    if method == "cmaes":
+        options.optimizer.cmaes.max_iterations, options.optimizer.cmaes.population_size = 2, 6
+    else:
+        ars = options.optimizer.ars
+        ars.max_iterations, ars.directions, ars.top_directions = 2, 3, 2
+    checkpoints = []
+    theta, summary = pegasus.train_bicycle(options, checkpoint_every=1, on_checkpoint=checkpoints.append)
+    assert summary.method == method and summary.iterations == summary_json["iterations"] == 2
+    assert summary.best_value == summary_json["final_uhat"] and summary.evaluations == summary_json["evaluations"]
+    names = pegasus.bicycle_policy_parameters().names
+    assert [policy_json["parameters"][n] for n in names] == list(theta)
+    _, resumed = pegasus.train_bicycle(options, resume_from=checkpoints[0])
+    assert resumed.same_outcome(summary) == (True, "")

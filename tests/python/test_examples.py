@@ -6,7 +6,7 @@ import sys
 import pytest
 
 
-@pytest.mark.parametrize("script", ["own_simulator.py", "finite_mdp_shaping.py", "gymnasium_env.py"])
+@pytest.mark.parametrize("script", ["own_simulator.py", "finite_mdp_shaping.py", "gymnasium_env.py", "helicopter.py"])
 def test_example_runs(source_dir, script):
     result = subprocess.run([sys.executable, str(source_dir / "examples" / "python" / script)], capture_output=True,
                             text=True, timeout=300, env=dict(os.environ))

@@ -17,9 +17,11 @@ def test_the_installed_package_imports_and_works(tmp_path):
     assert (site / "pegasus" / "__init__.py").exists() and (site / "pegasus" / "_pegasus.pyi").exists()
     code = ("import pegasus, numpy as np; "
             "s = pegasus.ScenarioSet(seed=1, count=2, horizon=3, noise_dim=1); "
-            "print(pegasus.__file__, s.step_noise().shape)")
+            "plan = pegasus.TrainingPlan(stages=[pegasus.TrainingStage('g')]); "
+            "print(pegasus.__file__, s.step_noise().shape, pegasus.training.__file__)")
     env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
     env["PYTHONPATH"] = str(site)
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, cwd=tmp_path)
     assert result.returncode == 0, result.stderr
     assert result.stdout.startswith(str(site)) and "(2, 3, 1)" in result.stdout
+    assert result.stdout.strip().endswith(str(site / "pegasus" / "training.py"))

@@ -1,6 +1,7 @@
 """A bicycle written in numpy (the equations of src/envs/bicycle.cpp), trained by PEGASUS through
 pegasus.VectorizedProblem, rides to the goal (thesis §4.6)."""
 import numpy as np
+import pytest
 
 import pegasus
 
@@ -32,7 +33,9 @@ def test_numpy_bicycle_trained_by_pegasus_rides_to_the_goal():
     start = pegasus.bicycle_balancing_theta()
     theta, summary = pegasus.solve(problem, training_options(12), theta=start)
     assert summary.best_value > summary.initial_value + 1.0
-    assert problem.uhat(theta) == summary.best_value
+    # numpy 1.24's sin, arctan, ... may round the last bit differently with the memory layout of their arrays
+    # (a SIMD or a scalar loop), so a numpy model reproduces U-hat to the last bits, not always bit for bit.
+    assert problem.uhat(theta) == pytest.approx(summary.best_value, rel=1e-12)
 
     goal = (30.0, 0.0, 5.0)  # a circle 30 m east of the start, 5 m radius
     before, after = reached_fraction(start, goal), reached_fraction(theta, goal)

@@ -14,9 +14,10 @@ def spec():
                                   pegasus.Parameter("b", 0.0, -1.0, 1.0, 0.1)])
 
 
-@pytest.mark.parametrize("method", ["gradient", "hill-climb", "bobyqa", "sbplx", "crs2", "esch"])
+@pytest.mark.parametrize("method", ["gradient", "hill-climb", "bobyqa", "sbplx", "crs2", "esch", "cmaes", "ars"])
 def test_every_continuous_method_finds_the_maximum(method):
     options = pegasus.OptimizerOptions(method)
+    options.ars.max_iterations, options.ars.step_size = 400, 0.1
     options.hill_climbing.max_iterations = 3000
     options.hill_climbing.proposals_per_iteration = 4
     options.nlopt.max_evaluations = 4000
@@ -24,7 +25,7 @@ def test_every_continuous_method_finds_the_maximum(method):
     assert summary.method == method
     assert summary.parameter_names == ["a", "b"]
     assert summary.best_value == quadratic(summary.best_theta)
-    tolerance = {"esch": 0.1, "crs2": 2e-2, "hill-climb": 2e-2}.get(method, 1e-4)  # global, stochastic searches
+    tolerance = {"esch": 0.1, "crs2": 2e-2, "hill-climb": 2e-2, "ars": 2e-3}.get(method, 1e-4)  # global, stochastic searches
     assert theta == pytest.approx([0.3, -0.2], abs=tolerance)
     assert summary.best_value > summary.initial_value
     assert summary.evaluations >= summary.iterations > 0
@@ -41,10 +42,12 @@ def test_exhaustive_search_enumerates_integer_parameters():
     assert len(summary.all_values) == 20 and max(summary.all_values) == 0.0
 
 
-@pytest.mark.parametrize("method", ["gradient", "hill-climb", "bobyqa"])
+@pytest.mark.parametrize("method", ["gradient", "hill-climb", "bobyqa", "cmaes", "ars"])
 def test_resuming_from_a_checkpoint_ends_as_the_uninterrupted_run(method):
     def options():
         o = pegasus.OptimizerOptions(method)
+        o.cmaes.max_iterations = 6
+        o.ars.max_iterations = 6
         o.gradient.max_iterations = 6
         o.hill_climbing.max_iterations = 6
         o.nlopt.max_evaluations = 12

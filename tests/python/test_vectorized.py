@@ -143,3 +143,93 @@ def test_numpy_bicycle_uhat_agrees_with_the_cpp_bicycle_on_the_same_scenarios():
         if falls is not None:
             assert np.count_nonzero(r_cpp) == falls
         assert r_ours == pytest.approx(r_cpp, rel=1e-9, abs=1e-12)
+
+
+class Cart:
+    """A noisy cart on a rail (x, v), absorbed beyond |x| = 2: only +, *, / and comparisons, whose results numpy
+    computes exactly rounded whatever its SIMD path (numpy 1.24's sin, arctan, exp, ... may differ in the last bit
+    with the memory layout of their arrays, so a model using them is not bit-reproducible from call to call,
+    threads or not)."""
+    noise_dim, initial_noise_dim = 1, 2
+
+    def initial_state(self, p0):
+        return 2.0 * p0 - 1.0
+
+    def step(self, s, a, p):
+        v = s[:, 1] + 0.05 * (a[:, 0] + (p[:, 0] - 0.5))
+        return np.stack([s[:, 0] + 0.05 * v, v], axis=1)
+
+    def reward(self, s, a, nxt):
+        return -(nxt[:, 0] * nxt[:, 0] + 0.1 * a[:, 0] * a[:, 0]) - 10.0 * (np.abs(nxt[:, 0]) > 2.0)
+
+    def terminal(self, s):
+        return np.abs(s[:, 0]) > 2.0
+
+
+class NumpyLinear:
+    parameters = pegasus.ParameterSpec.from_names(["kx", "kv"])
+
+    def act(self, thetas, observations):
+        return np.clip(np.einsum("ij,ij->i", thetas, observations), -3.0, 3.0)
+
+
+@pytest.mark.parametrize("builtin", [False, True])
+def test_threads_give_the_same_bits_as_one_thread(builtin):
+    # A numpy policy (theta rows on the pool) or the built-in LinearPolicy (its actions on the pool), rollouts
+    # absorbed at different steps, on 1, 2 and 5 threads: the same returns and U-hat, bit for bit.
+    policy = pegasus.LinearPolicy(2, [-3.0], [3.0]) if builtin else NumpyLinear()
+    thetas = np.array([[-1.0, -1.5], [0.5, 0.0], [-3.0, -0.2], [0.0, 0.0], [-0.5, -2.0]])
+    results = []
+    for threads in (1, 2, 5):
+        problem = pegasus.VectorizedProblem(Cart(), policy, seed=9, scenarios=40, horizon=300, gamma=0.99,
+                                            threads=threads)
+        assert problem.threads == threads
+        results.append((problem.returns(thetas), problem.uhat_batch(thetas)))
+    absorbed = results[0][0] < -10.0
+    assert 0 < np.count_nonzero(absorbed) < absorbed.size  # some rollouts ended early, others ran on
+    for returns, values in results[1:]:
+        assert np.array_equal(returns, results[0][0])
+        assert np.array_equal(values, results[0][1])
+
+
+def test_the_numpy_bicycle_agrees_on_any_threads_to_numpys_last_bit():
+    model = numpy_bicycle.NumpyBicycle(goal=None, goal_direction=0.0, shaping_per_metre=1.0, gamma=0.998)
+    thetas = np.tile(pegasus.bicycle_balancing_theta(), (5, 1))
+    thetas[1:, :15] += np.random.default_rng(2).normal(scale=0.5, size=(4, 15))
+    returns = [pegasus.VectorizedProblem(model, numpy_bicycle.NumpyBicyclePolicy(), seed=9, scenarios=7, horizon=200,
+                                         gamma=0.998, threads=threads).returns(thetas) for threads in (1, 3)]
+    assert np.count_nonzero(returns[0] < -50) > 0  # some rollouts fell
+    assert returns[1] == pytest.approx(returns[0], rel=1e-12, abs=1e-12)
+
+
+def test_the_policy_sees_the_same_read_only_theta_rows_while_the_live_rows_stay():
+    seen = []
+
+    class Recording:
+        parameters = pegasus.ParameterSpec.from_names(["k"])
+
+        def act(self, thetas, observations):
+            seen.append(thetas)
+            assert not thetas.flags.writeable
+            return thetas[:, :1] * observations[:, :1]
+
+    class Falls:  # row r of scenario i is absorbed after i steps
+        noise_dim, initial_noise_dim = 0, 1
+
+        def initial_state(self, p0):
+            return np.zeros((p0.shape[0], 1))
+
+        def step(self, s, a, p):
+            return s + 1.0
+
+        def reward(self, s, a, nxt):
+            return np.ones(s.shape[0])
+
+        def terminal(self, s):
+            return s[:, 0] >= 3.0
+
+    problem = pegasus.VectorizedProblem(Falls(), Recording(), seed=1, scenarios=2, horizon=6, threads=2)
+    assert list(problem.returns(np.array([[1.0], [2.0]]))[:, 0]) == [3.0, 3.0]
+    assert len(seen) == 3 and seen[0] is seen[1] is seen[2]
+    with pytest.raises(ValueError, match="threads"):
+        pegasus.VectorizedProblem(Falls(), Recording(), seed=1, scenarios=2, horizon=6, threads=0)

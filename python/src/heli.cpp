@@ -1,0 +1,918 @@
+// The helicopter of thesis chapter 5 from Python: the ground-truth aircraft (heli/aircraft.hpp) and the
+// identified model (sysid/learned_model.hpp) as batch models over numpy rows, the hover task (§5.3) and
+// its PEGASUS U-hat on either, and policy files (heli/policy_file.hpp) serving controls for a batch of
+// states.
+#include <fmt/format.h>
+
+#include <cmath>
+#include <functional>
+#include <memory>
+
+#include "builtin_problem.hpp"
+#include "pegasus/heli/aircraft.hpp"
+#include "pegasus/heli/hover_policy.hpp"
+#include "pegasus/heli/hover_task.hpp"
+#include "pegasus/heli/policy_file.hpp"
+#include "pegasus/sysid/learned_model.hpp"
+
+namespace pegasus::python {
+
+namespace {
+
+using heli::Aircraft;
+using heli::AircraftParams;
+using heli::AircraftState;
+using heli::Controls;
+using heli::HoverPolicy;
+using heli::HoverReward;
+using heli::HoverTask;
+using heli::LoggedState;
+using heli::SetPoint;
+using sysid::IdentifiedModel;
+using sysid::LearnedHeliModel;
+using sysid::LearnedModelOptions;
+
+constexpr py::ssize_t kLogged = heli::kLoggedStates;
+
+// ---- State rows ------------------------------------------------------------------------------------------
+
+// The ground truth's state as a row of 36 numbers (every field of AircraftState, frames as there).
+constexpr py::ssize_t kAircraftColumns = 36;
+std::vector<std::string> aircraft_columns() {
+  std::vector<std::string> c = {"p_W.x",    "p_W.y",    "p_W.z",     "v_B.x",    "v_B.y",    "v_B.z",
+                                "roll",     "pitch",    "yaw",       "w_B.x",    "w_B.y",    "w_B.z",
+                                "flap_lon", "flap_lat", "gyro_rate", "servo.a1", "servo.a2", "servo.a3",
+                                "servo.a4", "gust_W.x", "gust_W.y",  "gust_W.z"};
+  for (const char* n : heli::kLoggedStateNames) c.push_back(std::string("estimate_error.") + n);
+  c.push_back("time");
+  c.push_back("crash");
+  return c;
+}
+
+void write_row(const AircraftState& s, double* x) {
+  for (int i = 0; i < 3; ++i)
+    x[i] = s.p_W[i], x[3 + i] = s.v_B[i], x[9 + i] = s.w_B[i], x[19 + i] = s.gust_W[i];
+  x[6] = s.attitude.roll, x[7] = s.attitude.pitch, x[8] = s.attitude.yaw;
+  x[12] = s.flap_lon, x[13] = s.flap_lat, x[14] = s.gyro_rate;
+  for (int i = 0; i < 4; ++i) x[15 + i] = s.servo[static_cast<std::size_t>(i)];
+  for (int i = 0; i < kLogged; ++i) x[22 + i] = s.estimate_error[static_cast<std::size_t>(i)];
+  x[34] = s.time;
+  x[35] = static_cast<double>(static_cast<int>(s.crash));
+}
+
+AircraftState aircraft_row(const double* x, py::ssize_t row, const char* name) {
+  AircraftState s;
+  for (int i = 0; i < 3; ++i)
+    s.p_W[i] = x[i], s.v_B[i] = x[3 + i], s.w_B[i] = x[9 + i], s.gust_W[i] = x[19 + i];
+  s.attitude = {x[6], x[7], x[8]};
+  s.flap_lon = x[12], s.flap_lat = x[13], s.gyro_rate = x[14];
+  for (int i = 0; i < 4; ++i) s.servo[static_cast<std::size_t>(i)] = x[15 + i];
+  for (int i = 0; i < kLogged; ++i) s.estimate_error[static_cast<std::size_t>(i)] = x[22 + i];
+  s.time = x[34];
+  const double crash = x[35];
+  if (!(crash >= 0 && crash <= static_cast<int>(heli::CrashReason::kModelSupport) &&
+        crash == std::floor(crash)))
+    throw py::value_error(
+        fmt::format("{}: expected a crash code in 0..{} in column 35 (crash), got {} at row {}", name,
+                    static_cast<int>(heli::CrashReason::kModelSupport), crash, row));
+  s.crash = static_cast<heli::CrashReason>(static_cast<int>(crash));
+  return s;
+}
+
+// The identified model's state as a row of 153 numbers: the 12 world-frame logged states, the three extra
+// states, the held regression coefficients (8 x 16), the predictive variance (8), the step count and the
+// crash flag.
+constexpr py::ssize_t kLearnedColumns =
+    kLogged + 3 + sysid::kBodyVars * sysid::kInputs + sysid::kBodyVars + 2;
+std::vector<std::string> learned_columns() {
+  std::vector<std::string> c(heli::kLoggedStateNames.begin(), heli::kLoggedStateNames.end());
+  c.insert(c.end(), {"flap_lon", "flap_lat", "gyro"});
+  for (const char* v : sysid::kBodyVarNames)
+    for (const char* i : sysid::kInputNames) c.push_back(fmt::format("beta.{}.{}", v, i));
+  for (const char* v : sysid::kBodyVarNames) c.push_back(fmt::format("variance.{}", v));
+  c.push_back("step");
+  c.push_back("crashed");
+  return c;
+}
+
+void write_row(const LearnedHeliModel::State& s, double* x) {
+  std::copy(s.sim.world.begin(), s.sim.world.end(), x);
+  x += kLogged;
+  *x++ = s.sim.flap_lon, *x++ = s.sim.flap_lat, *x++ = s.sim.gyro;
+  for (const auto& b : s.beta)
+    for (int i = 0; i < sysid::kInputs; ++i) *x++ = b[i];
+  for (int v = 0; v < sysid::kBodyVars; ++v) *x++ = s.variance[v];
+  *x++ = s.step;
+  *x = s.crashed ? 1.0 : 0.0;
+}
+
+LearnedHeliModel::State learned_row(const double* x, py::ssize_t row, const char* name) {
+  LearnedHeliModel::State s;
+  std::copy(x, x + kLogged, s.sim.world.begin());
+  const double* y = x + kLogged;
+  s.sim.flap_lon = *y++, s.sim.flap_lat = *y++, s.sim.gyro = *y++;
+  for (auto& b : s.beta)
+    for (int i = 0; i < sysid::kInputs; ++i) b[i] = *y++;
+  for (int v = 0; v < sysid::kBodyVars; ++v) s.variance[v] = *y++;
+  const double step = *y++, crashed = *y;
+  if (!(step >= 0 && step < 2e9 && step == std::floor(step)))
+    throw py::value_error(fmt::format("{}: expected a step count >= 0 in column {} (step), got {} at row {}",
+                                      name, kLearnedColumns - 2, step, row));
+  if (crashed != 0.0 && crashed != 1.0)
+    throw py::value_error(fmt::format("{}: expected 0 or 1 in column {} (crashed), got {} at row {}", name,
+                                      kLearnedColumns - 1, crashed, row));
+  s.step = static_cast<int>(step);
+  s.crashed = crashed == 1.0;
+  return s;
+}
+
+// Uniforms in [0, 1] (the models map them through the normal quantile).
+void require_uniform(const Array& a, const std::string& name) {
+  const double* x = a.data();
+  for (py::ssize_t k = 0; k < a.size(); ++k)
+    if (!(x[k] >= 0.0 && x[k] <= 1.0))
+      throw py::value_error(
+          fmt::format("{}: expected uniforms in [0, 1], got {} at flat index {}", name, x[k], k));
+}
+
+Controls controls_row(const double* a) { return {a[0], a[1], a[2], a[3]}; }
+
+// ---- Policy files -----------------------------------------------------------------------------------------
+
+// A policy file with its controller bound (heli/policy_file.hpp).
+struct HeliPolicyObject {
+  heli::PolicyFile file;
+  std::string source;
+  std::shared_ptr<const heli::HeliController> controller;
+
+  HeliPolicyObject(heli::PolicyFile f, std::string from) : file(std::move(f)), source(std::move(from)) {
+    controller = heli::make_controller(file, source);
+  }
+
+  Array controls(py::object states, py::object time, std::int64_t threads) const {
+    const Array s = as_matrix(states, "states", -1, kLogged);
+    require_finite(s, "states");
+    const py::ssize_t n = s.shape(0);
+    Array t = as_array(time, "time");
+    if (!(t.ndim() == 0 || (t.ndim() == 1 && t.shape(0) == n)))
+      throw py::value_error(fmt::format("time: expected a number or a 1-D array of length {}", n));
+    require_finite(t, "time");
+    const bool one = t.ndim() == 0;
+    const auto pool = make_pool(threads);
+    Array out = matrix(n, 4);
+    const double *sp = s.data(), *tp = t.data();
+    double* o = out.mutable_data();
+    {
+      py::gil_scoped_release release;
+      pool->parallel_for(static_cast<std::size_t>(n), [&](std::size_t r) {
+        LoggedState x;
+        std::copy(sp + r * kLogged, sp + (r + 1) * kLogged, x.begin());
+        const Controls u = controller->act(x, one ? tp[0] : tp[r]);
+        std::copy(u.begin(), u.end(), o + r * 4);
+      });
+    }
+    return out;
+  }
+};
+
+// ---- Batch models -----------------------------------------------------------------------------------------
+
+// The batch interface shared by the two helicopter models: rows in, rows out; the GIL is released while a
+// batch steps, on `threads` threads (each row is independent: results never depend on them).
+template <class M>
+struct HeliBatch {
+  static constexpr py::ssize_t columns() {
+    if constexpr (std::is_same_v<M, Aircraft>)
+      return kAircraftColumns;
+    else
+      return kLearnedColumns;
+  }
+  static typename M::State row(const double* x, py::ssize_t r, const char* name) {
+    if constexpr (std::is_same_v<M, Aircraft>)
+      return aircraft_row(x, r, name);
+    else
+      return learned_row(x, r, name);
+  }
+  static std::vector<typename M::State> states(const Array& s, const char* name) {
+    std::vector<typename M::State> out;
+    out.reserve(static_cast<std::size_t>(s.shape(0)));
+    for (py::ssize_t r = 0; r < s.shape(0); ++r) out.push_back(row(s.data() + r * columns(), r, name));
+    return out;
+  }
+
+  static Array initial_state(const M& model, py::object noise, std::int64_t threads) {
+    const Array p = as_matrix(noise, "noise", -1, model.initial_noise_dim());
+    require_uniform(p, "noise");
+    const auto pool = make_pool(threads);
+    Array out = matrix(p.shape(0), columns());
+    const auto d = static_cast<std::size_t>(model.initial_noise_dim());
+    const double* pp = p.data();
+    double* o = out.mutable_data();
+    {
+      py::gil_scoped_release release;
+      pool->parallel_for(static_cast<std::size_t>(p.shape(0)), [&](std::size_t r) {
+        write_row(model.initial_state(std::span<const double>(pp + r * d, d)), o + r * columns());
+      });
+    }
+    return out;
+  }
+
+  static Array step(const M& model, py::object states, py::object actions, py::object noise,
+                    std::int64_t threads) {
+    const Array s = as_matrix(states, "states", -1, columns());
+    const Array a = as_matrix(actions, "actions", s.shape(0), 4);
+    const Array p = as_matrix(noise, "noise", s.shape(0), model.noise_dim());
+    require_finite(a, "actions");
+    require_uniform(p, "noise");
+    const std::vector<typename M::State> in = HeliBatch::states(s, "states");
+    const auto pool = make_pool(threads);
+    Array out = matrix(s.shape(0), columns());
+    const auto d = static_cast<std::size_t>(model.noise_dim());
+    const double *ap = a.data(), *pp = p.data();
+    double* o = out.mutable_data();
+    {
+      py::gil_scoped_release release;
+      pool->parallel_for(in.size(), [&](std::size_t r) {
+        write_row(model.step(in[r], controls_row(ap + 4 * r), std::span<const double>(pp + r * d, d)),
+                  o + r * columns());
+      });
+    }
+    return out;
+  }
+
+  static Array observe(const M& model, py::object states) {
+    const Array s = as_matrix(states, "states", -1, columns());
+    Array out = matrix(s.shape(0), kLogged);
+    for (py::ssize_t r = 0; r < s.shape(0); ++r) {
+      const auto o = model.observe(row(s.data() + r * columns(), r, "states"));
+      std::copy(o.begin(), o.end(), out.mutable_data() + r * kLogged);
+    }
+    return out;
+  }
+
+  static py::array_t<bool> terminal(const M& model, py::object states) {
+    const Array s = as_matrix(states, "states", -1, columns());
+    py::array_t<bool> out(s.shape(0));
+    for (py::ssize_t r = 0; r < s.shape(0); ++r)
+      out.mutable_data()[r] = model.terminal(row(s.data() + r * columns(), r, "states"));
+    return out;
+  }
+
+  // Open loop (actions [n, T, 4]) or closed loop under a policy file's controller; see the docstring.
+  static py::dict simulate(const M& model, py::object initial_noise, py::object noise, py::object actions,
+                           const heli::HeliController* controller, std::int64_t threads) {
+    const Array p0 = as_matrix(initial_noise, "initial_noise", -1, model.initial_noise_dim());
+    require_uniform(p0, "initial_noise");
+    const py::ssize_t n = p0.shape(0);
+    Array p = as_array(noise, "noise");
+    if (p.ndim() != 3 || p.shape(0) != n || p.shape(2) != model.noise_dim())
+      throw py::value_error(
+          fmt::format("noise: expected a 3-D array of shape ({}, steps, {})", n, model.noise_dim()));
+    require_uniform(p, "noise");
+    const py::ssize_t steps = p.shape(1);
+    Array a;
+    if ((controller == nullptr) == actions.is_none())
+      throw py::value_error("actions, controller: expected exactly one of them");
+    if (controller == nullptr) {
+      a = as_array(actions, "actions");
+      if (a.ndim() != 3 || a.shape(0) != n || a.shape(1) != steps || a.shape(2) != 4)
+        throw py::value_error(fmt::format("actions: expected a 3-D array of shape ({}, {}, 4)", n, steps));
+      require_finite(a, "actions");
+    }
+    const auto pool = make_pool(threads);
+    Array observed({n, steps + 1, kLogged}), applied({n, steps, py::ssize_t{4}});
+    Array rewards = matrix(n, steps);
+    py::array_t<std::int64_t> crash_step(n);
+    const auto d0 = static_cast<std::size_t>(model.initial_noise_dim());
+    const auto dp = static_cast<std::size_t>(model.noise_dim());
+    const auto T = static_cast<std::size_t>(steps);
+    const double *p0p = p0.data(), *pp = p.data(), *app = controller ? nullptr : a.data();
+    double *obs = observed.mutable_data(), *act = applied.mutable_data(), *rew = rewards.mutable_data();
+    std::int64_t* crashed = crash_step.mutable_data();
+    const double dt = 0.02;
+    {
+      py::gil_scoped_release release;
+      pool->parallel_for(static_cast<std::size_t>(n), [&](std::size_t i) {
+        typename M::State s = model.initial_state(std::span<const double>(p0p + i * d0, d0));
+        crashed[i] = -1;
+        auto o = model.observe(s);
+        std::copy(o.begin(), o.end(), obs + (i * (T + 1)) * kLogged);
+        for (std::size_t t = 0; t < T; ++t) {
+          Controls u{};
+          if (controller != nullptr)
+            u = controller->act(o, static_cast<double>(t) * dt);
+          else
+            u = controls_row(app + (i * T + t) * 4);
+          typename M::State next = model.step(s, u, std::span<const double>(pp + (i * T + t) * dp, dp));
+          rew[i * T + t] = model.reward(s, u, next);
+          if (crashed[i] < 0 && model.terminal(next)) crashed[i] = static_cast<std::int64_t>(t);
+          s = next;
+          o = model.observe(s);
+          std::copy(u.begin(), u.end(), act + (i * T + t) * 4);
+          std::copy(o.begin(), o.end(), obs + (i * (T + 1) + t + 1) * kLogged);
+        }
+      });
+    }
+    py::dict out;
+    out["observations"] = observed;
+    out["actions"] = applied;
+    out["rewards"] = rewards;
+    out["crash_step"] = crash_step;
+    return out;
+  }
+
+  template <class Class>
+  static void bind(Class& c) {
+    c.def_property_readonly("noise_dim", &M::noise_dim, "Uniforms per step.")
+        .def_property_readonly("initial_noise_dim", &M::initial_noise_dim, "Uniforms for the initial state.")
+        .def("initial_state", &HeliBatch::initial_state, py::arg("noise"), py::kw_only(),
+             py::arg("threads") = 1, "State rows [n, columns] from uniforms [n, initial_noise_dim].")
+        .def("step", &HeliBatch::step, py::arg("states"), py::arg("actions"), py::arg("noise"), py::kw_only(),
+             py::arg("threads") = 1,
+             "One 50 Hz step of every row: states [n, columns], actions [n, 4] (a1..a4, clipped to [-1, 1]), "
+             "noise [n, noise_dim] uniforms; a new array. Deterministic; threads never change the result.")
+        .def("observe", &HeliBatch::observe, py::arg("states"),
+             "What a controller sees, [n, 12] (x, y, z, roll, pitch, yaw, xdot, ydot, zdot, roll_rate, "
+             "pitch_rate, yaw_rate; world frame NED).")
+        .def("terminal", &HeliBatch::terminal, py::arg("states"), "Whether each row has crashed (absorbing).")
+        .def(
+            "simulate",
+            [](const M& model, py::object initial_noise, py::object noise, py::object actions,
+               py::object policy, std::int64_t threads) {
+              const heli::HeliController* controller = nullptr;
+              if (!policy.is_none()) {
+                if (!py::isinstance<HeliPolicyObject>(policy))
+                  throw py::value_error("policy: expected a pegasus.HeliPolicy or None");
+                controller = policy.cast<const HeliPolicyObject*>()->controller.get();
+              }
+              return simulate(model, initial_noise, noise, actions, controller, threads);
+            },
+            py::arg("initial_noise"), py::arg("noise"), py::kw_only(), py::arg("actions") = py::none(),
+            py::arg("policy") = py::none(), py::arg("threads") = 1,
+            R"doc(Flies n flights of `steps` 50 Hz steps from initial_noise [n, initial_noise_dim] with noise
+[n, steps, noise_dim] (a ScenarioSet's initial_noise() and step_noise() fit), either open loop (actions
+[n, steps, 4]) or closed loop under a policy file (policy=HeliPolicy, controller time t * 0.02 s). Returns a
+dict: observations [n, steps + 1, 12] (what a controller sees), actions [n, steps, 4] (applied), rewards
+[n, steps] (the model's own: the learned model's crash penalty), crash_step [n] (the step whose transition
+crashed, -1 for none). The GIL is released; rows run on `threads` threads, the result never depends on them.)doc");
+  }
+};
+
+SetPoint set_point(double x, double y, double z, double yaw) {
+  for (const auto& [v, name] : {std::pair{x, "x"}, {y, "y"}, {z, "z"}, {yaw, "yaw"}})
+    if (!std::isfinite(v))
+      throw py::value_error(fmt::format("{}: expected a finite number, got {}", name, v));
+  return {x, y, z, yaw};
+}
+
+std::shared_ptr<const IdentifiedModel> identified(py::object model) {
+  if (py::isinstance<py::str>(model))
+    return std::make_shared<const IdentifiedModel>(IdentifiedModel::load(model.cast<std::string>()));
+  try {
+    return model.cast<std::shared_ptr<IdentifiedModel>>();
+  } catch (const py::cast_error&) {
+    throw py::value_error("model: expected a pegasus.IdentifiedModel or the path of a model.json");
+  }
+}
+
+template <class T, std::size_t N>
+void def_array(py::class_<T>& c, const char* name, std::array<double, N> T::*field, const char* doc) {
+  c.def_property(
+      name, [field](const T& t) { return vector_array(t.*field); },
+      [field, name](T& t, py::object v) {
+        const Array a = as_vector(v, name, static_cast<py::ssize_t>(N));
+        require_finite(a, name);
+        std::copy(a.data(), a.data() + N, (t.*field).begin());
+      },
+      doc);
+}
+
+template <class T>
+void def_vec3(py::class_<T>& c, const char* name, heli::Vec3 T::*field, const char* doc) {
+  c.def_property(
+      name, [field](const T& t) { return vector_array(std::span<const double>((t.*field).data(), 3)); },
+      [field, name](T& t, py::object v) {
+        const Array a = as_vector(v, name, 3);
+        require_finite(a, name);
+        t.*field = heli::Vec3(a.data()[0], a.data()[1], a.data()[2]);
+      },
+      doc);
+}
+
+// U-hat of the hover policy class on a helicopter model, with its per-scenario returns.
+class HoverProblemObject final : public Objective {
+ public:
+  using Returns = std::function<std::vector<double>(const Theta&)>;
+  HoverProblemObject(std::unique_ptr<Objective> inner, Returns returns)
+      : inner_(std::move(inner)), returns_(std::move(returns)) {}
+  const ParameterSpec& parameters() const override { return inner_->parameters(); }
+  double evaluate(std::span<const double> theta) override { return inner_->evaluate(theta); }
+  void evaluate_batch(std::span<const Theta> thetas, std::span<double> values) override {
+    inner_->evaluate_batch(thetas, values);
+  }
+  std::vector<double> returns(const Theta& theta) const { return returns_(theta); }
+
+ private:
+  std::unique_ptr<Objective> inner_;
+  Returns returns_;
+};
+
+template <class M>
+std::unique_ptr<HoverProblemObject> hover_problem(const M& model, const SetPoint& target,
+                                                  const HoverReward& reward,
+                                                  const heli::HoverPolicyInit& init, py::object seed,
+                                                  std::int64_t scenarios, std::int64_t horizon, double gamma,
+                                                  const std::string& variant, std::int64_t threads) {
+  std::string error;
+  if (!reward.IsValid(&error)) throw py::value_error("reward." + error);
+  auto inner = std::make_unique<BuiltinProblem<HoverTask<M>, HoverPolicy>>(
+      HoverTask<M>(model, target, reward), HoverPolicy(init), seed, scenarios, horizon, gamma, variant,
+      threads);
+  const auto* raw = inner.get();
+  return std::make_unique<HoverProblemObject>(std::move(inner),
+                                              [raw](const Theta& t) { return raw->returns(t); });
+}
+
+void bind_hover(py::module_& m) {
+  auto options = py::class_<heli::HoverTrainingOptions>(m, "HoverTrainingOptions", R"doc(
+`pegasus heli hover`'s training (thesis §5.3): 30 scenarios of 35 s, gamma 0.9995, gradient ascent then hill
+climbing, on the identified model (heli/hover_task.hpp).)doc");
+  options.def(py::init<>())
+      .def_readwrite("scenarios", &heli::HoverTrainingOptions::scenarios)
+      .def_readwrite("seconds", &heli::HoverTrainingOptions::seconds)
+      .def_readwrite("gamma", &heli::HoverTrainingOptions::gamma)
+      .def_readwrite("refit_every", &heli::HoverTrainingOptions::refit_every)
+      .def_readwrite("target", &heli::HoverTrainingOptions::target)
+      .def_readwrite("start_pos_sigma", &heli::HoverTrainingOptions::start_pos_sigma)
+      .def_readwrite("start_vel_sigma", &heli::HoverTrainingOptions::start_vel_sigma)
+      .def_readwrite("reward", &heli::HoverTrainingOptions::reward)
+      .def_readwrite("centre_at_trim", &heli::HoverTrainingOptions::centre_at_trim)
+      .def_readwrite("optimizer", &heli::HoverTrainingOptions::optimizer)
+      .def_readwrite("then_hill_climb", &heli::HoverTrainingOptions::then_hill_climb)
+      .def_readwrite("seed", &heli::HoverTrainingOptions::seed)
+      .def("horizon", &heli::HoverTrainingOptions::horizon, "Steps of 0.02 s.")
+      .def("is_valid", [](const heli::HoverTrainingOptions& o) {
+        std::string error;
+        const bool ok = o.IsValid(&error);
+        return py::make_tuple(ok, error);
+      });
+  set_fields(options,
+             {"scenarios", "seconds", "gamma", "refit_every", "target", "start_pos_sigma", "start_vel_sigma",
+              "reward", "centre_at_trim", "optimizer", "then_hill_climb", "seed"});
+
+  auto problem = py::class_<HoverProblemObject, Objective>(m, "HoverProblem", R"doc(
+PEGASUS U-hat (thesis §5.3) of the hover policy class (HoverPolicy(init), 34 weights) on a helicopter model, the
+ground truth (Aircraft) or the identified model (LearnedHeliModel): HoverTask adds the set point `target` and
+the reward (Eqs 5.9-5.10) to the model's own; m scenarios of the given seed and variant, `horizon` 50 Hz steps,
+discount gamma, evaluated on `threads` threads (the result never depends on them).
+HoverProblem.from_training_options(model, options) is the objective `pegasus heli hover` maximises.)doc");
+  problem
+      .def(py::init([](py::object model, const SetPoint& target, const HoverReward& reward,
+                       const heli::HoverPolicyInit& init, py::object seed, std::int64_t scenarios,
+                       std::int64_t horizon, double gamma, const std::string& variant, std::int64_t threads) {
+             if (py::isinstance<Aircraft>(model))
+               return hover_problem(model.cast<const Aircraft&>(), target, reward, init, seed, scenarios,
+                                    horizon, gamma, variant, threads);
+             if (py::isinstance<LearnedHeliModel>(model))
+               return hover_problem(model.cast<const LearnedHeliModel&>(), target, reward, init, seed,
+                                    scenarios, horizon, gamma, variant, threads);
+             throw py::value_error("model: expected a pegasus.Aircraft or a pegasus.LearnedHeliModel");
+           }),
+           py::arg("model"), py::kw_only(), py::arg("target") = SetPoint{}, py::arg("reward") = HoverReward{},
+           py::arg("init") = heli::HoverPolicyInit{}, py::arg("seed"), py::arg("scenarios"),
+           py::arg("horizon"), py::arg("gamma") = 0.9995, py::arg("variant") = "plain",
+           py::arg("threads") = 1)
+      .def_static(
+          "from_training_options",
+          [](py::object model, const heli::HoverTrainingOptions& o, std::int64_t threads) {
+            std::string error;
+            if (!o.IsValid(&error)) throw py::value_error("options." + error);
+            auto inner = heli::hover_objective(identified(model), o, make_pool(threads));
+            using Exact = PegasusObjective<HoverTask<LearnedHeliModel>, HoverPolicy>;
+            const auto* raw = dynamic_cast<const Exact*>(inner.get());
+            if (raw == nullptr) throw std::logic_error("hover_objective: unexpected objective type");
+            return std::make_unique<HoverProblemObject>(std::move(inner), [raw](const Theta& t) {
+              std::vector<double> out(static_cast<std::size_t>(raw->evaluator().scenarios().size()));
+              raw->evaluator().per_scenario(t, out, nullptr);
+              return out;
+            });
+          },
+          py::arg("model"), py::arg("options") = heli::HoverTrainingOptions{}, py::kw_only(),
+          py::arg("threads") = 1,
+          "The objective `pegasus heli hover` maximises on an identified model (or model.json path): "
+          "heli::hover_objective, the policy class and reward centred on the logs' trim.");
+  bind_returns(problem);
+
+  m.def(
+      "hover_init_from_model",
+      [](py::object model) { return heli::hover_init_from_model(*identified(model)); }, py::arg("model"),
+      "The hover policy's starting weights around the trim estimate of the model's logs.");
+  m.def(
+      "hover_reward_for",
+      [](py::object model, const heli::HoverTrainingOptions& o) {
+        return heli::hover_reward_for(*identified(model), o);
+      },
+      py::arg("model"), py::arg("options") = heli::HoverTrainingOptions{},
+      "The reward of options, centred on the logs' trim when options.centre_at_trim.");
+
+  auto result = py::class_<heli::HoverTrainingResult>(m, "HoverTrainingResult",
+                                                      "What train_hover returns (heli/hover_task.hpp).");
+  result
+      .def_property_readonly("theta",
+                             [](const heli::HoverTrainingResult& r) { return vector_array(r.theta); })
+      .def_readonly("initial_uhat", &heli::HoverTrainingResult::initial_uhat)
+      .def_readonly("final_uhat", &heli::HoverTrainingResult::final_uhat)
+      .def_readonly("gradient", &heli::HoverTrainingResult::gradient)
+      .def_readonly("hill_climb", &heli::HoverTrainingResult::hill_climb)
+      .def_readonly("progress", &heli::HoverTrainingResult::progress);
+  set_fields(result, {"theta", "initial_uhat", "final_uhat", "gradient", "hill_climb", "progress"});
+  m.def(
+      "train_hover",
+      [](py::object model, const heli::HoverTrainingOptions& o, std::int64_t checkpoint_every,
+         py::object on_checkpoint, py::object resume_from, py::object callbacks, std::int64_t threads) {
+        std::string error;
+        if (!o.IsValid(&error)) throw py::value_error("options." + error);
+        if (checkpoint_every < 0)
+          throw py::value_error(
+              fmt::format("checkpoint_every: expected an integer >= 0, got {}", checkpoint_every));
+        heli::HoverTrainingHooks hooks;
+        hooks.checkpoint_every = on_checkpoint.is_none() ? 0 : checkpoint_every;
+        hooks.on_checkpoint = checkpoint_callback(on_checkpoint);
+        if (!resume_from.is_none()) hooks.resume_from = from_python(resume_from, "resume_from");
+        const IterationCallbackList list(callbacks);
+        hooks.callbacks = list.pointers();
+        const auto shared = identified(model);
+        const auto pool = make_pool(threads);
+        py::gil_scoped_release release;
+        return heli::train_hover(shared, o, hooks, *pool);
+      },
+      py::arg("model"), py::arg("options") = heli::HoverTrainingOptions{}, py::kw_only(),
+      py::arg("checkpoint_every") = 1, py::arg("on_checkpoint") = py::none(),
+      py::arg("resume_from") = py::none(), py::arg("callbacks") = py::none(), py::arg("threads") = 1,
+      "Trains the hover controller as `pegasus heli hover` does (the same plan, checkpoints and bits for any "
+      "threads); checkpoints are training-plan checkpoints (dicts).");
+}
+
+void bind_policy_files(py::module_& m) {
+  py::class_<HeliPolicyObject>(m, "HeliPolicy", R"doc(
+A helicopter policy file (heli/policy_file.hpp: "hover", "maneuver" or another registered class) with its
+controller bound: controls(states, time) gives the controls of a batch of logged states, as `pegasus heli
+control` and `pegasus heli fly` compute them, bit for bit. HeliPolicy.load(path), HeliPolicy.from_json(dict) or
+HeliPolicy.hover(theta, target, trim).)doc")
+      .def_static(
+          "load",
+          [](const std::string& path) { return HeliPolicyObject(heli::read_policy_file(path), path); },
+          py::arg("path"), "Reads and checks a policy file; ValueError 'FILE: FIELD: expected ...'.")
+      .def_static(
+          "from_json",
+          [](py::object j, const std::string& source) {
+            return HeliPolicyObject(heli::parse_policy_file(from_python(j, "policy"), source), source);
+          },
+          py::arg("policy"), py::arg("source") = "policy", "A policy from the file's JSON object (a dict).")
+      .def_static(
+          "hover",
+          [](py::object theta, const SetPoint& target, py::object trim, const heli::HoverPolicyInit& init) {
+            const HoverPolicy policy(init);
+            const Theta w = as_theta(theta, "theta", policy.parameters());
+            const Array t = as_vector(trim, "trim", 4);
+            require_finite(t, "trim");
+            for (py::ssize_t c = 0; c < 4; ++c)
+              if (std::abs(t.data()[c]) > 1.0)
+                throw py::value_error(
+                    fmt::format("trim: expected controls in [-1, 1], got {} at {}", t.data()[c], c));
+            return HeliPolicyObject(heli::hover_policy_file(policy, w, target, controls_row(t.data())),
+                                    "hover");
+          },
+          py::arg("theta"), py::arg("target") = SetPoint{}, py::arg("trim") = std::vector<double>{0, 0, 0, 0},
+          py::arg("init") = heli::HoverPolicyInit{}, "A hover policy file from trained weights.")
+      .def_property_readonly("class_name", [](const HeliPolicyObject& p) { return p.file.class_name; })
+      .def_property_readonly("names", [](const HeliPolicyObject& p) { return p.file.names; })
+      .def_property_readonly("values", [](const HeliPolicyObject& p) { return vector_array(p.file.values); })
+      .def_property_readonly("target", [](const HeliPolicyObject& p) { return p.file.target; })
+      .def_property_readonly("trim", [](const HeliPolicyObject& p) { return vector_array(p.file.trim); })
+      .def_property_readonly("options", [](const HeliPolicyObject& p) { return to_python(p.file.options); })
+      .def_property_readonly("provenance",
+                             [](const HeliPolicyObject& p) { return to_python(p.file.provenance); })
+      .def("to_json", [](const HeliPolicyObject& p) { return to_python(heli::policy_file_json(p.file)); })
+      .def(
+          "save",
+          [](const HeliPolicyObject& p, const std::string& path) { heli::write_policy_file(path, p.file); },
+          py::arg("path"), "Writes the policy file atomically (doubles reading back to the same bits).")
+      .def("controls", &HeliPolicyObject::controls, py::arg("states"), py::arg("time") = 0.0, py::kw_only(),
+           py::arg("threads") = 1, R"doc(
+The controls [n, 4] (a1..a4 in [-1, 1]) for logged states [n, 12] (x, y, z, roll, pitch, yaw, xdot, ydot, zdot,
+roll_rate, pitch_rate, yaw_rate; world NED, m, rad) at `time` seconds after the flight or manoeuvre began (one
+number, or one per row). The GIL is released; rows run on `threads` threads, the result never depends on them.)doc")
+      .def(
+          "target_at", [](const HeliPolicyObject& p, double time) { return p.controller->target(time); },
+          py::arg("time"), "The set point the controller steers to at `time`.")
+      .def("__repr__", [](const HeliPolicyObject& p) {
+        return fmt::format("HeliPolicy(class_name='{}', parameters={}, source='{}')", p.file.class_name,
+                           p.file.values.size(), p.source);
+      });
+  m.def("heli_policy_classes", &heli::policy_class_names, "The registered policy-file class names.");
+}
+
+}  // namespace
+
+void bind_heli(py::module_& m) {
+  auto sp = py::class_<SetPoint>(m, "SetPoint",
+                                 "Where the helicopter should be: x, y, z in the world frame (NED, m; "
+                                 "z < 0 is above the ground) and the heading yaw (rad).");
+  sp.def(py::init(&set_point), py::arg("x") = 0.0, py::arg("y") = 0.0, py::arg("z") = -10.0,
+         py::arg("yaw") = 0.0)
+      .def_readwrite("x", &SetPoint::x)
+      .def_readwrite("y", &SetPoint::y)
+      .def_readwrite("z", &SetPoint::z)
+      .def_readwrite("yaw", &SetPoint::yaw);
+  set_fields(sp, {"x", "y", "z", "yaw"});
+
+  auto reward = py::class_<HoverReward>(m, "HoverReward", R"doc(
+The hover reward of thesis §5.3 (Eqs 5.9-5.10): minus the weighted squared position, velocity and wrapped yaw
+errors, minus the weighted squared controls about `centre` (heli/hover_task.hpp).)doc");
+  reward.def(py::init<>());
+  def_array(reward, "alpha_pos", &HoverReward::alpha_pos, "Per m^2, x y z.");
+  def_array(reward, "alpha_vel", &HoverReward::alpha_vel, "Per (m/s)^2.");
+  reward.def_readwrite("alpha_yaw", &HoverReward::alpha_yaw, "Per rad^2.");
+  def_array(reward, "alpha_action", &HoverReward::alpha_action, "Per unit^2 about centre.");
+  def_array(reward, "centre", &HoverReward::centre, "The controls the action cost is taken about.");
+  reward
+      .def_static(
+          "from_typical",
+          [](double position_m, double velocity_mps, double yaw_rad, double action, py::object centre) {
+            const Array c = as_vector(centre, "centre", 4);
+            require_finite(c, "centre");
+            return HoverReward::from_typical(position_m, velocity_mps, yaw_rad, action,
+                                             controls_row(c.data()));
+          },
+          py::arg("position_m"), py::arg("velocity_mps"), py::arg("yaw_rad"), py::arg("action"),
+          py::arg("centre") = std::vector<double>{0, 0, 0, 0}, "alpha = 1 / typical^2 for each term.")
+      .def("is_valid", [](const HoverReward& r) {
+        std::string error;
+        const bool ok = r.IsValid(&error);
+        return py::make_tuple(ok, error);
+      });
+  set_fields(reward, {"alpha_pos", "alpha_vel", "alpha_yaw", "alpha_action", "centre"});
+
+  auto init = py::class_<heli::HoverPolicyInit>(m, "HoverPolicyInit", R"doc(
+The hover policy class's starting weights: a linear controller around a trim (heli/hover_policy.hpp).)doc");
+  init.def(py::init<>());
+  def_array(init, "trim", &heli::HoverPolicyInit::trim, "Controls that hold a hover.");
+  init.def_readwrite("trim_roll", &heli::HoverPolicyInit::trim_roll)
+      .def_readwrite("trim_pitch", &heli::HoverPolicyInit::trim_pitch)
+      .def_readwrite("k_pos", &heli::HoverPolicyInit::k_pos)
+      .def_readwrite("k_vel", &heli::HoverPolicyInit::k_vel)
+      .def_readwrite("k_att", &heli::HoverPolicyInit::k_att)
+      .def_readwrite("k_alt", &heli::HoverPolicyInit::k_alt)
+      .def_readwrite("k_climb", &heli::HoverPolicyInit::k_climb)
+      .def_readwrite("k_yaw", &heli::HoverPolicyInit::k_yaw)
+      .def_readwrite("k_yaw_rate", &heli::HoverPolicyInit::k_yaw_rate);
+  set_fields(init, {"trim", "trim_roll", "trim_pitch", "k_pos", "k_vel", "k_att", "k_alt", "k_climb", "k_yaw",
+                    "k_yaw_rate"});
+
+  py::class_<HoverPolicy>(m, "HoverPolicy", R"doc(
+The hover policy class of thesis §5.3 (Fig 5.4, Eqs 5.7-5.8): 34 weights, one tanh network per control channel
+fed by the body-frame errors, velocities and attitude.)doc")
+      .def(py::init<const heli::HoverPolicyInit&>(), py::arg("init") = heli::HoverPolicyInit{})
+      .def_property_readonly("parameters", &HoverPolicy::parameters,
+                             py::return_value_policy::reference_internal)
+      .def(
+          "act",
+          [](const HoverPolicy& policy, py::object theta, py::object states, const SetPoint& target) {
+            const Theta w = as_theta(theta, "theta", policy.parameters());
+            const Array s = as_matrix(states, "states", -1, kLogged);
+            require_finite(s, "states");
+            Array out = matrix(s.shape(0), 4);
+            for (py::ssize_t r = 0; r < s.shape(0); ++r) {
+              heli::HeliObservation o;
+              std::copy(s.data() + r * kLogged, s.data() + (r + 1) * kLogged, o.state.begin());
+              o.target = target;
+              const Controls u = policy.act(w, o);
+              std::copy(u.begin(), u.end(), out.mutable_data() + r * 4);
+            }
+            return out;
+          },
+          py::arg("theta"), py::arg("states"), py::arg("target") = SetPoint{},
+          "The clipped controls [n, 4] of theta for logged states [n, 12] steering to target.");
+
+  auto params = py::class_<AircraftParams>(m, "AircraftParams", R"doc(
+The ground-truth helicopter's parameters (heli/aircraft.hpp: the X-Cell 60 of Gavrilets, Mettler and Feron, rotor,
+servos, disturbances, crash limits, integration, start), every field with the C++ name and unit.)doc");
+  params.def(py::init<>());
+#define PEGASUS_PARAM(field) params.def_readwrite(#field, &AircraftParams::field)
+  PEGASUS_PARAM(mass_kg);
+  PEGASUS_PARAM(ixx);
+  PEGASUS_PARAM(iyy);
+  PEGASUS_PARAM(izz);
+  PEGASUS_PARAM(gravity);
+  PEGASUS_PARAM(air_density);
+  PEGASUS_PARAM(omega_mr);
+  PEGASUS_PARAM(radius_mr);
+  PEGASUS_PARAM(chord_mr);
+  PEGASUS_PARAM(lift_slope_mr);
+  PEGASUS_PARAM(profile_drag_mr);
+  PEGASUS_PARAM(hub_height);
+  PEGASUS_PARAM(hub_stiffness);
+  PEGASUS_PARAM(tau_flap);
+  PEGASUS_PARAM(a_lon);
+  PEGASUS_PARAM(b_lat);
+  PEGASUS_PARAM(cyclic_max_rad);
+  PEGASUS_PARAM(collective_mid_rad);
+  PEGASUS_PARAM(collective_span_rad);
+  PEGASUS_PARAM(gear_tr);
+  PEGASUS_PARAM(radius_tr);
+  PEGASUS_PARAM(chord_tr);
+  PEGASUS_PARAM(lift_slope_tr);
+  PEGASUS_PARAM(arm_tr);
+  PEGASUS_PARAM(height_tr);
+  PEGASUS_PARAM(tail_mid_rad);
+  PEGASUS_PARAM(tail_span_rad);
+  PEGASUS_PARAM(gyro_gain);
+  PEGASUS_PARAM(gyro_tau);
+  PEGASUS_PARAM(fus_area_x);
+  PEGASUS_PARAM(fus_area_y);
+  PEGASUS_PARAM(fus_area_z);
+  PEGASUS_PARAM(servo_rate);
+  PEGASUS_PARAM(gust_sigma);
+  PEGASUS_PARAM(gust_tau);
+  PEGASUS_PARAM(est_sigma_pos);
+  PEGASUS_PARAM(est_sigma_vel);
+  PEGASUS_PARAM(est_sigma_angle);
+  PEGASUS_PARAM(est_sigma_rate);
+  PEGASUS_PARAM(est_tau);
+  PEGASUS_PARAM(max_tilt_rad);
+  PEGASUS_PARAM(max_rate_rad_s);
+  PEGASUS_PARAM(max_thrust_coeff_over_solidity);
+  PEGASUS_PARAM(dt);
+  PEGASUS_PARAM(substeps);
+  PEGASUS_PARAM(start_yaw);
+  PEGASUS_PARAM(start_pos_sigma);
+  PEGASUS_PARAM(start_vel_sigma);
+#undef PEGASUS_PARAM
+  def_vec3(params, "mean_wind_W", &AircraftParams::mean_wind_W, "Mean wind in the world frame, m/s.");
+  def_vec3(params, "start_p_W", &AircraftParams::start_p_W, "Start position in the world frame (NED), m.");
+  params.def("is_valid", [](const AircraftParams& p) {
+    std::string error;
+    const bool ok = p.IsValid(&error);
+    return py::make_tuple(ok, error);
+  });
+  set_fields(params, {"mass_kg",
+                      "ixx",
+                      "iyy",
+                      "izz",
+                      "gravity",
+                      "air_density",
+                      "omega_mr",
+                      "radius_mr",
+                      "chord_mr",
+                      "lift_slope_mr",
+                      "profile_drag_mr",
+                      "hub_height",
+                      "hub_stiffness",
+                      "tau_flap",
+                      "a_lon",
+                      "b_lat",
+                      "cyclic_max_rad",
+                      "collective_mid_rad",
+                      "collective_span_rad",
+                      "gear_tr",
+                      "radius_tr",
+                      "chord_tr",
+                      "lift_slope_tr",
+                      "arm_tr",
+                      "height_tr",
+                      "tail_mid_rad",
+                      "tail_span_rad",
+                      "gyro_gain",
+                      "gyro_tau",
+                      "fus_area_x",
+                      "fus_area_y",
+                      "fus_area_z",
+                      "servo_rate",
+                      "mean_wind_W",
+                      "gust_sigma",
+                      "gust_tau",
+                      "est_sigma_pos",
+                      "est_sigma_vel",
+                      "est_sigma_angle",
+                      "est_sigma_rate",
+                      "est_tau",
+                      "max_tilt_rad",
+                      "max_rate_rad_s",
+                      "max_thrust_coeff_over_solidity",
+                      "dt",
+                      "substeps",
+                      "start_p_W",
+                      "start_yaw",
+                      "start_pos_sigma",
+                      "start_vel_sigma"});
+
+  auto aircraft = py::class_<Aircraft>(m, "Aircraft", R"doc(
+The ground-truth helicopter (heli/aircraft.hpp): a nonlinear 6-DOF model of the X-Cell 60 stepped at 50 Hz, with
+turbulence and state-estimate errors drawn from the uniforms of each step (noise_dim 15, initial_noise_dim 21).
+A state row has 36 columns (STATE_COLUMNS: position p_W and velocity v_B, attitude, rates w_B, flapping, gyro,
+servos, gusts, estimate errors, time, crash code); observe() gives the 12 logged states a flight computer sees.)doc");
+  aircraft
+      .def(py::init([](const AircraftParams& p) {
+             std::string error;
+             if (!p.IsValid(&error)) throw py::value_error("params." + error);
+             return Aircraft(p);
+           }),
+           py::arg("params") = AircraftParams{})
+      .def_property_readonly("params", &Aircraft::params)
+      .def_property_readonly_static("STATE_COLUMNS", [](py::object) { return aircraft_columns(); })
+      .def_property_readonly(
+          "hover_trim",
+          [](const Aircraft& a) {
+            py::dict d;
+            d["controls"] = vector_array(a.hover_trim().controls);
+            d["roll"] = a.hover_trim().roll;
+            d["pitch"] = a.hover_trim().pitch;
+            d["residual"] = a.hover_trim().residual;
+            return d;
+          },
+          "The hover trim (Newton's method): controls, roll, pitch, residual acceleration.")
+      .def(
+          "true_state",
+          [](const Aircraft&, py::object states) {
+            const Array s = as_matrix(states, "states", -1, kAircraftColumns);
+            Array out = matrix(s.shape(0), kLogged);
+            for (py::ssize_t r = 0; r < s.shape(0); ++r) {
+              const LoggedState x =
+                  heli::true_logged_state(aircraft_row(s.data() + r * kAircraftColumns, r, "states"));
+              std::copy(x.begin(), x.end(), out.mutable_data() + r * kLogged);
+            }
+            return out;
+          },
+          py::arg("states"), "The true 12 logged states (no estimate error), [n, 12].")
+      .def(
+          "crash_reason",
+          [](const Aircraft&, py::object states) {
+            const Array s = as_matrix(states, "states", -1, kAircraftColumns);
+            std::vector<std::string> out;
+            for (py::ssize_t r = 0; r < s.shape(0); ++r)
+              out.push_back(
+                  heli::crash_reason_name(aircraft_row(s.data() + r * kAircraftColumns, r, "states").crash));
+            return out;
+          },
+          py::arg("states"), "Why each row crashed ('none' when it has not).");
+  HeliBatch<Aircraft>::bind(aircraft);
+
+  auto lmo = py::class_<LearnedModelOptions>(m, "LearnedModelOptions", R"doc(
+How the identified model is flown as a 50 Hz simulator (sysid/learned_model.hpp): refit period, support margin,
+crash penalty (footnote 13), noise on or off, and the start state and its perturbation.)doc");
+  lmo.def(py::init<>())
+      .def_readwrite("dt", &LearnedModelOptions::dt)
+      .def_readwrite("refit_every", &LearnedModelOptions::refit_every)
+      .def_readwrite("support_bandwidths", &LearnedModelOptions::support_bandwidths)
+      .def_readwrite("crash_reward", &LearnedModelOptions::crash_reward)
+      .def_readwrite("max_tilt_rad", &LearnedModelOptions::max_tilt_rad)
+      .def_readwrite("noise", &LearnedModelOptions::noise);
+  def_array(lmo, "start", &LearnedModelOptions::start, "The 12 logged states before perturbation.");
+  lmo.def_readwrite("start_pos_sigma", &LearnedModelOptions::start_pos_sigma)
+      .def_readwrite("start_vel_sigma", &LearnedModelOptions::start_vel_sigma)
+      .def("is_valid", [](const LearnedModelOptions& o) {
+        std::string error;
+        const bool ok = o.IsValid(&error);
+        return py::make_tuple(ok, error);
+      });
+  set_fields(lmo, {"dt", "refit_every", "support_bandwidths", "crash_reward", "max_tilt_rad", "noise",
+                   "start", "start_pos_sigma", "start_vel_sigma"});
+
+  auto learned = py::class_<LearnedHeliModel>(m, "LearnedHeliModel", R"doc(
+The identified helicopter (an IdentifiedModel, or the path of a model.json from `pegasus heli identify`) as a
+deterministic 50 Hz simulator g(s, a, p) (thesis §5.2.2): locally weighted regression refitted every refit_every
+steps, noise_dim 8, initial_noise_dim 6. A state row has 153 columns (STATE_COLUMNS: the 12 logged states first,
+then the extra states, the held coefficients, the predictive variance, the step and the crash flag); reward()
+is the crash penalty.)doc");
+  learned
+      .def(py::init([](py::object model, const LearnedModelOptions& o) {
+             std::string error;
+             if (!o.IsValid(&error)) throw py::value_error("options." + error);
+             return LearnedHeliModel(identified(model), o);
+           }),
+           py::arg("model"), py::arg("options") = LearnedModelOptions{})
+      .def_property_readonly("options", &LearnedHeliModel::options)
+      .def_property_readonly_static("STATE_COLUMNS", [](py::object) { return learned_columns(); })
+      .def(
+          "reward",
+          [](const LearnedHeliModel& model, py::object states, py::object actions, py::object next) {
+            const Array s = as_matrix(states, "states", -1, kLearnedColumns);
+            const Array a = as_matrix(actions, "actions", s.shape(0), 4);
+            const Array n = as_matrix(next, "next_states", s.shape(0), kLearnedColumns);
+            Array out(s.shape(0));
+            for (py::ssize_t r = 0; r < s.shape(0); ++r)
+              out.mutable_data()[r] = model.reward(
+                  learned_row(s.data() + r * kLearnedColumns, r, "states"), controls_row(a.data() + 4 * r),
+                  learned_row(n.data() + r * kLearnedColumns, r, "next_states"));
+            return out;
+          },
+          py::arg("states"), py::arg("actions"), py::arg("next_states"),
+          "The crash penalty of each transition (0 unless it crashed).");
+  HeliBatch<LearnedHeliModel>::bind(learned);
+
+  bind_hover(m);
+  bind_policy_files(m);
+}
+
+}  // namespace pegasus::python

@@ -1,0 +1,281 @@
+"""The helicopter from Python: the ground truth (Aircraft) and the identified model (LearnedHeliModel) as batch
+models, U-hat of the hover policy on them (HoverProblem), `pegasus heli hover`'s training (train_hover), and policy
+files (HeliPolicy) serving controls for a batch of states, bit for bit as the CLI."""
+import json
+import subprocess
+
+import numpy as np
+import pytest
+
+import pegasus
+
+IDENTIFY = ["--cv-points", "60", "--scale-grid", "1,4", "--coordinate-passes", "0", "--horizon-s", "2",
+            "--start-spacing-s", "5", "--variants=false", "--quiet"]
+
+
+@pytest.fixture(scope="module")
+def model_json(tmp_path_factory, cli):
+    """A model identified by the CLI from the scripted pilot's logs (small settings)."""
+    root = tmp_path_factory.mktemp("heli")
+    for name, seconds, seed in [("train", "40", "3"), ("test", "20", "4")]:
+        result = subprocess.run([cli, "heli", "pilot", "--hover-seconds", "4", "--quiet", "--seconds", seconds,
+                                 "--seed", seed, "--out", str(root / name)], capture_output=True, text=True)
+        assert result.returncode == 0, result.stdout + result.stderr
+    result = subprocess.run([cli, "heli", "identify", "--train", str(root / "train" / "log.csv"), "--test",
+                             str(root / "test" / "log.csv"), *IDENTIFY, "--out", str(root / "identify")],
+                            capture_output=True, text=True)
+    assert result.returncode == 0, result.stdout + result.stderr
+    return root / "identify" / "model.json"
+
+
+def trimmed_init(aircraft):
+    init = pegasus.HoverPolicyInit()
+    trim = aircraft.hover_trim
+    init.trim, init.trim_roll, init.trim_pitch = trim["controls"], trim["roll"], trim["pitch"]
+    return init
+
+
+# ---- Ground truth -----------------------------------------------------------------------------------------------
+
+def test_the_aircraft_hovers_at_its_trim_and_steps_deterministically_on_any_threads():
+    params = pegasus.AircraftParams()
+    params.gust_sigma = 0.0
+    params.est_sigma_pos = params.est_sigma_vel = params.est_sigma_angle = params.est_sigma_rate = 0.0
+    aircraft = pegasus.Aircraft(params)
+    assert len(pegasus.Aircraft.STATE_COLUMNS) == 36 and aircraft.noise_dim == 15 and aircraft.initial_noise_dim == 21
+    assert aircraft.hover_trim["residual"] < 1e-9
+    s = aircraft.initial_state(np.full((3, 21), 0.5))
+    assert np.array_equal(aircraft.observe(s)[:, :3], np.tile([0.0, 0.0, -10.0], (3, 1)))
+    trim = np.tile(aircraft.hover_trim["controls"], (3, 1))
+    for _ in range(50):  # one second at the trim, no wind: it stays where it is
+        s = aircraft.step(s, trim, np.full((3, 15), 0.5))
+    assert np.abs(aircraft.true_state(s)[:, :3] - [0.0, 0.0, -10.0]).max() < 1e-6
+    assert not aircraft.terminal(s).any() and aircraft.crash_reason(s) == ["none"] * 3
+
+    gusty = pegasus.Aircraft()
+    scenarios = pegasus.ScenarioSet(7, 16, 40, gusty.noise_dim, gusty.initial_noise_dim)
+    s0 = gusty.initial_state(scenarios.initial_noise())
+    rng = np.random.default_rng(1)
+    a = np.clip(trim[:1] + 0.05 * rng.normal(size=(16, 4)), -1, 1)
+    one = gusty.step(s0, a, scenarios.step_noise()[:, 0], threads=1)
+    assert np.array_equal(one, gusty.step(s0, a, scenarios.step_noise()[:, 0], threads=3))
+    assert np.array_equal(one, gusty.step(s0.copy(), a, scenarios.step_noise()[:, 0]))
+    # Open-loop simulate is the same steps, bit for bit; the estimate error stays within a few sigma.
+    actions = np.repeat(a[:, None, :], 40, axis=1)
+    flight = gusty.simulate(scenarios.initial_noise(), scenarios.step_noise(), actions=actions, threads=2)
+    s = s0
+    for t in range(40):
+        s = gusty.step(s, a, scenarios.step_noise()[:, t])
+        assert np.array_equal(flight["observations"][:, t + 1], gusty.observe(s))
+    assert np.array_equal(flight["actions"], actions) and np.all(flight["rewards"] == 0.0)
+    assert np.abs(gusty.observe(s)[:, :3] - gusty.true_state(s)[:, :3]).max() < 6 * gusty.params.est_sigma_pos
+
+
+def test_hover_uhat_on_the_ground_truth_is_bit_identical_for_any_threads():
+    aircraft = pegasus.Aircraft()
+    init = trimmed_init(aircraft)
+    theta = pegasus.HoverPolicy(init).parameters.initial
+    problems = [pegasus.HoverProblem(aircraft, init=init, seed=3, scenarios=6, horizon=150, threads=t)
+                for t in (1, 3)]
+    values = [p.uhat(theta) for p in problems]
+    assert values[0] == values[1] and np.isfinite(values[0]) and values[0] < 0.0
+    returns = problems[0].returns(theta)
+    assert np.array_equal(returns, problems[1].returns(theta))
+    assert sum(returns) / 6 == values[0]  # U-hat is the mean of the returns, summed in scenario order
+    batch = problems[1].uhat_batch(np.stack([theta, 1.1 * theta]))
+    assert batch[0] == values[0] and batch[1] != values[0]
+    # A hover policy file of the same weights flies the same controls as the policy class.
+    flight = aircraft.simulate(pegasus.ScenarioSet(3, 6, 150, 15, 21).initial_noise(),
+                               pegasus.ScenarioSet(3, 6, 150, 15, 21).step_noise(),
+                               policy=pegasus.HeliPolicy.hover(theta, pegasus.SetPoint(), init.trim, init))
+    assert np.all(flight["crash_step"] == -1)  # the linear starting controller holds the hover
+    states = flight["observations"][:, 10]
+    assert np.array_equal(flight["actions"][:, 10], pegasus.HoverPolicy(init).act(theta, states))
+
+
+# ---- Identified model -------------------------------------------------------------------------------------------
+
+def test_the_learned_model_from_a_path_or_an_object_steps_alike(model_json):
+    identified = pegasus.IdentifiedModel.load(str(model_json))
+    options = pegasus.LearnedModelOptions()
+    options.start_pos_sigma = 0.5
+    a, b = pegasus.LearnedHeliModel(identified, options), pegasus.LearnedHeliModel(str(model_json), options)
+    assert len(pegasus.LearnedHeliModel.STATE_COLUMNS) == 153 and a.noise_dim == 8 and a.initial_noise_dim == 6
+    scenarios = pegasus.ScenarioSet(2, 8, 100, 8, 6)
+    init = pegasus.hover_init_from_model(identified)
+    theta = pegasus.HoverPolicy(init).parameters.initial
+    policy = pegasus.HeliPolicy.hover(theta, pegasus.SetPoint(), init.trim, init)
+    fa = a.simulate(scenarios.initial_noise(), scenarios.step_noise(), policy=policy, threads=1)
+    fb = b.simulate(scenarios.initial_noise(), scenarios.step_noise(), policy=policy, threads=4)
+    for key in ("observations", "actions", "rewards", "crash_step"):
+        assert np.array_equal(fa[key], fb[key]), key
+    # Stepping row by row gives the simulated flight.
+    s = a.initial_state(scenarios.initial_noise())
+    assert np.array_equal(a.observe(s), fa["observations"][:, 0])
+    for t in range(100):
+        nxt = a.step(s, fa["actions"][:, t], scenarios.step_noise()[:, t])
+        assert np.array_equal(a.reward(s, fa["actions"][:, t], nxt), fa["rewards"][:, t])
+        s = nxt
+    assert np.array_equal(a.observe(s), fa["observations"][:, -1])
+    assert np.abs(fa["observations"][:, -1, 2] + 10.0).max() < 5.0  # still near the set point's height
+
+
+def test_hover_problem_on_the_learned_model_is_the_cli_objective(model_json):
+    identified = pegasus.IdentifiedModel.load(str(model_json))
+    options = pegasus.HoverTrainingOptions()
+    options.scenarios, options.seconds = 4, 2.0
+    exact = pegasus.HoverProblem.from_training_options(str(model_json), options, threads=2)
+    learned = pegasus.LearnedModelOptions()
+    learned.refit_every = options.refit_every
+    learned.start = [0, 0, -10, 0, 0, 0, 0, 0, 0, 0, 0, 0]
+    learned.start_pos_sigma, learned.start_vel_sigma = options.start_pos_sigma, options.start_vel_sigma
+    ours = pegasus.HoverProblem(pegasus.LearnedHeliModel(identified, learned), target=options.target,
+                                reward=pegasus.hover_reward_for(identified, options),
+                                init=pegasus.hover_init_from_model(identified), seed=options.seed,
+                                scenarios=4, horizon=options.horizon(), gamma=options.gamma, threads=1)
+    theta = ours.parameters.initial
+    assert exact.uhat(theta) == ours.uhat(theta)
+    assert np.array_equal(exact.returns(theta), ours.returns(theta))
+
+
+def test_train_hover_gives_the_cli_policy_and_resumes_bit_identically(model_json, cli, tmp_path):
+    flags = ["--scenarios", "3", "--seconds", "1", "--optimizer.gradient.max-iterations", "2",
+             "--optimizer.hill-climbing.max-iterations", "2"]
+    result = subprocess.run([cli, "heli", "hover", "--model", str(model_json), *flags, "--quiet", "--threads", "2",
+                             "--out", str(tmp_path / "cli")], capture_output=True, text=True)
+    assert result.returncode == 0, result.stdout + result.stderr
+    options = pegasus.HoverTrainingOptions()
+    options.scenarios, options.seconds = 3, 1.0
+    options.optimizer.gradient.max_iterations = 2
+    options.optimizer.hill_climbing.max_iterations = 2
+    checkpoints = []
+    result = pegasus.train_hover(str(model_json), options, checkpoint_every=1, on_checkpoint=checkpoints.append)
+    policy = pegasus.HeliPolicy.load(str(tmp_path / "cli" / "policy.json"))
+    assert np.array_equal(policy.values, result.theta)
+    summary = json.loads((tmp_path / "cli" / "summary.json").read_text())
+    assert result.final_uhat == summary["final_uhat"] and result.initial_uhat == summary["initial_uhat"]
+    assert result.gradient.method == "gradient" and result.hill_climb.method == "hill-climb"
+    # Resumed from a checkpoint in the second stage, on other threads: the same bits.
+    later = [c for c in checkpoints if c["stage"] == 1]
+    assert later, [c["stage"] for c in checkpoints]
+    resumed = pegasus.train_hover(str(model_json), options, resume_from=later[0], threads=3)
+    assert np.array_equal(resumed.theta, result.theta) and resumed.final_uhat == result.final_uhat
+    assert resumed.hill_climb.same_outcome(result.hill_climb) == (True, "")
+
+
+# ---- Policy files -----------------------------------------------------------------------------------------------
+
+def control_lines(cli, policy_path, times, states):
+    lines = "".join(",".join(repr(float(v)) for v in [t, *s]) + "\n" for t, s in zip(times, states))
+    result = subprocess.run([cli, "heli", "control", "--policy", str(policy_path)], input=lines,
+                            capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr
+    return np.array([[float(v) for v in line.split(",")] for line in result.stdout.splitlines()])
+
+
+def flown_states(n=40, seed=5):
+    aircraft = pegasus.Aircraft()
+    scenarios = pegasus.ScenarioSet(seed, n, 1, 15, 21)
+    params = pegasus.AircraftParams()
+    params.start_pos_sigma, params.start_vel_sigma = 2.0, 1.0
+    return pegasus.Aircraft(params).observe(pegasus.Aircraft(params).initial_state(scenarios.initial_noise())), aircraft
+
+
+def test_a_hover_policy_file_serves_the_cli_controls_for_a_batch_of_states(cli, tmp_path):
+    states, aircraft = flown_states()
+    init = trimmed_init(aircraft)
+    rng = np.random.default_rng(4)
+    theta = pegasus.HoverPolicy(init).parameters.initial + 0.05 * rng.normal(size=34)
+    target = pegasus.SetPoint(1.0, -2.0, -12.0, 0.3)
+    path = tmp_path / "policy.json"
+    pegasus.HeliPolicy.hover(theta, target, init.trim, init).save(str(path))
+    policy = pegasus.HeliPolicy.load(str(path))
+    assert policy.class_name == "hover" and policy.names[0] == "a1.bias" and np.array_equal(policy.values, theta)
+    assert policy.target == target and np.array_equal(policy.trim, init.trim)
+    controls = policy.controls(states)
+    assert controls.shape == (40, 4) and np.abs(controls).max() <= 1.0
+    assert np.array_equal(controls, pegasus.HoverPolicy(init).act(theta, states, target))
+    assert np.array_equal(controls, policy.controls(states, 0.0, threads=3))
+    assert np.array_equal(controls, control_lines(cli, path, np.zeros(40), states))
+    again = pegasus.HeliPolicy.from_json(policy.to_json())
+    assert np.array_equal(again.controls(states), controls)
+
+
+def test_a_maneuver_policy_file_serves_the_cli_controls_at_each_time(cli, tmp_path):
+    states, aircraft = flown_states()
+    init = trimmed_init(aircraft)
+    hover = pegasus.HeliPolicy.hover(pegasus.HoverPolicy(init).parameters.initial, pegasus.SetPoint(0, 0, -10, 0),
+                                     init.trim, init).to_json()
+    extra = [{"name": "couple.tail_to_lat", "value": 0.1}, {"name": "couple.coll_to_tail", "value": -0.2},
+             {"name": "z_delay", "value": 0.5}, {"name": "feedforward", "value": 1.0}]
+    file = dict(hover, **{"class": "maneuver", "parameters": hover["parameters"] + extra,
+                          "options": {"name": "III.2"}})
+    path = tmp_path / "maneuver.json"
+    path.write_text(json.dumps(file))
+    policy = pegasus.HeliPolicy.load(str(path))
+    assert policy.class_name == "maneuver" and len(policy.values) == 38
+    times = np.linspace(0.0, 30.0, 40)
+    controls = policy.controls(states, times, threads=2)
+    assert np.array_equal(controls, control_lines(cli, path, times, states))
+    # One time for every row is the same as that time repeated; the set point moves along the manoeuvre.
+    assert np.array_equal(policy.controls(states, 12.5), policy.controls(states, np.full(40, 12.5)))
+    start, later = policy.target_at(0.0), policy.target_at(20.0)
+    assert (start.x, start.y, start.z) != (later.x, later.y, later.z)
+
+
+def test_bad_helicopter_inputs_raise_value_error_naming_the_argument(tmp_path, model_json):
+    aircraft = pegasus.Aircraft()
+    s = aircraft.initial_state(np.full((2, 21), 0.5))
+    with pytest.raises(ValueError, match="actions"):
+        aircraft.step(s, np.zeros((3, 4)), np.full((2, 15), 0.5))
+    with pytest.raises(ValueError, match="noise: expected uniforms"):
+        aircraft.step(s, np.zeros((2, 4)), np.full((2, 15), 1.5))
+    with pytest.raises(ValueError, match="actions: expected finite"):
+        aircraft.step(s, np.full((2, 4), np.nan), np.full((2, 15), 0.5))
+    bad = s.copy()
+    bad[0, 35] = 9.0
+    with pytest.raises(ValueError, match="crash code"):
+        aircraft.step(bad, np.zeros((2, 4)), np.full((2, 15), 0.5))
+    with pytest.raises(ValueError, match="threads"):
+        aircraft.step(s, np.zeros((2, 4)), np.full((2, 15), 0.5), threads=0)
+    with pytest.raises(ValueError, match="states"):
+        aircraft.observe(np.zeros((2, 12)))
+    with pytest.raises(ValueError, match="actions, controller"):
+        aircraft.simulate(np.full((2, 21), 0.5), np.full((2, 3, 15), 0.5))
+    with pytest.raises(ValueError, match="noise"):
+        aircraft.simulate(np.full((2, 21), 0.5), np.full((2, 3, 14), 0.5), actions=np.zeros((2, 3, 4)))
+    with pytest.raises(ValueError, match="policy"):
+        aircraft.simulate(np.full((2, 21), 0.5), np.full((2, 3, 15), 0.5), policy="hover")
+    params = pegasus.AircraftParams()
+    params.mass_kg = -1.0
+    with pytest.raises(ValueError, match="params"):
+        pegasus.Aircraft(params)
+    with pytest.raises(ValueError, match="model"):
+        pegasus.HoverProblem("not a model", seed=1, scenarios=2, horizon=10)
+    with pytest.raises(ValueError, match="gamma"):
+        pegasus.HoverProblem(aircraft, seed=1, scenarios=2, horizon=10, gamma=2.0)
+    with pytest.raises(ValueError, match="model"):
+        pegasus.LearnedHeliModel(3)
+    with pytest.raises(ValueError, match="nothing.json"):
+        pegasus.LearnedHeliModel(str(tmp_path / "nothing.json"))
+    (tmp_path / "p.json").write_text('{"format": "pegasus-heli-policy", "version": 1, "class": "hover"}')
+    with pytest.raises(ValueError, match="p.json"):
+        pegasus.HeliPolicy.load(str(tmp_path / "p.json"))
+    policy = pegasus.HeliPolicy.hover(pegasus.HoverPolicy().parameters.initial)
+    with pytest.raises(ValueError, match="states"):
+        policy.controls(np.zeros((3, 11)))
+    with pytest.raises(ValueError, match="states: expected finite"):
+        policy.controls(np.full((3, 12), np.inf))
+    with pytest.raises(ValueError, match="time"):
+        policy.controls(np.zeros((3, 12)), np.zeros(2))
+    with pytest.raises(ValueError, match="theta"):
+        pegasus.HeliPolicy.hover(np.zeros(5))
+    with pytest.raises(ValueError, match="trim"):
+        pegasus.HeliPolicy.hover(pegasus.HoverPolicy().parameters.initial, pegasus.SetPoint(), [2, 0, 0, 0])
+    with pytest.raises(ValueError, match="yaw"):
+        pegasus.SetPoint(0, 0, -10, float("nan"))
+    learned = pegasus.LearnedHeliModel(str(model_json))
+    rows = learned.initial_state(np.full((1, 6), 0.5))
+    rows[0, -1] = 0.5
+    with pytest.raises(ValueError, match="crashed"):
+        learned.step(rows, np.zeros((1, 4)), np.full((1, 8), 0.5))
