@@ -26,6 +26,14 @@ json PlanCheckpoint(const TrainingPlan& plan, std::size_t stage, const json& fin
               {"caller", plan.caller_state ? plan.caller_state() : json(nullptr)}};
 }
 
+// InputError unless `c` is an object whose "format" is the training checkpoint's (whatever types it holds).
+void RequireTrainingCheckpoint(const json& c) {
+  const auto format = c.is_object() ? c.find("format") : c.end();
+  if (!c.is_object() || format == c.end() || !format->is_string() ||
+      format->get<std::string>() != kTrainingCheckpointFormat)
+    throw InputError(fmt::format("checkpoint: expected format \"{}\"", kTrainingCheckpointFormat));
+}
+
 // Appends a stage's history to the merged one, counting on from the stages before it.
 void AppendHistory(const OptimizerSummary& stage, double seconds_before,
                    std::vector<IterationRecord>* merged) {
@@ -77,13 +85,18 @@ std::string TrainingSummary::BriefReport() const {
 }
 
 std::int64_t TrainingCheckpointIterations(const json& checkpoint) {
-  if (!checkpoint.is_object() || checkpoint.value("format", "") != kTrainingCheckpointFormat)
-    throw InputError(fmt::format("checkpoint: expected format \"{}\"", kTrainingCheckpointFormat));
+  RequireTrainingCheckpoint(checkpoint);
   std::int64_t done = 0;
-  for (const json& s : checkpoint.value("finished", json::array()))
-    done += s.value("iterations", std::int64_t{0});
-  const json optimizer = checkpoint.value("optimizer", json());
-  if (optimizer.is_object()) done += optimizer.value("iterations", std::int64_t{0});
+  // Counts for a progress bar only: entries of another shape count as none (Train refuses them by name).
+  auto iterations = [](const json& j) -> std::int64_t {
+    const auto it = j.is_object() ? j.find("iterations") : j.end();
+    return j.is_object() && it != j.end() && it->is_number_integer() ? it->get<std::int64_t>() : 0;
+  };
+  const auto finished = checkpoint.find("finished");
+  if (finished != checkpoint.end() && finished->is_array())
+    for (const json& s : *finished) done += iterations(s);
+  if (const auto optimizer = checkpoint.find("optimizer"); optimizer != checkpoint.end())
+    done += iterations(*optimizer);
   return done;
 }
 
@@ -99,9 +112,8 @@ void Train(const TrainingPlan& plan, Objective& objective, Theta* theta, Trainin
   std::optional<json> resume;
   if (plan.resume_from) {
     const json& c = *plan.resume_from;
-    if (!c.is_object() || c.value("format", "") != kTrainingCheckpointFormat)
-      throw InputError(fmt::format("checkpoint: expected format \"{}\"", kTrainingCheckpointFormat));
-    if (c.value("version", 0) != kTrainingCheckpointVersion)
+    RequireTrainingCheckpoint(c);
+    if (!c.contains("version") || c["version"] != kTrainingCheckpointVersion)
       throw InputError(fmt::format("checkpoint: version: expected {}", kTrainingCheckpointVersion));
     if (!c.contains("stage") || !c["stage"].is_number_unsigned() ||
         c["stage"].get<std::size_t>() >= plan.stages.size())

@@ -198,5 +198,90 @@ TEST(Training, AnInvalidPlanNamesTheStageAndField) {
   }
 }
 
+// A stage may start from a mapping of the previous stage's best (a refinement that frees more parameters):
+// the two-parameter stage's best, with a third coordinate appended, is where the three-parameter stage
+// starts, and a resume at the stage boundary maps it the same way.
+TEST(Training, AStageMapsTheThetaItStartsFrom) {
+  auto small = NegatedRosenbrock(Box(2));
+  auto large = NegatedRosenbrock(Box(3));
+  TrainingPlan plan = GradientThenHillClimb();
+  plan.stages[0].objective = &small;
+  plan.stages[1].objective = &large;
+  plan.stages[1].start_from = [](const Theta& t) {
+    Theta out = t;
+    out.push_back(0.5);
+    return out;
+  };
+  std::vector<json> checkpoints;
+  plan.checkpoint_every = 100;
+  plan.on_checkpoint = [&](const json& c) { checkpoints.push_back(c); };
+  Theta theta;
+  TrainingSummary whole;
+  Train(plan, small, &theta, &whole);
+  ASSERT_EQ(whole.stages.size(), 2u);
+  Theta expected_start = whole.stages[0].best_theta;
+  ASSERT_EQ(expected_start.size(), 2u);
+  expected_start.push_back(0.5);
+  EXPECT_EQ(whole.stages[1].initial_value, large.evaluate(expected_start));
+  EXPECT_EQ(whole.best_theta.size(), 3u);
+
+  ASSERT_FALSE(checkpoints.empty());
+  const json boundary = checkpoints.front();
+  ASSERT_EQ(boundary.at("stage"), 1);
+  plan.resume_from = boundary;
+  TrainingSummary resumed;
+  Theta again;
+  Train(plan, small, &again, &resumed);
+  EXPECT_EQ(again, theta);
+  EXPECT_EQ(resumed.best_value, whole.best_value);
+}
+
+// The caller's state rides in every checkpoint, taken at the moment it is written.
+TEST(Training, CheckpointsCarryTheCallersStateAtThatMoment) {
+  auto objective = NegatedRosenbrock(Box(3));
+  TrainingPlan plan = GradientThenHillClimb();
+  int calls = 0;
+  plan.caller_state = [&] { return json{{"calls", ++calls}}; };
+  std::vector<json> checkpoints;
+  plan.checkpoint_every = 2;
+  plan.on_checkpoint = [&](const json& c) { checkpoints.push_back(c); };
+  Theta theta;
+  TrainingSummary summary;
+  Train(plan, objective, &theta, &summary);
+  ASSERT_GE(checkpoints.size(), 3u);
+  for (std::size_t k = 0; k < checkpoints.size(); ++k)
+    EXPECT_EQ(checkpoints[k].at("caller").at("calls"), static_cast<int>(k) + 1) << k;
+  plan.caller_state = nullptr;
+  checkpoints.clear();
+  Train(plan, objective, &theta, &summary);
+  ASSERT_FALSE(checkpoints.empty());
+  EXPECT_TRUE(checkpoints.front().at("caller").is_null());
+}
+
+// A checkpoint whose entries have other types is bad input naming the checkpoint, never a JSON type error.
+TEST(Training, ACheckpointOfOtherTypesIsBadInput) {
+  auto objective = NegatedRosenbrock(Box(2));
+  for (const json& bad : {json(3), json{{"format", 5}}, json{{"format", nullptr}, {"stage", "x"}},
+                          json{{"format", "pegasus.training.checkpoint"}, {"version", "1"}},
+                          json{{"format", "pegasus.training.checkpoint"}, {"version", 1}, {"stage", -1}}}) {
+    SCOPED_TRACE(bad.dump());
+    TrainingPlan plan = GradientThenHillClimb();
+    plan.resume_from = bad;
+    Theta theta;
+    TrainingSummary summary;
+    try {
+      Train(plan, objective, &theta, &summary);
+      ADD_FAILURE() << "accepted";
+    } catch (const InputError& e) {
+      EXPECT_THAT(e.what(), HasSubstr("checkpoint"));
+    }
+  }
+  EXPECT_THROW((void)TrainingCheckpointIterations(json{{"format", 5}}), InputError);
+  EXPECT_EQ(TrainingCheckpointIterations(json{{"format", "pegasus.training.checkpoint"},
+                                              {"finished", {{{"iterations", 4}}, 7}},
+                                              {"optimizer", {{"iterations", "3"}}}}),
+            4);
+}
+
 }  // namespace
 }  // namespace pegasus
