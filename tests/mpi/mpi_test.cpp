@@ -24,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "pegasus/optimizers/training.hpp"
 #include "support/cli_runner.hpp"
 
 namespace fs = std::filesystem;
@@ -250,7 +251,7 @@ TEST_F(MpiCli, ADeadRankFailsTheJobAndResumingWithOtherRanksMatches) {
   EXPECT_FALSE(fs::exists(dir_ / "run"));
   ASSERT_TRUE(fs::exists(dir_ / "run.partial" / "checkpoint.json")) << killed.output;
   const auto checkpoint = nlohmann::json::parse(read_text(dir_ / "run.partial" / "checkpoint.json"));
-  const int done = checkpoint.at("optimizer").at("iterations").get<int>();
+  const std::int64_t done = pegasus::TrainingCheckpointIterations(checkpoint.at("optimizer"));
   EXPECT_GT(done, 0);
   EXPECT_LT(done, 12);
   // Resumed on three ranks: the same files as the uninterrupted single process.

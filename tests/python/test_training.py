@@ -160,7 +160,7 @@ def test_bad_plans_raise_value_error_naming_the_field():
         pegasus.train(two_stage_plan(callbacks=[lambda r: "stop"]), pendulum())
     with pytest.raises(ValueError, match="checkpoint"):
         pegasus.train(two_stage_plan(resume_from={"format": "something else"}), pendulum())
-    with pytest.raises(ValueError, match="plan.resume_from"):
+    with pytest.raises(ValueError, match="checkpoint: expected format"):
         pegasus.train(two_stage_plan(resume_from={"format": 1}), pendulum())
     with pytest.raises(ValueError, match="plan.seed"):
         pegasus.train(two_stage_plan(seed=-1), pendulum())
