@@ -53,13 +53,13 @@ ThreadPool::~ThreadPool() {
   for (auto& w : workers_) w.join();
 }
 
-void ThreadPool::run_chunks() {
+void ThreadPool::run_chunks(const Job& job) {
   for (;;) {
-    const std::size_t begin = next_.fetch_add(grain_, std::memory_order_relaxed);
-    if (begin >= n_ || failed_.load(std::memory_order_relaxed)) return;
-    const std::size_t end = std::min(n_, begin + grain_);
+    const std::size_t begin = next_.fetch_add(job.grain, std::memory_order_relaxed);
+    if (begin >= job.n || failed_.load(std::memory_order_relaxed)) return;
+    const std::size_t end = std::min(job.n, begin + job.grain);
     try {
-      (*body_)(begin, end);
+      (*job.body)(begin, end);
     } catch (...) {
       std::lock_guard lock(mutex_);
       if (!error_) error_ = std::current_exception();
@@ -71,14 +71,19 @@ void ThreadPool::run_chunks() {
 void ThreadPool::worker_loop() {
   std::size_t seen = 0;
   for (;;) {
+    Job job;
     {
       std::unique_lock lock(mutex_);
       wake_.wait(lock, [&] { return stop_ || generation_ != seen; });
       if (stop_) return;
       seen = generation_;
+      // A worker that wakes after its call has returned finds no body: the call's chunks were all run, and
+      // the caller, which waits only for the workers counted in active_, has moved on.
+      if (job_.body == nullptr) continue;
+      job = job_;
       ++active_;
     }
-    run_chunks();
+    run_chunks(job);
     {
       std::lock_guard lock(mutex_);
       --active_;
@@ -96,23 +101,24 @@ void ThreadPool::parallel_for_chunks(std::size_t n, std::size_t grain,
     for (std::size_t b = 0; b < n; b += grain) body(b, std::min(n, b + grain));
     return;
   }
+  const Job job{.body = &body, .n = n, .grain = grain};
   {
+    // No worker is inside run_chunks here (the previous call waited for active_ == 0), so next_ and failed_
+    // are reset before any worker can claim a chunk of this job.
     std::lock_guard lock(mutex_);
-    body_ = &body;
-    n_ = n;
-    grain_ = grain;
+    job_ = job;
     next_ = 0;
     failed_ = false;
     error_ = nullptr;
     ++generation_;
   }
   wake_.notify_all();
-  run_chunks();
+  run_chunks(job);
   std::exception_ptr error;
   {
     std::unique_lock lock(mutex_);
     done_.wait(lock, [&] { return active_ == 0; });
-    body_ = nullptr;
+    job_ = Job{};
     error = error_;
     error_ = nullptr;
   }

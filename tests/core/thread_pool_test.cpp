@@ -25,6 +25,26 @@ TEST(ThreadPool, RunsEveryIndexExactlyOnceForAnyThreadCount) {
   }
 }
 
+// Many short calls back to back, each with its own size and grain: a worker that wakes late for one call
+// must never run a chunk of the next with the first one's size or grain (each index exactly once, in every
+// call). The calls are shorter than a thread's wake-up, which is when workers are late.
+TEST(ThreadPool, BackToBackCallsOfOtherShapesEachRunEveryIndexOnce) {
+  for (int threads : {2, 3, 4}) {
+    ThreadPool pool(threads);
+    std::vector<std::atomic<int>> hits(64);
+    for (int call = 0; call < 4000; ++call) {
+      const std::size_t n = 2 + static_cast<std::size_t>(call * 7 % 61);
+      const std::size_t grain = 1 + static_cast<std::size_t>(call % 5);
+      for (std::size_t i = 0; i < n; ++i) hits[i].store(0, std::memory_order_relaxed);
+      pool.parallel_for_chunks(n, grain, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t i = begin; i < end; ++i) hits[i].fetch_add(1, std::memory_order_relaxed);
+      });
+      for (std::size_t i = 0; i < n; ++i)
+        ASSERT_EQ(hits[i].load(), 1) << "threads " << threads << " call " << call << " index " << i;
+    }
+  }
+}
+
 TEST(ThreadPool, RethrowsTheExceptionOfAFailingChunk) {
   ThreadPool pool(2);
   EXPECT_THROW(pool.parallel_for(100,

@@ -43,14 +43,19 @@ class ThreadPool {
 
  private:
   void worker_loop();
-  void run_chunks();
+  // One parallel_for's work, copied by each worker under the mutex when it joins, so that a worker that wakes
+  // late never reads the fields while the next call rewrites them.
+  struct Job {
+    const std::function<void(std::size_t, std::size_t)>* body = nullptr;
+    std::size_t n = 0, grain = 1;
+  };
+  void run_chunks(const Job& job);
 
   std::vector<std::thread> workers_;
   std::mutex mutex_;
   std::condition_variable wake_;
   std::condition_variable done_;
-  const std::function<void(std::size_t, std::size_t)>* body_ = nullptr;
-  std::size_t n_ = 0, grain_ = 1;
+  Job job_;  // body null between calls
   std::atomic<std::size_t> next_{0};
   std::atomic<bool> failed_{false};
   std::size_t generation_ = 0;
