@@ -38,13 +38,13 @@ Problem load_problem(const std::string& model_path, const std::string& task_path
   return {env, policy};
 }
 
-nlohmann::json evaluation_json(const std::vector<MujocoRolloutResult>& results, double success_return) {
+nlohmann::json evaluation_json(const std::vector<MujocoRolloutResult>& results) {
   double sum = 0.0;
   int successes = 0, crashes = 0;
   std::int64_t steps = 0;
   for (const auto& r : results) {
     sum += r.discounted_return;
-    successes += r.discounted_return >= success_return ? 1 : 0;
+    successes += r.success ? 1 : 0;
     crashes += r.crashed ? 1 : 0;
     steps += r.steps;
   }
@@ -56,12 +56,31 @@ nlohmann::json evaluation_json(const std::vector<MujocoRolloutResult>& results, 
           {"control_steps", steps}};
 }
 
-CsvWriter evaluation_csv(const std::vector<MujocoRolloutResult>& results, double success_return) {
+nlohmann::json finite_or_null(double x) {
+  return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
+}
+
+// The task's success criterion, as the summary records it.
+nlohmann::json success_json(const MujocoEnvironment& env) {
+  const MujocoTask& task = env.task();
+  nlohmann::json ranges = nlohmann::json::array();
+  static constexpr const char* kQuantities[] = {"qpos", "qvel", "body_height", "site_height"};
+  for (const auto& r : task.success_ranges)
+    ranges.push_back({{"quantity", kQuantities[static_cast<int>(r.kind)]},
+                      {"name", r.name},
+                      {"min", finite_or_null(r.lower)},
+                      {"max", finite_or_null(r.upper)}});
+  return {{"return", finite_or_null(task.success_return)},
+          {"final_steps", task.success_final_steps},
+          {"ranges", ranges}};
+}
+
+CsvWriter evaluation_csv(const std::vector<MujocoRolloutResult>& results) {
   CsvWriter csv({"episode", "return", "steps", "crashed", "success"});
   for (std::size_t i = 0; i < results.size(); ++i)
     csv.add_row({static_cast<std::int64_t>(i), results[i].discounted_return,
                  static_cast<std::int64_t>(results[i].steps), static_cast<std::int64_t>(results[i].crashed),
-                 static_cast<std::int64_t>(results[i].discounted_return >= success_return)});
+                 static_cast<std::int64_t>(results[i].success)});
   return csv;
 }
 
@@ -134,16 +153,15 @@ void run_train(RunContext& ctx) {
   Solve(options, objective, &theta, &summary);
   bar.finish();
 
-  const double success_return = env.task().success_return;
   const int episodes = static_cast<int>(c.get_int("evaluation_episodes"));
   const auto results = objective.rollout_all(
       theta, env.scenarios(evaluation_seed(ctx.seed), episodes, ScenarioVariant::kPlain));
-  const nlohmann::json evaluation = evaluation_json(results, success_return);
+  const nlohmann::json evaluation = evaluation_json(results);
 
   CsvWriter progress({"iteration", "evaluations", "seconds", "objective"});
   for (const auto& h : summary.history) progress.add_row({h.iteration, h.evaluations, h.seconds, h.value});
   dir.write_csv("progress.csv", progress);
-  dir.write_csv("evaluation.csv", evaluation_csv(results, success_return));
+  dir.write_csv("evaluation.csv", evaluation_csv(results));
   const ObservationNormalizer& normalizer = objective.normalizer();
   nlohmann::json policy = {
       {"format", "pegasus.mujoco.policy"},
@@ -156,6 +174,15 @@ void run_train(RunContext& ctx) {
   policy.update(problem.policy->describe());
   dir.write_json("policy.json", policy);
   const std::int64_t frame_skip = env.task().frame_skip;
+  nlohmann::json first_success = nullptr;
+  nlohmann::json wall_clock = {{"training_seconds", summary.wall_seconds},
+                               {"seconds_to_first_success", nullptr}};
+  if (const auto& f = objective.first_success()) {
+    first_success = {{"evaluation", f->evaluation},
+                     {"control_steps", f->control_steps},
+                     {"physics_steps", f->control_steps * frame_skip}};
+    wall_clock["seconds_to_first_success"] = f->seconds;
+  }
   dir.write_json("summary.json", {{"experiment", "mujoco train"},
                                   {"method", summary.method},
                                   {"policy_class", problem.policy->describe().at("class")},
@@ -177,8 +204,12 @@ void run_train(RunContext& ctx) {
                                   {"training_control_steps", objective.control_steps()},
                                   {"training_physics_steps", objective.control_steps() * frame_skip},
                                   {"training_crashes", objective.crashes()},
-                                  {"success_return", success_return},
+                                  {"first_success", first_success},
+                                  {"success_return", finite_or_null(env.task().success_return)},
+                                  {"success", success_json(env)},
                                   {"evaluation", evaluation}});
+  // Wall-clock measurements live apart from summary.json, which is identical for any threads and ranks.
+  dir.write_json("wall_clock.json", wall_clock);
   ctx.out << summary.BriefReport() << "\n";
   ctx.out << fmt::format(
       "held-out: mean return {:.3f}, success rate {:.3f} over {} episodes ({} crashes); {} training control "
@@ -255,14 +286,14 @@ void run_rollout(RunContext& ctx) {
                                                        nullptr, i == 0 ? &record : nullptr);
 
   RunDirectory& dir = ctx.run_directory();
-  dir.write_csv("returns.csv", evaluation_csv(results, env.task().success_return));
+  dir.write_csv("returns.csv", evaluation_csv(results));
   dir.write_csv("trajectory.csv", trajectory);
   dir.write_json("summary.json", {{"experiment", "mujoco rollout"},
-                                  {"success_return", env.task().success_return},
-                                  {"evaluation", evaluation_json(results, env.task().success_return)}});
+                                  {"success_return", finite_or_null(env.task().success_return)},
+                                  {"success", success_json(env)},
+                                  {"evaluation", evaluation_json(results)}});
   ctx.out << fmt::format("mean return {:.3f} over {} episodes\n",
-                         evaluation_json(results, env.task().success_return).at("mean_return").get<double>(),
-                         episodes);
+                         evaluation_json(results).at("mean_return").get<double>(), episodes);
 }
 
 }  // namespace

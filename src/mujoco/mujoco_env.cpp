@@ -63,8 +63,10 @@ void MujocoEnvironment::reset(MujocoSlot& slot, std::span<const double> p0) cons
   mj_step1(m, d);
 }
 
-bool MujocoEnvironment::healthy(const mjData* d) const {
-  for (const auto& range : task_.termination) {
+bool MujocoEnvironment::healthy(const mjData* d) const { return inside(task_.termination, d); }
+
+bool MujocoEnvironment::inside(std::span<const TerminationRange> ranges, const mjData* d) {
+  for (const auto& range : ranges) {
     double x = 0.0;
     switch (range.kind) {
       case QuantityKind::kQpos:
@@ -174,6 +176,15 @@ MujocoStepOutcome MujocoEnvironment::step(MujocoSlot& slot, std::span<const doub
       case RewardKind::kJointSpeed:
         value = std::abs(d->qvel[term.adr]);
         break;
+      case RewardKind::kInRange:
+        value = inside(std::span<const TerminationRange>(&term.range, 1), d) ? 1.0 : 0.0;
+        break;
+      case RewardKind::kEnergy:
+        // mj_step1 left the mass matrix and positions of this state in d.
+        mj_energyPos(m, d);
+        mj_energyVel(m, d);
+        value = std::abs(d->energy[0] + d->energy[1] - term.target[0]);
+        break;
       case RewardKind::kControlCost:
         for (const double a : action) value += std::clamp(a, -1.0, 1.0) * std::clamp(a, -1.0, 1.0);
         break;
@@ -230,6 +241,7 @@ MujocoRolloutResult MujocoEnvironment::rollout(const MujocoPolicy& policy, std::
   if (observer) (*observer)(0, slot.data, {}, 0.0);
   MujocoRolloutResult result;
   double weight = 1.0;
+  int held = 0;  // trailing control steps that ended inside every success range
   for (int t = 0; t < task_.horizon; ++t) {
     observe(slot, slot.observation);
     if (moments) moments->add(slot.observation);
@@ -245,7 +257,11 @@ MujocoRolloutResult MujocoEnvironment::rollout(const MujocoPolicy& policy, std::
       result.crashed = outcome.crashed;
       break;
     }
+    if (!task_.success_ranges.empty()) held = inside(task_.success_ranges, slot.data) ? held + 1 : 0;
   }
+  result.success = result.discounted_return >= task_.success_return;
+  if (!task_.success_ranges.empty())
+    result.success = result.success && result.steps == task_.horizon && held >= task_.success_final_steps;
   return result;
 }
 

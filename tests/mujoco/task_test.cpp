@@ -80,6 +80,48 @@ TEST_F(MujocoTaskFile, WrongFieldsTermsRangesAndSyntaxAreNamed) {
       HasSubstr("termination[0].max: expected max > min"));
 }
 
+TEST_F(MujocoTaskFile, SuccessRangesAreCheckedLikeTerminationRanges) {
+  EXPECT_THAT(task_error(minimal("[success]\nfinal_steps = 10\n")), HasSubstr("success.range: missing"));
+  EXPECT_THAT(task_error("horizon = 50\n" + minimal("[success]\nfinal_steps = 51\n[[success.range]]\n"
+                                                    "quantity = \"qpos\"\nname = \"slider\"\nmin = 0\n")),
+              HasSubstr("success.final_steps: expected an integer in [1, 50], got 51"));
+  EXPECT_THAT(
+      task_error(minimal("[success]\n[[success.range]]\nquantity = \"site_height\"\nname = \"top\"\n")),
+      HasSubstr("success.range[0].name: the model has no site \"top\""));
+  EXPECT_THAT(task_error(minimal("[success]\nhold = 3\n")), HasSubstr("success.hold: unknown field"));
+}
+
+TEST_F(MujocoTaskFile, ARolloutSucceedsOnlyWhenItEndsItsWholeHorizonInsideTheSuccessRanges) {
+  // The cart-pole left alone hangs still: its tip stays about 1 m below the pivot.
+  auto outcome = [&](const std::string& top, const std::string& success) {
+    const auto path = test_support::write_file(
+        dir_ / "hang.toml", "horizon = 100\n" + top + "[initial]\nqpos = { hinge = 3.141592653589793 }\n" +
+                                minimal("[[termination]]\nquantity = \"qpos\"\nname = \"slider\"\n"
+                                        "min = -2.4\nmax = 2.4\n" +
+                                        success));
+    MujocoModel model = MujocoModel::load(test_support::mujoco_experiments() / "cartpole.xml");
+    MujocoTask task = load_mujoco_task(path, model);
+    const MujocoEnvironment env(std::move(model), std::move(task));
+    const auto policy = make_mujoco_policy("linear", env.observation_dim(), env.action_dim(), {});
+    const Theta theta(policy->parameters().size(), 0.0);
+    MujocoSlot slot(env);
+    return env.rollout(*policy, theta, ObservationNormalizer(env.observation_dim()),
+                       env.scenarios(1, 1, ScenarioVariant::kPlain), 0, slot);
+  };
+  const std::string hanging =
+      "[success]\nfinal_steps = 40\n[[success.range]]\nquantity = \"site_height\"\n"
+      "name = \"tip\"\nmax = -0.99\n";
+  EXPECT_TRUE(outcome("", hanging).success);
+  EXPECT_FALSE(outcome("success_return = 101.0\n", hanging).success);  // 1 per step: 100 at most
+  EXPECT_FALSE(outcome("",
+                       "[success]\nfinal_steps = 1\n[[success.range]]\nquantity = \"site_height\"\n"
+                       "name = \"tip\"\nmin = 0.9\n")
+                   .success);
+  // Without a [success] table the bar is the return alone.
+  EXPECT_TRUE(outcome("success_return = 100.0\n", "").success);
+  EXPECT_FALSE(outcome("success_return = 100.5\n", "").success);
+}
+
 TEST_F(MujocoTaskFile, TheShippedTaskResolvesToTheModelsAddresses) {
   const MujocoTask task =
       load_mujoco_task(test_support::mujoco_experiments() / "cartpole_swingup.toml", *model_);

@@ -59,6 +59,7 @@ struct MujocoRolloutResult {
   double discounted_return = 0.0;
   int steps = 0;  // control steps taken
   bool crashed = false;
+  bool success = false;  // the task's success criterion (MujocoTask::success_return, success_ranges)
 };
 
 // Called after every control step of a recorded rollout (and once after the reset with t = 0, action empty).
@@ -87,6 +88,8 @@ class MujocoEnvironment {
   void observe(const MujocoSlot& slot, std::span<double> out) const;
   // Inside every termination range.
   bool healthy(const mjData_* data) const;
+  // Inside every one of `ranges`.
+  static bool inside(std::span<const TerminationRange> ranges, const mjData_* data);
 
   // Scenario i of `scenarios` (horizon and discount of the task) under the policy; when `moments` is given,
   // every observation the policy sees is added to it; `observer` sees every step.
