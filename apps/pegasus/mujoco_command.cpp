@@ -71,7 +71,8 @@ nlohmann::json success_json(const MujocoEnvironment& env) {
                       {"min", finite_or_null(r.lower)},
                       {"max", finite_or_null(r.upper)}});
   return {{"return", finite_or_null(task.success_return)},
-          {"final_steps", task.success_final_steps},
+          {"hold_steps", task.success_hold_steps},
+          {"at", task.success_anywhere ? "any" : "end"},
           {"ranges", ranges}};
 }
 

@@ -28,6 +28,8 @@ MujocoEnvironment::MujocoEnvironment(MujocoModel model, MujocoTask task, RewardH
   const bool perturb = task_.initial_qpos_noise > 0.0 || task_.initial_qvel_noise > 0.0;
   initial_noise_dim_ = perturb ? m->nq + m->nv : 0;
   noise_dim_ = (task_.actuator_noise > 0.0 ? m->nu : 0) + 4 * static_cast<int>(task_.push_bodies.size());
+  for (const auto& term : task_.reward)
+    contact_cost_ = contact_cost_ || term.kind == RewardKind::kContactCost;
   for (int k = 0; k < m->nu; ++k) {
     // An unlimited actuator takes a in [-1, 1] as its ctrl directly.
     const bool limited = m->actuator_ctrllimited[k] != 0;
@@ -141,9 +143,7 @@ MujocoStepOutcome MujocoEnvironment::step(MujocoSlot& slot, std::span<const doub
   for (int k = 0; k < task_.frame_skip; ++k) {
     mj_step2(m, d);
     // Contact forces of the step just integrated, before mj_step1 rebuilds the contacts of the new state.
-    if (k + 1 == task_.frame_skip)
-      for (const auto& term : task_.reward)
-        if (term.kind == RewardKind::kContactCost) contact_cost = contact_force_squared(m, d);
+    if (contact_cost_ && k + 1 == task_.frame_skip) contact_cost = contact_force_squared(m, d);
     mj_step1(m, d);
   }
 
@@ -241,7 +241,8 @@ MujocoRolloutResult MujocoEnvironment::rollout(const MujocoPolicy& policy, std::
   if (observer) (*observer)(0, slot.data, {}, 0.0);
   MujocoRolloutResult result;
   double weight = 1.0;
-  int held = 0;  // trailing control steps that ended inside every success range
+  int held = 0;          // trailing control steps that ended inside every success range
+  bool reached = false;  // held reached success_hold_steps at some step
   for (int t = 0; t < task_.horizon; ++t) {
     observe(slot, slot.observation);
     if (moments) moments->add(slot.observation);
@@ -257,11 +258,17 @@ MujocoRolloutResult MujocoEnvironment::rollout(const MujocoPolicy& policy, std::
       result.crashed = outcome.crashed;
       break;
     }
-    if (!task_.success_ranges.empty()) held = inside(task_.success_ranges, slot.data) ? held + 1 : 0;
+    if (!task_.success_ranges.empty()) {
+      held = inside(task_.success_ranges, slot.data) ? held + 1 : 0;
+      reached = reached || held >= task_.success_hold_steps;
+    }
   }
   result.success = result.discounted_return >= task_.success_return;
   if (!task_.success_ranges.empty())
-    result.success = result.success && result.steps == task_.horizon && held >= task_.success_final_steps;
+    result.success =
+        result.success && !result.crashed &&
+        (task_.success_anywhere ? reached
+                                : result.steps == task_.horizon && held >= task_.success_hold_steps);
   return result;
 }
 

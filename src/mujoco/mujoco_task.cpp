@@ -380,10 +380,15 @@ MujocoTask load_mujoco_task(const std::filesystem::path& path, const MujocoModel
   }
 
   if (const toml::table* success = root["success"].as_table()) {
-    r.check_keys(*success, "success.", {"final_steps", "range"});
+    r.check_keys(*success, "success.", {"hold_steps", "at", "range"});
     const toml::node_view<const toml::node> v{*success};
-    task.success_final_steps =
-        r.integer(v["final_steps"], "success.final_steps", task.horizon, 1, task.horizon);
+    task.success_hold_steps = r.integer(v["hold_steps"], "success.hold_steps", 1, 1, task.horizon);
+    if (v["at"]) {
+      const std::string at = r.string(v["at"], "success.at");
+      if (at != "end" && at != "any")
+        r.fail("success.at", fmt::format("expected end or any, got \"{}\"", at));
+      task.success_anywhere = at == "any";
+    }
     const toml::array* ranges = v["range"].as_array();
     if (!ranges || ranges->empty()) r.fail("success.range", "missing (expected [[success.range]] tables)");
     for (std::size_t i = 0; i < ranges->size(); ++i)

@@ -107,6 +107,7 @@ class MujocoEnvironment {
   RewardHook hook_;
   int observation_dim_ = 0, noise_dim_ = 0, initial_noise_dim_ = 0;
   std::vector<double> ctrl_mid_, ctrl_half_;  // ctrl = mid + half * a
+  bool contact_cost_ = false;                 // a reward term needs the contact forces
 };
 
 }  // namespace pegasus

@@ -22,7 +22,8 @@
 //   [[reward]]  term = "body_velocity" | "healthy" | "site_distance" | "joint_target" | "joint_speed" |
 //               "in_range" | "energy" | "control_cost" |
 //               "contact_cost", weight = ..., and the term's fields (body/axis, site/target, joint/target)
-//   [success]   final_steps = 100, [[success.range]] quantity = ..., name = ..., min = .., max = ..
+//   [success]   hold_steps = 100, at = "end" | "any", [[success.range]] quantity = ..., name = ..., min = ..,
+//   max = ..
 //   [[termination]] quantity = "qpos" | "qvel" | "body_height" | "site_height", name = ..., min = .., max =
 //   ..
 #include <array>
@@ -128,10 +129,14 @@ struct MujocoTask {
   double observation_clip = 10.0;  // normalised observations are clipped to +-clip
   std::vector<RewardTerm> reward;
   std::vector<TerminationRange> termination;
-  // Success of one rollout: its return reaches success_return and, when success_ranges is not empty, it runs
-  // its whole horizon and ends each of its last success_final_steps control steps inside every range.
+  // Success of one rollout: its return reaches success_return and, when success_ranges is not empty,
+  //   at = "end" (success_anywhere false): it runs its whole horizon and ends each of its last
+  //            success_hold_steps control steps inside every range (e.g. balanced for the final 3 s);
+  //   at = "any": it does not crash and ends success_hold_steps consecutive control steps inside every
+  //            range somewhere (e.g. swung up to the top once).
   std::vector<TerminationRange> success_ranges;
-  int success_final_steps = 0;
+  int success_hold_steps = 1;
+  bool success_anywhere = false;
 
   int observation_dim() const;
 };
