@@ -85,6 +85,49 @@ CsvWriter evaluation_csv(const std::vector<MujocoRolloutResult>& results) {
   return csv;
 }
 
+// The 3-D replay of one rollout (the report draws it with three.js primitives): every geom's type, size and
+// colour once, and per control step (the start included) its world position and orientation, MuJoCo's z-up
+// world frame, quaternions (w, x, y, z). Written as replay.json by `mujoco train` (held-out episode 0) and
+// `mujoco rollout` (episode 0).
+nlohmann::json replay_json(const MujocoEnvironment& env, const MujocoPolicy& policy,
+                           std::span<const double> theta, const ObservationNormalizer& normalizer,
+                           const ScenarioSet& scenarios) {
+  const mjModel* m = env.model().get();
+  static constexpr const char* kTypes[] = {"plane",     "hfield",   "sphere", "capsule",
+                                           "ellipsoid", "cylinder", "box",    "mesh"};
+  nlohmann::json geoms = nlohmann::json::array();
+  for (int g = 0; g < m->ngeom; ++g) {
+    const int type = m->geom_type[g];
+    geoms.push_back(
+        {{"name", env.model().name_of(mjOBJ_GEOM, g)},
+         {"type", type >= 0 && type < 8 ? kTypes[type] : "other"},
+         {"size", {m->geom_size[3 * g], m->geom_size[3 * g + 1], m->geom_size[3 * g + 2]}},
+         {"rgba",
+          {m->geom_rgba[4 * g], m->geom_rgba[4 * g + 1], m->geom_rgba[4 * g + 2], m->geom_rgba[4 * g + 3]}}});
+  }
+  nlohmann::json t = nlohmann::json::array(), frames = nlohmann::json::array();
+  const MujocoStepObserver record = [&](int, const mjData* d, std::span<const double>, double) {
+    t.push_back(d->time);
+    std::vector<double> frame;
+    frame.reserve(static_cast<std::size_t>(7 * m->ngeom));
+    for (int g = 0; g < m->ngeom; ++g) {
+      mjtNum q[4];
+      mju_mat2Quat(q, d->geom_xmat + 9 * g);
+      for (int k = 0; k < 3; ++k) frame.push_back(d->geom_xpos[3 * g + k]);
+      for (int k = 0; k < 4; ++k) frame.push_back(q[k]);
+    }
+    frames.push_back(std::move(frame));
+  };
+  MujocoSlot slot(env);
+  env.rollout(policy, theta, normalizer, scenarios, 0, slot, nullptr, &record);
+  return {{"format", "pegasus.mujoco.replay"},
+          {"version", 1},
+          {"model", env.model().path().filename().string()},
+          {"geoms", geoms},
+          {"t", t},
+          {"frames", frames}};
+}
+
 // ARS (Mania, Guy and Recht 2018) by default, 100 iterations of every iterative method.
 OptimizerOptions mujoco_default_optimizer() {
   OptimizerOptions o;
@@ -155,9 +198,10 @@ void run_train(RunContext& ctx) {
   bar.finish();
 
   const int episodes = static_cast<int>(c.get_int("evaluation_episodes"));
-  const auto results = objective.rollout_all(
-      theta, env.scenarios(evaluation_seed(ctx.seed), episodes, ScenarioVariant::kPlain));
+  const ScenarioSet held_out = env.scenarios(evaluation_seed(ctx.seed), episodes, ScenarioVariant::kPlain);
+  const auto results = objective.rollout_all(theta, held_out);
   const nlohmann::json evaluation = evaluation_json(results);
+  dir.write_json("replay.json", replay_json(env, *problem.policy, theta, objective.normalizer(), held_out));
 
   CsvWriter progress({"iteration", "evaluations", "seconds", "objective"});
   for (const auto& h : summary.history) progress.add_row({h.iteration, h.evaluations, h.seconds, h.value});
@@ -289,6 +333,7 @@ void run_rollout(RunContext& ctx) {
   RunDirectory& dir = ctx.run_directory();
   dir.write_csv("returns.csv", evaluation_csv(results));
   dir.write_csv("trajectory.csv", trajectory);
+  dir.write_json("replay.json", replay_json(env, *problem.policy, theta, normalizer, scenarios));
   dir.write_json("summary.json", {{"experiment", "mujoco rollout"},
                                   {"success_return", finite_or_null(env.task().success_return)},
                                   {"success", success_json(env)},
