@@ -140,12 +140,14 @@ MujocoStepOutcome MujocoEnvironment::step(MujocoSlot& slot, std::span<const doub
   }
 
   double contact_cost = 0.0;
-  for (int k = 0; k < task_.frame_skip; ++k) {
-    mj_step2(m, d);
-    // Contact forces of the step just integrated, before mj_step1 rebuilds the contacts of the new state.
-    if (contact_cost_ && k + 1 == task_.frame_skip) contact_cost = contact_force_squared(m, d);
-    mj_step1(m, d);
-  }
+  // mj_step2, then frame_skip - 1 whole mj_step calls (each is mj_step1 + mj_step2), then mj_step1: the same
+  // computations as frame_skip x (mj_step2, mj_step1), with the split paid once per control step (it costs
+  // a few per cent of a small model's step).
+  mj_step2(m, d);
+  for (int k = 1; k < task_.frame_skip; ++k) mj_step(m, d);
+  // Contact forces of the step just integrated, before mj_step1 rebuilds the contacts of the new state.
+  if (contact_cost_) contact_cost = contact_force_squared(m, d);
+  mj_step1(m, d);
 
   MujocoStepOutcome out;
   if (unstable(m, d)) {
