@@ -6,11 +6,11 @@
 // MujocoSlot that one thread owns and steps in place: made once (the only allocation), reset fully at the
 // start of every rollout (mj_resetData), so a rollout's result depends on nothing but (theta, scenario).
 //
-// A control step is `frame_skip` physics steps at the MJCF's timestep, split as MuJoCo's mj_step2 then
-// mj_step1 (after reset, mj_step1 once), so that at every observation the position- and velocity-dependent
-// quantities (site positions, body velocities, sensors) belong to the current state at the cost of exactly
-// frame_skip mj_step calls; acceleration sensors lag one physics step. This split integrates with Euler
-// (the MJCF default), whatever the MJCF's integrator option says.
+// A control step is `frame_skip` physics steps at the MJCF's timestep: mj_step2, frame_skip - 1 mj_step
+// calls, then mj_step1 (after reset, mj_step1 once), so that at every observation the position- and
+// velocity-dependent quantities (site positions, body velocities, sensors) belong to the current state at the
+// cost of exactly frame_skip mj_step calls; acceleration sensors lag one physics step. The mj_step2/mj_step1
+// split integrates with Euler (the MJCF default), whatever the MJCF's integrator option says.
 //
 // Scenario numbers (§4.4: a scenario is the whole of a rollout's randomness):
 //   start  (initial_noise_dim = nq + nv when the task perturbs the start, else 0): qpos_j += h_q (2u - 1),
