@@ -143,8 +143,16 @@ MujocoStepOutcome MujocoEnvironment::step(MujocoSlot& slot, std::span<const doub
   // mj_step2, then frame_skip - 1 whole mj_step calls (each is mj_step1 + mj_step2), then mj_step1: the same
   // computations as frame_skip x (mj_step2, mj_step1), with the split paid once per control step (it costs
   // a few per cent of a small model's step).
+  // mj_step integrates RK4 models by RK4, mj_step2 by Euler: those keep the split for every step.
   mj_step2(m, d);
-  for (int k = 1; k < task_.frame_skip; ++k) mj_step(m, d);
+  for (int k = 1; k < task_.frame_skip; ++k) {
+    if (m->opt.integrator == mjINT_RK4) {
+      mj_step1(m, d);
+      mj_step2(m, d);
+    } else {
+      mj_step(m, d);
+    }
+  }
   // Contact forces of the step just integrated, before mj_step1 rebuilds the contacts of the new state.
   if (contact_cost_) contact_cost = contact_force_squared(m, d);
   mj_step1(m, d);
