@@ -38,13 +38,13 @@ Problem load_problem(const std::string& model_path, const std::string& task_path
   return {env, policy};
 }
 
-nlohmann::json evaluation_json(const std::vector<MujocoRolloutResult>& results, double success_return) {
+nlohmann::json evaluation_json(const std::vector<MujocoRolloutResult>& results) {
   double sum = 0.0;
   int successes = 0, crashes = 0;
   std::int64_t steps = 0;
   for (const auto& r : results) {
     sum += r.discounted_return;
-    successes += r.discounted_return >= success_return ? 1 : 0;
+    successes += r.success ? 1 : 0;
     crashes += r.crashed ? 1 : 0;
     steps += r.steps;
   }
@@ -56,13 +56,76 @@ nlohmann::json evaluation_json(const std::vector<MujocoRolloutResult>& results, 
           {"control_steps", steps}};
 }
 
-CsvWriter evaluation_csv(const std::vector<MujocoRolloutResult>& results, double success_return) {
+nlohmann::json finite_or_null(double x) {
+  return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
+}
+
+// The task's success criterion, as the summary records it.
+nlohmann::json success_json(const MujocoEnvironment& env) {
+  const MujocoTask& task = env.task();
+  nlohmann::json ranges = nlohmann::json::array();
+  static constexpr const char* kQuantities[] = {"qpos", "qvel", "body_height", "site_height"};
+  for (const auto& r : task.success_ranges)
+    ranges.push_back({{"quantity", kQuantities[static_cast<int>(r.kind)]},
+                      {"name", r.name},
+                      {"min", finite_or_null(r.lower)},
+                      {"max", finite_or_null(r.upper)}});
+  return {{"return", finite_or_null(task.success_return)},
+          {"hold_steps", task.success_hold_steps},
+          {"at", task.success_anywhere ? "any" : "end"},
+          {"ranges", ranges}};
+}
+
+CsvWriter evaluation_csv(const std::vector<MujocoRolloutResult>& results) {
   CsvWriter csv({"episode", "return", "steps", "crashed", "success"});
   for (std::size_t i = 0; i < results.size(); ++i)
     csv.add_row({static_cast<std::int64_t>(i), results[i].discounted_return,
                  static_cast<std::int64_t>(results[i].steps), static_cast<std::int64_t>(results[i].crashed),
-                 static_cast<std::int64_t>(results[i].discounted_return >= success_return)});
+                 static_cast<std::int64_t>(results[i].success)});
   return csv;
+}
+
+// The 3-D replay of one rollout (the report draws it with three.js primitives): every geom's type, size and
+// colour once, and per control step (the start included) its world position and orientation, MuJoCo's z-up
+// world frame, quaternions (w, x, y, z). Written as replay.json by `mujoco train` (held-out episode 0) and
+// `mujoco rollout` (episode 0).
+nlohmann::json replay_json(const MujocoEnvironment& env, const MujocoPolicy& policy,
+                           std::span<const double> theta, const ObservationNormalizer& normalizer,
+                           const ScenarioSet& scenarios) {
+  const mjModel* m = env.model().get();
+  static constexpr const char* kTypes[] = {"plane",     "hfield",   "sphere", "capsule",
+                                           "ellipsoid", "cylinder", "box",    "mesh"};
+  nlohmann::json geoms = nlohmann::json::array();
+  for (int g = 0; g < m->ngeom; ++g) {
+    const int type = m->geom_type[g];
+    geoms.push_back(
+        {{"name", env.model().name_of(mjOBJ_GEOM, g)},
+         {"type", type >= 0 && type < 8 ? kTypes[type] : "other"},
+         {"size", {m->geom_size[3 * g], m->geom_size[3 * g + 1], m->geom_size[3 * g + 2]}},
+         {"rgba",
+          {m->geom_rgba[4 * g], m->geom_rgba[4 * g + 1], m->geom_rgba[4 * g + 2], m->geom_rgba[4 * g + 3]}}});
+  }
+  nlohmann::json t = nlohmann::json::array(), frames = nlohmann::json::array();
+  const MujocoStepObserver record = [&](int, const mjData* d, std::span<const double>, double) {
+    t.push_back(d->time);
+    std::vector<double> frame;
+    frame.reserve(static_cast<std::size_t>(7 * m->ngeom));
+    for (int g = 0; g < m->ngeom; ++g) {
+      mjtNum q[4];
+      mju_mat2Quat(q, d->geom_xmat + 9 * g);
+      for (int k = 0; k < 3; ++k) frame.push_back(d->geom_xpos[3 * g + k]);
+      for (int k = 0; k < 4; ++k) frame.push_back(q[k]);
+    }
+    frames.push_back(std::move(frame));
+  };
+  MujocoSlot slot(env);
+  env.rollout(policy, theta, normalizer, scenarios, 0, slot, nullptr, &record);
+  return {{"format", "pegasus.mujoco.replay"},
+          {"version", 1},
+          {"model", env.model().path().filename().string()},
+          {"geoms", geoms},
+          {"t", t},
+          {"frames", frames}};
 }
 
 // ARS (Mania, Guy and Recht 2018) by default, 100 iterations of every iterative method.
@@ -134,16 +197,16 @@ void run_train(RunContext& ctx) {
   Solve(options, objective, &theta, &summary);
   bar.finish();
 
-  const double success_return = env.task().success_return;
   const int episodes = static_cast<int>(c.get_int("evaluation_episodes"));
-  const auto results = objective.rollout_all(
-      theta, env.scenarios(evaluation_seed(ctx.seed), episodes, ScenarioVariant::kPlain));
-  const nlohmann::json evaluation = evaluation_json(results, success_return);
+  const ScenarioSet held_out = env.scenarios(evaluation_seed(ctx.seed), episodes, ScenarioVariant::kPlain);
+  const auto results = objective.rollout_all(theta, held_out);
+  const nlohmann::json evaluation = evaluation_json(results);
+  dir.write_json("replay.json", replay_json(env, *problem.policy, theta, objective.normalizer(), held_out));
 
   CsvWriter progress({"iteration", "evaluations", "seconds", "objective"});
   for (const auto& h : summary.history) progress.add_row({h.iteration, h.evaluations, h.seconds, h.value});
   dir.write_csv("progress.csv", progress);
-  dir.write_csv("evaluation.csv", evaluation_csv(results, success_return));
+  dir.write_csv("evaluation.csv", evaluation_csv(results));
   const ObservationNormalizer& normalizer = objective.normalizer();
   nlohmann::json policy = {
       {"format", "pegasus.mujoco.policy"},
@@ -156,6 +219,15 @@ void run_train(RunContext& ctx) {
   policy.update(problem.policy->describe());
   dir.write_json("policy.json", policy);
   const std::int64_t frame_skip = env.task().frame_skip;
+  nlohmann::json first_success = nullptr;
+  nlohmann::json wall_clock = {{"training_seconds", summary.wall_seconds},
+                               {"seconds_to_first_success", nullptr}};
+  if (const auto& f = objective.first_success()) {
+    first_success = {{"evaluation", f->evaluation},
+                     {"control_steps", f->control_steps},
+                     {"physics_steps", f->control_steps * frame_skip}};
+    wall_clock["seconds_to_first_success"] = f->seconds;
+  }
   dir.write_json("summary.json", {{"experiment", "mujoco train"},
                                   {"method", summary.method},
                                   {"policy_class", problem.policy->describe().at("class")},
@@ -177,8 +249,12 @@ void run_train(RunContext& ctx) {
                                   {"training_control_steps", objective.control_steps()},
                                   {"training_physics_steps", objective.control_steps() * frame_skip},
                                   {"training_crashes", objective.crashes()},
-                                  {"success_return", success_return},
+                                  {"first_success", first_success},
+                                  {"success_return", finite_or_null(env.task().success_return)},
+                                  {"success", success_json(env)},
                                   {"evaluation", evaluation}});
+  // Wall-clock measurements live apart from summary.json, which is identical for any threads and ranks.
+  dir.write_json("wall_clock.json", wall_clock);
   ctx.out << summary.BriefReport() << "\n";
   ctx.out << fmt::format(
       "held-out: mean return {:.3f}, success rate {:.3f} over {} episodes ({} crashes); {} training control "
@@ -255,14 +331,15 @@ void run_rollout(RunContext& ctx) {
                                                        nullptr, i == 0 ? &record : nullptr);
 
   RunDirectory& dir = ctx.run_directory();
-  dir.write_csv("returns.csv", evaluation_csv(results, env.task().success_return));
+  dir.write_csv("returns.csv", evaluation_csv(results));
   dir.write_csv("trajectory.csv", trajectory);
+  dir.write_json("replay.json", replay_json(env, *problem.policy, theta, normalizer, scenarios));
   dir.write_json("summary.json", {{"experiment", "mujoco rollout"},
-                                  {"success_return", env.task().success_return},
-                                  {"evaluation", evaluation_json(results, env.task().success_return)}});
+                                  {"success_return", finite_or_null(env.task().success_return)},
+                                  {"success", success_json(env)},
+                                  {"evaluation", evaluation_json(results)}});
   ctx.out << fmt::format("mean return {:.3f} over {} episodes\n",
-                         evaluation_json(results, env.task().success_return).at("mean_return").get<double>(),
-                         episodes);
+                         evaluation_json(results).at("mean_return").get<double>(), episodes);
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 #include "pegasus/mujoco/mujoco_objective.hpp"
 
+#include "pegasus/optimizers/run_progress.hpp"
 #include "pegasus/parallel/mpi.hpp"
 
 namespace pegasus {
@@ -15,7 +16,28 @@ MujocoObjective::MujocoObjective(std::shared_ptr<const MujocoEnvironment> env,
       normalizer_(env_->observation_dim(), env_->task().observation_clip),
       moments_(env_->observation_dim()),
       scenario_moments_(static_cast<std::size_t>(scenarios_.size()),
-                        ObservationMoments(env_->observation_dim())) {}
+                        ObservationMoments(env_->observation_dim())),
+      start_(std::chrono::steady_clock::now()) {}
+
+void MujocoObjective::count_batch(std::size_t thetas) {
+  const auto m = static_cast<std::size_t>(scenarios_.size());
+  for (std::size_t k = 0; k < thetas * m; ++k) {
+    control_steps_ += static_cast<std::int64_t>(steps_[k]);
+    crashes_ += static_cast<std::int64_t>(crashed_[k]);
+  }
+  rollouts_ += static_cast<std::int64_t>(thetas * m);
+  for (std::size_t t = 0; t < thetas; ++t) {
+    ++evaluations_;
+    if (first_success_.has_value()) continue;
+    bool all = true;
+    for (std::size_t i = 0; i < m; ++i) all = all && success_[t * m + i] != 0.0;
+    if (all)
+      first_success_ = FirstSuccess{
+          .evaluation = evaluations_,
+          .control_steps = control_steps_,
+          .seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count()};
+  }
+}
 
 std::unique_ptr<MujocoSlot> MujocoObjective::acquire() {
   {
@@ -47,6 +69,7 @@ void MujocoObjective::evaluate_batch(std::span<const Theta> thetas, std::span<do
   returns_.assign(n, 0.0);
   steps_.assign(n, 0.0);
   crashed_.assign(n, 0.0);
+  success_.assign(n, 0.0);
   const mpi::Share share = mpi::collective_share();
   auto body = [&](std::size_t j) {
     const std::size_t k = share.item(j);
@@ -57,6 +80,7 @@ void MujocoObjective::evaluate_batch(std::span<const Theta> thetas, std::span<do
     returns_[k] = r.discounted_return;
     steps_[k] = r.steps;
     crashed_[k] = r.crashed ? 1.0 : 0.0;
+    success_[k] = r.success ? 1.0 : 0.0;
   };
   const std::size_t owned = share.count(n);
   if (pool_) {
@@ -67,16 +91,13 @@ void MujocoObjective::evaluate_batch(std::span<const Theta> thetas, std::span<do
   mpi::allgather_shares(returns_, share);
   mpi::allgather_shares(steps_, share);
   mpi::allgather_shares(crashed_, share);
+  mpi::allgather_shares(success_, share);
   for (std::size_t t = 0; t < thetas.size(); ++t) {
     double sum = 0.0;
     for (std::size_t i = 0; i < m; ++i) sum += returns_[t * m + i];
     values[t] = sum / static_cast<double>(m);
   }
-  for (std::size_t k = 0; k < n; ++k) {
-    control_steps_ += static_cast<std::int64_t>(steps_[k]);
-    crashes_ += static_cast<std::int64_t>(crashed_[k]);
-  }
-  rollouts_ += static_cast<std::int64_t>(n);
+  count_batch(thetas.size());
 }
 
 std::vector<MujocoRolloutResult> MujocoObjective::rollout_all(std::span<const double> theta,
@@ -101,6 +122,7 @@ double MujocoObjective::EvaluateAndUpdateNormalizer(std::span<const double> thet
   returns_.assign(m, 0.0);
   steps_.assign(m, 0.0);
   crashed_.assign(m, 0.0);
+  success_.assign(m, 0.0);
   auto body = [&](std::size_t i) {
     auto slot = acquire();
     ObservationMoments& moments = scenario_moments_[i];
@@ -111,6 +133,7 @@ double MujocoObjective::EvaluateAndUpdateNormalizer(std::span<const double> thet
     returns_[i] = r.discounted_return;
     steps_[i] = r.steps;
     crashed_[i] = r.crashed ? 1.0 : 0.0;
+    success_[i] = r.success ? 1.0 : 0.0;
   };
   if (pool_) {
     pool_->parallel_for(m, body, 1);
@@ -121,17 +144,22 @@ double MujocoObjective::EvaluateAndUpdateNormalizer(std::span<const double> thet
   for (std::size_t i = 0; i < m; ++i) {
     sum += returns_[i];
     moments_.merge(scenario_moments_[i]);
-    control_steps_ += static_cast<std::int64_t>(steps_[i]);
-    crashes_ += static_cast<std::int64_t>(crashed_[i]);
   }
-  rollouts_ += static_cast<std::int64_t>(m);
+  count_batch(1);
   moments_.freeze_into(&normalizer_);
   return sum / static_cast<double>(m);
 }
 
 nlohmann::json MujocoObjective::NormalizerState() const {
-  return {{"moments", moments_.to_json()},
-          {"counters", {{"control_steps", control_steps_}, {"rollouts", rollouts_}, {"crashes", crashes_}}}};
+  nlohmann::json counters = {{"control_steps", control_steps_},
+                             {"rollouts", rollouts_},
+                             {"crashes", crashes_},
+                             {"evaluations", evaluations_}};
+  if (first_success_)
+    counters["first_success"] = {{"evaluation", first_success_->evaluation},
+                                 {"control_steps", first_success_->control_steps},
+                                 {"seconds", DoubleToJson(first_success_->seconds)}};
+  return {{"moments", moments_.to_json()}, {"counters", counters}};
 }
 
 void MujocoObjective::RestoreNormalizer(const nlohmann::json& state) {
@@ -141,6 +169,15 @@ void MujocoObjective::RestoreNormalizer(const nlohmann::json& state) {
   control_steps_ = StateInteger(counters, "control_steps");
   rollouts_ = StateInteger(counters, "rollouts");
   crashes_ = StateInteger(counters, "crashes");
+  evaluations_ = StateInteger(counters, "evaluations");
+  first_success_.reset();
+  if (counters.contains("first_success")) {
+    const nlohmann::json& f = counters.at("first_success");
+    first_success_ = FirstSuccess{
+        .evaluation = StateInteger(f, "evaluation"),
+        .control_steps = StateInteger(f, "control_steps"),
+        .seconds = DoubleFromJson(StateField(f, "seconds"), "normalizer.counters.first_success.seconds")};
+  }
 }
 
 }  // namespace pegasus

@@ -141,6 +141,37 @@ class TaskReader {
   const MujocoModel& model_;
 };
 
+// A named quantity's range: [[termination]] and [[success.range]] tables.
+// `prefix` names the table in messages; its other keys are the caller's to check when check_keys is false.
+TerminationRange read_range(const TaskReader& r, const mjModel* m, const toml::node& node,
+                            const std::string& prefix, bool check_keys = true) {
+  const toml::table* t = node.as_table();
+  if (!t) r.fail(prefix, "expected a table");
+  if (check_keys) r.check_keys(*t, prefix + ".", {"quantity", "name", "min", "max"});
+  const toml::node_view<const toml::node> v{*t};
+  const std::string quantity = r.string(v["quantity"], prefix + ".quantity");
+  TerminationRange out{};
+  out.name = r.string(v["name"], prefix + ".name");
+  if (quantity == "qpos" || quantity == "qvel") {
+    out.kind = quantity == "qpos" ? QuantityKind::kQpos : QuantityKind::kQvel;
+    out.id = r.scalar_joint(out.name, prefix + ".name");
+    out.adr = quantity == "qpos" ? m->jnt_qposadr[out.id] : m->jnt_dofadr[out.id];
+  } else if (quantity == "body_height") {
+    out.kind = QuantityKind::kBodyHeight;
+    out.id = r.resolve(mjOBJ_BODY, out.name, prefix + ".name");
+  } else if (quantity == "site_height") {
+    out.kind = QuantityKind::kSiteHeight;
+    out.id = r.resolve(mjOBJ_SITE, out.name, prefix + ".name");
+  } else {
+    r.fail(prefix + ".quantity",
+           fmt::format("expected one of qpos, qvel, body_height, site_height; got \"{}\"", quantity));
+  }
+  out.lower = r.number(v["min"], prefix + ".min", -INFINITY);
+  out.upper = r.number(v["max"], prefix + ".max", INFINITY);
+  if (!(out.lower < out.upper)) r.fail(prefix + ".max", "expected max > min");
+  return out;
+}
+
 }  // namespace
 
 MujocoModel MujocoModel::load(const std::filesystem::path& path) {
@@ -184,7 +215,7 @@ MujocoTask load_mujoco_task(const std::filesystem::path& path, const MujocoModel
   const toml::table root = read_toml_input(path, "task");
   r.check_keys(root, "",
                {"horizon", "discount", "frame_skip", "crash_penalty", "success_return", "initial", "noise",
-                "observation", "reward", "termination"});
+                "observation", "reward", "termination", "success"});
   MujocoTask task;
   const toml::node_view<const toml::node> top{root};
   task.horizon = r.integer(top["horizon"], "horizon", 1000, 1, 1'000'000);
@@ -277,7 +308,9 @@ MujocoTask load_mujoco_task(const std::filesystem::path& path, const MujocoModel
     const std::string prefix = fmt::format("reward[{}]", i);
     const toml::table* t = (*reward)[i].as_table();
     if (!t) r.fail(prefix, "expected a table");
-    r.check_keys(*t, prefix + ".", {"term", "weight", "body", "axis", "site", "joint", "target"});
+    r.check_keys(
+        *t, prefix + ".",
+        {"term", "weight", "body", "axis", "site", "joint", "target", "quantity", "name", "min", "max"});
     const toml::node_view<const toml::node> v{*t};
     const std::string term = r.string(v["term"], prefix + ".term");
     RewardTerm out{};
@@ -312,6 +345,14 @@ MujocoTask load_mujoco_task(const std::filesystem::path& path, const MujocoModel
       out.name = r.string(v["joint"], prefix + ".joint");
       out.id = r.scalar_joint(out.name, prefix + ".joint");
       out.adr = m->jnt_dofadr[out.id];
+    } else if (term == "energy") {
+      out.kind = RewardKind::kEnergy;
+      if (!v["target"]) r.fail(prefix + ".target", "missing (expected the target mechanical energy in J)");
+      out.target[0] = r.number(v["target"], prefix + ".target", 0.0);
+    } else if (term == "in_range") {
+      out.kind = RewardKind::kInRange;
+      out.range = read_range(r, m, (*reward)[i], prefix, false);
+      out.name = out.range.name;
     } else if (term == "control_cost") {
       out.kind = RewardKind::kControlCost;
     } else if (term == "contact_cost") {
@@ -319,43 +360,37 @@ MujocoTask load_mujoco_task(const std::filesystem::path& path, const MujocoModel
     } else {
       r.fail(prefix + ".term",
              fmt::format("expected one of body_velocity, healthy, site_distance, joint_target, joint_speed, "
-                         "control_cost, contact_cost; got \"{}\"",
+                         "energy, in_range, control_cost, contact_cost; got \"{}\"",
                          term));
     }
     task.reward.push_back(out);
   }
 
   if (const toml::array* termination = root["termination"].as_array()) {
-    for (std::size_t i = 0; i < termination->size(); ++i) {
-      const std::string prefix = fmt::format("termination[{}]", i);
-      const toml::table* t = (*termination)[i].as_table();
-      if (!t) r.fail(prefix, "expected a table");
-      r.check_keys(*t, prefix + ".", {"quantity", "name", "min", "max"});
-      const toml::node_view<const toml::node> v{*t};
-      const std::string quantity = r.string(v["quantity"], prefix + ".quantity");
-      TerminationRange out{};
-      out.name = r.string(v["name"], prefix + ".name");
-      if (quantity == "qpos" || quantity == "qvel") {
-        out.kind = quantity == "qpos" ? QuantityKind::kQpos : QuantityKind::kQvel;
-        out.id = r.scalar_joint(out.name, prefix + ".name");
-        out.adr = quantity == "qpos" ? m->jnt_qposadr[out.id] : m->jnt_dofadr[out.id];
-      } else if (quantity == "body_height") {
-        out.kind = QuantityKind::kBodyHeight;
-        out.id = r.resolve(mjOBJ_BODY, out.name, prefix + ".name");
-      } else if (quantity == "site_height") {
-        out.kind = QuantityKind::kSiteHeight;
-        out.id = r.resolve(mjOBJ_SITE, out.name, prefix + ".name");
-      } else {
-        r.fail(prefix + ".quantity",
-               fmt::format("expected one of qpos, qvel, body_height, site_height; got \"{}\"", quantity));
-      }
-      out.lower = r.number(v["min"], prefix + ".min", -INFINITY);
-      out.upper = r.number(v["max"], prefix + ".max", INFINITY);
-      if (!(out.lower < out.upper)) r.fail(prefix + ".max", "expected max > min");
-      task.termination.push_back(out);
-    }
+    for (std::size_t i = 0; i < termination->size(); ++i)
+      task.termination.push_back(read_range(r, m, (*termination)[i], fmt::format("termination[{}]", i)));
   } else if (root["termination"]) {
     r.fail("termination", "expected [[termination]] tables");
+  }
+
+  if (const toml::table* success = root["success"].as_table()) {
+    r.check_keys(*success, "success.", {"hold_steps", "at", "range"});
+    const toml::node_view<const toml::node> v{*success};
+    task.success_hold_steps = r.integer(v["hold_steps"], "success.hold_steps", 1, 1, task.horizon);
+    if (v["at"]) {
+      const std::string at = r.string(v["at"], "success.at");
+      if (at != "end" && at != "any")
+        r.fail("success.at", fmt::format("expected end or any, got \"{}\"", at));
+      task.success_anywhere = at == "any";
+    }
+    const toml::array* ranges = v["range"].as_array();
+    if (!ranges || ranges->empty()) r.fail("success.range", "missing (expected [[success.range]] tables)");
+    for (std::size_t i = 0; i < ranges->size(); ++i)
+      task.success_ranges.push_back(read_range(r, m, (*ranges)[i], fmt::format("success.range[{}]", i)));
+    // With a physical criterion the return is no bar unless the file sets one.
+    task.success_return = r.number(top["success_return"], "success_return", -INFINITY);
+  } else if (root["success"]) {
+    r.fail("success", "expected a [success] table");
   }
 
   // Scenario numbers live in stack buffers of kMaxNoiseDim (models/model.hpp).

@@ -884,6 +884,33 @@ void add_other_series(Page& page, const fs::path& dir, const ReportOptions& opti
   }
 }
 
+// mujoco train / rollout: the 3-D replay of one rollout's geoms (replay.json), drawn with three.js
+// primitives.
+void add_mujoco_replay(Page& page, const fs::path& dir) {
+  const fs::path file = dir / "replay.json";
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec)) return;
+  json replay;
+  try {
+    replay = read_json_file(file);
+  } catch (const std::exception& e) {
+    throw InputError(e.what());
+  }
+  if (!replay.is_object() || replay.value("format", "") != "pegasus.mujoco.replay") return;
+  json spec = {{"kind", "mujoco_replay"},
+               {"title", "3-D replay"},
+               {"source", "replay.json"},
+               {"geoms", replay.value("geoms", json::array())},
+               {"t", replay.value("t", json::array())},
+               {"frames", replay.value("frames", json::array())}};
+  page.section(
+      "replay", "3-D replay",
+      "Held-out episode 0 of the final policy (replay.json): every geom of the model drawn as a "
+      "three.js primitive at its world position and orientation after each control step. Drag to "
+      "turn the view, scroll to zoom; Play runs the episode in real time, the slider moves through it.",
+      page.chart(std::move(spec), "wide"));
+}
+
 void add_policy(Page& page, const fs::path& dir) {
   const fs::path file = dir / "policy.json";
   std::error_code ec;
@@ -1097,6 +1124,7 @@ json report_data(const fs::path& run_dir, const ReportOptions& options) {
   if (auto s = Series::load(run_dir, "cross_validation.csv"); s && s->has("setting"))
     add_cross_validation(page, *s);
   add_flights(page, run_dir, options);
+  add_mujoco_replay(page, run_dir);
   add_pilot_log(page, run_dir, options);
   add_policy(page, run_dir);
   add_other_series(page, run_dir, options);

@@ -132,6 +132,17 @@ if (fs.existsSync(path.join(work, 'heli-identify', 'model.json'))) {
     path.join(work, 'heli-identify', 'model.json'), '--scenarios', '1', '--optimizer.gradient.max-iterations', '1',
     '--optimizer.hill-climbing.proposals-per-iteration', '2', '--flights', '2', '--trace-flights', '2'], { replay: 1 });
 }
+// MuJoCo (when the build has it): a short cart-pole training and the rollout of its policy, each with the
+// 3-D replay of its geoms (replay.json).
+if (/^  mujoco /m.test(pegasus(['--help']))) {
+  run('mujoco-train', ['mujoco', 'train', '--model', 'experiments/mujoco/cartpole.xml', '--task',
+    'experiments/mujoco/cartpole_swingup.toml', '--policy', 'mlp', '--hidden', '4', '--scenarios', '2',
+    '--optimizer.ars.max-iterations', '2', '--evaluation-episodes', '2'], { replay: 1 });
+  if (fs.existsSync(path.join(work, 'mujoco-train', 'policy.json'))) {
+    run('mujoco-rollout', ['mujoco', 'rollout', '--policy', path.join(work, 'mujoco-train', 'policy.json'),
+      '--episodes', '2'], { replay: 1 });
+  }
+}
 // The file formats of the helicopter commands (notes/heli_conventions.md), synthetic: a hover run and a
 // manoeuvre run with its ideal path.
 writeRun('heli-hover-synthetic', {
@@ -210,7 +221,7 @@ for (const [name, dir, expect] of runs) {
     for (const div of document.querySelectorAll('.chart')) {
       const kind = div.dataset.kind;
       let content = 0;
-      if (kind === 'replay') {
+      if (kind === 'replay' || kind === 'mujoco_replay') {
         content = div.querySelector('canvas') ? 1 : 0;
       } else {
         // Drawn marks: line paths with geometry, markers, boxes, bars.
@@ -226,21 +237,26 @@ for (const [name, dir, expect] of runs) {
   for (const e of status.errors) fail(`${name}: ${e}`);
   if (status.charts.length === 0 && !['horizon'].includes(name)) fail(`${name}: no charts`);
   for (const c of status.charts) {
-    if (c.kind !== 'replay' && !c.plotly) fail(`${name}: ${c.id} (${c.kind}) was not drawn by plotly`);
+    if (!c.kind.endsWith('replay') && !c.plotly) fail(`${name}: ${c.id} (${c.kind}) was not drawn by plotly`);
     if (c.content === 0) fail(`${name}: ${c.id} (${c.kind}) has no drawn content`);
   }
-  const replays = status.charts.filter((c) => c.kind === 'replay');
+  const replays = status.charts.filter((c) => c.kind.endsWith('replay'));
   if ((expect.replay || 0) !== replays.length) fail(`${name}: ${replays.length} replays, expected ${expect.replay || 0}`);
   for (const [i, r] of replays.entries()) {
-    const before = await page.evaluate((k) => window.pegasusReport.replays[k].aircraftPosition(), i);
+    // The aircraft's NED position, or the world positions of every MuJoCo geom.
+    const position = (k) => {
+      const replay = window.pegasusReport.replays[k];
+      return replay.aircraftPosition ? replay.aircraftPosition() : replay.positions();
+    };
+    const before = await page.evaluate(position, i);
     const pixelsBefore = await canvasPixels(page, r.id);
     if (pixelsBefore.drawn < 500) fail(`${name}: the replay canvas is (nearly) empty: ${pixelsBefore.drawn} pixels drawn`);
     // Move the slider as a user would: focus it, press End (to the last sample).
     const slider = page.locator(`#${r.id} .replay-slider`);
     await slider.focus();
     await page.keyboard.press('End');
-    const after = await page.evaluate((k) => window.pegasusReport.replays[k].aircraftPosition(), i);
-    const moved = Math.hypot(after[0] - before[0], after[1] - before[1], after[2] - before[2]);
+    const after = await page.evaluate(position, i);
+    const moved = Math.hypot(...after.map((x, k) => x - before[k]));
     if (!(moved > 1e-3)) fail(`${name}: moving the slider did not move the aircraft (${before} -> ${after})`);
     const pixelsAfter = await canvasPixels(page, r.id);
     if (pixelsAfter.hash === pixelsBefore.hash) fail(`${name}: moving the slider did not change the picture`);

@@ -44,6 +44,9 @@ TEST_F(MujocoCli, TrainGivesTheSameSummaryOnOneAndTwoThreadsAndRolloutReplaysThe
   EXPECT_EQ(s.at("training_physics_steps").get<std::int64_t>(),
             2 * s.at("training_control_steps").get<std::int64_t>());
   EXPECT_TRUE(std::filesystem::exists(dir / "one" / "progress.csv"));
+  EXPECT_GT(
+      nlohmann::json::parse(read_text(dir / "one" / "wall_clock.json")).at("training_seconds").get<double>(),
+      0.0);
   EXPECT_TRUE(std::filesystem::exists(dir / "one" / "report.html"));
 
   // The rollout of the saved policy on the same held-out seed gives the training run's evaluation back.
@@ -55,6 +58,39 @@ TEST_F(MujocoCli, TrainGivesTheSameSummaryOnOneAndTwoThreadsAndRolloutReplaysThe
   const std::string trajectory = read_text(dir / "replay" / "trajectory.csv");
   EXPECT_THAT(trajectory.substr(0, trajectory.find('\n')), HasSubstr("step,time,reward,qpos0,qpos1,cart_x"));
   EXPECT_GT(std::count(trajectory.begin(), trajectory.end(), '\n'), 2);
+}
+
+TEST_F(MujocoCli, TheHopperTrainsByCmaesOnSmallSettingsTheSameOnOneAndTwoThreads) {
+  const auto exp = test_support::mujoco_experiments();
+  auto train = [&](int threads, const std::string& name) {
+    return run_pegasus("mujoco train --model " + (exp / "hopper.xml").string() + " --task " +
+                       (exp / "hopper_forward.toml").string() +
+                       " --policy mlp --hidden 4 --normalize=false --optimizer.method cmaes "
+                       "--optimizer.cmaes.max-iterations 2 --scenarios 2 --evaluation-episodes 3 --seed 5 "
+                       "--quiet --threads " +
+                       std::to_string(threads) + " --out " + (dir_ / name).string());
+  };
+  const auto one = train(1, "one");
+  ASSERT_EQ(one.code, 0) << one.output;
+  const auto two = train(2, "two");
+  ASSERT_EQ(two.code, 0) << two.output;
+  const std::string summary = read_text(dir_ / "one" / "summary.json");
+  EXPECT_EQ(summary, read_text(dir_ / "two" / "summary.json"));
+  const auto s = nlohmann::json::parse(summary);
+  EXPECT_EQ(s.at("method"), "cmaes");
+  EXPECT_EQ(s.at("observation_dim"), 10);
+  EXPECT_EQ(s.at("parameters"), (10 * 4 + 4) + (4 * 2 + 2));
+  EXPECT_EQ(s.at("training_rollouts"), 2 * s.at("evaluations").get<int>());
+  EXPECT_EQ(s.at("training_physics_steps").get<std::int64_t>(),
+            5 * s.at("training_control_steps").get<std::int64_t>());
+  EXPECT_LE(s.at("training_control_steps").get<std::int64_t>(),
+            500 * s.at("training_rollouts").get<std::int64_t>());
+  // The bar: 2 m forward after the whole 3 s, upright throughout.
+  EXPECT_EQ(s.at("success").at("at"), "end");
+  EXPECT_EQ(s.at("success").at("ranges").at(0).at("min"), 2.0);
+  const double rate = s.at("evaluation").at("success_rate").get<double>();
+  EXPECT_GE(rate, 0.0);
+  EXPECT_LE(rate, 1.0);
 }
 
 TEST_F(MujocoCli, ResumingAfterAKillGivesTheUninterruptedSummary) {

@@ -2,6 +2,7 @@
 #ifdef PEGASUS_HAVE_MUJOCO
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <mujoco/mujoco.h>
 
 #include "mujoco_test_support.hpp"
 #include "support/cli_runner.hpp"
@@ -80,16 +81,75 @@ TEST_F(MujocoTaskFile, WrongFieldsTermsRangesAndSyntaxAreNamed) {
       HasSubstr("termination[0].max: expected max > min"));
 }
 
+TEST_F(MujocoTaskFile, SuccessRangesAreCheckedLikeTerminationRanges) {
+  EXPECT_THAT(task_error(minimal("[success]\nhold_steps = 10\n")), HasSubstr("success.range: missing"));
+  EXPECT_THAT(task_error("horizon = 50\n" + minimal("[success]\nhold_steps = 51\n[[success.range]]\n"
+                                                    "quantity = \"qpos\"\nname = \"slider\"\nmin = 0\n")),
+              HasSubstr("success.hold_steps: expected an integer in [1, 50], got 51"));
+  EXPECT_THAT(task_error(minimal("[success]\nat = \"start\"\n[[success.range]]\nquantity = \"qpos\"\n"
+                                 "name = \"slider\"\nmin = 0\n")),
+              HasSubstr("success.at: expected end or any, got \"start\""));
+  EXPECT_THAT(
+      task_error(minimal("[success]\n[[success.range]]\nquantity = \"site_height\"\nname = \"top\"\n")),
+      HasSubstr("success.range[0].name: the model has no site \"top\""));
+  EXPECT_THAT(task_error(minimal("[success]\nhold = 3\n")), HasSubstr("success.hold: unknown field"));
+}
+
+TEST_F(MujocoTaskFile, ARolloutSucceedsOnlyWhenItEndsItsWholeHorizonInsideTheSuccessRanges) {
+  // The cart-pole left alone hangs still: its tip stays about 1 m below the pivot.
+  auto outcome = [&](const std::string& top, const std::string& success) {
+    const auto path = test_support::write_file(
+        dir_ / "hang.toml", "horizon = 100\n" + top + "[initial]\nqpos = { hinge = 3.141592653589793 }\n" +
+                                minimal("[[termination]]\nquantity = \"qpos\"\nname = \"slider\"\n"
+                                        "min = -2.4\nmax = 2.4\n" +
+                                        success));
+    MujocoModel model = MujocoModel::load(test_support::mujoco_experiments() / "cartpole.xml");
+    MujocoTask task = load_mujoco_task(path, model);
+    const MujocoEnvironment env(std::move(model), std::move(task));
+    const auto policy = make_mujoco_policy("linear", env.observation_dim(), env.action_dim(), {});
+    const Theta theta(policy->parameters().size(), 0.0);
+    MujocoSlot slot(env);
+    return env.rollout(*policy, theta, ObservationNormalizer(env.observation_dim()),
+                       env.scenarios(1, 1, ScenarioVariant::kPlain), 0, slot);
+  };
+  const std::string hanging =
+      "[success]\nhold_steps = 40\n[[success.range]]\nquantity = \"site_height\"\n"
+      "name = \"tip\"\nmax = -0.99\n";
+  EXPECT_TRUE(outcome("", hanging).success);
+  EXPECT_FALSE(outcome("success_return = 101.0\n", hanging).success);  // 1 per step: 100 at most
+  EXPECT_FALSE(outcome("",
+                       "[success]\nhold_steps = 1\n[[success.range]]\nquantity = \"site_height\"\n"
+                       "name = \"tip\"\nmin = 0.9\n")
+                   .success);
+  // at = "any": 40 steps held anywhere; the pole never rises above the pivot, so "tip above 0.9" fails.
+  EXPECT_TRUE(outcome("",
+                      "[success]\nat = \"any\"\nhold_steps = 40\n[[success.range]]\n"
+                      "quantity = \"site_height\"\nname = \"tip\"\nmax = -0.99\n")
+                  .success);
+  EXPECT_FALSE(outcome("",
+                       "[success]\nat = \"any\"\n[[success.range]]\nquantity = \"site_height\"\n"
+                       "name = \"tip\"\nmin = 0.0\n")
+                   .success);
+  // Without a [success] table the bar is the return alone.
+  EXPECT_TRUE(outcome("success_return = 100.0\n", "").success);
+  EXPECT_FALSE(outcome("success_return = 100.5\n", "").success);
+}
+
 TEST_F(MujocoTaskFile, TheShippedTaskResolvesToTheModelsAddresses) {
   const MujocoTask task =
       load_mujoco_task(test_support::mujoco_experiments() / "cartpole_swingup.toml", *model_);
   EXPECT_EQ(task.observation_dim(), 5);  // x, cos, sin, xdot, thetadot
-  EXPECT_EQ(task.horizon, 300);
+  EXPECT_EQ(task.horizon, 400);
   EXPECT_EQ(task.frame_skip, 2);
   ASSERT_EQ(task.initial_qpos.size(), 1u);
   EXPECT_EQ(task.initial_qpos[0].first, 1);  // the hinge's qpos address
-  ASSERT_EQ(task.reward.size(), 3u);
+  ASSERT_EQ(task.reward.size(), 4u);
   EXPECT_EQ(task.reward[1].kind, RewardKind::kSiteDistance);
+  EXPECT_EQ(task.reward[2].kind, RewardKind::kInRange);
+  EXPECT_EQ(task.reward[2].range.id, model_->id_of(mjOBJ_SITE, "tip"));
+  ASSERT_EQ(task.success_ranges.size(), 1u);
+  EXPECT_EQ(task.success_hold_steps, 150);
+  EXPECT_FALSE(task.success_anywhere);
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 //   bar    a bar chart
 //   replay 3-D replay of flights (NED positions and Euler angles) against an ideal path, with play/pause
 //          and a time slider
+//   mujoco_replay  3-D replay of a MuJoCo rollout (replay.json): every geom as a three.js primitive
 // window.pegasusReport exposes what the browser test checks (charts drawn, replay aircraft position).
 import Plotly from 'plotly.js-dist-min';
 import * as THREE from 'three';
@@ -336,6 +337,164 @@ function drawReplay(div, spec) {
   };
 }
 
+// --- MuJoCo 3-D replay --------------------------------------------------------------------------------
+// replay.json of `pegasus mujoco train/rollout`: per geom its MuJoCo type, size and colour; per control step
+// every geom's world position and orientation (quaternion w, x, y, z) in MuJoCo's z-up world. The geoms
+// live in a group turned -90 degrees about x, which maps MuJoCo's z-up frame onto three's y-up one, so
+// positions and quaternions are used as they are. Capsules and cylinders lie along their local z in MuJoCo
+// and along y in three, hence the rotation of their geometry.
+function mujocoGeomMesh(geom, extent) {
+  const [a, b, c] = geom.size;
+  let geometry = null;
+  switch (geom.type) {
+    case 'box': geometry = new THREE.BoxGeometry(2 * a, 2 * b, 2 * c); break;
+    case 'sphere': geometry = new THREE.SphereGeometry(a, 20, 14); break;
+    case 'ellipsoid': geometry = new THREE.SphereGeometry(1, 20, 14).scale(a, b, c); break;
+    case 'capsule': geometry = new THREE.CapsuleGeometry(a, 2 * b, 8, 16).rotateX(Math.PI / 2); break;
+    case 'cylinder': geometry = new THREE.CylinderGeometry(a, a, 2 * b, 20).rotateX(Math.PI / 2); break;
+    case 'plane': {
+      // MuJoCo's size of 0 means an infinite plane: draw it large enough for the motion.
+      const w = a > 0 ? 2 * a : 4 * extent, h = b > 0 ? 2 * b : 4 * extent;
+      geometry = new THREE.PlaneGeometry(w, h);
+      break;
+    }
+    default: return null;  // meshes and height fields are not drawn
+  }
+  const [r, g, bl, alpha] = geom.rgba;
+  const material = new THREE.MeshStandardMaterial({
+    color: new THREE.Color(r, g, bl), roughness: 0.6, transparent: alpha < 1, opacity: alpha,
+    side: geom.type === 'plane' ? THREE.DoubleSide : THREE.FrontSide,
+  });
+  return new THREE.Mesh(geometry, material);
+}
+
+function drawMujocoReplay(div, spec) {
+  const { geoms, t, frames } = spec;
+  const state = { index: 0, time: 0, playing: false, speed: 1, last: null };
+  div.classList.add('replay');
+  const view = document.createElement('div');
+  view.className = 'replay-view';
+  const controls = document.createElement('div');
+  controls.className = 'replay-controls';
+  controls.innerHTML = `<button type="button" class="replay-play">Play</button>
+    <input type="range" class="replay-slider" min="0" value="0" step="1" aria-label="time">
+    <span class="replay-time">t = 0.00 s</span>
+    <label>speed <select class="replay-speed"><option>0.25</option><option>0.5</option><option selected>1</option>
+    <option>2</option></select></label>`;
+  div.append(view, controls);
+  const play = controls.querySelector('.replay-play');
+  const slider = controls.querySelector('.replay-slider');
+  const timeLabel = controls.querySelector('.replay-time');
+  const speedSelect = controls.querySelector('.replay-speed');
+
+  const scene = new THREE.Scene();
+  scene.background = new THREE.Color(0xf4f6fa);
+  scene.add(new THREE.HemisphereLight(0xffffff, 0x667788, 2.2));
+  const sun = new THREE.DirectionalLight(0xffffff, 1.5);
+  sun.position.set(5, 10, 8);
+  scene.add(sun);
+  const world = new THREE.Group();
+  world.rotation.x = -Math.PI / 2;
+  scene.add(world);
+
+  // The extent of the motion (MuJoCo frame), from the positions of every geom that is not a plane.
+  const lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
+  frames.forEach((f) => geoms.forEach((g, j) => {
+    if (g.type === 'plane') return;
+    for (let k = 0; k < 3; k++) { lo[k] = Math.min(lo[k], f[7 * j + k]); hi[k] = Math.max(hi[k], f[7 * j + k]); }
+  }));
+  if (!Number.isFinite(lo[0])) { lo.fill(-1); hi.fill(1); }
+  const extent = Math.max(Math.hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]), 2);
+  const meshes = geoms.map((g) => {
+    const mesh = mujocoGeomMesh(g, extent);
+    if (mesh) world.add(mesh);
+    return mesh;
+  });
+
+  const toThree = (x, y, z) => new THREE.Vector3(x, z, -y);
+  const center = toThree((lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2);
+  const camera = new THREE.PerspectiveCamera(50, 16 / 9, 0.01, extent * 50);
+  // Planar models move in MuJoCo's x-z plane: look at it from the side (-y in MuJoCo, +z in three).
+  camera.position.set(center.x + extent * 0.15, center.y + extent * 0.25, center.z + extent * 1.3);
+  camera.lookAt(center);
+
+  let renderer = null;
+  if (webglAvailable()) {
+    renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+    renderer.setPixelRatio(window.devicePixelRatio || 1);
+    view.appendChild(renderer.domElement);
+    const orbit = new OrbitControls(camera, renderer.domElement);
+    orbit.target.copy(center);
+    orbit.update();
+    orbit.addEventListener('change', () => render());
+  } else {
+    view.textContent = 'The 3-D replay needs WebGL, which this browser does not offer.';
+    console.warn('pegasus report: no WebGL; the 3-D replay is not drawn');
+  }
+  function resize() {
+    if (!renderer) return;
+    const width = view.clientWidth || 800;
+    const height = Math.round(width * 9 / 16);
+    renderer.setSize(width, height, false);
+    renderer.domElement.style.width = '100%';
+    renderer.domElement.style.height = 'auto';
+    camera.aspect = width / height;
+    camera.updateProjectionMatrix();
+  }
+  function render() { if (renderer) renderer.render(scene, camera); }
+  function place() {
+    const k = Math.min(state.index, frames.length - 1);
+    const f = frames[k];
+    meshes.forEach((mesh, j) => {
+      if (!mesh) return;
+      mesh.position.set(f[7 * j], f[7 * j + 1], f[7 * j + 2]);
+      mesh.quaternion.set(f[7 * j + 4], f[7 * j + 5], f[7 * j + 6], f[7 * j + 3]);  // three: (x, y, z, w)
+    });
+    slider.value = String(k);
+    timeLabel.textContent = `t = ${t[k].toFixed(2)} s`;
+    render();
+  }
+  function tick(now) {
+    if (!state.playing) return;
+    if (state.last !== null) {
+      state.time += ((now - state.last) / 1000) * state.speed;
+      let k = state.index;
+      while (k + 1 < t.length && t[k + 1] <= state.time) k++;
+      state.index = k;
+      if (k + 1 >= t.length) setPlaying(false);
+    }
+    state.last = now;
+    place();
+    if (state.playing) requestAnimationFrame(tick);
+  }
+  function setPlaying(on) {
+    state.playing = on;
+    play.textContent = on ? 'Pause' : 'Play';
+    if (on) {
+      if (state.index + 1 >= t.length) state.index = 0;
+      state.time = t[state.index];
+      state.last = null;
+      requestAnimationFrame(tick);
+    }
+  }
+  play.addEventListener('click', () => setPlaying(!state.playing));
+  slider.addEventListener('input', () => { state.index = Number(slider.value); place(); });
+  speedSelect.addEventListener('change', () => { state.speed = Number(speedSelect.value); });
+  window.addEventListener('resize', () => { resize(); render(); });
+  slider.max = String(Math.max(frames.length - 1, 0));
+  resize();
+  place();
+
+  return {
+    // MuJoCo world positions of the drawn geoms, one after another (for tests): [x0, y0, z0, x1, ...].
+    positions() { return meshes.filter((m) => m).flatMap((m) => [m.position.x, m.position.y, m.position.z]); },
+    get playing() { return state.playing; },
+    get index() { return state.index; },
+    webgl: !!renderer,
+    canvas: renderer ? renderer.domElement : null,
+  };
+}
+
 const drawers = { xy: drawXY, box: drawBox, bar: drawBar };
 
 async function main() {
@@ -348,6 +507,8 @@ async function main() {
     try {
       if (spec.kind === 'replay') {
         report.replays.push(drawReplay(div, spec));
+      } else if (spec.kind === 'mujoco_replay') {
+        report.replays.push(drawMujocoReplay(div, spec));
       } else {
         await drawers[spec.kind](div, spec);
       }

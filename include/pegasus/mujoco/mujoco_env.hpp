@@ -6,11 +6,11 @@
 // MujocoSlot that one thread owns and steps in place: made once (the only allocation), reset fully at the
 // start of every rollout (mj_resetData), so a rollout's result depends on nothing but (theta, scenario).
 //
-// A control step is `frame_skip` physics steps at the MJCF's timestep, split as MuJoCo's mj_step2 then
-// mj_step1 (after reset, mj_step1 once), so that at every observation the position- and velocity-dependent
-// quantities (site positions, body velocities, sensors) belong to the current state at the cost of exactly
-// frame_skip mj_step calls; acceleration sensors lag one physics step. This split integrates with Euler
-// (the MJCF default), whatever the MJCF's integrator option says.
+// A control step is `frame_skip` physics steps at the MJCF's timestep: mj_step2, frame_skip - 1 mj_step
+// calls, then mj_step1 (after reset, mj_step1 once), so that at every observation the position- and
+// velocity-dependent quantities (site positions, body velocities, sensors) belong to the current state at the
+// cost of exactly frame_skip mj_step calls; acceleration sensors lag one physics step. The mj_step2/mj_step1
+// split integrates with Euler (the MJCF default), whatever the MJCF's integrator option says.
 //
 // Scenario numbers (§4.4: a scenario is the whole of a rollout's randomness):
 //   start  (initial_noise_dim = nq + nv when the task perturbs the start, else 0): qpos_j += h_q (2u - 1),
@@ -59,6 +59,7 @@ struct MujocoRolloutResult {
   double discounted_return = 0.0;
   int steps = 0;  // control steps taken
   bool crashed = false;
+  bool success = false;  // the task's success criterion (MujocoTask::success_return, success_ranges)
 };
 
 // Called after every control step of a recorded rollout (and once after the reset with t = 0, action empty).
@@ -87,6 +88,8 @@ class MujocoEnvironment {
   void observe(const MujocoSlot& slot, std::span<double> out) const;
   // Inside every termination range.
   bool healthy(const mjData_* data) const;
+  // Inside every one of `ranges`.
+  static bool inside(std::span<const TerminationRange> ranges, const mjData_* data);
 
   // Scenario i of `scenarios` (horizon and discount of the task) under the policy; when `moments` is given,
   // every observation the policy sees is added to it; `observer` sees every step.
@@ -104,6 +107,7 @@ class MujocoEnvironment {
   RewardHook hook_;
   int observation_dim_ = 0, noise_dim_ = 0, initial_noise_dim_ = 0;
   std::vector<double> ctrl_mid_, ctrl_half_;  // ctrl = mid + half * a
+  bool contact_cost_ = false;                 // a reward term needs the contact forces
 };
 
 }  // namespace pegasus

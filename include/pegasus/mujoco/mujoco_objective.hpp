@@ -12,9 +12,11 @@
 // runs theta's m rollouts on every rank (no communication: each rank computes them all, the same bits),
 // merges their observation statistics in scenario order into the running moments and freezes them.
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <vector>
 
 #include "pegasus/mujoco/mujoco_env.hpp"
@@ -45,6 +47,14 @@ class MujocoObjective final : public Objective, public ObservationNormalizing {
   std::int64_t control_steps() const { return control_steps_; }
   std::int64_t rollouts() const { return rollouts_; }
   std::int64_t crashes() const { return crashes_; }
+  // The first evaluated theta whose rollouts all met the task's success criterion on the training
+  // scenarios: its evaluation number (1-based, in the optimizer's order), the control steps run up to and
+  // including its batch, and the wall seconds since this objective was made (or carried by a checkpoint).
+  struct FirstSuccess {
+    std::int64_t evaluation = 0, control_steps = 0;
+    double seconds = 0.0;
+  };
+  const std::optional<FirstSuccess>& first_success() const { return first_success_; }
 
   // Per-scenario results of theta on `scenarios` with the frozen normaliser, computed on this rank alone
   // (for final evaluations; not counted in the totals).
@@ -54,6 +64,8 @@ class MujocoObjective final : public Objective, public ObservationNormalizing {
   class SlotLease;
   std::unique_ptr<MujocoSlot> acquire();
   void release(std::unique_ptr<MujocoSlot> slot);
+  // Adds the batch's counts (steps_, crashed_, success_ of `thetas` thetas) to the totals, in order.
+  void count_batch(std::size_t thetas);
 
   std::shared_ptr<const MujocoEnvironment> env_;
   std::shared_ptr<const MujocoPolicy> policy_;
@@ -62,9 +74,11 @@ class MujocoObjective final : public Objective, public ObservationNormalizing {
   bool normalize_;
   ObservationNormalizer normalizer_;
   ObservationMoments moments_;
-  std::vector<ObservationMoments> scenario_moments_;  // one per scenario, merged in order
-  std::vector<double> returns_, steps_, crashed_;     // per (theta, scenario) pair
-  std::int64_t control_steps_ = 0, rollouts_ = 0, crashes_ = 0;
+  std::vector<ObservationMoments> scenario_moments_;         // one per scenario, merged in order
+  std::vector<double> returns_, steps_, crashed_, success_;  // per (theta, scenario) pair
+  std::int64_t control_steps_ = 0, rollouts_ = 0, crashes_ = 0, evaluations_ = 0;
+  std::optional<FirstSuccess> first_success_;
+  std::chrono::steady_clock::time_point start_;
   std::mutex slots_mutex_;
   std::vector<std::unique_ptr<MujocoSlot>> free_slots_;
 };

@@ -20,8 +20,10 @@
 //   [observation] qpos = [...], qpos_sincos = [...], qvel = [...], sensors = [...], site_pos = [...],
 //                 body_linvel = [...], clip = 10.0
 //   [[reward]]  term = "body_velocity" | "healthy" | "site_distance" | "joint_target" | "joint_speed" |
-//               "control_cost" |
+//               "in_range" | "energy" | "control_cost" |
 //               "contact_cost", weight = ..., and the term's fields (body/axis, site/target, joint/target)
+//   [success]   hold_steps = 100, at = "end" | "any", [[success.range]] quantity = ..., name = ..., min = ..,
+//   max = ..
 //   [[termination]] quantity = "qpos" | "qvel" | "body_height" | "site_height", name = ..., min = .., max =
 //   ..
 #include <array>
@@ -68,9 +70,21 @@ enum class RewardKind {
   kSiteDistance,
   kJointTarget,
   kJointSpeed,
+  kInRange,
+  kEnergy,
   kControlCost,
   kContactCost
 };
+enum class QuantityKind { kQpos, kQvel, kBodyHeight, kSiteHeight };
+// The rollout ends (an absorbing state) when a named quantity leaves [lower, upper].
+struct TerminationRange {
+  QuantityKind kind;
+  std::string name;
+  int id = 0;
+  int adr = 0;
+  double lower = 0.0, upper = 0.0;
+};
+
 // One term of the reward of a control step; the reward is the sum of weight * value over the terms:
 //   body_velocity  the body's world-frame linear velocity along `axis` (0 x, 1 y, 2 z), m/s, at the end of
 //                  the step (forward progress, as in the locomotion tasks)
@@ -78,6 +92,9 @@ enum class RewardKind {
 //   site_distance  |site position - target| in metres (a negative weight rewards getting close)
 //   joint_target   |qpos of the scalar joint - target| (radians or metres)
 //   joint_speed    |qvel of the scalar joint| (rad/s or m/s; a negative weight discourages spinning)
+//   energy         |potential + kinetic energy - target| in J (MuJoCo's mj_energyPos/mj_energyVel: gravity
+//                  and joint springs), for swing-up tasks whose goal has a known energy
+//   in_range       1 for every step that ends with the named quantity (as in [[termination]]) in [min, max]
 //   control_cost   sum of squared actions in [-1, 1] (a negative weight makes it a cost)
 //   contact_cost   sum over contacts of the squared contact force (N^2) after the last physics step
 struct RewardTerm {
@@ -87,17 +104,8 @@ struct RewardTerm {
   int id = 0;
   int adr = 0;  // qpos address of joint_target
   int axis = 0;
-  std::array<double, 3> target{};  // site_distance: world position; joint_target: target[0]
-};
-
-enum class QuantityKind { kQpos, kQvel, kBodyHeight, kSiteHeight };
-// The rollout ends (an absorbing state) when a named quantity leaves [lower, upper].
-struct TerminationRange {
-  QuantityKind kind;
-  std::string name;
-  int id = 0;
-  int adr = 0;
-  double lower = 0.0, upper = 0.0;
+  std::array<double, 3> target{};  // site_distance: world position; joint_target, energy: target[0]
+  TerminationRange range{};        // in_range
 };
 
 struct MujocoTask {
@@ -121,6 +129,14 @@ struct MujocoTask {
   double observation_clip = 10.0;  // normalised observations are clipped to +-clip
   std::vector<RewardTerm> reward;
   std::vector<TerminationRange> termination;
+  // Success of one rollout: its return reaches success_return and, when success_ranges is not empty,
+  //   at = "end" (success_anywhere false): it runs its whole horizon and ends each of its last
+  //            success_hold_steps control steps inside every range (e.g. balanced for the final 3 s);
+  //   at = "any": it does not crash and ends success_hold_steps consecutive control steps inside every
+  //            range somewhere (e.g. swung up to the top once).
+  std::vector<TerminationRange> success_ranges;
+  int success_hold_steps = 1;
+  bool success_anywhere = false;
 
   int observation_dim() const;
 };

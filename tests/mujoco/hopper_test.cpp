@@ -1,0 +1,72 @@
+// The shipped planar hopper (experiments/mujoco/hopper.xml) has the physical parameters it cites, and its
+// task resolves against it: the masses and inertias of Raibert's simulation model, a 1000 N/m leg spring,
+// and a touch sensor that reads the machine's weight when it rests on its foot.
+#ifdef PEGASUS_HAVE_MUJOCO
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <mujoco/mujoco.h>
+
+#include "mujoco_test_support.hpp"
+
+namespace pegasus {
+namespace {
+
+MujocoModel hopper_model() { return MujocoModel::load(test_support::mujoco_experiments() / "hopper.xml"); }
+
+TEST(MujocoHopper, MassesInertiasAndTheLegSpringAreTheCitedOnes) {
+  const MujocoModel model = hopper_model();
+  const mjModel* m = model.get();
+  const int body = model.id_of(mjOBJ_BODY, "body"), leg = model.id_of(mjOBJ_BODY, "leg");
+  EXPECT_DOUBLE_EQ(m->body_mass[body], 10.0);
+  EXPECT_DOUBLE_EQ(m->body_inertia[3 * body + 1], 10.0);  // pitch (y) inertia
+  EXPECT_DOUBLE_EQ(m->body_ipos[3 * body + 2], 0.4);      // centre of mass r2 above the hip
+  EXPECT_DOUBLE_EQ(m->body_mass[leg], 1.0);
+  EXPECT_DOUBLE_EQ(m->body_inertia[3 * leg + 1], 1.0);
+  EXPECT_DOUBLE_EQ(m->body_ipos[3 * leg + 2], -0.5);  // leg centre of mass r1 = 0.5 m above the 1 m foot
+  EXPECT_DOUBLE_EQ(mj_getTotalmass(m), 11.1);
+  const int spring = model.id_of(mjOBJ_JOINT, "spring");
+  EXPECT_DOUBLE_EQ(m->jnt_stiffness[spring], 1000.0);
+  EXPECT_DOUBLE_EQ(m->actuator_gear[6 * model.id_of(mjOBJ_ACTUATOR, "hip")], 60.0);
+}
+
+TEST(MujocoHopper, HeldUprightOnItsFootItCompressesTheSpringByItsWeightOverTheStiffness) {
+  const MujocoModel model = hopper_model();
+  const mjModel* m = model.get();
+  mjData* d = mj_makeData(m);
+  // Hold the body's pitch and x (their velocities zeroed every step) and let it settle on the spring for 5 s
+  // with joint damping added by hand: the spring then carries the weight above it.
+  for (int s = 0; s < 2500; ++s) {
+    d->qvel[0] = d->qvel[2] = d->qvel[3] = 0.0;
+    d->qpos[2] = d->qpos[3] = 0.0;
+    d->qfrc_applied[4] = -20.0 * d->qvel[4];  // damping on the spring
+    d->qfrc_applied[1] = -50.0 * d->qvel[1];  // and on the height
+    mj_step(m, d);
+  }
+  const double weight_above_spring = (10.0 + 1.0) * 9.8;
+  EXPECT_NEAR(d->qpos[4], weight_above_spring / 1000.0, 0.005);  // 0.108 m
+  const int touch = model.id_of(mjOBJ_SENSOR, "foot_touch");
+  EXPECT_NEAR(d->sensordata[m->sensor_adr[touch]], mj_getTotalmass(m) * 9.8, 2.0);
+  mj_deleteData(d);
+}
+
+TEST(MujocoHopper, TheTaskSeesTenNumbersAndDrivesTwoActuators) {
+  MujocoModel model = hopper_model();
+  MujocoTask task = load_mujoco_task(test_support::mujoco_experiments() / "hopper_forward.toml", model);
+  EXPECT_EQ(task.observation_dim(), 10);  // 4 positions, 5 velocities, the foot's touch
+  EXPECT_EQ(task.frame_skip, 5);
+  const MujocoEnvironment env(std::move(model), std::move(task));
+  EXPECT_EQ(env.action_dim(), 2);
+  // Left alone it falls: the rollout ends early (pitch or height) and does not succeed.
+  const auto policy = make_mujoco_policy("linear", env.observation_dim(), env.action_dim(), {});
+  MujocoSlot slot(env);
+  const auto r = env.rollout(*policy, Theta(policy->parameters().size(), 0.0),
+                             ObservationNormalizer(env.observation_dim()),
+                             env.scenarios(3, 1, ScenarioVariant::kPlain), 0, slot);
+  EXPECT_LT(r.steps, env.task().horizon);
+  EXPECT_FALSE(r.success);
+  EXPECT_FALSE(r.crashed);
+}
+
+}  // namespace
+}  // namespace pegasus
+#endif
