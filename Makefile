@@ -63,7 +63,8 @@ test-asan: deps
 # Every libFuzzer harness (fuzz/*_fuzz.cpp: the readers of every input) for FUZZ_SECONDS each, built with
 # clang++ under -fsanitize=fuzzer,address,undefined in its own build directory (README "Fuzzing").
 fuzz: deps
-	@cmake -S . -B $(FUZZ) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ -DPEGASUS_FUZZ=ON \
+	@cmake -S . -B $(FUZZ) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" \
+	  -DCMAKE_CXX_COMPILER=clang++ -DPEGASUS_FUZZ=ON \
 	  -DPEGASUS_BUILD_TESTS=OFF -DPEGASUS_BUILD_BENCH=OFF -DPEGASUS_MPI=OFF $(call gen,$(FUZZ)) >/dev/null
 	@cmake --build $(FUZZ) -j $(JOBS) --target pegasus_fuzzers
 	@bash fuzz/run.sh $(FUZZ) $(FUZZ_SECONDS) $(JOBS)

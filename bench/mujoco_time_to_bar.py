@@ -6,7 +6,7 @@ line (default: the config's own), runs `pegasus mujoco train` and reads back
   summary.json     first_success: the first evaluated policy whose rollouts all met the task's success
                    criterion on the training scenarios (evaluation number, control and physics steps), and the
                    final policy's held-out success rate over 100 other scenarios;
-  wall_clock.json  seconds_to_first_success and training_seconds (wall clock: depends on the machine's load).
+  run.json         timings: seconds_to_first_success and training_seconds (wall clock: depends on the machine's load).
 Prints one Markdown row per (task, optimizer) and writes BUILD/bench-results/mujoco_time_to_bar.json.
 
 Usage (from the repository root): bench/mujoco_time_to_bar.py [--build build] [--threads 2]
@@ -35,8 +35,8 @@ def run(build, task, method, threads, out):
     wall = time.monotonic() - start
     with open(os.path.join(out, "summary.json")) as f:
         summary = json.load(f)
-    with open(os.path.join(out, "wall_clock.json")) as f:
-        clock = json.load(f)
+    with open(os.path.join(out, "run.json")) as f:
+        clock = json.load(f)["timings"]
     first = summary.get("first_success")
     return {
         "task": task,

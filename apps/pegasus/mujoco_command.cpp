@@ -13,6 +13,7 @@
 #include "pegasus/io/json_csv.hpp"
 #include "pegasus/mujoco/mujoco_objective.hpp"
 #include "pegasus/optimizers/optimizer.hpp"
+#include "pegasus/optimizers/training.hpp"
 #include "pegasus/runs/optimizer_config.hpp"
 
 namespace pegasus::cli {
@@ -183,18 +184,21 @@ void run_train(RunContext& ctx) {
                             &ctx.pool(), c.get_bool("normalize"));
   auto bar = ctx.progress("iterations", static_cast<std::uint64_t>(options.IterationLimit()));
   std::int64_t shown = 0;
-  options.SetCheckpointing(
-      c.get_int("checkpoint_every"),
-      [&](const nlohmann::json& checkpoint) {
-        dir.save_checkpoint(checkpoint);
-        const std::int64_t done = checkpoint.at("iterations").get<std::int64_t>();
-        bar.advance(static_cast<std::uint64_t>(done - shown));
-        shown = done;
-      },
-      dir.load_checkpoint());
+  TrainingPlan plan;
+  plan.seed = ctx.seed;
+  plan.stages = {{.name = options.method, .optimizer = options, .derive_seeds = false}};
+  plan.checkpoint_every = c.get_int("checkpoint_every");
+  plan.on_checkpoint = [&](const nlohmann::json& checkpoint) {
+    dir.save_checkpoint(checkpoint);
+    const std::int64_t done = TrainingCheckpointIterations(checkpoint);
+    bar.advance(static_cast<std::uint64_t>(std::max<std::int64_t>(0, done - shown)));
+    shown = done;
+  };
+  plan.resume_from = dir.load_checkpoint();
   Theta theta;
-  OptimizerSummary summary;
-  Solve(options, objective, &theta, &summary);
+  TrainingSummary training;
+  Train(plan, objective, &theta, &training);
+  const OptimizerSummary& summary = training.stages.front();
   bar.finish();
 
   const int episodes = static_cast<int>(c.get_int("evaluation_episodes"));
@@ -220,13 +224,12 @@ void run_train(RunContext& ctx) {
   dir.write_json("policy.json", policy);
   const std::int64_t frame_skip = env.task().frame_skip;
   nlohmann::json first_success = nullptr;
-  nlohmann::json wall_clock = {{"training_seconds", summary.wall_seconds},
-                               {"seconds_to_first_success", nullptr}};
+  ctx.timings = {{"training_seconds", summary.wall_seconds}, {"seconds_to_first_success", nullptr}};
   if (const auto& f = objective.first_success()) {
     first_success = {{"evaluation", f->evaluation},
                      {"control_steps", f->control_steps},
                      {"physics_steps", f->control_steps * frame_skip}};
-    wall_clock["seconds_to_first_success"] = f->seconds;
+    ctx.timings["seconds_to_first_success"] = f->seconds;
   }
   dir.write_json("summary.json", {{"experiment", "mujoco train"},
                                   {"method", summary.method},
@@ -253,8 +256,7 @@ void run_train(RunContext& ctx) {
                                   {"success_return", finite_or_null(env.task().success_return)},
                                   {"success", success_json(env)},
                                   {"evaluation", evaluation}});
-  // Wall-clock measurements live apart from summary.json, which is identical for any threads and ranks.
-  dir.write_json("wall_clock.json", wall_clock);
+  // Wall-clock measurements go to run.json ("timings"): summary.json is identical for any threads and ranks.
   ctx.out << summary.BriefReport() << "\n";
   ctx.out << fmt::format(
       "held-out: mean return {:.3f}, success rate {:.3f} over {} episodes ({} crashes); {} training control "

@@ -144,7 +144,7 @@ void Train(const TrainingPlan& plan, Objective& objective, Theta* theta, Trainin
     const TrainingStage& stage = plan.stages[k];
     if (stage.optimizer.method == "none") continue;
     OptimizerOptions options = stage.optimizer;
-    DeriveOptimizerSeeds(plan.seed, stage.seeds, &options);
+    if (stage.derive_seeds) DeriveOptimizerSeeds(plan.seed, stage.seeds, &options);
     if (plan.checkpoint_every > 0) {
       options.SetCheckpointing(
           plan.checkpoint_every,

@@ -44,9 +44,11 @@ TEST_F(MujocoCli, TrainGivesTheSameSummaryOnOneAndTwoThreadsAndRolloutReplaysThe
   EXPECT_EQ(s.at("training_physics_steps").get<std::int64_t>(),
             2 * s.at("training_control_steps").get<std::int64_t>());
   EXPECT_TRUE(std::filesystem::exists(dir / "one" / "progress.csv"));
-  EXPECT_GT(
-      nlohmann::json::parse(read_text(dir / "one" / "wall_clock.json")).at("training_seconds").get<double>(),
-      0.0);
+  EXPECT_GT(nlohmann::json::parse(read_text(dir / "one" / "run.json"))
+                .at("timings")
+                .at("training_seconds")
+                .get<double>(),
+            0.0);
   EXPECT_TRUE(std::filesystem::exists(dir / "one" / "report.html"));
 
   // The rollout of the saved policy on the same held-out seed gives the training run's evaluation back.

@@ -55,10 +55,12 @@ void DeriveOptimizerSeeds(std::uint64_t run_seed, const SeedDomains& domains, Op
 struct TrainingStage {
   // Names the stage in reports and messages ("race", "refine"). Non-empty.
   std::string name;
-  // The stage's optimizer (its seeds are set by Train from the plan's seed and `seeds`; its checkpointing by
-  // the plan). method "none" skips the stage.
+  // The stage's optimizer (its seeds are set by Train from the plan's seed and `seeds`, unless
+  // derive_seeds is false; its checkpointing by the plan). method "none" skips the stage.
   OptimizerOptions optimizer;
   SeedDomains seeds{};
+  // False: the optimizer's own seeds are used as they are (a caller that chose them itself).
+  bool derive_seeds = true;
   // The stage's objective; null: the one passed to Train (a refinement may use more scenarios).
   Objective* objective = nullptr;
   // Maps the theta the stage starts from (the previous stage's best, or Train's start) to this stage's
