@@ -172,6 +172,9 @@ TerminationRange read_range(const TaskReader& r, const mjModel* m, const toml::n
   return out;
 }
 
+MujocoTask mujoco_task_from_toml(const toml::table& root, const std::filesystem::path& path,
+                                 const MujocoModel& model);
+
 }  // namespace
 
 MujocoModel MujocoModel::load(const std::filesystem::path& path) {
@@ -210,9 +213,19 @@ int MujocoTask::observation_dim() const {
 }
 
 MujocoTask load_mujoco_task(const std::filesystem::path& path, const MujocoModel& model) {
+  return mujoco_task_from_toml(read_toml_input(path, "task"), path, model);
+}
+
+MujocoTask parse_mujoco_task(std::string_view text, const std::filesystem::path& name,
+                             const MujocoModel& model) {
+  return mujoco_task_from_toml(parse_toml_input(text, name.string()), name, model);
+}
+
+namespace {
+MujocoTask mujoco_task_from_toml(const toml::table& root, const std::filesystem::path& path,
+                                 const MujocoModel& model) {
   const mjModel* m = model.get();
   TaskReader r(path, model);
-  const toml::table root = read_toml_input(path, "task");
   r.check_keys(root, "",
                {"horizon", "discount", "frame_skip", "crash_penalty", "success_return", "initial", "noise",
                 "observation", "reward", "termination", "success"});
@@ -407,5 +420,6 @@ MujocoTask load_mujoco_task(const std::filesystem::path& path, const MujocoModel
   if (m->nu < 1) r.fail("model", "has no actuators (nothing for a policy to drive)");
   return task;
 }
+}  // namespace
 
 }  // namespace pegasus

@@ -62,6 +62,22 @@ TEST_F(MujocoTaskFile, EveryMissingNameIsReportedWithItsFieldAndKind) {
               HasSubstr("noise.push_bodies[1]: the model has no body \"arm\""));
 }
 
+// Task text goes through io/toml_input: bytes that are not UTF-8 never reach toml++ and the line is named;
+// the same text read from a file or given as text (parse_mujoco_task) gives the same task.
+TEST_F(MujocoTaskFile, InvalidUtf8IsNamedWithItsLineAndTextEqualsTheFile) {
+  EXPECT_THAT(task_error(minimal("# caf\xe9\n")),
+              HasSubstr("task.toml:5: expected UTF-8 text, got the byte 0xE9"));
+  const std::string text = "horizon = 77\n" + minimal("");
+  const auto path = test_support::write_file(dir_ / "same.toml", text);
+  const MujocoTask from_file = load_mujoco_task(path, *model_);
+  const MujocoTask from_text = parse_mujoco_task(text, path, *model_);
+  EXPECT_EQ(from_text.horizon, 77);
+  EXPECT_EQ(from_file.horizon, from_text.horizon);
+  EXPECT_EQ(from_file.observation_dim(), from_text.observation_dim());
+  EXPECT_THAT(input_error_message([&] { (void)parse_mujoco_task("horizon = = 1", "t.toml", *model_); }),
+              HasSubstr("t.toml:1: invalid TOML"));
+}
+
 TEST_F(MujocoTaskFile, WrongFieldsTermsRangesAndSyntaxAreNamed) {
   EXPECT_THAT(task_error("horizn = 3\n" + minimal("")),
               HasSubstr("task.toml: horizn: unknown field (expected one of"));

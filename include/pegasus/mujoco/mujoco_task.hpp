@@ -30,6 +30,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 struct mjModel_;
@@ -143,5 +144,8 @@ struct MujocoTask {
 
 // Parses the task file and resolves every name against `model`. InputError "FILE: field: ..." otherwise.
 MujocoTask load_mujoco_task(const std::filesystem::path& path, const MujocoModel& model);
+// The same for text already read; `name` stands for the file in messages.
+MujocoTask parse_mujoco_task(std::string_view text, const std::filesystem::path& name,
+                             const MujocoModel& model);
 
 }  // namespace pegasus
