@@ -10,6 +10,7 @@
 
 #include "../io/toml_input.hpp"
 #include "pegasus/core/error.hpp"
+#include "pegasus/core/untrusted_text.hpp"
 #include "pegasus/models/model.hpp"
 
 namespace pegasus {
@@ -59,7 +60,8 @@ class TaskReader {
   TaskReader(const std::filesystem::path& path, const MujocoModel& model) : path_(path), model_(model) {}
 
   [[noreturn]] void fail(const std::string& field, const std::string& what) const {
-    throw InputError(fmt::format("{}: {}: {}", path_.string(), field, what));
+    // Names come from the user's file and may hold any bytes (a TOML "\n" escape): one printable line.
+    throw InputError(printable(fmt::format("{}: {}: {}", path_.string(), field, what)));
   }
 
   // Id of the named object; fails naming the field, the name and the model's objects of that kind.

@@ -76,6 +76,11 @@ TEST_F(MujocoTaskFile, InvalidUtf8IsNamedWithItsLineAndTextEqualsTheFile) {
   EXPECT_EQ(from_file.observation_dim(), from_text.observation_dim());
   EXPECT_THAT(input_error_message([&] { (void)parse_mujoco_task("horizon = = 1", "t.toml", *model_); }),
               HasSubstr("t.toml:1: invalid TOML"));
+  // A name holding a newline (a TOML escape) is shown escaped: the message stays one line (found by fuzzing).
+  const std::string message =
+      task_error("[observation]\nqpos = [\"sli\\nder\"]\n[[reward]]\nterm = \"healthy\"\n");
+  EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  EXPECT_THAT(message, HasSubstr("no joint \"sli\\x0Ader\""));
 }
 
 TEST_F(MujocoTaskFile, WrongFieldsTermsRangesAndSyntaxAreNamed) {
