@@ -53,6 +53,16 @@ int launched_size() {
   return 0;
 }
 
+// A collective that failed: a peer died (its connection broke before the launcher's SIGTERM arrived). Rank 0
+// says the stop line, as the SIGTERM handler would have, and every rank ends; the launcher ends the rest.
+#ifdef PEGASUS_HAVE_MPI
+void check_collective(int rc) {
+  if (rc == MPI_SUCCESS) return;
+  if (g_rank == 0) on_stop_signal(0);
+  ::_exit(1);
+}
+#endif
+
 [[maybe_unused]] int launched_rank() {
   for (const char* name : {"OMPI_COMM_WORLD_RANK", "PMI_RANK", "PMIX_RANK"})
     if (const char* v = std::getenv(name)) return std::atoi(v);
@@ -97,6 +107,9 @@ Session::Session([[maybe_unused]] int* argc, [[maybe_unused]] char*** argv) {
   MPI_Comm_rank(MPI_COMM_WORLD, &g_rank);
   MPI_Comm_size(MPI_COMM_WORLD, &g_size);
   read_fault_injection();
+  // Failures of collectives come back as codes (check_collective) instead of Open MPI's own abort, which
+  // would end rank 0 without the stop line.
+  MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN);
   if (g_size > 1 && g_rank == 0) std::signal(SIGTERM, on_stop_signal);
 #else
   if (launched > 1) {
@@ -152,7 +165,7 @@ void allgather_shares([[maybe_unused]] std::span<double> values, const Share& sh
   for (std::size_t j = 0; j < mine.size(); ++j) mine[j] = values[share.item(j)];
   if (g_measure_wait) {
     const double start = now_seconds();
-    MPI_Barrier(MPI_COMM_WORLD);
+    check_collective(MPI_Barrier(MPI_COMM_WORLD));
     g_stats.wait_seconds += now_seconds() - start;
   }
   const double start = now_seconds();
@@ -160,7 +173,7 @@ void allgather_shares([[maybe_unused]] std::span<double> values, const Share& sh
                                 counts.data(), displs.data(), MPI_DOUBLE, MPI_COMM_WORLD);
   g_stats.seconds += now_seconds() - start;
   g_stats.bytes += static_cast<std::int64_t>(n * sizeof(double));
-  if (rc != MPI_SUCCESS) throw std::runtime_error("MPI_Allgatherv failed");
+  check_collective(rc);
   for (int r = 0; r < g_size; ++r) {
     const Share s{r, g_size};
     const double* block = all.data() + displs[static_cast<std::size_t>(r)];
@@ -176,13 +189,13 @@ std::string broadcast_from_root(const std::string& text) {
   if (g_size == 1) return text;
 #ifdef PEGASUS_HAVE_MPI
   unsigned long long length = text.size();
-  MPI_Bcast(&length, 1, MPI_UNSIGNED_LONG_LONG, 0, MPI_COMM_WORLD);
+  check_collective(MPI_Bcast(&length, 1, MPI_UNSIGNED_LONG_LONG, 0, MPI_COMM_WORLD));
   std::string result = g_rank == 0 ? text : std::string(static_cast<std::size_t>(length), '\0');
   // In pieces below INT_MAX bytes.
   constexpr std::size_t kPiece = std::size_t{1} << 30;
   for (std::size_t at = 0; at < result.size(); at += kPiece) {
     const int piece = static_cast<int>(std::min(kPiece, result.size() - at));
-    MPI_Bcast(result.data() + at, piece, MPI_CHAR, 0, MPI_COMM_WORLD);
+    check_collective(MPI_Bcast(result.data() + at, piece, MPI_CHAR, 0, MPI_COMM_WORLD));
   }
   return result;
 #else
@@ -193,7 +206,7 @@ std::string broadcast_from_root(const std::string& text) {
 std::vector<int> allgather_int(int value) {
   std::vector<int> all(static_cast<std::size_t>(g_size), value);
 #ifdef PEGASUS_HAVE_MPI
-  if (g_size > 1) MPI_Allgather(&value, 1, MPI_INT, all.data(), 1, MPI_INT, MPI_COMM_WORLD);
+  if (g_size > 1) check_collective(MPI_Allgather(&value, 1, MPI_INT, all.data(), 1, MPI_INT, MPI_COMM_WORLD));
 #endif
   return all;
 }
@@ -212,7 +225,7 @@ void abort_job(int code) {
 
 void barrier() {
 #ifdef PEGASUS_HAVE_MPI
-  if (g_started && g_size > 1) MPI_Barrier(MPI_COMM_WORLD);
+  if (g_started && g_size > 1) check_collective(MPI_Barrier(MPI_COMM_WORLD));
 #endif
 }
 
