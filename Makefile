@@ -5,6 +5,7 @@ BUILD     ?= build
 ASAN      ?= build-asan
 FUZZ      ?= build-fuzz
 FUZZ_SECONDS ?= 60
+FUZZ_SEED ?= 1
 DEMO_OUT  ?= runs/demo-heli
 NINJA     := $(shell command -v ninja >/dev/null 2>&1 && echo "-G Ninja")
 # The generator is chosen only when a build directory is first configured.
@@ -67,7 +68,7 @@ fuzz: deps
 	  -DCMAKE_CXX_COMPILER=clang++ -DPEGASUS_FUZZ=ON \
 	  -DPEGASUS_BUILD_TESTS=OFF -DPEGASUS_BUILD_BENCH=OFF -DPEGASUS_MPI=OFF $(call gen,$(FUZZ)) >/dev/null
 	@cmake --build $(FUZZ) -j $(JOBS) --target pegasus_fuzzers
-	@bash fuzz/run.sh $(FUZZ) $(FUZZ_SECONDS) $(JOBS)
+	@bash fuzz/run.sh $(FUZZ) $(FUZZ_SECONDS) $(JOBS) $(FUZZ_SEED)
 
 # Every benchmark in Release, one JSON file.
 bench: build

@@ -3,21 +3,26 @@
 # fuzz/corpus/<harness>/ (copied: what a run finds stays in BUILD_DIR/fuzz-corpus, not in the repository),
 # JOBS harnesses at a time (default: the number of cores), and prints one line per harness: executions,
 # executions per second, corpus size, and whether it found anything.
-# Usage: fuzz/run.sh BUILD_DIR SECONDS [JOBS]. Exit status 1 when any harness found a crash, leak or hang (or
+# Usage: fuzz/run.sh BUILD_DIR SECONDS [JOBS] [SEED]. SEED (default 1) makes a run repeatable: the same
+# binaries, corpus and seed try the same inputs in the same order, so what CI finds a local run finds too
+# (up to the number of executions the time allows); SEED 0 lets libFuzzer pick one, to explore further.
+# Exit status 1 when any harness found a crash, leak or hang (or
 # did not run); the input that did it is kept in BUILD_DIR/fuzz-findings/<harness>/.
 set -euo pipefail
 build=${1:?build directory}
 seconds=${2:?seconds per harness}
 jobs=${3:-$(nproc)}
+seed=${4:-1}
 here=$(cd "$(dirname "$0")" && pwd)
 
 run_one() {  # NAME: fuzzes one harness; its exit status goes to BUILD/fuzz-findings/NAME.status
   local name=$1 binary="$build/fuzz/$1" corpus="$build/fuzz-corpus/$1" findings="$build/fuzz-findings/$1"
   mkdir -p "$corpus" "$findings"
+  rm -f "$findings"/*  # what an earlier run found is in its own report, not this one's
   [ -d "$here/corpus/$name" ] && cp -n "$here/corpus/$name"/* "$corpus"/ 2>/dev/null || true
   local status=0
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-    "$binary" "$corpus" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
+    "$binary" "$corpus" -max_total_time="$seconds" -seed="$seed" -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
     -print_final_stats=1 -artifact_prefix="$findings/" >"$build/fuzz-findings/$name.log" 2>&1 || status=$?
   echo "$status" >"$build/fuzz-findings/$name.status"
 }
@@ -63,5 +68,21 @@ for name in "${names[@]}"; do
   rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log" | tail -1)
   printf '%-22s %12s %10s %8s  %s\n' "$name" "${runs:-?}" "${rate:-?}" "$(ls "$build/fuzz-corpus/$name" | wc -l)" \
     "$result"
+done
+# What each finding was, here and not only in its log: where CI keeps nothing but what was printed, the cause,
+# the frames that matter and the input itself (base64) are enough to reproduce it.
+for name in "${names[@]}"; do
+  code=$(cat "$build/fuzz-findings/$name.status" 2>/dev/null || echo missing)
+  [ "$code" = 0 ] && continue
+  log="$build/fuzz-findings/$name.log"
+  echo
+  echo "== $name (exit $code)"
+  grep -E "ERROR:|SUMMARY:|runtime error|error contract broken|Assertion|terminate called|what\(\)" "$log" | head -8
+  grep -E "^ +#[0-9]+ " "$log" | grep -v -E "libFuzzer|fuzzer::|libc\.so|compiler-rt|sanitizer_common" | head -12
+  for input in "$build/fuzz-findings/$name"/*; do
+    [ -f "$input" ] || continue
+    echo "input $(basename "$input") ($(wc -c <"$input") bytes, base64 of the first 3000):"
+    head -c 3000 "$input" | base64 -w 120
+  done
 done
 exit $status

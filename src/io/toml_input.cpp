@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -14,10 +15,23 @@
 
 namespace pegasus {
 
+namespace detail {
+void toml_assertion_failed(const char* expression) { throw TomlAssertionFailed(expression); }
+}  // namespace detail
+
+namespace {
+
+std::size_t line_of(std::string_view text, std::size_t offset) {
+  return 1 + static_cast<std::size_t>(
+                 std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(offset), '\n'));
+}
+
+}  // namespace
+
 toml::table parse_toml_input(std::string_view text, std::string_view name) {
   if (const std::size_t bad = first_invalid_utf8(text); bad != text.size()) {
-    const auto line = 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(bad), '\n');
-    throw InputError(fmt::format("{}:{}: expected UTF-8 text, got the byte 0x{:02X}", printable(name), line,
+    throw InputError(fmt::format("{}:{}: expected UTF-8 text, got the byte 0x{:02X}", printable(name),
+                                 line_of(text, bad),
                                  static_cast<unsigned>(static_cast<unsigned char>(text[bad]))));
   }
   try {
@@ -27,6 +41,10 @@ toml::table parse_toml_input(std::string_view text, std::string_view name) {
     std::replace(description.begin(), description.end(), '\n', ' ');
     throw InputError(fmt::format("{}:{}: invalid TOML: {}", printable(name), e.source().begin.line,
                                  printable(description)));
+  } catch (const detail::TomlAssertionFailed& e) {
+    // A check inside toml++ that Debian's build would have skipped: text that 3.3.0 misreads.
+    throw InputError(fmt::format("{}: invalid TOML (the parser's own check \"{}\" failed)", printable(name),
+                                 printable(e.what())));
   }
 }
 

@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <openssl/evp.h>
-#include <toml++/toml.h>
 
 #include <algorithm>
 #include <cmath>

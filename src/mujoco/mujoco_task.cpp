@@ -2,7 +2,6 @@
 
 #include <fmt/format.h>
 #include <mujoco/mujoco.h>
-#include <toml++/toml.h>
 
 #include <cmath>
 #include <mutex>

@@ -1,7 +1,6 @@
 #include "pegasus/runs/config.hpp"
 
 #include <fmt/format.h>
-#include <toml++/toml.h>
 
 #include <algorithm>
 #include <bit>

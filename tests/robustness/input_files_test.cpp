@@ -90,6 +90,36 @@ TEST_F(InputFiles, TomlReadersRefuseInvalidUtf8NamingTheLine) {
                syntax + ":2", "invalid TOML");
 }
 
+// What Debian's toml++ 3.3.0 misreads in valid UTF-8 (each fixed upstream) is read as upstream reads it now,
+// or refused with one line, never undefined behaviour (io/toml_input.hpp): a character other than ASCII where
+// the parser asks whether it is whitespace (3.3.0 reached __builtin_unreachable for U+00E9), "[&" as a table
+// header (a broken precondition of its key parser), nesting beyond 64.
+TEST(TomlInput, WhatToml330MisreadsIsReadAsUpstreamReadsItOrRefusedWithOneLine) {
+  pegasus::ConfigSchema schema;
+  schema.add_string("policy", "", "a path");
+  schema.add_double("gamma", 0.5, "discount").range(0, 1);
+  const auto refusal = [&](const std::string& text) {
+    pegasus::ConfigSchema config = schema.with_defaults();
+    return input_error_message([&] { config.load_toml_string(text, "c.toml"); });
+  };
+  expect_names(refusal("gamma = 0.1\npolicy = \"p\" \xc3\xa9\n"), "c.toml:2", "invalid TOML");
+  expect_names(refusal("gamma = 0.1 \xc3\xa9\n"), "c.toml:1", "invalid TOML");
+  expect_names(refusal("[\xcc\xaa]\n"), "c.toml", "invalid TOML");
+  expect_names(refusal("[&]\ngamma = 0.1\n"), "c.toml", "invalid TOML");
+  expect_names(refusal("policy = " + std::string(100, '[') + std::string(100, ']') + "\n"), "c.toml:1",
+               "invalid TOML");
+
+  // Characters other than ASCII where TOML allows them: strings, comments, and after a line-ending backslash.
+  pegasus::ConfigSchema config = schema.with_defaults();
+  ASSERT_NO_THROW(config.load_toml_string(
+      "# caf\xc3\xa9\npolicy = \"r\xc3\xa9sum\xc3\xa9\\\\\" # \xe2\x82\xac\n", "c.toml"));
+  EXPECT_EQ(config.get_string("policy"), "r\xc3\xa9sum\xc3\xa9\\");
+  ASSERT_NO_THROW(config.load_toml_string("policy = \"\"\"a\\\n  \xe2\x82\xac\"\"\"\n", "c.toml"));
+  EXPECT_EQ(config.get_string("policy"), "a\xe2\x82\xac");
+  ASSERT_NO_THROW(config.load_toml_string("policy = \'\'\'\xc3\xa9\n\xc3\xa9\'\'\'\n", "c.toml"));
+  EXPECT_EQ(config.get_string("policy"), "\xc3\xa9\n\xc3\xa9");
+}
+
 TEST_F(InputFiles, DeclaredMdpSizesAreRefusedBeforeAnythingIsAllocated) {
   const std::string huge =
       write("huge.json", R"({"format": "pegasus-mdp", "version": 1, "num_states": 2147483647,
