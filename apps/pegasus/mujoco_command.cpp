@@ -211,17 +211,14 @@ void run_train(RunContext& ctx) {
   for (const auto& h : summary.history) progress.add_row({h.iteration, h.evaluations, h.seconds, h.value});
   dir.write_csv("progress.csv", progress);
   dir.write_csv("evaluation.csv", evaluation_csv(results));
-  const ObservationNormalizer& normalizer = objective.normalizer();
-  nlohmann::json policy = {
-      {"format", "pegasus.mujoco.policy"},
-      {"version", 1},
-      {"model", std::filesystem::absolute(c.get_string("model")).string()},
-      {"task", std::filesystem::absolute(c.get_string("task")).string()},
-      {"theta", theta},
-      {"normalizer",
-       {{"mean", normalizer.mean}, {"inverse_std", normalizer.inverse_std}, {"clip", normalizer.clip}}}};
-  policy.update(problem.policy->describe());
-  dir.write_json("policy.json", policy);
+  const nlohmann::json shape = problem.policy->describe();
+  const MujocoPolicyFile policy{.model = std::filesystem::absolute(c.get_string("model")).string(),
+                                .task = std::filesystem::absolute(c.get_string("task")).string(),
+                                .policy_class = shape.at("class").get<std::string>(),
+                                .hidden = shape.at("hidden").get<std::vector<int>>(),
+                                .theta = theta,
+                                .normalizer = objective.normalizer()};
+  dir.write_json("policy.json", mujoco_policy_file_json(policy));
   const std::int64_t frame_skip = env.task().frame_skip;
   nlohmann::json first_success = nullptr;
   ctx.timings = {{"training_seconds", summary.wall_seconds}, {"seconds_to_first_success", nullptr}};
@@ -270,43 +267,15 @@ void declare_rollout(ConfigSchema& s) {
   s.add_int("episodes", 10, "scenarios rolled out (the first is recorded step by step)").min(1).max(1000000);
 }
 
-// policy.json, checked; InputError naming the file and the field.
-nlohmann::json read_policy_file(const std::string& path) {
-  if (path.empty()) throw InputError("policy: expected a policy file (--policy FILE)");
-  std::ifstream in(path);
-  if (!in) throw InputError(fmt::format("{}: cannot read the policy file", path));
-  nlohmann::json policy;
-  try {
-    policy = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(fmt::format("{}: not JSON ({})", path, e.what()));
-  }
-  if (!policy.is_object() || policy.value("format", "") != "pegasus.mujoco.policy")
-    throw InputError(fmt::format("{}: format: expected \"pegasus.mujoco.policy\"", path));
-  for (const char* key : {"model", "task", "class", "hidden", "theta", "normalizer"})
-    if (!policy.contains(key)) throw InputError(fmt::format("{}: {}: missing", path, key));
-  return policy;
-}
-
 void run_rollout(RunContext& ctx) {
   const std::string path = ctx.config.get_string("policy");
-  const nlohmann::json file = read_policy_file(path);
-  const Problem problem =
-      load_problem(file.at("model").get<std::string>(), file.at("task").get<std::string>(),
-                   file.at("class").get<std::string>(), file.at("hidden").get<std::vector<int>>());
+  if (path.empty()) throw InputError("policy: expected a policy file (--policy FILE)");
+  const MujocoPolicyFile file = read_mujoco_policy_file(path);
+  const Problem problem = load_problem(file.model, file.task, file.policy_class, file.hidden);
   const MujocoEnvironment& env = *problem.env;
-  const auto theta = file.at("theta").get<std::vector<double>>();
-  if (theta.size() != problem.policy->parameters().size())
-    throw InputError(
-        fmt::format("{}: theta: expected {} numbers for this model, task and policy class, got {}", path,
-                    problem.policy->parameters().size(), theta.size()));
-  ObservationNormalizer normalizer(env.observation_dim(), file.at("normalizer").at("clip").get<double>());
-  normalizer.mean = file.at("normalizer").at("mean").get<std::vector<double>>();
-  normalizer.inverse_std = file.at("normalizer").at("inverse_std").get<std::vector<double>>();
-  if (normalizer.mean.size() != static_cast<std::size_t>(env.observation_dim()) ||
-      normalizer.inverse_std.size() != normalizer.mean.size())
-    throw InputError(
-        fmt::format("{}: normalizer: expected {} observation dimensions", path, env.observation_dim()));
+  check_mujoco_policy_file(file, *problem.policy, env.observation_dim(), path);
+  const std::vector<double>& theta = file.theta;
+  const ObservationNormalizer& normalizer = file.normalizer;
 
   const int episodes = static_cast<int>(ctx.config.get_int("episodes"));
   const ScenarioSet scenarios = env.scenarios(evaluation_seed(ctx.seed), episodes, ScenarioVariant::kPlain);

@@ -16,29 +16,6 @@
 namespace pegasus::heli {
 namespace {
 
-[[noreturn]] void bad(const std::string& file, const std::string& field, const std::string& what) {
-  throw InputError(fmt::format("{}: {}: {}", file, field, what));
-}
-
-std::string shown(const nlohmann::json& j) {
-  std::string s = j.dump();
-  return s.size() > 40 ? s.substr(0, 37) + "..." : s;
-}
-
-const nlohmann::json& member(const nlohmann::json& j, const char* name, const std::string& file,
-                             const std::string& path) {
-  const auto it = j.find(name);
-  if (it == j.end()) bad(file, path, "missing");
-  return *it;
-}
-
-double finite_number(const nlohmann::json& j, const std::string& file, const std::string& field) {
-  if (!j.is_number()) bad(file, field, "expected a number, got " + shown(j));
-  const double x = j.get<double>();
-  if (!std::isfinite(x)) bad(file, field, "expected a finite number, got " + shown(j));
-  return x;
-}
-
 // The classes every build knows. A new class adds its line here (its factory lives with the class).
 std::map<std::string, PolicyClassFactory> builtin_classes() {
   return {{"hover", make_hover_controller}, {"maneuver", make_maneuver_controller}};
@@ -105,48 +82,46 @@ void write_policy_file(const std::filesystem::path& file, const PolicyFile& poli
 }
 
 PolicyFile parse_policy_file(const nlohmann::json& j, const std::string& file) {
-  if (!j.is_object()) bad(file, "(top level)", "expected a JSON object");
+  if (!j.is_object()) json_field_error(file, "(top level)", "a JSON object", j);
   PolicyFile p;
-  const auto& format = member(j, "format", file, "format");
-  if (format != kPolicyFormat)
-    bad(file, "format", fmt::format("expected \"{}\", got {}", kPolicyFormat, shown(format)));
-  const auto& version = member(j, "version", file, "version");
+  const auto& format = json_member(j, "format", file, "format");
+  if (format != kPolicyFormat) json_field_error(file, "format", fmt::format("\"{}\"", kPolicyFormat), format);
+  const auto& version = json_member(j, "version", file, "version");
   if (!version.is_number_integer() || version.get<int>() != kPolicyVersion)
-    bad(file, "version", fmt::format("expected {}, got {}", kPolicyVersion, shown(version)));
-  const auto& cls = member(j, "class", file, "class");
+    json_field_error(file, "version", std::to_string(kPolicyVersion), version);
+  const auto& cls = json_member(j, "class", file, "class");
   if (!cls.is_string() || cls.get<std::string>().empty())
-    bad(file, "class", "expected a class name, got " + shown(cls));
+    json_field_error(file, "class", "a class name", cls);
   p.class_name = cls.get<std::string>();
-  const auto& params = member(j, "parameters", file, "parameters");
+  const auto& params = json_member(j, "parameters", file, "parameters");
   if (!params.is_array() || params.empty())
-    bad(file, "parameters", "expected a non-empty array of {\"name\", \"value\"}");
+    json_field_error(file, "parameters", "a non-empty array of {\"name\", \"value\"}", params);
   for (std::size_t i = 0; i < params.size(); ++i) {
     const std::string where = fmt::format("parameters[{}]", i);
     const auto& e = params[i];
-    if (!e.is_object()) bad(file, where, "expected {\"name\": ..., \"value\": ...}, got " + shown(e));
-    const auto& name = member(e, "name", file, where + ".name");
-    if (!name.is_string()) bad(file, where + ".name", "expected a string, got " + shown(name));
+    if (!e.is_object()) json_field_error(file, where, "{\"name\": ..., \"value\": ...}", e);
+    const auto& name = json_member(e, "name", file, where + ".name");
+    if (!name.is_string()) json_field_error(file, where + ".name", "a string", name);
     p.names.push_back(name.get<std::string>());
-    p.values.push_back(finite_number(member(e, "value", file, where + ".value"), file,
-                                     fmt::format("{}.value ({})", where, p.names.back())));
+    p.values.push_back(json_finite_number(json_member(e, "value", file, where + ".value"), file,
+                                          fmt::format("{}.value ({})", where, p.names.back())));
   }
-  const auto& target = member(j, "target", file, "target");
-  if (!target.is_object())
-    bad(file, "target", "expected {\"x\", \"y\", \"z\", \"yaw\"}, got " + shown(target));
-  p.target.x = finite_number(member(target, "x", file, "target.x"), file, "target.x");
-  p.target.y = finite_number(member(target, "y", file, "target.y"), file, "target.y");
-  p.target.z = finite_number(member(target, "z", file, "target.z"), file, "target.z");
-  p.target.yaw = finite_number(member(target, "yaw", file, "target.yaw"), file, "target.yaw");
-  const auto& trim = member(j, "trim", file, "trim");
-  if (!trim.is_object()) bad(file, "trim", "expected {\"a1\", \"a2\", \"a3\", \"a4\"}, got " + shown(trim));
+  const auto& target = json_member(j, "target", file, "target");
+  if (!target.is_object()) json_field_error(file, "target", "{\"x\", \"y\", \"z\", \"yaw\"}", target);
+  p.target.x = json_finite_number(json_member(target, "x", file, "target.x"), file, "target.x");
+  p.target.y = json_finite_number(json_member(target, "y", file, "target.y"), file, "target.y");
+  p.target.z = json_finite_number(json_member(target, "z", file, "target.z"), file, "target.z");
+  p.target.yaw = json_finite_number(json_member(target, "yaw", file, "target.yaw"), file, "target.yaw");
+  const auto& trim = json_member(j, "trim", file, "trim");
+  if (!trim.is_object()) json_field_error(file, "trim", "{\"a1\", \"a2\", \"a3\", \"a4\"}", trim);
   for (std::size_t c = 0; c < 4; ++c) {
     const std::string field = fmt::format("trim.a{}", c + 1);
-    const double v = finite_number(member(trim, kControlNames[c], file, field), file, field);
-    if (std::abs(v) > 1) bad(file, field, fmt::format("expected a control in [-1, 1], got {}", v));
+    const double v = json_finite_number(json_member(trim, kControlNames[c], file, field), file, field);
+    if (std::abs(v) > 1) json_field_error(file, field, "a control in [-1, 1]", v);
     p.trim[c] = v;
   }
   if (const auto it = j.find("options"); it != j.end()) {
-    if (!it->is_object()) bad(file, "options", "expected an object, got " + shown(*it));
+    if (!it->is_object()) json_field_error(file, "options", "an object", *it);
     p.options = *it;
   }
   if (const auto it = j.find("provenance"); it != j.end()) p.provenance = *it;
@@ -166,7 +141,7 @@ std::unique_ptr<HeliController> make_controller(const PolicyFile& policy, const 
     if (it == r.classes.end()) {
       std::string known;
       for (const auto& [name, f] : r.classes) known += (known.empty() ? "" : ", ") + name;
-      bad(file, "class", fmt::format("expected one of {}, got \"{}\"", known, policy.class_name));
+      json_field_error(file, "class", "one of " + known, policy.class_name);
     }
     factory = it->second;
   }
@@ -181,18 +156,16 @@ Theta checked_parameters(const PolicyFile& policy, const ParameterSpec& spec, co
   const std::size_t n = std::min(policy.names.size(), spec.size());
   for (std::size_t i = 0; i < n; ++i)
     if (policy.names[i] != spec[i].name)
-      bad(file, fmt::format("parameters[{}].name", i),
-          fmt::format("expected \"{}\" (class {}), got \"{}\"", spec[i].name, policy.class_name,
-                      policy.names[i]));
+      json_field_error(file, fmt::format("parameters[{}].name", i),
+                       fmt::format("\"{}\" (class {})", spec[i].name, policy.class_name), policy.names[i]);
   if (policy.names.size() != spec.size())
-    bad(file, "parameters",
-        fmt::format("expected {} parameters for class {}, got {}", spec.size(), policy.class_name,
-                    policy.names.size()));
+    json_field_error(file, "parameters",
+                     fmt::format("{} parameters for class {}", spec.size(), policy.class_name),
+                     policy.names.size());
   for (std::size_t i = 0; i < n; ++i)
     if (!(policy.values[i] >= spec[i].lower && policy.values[i] <= spec[i].upper))
-      bad(file, fmt::format("parameters[{}].value ({})", i, spec[i].name),
-          fmt::format("expected a value in [{}, {}], got {}", spec[i].lower, spec[i].upper,
-                      policy.values[i]));
+      json_field_error(file, fmt::format("parameters[{}].value ({})", i, spec[i].name),
+                       fmt::format("a value in [{}, {}]", spec[i].lower, spec[i].upper), policy.values[i]);
   return policy.values;
 }
 

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <cstring>
 #include <string>
 
@@ -58,8 +59,22 @@ void json_field_error(std::string_view file, std::string_view field, std::string
   std::string shown = with_valid_utf8(value).dump();
   constexpr std::size_t kLongest = 60;
   if (shown.size() > kLongest) shown = shown.substr(0, kLongest) + "...";
-  throw InputError(
-      fmt::format("{}: {}: expected {}, got {}", printable(file), field, expected, printable(shown)));
+  throw InputError(fmt::format("{}: {}: expected {}, got {}", printable(file), printable(field),
+                               printable(expected), printable(shown)));
+}
+
+const nlohmann::json& json_member(const nlohmann::json& j, const char* name, std::string_view file,
+                                  std::string_view field) {
+  const auto it = j.find(name);
+  if (it == j.end()) throw InputError(fmt::format("{}: {}: missing", printable(file), printable(field)));
+  return *it;
+}
+
+double json_finite_number(const nlohmann::json& j, std::string_view file, std::string_view field) {
+  if (!j.is_number()) json_field_error(file, field, "a number", j);
+  const double x = j.get<double>();
+  if (!std::isfinite(x)) json_field_error(file, field, "a finite number", j);
+  return x;
 }
 
 }  // namespace pegasus

@@ -7,6 +7,8 @@
 #include <cmath>
 
 #include "pegasus/core/error.hpp"
+#include "pegasus/core/untrusted_text.hpp"
+#include "pegasus/io/json_input.hpp"
 #include "pegasus/optimizers/run_progress.hpp"
 
 namespace pegasus {
@@ -151,6 +153,123 @@ std::unique_ptr<MujocoPolicy> make_mujoco_policy(const std::string& kind, int ob
     return std::make_unique<TanhMlpPolicy>(observation_dim, action_dim, hidden);
   }
   throw InputError(fmt::format("policy: expected linear or mlp, got \"{}\"", kind));
+}
+
+namespace {
+
+constexpr int kMaxHiddenLayers = 16;
+
+std::string nonempty_string(const nlohmann::json& j, const std::string& file, const std::string& field) {
+  if (!j.is_string() || j.get_ref<const std::string&>().empty())
+    json_field_error(file, field, "a non-empty string", j);
+  return j.get<std::string>();
+}
+
+std::vector<double> finite_numbers(const nlohmann::json& j, const std::string& file,
+                                   const std::string& field) {
+  if (!j.is_array()) json_field_error(file, field, "an array of numbers", j);
+  std::vector<double> out;
+  out.reserve(j.size());
+  for (std::size_t i = 0; i < j.size(); ++i) {
+    out.push_back(json_finite_number(j[i], file, fmt::format("{}[{}]", field, i)));
+  }
+  return out;
+}
+
+}  // namespace
+
+nlohmann::json mujoco_policy_file_json(const MujocoPolicyFile& f) {
+  return {{"format", "pegasus.mujoco.policy"},
+          {"version", 1},
+          {"model", f.model},
+          {"task", f.task},
+          {"class", f.policy_class},
+          {"hidden", f.hidden},
+          {"theta", f.theta},
+          {"normalizer",
+           {{"mean", f.normalizer.mean},
+            {"inverse_std", f.normalizer.inverse_std},
+            {"clip", f.normalizer.clip}}}};
+}
+
+MujocoPolicyFile parse_mujoco_policy_file(const nlohmann::json& j, const std::string& file) {
+  if (!j.is_object()) json_field_error(file, "(top level)", "a JSON object", j);
+  const nlohmann::json& format = json_member(j, "format", file, "format");
+  if (format != "pegasus.mujoco.policy")
+    json_field_error(file, "format", "\"pegasus.mujoco.policy\" (policy.json of `pegasus mujoco train`)",
+                     format);
+  const nlohmann::json& version = json_member(j, "version", file, "version");
+  if (!version.is_number_integer() || version != 1) json_field_error(file, "version", "1", version);
+  MujocoPolicyFile f;
+  f.model = nonempty_string(json_member(j, "model", file, "model"), file, "model");
+  f.task = nonempty_string(json_member(j, "task", file, "task"), file, "task");
+  const nlohmann::json& policy_class = json_member(j, "class", file, "class");
+  if (policy_class != "linear" && policy_class != "mlp")
+    json_field_error(file, "class", "\"linear\" or \"mlp\"", policy_class);
+  f.policy_class = policy_class.get<std::string>();
+  const nlohmann::json& hidden = json_member(j, "hidden", file, "hidden");
+  const bool mlp = f.policy_class == "mlp";
+  if (!hidden.is_array() || hidden.size() > static_cast<std::size_t>(mlp ? kMaxHiddenLayers : 0) ||
+      (mlp && hidden.empty()))
+    json_field_error(file, "hidden",
+                     mlp ? fmt::format("an array of 1 to {} layer widths", kMaxHiddenLayers)
+                         : std::string("[] (a linear policy has no hidden layer)"),
+                     hidden);
+  for (std::size_t i = 0; i < hidden.size(); ++i) {
+    const nlohmann::json& w = hidden[i];
+    if (!w.is_number_integer() || w.get<std::int64_t>() < 1 || w.get<std::int64_t>() > 4096)
+      json_field_error(file, fmt::format("hidden[{}]", i), "a width in [1, 4096]", w);
+    f.hidden.push_back(w.get<int>());
+  }
+  f.theta = finite_numbers(json_member(j, "theta", file, "theta"), file, "theta");
+  // What the hidden layers alone need (any observation and action have at least one dimension): a file
+  // whose theta cannot hold them is refused here, before a policy of that shape is built.
+  std::size_t least = 0;
+  for (std::size_t l = 0; l < f.hidden.size(); ++l) {
+    const std::size_t inputs = l == 0 ? 1 : static_cast<std::size_t>(f.hidden[l - 1]);
+    least += (inputs + 1) * static_cast<std::size_t>(f.hidden[l]);
+  }
+  if (!f.hidden.empty()) least += static_cast<std::size_t>(f.hidden.back()) + 1;
+  if (f.theta.size() < std::max<std::size_t>(least, 2))
+    json_field_error(
+        file, "theta",
+        fmt::format("at least {} numbers for this class and hidden layers", std::max<std::size_t>(least, 2)),
+        f.theta.size());
+  const nlohmann::json& normalizer = json_member(j, "normalizer", file, "normalizer");
+  if (!normalizer.is_object())
+    json_field_error(file, "normalizer", "an object (mean, inverse_std, clip)", normalizer);
+  f.normalizer.mean =
+      finite_numbers(json_member(normalizer, "mean", file, "normalizer.mean"), file, "normalizer.mean");
+  f.normalizer.inverse_std = finite_numbers(
+      json_member(normalizer, "inverse_std", file, "normalizer.inverse_std"), file, "normalizer.inverse_std");
+  if (f.normalizer.inverse_std.size() != f.normalizer.mean.size())
+    json_field_error(file, "normalizer.inverse_std",
+                     fmt::format("{} numbers, as many as normalizer.mean", f.normalizer.mean.size()),
+                     normalizer.at("inverse_std").size());
+  for (std::size_t k = 0; k < f.normalizer.inverse_std.size(); ++k)
+    if (!(f.normalizer.inverse_std[k] > 0))
+      json_field_error(file, fmt::format("normalizer.inverse_std[{}]", k), "a positive number",
+                       f.normalizer.inverse_std[k]);
+  const nlohmann::json& clip = json_member(normalizer, "clip", file, "normalizer.clip");
+  if (!clip.is_number() || !(clip.get<double>() > 0) || !std::isfinite(clip.get<double>()))
+    json_field_error(file, "normalizer.clip", "a positive finite number", clip);
+  f.normalizer.clip = clip.get<double>();
+  return f;
+}
+
+MujocoPolicyFile read_mujoco_policy_file(const std::filesystem::path& file) {
+  return parse_mujoco_policy_file(read_json_input(file, "policy"), file.string());
+}
+
+void check_mujoco_policy_file(const MujocoPolicyFile& f, const MujocoPolicy& policy, int dim,
+                              const std::string& file) {
+  if (f.theta.size() != policy.parameters().size())
+    throw InputError(
+        fmt::format("{}: theta: expected {} numbers for this model, task and policy class, got {}",
+                    printable(file), policy.parameters().size(), f.theta.size()));
+  if (f.normalizer.mean.size() != static_cast<std::size_t>(dim))
+    throw InputError(fmt::format("{}: normalizer.mean: expected {} observation dimensions, got {}",
+                                 printable(file), dim, f.normalizer.mean.size()));
 }
 
 }  // namespace pegasus

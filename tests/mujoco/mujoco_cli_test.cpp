@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "mujoco_test_support.hpp"
+#include "pegasus/mujoco/mujoco_policy.hpp"
 #include "support/cli_runner.hpp"
 
 namespace pegasus {
@@ -60,6 +61,42 @@ TEST_F(MujocoCli, TrainGivesTheSameSummaryOnOneAndTwoThreadsAndRolloutReplaysThe
   const std::string trajectory = read_text(dir / "replay" / "trajectory.csv");
   EXPECT_THAT(trajectory.substr(0, trajectory.find('\n')), HasSubstr("step,time,reward,qpos0,qpos1,cart_x"));
   EXPECT_GT(std::count(trajectory.begin(), trajectory.end(), '\n'), 2);
+}
+
+// policy.json is checked where it is read (mujoco/mujoco_policy: parse_mujoco_policy_file): each broken field
+// is one line naming the file and the field, exit 2, and no run directory.
+TEST_F(MujocoCli, RolloutRefusesABrokenPolicyFileNamingTheField) {
+  const auto exp = test_support::mujoco_experiments();
+  const MujocoPolicyFile good{.model = (exp / "cartpole.xml").string(),
+                              .task = (exp / "cartpole_swingup.toml").string(),
+                              .policy_class = "linear",
+                              .hidden = {},
+                              .theta = {0.5, -0.5},
+                              .normalizer = ObservationNormalizer(1)};
+  EXPECT_EQ(parse_mujoco_policy_file(mujoco_policy_file_json(good), "p.json").theta, good.theta);
+  const auto refusal = [&](const nlohmann::json& file) {
+    const auto path = dir_ / "p.json";
+    test_support::write_file(path, file.dump());
+    const auto r = run_pegasus("mujoco rollout --quiet --episodes 1 --policy " + path.string() + " --out " +
+                               (dir_ / "r").string());
+    EXPECT_EQ(r.code, 2) << r.output;
+    EXPECT_FALSE(std::filesystem::exists(dir_ / "r"));
+    EXPECT_FALSE(std::filesystem::exists(dir_ / "r.partial"));
+    return r.output;
+  };
+  nlohmann::json j = mujoco_policy_file_json(good);
+  j["theta"] = {1, "x"};
+  EXPECT_THAT(refusal(j), HasSubstr("p.json: theta[1]: expected a number, got \"x\""));
+  j = mujoco_policy_file_json(good);
+  j["class"] = "mlp";
+  j["hidden"] = {100000};
+  EXPECT_THAT(refusal(j), HasSubstr("p.json: hidden[0]: expected a width in [1, 4096], got 100000"));
+  j = mujoco_policy_file_json(good);
+  j["normalizer"]["clip"] = -1;
+  EXPECT_THAT(refusal(j), HasSubstr("p.json: normalizer.clip: expected a positive finite number, got -1"));
+  j = mujoco_policy_file_json(good);
+  j["model"] = 5;
+  EXPECT_THAT(refusal(j), HasSubstr("p.json: model: expected a non-empty string, got 5"));
 }
 
 TEST_F(MujocoCli, TheHopperTrainsByCmaesOnSmallSettingsTheSameOnOneAndTwoThreads) {
@@ -145,6 +182,7 @@ TEST_F(MujocoCli, BadInputIsOneLineExitTwoAndNoRunDirectory) {
       dir / "policy.json",
       nlohmann::json{
           {"format", "pegasus.mujoco.policy"},
+          {"version", 1},
           {"model", (exp / "cartpole.xml").string()},
           {"task", (exp / "cartpole_swingup.toml").string()},
           {"class", "linear"},

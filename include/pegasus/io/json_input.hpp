@@ -22,5 +22,10 @@ nlohmann::json parse_json_input(std::string_view text, std::string_view name, st
 // the one form of every JSON reader's field errors.
 [[noreturn]] void json_field_error(std::string_view file, std::string_view field, std::string_view expected,
                                    const nlohmann::json& value);
+// The member `name` of the object `j`: "FILE: FIELD: missing" when it is absent.
+const nlohmann::json& json_member(const nlohmann::json& j, const char* name, std::string_view file,
+                                  std::string_view field);
+// A finite number: "FILE: FIELD: expected a number, got VALUE" (or "a finite number") otherwise.
+double json_finite_number(const nlohmann::json& j, std::string_view file, std::string_view field);
 
 }  // namespace pegasus

@@ -11,6 +11,7 @@
 // act writes into caller-owned spans (no allocation in a step) instead of returning the action by value
 // as the project's PolicyFor concept does for small fixed-size actions.
 #include <cstdint>
+#include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <span>
@@ -66,5 +67,24 @@ class MujocoPolicy {
 // `hidden` otherwise.
 std::unique_ptr<MujocoPolicy> make_mujoco_policy(const std::string& kind, int observation_dim, int action_dim,
                                                  const std::vector<int>& hidden);
+
+// policy.json, as `pegasus mujoco train` writes it and `pegasus mujoco rollout` reads it:
+//   {"format": "pegasus.mujoco.policy", "version": 1, "model": PATH, "task": PATH, "class": "linear" | "mlp",
+//    "hidden": [WIDTH, ...], "theta": [...], "normalizer": {"mean": [...], "inverse_std": [...], "clip": C}}
+struct MujocoPolicyFile {
+  std::string model, task;  // the MJCF and the task file it was trained on (absolute paths when written)
+  std::string policy_class;
+  std::vector<int> hidden;
+  std::vector<double> theta;
+  ObservationNormalizer normalizer;
+};
+nlohmann::json mujoco_policy_file_json(const MujocoPolicyFile& file);
+// Checked by form and meaning where it is read: "FILE: FIELD: expected ..., got ..." as one InputError line
+// (the sizes of theta and the normalizer against the model are checked by check_against).
+MujocoPolicyFile parse_mujoco_policy_file(const nlohmann::json& j, const std::string& file);
+MujocoPolicyFile read_mujoco_policy_file(const std::filesystem::path& file);
+// InputError naming `file` when theta or the normalizer do not fit `policy` and an observation of `dim`.
+void check_mujoco_policy_file(const MujocoPolicyFile& policy_file, const MujocoPolicy& policy, int dim,
+                              const std::string& file);
 
 }  // namespace pegasus
