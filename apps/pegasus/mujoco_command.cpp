@@ -6,7 +6,6 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 
 #include "experiment_commands.hpp"
 #include "pegasus/core/error.hpp"

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cerrno>
-#include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -19,19 +18,10 @@ namespace detail {
 void toml_assertion_failed(const char* expression) { throw TomlAssertionFailed(expression); }
 }  // namespace detail
 
-namespace {
-
-std::size_t line_of(std::string_view text, std::size_t offset) {
-  return 1 + static_cast<std::size_t>(
-                 std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(offset), '\n'));
-}
-
-}  // namespace
-
 toml::table parse_toml_input(std::string_view text, std::string_view name) {
   if (const std::size_t bad = first_invalid_utf8(text); bad != text.size()) {
-    throw InputError(fmt::format("{}:{}: expected UTF-8 text, got the byte 0x{:02X}", printable(name),
-                                 line_of(text, bad),
+    const auto line = 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(bad), '\n');
+    throw InputError(fmt::format("{}:{}: expected UTF-8 text, got the byte 0x{:02X}", printable(name), line,
                                  static_cast<unsigned>(static_cast<unsigned char>(text[bad]))));
   }
   try {

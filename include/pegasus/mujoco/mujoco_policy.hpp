@@ -80,7 +80,7 @@ struct MujocoPolicyFile {
 };
 nlohmann::json mujoco_policy_file_json(const MujocoPolicyFile& file);
 // Checked by form and meaning where it is read: "FILE: FIELD: expected ..., got ..." as one InputError line
-// (the sizes of theta and the normalizer against the model are checked by check_against).
+// (the sizes of theta and the normalizer against the model are checked by check_mujoco_policy_file).
 MujocoPolicyFile parse_mujoco_policy_file(const nlohmann::json& j, const std::string& file);
 MujocoPolicyFile read_mujoco_policy_file(const std::filesystem::path& file);
 // InputError naming `file` when theta or the normalizer do not fit `policy` and an observation of `dim`.
