@@ -194,6 +194,7 @@ void run_identify(RunContext& ctx) {
     HorizonMse mse;
   };
   std::vector<Variant> variants;
+  std::vector<double> skipped_rates;  // of Fig 5.2's, which the logs' rates do not allow
   variants.push_back({o.local ? "locally weighted (chosen)" : "global linear (chosen)",
                       horizon_mse(model, test, horizon, spacing, pool)});
   // The global linear model of the same template, always.
@@ -219,8 +220,14 @@ void run_identify(RunContext& ctx) {
     m.intercept = !o.structure.intercept;
     variants.push_back({o.structure.intercept ? "without intercept" : "with intercept",
                         horizon_mse(variant_model(m, true), test, horizon, spacing, pool)});
+    // Fig 5.2's rates, where both logs hold a whole number of rows per model step (a 10 Hz log has no
+    // 25 or 50 Hz model).
     for (double hz : {5.0, 10.0, 25.0, 50.0}) {
       if (std::abs(hz - o.structure.rate_hz) < 1e-9) continue;
+      if (log_rows_per_model_step(train.dt(), hz) == 0 || log_rows_per_model_step(test.dt(), hz) == 0) {
+        skipped_rates.push_back(hz);
+        continue;
+      }
       m = o.structure;
       m.rate_hz = hz;
       variants.push_back({fmt::format("identified at {} Hz", hz),
@@ -284,22 +291,29 @@ void run_identify(RunContext& ctx) {
   nlohmann::json variant_json = nlohmann::json::array();
   for (const auto& v : variants)
     variant_json.push_back({{"model", v.name}, {"mse_at_seconds", mse_at(v.mse)}});
-  const nlohmann::json summary = {{"train_seconds", train.seconds()},
-                                  {"test_seconds", test.seconds()},
-                                  {"rate_hz", o.structure.rate_hz},
-                                  {"structure", o.structure.describe()},
-                                  {"local", o.local},
-                                  {"training_rows", model.data().rows()},
-                                  {"bandwidth", bandwidth},
-                                  {"sigma2", sigma2},
-                                  {"mse_at_seconds", mse_at(variants.front().mse)},
-                                  {"global_linear", {{"mse_at_seconds", mse_at(global_mse)}}},
-                                  {"variants", variant_json},
-                                  {"outside_2sigma_fraction", outside},
-                                  {"noise_check_steps", nc.steps},
-                                  {"cross_validation_steps", report.cv_trace.size()},
-                                  {"model", "model.json"}};
+  nlohmann::json summary = {{"train_seconds", train.seconds()},
+                            {"test_seconds", test.seconds()},
+                            {"rate_hz", o.structure.rate_hz},
+                            {"structure", o.structure.describe()},
+                            {"local", o.local},
+                            {"training_rows", model.data().rows()},
+                            {"bandwidth", bandwidth},
+                            {"sigma2", sigma2},
+                            {"mse_at_seconds", mse_at(variants.front().mse)},
+                            {"global_linear", {{"mse_at_seconds", mse_at(global_mse)}}},
+                            {"variants", variant_json},
+                            {"outside_2sigma_fraction", outside},
+                            {"noise_check_steps", nc.steps},
+                            {"cross_validation_steps", report.cv_trace.size()},
+                            {"model", "model.json"}};
+  // Only when some were skipped, so that the summaries of 50 Hz logs stay as they were (digests).
+  if (!skipped_rates.empty()) summary["variant_rates_skipped_hz"] = skipped_rates;
   dir.write_json("summary.json", summary);
+  if (!skipped_rates.empty())
+    ctx.out << fmt::format(
+        "variants not identified at {} Hz: the logs' rates ({:.4g} and {:.4g} Hz) are not "
+        "multiples\n",
+        fmt::join(skipped_rates, ", "), 1 / train.dt(), 1 / test.dt());
   const auto& m1 = summary["mse_at_seconds"];
   const auto& g1 = summary["global_linear"]["mse_at_seconds"];
   ctx.out << fmt::format("identified on {:.0f} s ({} rows at {} Hz), cross-validation {:.1f} s\n",

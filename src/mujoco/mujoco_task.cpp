@@ -322,13 +322,14 @@ MujocoTask mujoco_task_from_toml(const toml::table& root, const std::filesystem:
     const std::string prefix = fmt::format("reward[{}]", i);
     const toml::table* t = (*reward)[i].as_table();
     if (!t) r.fail(prefix, "expected a table");
-    r.check_keys(
-        *t, prefix + ".",
-        {"term", "weight", "body", "axis", "site", "joint", "target", "quantity", "name", "min", "max"});
+    r.check_keys(*t, prefix + ".",
+                 {"term", "weight", "cap", "body", "axis", "site", "joint", "target", "quantity", "name",
+                  "min", "max"});
     const toml::node_view<const toml::node> v{*t};
     const std::string term = r.string(v["term"], prefix + ".term");
     RewardTerm out{};
     out.weight = r.number(v["weight"], prefix + ".weight", 1.0);
+    out.cap = r.number(v["cap"], prefix + ".cap", out.cap);
     if (term == "body_velocity") {
       out.kind = RewardKind::kBodyVelocity;
       out.name = r.string(v["body"], prefix + ".body");

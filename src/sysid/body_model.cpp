@@ -96,14 +96,19 @@ std::vector<std::array<double, 3>> extra_states_along(const FlightLog& log, cons
   return out;
 }
 
+std::size_t log_rows_per_model_step(double log_dt, double rate_hz) {
+  const double ratio = 1.0 / (rate_hz * log_dt);
+  if (!std::isfinite(ratio)) return 0;
+  const long k = std::lround(ratio);
+  return k >= 1 && std::abs(ratio - static_cast<double>(k)) <= 0.01 ? static_cast<std::size_t>(k) : 0;
+}
+
 Dataset build_dataset(const FlightLog& log, const ModelStructure& m) {
   const double log_dt = log.dt();
-  const double ratio = 1.0 / (m.rate_hz * log_dt);
-  const long k = std::lround(ratio);
-  if (k < 1 || std::abs(ratio - static_cast<double>(k)) > 0.01)
+  const std::size_t step = log_rows_per_model_step(log_dt, m.rate_hz);
+  if (step == 0)
     throw InputError(fmt::format("identify: the log's rate {} Hz is not a multiple of the model rate {} Hz",
                                  1.0 / log_dt, m.rate_hz));
-  const auto step = static_cast<std::size_t>(k);
   const auto extra = extra_states_along(log, m);
   const std::size_t n = log.rows() >= step + 1 ? (log.rows() - 1) / step : 0;
   Dataset d;

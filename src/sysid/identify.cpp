@@ -446,12 +446,11 @@ struct LogAtRate {
 
 // Log rows per model step of dt; InputError unless the log's rate is a multiple of the model's.
 std::size_t rows_per_step(double dt, const FlightLog& log) {
-  const double ratio = dt / log.dt();
-  const long k = std::lround(ratio);
-  if (k < 1 || std::abs(ratio - static_cast<double>(k)) > 0.01)
+  const std::size_t k = log_rows_per_model_step(log.dt(), 1 / dt);
+  if (k == 0)
     throw InputError(fmt::format("the test log's rate {} Hz is not a multiple of the model rate {} Hz",
                                  1 / log.dt(), 1 / dt));
-  return static_cast<std::size_t>(k);
+  return k;
 }
 
 LogAtRate log_at_rate(const IdentifiedModel& model, const FlightLog& log) {

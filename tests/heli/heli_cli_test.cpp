@@ -58,6 +58,8 @@ TEST_F(HeliCliWithLogs, IdentifyWritesSummaryKeysAndModel) {
     EXPECT_TRUE(s.contains(key)) << key;
   EXPECT_NEAR(s.at("train_seconds").get<double>(), 60.0, 1e-9);
   EXPECT_NEAR(s.at("test_seconds").get<double>(), 25.0, 1e-9);
+  EXPECT_EQ(s.at("variants").size(), 7u);  // chosen, global, extra states, intercept, 5, 25, 50 Hz
+  EXPECT_FALSE(s.contains("variant_rates_skipped_hz"));
   EXPECT_EQ(s.at("bandwidth").size(), 15u);
   EXPECT_EQ(s.at("sigma2").size(), 8u);
   for (const char* h : {"1", "5", "10"}) {
@@ -85,6 +87,38 @@ TEST_F(HeliCliWithLogs, IdentifyOutputsDoNotDependOnThreads) {
   a.erase("cv_seconds");
   b.erase("cv_seconds");
   EXPECT_EQ(a, b);
+}
+
+// Every fifth row of a 50 Hz log: the same flight logged at 10 Hz.
+void write_every_fifth_row(const fs::path& from, const fs::path& to) {
+  std::ifstream in(from);
+  std::ofstream out(to);
+  std::string line;
+  for (int i = -1; std::getline(in, line); ++i)
+    if (i < 0 || i % 5 == 0) out << line << "\n";
+}
+
+TEST_F(HeliCliWithLogs, IdentifiesA10HzLogWithTheVariantsItsRateAllows) {
+  // An outside aircraft's 10 Hz logs stopped `heli identify` with exit 2: Fig 5.2's variants always tried
+  // 25 and 50 Hz models, which need 2.5 and 5 log rows per step.
+  write_every_fifth_row(dir_ / "train" / "log.csv", dir_ / "train10.csv");
+  write_every_fifth_row(dir_ / "test" / "log.csv", dir_ / "test10.csv");
+  const auto r = run("heli identify --train " + (dir_ / "train10.csv").string() + " --test " +
+                     (dir_ / "test10.csv").string() + kIdentifySmall + " --out " + (dir_ / "id").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("variants not identified at 25, 50 Hz: the logs' rates (10 and 10 Hz) are not"),
+            std::string::npos)
+      << r.output;
+  const auto s = nlohmann::json::parse(read_text(dir_ / "id" / "summary.json"));
+  EXPECT_EQ(s.at("rate_hz"), 10.0);
+  EXPECT_EQ(s.at("variant_rates_skipped_hz"), nlohmann::json::parse("[25.0, 50.0]"));
+  std::vector<std::string> names;
+  for (const auto& v : s.at("variants")) names.push_back(v.at("model").get<std::string>());
+  EXPECT_EQ(names,
+            (std::vector<std::string>{"locally weighted (chosen)", "global linear", "without a1s, b1s, gyro",
+                                      "without intercept", "identified at 5 Hz"}));
+  // The 5 Hz variant is a model of its own, predicting the hold-out log at every horizon.
+  EXPECT_TRUE(s.at("variants").at(4).at("mse_at_seconds").at("1").contains("xdot_b"));
 }
 
 TEST_F(HeliCli, IdentifyRejectsBadLogNamingFileLineAndColumn) {

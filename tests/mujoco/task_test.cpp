@@ -156,6 +156,29 @@ TEST_F(MujocoTaskFile, ARolloutSucceedsOnlyWhenItEndsItsWholeHorizonInsideTheSuc
   EXPECT_FALSE(outcome("success_return = 100.5\n", "").success);
 }
 
+TEST_F(MujocoTaskFile, ACapLimitsWhatATermPaysBeforeItsWeight) {
+  // The cart sliding at 2 m/s: body_velocity pays its weight x the speed, or x the cap when that is lower.
+  auto reward = [&](const std::string& term) {
+    const auto path = test_support::write_file(dir_ / "speed.toml",
+                                               "[observation]\nqpos = [\"slider\"]\n[[reward]]\n" + term);
+    MujocoModel model = MujocoModel::load(test_support::mujoco_experiments() / "cartpole.xml");
+    MujocoTask task = load_mujoco_task(path, model);
+    const MujocoEnvironment env(std::move(model), std::move(task));
+    MujocoSlot slot(env);
+    env.reset(slot, {});
+    slot.data->qvel[0] = 2.0;  // the slider's velocity, before the step
+    const double a = 0.0;
+    return env.step(slot, std::span<const double>(&a, 1), {}).reward;
+  };
+  const std::string speed = "term = \"body_velocity\"\nbody = \"cart\"\naxis = 0\nweight = 3.0\n";
+  const double uncapped = reward(speed);
+  EXPECT_NEAR(uncapped, 6.0, 0.05);  // the hanging pole barely slows the cart in 0.02 s
+  EXPECT_EQ(reward(speed + "cap = 0.5\n"), 1.5);
+  EXPECT_EQ(reward(speed + "cap = 10.0\n"), uncapped);
+  EXPECT_THAT(task_error(minimal("[[reward]]\n" + speed + "cap = \"fast\"\n")),
+              HasSubstr("reward[1].cap: expected a number"));
+}
+
 TEST_F(MujocoTaskFile, TheShippedTaskResolvesToTheModelsAddresses) {
   const MujocoTask task =
       load_mujoco_task(test_support::mujoco_experiments() / "cartpole_swingup.toml", *model_);

@@ -28,6 +28,7 @@
 //   ..
 #include <array>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -107,6 +108,7 @@ struct RewardTerm {
   int axis = 0;
   std::array<double, 3> target{};  // site_distance: world position; joint_target, energy: target[0]
   TerminationRange range{};        // in_range
+  double cap = std::numeric_limits<double>::infinity();  // the value counts at most this much (before weight)
 };
 
 struct MujocoTask {

@@ -95,6 +95,9 @@ struct Dataset {
   Eigen::Index rows() const { return x.rows(); }
 };
 
+// Log rows per model step when the model rate divides the log's rate (1 / log_dt) within 1 %: 5 for a 10 Hz
+// model of a 50 Hz log; 0 when it does not (a 25 Hz model of a 10 Hz log, or of a 40 Hz one).
+std::size_t log_rows_per_model_step(double log_dt, double rate_hz);
 // Downsamples a 50 Hz log to the model rate (every k-th row; the controls of a model step are the mean of the
 // log's controls over it), runs the extra-state model along the full-rate log, and builds inputs and
 // targets. InputError when the log's rate is not a multiple of the model rate.
