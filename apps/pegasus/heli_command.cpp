@@ -335,6 +335,10 @@ void declare_hover(ConfigSchema& s) {
       .range(1, 1000);
   s.add_double("start_pos_sigma", 1.0, "start position perturbation per axis, m").range(0, 100);
   s.add_double("start_vel_sigma", 0.3, "start velocity perturbation per axis, m/s").range(0, 100);
+  s.add_double("max_start_crash_fraction", heli::HoverTrainingOptions{}.max_start_crash_fraction,
+               "stop before training when the starting policy crashes the learned model in more than this "
+               "fraction of the scenarios (1: never stop)")
+      .range(0, 1);
   s.add_double_list("target", {0, 0, -10, 0}, "set point x, y, z (m, NED: z < 0 is up) and yaw (rad)")
       .validate([](const FieldValue& v) {
         return std::get<std::vector<double>>(v).size() == 4 ? std::string()
@@ -382,6 +386,7 @@ heli::HoverTrainingOptions hover_options(const RunContext& ctx) {
   o.centre_at_trim = c.get_string("reward.action_centre") == "trim";
   read_optimizer_options(c, "optimizer", &o.optimizer);
   o.then_hill_climb = c.get_bool("then_hill_climb");
+  o.max_start_crash_fraction = c.get_double("max_start_crash_fraction");
   o.seed = ctx.seed;
   std::string error;
   if (!o.IsValid(&error)) throw InputError(error);
@@ -473,10 +478,19 @@ void run_hover(RunContext& ctx) {
                                   {"gamma", o.gamma},
                                   {"gradient", phase(r.gradient)},
                                   {"hill_climb", phase(r.hill_climb)},
+                                  {"starting_policy",
+                                   {{"scenarios", r.start.scenarios},
+                                    {"crashed_scenarios", r.start.crashed},
+                                    {"mean_seconds_to_crash", r.start.mean_seconds_to_crash}}},
                                   {"policy", "policy.json"}});
   ctx.timings = {{"train_seconds", seconds},
                  {"gradient_seconds", r.gradient.method.empty() ? 0.0 : r.gradient.wall_seconds},
                  {"hill_climb_seconds", r.hill_climb.method.empty() ? 0.0 : r.hill_climb.wall_seconds}};
+  if (r.start.crashed > 0)
+    ctx.out << fmt::format(
+        "warning: the starting policy crashes the learned model in {} of {} scenarios (after {:.2f} s on "
+        "average)\n",
+        r.start.crashed, r.start.scenarios, r.start.mean_seconds_to_crash);
   ctx.out << fmt::format(
       "hover training: U-hat {:.6g} -> {:.6g} in {} iterations, {} evaluations, {:.1f} s\n", r.initial_uhat,
       r.final_uhat, r.progress.size(), evaluations, seconds);

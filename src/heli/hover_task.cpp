@@ -132,6 +132,9 @@ bool HoverTrainingOptions::IsValid(std::string* error) const {
     return fail(error, fmt::format("gamma: expected a number in (0, 1], got {}", gamma));
   if (refit_every < 1)
     return fail(error, fmt::format("refit_every: expected an integer >= 1, got {}", refit_every));
+  if (!(max_start_crash_fraction >= 0 && max_start_crash_fraction <= 1))
+    return fail(error, fmt::format("max_start_crash_fraction: expected a number in [0, 1], got {}",
+                                   max_start_crash_fraction));
   if (!(nonnegative_finite(start_pos_sigma) && nonnegative_finite(start_vel_sigma)))
     return fail(error, "start_pos_sigma, start_vel_sigma: expected finite numbers >= 0");
   if (!(std::isfinite(target.x) && std::isfinite(target.y) && std::isfinite(target.z) &&
@@ -148,8 +151,10 @@ bool HoverTrainingOptions::IsValid(std::string* error) const {
   return true;
 }
 
-std::unique_ptr<Objective> hover_objective(std::shared_ptr<const sysid::IdentifiedModel> model,
-                                           const HoverTrainingOptions& o, std::shared_ptr<ThreadPool> pool) {
+namespace {
+
+PegasusEvaluator<Task, HoverPolicy> hover_evaluator(std::shared_ptr<const sysid::IdentifiedModel> model,
+                                                    const HoverTrainingOptions& o) {
   std::string error;
   if (!o.IsValid(&error)) throw InputError("hover training: " + error);
   const HoverReward reward = hover_reward_for(*model, o);
@@ -161,8 +166,39 @@ std::unique_ptr<Objective> hover_objective(std::shared_ptr<const sysid::Identifi
                          .noise_dim = task.noise_dim(),
                          .initial_noise_dim = task.initial_noise_dim()});
   const Discounting d{.gamma = o.gamma, .horizon = o.horizon()};
-  return std::make_unique<PegasusObjective<Task, HoverPolicy>>(
-      PegasusEvaluator<Task, HoverPolicy>(std::move(task), policy, std::move(scenarios), d), std::move(pool));
+  return PegasusEvaluator<Task, HoverPolicy>(std::move(task), policy, std::move(scenarios), d);
+}
+
+}  // namespace
+
+std::unique_ptr<Objective> hover_objective(std::shared_ptr<const sysid::IdentifiedModel> model,
+                                           const HoverTrainingOptions& o, std::shared_ptr<ThreadPool> pool) {
+  return std::make_unique<PegasusObjective<Task, HoverPolicy>>(hover_evaluator(std::move(model), o),
+                                                               std::move(pool));
+}
+
+StartingPolicyCheck check_starting_policy(std::shared_ptr<const sysid::IdentifiedModel> model,
+                                          const HoverTrainingOptions& o, ThreadPool& pool) {
+  const auto evaluator = hover_evaluator(std::move(model), o);
+  const Theta theta = evaluator.policy().parameters().initial();
+  std::vector<ScenarioOutcome> outcomes(static_cast<std::size_t>(o.scenarios));
+  pool.parallel_for(outcomes.size(), [&](std::size_t i) {
+    outcomes[i] = scenario_outcome(evaluator.model(), evaluator.policy(), theta, evaluator.scenarios(),
+                                   static_cast<int>(i), evaluator.discounting());
+  });
+  StartingPolicyCheck check;
+  check.scenarios = o.scenarios;
+  std::vector<double> returns;
+  double crash_steps = 0;
+  for (const auto& outcome : outcomes) {
+    returns.push_back(outcome.ret);
+    if (!outcome.absorbed) continue;
+    ++check.crashed;
+    crash_steps += outcome.steps;
+  }
+  check.uhat = ordered_mean(returns);
+  if (check.crashed > 0) check.mean_seconds_to_crash = 0.02 * crash_steps / check.crashed;
+  return check;
 }
 
 HoverTrainingResult train_hover(std::shared_ptr<const sysid::IdentifiedModel> model,
@@ -170,6 +206,14 @@ HoverTrainingResult train_hover(std::shared_ptr<const sysid::IdentifiedModel> mo
                                 ThreadPool& pool) {
   std::string error;
   if (!o.IsValid(&error)) throw InputError("hover training: " + error);
+  const StartingPolicyCheck start = check_starting_policy(model, o, pool);
+  if (start.crashed > o.max_start_crash_fraction * start.scenarios)
+    throw InputError(fmt::format(
+        "hover training: the starting policy crashes the learned model in {} of {} scenarios (after {:.2f} s "
+        "on average), more than max_start_crash_fraction = {}: the model does not hold the aircraft from "
+        "these starts (try heli identify --local=false, smaller start_pos_sigma and start_vel_sigma, or "
+        "max_start_crash_fraction = 1 to train anyway)",
+        start.crashed, start.scenarios, start.mean_seconds_to_crash, o.max_start_crash_fraction));
   auto objective =
       hover_objective(model, o, std::shared_ptr<ThreadPool>(std::shared_ptr<ThreadPool>(), &pool));
   // §5.3: gradient ascent, then random-walk hill climbing from its result. Both stages draw hill climbing's
@@ -199,6 +243,7 @@ HoverTrainingResult train_hover(std::shared_ptr<const sysid::IdentifiedModel> mo
   result.theta = summary.best_theta;
   result.initial_uhat = summary.initial_value;
   result.final_uhat = summary.best_value;
+  result.start = start;
   return result;
 }
 

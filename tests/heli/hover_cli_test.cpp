@@ -74,6 +74,8 @@ TEST_F(HoverCli, HoverWritesPolicyProgressAndSummary) {
        {"initial_uhat", "final_uhat", "iterations", "evaluations", "gradient", "hill_climb", "policy"})
     EXPECT_TRUE(s.contains(key)) << key;
   EXPECT_GE(s.at("final_uhat").get<double>(), s.at("initial_uhat").get<double>());
+  EXPECT_EQ(s.at("starting_policy").at("scenarios"), 2);
+  EXPECT_EQ(s.at("starting_policy").at("crashed_scenarios"), 0);
   const std::string progress = read_text(dir_ / "hover" / "progress.csv");
   EXPECT_EQ(progress.substr(0, progress.find('\n')), "iteration,evaluations,seconds,objective");
   EXPECT_EQ(std::count(progress.begin(), progress.end(), '\n'), 1 + 1 + 2);
@@ -85,6 +87,30 @@ TEST_F(HoverCli, HoverWritesPolicyProgressAndSummary) {
   EXPECT_EQ(p.at("parameters")[0].at("name"), "a1.bias");
   EXPECT_TRUE(p.at("target").contains("yaw"));
   EXPECT_TRUE(p.at("trim").contains("a4"));
+}
+
+TEST_F(HoverCli, AStartingPolicyThatCrashesTheModelStopsTrainingWithOneLine) {
+  // Starts at about 30 m/s, far outside the minute of logs the model was identified from: the learned model
+  // crashes (no training point within 4 bandwidths) before any optimizer could learn from a rollout.
+  const std::string args = "heli hover --model " + model() + tiny() + " --start-vel-sigma 30";
+  const auto r = run_pegasus(args + out("refused"));
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(
+      r.output.find("hover training: the starting policy crashes the learned model in 2 of 2 scenarios"),
+      std::string::npos)
+      << r.output;
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+  EXPECT_FALSE(fs::exists(dir_ / "refused"));
+  EXPECT_FALSE(fs::exists(dir_ / "refused.partial"));
+  // Asked to go on, it trains and says what it saw.
+  const auto forced = run_pegasus(args + " --max-start-crash-fraction 1" + out("forced"));
+  ASSERT_EQ(forced.code, 0) << forced.output;
+  EXPECT_NE(forced.output.find("warning: the starting policy crashes the learned model in 2 of 2 scenarios"),
+            std::string::npos)
+      << forced.output;
+  const auto s = json_file(dir_ / "forced" / "summary.json");
+  EXPECT_EQ(s.at("starting_policy").at("crashed_scenarios"), 2);
+  EXPECT_LT(s.at("starting_policy").at("mean_seconds_to_crash").get<double>(), 3.0);
 }
 
 TEST_F(HoverCli, HoverIsTheSameForOneAndTwoThreads) {

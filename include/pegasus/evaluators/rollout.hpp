@@ -33,27 +33,44 @@ inline void accumulate_transition(const M& m, const typename M::State& s, const 
   }
 }
 
-// The return of scenario i under (policy, theta): the summand of PEGASUS's U-hat (Eq 4.22).
+// How one scenario's rollout went: its return, the steps taken, and whether it ended in an absorbing state
+// (for the helicopter's models, a crash).
+struct ScenarioOutcome {
+  double ret = 0.0;
+  int steps = 0;
+  bool absorbed = false;
+};
+
+// The rollout of scenario i under (policy, theta); its return is the summand of PEGASUS's U-hat (Eq 4.22).
 template <SimulativeModel M, class P>
-double scenario_return(const M& m, const P& policy, std::span<const double> theta,
-                       const ScenarioSet& scenarios, int i, const Discounting& d) {
+ScenarioOutcome scenario_outcome(const M& m, const P& policy, std::span<const double> theta,
+                                 const ScenarioSet& scenarios, int i, const Discounting& d) {
   std::array<double, kMaxNoiseDim> p;
   scenarios.initial_noise(
       i, std::span<double>(p.data(), static_cast<std::size_t>(scenarios.initial_noise_dim())));
   auto s = m.initial_state(
       std::span<const double>(p.data(), static_cast<std::size_t>(scenarios.initial_noise_dim())));
   const auto noise = std::span<double>(p.data(), static_cast<std::size_t>(scenarios.noise_dim()));
-  double ret = 0.0, weight = 1.0;
-  for (int t = 0; t < d.horizon; ++t) {
+  ScenarioOutcome out;
+  double weight = 1.0;
+  for (; out.steps < d.horizon; ++out.steps) {
     if (m.terminal(s)) break;
     const auto a = policy.act(theta, m.observe(s));
-    scenarios.step_noise(i, t, noise);
+    scenarios.step_noise(i, out.steps, noise);
     const auto next = m.step(s, a, noise);
-    accumulate_transition(m, s, a, next, d.gamma, weight, ret);
+    accumulate_transition(m, s, a, next, d.gamma, weight, out.ret);
     weight *= d.gamma;
     s = next;
   }
-  return ret;
+  out.absorbed = m.terminal(s);
+  return out;
+}
+
+// The return of scenario i under (policy, theta): the summand of PEGASUS's U-hat (Eq 4.22).
+template <SimulativeModel M, class P>
+double scenario_return(const M& m, const P& policy, std::span<const double> theta,
+                       const ScenarioSet& scenarios, int i, const Discounting& d) {
+  return scenario_outcome(m, policy, theta, scenarios, i, d).ret;
 }
 
 // The return of one rollout with fresh randomness drawn from `rng` (Monte Carlo, Eq 4.10).

@@ -113,6 +113,11 @@ struct HoverTrainingOptions {
   // optimizer.method is "gradient".
   bool then_hill_climb = true;
   std::uint64_t seed = 1;  // scenarios (and hill climbing's stream)
+  // Training stops before it starts (InputError naming this option) when the starting policy crashes the
+  // learned model in more than this fraction of the scenarios: from there no optimizer gets a useful
+  // gradient, and the weights it returns mean nothing (an outside aircraft's model crashed 3 of 10 starts
+  // within 0.2 s and gave a U-hat of -3.8e7). 1 never stops.
+  double max_start_crash_fraction = 0.5;
 
   static OptimizerOptions default_optimizer();
   int horizon() const;  // steps of 0.02 s
@@ -128,6 +133,17 @@ HoverPolicy hover_policy_for(const sysid::IdentifiedModel& model);
 // The reward with centre from the model's logs when options.centre_at_trim.
 HoverReward hover_reward_for(const sysid::IdentifiedModel& model, const HoverTrainingOptions& options);
 
+// The starting weights flown on the training scenarios of the learned model (the check train_hover makes
+// before it trains).
+struct StartingPolicyCheck {
+  int scenarios = 0;
+  int crashed = 0;                   // scenarios whose rollout ended in the model's crash state
+  double mean_seconds_to_crash = 0;  // over the crashed ones
+  double uhat = 0;                   // the starting policy's U-hat
+};
+StartingPolicyCheck check_starting_policy(std::shared_ptr<const sysid::IdentifiedModel> model,
+                                          const HoverTrainingOptions& options, ThreadPool& pool);
+
 struct HoverTrainingHooks {
   std::int64_t checkpoint_every = 1;  // optimizer iterations between checkpoints (0: none)
   // Receives the training plan's checkpoints (optimizers/training.hpp: the stage, the finished stages and the
@@ -142,6 +158,7 @@ struct HoverTrainingResult {
   double initial_uhat = 0, final_uhat = 0;
   OptimizerSummary gradient, hill_climb;  // the phases run (method empty when not run)
   std::vector<IterationRecord> progress;  // both phases, iterations and evaluations counted on
+  StartingPolicyCheck start;              // of the starting weights, before training
 };
 
 HoverTrainingResult train_hover(std::shared_ptr<const sysid::IdentifiedModel> model,
