@@ -346,7 +346,7 @@ void declare_hover(ConfigSchema& s) {
       });
   // Each weight is 1 / this^2 (Eq 5.9, 5.10): below kMinTypicalScale it would be infinite, and the reward's
   // own check would then blame alpha_pos instead of the option given.
-  constexpr double kMinTypicalScale = 1e-150;
+  static constexpr double kMinTypicalScale = 1e-150;
   s.add_double("reward.position_m", heli::HoverReward::kTypicalPosition,
                "typical position error: alpha_x,y,z = 1 / this^2 (Eq 5.9)")
       .min(kMinTypicalScale);
@@ -356,9 +356,24 @@ void declare_hover(ConfigSchema& s) {
   s.add_double("reward.yaw_rad", heli::HoverReward::kTypicalYaw,
                "typical yaw error: alpha_yaw = 1 / this^2 (Eq 5.9)")
       .min(kMinTypicalScale);
+  // 0 or at least kMinTypicalScale: 0 leaves the term out.
+  const auto zero_or_typical = [](const FieldValue& v) {
+    const double x = std::get<double>(v);
+    return x == 0 || x >= kMinTypicalScale ? std::string()
+                                           : fmt::format("0 or at least {}", kMinTypicalScale);
+  };
   s.add_double("reward.action", heli::HoverReward::kTypicalAction,
-               "typical control departure: alpha_a = 1 / this^2 (Eq 5.10)")
-      .min(kMinTypicalScale);
+               "typical control departure: alpha_a = 1 / this^2 (Eq 5.10); 0: no action cost")
+      .min(0)
+      .validate(zero_or_typical);
+  s.add_double("reward.attitude_rad", 0,
+               "typical roll and pitch (about level): alpha = 1 / this^2; 0: no attitude term (as Eq 5.9)")
+      .min(0)
+      .validate(zero_or_typical);
+  s.add_double("reward.rate_radps", 0,
+               "typical roll, pitch and yaw rate: alpha = 1 / this^2; 0: no rate term (as Eq 5.9)")
+      .min(0)
+      .validate(zero_or_typical);
   s.add_string("reward.action_centre", "trim",
                "controls the action cost is taken about: the logs' mean (trim) or 0 (Eq 5.10 as printed)")
       .choices({"trim", "zero"});
@@ -383,6 +398,8 @@ heli::HoverTrainingOptions hover_options(const RunContext& ctx) {
   o.reward =
       heli::HoverReward::from_typical(c.get_double("reward.position_m"), c.get_double("reward.velocity_mps"),
                                       c.get_double("reward.yaw_rad"), c.get_double("reward.action"), {});
+  o.reward.alpha_attitude.fill(heli::HoverReward::weight_of_typical(c.get_double("reward.attitude_rad")));
+  o.reward.alpha_rate.fill(heli::HoverReward::weight_of_typical(c.get_double("reward.rate_radps")));
   o.centre_at_trim = c.get_string("reward.action_centre") == "trim";
   read_optimizer_options(c, "optimizer", &o.optimizer);
   o.then_hill_climb = c.get_bool("then_hill_climb");

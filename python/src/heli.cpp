@@ -636,6 +636,10 @@ errors, minus the weighted squared controls about `centre` (heli/hover_task.hpp)
   reward.def_readwrite("alpha_yaw", &HoverReward::alpha_yaw, "Per rad^2.");
   def_array(reward, "alpha_action", &HoverReward::alpha_action, "Per unit^2 about centre.");
   def_array(reward, "centre", &HoverReward::centre, "The controls the action cost is taken about.");
+  def_array(reward, "alpha_attitude", &HoverReward::alpha_attitude,
+            "Per rad^2 of roll and pitch (about level).");
+  def_array(reward, "alpha_rate", &HoverReward::alpha_rate,
+            "Per (rad/s)^2 of the roll, pitch and yaw rates.");
   reward
       .def_static(
           "from_typical",
@@ -652,7 +656,8 @@ errors, minus the weighted squared controls about `centre` (heli/hover_task.hpp)
         const bool ok = r.IsValid(&error);
         return py::make_tuple(ok, error);
       });
-  set_fields(reward, {"alpha_pos", "alpha_vel", "alpha_yaw", "alpha_action", "centre"});
+  set_fields(reward, {"alpha_pos", "alpha_vel", "alpha_yaw", "alpha_action", "centre", "alpha_attitude",
+                      "alpha_rate"});
 
   auto init = py::class_<heli::HoverPolicyInit>(m, "HoverPolicyInit", R"doc(
 The hover policy class's starting weights: a linear controller around a trim (heli/hover_policy.hpp).)doc");

@@ -39,10 +39,10 @@ sysid::LearnedModelOptions learned_options(const HoverTrainingOptions& o) {
 HoverReward HoverReward::from_typical(double position_m, double velocity_mps, double yaw_rad, double action,
                                       Controls centre) {
   HoverReward r;
-  r.alpha_pos.fill(1 / (position_m * position_m));
-  r.alpha_vel.fill(1 / (velocity_mps * velocity_mps));
-  r.alpha_yaw = 1 / (yaw_rad * yaw_rad);
-  r.alpha_action.fill(1 / (action * action));
+  r.alpha_pos.fill(weight_of_typical(position_m));
+  r.alpha_vel.fill(weight_of_typical(velocity_mps));
+  r.alpha_yaw = weight_of_typical(yaw_rad);
+  r.alpha_action.fill(weight_of_typical(action));
   r.centre = centre;
   return r;
 }
@@ -55,6 +55,10 @@ bool HoverReward::IsValid(std::string* error) const {
       return fail(error, fmt::format("alpha_vel: expected finite numbers >= 0"));
   }
   if (!nonnegative_finite(alpha_yaw)) return fail(error, "alpha_yaw: expected a finite number >= 0");
+  for (const double a : alpha_attitude)
+    if (!nonnegative_finite(a)) return fail(error, "alpha_attitude: expected finite numbers >= 0");
+  for (const double a : alpha_rate)
+    if (!nonnegative_finite(a)) return fail(error, "alpha_rate: expected finite numbers >= 0");
   for (std::size_t c = 0; c < 4; ++c) {
     if (!nonnegative_finite(alpha_action[c]))
       return fail(error, "alpha_action: expected finite numbers >= 0");
@@ -66,9 +70,15 @@ bool HoverReward::IsValid(std::string* error) const {
 double HoverReward::state_cost(const LoggedState& s, const SetPoint& t) const {
   const double ex = s[0] - t.x, ey = s[1] - t.y, ez = s[2] - t.z;
   const double eyaw = wrap_angle(s[5] - t.yaw);  // footnote 12: 2 pi - 0.01 vs 0.01 is 0.02 away
-  return alpha_pos[0] * ex * ex + alpha_pos[1] * ey * ey + alpha_pos[2] * ez * ez +
-         alpha_vel[0] * s[6] * s[6] + alpha_vel[1] * s[7] * s[7] + alpha_vel[2] * s[8] * s[8] +
-         alpha_yaw * eyaw * eyaw;
+  double cost = alpha_pos[0] * ex * ex + alpha_pos[1] * ey * ey + alpha_pos[2] * ez * ez +
+                alpha_vel[0] * s[6] * s[6] + alpha_vel[1] * s[7] * s[7] + alpha_vel[2] * s[8] * s[8] +
+                alpha_yaw * eyaw * eyaw;
+  // Added only when weighted, so that the thesis's reward is computed exactly as before.
+  if (alpha_attitude[0] > 0 || alpha_attitude[1] > 0)
+    cost += alpha_attitude[0] * s[3] * s[3] + alpha_attitude[1] * s[4] * s[4];
+  if (alpha_rate[0] > 0 || alpha_rate[1] > 0 || alpha_rate[2] > 0)
+    cost += alpha_rate[0] * s[9] * s[9] + alpha_rate[1] * s[10] * s[10] + alpha_rate[2] * s[11] * s[11];
+  return cost;
 }
 
 double HoverReward::action_cost(const Controls& a) const {

@@ -113,6 +113,23 @@ TEST_F(HoverCli, AStartingPolicyThatCrashesTheModelStopsTrainingWithOneLine) {
   EXPECT_LT(s.at("starting_policy").at("mean_seconds_to_crash").get<double>(), 3.0);
 }
 
+TEST_F(HoverCli, RewardTermsForAttitudeAndRatesChangeTheObjectiveAndZeroTypicalSizesAreChecked) {
+  const std::string args = "heli hover --model " + model() + tiny();
+  ASSERT_EQ(run_pegasus(args + out("plain")).code, 0);
+  ASSERT_EQ(run_pegasus(args + " --reward.attitude-rad 0.05 --reward.rate-radps 0.2" + out("priced")).code,
+            0);
+  // The same starting weights on the same scenarios, charged for their attitude and rates too.
+  EXPECT_LT(json_file(dir_ / "priced" / "summary.json").at("initial_uhat").get<double>(),
+            json_file(dir_ / "plain" / "summary.json").at("initial_uhat").get<double>());
+  ASSERT_EQ(run_pegasus(args + " --reward.action 0" + out("free")).code, 0);
+  EXPECT_GT(json_file(dir_ / "free" / "summary.json").at("initial_uhat").get<double>(),
+            json_file(dir_ / "plain" / "summary.json").at("initial_uhat").get<double>());
+  const auto tiny_scale = run_pegasus(args + " --reward.rate-radps 1e-200" + out("bad"));
+  EXPECT_EQ(tiny_scale.code, 2);
+  EXPECT_NE(tiny_scale.output.find("reward.rate"), std::string::npos) << tiny_scale.output;
+  EXPECT_NE(tiny_scale.output.find("0 or at least 1e-150"), std::string::npos) << tiny_scale.output;
+}
+
 TEST_F(HoverCli, HoverIsTheSameForOneAndTwoThreads) {
   const std::string args = "heli hover --model " + model() + tiny();
   ASSERT_EQ(run_pegasus(args + " --threads 1" + out("t1")).code, 0);

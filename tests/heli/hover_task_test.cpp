@@ -68,6 +68,23 @@ TEST(HoverReward, IsZeroAtTheSetPointAndQuadraticAway) {
   EXPECT_NEAR(r.action_cost({0, 0, 0.1, 0.1}), 1.0, 1e-12);  // about the centre, not about 0
 }
 
+TEST(HoverReward, AttitudeAndRateTermsPriceTheirTypicalSizeAtOneAndAZeroTypicalSizeLeavesATermOut) {
+  HoverReward r = HoverReward::from_typical(0.5, 0.5, 0.1, 0.0, {0, 0, 0.2, 0.1});
+  EXPECT_EQ(r.alpha_action, (std::array<double, 4>{0, 0, 0, 0}));  // no action cost
+  EXPECT_EQ(r.action_cost({1, -1, 1, -1}), 0.0);
+  const SetPoint sp{0, 0, -10, 0};
+  const LoggedState s{0, 0, -10, 0.2, -0.1, 0, 0, 0, 0, 0.5, 0, -1.0};
+  EXPECT_EQ(r.state_cost(s, sp), 0.0);
+  r.alpha_attitude.fill(HoverReward::weight_of_typical(0.1));  // 0.1 rad typical
+  EXPECT_NEAR(r.state_cost(s, sp), 4.0 + 1.0, 1e-12);          // roll 2 typical sizes, pitch 1
+  r.alpha_rate.fill(HoverReward::weight_of_typical(0.5));      // 0.5 rad/s typical
+  EXPECT_NEAR(r.state_cost(s, sp), 5.0 + 1.0 + 4.0, 1e-12);
+  std::string error;
+  r.alpha_rate[2] = -1;
+  EXPECT_FALSE(r.IsValid(&error));
+  EXPECT_EQ(error, "alpha_rate: expected finite numbers >= 0");
+}
+
 TEST(HoverReward, YawErrorWrapsAboutTwoPi) {
   const HoverReward r = HoverReward::from_typical(0.5, 0.5, 0.1, 0.1, {});
   const SetPoint sp{0, 0, -10, 0.01};

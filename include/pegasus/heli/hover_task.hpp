@@ -6,6 +6,7 @@
 // Reward of a transition from s under a (R(s) of the state left, plus R(a); Eq 4.3's convention):
 //   R = -( sum_i alpha_pos_i (p_i - p*_i)^2 + sum_i alpha_vel_i v_i^2 + alpha_yaw wrap(yaw - yaw*)^2 )
 //   (Eq 5.9)
+//       -( sum_j alpha_att_j att_j^2 + sum_j alpha_rate_j rate_j^2 )  (not in the thesis; 0 by default)
 //       -( sum_c alpha_a_c (a_c - centre_c)^2 ) (Eq 5.10)
 //       + the model's own reward (the learned model's crash penalty, -50000, footnote 13).
 // Positions and velocities are in W; the yaw error wraps about 2 pi (footnote 12). The weights follow the
@@ -13,7 +14,8 @@
 // about 1 at its typical size. The action cost is taken about `centre`, the controls' mean in the pilot's
 // logs (an estimate of the hover trim), not about 0: with a trim collective of ~0.18 a cost about 0 would
 // pay the policy to hang ~alpha_a3 * 0.18 / alpha_z below its set point. Setting centre to 0 gives Eq 5.10
-// literally.
+// literally. The attitude and rate terms (roll and pitch about level; the logged Euler-angle rates) let the
+// reward match a cost that judges them too; a zero typical size leaves a term out (the action cost too).
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -46,8 +48,11 @@ struct HoverReward {
   double alpha_yaw = 1 / (kTypicalYaw * kTypicalYaw);                      // per rad^2
   std::array<double, 4> alpha_action{kAction, kAction, kAction, kAction};  // per unit^2 about centre
   Controls centre{0, 0, 0, 0};
+  std::array<double, 2> alpha_attitude{0, 0};  // per rad^2 of roll and pitch (about level)
+  std::array<double, 3> alpha_rate{0, 0, 0};   // per (rad/s)^2 of the roll, pitch and yaw rates
 
-  // alpha = 1 / typical^2 for each term.
+  // alpha = 1 / typical^2 for each term; a typical size of 0 gives alpha = 0 (no term).
+  static double weight_of_typical(double typical) { return typical > 0 ? 1 / (typical * typical) : 0.0; }
   static HoverReward from_typical(double position_m, double velocity_mps, double yaw_rad, double action,
                                   Controls centre);
   bool IsValid(std::string* error) const;
