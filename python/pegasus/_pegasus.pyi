@@ -400,6 +400,8 @@ class HoverReward:
     alpha_yaw: float
     alpha_action: Array
     centre: Array
+    alpha_attitude: Array
+    alpha_rate: Array
     @staticmethod
     def from_typical(position_m: float, velocity_mps: float, yaw_rad: float, action: float,
                      centre: ArrayLike = ...) -> HoverReward: ...
@@ -527,6 +529,7 @@ class HoverTrainingOptions:
     optimizer: OptimizerOptions
     then_hill_climb: bool
     seed: int
+    max_start_crash_fraction: float
     def horizon(self) -> int: ...
     def is_valid(self) -> Tuple[bool, str]: ...
 
@@ -542,6 +545,13 @@ class HoverProblem(Objective):
 def hover_init_from_model(model: Union[IdentifiedModel, str]) -> HoverPolicyInit: ...
 def hover_reward_for(model: Union[IdentifiedModel, str], options: HoverTrainingOptions = ...) -> HoverReward: ...
 
+class StartingPolicyCheck:
+    _fields: Tuple[str, ...]
+    scenarios: int
+    crashed: int
+    mean_seconds_to_crash: float
+    uhat: float
+
 class HoverTrainingResult:
     _fields: Tuple[str, ...]
     theta: Array
@@ -550,6 +560,7 @@ class HoverTrainingResult:
     gradient: OptimizerSummary
     hill_climb: OptimizerSummary
     progress: list[IterationRecord]
+    start: StartingPolicyCheck
 
 def train_hover(model: Union[IdentifiedModel, str], options: HoverTrainingOptions = ..., *, checkpoint_every: int = 1,
                 on_checkpoint: Optional[Callable[[dict], None]] = None, resume_from: Optional[dict] = None,

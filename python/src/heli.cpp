@@ -450,15 +450,16 @@ climbing, on the identified model (heli/hover_task.hpp).)doc");
       .def_readwrite("optimizer", &heli::HoverTrainingOptions::optimizer)
       .def_readwrite("then_hill_climb", &heli::HoverTrainingOptions::then_hill_climb)
       .def_readwrite("seed", &heli::HoverTrainingOptions::seed)
+      .def_readwrite("max_start_crash_fraction", &heli::HoverTrainingOptions::max_start_crash_fraction)
       .def("horizon", &heli::HoverTrainingOptions::horizon, "Steps of 0.02 s.")
       .def("is_valid", [](const heli::HoverTrainingOptions& o) {
         std::string error;
         const bool ok = o.IsValid(&error);
         return py::make_tuple(ok, error);
       });
-  set_fields(options,
-             {"scenarios", "seconds", "gamma", "refit_every", "target", "start_pos_sigma", "start_vel_sigma",
-              "reward", "centre_at_trim", "optimizer", "then_hill_climb", "seed"});
+  set_fields(options, {"scenarios", "seconds", "gamma", "refit_every", "target", "start_pos_sigma",
+                       "start_vel_sigma", "reward", "centre_at_trim", "optimizer", "then_hill_climb", "seed",
+                       "max_start_crash_fraction"});
 
   auto problem = py::class_<HoverProblemObject, Objective>(m, "HoverProblem", R"doc(
 PEGASUS U-hat (thesis §5.3) of the hover policy class (HoverPolicy(init), 34 weights) on a helicopter model, the
@@ -515,6 +516,15 @@ HoverProblem.from_training_options(model, options) is the objective `pegasus hel
       py::arg("model"), py::arg("options") = heli::HoverTrainingOptions{},
       "The reward of options, centred on the logs' trim when options.centre_at_trim.");
 
+  auto start = py::class_<heli::StartingPolicyCheck>(m, "StartingPolicyCheck", R"doc(
+The starting weights flown on the training scenarios of the learned model before hover training: train_hover
+stops when more than options.max_start_crash_fraction of them crash (heli/hover_task.hpp).)doc");
+  start.def_readonly("scenarios", &heli::StartingPolicyCheck::scenarios)
+      .def_readonly("crashed", &heli::StartingPolicyCheck::crashed)
+      .def_readonly("mean_seconds_to_crash", &heli::StartingPolicyCheck::mean_seconds_to_crash)
+      .def_readonly("uhat", &heli::StartingPolicyCheck::uhat);
+  set_fields(start, {"scenarios", "crashed", "mean_seconds_to_crash", "uhat"});
+
   auto result = py::class_<heli::HoverTrainingResult>(m, "HoverTrainingResult",
                                                       "What train_hover returns (heli/hover_task.hpp).");
   result
@@ -524,8 +534,9 @@ HoverProblem.from_training_options(model, options) is the objective `pegasus hel
       .def_readonly("final_uhat", &heli::HoverTrainingResult::final_uhat)
       .def_readonly("gradient", &heli::HoverTrainingResult::gradient)
       .def_readonly("hill_climb", &heli::HoverTrainingResult::hill_climb)
-      .def_readonly("progress", &heli::HoverTrainingResult::progress);
-  set_fields(result, {"theta", "initial_uhat", "final_uhat", "gradient", "hill_climb", "progress"});
+      .def_readonly("progress", &heli::HoverTrainingResult::progress)
+      .def_readonly("start", &heli::HoverTrainingResult::start);
+  set_fields(result, {"theta", "initial_uhat", "final_uhat", "gradient", "hill_climb", "progress", "start"});
   m.def(
       "train_hover",
       [](py::object model, const heli::HoverTrainingOptions& o, std::int64_t checkpoint_every,

@@ -155,6 +155,9 @@ def test_train_hover_gives_the_cli_policy_and_resumes_bit_identically(model_json
     summary = json.loads((tmp_path / "cli" / "summary.json").read_text())
     assert result.final_uhat == summary["final_uhat"] and result.initial_uhat == summary["initial_uhat"]
     assert result.gradient.method == "gradient" and result.hill_climb.method == "hill-climb"
+    start = summary["starting_policy"]
+    assert (result.start.scenarios, result.start.crashed) == (start["scenarios"], start["crashed_scenarios"]) == (3, 0)
+    assert result.start.uhat == result.initial_uhat  # the starting weights on the same scenarios
     # Resumed from a checkpoint in the second stage, on other threads: the same bits.
     later = [c for c in checkpoints if c["stage"] == 1]
     assert later, [c["stage"] for c in checkpoints]
