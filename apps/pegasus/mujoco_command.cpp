@@ -194,6 +194,12 @@ void run_train(RunContext& ctx) {
     shown = done;
   };
   plan.resume_from = dir.load_checkpoint();
+  // The objective's counters (steps, rollouts, crashes, first success) and observation statistics ride in
+  // every checkpoint, whatever the method: ARS also keeps them in its own state, but CMA-ES and the others do
+  // not, and a resumed run must end with the uninterrupted run's summary.
+  plan.caller_state = [&objective] { return objective.NormalizerState(); };
+  if (plan.resume_from && plan.resume_from->contains("caller") && !plan.resume_from->at("caller").is_null())
+    objective.RestoreNormalizer(plan.resume_from->at("caller"));
   Theta theta;
   TrainingSummary training;
   Train(plan, objective, &theta, &training);

@@ -132,11 +132,10 @@ TEST_F(MujocoCli, TheHopperTrainsByCmaesOnSmallSettingsTheSameOnOneAndTwoThreads
   EXPECT_LE(rate, 1.0);
 }
 
-TEST_F(MujocoCli, ResumingAfterAKillGivesTheUninterruptedSummary) {
-  const auto& dir = dir_;
-  // 40 iterations with a checkpoint after each: the kill lands mid-run.
-  std::string args = small_train(dir / "whole", 1);
-  args.replace(args.find("--optimizer.ars.max-iterations 3 "), 33, "--optimizer.ars.max-iterations 40 ");
+// Runs `args` (ending in " --out DIR/whole") whole, then killed after its first checkpoint and resumed into
+// DIR/cut: both summaries must be the same bytes (counters of steps, rollouts and first success included).
+void expect_resume_gives_the_uninterrupted_summary(const std::filesystem::path& dir, const std::string& args,
+                                                   int iterations) {
   ASSERT_EQ(run_pegasus(args).code, 0);
   const std::string killed_args = args.substr(0, args.find(" --out "));
   const auto outcome = test_support::kill_pegasus_after_first_checkpoint(killed_args, dir / "cut");
@@ -146,8 +145,25 @@ TEST_F(MujocoCli, ResumingAfterAKillGivesTheUninterruptedSummary) {
   } else {
     ASSERT_EQ(outcome, test_support::KillOutcome::kFinishedFirst);
   }
-  EXPECT_EQ(nlohmann::json::parse(read_text(dir / "cut" / "summary.json")).at("iterations"), 40);
+  EXPECT_EQ(nlohmann::json::parse(read_text(dir / "cut" / "summary.json")).at("iterations"), iterations);
   EXPECT_EQ(read_text(dir / "cut" / "summary.json"), read_text(dir / "whole" / "summary.json"));
+}
+
+TEST_F(MujocoCli, ResumingAfterAKillGivesTheUninterruptedSummary) {
+  // 40 iterations with a checkpoint after each: the kill lands mid-run.
+  std::string args = small_train(dir_ / "whole", 1);
+  args.replace(args.find("--optimizer.ars.max-iterations 3 "), 33, "--optimizer.ars.max-iterations 40 ");
+  expect_resume_gives_the_uninterrupted_summary(dir_, args, 40);
+}
+
+TEST_F(MujocoCli, ResumingCmaesAfterAKillGivesTheUninterruptedSummaryWithItsStepCounts) {
+  // CMA-ES keeps no objective state of its own: the run's checkpoint carries the step counters (they
+  // restarted from 0 on resume, so a resumed run reported fewer training steps than it took).
+  std::string args = small_train(dir_ / "whole", 1);
+  args.insert(
+      args.find(" --out "),
+      " --optimizer.method cmaes --optimizer.cmaes.max-iterations 40 --optimizer.cmaes.population-size 4");
+  expect_resume_gives_the_uninterrupted_summary(dir_, args, 40);
 }
 
 TEST_F(MujocoCli, BadInputIsOneLineExitTwoAndNoRunDirectory) {
