@@ -187,17 +187,19 @@ std::unique_ptr<Objective> hover_objective(std::shared_ptr<const sysid::Identifi
                                                                std::move(pool));
 }
 
-StartingPolicyCheck check_starting_policy(std::shared_ptr<const sysid::IdentifiedModel> model,
-                                          const HoverTrainingOptions& o, ThreadPool& pool) {
-  const auto evaluator = hover_evaluator(std::move(model), o);
+namespace {
+
+// The starting weights on the evaluator's scenarios; `step_seconds` is the model's step.
+StartingPolicyCheck check_starting_policy(const PegasusEvaluator<Task, HoverPolicy>& evaluator,
+                                          double step_seconds, ThreadPool& pool) {
   const Theta theta = evaluator.policy().parameters().initial();
-  std::vector<ScenarioOutcome> outcomes(static_cast<std::size_t>(o.scenarios));
+  std::vector<ScenarioOutcome> outcomes(static_cast<std::size_t>(evaluator.scenarios().size()));
   pool.parallel_for(outcomes.size(), [&](std::size_t i) {
     outcomes[i] = scenario_outcome(evaluator.model(), evaluator.policy(), theta, evaluator.scenarios(),
                                    static_cast<int>(i), evaluator.discounting());
   });
   StartingPolicyCheck check;
-  check.scenarios = o.scenarios;
+  check.scenarios = static_cast<int>(outcomes.size());
   std::vector<double> returns;
   double crash_steps = 0;
   for (const auto& outcome : outcomes) {
@@ -207,8 +209,15 @@ StartingPolicyCheck check_starting_policy(std::shared_ptr<const sysid::Identifie
     crash_steps += outcome.steps;
   }
   check.uhat = ordered_mean(returns);
-  if (check.crashed > 0) check.mean_seconds_to_crash = 0.02 * crash_steps / check.crashed;
+  if (check.crashed > 0) check.mean_seconds_to_crash = step_seconds * crash_steps / check.crashed;
   return check;
+}
+
+}  // namespace
+
+StartingPolicyCheck check_starting_policy(std::shared_ptr<const sysid::IdentifiedModel> model,
+                                          const HoverTrainingOptions& o, ThreadPool& pool) {
+  return check_starting_policy(hover_evaluator(std::move(model), o), learned_options(o).dt, pool);
 }
 
 HoverTrainingResult train_hover(std::shared_ptr<const sysid::IdentifiedModel> model,
@@ -216,7 +225,9 @@ HoverTrainingResult train_hover(std::shared_ptr<const sysid::IdentifiedModel> mo
                                 ThreadPool& pool) {
   std::string error;
   if (!o.IsValid(&error)) throw InputError("hover training: " + error);
-  const StartingPolicyCheck start = check_starting_policy(model, o, pool);
+  // One evaluator: the check flies the starting weights on the scenarios training then uses.
+  PegasusEvaluator<Task, HoverPolicy> evaluator = hover_evaluator(model, o);
+  const StartingPolicyCheck start = check_starting_policy(evaluator, learned_options(o).dt, pool);
   if (start.crashed > o.max_start_crash_fraction * start.scenarios)
     throw InputError(fmt::format(
         "hover training: the starting policy crashes the learned model in {} of {} scenarios (after {:.2f} s "
@@ -224,8 +235,8 @@ HoverTrainingResult train_hover(std::shared_ptr<const sysid::IdentifiedModel> mo
         "these starts (try heli identify --local=false, smaller start_pos_sigma and start_vel_sigma, or "
         "max_start_crash_fraction = 1 to train anyway)",
         start.crashed, start.scenarios, start.mean_seconds_to_crash, o.max_start_crash_fraction));
-  auto objective =
-      hover_objective(model, o, std::shared_ptr<ThreadPool>(std::shared_ptr<ThreadPool>(), &pool));
+  auto objective = std::make_unique<PegasusObjective<Task, HoverPolicy>>(
+      std::move(evaluator), std::shared_ptr<ThreadPool>(std::shared_ptr<ThreadPool>(), &pool));
   // §5.3: gradient ascent, then random-walk hill climbing from its result. Both stages draw hill climbing's
   // stream from the first stage's seed domain, as this task always has.
   TrainingPlan plan;
