@@ -1,6 +1,7 @@
 #pragma once
 // The experiment commands, one function each; commands.cpp puts them in the command table.
 #include "command.hpp"
+#include "pegasus/sysid/identify.hpp"
 
 namespace pegasus::cli {
 
@@ -15,5 +16,10 @@ Command shaping_audit_command();
 std::vector<Command> shaping_commands();  // shaping audit, gridworld, flags, progress-bonus
 Command report_command();                 // report RUN_DIR (report_command.cpp)
 Command export_command();                 // export --policy P.json --lang c (export_command.cpp)
+
+// The identification's bandwidth floors, `bandwidth_floor.*`, for every command that identifies
+// (heli_command.cpp); defaults from sysid::BandwidthFloor.
+void declare_bandwidth_floor(ConfigSchema& s);
+sysid::BandwidthFloor read_bandwidth_floor(const ConfigSchema& c);
 
 }  // namespace pegasus::cli

@@ -108,6 +108,37 @@ void run_pilot(RunContext& ctx) {
 
 // ------------------------------------------------------------------ heli identify
 
+}  // namespace
+
+void declare_bandwidth_floor(ConfigSchema& s) {
+  const BandwidthFloor d;
+  s.add_double("bandwidth_floor.angle_rad", d.angle_rad, "narrowest kernel bandwidth of roll and pitch, rad")
+      .range(0, 1e6);
+  s.add_double("bandwidth_floor.velocity_mps", d.velocity_mps,
+               "narrowest kernel bandwidth of the body velocities, m/s")
+      .range(0, 1e6);
+  s.add_double("bandwidth_floor.rate_radps", d.rate_radps,
+               "narrowest kernel bandwidth of the body rates (and the gyro state), rad/s")
+      .range(0, 1e6);
+  s.add_double("bandwidth_floor.flap_rad", d.flap_rad,
+               "narrowest kernel bandwidth of the flapping states, rad")
+      .range(0, 1e6);
+  s.add_double("bandwidth_floor.control", d.control,
+               "narrowest kernel bandwidth of each control, in its [-1, 1] units (a control the pilot barely "
+               "moved is not given a bandwidth below this)")
+      .range(0, 1e6);
+}
+
+BandwidthFloor read_bandwidth_floor(const ConfigSchema& c) {
+  return {.angle_rad = c.get_double("bandwidth_floor.angle_rad"),
+          .velocity_mps = c.get_double("bandwidth_floor.velocity_mps"),
+          .rate_radps = c.get_double("bandwidth_floor.rate_radps"),
+          .flap_rad = c.get_double("bandwidth_floor.flap_rad"),
+          .control = c.get_double("bandwidth_floor.control")};
+}
+
+namespace {
+
 void declare_identify(ConfigSchema& s) {
   s.add_string("train", "", "training flight log (CSV, see README)");
   s.add_string("test", "", "hold-out flight log (CSV)");
@@ -123,6 +154,7 @@ void declare_identify(ConfigSchema& s) {
       .min(1e-6)
       .min_size(1);
   s.add_int("coordinate_passes", 1, "passes of per-input bandwidth refinement").range(0, 10);
+  declare_bandwidth_floor(s);
   s.add_double("horizon_s", 10, "longest prediction horizon of the report, s").range(0.1, 100);
   s.add_double("start_spacing_s", 2, "spacing of the open-loop prediction starts on the test log, s")
       .range(0.02, 1000);
@@ -162,6 +194,7 @@ void run_identify(RunContext& ctx) {
   o.cv_points = static_cast<int>(c.get_int("cv_points"));
   o.scale_grid = c.get_double_list("scale_grid");
   o.coordinate_passes = static_cast<int>(c.get_int("coordinate_passes"));
+  o.min_bandwidth = read_bandwidth_floor(c);
   std::string error;
   if (!o.IsValid(&error)) throw InputError(error);
   ThreadPool& pool = ctx.pool();
@@ -308,7 +341,12 @@ void run_identify(RunContext& ctx) {
                             {"model", "model.json"}};
   // Only when some were skipped, so that the summaries of 50 Hz logs stay as they were (digests).
   if (!skipped_rates.empty()) summary["variant_rates_skipped_hz"] = skipped_rates;
+  if (!report.floored_inputs.empty()) summary["bandwidth_at_floor"] = report.floored_inputs;
   dir.write_json("summary.json", summary);
+  if (!report.floored_inputs.empty())
+    ctx.out << fmt::format(
+        "bandwidth held at its floor (the logs move these inputs too little for a narrower one): {}\n",
+        fmt::join(report.floored_inputs, ", "));
   if (!skipped_rates.empty())
     ctx.out << fmt::format(
         "variants not identified at {} Hz: the logs' rates ({:.4g} and {:.4g} Hz) are not "

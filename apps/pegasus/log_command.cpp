@@ -43,6 +43,7 @@ void declare_import(ConfigSchema& s) {
       .range(0, 1000);
   s.add_int("cv_points", 300, "held-out points per cross-validation evaluation").range(10, 100000);
   s.add_int("coordinate_passes", 1, "passes of per-input bandwidth refinement").range(0, 10);
+  declare_bandwidth_floor(s);
   s.add_double("start_spacing_s", 0.5, "spacing of the open-loop prediction starts on the hold-out part, s")
       .range(0.02, 1000);
 }
@@ -158,8 +159,10 @@ void run_import(RunContext& ctx) {
     o.window_s = c.get_double("window_s");
     o.cv_points = static_cast<int>(c.get_int("cv_points"));
     o.coordinate_passes = static_cast<int>(c.get_int("coordinate_passes"));
+    o.min_bandwidth = read_bandwidth_floor(c);
     ThreadPool& pool = ctx.pool();
-    const sysid::IdentifiedModel model = sysid::identify(train, o, pool);
+    sysid::IdentifyReport report;
+    const sysid::IdentifiedModel model = sysid::identify(train, o, pool, &report);
     sysid::IdentifyOptions global_options = o;
     global_options.local = false;
     const sysid::IdentifiedModel global = sysid::identify(train, global_options, pool);
@@ -199,6 +202,7 @@ void run_import(RunContext& ctx) {
                              {"rmse", rmse},
                              {"rollouts", rollouts},
                              {"model", "model.json"}};
+    if (!report.floored_inputs.empty()) summary["prediction"]["bandwidth_at_floor"] = report.floored_inputs;
     ctx.out
         << "hold-out RMSE (identified | global linear | constant velocity; - where the model's fit turned "
            "singular before that horizon):\n";

@@ -2,7 +2,9 @@
 // from a CSV path or from numpy arrays with column names, saved and loaded as `pegasus heli identify` does.
 #include <fmt/format.h>
 
+#include <map>
 #include <sstream>
+#include <string>
 
 #include "common.hpp"
 #include "pegasus/parallel/thread_pool.hpp"
@@ -112,8 +114,24 @@ variables' changes, its bandwidth and noise. Save it as the model.json `pegasus 
       "identify",
       [](const FlightLog& log, double rate_hz, bool local, bool extra_states, bool intercept, bool templates,
          double window_s, std::int64_t cv_points, std::vector<double> scale_grid,
-         std::int64_t coordinate_passes, std::int64_t threads) {
+         std::int64_t coordinate_passes, const std::map<std::string, double>& bandwidth_floor,
+         std::int64_t threads) {
         sysid::IdentifyOptions o;
+        for (const auto& [key, value] : bandwidth_floor) {
+          double* field = key == "angle_rad"      ? &o.min_bandwidth.angle_rad
+                          : key == "velocity_mps" ? &o.min_bandwidth.velocity_mps
+                          : key == "rate_radps"   ? &o.min_bandwidth.rate_radps
+                          : key == "flap_rad"     ? &o.min_bandwidth.flap_rad
+                          : key == "control"      ? &o.min_bandwidth.control
+                                                  : nullptr;
+          if (!field)
+            throw py::value_error(
+                fmt::format("bandwidth_floor: unknown key '{}'; expected angle_rad, velocity_mps, "
+                            "rate_radps, flap_rad or "
+                            "control",
+                            key));
+          *field = value;
+        }
         o.structure.rate_hz = rate_hz;
         o.structure.extra_states = extra_states;
         o.structure.intercept = intercept;
@@ -133,9 +151,11 @@ variables' changes, its bandwidth and noise. Save it as the model.json `pegasus 
       py::arg("extra_states") = true, py::arg("intercept") = true, py::arg("templates") = true,
       py::arg("window_s") = 16.0, py::arg("cv_points") = 300,
       py::arg("scale_grid") = std::vector<double>{0.5, 1, 2, 4, 8}, py::arg("coordinate_passes") = 1,
-      py::arg("threads") = 1,
+      py::arg("bandwidth_floor") = std::map<std::string, double>{}, py::arg("threads") = 1,
       "Identifies a model from a training log as `pegasus heli identify` does (same options, same bits, any "
-      "threads).");
+      "threads). bandwidth_floor overrides the narrowest bandwidths (keys angle_rad, velocity_mps, "
+      "rate_radps, "
+      "flap_rad, control; the defaults are the CLI's).");
 
   m.def(
       "horizon_mse",

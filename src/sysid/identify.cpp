@@ -24,7 +24,33 @@ const std::array<const char*, kReportVars> kReportVarNames = {
     "x",    "y",         "z",          "roll",     "pitch",  "yaw",    "xdot",  "ydot",
     "zdot", "roll_rate", "pitch_rate", "yaw_rate", "xdot_b", "ydot_b", "zdot_b"};
 
+std::array<double, kInputs> BandwidthFloor::per_input() const {
+  std::array<double, kInputs> f{};
+  for (int j : {kRoll, kPitch}) f[static_cast<std::size_t>(j)] = angle_rad;
+  for (int j : {kU, kV, kW}) f[static_cast<std::size_t>(j)] = velocity_mps;
+  for (int j : {kRollRate, kPitchRate, kYawRate, kGyro}) f[static_cast<std::size_t>(j)] = rate_radps;
+  for (int j : {kFlapLon, kFlapLat}) f[static_cast<std::size_t>(j)] = flap_rad;
+  for (int j : {kA1, kA2, kA3, kA4}) f[static_cast<std::size_t>(j)] = control;
+  return f;
+}
+
+bool BandwidthFloor::IsValid(std::string* error) const {
+  const std::array<std::pair<const char*, double>, 5> floors = {{{"angle_rad", angle_rad},
+                                                                 {"velocity_mps", velocity_mps},
+                                                                 {"rate_radps", rate_radps},
+                                                                 {"flap_rad", flap_rad},
+                                                                 {"control", control}}};
+  for (const auto& [name, value] : floors) {
+    if (!(value >= 0 && std::isfinite(value))) {
+      if (error) *error = fmt::format("identify: bandwidth_floor.{} must be a finite number >= 0", name);
+      return false;
+    }
+  }
+  return true;
+}
+
 bool IdentifyOptions::IsValid(std::string* error) const {
+  if (!min_bandwidth.IsValid(error)) return false;
   auto fail = [&](const std::string& what) {
     if (error) *error = "identify: " + what;
     return false;
@@ -340,6 +366,15 @@ IdentifiedModel identify(const FlightLog& train, const IdentifyOptions& o, Threa
     steps += k;
     if (hooks.progress && k > 0) hooks.progress(steps, total_steps, true);
   };
+  // The floor as a ceiling on inverse bandwidths (infinity where there is none).
+  std::array<double, kInputs> max_inv{};
+  const auto floors = o.min_bandwidth.per_input();
+  for (std::size_t j = 0; j < kInputs; ++j)
+    max_inv[j] = floors[j] > 0 ? 1 / floors[j] : std::numeric_limits<double>::infinity();
+  auto floored = [&](std::array<double, kInputs> inv) {
+    for (std::size_t j = 0; j < kInputs; ++j) inv[j] = std::min(inv[j], max_inv[j]);
+    return inv;
+  };
   std::array<double, kInputs> best_inv{};
   BodyVec sigma2;
   if (!o.local) {
@@ -351,6 +386,7 @@ IdentifiedModel identify(const FlightLog& train, const IdentifyOptions& o, Threa
       std::array<double, kInputs> inv{};
       for (int j = 0; j < kInputs; ++j)
         inv[static_cast<std::size_t>(j)] = inv_std[static_cast<std::size_t>(j)] / c;
+      inv = floored(inv);
       const double e = evaluate(fmt::format("scale {}", c), inv);
       if (e < best) {
         best = e;
@@ -368,7 +404,9 @@ IdentifiedModel identify(const FlightLog& train, const IdentifyOptions& o, Threa
         for (double f : {2.0, 0.5, 0.0}) {
           auto inv = best_inv;
           inv[static_cast<std::size_t>(j)] *= f;
+          inv = floored(inv);
           ++tried;
+          if (inv == best_inv) continue;  // narrower than the floor allows: nothing new to evaluate
           const double e = evaluate(fmt::format("{} x{}", kInputNames[static_cast<std::size_t>(j)], f), inv);
           if (e < best) {
             best = e;
@@ -380,6 +418,9 @@ IdentifiedModel identify(const FlightLog& train, const IdentifyOptions& o, Threa
       }
     }
     cv_error(data, templates, best_inv, o, pool, &sigma2);
+    if (report)
+      for (std::size_t j = 0; j < kInputs; ++j)
+        if (best_inv[j] > 0 && best_inv[j] == max_inv[j]) report->floored_inputs.emplace_back(kInputNames[j]);
   }
   // Outputs fixed by the template: sigma^2 is the mean square of what the template leaves.
   for (int k = 0; k < kBodyVars; ++k)

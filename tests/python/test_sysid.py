@@ -49,6 +49,27 @@ def test_a_model_from_a_csv_path_or_arrays_is_the_cli_model(logs, cli, tmp_path)
     assert np.all(np.isfinite(mse)) and mse[-1, 0] > mse[1, 0]  # position error grows with the horizon
 
 
+def test_the_bandwidth_floor_is_the_clis(logs, cli, tmp_path):
+    train, test = str(logs / "train" / "log.csv"), str(logs / "test" / "log.csv")
+    result = subprocess.run([cli, "heli", "identify", "--train", train, "--test", test, *IDENTIFY, "--threads", "2",
+                             "--bandwidth-floor.control", "0.6", "--out", str(tmp_path / "cli")],
+                            capture_output=True, text=True)
+    assert result.returncode == 0, result.stdout + result.stderr
+    summary = json.loads((tmp_path / "cli" / "summary.json").read_text())
+    assert summary["bandwidth_at_floor"] == ["a1", "a2", "a3", "a4"]
+    assert all(summary["bandwidth"][c] == pytest.approx(0.6, rel=1e-15) for c in ("a1", "a2", "a3", "a4"))
+
+    options = dict(cv_points=60, scale_grid=[1.0, 4.0], coordinate_passes=0)
+    log = pegasus.read_flight_log(train)
+    floored = pegasus.identify(log, bandwidth_floor={"control": 0.6}, **options)
+    assert floored.to_json() == json.loads((tmp_path / "cli" / "model.json").read_text())
+    assert floored.to_json()["inv_bandwidth"] != pegasus.identify(log, **options).to_json()["inv_bandwidth"]
+    with pytest.raises(ValueError, match="bandwidth_floor: unknown key 'controls'"):
+        pegasus.identify(log, bandwidth_floor={"controls": 0.6}, **options)
+    with pytest.raises(ValueError, match="bandwidth_floor.control must be a finite number >= 0"):
+        pegasus.identify(log, bandwidth_floor={"control": -1.0}, **options)
+
+
 def test_the_model_from_logs_example_runs(logs, source_dir):
     import sys
     result = subprocess.run([sys.executable, str(source_dir / "examples" / "python" / "model_from_logs.py"),

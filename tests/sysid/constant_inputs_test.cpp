@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
+#include <vector>
 
 #include "pegasus/heli/aircraft.hpp"
 #include "pegasus/heli/pilot.hpp"
@@ -58,6 +60,62 @@ TEST(ConstantInputs, NoneOnTheXCellsOwnLogs) {
   const IdentifiedModel model = identify(pilot_log(60, 5), global_fit(), pool);
   EXPECT_EQ(model.structure().constant_inputs, (std::array<bool, kInputs>{}));
   EXPECT_FALSE(model.to_json()["structure"].contains("constant_inputs"));  // model files as before
+}
+
+// The outside aircraft's pilot held collective and tail within a few hundredths of trim: bandwidths in units
+// of each input's spread then fell far below any excursion a policy makes, and the local fit at a policy's
+// controls had leverages in the thousands. The absolute floor keeps those bandwidths at a useful width.
+TEST(BandwidthFloor, ControlsThePilotBarelyMovedGetTheFloorInsteadOfATinyBandwidth) {
+  ThreadPool pool(2);
+  FlightLog train = pilot_log(120, 5);
+  std::array<double, 4> mean{};
+  for (const auto& a : train.controls)
+    for (std::size_t c = 0; c < 4; ++c) mean[c] += a[c] / static_cast<double>(train.rows());
+  for (auto& a : train.controls)
+    for (std::size_t c : {2u, 3u}) a[c] = mean[c] + 0.03 * (a[c] - mean[c]);
+  IdentifyOptions o;
+  o.cv_points = 60;
+  o.scale_grid = {0.5, 1, 2};
+  o.coordinate_passes = 0;
+  IdentifyReport report;
+  const IdentifiedModel floored = identify(train, o, pool, &report);
+  IdentifyOptions unfloored_options = o;
+  unfloored_options.min_bandwidth.control = 0;
+  const IdentifiedModel unfloored = identify(train, unfloored_options, pool);
+  const double floor = o.min_bandwidth.control;
+  for (int j : {kA3, kA4}) {
+    EXPECT_DOUBLE_EQ(1 / floored.inv_bandwidth()[static_cast<std::size_t>(j)], floor) << kInputNames[j];
+    // Without the floor the search picks a bandwidth narrower than it, so the floor is what held.
+    EXPECT_LT(1 / unfloored.inv_bandwidth()[static_cast<std::size_t>(j)], 0.5 * floor) << kInputNames[j];
+  }
+  EXPECT_EQ(report.floored_inputs, (std::vector<std::string>{"a3", "a4"}));
+  // A policy's excursion of 8 spreads in collective (what the outside aircraft's perturbed starts caused)
+  // from a row of the log: without the floor the kernel keeps almost no rows and the leverage explodes (the
+  // outside aircraft's reached 1600), with it the predictive variance grows by a bounded factor.
+  const auto a3 = floored.data().x.col(kA3).array();
+  const double spread = std::sqrt((a3 - a3.mean()).square().mean());
+  InputVec x = floored.data().x.row(100).transpose();
+  x[kA3] += 8 * spread;
+  const double floored_leverage = floored.regression().fit(x).leverage.maxCoeff();
+  const double unfloored_leverage = unfloored.regression().fit(x).leverage.maxCoeff();
+  EXPECT_LT(floored_leverage, 15.0);
+  EXPECT_GT(unfloored_leverage, 1000 * floored_leverage);
+}
+
+TEST(BandwidthFloor, TheXCellsLogsChooseBandwidthsAboveEveryFloor) {
+  ThreadPool pool(2);
+  IdentifyOptions o;
+  o.cv_points = 60;
+  o.scale_grid = {0.5, 1, 2};
+  o.coordinate_passes = 1;
+  IdentifyReport report;
+  const IdentifiedModel model = identify(pilot_log(120, 5), o, pool, &report);
+  EXPECT_TRUE(report.floored_inputs.empty());
+  const auto floors = o.min_bandwidth.per_input();
+  for (std::size_t j = 0; j < kInputs; ++j) {
+    if (model.inv_bandwidth()[j] == 0) continue;
+    EXPECT_GT(1 / model.inv_bandwidth()[j], floors[j]) << kInputNames[j];
+  }
 }
 
 // A flight at constant world velocity and attitude is the baseline's exact prediction; with a constant

@@ -17,11 +17,31 @@
 
 namespace pegasus::sysid {
 
+// The narrowest kernel bandwidth each input may get, in the input's own units; 0 turns a floor off. The
+// search's grid is in standard deviations of the training data, so a control the pilot barely moved (a
+// collective held within +-0.03 of trim) gets a bandwidth far below any excursion a policy makes with it:
+// there the local fit keeps almost no rows, its leverage runs into the thousands and the predictive variance
+// explodes (issue 15). Only the controls have a floor by default: a policy sets them directly and can take
+// them anywhere in their range, while the states move only as the dynamics let them (a state floor of 0.1 m/s
+// on the velocities made the PX4 bench log's local fit singular from the first step). The X-Cell's narrowest
+// control bandwidth is about 0.06, so its figures stay as they were.
+struct BandwidthFloor {
+  double angle_rad = 0;     // roll, pitch
+  double velocity_mps = 0;  // xdot_b, ydot_b, zdot_b
+  double rate_radps = 0;    // roll, pitch and yaw rates, gyro_rate
+  double flap_rad = 0;      // flap_lon, flap_lat
+  double control = 0.05;    // a1..a4, in the controls' [-1, 1] units
+  // The floor of each regression input (0 for the constant).
+  std::array<double, kInputs> per_input() const;
+  bool IsValid(std::string* error) const;
+};
+
 struct IdentifyOptions {
   ModelStructure structure{};  // rate, extra states, intercept, templates
-  bool local = true;           // locally weighted (else globally linear with the same template)
-  double window_s = 16;        // cross-validation leaves out this window around each held-out point (fn 5)
-  int cv_points = 300;         // held-out points used by cross-validation and the noise estimate
+  BandwidthFloor min_bandwidth{};
+  bool local = true;     // locally weighted (else globally linear with the same template)
+  double window_s = 16;  // cross-validation leaves out this window around each held-out point (fn 5)
+  int cv_points = 300;   // held-out points used by cross-validation and the noise estimate
   std::vector<double> scale_grid{0.5, 1, 2, 4, 8};  // bandwidth = scale * input standard deviation
   int coordinate_passes = 1;  // passes of per-input refinement (x0.5, x2, ignore) after the grid
   bool IsValid(std::string* error) const;
@@ -60,6 +80,8 @@ class IdentifiedModel {
 
 struct IdentifyReport {
   std::vector<std::pair<std::string, double>> cv_trace;  // (setting, normalised CV error) in search order
+  // Inputs whose chosen bandwidth is the floor of IdentifyOptions::min_bandwidth (narrower ones were asked).
+  std::vector<std::string> floored_inputs;
   double cv_seconds = 0;  // wall time of the search (display only: never in results)
 };
 
