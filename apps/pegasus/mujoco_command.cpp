@@ -2,6 +2,7 @@
 // Built only with PEGASUS_MUJOCO (libmujoco-dev); without it the table has no mujoco commands.
 #ifdef PEGASUS_HAVE_MUJOCO
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <mujoco/mujoco.h>
 
 #include <cmath>
@@ -155,6 +156,31 @@ void declare_train(ConfigSchema& s) {
       .min(1)
       .max(1000000);
   s.add_int("checkpoint_every", 10, "iterations between checkpoints").min(1).max(1000000);
+  s.add_string("initial_policy", "",
+               "start from this policy.json's theta instead of the class's initial values (same policy class "
+               "and hidden widths, normalize = false): to continue a search on a longer horizon or another "
+               "task");
+}
+
+// The theta of --initial-policy, checked against this run's policy; empty when none is given.
+Theta initial_theta(const ConfigSchema& c, const Problem& problem) {
+  const std::string path = c.get_string("initial_policy");
+  if (path.empty()) return {};
+  const MujocoPolicyFile start = read_mujoco_policy_file(path);
+  const nlohmann::json shape = problem.policy->describe();
+  if (start.policy_class != shape.at("class").get<std::string>() ||
+      start.hidden != shape.at("hidden").get<std::vector<int>>())
+    throw InputError(fmt::format(
+        "initial_policy: {} holds a {} policy with hidden widths [{}]; this run trains a "
+        "{} policy with [{}]",
+        path, start.policy_class, fmt::join(start.hidden, ", "), shape.at("class").get<std::string>(),
+        fmt::join(shape.at("hidden").get<std::vector<int>>(), ", ")));
+  if (c.get_bool("normalize"))
+    throw InputError(
+        "initial_policy: only with normalize = false (this run's observation statistics would replace the "
+        "file's from the first iteration, and its theta would see other inputs)");
+  check_mujoco_policy_file(start, *problem.policy, problem.env->observation_dim(), path);
+  return start.theta;
 }
 
 std::vector<int> hidden_widths(const ConfigSchema& c) {
@@ -176,6 +202,7 @@ void run_train(RunContext& ctx) {
   std::string error;
   if (!options.IsValid(&error)) throw InputError(error);
 
+  Theta theta = initial_theta(c, problem);  // checked before the run directory is made
   RunDirectory& dir = ctx.run_directory();
   const int m = static_cast<int>(c.get_int("scenarios"));
   MujocoObjective objective(problem.env, problem.policy,
@@ -200,7 +227,6 @@ void run_train(RunContext& ctx) {
   plan.caller_state = [&objective] { return objective.NormalizerState(); };
   if (plan.resume_from && plan.resume_from->contains("caller") && !plan.resume_from->at("caller").is_null())
     objective.RestoreNormalizer(plan.resume_from->at("caller"));
-  Theta theta;
   TrainingSummary training;
   Train(plan, objective, &theta, &training);
   const OptimizerSummary& summary = training.stages.front();

@@ -28,6 +28,10 @@ std::string small_train(const std::filesystem::path& out, int threads) {
 
 class MujocoCli : public test_support::TempDirTest {};
 
+std::vector<double> read_policy_theta(const std::filesystem::path& file) {
+  return read_mujoco_policy_file(file).theta;
+}
+
 TEST_F(MujocoCli, TrainGivesTheSameSummaryOnOneAndTwoThreadsAndRolloutReplaysThePolicy) {
   const auto& dir = dir_;
   const auto one = run_pegasus(small_train(dir / "one", 1));
@@ -211,6 +215,51 @@ TEST_F(MujocoCli, BadInputIsOneLineExitTwoAndNoRunDirectory) {
   EXPECT_EQ(r.code, 2);
   EXPECT_THAT(r.output, HasSubstr("theta: expected 6 numbers for this model, task and policy class, got 2"));
   EXPECT_FALSE(std::filesystem::exists(dir / "r"));
+}
+
+// --initial-policy starts the search where a saved policy left it: with no iterations the run's first U-hat
+// is the saved run's last one and its held-out evaluation is the saved policy's. A policy of another class or
+// shape, or a run that would renormalise, is refused before anything is written.
+TEST_F(MujocoCli, InitialPolicyContinuesFromTheSavedThetaAndRefusesAnotherShape) {
+  const auto& dir = dir_;
+  const auto exp = test_support::mujoco_experiments();
+  const std::string base = "mujoco train --model " + (exp / "cartpole.xml").string() + " --task " +
+                           (exp / "cartpole_swingup.toml").string() +
+                           " --normalize=false --scenarios 3 --optimizer.method cmaes "
+                           "--optimizer.cmaes.population-size 4 --evaluation-episodes 4 --seed 7 --quiet";
+  const auto first = run_pegasus(base + " --policy mlp --hidden 4 --optimizer.cmaes.max-iterations 3 --out " +
+                                 (dir / "first").string());
+  ASSERT_EQ(first.code, 0) << first.output;
+  const std::string saved = (dir / "first" / "policy.json").string();
+  const auto next = run_pegasus(base + " --policy mlp --hidden 4 --optimizer.cmaes.max-iterations 0 --out " +
+                                (dir / "next").string() + " --initial-policy " + saved);
+  ASSERT_EQ(next.code, 0) << next.output;
+  const auto a = nlohmann::json::parse(read_text(dir / "first" / "summary.json"));
+  const auto b = nlohmann::json::parse(read_text(dir / "next" / "summary.json"));
+  EXPECT_EQ(b.at("initial_uhat"), a.at("final_uhat"));
+  EXPECT_EQ(b.at("evaluation"), a.at("evaluation"));
+  EXPECT_EQ(read_policy_theta(dir / "next" / "policy.json"),
+            read_policy_theta(dir / "first" / "policy.json"));
+
+  struct Case {
+    std::string args, expected;
+  };
+  const std::vector<Case> cases = {
+      {" --policy mlp --hidden 5", "this run trains a mlp policy with [5]"},
+      {" --policy linear", "holds a mlp policy with hidden widths [4]; this run trains a linear policy"},
+      {" --policy mlp --hidden 4 --normalize=true", "initial_policy: only with normalize = false"},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.args);
+    const auto out = dir / "refused";
+    const auto r = run_pegasus(base + c.args + " --optimizer.cmaes.max-iterations 1 --initial-policy " +
+                               saved + " --out " + out.string());
+    EXPECT_EQ(r.code, 2);
+    EXPECT_THAT(r.output, HasSubstr(c.expected));
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+    EXPECT_FALSE(std::filesystem::exists(out));
+    EXPECT_FALSE(std::filesystem::exists(out.string() + ".partial"));
+  }
 }
 
 }  // namespace
