@@ -83,13 +83,14 @@ AircraftState aircraft_row(const double* x, py::ssize_t row, const char* name) {
 // states, the held regression coefficients (8 x 16), the predictive variance (8), the step count and the
 // crash flag.
 constexpr py::ssize_t kLearnedColumns =
-    kLogged + 3 + sysid::kBodyVars * sysid::kInputs + sysid::kBodyVars + 2;
+    kLogged + 3 + sysid::kBodyVars * sysid::kInputs + 2 * sysid::kBodyVars + 2;
 std::vector<std::string> learned_columns() {
   std::vector<std::string> c(heli::kLoggedStateNames.begin(), heli::kLoggedStateNames.end());
   c.insert(c.end(), {"flap_lon", "flap_lat", "gyro"});
   for (const char* v : sysid::kBodyVarNames)
     for (const char* i : sysid::kInputNames) c.push_back(fmt::format("beta.{}.{}", v, i));
   for (const char* v : sysid::kBodyVarNames) c.push_back(fmt::format("variance.{}", v));
+  for (const char* v : sysid::kBodyVarNames) c.push_back(fmt::format("colored.{}", v));
   c.push_back("step");
   c.push_back("crashed");
   return c;
@@ -102,6 +103,7 @@ void write_row(const LearnedHeliModel::State& s, double* x) {
   for (const auto& b : s.beta)
     for (int i = 0; i < sysid::kInputs; ++i) *x++ = b[i];
   for (int v = 0; v < sysid::kBodyVars; ++v) *x++ = s.variance[v];
+  for (int v = 0; v < sysid::kBodyVars; ++v) *x++ = s.colored[v];
   *x++ = s.step;
   *x = s.crashed ? 1.0 : 0.0;
 }
@@ -114,6 +116,7 @@ LearnedHeliModel::State learned_row(const double* x, py::ssize_t row, const char
   for (auto& b : s.beta)
     for (int i = 0; i < sysid::kInputs; ++i) b[i] = *y++;
   for (int v = 0; v < sysid::kBodyVars; ++v) s.variance[v] = *y++;
+  for (int v = 0; v < sysid::kBodyVars; ++v) s.colored[v] = *y++;
   const double step = *y++, crashed = *y;
   if (!(step >= 0 && step < 2e9 && step == std::floor(step)))
     throw py::value_error(fmt::format("{}: expected a step count >= 0 in column {} (step), got {} at row {}",

@@ -67,11 +67,21 @@ bool IdentifyOptions::IsValid(std::string* error) const {
 
 // ---------------------------------------------------------------- model
 
+NoiseModel parse_noise_model(const std::string& name) {
+  if (name == "white") return NoiseModel::kWhite;
+  if (name == "ar1") return NoiseModel::kAr1;
+  throw InputError(fmt::format("noise: expected \"white\" or \"ar1\", got \"{}\"", name));
+}
+
+std::string to_string(NoiseModel model) { return model == NoiseModel::kAr1 ? "ar1" : "white"; }
+
 IdentifiedModel::IdentifiedModel(ModelStructure structure, Dataset data,
-                                 std::array<double, kInputs> inv_bandwidth, BodyVec sigma2)
+                                 std::array<double, kInputs> inv_bandwidth, BodyVec sigma2,
+                                 NoiseCorrelation correlation)
     : structure_(std::move(structure)),
       data_(std::make_shared<const Dataset>(std::move(data))),
       sigma2_(sigma2),
+      correlation_(correlation),
       templates_(output_templates(structure_)) {
   lwr_ = std::make_unique<LocalRegression>(data_.get(), templates_, inv_bandwidth);
 }
@@ -109,6 +119,11 @@ nlohmann::json IdentifiedModel::to_json() const {
   j["outputs"] = kBodyVarNames;
   j["inv_bandwidth"] = inv_bandwidth();
   j["sigma2"] = std::vector<double>(sigma2_.data(), sigma2_.data() + kBodyVars);
+  if (correlation_.any())  // only then: white-noise model files stay as they were
+    j["noise"] = {
+        {"model", "ar1"},
+        {"share", std::vector<double>(correlation_.share.data(), correlation_.share.data() + kBodyVars)},
+        {"rho", std::vector<double>(correlation_.rho.data(), correlation_.rho.data() + kBodyVars)}};
   nlohmann::json xs = nlohmann::json::array(), ys = nlohmann::json::array();
   for (Eigen::Index i = 0; i < data_->rows(); ++i) {
     std::vector<double> xr(kInputs), yr(kBodyVars);
@@ -230,7 +245,24 @@ IdentifiedModel model_from_json(const nlohmann::json& j, const std::string& file
   std::copy(ih.begin(), ih.end(), inv.begin());
   BodyVec sigma2;
   for (int k = 0; k < kBodyVars; ++k) sigma2[k] = s2[static_cast<std::size_t>(k)];
-  return IdentifiedModel(m, std::move(d), inv, sigma2);
+  NoiseCorrelation correlation;
+  if (j.contains("noise")) {
+    const auto& noise = j.at("noise");
+    const nlohmann::json& model = f.at(noise, "noise.model");
+    if (model != "ar1") json_field_error(file, "noise.model", "\"ar1\"", model);
+    const auto share = f.numbers(f.at(noise, "noise.share"), "noise.share", kBodyVars, 0);
+    const auto rho = f.numbers(f.at(noise, "noise.rho"), "noise.rho", kBodyVars, 0);
+    for (int k = 0; k < kBodyVars; ++k) {
+      const auto i = static_cast<std::size_t>(k);
+      if (share[i] > 1)
+        json_field_error(file, fmt::format("noise.share[{}]", k), "a number in [0, 1]", share[i]);
+      if (!(rho[i] < 1))
+        json_field_error(file, fmt::format("noise.rho[{}]", k), "a number in [0, 1)", rho[i]);
+      correlation.share[k] = share[i];
+      correlation.rho[k] = rho[i];
+    }
+  }
+  return IdentifiedModel(m, std::move(d), inv, sigma2, correlation);
 }
 
 }  // namespace
@@ -297,6 +329,75 @@ double cv_error(const Dataset& data, const std::array<OutputTemplate, kBodyVars>
   // inflation 1 + x'(X'WX)^{-1}x, not the (biased) Bayesian estimate.
   if (sigma2) *sigma2 = sum_scaled / m;
   return total;
+}
+
+std::vector<BodyVec> residual_autocorrelation(const Dataset& data,
+                                              const std::array<OutputTemplate, kBodyVars>& templates,
+                                              const std::array<double, kInputs>& inv_bandwidth,
+                                              double window_s, int max_lag, ThreadPool& pool) {
+  const LocalRegression lwr(&data, templates, inv_bandwidth);
+  const Eigen::Index n = data.rows();
+  std::vector<BodyVec> residual(static_cast<std::size_t>(n), BodyVec::Zero());
+  std::vector<char> usable(static_cast<std::size_t>(n), 0);
+  pool.parallel_for(static_cast<std::size_t>(n), [&](std::size_t row) {
+    const auto i = static_cast<Eigen::Index>(row);
+    const auto [lo, hi] = window_rows(data, i, window_s);
+    const InputVec x = data.x.row(i).transpose();
+    const LocalFit fit = lwr.fit(x, lo, hi);
+    if (fit.singular) return;
+    for (int k = 0; k < kBodyVars; ++k) residual[row][k] = data.y(i, k) - fit.predict(k, x);
+    usable[row] = 1;
+  });
+  // Sums in row order: the same bits for any number of threads.
+  std::vector<BodyVec> out;
+  for (int lag = 1; lag <= max_lag; ++lag) {
+    BodyVec cross = BodyVec::Zero(), first = BodyVec::Zero(), second = BodyVec::Zero();
+    for (Eigen::Index i = 0; i + lag < n; ++i) {
+      const auto a = static_cast<std::size_t>(i), b = static_cast<std::size_t>(i + lag);
+      // Only rows exactly `lag` model steps apart (logs may be joined from several flights).
+      if (!usable[a] || !usable[b] || std::abs(data.time[b] - data.time[a] - lag * data.dt) > 0.01 * data.dt)
+        continue;
+      cross += residual[a].cwiseProduct(residual[b]);
+      first += residual[a].cwiseAbs2();
+      second += residual[b].cwiseAbs2();
+    }
+    BodyVec r = BodyVec::Zero();
+    for (int k = 0; k < kBodyVars; ++k)
+      if (first[k] > 0 && second[k] > 0) r[k] = cross[k] / std::sqrt(first[k] * second[k]);
+    out.push_back(r);
+  }
+  return out;
+}
+
+NoiseCorrelation fit_noise_correlation(const std::vector<BodyVec>& autocorrelation) {
+  // Least squares of f rho^lag against the autocorrelations over a grid of rho, f in closed form and clipped
+  // to [0, 1]: robust to the noisy long lags, and deterministic.
+  NoiseCorrelation c;
+  for (int k = 0; k < kBodyVars; ++k) {
+    double best = INFINITY;
+    for (int g = 1; g < 1000; ++g) {
+      const double rho = g / 1000.0;
+      double num = 0, den = 0, power = 1;
+      for (const auto& a : autocorrelation) {
+        power *= rho;
+        num += a[k] * power;
+        den += power * power;
+      }
+      const double share = std::clamp(num / den, 0.0, 1.0);
+      double err = 0;
+      power = 1;
+      for (const auto& a : autocorrelation) {
+        power *= rho;
+        err += (a[k] - share * power) * (a[k] - share * power);
+      }
+      if (err < best) {
+        best = err;
+        c.share[k] = share;
+        c.rho[k] = share > 0 ? rho : 0;
+      }
+    }
+  }
+  return c;
 }
 
 IdentifiedModel identify(const FlightLog& train, const IdentifyOptions& o, ThreadPool& pool,
@@ -426,9 +527,16 @@ IdentifiedModel identify(const FlightLog& train, const IdentifyOptions& o, Threa
   for (int k = 0; k < kBodyVars; ++k)
     if (templates[static_cast<std::size_t>(k)].free_count() == 0)
       sigma2[k] = data.y.col(k).squaredNorm() / data.rows();
+  NoiseCorrelation correlation;
+  if (o.noise == NoiseModel::kAr1) {
+    // Lags up to 2 s: the horizons over which the noise check and the hover task's refits compound errors.
+    const int max_lag = std::max(2, static_cast<int>(std::lround(2.0 / data.dt)));
+    correlation =
+        fit_noise_correlation(residual_autocorrelation(data, templates, best_inv, o.window_s, max_lag, pool));
+  }
   if (report)
     report->cv_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return IdentifiedModel(structure, std::move(data), best_inv, sigma2);
+  return IdentifiedModel(structure, std::move(data), best_inv, sigma2, correlation);
 }
 
 // ---------------------------------------------------------------- simulation
@@ -635,7 +743,15 @@ NoiseCheck noise_check(const IdentifiedModel& model, const FlightLog& test, doub
   const auto k = lr.step;
   const auto seg = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(reset_s / model.dt())));
   const ModelStructure& m = model.structure();
+  // With AR(1) noise the filter carries each output's AR part c as 8 more states (mean 0: nothing observes
+  // them between resets): body' = mean step + c' + w, c' = rho c + eta. At a reset c is unknown and starts at
+  // its stationary variance share * sigma^2, so the first step's band is the white model's.
+  const NoiseCorrelation& nc_model = model.noise_correlation();
+  const bool ar = nc_model.any();
+  const int states = kEkfStates + (ar ? kBodyVars : 0);
   NoiseCheck out;
+  out.outside_by_horizon.assign(seg, BodyVec::Zero());
+  out.steps_by_horizon.assign(seg, 0);
   BodyVec outside = BodyVec::Zero();
   for (std::size_t r0 = 0; r0 + k < test.rows(); r0 += seg * k) {
     SimState s;
@@ -648,6 +764,12 @@ NoiseCheck noise_check(const IdentifiedModel& model, const FlightLog& test, doub
     // diagonal of P (dropping cross-covariances) would ignore that attitude errors integrate rate errors and
     // velocity errors integrate attitude errors: it shrinks the bands of the integrated variables.
     EkfMat p = EkfMat::Zero();
+    Eigen::MatrixXd pa;  // the AR filter's covariance (states x states)
+    if (ar) {
+      pa = Eigen::MatrixXd::Zero(states, states);
+      for (int j = 0; j < kBodyVars; ++j)
+        pa(kEkfStates + j, kEkfStates + j) = nc_model.share[j] * model.sigma2()[j];
+    }
     for (std::size_t t = 0; t < seg && r0 + (t + 1) * k < test.rows(); ++t) {
       const auto a = mean_controls(test, r0 + t * k, k);
       const InputVec x = sim_input(s, a);
@@ -667,24 +789,50 @@ NoiseCheck noise_check(const IdentifiedModel& model, const FlightLog& test, doub
         zm[j] -= h;
         jac.col(j) = (mean_step(model, zp, a, fit) - mean_step(model, zm, a, fit)) / (2 * h);
       }
-      p = jac * p * jac.transpose();
-      p.diagonal().head<kBodyVars>() += var;
+      BodyVec band_var;
+      if (!ar) {
+        p = jac * p * jac.transpose();
+        p.diagonal().head<kBodyVars>() += var;
+        band_var = p.diagonal().head<kBodyVars>();
+      } else {
+        Eigen::MatrixXd ja = Eigen::MatrixXd::Zero(states, states);
+        ja.topLeftCorner(kEkfStates, kEkfStates) = jac;
+        Eigen::MatrixXd q = Eigen::MatrixXd::Zero(states, states);
+        for (int j = 0; j < kBodyVars; ++j) {
+          const double rho = nc_model.rho[j], share = nc_model.share[j];
+          const double eta = share * var[j] * (1 - rho * rho);
+          ja(j, kEkfStates + j) = rho;
+          ja(kEkfStates + j, kEkfStates + j) = rho;
+          q(j, j) = (1 - share) * var[j] + eta;
+          q(j, kEkfStates + j) = q(kEkfStates + j, j) = eta;
+          q(kEkfStates + j, kEkfStates + j) = eta;
+        }
+        pa = ja * pa * ja.transpose() + q;
+        band_var = pa.diagonal().head<kBodyVars>();
+      }
       s = sim_advance(m, s, a, model.mean_change(fit, x), model.dt());
       const BodyVec truth = body_from_log_state(test.states[r0 + (t + 1) * k]);
       const BodyVec mean = body_from_log_state(s.world);
-      for (int j = 0; j < kBodyVars; ++j)
-        if (std::abs(truth[j] - mean[j]) > 2 * std::sqrt(p(j, j))) outside[j] += 1;
+      for (int j = 0; j < kBodyVars; ++j) {
+        if (std::abs(truth[j] - mean[j]) > 2 * std::sqrt(band_var[j])) {
+          outside[j] += 1;
+          out.outside_by_horizon[t][j] += 1;
+        }
+      }
       ++out.steps;
+      ++out.steps_by_horizon[t];
       const double time = test.time[r0 + (t + 1) * k] - test.time[0];
       if (time <= trace_seconds) {
         out.time.push_back(time);
         out.truth.push_back(truth[kV]);
         out.mean.push_back(mean[kV]);
-        out.sd.push_back(std::sqrt(p(kV, kV)));
+        out.sd.push_back(std::sqrt(band_var[kV]));
       }
     }
   }
   if (out.steps > 0) out.outside_fraction = outside / out.steps;
+  for (std::size_t t = 0; t < seg; ++t)
+    if (out.steps_by_horizon[t] > 0) out.outside_by_horizon[t] /= out.steps_by_horizon[t];
   return out;
 }
 

@@ -26,6 +26,20 @@ LearnedHeliModel::LearnedHeliModel(std::shared_ptr<const IdentifiedModel> model,
   if (!options_.IsValid(&error)) throw std::invalid_argument(error);
   if (!model_) throw std::invalid_argument("learned model: no identified model");
   min_weight_ = std::exp(-0.5 * options_.support_bandwidths * options_.support_bandwidths);
+  const NoiseCorrelation& c = model_->noise_correlation();
+  colored_ = options_.noise && c.any();
+  const double f = options_.dt / model_->dt();  // model steps per step
+  const double n = 1 / f;                       // steps per model step
+  for (int k = 0; k < kBodyVars; ++k) {
+    rho_step_[k] = std::pow(c.rho[k], f);
+    // A stationary AR(1) of per-step variance v and correlation r summed over n steps has the variance
+    // v (n + 2 sum_{j=1}^{n-1} (n - j) r^j): v is chosen so that this is share * var.
+    double sum_factor = n;
+    for (int j = 1; j < static_cast<int>(std::ceil(n)); ++j)
+      sum_factor += 2 * (n - j) * std::pow(rho_step_[k], j);
+    colored_scale_[k] = c.share[k] / sum_factor;
+    white_scale_[k] = (1 - c.share[k]) * f;
+  }
 }
 
 ActionSpace LearnedHeliModel::action_space() const {
@@ -39,6 +53,10 @@ LearnedHeliModel::State LearnedHeliModel::initial_state(std::span<const double> 
     s.sim.world[i] += options_.start_pos_sigma * heli::normal_quantile(p0[i]);
     s.sim.world[6 + i] += options_.start_vel_sigma * heli::normal_quantile(p0[3 + i]);
   }
+  if (colored_)
+    for (int k = 0; k < kBodyVars; ++k)
+      s.colored[k] = std::sqrt(model_->sigma2()[k] * colored_scale_[k]) *
+                     heli::normal_quantile(p0[static_cast<std::size_t>(6 + k)]);
   return s;
 }
 
@@ -62,8 +80,17 @@ LearnedHeliModel::State LearnedHeliModel::step(const State& s, const Action& a_i
   BodyVec delta = known_change(model_->structure(), x, options_.dt);
   for (int k = 0; k < kBodyVars; ++k) {
     delta[k] += f * n.beta[static_cast<std::size_t>(k)].dot(x);
-    if (options_.noise)
+    if (colored_) {
+      const double rho = rho_step_[k];
+      n.colored[k] =
+          rho * s.colored[k] + std::sqrt(n.variance[k] * colored_scale_[k] * (1 - rho * rho)) *
+                                   heli::normal_quantile(p[static_cast<std::size_t>(kBodyVars + k)]);
+      delta[k] +=
+          std::sqrt(n.variance[k] * white_scale_[k]) * heli::normal_quantile(p[static_cast<std::size_t>(k)]) +
+          n.colored[k];
+    } else if (options_.noise) {
       delta[k] += std::sqrt(n.variance[k] * f) * heli::normal_quantile(p[static_cast<std::size_t>(k)]);
+    }
   }
   n.sim = sim_advance(model_->structure(), s.sim, a, delta, options_.dt);
   n.step = s.step + 1;

@@ -100,7 +100,10 @@ def test_the_learned_model_from_a_path_or_an_object_steps_alike(model_json):
     options = pegasus.LearnedModelOptions()
     options.start_pos_sigma = 0.5
     a, b = pegasus.LearnedHeliModel(identified, options), pegasus.LearnedHeliModel(str(model_json), options)
-    assert len(pegasus.LearnedHeliModel.STATE_COLUMNS) == 153 and a.noise_dim == 8 and a.initial_noise_dim == 6
+    columns = pegasus.LearnedHeliModel.STATE_COLUMNS
+    assert len(columns) == 161 and a.noise_dim == 8 and a.initial_noise_dim == 6
+    assert columns[-10:-2] == ["colored." + v for v in ("roll", "pitch", "xdot_b", "ydot_b", "zdot_b", "roll_rate",
+                                                        "pitch_rate", "yaw_rate")]
     scenarios = pegasus.ScenarioSet(2, 8, 100, 8, 6)
     init = pegasus.hover_init_from_model(identified)
     theta = pegasus.HoverPolicy(init).parameters.initial

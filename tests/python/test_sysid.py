@@ -70,6 +70,21 @@ def test_the_bandwidth_floor_is_the_clis(logs, cli, tmp_path):
         pegasus.identify(log, bandwidth_floor={"control": -1.0}, **options)
 
 
+def test_ar1_noise_is_the_clis(logs, cli, tmp_path):
+    train, test = str(logs / "train" / "log.csv"), str(logs / "test" / "log.csv")
+    result = subprocess.run([cli, "heli", "identify", "--train", train, "--test", test, *IDENTIFY, "--threads", "2",
+                             "--noise", "ar1", "--out", str(tmp_path / "cli")], capture_output=True, text=True)
+    assert result.returncode == 0, result.stdout + result.stderr
+    cli_model = json.loads((tmp_path / "cli" / "model.json").read_text())
+    model = pegasus.identify(pegasus.read_flight_log(train), noise="ar1", cv_points=60, scale_grid=[1.0, 4.0],
+                             coordinate_passes=0)
+    assert model.to_json() == cli_model and cli_model["noise"]["model"] == "ar1"
+    learned = pegasus.LearnedHeliModel(model, pegasus.LearnedModelOptions())
+    assert learned.noise_dim == 16 and learned.initial_noise_dim == 14
+    with pytest.raises(ValueError, match='noise: expected "white" or "ar1", got "pink"'):
+        pegasus.identify(pegasus.read_flight_log(train), noise="pink")
+
+
 def test_the_model_from_logs_example_runs(logs, source_dir):
     import sys
     result = subprocess.run([sys.executable, str(source_dir / "examples" / "python" / "model_from_logs.py"),

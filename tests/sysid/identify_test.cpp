@@ -15,7 +15,9 @@
 
 #include "pegasus/core/error.hpp"
 #include "pegasus/heli/aircraft.hpp"
+#include "pegasus/heli/gaussian.hpp"
 #include "pegasus/heli/pilot.hpp"
+#include "pegasus/scenarios/counter_rng.hpp"
 #include "support/cli_runner.hpp"
 
 namespace fs = std::filesystem;
@@ -64,6 +66,89 @@ TEST(NoiseCheck, BandsOfTheIntegratedVariablesHoldOnHoldOutData) {
   // The bands widen within a reset segment.
   ASSERT_GT(nc.sd.size(), 25u);
   EXPECT_GT(nc.sd[19], nc.sd[0]);
+}
+
+// The AR(1)-plus-white fit recovers the share and correlation behind exact autocorrelations f rho^lag, and
+// reads white residuals as white.
+TEST(NoiseCorrelation, TheFitRecoversShareAndRho) {
+  std::vector<BodyVec> acf(20, BodyVec::Zero());
+  for (int lag = 1; lag <= 20; ++lag)
+    for (int k = 0; k < kBodyVars; ++k)
+      acf[lag - 1][k] = k == 0 ? 0.0 : (0.1 * k) * std::pow(0.5 + 0.06 * k, lag);
+  const NoiseCorrelation c = fit_noise_correlation(acf);
+  EXPECT_EQ(c.share[0], 0.0);
+  EXPECT_EQ(c.rho[0], 0.0);
+  for (int k = 1; k < kBodyVars; ++k) {
+    EXPECT_NEAR(c.share[k], 0.1 * k, 1e-3) << k;
+    EXPECT_NEAR(c.rho[k], 0.5 + 0.06 * k, 1e-3) << k;
+  }
+}
+
+// Residuals made of white noise plus an AR(1) process (share 0.6, rho 0.9 per step) on a linear system: the
+// windowed leave-one-out residuals' autocorrelation gives them back, and the model file keeps them.
+TEST(NoiseCorrelation, IdentifyRecoversAnAr1ResidualProcess) {
+  FlightLog log;
+  UniformStream rng(5, 0);
+  auto normal = [&rng] { return heli::normal_quantile(rng.next()); };
+  const double dt = 0.1, share = 0.6, rho = 0.9;
+  std::array<double, kLogStates> state{};
+  state[2] = -10;
+  double colored = 0;
+  for (int i = 0; i < 6000; ++i) {
+    log.time.push_back(i * dt);
+    log.states.push_back(state);
+    std::array<double, 4> a{};
+    for (double& v : a) v = 0.3 * normal();
+    log.controls.push_back(a);
+    const double white = normal();
+    colored = rho * colored + std::sqrt(1 - rho * rho) * normal();
+    const double noise = 0.05 * (std::sqrt(1 - share) * white + std::sqrt(share) * colored);
+    state[11] = 0.8 * state[11] + 0.5 * a[3] + noise;  // yaw rate: a stable first-order system
+  }
+  IdentifyOptions o;
+  o.structure.rate_hz = 10;
+  o.structure.extra_states = false;
+  o.local = false;
+  o.noise = NoiseModel::kAr1;
+  ThreadPool pool(2);
+  const IdentifiedModel model = identify(log, o, pool);
+  const NoiseCorrelation& c = model.noise_correlation();
+  EXPECT_NEAR(c.rho[kYawRate], rho, 0.05);
+  EXPECT_NEAR(c.share[kYawRate], share, 0.1);
+  const IdentifiedModel back = IdentifiedModel::from_json(model.to_json());
+  EXPECT_EQ(back.noise_correlation().rho, c.rho);
+  EXPECT_EQ(back.noise_correlation().share, c.share);
+  nlohmann::json broken = model.to_json();
+  broken["noise"]["rho"][kYawRate] = 1.0;
+  try {
+    (void)IdentifiedModel::from_json(broken);
+    ADD_FAILURE() << "rho = 1 was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("noise.rho[7]: expected a number in [0, 1)"), std::string::npos)
+        << e.what();
+  }
+  o.noise = NoiseModel::kWhite;
+  EXPECT_FALSE(identify(log, o, pool).to_json().contains("noise"));  // white-noise model files as before
+}
+
+// The gusts (correlation time 2 s) make zdot_b's errors correlated in time: white per-step noise leaves its
+// bands too narrow at longer horizons; the AR(1) model widens them where the residuals say so.
+TEST(NoiseCheck, Ar1NoiseCoversTheGustDrivenVerticalVelocity) {
+  ThreadPool pool(2);
+  IdentifyOptions o;
+  o.cv_points = 150;
+  o.coordinate_passes = 0;
+  const NoiseCheck white = noise_check(identify(logs().train, o, pool), logs().test, 2.0, 0.0);
+  o.noise = NoiseModel::kAr1;
+  const IdentifiedModel model = identify(logs().train, o, pool);
+  const NoiseCheck ar1 = noise_check(model, logs().test, 2.0, 0.0);
+  EXPECT_GT(model.noise_correlation().rho[kW], 0.8);
+  EXPECT_GT(white.outside_fraction[kW], 0.10);
+  EXPECT_LT(ar1.outside_fraction[kW], 0.07);
+  // The first step after a reset has the same band either way.
+  ASSERT_FALSE(ar1.steps_by_horizon.empty());
+  EXPECT_EQ(ar1.steps_by_horizon[0], white.steps_by_horizon[0]);
+  EXPECT_EQ(ar1.outside_by_horizon[0][kW], white.outside_by_horizon[0][kW]);
 }
 
 TEST(IdentifyCheckpoint, ResumedSearchEqualsAnUninterruptedOne) {

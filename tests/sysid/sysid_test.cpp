@@ -8,12 +8,14 @@
 #include <filesystem>
 #include <fstream>
 #include <new>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "pegasus/core/error.hpp"
 #include "pegasus/heli/aircraft.hpp"
 #include "pegasus/heli/pilot.hpp"
 #include "pegasus/models/model.hpp"
+#include "pegasus/scenarios/counter_rng.hpp"
 #include "pegasus/sysid/flight_log.hpp"
 #include "pegasus/sysid/identify.hpp"
 #include "pegasus/sysid/learned_model.hpp"
@@ -306,6 +308,81 @@ TEST(LearnedModel, StepNoiseIsTheInverseCdfOfThePredictiveVarianceOverFive) {
   }
   const auto refit = sim.step(s, fixture().train.controls[805], mid);
   EXPECT_NE(refit.beta[2], s.beta[2]);
+}
+
+}  // namespace
+
+namespace {
+
+// A model with AR(1) noise: the learned model carries each variable's AR part in its state, draws it from a
+// second uniform per variable, and scales it so that one model step (five 50 Hz steps) sums to the share of
+// the identified variance the AR part has, with the identified correlation from one model step to the next.
+TEST(LearnedModel, Ar1NoiseSumsToItsShareOverAModelStepWithItsCorrelation) {
+  IdentifyOptions o;
+  o.cv_points = 60;
+  o.scale_grid = {2};
+  o.coordinate_passes = 0;
+  ThreadPool pool(1);
+  const auto white = std::make_shared<const IdentifiedModel>(identify(fixture().train, o, pool));
+  nlohmann::json j = white->to_json();
+  const double share = 0.6, rho = 0.8;
+  j["noise"] = {{"model", "ar1"},
+                {"share", std::vector<double>(kBodyVars, share)},
+                {"rho", std::vector<double>(kBodyVars, rho)}};
+  auto model = std::make_shared<const IdentifiedModel>(IdentifiedModel::from_json(j));
+  LearnedModelOptions lo;
+  lo.start = fixture().train.states[800];
+  const LearnedHeliModel sim(model, lo);
+  EXPECT_EQ(sim.noise_dim(), 16);
+  EXPECT_EQ(sim.initial_noise_dim(), 14);
+  EXPECT_EQ(LearnedHeliModel(white, lo).noise_dim(), 8);
+  const std::array<double, 4> a = fixture().train.controls[800];
+  UniformStream rng(3, 0);
+  const int n = 4000;
+  BodyVec sum_first = BodyVec::Zero(), sum_second = BodyVec::Zero(), cross = BodyVec::Zero();
+  BodyVec variance = BodyVec::Zero();
+  std::array<double, 14> p0;
+  std::array<double, 16> p;
+  for (int i = 0; i < n; ++i) {
+    for (double& u : p0) u = rng.next();
+    for (int k = 0; k < 6; ++k) p0[static_cast<std::size_t>(k)] = 0.5;  // the same start state each time
+    auto s = sim.initial_state(p0);
+    BodyVec first = BodyVec::Zero(), second = BodyVec::Zero();
+    for (int t = 0; t < 10; ++t) {
+      for (double& u : p) u = rng.next();
+      for (int k = 0; k < kBodyVars; ++k) p[static_cast<std::size_t>(k)] = 0.5;  // white part off
+      s = sim.step(s, a, p);
+      ASSERT_FALSE(s.crashed);
+      (t < 5 ? first : second) += s.colored;
+      if (t == 0) variance = s.variance;
+    }
+    sum_first += first.cwiseAbs2();
+    sum_second += second.cwiseAbs2();
+    cross += first.cwiseProduct(second);
+  }
+  // Per 50 Hz step: correlation r = rho^(1/5) and stationary variance share * var / (5 + 2 sum_j (5 - j)
+  // r^j).
+  const double r = std::pow(rho, 0.2);
+  double sum_factor = 5;
+  for (int i = 1; i < 5; ++i) sum_factor += 2 * (5 - i) * std::pow(r, i);
+  for (int k = 0; k < kBodyVars; ++k) {
+    // The variance of the first 5 steps' sum: the AR part starts from its stationary law at the identified
+    // sigma^2 (no fit yet), its innovations use the refit's predictive variance (sigma^2 (1 + leverage));
+    // when the two agree this is share * var.
+    const double start = model->sigma2()[k] * share / sum_factor,
+                 innovation = variance[k] * share / sum_factor;
+    double from_start = 0, expected = 0;
+    for (int t = 1; t <= 5; ++t) from_start += std::pow(r, t);
+    expected = start * from_start * from_start;
+    for (int i = 1; i <= 5; ++i) {
+      double weight = 0;
+      for (int m = 0; m <= 5 - i; ++m) weight += std::pow(r, m);
+      expected += innovation * (1 - r * r) * weight * weight;
+    }
+    EXPECT_NEAR(sum_first[k] / n / expected, 1.0, 0.08) << kBodyVarNames[k];
+    // Consecutive model steps' sums are correlated about rho (rho^(1/5) per 50 Hz step).
+    EXPECT_NEAR(cross[k] / std::sqrt(sum_first[k] * sum_second[k]), rho, 0.1) << kBodyVarNames[k];
+  }
 }
 
 }  // namespace

@@ -36,9 +36,28 @@ struct BandwidthFloor {
   bool IsValid(std::string* error) const;
 };
 
+// How the model's noise is correlated in time (§5.2, footnotes 7 and 9). "white": independent per model step,
+// as Eqs 5.5-5.6. "ar1": each output's noise is a white part plus a first-order autoregressive part (a gust,
+// an estimator's slow error): e_t = w_t + c_t, c_t = rho c_{t-1} + eta_t, with the AR part's share of the
+// variance and rho fitted per output to the autocorrelation of the windowed leave-one-out residuals at lags
+// up to 2 s (autocorrelation f rho^lag). White noise leaves a model's bands too narrow at longer horizons
+// when gusts make the errors correlated.
+enum class NoiseModel { kWhite, kAr1 };
+NoiseModel parse_noise_model(const std::string& name);  // "white", "ar1"; InputError otherwise
+std::string to_string(NoiseModel model);
+
+// The AR part of each output's noise: share of the one-step variance (0: white) and correlation per model
+// step.
+struct NoiseCorrelation {
+  BodyVec share = BodyVec::Zero();
+  BodyVec rho = BodyVec::Zero();
+  bool any() const { return (share.array() > 0).any(); }
+};
+
 struct IdentifyOptions {
   ModelStructure structure{};  // rate, extra states, intercept, templates
   BandwidthFloor min_bandwidth{};
+  NoiseModel noise = NoiseModel::kWhite;
   bool local = true;     // locally weighted (else globally linear with the same template)
   double window_s = 16;  // cross-validation leaves out this window around each held-out point (fn 5)
   int cv_points = 300;   // held-out points used by cross-validation and the noise estimate
@@ -51,12 +70,13 @@ struct IdentifyOptions {
 class IdentifiedModel {
  public:
   IdentifiedModel(ModelStructure structure, Dataset data, std::array<double, kInputs> inv_bandwidth,
-                  BodyVec sigma2);
+                  BodyVec sigma2, NoiseCorrelation correlation = {});
   const ModelStructure& structure() const { return structure_; }
   const Dataset& data() const { return *data_; }
   const LocalRegression& regression() const { return *lwr_; }
   const std::array<double, kInputs>& inv_bandwidth() const { return lwr_->inv_bandwidth(); }
   const BodyVec& sigma2() const { return sigma2_; }
+  const NoiseCorrelation& noise_correlation() const { return correlation_; }
   double dt() const { return data_->dt; }
   bool is_global() const { return lwr_->is_global(); }
 
@@ -75,6 +95,7 @@ class IdentifiedModel {
   std::shared_ptr<const Dataset> data_;
   std::unique_ptr<LocalRegression> lwr_;
   BodyVec sigma2_;
+  NoiseCorrelation correlation_;
   std::array<OutputTemplate, kBodyVars> templates_;
 };
 
@@ -107,6 +128,14 @@ double cv_error(const Dataset& data, const std::array<OutputTemplate, kBodyVars>
                 const std::array<double, kInputs>& inv_bandwidth, const IdentifyOptions& o, ThreadPool& pool,
                 BodyVec* sigma2 = nullptr);
 
+// The residual autocorrelation of each output at lags 1..max_lag model steps (pairs of rows exactly that many
+// steps apart), from windowed leave-one-out residuals at every row; and the AR(1)-plus-white fit to it.
+std::vector<BodyVec> residual_autocorrelation(const Dataset& data,
+                                              const std::array<OutputTemplate, kBodyVars>& templates,
+                                              const std::array<double, kInputs>& inv_bandwidth,
+                                              double window_s, int max_lag, ThreadPool& pool);
+NoiseCorrelation fit_noise_correlation(const std::vector<BodyVec>& autocorrelation);
+
 // Open-loop simulation on a log (Fig 5.2): from log row `start`, simulate `horizon_steps` model steps with
 // the recorded controls and the model noise off; returns predicted 12 log states + 3 body velocities per step
 // (step 0 = the start state). Stops early (shorter result) when the fit becomes singular.
@@ -135,6 +164,9 @@ HorizonMse constant_velocity_mse(const FlightLog& test, double dt, double horizo
 struct NoiseCheck {
   BodyVec outside_fraction = BodyVec::Zero();
   int steps = 0;
+  // The same per step since the last reset (index 0: one model step after it), and how many steps counted.
+  std::vector<BodyVec> outside_by_horizon;
+  std::vector<int> steps_by_horizon;
   std::vector<double> time, truth, mean, sd;  // ydot_b over the first trace_seconds, for Fig 5.3
 };
 NoiseCheck noise_check(const IdentifiedModel& model, const FlightLog& test, double reset_s,

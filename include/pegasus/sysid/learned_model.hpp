@@ -8,6 +8,11 @@
 //   (known part + beta'x) * dt / dt_R + sqrt(var * dt / dt_R) * Phi^{-1}(p_k)
 // (§5.2.2: a 10 Hz model s' = s + f + eps becomes s' = s + f/5 + eps' with var(eps') = var(eps)/5), var the
 // predictive variance of Eq 5.4 at the refit point. p has one uniform per body variable (noise_dim 8).
+// A model identified with AR(1) noise (identify.hpp: NoiseCorrelation) splits each variable's noise into a
+// white part, (1 - share) var dt / dt_R per step, and an AR part carried in the state (`colored`) with the
+// correlation rho^(dt / dt_R) per step, scaled so that one model step's sum of it has the variance share *
+// var of the identification; p then has a second uniform per body variable (noise_dim 16), and the AR part
+// starts from its stationary distribution (initial_noise_dim 14).
 //
 // Crash (footnote 13): when X'WX is singular to numerical precision at a refit, or when the query leaves the
 // data's support: no training point within `support_bandwidths` bandwidths in the kernel's metric (largest
@@ -40,6 +45,7 @@ class LearnedHeliModel {
     SimState sim{};
     std::array<InputVec, kBodyVars> beta{};  // held coefficients of the last refit
     BodyVec variance = BodyVec::Zero();      // predictive variance at the last refit, per model step
+    BodyVec colored = BodyVec::Zero();       // the AR part of the noise of the last step (AR(1) models)
     int step = 0;
     bool crashed = false;
   };
@@ -49,8 +55,8 @@ class LearnedHeliModel {
   LearnedHeliModel(std::shared_ptr<const IdentifiedModel> model, LearnedModelOptions options = {});
 
   int state_dim() const { return kLogStates; }
-  int noise_dim() const { return kBodyVars; }
-  int initial_noise_dim() const { return 6; }
+  int noise_dim() const { return colored_ ? 2 * kBodyVars : kBodyVars; }
+  int initial_noise_dim() const { return colored_ ? 6 + kBodyVars : 6; }
   ActionSpace action_space() const;
   State initial_state(std::span<const double> p0) const;
   State step(const State& s, const Action& a, std::span<const double> p) const;
@@ -67,6 +73,10 @@ class LearnedHeliModel {
   std::shared_ptr<const IdentifiedModel> model_;
   LearnedModelOptions options_;
   double min_weight_;
+  bool colored_ = false;  // the identified model has AR(1) noise (and options_.noise is on)
+  // Per body variable: the AR part's correlation per step, its stationary variance per step as a fraction of
+  // the model step's variance, and the white part's variance per step as that fraction.
+  BodyVec rho_step_ = BodyVec::Zero(), colored_scale_ = BodyVec::Zero(), white_scale_ = BodyVec::Zero();
 };
 
 }  // namespace pegasus::sysid
