@@ -394,9 +394,23 @@ void declare_hover(ConfigSchema& s) {
   s.add_string("model", "", "identified model (model.json of pegasus heli identify)");
   s.add_int("scenarios", 30, "PEGASUS scenarios m (thesis 5.3: 30)").range(1, 100000);
   s.add_double("seconds", 35, "flight per scenario, s (thesis 5.3: 35)").greater_than(0).max(3600);
-  s.add_double("gamma", 0.9995, "discount per 50 Hz step (thesis 5.3: 0.9995)").greater_than(0).max(1);
-  s.add_int("refit_every", 5, "learned model: 50 Hz steps between local-regression refits (thesis 5.2.2: 5)")
-      .range(1, 1000);
+  const heli::HoverTrainingOptions defaults;
+  s.add_double(
+       "control_rate_hz", defaults.control_rate_hz,
+       "the controller's rate, Hz: the learned model steps at it and the policy is trained for it (thesis "
+       "5.1: 50; a flight computer that runs its controller at 10 Hz: 10)")
+      .greater_than(0)
+      .max(1000);
+  s.add_double(
+       "gamma", defaults.gamma,
+       "discount per 1/50 s (thesis 5.3: 0.9995 per 50 Hz step); per step it is gamma^(50 / control_rate_hz)")
+      .greater_than(0)
+      .max(1);
+  s.add_int(
+       "refit_every", defaults.refit_every,
+       "learned model: steps between local-regression refits; 0: at the model's own rate (thesis 5.2.2: 5 "
+       "steps at 50 Hz from a 10 Hz model)")
+      .range(0, 1000);
   s.add_double("start_pos_sigma", 1.0, "start position perturbation per axis, m").range(0, 100);
   s.add_double("start_vel_sigma", 0.3, "start velocity perturbation per axis, m/s").range(0, 100);
   s.add_double("max_start_crash_fraction", heli::HoverTrainingOptions{}.max_start_crash_fraction,
@@ -455,6 +469,7 @@ heli::HoverTrainingOptions hover_options(const RunContext& ctx) {
   o.seconds = c.get_double("seconds");
   o.gamma = c.get_double("gamma");
   o.refit_every = static_cast<int>(c.get_int("refit_every"));
+  o.control_rate_hz = c.get_double("control_rate_hz");
   o.start_pos_sigma = c.get_double("start_pos_sigma");
   o.start_vel_sigma = c.get_double("start_vel_sigma");
   const auto& t = c.get_double_list("target");
@@ -539,6 +554,8 @@ void run_hover(RunContext& ctx) {
                      {"scenarios", o.scenarios},
                      {"seconds", o.seconds},
                      {"seed", ctx.seed}};
+  // Only when not 50 Hz, so that policy files trained at the thesis's rate stay as they were.
+  if (o.control_rate_hz != 50) file.options["control_rate_hz"] = o.control_rate_hz;
   dir.write_json("policy.json", heli::policy_file_json(file));
   auto phase = [](const OptimizerSummary& s) -> nlohmann::json {
     if (s.method.empty()) return nullptr;
@@ -566,6 +583,10 @@ void run_hover(RunContext& ctx) {
                             {"policy", "policy.json"}};
   // Only for AR(1) models, so that the summaries of white-noise models stay as they were (digests).
   if (model->noise_correlation().any()) summary["model_noise"] = "ar1";
+  if (o.control_rate_hz != 50) {  // likewise
+    summary["control_rate_hz"] = o.control_rate_hz;
+    summary["refit_every"] = o.refit_steps(*model);
+  }
   dir.write_json("summary.json", summary);
   ctx.timings = {{"train_seconds", seconds},
                  {"gradient_seconds", r.gradient.method.empty() ? 0.0 : r.gradient.wall_seconds},
@@ -683,10 +704,17 @@ void run_fly(RunContext& ctx) {
     throw InputError("--policy: expected a policy file (policy.json of pegasus heli hover), or --pilot");
   std::unique_ptr<heli::HeliController> controller;
   heli::SetPoint target;
+  double control_rate_hz = 0;  // the policy's rate; 0: the aircraft's
   if (!policy_path.empty()) {
     const heli::PolicyFile file = heli::read_policy_file(policy_path);
     controller = heli::make_controller(file, policy_path);
     target = controller->target(0);
+    if (const auto it = file.options.find("control_rate_hz"); it != file.options.end()) {
+      if (!it->is_number() || !(it->get<double>() > 0))
+        throw InputError(fmt::format("{}: options.control_rate_hz: expected a number > 0, got {}",
+                                     policy_path, it->dump()));
+      control_rate_hz = it->get<double>();
+    }
   }
   AircraftParams p;
   p.gust_sigma = c.get_double("gust_sigma");
@@ -704,11 +732,21 @@ void run_fly(RunContext& ctx) {
   fo.seconds = c.get_double("seconds");
   fo.seed = ctx.seed;
   fo.trace_flights = static_cast<int>(c.get_int("trace_flights"));
+  heli::FlightOptions controller_options = fo;
+  if (control_rate_hz > 0) {
+    // A policy trained at a slower rate than the aircraft's 50 Hz is called at its own rate, its controls
+    // held.
+    const double ratio = 1 / (p.dt * control_rate_hz);
+    if (std::abs(ratio - std::round(ratio)) > 1e-9 * ratio || std::round(ratio) < 1)
+      throw InputError(fmt::format("{}: options.control_rate_hz: {} Hz does not divide the aircraft's {} Hz",
+                                   policy_path, control_rate_hz, 1 / p.dt));
+    controller_options.control_every = static_cast<int>(std::round(ratio));
+  }
   RunDirectory& dir = ctx.run_directory();
 
   const bool with_pilot = pilot_only || c.get_bool("compare_pilot");
   std::vector<heli::FlightRecord> flown, pilot;
-  if (!pilot_only) flown = heli::fly_controller(aircraft, *controller, fo, &ctx.pool());
+  if (!pilot_only) flown = heli::fly_controller(aircraft, *controller, controller_options, &ctx.pool());
   if (with_pilot) pilot = heli::fly_pilot_hover(aircraft, PilotOptions{}, target, fo, &ctx.pool());
   const std::vector<heli::FlightRecord>& main = pilot_only ? pilot : flown;
   const heli::FlightSummary s = heli::summarize_flights(main);

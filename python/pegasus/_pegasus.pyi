@@ -523,6 +523,7 @@ class HoverTrainingOptions:
     seconds: float
     gamma: float
     refit_every: int
+    control_rate_hz: float
     target: SetPoint
     start_pos_sigma: float
     start_vel_sigma: float
@@ -533,6 +534,8 @@ class HoverTrainingOptions:
     seed: int
     max_start_crash_fraction: float
     def horizon(self) -> int: ...
+    def gamma_per_step(self) -> float: ...
+    def refit_steps(self, model: Union[str, IdentifiedModel]) -> int: ...
     def is_valid(self) -> Tuple[bool, str]: ...
 
 class HoverProblem(Objective):

@@ -445,6 +445,7 @@ climbing, on the identified model (heli/hover_task.hpp).)doc");
       .def_readwrite("seconds", &heli::HoverTrainingOptions::seconds)
       .def_readwrite("gamma", &heli::HoverTrainingOptions::gamma)
       .def_readwrite("refit_every", &heli::HoverTrainingOptions::refit_every)
+      .def_readwrite("control_rate_hz", &heli::HoverTrainingOptions::control_rate_hz)
       .def_readwrite("target", &heli::HoverTrainingOptions::target)
       .def_readwrite("start_pos_sigma", &heli::HoverTrainingOptions::start_pos_sigma)
       .def_readwrite("start_vel_sigma", &heli::HoverTrainingOptions::start_vel_sigma)
@@ -454,15 +455,22 @@ climbing, on the identified model (heli/hover_task.hpp).)doc");
       .def_readwrite("then_hill_climb", &heli::HoverTrainingOptions::then_hill_climb)
       .def_readwrite("seed", &heli::HoverTrainingOptions::seed)
       .def_readwrite("max_start_crash_fraction", &heli::HoverTrainingOptions::max_start_crash_fraction)
-      .def("horizon", &heli::HoverTrainingOptions::horizon, "Steps of 0.02 s.")
+      .def("horizon", &heli::HoverTrainingOptions::horizon, "Steps of 1 / control_rate_hz.")
+      .def("gamma_per_step", &heli::HoverTrainingOptions::gamma_per_step, "gamma^(50 / control_rate_hz).")
+      .def(
+          "refit_steps",
+          [](const heli::HoverTrainingOptions& o, py::object model) {
+            return o.refit_steps(*identified(model));
+          },
+          py::arg("model"), "refit_every, or the identified model's rate in steps when 0.")
       .def("is_valid", [](const heli::HoverTrainingOptions& o) {
         std::string error;
         const bool ok = o.IsValid(&error);
         return py::make_tuple(ok, error);
       });
-  set_fields(options, {"scenarios", "seconds", "gamma", "refit_every", "target", "start_pos_sigma",
-                       "start_vel_sigma", "reward", "centre_at_trim", "optimizer", "then_hill_climb", "seed",
-                       "max_start_crash_fraction"});
+  set_fields(options, {"scenarios", "seconds", "gamma", "refit_every", "control_rate_hz", "target",
+                       "start_pos_sigma", "start_vel_sigma", "reward", "centre_at_trim", "optimizer",
+                       "then_hill_climb", "seed", "max_start_crash_fraction"});
 
   auto problem = py::class_<HoverProblemObject, Objective>(m, "HoverProblem", R"doc(
 PEGASUS U-hat (thesis §5.3) of the hover policy class (HoverPolicy(init), 34 weights) on a helicopter model, the

@@ -26,10 +26,11 @@ FlightRecord fly_one(const Aircraft& aircraft, const FlightOptions& o, int fligh
   FlightRecord r;
   const bool trace = flight < o.trace_flights;
   if (trace) r.trace.reserve(static_cast<std::size_t>(steps));
+  Controls a{};
   for (int t = 0; t < steps; ++t) {
     const double time = t * dt;
     const LoggedState truth = true_logged_state(s);
-    const Controls a = act(aircraft.observe(s), time);
+    if (t % o.control_every == 0) a = act(aircraft.observe(s), time);
     const SetPoint sp = target(time);
     // The set point's velocity by central differences (exactly 0 for a fixed set point).
     const SetPoint before = target(time - dt), after = target(time + dt);
@@ -81,6 +82,8 @@ bool FlightOptions::IsValid(std::string* error) const {
     return fail(fmt::format("seconds: expected a number in (0, 36000], got {}", seconds));
   if (trace_flights < 0)
     return fail(fmt::format("trace_flights: expected an integer >= 0, got {}", trace_flights));
+  if (control_every < 1)
+    return fail(fmt::format("control_every: expected an integer >= 1, got {}", control_every));
   return true;
 }
 

@@ -23,9 +23,11 @@ bool nonnegative_finite(double x) { return x >= 0 && std::isfinite(x); }
 
 using Task = HoverTask<sysid::LearnedHeliModel>;
 
-sysid::LearnedModelOptions learned_options(const HoverTrainingOptions& o) {
+sysid::LearnedModelOptions learned_options(const HoverTrainingOptions& o,
+                                           const sysid::IdentifiedModel& model) {
   sysid::LearnedModelOptions m;
-  m.refit_every = o.refit_every;
+  m.dt = 1 / o.control_rate_hz;
+  m.refit_every = o.refit_steps(model);
   m.start = {o.target.x, o.target.y, o.target.z, 0, 0, o.target.yaw, 0, 0, 0, 0, 0, 0};
   m.start_pos_sigma = o.start_pos_sigma;
   m.start_vel_sigma = o.start_vel_sigma;
@@ -130,7 +132,18 @@ OptimizerOptions HoverTrainingOptions::default_optimizer() {
 }
 
 int HoverTrainingOptions::horizon() const {
-  return std::max(1, static_cast<int>(std::lround(seconds / 0.02)));
+  // seconds / 0.02 at 50 Hz exactly as before (the same bits as seconds * 50 need not be).
+  const double steps = control_rate_hz == 50 ? seconds / 0.02 : seconds * control_rate_hz;
+  return std::max(1, static_cast<int>(std::lround(steps)));
+}
+
+double HoverTrainingOptions::gamma_per_step() const {
+  return control_rate_hz == 50 ? gamma : std::pow(gamma, 50 / control_rate_hz);
+}
+
+int HoverTrainingOptions::refit_steps(const sysid::IdentifiedModel& model) const {
+  if (refit_every > 0) return refit_every;
+  return std::max(1, static_cast<int>(std::lround(model.dt() * control_rate_hz)));
 }
 
 bool HoverTrainingOptions::IsValid(std::string* error) const {
@@ -140,8 +153,12 @@ bool HoverTrainingOptions::IsValid(std::string* error) const {
     return fail(error, fmt::format("seconds: expected a number in (0, 3600], got {}", seconds));
   if (!(gamma > 0 && gamma <= 1))
     return fail(error, fmt::format("gamma: expected a number in (0, 1], got {}", gamma));
-  if (refit_every < 1)
-    return fail(error, fmt::format("refit_every: expected an integer >= 1, got {}", refit_every));
+  if (refit_every < 0)
+    return fail(error, fmt::format("refit_every: expected an integer >= 0 (0: at the model's rate), got {}",
+                                   refit_every));
+  if (!(positive_finite(control_rate_hz) && control_rate_hz <= 1000))
+    return fail(error,
+                fmt::format("control_rate_hz: expected a number in (0, 1000], got {}", control_rate_hz));
   if (!(max_start_crash_fraction >= 0 && max_start_crash_fraction <= 1))
     return fail(error, fmt::format("max_start_crash_fraction: expected a number in [0, 1], got {}",
                                    max_start_crash_fraction));
@@ -169,13 +186,13 @@ PegasusEvaluator<Task, HoverPolicy> hover_evaluator(std::shared_ptr<const sysid:
   if (!o.IsValid(&error)) throw InputError("hover training: " + error);
   const HoverReward reward = hover_reward_for(*model, o);
   const HoverPolicy policy = hover_policy_for(*model);
-  Task task(sysid::LearnedHeliModel(model, learned_options(o)), o.target, reward);
+  Task task(sysid::LearnedHeliModel(model, learned_options(o, *model)), o.target, reward);
   ScenarioSet scenarios({.seed = o.seed,
                          .count = o.scenarios,
                          .horizon = o.horizon(),
                          .noise_dim = task.noise_dim(),
                          .initial_noise_dim = task.initial_noise_dim()});
-  const Discounting d{.gamma = o.gamma, .horizon = o.horizon()};
+  const Discounting d{.gamma = o.gamma_per_step(), .horizon = o.horizon()};
   return PegasusEvaluator<Task, HoverPolicy>(std::move(task), policy, std::move(scenarios), d);
 }
 
@@ -217,7 +234,7 @@ StartingPolicyCheck check_starting_policy(const PegasusEvaluator<Task, HoverPoli
 
 StartingPolicyCheck check_starting_policy(std::shared_ptr<const sysid::IdentifiedModel> model,
                                           const HoverTrainingOptions& o, ThreadPool& pool) {
-  return check_starting_policy(hover_evaluator(std::move(model), o), learned_options(o).dt, pool);
+  return check_starting_policy(hover_evaluator(model, o), 1 / o.control_rate_hz, pool);
 }
 
 HoverTrainingResult train_hover(std::shared_ptr<const sysid::IdentifiedModel> model,
@@ -227,7 +244,7 @@ HoverTrainingResult train_hover(std::shared_ptr<const sysid::IdentifiedModel> mo
   if (!o.IsValid(&error)) throw InputError("hover training: " + error);
   // One evaluator: the check flies the starting weights on the scenarios training then uses.
   PegasusEvaluator<Task, HoverPolicy> evaluator = hover_evaluator(model, o);
-  const StartingPolicyCheck start = check_starting_policy(evaluator, learned_options(o).dt, pool);
+  const StartingPolicyCheck start = check_starting_policy(evaluator, 1 / o.control_rate_hz, pool);
   if (start.crashed > o.max_start_crash_fraction * start.scenarios)
     throw InputError(fmt::format(
         "hover training: the starting policy crashes the learned model in {} of {} scenarios (after {:.2f} s "

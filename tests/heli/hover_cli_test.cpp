@@ -195,6 +195,53 @@ TEST_F(HoverCli, FlyWritesTheDocumentedSummaryAndTraces) {
   EXPECT_EQ(ps.at("flights"), 2);
 }
 
+// A controller for a flight computer that runs it at 10 Hz: trained on the learned model stepping at 10 Hz
+// (refit every step from the 10 Hz model), its policy file says so, and `heli fly` calls it every fifth 50 Hz
+// step of the aircraft, holding its controls in between; a rate that does not divide 50 Hz is refused.
+TEST_F(HoverCli, AControllerTrainedAt10HzIsFlownAt10Hz) {
+  const auto r =
+      run_pegasus("heli hover --model " + model() + tiny() + " --control-rate-hz 10" + out("hover10"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto s = json_file(dir_ / "hover10" / "summary.json");
+  EXPECT_EQ(s.at("control_rate_hz"), 10.0);
+  EXPECT_EQ(s.at("refit_every"), 1);
+  const std::string policy = (dir_ / "hover10" / "policy.json").string();
+  EXPECT_EQ(json_file(policy).at("options").at("control_rate_hz"), 10.0);
+  // The 50 Hz default writes neither key (files as before).
+  const std::string policy50 = train();
+  EXPECT_FALSE(json_file(policy50).contains("options"));
+  EXPECT_FALSE(json_file(dir_ / "hover" / "summary.json").contains("control_rate_hz"));
+  // The same steps at 10 Hz: a 3 s scenario is 30 steps, so the training differs from the 50 Hz one.
+  EXPECT_NE(s.at("initial_uhat"), json_file(dir_ / "hover" / "summary.json").at("initial_uhat"));
+
+  const auto f =
+      run_pegasus("heli fly --quiet --policy " + policy + " --flights 1 --seconds 2" + out("fly10"));
+  ASSERT_EQ(f.code, 0) << f.output;
+  const auto rows = pegasus::parse_csv(read_text(dir_ / "fly10" / "flights.csv"));
+  ASSERT_EQ(rows.size(), 1u + 100u);
+  int changes = 0;
+  for (std::size_t t = 2; t < rows.size(); ++t) {
+    const bool same = rows[t][14] == rows[t - 1][14] && rows[t][16] == rows[t - 1][16];
+    const bool call = (t - 1) % 5 == 0;  // steps 0, 5, 10, ... call the controller
+    if (!call) {
+      EXPECT_TRUE(same) << "step " << t - 1;
+    }
+    changes += same ? 0 : 1;
+  }
+  EXPECT_GT(changes, 15);  // it does act at its calls (19 of them after the first)
+
+  auto j = json_file(policy);
+  j["options"]["control_rate_hz"] = 15.0;
+  std::ofstream(dir_ / "bad.json") << j.dump();
+  const auto bad =
+      run_pegasus("heli fly --quiet --policy " + (dir_ / "bad.json").string() + " --flights 1" + out("bad"));
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.output.find("bad.json: options.control_rate_hz: 15 Hz does not divide the aircraft's 50 Hz"),
+            std::string::npos)
+      << bad.output;
+  EXPECT_FALSE(fs::exists(dir_ / "bad"));
+}
+
 TEST_F(HoverCli, BadPolicyFileExitsTwoNamingFileAndField) {
   const std::string policy = train();
   auto j = json_file(policy);

@@ -129,7 +129,8 @@ def test_hover_problem_on_the_learned_model_is_the_cli_objective(model_json):
     options.scenarios, options.seconds = 4, 2.0
     exact = pegasus.HoverProblem.from_training_options(str(model_json), options, threads=2)
     learned = pegasus.LearnedModelOptions()
-    learned.refit_every = options.refit_every
+    learned.refit_every = options.refit_steps(identified)
+    assert learned.refit_every == 5  # 50 Hz steps from a 10 Hz model (§5.2.2)
     learned.start = [0, 0, -10, 0, 0, 0, 0, 0, 0, 0, 0, 0]
     learned.start_pos_sigma, learned.start_vel_sigma = options.start_pos_sigma, options.start_vel_sigma
     ours = pegasus.HoverProblem(pegasus.LearnedHeliModel(identified, learned), target=options.target,
@@ -139,6 +140,27 @@ def test_hover_problem_on_the_learned_model_is_the_cli_objective(model_json):
     theta = ours.parameters.initial
     assert exact.uhat(theta) == ours.uhat(theta)
     assert np.array_equal(exact.returns(theta), ours.returns(theta))
+
+
+def test_hover_at_another_control_rate_steps_the_learned_model_at_it(model_json):
+    identified = pegasus.IdentifiedModel.load(str(model_json))
+    options = pegasus.HoverTrainingOptions()
+    options.scenarios, options.seconds, options.control_rate_hz = 4, 2.0, 10.0
+    # 10 Hz steps from a 10 Hz model refit every step, 2 s are 20 steps, and the discount per step keeps the
+    # thesis's 0.9995 per 1/50 s.
+    assert options.refit_steps(identified) == 1 and options.horizon() == 20
+    assert options.gamma_per_step() == pytest.approx(0.9995 ** 5, rel=1e-15)
+    exact = pegasus.HoverProblem.from_training_options(str(model_json), options, threads=2)
+    learned = pegasus.LearnedModelOptions()
+    learned.dt, learned.refit_every = 0.1, 1
+    learned.start = [0, 0, -10, 0, 0, 0, 0, 0, 0, 0, 0, 0]
+    learned.start_pos_sigma, learned.start_vel_sigma = options.start_pos_sigma, options.start_vel_sigma
+    ours = pegasus.HoverProblem(pegasus.LearnedHeliModel(identified, learned), target=options.target,
+                                reward=pegasus.hover_reward_for(identified, options),
+                                init=pegasus.hover_init_from_model(identified), seed=options.seed,
+                                scenarios=4, horizon=20, gamma=options.gamma_per_step(), threads=1)
+    theta = ours.parameters.initial
+    assert exact.uhat(theta) == ours.uhat(theta)
 
 
 def test_train_hover_gives_the_cli_policy_and_resumes_bit_identically(model_json, cli, tmp_path):

@@ -29,6 +29,9 @@ struct FlightOptions {
   double seconds = 60;
   std::uint64_t seed = 1;
   int trace_flights = 10;  // flights whose every step is kept (FlightRecord::trace)
+  // Aircraft steps per controller call: the controls are held in between (a zero-order hold), as on a flight
+  // computer that runs its controller slower than the aircraft's 50 Hz (a policy trained at 10 Hz: 5).
+  int control_every = 1;
   bool IsValid(std::string* error) const;
 };
 

@@ -104,10 +104,16 @@ class HoverTask {
 HoverPolicyInit hover_init_from_model(const sysid::IdentifiedModel& model);
 
 struct HoverTrainingOptions {
-  int scenarios = 30;             // PEGASUS scenarios m (§5.3: 30)
-  double seconds = 35;            // flight per scenario, s (§5.3: 35)
-  double gamma = 0.9995;          // discount per 50 Hz step (§5.3)
-  int refit_every = 5;            // learned model: steps between local-regression refits (§5.2.2)
+  int scenarios = 30;     // PEGASUS scenarios m (§5.3: 30)
+  double seconds = 35;    // flight per scenario, s (§5.3: 35)
+  double gamma = 0.9995;  // discount per 1/50 s (§5.3's per-step gamma at 50 Hz)
+  // The controller's rate: the learned model steps at it and the policy is trained for it (§5.1: 50 Hz; an
+  // aircraft whose flight computer runs its controller at 10 Hz trains at 10 Hz). The discount per step is
+  // gamma^(50 / control_rate_hz), so the horizon in seconds stays the same.
+  double control_rate_hz = 50;
+  // Learned model: steps between local-regression refits (§5.2.2: 5 at 50 Hz from a 10 Hz model); 0 refits at
+  // the model's own rate (control rate / identification rate steps, at least 1).
+  int refit_every = 0;
   SetPoint target{0, 0, -10, 0};  // where to hover (the model's start is the target plus the perturbation)
   double start_pos_sigma = 1.0;   // start position perturbation per axis, m
   double start_vel_sigma = 0.3;   // start velocity perturbation per axis, m/s
@@ -125,7 +131,9 @@ struct HoverTrainingOptions {
   double max_start_crash_fraction = 0.1;
 
   static OptimizerOptions default_optimizer();
-  int horizon() const;  // steps of 0.02 s
+  int horizon() const;                                         // steps of 1 / control_rate_hz
+  double gamma_per_step() const;                               // gamma^(50 / control_rate_hz)
+  int refit_steps(const sysid::IdentifiedModel& model) const;  // refit_every, or the model's rate when 0
   bool IsValid(std::string* error) const;
 };
 
