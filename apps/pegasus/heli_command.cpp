@@ -401,6 +401,12 @@ void declare_hover(ConfigSchema& s) {
        "5.1: 50; a flight computer that runs its controller at 10 Hz: 10)")
       .greater_than(0)
       .max(1000);
+  s.add_string(
+       "starting_gains", "constant",
+       "the policy's starting gains: the X-Cell's constants, or LQR on the identified model at the hover "
+       "with the reward's weights (for an aircraft with other control signs or strengths; kept only "
+       "when the hover class's share of them holds the linear model)")
+      .choices({"constant", "lqr"});
   s.add_double(
        "gamma", defaults.gamma,
        "discount per 1/50 s (thesis 5.3: 0.9995 per 50 Hz step); per step it is gamma^(50 / control_rate_hz)")
@@ -470,6 +476,7 @@ heli::HoverTrainingOptions hover_options(const RunContext& ctx) {
   o.gamma = c.get_double("gamma");
   o.refit_every = static_cast<int>(c.get_int("refit_every"));
   o.control_rate_hz = c.get_double("control_rate_hz");
+  o.lqr_start = c.get_string("starting_gains") == "lqr";
   o.start_pos_sigma = c.get_double("start_pos_sigma");
   o.start_vel_sigma = c.get_double("start_vel_sigma");
   const auto& t = c.get_double_list("target");
@@ -545,7 +552,7 @@ void run_hover(RunContext& ctx) {
   dir.write_csv("progress.csv", progress);
   dir.write_text("progress.svg",
                  curve_svg(r.progress, r.gradient.method == "gradient" ? r.gradient.iterations : 0));
-  const heli::HoverPolicy policy = heli::hover_policy_for(*model);
+  const heli::HoverPolicy policy = heli::hover_policy_for(*model, o);
   heli::PolicyFile file =
       heli::hover_policy_file(policy, r.theta, o.target, heli::hover_init_from_model(*model).trim);
   file.provenance = {{"command", "pegasus heli hover"},
@@ -583,6 +590,21 @@ void run_hover(RunContext& ctx) {
                             {"policy", "policy.json"}};
   // Only for AR(1) models, so that the summaries of white-noise models stay as they were (digests).
   if (model->noise_correlation().any()) summary["model_noise"] = "ar1";
+  if (o.lqr_start) {  // only when asked: summaries with the constants stay as they were
+    const heli::LqrStart lqr = heli::lqr_hover_init(*model, o);
+    const heli::HoverPolicyInit& g = lqr.init;
+    summary["starting_gains"] = {{"method", lqr.used ? "lqr" : "constant"},
+                                 {"reason", lqr.reason},
+                                 {"spectral_radius", lqr.spectral_radius},
+                                 {"open_loop_radius", lqr.open_loop_radius},
+                                 {"gains",
+                                  {{"a1", {{"err", g.k_pos}, {"vel", g.k_vel}, {"att", g.k_att}}},
+                                   {"a2", {{"err", g.k_pos_lat}, {"vel", g.k_vel_lat}, {"att", g.k_roll}}},
+                                   {"a3", {{"err", g.k_alt}, {"vel", g.k_climb}}},
+                                   {"a4", {{"err", g.k_yaw}, {"vel", g.k_yaw_rate}}}}}};
+    if (!lqr.used)
+      ctx.out << "warning: LQR starting gains not used: " << lqr.reason << "; the constants were\n";
+  }
   if (o.control_rate_hz != 50) {  // likewise
     summary["control_rate_hz"] = o.control_rate_hz;
     summary["refit_every"] = o.refit_steps(*model);

@@ -417,6 +417,9 @@ class HoverPolicyInit:
     k_pos: float
     k_vel: float
     k_att: float
+    k_pos_lat: float
+    k_vel_lat: float
+    k_roll: float
     k_alt: float
     k_climb: float
     k_yaw: float
@@ -524,6 +527,7 @@ class HoverTrainingOptions:
     gamma: float
     refit_every: int
     control_rate_hz: float
+    lqr_start: bool
     target: SetPoint
     start_pos_sigma: float
     start_vel_sigma: float
@@ -548,6 +552,7 @@ class HoverProblem(Objective):
     def returns(self, theta: ArrayLike) -> Array: ...
 
 def hover_init_from_model(model: Union[IdentifiedModel, str]) -> HoverPolicyInit: ...
+def lqr_hover_init(model: Union[str, IdentifiedModel], options: HoverTrainingOptions = ...) -> dict: ...
 def hover_reward_for(model: Union[IdentifiedModel, str], options: HoverTrainingOptions = ...) -> HoverReward: ...
 
 class StartingPolicyCheck:

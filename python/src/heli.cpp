@@ -446,6 +446,7 @@ climbing, on the identified model (heli/hover_task.hpp).)doc");
       .def_readwrite("gamma", &heli::HoverTrainingOptions::gamma)
       .def_readwrite("refit_every", &heli::HoverTrainingOptions::refit_every)
       .def_readwrite("control_rate_hz", &heli::HoverTrainingOptions::control_rate_hz)
+      .def_readwrite("lqr_start", &heli::HoverTrainingOptions::lqr_start)
       .def_readwrite("target", &heli::HoverTrainingOptions::target)
       .def_readwrite("start_pos_sigma", &heli::HoverTrainingOptions::start_pos_sigma)
       .def_readwrite("start_vel_sigma", &heli::HoverTrainingOptions::start_vel_sigma)
@@ -468,9 +469,9 @@ climbing, on the identified model (heli/hover_task.hpp).)doc");
         const bool ok = o.IsValid(&error);
         return py::make_tuple(ok, error);
       });
-  set_fields(options, {"scenarios", "seconds", "gamma", "refit_every", "control_rate_hz", "target",
-                       "start_pos_sigma", "start_vel_sigma", "reward", "centre_at_trim", "optimizer",
-                       "then_hill_climb", "seed", "max_start_crash_fraction"});
+  set_fields(options, {"scenarios", "seconds", "gamma", "refit_every", "control_rate_hz", "lqr_start",
+                       "target", "start_pos_sigma", "start_vel_sigma", "reward", "centre_at_trim",
+                       "optimizer", "then_hill_climb", "seed", "max_start_crash_fraction"});
 
   auto problem = py::class_<HoverProblemObject, Objective>(m, "HoverProblem", R"doc(
 PEGASUS U-hat (thesis §5.3) of the hover policy class (HoverPolicy(init), 34 weights) on a helicopter model, the
@@ -519,6 +520,23 @@ HoverProblem.from_training_options(model, options) is the objective `pegasus hel
       "hover_init_from_model",
       [](py::object model) { return heli::hover_init_from_model(*identified(model)); }, py::arg("model"),
       "The hover policy's starting weights around the trim estimate of the model's logs.");
+  m.def(
+      "lqr_hover_init",
+      [](py::object model, const heli::HoverTrainingOptions& o) {
+        const heli::LqrStart r = heli::lqr_hover_init(*identified(model), o);
+        py::dict out;
+        out["init"] = r.init;
+        out["used"] = r.used;
+        out["reason"] = r.reason;
+        out["spectral_radius"] = r.spectral_radius;
+        out["open_loop_radius"] = r.open_loop_radius;
+        return out;
+      },
+      py::arg("model"), py::arg("options") = heli::HoverTrainingOptions{},
+      "Starting gains by LQR on the identified model at the hover (`heli hover --starting-gains lqr`): a "
+      "dict of "
+      "init (HoverPolicyInit; the constants when not used), used, reason, spectral_radius, "
+      "open_loop_radius.");
   m.def(
       "hover_reward_for",
       [](py::object model, const heli::HoverTrainingOptions& o) {
@@ -690,12 +708,15 @@ The hover policy class's starting weights: a linear controller around a trim (he
       .def_readwrite("k_pos", &heli::HoverPolicyInit::k_pos)
       .def_readwrite("k_vel", &heli::HoverPolicyInit::k_vel)
       .def_readwrite("k_att", &heli::HoverPolicyInit::k_att)
+      .def_readwrite("k_pos_lat", &heli::HoverPolicyInit::k_pos_lat)
+      .def_readwrite("k_vel_lat", &heli::HoverPolicyInit::k_vel_lat)
+      .def_readwrite("k_roll", &heli::HoverPolicyInit::k_roll)
       .def_readwrite("k_alt", &heli::HoverPolicyInit::k_alt)
       .def_readwrite("k_climb", &heli::HoverPolicyInit::k_climb)
       .def_readwrite("k_yaw", &heli::HoverPolicyInit::k_yaw)
       .def_readwrite("k_yaw_rate", &heli::HoverPolicyInit::k_yaw_rate);
-  set_fields(init, {"trim", "trim_roll", "trim_pitch", "k_pos", "k_vel", "k_att", "k_alt", "k_climb", "k_yaw",
-                    "k_yaw_rate"});
+  set_fields(init, {"trim", "trim_roll", "trim_pitch", "k_pos", "k_vel", "k_att", "k_pos_lat", "k_vel_lat",
+                    "k_roll", "k_alt", "k_climb", "k_yaw", "k_yaw_rate"});
 
   py::class_<HoverPolicy>(m, "HoverPolicy", R"doc(
 The hover policy class of thesis §5.3 (Fig 5.4, Eqs 5.7-5.8): 34 weights, one tanh network per control channel

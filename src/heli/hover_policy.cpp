@@ -52,7 +52,7 @@ HoverPolicy::HoverPolicy(const HoverPolicyInit& init) {
   };
   const std::array<Channel, 4> ch = {
       Channel{init.k_pos, init.k_vel, init.k_att, init.trim_pitch, 0.02, 0.05},
-      Channel{init.k_pos, init.k_vel, -init.k_att, init.trim_roll, 0.02, 0.05},
+      Channel{init.k_pos_lat, init.k_vel_lat, init.k_roll, init.trim_roll, 0.02, 0.05},
       Channel{init.k_alt, init.k_climb, 0, 0, 0.02, 0.05},
       Channel{init.k_yaw, init.k_yaw_rate, 0, 0, 0.1, 0.05},
   };

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <cmath>
 
 #include "pegasus/core/error.hpp"
@@ -107,6 +109,127 @@ HoverPolicy hover_policy_for(const sysid::IdentifiedModel& model) {
   return HoverPolicy(hover_init_from_model(model));
 }
 
+HoverPolicy hover_policy_for(const sysid::IdentifiedModel& model, const HoverTrainingOptions& options) {
+  return options.lqr_start ? HoverPolicy(lqr_hover_init(model, options).init) : hover_policy_for(model);
+}
+
+LqrStart lqr_hover_init(const sysid::IdentifiedModel& model, const HoverTrainingOptions& o) {
+  using Matrix = Eigen::MatrixXd;
+  LqrStart out;
+  out.init = hover_init_from_model(model);
+  const HoverPolicyInit& init = out.init;
+  const sysid::ModelStructure& m = model.structure();
+  // The state: the 12 logged states and the 3 extra states; x0 the hover at the set point, heading north (the
+  // class's errors are in the body frame, and a hover's dynamics do not depend on the heading).
+  constexpr int n = kLoggedStates + 3, nu = 4;
+  sysid::SimState s0;
+  s0.world = {o.target.x, o.target.y, o.target.z, init.trim_roll, init.trim_pitch, 0, 0, 0, 0, 0, 0, 0};
+  s0.flap_lon = m.extra.flap_per_a1 * init.trim[0];
+  s0.flap_lat = m.extra.flap_per_a2 * init.trim[1];
+  const sysid::LocalFit fit = model.regression().fit(sysid::sim_input(s0, init.trim));
+  if (fit.singular) {
+    out.reason = "the local fit at the hover is singular";
+    return out;
+  }
+  auto pack = [](const sysid::SimState& s) {
+    Eigen::VectorXd v(kLoggedStates + 3);
+    for (int i = 0; i < kLoggedStates; ++i) v[i] = s.world[static_cast<std::size_t>(i)];
+    v[12] = s.flap_lon, v[13] = s.flap_lat, v[14] = s.gyro;
+    return v;
+  };
+  auto step = [&](const sysid::SimState& s, const Controls& a) {
+    const sysid::InputVec x = sysid::sim_input(s, a);
+    return pack(sysid::sim_advance(m, s, a, model.mean_change(fit, x), model.dt()));
+  };
+  Matrix a_mat(n, n), b_mat(n, nu);
+  for (int j = 0; j < n; ++j) {
+    sysid::SimState plus = s0, minus = s0;
+    const double h = 1e-5;
+    auto bump = [&](sysid::SimState& s, double d) {
+      if (j < kLoggedStates)
+        s.world[static_cast<std::size_t>(j)] += d;
+      else if (j == 12)
+        s.flap_lon += d;
+      else if (j == 13)
+        s.flap_lat += d;
+      else
+        s.gyro += d;
+    };
+    bump(plus, h);
+    bump(minus, -h);
+    Eigen::VectorXd d = step(plus, init.trim) - step(minus, init.trim);
+    d[5] = wrap_angle(d[5]);
+    a_mat.col(j) = d / (2 * h);
+  }
+  for (int c = 0; c < nu; ++c) {
+    Controls plus = init.trim, minus = init.trim;
+    plus[static_cast<std::size_t>(c)] += 1e-5;
+    minus[static_cast<std::size_t>(c)] -= 1e-5;
+    Eigen::VectorXd d = step(s0, plus) - step(s0, minus);
+    d[5] = wrap_angle(d[5]);
+    b_mat.col(c) = d / 2e-5;
+  }
+  if (!a_mat.allFinite() || !b_mat.allFinite()) {
+    out.reason = "the linearised model is not finite";
+    return out;
+  }
+  // The reward's weights (Eqs 5.9-5.10 and the attitude and rate terms), a small weight where a term is off
+  // so that the Riccati iteration has a positive definite R.
+  const HoverReward r = hover_reward_for(model, o);
+  Matrix q = Matrix::Zero(n, n), rr = Matrix::Zero(nu, nu);
+  for (int i = 0; i < 3; ++i) {
+    q(i, i) = r.alpha_pos[static_cast<std::size_t>(i)];
+    q(6 + i, 6 + i) = r.alpha_vel[static_cast<std::size_t>(i)];
+    q(9 + i, 9 + i) = r.alpha_rate[static_cast<std::size_t>(i)];
+  }
+  q(3, 3) = r.alpha_attitude[0];
+  q(4, 4) = r.alpha_attitude[1];
+  q(5, 5) = r.alpha_yaw;
+  for (int c = 0; c < nu; ++c)
+    rr(c, c) =
+        r.alpha_action[static_cast<std::size_t>(c)] > 0 ? r.alpha_action[static_cast<std::size_t>(c)] : 1.0;
+  const double gamma = std::pow(o.gamma, 50 * model.dt());  // per model step
+  // Discounted Riccati recursion to its fixed point: P = Q + g A'PA - g^2 A'PB (R + g B'PB)^-1 B'PA.
+  Matrix p = q, k(nu, n);
+  bool converged = false;
+  for (int it = 0; it < 20000 && !converged; ++it) {
+    const Matrix bp = b_mat.transpose() * p;
+    k = (rr + gamma * bp * b_mat).ldlt().solve(gamma * bp * a_mat);
+    const Matrix next = q + gamma * a_mat.transpose() * p * (a_mat - b_mat * k);
+    const Matrix sym = 0.5 * (next + next.transpose());
+    if (!sym.allFinite()) break;
+    converged = (sym - p).norm() <= 1e-10 * std::max(1.0, sym.norm());
+    p = sym;
+  }
+  auto radius = [](const Matrix& mat) { return mat.eigenvalues().cwiseAbs().maxCoeff(); };
+  out.open_loop_radius = radius(a_mat);
+  if (!converged) {
+    out.reason = "the Riccati iteration did not converge";
+    return out;
+  }
+  // The hover class's wiring: u = -K x restricted to each channel's inputs.
+  HoverPolicyInit g = init;
+  g.k_pos = -k(0, 0), g.k_vel = -k(0, 6), g.k_att = -k(0, 4);
+  g.k_pos_lat = -k(1, 1), g.k_vel_lat = -k(1, 7), g.k_roll = -k(1, 3);
+  g.k_alt = -k(2, 2), g.k_climb = -k(2, 8);
+  g.k_yaw = -k(3, 5), g.k_yaw_rate = -k(3, 11);
+  Matrix wired = Matrix::Zero(nu, n);
+  wired(0, 0) = g.k_pos, wired(0, 6) = g.k_vel, wired(0, 4) = g.k_att;
+  wired(1, 1) = g.k_pos_lat, wired(1, 7) = g.k_vel_lat, wired(1, 3) = g.k_roll;
+  wired(2, 2) = g.k_alt, wired(2, 8) = g.k_climb;
+  wired(3, 5) = g.k_yaw, wired(3, 11) = g.k_yaw_rate;
+  out.spectral_radius = radius(a_mat + b_mat * wired);
+  if (!(out.spectral_radius < 1)) {
+    out.reason = fmt::format(
+        "the hover class's share of the LQR gains does not hold the linear model (spectral radius {:.4g})",
+        out.spectral_radius);
+    return out;
+  }
+  out.init = g;
+  out.used = true;
+  return out;
+}
+
 HoverReward hover_reward_for(const sysid::IdentifiedModel& model, const HoverTrainingOptions& o) {
   HoverReward r = o.reward;
   if (o.centre_at_trim) r.centre = hover_init_from_model(model).trim;
@@ -185,7 +308,7 @@ PegasusEvaluator<Task, HoverPolicy> hover_evaluator(std::shared_ptr<const sysid:
   std::string error;
   if (!o.IsValid(&error)) throw InputError("hover training: " + error);
   const HoverReward reward = hover_reward_for(*model, o);
-  const HoverPolicy policy = hover_policy_for(*model);
+  const HoverPolicy policy = hover_policy_for(*model, o);
   Task task(sysid::LearnedHeliModel(model, learned_options(o, *model)), o.target, reward);
   ScenarioSet scenarios({.seed = o.seed,
                          .count = o.scenarios,
@@ -249,8 +372,9 @@ HoverTrainingResult train_hover(std::shared_ptr<const sysid::IdentifiedModel> mo
     throw InputError(fmt::format(
         "hover training: the starting policy crashes the learned model in {} of {} scenarios (after {:.2f} s "
         "on average), more than max_start_crash_fraction = {}: the model does not hold the aircraft from "
-        "these starts (try heli identify --local=false, smaller start_pos_sigma and start_vel_sigma, or "
-        "max_start_crash_fraction = 1 to train anyway)",
+        "these starts (try starting_gains = \"lqr\", heli identify --local=false, smaller start_pos_sigma "
+        "and "
+        "start_vel_sigma, or max_start_crash_fraction = 1 to train anyway)",
         start.crashed, start.scenarios, start.mean_seconds_to_crash, o.max_start_crash_fraction));
   auto objective = std::make_unique<PegasusObjective<Task, HoverPolicy>>(
       std::move(evaluator), std::shared_ptr<ThreadPool>(std::shared_ptr<ThreadPool>(), &pool));

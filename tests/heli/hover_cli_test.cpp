@@ -242,6 +242,26 @@ TEST_F(HoverCli, AControllerTrainedAt10HzIsFlownAt10Hz) {
   EXPECT_FALSE(fs::exists(dir_ / "bad"));
 }
 
+// --starting-gains lqr starts training from LQR gains on the identified model and says which it used.
+TEST_F(HoverCli, LqrStartingGainsAreReportedAndStartTraining) {
+  const auto r = run_pegasus("heli hover --model " + model() + tiny() + " --starting-gains lqr" + out("lqr"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto s = json_file(dir_ / "lqr" / "summary.json");
+  const auto& g = s.at("starting_gains");
+  EXPECT_EQ(g.at("method"), "lqr");
+  EXPECT_EQ(g.at("reason"), "");
+  EXPECT_LT(g.at("spectral_radius").get<double>(), 1.0);
+  // The policy file's starting point is not the constants': the first U-hat differs from the default run's.
+  train();
+  const auto d = json_file(dir_ / "hover" / "summary.json");
+  EXPECT_FALSE(d.contains("starting_gains"));
+  EXPECT_NE(s.at("initial_uhat"), d.at("initial_uhat"));
+  const auto bad =
+      run_pegasus("heli hover --model " + model() + tiny() + " --starting-gains pid" + out("bad"));
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_FALSE(fs::exists(dir_ / "bad"));
+}
+
 TEST_F(HoverCli, BadPolicyFileExitsTwoNamingFileAndField) {
   const std::string policy = train();
   auto j = json_file(policy);

@@ -118,6 +118,65 @@ TEST(HoverTask, TrimEstimateComesFromTheLogs) {
   EXPECT_NEAR(init.trim_roll, truth.hover_trim().roll, 0.03);
 }
 
+// A model of an aircraft whose longitudinal cyclic and tail act with the opposite signs: the X-Cell's logs
+// with a1 and a4 negated, identified as the small model is.
+std::shared_ptr<const sysid::IdentifiedModel> flipped_model() {
+  static const auto model = [] {
+    const Aircraft heli;
+    PilotOptions o;
+    o.hover_seconds = 4;
+    auto log = fly_pilot(heli, o, 60, 3).log;
+    for (auto& a : log.controls) a[0] = -a[0], a[3] = -a[3];
+    sysid::IdentifyOptions io;
+    io.cv_points = 40;
+    io.scale_grid = {2, 4};
+    io.coordinate_passes = 0;
+    ThreadPool pool(2);
+    return std::make_shared<const sysid::IdentifiedModel>(sysid::identify(log, io, pool));
+  }();
+  return model;
+}
+
+// LQR on the identified model at the hover gives starting gains with the signs a stabilising controller needs
+// (the constants' on the X-Cell, the opposite ones for the channels whose sign an aircraft reverses), and the
+// hover class's share of them holds both the linear model and the learned model, where the X-Cell's constants
+// crash the reversed aircraft at once.
+TEST(LqrStart, GainsFollowTheIdentifiedControlSignsAndHoldTheLearnedModel) {
+  HoverTrainingOptions o = tiny_options();
+  o.scenarios = 6;
+  o.seconds = 10;
+  const LqrStart x_cell = lqr_hover_init(*small_model(), o);
+  ASSERT_TRUE(x_cell.used) << x_cell.reason;
+  EXPECT_LT(x_cell.spectral_radius, 1.0);
+  const HoverPolicyInit c;  // the constants
+  const HoverPolicyInit& g = x_cell.init;
+  const std::array<std::pair<double, double>, 10> pairs = {{{g.k_pos, c.k_pos},
+                                                            {g.k_vel, c.k_vel},
+                                                            {g.k_att, c.k_att},
+                                                            {g.k_pos_lat, c.k_pos_lat},
+                                                            {g.k_vel_lat, c.k_vel_lat},
+                                                            {g.k_roll, c.k_roll},
+                                                            {g.k_alt, c.k_alt},
+                                                            {g.k_climb, c.k_climb},
+                                                            {g.k_yaw, c.k_yaw},
+                                                            {g.k_yaw_rate, c.k_yaw_rate}}};
+  for (std::size_t i = 0; i < pairs.size(); ++i) EXPECT_GT(pairs[i].first * pairs[i].second, 0.0) << i;
+  const LqrStart reversed = lqr_hover_init(*flipped_model(), o);
+  ASSERT_TRUE(reversed.used) << reversed.reason;
+  const HoverPolicyInit& r = reversed.init;
+  EXPECT_LT(r.k_pos * g.k_pos, 0.0);  // a1 reversed: its gains flip
+  EXPECT_LT(r.k_att * g.k_att, 0.0);
+  EXPECT_LT(r.k_yaw * g.k_yaw, 0.0);    // a4 reversed
+  EXPECT_GT(r.k_roll * g.k_roll, 0.0);  // a2 and a3 as they were
+  EXPECT_GT(r.k_alt * g.k_alt, 0.0);
+  ThreadPool pool(2);
+  const StartingPolicyCheck constants = check_starting_policy(flipped_model(), o, pool);
+  EXPECT_GT(constants.crashed, o.scenarios / 2);
+  o.lqr_start = true;
+  EXPECT_EQ(check_starting_policy(flipped_model(), o, pool).crashed, 0);
+  EXPECT_EQ(check_starting_policy(small_model(), o, pool).crashed, 0);
+}
+
 TEST(HoverTraining, ImprovesUhatAndIsTheSameForAnyThreadCount) {
   const auto model = small_model();
   const HoverTrainingOptions o = tiny_options();

@@ -163,6 +163,25 @@ def test_hover_at_another_control_rate_steps_the_learned_model_at_it(model_json)
     assert exact.uhat(theta) == ours.uhat(theta)
 
 
+def test_lqr_starting_gains_are_the_ones_training_starts_from(model_json):
+    identified = pegasus.IdentifiedModel.load(str(model_json))
+    options = pegasus.HoverTrainingOptions()
+    options.scenarios, options.seconds, options.lqr_start = 4, 2.0, True
+    lqr = pegasus.lqr_hover_init(identified, options)
+    assert lqr["used"] and lqr["reason"] == "" and lqr["spectral_radius"] < 1.0
+    assert lqr["init"].k_pos != pegasus.HoverPolicyInit().k_pos
+    exact = pegasus.HoverProblem.from_training_options(str(model_json), options, threads=2)
+    learned = pegasus.LearnedModelOptions()
+    learned.start = [0, 0, -10, 0, 0, 0, 0, 0, 0, 0, 0, 0]
+    learned.start_pos_sigma, learned.start_vel_sigma = options.start_pos_sigma, options.start_vel_sigma
+    ours = pegasus.HoverProblem(pegasus.LearnedHeliModel(identified, learned), target=options.target,
+                                reward=pegasus.hover_reward_for(identified, options), init=lqr["init"],
+                                seed=options.seed, scenarios=4, horizon=options.horizon(), gamma=options.gamma,
+                                threads=1)
+    assert np.array_equal(exact.parameters.initial, ours.parameters.initial)
+    assert exact.uhat(ours.parameters.initial) == ours.uhat(ours.parameters.initial)
+
+
 def test_train_hover_gives_the_cli_policy_and_resumes_bit_identically(model_json, cli, tmp_path):
     flags = ["--scenarios", "3", "--seconds", "1", "--optimizer.gradient.max-iterations", "2",
              "--optimizer.hill-climbing.max-iterations", "2"]

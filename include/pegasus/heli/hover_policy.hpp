@@ -55,9 +55,12 @@ struct HoverPolicyInit {
   Controls trim{0, 0, 0, 0};             // controls that hold a hover
   double trim_roll = 0, trim_pitch = 0;  // attitude at that hover, rad
   // Linear gains (the signs a stabilising controller needs with the control conventions of aircraft.hpp).
-  double k_pos = -0.025;      // a1 per m of x_B error and a2 per m of y_B error
-  double k_vel = -0.07;       // a1 per m/s of xdot_B, a2 per m/s of ydot_B
-  double k_att = 1.0;         // a1 per rad of pitch; a2 uses -k_att per rad of roll
+  double k_pos = -0.025;      // a1 per m of x_B error
+  double k_vel = -0.07;       // a1 per m/s of xdot_B
+  double k_att = 1.0;         // a1 per rad of pitch
+  double k_pos_lat = -0.025;  // a2 per m of y_B error
+  double k_vel_lat = -0.07;   // a2 per m/s of ydot_B
+  double k_roll = -1.0;       // a2 per rad of roll
   double k_alt = 0.05;        // a3 per m of z_B error (z down: below the set point -> more collective)
   double k_climb = 0.15;      // a3 per m/s of zdot_B
   double k_yaw = -0.4;        // a4 per rad of yaw error

@@ -103,6 +103,24 @@ class HoverTask {
 // pitch of the training data (the pilot hovers, and the sweeps are symmetric about the hover).
 HoverPolicyInit hover_init_from_model(const sysid::IdentifiedModel& model);
 
+// Starting gains from the identified model instead of the X-Cell's constants (issue 15): the model's mean
+// step linearised at the hover (the set point at the logs' trim attitude and controls, the extra states at
+// their equilibrium; the local fit there held), a discounted LQR on it with the reward's weights (Q:
+// positions, velocities, yaw, and the attitude and rate terms when set; R: the action weights, 1 per unit^2
+// where the action cost is off) and the task's discount per model step, and the gains of the wiring the hover
+// class has (each channel's position error, velocity and attitude; HoverPolicy) taken from the full LQR gain.
+// The result is used only when that decoupled controller is stable on the linear model; else the constants
+// stay and `reason` says why.
+struct LqrStart {
+  HoverPolicyInit init;  // the gains used (the constants when !used), trim from the logs
+  bool used = false;
+  std::string reason;           // why not used (empty when used)
+  double spectral_radius = 0;   // of the linear model under the hover class's gains, per model step
+  double open_loop_radius = 0;  // of the linear model with the controls held
+};
+struct HoverTrainingOptions;
+LqrStart lqr_hover_init(const sysid::IdentifiedModel& model, const HoverTrainingOptions& options);
+
 struct HoverTrainingOptions {
   int scenarios = 30;     // PEGASUS scenarios m (§5.3: 30)
   double seconds = 35;    // flight per scenario, s (§5.3: 35)
@@ -129,6 +147,9 @@ struct HoverTrainingOptions {
   // gradient, and the weights it returns mean nothing (an outside aircraft's model crashed 3 of 10 starts
   // within 0.2 s and gave a U-hat of -3.8e7; the X-Cell's shipped configs crash none). 1 never stops.
   double max_start_crash_fraction = 0.1;
+  // Starting gains: the X-Cell's constants of HoverPolicyInit (false) or LQR on the identified model (true;
+  // lqr_hover_init). An aircraft with other control signs or strengths needs the second.
+  bool lqr_start = false;
 
   static OptimizerOptions default_optimizer();
   int horizon() const;                                         // steps of 1 / control_rate_hz
@@ -141,8 +162,10 @@ struct HoverTrainingOptions {
 std::unique_ptr<Objective> hover_objective(std::shared_ptr<const sysid::IdentifiedModel> model,
                                            const HoverTrainingOptions& options,
                                            std::shared_ptr<ThreadPool> pool);
-// The policy class with starting weights from the model's logs.
+// The policy class with starting weights from the model's logs (and its LQR gains when options.lqr_start and
+// they are stable).
 HoverPolicy hover_policy_for(const sysid::IdentifiedModel& model);
+HoverPolicy hover_policy_for(const sysid::IdentifiedModel& model, const HoverTrainingOptions& options);
 // The reward with centre from the model's logs when options.centre_at_trim.
 HoverReward hover_reward_for(const sysid::IdentifiedModel& model, const HoverTrainingOptions& options);
 
