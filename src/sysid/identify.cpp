@@ -14,6 +14,7 @@
 #include "pegasus/io/atomic_file.hpp"
 #include "pegasus/io/json_csv.hpp"
 #include "pegasus/io/json_input.hpp"
+#include "pegasus/sysid/learned_model.hpp"
 
 namespace pegasus::sysid {
 
@@ -703,6 +704,50 @@ HorizonMse horizon_mse(const IdentifiedModel& model, const FlightLog& test, doub
     }
   });
   return average(per_start, steps, model.dt());
+}
+
+HorizonMse horizon_mse_as_trained(const IdentifiedModel& model, const FlightLog& test, double control_rate_hz,
+                                  double horizon_s, double start_spacing_s, ThreadPool& pool) {
+  // Log rows per comparison and control steps per comparison: (k, 1) when the log is faster, (1, q) when the
+  // controller is.
+  std::size_t rows = log_rows_per_model_step(test.dt(), control_rate_hz), per_row = 1;
+  if (rows == 0) {
+    per_row = log_rows_per_model_step(1 / control_rate_hz, 1 / test.dt());
+    if (per_row == 0)
+      throw InputError(
+          fmt::format("control rate {} Hz: neither it nor the test log's {} Hz is a multiple of the "
+                      "other",
+                      control_rate_hz, 1 / test.dt()));
+    rows = 1;
+  }
+  const double compare_dt = static_cast<double>(per_row) / control_rate_hz;
+  const auto compares = static_cast<std::size_t>(std::lround(horizon_s / compare_dt));
+  const std::vector<std::size_t> starts = prediction_starts(test, rows, compares, start_spacing_s);
+  // A view of the caller's model for the simulator (which shares ownership of the models it is given).
+  const std::shared_ptr<const IdentifiedModel> view(std::shared_ptr<const IdentifiedModel>(), &model);
+  std::vector<Errors> per_start(starts.size());
+  pool.parallel_for(starts.size(), [&](std::size_t si) {
+    const std::size_t r0 = starts[si];
+    LearnedModelOptions lo;
+    lo.dt = 1 / control_rate_hz;
+    lo.refit_every = std::max(1, static_cast<int>(std::lround(model.dt() * control_rate_hz)));
+    lo.noise = false;
+    lo.start = test.states[r0];
+    const LearnedHeliModel sim(view, lo);
+    std::vector<double> p0(static_cast<std::size_t>(sim.initial_noise_dim()), 0.5);
+    std::vector<double> p(static_cast<std::size_t>(sim.noise_dim()), 0.5);
+    LearnedHeliModel::State s = sim.initial_state(p0);
+    Errors& e = per_start[si];
+    e.reserve(compares + 1);
+    for (std::size_t c = 0; c <= compares; ++c) {
+      e.push_back(squared_errors(s.sim.world, test.states[r0 + c * rows]));
+      if (c == compares) break;
+      const auto a = mean_controls(test, r0 + c * rows, rows);
+      for (std::size_t j = 0; j < per_row && !s.crashed; ++j) s = sim.step(s, a, p);
+      if (s.crashed) break;
+    }
+  });
+  return average(per_start, compares, compare_dt);
 }
 
 namespace {

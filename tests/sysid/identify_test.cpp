@@ -151,6 +151,40 @@ TEST(NoiseCheck, Ar1NoiseCoversTheGustDrivenVerticalVelocity) {
   EXPECT_EQ(ar1.outside_by_horizon[0][kW], white.outside_by_horizon[0][kW]);
 }
 
+// Fig 5.2 as training runs the model: at the model's own rate (and without the extra states, whose lags the
+// learned model starts at rest) the learned model's open-loop errors are exactly Fig 5.2's; at 50 Hz they are
+// its 50 Hz steps, compared every log row of a 50 Hz log, and a 10 Hz log compares every 0.1 s while the
+// learned model holds each row's controls over five 50 Hz steps.
+TEST(HorizonMseAsTrained, IsFig52AtTheModelsRateAndRunsAtTheControllersRate) {
+  ThreadPool pool(2);
+  IdentifyOptions o = small_search();
+  o.structure.extra_states = false;
+  const IdentifiedModel model = identify(logs().train, o, pool);
+  const HorizonMse own = horizon_mse(model, logs().test, 2.0, 2.0, pool);
+  const HorizonMse same = horizon_mse_as_trained(model, logs().test, 10.0, 2.0, 2.0, pool);
+  ASSERT_EQ(same.seconds.size(), own.seconds.size());
+  for (std::size_t t = 0; t < own.seconds.size(); ++t) {
+    EXPECT_EQ(same.count[t], own.count[t]) << t;
+    EXPECT_EQ(same.mse[t], own.mse[t]) << t;
+  }
+  const HorizonMse fast = horizon_mse_as_trained(model, logs().test, 50.0, 2.0, 2.0, pool);
+  ASSERT_EQ(fast.seconds.size(), 101u);
+  EXPECT_NEAR(fast.seconds[1], 0.02, 1e-15);
+  EXPECT_GT(fast.count.back(), 0);
+  EXPECT_NE(fast.mse.back(), own.mse.back());
+  FlightLog slow;  // the test log at 10 Hz
+  for (std::size_t r = 0; r < logs().test.rows(); r += 5) {
+    slow.time.push_back(logs().test.time[r]);
+    slow.states.push_back(logs().test.states[r]);
+    slow.controls.push_back(logs().test.controls[r]);
+  }
+  const HorizonMse held = horizon_mse_as_trained(model, slow, 50.0, 2.0, 2.0, pool);
+  ASSERT_EQ(held.seconds.size(), 21u);
+  EXPECT_NEAR(held.seconds[1], 0.1, 1e-15);
+  EXPECT_GT(held.count.back(), 0);
+  EXPECT_THROW(horizon_mse_as_trained(model, logs().test, 30.0, 2.0, 2.0, pool), InputError);
+}
+
 TEST(IdentifyCheckpoint, ResumedSearchEqualsAnUninterruptedOne) {
   ThreadPool pool(2);
   const IdentifyOptions o = small_search();

@@ -152,6 +152,13 @@ struct HorizonMse {
 };
 HorizonMse horizon_mse(const IdentifiedModel& model, const FlightLog& test, double horizon_s,
                        double start_spacing_s, ThreadPool& pool);
+// Fig 5.2 as training runs the model: LearnedHeliModel (noise off) stepped at control_rate_hz, refitted at
+// the model's own rate, from the same kind of starts, with the log's controls (their mean over a control
+// step, or each log row's held over the control steps it spans). The rows are the comparison times (every log
+// row or control step, whichever is slower). A rollout stops where the learned model crashes (out of the
+// data's support, singular fit). InputError when neither rate is a whole multiple of the other.
+HorizonMse horizon_mse_as_trained(const IdentifiedModel& model, const FlightLog& test, double control_rate_hz,
+                                  double horizon_s, double start_spacing_s, ThreadPool& pool);
 // The baseline a model must beat: from the same starts and steps as horizon_mse at model step dt, the
 // position moves on with the start's world velocity and every other state stays as it was at the start.
 HorizonMse constant_velocity_mse(const FlightLog& test, double dt, double horizon_s, double start_spacing_s);
