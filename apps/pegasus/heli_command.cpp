@@ -376,6 +376,24 @@ void run_identify(RunContext& ctx) {
   if (!skipped_rates.empty()) summary["variant_rates_skipped_hz"] = skipped_rates;
   if (!report.floored_inputs.empty()) summary["bandwidth_at_floor"] = report.floored_inputs;
   if (model.noise_correlation().any()) {
+    // The control gains' closed-loop bias, measured against a fit that whitens the AR(1) noise.
+    nlohmann::json bias = nlohmann::json::object();
+    const ControlGainBias* worst = nullptr;
+    const auto biases =
+        closed_loop_bias(model.data(), model.regression().templates(), model.noise_correlation());
+    for (const auto& b : biases) {
+      bias[b.output + "/" + b.control] = {
+          {"least_squares", b.least_squares}, {"whitened", b.whitened}, {"relative", b.relative}};
+      if (!worst || std::abs(b.relative) > std::abs(worst->relative)) worst = &b;
+    }
+    summary["closed_loop_bias"] = bias;
+    if (worst && std::abs(worst->relative) > 0.2)
+      ctx.out << fmt::format(
+          "warning: the control gains look biased by closed-loop data: {} per {} is {:.0f}% {} in the "
+          "least-squares fit than in one that whitens the correlated noise ({:.4g} against {:.4g}; "
+          "closed_loop_bias in summary.json)\n",
+          worst->output, worst->control, 100 * std::abs(worst->relative),
+          worst->relative < 0 ? "smaller" : "larger", worst->least_squares, worst->whitened);
     nlohmann::json correlation;
     for (int k = 0; k < kBodyVars; ++k)
       correlation[kBodyVarNames[static_cast<std::size_t>(k)]] = {

@@ -401,6 +401,51 @@ NoiseCorrelation fit_noise_correlation(const std::vector<BodyVec>& autocorrelati
   return c;
 }
 
+std::vector<ControlGainBias> closed_loop_bias(const Dataset& data,
+                                              const std::array<OutputTemplate, kBodyVars>& templates,
+                                              const NoiseCorrelation& correlation) {
+  const std::array<double, kInputs> global{};
+  const LocalRegression plain(&data, templates, global);
+  const InputVec any = data.x.row(0).transpose();
+  const LocalFit ls = plain.fit(any);
+  std::vector<ControlGainBias> out;
+  if (ls.singular) return out;
+  const Eigen::Index n = data.rows();
+  for (int k = 0; k < kBodyVars; ++k) {
+    const double f = correlation.share[k], rho = correlation.rho[k];
+    if (!(f > 0 && rho > 0)) continue;
+    // e_t - rho e_{t-1} is MA(1), u_t + theta u_{t-1}: its lag-1 autocorrelation fixes the invertible theta.
+    const double var = (1 - f) * (1 + rho * rho) + f * (1 - rho * rho), cov = -rho * (1 - f);
+    const double r1 = cov / var;  // in (-1/2, 0]
+    const double theta = r1 == 0 ? 0.0 : (1 - std::sqrt(std::max(0.0, 1 - 4 * r1 * r1))) / (2 * r1);
+    // The whitening filter u_t = (e_t - rho e_{t-1}) - theta u_{t-1} on every column, restarted where the
+    // rows are not one model step apart.
+    Dataset w = data;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const bool follows =
+          i > 0 && std::abs(data.time[static_cast<std::size_t>(i)] -
+                            data.time[static_cast<std::size_t>(i - 1)] - data.dt) <= 0.01 * data.dt;
+      if (!follows) continue;
+      w.x.row(i) = data.x.row(i) - rho * data.x.row(i - 1) - theta * w.x.row(i - 1);
+      w.y.row(i) = data.y.row(i) - rho * data.y.row(i - 1) - theta * w.y.row(i - 1);
+    }
+    const LocalRegression whitened(&w, templates, global);
+    const LocalFit gls = whitened.fit(any);
+    if (gls.singular) continue;
+    const double y_sd = std::sqrt((data.y.col(k).array() - data.y.col(k).mean()).square().mean());
+    for (int c = kA1; c <= kA4; ++c) {
+      if (!templates[static_cast<std::size_t>(k)].free[static_cast<std::size_t>(c)]) continue;
+      const double b_ls = ls.beta[static_cast<std::size_t>(k)][c],
+                   b_w = gls.beta[static_cast<std::size_t>(k)][c];
+      const double x_sd = std::sqrt((data.x.col(c).array() - data.x.col(c).mean()).square().mean());
+      if (!(std::abs(b_w) * x_sd >= 0.1 * y_sd) || b_w == 0) continue;
+      out.push_back({kBodyVarNames[static_cast<std::size_t>(k)], kInputNames[static_cast<std::size_t>(c)],
+                     b_ls, b_w, b_ls / b_w - 1});
+    }
+  }
+  return out;
+}
+
 IdentifiedModel identify(const FlightLog& train, const IdentifyOptions& o, ThreadPool& pool,
                          IdentifyReport* report, const IdentifyHooks& hooks) {
   std::string error;

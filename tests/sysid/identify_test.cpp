@@ -7,11 +7,13 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <thread>
+#include <tuple>
 
 #include "pegasus/core/error.hpp"
 #include "pegasus/heli/aircraft.hpp"
@@ -183,6 +185,51 @@ TEST(HorizonMseAsTrained, IsFig52AtTheModelsRateAndRunsAtTheControllersRate) {
   EXPECT_NEAR(held.seconds[1], 0.1, 1e-15);
   EXPECT_GT(held.count.back(), 0);
   EXPECT_THROW(horizon_mse_as_trained(model, logs().test, 30.0, 2.0, 2.0, pool), InputError);
+}
+
+// The change of a logged state over one 0.1 s model step per unit of a control, on the ground truth at its
+// hover trim without gusts or estimate noise (central differences of +-0.02).
+double true_gain(int control, int state) {
+  heli::AircraftParams p;
+  p.gust_sigma = 0;
+  p.est_sigma_pos = p.est_sigma_vel = p.est_sigma_angle = p.est_sigma_rate = 0;
+  const heli::Aircraft aircraft(p);
+  std::array<double, heli::Aircraft::kInitialNoise> p0;
+  std::array<double, heli::Aircraft::kStepNoise> mid;
+  p0.fill(0.5);
+  mid.fill(0.5);
+  auto after = [&](double d) {
+    auto s = aircraft.initial_state(p0);
+    heli::Controls a = aircraft.hover_trim().controls;
+    a[static_cast<std::size_t>(control)] += d;
+    for (int t = 0; t < 5; ++t) s = aircraft.step(s, a, mid);
+    return heli::true_logged_state(s)[static_cast<std::size_t>(state)];
+  };
+  return (after(0.02) - after(-0.02)) / 0.04;
+}
+
+// Closed-loop logs with gusts bias least squares' control gains small; the fit that whitens the AR(1) noise
+// recovers the ground truth's: collective to vertical velocity and tail to yaw rate.
+TEST(ClosedLoopBias, WhiteningTheNoiseRecoversTheGroundTruthsControlGains) {
+  ThreadPool pool(2);
+  IdentifyOptions o = small_search();
+  o.noise = NoiseModel::kAr1;
+  const IdentifiedModel model = identify(logs().train, o, pool);
+  const auto biases =
+      closed_loop_bias(model.data(), model.regression().templates(), model.noise_correlation());
+  const std::array<std::tuple<const char*, const char*, int, int>, 2> gains = {
+      {{"zdot_b", "a3", 2, 8}, {"yaw_rate", "a4", 3, 11}}};
+  for (const auto& [output, control, c, state] : gains) {
+    const auto it = std::find_if(biases.begin(), biases.end(), [&](const ControlGainBias& b) {
+      return b.output == output && b.control == control;
+    });
+    ASSERT_NE(it, biases.end()) << output << "/" << control;
+    const double truth = true_gain(c, state);
+    EXPECT_LT(std::abs(it->least_squares), std::abs(truth)) << output << "/" << control;
+    EXPECT_LT(std::abs(it->whitened - truth), 0.5 * std::abs(it->least_squares - truth))
+        << output << "/" << control;
+    EXPECT_LT(it->relative, -0.1) << output << "/" << control;
+  }
 }
 
 TEST(IdentifyCheckpoint, ResumedSearchEqualsAnUninterruptedOne) {

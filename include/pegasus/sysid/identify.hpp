@@ -136,6 +136,22 @@ std::vector<BodyVec> residual_autocorrelation(const Dataset& data,
                                               double window_s, int max_lag, ThreadPool& pool);
 NoiseCorrelation fit_noise_correlation(const std::vector<BodyVec>& autocorrelation);
 
+// Closed-loop bias of the control gains (issue 15): a pilot or controller that reacts to the state reacts to
+// past noise, and with noise correlated in time (gusts) the controls then correlate with the present noise,
+// which biases least squares (an outside aircraft's collective gain came out 26% low). A fit that whitens
+// each output's noise with its AR(1)-plus-white model (a prediction-error fit, consistent in closed loop when
+// the noise model holds; Ljung, System Identification, 2nd ed., §13.4) is compared with plain least squares,
+// both global linear with the model's templates. Only gains that matter are reported: |gain| x the control's
+// spread at least 10% of the output's spread.
+struct ControlGainBias {
+  std::string output, control;
+  double least_squares = 0, whitened = 0;
+  double relative = 0;  // least_squares / whitened - 1: -0.26 is a gain 26% too small
+};
+std::vector<ControlGainBias> closed_loop_bias(const Dataset& data,
+                                              const std::array<OutputTemplate, kBodyVars>& templates,
+                                              const NoiseCorrelation& correlation);
+
 // Open-loop simulation on a log (Fig 5.2): from log row `start`, simulate `horizon_steps` model steps with
 // the recorded controls and the model noise off; returns predicted 12 log states + 3 body velocities per step
 // (step 0 = the start state). Stops early (shorter result) when the fit becomes singular.
