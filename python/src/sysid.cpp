@@ -159,36 +159,83 @@ variables' changes, its bandwidth and noise. Save it as the model.json `pegasus 
       "rate_radps, "
       "flap_rad, control; the defaults are the CLI's); noise is \"white\" or \"ar1\" (the CLI's --noise).");
 
+  // Fig 5.2's errors of a HorizonMse as a dict: seconds, mse [T, 15], count, names.
+  auto horizon_dict = [](const sysid::HorizonMse& h) {
+    Array mse = matrix(static_cast<py::ssize_t>(h.mse.size()), sysid::kReportVars);
+    for (std::size_t t = 0; t < h.mse.size(); ++t)
+      std::copy(h.mse[t].begin(), h.mse[t].end(), mse.mutable_data() + t * sysid::kReportVars);
+    std::vector<std::string> names(sysid::kReportVarNames.begin(), sysid::kReportVarNames.end());
+    py::dict out;
+    out["seconds"] = vector_array(h.seconds);
+    out["mse"] = mse;
+    out["count"] = h.count;
+    out["names"] = names;
+    return out;
+  };
+  auto check_horizon = [](double horizon_s, double start_spacing_s) {
+    if (!(horizon_s > 0 && std::isfinite(horizon_s)))
+      throw py::value_error(fmt::format("horizon_s: expected a finite number > 0, got {}", horizon_s));
+    if (!(start_spacing_s > 0 && std::isfinite(start_spacing_s)))
+      throw py::value_error(
+          fmt::format("start_spacing_s: expected a finite number > 0, got {}", start_spacing_s));
+  };
   m.def(
       "horizon_mse",
-      [](const IdentifiedModel& model, const FlightLog& test, double horizon_s, double start_spacing_s,
-         std::int64_t threads) {
-        if (!(horizon_s > 0 && std::isfinite(horizon_s)))
-          throw py::value_error(fmt::format("horizon_s: expected a finite number > 0, got {}", horizon_s));
-        if (!(start_spacing_s > 0 && std::isfinite(start_spacing_s)))
-          throw py::value_error(
-              fmt::format("start_spacing_s: expected a finite number > 0, got {}", start_spacing_s));
+      [horizon_dict, check_horizon](const IdentifiedModel& model, const FlightLog& test, double horizon_s,
+                                    double start_spacing_s, std::int64_t threads) {
+        check_horizon(horizon_s, start_spacing_s);
         ThreadPool pool = checked_pool(threads);
         sysid::HorizonMse h;
         {
           py::gil_scoped_release release;
           h = sysid::horizon_mse(model, test, horizon_s, start_spacing_s, pool);
         }
-        Array mse = matrix(static_cast<py::ssize_t>(h.mse.size()), sysid::kReportVars);
-        for (std::size_t t = 0; t < h.mse.size(); ++t)
-          std::copy(h.mse[t].begin(), h.mse[t].end(), mse.mutable_data() + t * sysid::kReportVars);
-        std::vector<std::string> names(sysid::kReportVarNames.begin(), sysid::kReportVarNames.end());
-        py::dict out;
-        out["seconds"] = vector_array(h.seconds);
-        out["mse"] = mse;
-        out["count"] = h.count;
-        out["names"] = names;
-        return out;
+        return horizon_dict(h);
       },
       py::arg("model"), py::arg("test"), py::kw_only(), py::arg("horizon_s") = 10.0,
       py::arg("start_spacing_s") = 2.0, py::arg("threads") = 1,
       "Open-loop prediction error against horizon on a test log (thesis Fig 5.2): seconds, mse [T, 15], "
       "count, names.");
+  m.def(
+      "horizon_mse_as_trained",
+      [horizon_dict, check_horizon](const IdentifiedModel& model, const FlightLog& test,
+                                    double control_rate_hz, double horizon_s, double start_spacing_s,
+                                    std::int64_t threads) {
+        check_horizon(horizon_s, start_spacing_s);
+        if (!(control_rate_hz > 0 && control_rate_hz <= 1000))
+          throw py::value_error(
+              fmt::format("control_rate_hz: expected a number in (0, 1000], got {}", control_rate_hz));
+        ThreadPool pool = checked_pool(threads);
+        sysid::HorizonMse h;
+        {
+          py::gil_scoped_release release;
+          h = sysid::horizon_mse_as_trained(model, test, control_rate_hz, horizon_s, start_spacing_s, pool);
+        }
+        return horizon_dict(h);
+      },
+      py::arg("model"), py::arg("test"), py::kw_only(), py::arg("control_rate_hz") = 50.0,
+      py::arg("horizon_s") = 10.0, py::arg("start_spacing_s") = 2.0, py::arg("threads") = 1,
+      "horizon_mse as hover training runs the model: the learned model at control_rate_hz, noise off "
+      "(`heli identify`'s mse_at_seconds_as_trained).");
+  m.def(
+      "closed_loop_bias",
+      [](const IdentifiedModel& model) {
+        py::list out;
+        for (const auto& b : sysid::closed_loop_bias(model.data(), model.regression().templates(),
+                                                     model.noise_correlation())) {
+          py::dict d;
+          d["output"] = b.output;
+          d["control"] = b.control;
+          d["least_squares"] = b.least_squares;
+          d["whitened"] = b.whitened;
+          d["relative"] = b.relative;
+          out.append(d);
+        }
+        return out;
+      },
+      py::arg("model"),
+      "The control gains of least squares against a fit that whitens the model's AR(1) noise (empty for a "
+      "white-noise model): `heli identify --noise ar1`'s closed_loop_bias.");
 }
 
 }  // namespace pegasus::python

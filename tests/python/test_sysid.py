@@ -81,6 +81,16 @@ def test_ar1_noise_is_the_clis(logs, cli, tmp_path):
     assert model.to_json() == cli_model and cli_model["noise"]["model"] == "ar1"
     learned = pegasus.LearnedHeliModel(model, pegasus.LearnedModelOptions())
     assert learned.noise_dim == 16 and learned.initial_noise_dim == 14
+    bias = {(b["output"], b["control"]): b for b in pegasus.closed_loop_bias(model)}
+    cli_bias = json.loads((tmp_path / "cli" / "summary.json").read_text())["closed_loop_bias"]
+    assert {tuple(k.split("/")) for k in cli_bias} == set(bias)
+    for key, b in bias.items():
+        assert cli_bias["/".join(key)]["whitened"] == b["whitened"]
+    test_log = pegasus.read_flight_log(test)
+    as_trained = pegasus.horizon_mse_as_trained(model, test_log, control_rate_hz=10.0, horizon_s=2.0)
+    assert as_trained["mse"].shape == (21, 15) and as_trained["seconds"][1] == pytest.approx(0.1)
+    assert pegasus.closed_loop_bias(pegasus.identify(pegasus.read_flight_log(train), cv_points=60,
+                                                     scale_grid=[1.0, 4.0], coordinate_passes=0)) == []
     with pytest.raises(ValueError, match='noise: expected "white" or "ar1", got "pink"'):
         pegasus.identify(pegasus.read_flight_log(train), noise="pink")
 
