@@ -160,6 +160,10 @@ void declare_identify(ConfigSchema& s) {
        "the model's noise: white per model step (Eqs 5.5-5.6) or ar1 (each output's noise a white part "
        "plus a first-order autoregressive part fitted to the residuals' autocorrelation up to 2 s)")
       .choices({"white", "ar1"});
+  s.add_bool(
+      "calibrate_noise", IdentifyOptions{}.calibrate_noise,
+      "widen each output's noise until the training log's own noise check has 4.55% of its steps outside "
+      "+-2 sd (never narrow it)");
   s.add_double("horizon_s", 10, "longest prediction horizon of the report, s").range(0.1, 100);
   s.add_double("start_spacing_s", 2, "spacing of the open-loop prediction starts on the test log, s")
       .range(0.02, 1000);
@@ -206,6 +210,7 @@ void run_identify(RunContext& ctx) {
   o.coordinate_passes = static_cast<int>(c.get_int("coordinate_passes"));
   o.min_bandwidth = read_bandwidth_floor(c);
   o.noise = parse_noise_model(c.get_string("noise"));
+  o.calibrate_noise = c.get_bool("calibrate_noise");
   std::string error;
   if (!o.IsValid(&error)) throw InputError(error);
   ThreadPool& pool = ctx.pool();
@@ -375,6 +380,12 @@ void run_identify(RunContext& ctx) {
   // Only when some were skipped, so that the summaries of 50 Hz logs stay as they were (digests).
   if (!skipped_rates.empty()) summary["variant_rates_skipped_hz"] = skipped_rates;
   if (!report.floored_inputs.empty()) summary["bandwidth_at_floor"] = report.floored_inputs;
+  if (o.calibrate_noise) {
+    nlohmann::json inflation;
+    for (int k = 0; k < kBodyVars; ++k)
+      inflation[kBodyVarNames[static_cast<std::size_t>(k)]] = report.noise_inflation[k];
+    summary["noise_inflation"] = inflation;
+  }
   if (model.noise_correlation().any()) {
     // The control gains' closed-loop bias, measured against a fit that whitens the AR(1) noise.
     nlohmann::json bias = nlohmann::json::object();

@@ -86,6 +86,15 @@ def test_ar1_noise_is_the_clis(logs, cli, tmp_path):
     assert {tuple(k.split("/")) for k in cli_bias} == set(bias)
     for key, b in bias.items():
         assert cli_bias["/".join(key)]["whitened"] == b["whitened"]
+    result = subprocess.run([cli, "heli", "identify", "--train", train, "--test", test, *IDENTIFY, "--threads", "2",
+                             "--noise", "ar1", "--calibrate-noise", "--out", str(tmp_path / "calibrated")],
+                            capture_output=True, text=True)
+    assert result.returncode == 0, result.stdout + result.stderr
+    calibrated = pegasus.identify(pegasus.read_flight_log(train), noise="ar1", calibrate_noise=True, cv_points=60,
+                                  scale_grid=[1.0, 4.0], coordinate_passes=0)
+    assert calibrated.to_json() == json.loads((tmp_path / "calibrated" / "model.json").read_text())
+    inflation = json.loads((tmp_path / "calibrated" / "summary.json").read_text())["noise_inflation"]
+    assert min(inflation.values()) >= 1.0 and max(inflation.values()) > 1.0
     test_log = pegasus.read_flight_log(test)
     as_trained = pegasus.horizon_mse_as_trained(model, test_log, control_rate_hz=10.0, horizon_s=2.0)
     assert as_trained["mse"].shape == (21, 15) and as_trained["seconds"][1] == pytest.approx(0.1)

@@ -232,6 +232,31 @@ TEST(ClosedLoopBias, WhiteningTheNoiseRecoversTheGroundTruthsControlGains) {
   }
 }
 
+// calibrate_noise widens each output's noise until the training log's own noise check leaves about 4.55% of
+// its steps outside +-2 sd, and never narrows one.
+TEST(NoiseCheck, CalibrationWidensTheBandsTheTrainingLogsOwnCheckSaysAreTooNarrow) {
+  ThreadPool pool(2);
+  IdentifyOptions o = small_search();
+  o.noise = NoiseModel::kAr1;
+  const IdentifiedModel plain = identify(logs().train, o, pool);
+  const NoiseCheck before = noise_check(plain, logs().train, 2.0, 0.0);
+  EXPECT_GT(before.outside_fraction.maxCoeff(), 0.06);  // some output's band is too narrow to start with
+  o.calibrate_noise = true;
+  IdentifyReport report;
+  const IdentifiedModel calibrated = identify(logs().train, o, pool, &report);
+  const NoiseCheck after = noise_check(calibrated, logs().train, 2.0, 0.0);
+  for (int k = 0; k < kBodyVars; ++k) {
+    EXPECT_GE(report.noise_inflation[k], 1.0) << kBodyVarNames[static_cast<std::size_t>(k)];
+    EXPECT_DOUBLE_EQ(calibrated.sigma2()[k],
+                     plain.sigma2()[k] * report.noise_inflation[k] * report.noise_inflation[k]);
+    EXPECT_LE(after.outside_fraction[k], std::max(before.outside_fraction[k], 0.0455 + 1.0 / after.steps))
+        << kBodyVarNames[static_cast<std::size_t>(k)];
+  }
+  // Widening a rate's noise widens the attitude bands it integrates into by less than its own factor, so one
+  // pass lands near, not exactly at, 4.55%.
+  EXPECT_LT(after.outside_fraction.maxCoeff(), 0.05);
+}
+
 TEST(IdentifyCheckpoint, ResumedSearchEqualsAnUninterruptedOne) {
   ThreadPool pool(2);
   const IdentifyOptions o = small_search();
