@@ -386,12 +386,18 @@ void run_identify(RunContext& ctx) {
       inflation[kBodyVarNames[static_cast<std::size_t>(k)]] = report.noise_inflation[k];
     summary["noise_inflation"] = inflation;
   }
-  if (model.noise_correlation().any()) {
-    // The control gains' closed-loop bias, measured against a fit that whitens the AR(1) noise.
+  {
+    // The control gains' closed-loop bias, measured against a fit that whitens the residuals' correlation
+    // (the model's AR(1) noise, or, for a white-noise model, the same fit made for this check alone): the
+    // warning comes whatever noise model was asked for.
+    const NoiseCorrelation correlation =
+        model.noise_correlation().any()
+            ? model.noise_correlation()
+            : estimate_noise_correlation(model.data(), model.regression().templates(), model.inv_bandwidth(),
+                                         o.window_s, pool);
     nlohmann::json bias = nlohmann::json::object();
     const ControlGainBias* worst = nullptr;
-    const auto biases =
-        closed_loop_bias(model.data(), model.regression().templates(), model.noise_correlation());
+    const auto biases = closed_loop_bias(model.data(), model.regression().templates(), correlation);
     for (const auto& b : biases) {
       bias[b.output + "/" + b.control] = {
           {"least_squares", b.least_squares}, {"whitened", b.whitened}, {"relative", b.relative}};
@@ -405,6 +411,8 @@ void run_identify(RunContext& ctx) {
           "closed_loop_bias in summary.json)\n",
           worst->output, worst->control, 100 * std::abs(worst->relative),
           worst->relative < 0 ? "smaller" : "larger", worst->least_squares, worst->whitened);
+  }
+  if (model.noise_correlation().any()) {
     nlohmann::json correlation;
     for (int k = 0; k < kBodyVars; ++k)
       correlation[kBodyVarNames[static_cast<std::size_t>(k)]] = {

@@ -401,6 +401,15 @@ NoiseCorrelation fit_noise_correlation(const std::vector<BodyVec>& autocorrelati
   return c;
 }
 
+NoiseCorrelation estimate_noise_correlation(const Dataset& data,
+                                            const std::array<OutputTemplate, kBodyVars>& templates,
+                                            const std::array<double, kInputs>& inv_bandwidth, double window_s,
+                                            ThreadPool& pool) {
+  const int max_lag = std::max(2, static_cast<int>(std::lround(2.0 / data.dt)));
+  return fit_noise_correlation(
+      residual_autocorrelation(data, templates, inv_bandwidth, window_s, max_lag, pool));
+}
+
 std::vector<ControlGainBias> closed_loop_bias(const Dataset& data,
                                               const std::array<OutputTemplate, kBodyVars>& templates,
                                               const NoiseCorrelation& correlation) {
@@ -574,12 +583,8 @@ IdentifiedModel identify(const FlightLog& train, const IdentifyOptions& o, Threa
     if (templates[static_cast<std::size_t>(k)].free_count() == 0)
       sigma2[k] = data.y.col(k).squaredNorm() / data.rows();
   NoiseCorrelation correlation;
-  if (o.noise == NoiseModel::kAr1) {
-    // Lags up to 2 s: the horizons over which the noise check and the hover task's refits compound errors.
-    const int max_lag = std::max(2, static_cast<int>(std::lround(2.0 / data.dt)));
-    correlation =
-        fit_noise_correlation(residual_autocorrelation(data, templates, best_inv, o.window_s, max_lag, pool));
-  }
+  if (o.noise == NoiseModel::kAr1)
+    correlation = estimate_noise_correlation(data, templates, best_inv, o.window_s, pool);
   if (o.calibrate_noise) {
     // The noise check on the training log with the model as identified; each output's band is widened until
     // 4.55% of its steps fall outside, never narrowed.

@@ -74,6 +74,16 @@ TEST_F(HeliCliWithLogs, IdentifyWritesSummaryKeysAndModel) {
   EXPECT_TRUE(fs::exists(dir_ / "id" / "model.json"));
   EXPECT_TRUE(fs::exists(dir_ / "id" / "mse_vs_horizon.csv"));
   EXPECT_TRUE(fs::exists(dir_ / "id" / "noise_check.svg"));
+  // The closed-loop check runs with the default white noise too: the collective's gain on the vertical
+  // velocity is among those it reports, each with its ratio.
+  const auto& bias = s.at("closed_loop_bias");
+  ASSERT_TRUE(bias.contains("zdot_b/a3")) << bias.dump();
+  for (auto& [k, v] : bias.items())
+    EXPECT_DOUBLE_EQ(v.at("relative").get<double>(),
+                     v.at("least_squares").get<double>() / v.at("whitened").get<double>() - 1)
+        << k;
+  EXPECT_EQ(s.at("noise"), "white");
+  EXPECT_FALSE(s.contains("noise_correlation"));
 }
 
 TEST_F(HeliCliWithLogs, IdentifyOutputsDoNotDependOnThreads) {

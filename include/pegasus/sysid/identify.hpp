@@ -141,6 +141,12 @@ std::vector<BodyVec> residual_autocorrelation(const Dataset& data,
                                               const std::array<double, kInputs>& inv_bandwidth,
                                               double window_s, int max_lag, ThreadPool& pool);
 NoiseCorrelation fit_noise_correlation(const std::vector<BodyVec>& autocorrelation);
+// Both at lags up to 2 s (the horizons over which the noise check and the hover task's refits compound
+// errors): what identify() fits for NoiseModel::kAr1.
+NoiseCorrelation estimate_noise_correlation(const Dataset& data,
+                                            const std::array<OutputTemplate, kBodyVars>& templates,
+                                            const std::array<double, kInputs>& inv_bandwidth, double window_s,
+                                            ThreadPool& pool);
 
 // Closed-loop bias of the control gains (issue 15): a pilot or controller that reacts to the state reacts to
 // past noise, and with noise correlated in time (gusts) the controls then correlate with the present noise,
