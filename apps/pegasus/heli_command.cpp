@@ -289,7 +289,7 @@ void run_identify(RunContext& ctx) {
   const Variant as_trained{fmt::format("chosen, as training runs it ({} Hz)", control_rate_hz),
                            horizon_mse_as_trained(model, test, control_rate_hz, horizon, spacing, pool)};
   CsvWriter mse_csv({"model", "seconds", "variable", "mse", "rollouts"});
-  for (const Variant* v : {&as_trained}) variants.push_back(*v);
+  variants.push_back(as_trained);  // into the CSV and the plots; out again before the summary
   for (const auto& v : variants)
     for (std::size_t t = 0; t < v.mse.seconds.size(); ++t)
       for (int k = 0; k < kReportVars; ++k)

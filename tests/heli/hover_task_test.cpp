@@ -25,20 +25,26 @@ using test_support::input_error_message;
 
 bool sanitized() { return std::getenv("PEGASUS_SANITIZED") != nullptr; }
 
-// A model identified from a short pilot flight, made once (a few tenths of a second).
+// A model identified from a short pilot flight (a few tenths of a second); `reversed` negates a1 and a4 in
+// the logs first, as an aircraft whose longitudinal cyclic and tail act with the opposite signs.
+std::shared_ptr<const sysid::IdentifiedModel> identify_pilot_flight(bool reversed) {
+  const Aircraft heli;
+  PilotOptions o;
+  o.hover_seconds = 4;
+  auto log = fly_pilot(heli, o, 60, 3).log;
+  if (reversed)
+    for (auto& a : log.controls) a[0] = -a[0], a[3] = -a[3];
+  sysid::IdentifyOptions io;
+  io.cv_points = 40;
+  io.scale_grid = {2, 4};
+  io.coordinate_passes = 0;
+  ThreadPool pool(2);
+  return std::make_shared<const sysid::IdentifiedModel>(sysid::identify(log, io, pool));
+}
+
+// Made once each.
 std::shared_ptr<const sysid::IdentifiedModel> small_model() {
-  static const auto model = [] {
-    const Aircraft heli;
-    PilotOptions o;
-    o.hover_seconds = 4;
-    const auto log = fly_pilot(heli, o, 60, 3).log;
-    sysid::IdentifyOptions io;
-    io.cv_points = 40;
-    io.scale_grid = {2, 4};
-    io.coordinate_passes = 0;
-    ThreadPool pool(2);
-    return std::make_shared<const sysid::IdentifiedModel>(sysid::identify(log, io, pool));
-  }();
+  static const auto model = identify_pilot_flight(false);
   return model;
 }
 
@@ -118,22 +124,8 @@ TEST(HoverTask, TrimEstimateComesFromTheLogs) {
   EXPECT_NEAR(init.trim_roll, truth.hover_trim().roll, 0.03);
 }
 
-// A model of an aircraft whose longitudinal cyclic and tail act with the opposite signs: the X-Cell's logs
-// with a1 and a4 negated, identified as the small model is.
 std::shared_ptr<const sysid::IdentifiedModel> flipped_model() {
-  static const auto model = [] {
-    const Aircraft heli;
-    PilotOptions o;
-    o.hover_seconds = 4;
-    auto log = fly_pilot(heli, o, 60, 3).log;
-    for (auto& a : log.controls) a[0] = -a[0], a[3] = -a[3];
-    sysid::IdentifyOptions io;
-    io.cv_points = 40;
-    io.scale_grid = {2, 4};
-    io.coordinate_passes = 0;
-    ThreadPool pool(2);
-    return std::make_shared<const sysid::IdentifiedModel>(sysid::identify(log, io, pool));
-  }();
+  static const auto model = identify_pilot_flight(true);
   return model;
 }
 

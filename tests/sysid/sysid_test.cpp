@@ -233,13 +233,21 @@ TEST(Identification, ModelFileRoundTrips) {
   EXPECT_EQ(back.to_json().dump(), model.to_json().dump());
 }
 
+// The model the learned-model tests step: a small identification of the fixture's training flight, made once.
+std::shared_ptr<const IdentifiedModel> learned_fixture_model() {
+  static const auto model = [] {
+    IdentifyOptions o;
+    o.cv_points = 60;
+    o.scale_grid = {2};
+    o.coordinate_passes = 0;
+    ThreadPool pool(1);
+    return std::make_shared<const IdentifiedModel>(identify(fixture().train, o, pool));
+  }();
+  return model;
+}
+
 TEST(LearnedModel, IsDeterministicAndCrashesOutsideTheData) {
-  IdentifyOptions o;
-  o.cv_points = 60;
-  o.scale_grid = {2};
-  o.coordinate_passes = 0;
-  ThreadPool pool(1);
-  auto model = std::make_shared<const IdentifiedModel>(identify(fixture().train, o, pool));
+  const auto model = learned_fixture_model();
   LearnedModelOptions lo;
   lo.start = fixture().train.states[500];
   const LearnedHeliModel sim(model, lo);
@@ -275,12 +283,7 @@ TEST(LearnedModel, IsDeterministicAndCrashesOutsideTheData) {
 namespace {
 
 TEST(LearnedModel, StepNoiseIsTheInverseCdfOfThePredictiveVarianceOverFive) {
-  IdentifyOptions o;
-  o.cv_points = 60;
-  o.scale_grid = {2};
-  o.coordinate_passes = 0;
-  ThreadPool pool(1);
-  auto model = std::make_shared<const IdentifiedModel>(identify(fixture().train, o, pool));
+  const auto model = learned_fixture_model();
   LearnedModelOptions lo;
   lo.start = fixture().train.states[800];
   const LearnedHeliModel sim(model, lo);
@@ -318,12 +321,7 @@ namespace {
 // second uniform per variable, and scales it so that one model step (five 50 Hz steps) sums to the share of
 // the identified variance the AR part has, with the identified correlation from one model step to the next.
 TEST(LearnedModel, Ar1NoiseSumsToItsShareOverAModelStepWithItsCorrelation) {
-  IdentifyOptions o;
-  o.cv_points = 60;
-  o.scale_grid = {2};
-  o.coordinate_passes = 0;
-  ThreadPool pool(1);
-  const auto white = std::make_shared<const IdentifiedModel>(identify(fixture().train, o, pool));
+  const auto white = learned_fixture_model();
   nlohmann::json j = white->to_json();
   const double share = 0.6, rho = 0.8;
   j["noise"] = {{"model", "ar1"},
