@@ -146,6 +146,7 @@ void set_up_config(Leaf& leaf) {
     for (std::size_t i = 0; i < leaf.options.size(); ++i) {
       if (leaf.options[i]->count() > 0) schema.set_from_cli(schema.fields()[i].name(), leaf.texts[i]);
     }
+    if (leaf.command->resolve) leaf.command->resolve(schema);
     schema.validate();
   } catch (...) {
     error = std::current_exception();

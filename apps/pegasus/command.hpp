@@ -82,6 +82,9 @@ struct Command {
   std::string description{};                     // one line, shown by --help
   std::function<void(ConfigSchema&)> declare{};  // declares the command's config fields
   std::function<void(RunContext&)> run{};        // does the work; throws on failure
+  // Fills fields the user left at their defaults from an input another field names (a vehicle file), after
+  // the config file and the command line and before validation, so the resolved config says what was used.
+  std::function<void(ConfigSchema&)> resolve{};
   OutDir out = OutDir::kRequired;
   bool hidden = false;  // not listed by --help (framework self-tests)
   // Fields that may also be given as positional arguments, in this order (`pegasus report RUN_DIR`).

@@ -25,7 +25,9 @@
 #include "pegasus/heli/hover_task.hpp"
 #include "pegasus/heli/pilot.hpp"
 #include "pegasus/heli/policy_file.hpp"
+#include "pegasus/io/atomic_file.hpp"
 #include "pegasus/io/json_csv.hpp"
+#include "pegasus/logs/vehicle.hpp"
 #include "pegasus/optimizers/training.hpp"
 #include "pegasus/runs/optimizer_config.hpp"
 #include "pegasus/runs/progress.hpp"
@@ -40,6 +42,30 @@ namespace {
 
 using namespace pegasus::heli;
 using namespace pegasus::sysid;
+
+// ------------------------------------------------------------------ vehicle files
+
+void declare_vehicle(ConfigSchema& s) {
+  s.add_string("vehicle", "",
+               "vehicle file (README: Vehicle files; experiments/vehicles/): the aircraft's log layout, "
+               "channels, rates and hover settings; empty: the X-Cell 60 in the project's own log layout");
+}
+
+logs::Vehicle vehicle_of(const ConfigSchema& c) {
+  const std::string& file = c.get_string("vehicle");
+  return file.empty() ? logs::xcell_vehicle() : logs::read_vehicle(file);
+}
+
+// Sets `field` from the vehicle file unless the user set it (a config file or an option wins).
+void from_vehicle(ConfigSchema& s, const logs::Vehicle& v, const std::string& field, FieldValue value,
+                  const std::string& key) {
+  if (s.origin(field) == "default") s.set(field, std::move(value), fmt::format("{}: {}", v.log.file, key));
+}
+
+// The vehicle file's bytes, kept beside the results it shaped.
+void keep_vehicle_file(const ConfigSchema& c, RunDirectory& dir) {
+  if (!c.get_string("vehicle").empty()) dir.write_text("vehicle.toml", read_file(c.get_string("vehicle")));
+}
 
 // ------------------------------------------------------------------ heli pilot
 
@@ -140,7 +166,8 @@ BandwidthFloor read_bandwidth_floor(const ConfigSchema& c) {
 namespace {
 
 void declare_identify(ConfigSchema& s) {
-  s.add_string("train", "", "training flight log (CSV, see README)");
+  declare_vehicle(s);
+  s.add_string("train", "", "training flight log (CSV in the vehicle's layout, see README)");
   s.add_string("test", "", "hold-out flight log (CSV)");
   s.add_double("rate_hz", 10, "identification rate, Hz (the log is downsampled)").range(1, 50);
   s.add_bool("local", true, "locally weighted regression (false: globally linear)");
@@ -177,6 +204,14 @@ void declare_identify(ConfigSchema& s) {
       .max(1000);
 }
 
+void resolve_identify(ConfigSchema& s) {
+  if (s.get_string("vehicle").empty()) return;
+  const logs::Vehicle v = logs::read_vehicle(s.get_string("vehicle"));
+  from_vehicle(s, v, "rate_hz", v.log.model_rate_hz, "log.model_rate_hz");
+  from_vehicle(s, v, "extra_states", v.xcell_latent_states, "vehicle.latent_states");
+  from_vehicle(s, v, "control_rate_hz", v.control_rate_hz, "control.rate_hz");
+}
+
 nlohmann::json mse_at(const HorizonMse& h) {
   nlohmann::json out;
   for (int sec : {1, 5, 10}) {
@@ -196,8 +231,12 @@ void run_identify(RunContext& ctx) {
   const auto& c = ctx.config;
   if (c.get_string("train").empty()) throw InputError("--train: a training flight log is required");
   if (c.get_string("test").empty()) throw InputError("--test: a hold-out flight log is required");
-  const FlightLog train = read_flight_log(c.get_string("train"));
-  const FlightLog test = read_flight_log(c.get_string("test"));
+  const bool own_layout = c.get_string("vehicle").empty();
+  const logs::Vehicle vehicle = vehicle_of(c);
+  const FlightLog train = own_layout ? read_flight_log(c.get_string("train"))
+                                     : logs::read_vehicle_log(c.get_string("train"), vehicle);
+  const FlightLog test = own_layout ? read_flight_log(c.get_string("test"))
+                                    : logs::read_vehicle_log(c.get_string("test"), vehicle);
   IdentifyOptions o;
   o.structure.rate_hz = c.get_double("rate_hz");
   o.structure.extra_states = c.get_bool("extra_states");
@@ -215,6 +254,7 @@ void run_identify(RunContext& ctx) {
   if (!o.IsValid(&error)) throw InputError(error);
   ThreadPool& pool = ctx.pool();
   RunDirectory& dir = ctx.run_directory();
+  keep_vehicle_file(c, dir);
 
   IdentifyReport report;
   // The bandwidth search checkpoints after each cross-validation step; --resume replays the saved steps.
@@ -379,6 +419,7 @@ void run_identify(RunContext& ctx) {
                             {"model", "model.json"}};
   // Only when some were skipped, so that the summaries of 50 Hz logs stay as they were (digests).
   if (!skipped_rates.empty()) summary["variant_rates_skipped_hz"] = skipped_rates;
+  if (!own_layout) summary["vehicle"] = vehicle.name();  // likewise
   if (!report.floored_inputs.empty()) summary["bandwidth_at_floor"] = report.floored_inputs;
   if (o.calibrate_noise) {
     nlohmann::json inflation;
@@ -442,6 +483,7 @@ void run_identify(RunContext& ctx) {
 // ------------------------------------------------------------------ heli hover
 
 void declare_hover(ConfigSchema& s) {
+  declare_vehicle(s);
   s.add_string("model", "", "identified model (model.json of pegasus heli identify)");
   s.add_int("scenarios", 30, "PEGASUS scenarios m (thesis 5.3: 30)").range(1, 100000);
   s.add_double("seconds", 35, "flight per scenario, s (thesis 5.3: 35)").greater_than(0).max(3600);
@@ -470,6 +512,10 @@ void declare_hover(ConfigSchema& s) {
       .range(0, 1000);
   s.add_double("start_pos_sigma", 1.0, "start position perturbation per axis, m").range(0, 100);
   s.add_double("start_vel_sigma", 0.3, "start velocity perturbation per axis, m/s").range(0, 100);
+  s.add_double("max_tilt_rad", defaults.max_tilt_rad,
+               "the envelope: |roll| or |pitch| beyond this crashes the learned model, rad")
+      .greater_than(0)
+      .max(1.5);
   s.add_double("max_start_crash_fraction", heli::HoverTrainingOptions{}.max_start_crash_fraction,
                "stop before training when the starting policy crashes the learned model in more than this "
                "fraction of the scenarios (1: never stop)")
@@ -519,6 +565,17 @@ void declare_hover(ConfigSchema& s) {
              "after gradient ascent, random-walk hill climbing (optimizer.hill_climbing) from its result");
 }
 
+void resolve_hover(ConfigSchema& s) {
+  if (s.get_string("vehicle").empty()) return;
+  const logs::Vehicle v = logs::read_vehicle(s.get_string("vehicle"));
+  from_vehicle(s, v, "control_rate_hz", v.control_rate_hz, "control.rate_hz");
+  from_vehicle(s, v, "starting_gains",
+               v.starting_gains == "lqr" ? std::string("lqr") : std::string("constant"),
+               "hover.starting_gains");
+  from_vehicle(s, v, "target", std::vector<double>(v.target.begin(), v.target.end()), "hover.target");
+  from_vehicle(s, v, "max_tilt_rad", v.max_tilt_rad, "envelope.max_tilt_rad");
+}
+
 heli::HoverTrainingOptions hover_options(const RunContext& ctx) {
   const auto& c = ctx.config;
   heli::HoverTrainingOptions o;
@@ -530,6 +587,7 @@ heli::HoverTrainingOptions hover_options(const RunContext& ctx) {
   o.lqr_start = c.get_string("starting_gains") == "lqr";
   o.start_pos_sigma = c.get_double("start_pos_sigma");
   o.start_vel_sigma = c.get_double("start_vel_sigma");
+  o.max_tilt_rad = c.get_double("max_tilt_rad");
   const auto& t = c.get_double_list("target");
   o.target = {t[0], t[1], t[2], t[3]};
   o.reward =
@@ -575,6 +633,7 @@ void run_hover(RunContext& ctx) {
   const heli::HoverTrainingOptions o = hover_options(ctx);
   const auto model = model_argument(ctx);
   RunDirectory& dir = ctx.run_directory();
+  keep_vehicle_file(ctx.config, dir);
   heli::HoverTrainingHooks hooks;
   hooks.checkpoint_every = 1;
   hooks.resume_from = dir.load_checkpoint();
@@ -656,6 +715,9 @@ void run_hover(RunContext& ctx) {
     if (!lqr.used)
       ctx.out << "warning: LQR starting gains not used: " << lqr.reason << "; the constants were\n";
   }
+  if (!ctx.config.get_string("vehicle").empty())
+    summary["vehicle"] = vehicle_of(ctx.config).name();  // likewise
+  if (o.max_tilt_rad != heli::HoverTrainingOptions{}.max_tilt_rad) summary["max_tilt_rad"] = o.max_tilt_rad;
   if (o.control_rate_hz != 50) {  // likewise
     summary["control_rate_hz"] = o.control_rate_hz;
     summary["refit_every"] = o.refit_steps(*model);
@@ -678,6 +740,7 @@ void run_hover(RunContext& ctx) {
 // ------------------------------------------------------------------ heli fly
 
 void declare_fly(ConfigSchema& s) {
+  declare_vehicle(s);
   s.add_string("policy", "", "policy file (policy.json of pegasus heli hover or heli maneuver)");
   s.add_bool("pilot", false, "fly the scripted pilot's hover instead of a policy");
   s.add_bool("compare_pilot", false, "also fly the scripted pilot's hover from the same starts and gusts");
@@ -771,6 +834,11 @@ void write_trace_plots(RunDirectory& dir, const std::vector<heli::FlightRecord>&
 
 void run_fly(RunContext& ctx) {
   const auto& c = ctx.config;
+  if (const logs::Vehicle v = vehicle_of(c); v.simulator != "xcell")
+    throw InputError(fmt::format(
+        "{}: vehicle.simulator: '{}': the project has no ground truth of {} to fly; serve its controller to "
+        "the aircraft or its simulator with `pegasus control --vehicle {} --policy P.json`",
+        v.log.file, v.simulator, v.name(), v.log.file));
   const bool pilot_only = c.get_bool("pilot");
   const std::string& policy_path = c.get_string("policy");
   if (!pilot_only && policy_path.empty())
@@ -855,6 +923,13 @@ void run_fly(RunContext& ctx) {
 
 // ------------------------------------------------------------------ heli control
 
+void declare_control(ConfigSchema& s) {
+  declare_vehicle(s);
+  s.add_string("policy", "", "policy file (policy.json of pegasus heli hover)");
+  s.add_int("bench_lines", 0, "0: serve stdin; N: time N synthetic lines and print lines/s")
+      .range(0, 100000000);
+}
+
 void run_control(RunContext& ctx) {
   const std::string& path = ctx.config.get_string("policy");
   if (path.empty()) throw InputError("--policy: expected a policy file (policy.json of pegasus heli hover)");
@@ -862,7 +937,16 @@ void run_control(RunContext& ctx) {
   const auto controller = heli::make_controller(file, path);
   const auto bench = ctx.config.get_int("bench_lines");
   if (bench == 0) {
-    heli::run_control_loop(*controller, file.trim, stdin, stdout, stderr);
+    double dt = 0.02;  // a line's time when it has none: the policy's rate
+    if (const auto it = file.options.find("control_rate_hz");
+        it != file.options.end() && it->is_number() && it->get<double>() > 0)
+      dt = 1 / it->get<double>();
+    if (ctx.config.get_string("vehicle").empty()) {
+      heli::run_control_loop(*controller, file.trim, stdin, stdout, stderr, dt);
+    } else {
+      heli::run_control_loop(*controller, file.trim, stdin, stdout, stderr, dt,
+                             logs::control_line_format(vehicle_of(ctx.config)));
+    }
     return;
   }
   // Bench mode: `bench_lines` synthetic hover states through the same loop, output discarded.
@@ -1024,7 +1108,7 @@ void run_pipeline(RunContext& ctx) {
 }  // namespace
 
 std::vector<Command> heli_commands() {
-  return {
+  std::vector<Command> commands = {
       Command{.path = "heli pilot",
               .description = "Fly the ground-truth helicopter with the scripted pilot (hover, then sweeps) "
                              "and log it at 50 Hz",
@@ -1034,12 +1118,14 @@ std::vector<Command> heli_commands() {
               .description =
                   "Identify a helicopter model by locally weighted regression from flight logs (thesis 5.2)",
               .declare = declare_identify,
-              .run = run_identify},
+              .run = run_identify,
+              .resolve = resolve_identify},
       Command{
           .path = "heli hover",
           .description = "Learn to hover (thesis 5.3): PEGASUS on the identified model, writes policy.json",
           .declare = declare_hover,
-          .run = run_hover},
+          .run = run_hover,
+          .resolve = resolve_hover},
       Command{.path = "heli fly",
               .description =
                   "Fly a policy file (or the scripted pilot) on the ground-truth helicopter with gusts",
@@ -1048,12 +1134,7 @@ std::vector<Command> heli_commands() {
       Command{
           .path = "heli control",
           .description = "Serve a policy file: one state per line on stdin, four controls per line on stdout",
-          .declare =
-              [](ConfigSchema& s) {
-                s.add_string("policy", "", "policy file (policy.json of pegasus heli hover)");
-                s.add_int("bench_lines", 0, "0: serve stdin; N: time N synthetic lines and print lines/s")
-                    .range(0, 100000000);
-              },
+          .declare = declare_control,
           .run = run_control,
           .out = OutDir::kNone},
       Command{
@@ -1063,6 +1144,25 @@ std::vector<Command> heli_commands() {
           .declare = declare_pipeline,
           .run = run_pipeline},
   };
+  // The same commands for any aircraft a vehicle file describes; the `heli` ones are their aliases with the
+  // X-Cell 60 as the default vehicle.
+  const std::map<std::string, std::string> generic = {
+      {"identify", "Identify an aircraft's model from its flight logs (--vehicle V.toml; thesis 5.2)"},
+      {"hover", "Learn to hover an identified aircraft model by PEGASUS (--vehicle V.toml; thesis 5.3)"},
+      {"fly", "Fly a policy on the vehicle's ground truth (vehicles with a simulator: the X-Cell 60)"},
+      {"control",
+       "Serve a policy to an aircraft in its own layout (--vehicle V.toml): a state line in, its "
+       "controls out"}};
+  for (std::size_t i = 0, n = commands.size(); i < n; ++i) {
+    const std::string name = commands[i].path.substr(std::string("heli ").size());
+    if (const auto it = generic.find(name); it != generic.end()) {
+      Command c = commands[i];
+      c.path = name;
+      c.description = it->second;
+      commands.push_back(std::move(c));
+    }
+  }
+  return commands;
 }
 
 }  // namespace pegasus::cli

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "common.hpp"
+#include "pegasus/logs/vehicle.hpp"
 #include "pegasus/parallel/thread_pool.hpp"
 #include "pegasus/sysid/flight_log.hpp"
 #include "pegasus/sysid/identify.hpp"
@@ -77,12 +78,13 @@ flight_log(data, columns).)doc")
       });
   m.def(
       "read_flight_log",
-      [](const std::string& path, std::int64_t min_rows) {
-        return sysid::read_flight_log(path, read_options(min_rows));
+      [](const std::string& path, std::int64_t min_rows, const std::string& vehicle) {
+        if (vehicle.empty()) return sysid::read_flight_log(path, read_options(min_rows));
+        return logs::read_vehicle_log(path, logs::read_vehicle(vehicle), read_options(min_rows));
       },
-      py::arg("path"), py::arg("min_rows") = 100,
-      "Reads and checks a CSV flight log (README's format); ValueError 'FILE:LINE:COLUMN: what was "
-      "expected'.");
+      py::arg("path"), py::arg("min_rows") = 100, py::arg("vehicle") = "",
+      "Reads and checks a CSV flight log (README's format, or the layout the vehicle file `vehicle` "
+      "describes, turned into the pipeline's); ValueError 'FILE:LINE:COLUMN: what was expected'.");
   m.def("flight_log", &log_from_arrays, py::arg("data"), py::arg("columns"), py::arg("min_rows") = 100,
         "A flight log from numpy data [rows, columns] with the columns' names (time, x, ..., a4; others "
         "ignored).");

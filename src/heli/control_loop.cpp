@@ -19,30 +19,80 @@ std::string_view trim(std::string_view s) {
   return s;
 }
 
-bool is_header(std::string_view line) {
-  const std::string_view first = trim(line.substr(0, line.find(',')));
-  return first == "time" || first == "x";
+// The first line is a header when one of its fields names the time or a state field.
+bool is_header(std::string_view line, const ControlLineFormat& format) {
+  std::string_view rest = line;
+  while (true) {
+    const std::size_t comma = rest.find(',');
+    const std::string_view field = trim(rest.substr(0, comma));
+    if (field == format.time_field) return true;
+    for (const auto& f : format.state_fields)
+      if (field == f) return true;
+    if (comma == std::string_view::npos) return false;
+    rest.remove_prefix(comma + 1);
+  }
 }
 
-void write_controls(std::FILE* out, const Controls& a) {
+void write_values(std::FILE* out, std::span<const double> a) {
   fmt::memory_buffer buf;
-  fmt::format_to(std::back_inserter(buf), "{},{},{},{}\n", a[0], a[1], a[2], a[3]);
+  for (std::size_t i = 0; i < a.size(); ++i)
+    fmt::format_to(std::back_inserter(buf), "{}{}", i ? "," : "", a[i]);
+  buf.push_back('\n');
   std::fwrite(buf.data(), 1, buf.size(), out);
   std::fflush(out);
 }
 
+void write_controls(std::FILE* out, const Controls& a, const ControlLineFormat& format) {
+  if (format.controls_of) {
+    const std::array<double, 4> native = format.controls_of(a);
+    write_values(out, native);
+  } else {
+    write_values(out, a);
+  }
+}
+
+// Each field's position from a header naming them (time first, -1 when absent); empty when a state field is
+// not named.
+std::vector<int> header_columns(std::string_view header, const ControlLineFormat& format) {
+  std::vector<std::string_view> names;
+  std::string_view rest = header;
+  while (true) {
+    const std::size_t comma = rest.find(',');
+    names.push_back(trim(rest.substr(0, comma)));
+    if (comma == std::string_view::npos) break;
+    rest.remove_prefix(comma + 1);
+  }
+  auto find = [&](const std::string& name) {
+    for (std::size_t i = 0; i < names.size(); ++i)
+      if (names[i] == name) return static_cast<int>(i);
+    return -1;
+  };
+  std::vector<int> columns{find(format.time_field)};
+  for (const auto& f : format.state_fields) {
+    columns.push_back(find(f));
+    if (columns.back() < 0) return {};
+  }
+  return columns;
+}
+
+constexpr std::size_t kMaxFields = 256;
+
 }  // namespace
 
-bool parse_state_line(std::string_view line, LoggedState* state, bool* has_time, double* time,
-                      std::string* why) {
-  std::array<double, 17> v{};
+bool parse_state_line(std::string_view line, const ControlLineFormat& format, std::span<const int> columns,
+                      LoggedState* state, bool* has_time, double* time, std::string* why) {
+  std::array<double, kMaxFields> v{};
+  const std::size_t count = format.state_fields.size();
+  const std::size_t longest = columns.empty() ? count + 5 : kMaxFields;
   std::size_t n = 0;
   std::string_view rest = line;
   while (true) {
     const std::size_t comma = rest.find(',');
     const std::string_view field = trim(rest.substr(0, comma));
-    if (n == v.size()) {
-      *why = "expected 12, 13 or 17 fields, got more than 17";
+    if (n == longest) {
+      *why = columns.empty() ? fmt::format("expected {}, {} or {} fields, got more than {}", count, count + 1,
+                                           count + 5, count + 5)
+                             : fmt::format("expected the header's fields, got more than {}", kMaxFields);
       return false;
     }
     double x = 0;
@@ -56,25 +106,61 @@ bool parse_state_line(std::string_view line, LoggedState* state, bool* has_time,
     if (comma == std::string_view::npos) break;
     rest.remove_prefix(comma + 1);
   }
-  if (n != 12 && n != 13 && n != 17) {
-    *why = fmt::format("expected 12, 13 or 17 fields, got {}", n);
-    return false;
+  std::array<double, kMaxFields> fields{};
+  if (columns.empty()) {
+    if (n != count && n != count + 1 && n != count + 5) {
+      *why = fmt::format("expected {}, {} or {} fields, got {}", count, count + 1, count + 5, n);
+      return false;
+    }
+    const std::size_t first = n == count ? 0 : 1;
+    *has_time = n != count;
+    if (*has_time) *time = v[0];
+    for (std::size_t k = 0; k < count; ++k) fields[k] = v[first + k];
+  } else {
+    int widest = 0;
+    for (int c : columns) widest = std::max(widest, c);
+    if (n <= static_cast<std::size_t>(widest)) {
+      *why = fmt::format("expected at least {} fields, as the header says, got {}", widest + 1, n);
+      return false;
+    }
+    *has_time = columns[0] >= 0;
+    if (*has_time) *time = v[static_cast<std::size_t>(columns[0])];
+    for (std::size_t k = 0; k < count; ++k) fields[k] = v[static_cast<std::size_t>(columns[k + 1])];
   }
-  const std::size_t first = n == 12 ? 0 : 1;
-  *has_time = n != 12;
-  if (*has_time) *time = v[0];
-  for (std::size_t k = 0; k < kLoggedStates; ++k) (*state)[k] = v[first + k];
+  if (format.state_of) {
+    *state = format.state_of(std::span<const double>(fields.data(), count));
+    for (double x : *state)
+      if (!std::isfinite(x)) {
+        *why = "the state fields give no finite state (an all-zero quaternion?)";
+        return false;
+      }
+  } else {
+    for (std::size_t k = 0; k < kLoggedStates; ++k) (*state)[k] = fields[k];
+  }
   return true;
 }
 
+bool parse_state_line(std::string_view line, LoggedState* state, bool* has_time, double* time,
+                      std::string* why) {
+  static const ControlLineFormat kOwn;
+  return parse_state_line(line, kOwn, {}, state, has_time, time, why);
+}
+
 ControlLoopStats run_control_loop(const HeliController& controller, const Controls& safe, std::FILE* in,
-                                  std::FILE* out, std::FILE* err, double dt) {
+                                  std::FILE* out, std::FILE* err, double dt,
+                                  const ControlLineFormat& format) {
   ControlLoopStats stats;
   char* buffer = nullptr;
   std::size_t capacity = 0;
   std::int64_t data_lines = 0;
   LoggedState s{};
   std::string why;
+  std::vector<int> columns;  // from a header naming the fields
+  auto say = [&](const std::string& what) {
+    const std::string msg = fmt::format("stdin:{}: {}\n", stats.lines, printable(what));
+    std::fwrite(msg.data(), 1, msg.size(), err);
+    std::fflush(err);
+  };
   while (true) {
     const ssize_t len = getline(&buffer, &capacity, in);
     if (len < 0) break;
@@ -82,23 +168,25 @@ ControlLoopStats run_control_loop(const HeliController& controller, const Contro
     std::string_view line = trim(std::string_view(buffer, static_cast<std::size_t>(len)));
     if (stats.lines == 1 && line.starts_with(kUtf8ByteOrderMark))
       line.remove_prefix(kUtf8ByteOrderMark.size());
-    if (stats.lines == 1 && is_header(line)) {
-      std::fputs("a1,a2,a3,a4\n", out);
+    if (stats.lines == 1 && is_header(line, format)) {
+      std::string header;
+      for (const auto& name : format.control_names) header += (header.empty() ? "" : ",") + name;
+      header += '\n';
+      std::fputs(header.c_str(), out);
       std::fflush(out);
+      // A header that does not name every state field leaves the lines read by position.
+      columns = header_columns(line, format);
       continue;
     }
     bool has_time = false;
     double time = 0;
-    if (parse_state_line(line, &s, &has_time, &time, &why)) {
-      write_controls(out, controller.act(s, has_time ? time : static_cast<double>(data_lines) * dt));
+    if (parse_state_line(line, format, columns, &s, &has_time, &time, &why)) {
+      write_controls(out, controller.act(s, has_time ? time : static_cast<double>(data_lines) * dt), format);
     } else {
       ++stats.malformed;
-      write_controls(out, safe);
+      write_controls(out, safe, format);
       // One line per malformed input line, whatever bytes it held (NUL, CR, invalid UTF-8).
-      const std::string msg =
-          fmt::format("stdin:{}: {}; answered the trim controls\n", stats.lines, printable(why));
-      std::fwrite(msg.data(), 1, msg.size(), err);
-      std::fflush(err);
+      say(why + "; answered the trim controls");
     }
     ++data_lines;
   }

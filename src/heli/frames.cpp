@@ -1,5 +1,6 @@
 #include "pegasus/heli/frames.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -35,6 +36,25 @@ Vec3 body_rates_from_euler_rates(const Euler& e, const Vec3& d) {
   const double cf = std::cos(e.roll), sf = std::sin(e.roll);
   const double ct = std::cos(e.pitch), st = std::sin(e.pitch);
   return {d.x() - st * d.z(), cf * d.y() + sf * ct * d.z(), -sf * d.y() + cf * ct * d.z()};
+}
+
+Euler euler_from_quaternion(double w, double x, double y, double z) {
+  Euler e;
+  e.roll = std::atan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y));
+  e.pitch = std::asin(std::clamp(2 * (w * y - z * x), -1.0, 1.0));
+  e.yaw = std::atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z));
+  return e;
+}
+
+std::array<double, 4> quaternion_from_euler(const Euler& e) {
+  const double cr = std::cos(e.roll / 2), sr = std::sin(e.roll / 2);
+  const double cp = std::cos(e.pitch / 2), sp = std::sin(e.pitch / 2);
+  const double cy = std::cos(e.yaw / 2), sy = std::sin(e.yaw / 2);
+  std::array<double, 4> q{cr * cp * cy + sr * sp * sy, sr * cp * cy - cr * sp * sy,
+                          cr * sp * cy + sr * cp * sy, cr * cp * sy - sr * sp * cy};
+  if (q[0] < 0)
+    for (double& c : q) c = -c;
+  return q;
 }
 
 }  // namespace pegasus::heli

@@ -33,6 +33,7 @@ sysid::LearnedModelOptions learned_options(const HoverTrainingOptions& o,
   m.start = {o.target.x, o.target.y, o.target.z, 0, 0, o.target.yaw, 0, 0, 0, 0, 0, 0};
   m.start_pos_sigma = o.start_pos_sigma;
   m.start_vel_sigma = o.start_vel_sigma;
+  m.max_tilt_rad = o.max_tilt_rad;
   return m;
 }
 
@@ -276,6 +277,8 @@ bool HoverTrainingOptions::IsValid(std::string* error) const {
     return fail(error, fmt::format("seconds: expected a number in (0, 3600], got {}", seconds));
   if (!(gamma > 0 && gamma <= 1))
     return fail(error, fmt::format("gamma: expected a number in (0, 1], got {}", gamma));
+  if (!(max_tilt_rad > 0 && max_tilt_rad < 1.5708))
+    return fail(error, fmt::format("max_tilt_rad: expected a number in (0, pi/2), got {}", max_tilt_rad));
   if (refit_every < 0)
     return fail(error, fmt::format("refit_every: expected an integer >= 0 (0: at the model's rate), got {}",
                                    refit_every));

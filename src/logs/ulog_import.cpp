@@ -22,70 +22,6 @@ using heli::Vec3;
 
 namespace {
 
-// ------------------------------------------------------------------ the vehicle file
-
-class SpecReader {
- public:
-  SpecReader(const toml::table& root, std::string file) : root_(root), file_(std::move(file)) {}
-
-  [[noreturn]] void fail(const toml::node* node, const std::string& key, const std::string& what) const {
-    const auto line = node ? node->source().begin.line : 0;
-    throw InputError(line ? fmt::format("{}:{}: {}: {}", file_, line, key, what)
-                          : fmt::format("{}: {}: {}", file_, key, what));
-  }
-  const toml::node* at(const std::string& key) const { return root_.at_path(key).node(); }
-  const toml::node& required(const std::string& key, const std::string& what) const {
-    const toml::node* n = at(key);
-    if (!n) fail(root_.get("log"), key, "missing; expected " + what);
-    return *n;
-  }
-  std::string string(const std::string& key, std::string fallback,
-                     std::vector<std::string> choices = {}) const {
-    const toml::node* n = at(key);
-    if (!n) return fallback;
-    const auto v = n->value<std::string>();
-    if (!v) fail(n, key, "expected a string");
-    if (!choices.empty() && std::find(choices.begin(), choices.end(), *v) == choices.end()) {
-      std::string list;
-      for (const auto& c : choices) list += (list.empty() ? "" : " or ") + ("'" + c + "'");
-      fail(n, key, fmt::format("expected {}, found '{}'", list, *v));
-    }
-    return *v;
-  }
-  std::string required_string(const std::string& key) const {
-    const toml::node& n = required(key, "a string");
-    const auto v = n.value<std::string>();
-    if (!v || v->empty()) fail(&n, key, "expected a non-empty string");
-    return *v;
-  }
-  double number(const std::string& key, double fallback, double lo, double hi) const {
-    const toml::node* n = at(key);
-    if (!n) return fallback;
-    const auto v = n->value<double>();
-    if (!v || !std::isfinite(*v)) fail(n, key, "expected a number");
-    if (*v < lo || *v > hi) fail(n, key, fmt::format("expected a number in [{}, {}], found {}", lo, hi, *v));
-    return *v;
-  }
-  TopicFields fields(const std::string& key, std::size_t count) const {
-    TopicFields t;
-    t.topic = required_string(key + ".topic");
-    const toml::node& n = required(key + ".fields", fmt::format("a list of {} field names", count));
-    const toml::array* a = n.as_array();
-    if (!a || a->size() != count)
-      fail(&n, key + ".fields", fmt::format("expected a list of {} field names", count));
-    for (const auto& e : *a) {
-      const auto v = e.value<std::string>();
-      if (!v || v->empty()) fail(&n, key + ".fields", "expected field names (strings)");
-      t.fields.push_back(*v);
-    }
-    return t;
-  }
-
- private:
-  const toml::table& root_;
-  std::string file_;
-};
-
 // ------------------------------------------------------------------ resampling
 
 // One topic's records as doubles, with its time in seconds.
@@ -144,15 +80,6 @@ Vec3 interpolate3(const Series& s, std::size_t i, double w) {
   return v;
 }
 
-// Z-Y-X Euler angles of a unit quaternion (w, x, y, z) that rotates body vectors into the world frame.
-Euler euler_from_quaternion(double w, double x, double y, double z) {
-  Euler e;
-  e.roll = std::atan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y));
-  e.pitch = std::asin(std::clamp(2 * (w * y - z * x), -1.0, 1.0));
-  e.yaw = std::atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z));
-  return e;
-}
-
 Euler attitude_at(const Series& s, std::size_t i, double w, bool quaternion) {
   const std::size_t j = std::min(i + 1, s.time.size() - 1);
   if (quaternion) {
@@ -172,7 +99,7 @@ Euler attitude_at(const Series& s, std::size_t i, double w, bool quaternion) {
     }
     norm = std::sqrt(norm);
     if (!(norm > 0)) return Euler{NAN, NAN, NAN};
-    return euler_from_quaternion(q[0] / norm, q[1] / norm, q[2] / norm, q[3] / norm);
+    return heli::euler_from_quaternion(q[0] / norm, q[1] / norm, q[2] / norm, q[3] / norm);
   }
   const auto lerp_angle = [&](std::size_t c) {
     const double a = s.fields[c][i];
@@ -183,70 +110,19 @@ Euler attitude_at(const Series& s, std::size_t i, double w, bool quaternion) {
 
 }  // namespace
 
-std::vector<std::string> VehicleLogSpec::topic_names() const {
-  std::vector<std::string> out;
-  auto add = [&](const std::string& t) {
-    if (std::find(out.begin(), out.end(), t) == out.end()) out.push_back(t);
-  };
-  for (const auto* t : {&position, &velocity, &attitude, &rates}) add(t->topic);
-  for (const auto& c : controls) add(c.topic);
-  return out;
-}
-
-namespace {
-VehicleLogSpec vehicle_log_spec(const toml::table& root, const std::filesystem::path& file) {
-  const SpecReader r(root, file.string());
-  if (!root.get("log") || !root.get("log")->is_table())
-    throw InputError(
-        fmt::format("{}: expected a [log] section (see the README's vehicle files)", file.string()));
-  VehicleLogSpec s;
-  s.file = file.string();
-  s.vehicle = r.string("vehicle.name", file.stem().string());
-  s.rate_hz = r.number("log.rate_hz", s.rate_hz, 1, 10000);
-  s.model_rate_hz = r.number("log.model_rate_hz", s.model_rate_hz, 0.1, s.rate_hz);
-  const double ratio = s.rate_hz / s.model_rate_hz;
-  if (std::abs(ratio - std::round(ratio)) > 1e-9)
-    r.fail(r.at("log.model_rate_hz"), "log.model_rate_hz",
-           fmt::format("expected a rate that divides log.rate_hz = {} Hz, found {} Hz", s.rate_hz,
-                       s.model_rate_hz));
-  s.instance = static_cast<int>(r.number("log.instance", 0, 0, 255));
-  if (s.instance != r.number("log.instance", 0, 0, 255))
-    r.fail(r.at("log.instance"), "log.instance", "expected an integer multi_id");
-  s.max_gap_s = r.number("log.max_gap_s", s.max_gap_s, 0, 1e6);
-  s.attitude_form = r.string("log.attitude.form", s.attitude_form, {"quaternion", "euler"});
-  s.velocity_frame = r.string("log.velocity.frame", s.velocity_frame, {"world", "body"});
-  s.rates_form = r.string("log.rates.form", s.rates_form, {"body", "euler"});
-  s.position = r.fields("log.position", 3);
-  s.velocity = r.fields("log.velocity", 3);
-  s.attitude = r.fields("log.attitude", s.attitude_form == "quaternion" ? 4 : 3);
-  s.rates = r.fields("log.rates", 3);
-  const toml::node* controls = r.at("log.controls");
-  const toml::array* list = controls ? controls->as_array() : nullptr;
-  if (!list || list->size() != 4 || !list->is_array_of_tables())
-    r.fail(controls ? controls : root.get("log"), "log.controls",
-           "expected four [[log.controls]] tables, for the log's columns a1, a2, a3, a4 in this order");
-  for (std::size_t c = 0; c < 4; ++c) {
-    const std::string key = fmt::format("log.controls[{}]", c);
-    ControlChannel& ch = s.controls[c];
-    ch.topic = r.required_string(key + ".topic");
-    ch.field = r.required_string(key + ".field");
-    ch.scale = r.number(key + ".scale", 1, -1e6, 1e6);
-    ch.offset = r.number(key + ".offset", 0, -1e6, 1e6);
-  }
-  return s;
-}
-}  // namespace
-
-VehicleLogSpec read_vehicle_log_spec(const std::filesystem::path& file) {
-  return vehicle_log_spec(read_toml_input(file, "vehicle"), file);
-}
-
-VehicleLogSpec parse_vehicle_log_spec(std::string_view text, const std::filesystem::path& name) {
-  return vehicle_log_spec(parse_toml_input(text, name.string()), name);
-}
-
 sysid::FlightLog import_ulog(const UlogFile& ulog, const VehicleLogSpec& spec, const std::string& file,
                              const ImportOptions& options, ImportProvenance* provenance) {
+  // A vehicle file written for CSV logs names columns, not topics.
+  const auto need_topic = [&](const std::string& topic, const std::string& key) {
+    if (topic.empty())
+      throw InputError(fmt::format("{}: {}.topic: missing; expected the ULog topic that holds the fields",
+                                   spec.file, key));
+  };
+  need_topic(spec.position.topic, "log.position");
+  need_topic(spec.velocity.topic, "log.velocity");
+  need_topic(spec.attitude.topic, "log.attitude");
+  need_topic(spec.rates.topic, "log.rates");
+  for (std::size_t c = 0; c < 4; ++c) need_topic(spec.controls[c].topic, fmt::format("log.controls[{}]", c));
   const Series position = series(ulog, file, spec.instance, spec.position.topic, spec.position.fields);
   const Series velocity = series(ulog, file, spec.instance, spec.velocity.topic, spec.velocity.fields);
   const Series attitude = series(ulog, file, spec.instance, spec.attitude.topic, spec.attitude.fields);
@@ -333,12 +209,13 @@ sysid::FlightLog import_ulog(const UlogFile& ulog, const VehicleLogSpec& spec, c
       ic[c] = record_at(controls[c], t, ic[c]);
       const double raw = controls[c].fields[0][ic[c]];
       const double a = spec.controls[c].scale * raw + spec.controls[c].offset;
+      const int column = spec.controls[c].column(c);
       if (!(std::abs(a) <= 1 + 1e-6))
-        throw InputError(
-            fmt::format("{}: {}.{} = {} at t = {:.3f} s gives a{} = {}; expected [-1, 1] after the "
-                        "scale and offset of {}",
-                        file, spec.controls[c].topic, spec.controls[c].field, raw, t, c + 1, a, spec.file));
-      log.controls[k][c] = std::clamp(a, -1.0, 1.0);
+        throw InputError(fmt::format(
+            "{}: {}.{} = {} at t = {:.3f} s gives a{} = {}; expected [-1, 1] after the "
+            "scale and offset of {}",
+            file, spec.controls[c].topic, spec.controls[c].field, raw, t, column + 1, a, spec.file));
+      log.controls[k][static_cast<std::size_t>(column)] = std::clamp(a, -1.0, 1.0);
     }
   }
   if (provenance) {
@@ -352,7 +229,7 @@ sysid::FlightLog import_ulog(const UlogFile& ulog, const VehicleLogSpec& spec, c
     }
     nlohmann::json control_json = nlohmann::json::array();
     for (std::size_t c = 0; c < 4; ++c)
-      control_json.push_back({{"column", fmt::format("a{}", c + 1)},
+      control_json.push_back({{"column", fmt::format("a{}", spec.controls[c].column(c) + 1)},
                               {"topic", spec.controls[c].topic},
                               {"field", spec.controls[c].field},
                               {"scale", spec.controls[c].scale},

@@ -545,14 +545,15 @@ void ConfigSchema::set_from_cli(std::string_view name, std::string_view text) {
   origins_[index] = where;
 }
 
-void ConfigSchema::set(std::string_view name, FieldValue value) {
+void ConfigSchema::set(std::string_view name, FieldValue value, const std::string& origin) {
   const std::size_t index = index_of(name);
   if (value.index() != fields_[index].default_value().index()) {
     throw std::logic_error(fmt::format("config field '{}' is a {}", name, type_name(fields_[index].type())));
   }
   const std::string got = format_value(value);
-  assign(index, std::move(value), std::string(name), got);
-  origins_[index] = std::string(name);
+  const std::string where = origin.empty() ? std::string(name) : origin;
+  assign(index, std::move(value), where, got);
+  origins_[index] = where;
 }
 
 void ConfigSchema::validate() const {

@@ -61,7 +61,8 @@ std::vector<std::string_view> split(std::string_view line) {
 
 }  // namespace
 
-FlightLog parse_flight_log(const std::string& text, const std::string& name, const LogReadOptions& options) {
+CsvColumns read_csv_columns(const std::string& text, const std::string& name,
+                            const std::vector<std::string>& columns) {
   std::vector<std::string_view> lines;
   {
     // A UTF-8 byte order mark (spreadsheets write one) is not part of the first column's name.
@@ -75,23 +76,21 @@ FlightLog parse_flight_log(const std::string& text, const std::string& name, con
   }
   if (lines.empty()) throw InputError(fmt::format("{}:1: empty file; expected a CSV header line", name));
   const auto header = split(lines[0]);
-  std::vector<std::string> required{"time"};
-  for (const char* c : kLogStateColumns) required.emplace_back(c);
-  for (const char* c : kLogControlColumns) required.emplace_back(c);
-  std::vector<std::size_t> index(required.size());
-  for (std::size_t r = 0; r < required.size(); ++r) {
+  std::vector<std::size_t> index(columns.size());
+  for (std::size_t r = 0; r < columns.size(); ++r) {
     std::size_t found = header.size();
     for (std::size_t h = 0; h < header.size(); ++h)
-      if (header[h] == required[r]) found = h;
-    if (found == header.size())
-      throw InputError(
-          fmt::format("{}:1:{}: required column missing from the header (need time, x, y, z, roll, "
-                      "pitch, yaw, xdot, ydot, zdot, roll_rate, pitch_rate, yaw_rate, a1, a2, a3, a4)",
-                      name, required[r]));
+      if (header[h] == columns[r]) found = h;
+    if (found == header.size()) {
+      std::string need;
+      for (const auto& c : columns) need += (need.empty() ? "" : ", ") + c;
+      throw InputError(fmt::format("{}:1:{}: required column missing from the header (need {})", name,
+                                   printable(columns[r]), printable(need)));
+    }
     index[r] = found;
   }
-  FlightLog log;
-  std::vector<std::size_t> line_of;
+  CsvColumns out;
+  out.last_line = lines.size();
   for (std::size_t li = 1; li < lines.size(); ++li) {
     std::string_view line = lines[li];
     if (line.find_first_not_of(" \t\r") == std::string_view::npos) continue;  // blank lines
@@ -99,57 +98,78 @@ FlightLog parse_flight_log(const std::string& text, const std::string& name, con
     if (fields.size() != header.size())
       throw InputError(fmt::format("{}:{}: expected {} comma-separated fields as in the header, found {}",
                                    name, li + 1, header.size(), fields.size()));
-    std::array<double, 17> v{};
-    for (std::size_t r = 0; r < required.size(); ++r) {
+    std::vector<double> v(columns.size());
+    for (std::size_t r = 0; r < columns.size(); ++r) {
       const std::string_view f = fields[index[r]];
       double x = 0;
       const auto res = std::from_chars(f.data(), f.data() + f.size(), x);
       if (f.empty() || res.ec != std::errc() || res.ptr != f.data() + f.size())
-        throw InputError(
-            fmt::format("{}:{}:{}: expected a number, found '{}'", name, li + 1, required[r], printable(f)));
+        throw InputError(fmt::format("{}:{}:{}: expected a number, found '{}'", name, li + 1,
+                                     printable(columns[r]), printable(f)));
       if (!std::isfinite(x))
         throw InputError(fmt::format("{}:{}:{}: expected a finite number, found '{}'", name, li + 1,
-                                     required[r], printable(f)));
-      if (r >= 13 && std::abs(x) > 1.0 + 1e-9)
-        throw InputError(
-            fmt::format("{}:{}:{}: expected a control in [-1, 1], found {}", name, li + 1, required[r], x));
+                                     printable(columns[r]), printable(f)));
       v[r] = x;
     }
-    log.time.push_back(v[0]);
-    std::array<double, kLogStates> s{};
-    for (int k = 0; k < kLogStates; ++k) s[static_cast<std::size_t>(k)] = v[static_cast<std::size_t>(1 + k)];
-    log.states.push_back(s);
-    log.controls.push_back({v[13], v[14], v[15], v[16]});
-    line_of.push_back(li + 1);
+    out.rows.push_back(std::move(v));
+    out.lines.push_back(li + 1);
   }
+  return out;
+}
+
+void check_log_rows(const FlightLog& log, const std::vector<std::size_t>& lines, std::size_t last_line,
+                    const std::string& name, const LogReadOptions& options) {
   if (log.rows() < static_cast<std::size_t>(options.min_rows))
-    throw InputError(fmt::format("{}:{}: expected at least {} data rows, found {}", name, lines.size(),
+    throw InputError(fmt::format("{}:{}: expected at least {} data rows, found {}", name, last_line,
                                  options.min_rows, log.rows()));
   for (std::size_t i = 1; i < log.rows(); ++i)
     if (!(log.time[i] > log.time[i - 1]))
       throw InputError(fmt::format("{}:{}:time: expected time to increase strictly, found {} after {}", name,
-                                   line_of[i], log.time[i], log.time[i - 1]));
+                                   lines[i], log.time[i], log.time[i - 1]));
   const double dt = log.dt();
   for (std::size_t i = 1; i < log.rows(); ++i) {
     const double step = log.time[i] - log.time[i - 1];
     if (std::abs(step - dt) > options.rate_tolerance * dt)
       throw InputError(
           fmt::format("{}:{}:time: expected a constant sample interval {} s (within {}%), found {} s", name,
-                      line_of[i], dt, 100 * options.rate_tolerance, step));
+                      lines[i], dt, 100 * options.rate_tolerance, step));
   }
+}
+
+FlightLog parse_flight_log(const std::string& text, const std::string& name, const LogReadOptions& options) {
+  std::vector<std::string> required{"time"};
+  for (const char* c : kLogStateColumns) required.emplace_back(c);
+  for (const char* c : kLogControlColumns) required.emplace_back(c);
+  const CsvColumns table = read_csv_columns(text, name, required);
+  FlightLog log;
+  for (std::size_t i = 0; i < table.rows.size(); ++i) {
+    const std::vector<double>& v = table.rows[i];
+    for (std::size_t r = 13; r < 17; ++r)
+      if (std::abs(v[r]) > 1.0 + 1e-9)
+        throw InputError(fmt::format("{}:{}:{}: expected a control in [-1, 1], found {}", name,
+                                     table.lines[i], required[r], v[r]));
+    log.time.push_back(v[0]);
+    std::array<double, kLogStates> s{};
+    for (int k = 0; k < kLogStates; ++k) s[static_cast<std::size_t>(k)] = v[static_cast<std::size_t>(1 + k)];
+    log.states.push_back(s);
+    log.controls.push_back({v[13], v[14], v[15], v[16]});
+  }
+  check_log_rows(log, table.lines, table.last_line, name, options);
   return log;
 }
 
-FlightLog read_flight_log(const std::filesystem::path& file, const LogReadOptions& options) {
-  std::string text;
+std::string read_log_text(const std::filesystem::path& file) {
   try {
-    text = read_file(file);  // refuses a directory by name, where a stream would throw from underflow
+    return read_file(file);  // refuses a directory by name, where a stream would throw from underflow
   } catch (const std::exception& e) {
     std::string reason = e.what();
     if (const auto colon = reason.rfind(": "); colon != std::string::npos) reason.erase(0, colon + 2);
     throw InputError(fmt::format("{}: cannot read the flight log ({})", file.string(), reason));
   }
-  return parse_flight_log(text, file.string(), options);
+}
+
+FlightLog read_flight_log(const std::filesystem::path& file, const LogReadOptions& options) {
+  return parse_flight_log(read_log_text(file), file.string(), options);
 }
 
 }  // namespace pegasus::sysid

@@ -317,7 +317,9 @@ TEST_F(HoverCli, ControlAnswersEveryLineAndMalformedOnesWithTheTrim) {
   EXPECT_NE(errors.find("stdin:3: field 4: expected a finite number, got 'oops'; answered the trim controls"),
             std::string::npos)
       << errors;
-  EXPECT_NE(errors.find("stdin:5: expected 12, 13 or 17 fields, got 2"), std::string::npos) << errors;
+  // The header names the columns, so lines are read by it.
+  EXPECT_NE(errors.find("stdin:5: expected at least 12 fields, as the header says, got 2"), std::string::npos)
+      << errors;
 }
 
 // The main job's chain on a tiny setting: every stage's run directory, the headline summary and the plots.

@@ -226,7 +226,7 @@ TEST_F(VehicleFile, BadEntriesNameTheLineAndKey) {
   };
   EXPECT_NE(input_error_message([&] {
               read_vehicle_log_spec(replaced("fields = [\"x\", \"y\", \"z\"]", "fields = [\"x\"]"));
-            }).find(":17: log.position.fields: expected a list of 3 field names"),
+            }).find(":17: log.position.fields: expected a list of 3 field (or CSV column) names"),
             std::string::npos);
   EXPECT_NE(input_error_message([&] {
               read_vehicle_log_spec(replaced("model_rate_hz = 10", "model_rate_hz = 15"));

@@ -270,6 +270,65 @@ def test_a_maneuver_policy_file_serves_the_cli_controls_at_each_time(cli, tmp_pa
     assert (start.x, start.y, start.z) != (later.x, later.y, later.z)
 
 
+def test_a_log_read_through_a_vehicle_file_is_in_the_pipelines_layout(cli, source_dir, tmp_path):
+    """The X-Cell's vehicle file reads its own logs bit for bit as read_flight_log does; an outside layout (its
+    quaternion and body-frame velocity, its throttle in [0, 1] and reversed elevator) reads back to the same
+    states and controls."""
+    result = subprocess.run([cli, "heli", "pilot", "--seconds", "20", "--quiet", "--out", str(tmp_path / "p")],
+                            capture_output=True, text=True)
+    assert result.returncode == 0, result.stdout + result.stderr
+    own = pegasus.read_flight_log(str(tmp_path / "p" / "log.csv"))
+    through = pegasus.read_flight_log(str(tmp_path / "p" / "log.csv"),
+                                      vehicle=str(source_dir / "experiments" / "vehicles" / "xcell60.toml"))
+    assert np.array_equal(own.states, through.states) and np.array_equal(own.controls, through.controls)
+
+    roll, pitch, yaw = own.states[:, 3], own.states[:, 4], own.states[:, 5]
+    cr, sr, cp, sp, cy, sy = (np.cos(roll / 2), np.sin(roll / 2), np.cos(pitch / 2), np.sin(pitch / 2),
+                              np.cos(yaw / 2), np.sin(yaw / 2))
+    q = np.stack([cr * cp * cy + sr * sp * sy, sr * cp * cy - cr * sp * sy, cr * sp * cy + sr * cp * sy,
+                  cr * cp * sy - sr * sp * cy], axis=1)
+    # Body-frame velocity: R_WB^T v_W with R_WB of the Z-Y-X angles.
+    c, s = np.cos, np.sin
+    rows = []
+    for i in range(own.rows):
+        r, p, y = roll[i], pitch[i], yaw[i]
+        R = np.array([[c(p) * c(y), s(r) * s(p) * c(y) - c(r) * s(y), c(r) * s(p) * c(y) + s(r) * s(y)],
+                      [c(p) * s(y), s(r) * s(p) * s(y) + c(r) * c(y), c(r) * s(p) * s(y) - s(r) * c(y)],
+                      [-s(p), s(r) * c(p), c(r) * c(p)]])
+        rows.append(R.T @ own.states[i, 6:9])
+    v_B = np.array(rows)
+    a = own.controls
+    columns = {"time": own.time, "n": own.states[:, 0], "e": own.states[:, 1], "d": own.states[:, 2],
+               "u": v_B[:, 0], "v": v_B[:, 1], "w": v_B[:, 2], "qw": q[:, 0], "qx": q[:, 1], "qy": q[:, 2],
+               "qz": q[:, 3], "droll": own.states[:, 9], "dpitch": own.states[:, 10], "dyaw": own.states[:, 11],
+               "throttle": (a[:, 2] + 1) / 2, "elevator": -a[:, 0], "aileron": a[:, 1], "rudder": a[:, 3]}
+    with open(tmp_path / "outside.csv", "w") as f:
+        f.write(",".join(columns) + "\n")
+        for i in range(own.rows):
+            f.write(",".join(repr(float(v[i])) for v in columns.values()) + "\n")
+    # Inline tables, in the aircraft's channel order.
+    (tmp_path / "outside.toml").write_text("""
+[log]
+rate_hz = 50
+position = {fields = ["n", "e", "d"]}
+velocity = {fields = ["u", "v", "w"], frame = "body"}
+attitude = {fields = ["qw", "qx", "qy", "qz"], form = "quaternion"}
+rates = {fields = ["droll", "dpitch", "dyaw"], form = "euler"}
+controls = [{field = "throttle", axis = "thrust", range = [0, 1]}, {field = "elevator", axis = "pitch", sign = -1},
+            {field = "aileron", axis = "roll"}, {field = "rudder", axis = "yaw"}]
+""")
+    outside = pegasus.read_flight_log(str(tmp_path / "outside.csv"), vehicle=str(tmp_path / "outside.toml"))
+    yaw_error = np.angle(np.exp(1j * (outside.states[:, 5] - own.states[:, 5])))
+    assert np.max(np.abs(yaw_error)) < 1e-12
+    keep = [0, 1, 2, 3, 4, 6, 7, 8, 9, 10, 11]
+    assert np.max(np.abs(outside.states[:, keep] - own.states[:, keep])) < 1e-12
+    assert np.max(np.abs(outside.controls - own.controls)) < 1e-12
+    (tmp_path / "bad.toml").write_text((tmp_path / "outside.toml").read_text().replace('axis = "roll"',
+                                                                                       'axis = "pitch"'))
+    with pytest.raises(ValueError, match=r"bad.toml:\d+: log.controls\[2\].axis: the pitch axis is already driven"):
+        pegasus.read_flight_log(str(tmp_path / "outside.csv"), vehicle=str(tmp_path / "bad.toml"))
+
+
 def test_bad_helicopter_inputs_raise_value_error_naming_the_argument(tmp_path, model_json):
     aircraft = pegasus.Aircraft()
     s = aircraft.initial_state(np.full((2, 21), 0.5))

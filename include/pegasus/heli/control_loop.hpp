@@ -10,14 +10,22 @@
 // Units and frames as in the flight logs (sysid/flight_log.hpp). The controller's time is the line's time
 // when it has one, else the data line's index times dt (0, 0.02, 0.04, ...).
 // Output: exactly one line per input line, "a1,a2,a3,a4" (shortest round-trip decimals), flushed at once.
-// A header line (first field "time" or "x") is answered with the header "a1,a2,a3,a4". A malformed line
-// (wrong field count, a field that is not a finite number) is answered with the SAFE OUTPUT, the hover trim
-// controls stored in the policy file, and one line "stdin:LINE: <what was wrong>; answered the trim
+// A first line that names "time" or a state column is a header, answered with the header "a1,a2,a3,a4"; when
+// it names the 12 state columns (and "time"), later lines are read by those names, so rows of a CSV log in
+// any column order work as they are (a header that does not name them all leaves the lines read by position).
+// Another aircraft's layout (a vehicle file, logs/vehicle.hpp: `pegasus control --vehicle`) replaces the 12
+// state fields, their conversion, and the controls' names, order and scaling: ControlLineFormat. A malformed
+// line (wrong field count, a field that is not a finite number) is answered with the SAFE OUTPUT, the hover
+// trim controls stored in the policy file, and one line "stdin:LINE: <what was wrong>; answered the trim
 // controls" goes to the error stream. Nothing stops the loop but the end of the input.
+#include <array>
 #include <cstdint>
 #include <cstdio>
+#include <functional>
+#include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "pegasus/heli/policy_file.hpp"
 
@@ -28,13 +36,30 @@ struct ControlLoopStats {
   std::int64_t malformed = 0;  // of which answered with the safe output
 };
 
+// What a line holds and what the answer says. A line has the state fields (S of them), or the time and
+// them, or the time, them and four controls (ignored): S, S + 1 or S + 5 fields.
+struct ControlLineFormat {
+  std::string time_field = "time";
+  std::vector<std::string> state_fields{kLoggedStateNames.begin(), kLoggedStateNames.end()};
+  std::vector<std::string> control_names{kControlNames.begin(), kControlNames.end()};
+  // The 12 states from the state fields' values; empty: they are the 12 states.
+  std::function<LoggedState(std::span<const double>)> state_of;
+  // The answer's values, in control_names order, from a1..a4; empty: a1..a4 as they are.
+  std::function<std::array<double, 4>(const Controls&)> controls_of;
+};
+
 // Parses one input line (without its newline). Returns false with *why set when malformed; *has_time tells
-// whether the line carried a time (then *time is set).
+// whether the line carried a time (then *time is set). `columns`, when not empty, gives each field's
+// position in the line (the time's first, -1 for none, then the state fields'), from a header.
+bool parse_state_line(std::string_view line, const ControlLineFormat& format, std::span<const int> columns,
+                      LoggedState* state, bool* has_time, double* time, std::string* why);
+// The pipeline's own layout.
 bool parse_state_line(std::string_view line, LoggedState* state, bool* has_time, double* time,
                       std::string* why);
 
-// Serves `controller` from `in` to `out` until the end of `in`; errors go to `err`.
+// Serves `controller` from `in` to `out` until the end of `in`; errors go to `err`. `safe` is in a1..a4.
 ControlLoopStats run_control_loop(const HeliController& controller, const Controls& safe, std::FILE* in,
-                                  std::FILE* out, std::FILE* err, double dt = 0.02);
+                                  std::FILE* out, std::FILE* err, double dt = 0.02,
+                                  const ControlLineFormat& format = {});
 
 }  // namespace pegasus::heli

@@ -8,6 +8,7 @@
 // Names say the frame: v_W is a velocity expressed in W, v_B the same velocity expressed in B,
 // w_B = (p, q, r) the body angular rate; euler_rates = (dphi/dt, dtheta/dt, dpsi/dt).
 #include <Eigen/Core>
+#include <array>
 
 namespace pegasus::heli {
 
@@ -34,5 +35,10 @@ inline Vec3 body_from_world(const Euler& e, const Vec3& v_W) {
 // aircraft crashes long before: see AircraftParams::max_tilt_rad).
 Vec3 euler_rates_from_body_rates(const Euler& e, const Vec3& w_B);
 Vec3 body_rates_from_euler_rates(const Euler& e, const Vec3& euler_rates);
+
+// The Z-Y-X Euler angles of a unit quaternion (w, x, y, z) that rotates body vectors into W (PX4's
+// vehicle_attitude.q), and the unit quaternion with w >= 0 of Euler angles.
+Euler euler_from_quaternion(double w, double x, double y, double z);
+std::array<double, 4> quaternion_from_euler(const Euler& e);
 
 }  // namespace pegasus::heli

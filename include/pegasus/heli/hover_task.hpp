@@ -135,6 +135,7 @@ struct HoverTrainingOptions {
   SetPoint target{0, 0, -10, 0};  // where to hover (the model's start is the target plus the perturbation)
   double start_pos_sigma = 1.0;   // start position perturbation per axis, m
   double start_vel_sigma = 0.3;   // start velocity perturbation per axis, m/s
+  double max_tilt_rad = 1.0;      // |roll| or |pitch| beyond this crashes the learned model (the envelope)
   HoverReward reward{};           // with centre = the trim estimate unless set
   bool centre_at_trim = true;     // replace reward.centre by the trim estimate of the logs
   OptimizerOptions optimizer = default_optimizer();

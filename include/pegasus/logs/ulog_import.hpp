@@ -16,47 +16,10 @@
 #include <vector>
 
 #include "pegasus/logs/ulog.hpp"
+#include "pegasus/logs/vehicle.hpp"
 #include "pegasus/sysid/flight_log.hpp"
 
 namespace pegasus::logs {
-
-// Fields of one topic that make one vector quantity.
-struct TopicFields {
-  std::string topic;
-  std::vector<std::string> fields;
-};
-
-// One control column a1..a4 of the flight log: value = scale * field + offset, which must lie in [-1, 1].
-struct ControlChannel {
-  std::string topic;
-  std::string field;
-  double scale = 1;
-  double offset = 0;
-};
-
-// The [log] section of a vehicle file.
-struct VehicleLogSpec {
-  std::string vehicle;        // [vehicle] name
-  std::string file;           // the vehicle file, for messages
-  double rate_hz = 50;        // the flight log's constant rate
-  double model_rate_hz = 10;  // the identification rate; must divide rate_hz
-  int instance = 0;           // multi_id of every topic
-  double max_gap_s = 0.5;     // a longer gap between records of a topic inside the range is an error
-  // How the log gives each quantity.
-  std::string attitude_form = "quaternion";  // "quaternion" (w, x, y, z; body to world NED) or "euler"
-  std::string velocity_frame = "world";      // "world" (NED) or "body"
-  std::string rates_form = "body";           // "body" (p, q, r) or "euler" (roll, pitch, yaw rates)
-  TopicFields position, velocity, attitude, rates;
-  std::array<ControlChannel, 4> controls;  // a1..a4
-  // Names of the topics used (each once), for UlogReadOptions::topics.
-  std::vector<std::string> topic_names() const;
-};
-
-// Reads a vehicle file's [vehicle] name and [log] section; InputError "FILE:LINE: key: expected ..." on a
-// missing or bad entry.
-VehicleLogSpec read_vehicle_log_spec(const std::filesystem::path& file);
-// The same for text already read; `name` stands for the file in messages.
-VehicleLogSpec parse_vehicle_log_spec(std::string_view text, const std::filesystem::path& name);
 
 struct ImportOptions {
   double start_s = 0;  // cut: seconds after the first common timestamp

@@ -112,8 +112,9 @@ class ConfigSchema {
   void load_toml_string(std::string_view text, const std::string& source_name);
   // Sets one field from its command-line text ("0.9", "1,2,4", "true"); errors name `--field-name`.
   void set_from_cli(std::string_view name, std::string_view text);
-  // Sets one field directly (checked like any other value; errors name the field).
-  void set(std::string_view name, FieldValue value);
+  // Sets one field directly (checked like any other value; errors name the field, or `origin` when given,
+  // which origin() then reports).
+  void set(std::string_view name, FieldValue value, const std::string& origin = {});
   // Runs the cross-field constraints. Values are checked one by one when they are set.
   void validate() const;
 

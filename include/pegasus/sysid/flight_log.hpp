@@ -46,4 +46,22 @@ FlightLog read_flight_log(const std::filesystem::path& file, const LogReadOption
 FlightLog parse_flight_log(const std::string& text, const std::string& name,
                            const LogReadOptions& options = {});
 
+// A log file's text; InputError "FILE: cannot read the flight log (why)".
+std::string read_log_text(const std::filesystem::path& file);
+
+// The numeric columns `columns` of a CSV text with a header line (any column order, extra columns ignored),
+// row by row with each row's 1-based line; blank lines skipped. InputError "NAME:LINE:COLUMN: ..." for a
+// missing column (listing `columns`), a row of another width, or a field that is not a finite number.
+struct CsvColumns {
+  std::vector<std::vector<double>> rows;  // per row, the values in `columns` order
+  std::vector<std::size_t> lines;         // per row
+  std::size_t last_line = 0;              // the text's last line
+};
+CsvColumns read_csv_columns(const std::string& text, const std::string& name,
+                            const std::vector<std::string>& columns);
+// The checks every log gets: at least options.min_rows rows, time strictly increasing at a constant rate
+// (within options.rate_tolerance); `lines` are the rows' lines, for the messages.
+void check_log_rows(const FlightLog& log, const std::vector<std::size_t>& lines, std::size_t last_line,
+                    const std::string& name, const LogReadOptions& options);
+
 }  // namespace pegasus::sysid

@@ -1,0 +1,126 @@
+#pragma once
+// Vehicle files: everything the helicopter pipeline used to assume about the one airframe it was written
+// around, said in one TOML file per aircraft (issue 15), so that `pegasus identify`, `hover`, `fly` and
+// `control` work on any rigid aircraft with four control axes. The README's "Vehicle files" documents every
+// key; experiments/vehicles/ ships the X-Cell 60 (the `heli` commands' default) and a PX4 quadrotor.
+//
+// The pipeline's own layout (sysid/flight_log.hpp) stays one: 12 states (world NED position and velocity,
+// Z-Y-X Euler angles, Euler-angle rates) and four controls a1..a4 in [-1, 1], one per axis:
+//   a1 pitch   +: nose down, accelerate forward (a helicopter's longitudinal cyclic)
+//   a2 roll    +: roll right (lateral cyclic)
+//   a3 thrust  +: more thrust along -z_B, climb (main collective)
+//   a4 yaw     +: yaw right, clockwise seen from above (tail collective)
+// A vehicle file maps its aircraft onto it: how its logs give attitude (Euler or quaternion), velocity
+// (world or body) and rates (Euler-angle or body), at which rates; each control channel's name, order,
+// range and sign and the axis it drives; whether the X-Cell's flapping and gyro states are modelled; the
+// hover task's set point and starting gains; the tilt that counts as a crash.
+#include <array>
+#include <filesystem>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "pegasus/heli/aircraft.hpp"
+#include "pegasus/heli/control_loop.hpp"
+#include "pegasus/sysid/flight_log.hpp"
+
+namespace pegasus::logs {
+
+// Fields of one topic that make one vector quantity. A CSV log has no topics: the fields are its columns.
+struct TopicFields {
+  std::string topic;
+  std::vector<std::string> fields;
+};
+
+// The control axes a1..a4, by name, in column order.
+inline constexpr std::array<const char*, 4> kControlAxisNames = {"pitch", "roll", "thrust", "yaw"};
+
+// One control channel of the aircraft: the axis it drives is a_axis = scale * value + offset, in [-1, 1].
+struct ControlChannel {
+  std::string topic;  // ULog topic; empty for a CSV log
+  std::string field;  // ULog field, or the CSV column
+  double scale = 1;   // never 0
+  double offset = 0;
+  int axis = -1;  // 0..3 for a1..a4; -1: the channel's position in the list (files without `axis` keys)
+  std::string name{};  // the aircraft's name for it (`pegasus control`'s output header); empty: the field
+
+  int column(std::size_t position) const { return axis >= 0 ? axis : static_cast<int>(position); }
+  const std::string& label() const { return name.empty() ? field : name; }
+};
+
+// The [log] section of a vehicle file.
+struct VehicleLogSpec {
+  std::string vehicle;        // [vehicle] name
+  std::string file;           // the vehicle file, for messages
+  double rate_hz = 50;        // the flight log's constant rate
+  double model_rate_hz = 10;  // the identification rate; must divide rate_hz
+  int instance = 0;           // multi_id of every topic
+  double max_gap_s = 0.5;     // a longer gap between records of a topic inside the range is an error
+  std::string time = "time";  // a CSV log's time column, s
+  // How the log gives each quantity.
+  std::string attitude_form = "quaternion";  // "quaternion" (w, x, y, z; body to world NED) or "euler"
+  std::string velocity_frame = "world";      // "world" (NED) or "body"
+  std::string rates_form = "body";           // "body" (p, q, r) or "euler" (roll, pitch, yaw rates)
+  TopicFields position, velocity, attitude, rates;
+  // The aircraft's control channels in its own order; each axis driven by exactly one.
+  std::array<ControlChannel, 4> controls;
+  // Names of the topics used (each once), for UlogReadOptions::topics.
+  std::vector<std::string> topic_names() const;
+};
+
+// Reads a vehicle file's [vehicle] name and [log] section; InputError "FILE:LINE: key: expected ..." on a
+// missing or bad entry.
+VehicleLogSpec read_vehicle_log_spec(const std::filesystem::path& file);
+// The same for text already read; `name` stands for the file in messages.
+VehicleLogSpec parse_vehicle_log_spec(std::string_view text, const std::filesystem::path& name);
+
+// A whole vehicle file.
+struct Vehicle {
+  VehicleLogSpec log;  // log.vehicle is the name, log.file the file ("" for the built-in X-Cell)
+  // [vehicle] latent_states: "xcell" models the X-Cell's flapping and yaw-gyro states (GMF01); "none" (the
+  // default) models none, as for any aircraft without them.
+  bool xcell_latent_states = false;
+  // [vehicle] simulator: the project's ground truth that `pegasus fly` flies it on ("xcell"), or "none".
+  std::string simulator = "none";
+  // [control] rate_hz: the flight computer's controller rate; training steps the learned model at it.
+  double control_rate_hz = 50;
+  // [hover] target: set point x, y, z (m, NED) and yaw (rad); starting_gains: "lqr" (from the identified
+  // model, the default) or "constant" (the X-Cell's tuned constants).
+  std::array<double, 4> target{0, 0, -10, 0};
+  std::string starting_gains = "lqr";
+  // [envelope] max_tilt_rad: |roll| or |pitch| beyond this crashes the learned model.
+  double max_tilt_rad = 1.0;
+
+  const std::string& name() const { return log.vehicle; }
+  // The log's channels in the aircraft's order: axis values a1..a4 of native values, and back.
+  heli::Controls axes_of(std::span<const double> native) const;
+  std::array<double, 4> native_of(const heli::Controls& axes) const;
+  // Field names of a state line in the aircraft's terms, in the order `pegasus control` reads a line
+  // without a header: position, velocity, attitude (3 or 4), rates.
+  std::vector<std::string> state_fields() const;
+  // The pipeline's 12 states from values in state_fields() order.
+  heli::LoggedState state_of(std::span<const double> native) const;
+};
+
+// The X-Cell 60 as the `heli` commands have always assumed it: logs in the pipeline's own layout at 50 Hz,
+// a 10 Hz model with the flapping and gyro states, a 50 Hz controller, the tuned constant starting gains.
+// experiments/vehicles/xcell60.toml says the same in a file.
+Vehicle xcell_vehicle();
+// Reads a vehicle file; InputError naming the file, line and key on any problem.
+Vehicle read_vehicle(const std::filesystem::path& file);
+Vehicle parse_vehicle(std::string_view text, const std::filesystem::path& name);
+
+// A flight log as the vehicle's [log] section describes it (a CSV with a header, any column order, extra
+// columns ignored), in the pipeline's layout. InputError "FILE:LINE:COLUMN: ..." as read_flight_log says it,
+// naming the aircraft's columns; its time steps must match log.rate_hz within options.rate_tolerance.
+sysid::FlightLog read_vehicle_log(const std::filesystem::path& file, const Vehicle& vehicle,
+                                  const sysid::LogReadOptions& options = {});
+sysid::FlightLog parse_vehicle_log(const std::string& text, const std::string& name, const Vehicle& vehicle,
+                                   const sysid::LogReadOptions& options = {});
+
+// The `pegasus control` line format of the vehicle: state lines in its fields (its column names in a
+// header), the answer in its channels' order, names and units.
+heli::ControlLineFormat control_line_format(const Vehicle& vehicle);
+
+}  // namespace pegasus::logs

@@ -1,0 +1,387 @@
+#include "pegasus/logs/vehicle.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+
+#include "../io/toml_input.hpp"
+#include "pegasus/core/error.hpp"
+#include "pegasus/core/untrusted_text.hpp"
+#include "pegasus/heli/frames.hpp"
+
+namespace pegasus::logs {
+namespace {
+
+class SpecReader {
+ public:
+  SpecReader(const toml::table& root, std::string file) : root_(root), file_(std::move(file)) {}
+
+  [[noreturn]] void fail(const toml::node* node, const std::string& key, const std::string& what) const {
+    const auto line = node ? node->source().begin.line : 0;
+    throw InputError(line ? fmt::format("{}:{}: {}: {}", file_, line, key, what)
+                          : fmt::format("{}: {}: {}", file_, key, what));
+  }
+  const toml::node* at(const std::string& key) const { return root_.at_path(key).node(); }
+  const toml::node& required(const std::string& key, const std::string& what) const {
+    const toml::node* n = at(key);
+    if (!n) fail(root_.get("log"), key, "missing; expected " + what);
+    return *n;
+  }
+  std::string string(const std::string& key, std::string fallback,
+                     std::vector<std::string> choices = {}) const {
+    const toml::node* n = at(key);
+    if (!n) return fallback;
+    const auto v = n->value<std::string>();
+    if (!v) fail(n, key, "expected a string");
+    if (!choices.empty() && std::find(choices.begin(), choices.end(), *v) == choices.end()) {
+      std::string list;
+      for (const auto& c : choices) list += (list.empty() ? "" : " or ") + ("'" + c + "'");
+      fail(n, key, fmt::format("expected {}, found '{}'", list, printable(*v)));
+    }
+    return *v;
+  }
+  std::string required_string(const std::string& key) const {
+    const toml::node& n = required(key, "a string");
+    const auto v = n.value<std::string>();
+    if (!v || v->empty()) fail(&n, key, "expected a non-empty string");
+    return *v;
+  }
+  double number(const std::string& key, double fallback, double lo, double hi) const {
+    const toml::node* n = at(key);
+    if (!n) return fallback;
+    const auto v = n->value<double>();
+    if (!v || !std::isfinite(*v)) fail(n, key, "expected a number");
+    if (*v < lo || *v > hi) fail(n, key, fmt::format("expected a number in [{}, {}], found {}", lo, hi, *v));
+    return *v;
+  }
+  std::vector<double> numbers(const std::string& key, std::size_t count) const {
+    const toml::node* n = at(key);
+    const toml::array* a = n ? n->as_array() : nullptr;
+    if (!a || a->size() != count) fail(n, key, fmt::format("expected a list of {} numbers", count));
+    std::vector<double> out;
+    for (const auto& e : *a) {
+      const auto v = e.value<double>();
+      if (!v || !std::isfinite(*v)) fail(n, key, fmt::format("expected a list of {} numbers", count));
+      out.push_back(*v);
+    }
+    return out;
+  }
+  // A quantity's fields; its topic is optional (a CSV log has none; a ULog import asks for it).
+  TopicFields fields(const std::string& key, std::size_t count) const {
+    TopicFields t;
+    t.topic = string(key + ".topic", "");
+    const toml::node& n =
+        required(key + ".fields", fmt::format("a list of {} field (or CSV column) names", count));
+    const toml::array* a = n.as_array();
+    if (!a || a->size() != count)
+      fail(&n, key + ".fields", fmt::format("expected a list of {} field (or CSV column) names", count));
+    for (const auto& e : *a) {
+      const auto v = e.value<std::string>();
+      if (!v || v->empty()) fail(&n, key + ".fields", "expected field names (strings)");
+      t.fields.push_back(*v);
+    }
+    return t;
+  }
+  // Every key of the table at `key` must be one of `known` (a misspelt key would silently keep a default).
+  void only_keys(const std::string& key, const toml::table& table, const std::set<std::string>& known) const {
+    for (const auto& [k, node] : table) {
+      const std::string name(k.str());
+      if (known.count(name)) continue;
+      std::string list;
+      for (const auto& s : known) list += (list.empty() ? "" : ", ") + s;
+      fail(&node, key.empty() ? name : key + "." + name, fmt::format("unknown key; expected one of {}", list));
+    }
+  }
+  void only_keys(const std::string& key, const std::set<std::string>& known) const {
+    if (const toml::node* n = key.empty() ? &root_ : at(key)) {
+      if (const toml::table* t = n->as_table()) only_keys(key, *t, known);
+      else if (!n->is_array_of_tables()) fail(n, key, "expected a table");
+    }
+  }
+
+ private:
+  const toml::table& root_;
+  std::string file_;
+};
+
+// A channel's scale and offset (a = scale * value + offset): bounded so that the mapping inverts in doubles.
+constexpr double kSmallestScale = 1e-9, kLargestScale = 1e6, kLargestOffset = 1e6;
+
+int axis_index(const SpecReader& r, const std::string& key) {
+  const std::string name = r.string(key, "", {"pitch", "roll", "thrust", "yaw"});
+  for (std::size_t a = 0; a < kControlAxisNames.size(); ++a)
+    if (name == kControlAxisNames[a]) return static_cast<int>(a);
+  return -1;
+}
+
+VehicleLogSpec vehicle_log_spec(const toml::table& root, const SpecReader& r, const std::filesystem::path& file) {
+  if (!root.get("log") || !root.get("log")->is_table())
+    throw InputError(
+        fmt::format("{}: expected a [log] section (see the README's vehicle files)", file.string()));
+  VehicleLogSpec s;
+  s.file = file.string();
+  s.vehicle = r.string("vehicle.name", file.stem().string());
+  s.rate_hz = r.number("log.rate_hz", s.rate_hz, 1, 10000);
+  s.model_rate_hz = r.number("log.model_rate_hz", s.model_rate_hz, 0.1, s.rate_hz);
+  const double ratio = s.rate_hz / s.model_rate_hz;
+  if (std::abs(ratio - std::round(ratio)) > 1e-9)
+    r.fail(r.at("log.model_rate_hz"), "log.model_rate_hz",
+           fmt::format("expected a rate that divides log.rate_hz = {} Hz, found {} Hz", s.rate_hz,
+                       s.model_rate_hz));
+  s.instance = static_cast<int>(r.number("log.instance", 0, 0, 255));
+  if (s.instance != r.number("log.instance", 0, 0, 255))
+    r.fail(r.at("log.instance"), "log.instance", "expected an integer multi_id");
+  s.max_gap_s = r.number("log.max_gap_s", s.max_gap_s, 0, 1e6);
+  s.time = r.string("log.time", s.time);
+  if (s.time.empty()) r.fail(r.at("log.time"), "log.time", "expected a non-empty column name");
+  s.attitude_form = r.string("log.attitude.form", s.attitude_form, {"quaternion", "euler"});
+  s.velocity_frame = r.string("log.velocity.frame", s.velocity_frame, {"world", "body"});
+  s.rates_form = r.string("log.rates.form", s.rates_form, {"body", "euler"});
+  s.position = r.fields("log.position", 3);
+  s.velocity = r.fields("log.velocity", 3);
+  s.attitude = r.fields("log.attitude", s.attitude_form == "quaternion" ? 4 : 3);
+  s.rates = r.fields("log.rates", 3);
+  const toml::node* controls = r.at("log.controls");
+  const toml::array* list = controls ? controls->as_array() : nullptr;
+  if (!list || list->size() != 4 || !list->is_array_of_tables())
+    r.fail(controls ? controls : root.get("log"), "log.controls",
+           "expected four [[log.controls]] tables: the aircraft's channels in its order, each with the axis "
+           "it drives (or, without `axis` keys, a1, a2, a3, a4 in this order)");
+  int with_axis = 0;
+  std::array<int, 4> driver{-1, -1, -1, -1};
+  for (std::size_t c = 0; c < 4; ++c) {
+    const std::string key = fmt::format("log.controls[{}]", c);
+    r.only_keys(key, *(*list)[c].as_table(),
+                {"topic", "field", "scale", "offset", "axis", "name", "range", "sign"});
+    ControlChannel& ch = s.controls[c];
+    ch.topic = r.string(key + ".topic", "");
+    ch.field = r.required_string(key + ".field");
+    ch.name = r.string(key + ".name", "");
+    const bool by_range = r.at(key + ".range") || r.at(key + ".sign");
+    if (by_range && (r.at(key + ".scale") || r.at(key + ".offset")))
+      r.fail(r.at(key + ".scale") ? r.at(key + ".scale") : r.at(key + ".offset"), key,
+             "expected either range and sign, or scale and offset, not both");
+    if (by_range) {
+      // The channel's range maps onto [-1, 1]; sign -1: the channel's + drives the axis's -.
+      const double sign = r.number(key + ".sign", 1, -1, 1);
+      if (sign != 1 && sign != -1) r.fail(r.at(key + ".sign"), key + ".sign", "expected 1 or -1");
+      double lo = -1, hi = 1;
+      if (r.at(key + ".range")) {
+        const auto range = r.numbers(key + ".range", 2);
+        lo = range[0];
+        hi = range[1];
+        if (!(hi > lo))
+          r.fail(r.at(key + ".range"), key + ".range", fmt::format("expected [low, high] with low < high"));
+      }
+      ch.scale = sign * 2 / (hi - lo);
+      ch.offset = -sign * (hi + lo) / (hi - lo);
+      if (!(std::abs(ch.scale) >= kSmallestScale && std::abs(ch.scale) <= kLargestScale &&
+            std::abs(ch.offset) <= kLargestOffset))
+        r.fail(r.at(key + ".range"), key + ".range",
+               fmt::format("expected a width in [{}, {}] and a centre within {} widths of 0", 2 / kLargestScale,
+                           2 / kSmallestScale, kLargestOffset / 2));
+    } else {
+      ch.scale = r.number(key + ".scale", 1, -kLargestScale, kLargestScale);
+      if (!(std::abs(ch.scale) >= kSmallestScale))
+        r.fail(r.at(key + ".scale"), key + ".scale",
+               fmt::format("expected a number of size at least {} (the channel must move its axis)", kSmallestScale));
+      ch.offset = r.number(key + ".offset", 0, -kLargestOffset, kLargestOffset);
+    }
+    if (r.at(key + ".axis")) {
+      ++with_axis;
+      ch.axis = axis_index(r, key + ".axis");
+      if (driver[static_cast<std::size_t>(ch.axis)] >= 0)
+        r.fail(r.at(key + ".axis"), key + ".axis",
+               fmt::format("the {} axis is already driven by log.controls[{}]; expected each of pitch, roll, "
+                           "thrust and yaw once",
+                           kControlAxisNames[static_cast<std::size_t>(ch.axis)],
+                           driver[static_cast<std::size_t>(ch.axis)]));
+      driver[static_cast<std::size_t>(ch.axis)] = static_cast<int>(c);
+    }
+  }
+  if (with_axis != 0 && with_axis != 4)
+    r.fail(controls, "log.controls",
+           "expected an axis on every channel or on none (none: the channels are a1..a4 in order)");
+  for (std::size_t c = 0; c < 4; ++c)
+    for (std::size_t d = 0; d < c; ++d)
+      if (s.controls[c].label() == s.controls[d].label())
+        r.fail(controls, "log.controls",
+               fmt::format("channels {} and {} have the same name '{}'; expected distinct names", d, c,
+                           printable(s.controls[c].label())));
+  return s;
+}
+
+Vehicle vehicle(const toml::table& root, const std::filesystem::path& file) {
+  const SpecReader r(root, file.string());
+  r.only_keys("", {"vehicle", "log", "control", "hover", "envelope"});
+  r.only_keys("vehicle", {"name", "latent_states", "simulator"});
+  r.only_keys("log", {"rate_hz", "model_rate_hz", "instance", "max_gap_s", "time", "position", "velocity",
+                      "attitude", "rates", "controls"});
+  r.only_keys("log.position", {"topic", "fields"});
+  for (const char* q : {"log.velocity", "log.attitude", "log.rates"})
+    r.only_keys(q, {"topic", "fields", std::string(q) == "log.velocity" ? "frame" : "form"});
+  r.only_keys("control", {"rate_hz"});
+  r.only_keys("hover", {"target", "starting_gains"});
+  r.only_keys("envelope", {"max_tilt_rad"});
+  Vehicle v;
+  v.log = vehicle_log_spec(root, r, file);
+  v.xcell_latent_states = r.string("vehicle.latent_states", "none", {"none", "xcell"}) == "xcell";
+  v.simulator = r.string("vehicle.simulator", v.simulator, {"none", "xcell"});
+  v.control_rate_hz = r.number("control.rate_hz", v.control_rate_hz, 0.1, 1000);
+  if (r.at("hover.target")) {
+    const auto t = r.numbers("hover.target", 4);
+    std::copy(t.begin(), t.end(), v.target.begin());
+  }
+  v.starting_gains = r.string("hover.starting_gains", v.starting_gains, {"lqr", "constant"});
+  v.max_tilt_rad = r.number("envelope.max_tilt_rad", v.max_tilt_rad, 0.01, 1.5);
+  return v;
+}
+
+}  // namespace
+
+std::vector<std::string> VehicleLogSpec::topic_names() const {
+  std::vector<std::string> out;
+  auto add = [&](const std::string& t) {
+    if (std::find(out.begin(), out.end(), t) == out.end()) out.push_back(t);
+  };
+  for (const auto* t : {&position, &velocity, &attitude, &rates}) add(t->topic);
+  for (const auto& c : controls) add(c.topic);
+  return out;
+}
+
+Vehicle read_vehicle(const std::filesystem::path& file) { return vehicle(read_toml_input(file, "vehicle"), file); }
+
+Vehicle parse_vehicle(std::string_view text, const std::filesystem::path& name) {
+  return vehicle(parse_toml_input(text, name.string()), name);
+}
+
+VehicleLogSpec read_vehicle_log_spec(const std::filesystem::path& file) { return read_vehicle(file).log; }
+
+VehicleLogSpec parse_vehicle_log_spec(std::string_view text, const std::filesystem::path& name) {
+  return parse_vehicle(text, name).log;
+}
+
+Vehicle xcell_vehicle() {
+  Vehicle v;
+  VehicleLogSpec& s = v.log;
+  s.vehicle = "xcell60";
+  s.rate_hz = 50;
+  s.model_rate_hz = 10;
+  s.attitude_form = "euler";
+  s.velocity_frame = "world";
+  s.rates_form = "euler";
+  s.position = {"", {"x", "y", "z"}};
+  s.velocity = {"", {"xdot", "ydot", "zdot"}};
+  s.attitude = {"", {"roll", "pitch", "yaw"}};
+  s.rates = {"", {"roll_rate", "pitch_rate", "yaw_rate"}};
+  for (std::size_t c = 0; c < 4; ++c) {
+    s.controls[c].field = sysid::kLogControlColumns[c];
+    s.controls[c].axis = static_cast<int>(c);
+  }
+  v.xcell_latent_states = true;
+  v.simulator = "xcell";
+  v.starting_gains = "constant";
+  return v;
+}
+
+heli::Controls Vehicle::axes_of(std::span<const double> native) const {
+  heli::Controls a{};
+  for (std::size_t c = 0; c < 4; ++c)
+    a[static_cast<std::size_t>(log.controls[c].column(c))] = log.controls[c].scale * native[c] + log.controls[c].offset;
+  return a;
+}
+
+std::array<double, 4> Vehicle::native_of(const heli::Controls& axes) const {
+  std::array<double, 4> native{};
+  for (std::size_t c = 0; c < 4; ++c) {
+    const ControlChannel& ch = log.controls[c];
+    native[c] = (axes[static_cast<std::size_t>(ch.column(c))] - ch.offset) / ch.scale;
+  }
+  return native;
+}
+
+std::vector<std::string> Vehicle::state_fields() const {
+  std::vector<std::string> out;
+  for (const auto* q : {&log.position, &log.velocity, &log.attitude, &log.rates})
+    out.insert(out.end(), q->fields.begin(), q->fields.end());
+  return out;
+}
+
+heli::LoggedState Vehicle::state_of(std::span<const double> v) const {
+  const bool quaternion = log.attitude_form == "quaternion";
+  const std::size_t rates_at = quaternion ? 10 : 9;
+  heli::Euler e{v[6], v[7], v[8]};
+  if (quaternion) {
+    const double norm = std::sqrt(v[6] * v[6] + v[7] * v[7] + v[8] * v[8] + v[9] * v[9]);
+    e = norm > 0 ? heli::euler_from_quaternion(v[6] / norm, v[7] / norm, v[8] / norm, v[9] / norm)
+                 : heli::Euler{NAN, NAN, NAN};
+  }
+  heli::Vec3 vel(v[3], v[4], v[5]);
+  if (log.velocity_frame == "body") vel = heli::world_from_body(e, vel);
+  heli::Vec3 w(v[rates_at], v[rates_at + 1], v[rates_at + 2]);
+  if (log.rates_form == "body") w = heli::euler_rates_from_body_rates(e, w);
+  return {v[0], v[1], v[2], e.roll, e.pitch, e.yaw, vel.x(), vel.y(), vel.z(), w.x(), w.y(), w.z()};
+}
+
+sysid::FlightLog parse_vehicle_log(const std::string& text, const std::string& name, const Vehicle& vehicle,
+                                   const sysid::LogReadOptions& options) {
+  const VehicleLogSpec& spec = vehicle.log;
+  std::vector<std::string> columns{spec.time};
+  const std::vector<std::string> state = vehicle.state_fields();
+  columns.insert(columns.end(), state.begin(), state.end());
+  for (const auto& c : spec.controls) columns.push_back(c.field);
+  const sysid::CsvColumns table = sysid::read_csv_columns(text, name, columns);
+  sysid::FlightLog log;
+  const std::size_t first_control = 1 + state.size();
+  for (std::size_t i = 0; i < table.rows.size(); ++i) {
+    const std::vector<double>& row = table.rows[i];
+    log.time.push_back(row[0]);
+    const heli::LoggedState s = vehicle.state_of(std::span<const double>(row).subspan(1, state.size()));
+    for (std::size_t j = 3; j < 6; ++j)
+      if (!std::isfinite(s[j]))
+        throw InputError(fmt::format("{}:{}:{}: the attitude quaternion has no direction (all zero)", name,
+                                     table.lines[i], printable(spec.attitude.fields[0])));
+    log.states.push_back(s);
+    heli::Controls a = vehicle.axes_of(std::span<const double>(row).subspan(first_control, 4));
+    for (std::size_t c = 0; c < 4; ++c) {
+      const ControlChannel& ch = spec.controls[c];
+      double& axis = a[static_cast<std::size_t>(ch.column(c))];
+      if (!(std::abs(axis) <= 1 + 1e-6))
+        throw InputError(fmt::format(
+            "{}:{}:{}: {} gives {} (a{}) = {}; expected [-1, 1] after the channel's range or scale and offset "
+            "in {}",
+            name, table.lines[i], printable(ch.field), row[first_control + c],
+            kControlAxisNames[static_cast<std::size_t>(ch.column(c))], ch.column(c) + 1, axis,
+            spec.file.empty() ? std::string("the vehicle") : spec.file));
+      axis = std::clamp(axis, -1.0, 1.0);
+    }
+    log.controls.push_back(a);
+  }
+  sysid::check_log_rows(log, table.lines, table.last_line, name, options);
+  const double rate = 1 / log.dt();
+  if (std::abs(rate / spec.rate_hz - 1) > options.rate_tolerance)
+    throw InputError(fmt::format("{}: rows come at {:.6g} Hz; expected log.rate_hz = {} Hz of {}", name, rate,
+                                 spec.rate_hz, spec.file.empty() ? std::string("the vehicle") : spec.file));
+  return log;
+}
+
+sysid::FlightLog read_vehicle_log(const std::filesystem::path& file, const Vehicle& vehicle,
+                                  const sysid::LogReadOptions& options) {
+  return parse_vehicle_log(sysid::read_log_text(file), file.string(), vehicle, options);
+}
+
+heli::ControlLineFormat control_line_format(const Vehicle& vehicle) {
+  heli::ControlLineFormat f;
+  f.time_field = vehicle.log.time;
+  f.state_fields = vehicle.state_fields();
+  f.control_names.clear();
+  for (const auto& c : vehicle.log.controls) f.control_names.push_back(c.label());
+  f.state_of = [vehicle](std::span<const double> v) { return vehicle.state_of(v); };
+  f.controls_of = [vehicle](const heli::Controls& a) { return vehicle.native_of(a); };
+  return f;
+}
+
+}  // namespace pegasus::logs

@@ -1,0 +1,150 @@
+// `pegasus identify`, `hover`, `control` and `fly` with --vehicle, end to end: an outside aircraft's logs
+// (10 Hz, quaternions, body frames, its own channels; outside_aircraft.hpp) identify the same model as the
+// X-Cell's own logs of the same flights; a policy trained from them is served in the aircraft's own terms
+// and answers what `heli control` answers in the pipeline's; the vehicle file sets the rates, the latent
+// states and the starting gains unless an option says otherwise; a vehicle without a ground truth is not
+// flown; a bad vehicle file stops every command with one line and no run directory.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "outside_aircraft.hpp"
+#include "pegasus/io/json_csv.hpp"
+#include "pegasus/sysid/flight_log.hpp"
+#include "support/cli_runner.hpp"
+
+namespace {
+
+using namespace pegasus;
+using test_support::run_pegasus;
+using test_support::run_shell;
+
+class VehicleCli : public test_support::TempDirTest {
+ protected:
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  void write(const std::string& name, const std::string& text) const { std::ofstream(dir_ / name) << text; }
+  nlohmann::json summary(const std::string& run) const {
+    return nlohmann::json::parse(test_support::read_text(dir_ / run / "summary.json"));
+  }
+  // Two pilot flights of the X-Cell, as its own 10 Hz logs and as the outside aircraft's.
+  void make_logs() {
+    for (const auto& [name, seconds, seed] :
+         {std::tuple{"train", "90", "1"}, std::tuple{"test", "60", "2"}}) {
+      const auto r = run_pegasus(fmt::format("heli pilot --seconds {} --seed {} --quiet --out {}", seconds, seed,
+                                             path(std::string("pilot-") + name)));
+      ASSERT_EQ(r.code, 0) << r.output;
+      const sysid::FlightLog own =
+          test_support::every_nth_row(sysid::read_flight_log(dir_ / ("pilot-" + std::string(name)) / "log.csv"), 5);
+      sysid::write_flight_log(dir_ / (std::string(name) + "-own.csv"), own);
+      write(std::string(name) + "-outside.csv", test_support::outside_log_csv(own));
+    }
+    write("outside.toml", test_support::kOutsideVehicle);
+  }
+  static constexpr const char* kSmall = "--cv-points 40 --scale-grid 1,4 --coordinate-passes 0 --variants=false --quiet";
+};
+
+TEST_F(VehicleCli, AnOutsideAircraftIdentifiesHoversAndIsServedInItsOwnTerms) {
+  make_logs();
+  // The outside aircraft from its vehicle file: 10 Hz model, no latent states, a 10 Hz controller.
+  auto r = run_pegasus(fmt::format("identify --vehicle {} --train {} --test {} {} --out {}", path("outside.toml"),
+                                   path("train-outside.csv"), path("test-outside.csv"), kSmall, path("id-outside")));
+  ASSERT_EQ(r.code, 0) << r.output;
+  // The same flights in the pipeline's layout, with the options the vehicle file stands for.
+  r = run_pegasus(fmt::format("heli identify --train {} --test {} --rate-hz 10 --extra-states=false "
+                              "--control-rate-hz 10 {} --out {}",
+                              path("train-own.csv"), path("test-own.csv"), kSmall, path("id-own")));
+  ASSERT_EQ(r.code, 0) << r.output;
+  nlohmann::json outside = summary("id-outside"), own = summary("id-own");
+  EXPECT_EQ(outside["vehicle"], "outside-heli");
+  EXPECT_EQ(outside["control_rate_hz"], 10.0);
+  EXPECT_EQ(outside["rate_hz"], 10.0);
+  EXPECT_EQ(outside["structure"], own["structure"]);
+  EXPECT_EQ(outside["structure"].get<std::string>().find("a1s"), std::string::npos) << outside["structure"];
+  for (const auto& [input, width] : own["bandwidth"].items()) {  // the same choices on the grid
+    if (width.is_string())
+      EXPECT_EQ(outside["bandwidth"][input], width) << input;
+    else
+      EXPECT_NEAR(outside["bandwidth"][input].get<double>(), width.get<double>(), 1e-12 * width.get<double>())
+          << input;
+  }
+  for (const char* seconds : {"1", "5"})
+    for (const auto& [var, mse] : own["mse_at_seconds"][seconds].items())
+      EXPECT_NEAR(outside["mse_at_seconds"][seconds][var].get<double>(), mse.get<double>(),
+                  1e-6 * mse.get<double>())
+          << seconds << " s " << var;
+  EXPECT_TRUE(std::filesystem::exists(dir_ / "id-outside" / "vehicle.toml"));
+  // The resolved config says where each value came from: the vehicle file.
+  const std::string config = test_support::read_text(dir_ / "id-outside" / "config.toml");
+  EXPECT_NE(config.find("extra_states = false"), std::string::npos) << config;
+  EXPECT_NE(config.find("control_rate_hz = 10.0"), std::string::npos) << config;
+
+  // Hover from the vehicle file: a 10 Hz controller with LQR starting gains (the constants are the X-Cell's).
+  r = run_pegasus(fmt::format("hover --vehicle {} --model {} --scenarios 3 --seconds 3 "
+                              "--optimizer.gradient.max-iterations 2 --then-hill-climb=false --quiet --out {}",
+                              path("outside.toml"), path("id-outside/model.json"), path("hover")));
+  ASSERT_EQ(r.code, 0) << r.output;
+  const nlohmann::json hover = summary("hover");
+  EXPECT_EQ(hover["vehicle"], "outside-heli");
+  EXPECT_EQ(hover["control_rate_hz"], 10.0);
+  EXPECT_EQ(hover["starting_gains"]["method"], "lqr") << hover["starting_gains"];
+  // An option given wins over the vehicle file.
+  r = run_pegasus(fmt::format("hover --vehicle {} --model {} --scenarios 3 --seconds 3 --control-rate-hz 50 "
+                              "--starting-gains constant --optimizer.gradient.max-iterations 1 "
+                              "--then-hill-climb=false --max-start-crash-fraction 1 --quiet --out {}",
+                              path("outside.toml"), path("id-outside/model.json"), path("hover-50")));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_EQ(summary("hover-50")["control_rate_hz"], nullptr);  // 50 Hz: the key is left out
+  EXPECT_FALSE(summary("hover-50").contains("starting_gains"));
+
+  // Served in the outside aircraft's terms: its own log as the input, its channels as the answer, equal to
+  // what `heli control` answers on the same states in the pipeline's layout.
+  r = run_shell(fmt::format("{} control --vehicle {} --policy {} < {} > {}", PEGASUS_CLI_PATH, path("outside.toml"),
+                            path("hover/policy.json"), path("test-outside.csv"), path("answers-outside.csv")));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_EQ(r.output, "");  // no malformed line
+  r = run_shell(fmt::format("{} heli control --policy {} < {} > {}", PEGASUS_CLI_PATH, path("hover/policy.json"),
+                            path("test-own.csv"), path("answers-own.csv")));
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto native = parse_csv(test_support::read_text(dir_ / "answers-outside.csv"));
+  const auto canonical = parse_csv(test_support::read_text(dir_ / "answers-own.csv"));
+  ASSERT_EQ(native.size(), canonical.size());
+  ASSERT_GT(native.size(), 500u);
+  EXPECT_EQ(native[0], (std::vector<std::string>{"thr", "ail", "ele", "rudder_us"}));
+  EXPECT_EQ(canonical[0], (std::vector<std::string>{"a1", "a2", "a3", "a4"}));
+  for (std::size_t i = 1; i < native.size(); ++i) {
+    heli::Controls a{};
+    for (std::size_t c = 0; c < 4; ++c) a[c] = std::stod(canonical[i][c]);
+    const auto expected = test_support::outside_controls(a);
+    for (std::size_t c = 0; c < 4; ++c)
+      ASSERT_NEAR(std::stod(native[i][c]), expected[c], 1e-7 * (c == 3 ? 1000 : 1)) << "line " << i << " " << c;
+  }
+
+  // No ground truth of this aircraft: fly says so and how to fly it instead.
+  r = run_pegasus(fmt::format("fly --vehicle {} --policy {} --out {}", path("outside.toml"),
+                              path("hover/policy.json"), path("fly")));
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("vehicle.simulator: 'none'"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("pegasus control --vehicle"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "fly"));
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "fly.partial"));
+}
+
+TEST_F(VehicleCli, ABadVehicleFileStopsEveryCommandWithOneLineAndNoRunDirectory) {
+  write("bad.toml", std::string(test_support::kOutsideVehicle) + "\n[hover]\nstarting_gain = \"lqr\"\n");
+  write("log.csv", "t\n");
+  for (const std::string& command :
+       {std::string("identify --train ") + path("log.csv") + " --test " + path("log.csv"),
+        std::string("hover --model ") + path("model.json"), std::string("heli identify --train x --test y")}) {
+    const auto r = run_pegasus(command + " --vehicle " + path("bad.toml") + " --out " + path("run"));
+    EXPECT_EQ(r.code, 2) << command << "\n" << r.output;
+    EXPECT_NE(r.output.find("bad.toml:51: hover.starting_gain: unknown key"), std::string::npos)
+        << command << "\n" << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+    EXPECT_FALSE(std::filesystem::exists(dir_ / "run"));
+    EXPECT_FALSE(std::filesystem::exists(dir_ / "run.partial"));
+  }
+}
+
+}  // namespace
