@@ -2,12 +2,14 @@
 // source for a flight computer (include/pegasus/codegen/c_policy.hpp: the classes, the API, the guarantee).
 #include <fmt/format.h>
 
+#include <optional>
 #include <ostream>
 
 #include "command.hpp"
 #include "experiment_commands.hpp"
 #include "pegasus/codegen/c_policy.hpp"
 #include "pegasus/core/error.hpp"
+#include "pegasus/logs/vehicle.hpp"
 
 namespace pegasus::cli {
 
@@ -24,30 +26,45 @@ Command export_command() {
                 "policy file: policy.json of heli hover, heli maneuver, bicycle train or pendulum train");
             s.add_string("lang", "c", "language of the generated code").choices({"c"});
             s.add_string("prefix", "pegasus_policy", "file name and symbol prefix of the generated code");
+            s.add_string(
+                "vehicle", "",
+                "helicopter classes: a vehicle file; adds PREFIX_act_vehicle, the controller in that "
+                "aircraft's own state fields and channels");
           },
       .run =
           [](RunContext& ctx) {
             const std::string& policy = ctx.config.get_string("policy");
             if (policy.empty()) throw InputError("--policy: expected a policy file");
-            const codegen::CPolicyOptions options{.prefix = ctx.config.get_string("prefix")};
+            std::optional<logs::Vehicle> vehicle;
+            if (!ctx.config.get_string("vehicle").empty())
+              vehicle = logs::read_vehicle(ctx.config.get_string("vehicle"));
+            const codegen::CPolicyOptions options{.prefix = ctx.config.get_string("prefix"),
+                                                  .vehicle = vehicle ? &*vehicle : nullptr};
             std::string error;
             if (!options.IsValid(&error)) throw InputError("--" + error);
             const codegen::CPolicyCode code = codegen::export_c_policy_file(policy, options);
             RunDirectory& dir = ctx.run_directory();
             dir.write_text(code.header_name, code.header);
             dir.write_text(code.source_name, code.source);
-            dir.write_json("summary.json",
-                           {{"class", code.class_name},
-                            {"lang", "c"},
-                            {"header_file", code.header_name},
-                            {"source_file", code.source_name},
-                            {"act_function", options.prefix + "_act"},
-                            {"target_function", code.has_target ? nlohmann::json(options.prefix + "_target")
-                                                                : nlohmann::json(nullptr)},
-                            {"observation_size", code.observation_names.size()},
-                            {"action_size", code.action_names.size()},
-                            {"observation_names", code.observation_names},
-                            {"action_names", code.action_names}});
+            nlohmann::json summary = {
+                {"class", code.class_name},
+                {"lang", "c"},
+                {"header_file", code.header_name},
+                {"source_file", code.source_name},
+                {"act_function", options.prefix + "_act"},
+                {"target_function",
+                 code.has_target ? nlohmann::json(options.prefix + "_target") : nlohmann::json(nullptr)},
+                {"observation_size", code.observation_names.size()},
+                {"action_size", code.action_names.size()},
+                {"observation_names", code.observation_names},
+                {"action_names", code.action_names}};
+            if (vehicle) {
+              summary["vehicle"] = vehicle->name();
+              summary["vehicle_act_function"] = options.prefix + "_act_vehicle";
+              summary["vehicle_observation_names"] = code.vehicle_observation_names;
+              summary["vehicle_action_names"] = code.vehicle_action_names;
+            }
+            dir.write_json("summary.json", summary);
             ctx.out << fmt::format("class {}: {} observations -> {} actions\n", code.class_name,
                                    code.observation_names.size(), code.action_names.size());
             ctx.out << fmt::format("header: {}\nsource: {}\n", (dir.final_path() / code.header_name).string(),

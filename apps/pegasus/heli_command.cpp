@@ -574,6 +574,7 @@ void resolve_hover(ConfigSchema& s) {
                "hover.starting_gains");
   from_vehicle(s, v, "target", std::vector<double>(v.target.begin(), v.target.end()), "hover.target");
   from_vehicle(s, v, "max_tilt_rad", v.max_tilt_rad, "envelope.max_tilt_rad");
+  for (const auto& [key, size] : v.reward) from_vehicle(s, v, "reward." + key, size, "hover.reward." + key);
 }
 
 heli::HoverTrainingOptions hover_options(const RunContext& ctx) {
@@ -662,7 +663,9 @@ void run_hover(RunContext& ctx) {
   dir.write_csv("progress.csv", progress);
   dir.write_text("progress.svg",
                  curve_svg(r.progress, r.gradient.method == "gradient" ? r.gradient.iterations : 0));
-  const heli::HoverPolicy policy = heli::hover_policy_for(*model, o);
+  heli::HoverTrainingOptions used = o;  // with the LQR start's action weights as training settled them
+  used.lqr_action_factor = r.lqr_action_factor;
+  const heli::HoverPolicy policy = heli::hover_policy_for(*model, used);
   heli::PolicyFile file =
       heli::hover_policy_file(policy, r.theta, o.target, heli::hover_init_from_model(*model).trim);
   file.provenance = {{"command", "pegasus heli hover"},
@@ -701,10 +704,11 @@ void run_hover(RunContext& ctx) {
   // Only for AR(1) models, so that the summaries of white-noise models stay as they were (digests).
   if (model->noise_correlation().any()) summary["model_noise"] = "ar1";
   if (o.lqr_start) {  // only when asked: summaries with the constants stay as they were
-    const heli::LqrStart lqr = heli::lqr_hover_init(*model, o);
+    const heli::LqrStart lqr = heli::lqr_hover_init(*model, used);
     const heli::HoverPolicyInit& g = lqr.init;
     summary["starting_gains"] = {{"method", lqr.used ? "lqr" : "constant"},
                                  {"reason", lqr.reason},
+                                 {"action_weight_factor", used.lqr_action_factor},
                                  {"spectral_radius", lqr.spectral_radius},
                                  {"open_loop_radius", lqr.open_loop_radius},
                                  {"gains",
@@ -714,6 +718,11 @@ void run_hover(RunContext& ctx) {
                                    {"a4", {{"err", g.k_yaw}, {"vel", g.k_yaw_rate}}}}}};
     if (!lqr.used)
       ctx.out << "warning: LQR starting gains not used: " << lqr.reason << "; the constants were\n";
+    if (used.lqr_action_factor != o.lqr_action_factor)
+      ctx.out << fmt::format(
+          "LQR starting gains made gentler: its action weights x{} (with the reward's, the starting policy "
+          "crashed the learned model in more than max_start_crash_fraction of the scenarios)\n",
+          used.lqr_action_factor / o.lqr_action_factor);
   }
   if (!ctx.config.get_string("vehicle").empty())
     summary["vehicle"] = vehicle_of(ctx.config).name();  // likewise

@@ -531,6 +531,8 @@ class HoverTrainingOptions:
     refit_every: int
     control_rate_hz: float
     lqr_start: bool
+    lqr_action_factor: float
+    max_tilt_rad: float
     target: SetPoint
     start_pos_sigma: float
     start_vel_sigma: float
@@ -574,6 +576,7 @@ class HoverTrainingResult:
     hill_climb: OptimizerSummary
     progress: list[IterationRecord]
     start: StartingPolicyCheck
+    lqr_action_factor: float
 
 def train_hover(model: Union[IdentifiedModel, str], options: HoverTrainingOptions = ..., *, checkpoint_every: int = 1,
                 on_checkpoint: Optional[Callable[[dict], None]] = None, resume_from: Optional[dict] = None,

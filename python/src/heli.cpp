@@ -447,6 +447,8 @@ climbing, on the identified model (heli/hover_task.hpp).)doc");
       .def_readwrite("refit_every", &heli::HoverTrainingOptions::refit_every)
       .def_readwrite("control_rate_hz", &heli::HoverTrainingOptions::control_rate_hz)
       .def_readwrite("lqr_start", &heli::HoverTrainingOptions::lqr_start)
+      .def_readwrite("lqr_action_factor", &heli::HoverTrainingOptions::lqr_action_factor)
+      .def_readwrite("max_tilt_rad", &heli::HoverTrainingOptions::max_tilt_rad)
       .def_readwrite("target", &heli::HoverTrainingOptions::target)
       .def_readwrite("start_pos_sigma", &heli::HoverTrainingOptions::start_pos_sigma)
       .def_readwrite("start_vel_sigma", &heli::HoverTrainingOptions::start_vel_sigma)
@@ -469,9 +471,10 @@ climbing, on the identified model (heli/hover_task.hpp).)doc");
         const bool ok = o.IsValid(&error);
         return py::make_tuple(ok, error);
       });
-  set_fields(options, {"scenarios", "seconds", "gamma", "refit_every", "control_rate_hz", "lqr_start",
-                       "target", "start_pos_sigma", "start_vel_sigma", "reward", "centre_at_trim",
-                       "optimizer", "then_hill_climb", "seed", "max_start_crash_fraction"});
+  set_fields(options,
+             {"scenarios", "seconds", "gamma", "refit_every", "control_rate_hz", "lqr_start",
+              "lqr_action_factor", "max_tilt_rad", "target", "start_pos_sigma", "start_vel_sigma", "reward",
+              "centre_at_trim", "optimizer", "then_hill_climb", "seed", "max_start_crash_fraction"});
 
   auto problem = py::class_<HoverProblemObject, Objective>(m, "HoverProblem", R"doc(
 PEGASUS U-hat (thesis §5.3) of the hover policy class (HoverPolicy(init), 34 weights) on a helicopter model, the
@@ -564,8 +567,10 @@ stops when more than options.max_start_crash_fraction of them crash (heli/hover_
       .def_readonly("gradient", &heli::HoverTrainingResult::gradient)
       .def_readonly("hill_climb", &heli::HoverTrainingResult::hill_climb)
       .def_readonly("progress", &heli::HoverTrainingResult::progress)
-      .def_readonly("start", &heli::HoverTrainingResult::start);
-  set_fields(result, {"theta", "initial_uhat", "final_uhat", "gradient", "hill_climb", "progress", "start"});
+      .def_readonly("start", &heli::HoverTrainingResult::start)
+      .def_readonly("lqr_action_factor", &heli::HoverTrainingResult::lqr_action_factor);
+  set_fields(result, {"theta", "initial_uhat", "final_uhat", "gradient", "hill_climb", "progress", "start",
+                      "lqr_action_factor"});
   m.def(
       "train_hover",
       [](py::object model, const heli::HoverTrainingOptions& o, std::int64_t checkpoint_every,

@@ -29,7 +29,9 @@ LoadedCPolicy::LoadedCPolicy(const CPolicyCode& code, const std::filesystem::pat
   const std::string prefix = code.source_name.substr(0, code.source_name.size() - 2);
   act_ = reinterpret_cast<Act>(dlsym(handle_, (prefix + "_act").c_str()));
   if (code.has_target) target_ = reinterpret_cast<Target>(dlsym(handle_, (prefix + "_target").c_str()));
-  if (!act_ || (code.has_target && !target_)) {
+  if (!code.vehicle_action_names.empty())
+    act_vehicle_ = reinterpret_cast<Act>(dlsym(handle_, (prefix + "_act_vehicle").c_str()));
+  if (!act_ || (code.has_target && !target_) || (!code.vehicle_action_names.empty() && !act_vehicle_)) {
     dlclose(handle_);
     throw std::runtime_error(fmt::format("{}: the generated functions are missing", library.string()));
   }

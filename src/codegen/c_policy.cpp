@@ -291,6 +291,114 @@ int @NAME@_act(const double* observation, double* action) {
   return t;
 }
 
+// ---- A helicopter class in an aircraft's own terms (a vehicle file) ------------------------------------
+
+// logs/vehicle.cpp Vehicle::state_of and Vehicle::native_of, operation for operation (and heli/frames.cpp).
+constexpr const char* kVehicleCode = R"(
+/* ---- In the aircraft's own terms: vehicle file @VEHICLE_FILE@ ("@VEHICLE@") ---- */
+static const int kChannelAxis[4] = {@AXES@}; /* the action a1..a4 each channel drives */
+@CHANNEL_TABLES@
+/* logs/vehicle.cpp Vehicle::state_of: the 12 states of the observation above from the vehicle's fields. */
+static void vehicle_state(const double* v, double* s) {
+  double roll, pitch, yaw;
+@ATTITUDE@  s[0] = v[0];
+  s[1] = v[1];
+  s[2] = v[2];
+  s[3] = roll;
+  s[4] = pitch;
+  s[5] = yaw;
+@VELOCITY@@RATES@}
+
+int @NAME@_act_vehicle(const double* observation, double* action) {
+  double own[13], axes[4];
+  int c, result;
+  own[0] = observation[0];
+  vehicle_state(observation + 1, own + 1);
+  result = @NAME@_act(own, axes);
+  for (c = 0; c < 4; ++c) action[c] = (axes[kChannelAxis[c]] - kChannelOffset[c]) / kChannelScale[c];
+  return result;
+}
+)";
+
+constexpr const char* kQuaternionAttitude = R"(  {
+    const double norm = sqrt(v[6] * v[6] + v[7] * v[7] + v[8] * v[8] + v[9] * v[9]);
+    const double w = v[6] / norm, x = v[7] / norm, y = v[8] / norm, z = v[9] / norm;
+    roll = atan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y));
+    pitch = asin(clamp(2 * (w * y - z * x), -1.0, 1.0));
+    yaw = atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z));
+    if (!(norm > 0)) roll = pitch = yaw = NAN;
+  }
+)";
+
+constexpr const char* kBodyVelocity = R"(  {
+    const double cf = cos(roll), sf = sin(roll), ct = cos(pitch), st = sin(pitch), cp = cos(yaw), sp = sin(yaw);
+    s[6] = ct * cp * v[3] + (sf * st * cp - cf * sp) * v[4] + (cf * st * cp + sf * sp) * v[5];
+    s[7] = ct * sp * v[3] + (sf * st * sp + cf * cp) * v[4] + (cf * st * sp - sf * cp) * v[5];
+    s[8] = -st * v[3] + (sf * ct * v[4] + cf * ct * v[5]); /* Eigen's order for the third row */
+  }
+)";
+
+constexpr const char* kBodyRates = R"(  {
+    const double cf = cos(roll), sf = sin(roll), ct = cos(pitch), tt = tan(pitch);
+    const double qr = v[@R1@] * sf + v[@R2@] * cf;
+    s[9] = v[@R0@] + qr * tt;
+    s[10] = v[@R1@] * cf - v[@R2@] * sf;
+    s[11] = qr / ct;
+  }
+)";
+
+void add_vehicle(ClassText& t, const logs::Vehicle& vehicle, CPolicyCode* names) {
+  const logs::VehicleLogSpec& log = vehicle.log;
+  const bool quaternion = log.attitude_form == "quaternion";
+  const std::size_t rates = quaternion ? 10 : 9;
+  std::vector<double> scale, offset;
+  std::vector<std::string> labels;
+  std::string axes;
+  for (std::size_t c = 0; c < 4; ++c) {
+    scale.push_back(log.controls[c].scale);
+    offset.push_back(log.controls[c].offset);
+    labels.push_back(log.controls[c].label());
+    axes += fmt::format("{}{}", c ? ", " : "", log.controls[c].column(c));
+  }
+  std::string attitude =
+      quaternion ? kQuaternionAttitude : "  roll = v[6];\n  pitch = v[7];\n  yaw = v[8];\n";
+  std::string velocity =
+      log.velocity_frame == "body" ? kBodyVelocity : "  s[6] = v[3];\n  s[7] = v[4];\n  s[8] = v[5];\n";
+  std::string rate_code =
+      log.rates_form == "body"
+          ? fill(kBodyRates, {{"R0", std::to_string(rates)},
+                              {"R1", std::to_string(rates + 1)},
+                              {"R2", std::to_string(rates + 2)}})
+          : fmt::format("  s[9] = v[{}];\n  s[10] = v[{}];\n  s[11] = v[{}];\n", rates, rates + 1, rates + 2);
+  t.body += fill(kVehicleCode, {{"VEHICLE_FILE", log.file.empty() ? std::string("(built in)") : log.file},
+                                {"VEHICLE", vehicle.name()},
+                                {"AXES", axes},
+                                {"CHANNEL_TABLES", c_table("kChannelScale", scale, labels) +
+                                                       c_table("kChannelOffset", offset, labels)},
+                                {"ATTITUDE", attitude},
+                                {"VELOCITY", velocity},
+                                {"RATES", rate_code}});
+  names->vehicle_observation_names = {"time"};
+  for (const auto& f : vehicle.state_fields()) names->vehicle_observation_names.push_back(f);
+  names->vehicle_action_names = labels;
+  std::string observation, action;
+  for (const auto& n : names->vehicle_observation_names) observation += (observation.empty() ? "" : ", ") + n;
+  for (const auto& n : labels) action += (action.empty() ? "" : ", ") + n;
+  t.extra_declarations += fmt::format(
+      "\n/* The controller in the terms of the aircraft \"{}\" (vehicle file {}): observation ({} doubles) "
+      "{};\n"
+      " * action (4 doubles) its channels {}, in its ranges and signs. As `pegasus control --vehicle` "
+      "converts a\n"
+      " * line: quaternion or Euler attitude, body or world velocity, body or Euler rates, as the file "
+      "says.\n"
+      " * Returns what @NAME@_act returns (1 and the trim in the channels' terms for a non-finite value). "
+      "*/\n"
+      "#define @MACRO@_VEHICLE_OBSERVATION_SIZE {}\n"
+      "int @NAME@_act_vehicle(const double* observation, double* action);\n",
+      vehicle.name(), log.file.empty() ? std::string("(built in)") : log.file,
+      names->vehicle_observation_names.size(), observation, action, names->vehicle_observation_names.size());
+}
+
 // The trajectory's legs and the set point along them, as heli/trajectory.cpp computes them.
 constexpr const char* kTrajectory = R"(
 enum { kLine = 0, kArc = 1, kTurn = 2, kHold = 3 };
@@ -672,7 +780,19 @@ CPolicyCode export_c_policy(const nlohmann::json& j, const std::string& source,
                     "bicycle-sigmoid-15 or pendulum-swing-up (\"policy\": ...), got {}",
                     source, heli::kPolicyFormat, got.size() > 40 ? got.substr(0, 37) + "..." : got));
   }
-  return assemble(text, source, options);
+  CPolicyCode names;
+  if (options.vehicle) {
+    if (!text.has_target)
+      throw InputError(
+          fmt::format("{}: --vehicle: only the helicopter classes (hover, maneuver) speak a vehicle's "
+                      "terms; this file is of class {}",
+                      source, text.class_name));
+    add_vehicle(text, *options.vehicle, &names);
+  }
+  CPolicyCode code = assemble(text, source, options);
+  code.vehicle_observation_names = std::move(names.vehicle_observation_names);
+  code.vehicle_action_names = std::move(names.vehicle_action_names);
+  return code;
 }
 
 CPolicyCode export_c_policy_file(const std::filesystem::path& file, const CPolicyOptions& options) {

@@ -5,6 +5,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <cmath>
+#include <optional>
 
 #include "pegasus/core/error.hpp"
 #include "pegasus/evaluators/monte_carlo.hpp"
@@ -188,7 +189,8 @@ LqrStart lqr_hover_init(const sysid::IdentifiedModel& model, const HoverTraining
   q(5, 5) = r.alpha_yaw;
   for (int c = 0; c < nu; ++c)
     rr(c, c) =
-        r.alpha_action[static_cast<std::size_t>(c)] > 0 ? r.alpha_action[static_cast<std::size_t>(c)] : 1.0;
+        o.lqr_action_factor *
+        (r.alpha_action[static_cast<std::size_t>(c)] > 0 ? r.alpha_action[static_cast<std::size_t>(c)] : 1.0);
   const double gamma = std::pow(o.gamma, 50 * model.dt());  // per model step
   // Discounted Riccati recursion to its fixed point: P = Q + g A'PA - g^2 A'PB (R + g B'PB)^-1 B'PA.
   Matrix p = q, k(nu, n);
@@ -277,6 +279,9 @@ bool HoverTrainingOptions::IsValid(std::string* error) const {
     return fail(error, fmt::format("seconds: expected a number in (0, 3600], got {}", seconds));
   if (!(gamma > 0 && gamma <= 1))
     return fail(error, fmt::format("gamma: expected a number in (0, 1], got {}", gamma));
+  if (!(lqr_action_factor > 0 && lqr_action_factor <= 1e12))
+    return fail(error,
+                fmt::format("lqr_action_factor: expected a number in (0, 1e12], got {}", lqr_action_factor));
   if (!(max_tilt_rad > 0 && max_tilt_rad < 1.5708))
     return fail(error, fmt::format("max_tilt_rad: expected a number in (0, pi/2), got {}", max_tilt_rad));
   if (refit_every < 0)
@@ -368,19 +373,39 @@ HoverTrainingResult train_hover(std::shared_ptr<const sysid::IdentifiedModel> mo
                                 ThreadPool& pool) {
   std::string error;
   if (!o.IsValid(&error)) throw InputError("hover training: " + error);
-  // One evaluator: the check flies the starting weights on the scenarios training then uses.
-  PegasusEvaluator<Task, HoverPolicy> evaluator = hover_evaluator(model, o);
-  const StartingPolicyCheck start = check_starting_policy(evaluator, 1 / o.control_rate_hz, pool);
+  // One evaluator: the check flies the starting weights on the scenarios training then uses. An LQR start
+  // that crashes too often is made gentler (its action weights raised tenfold) until it does not.
+  const auto too_many = [&](const StartingPolicyCheck& c) {
+    return c.crashed > o.max_start_crash_fraction * c.scenarios;
+  };
+  HoverTrainingOptions settled = o;
+  std::optional<PegasusEvaluator<Task, HoverPolicy>> evaluator(hover_evaluator(model, settled));
+  StartingPolicyCheck start = check_starting_policy(*evaluator, 1 / o.control_rate_hz, pool);
+  for (double factor = 10 * o.lqr_action_factor;
+       o.lqr_start && too_many(start) &&
+       factor <= HoverTrainingOptions::kMaxLqrActionFactor * o.lqr_action_factor;
+       factor *= 10) {
+    HoverTrainingOptions gentler = o;
+    gentler.lqr_action_factor = factor;
+    PegasusEvaluator<Task, HoverPolicy> candidate = hover_evaluator(model, gentler);
+    const StartingPolicyCheck check = check_starting_policy(candidate, 1 / o.control_rate_hz, pool);
+    if (too_many(check)) continue;
+    settled = gentler;
+    evaluator.emplace(std::move(candidate));
+    start = check;
+  }
   if (start.crashed > o.max_start_crash_fraction * start.scenarios)
     throw InputError(fmt::format(
         "hover training: the starting policy crashes the learned model in {} of {} scenarios (after {:.2f} s "
         "on average), more than max_start_crash_fraction = {}: the model does not hold the aircraft from "
-        "these starts (try starting_gains = \"lqr\", heli identify --local=false, smaller start_pos_sigma "
-        "and "
-        "start_vel_sigma, or max_start_crash_fraction = 1 to train anyway)",
-        start.crashed, start.scenarios, start.mean_seconds_to_crash, o.max_start_crash_fraction));
+        "these starts ({}heli identify --local=false, smaller start_pos_sigma and start_vel_sigma, or "
+        "max_start_crash_fraction = 1 to train anyway)",
+        start.crashed, start.scenarios, start.mean_seconds_to_crash, o.max_start_crash_fraction,
+        o.lqr_start ? fmt::format("the LQR start crashed as often with its action weights up to {}x; try ",
+                                  HoverTrainingOptions::kMaxLqrActionFactor)
+                    : "try starting_gains = \"lqr\", "));
   auto objective = std::make_unique<PegasusObjective<Task, HoverPolicy>>(
-      std::move(evaluator), std::shared_ptr<ThreadPool>(std::shared_ptr<ThreadPool>(), &pool));
+      std::move(*evaluator), std::shared_ptr<ThreadPool>(std::shared_ptr<ThreadPool>(), &pool));
   // §5.3: gradient ascent, then random-walk hill climbing from its result. Both stages draw hill climbing's
   // stream from the first stage's seed domain, as this task always has.
   TrainingPlan plan;
@@ -409,6 +434,7 @@ HoverTrainingResult train_hover(std::shared_ptr<const sysid::IdentifiedModel> mo
   result.initial_uhat = summary.initial_value;
   result.final_uhat = summary.best_value;
   result.start = start;
+  result.lqr_action_factor = settled.lqr_action_factor;
   return result;
 }
 

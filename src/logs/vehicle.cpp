@@ -92,13 +92,16 @@ class SpecReader {
       if (known.count(name)) continue;
       std::string list;
       for (const auto& s : known) list += (list.empty() ? "" : ", ") + s;
-      fail(&node, key.empty() ? name : key + "." + name, fmt::format("unknown key; expected one of {}", list));
+      fail(&node, key.empty() ? name : key + "." + name,
+           fmt::format("unknown key; expected one of {}", list));
     }
   }
   void only_keys(const std::string& key, const std::set<std::string>& known) const {
     if (const toml::node* n = key.empty() ? &root_ : at(key)) {
-      if (const toml::table* t = n->as_table()) only_keys(key, *t, known);
-      else if (!n->is_array_of_tables()) fail(n, key, "expected a table");
+      if (const toml::table* t = n->as_table())
+        only_keys(key, *t, known);
+      else if (!n->is_array_of_tables())
+        fail(n, key, "expected a table");
     }
   }
 
@@ -117,7 +120,8 @@ int axis_index(const SpecReader& r, const std::string& key) {
   return -1;
 }
 
-VehicleLogSpec vehicle_log_spec(const toml::table& root, const SpecReader& r, const std::filesystem::path& file) {
+VehicleLogSpec vehicle_log_spec(const toml::table& root, const SpecReader& r,
+                                const std::filesystem::path& file) {
   if (!root.get("log") || !root.get("log")->is_table())
     throw InputError(
         fmt::format("{}: expected a [log] section (see the README's vehicle files)", file.string()));
@@ -181,13 +185,14 @@ VehicleLogSpec vehicle_log_spec(const toml::table& root, const SpecReader& r, co
       if (!(std::abs(ch.scale) >= kSmallestScale && std::abs(ch.scale) <= kLargestScale &&
             std::abs(ch.offset) <= kLargestOffset))
         r.fail(r.at(key + ".range"), key + ".range",
-               fmt::format("expected a width in [{}, {}] and a centre within {} widths of 0", 2 / kLargestScale,
-                           2 / kSmallestScale, kLargestOffset / 2));
+               fmt::format("expected a width in [{}, {}] and a centre within {} widths of 0",
+                           2 / kLargestScale, 2 / kSmallestScale, kLargestOffset / 2));
     } else {
       ch.scale = r.number(key + ".scale", 1, -kLargestScale, kLargestScale);
       if (!(std::abs(ch.scale) >= kSmallestScale))
         r.fail(r.at(key + ".scale"), key + ".scale",
-               fmt::format("expected a number of size at least {} (the channel must move its axis)", kSmallestScale));
+               fmt::format("expected a number of size at least {} (the channel must move its axis)",
+                           kSmallestScale));
       ch.offset = r.number(key + ".offset", 0, -kLargestOffset, kLargestOffset);
     }
     if (r.at(key + ".axis")) {
@@ -224,7 +229,9 @@ Vehicle vehicle(const toml::table& root, const std::filesystem::path& file) {
   for (const char* q : {"log.velocity", "log.attitude", "log.rates"})
     r.only_keys(q, {"topic", "fields", std::string(q) == "log.velocity" ? "frame" : "form"});
   r.only_keys("control", {"rate_hz"});
-  r.only_keys("hover", {"target", "starting_gains"});
+  r.only_keys("hover", {"target", "starting_gains", "reward"});
+  r.only_keys("hover.reward",
+              {"position_m", "velocity_mps", "yaw_rad", "action", "attitude_rad", "rate_radps"});
   r.only_keys("envelope", {"max_tilt_rad"});
   Vehicle v;
   v.log = vehicle_log_spec(root, r, file);
@@ -236,6 +243,16 @@ Vehicle vehicle(const toml::table& root, const std::filesystem::path& file) {
     std::copy(t.begin(), t.end(), v.target.begin());
   }
   v.starting_gains = r.string("hover.starting_gains", v.starting_gains, {"lqr", "constant"});
+  for (const char* key : {"position_m", "velocity_mps", "yaw_rad", "action", "attitude_rad", "rate_radps"}) {
+    const std::string path = std::string("hover.reward.") + key;
+    if (!r.at(path)) continue;
+    // A size of 0 leaves a term out (action, attitude, rates); position, velocity and yaw need one > 0.
+    const bool optional = std::string(key) == "action" || std::string(key) == "attitude_rad" ||
+                          std::string(key) == "rate_radps";
+    const double size = r.number(path, 0, 0, 1e150);
+    if (!optional && !(size > 0)) r.fail(r.at(path), path, "expected a typical size > 0");
+    v.reward.emplace_back(key, size);
+  }
   v.max_tilt_rad = r.number("envelope.max_tilt_rad", v.max_tilt_rad, 0.01, 1.5);
   return v;
 }
@@ -252,7 +269,9 @@ std::vector<std::string> VehicleLogSpec::topic_names() const {
   return out;
 }
 
-Vehicle read_vehicle(const std::filesystem::path& file) { return vehicle(read_toml_input(file, "vehicle"), file); }
+Vehicle read_vehicle(const std::filesystem::path& file) {
+  return vehicle(read_toml_input(file, "vehicle"), file);
+}
 
 Vehicle parse_vehicle(std::string_view text, const std::filesystem::path& name) {
   return vehicle(parse_toml_input(text, name.string()), name);
@@ -290,7 +309,8 @@ Vehicle xcell_vehicle() {
 heli::Controls Vehicle::axes_of(std::span<const double> native) const {
   heli::Controls a{};
   for (std::size_t c = 0; c < 4; ++c)
-    a[static_cast<std::size_t>(log.controls[c].column(c))] = log.controls[c].scale * native[c] + log.controls[c].offset;
+    a[static_cast<std::size_t>(log.controls[c].column(c))] =
+        log.controls[c].scale * native[c] + log.controls[c].offset;
   return a;
 }
 
@@ -350,12 +370,13 @@ sysid::FlightLog parse_vehicle_log(const std::string& text, const std::string& n
       const ControlChannel& ch = spec.controls[c];
       double& axis = a[static_cast<std::size_t>(ch.column(c))];
       if (!(std::abs(axis) <= 1 + 1e-6))
-        throw InputError(fmt::format(
-            "{}:{}:{}: {} gives {} (a{}) = {}; expected [-1, 1] after the channel's range or scale and offset "
-            "in {}",
-            name, table.lines[i], printable(ch.field), row[first_control + c],
-            kControlAxisNames[static_cast<std::size_t>(ch.column(c))], ch.column(c) + 1, axis,
-            spec.file.empty() ? std::string("the vehicle") : spec.file));
+        throw InputError(
+            fmt::format("{}:{}:{}: {} gives {} (a{}) = {}; expected [-1, 1] after the channel's range or "
+                        "scale and offset "
+                        "in {}",
+                        name, table.lines[i], printable(ch.field), row[first_control + c],
+                        kControlAxisNames[static_cast<std::size_t>(ch.column(c))], ch.column(c) + 1, axis,
+                        spec.file.empty() ? std::string("the vehicle") : spec.file));
       axis = std::clamp(axis, -1.0, 1.0);
     }
     log.controls.push_back(a);

@@ -15,6 +15,7 @@
 #include <numbers>
 #include <random>
 
+#include "logs/outside_aircraft.hpp"
 #include "pegasus/codegen/c_loader.hpp"
 #include "pegasus/envs/bicycle_policy.hpp"
 #include "pegasus/envs/pendulum_policy.hpp"
@@ -209,6 +210,50 @@ TEST_F(CPolicyExport, HeliNonFiniteObservationGetsTheTrimAsHeliControlAnswers) {
   double action[4];
   EXPECT_EQ(c.act()(observation.data(), action), 1);
   for (std::size_t k = 0; k < 4; ++k) EXPECT_EQ(action[k], file.trim[k]);
+}
+
+// In an aircraft's own terms (a vehicle file: quaternion, body velocity and rates in; its channels out in its
+// order, ranges and signs), the exported controller answers what `pegasus control --vehicle` computes: the
+// vehicle's conversion, the policy, the channels' mapping, bit for bit, for the hover and a manoeuvre.
+TEST_F(CPolicyExport, InAVehiclesOwnTermsItIsBitIdenticalToTheCppConversionAndPolicy) {
+  const logs::Vehicle vehicle = logs::parse_vehicle(test_support::kOutsideVehicle, "outside.toml");
+  for (const heli::PolicyFile& file :
+       {hover_file(3, 1.0, {1.0, 2.0, -8.0, 0.3}), maneuver_file("III.2", 4)}) {
+    const CPolicyCode code =
+        export_c_policy(heli::policy_file_json(file), "p.json", {.prefix = "outside", .vehicle = &vehicle});
+    EXPECT_EQ(code.vehicle_action_names, (std::vector<std::string>{"thr", "ail", "ele", "rudder_us"}));
+    ASSERT_EQ(code.vehicle_observation_names.size(), 14u);
+    EXPECT_EQ(code.vehicle_observation_names[7], "qw");
+    const LoadedCPolicy c(code, dir_ / file.class_name);
+    ASSERT_NE(c.act_vehicle(), nullptr);
+    const auto cpp = heli::make_controller(file, "p.json");
+    std::mt19937_64 rng(9);
+    std::uniform_real_distribution<double> time(0.0, 10.0);
+    Mismatches actions;
+    for (int i = 0; i < kInputs / 4; ++i) {
+      const double t = time(rng);
+      const auto native_state = test_support::outside_state(random_state(rng, cpp->target(t)));
+      std::array<double, 14> observation;
+      observation[0] = t;
+      std::copy(native_state.begin(), native_state.end(), observation.begin() + 1);
+      double action[4];
+      EXPECT_EQ(c.act_vehicle()(observation.data(), action), 0);
+      actions.check(vehicle.native_of(cpp->act(vehicle.state_of(native_state), t)), action,
+                    fmt::format("{} input {}", file.class_name, i));
+    }
+    EXPECT_EQ(actions.count, 0) << actions.first;
+    // A non-finite field, or a quaternion of length 0: the trim, in the channels' terms.
+    std::array<double, 14> zero{};
+    double action[4];
+    EXPECT_EQ(c.act_vehicle()(zero.data(), action), 1);
+    const auto trim = vehicle.native_of(file.trim);
+    for (std::size_t k = 0; k < 4; ++k) EXPECT_EQ(action[k], trim[k]) << k;
+  }
+  // Only the helicopter classes speak a vehicle's terms.
+  const std::string message = test_support::input_error_message([&] {
+    (void)export_c_policy(pendulum_policy_json({1, 2, 3, 4, 5}), "p.json", {.vehicle = &vehicle});
+  });
+  EXPECT_NE(message.find("p.json: --vehicle: only the helicopter classes"), std::string::npos) << message;
 }
 
 TEST_F(CPolicyExport, BicycleIsBitIdenticalToTheCppPolicyOn100000Observations) {

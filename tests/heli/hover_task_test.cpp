@@ -169,6 +169,37 @@ TEST(LqrStart, GainsFollowTheIdentifiedControlSignsAndHoldTheLearnedModel) {
   EXPECT_EQ(check_starting_policy(small_model(), o, pool).crashed, 0);
 }
 
+// An LQR start with the reward's action weights can move the controls far from the pilot's for a large start
+// error and leave the learned model's data: training then makes it gentler, tenfold at a time, and uses the
+// first factor whose starting policy holds the model; the policy it returns starts from those gains.
+TEST(LqrStart, TrainingMakesACrashingLqrStartGentlerUntilItHolds) {
+  HoverTrainingOptions o = tiny_options();
+  o.scenarios = 10;
+  o.seconds = 5;
+  o.start_pos_sigma = 4;
+  o.start_vel_sigma = 1;
+  o.lqr_start = true;
+  o.optimizer.gradient.max_iterations = 1;
+  o.then_hill_climb = false;
+  ThreadPool pool(2);
+  const auto crashes = [&](double factor) {
+    HoverTrainingOptions f = o;
+    f.lqr_action_factor = factor;
+    return check_starting_policy(small_model(), f, pool).crashed;
+  };
+  const int allowed = static_cast<int>(o.max_start_crash_fraction * o.scenarios);
+  ASSERT_GT(crashes(1), allowed);  // the reward's weights crash this setting
+  const HoverTrainingResult r = train_hover(small_model(), o, {}, pool);
+  EXPECT_GT(r.lqr_action_factor, 1.0);
+  EXPECT_LE(crashes(r.lqr_action_factor), allowed);       // the factor chosen holds
+  EXPECT_GT(crashes(r.lqr_action_factor / 10), allowed);  // and is the first that does
+  EXPECT_EQ(r.start.crashed, crashes(r.lqr_action_factor));
+  // Not made gentler when the reward's weights already hold, or for the constants.
+  o.start_pos_sigma = 0.5;
+  o.start_vel_sigma = 0.1;
+  EXPECT_EQ(train_hover(small_model(), o, {}, pool).lqr_action_factor, 1.0);
+}
+
 TEST(HoverTraining, ImprovesUhatAndIsTheSameForAnyThreadCount) {
   const auto model = small_model();
   const HoverTrainingOptions o = tiny_options();

@@ -69,7 +69,8 @@ inline std::array<double, 4> outside_controls(const heli::Controls& a) {
   return {(a[2] + 1) / 2, 0.5 * a[1], -a[0], 1500 - 500 * a[3]};
 }
 
-// The outside aircraft's state fields (n, e, d, u, v, w, qw, qx, qy, qz, p, q, r) of the pipeline's 12 states.
+// The outside aircraft's state fields (n, e, d, u, v, w, qw, qx, qy, qz, p, q, r) of the pipeline's 12
+// states.
 inline std::array<double, 13> outside_state(const heli::LoggedState& s) {
   const heli::Euler e{s[3], s[4], s[5]};
   const heli::Vec3 v_B = heli::body_from_world(e, heli::Vec3(s[6], s[7], s[8]));
@@ -95,7 +96,7 @@ inline std::string outside_log_csv(const sysid::FlightLog& log) {
   for (std::size_t i = 0; i < log.rows(); ++i) {
     const auto s = outside_state(log.states[i]);  // n e d u v w qw qx qy qz p q r
     const auto c = outside_controls(log.controls[i]);
-    const std::array<double, 19> row = {c[3], s[0], s[7],  log.time[i], s[1], c[0],  s[3], s[8], 12.6, s[2],
+    const std::array<double, 19> row = {c[3], s[0], s[7], log.time[i], s[1],  c[0], s[3],  s[8], 12.6, s[2],
                                         s[4], c[1], s[9], s[5],        s[10], s[6], s[11], c[2], s[12]};
     for (std::size_t k = 0; k < row.size(); ++k) text += (k ? "," : "") + format_double(row[k]);
     text += '\n';

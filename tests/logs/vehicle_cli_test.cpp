@@ -32,27 +32,30 @@ class VehicleCli : public test_support::TempDirTest {
   void make_logs() {
     for (const auto& [name, seconds, seed] :
          {std::tuple{"train", "90", "1"}, std::tuple{"test", "60", "2"}}) {
-      const auto r = run_pegasus(fmt::format("heli pilot --seconds {} --seed {} --quiet --out {}", seconds, seed,
-                                             path(std::string("pilot-") + name)));
+      const auto r = run_pegasus(fmt::format("heli pilot --seconds {} --seed {} --quiet --out {}", seconds,
+                                             seed, path(std::string("pilot-") + name)));
       ASSERT_EQ(r.code, 0) << r.output;
-      const sysid::FlightLog own =
-          test_support::every_nth_row(sysid::read_flight_log(dir_ / ("pilot-" + std::string(name)) / "log.csv"), 5);
+      const sysid::FlightLog own = test_support::every_nth_row(
+          sysid::read_flight_log(dir_ / ("pilot-" + std::string(name)) / "log.csv"), 5);
       sysid::write_flight_log(dir_ / (std::string(name) + "-own.csv"), own);
       write(std::string(name) + "-outside.csv", test_support::outside_log_csv(own));
     }
     write("outside.toml", test_support::kOutsideVehicle);
   }
-  static constexpr const char* kSmall = "--cv-points 40 --scale-grid 1,4 --coordinate-passes 0 --variants=false --quiet";
+  static constexpr const char* kSmall =
+      "--cv-points 40 --scale-grid 1,4 --coordinate-passes 0 --variants=false --quiet";
 };
 
 TEST_F(VehicleCli, AnOutsideAircraftIdentifiesHoversAndIsServedInItsOwnTerms) {
   make_logs();
   // The outside aircraft from its vehicle file: 10 Hz model, no latent states, a 10 Hz controller.
-  auto r = run_pegasus(fmt::format("identify --vehicle {} --train {} --test {} {} --out {}", path("outside.toml"),
-                                   path("train-outside.csv"), path("test-outside.csv"), kSmall, path("id-outside")));
+  auto r = run_pegasus(fmt::format("identify --vehicle {} --train {} --test {} {} --out {}",
+                                   path("outside.toml"), path("train-outside.csv"), path("test-outside.csv"),
+                                   kSmall, path("id-outside")));
   ASSERT_EQ(r.code, 0) << r.output;
   // The same flights in the pipeline's layout, with the options the vehicle file stands for.
-  r = run_pegasus(fmt::format("heli identify --train {} --test {} --rate-hz 10 --extra-states=false "
+  r =
+      run_pegasus(fmt::format("heli identify --train {} --test {} --rate-hz 10 --extra-states=false "
                               "--control-rate-hz 10 {} --out {}",
                               path("train-own.csv"), path("test-own.csv"), kSmall, path("id-own")));
   ASSERT_EQ(r.code, 0) << r.output;
@@ -81,16 +84,18 @@ TEST_F(VehicleCli, AnOutsideAircraftIdentifiesHoversAndIsServedInItsOwnTerms) {
   EXPECT_NE(config.find("control_rate_hz = 10.0"), std::string::npos) << config;
 
   // Hover from the vehicle file: a 10 Hz controller with LQR starting gains (the constants are the X-Cell's).
-  r = run_pegasus(fmt::format("hover --vehicle {} --model {} --scenarios 3 --seconds 3 "
-                              "--optimizer.gradient.max-iterations 2 --then-hill-climb=false --quiet --out {}",
-                              path("outside.toml"), path("id-outside/model.json"), path("hover")));
+  r = run_pegasus(
+      fmt::format("hover --vehicle {} --model {} --scenarios 3 --seconds 3 "
+                  "--optimizer.gradient.max-iterations 2 --then-hill-climb=false --quiet --out {}",
+                  path("outside.toml"), path("id-outside/model.json"), path("hover")));
   ASSERT_EQ(r.code, 0) << r.output;
   const nlohmann::json hover = summary("hover");
   EXPECT_EQ(hover["vehicle"], "outside-heli");
   EXPECT_EQ(hover["control_rate_hz"], 10.0);
   EXPECT_EQ(hover["starting_gains"]["method"], "lqr") << hover["starting_gains"];
   // An option given wins over the vehicle file.
-  r = run_pegasus(fmt::format("hover --vehicle {} --model {} --scenarios 3 --seconds 3 --control-rate-hz 50 "
+  r =
+      run_pegasus(fmt::format("hover --vehicle {} --model {} --scenarios 3 --seconds 3 --control-rate-hz 50 "
                               "--starting-gains constant --optimizer.gradient.max-iterations 1 "
                               "--then-hill-climb=false --max-start-crash-fraction 1 --quiet --out {}",
                               path("outside.toml"), path("id-outside/model.json"), path("hover-50")));
@@ -100,12 +105,13 @@ TEST_F(VehicleCli, AnOutsideAircraftIdentifiesHoversAndIsServedInItsOwnTerms) {
 
   // Served in the outside aircraft's terms: its own log as the input, its channels as the answer, equal to
   // what `heli control` answers on the same states in the pipeline's layout.
-  r = run_shell(fmt::format("{} control --vehicle {} --policy {} < {} > {}", PEGASUS_CLI_PATH, path("outside.toml"),
-                            path("hover/policy.json"), path("test-outside.csv"), path("answers-outside.csv")));
+  r = run_shell(fmt::format("{} control --vehicle {} --policy {} < {} > {}", PEGASUS_CLI_PATH,
+                            path("outside.toml"), path("hover/policy.json"), path("test-outside.csv"),
+                            path("answers-outside.csv")));
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_EQ(r.output, "");  // no malformed line
-  r = run_shell(fmt::format("{} heli control --policy {} < {} > {}", PEGASUS_CLI_PATH, path("hover/policy.json"),
-                            path("test-own.csv"), path("answers-own.csv")));
+  r = run_shell(fmt::format("{} heli control --policy {} < {} > {}", PEGASUS_CLI_PATH,
+                            path("hover/policy.json"), path("test-own.csv"), path("answers-own.csv")));
   ASSERT_EQ(r.code, 0) << r.output;
   const auto native = parse_csv(test_support::read_text(dir_ / "answers-outside.csv"));
   const auto canonical = parse_csv(test_support::read_text(dir_ / "answers-own.csv"));
@@ -118,7 +124,8 @@ TEST_F(VehicleCli, AnOutsideAircraftIdentifiesHoversAndIsServedInItsOwnTerms) {
     for (std::size_t c = 0; c < 4; ++c) a[c] = std::stod(canonical[i][c]);
     const auto expected = test_support::outside_controls(a);
     for (std::size_t c = 0; c < 4; ++c)
-      ASSERT_NEAR(std::stod(native[i][c]), expected[c], 1e-7 * (c == 3 ? 1000 : 1)) << "line " << i << " " << c;
+      ASSERT_NEAR(std::stod(native[i][c]), expected[c], 1e-7 * (c == 3 ? 1000 : 1))
+          << "line " << i << " " << c;
   }
 
   // No ground truth of this aircraft: fly says so and how to fly it instead.
@@ -136,11 +143,13 @@ TEST_F(VehicleCli, ABadVehicleFileStopsEveryCommandWithOneLineAndNoRunDirectory)
   write("log.csv", "t\n");
   for (const std::string& command :
        {std::string("identify --train ") + path("log.csv") + " --test " + path("log.csv"),
-        std::string("hover --model ") + path("model.json"), std::string("heli identify --train x --test y")}) {
+        std::string("hover --model ") + path("model.json"),
+        std::string("heli identify --train x --test y")}) {
     const auto r = run_pegasus(command + " --vehicle " + path("bad.toml") + " --out " + path("run"));
     EXPECT_EQ(r.code, 2) << command << "\n" << r.output;
     EXPECT_NE(r.output.find("bad.toml:51: hover.starting_gain: unknown key"), std::string::npos)
-        << command << "\n" << r.output;
+        << command << "\n"
+        << r.output;
     EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
     EXPECT_FALSE(std::filesystem::exists(dir_ / "run"));
     EXPECT_FALSE(std::filesystem::exists(dir_ / "run.partial"));

@@ -20,7 +20,8 @@ using namespace pegasus;
 using namespace pegasus::logs;
 using test_support::input_error_message;
 
-const std::filesystem::path kVehicles = std::filesystem::path(PEGASUS_SOURCE_DIR) / "experiments" / "vehicles";
+const std::filesystem::path kVehicles =
+    std::filesystem::path(PEGASUS_SOURCE_DIR) / "experiments" / "vehicles";
 
 // A hover-like flight in the pipeline's layout at 50 Hz: every state and control moves, yaw crosses +-pi.
 sysid::FlightLog synthetic_log(std::size_t rows) {
@@ -32,8 +33,8 @@ sysid::FlightLog synthetic_log(std::size_t rows) {
                           -0.15 * std::cos(0.9 * t), heli::wrap_angle(3.0 + 0.05 * t), 1.5 * std::cos(t),
                           -0.5 * std::sin(0.3 * t), 0.2 * std::sin(2 * t), 0.4 * std::cos(1.1 * t),
                           -0.3 * std::sin(0.8 * t), 0.1 * std::cos(0.5 * t)});
-    log.controls.push_back({0.5 * std::sin(0.9 * t), -0.4 * std::cos(1.7 * t), 0.2 + 0.1 * std::sin(t),
-                            std::sin(0.4 * t)});
+    log.controls.push_back(
+        {0.5 * std::sin(0.9 * t), -0.4 * std::cos(1.7 * t), 0.2 + 0.1 * std::sin(t), std::sin(0.4 * t)});
   }
   return log;
 }
@@ -81,6 +82,26 @@ TEST(Vehicles, PresentDefaultsAreNoLatentStatesLqrGainsAndFiftyHertz) {
   EXPECT_EQ(v.log.controls[0].label(), "thr");
 }
 
+TEST(Vehicles, TheHoverRewardMatchesTheCostTheAircraftIsJudgedBy) {
+  const Vehicle v = parse_vehicle(std::string(test_support::kOutsideVehicle) +
+                                      "\n[hover.reward]\nposition_m = 0.3\nattitude_rad = 0.2\naction = 0\n",
+                                  "v.toml");
+  EXPECT_EQ(v.reward, (std::vector<std::pair<std::string, double>>{
+                          {"position_m", 0.3}, {"action", 0.0}, {"attitude_rad", 0.2}}));
+  EXPECT_TRUE(parse_vehicle(test_support::kOutsideVehicle, "v.toml").reward.empty());
+  const std::string bad = input_error_message([] {
+    (void)parse_vehicle(std::string(test_support::kOutsideVehicle) + "\n[hover.reward]\nyaw_rad = 0\n",
+                        "v.toml");
+  });
+  EXPECT_NE(bad.find("v.toml:51: hover.reward.yaw_rad: expected a typical size > 0"), std::string::npos)
+      << bad;
+  const std::string unknown = input_error_message([] {
+    (void)parse_vehicle(std::string(test_support::kOutsideVehicle) + "\n[hover.reward]\nroll_rad = 1\n",
+                        "v.toml");
+  });
+  EXPECT_NE(unknown.find("hover.reward.roll_rad: unknown key"), std::string::npos) << unknown;
+}
+
 TEST(Vehicles, AnOutsideAircraftsLogReadsBackToThePipelinesLayout) {
   const Vehicle v = parse_vehicle(test_support::kOutsideVehicle, "outside.toml");
   const sysid::FlightLog own = test_support::every_nth_row(synthetic_log(2000), 5);  // 10 Hz
@@ -99,8 +120,8 @@ TEST(Vehicles, AnOutsideAircraftsLogReadsBackToThePipelinesLayout) {
 
 TEST(Vehicles, ControlsMapBothWaysForEveryWayOfWritingAChannel) {
   const Vehicle v = parse_vehicle(test_support::kOutsideVehicle, "outside.toml");
-  for (const heli::Controls a : {heli::Controls{0, 0, 0, 0}, heli::Controls{1, -1, 0.5, -0.25},
-                                 heli::Controls{-0.3, 0.7, -1, 1}}) {
+  for (const heli::Controls a :
+       {heli::Controls{0, 0, 0, 0}, heli::Controls{1, -1, 0.5, -0.25}, heli::Controls{-0.3, 0.7, -1, 1}}) {
     const auto native = v.native_of(a);
     const auto expected = test_support::outside_controls(a);
     for (std::size_t c = 0; c < 4; ++c) EXPECT_NEAR(native[c], expected[c], 1e-12) << c;
@@ -131,7 +152,8 @@ TEST(Vehicles, ControlLinesAreServedInTheAircraftsOwnTerms) {
   std::FILE* out = open_memstream(&out_text, &out_size);
   std::FILE* err = std::tmpfile();
   const StateEcho controller;
-  const auto stats = heli::run_control_loop(controller, {0, 0, 0, 0}, in, out, err, 0.1, control_line_format(v));
+  const auto stats =
+      heli::run_control_loop(controller, {0, 0, 0, 0}, in, out, err, 0.1, control_line_format(v));
   std::fclose(in);
   std::fclose(out);
   std::fclose(err);
@@ -153,7 +175,8 @@ TEST(Vehicles, ControlLinesAreServedInTheAircraftsOwnTerms) {
     ASSERT_EQ(fields.size(), 1u);
     ASSERT_EQ(fields[0].size(), 4u) << lines[i + 1];
     for (std::size_t c = 0; c < 4; ++c)
-      EXPECT_NEAR(std::stod(fields[0][c]), expected[c], 1e-9 * (c == 3 ? 1000 : 1)) << "line " << i << " " << c;
+      EXPECT_NEAR(std::stod(fields[0][c]), expected[c], 1e-9 * (c == 3 ? 1000 : 1))
+          << "line " << i << " " << c;
   }
   // Without a header: the documented order (position, velocity, attitude, rates), time first when 14 fields.
   const auto s = test_support::outside_state(own.states[7]);
@@ -163,7 +186,8 @@ TEST(Vehicles, ControlLinesAreServedInTheAircraftsOwnTerms) {
   bool has_time = false;
   double time = 0;
   std::string why;
-  ASSERT_TRUE(heli::parse_state_line(line, control_line_format(v), {}, &parsed, &has_time, &time, &why)) << why;
+  ASSERT_TRUE(heli::parse_state_line(line, control_line_format(v), {}, &parsed, &has_time, &time, &why))
+      << why;
   EXPECT_TRUE(has_time);
   EXPECT_EQ(time, own.time[7]);
   for (std::size_t k = 0; k < 12; ++k) EXPECT_NEAR(parsed[k], own.states[7][k], 1e-12) << k;
@@ -193,7 +217,8 @@ TEST(Vehicles, EveryMalformedFileIsRefusedNamingItsLineAndKey) {
        "v.toml:32: log.controls[1].axis: the thrust axis is already driven by log.controls[0]"},
       {replaced(good, "axis = \"roll\"", "axis = \"sideways\""), "v.toml:32: log.controls[1].axis: expected"},
       {replaced(good, "axis = \"roll\"\n", ""), "log.controls: expected an axis on every channel or on none"},
-      {replaced(good, "range = [0, 1]", "range = [1, 0]"), "v.toml:28: log.controls[0].range: expected [low, high]"},
+      {replaced(good, "range = [0, 1]", "range = [1, 0]"),
+       "v.toml:28: log.controls[0].range: expected [low, high]"},
       {replaced(good, "range = [0, 1]", "range = [0, 1]\nscale = 2"),
        "log.controls[0]: expected either range and sign, or scale and offset"},
       {replaced(good, "sign = -1\n\n[[log.controls]]", "sign = 0.5\n\n[[log.controls]]"),
@@ -208,7 +233,8 @@ TEST(Vehicles, EveryMalformedFileIsRefusedNamingItsLineAndKey) {
        "vehicle.latent_states: expected 'none' or 'xcell'"},
       {replaced(good, "[log.rates]\nfields = [\"p\", \"q\", \"r\"]", "[log.rates]"),
        "log.rates.fields: missing; expected a list of 3 field (or CSV column) names"},
-      {good + "\n[wind]\nspeed = 3\n", "wind: unknown key; expected one of control, envelope, hover, log, vehicle"},
+      {good + "\n[wind]\nspeed = 3\n",
+       "wind: unknown key; expected one of control, envelope, hover, log, vehicle"},
   };
   for (const auto& c : cases) {
     const std::string m = message(c.text);
@@ -225,14 +251,16 @@ TEST(Vehicles, LogsThatDisagreeWithTheFileAreRefusedNamingLineAndColumn) {
     return input_error_message([&] { (void)parse_vehicle_log(text, "o.csv", v); });
   };
   // A 50 Hz log where the file says 10 Hz.
-  EXPECT_NE(message(test_support::outside_log_csv(synthetic_log(1000))).find("rows come at 50 Hz; expected "
-                                                                             "log.rate_hz = 10 Hz of outside.toml"),
+  EXPECT_NE(message(test_support::outside_log_csv(synthetic_log(1000)))
+                .find("rows come at 50 Hz; expected "
+                      "log.rate_hz = 10 Hz of outside.toml"),
             std::string::npos);
   // A missing column names the aircraft's column.
-  EXPECT_NE(message(replaced(csv, "qw,", "qW,")).find("o.csv:1:qw: required column missing"), std::string::npos);
+  EXPECT_NE(message(replaced(csv, "qw,", "qW,")).find("o.csv:1:qw: required column missing"),
+            std::string::npos);
   // A throttle outside its range: line 3 is the second row.
   std::string bad = csv;
-  std::size_t thr_at = bad.find('\n', bad.find('\n') + 1) + 1;  // the second row
+  std::size_t thr_at = bad.find('\n', bad.find('\n') + 1) + 1;                 // the second row
   for (int field = 0; field < 5; ++field) thr_at = bad.find(',', thr_at) + 1;  // its sixth field, thr
   bad.replace(thr_at, bad.find(',', thr_at) - thr_at, "1.5");
   EXPECT_NE(message(bad).find("o.csv:3:thr: 1.5 gives thrust (a3) = 2; expected [-1, 1]"), std::string::npos)

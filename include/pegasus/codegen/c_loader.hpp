@@ -26,13 +26,15 @@ class LoadedCPolicy {
   LoadedCPolicy& operator=(const LoadedCPolicy&) = delete;
 
   Act act() const { return act_; }
-  Target target() const { return target_; }  // nullptr for classes without a set point
+  Target target() const { return target_; }         // nullptr for classes without a set point
+  Act act_vehicle() const { return act_vehicle_; }  // nullptr without a vehicle
   const std::string& compile_command() const { return command_; }
 
  private:
   void* handle_ = nullptr;
   Act act_ = nullptr;
   Target target_ = nullptr;
+  Act act_vehicle_ = nullptr;
   std::string command_;
 };
 

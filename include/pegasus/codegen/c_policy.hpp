@@ -19,6 +19,9 @@
 //       0 when every observation value is finite; otherwise 1 and the class's safe output (helicopter: the
 //       policy file's trim, which `heli control` answers to a malformed line; bicycle and pendulum: 0)
 //   int prefix_target(double time, double* set_point);   helicopter classes: x, y, z (W, NED, m), yaw (rad)
+//   int prefix_act_vehicle(const double* observation, double* action);   with a vehicle file: the same
+//       controller in the aircraft's own terms (quaternion or Euler attitude, body or world velocity, body
+//       or Euler rates in; its channels out), converted as `pegasus control --vehicle` converts a line
 // No allocation, no global written (weights and tables are `static const`), only <math.h> (link -lm).
 //
 // The guarantee: compiled without FMA contraction (x86-64 without -march, or -ffp-contract=off), the C
@@ -30,11 +33,17 @@
 #include <string>
 #include <vector>
 
+#include "pegasus/logs/vehicle.hpp"
+
 namespace pegasus::codegen {
 
 struct CPolicyOptions {
   // Name of the files (PREFIX.h, PREFIX.c) and prefix of every exported symbol; a C identifier.
   std::string prefix = "pegasus_policy";
+  // Helicopter classes: also PREFIX_act_vehicle, the controller in this aircraft's own terms (its state
+  // fields after the time, as its vehicle file names them; its channels in its order, ranges and signs).
+  // Null: none.
+  const logs::Vehicle* vehicle = nullptr;
   bool IsValid(std::string* error) const;
 };
 
@@ -45,6 +54,9 @@ struct CPolicyCode {
   std::vector<std::string> observation_names;  // the observation's columns, in order
   std::vector<std::string> action_names;       // the action's columns, in order
   bool has_target = false;                     // PREFIX_target exists (helicopter classes)
+  // PREFIX_act_vehicle (options.vehicle): its observation (time, the vehicle's state fields) and action (its
+  // channels); empty without a vehicle.
+  std::vector<std::string> vehicle_observation_names, vehicle_action_names;
 };
 
 // The class names export_c_policy knows, in the order above.

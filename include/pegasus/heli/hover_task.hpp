@@ -151,6 +151,13 @@ struct HoverTrainingOptions {
   // Starting gains: the X-Cell's constants of HoverPolicyInit (false) or LQR on the identified model (true;
   // lqr_hover_init). An aircraft with other control signs or strengths needs the second.
   bool lqr_start = false;
+  // The LQR's action weights (R) are the reward's times this. train_hover raises it by factors of 10 (up to
+  // kMaxLqrActionFactor) while the starting policy crashes the learned model in more than
+  // max_start_crash_fraction of the scenarios: gentler gains keep the controls near the logs' (an LQR with
+  // the reward's weights moved an aircraft's controls 0.5 away from the pilot's for a 3 m start error, off
+  // the data, and crashed 22 of 30 starts), and says so in HoverTrainingResult::lqr_action_factor.
+  double lqr_action_factor = 1;
+  static constexpr double kMaxLqrActionFactor = 1000;
 
   static OptimizerOptions default_optimizer();
   int horizon() const;                                         // steps of 1 / control_rate_hz
@@ -196,6 +203,7 @@ struct HoverTrainingResult {
   OptimizerSummary gradient, hill_climb;  // the phases run (method empty when not run)
   std::vector<IterationRecord> progress;  // both phases, iterations and evaluations counted on
   StartingPolicyCheck start;              // of the starting weights, before training
+  double lqr_action_factor = 1;           // the LQR start's, after train_hover raised it (options' otherwise)
 };
 
 HoverTrainingResult train_hover(std::shared_ptr<const sysid::IdentifiedModel> model,

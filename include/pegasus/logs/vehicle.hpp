@@ -42,7 +42,7 @@ struct ControlChannel {
   std::string field;  // ULog field, or the CSV column
   double scale = 1;   // never 0
   double offset = 0;
-  int axis = -1;  // 0..3 for a1..a4; -1: the channel's position in the list (files without `axis` keys)
+  int axis = -1;       // 0..3 for a1..a4; -1: the channel's position in the list (files without `axis` keys)
   std::string name{};  // the aircraft's name for it (`pegasus control`'s output header); empty: the field
 
   int column(std::size_t position) const { return axis >= 0 ? axis : static_cast<int>(position); }
@@ -89,6 +89,9 @@ struct Vehicle {
   // model, the default) or "constant" (the X-Cell's tuned constants).
   std::array<double, 4> target{0, 0, -10, 0};
   std::string starting_gains = "lqr";
+  // [hover.reward]: the typical sizes the hover reward's weights stand for (alpha = 1 / typical^2; `hover
+  // --reward.*`), set to match the cost the aircraft is judged by. Only the keys the file gives.
+  std::vector<std::pair<std::string, double>> reward;
   // [envelope] max_tilt_rad: |roll| or |pitch| beyond this crashes the learned model.
   double max_tilt_rad = 1.0;
 
