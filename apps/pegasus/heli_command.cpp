@@ -822,8 +822,8 @@ void write_trace_plots(RunDirectory& dir, const std::vector<heli::FlightRecord>&
       if (index < 3) {
         s.y.push_back(row.truth[static_cast<std::size_t>(index)]);
       } else {
-        const heli::Vec3 v_B = heli::body_from_world({row.truth[3], row.truth[4], row.truth[5]},
-                                                     heli::Vec3(row.truth[6], row.truth[7], row.truth[8]));
+        const heli::Vec3 v_B =
+            heli::body_from_world(heli::attitude_of(row.truth), heli::velocity_of(row.truth));
         s.y.push_back(v_B[index - 3]);
       }
     }
@@ -958,6 +958,10 @@ void run_control(RunContext& ctx) {
     }
     return;
   }
+  if (!ctx.config.get_string("vehicle").empty())
+    throw InputError(
+        "--bench-lines: the synthetic lines are in the pipeline's own layout; time the loop "
+        "without --vehicle");
   // Bench mode: `bench_lines` synthetic hover states through the same loop, output discarded.
   std::string input;
   for (std::int64_t i = 0; i < bench; ++i) {

@@ -315,7 +315,7 @@ Aircraft::Observation Aircraft::observe(const State& s) const {
   LoggedState o = true_logged_state(s);
   for (int i = 0; i < kLoggedStates; ++i)
     o[static_cast<std::size_t>(i)] += s.estimate_error[static_cast<std::size_t>(i)];
-  o[5] = wrap_angle(o[5]);
+  o[logged::yaw] = wrap_angle(o[logged::yaw]);
   return o;
 }
 

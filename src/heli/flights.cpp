@@ -36,9 +36,9 @@ FlightRecord fly_one(const Aircraft& aircraft, const FlightOptions& o, int fligh
     const SetPoint before = target(time - dt), after = target(time + dt);
     const double vx = (after.x - before.x) / (2 * dt), vy = (after.y - before.y) / (2 * dt),
                  vz = (after.z - before.z) / (2 * dt);
-    const double ex = truth[0] - sp.x, ey = truth[1] - sp.y, ez = truth[2] - sp.z;
-    const double eu = truth[6] - vx, ev = truth[7] - vy, ew = truth[8] - vz;
-    const double eyaw = wrap_angle(truth[5] - sp.yaw);
+    const double ex = truth[logged::x] - sp.x, ey = truth[logged::y] - sp.y, ez = truth[logged::z] - sp.z;
+    const double eu = truth[logged::xdot] - vx, ev = truth[logged::ydot] - vy, ew = truth[logged::zdot] - vz;
+    const double eyaw = wrap_angle(truth[logged::yaw] - sp.yaw);
     r.sum_sq_position += ex * ex + ey * ey + ez * ez;
     r.sum_sq_velocity += eu * eu + ev * ev + ew * ew;
     r.sum_sq_yaw += eyaw * eyaw;

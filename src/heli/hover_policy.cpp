@@ -32,14 +32,15 @@ int HoverPolicy::index(int channel, Weight w) {
 
 HoverInputs hover_inputs(const HeliObservation& o) {
   const LoggedState& s = o.state;
-  const Euler e{.roll = s[3], .pitch = s[4], .yaw = s[5]};
+  const Euler e = attitude_of(s);
   const Mat3 r_BW = rotation_world_from_body(e).transpose();
-  const Vec3 err_B = r_BW * Vec3(s[0] - o.target.x, s[1] - o.target.y, s[2] - o.target.z);
-  const Vec3 v_B = r_BW * Vec3(s[6], s[7], s[8]);
+  const Vec3 err_B =
+      r_BW * Vec3(s[logged::x] - o.target.x, s[logged::y] - o.target.y, s[logged::z] - o.target.z);
+  const Vec3 v_B = r_BW * velocity_of(s);
   HoverInputs in;
-  in.error = {err_B.x(), err_B.y(), err_B.z(), wrap_angle(s[5] - o.target.yaw)};
-  in.velocity = {v_B.x(), v_B.y(), v_B.z(), s[11]};
-  in.attitude = {s[4], s[3]};
+  in.error = {err_B.x(), err_B.y(), err_B.z(), wrap_angle(s[logged::yaw] - o.target.yaw)};
+  in.velocity = {v_B.x(), v_B.y(), v_B.z(), s[logged::yaw_rate]};
+  in.attitude = {s[logged::pitch], s[logged::roll]};
   return in;
 }
 

@@ -74,16 +74,20 @@ bool HoverReward::IsValid(std::string* error) const {
 }
 
 double HoverReward::state_cost(const LoggedState& s, const SetPoint& t) const {
-  const double ex = s[0] - t.x, ey = s[1] - t.y, ez = s[2] - t.z;
-  const double eyaw = wrap_angle(s[5] - t.yaw);  // footnote 12: 2 pi - 0.01 vs 0.01 is 0.02 away
+  const double ex = s[logged::x] - t.x, ey = s[logged::y] - t.y, ez = s[logged::z] - t.z;
+  const double eyaw = wrap_angle(s[logged::yaw] - t.yaw);  // footnote 12: 2 pi - 0.01 vs 0.01 is 0.02 away
   double cost = alpha_pos[0] * ex * ex + alpha_pos[1] * ey * ey + alpha_pos[2] * ez * ez +
-                alpha_vel[0] * s[6] * s[6] + alpha_vel[1] * s[7] * s[7] + alpha_vel[2] * s[8] * s[8] +
-                alpha_yaw * eyaw * eyaw;
+                alpha_vel[0] * s[logged::xdot] * s[logged::xdot] +
+                alpha_vel[1] * s[logged::ydot] * s[logged::ydot] +
+                alpha_vel[2] * s[logged::zdot] * s[logged::zdot] + alpha_yaw * eyaw * eyaw;
   // Added only when weighted, so that the thesis's reward is computed exactly as before.
   if (alpha_attitude[0] > 0 || alpha_attitude[1] > 0)
-    cost += alpha_attitude[0] * s[3] * s[3] + alpha_attitude[1] * s[4] * s[4];
+    cost += alpha_attitude[0] * s[logged::roll] * s[logged::roll] +
+            alpha_attitude[1] * s[logged::pitch] * s[logged::pitch];
   if (alpha_rate[0] > 0 || alpha_rate[1] > 0 || alpha_rate[2] > 0)
-    cost += alpha_rate[0] * s[9] * s[9] + alpha_rate[1] * s[10] * s[10] + alpha_rate[2] * s[11] * s[11];
+    cost += alpha_rate[0] * s[logged::roll_rate] * s[logged::roll_rate] +
+            alpha_rate[1] * s[logged::pitch_rate] * s[logged::pitch_rate] +
+            alpha_rate[2] * s[logged::yaw_rate] * s[logged::yaw_rate];
   return cost;
 }
 
@@ -124,6 +128,9 @@ LqrStart lqr_hover_init(const sysid::IdentifiedModel& model, const HoverTraining
   // The state: the 12 logged states and the 3 extra states; x0 the hover at the set point, heading north (the
   // class's errors are in the body frame, and a hover's dynamics do not depend on the heading).
   constexpr int n = kLoggedStates + 3, nu = 4;
+  constexpr auto kRollAt = static_cast<Eigen::Index>(logged::roll),
+                 kPitchAt = static_cast<Eigen::Index>(logged::pitch),
+                 kYawAt = static_cast<Eigen::Index>(logged::yaw);
   sysid::SimState s0;
   s0.world = {o.target.x, o.target.y, o.target.z, init.trim_roll, init.trim_pitch, 0, 0, 0, 0, 0, 0, 0};
   s0.flap_lon = m.extra.flap_per_a1 * init.trim[0];
@@ -160,7 +167,7 @@ LqrStart lqr_hover_init(const sysid::IdentifiedModel& model, const HoverTraining
     bump(plus, h);
     bump(minus, -h);
     Eigen::VectorXd d = step(plus, init.trim) - step(minus, init.trim);
-    d[5] = wrap_angle(d[5]);
+    d[kYawAt] = wrap_angle(d[kYawAt]);
     a_mat.col(j) = d / (2 * h);
   }
   for (int c = 0; c < nu; ++c) {
@@ -168,7 +175,7 @@ LqrStart lqr_hover_init(const sysid::IdentifiedModel& model, const HoverTraining
     plus[static_cast<std::size_t>(c)] += 1e-5;
     minus[static_cast<std::size_t>(c)] -= 1e-5;
     Eigen::VectorXd d = step(s0, plus) - step(s0, minus);
-    d[5] = wrap_angle(d[5]);
+    d[kYawAt] = wrap_angle(d[kYawAt]);
     b_mat.col(c) = d / 2e-5;
   }
   if (!a_mat.allFinite() || !b_mat.allFinite()) {
@@ -179,14 +186,17 @@ LqrStart lqr_hover_init(const sysid::IdentifiedModel& model, const HoverTraining
   // so that the Riccati iteration has a positive definite R.
   const HoverReward r = hover_reward_for(model, o);
   Matrix q = Matrix::Zero(n, n), rr = Matrix::Zero(nu, nu);
-  for (int i = 0; i < 3; ++i) {
-    q(i, i) = r.alpha_pos[static_cast<std::size_t>(i)];
-    q(6 + i, 6 + i) = r.alpha_vel[static_cast<std::size_t>(i)];
-    q(9 + i, 9 + i) = r.alpha_rate[static_cast<std::size_t>(i)];
+  for (std::size_t i = 0; i < 3; ++i) {  // x, y, z; their velocities; roll, pitch and yaw rates
+    const auto pos = static_cast<Eigen::Index>(logged::x + i),
+               vel = static_cast<Eigen::Index>(logged::xdot + i),
+               rate = static_cast<Eigen::Index>(logged::roll_rate + i);
+    q(pos, pos) = r.alpha_pos[i];
+    q(vel, vel) = r.alpha_vel[i];
+    q(rate, rate) = r.alpha_rate[i];
   }
-  q(3, 3) = r.alpha_attitude[0];
-  q(4, 4) = r.alpha_attitude[1];
-  q(5, 5) = r.alpha_yaw;
+  q(kRollAt, kRollAt) = r.alpha_attitude[0];
+  q(kPitchAt, kPitchAt) = r.alpha_attitude[1];
+  q(kYawAt, kYawAt) = r.alpha_yaw;
   for (int c = 0; c < nu; ++c)
     rr(c, c) =
         o.lqr_action_factor *
@@ -210,17 +220,21 @@ LqrStart lqr_hover_init(const sysid::IdentifiedModel& model, const HoverTraining
     out.reason = "the Riccati iteration did not converge";
     return out;
   }
-  // The hover class's wiring: u = -K x restricted to each channel's inputs.
+  // The hover class's wiring: u = -K x restricted to each channel's inputs (a1..a4 are rows 0..3).
+  const auto at = [](std::size_t column) { return static_cast<Eigen::Index>(column); };
   HoverPolicyInit g = init;
-  g.k_pos = -k(0, 0), g.k_vel = -k(0, 6), g.k_att = -k(0, 4);
-  g.k_pos_lat = -k(1, 1), g.k_vel_lat = -k(1, 7), g.k_roll = -k(1, 3);
-  g.k_alt = -k(2, 2), g.k_climb = -k(2, 8);
-  g.k_yaw = -k(3, 5), g.k_yaw_rate = -k(3, 11);
+  g.k_pos = -k(0, at(logged::x)), g.k_vel = -k(0, at(logged::xdot)), g.k_att = -k(0, at(logged::pitch));
+  g.k_pos_lat = -k(1, at(logged::y)), g.k_vel_lat = -k(1, at(logged::ydot)),
+  g.k_roll = -k(1, at(logged::roll));
+  g.k_alt = -k(2, at(logged::z)), g.k_climb = -k(2, at(logged::zdot));
+  g.k_yaw = -k(3, at(logged::yaw)), g.k_yaw_rate = -k(3, at(logged::yaw_rate));
   Matrix wired = Matrix::Zero(nu, n);
-  wired(0, 0) = g.k_pos, wired(0, 6) = g.k_vel, wired(0, 4) = g.k_att;
-  wired(1, 1) = g.k_pos_lat, wired(1, 7) = g.k_vel_lat, wired(1, 3) = g.k_roll;
-  wired(2, 2) = g.k_alt, wired(2, 8) = g.k_climb;
-  wired(3, 5) = g.k_yaw, wired(3, 11) = g.k_yaw_rate;
+  wired(0, at(logged::x)) = g.k_pos, wired(0, at(logged::xdot)) = g.k_vel,
+           wired(0, at(logged::pitch)) = g.k_att;
+  wired(1, at(logged::y)) = g.k_pos_lat, wired(1, at(logged::ydot)) = g.k_vel_lat,
+           wired(1, at(logged::roll)) = g.k_roll;
+  wired(2, at(logged::z)) = g.k_alt, wired(2, at(logged::zdot)) = g.k_climb;
+  wired(3, at(logged::yaw)) = g.k_yaw, wired(3, at(logged::yaw_rate)) = g.k_yaw_rate;
   out.spectral_radius = radius(a_mat + b_mat * wired);
   if (!(out.spectral_radius < 1)) {
     out.reason = fmt::format(

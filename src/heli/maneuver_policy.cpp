@@ -37,10 +37,10 @@ Controls ManeuverPolicy::act(std::span<const double> theta, const ManeuverObserv
   HeliObservation h{.state = o.state, .target = {p.p_W.x(), p.p_W.y(), p.p_W.z(), wrap_angle(p.yaw)}};
   const double k = feedforward(theta);
   if (k != 0) {
-    h.state[6] -= k * p.v_W.x();
-    h.state[7] -= k * p.v_W.y();
-    h.state[8] -= k * p.v_W.z();
-    h.state[11] -= k * p.yaw_rate;
+    h.state[logged::xdot] -= k * p.v_W.x();
+    h.state[logged::ydot] -= k * p.v_W.y();
+    h.state[logged::zdot] -= k * p.v_W.z();
+    h.state[logged::yaw_rate] -= k * p.yaw_rate;
   }
   Controls a = HoverPolicy::unclipped(theta.first(kHover), hover_inputs(h));
   const double tail = a[3] - init_.trim[3], coll = a[2] - init_.trim[2];

@@ -54,9 +54,10 @@ bool ManeuverReward::IsValid(std::string* error) const {
 }
 
 double ManeuverReward::state_cost(const LoggedState& s, const PathProjection& p) const {
-  const double dx = s[0] - p.p_W.x(), dy = s[1] - p.p_W.y(), dz = s[2] - p.p_W.z();
-  const double dyaw = wrap_angle(s[5] - p.yaw);
-  const double vx = s[6] - p.v_W.x(), vy = s[7] - p.v_W.y(), vz = s[8] - p.v_W.z();
+  const double dx = s[logged::x] - p.p_W.x(), dy = s[logged::y] - p.p_W.y(), dz = s[logged::z] - p.p_W.z();
+  const double dyaw = wrap_angle(s[logged::yaw] - p.yaw);
+  const double vx = s[logged::xdot] - p.v_W.x(), vy = s[logged::ydot] - p.v_W.y(),
+               vz = s[logged::zdot] - p.v_W.z();
   return alpha_pos * (dx * dx + dy * dy + dz * dz) + alpha_yaw * dyaw * dyaw +
          alpha_vel * (vx * vx + vy * vy + vz * vz);
 }
@@ -210,10 +211,10 @@ std::vector<ManeuverFlight> fly_maneuver(const ManeuverPolicy& policy, std::span
     AircraftState s = aircraft.initial_state(p0);
     PathProjection path = observer.start();
     auto record = [&](const LoggedState& truth, double t) {
-      path = observer.update(path, Vec3(truth[0], truth[1], truth[2]), truth[5]);
+      path = observer.update(path, position_of(truth), truth[logged::yaw]);
       f.truth.push_back(truth);
       f.targets.push_back(policy.target(theta, t));
-      f.deviation.push_back((Vec3(truth[0], truth[1], truth[2]) - path.p_W).norm());
+      f.deviation.push_back((position_of(truth) - path.p_W).norm());
       f.progress.push_back(path.progress);
     };
     record(true_logged_state(s), 0.0);

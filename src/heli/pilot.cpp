@@ -70,22 +70,24 @@ Controls ScriptedPilot::act(const LoggedState& estimate, double time) {
   // The oldest entry is the estimate reaction_delay_s ago (or the first one, early in the flight).
   const LoggedState& s = filled_ < delay_.size() ? delay_[0] : delay_[head_];
   const auto& trim = aircraft_.hover_trim();
-  const double yaw = s[5];
+  const double yaw = s[logged::yaw];
   const double cy = std::cos(yaw), sy = std::sin(yaw);
   // Errors and velocities in the heading frame (x forward, y right, level).
-  const double ex_W = s[0] - hold_[0], ey_W = s[1] - hold_[1];
+  const double ex_W = s[logged::x] - hold_[0], ey_W = s[logged::y] - hold_[1];
   const double ex = cy * ex_W + sy * ey_W, ey = -sy * ex_W + cy * ey_W;
-  const double vx = cy * s[6] + sy * s[7], vy = -sy * s[6] + cy * s[7];
+  const double vx = cy * s[logged::xdot] + sy * s[logged::ydot],
+               vy = -sy * s[logged::xdot] + cy * s[logged::ydot];
   const double g = P.gravity;
   const double tilt = o_.max_tilt_command;
   // Nose up to brake forward motion; roll left to brake rightward motion.
   const double pitch_cmd = trim.pitch + std::clamp((o_.k_pos * ex + o_.k_vel * vx) / g, -tilt, tilt);
   const double roll_cmd = trim.roll - std::clamp((o_.k_pos * ey + o_.k_vel * vy) / g, -tilt, tilt);
   Controls fb;
-  fb[0] = trim.controls[0] + o_.k_att * (s[4] - pitch_cmd) + o_.k_att_rate * s[10];
-  fb[1] = trim.controls[1] + o_.k_att * (roll_cmd - s[3]) - o_.k_att_rate * s[9];
-  fb[2] = trim.controls[2] + o_.k_alt * (s[2] - hold_[2]) + o_.k_climb * s[8];
-  fb[3] = trim.controls[3] + o_.k_yaw * wrap_angle(hold_[5] - yaw) - o_.k_yaw_rate * s[11];
+  fb[0] =
+      trim.controls[0] + o_.k_att * (s[logged::pitch] - pitch_cmd) + o_.k_att_rate * s[logged::pitch_rate];
+  fb[1] = trim.controls[1] + o_.k_att * (roll_cmd - s[logged::roll]) - o_.k_att_rate * s[logged::roll_rate];
+  fb[2] = trim.controls[2] + o_.k_alt * (s[logged::z] - hold_[2]) + o_.k_climb * s[logged::zdot];
+  fb[3] = trim.controls[3] + o_.k_yaw * wrap_angle(hold_[5] - yaw) - o_.k_yaw_rate * s[logged::yaw_rate];
   const double lag = 1 - std::exp(-P.dt / o_.bandwidth_tau_s);
   const double rho = std::exp(-P.dt / o_.noise_tau_s);
   const double kn = o_.noise_sigma * std::sqrt(1 - rho * rho);

@@ -343,7 +343,12 @@ heli::LoggedState Vehicle::state_of(std::span<const double> v) const {
   if (log.velocity_frame == "body") vel = heli::world_from_body(e, vel);
   heli::Vec3 w(v[rates_at], v[rates_at + 1], v[rates_at + 2]);
   if (log.rates_form == "body") w = heli::euler_rates_from_body_rates(e, w);
-  return {v[0], v[1], v[2], e.roll, e.pitch, e.yaw, vel.x(), vel.y(), vel.z(), w.x(), w.y(), w.z()};
+  heli::LoggedState s{};
+  s[heli::logged::x] = v[0], s[heli::logged::y] = v[1], s[heli::logged::z] = v[2];
+  s[heli::logged::roll] = e.roll, s[heli::logged::pitch] = e.pitch, s[heli::logged::yaw] = e.yaw;
+  s[heli::logged::xdot] = vel.x(), s[heli::logged::ydot] = vel.y(), s[heli::logged::zdot] = vel.z();
+  s[heli::logged::roll_rate] = w.x(), s[heli::logged::pitch_rate] = w.y(), s[heli::logged::yaw_rate] = w.z();
+  return s;
 }
 
 sysid::FlightLog parse_vehicle_log(const std::string& text, const std::string& name, const Vehicle& vehicle,

@@ -9,6 +9,8 @@
 
 namespace pegasus::sysid {
 
+namespace logged = heli::logged;
+
 using heli::Euler;
 
 void ExtraStateModel::advance(double dt, const Eigen::Vector3d& w_B, const std::array<double, 4>& a,
@@ -75,10 +77,11 @@ BodyVec known_change(const ModelStructure& m, const InputVec& x, double dt) {
 }
 
 BodyVec body_from_log_state(const std::array<double, kLogStates>& s) {
-  const Euler e{s[3], s[4], s[5]};
-  const heli::Vec3 v_B = heli::body_from_world(e, heli::Vec3(s[6], s[7], s[8]));
+  const Euler e = heli::attitude_of(s);
+  const heli::Vec3 v_B = heli::body_from_world(e, heli::velocity_of(s));
   BodyVec b;
-  b << s[3], s[4], v_B.x(), v_B.y(), v_B.z(), s[9], s[10], s[11];
+  b << e.roll, e.pitch, v_B.x(), v_B.y(), v_B.z(), s[logged::roll_rate], s[logged::pitch_rate],
+      s[logged::yaw_rate];
   return b;
 }
 
@@ -89,8 +92,7 @@ std::vector<std::array<double, 3>> extra_states_along(const FlightLog& log, cons
   for (std::size_t i = 0; i < log.rows(); ++i) {
     out[i] = {fl, fr, gy};
     const auto& s = log.states[i];
-    const Euler e{s[3], s[4], s[5]};
-    const auto w_B = heli::body_rates_from_euler_rates(e, heli::Vec3(s[9], s[10], s[11]));
+    const auto w_B = heli::body_rates_from_euler_rates(heli::attitude_of(s), heli::euler_rates_of(s));
     m.extra.advance(dt, w_B, log.controls[i], &fl, &fr, &gy);
   }
   return out;

@@ -18,6 +18,8 @@
 
 namespace pegasus::sysid {
 
+namespace logged = heli::logged;
+
 using heli::Euler;
 using heli::Vec3;
 
@@ -629,20 +631,22 @@ SimState sim_advance(const ModelStructure& m, const SimState& s, const std::arra
   const BodyVec b1 = b0 + delta;
   SimState n = s;
   auto& w = n.world;
-  w[3] = b1[kRoll];
-  w[4] = b1[kPitch];
-  w[5] = heli::wrap_angle(s.world[5] + dt * 0.5 * (s.world[11] + b1[kYawRate]));
-  w[9] = b1[kRollRate];
-  w[10] = b1[kPitchRate];
-  w[11] = b1[kYawRate];
-  const Vec3 v_W = heli::world_from_body(Euler{w[3], w[4], w[5]}, Vec3(b1[kU], b1[kV], b1[kW]));
-  for (int i = 0; i < 3; ++i) {
-    w[static_cast<std::size_t>(i)] =
-        s.world[static_cast<std::size_t>(i)] + dt * 0.5 * (s.world[static_cast<std::size_t>(6 + i)] + v_W[i]);
-    w[static_cast<std::size_t>(6 + i)] = v_W[i];
+  w[logged::roll] = b1[kRoll];
+  w[logged::pitch] = b1[kPitch];
+  w[logged::yaw] =
+      heli::wrap_angle(s.world[logged::yaw] + dt * 0.5 * (s.world[logged::yaw_rate] + b1[kYawRate]));
+  w[logged::roll_rate] = b1[kRollRate];
+  w[logged::pitch_rate] = b1[kPitchRate];
+  w[logged::yaw_rate] = b1[kYawRate];
+  const Vec3 v_W = heli::world_from_body(heli::attitude_of(w), Vec3(b1[kU], b1[kV], b1[kW]));
+  // Position by the trapezoid rule on the world velocity, axis by axis (x, y, z and xdot, ydot, zdot).
+  for (std::size_t i = 0; i < 3; ++i) {
+    w[logged::x + i] =
+        s.world[logged::x + i] + dt * 0.5 * (s.world[logged::xdot + i] + v_W[static_cast<int>(i)]);
+    w[logged::xdot + i] = v_W[static_cast<int>(i)];
   }
-  const Euler e0{s.world[3], s.world[4], s.world[5]};
-  const Vec3 w_B = heli::body_rates_from_euler_rates(e0, Vec3(s.world[9], s.world[10], s.world[11]));
+  const Vec3 w_B =
+      heli::body_rates_from_euler_rates(heli::attitude_of(s.world), heli::euler_rates_of(s.world));
   m.extra.advance(dt, w_B, a, &n.flap_lon, &n.flap_lat, &n.gyro);
   return n;
 }

@@ -8,6 +8,8 @@
 
 namespace pegasus::sysid {
 
+namespace logged = heli::logged;
+
 bool LearnedModelOptions::IsValid(std::string* error) const {
   auto fail = [&](const char* what) {
     if (error) *error = std::string("learned model: ") + what;
@@ -94,8 +96,8 @@ LearnedHeliModel::State LearnedHeliModel::step(const State& s, const Action& a_i
   }
   n.sim = sim_advance(model_->structure(), s.sim, a, delta, options_.dt);
   n.step = s.step + 1;
-  bool bad =
-      std::abs(n.sim.world[3]) > options_.max_tilt_rad || std::abs(n.sim.world[4]) > options_.max_tilt_rad;
+  bool bad = std::abs(n.sim.world[logged::roll]) > options_.max_tilt_rad ||
+             std::abs(n.sim.world[logged::pitch]) > options_.max_tilt_rad;
   for (double v : n.sim.world) bad = bad || !std::isfinite(v);
   if (bad) n.crashed = true;
   return n;

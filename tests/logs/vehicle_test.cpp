@@ -70,6 +70,19 @@ TEST(Vehicles, TheShippedXCellFileIsWhatTheHeliCommandsAssume) {
   EXPECT_EQ(through.controls, own.controls);
 }
 
+// The template users copy reads, and describes the same aircraft as the tests' outside helicopter.
+TEST(Vehicles, TheShippedTemplateReadsAsTheOutsideHelicopter) {
+  const Vehicle t = read_vehicle(kVehicles / "template.toml");
+  const Vehicle o = parse_vehicle(test_support::kOutsideVehicle, "outside.toml");
+  EXPECT_EQ(t.state_fields(), o.state_fields());
+  EXPECT_EQ(t.log.rate_hz, o.log.rate_hz);
+  EXPECT_EQ(t.control_rate_hz, o.control_rate_hz);
+  for (const heli::Controls a : {heli::Controls{0.5, -0.25, 1, -1}, heli::Controls{0, 0, 0, 0}})
+    EXPECT_EQ(t.native_of(a), o.native_of(a));
+  EXPECT_EQ(t.reward.size(), 6u);
+  EXPECT_FALSE(t.xcell_latent_states);
+}
+
 TEST(Vehicles, PresentDefaultsAreNoLatentStatesLqrGainsAndFiftyHertz) {
   const Vehicle v = parse_vehicle(test_support::kOutsideVehicle, "outside.toml");
   EXPECT_EQ(v.name(), "outside-heli");

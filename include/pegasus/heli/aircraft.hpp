@@ -30,16 +30,13 @@
 #include <string>
 
 #include "pegasus/heli/frames.hpp"
+#include "pegasus/heli/state.hpp"
 #include "pegasus/models/action_space.hpp"
 
 namespace pegasus::heli {
 
-// The 12 logged states of §5.1, in log column order (units m, rad, m/s, rad/s; world frame W, NED).
-inline constexpr int kLoggedStates = 12;
-inline constexpr std::array<const char*, kLoggedStates> kLoggedStateNames = {
-    "x", "y", "z", "roll", "pitch", "yaw", "xdot", "ydot", "zdot", "roll_rate", "pitch_rate", "yaw_rate"};
+// The 12 logged states of §5.1: LoggedState (heli/state.hpp).
 inline constexpr std::array<const char*, 4> kControlNames = {"a1", "a2", "a3", "a4"};
-using LoggedState = std::array<double, kLoggedStates>;
 using Controls = std::array<double, 4>;
 
 enum class CrashReason : int {

@@ -15,11 +15,13 @@
 #include <string>
 #include <vector>
 
+#include "pegasus/heli/state.hpp"
+
 namespace pegasus::sysid {
 
-inline constexpr int kLogStates = 12;
-inline constexpr std::array<const char*, kLogStates> kLogStateColumns = {
-    "x", "y", "z", "roll", "pitch", "yaw", "xdot", "ydot", "zdot", "roll_rate", "pitch_rate", "yaw_rate"};
+// The state columns are heli::LoggedState's (heli/state.hpp), defined there once.
+inline constexpr int kLogStates = heli::kLoggedStates;
+inline constexpr const std::array<const char*, kLogStates>& kLogStateColumns = heli::kLoggedStateNames;
 inline constexpr std::array<const char*, 4> kLogControlColumns = {"a1", "a2", "a3", "a4"};
 
 struct FlightLog {

@@ -1,0 +1,36 @@
+#pragma once
+// The state every part of the helicopter pipeline shares, defined once: the 12 logged states of thesis §5.1, in
+// the flight log's column order (sysid/flight_log.hpp), which the identification, the learned model, the tasks,
+// flights, the control protocol (`heli control`) and the exported controllers all read. A LoggedState is read by
+// name: the accessors give its vector parts in frames.hpp's terms, and logged:: names each column; no code
+// indexes it with a bare number.
+//   x, y, z                          p_W, position in the world frame W (north-east-down), m
+//   roll, pitch, yaw                 Z-Y-X Euler angles, rad
+//   xdot, ydot, zdot                 v_W, velocity in W, m/s
+//   roll_rate, pitch_rate, yaw_rate  Euler-angle rates d(roll)/dt, d(pitch)/dt, d(yaw)/dt, rad/s
+#include <array>
+#include <cstddef>
+
+#include "pegasus/heli/frames.hpp"
+
+namespace pegasus::heli {
+
+inline constexpr int kLoggedStates = 12;
+inline constexpr std::array<const char*, kLoggedStates> kLoggedStateNames = {
+    "x", "y", "z", "roll", "pitch", "yaw", "xdot", "ydot", "zdot", "roll_rate", "pitch_rate", "yaw_rate"};
+using LoggedState = std::array<double, kLoggedStates>;
+
+// Where each column of kLoggedStateNames lives in a LoggedState.
+namespace logged {
+inline constexpr std::size_t x = 0, y = 1, z = 2, roll = 3, pitch = 4, yaw = 5, xdot = 6, ydot = 7, zdot = 8,
+                             roll_rate = 9, pitch_rate = 10, yaw_rate = 11;
+}  // namespace logged
+
+inline Vec3 position_of(const LoggedState& s) { return {s[logged::x], s[logged::y], s[logged::z]}; }
+inline Euler attitude_of(const LoggedState& s) { return {s[logged::roll], s[logged::pitch], s[logged::yaw]}; }
+inline Vec3 velocity_of(const LoggedState& s) { return {s[logged::xdot], s[logged::ydot], s[logged::zdot]}; }
+inline Vec3 euler_rates_of(const LoggedState& s) {
+  return {s[logged::roll_rate], s[logged::pitch_rate], s[logged::yaw_rate]};
+}
+
+}  // namespace pegasus::heli
