@@ -674,6 +674,8 @@ void run_hover(RunContext& ctx) {
                      {"scenarios", o.scenarios},
                      {"seconds", o.seconds},
                      {"seed", ctx.seed}};
+  // Only with a vehicle file, so that the X-Cell's policy files stay as they were.
+  if (!ctx.config.get_string("vehicle").empty()) file.provenance["vehicle"] = vehicle_of(ctx.config).name();
   // Only when not 50 Hz, so that policy files trained at the thesis's rate stay as they were.
   if (o.control_rate_hz != 50) file.options["control_rate_hz"] = o.control_rate_hz;
   dir.write_json("policy.json", heli::policy_file_json(file));
@@ -953,8 +955,14 @@ void run_control(RunContext& ctx) {
     if (ctx.config.get_string("vehicle").empty()) {
       heli::run_control_loop(*controller, file.trim, stdin, stdout, stderr, dt);
     } else {
+      const logs::Vehicle vehicle = vehicle_of(ctx.config);
+      // A policy trained for another aircraft still runs (the user may mean it), but not silently.
+      if (const auto it = file.provenance.find("vehicle");
+          it != file.provenance.end() && it->is_string() && *it != vehicle.name())
+        std::fprintf(stderr, "warning: %s was trained for vehicle '%s'; serving it in the terms of '%s'\n",
+                     path.c_str(), it->get<std::string>().c_str(), vehicle.name().c_str());
       heli::run_control_loop(*controller, file.trim, stdin, stdout, stderr, dt,
-                             logs::control_line_format(vehicle_of(ctx.config)));
+                             logs::control_line_format(vehicle));
     }
     return;
   }

@@ -93,6 +93,8 @@ TEST_F(VehicleCli, AnOutsideAircraftIdentifiesHoversAndIsServedInItsOwnTerms) {
   EXPECT_EQ(hover["vehicle"], "outside-heli");
   EXPECT_EQ(hover["control_rate_hz"], 10.0);
   EXPECT_EQ(hover["starting_gains"]["method"], "lqr") << hover["starting_gains"];
+  const auto policy = nlohmann::json::parse(test_support::read_text(dir_ / "hover" / "policy.json"));
+  EXPECT_EQ(policy["provenance"]["vehicle"], "outside-heli");
   // An option given wins over the vehicle file.
   r =
       run_pegasus(fmt::format("hover --vehicle {} --model {} --scenarios 3 --seconds 3 --control-rate-hz 50 "
@@ -127,6 +129,15 @@ TEST_F(VehicleCli, AnOutsideAircraftIdentifiesHoversAndIsServedInItsOwnTerms) {
       ASSERT_NEAR(std::stod(native[i][c]), expected[c], 1e-7 * (c == 3 ? 1000 : 1))
           << "line " << i << " " << c;
   }
+
+  // Served as another aircraft, it still answers, with a warning that names both.
+  r = run_shell(
+      fmt::format("({} control --vehicle {}/experiments/vehicles/xcell60.toml --policy {} < {} >/dev/null)",
+                  PEGASUS_CLI_PATH, PEGASUS_SOURCE_DIR, path("hover/policy.json"), path("test-own.csv")));
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("was trained for vehicle 'outside-heli'; serving it in the terms of 'xcell60'"),
+            std::string::npos)
+      << r.output;
 
   // No ground truth of this aircraft: fly says so and how to fly it instead.
   r = run_pegasus(fmt::format("fly --vehicle {} --policy {} --out {}", path("outside.toml"),

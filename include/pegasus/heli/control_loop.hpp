@@ -3,12 +3,11 @@
 // or another simulator can fly it (thesis §5.3: the controller ran at 50 Hz on the helicopter's computer).
 //
 // Input, one line per 50 Hz step, comma-separated numbers (spaces around them allowed, '\r' ignored):
-//   12 fields  x,y,z,roll,pitch,yaw,xdot,ydot,zdot,roll_rate,pitch_rate,yaw_rate   (the log's state columns)
-//   13 fields  time, then the 12 states                                            (a log row without
-//   controls) 17 fields  time, the 12 states, a1..a4 (the controls are ignored)              (a whole log
-//   row)
+//   12 fields: x,y,z,roll,pitch,yaw,xdot,ydot,zdot,roll_rate,pitch_rate,yaw_rate (the log's state columns);
+//   13 fields: the time, then the 12 states (a log row without its controls);
+//   17 fields: the time, the 12 states, a1..a4 (a whole log row; the controls are ignored).
 // Units and frames as in the flight logs (sysid/flight_log.hpp). The controller's time is the line's time
-// when it has one, else the data line's index times dt (0, 0.02, 0.04, ...).
+// when it has one, else the data line's index times dt (0, 0.02, 0.04, ... for a 50 Hz policy).
 // Output: exactly one line per input line, "a1,a2,a3,a4" (shortest round-trip decimals), flushed at once.
 // A first line that names "time" or a state column is a header, answered with the header "a1,a2,a3,a4"; when
 // it names the 12 state columns (and "time"), later lines are read by those names, so rows of a CSV log in

@@ -1,9 +1,9 @@
 #pragma once
-// The state every part of the helicopter pipeline shares, defined once: the 12 logged states of thesis §5.1, in
-// the flight log's column order (sysid/flight_log.hpp), which the identification, the learned model, the tasks,
-// flights, the control protocol (`heli control`) and the exported controllers all read. A LoggedState is read by
-// name: the accessors give its vector parts in frames.hpp's terms, and logged:: names each column; no code
-// indexes it with a bare number.
+// The state every part of the helicopter pipeline shares, defined once: the 12 logged states of thesis §5.1,
+// in the flight log's column order (sysid/flight_log.hpp), which the identification, the learned model, the
+// tasks, flights, the control protocol (`heli control`) and the exported controllers all read. A LoggedState
+// is read by name: the accessors give its vector parts in frames.hpp's terms, and logged:: names each column;
+// no code indexes it with a bare number.
 //   x, y, z                          p_W, position in the world frame W (north-east-down), m
 //   roll, pitch, yaw                 Z-Y-X Euler angles, rad
 //   xdot, ydot, zdot                 v_W, velocity in W, m/s
