@@ -1,13 +1,14 @@
 #pragma once
 // The experiment commands, one function each; commands.cpp puts them in the command table.
 #include "command.hpp"
+#include "pegasus/logs/vehicle.hpp"
 #include "pegasus/sysid/identify.hpp"
 
 namespace pegasus::cli {
 
 Command pomdp_gridworld_command();
 std::vector<Command> bicycle_commands();        // bicycle experiment, train, ride, variance
-std::vector<Command> heli_commands();           // heli pilot, identify
+std::vector<Command> heli_commands();           // heli pilot, identify, hover, fly, control, pipeline
 std::vector<Command> heli_maneuver_commands();  // heli maneuver (heli_maneuver_command.cpp)
 std::vector<Command> log_commands();            // log import (log_command.cpp)
 std::vector<Command> pendulum_commands();       // pendulum train (Pendulum-v1, the RLtools race)
@@ -18,8 +19,22 @@ Command report_command();                 // report RUN_DIR (report_command.cpp)
 Command export_command();                 // export --policy P.json --lang c (export_command.cpp)
 
 // The identification's bandwidth floors, `bandwidth_floor.*`, for every command that identifies
-// (heli_command.cpp); defaults from sysid::BandwidthFloor.
+// (heli_identify_command.cpp); defaults from sysid::BandwidthFloor.
 void declare_bandwidth_floor(ConfigSchema& s);
 sysid::BandwidthFloor read_bandwidth_floor(const ConfigSchema& c);
+
+// `heli identify` / `identify` (heli_identify_command.cpp), listed by heli_commands().
+void declare_identify(ConfigSchema& s);
+void resolve_identify(ConfigSchema& s);
+void run_identify(RunContext& ctx);
+
+// Vehicle files (logs/vehicle.hpp) for the helicopter commands (heli_command.cpp): the `vehicle` option, the
+// vehicle it names (the X-Cell 60 when empty), a field set from the vehicle unless the user set it, and the
+// file's bytes kept in the run directory.
+void declare_vehicle(ConfigSchema& s);
+logs::Vehicle vehicle_of(const ConfigSchema& c);
+void from_vehicle(ConfigSchema& s, const logs::Vehicle& v, const std::string& field, FieldValue value,
+                  const std::string& key);
+void keep_vehicle_file(const ConfigSchema& c, RunDirectory& dir);
 
 }  // namespace pegasus::cli

@@ -1,4 +1,5 @@
-// `pegasus heli pilot`, `heli identify`, `heli hover`, `heli fly`, `heli control` and `heli pipeline`: the
+// `pegasus heli pilot`, `heli hover`, `heli fly`, `heli control` and `heli pipeline` (`heli identify`:
+// heli_identify_command.cpp), and their generic forms with --vehicle: the
 // ground-truth aircraft flown by the scripted pilot, system identification by locally weighted regression
 // (thesis §5.1-5.2), PEGASUS hover training on the identified model and flights of the result on the ground
 // truth (§5.3), a line-by-line controller server, and the whole chain in one command (the demo).
@@ -38,10 +39,6 @@
 extern char** environ;
 
 namespace pegasus::cli {
-namespace {
-
-using namespace pegasus::heli;
-using namespace pegasus::sysid;
 
 // ------------------------------------------------------------------ vehicle files
 
@@ -66,6 +63,11 @@ void from_vehicle(ConfigSchema& s, const logs::Vehicle& v, const std::string& fi
 void keep_vehicle_file(const ConfigSchema& c, RunDirectory& dir) {
   if (!c.get_string("vehicle").empty()) dir.write_text("vehicle.toml", read_file(c.get_string("vehicle")));
 }
+
+namespace {
+
+using namespace pegasus::heli;
+using namespace pegasus::sysid;
 
 // ------------------------------------------------------------------ heli pilot
 
@@ -130,354 +132,6 @@ void run_pilot(RunContext& ctx) {
   if (f.crash != CrashReason::kNone)
     throw std::runtime_error(
         fmt::format("the pilot crashed ({}) at {} s", crash_reason_name(f.crash), f.crash_time));
-}
-
-// ------------------------------------------------------------------ heli identify
-
-}  // namespace
-
-void declare_bandwidth_floor(ConfigSchema& s) {
-  const BandwidthFloor d;
-  s.add_double("bandwidth_floor.angle_rad", d.angle_rad, "narrowest kernel bandwidth of roll and pitch, rad")
-      .range(0, 1e6);
-  s.add_double("bandwidth_floor.velocity_mps", d.velocity_mps,
-               "narrowest kernel bandwidth of the body velocities, m/s")
-      .range(0, 1e6);
-  s.add_double("bandwidth_floor.rate_radps", d.rate_radps,
-               "narrowest kernel bandwidth of the body rates (and the gyro state), rad/s")
-      .range(0, 1e6);
-  s.add_double("bandwidth_floor.flap_rad", d.flap_rad,
-               "narrowest kernel bandwidth of the flapping states, rad")
-      .range(0, 1e6);
-  s.add_double("bandwidth_floor.control", d.control,
-               "narrowest kernel bandwidth of each control, in its [-1, 1] units (a control the pilot barely "
-               "moved is not given a bandwidth below this)")
-      .range(0, 1e6);
-}
-
-BandwidthFloor read_bandwidth_floor(const ConfigSchema& c) {
-  return {.angle_rad = c.get_double("bandwidth_floor.angle_rad"),
-          .velocity_mps = c.get_double("bandwidth_floor.velocity_mps"),
-          .rate_radps = c.get_double("bandwidth_floor.rate_radps"),
-          .flap_rad = c.get_double("bandwidth_floor.flap_rad"),
-          .control = c.get_double("bandwidth_floor.control")};
-}
-
-namespace {
-
-void declare_identify(ConfigSchema& s) {
-  declare_vehicle(s);
-  s.add_string("train", "", "training flight log (CSV in the vehicle's layout, see README)");
-  s.add_string("test", "", "hold-out flight log (CSV)");
-  s.add_double("rate_hz", 10, "identification rate, Hz (the log is downsampled)").range(1, 50);
-  s.add_bool("local", true, "locally weighted regression (false: globally linear)");
-  s.add_bool("extra_states", true, "use the flapping and yaw-gyro states of the published model");
-  s.add_bool("intercept", true, "regress on a constant");
-  s.add_bool("templates", true, "fix kinematic and gravity coefficients (thesis 5.2.2)");
-  s.add_double("window_s", 16, "cross-validation leaves out this window around each held-out point, s")
-      .range(0, 1000);
-  s.add_int("cv_points", 300, "held-out points per cross-validation evaluation").range(10, 100000);
-  s.add_double_list("scale_grid", {0.5, 1, 2, 4, 8}, "bandwidths tried, in input standard deviations")
-      .min(1e-6)
-      .min_size(1);
-  s.add_int("coordinate_passes", 1, "passes of per-input bandwidth refinement").range(0, 10);
-  declare_bandwidth_floor(s);
-  s.add_string(
-       "noise", "white",
-       "the model's noise: white per model step (Eqs 5.5-5.6) or ar1 (each output's noise a white part "
-       "plus a first-order autoregressive part fitted to the residuals' autocorrelation up to 2 s)")
-      .choices({"white", "ar1"});
-  s.add_bool(
-      "calibrate_noise", IdentifyOptions{}.calibrate_noise,
-      "widen each output's noise until the training log's own noise check has 4.55% of its steps outside "
-      "+-2 sd (never narrow it)");
-  s.add_double("horizon_s", 10, "longest prediction horizon of the report, s").range(0.1, 100);
-  s.add_double("start_spacing_s", 2, "spacing of the open-loop prediction starts on the test log, s")
-      .range(0.02, 1000);
-  s.add_double("reset_s", 2, "the noise check's EKF is reset to the true state this often, s")
-      .range(0.1, 100);
-  s.add_bool("variants", true, "also report the model-selection variants of Fig 5.2");
-  s.add_double("control_rate_hz", heli::HoverTrainingOptions{}.control_rate_hz,
-               "the rate hover training will step the model at (heli hover --control-rate-hz): the chosen "
-               "model's errors are also reported as training runs it")
-      .greater_than(0)
-      .max(1000);
-}
-
-void resolve_identify(ConfigSchema& s) {
-  if (s.get_string("vehicle").empty()) return;
-  const logs::Vehicle v = logs::read_vehicle(s.get_string("vehicle"));
-  from_vehicle(s, v, "rate_hz", v.log.model_rate_hz, "log.model_rate_hz");
-  from_vehicle(s, v, "extra_states", v.xcell_latent_states, "vehicle.latent_states");
-  from_vehicle(s, v, "control_rate_hz", v.control_rate_hz, "control.rate_hz");
-}
-
-nlohmann::json mse_at(const HorizonMse& h) {
-  nlohmann::json out;
-  for (int sec : {1, 5, 10}) {
-    std::size_t best = 0;
-    for (std::size_t t = 0; t < h.seconds.size(); ++t)
-      if (std::abs(h.seconds[t] - sec) < std::abs(h.seconds[best] - sec)) best = t;
-    if (h.seconds.empty() || std::abs(h.seconds[best] - sec) > 1e-9 || h.count[best] == 0) continue;
-    nlohmann::json vars;
-    for (int v = 0; v < kReportVars; ++v)
-      vars[kReportVarNames[static_cast<std::size_t>(v)]] = h.mse[best][static_cast<std::size_t>(v)];
-    out[std::to_string(sec)] = vars;
-  }
-  return out;
-}
-
-void run_identify(RunContext& ctx) {
-  const auto& c = ctx.config;
-  if (c.get_string("train").empty()) throw InputError("--train: a training flight log is required");
-  if (c.get_string("test").empty()) throw InputError("--test: a hold-out flight log is required");
-  const bool own_layout = c.get_string("vehicle").empty();
-  const logs::Vehicle vehicle = vehicle_of(c);
-  const FlightLog train = own_layout ? read_flight_log(c.get_string("train"))
-                                     : logs::read_vehicle_log(c.get_string("train"), vehicle);
-  const FlightLog test = own_layout ? read_flight_log(c.get_string("test"))
-                                    : logs::read_vehicle_log(c.get_string("test"), vehicle);
-  IdentifyOptions o;
-  o.structure.rate_hz = c.get_double("rate_hz");
-  o.structure.extra_states = c.get_bool("extra_states");
-  o.structure.intercept = c.get_bool("intercept");
-  o.structure.templates = c.get_bool("templates");
-  o.local = c.get_bool("local");
-  o.window_s = c.get_double("window_s");
-  o.cv_points = static_cast<int>(c.get_int("cv_points"));
-  o.scale_grid = c.get_double_list("scale_grid");
-  o.coordinate_passes = static_cast<int>(c.get_int("coordinate_passes"));
-  o.min_bandwidth = read_bandwidth_floor(c);
-  o.noise = parse_noise_model(c.get_string("noise"));
-  o.calibrate_noise = c.get_bool("calibrate_noise");
-  std::string error;
-  if (!o.IsValid(&error)) throw InputError(error);
-  ThreadPool& pool = ctx.pool();
-  RunDirectory& dir = ctx.run_directory();
-  keep_vehicle_file(c, dir);
-
-  IdentifyReport report;
-  // The bandwidth search checkpoints after each cross-validation step; --resume replays the saved steps.
-  IdentifyHooks hooks;
-  if (const auto saved = dir.load_checkpoint(); saved && saved->contains("identify"))
-    hooks.resume_from = saved->at("identify");
-  hooks.checkpoint = [&dir](const nlohmann::json& state) { dir.save_checkpoint({{"identify", state}}); };
-  std::unique_ptr<Progress> bar;
-  hooks.progress = [&](int done, int total, bool replayed) {
-    if (!bar)
-      bar = std::make_unique<Progress>("bandwidth cross-validation", total,
-                                       Progress::default_enabled(ctx.quiet));
-    const auto k = static_cast<std::uint64_t>(done) - bar->done();
-    replayed ? bar->skip(k) : bar->advance(k);
-  };
-  const IdentifiedModel model = identify(train, o, pool, &report, hooks);
-  if (bar) bar->finish();
-  model.save(dir.path() / "model.json");
-  CsvWriter cv({"setting", "cv_error"});
-  for (const auto& [what, e] : report.cv_trace) cv.add_row({what, e});
-  dir.write_csv("cross_validation.csv", cv);
-
-  const double horizon = c.get_double("horizon_s"), spacing = c.get_double("start_spacing_s");
-  struct Variant {
-    std::string name;
-    HorizonMse mse;
-  };
-  std::vector<Variant> variants;
-  std::vector<double> skipped_rates;  // of Fig 5.2's, which the logs' rates do not allow
-  variants.push_back({o.local ? "locally weighted (chosen)" : "global linear (chosen)",
-                      horizon_mse(model, test, horizon, spacing, pool)});
-  // The global linear model of the same template, always.
-  auto variant_model = [&](ModelStructure m, bool local) {
-    Dataset d = build_dataset(train, m);
-    auto inv = local ? model.inv_bandwidth() : std::array<double, kInputs>{};
-    if (!m.extra_states) inv[kFlapLon] = inv[kFlapLat] = inv[kGyro] = 0;
-    IdentifyOptions vo = o;
-    vo.structure = m;
-    BodyVec sigma2;
-    cv_error(d, output_templates(m), inv, vo, pool, &sigma2);
-    return IdentifiedModel(m, std::move(d), inv, sigma2);
-  };
-  const IdentifiedModel global = variant_model(o.structure, false);
-  const HorizonMse global_mse = horizon_mse(global, test, horizon, spacing, pool);
-  if (o.local) variants.push_back({"global linear", global_mse});
-  if (c.get_bool("variants") && o.local) {
-    ModelStructure m = o.structure;
-    m.extra_states = !o.structure.extra_states;
-    variants.push_back({o.structure.extra_states ? "without a1s, b1s, gyro" : "with a1s, b1s, gyro",
-                        horizon_mse(variant_model(m, true), test, horizon, spacing, pool)});
-    m = o.structure;
-    m.intercept = !o.structure.intercept;
-    variants.push_back({o.structure.intercept ? "without intercept" : "with intercept",
-                        horizon_mse(variant_model(m, true), test, horizon, spacing, pool)});
-    // Fig 5.2's rates, where both logs hold a whole number of rows per model step (a 10 Hz log has no
-    // 25 or 50 Hz model).
-    for (double hz : {5.0, 10.0, 25.0, 50.0}) {
-      if (std::abs(hz - o.structure.rate_hz) < 1e-9) continue;
-      if (log_rows_per_model_step(train.dt(), hz) == 0 || log_rows_per_model_step(test.dt(), hz) == 0) {
-        skipped_rates.push_back(hz);
-        continue;
-      }
-      m = o.structure;
-      m.rate_hz = hz;
-      variants.push_back({fmt::format("identified at {} Hz", hz),
-                          horizon_mse(variant_model(m, true), test, horizon, spacing, pool)});
-    }
-  }
-  // The chosen model as hover training runs it: the learned model at the controller's rate, refitted at the
-  // model's (the variants above step at their own identification rate).
-  const double control_rate_hz = c.get_double("control_rate_hz");
-  const Variant as_trained{fmt::format("chosen, as training runs it ({} Hz)", control_rate_hz),
-                           horizon_mse_as_trained(model, test, control_rate_hz, horizon, spacing, pool)};
-  CsvWriter mse_csv({"model", "seconds", "variable", "mse", "rollouts"});
-  variants.push_back(as_trained);  // into the CSV and the plots; out again before the summary
-  for (const auto& v : variants)
-    for (std::size_t t = 0; t < v.mse.seconds.size(); ++t)
-      for (int k = 0; k < kReportVars; ++k)
-        mse_csv.add_row({v.name, v.mse.seconds[t], std::string(kReportVarNames[static_cast<std::size_t>(k)]),
-                         v.mse.mse[t][static_cast<std::size_t>(k)], std::int64_t{v.mse.count[t]}});
-  dir.write_csv("mse_vs_horizon.csv", mse_csv);
-  for (const char* var : {"xdot_b", "pitch_rate", "ydot_b", "z"}) {
-    int k = 0;
-    while (std::string(kReportVarNames[static_cast<std::size_t>(k)]) != var) ++k;
-    SvgPlot plot;
-    plot.title(fmt::format("Hold-out MSE of {} vs prediction horizon (Fig 5.2)", var))
-        .x_label("horizon, s")
-        .y_label("mean squared error");
-    for (const auto& v : variants) {
-      PlotSeries s{.name = v.name, .markers = false};
-      for (std::size_t t = 0; t < v.mse.seconds.size(); ++t) {
-        s.x.push_back(v.mse.seconds[t]);
-        s.y.push_back(v.mse.mse[t][static_cast<std::size_t>(k)]);
-      }
-      plot.add_series(std::move(s));
-    }
-    dir.write_text(fmt::format("mse_{}.svg", var), plot.render());
-  }
-  variants.pop_back();  // as_trained: reported apart from Fig 5.2's variants
-
-  const NoiseCheck nc = noise_check(model, test, c.get_double("reset_s"), 10.0);
-  CsvWriter nc_csv({"time", "ydot_b_true", "ydot_b_predicted", "sd"});
-  for (std::size_t i = 0; i < nc.time.size(); ++i)
-    nc_csv.add_row({nc.time[i], nc.truth[i], nc.mean[i], nc.sd[i]});
-  dir.write_csv("noise_check.csv", nc_csv);
-  {
-    SvgPlot plot;
-    plot.title("ydot_b on hold-out data with +-2 sd bands, EKF reset every 2 s (Fig 5.3)")
-        .x_label("time, s")
-        .y_label("m/s");
-    plot.add_series({.name = "true", .x = nc.time, .y = nc.truth, .markers = false});
-    std::vector<double> two_sd(nc.sd.size());
-    for (std::size_t i = 0; i < nc.sd.size(); ++i) two_sd[i] = 2 * nc.sd[i];
-    plot.add_series(
-        {.name = "predicted +- 2 sd", .x = nc.time, .y = nc.mean, .error = two_sd, .markers = false});
-    dir.write_text("noise_check.svg", plot.render());
-  }
-
-  nlohmann::json bandwidth, sigma2, outside;
-  for (int j = 0; j < kInputs; ++j) {
-    if (j == kOne) continue;
-    const double ih = model.inv_bandwidth()[static_cast<std::size_t>(j)];
-    bandwidth[kInputNames[static_cast<std::size_t>(j)]] =
-        ih > 0 ? nlohmann::json(1 / ih) : nlohmann::json("inf");
-  }
-  for (int k = 0; k < kBodyVars; ++k) {
-    sigma2[kBodyVarNames[static_cast<std::size_t>(k)]] = model.sigma2()[k];
-    outside[kBodyVarNames[static_cast<std::size_t>(k)]] = nc.outside_fraction[k];
-  }
-  // The bands' misses at 0.5, 1 and 2 s after a reset: an honest noise model misses about 5% at every
-  // horizon.
-  nlohmann::json outside_by_horizon = nlohmann::json::object();
-  for (double seconds : {0.5, 1.0, 2.0}) {
-    const auto t = static_cast<std::size_t>(std::lround(seconds / model.dt())) - 1;
-    if (t >= nc.steps_by_horizon.size() || nc.steps_by_horizon[t] == 0) continue;
-    nlohmann::json at;
-    for (int k = 0; k < kBodyVars; ++k)
-      at[kBodyVarNames[static_cast<std::size_t>(k)]] = nc.outside_by_horizon[t][k];
-    outside_by_horizon[format_double(seconds)] = at;
-  }
-  nlohmann::json variant_json = nlohmann::json::array();
-  for (const auto& v : variants)
-    variant_json.push_back({{"model", v.name}, {"mse_at_seconds", mse_at(v.mse)}});
-  nlohmann::json summary = {{"train_seconds", train.seconds()},
-                            {"test_seconds", test.seconds()},
-                            {"rate_hz", o.structure.rate_hz},
-                            {"structure", o.structure.describe()},
-                            {"local", o.local},
-                            {"training_rows", model.data().rows()},
-                            {"bandwidth", bandwidth},
-                            {"sigma2", sigma2},
-                            {"mse_at_seconds", mse_at(variants.front().mse)},
-                            {"mse_at_seconds_as_trained", mse_at(as_trained.mse)},
-                            {"control_rate_hz", control_rate_hz},
-                            {"global_linear", {{"mse_at_seconds", mse_at(global_mse)}}},
-                            {"variants", variant_json},
-                            {"outside_2sigma_fraction", outside},
-                            {"outside_2sigma_by_horizon", outside_by_horizon},
-                            {"noise", to_string(o.noise)},
-                            {"noise_check_steps", nc.steps},
-                            {"cross_validation_steps", report.cv_trace.size()},
-                            {"model", "model.json"}};
-  // Only when some were skipped, so that the summaries of 50 Hz logs stay as they were (digests).
-  if (!skipped_rates.empty()) summary["variant_rates_skipped_hz"] = skipped_rates;
-  if (!own_layout) summary["vehicle"] = vehicle.name();  // likewise
-  if (!report.floored_inputs.empty()) summary["bandwidth_at_floor"] = report.floored_inputs;
-  if (o.calibrate_noise) {
-    nlohmann::json inflation;
-    for (int k = 0; k < kBodyVars; ++k)
-      inflation[kBodyVarNames[static_cast<std::size_t>(k)]] = report.noise_inflation[k];
-    summary["noise_inflation"] = inflation;
-  }
-  {
-    // The control gains' closed-loop bias, measured against a fit that whitens the residuals' correlation
-    // (the model's AR(1) noise, or, for a white-noise model, the same fit made for this check alone): the
-    // warning comes whatever noise model was asked for.
-    const NoiseCorrelation correlation =
-        model.noise_correlation().any()
-            ? model.noise_correlation()
-            : estimate_noise_correlation(model.data(), model.regression().templates(), model.inv_bandwidth(),
-                                         o.window_s, pool);
-    nlohmann::json bias = nlohmann::json::object();
-    const ControlGainBias* worst = nullptr;
-    const auto biases = closed_loop_bias(model.data(), model.regression().templates(), correlation);
-    for (const auto& b : biases) {
-      bias[b.output + "/" + b.control] = {
-          {"least_squares", b.least_squares}, {"whitened", b.whitened}, {"relative", b.relative}};
-      if (!worst || std::abs(b.relative) > std::abs(worst->relative)) worst = &b;
-    }
-    summary["closed_loop_bias"] = bias;
-    if (worst && std::abs(worst->relative) > 0.2)
-      ctx.out << fmt::format(
-          "warning: the control gains look biased by closed-loop data: {} per {} is {:.0f}% {} in the "
-          "least-squares fit than in one that whitens the correlated noise ({:.4g} against {:.4g}; "
-          "closed_loop_bias in summary.json)\n",
-          worst->output, worst->control, 100 * std::abs(worst->relative),
-          worst->relative < 0 ? "smaller" : "larger", worst->least_squares, worst->whitened);
-  }
-  if (model.noise_correlation().any()) {
-    nlohmann::json correlation;
-    for (int k = 0; k < kBodyVars; ++k)
-      correlation[kBodyVarNames[static_cast<std::size_t>(k)]] = {
-          {"share", model.noise_correlation().share[k]}, {"rho", model.noise_correlation().rho[k]}};
-    summary["noise_correlation"] = correlation;
-  }
-  dir.write_json("summary.json", summary);
-  if (!report.floored_inputs.empty())
-    ctx.out << fmt::format(
-        "bandwidth held at its floor (the logs move these inputs too little for a narrower one): {}\n",
-        fmt::join(report.floored_inputs, ", "));
-  if (!skipped_rates.empty())
-    ctx.out << fmt::format(
-        "variants not identified at {} Hz: the logs' rates ({:.4g} and {:.4g} Hz) are not "
-        "multiples\n",
-        fmt::join(skipped_rates, ", "), 1 / train.dt(), 1 / test.dt());
-  const auto& m1 = summary["mse_at_seconds"];
-  const auto& g1 = summary["global_linear"]["mse_at_seconds"];
-  ctx.out << fmt::format("identified on {:.0f} s ({} rows at {} Hz), cross-validation {:.1f} s\n",
-                         train.seconds(), model.data().rows(), o.structure.rate_hz, report.cv_seconds);
-  if (m1.contains("1") && g1.contains("1"))
-    ctx.out << fmt::format("hold-out MSE at 1 s, xdot_b: {:.4g} (chosen) vs {:.4g} (global linear)\n",
-                           m1["1"]["xdot_b"].get<double>(), g1["1"]["xdot_b"].get<double>());
-  ctx.out << "model: " << (dir.final_path() / "model.json").string() << "\n";
 }
 
 // ------------------------------------------------------------------ heli hover
@@ -569,9 +223,7 @@ void resolve_hover(ConfigSchema& s) {
   if (s.get_string("vehicle").empty()) return;
   const logs::Vehicle v = logs::read_vehicle(s.get_string("vehicle"));
   from_vehicle(s, v, "control_rate_hz", v.control_rate_hz, "control.rate_hz");
-  from_vehicle(s, v, "starting_gains",
-               v.starting_gains == "lqr" ? std::string("lqr") : std::string("constant"),
-               "hover.starting_gains");
+  from_vehicle(s, v, "starting_gains", v.starting_gains, "hover.starting_gains");
   from_vehicle(s, v, "target", std::vector<double>(v.target.begin(), v.target.end()), "hover.target");
   from_vehicle(s, v, "max_tilt_rad", v.max_tilt_rad, "envelope.max_tilt_rad");
   for (const auto& [key, size] : v.reward) from_vehicle(s, v, "reward." + key, size, "hover.reward." + key);
@@ -633,6 +285,8 @@ std::string curve_svg(const std::vector<IterationRecord>& progress, std::int64_t
 void run_hover(RunContext& ctx) {
   const heli::HoverTrainingOptions o = hover_options(ctx);
   const auto model = model_argument(ctx);
+  const bool with_vehicle = !ctx.config.get_string("vehicle").empty();
+  const std::string vehicle = with_vehicle ? vehicle_of(ctx.config).name() : std::string();
   RunDirectory& dir = ctx.run_directory();
   keep_vehicle_file(ctx.config, dir);
   heli::HoverTrainingHooks hooks;
@@ -675,7 +329,7 @@ void run_hover(RunContext& ctx) {
                      {"seconds", o.seconds},
                      {"seed", ctx.seed}};
   // Only with a vehicle file, so that the X-Cell's policy files stay as they were.
-  if (!ctx.config.get_string("vehicle").empty()) file.provenance["vehicle"] = vehicle_of(ctx.config).name();
+  if (with_vehicle) file.provenance["vehicle"] = vehicle;
   // Only when not 50 Hz, so that policy files trained at the thesis's rate stay as they were.
   if (o.control_rate_hz != 50) file.options["control_rate_hz"] = o.control_rate_hz;
   dir.write_json("policy.json", heli::policy_file_json(file));
@@ -726,8 +380,7 @@ void run_hover(RunContext& ctx) {
           "crashed the learned model in more than max_start_crash_fraction of the scenarios)\n",
           used.lqr_action_factor / o.lqr_action_factor);
   }
-  if (!ctx.config.get_string("vehicle").empty())
-    summary["vehicle"] = vehicle_of(ctx.config).name();  // likewise
+  if (with_vehicle) summary["vehicle"] = vehicle;  // likewise
   if (o.max_tilt_rad != heli::HoverTrainingOptions{}.max_tilt_rad) summary["max_tilt_rad"] = o.max_tilt_rad;
   if (o.control_rate_hz != 50) {  // likewise
     summary["control_rate_hz"] = o.control_rate_hz;
