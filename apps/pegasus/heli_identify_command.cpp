@@ -1,7 +1,7 @@
-// `pegasus heli identify` and `pegasus identify --vehicle`: system identification by locally weighted regression
-// from flight logs (thesis §5.2), with the model-selection study of Fig 5.2, the noise check of Fig 5.3, the model
-// as hover training will run it, and the closed-loop bias check; and the bandwidth floors every identifying
-// command declares.
+// `pegasus heli identify` and `pegasus identify --vehicle`: system identification by locally weighted
+// regression from flight logs (thesis §5.2), with the model-selection study of Fig 5.2, the noise check of
+// Fig 5.3, the model as hover training will run it, and the closed-loop bias check; and the bandwidth floors
+// every identifying command declares.
 #include <fmt/format.h>
 
 #include <cmath>
