@@ -26,6 +26,7 @@
 #include "pegasus/heli/hover_task.hpp"
 #include "pegasus/heli/pilot.hpp"
 #include "pegasus/heli/policy_file.hpp"
+#include "pegasus/heli/simulators.hpp"
 #include "pegasus/io/atomic_file.hpp"
 #include "pegasus/io/json_csv.hpp"
 #include "pegasus/logs/vehicle.hpp"
@@ -59,6 +60,25 @@ void from_vehicle(ConfigSchema& s, const logs::Vehicle& v, const std::string& fi
   if (s.origin(field) == "default") s.set(field, std::move(value), fmt::format("{}: {}", v.log.file, key));
 }
 
+namespace {
+// The vehicle's ground truth with the command's settings; a vehicle without one, or settings it rejects,
+// is bad input.
+std::unique_ptr<heli::GroundTruth> ground_truth_of(const logs::Vehicle& v,
+                                                   const heli::GroundTruthSettings& s) {
+  if (v.simulator == "none")
+    throw InputError(
+        fmt::format("{}: vehicle.simulator: 'none': the project has no ground truth of {} to fly; serve its "
+                    "controller to "
+                    "the aircraft or its simulator with `pegasus control --vehicle {} --policy P.json`",
+                    v.log.file, v.name(), v.log.file));
+  try {
+    return heli::make_ground_truth(v.simulator, s);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(e.what());
+  }
+}
+}  // namespace
+
 // The vehicle file's bytes, kept beside the results it shaped.
 void keep_vehicle_file(const ConfigSchema& c, RunDirectory& dir) {
   if (!c.get_string("vehicle").empty()) dir.write_text("vehicle.toml", read_file(c.get_string("vehicle")));
@@ -72,6 +92,7 @@ using namespace pegasus::sysid;
 // ------------------------------------------------------------------ heli pilot
 
 void declare_pilot(ConfigSchema& s) {
+  declare_vehicle(s);
   s.add_double("seconds", 339, "flight length, s (the thesis used 339 s to train, 140 s to test)")
       .range(1, 36000);
   s.add_double("hover_seconds", 10, "plain hover before the sweeps, s").range(0, 36000);
@@ -82,17 +103,19 @@ void declare_pilot(ConfigSchema& s) {
 
 void run_pilot(RunContext& ctx) {
   const auto& c = ctx.config;
-  AircraftParams p;
-  p.gust_sigma = c.get_double("gust_sigma");
-  if (!c.get_bool("estimate_noise"))
-    p.est_sigma_pos = p.est_sigma_vel = p.est_sigma_angle = p.est_sigma_rate = 0;
-  const Aircraft aircraft(p);
-  PilotOptions o;
+  const logs::Vehicle vehicle = vehicle_of(c);
+  heli::GroundTruthSettings settings;
+  settings.gust_sigma = c.get_double("gust_sigma");
+  settings.estimate_noise = c.get_bool("estimate_noise");
+  const std::unique_ptr<heli::GroundTruth> aircraft = ground_truth_of(vehicle, settings);
+  const double dt = aircraft->step_seconds();
+  PilotOptions o = heli::pilot_options_for(vehicle.simulator);
   o.hover_seconds = c.get_double("hover_seconds");
   o.sweeps = c.get_bool("sweeps");
   const double seconds = c.get_double("seconds");
-  const PilotFlight f = fly_pilot(aircraft, o, seconds, ctx.seed);
+  const PilotFlight f = fly_pilot(*aircraft, o, seconds, ctx.seed);
   RunDirectory& dir = ctx.run_directory();
+  keep_vehicle_file(c, dir);
   dir.write_text("log.csv", flight_log_csv(f.log));
   FlightLog truth = f.log;
   for (std::size_t i = 0; i < truth.rows(); ++i) truth.states[i] = f.truth[i];
@@ -108,25 +131,26 @@ void run_pilot(RunContext& ctx) {
     plot.add_series(std::move(s));
   }
   dir.write_text("position.svg", plot.render());
-  const auto& trim = aircraft.hover_trim();
-  const nlohmann::json summary = {{"seconds", static_cast<double>(f.log.rows()) * p.dt},
-                                  {"rows", f.log.rows()},
-                                  {"rate_hz", 1 / p.dt},
-                                  {"crashed", f.crash != CrashReason::kNone},
-                                  {"crash_reason", crash_reason_name(f.crash)},
-                                  {"crash_time", f.crash_time},
-                                  {"trim",
-                                   {{"a1", trim.controls[0]},
-                                    {"a2", trim.controls[1]},
-                                    {"a3", trim.controls[2]},
-                                    {"a4", trim.controls[3]},
-                                    {"roll", trim.roll},
-                                    {"pitch", trim.pitch}}},
-                                  {"log", "log.csv"},
-                                  {"truth", "truth.csv"}};
+  const heli::HoverPoint trim = aircraft->hover_point();
+  nlohmann::json summary = {{"seconds", static_cast<double>(f.log.rows()) * dt},
+                            {"rows", f.log.rows()},
+                            {"rate_hz", 1 / dt},
+                            {"crashed", f.crash != CrashReason::kNone},
+                            {"crash_reason", crash_reason_name(f.crash)},
+                            {"crash_time", f.crash_time},
+                            {"trim",
+                             {{"a1", trim.controls[0]},
+                              {"a2", trim.controls[1]},
+                              {"a3", trim.controls[2]},
+                              {"a4", trim.controls[3]},
+                              {"roll", trim.roll},
+                              {"pitch", trim.pitch}}},
+                            {"log", "log.csv"},
+                            {"truth", "truth.csv"}};
+  if (!c.get_string("vehicle").empty()) summary["vehicle"] = vehicle.name();
   dir.write_json("summary.json", summary);
-  ctx.out << fmt::format("flew {:.1f} s ({} rows at 50 Hz){}; log: {}\n", summary["seconds"].get<double>(),
-                         f.log.rows(),
+  ctx.out << fmt::format("flew {:.1f} s ({} rows at {:g} Hz){}; log: {}\n", summary["seconds"].get<double>(),
+                         f.log.rows(), 1 / dt,
                          f.crash != CrashReason::kNone ? ", CRASHED: " + crash_reason_name(f.crash) : "",
                          (dir.final_path() / "log.csv").string());
   if (f.crash != CrashReason::kNone)
@@ -498,11 +522,7 @@ void write_trace_plots(RunDirectory& dir, const std::vector<heli::FlightRecord>&
 
 void run_fly(RunContext& ctx) {
   const auto& c = ctx.config;
-  if (const logs::Vehicle v = vehicle_of(c); v.simulator != "xcell")
-    throw InputError(fmt::format(
-        "{}: vehicle.simulator: '{}': the project has no ground truth of {} to fly; serve its controller to "
-        "the aircraft or its simulator with `pegasus control --vehicle {} --policy P.json`",
-        v.log.file, v.simulator, v.name(), v.log.file));
+  const logs::Vehicle vehicle = vehicle_of(c);
   const bool pilot_only = c.get_bool("pilot");
   const std::string& policy_path = c.get_string("policy");
   if (!pilot_only && policy_path.empty())
@@ -521,17 +541,16 @@ void run_fly(RunContext& ctx) {
       control_rate_hz = it->get<double>();
     }
   }
-  AircraftParams p;
-  p.gust_sigma = c.get_double("gust_sigma");
-  if (!c.get_bool("estimate_noise"))
-    p.est_sigma_pos = p.est_sigma_vel = p.est_sigma_angle = p.est_sigma_rate = 0;
-  p.start_p_W = heli::Vec3(target.x, target.y, target.z);
-  p.start_yaw = target.yaw;
-  p.start_pos_sigma = c.get_double("start_pos_sigma");
-  p.start_vel_sigma = c.get_double("start_vel_sigma");
-  std::string error;
-  if (!p.IsValid(&error)) throw InputError(error);
-  const Aircraft aircraft(p);
+  heli::GroundTruthSettings settings;
+  settings.gust_sigma = c.get_double("gust_sigma");
+  settings.estimate_noise = c.get_bool("estimate_noise");
+  settings.set_start = true;
+  settings.start_p_W = heli::Vec3(target.x, target.y, target.z);
+  settings.start_yaw = target.yaw;
+  settings.start_pos_sigma = c.get_double("start_pos_sigma");
+  settings.start_vel_sigma = c.get_double("start_vel_sigma");
+  const std::unique_ptr<heli::GroundTruth> aircraft = ground_truth_of(vehicle, settings);
+  const double dt = aircraft->step_seconds();
   heli::FlightOptions fo;
   fo.flights = static_cast<int>(c.get_int("flights"));
   fo.seconds = c.get_double("seconds");
@@ -541,23 +560,27 @@ void run_fly(RunContext& ctx) {
   if (control_rate_hz > 0) {
     // A policy trained at a slower rate than the aircraft's 50 Hz is called at its own rate, its controls
     // held.
-    const double ratio = 1 / (p.dt * control_rate_hz);
+    const double ratio = 1 / (dt * control_rate_hz);
     if (std::abs(ratio - std::round(ratio)) > 1e-9 * ratio || std::round(ratio) < 1)
       throw InputError(fmt::format("{}: options.control_rate_hz: {} Hz does not divide the aircraft's {} Hz",
-                                   policy_path, control_rate_hz, 1 / p.dt));
+                                   policy_path, control_rate_hz, 1 / dt));
     controller_options.control_every = static_cast<int>(std::round(ratio));
   }
   RunDirectory& dir = ctx.run_directory();
 
   const bool with_pilot = pilot_only || c.get_bool("compare_pilot");
   std::vector<heli::FlightRecord> flown, pilot;
-  if (!pilot_only) flown = heli::fly_controller(aircraft, *controller, controller_options, &ctx.pool());
-  if (with_pilot) pilot = heli::fly_pilot_hover(aircraft, PilotOptions{}, target, fo, &ctx.pool());
+  if (!pilot_only) flown = heli::fly_controller(*aircraft, *controller, controller_options, &ctx.pool());
+  if (with_pilot)
+    pilot =
+        heli::fly_pilot_hover(*aircraft, heli::pilot_options_for(vehicle.simulator), target, fo, &ctx.pool());
   const std::vector<heli::FlightRecord>& main = pilot_only ? pilot : flown;
   const heli::FlightSummary s = heli::summarize_flights(main);
   nlohmann::json summary = flight_summary_json(s);
   summary["controller"] = pilot_only ? "pilot" : policy_path;
   summary["seconds"] = fo.seconds;
+  if (!c.get_string("vehicle").empty()) summary["vehicle"] = vehicle.name();
+  keep_vehicle_file(c, dir);
   CsvWriter per_flight({"controller", "flight", "crashed", "crash_reason", "crash_time", "rms_position_m",
                         "rms_velocity_mps", "rms_yaw_rad"});
   add_per_flight(per_flight, pilot_only ? "pilot" : "policy", main);
@@ -823,7 +846,8 @@ std::vector<Command> heli_commands() {
   const std::map<std::string, std::string> generic = {
       {"identify", "Identify an aircraft's model from its flight logs (--vehicle V.toml; thesis 5.2)"},
       {"hover", "Learn to hover an identified aircraft model by PEGASUS (--vehicle V.toml; thesis 5.3)"},
-      {"fly", "Fly a policy on the vehicle's ground truth (vehicles with a simulator: the X-Cell 60)"},
+      {"pilot", "Fly the vehicle's ground truth with the scripted pilot (hover, then sweeps) and log it"},
+      {"fly", "Fly a policy on the vehicle's ground truth (vehicles with a simulator: xcell, crazyflie2)"},
       {"control",
        "Serve a policy to an aircraft in its own layout (--vehicle V.toml): a state line in, its "
        "controls out"}};

@@ -10,26 +10,6 @@
 
 namespace pegasus::heli {
 
-std::string crash_reason_name(CrashReason r) {
-  switch (r) {
-    case CrashReason::kNone:
-      return "none";
-    case CrashReason::kGround:
-      return "ground impact";
-    case CrashReason::kAttitude:
-      return "attitude limit";
-    case CrashReason::kRate:
-      return "angular rate limit";
-    case CrashReason::kRotorOverload:
-      return "rotor overload";
-    case CrashReason::kNumerical:
-      return "numerical blow-up";
-    case CrashReason::kModelSupport:
-      return "left the model's support";
-  }
-  return "unknown";
-}
-
 bool AircraftParams::IsValid(std::string* error) const {
   auto fail = [&](const char* what) {
     if (error) *error = std::string("aircraft: ") + what;
@@ -77,7 +57,11 @@ double clamp1(double x) { return std::clamp(x, -1.0, 1.0); }
 
 }  // namespace
 
-Aircraft::Aircraft(AircraftParams params) : params_(std::move(params)) {
+Aircraft::Aircraft(AircraftParams params)
+    : params_(std::move(params)), disturbances_{params_.gust_sigma,    params_.gust_tau,
+                                                params_.est_sigma_pos, params_.est_sigma_angle,
+                                                params_.est_sigma_vel, params_.est_sigma_rate,
+                                                params_.est_tau} {
   std::string error;
   if (!params_.IsValid(&error)) throw std::invalid_argument(error);
   trim_ = find_trim();
@@ -205,18 +189,7 @@ Aircraft::State Aircraft::step(const State& s, const Action& a, std::span<const 
   }
   x.attitude.yaw = wrap_angle(x.attitude.yaw);
   x.time = s.time + P.dt;
-  // Turbulence: exact discretisation of a Gauss-Markov process per axis (Dryden's low-frequency form).
-  const double rho_g = std::exp(-P.dt / P.gust_tau);
-  const double k_g = P.gust_sigma * std::sqrt(1 - rho_g * rho_g);
-  for (int i = 0; i < 3; ++i)
-    x.gust_W[i] = rho_g * s.gust_W[i] + k_g * normal_quantile(p[static_cast<std::size_t>(i)]);
-  const double rho_e = std::exp(-P.dt / P.est_tau);
-  const double k_e = std::sqrt(1 - rho_e * rho_e);
-  const double sig[4] = {P.est_sigma_pos, P.est_sigma_angle, P.est_sigma_vel, P.est_sigma_rate};
-  for (int i = 0; i < kLoggedStates; ++i) {
-    const auto ui = static_cast<std::size_t>(i);
-    x.estimate_error[ui] = rho_e * s.estimate_error[ui] + sig[i / 3] * k_e * normal_quantile(p[3 + ui]);
-  }
+  disturbances_.step(P.dt, p, x.gust_W, x.estimate_error);
   check_crash(x);
   return x;
 }
@@ -295,20 +268,37 @@ Aircraft::State Aircraft::initial_state(std::span<const double> p0) const {
   for (int i = 0; i < 3; ++i) {
     s.p_W[i] = P.start_p_W[i] + P.start_pos_sigma * n(i);
     v_W[i] = P.start_vel_sigma * n(3 + i);
-    s.gust_W[i] = P.gust_sigma * n(6 + i);
   }
   s.v_B = body_from_world(s.attitude, v_W);
-  const double sig[4] = {P.est_sigma_pos, P.est_sigma_angle, P.est_sigma_vel, P.est_sigma_rate};
-  for (int i = 0; i < kLoggedStates; ++i)
-    s.estimate_error[static_cast<std::size_t>(i)] = sig[i / 3] * n(9 + i);
+  disturbances_.start(p0.subspan(6), s.gust_W, s.estimate_error);
   return s;
 }
 
 LoggedState true_logged_state(const AircraftState& s) {
-  const Vec3 v_W = world_from_body(s.attitude, s.v_B);
-  const Vec3 rates = euler_rates_from_body_rates(s.attitude, s.w_B);
-  return {s.p_W.x(), s.p_W.y(), s.p_W.z(), s.attitude.roll, s.attitude.pitch, s.attitude.yaw,
-          v_W.x(),   v_W.y(),   v_W.z(),   rates.x(),       rates.y(),        rates.z()};
+  return logged_state_of(s.p_W, s.attitude, s.v_B, s.w_B);
+}
+
+namespace {
+
+// The X-Cell behind the GroundTruth interface: a flight keeps its state and steps it.
+class AircraftFlight final : public SimulatedFlight {
+ public:
+  AircraftFlight(const Aircraft& aircraft, std::span<const double> p0)
+      : aircraft_(aircraft), state_(aircraft.initial_state(p0)) {}
+  LoggedState observe() const override { return aircraft_.observe(state_); }
+  LoggedState truth() const override { return true_logged_state(state_); }
+  void step(const Controls& a, std::span<const double> p) override { state_ = aircraft_.step(state_, a, p); }
+  CrashReason crash() const override { return state_.crash; }
+
+ private:
+  const Aircraft& aircraft_;
+  AircraftState state_;
+};
+
+}  // namespace
+
+std::unique_ptr<SimulatedFlight> Aircraft::start_flight(std::span<const double> p0) const {
+  return std::make_unique<AircraftFlight>(*this, p0);
 }
 
 Aircraft::Observation Aircraft::observe(const State& s) const {

@@ -13,24 +13,24 @@ namespace {
 
 // Flies one flight with act(estimate, time) -> controls and target(time) -> set point.
 template <class Act, class Target>
-FlightRecord fly_one(const Aircraft& aircraft, const FlightOptions& o, int flight, Act&& act,
+FlightRecord fly_one(const GroundTruth& aircraft, const FlightOptions& o, int flight, Act&& act,
                      Target&& target) {
-  const double dt = aircraft.params().dt;
+  const double dt = aircraft.step_seconds();
   const auto steps = static_cast<int>(std::llround(o.seconds / dt));
   const std::uint64_t seed = mix_seed(o.seed, static_cast<std::uint64_t>(flight));
   UniformStream init(seed, 0), noise(seed, 1);
-  std::array<double, Aircraft::kInitialNoise> p0;
-  for (double& u : p0) u = init.next();
-  Aircraft::State s = aircraft.initial_state(p0);
-  std::array<double, Aircraft::kStepNoise> p;
+  std::vector<double> p(static_cast<std::size_t>(aircraft.initial_noise_dim()));
+  for (double& u : p) u = init.next();
+  const std::unique_ptr<SimulatedFlight> s = aircraft.start_flight(p);
+  p.resize(static_cast<std::size_t>(aircraft.step_noise_dim()));
   FlightRecord r;
   const bool trace = flight < o.trace_flights;
   if (trace) r.trace.reserve(static_cast<std::size_t>(steps));
   Controls a{};
   for (int t = 0; t < steps; ++t) {
     const double time = t * dt;
-    const LoggedState truth = true_logged_state(s);
-    if (t % o.control_every == 0) a = act(aircraft.observe(s), time);
+    const LoggedState truth = s->truth();
+    if (t % o.control_every == 0) a = act(s->observe(), time);
     const SetPoint sp = target(time);
     // The set point's velocity by central differences (exactly 0 for a fixed set point).
     const SetPoint before = target(time - dt), after = target(time + dt);
@@ -45,10 +45,10 @@ FlightRecord fly_one(const Aircraft& aircraft, const FlightOptions& o, int fligh
     ++r.steps;
     if (trace) r.trace.push_back({time, truth, a, sp});
     for (double& u : p) u = noise.next();
-    s = aircraft.step(s, a, p);
-    if (aircraft.terminal(s)) {
+    s->step(a, p);
+    if (s->crash() != CrashReason::kNone) {
       r.crashed = true;
-      r.crash = s.crash;
+      r.crash = s->crash();
       r.crash_time = time + dt;
       break;
     }
@@ -108,7 +108,7 @@ FlightSummary summarize_flights(const std::vector<FlightRecord>& flights) {
   return s;
 }
 
-std::vector<FlightRecord> fly_controller(const Aircraft& aircraft, const HeliController& controller,
+std::vector<FlightRecord> fly_controller(const GroundTruth& aircraft, const HeliController& controller,
                                          const FlightOptions& options, ThreadPool* pool) {
   return fly_all(options, pool, [&](int i) {
     return fly_one(
@@ -117,7 +117,7 @@ std::vector<FlightRecord> fly_controller(const Aircraft& aircraft, const HeliCon
   });
 }
 
-std::vector<FlightRecord> fly_pilot_hover(const Aircraft& aircraft, const PilotOptions& pilot_options,
+std::vector<FlightRecord> fly_pilot_hover(const GroundTruth& aircraft, const PilotOptions& pilot_options,
                                           const SetPoint& hold, const FlightOptions& options,
                                           ThreadPool* pool) {
   PilotOptions po = pilot_options;

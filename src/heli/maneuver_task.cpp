@@ -267,18 +267,20 @@ ManeuverFlightSummary summarize_maneuver_flights(const std::vector<ManeuverFligh
 
 // ---- Identification data for manoeuvres ------------------------------------------------------------------
 
-PilotFlight fly_pilot_maneuvers(const Aircraft& aircraft, const PilotOptions& options, double sweep_seconds,
-                                const std::vector<Trajectory>& trajectories, std::uint64_t seed) {
-  const double dt = aircraft.params().dt;
+PilotFlight fly_pilot_maneuvers(const GroundTruth& aircraft, const PilotOptions& options,
+                                double sweep_seconds, const std::vector<Trajectory>& trajectories,
+                                std::uint64_t seed) {
+  const double dt = aircraft.step_seconds();
   const auto sweep_steps = static_cast<std::size_t>(std::llround(sweep_seconds / dt));
   std::size_t steps = sweep_steps;
   for (const auto& t : trajectories) steps += static_cast<std::size_t>(std::ceil(t.duration() / dt));
   // Counter families as fly_pilot: stream 0 the initial state, 1 the aircraft's noise, 2 and 3 the two
   // pilots.
   UniformStream init(seed, 0), noise(seed, 1);
-  std::array<double, 32> p{};
-  for (int j = 0; j < Aircraft::kInitialNoise; ++j) p[static_cast<std::size_t>(j)] = init.next();
-  Aircraft::State s = aircraft.initial_state(std::span<const double>(p.data(), Aircraft::kInitialNoise));
+  std::vector<double> p(static_cast<std::size_t>(aircraft.initial_noise_dim()));
+  for (double& u : p) u = init.next();
+  const std::unique_ptr<SimulatedFlight> s = aircraft.start_flight(p);
+  p.resize(static_cast<std::size_t>(aircraft.step_noise_dim()));
   ScriptedPilot sweeper(aircraft, options, seed, 2);
   sweeper.set_total_seconds(sweep_seconds);
   PilotOptions plain = options;
@@ -293,7 +295,7 @@ PilotFlight fly_pilot_maneuvers(const Aircraft& aircraft, const PilotOptions& op
   double leg_start = sweep_seconds;
   for (std::size_t t = 0; t < steps; ++t) {
     const double time = static_cast<double>(t) * dt;
-    const LoggedState est = aircraft.observe(s);
+    const LoggedState est = s->observe();
     Controls a;
     if (t < sweep_steps) {
       a = sweeper.act(est, time);
@@ -310,11 +312,11 @@ PilotFlight fly_pilot_maneuvers(const Aircraft& aircraft, const PilotOptions& op
     f.log.time.push_back(time);
     f.log.states.push_back(est);
     f.log.controls.push_back(a);
-    f.truth.push_back(true_logged_state(s));
-    for (int j = 0; j < Aircraft::kStepNoise; ++j) p[static_cast<std::size_t>(j)] = noise.next();
-    s = aircraft.step(s, a, std::span<const double>(p.data(), Aircraft::kStepNoise));
-    if (aircraft.terminal(s)) {
-      f.crash = s.crash;
+    f.truth.push_back(s->truth());
+    for (double& u : p) u = noise.next();
+    s->step(a, p);
+    if (s->crash() != CrashReason::kNone) {
+      f.crash = s->crash();
       f.crash_time = time + dt;
       break;
     }

@@ -22,14 +22,14 @@ bool PilotOptions::IsValid(std::string* error) const {
   return true;
 }
 
-ScriptedPilot::ScriptedPilot(const Aircraft& aircraft, PilotOptions options, std::uint64_t seed,
+ScriptedPilot::ScriptedPilot(const GroundTruth& aircraft, PilotOptions options, std::uint64_t seed,
                              std::uint32_t stream)
     : aircraft_(aircraft), o_(std::move(options)), rng_(seed, stream) {
   std::string error;
   if (!o_.IsValid(&error)) throw std::invalid_argument(error);
-  const auto n = static_cast<std::size_t>(std::lround(o_.reaction_delay_s / aircraft_.params().dt)) + 1;
+  const auto n = static_cast<std::size_t>(std::lround(o_.reaction_delay_s / aircraft_.step_seconds())) + 1;
   delay_.resize(n);
-  lagged_ = aircraft_.hover_trim().controls;
+  lagged_ = aircraft_.hover_point().controls;
 }
 
 int ScriptedPilot::sweep_channel(double time) const {
@@ -59,7 +59,7 @@ void ScriptedPilot::set_hold(double x, double y, double z, double yaw) {
 }
 
 Controls ScriptedPilot::act(const LoggedState& estimate, double time) {
-  const AircraftParams& P = aircraft_.params();
+  const double dt = aircraft_.step_seconds();
   if (!have_hold_) {
     hold_ = estimate;
     have_hold_ = true;
@@ -69,7 +69,7 @@ Controls ScriptedPilot::act(const LoggedState& estimate, double time) {
   filled_ = std::min(filled_ + 1, delay_.size());
   // The oldest entry is the estimate reaction_delay_s ago (or the first one, early in the flight).
   const LoggedState& s = filled_ < delay_.size() ? delay_[0] : delay_[head_];
-  const auto& trim = aircraft_.hover_trim();
+  const HoverPoint trim = aircraft_.hover_point();
   const double yaw = s[logged::yaw];
   const double cy = std::cos(yaw), sy = std::sin(yaw);
   // Errors and velocities in the heading frame (x forward, y right, level).
@@ -77,7 +77,7 @@ Controls ScriptedPilot::act(const LoggedState& estimate, double time) {
   const double ex = cy * ex_W + sy * ey_W, ey = -sy * ex_W + cy * ey_W;
   const double vx = cy * s[logged::xdot] + sy * s[logged::ydot],
                vy = -sy * s[logged::xdot] + cy * s[logged::ydot];
-  const double g = P.gravity;
+  const double g = aircraft_.gravity();
   const double tilt = o_.max_tilt_command;
   // Nose up to brake forward motion; roll left to brake rightward motion.
   const double pitch_cmd = trim.pitch + std::clamp((o_.k_pos * ex + o_.k_vel * vx) / g, -tilt, tilt);
@@ -88,8 +88,12 @@ Controls ScriptedPilot::act(const LoggedState& estimate, double time) {
   fb[1] = trim.controls[1] + o_.k_att * (roll_cmd - s[logged::roll]) - o_.k_att_rate * s[logged::roll_rate];
   fb[2] = trim.controls[2] + o_.k_alt * (s[logged::z] - hold_[2]) + o_.k_climb * s[logged::zdot];
   fb[3] = trim.controls[3] + o_.k_yaw * wrap_angle(hold_[5] - yaw) - o_.k_yaw_rate * s[logged::yaw_rate];
-  const double lag = 1 - std::exp(-P.dt / o_.bandwidth_tau_s);
-  const double rho = std::exp(-P.dt / o_.noise_tau_s);
+  if (o_.attitude_command_gain != 0) {
+    fb[0] -= o_.attitude_command_gain * (pitch_cmd - trim.pitch);
+    fb[1] += o_.attitude_command_gain * (roll_cmd - trim.roll);
+  }
+  const double lag = 1 - std::exp(-dt / o_.bandwidth_tau_s);
+  const double rho = std::exp(-dt / o_.noise_tau_s);
   const double kn = o_.noise_sigma * std::sqrt(1 - rho * rho);
   Controls out;
   const int channel = sweep_channel(time);
@@ -102,14 +106,16 @@ Controls ScriptedPilot::act(const LoggedState& estimate, double time) {
   return out;
 }
 
-PilotFlight fly_pilot(const Aircraft& aircraft, const PilotOptions& options, double seconds,
+PilotFlight fly_pilot(const GroundTruth& aircraft, const PilotOptions& options, double seconds,
                       std::uint64_t seed) {
-  const auto steps = static_cast<std::size_t>(std::llround(seconds / aircraft.params().dt));
+  const double dt = aircraft.step_seconds();
+  const auto steps = static_cast<std::size_t>(std::llround(seconds / dt));
   // Counter families: stream 0 the aircraft's initial state, 1 its per-step noise, 2 the pilot.
   UniformStream init(seed, 0), noise(seed, 1);
-  std::array<double, 32> p{};
-  for (int j = 0; j < Aircraft::kInitialNoise; ++j) p[static_cast<std::size_t>(j)] = init.next();
-  Aircraft::State s = aircraft.initial_state(std::span<const double>(p.data(), Aircraft::kInitialNoise));
+  std::vector<double> p(static_cast<std::size_t>(aircraft.initial_noise_dim()));
+  for (double& u : p) u = init.next();
+  const std::unique_ptr<SimulatedFlight> flight = aircraft.start_flight(p);
+  p.resize(static_cast<std::size_t>(aircraft.step_noise_dim()));
   ScriptedPilot pilot(aircraft, options, seed, 2);
   pilot.set_total_seconds(seconds);
   PilotFlight f;
@@ -118,18 +124,18 @@ PilotFlight fly_pilot(const Aircraft& aircraft, const PilotOptions& options, dou
   f.log.controls.reserve(steps);
   f.truth.reserve(steps);
   for (std::size_t t = 0; t < steps; ++t) {
-    const double time = static_cast<double>(t) * aircraft.params().dt;
-    const LoggedState est = aircraft.observe(s);
+    const double time = static_cast<double>(t) * dt;
+    const LoggedState est = flight->observe();
     const Controls a = pilot.act(est, time);
     f.log.time.push_back(time);
     f.log.states.push_back(est);
     f.log.controls.push_back(a);
-    f.truth.push_back(true_logged_state(s));
-    for (int j = 0; j < Aircraft::kStepNoise; ++j) p[static_cast<std::size_t>(j)] = noise.next();
-    s = aircraft.step(s, a, std::span<const double>(p.data(), Aircraft::kStepNoise));
-    if (aircraft.terminal(s)) {
-      f.crash = s.crash;
-      f.crash_time = time + aircraft.params().dt;
+    f.truth.push_back(flight->truth());
+    for (double& u : p) u = noise.next();
+    flight->step(a, p);
+    if (flight->crash() != CrashReason::kNone) {
+      f.crash = flight->crash();
+      f.crash_time = time + dt;
       break;
     }
   }

@@ -11,6 +11,7 @@
 #include "pegasus/core/error.hpp"
 #include "pegasus/core/untrusted_text.hpp"
 #include "pegasus/heli/frames.hpp"
+#include "pegasus/heli/simulators.hpp"
 
 namespace pegasus::logs {
 namespace {
@@ -236,7 +237,7 @@ Vehicle vehicle(const toml::table& root, const std::filesystem::path& file) {
   Vehicle v;
   v.log = vehicle_log_spec(root, r, file);
   v.xcell_latent_states = r.string("vehicle.latent_states", "none", {"none", "xcell"}) == "xcell";
-  v.simulator = r.string("vehicle.simulator", v.simulator, {"none", "xcell"});
+  v.simulator = r.string("vehicle.simulator", v.simulator, heli::simulator_names());
   v.control_rate_hz = r.number("control.rate_hz", v.control_rate_hz, 0.1, 1000);
   if (r.at("hover.target")) {
     const auto t = r.numbers("hover.target", 4);

@@ -30,25 +30,13 @@
 #include <string>
 
 #include "pegasus/heli/frames.hpp"
+#include "pegasus/heli/ground_truth.hpp"
 #include "pegasus/heli/state.hpp"
 #include "pegasus/models/action_space.hpp"
 
 namespace pegasus::heli {
 
-// The 12 logged states of §5.1: LoggedState (heli/state.hpp).
-inline constexpr std::array<const char*, 4> kControlNames = {"a1", "a2", "a3", "a4"};
-using Controls = std::array<double, 4>;
-
-enum class CrashReason : int {
-  kNone = 0,
-  kGround,
-  kAttitude,
-  kRate,
-  kRotorOverload,
-  kNumerical,
-  kModelSupport
-};
-std::string crash_reason_name(CrashReason r);
+// The 12 logged states of §5.1: LoggedState (heli/state.hpp); Controls and CrashReason: ground_truth.hpp.
 
 struct AircraftParams {
   // --- Rigid body [GMF01, Table 1] ---
@@ -136,7 +124,7 @@ struct RotorReport {
   double thrust_n = 0, torque_nm = 0, inflow_ratio = 0, tail_thrust_n = 0, thrust_coeff_over_solidity = 0;
 };
 
-class Aircraft {
+class Aircraft final : public GroundTruth {
  public:
   using State = AircraftState;
   using Action = Controls;
@@ -150,7 +138,7 @@ class Aircraft {
 
   int state_dim() const { return kLoggedStates; }
   int noise_dim() const { return kStepNoise; }
-  int initial_noise_dim() const { return kInitialNoise; }
+  int initial_noise_dim() const override { return kInitialNoise; }
   ActionSpace action_space() const;
   // Trimmed hover at params().start_p_W, perturbed by start_*_sigma, stationary gusts and estimate errors.
   State initial_state(std::span<const double> p0) const;
@@ -179,10 +167,19 @@ class Aircraft {
   };
   Derivative derivative(const State& s, const Vec3& wind_W, RotorReport* report = nullptr) const;
 
+  // GroundTruth: the same aircraft behind the interface the pilot and flights use.
+  std::string simulator_name() const override { return "xcell"; }
+  double step_seconds() const override { return params_.dt; }
+  double gravity() const override { return params_.gravity; }
+  int step_noise_dim() const override { return kStepNoise; }
+  HoverPoint hover_point() const override { return {trim_.controls, trim_.roll, trim_.pitch}; }
+  std::unique_ptr<SimulatedFlight> start_flight(std::span<const double> p0) const override;
+
  private:
   Trim find_trim() const;
   void check_crash(State& s) const;
   AircraftParams params_;
+  Disturbances disturbances_;
   Trim trim_;
 };
 

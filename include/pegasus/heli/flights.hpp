@@ -17,7 +17,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "pegasus/heli/aircraft.hpp"
+#include "pegasus/heli/ground_truth.hpp"
 #include "pegasus/heli/pilot.hpp"
 #include "pegasus/heli/policy_file.hpp"
 #include "pegasus/parallel/thread_pool.hpp"
@@ -59,10 +59,10 @@ FlightSummary summarize_flights(const std::vector<FlightRecord>& flights);
 
 // A controller's flights. The aircraft's params give the start (start_p_W, start_yaw, start_*_sigma) and the
 // disturbances.
-std::vector<FlightRecord> fly_controller(const Aircraft& aircraft, const HeliController& controller,
+std::vector<FlightRecord> fly_controller(const GroundTruth& aircraft, const HeliController& controller,
                                          const FlightOptions& options, ThreadPool* pool = nullptr);
 // The scripted pilot's hover (no sweeps) at `hold`, the same starts and gusts.
-std::vector<FlightRecord> fly_pilot_hover(const Aircraft& aircraft, const PilotOptions& pilot,
+std::vector<FlightRecord> fly_pilot_hover(const GroundTruth& aircraft, const PilotOptions& pilot,
                                           const SetPoint& hold, const FlightOptions& options,
                                           ThreadPool* pool = nullptr);
 

@@ -205,7 +205,8 @@ ManeuverFlightSummary summarize_maneuver_flights(const std::vector<ManeuverFligh
 // sweep in each channel), then has it fly the set points of each trajectory in turn, as a pilot practising
 // the manoeuvres would (no sweeps, its own delay and noise). One continuous 50 Hz log; everything drawn from
 // `seed`.
-PilotFlight fly_pilot_maneuvers(const Aircraft& aircraft, const PilotOptions& options, double sweep_seconds,
-                                const std::vector<Trajectory>& trajectories, std::uint64_t seed);
+PilotFlight fly_pilot_maneuvers(const GroundTruth& aircraft, const PilotOptions& options,
+                                double sweep_seconds, const std::vector<Trajectory>& trajectories,
+                                std::uint64_t seed);
 
 }  // namespace pegasus::heli

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "pegasus/heli/aircraft.hpp"
+#include "pegasus/heli/ground_truth.hpp"
 #include "pegasus/scenarios/counter_rng.hpp"
 #include "pegasus/sysid/flight_log.hpp"
 
@@ -29,13 +29,16 @@ struct PilotOptions {
   double k_alt = 0.05, k_climb = 0.15;    // collective per m and per m/s
   double k_yaw = 0.4, k_yaw_rate = 0.05;  // tail per rad and per rad/s
   double max_tilt_command = 0.3;          // rad
+  // For an aircraft that holds its own attitude (a quadrotor's angle mode): stick per rad of the desired
+  // attitude's change from the hover point, added open loop to the pitch and roll channels (0: none).
+  double attitude_command_gain = 0;
   bool IsValid(std::string* error) const;
 };
 
 // The pilot's controller; one per flight (it keeps its delay line and noise state).
 class ScriptedPilot {
  public:
-  ScriptedPilot(const Aircraft& aircraft, PilotOptions options, std::uint64_t seed, std::uint32_t stream);
+  ScriptedPilot(const GroundTruth& aircraft, PilotOptions options, std::uint64_t seed, std::uint32_t stream);
   // Controls for step t (time = t * dt) given the current state estimate; hold point = the start.
   Controls act(const LoggedState& estimate, double time);
   // The sweep channel at a time (-1: hover only) and its open-loop offset.
@@ -46,7 +49,7 @@ class ScriptedPilot {
   void set_hold(double x, double y, double z, double yaw);
 
  private:
-  const Aircraft& aircraft_;
+  const GroundTruth& aircraft_;
   PilotOptions o_;
   UniformStream rng_;
   std::vector<LoggedState> delay_;  // ring buffer of past estimates, sized once
@@ -65,7 +68,7 @@ struct PilotFlight {
 };
 
 // Flies `seconds` of the pilot's plan on the aircraft from its initial state; all randomness from `seed`.
-PilotFlight fly_pilot(const Aircraft& aircraft, const PilotOptions& options, double seconds,
+PilotFlight fly_pilot(const GroundTruth& aircraft, const PilotOptions& options, double seconds,
                       std::uint64_t seed);
 
 }  // namespace pegasus::heli

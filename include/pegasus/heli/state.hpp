@@ -33,4 +33,13 @@ inline Vec3 euler_rates_of(const LoggedState& s) {
   return {s[logged::roll_rate], s[logged::pitch_rate], s[logged::yaw_rate]};
 }
 
+// The logged state of a rigid body given as its simulators keep it: position p_W, attitude, velocity v_B and
+// body rates w_B.
+inline LoggedState logged_state_of(const Vec3& p_W, const Euler& attitude, const Vec3& v_B, const Vec3& w_B) {
+  const Vec3 v_W = world_from_body(attitude, v_B);
+  const Vec3 rates = euler_rates_from_body_rates(attitude, w_B);
+  return {p_W.x(), p_W.y(), p_W.z(), attitude.roll, attitude.pitch, attitude.yaw,
+          v_W.x(), v_W.y(), v_W.z(), rates.x(),     rates.y(),      rates.z()};
+}
+
 }  // namespace pegasus::heli

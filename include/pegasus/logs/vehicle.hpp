@@ -81,7 +81,8 @@ struct Vehicle {
   // [vehicle] latent_states: "xcell" models the X-Cell's flapping and yaw-gyro states (GMF01); "none" (the
   // default) models none, as for any aircraft without them.
   bool xcell_latent_states = false;
-  // [vehicle] simulator: the project's ground truth that `pegasus fly` flies it on ("xcell"), or "none".
+  // [vehicle] simulator: the project's ground truth that `pegasus pilot` and `pegasus fly` fly it on
+  // ("xcell", "crazyflie2": heli/simulators.hpp), or "none".
   std::string simulator = "none";
   // [control] rate_hz: the flight computer's controller rate; training steps the learned model at it.
   double control_rate_hz = 50;

@@ -1,0 +1,229 @@
+#include "pegasus/heli/quadrotor.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include "pegasus/heli/gaussian.hpp"
+
+namespace pegasus::heli {
+namespace {
+
+// Motor i sits at (kMotorX[i], kMotorY[i]) * arm / sqrt(2) in B and spins so that its drag torque about z_B
+// has the sign kMotorSpin[i]: front-right, back-right, back-left, front-left.
+constexpr std::array<double, 4> kMotorX = {1, -1, -1, 1};
+constexpr std::array<double, 4> kMotorY = {1, 1, -1, -1};
+constexpr std::array<double, 4> kMotorSpin = {-1, 1, -1, 1};
+
+double clamp1(double x) { return std::clamp(x, -1.0, 1.0); }
+
+QuadrotorState advance(const QuadrotorState& s, const Quadrotor::Derivative& d, double h) {
+  QuadrotorState n = s;
+  n.p_W += h * d.p_dot_W;
+  n.v_B += h * d.v_dot_B;
+  n.attitude.roll += h * d.euler_rates.x();
+  n.attitude.pitch += h * d.euler_rates.y();
+  n.attitude.yaw += h * d.euler_rates.z();
+  n.w_B += h * d.w_dot_B;
+  for (std::size_t i = 0; i < 4; ++i) n.rotor_speed[i] += h * d.rotor_accel[i];
+  return n;
+}
+
+Disturbances disturbances_of(const QuadrotorParams& P) {
+  return {P.gust_sigma,      P.gust_tau,      P.est_sigma_pos, P.est_sigma_angle,
+          P.est_sigma_vel,   P.est_sigma_rate, P.est_tau};
+}
+
+class QuadrotorFlight final : public SimulatedFlight {
+ public:
+  QuadrotorFlight(const Quadrotor& quadrotor, std::span<const double> p0)
+      : quadrotor_(quadrotor), state_(quadrotor.initial_state(p0)) {}
+  LoggedState observe() const override { return quadrotor_.observe(state_); }
+  LoggedState truth() const override { return Quadrotor::true_state(state_); }
+  void step(const Controls& a, std::span<const double> p) override { state_ = quadrotor_.step(state_, a, p); }
+  CrashReason crash() const override { return state_.crash; }
+
+ private:
+  const Quadrotor& quadrotor_;
+  QuadrotorState state_;
+};
+
+}  // namespace
+
+bool QuadrotorParams::IsValid(std::string* error) const {
+  auto fail = [&](const char* what) {
+    if (error) *error = std::string("quadrotor: ") + what;
+    return false;
+  };
+  if (!(mass_kg > 0 && ixx > 0 && iyy > 0 && izz > 0 && arm_m > 0 && gravity > 0))
+    return fail("mass, inertia, arm and gravity must be positive");
+  if (!(thrust_coeff > 0 && torque_per_thrust_m > 0 && motor_tau > 0 && drag_xy >= 0 && drag_z >= 0))
+    return fail("rotor coefficients must be positive (drag >= 0)");
+  if (!(4 * max_motor_thrust_n > mass_kg * gravity))
+    return fail("the four motors' full thrust must exceed the weight");
+  if (!(max_tilt_command_rad > 0 && max_tilt_command_rad < max_tilt_rad && max_yaw_rate_command > 0))
+    return fail("need 0 < max_tilt_command_rad < max_tilt_rad and max_yaw_rate_command > 0");
+  if (!(attitude_gain > 0 && rate_gain > 0 && yaw_rate_gain > 0)) return fail("controller gains must be positive");
+  if (!(gust_tau > 0 && est_tau > 0)) return fail("time constants must be positive");
+  if (!(gust_sigma >= 0 && est_sigma_pos >= 0 && est_sigma_vel >= 0 && est_sigma_angle >= 0 &&
+        est_sigma_rate >= 0))
+    return fail("noise sizes must be >= 0");
+  if (!(max_tilt_rad > 0 && max_tilt_rad < 1.5 && max_rate_rad_s > 0)) return fail("crash limits out of range");
+  if (!(dt > 0 && substeps >= 1)) return fail("need dt > 0 and substeps >= 1");
+  if (!(start_p_W.z() < 0)) return fail("the start must be above the ground (z < 0)");
+  if (!(start_pos_sigma >= 0 && start_vel_sigma >= 0)) return fail("start perturbations must be >= 0");
+  return true;
+}
+
+Quadrotor::Quadrotor(QuadrotorParams params) : params_(std::move(params)) {
+  std::string error;
+  if (!params_.IsValid(&error)) throw std::invalid_argument(error);
+  const double d = params_.arm_m / std::numbers::sqrt2;
+  Eigen::Matrix4d wrench_from_thrust;
+  for (int i = 0; i < 4; ++i) {
+    const auto ui = static_cast<std::size_t>(i);
+    wrench_from_thrust(0, i) = 1;                                          // collective thrust
+    wrench_from_thrust(1, i) = -d * kMotorY[ui];                           // roll torque
+    wrench_from_thrust(2, i) = d * kMotorX[ui];                            // pitch torque
+    wrench_from_thrust(3, i) = kMotorSpin[ui] * params_.torque_per_thrust_m;  // yaw torque
+  }
+  thrust_from_wrench_ = wrench_from_thrust.inverse();
+}
+
+double Quadrotor::max_thrust() const { return 4 * params_.max_motor_thrust_n; }
+
+double Quadrotor::hover_rotor_speed() const {
+  return std::sqrt(params_.mass_kg * params_.gravity / (4 * params_.thrust_coeff));
+}
+
+HoverPoint Quadrotor::hover_point() const {
+  HoverPoint h;
+  h.controls[2] = 2 * params_.mass_kg * params_.gravity / max_thrust() - 1;
+  return h;
+}
+
+std::array<double, 4> Quadrotor::rotor_commands(const State& s, const Controls& a) const {
+  const QuadrotorParams& P = params_;
+  const double roll_set = P.max_tilt_command_rad * clamp1(a[1]);
+  const double pitch_set = -P.max_tilt_command_rad * clamp1(a[0]);
+  const double yaw_rate_set = P.max_yaw_rate_command * clamp1(a[3]);
+  const double thrust = max_thrust() * (clamp1(a[2]) + 1) / 2;
+  const double p_set = P.attitude_gain * (roll_set - s.attitude.roll);
+  const double q_set = P.attitude_gain * (pitch_set - s.attitude.pitch);
+  Eigen::Vector4d wrench;
+  wrench << thrust, P.ixx * P.rate_gain * (p_set - s.w_B.x()), P.iyy * P.rate_gain * (q_set - s.w_B.y()),
+      P.izz * P.yaw_rate_gain * (yaw_rate_set - s.w_B.z());
+  const Eigen::Vector4d motor_thrust = thrust_from_wrench_ * wrench;
+  std::array<double, 4> command;
+  for (int i = 0; i < 4; ++i)
+    command[static_cast<std::size_t>(i)] =
+        std::sqrt(std::clamp(motor_thrust[i], 0.0, P.max_motor_thrust_n) / P.thrust_coeff);
+  return command;
+}
+
+Quadrotor::Derivative Quadrotor::derivative(const State& s, const std::array<double, 4>& rotor_command,
+                                            const Vec3& wind_W) const {
+  const QuadrotorParams& P = params_;
+  const double d = P.arm_m / std::numbers::sqrt2;
+  double thrust = 0, speed_sum = 0;
+  Vec3 torque = Vec3::Zero();
+  Derivative out;
+  for (std::size_t i = 0; i < 4; ++i) {
+    const double w = s.rotor_speed[i];
+    const double f = P.thrust_coeff * w * w;
+    thrust += f;
+    speed_sum += w;
+    torque += Vec3(-d * kMotorY[i] * f, d * kMotorX[i] * f, kMotorSpin[i] * P.torque_per_thrust_m * f);
+    out.rotor_accel[i] = (rotor_command[i] - w) / P.motor_tau;
+  }
+  const Mat3 r_WB = rotation_world_from_body(s.attitude);
+  const Vec3 air_B = s.v_B - r_WB.transpose() * wind_W;
+  // Rotor drag against the airspeed, growing with the rotors' speed [F15].
+  const Vec3 drag_B = -speed_sum * Vec3(P.drag_xy * air_B.x(), P.drag_xy * air_B.y(), P.drag_z * air_B.z());
+  const Vec3 force_B = Vec3(0, 0, -thrust) + drag_B;
+  const Vec3 gravity_B = r_WB.transpose() * Vec3(0, 0, P.gravity);
+  const Vec3 inertia(P.ixx, P.iyy, P.izz);
+  out.p_dot_W = r_WB * s.v_B;
+  out.v_dot_B = force_B / P.mass_kg + gravity_B - s.w_B.cross(s.v_B);
+  out.w_dot_B = (torque - s.w_B.cross(inertia.cwiseProduct(s.w_B))).cwiseQuotient(inertia);
+  out.euler_rates = euler_rates_from_body_rates(s.attitude, s.w_B);
+  return out;
+}
+
+Quadrotor::State Quadrotor::step(const State& s, const Controls& a, std::span<const double> p) const {
+  if (s.crash != CrashReason::kNone) return s;
+  const QuadrotorParams& P = params_;
+  State x = s;
+  const Vec3 wind_W = P.mean_wind_W + s.gust_W;
+  const double h = P.dt / P.substeps;
+  for (int k = 0; k < P.substeps; ++k) {
+    // The onboard controller ticks once per substep; its rotor commands hold over the substep (RK4).
+    const std::array<double, 4> command = rotor_commands(x, a);
+    const Derivative k1 = derivative(x, command, wind_W);
+    const Derivative k2 = derivative(advance(x, k1, h / 2), command, wind_W);
+    const Derivative k3 = derivative(advance(x, k2, h / 2), command, wind_W);
+    const Derivative k4 = derivative(advance(x, k3, h), command, wind_W);
+    Derivative sum;
+    sum.p_dot_W = (k1.p_dot_W + 2 * k2.p_dot_W + 2 * k3.p_dot_W + k4.p_dot_W) / 6;
+    sum.v_dot_B = (k1.v_dot_B + 2 * k2.v_dot_B + 2 * k3.v_dot_B + k4.v_dot_B) / 6;
+    sum.euler_rates = (k1.euler_rates + 2 * k2.euler_rates + 2 * k3.euler_rates + k4.euler_rates) / 6;
+    sum.w_dot_B = (k1.w_dot_B + 2 * k2.w_dot_B + 2 * k3.w_dot_B + k4.w_dot_B) / 6;
+    for (std::size_t i = 0; i < 4; ++i)
+      sum.rotor_accel[i] =
+          (k1.rotor_accel[i] + 2 * k2.rotor_accel[i] + 2 * k3.rotor_accel[i] + k4.rotor_accel[i]) / 6;
+    x = advance(x, sum, h);
+  }
+  x.attitude.yaw = wrap_angle(x.attitude.yaw);
+  x.time = s.time + P.dt;
+  disturbances_of(P).step(P.dt, p, x.gust_W, x.estimate_error);
+  check_crash(x);
+  return x;
+}
+
+void Quadrotor::check_crash(State& s) const {
+  const QuadrotorParams& P = params_;
+  for (double v : true_state(s))
+    if (!std::isfinite(v)) {
+      s.crash = CrashReason::kNumerical;
+      return;
+    }
+  if (s.p_W.z() >= 0)
+    s.crash = CrashReason::kGround;
+  else if (std::abs(s.attitude.roll) > P.max_tilt_rad || std::abs(s.attitude.pitch) > P.max_tilt_rad)
+    s.crash = CrashReason::kAttitude;
+  else if (s.w_B.cwiseAbs().maxCoeff() > P.max_rate_rad_s)
+    s.crash = CrashReason::kRate;
+}
+
+Quadrotor::State Quadrotor::initial_state(std::span<const double> p0) const {
+  const QuadrotorParams& P = params_;
+  State s;
+  s.attitude = {0.0, 0.0, wrap_angle(P.start_yaw)};
+  s.rotor_speed.fill(hover_rotor_speed());
+  const auto n = [&](int i) { return normal_quantile(p0[static_cast<std::size_t>(i)]); };
+  Vec3 v_W;
+  for (int i = 0; i < 3; ++i) {
+    s.p_W[i] = P.start_p_W[i] + P.start_pos_sigma * n(i);
+    v_W[i] = P.start_vel_sigma * n(3 + i);
+  }
+  s.v_B = body_from_world(s.attitude, v_W);
+  disturbances_of(P).start(p0.subspan(6), s.gust_W, s.estimate_error);
+  return s;
+}
+
+LoggedState Quadrotor::true_state(const State& s) { return logged_state_of(s.p_W, s.attitude, s.v_B, s.w_B); }
+
+LoggedState Quadrotor::observe(const State& s) const {
+  LoggedState o = true_state(s);
+  for (std::size_t i = 0; i < o.size(); ++i) o[i] += s.estimate_error[i];
+  o[logged::yaw] = wrap_angle(o[logged::yaw]);
+  return o;
+}
+
+std::unique_ptr<SimulatedFlight> Quadrotor::start_flight(std::span<const double> p0) const {
+  return std::make_unique<QuadrotorFlight>(*this, p0);
+}
+
+}  // namespace pegasus::heli
