@@ -19,7 +19,9 @@
 #include "pegasus/heli/maneuver_policy.hpp"
 #include "pegasus/heli/maneuver_task.hpp"
 #include "pegasus/heli/policy_file.hpp"
+#include "pegasus/heli/simulators.hpp"
 #include "pegasus/io/json_csv.hpp"
+#include "pegasus/logs/vehicle.hpp"
 #include "pegasus/runs/optimizer_config.hpp"
 #include "pegasus/runs/svg_plot.hpp"
 #include "pegasus/sysid/flight_log.hpp"
@@ -30,8 +32,37 @@ namespace {
 
 using namespace pegasus::heli;
 
+std::vector<std::string> maneuver_choices() {
+  return std::vector<std::string>(kManeuverNames.begin(), kManeuverNames.end());
+}
+
+// Where the manoeuvres start and what size the figure-eight is (both commands).
+void declare_size(ConfigSchema& s) {
+  s.add_double("altitude_m", -ManeuverSize{}.start_W.z(), "height of the start hover above the ground, m")
+      .greater_than(0)
+      .max(1000);
+  s.add_double("figure_eight_radius", ManeuverSize{}.figure_eight_radius, "figure8: radius of each circle, m")
+      .range(0.1, 100);
+}
+
+void read_size(const ConfigSchema& c, ManeuverSize& size) {
+  size.start_W = Vec3(0, 0, -c.get_double("altitude_m"));
+  size.figure_eight_radius = c.get_double("figure_eight_radius");
+}
+
+// The vehicle's ground truth flies the manoeuvres: one it has (bad input otherwise).
+std::string simulator_of(const logs::Vehicle& v) {
+  if (v.simulator == "none")
+    throw InputError(fmt::format(
+        "{}: vehicle.simulator: 'none': the project has no ground truth of {} to fly", v.log.file, v.name()));
+  return v.simulator;
+}
+
 void declare(ConfigSchema& s) {
-  s.add_string("name", "III.1", "manoeuvre (AMA Class III)").choices({"III.1", "III.2", "III.3"});
+  declare_vehicle(s);
+  s.add_string("name", "III.1", "manoeuvre: AMA Class III (thesis 5.4) or a figure-eight (figure8)")
+      .choices(maneuver_choices());
+  declare_size(s);
   s.add_string("model", "", "identified model file (model.json of `pegasus heli identify`)");
   s.add_string(
       "hover_policy", "",
@@ -96,6 +127,7 @@ ManeuverTrainingOptions training_options(const RunContext& ctx) {
   o.size.rectangle_width = c.get_double("rectangle_width");
   o.size.rectangle_height = c.get_double("rectangle_height");
   o.size.hold_end_s = c.get_double("hold_end_s");
+  read_size(c, o.size);
   o.scenarios = static_cast<int>(c.get_int("scenarios"));
   o.gamma = c.get_double("gamma");
   o.refit_every = static_cast<int>(c.get_int("refit_every"));
@@ -255,7 +287,10 @@ void run(RunContext& ctx) {
   fo.gust_sigma = c.get_double("gust_sigma");
   fo.start_pos_sigma = c.get_double("flight_start_sigma");
   fo.seed = mix_seed(ctx.seed, 0x666c79);  // apart from the training scenarios
+  fo.simulator = simulator_of(vehicle_of(c));
   nlohmann::json summary = {{"maneuver", base.name}};
+  if (!c.get_string("vehicle").empty()) summary["vehicle"] = vehicle_of(c).name();
+  keep_vehicle_file(c, dir);
   std::map<std::string, ManeuverFlightSummary> scores;
   std::vector<ManeuverFlight> main_flights;
   for (const auto& v : variants) {
@@ -399,6 +434,10 @@ void run(RunContext& ctx) {
 // ---- heli maneuver-pilot: identification data covering the manoeuvres
 
 void declare_pilot(ConfigSchema& s) {
+  declare_vehicle(s);
+  s.add_string("maneuvers", "III.1,III.2,III.3",
+               "the manoeuvres flown after the sweeps, comma-separated (III.1, III.2, III.3, figure8)");
+  declare_size(s);
   s.add_double("seconds", 339, "hover and sweeps before the manoeuvres, s (as heli pilot)").range(1, 36000);
   s.add_double("hover_seconds", 10, "plain hover before the sweeps, s").range(0, 36000);
   s.add_int("repeats", 2, "times the three manoeuvres are flown, one after another").range(1, 100);
@@ -411,29 +450,52 @@ void declare_pilot(ConfigSchema& s) {
 
 void run_pilot(RunContext& ctx) {
   const auto& c = ctx.config;
-  AircraftParams p;
-  p.gust_sigma = c.get_double("gust_sigma");
-  const Aircraft aircraft(p);
-  PilotOptions o;
+  const logs::Vehicle vehicle = vehicle_of(c);
+  ManeuverSize size;
+  read_size(c, size);
+  GroundTruthSettings settings;
+  settings.gust_sigma = c.get_double("gust_sigma");
+  settings.set_start = true;
+  settings.start_p_W = size.start_W;
+  std::unique_ptr<GroundTruth> aircraft;
+  try {
+    aircraft = make_ground_truth(simulator_of(vehicle), settings);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(e.what());
+  }
+  PilotOptions o = pilot_options_for(vehicle.simulator);
   o.hover_seconds = c.get_double("hover_seconds");
+  std::vector<std::string> names;
+  for (std::string_view rest = c.get_string("maneuvers"); !rest.empty();) {
+    const auto comma = rest.find(',');
+    const std::string name(rest.substr(0, comma));
+    if (std::find(kManeuverNames.begin(), kManeuverNames.end(), name) == kManeuverNames.end())
+      throw InputError(
+          fmt::format("maneuvers: expected names among {}, got \"{}\"", maneuver_name_list(), name));
+    names.push_back(name);
+    rest = comma == std::string_view::npos ? std::string_view() : rest.substr(comma + 1);
+  }
+  if (names.empty()) throw InputError("maneuvers: expected at least one manoeuvre name");
   const TrajectoryLimits limits{.speed = c.get_double("speed"),
                                 .accel = c.get_double("accel"),
                                 .yaw_rate = c.get_double("yaw_rate"),
                                 .yaw_accel = c.get_double("yaw_accel")};
   std::vector<Trajectory> trajectories;
   for (std::int64_t r = 0; r < c.get_int("repeats"); ++r)
-    for (auto name : kManeuverNames)
-      trajectories.push_back(maneuver_trajectory(name, ManeuverSize{}, limits));
-  const PilotFlight f = fly_pilot_maneuvers(aircraft, o, c.get_double("seconds"), trajectories, ctx.seed);
+    for (const auto& name : names) trajectories.push_back(maneuver_trajectory(name, size, limits));
+  const PilotFlight f = fly_pilot_maneuvers(*aircraft, o, c.get_double("seconds"), trajectories, ctx.seed);
   RunDirectory& dir = ctx.run_directory();
+  keep_vehicle_file(c, dir);
   dir.write_text("log.csv", sysid::flight_log_csv(f.log));
-  const double seconds = static_cast<double>(f.log.rows()) * p.dt;
-  dir.write_json("summary.json", {{"seconds", seconds},
-                                  {"rows", f.log.rows()},
-                                  {"crashed", f.crash != CrashReason::kNone},
-                                  {"crash_reason", crash_reason_name(f.crash)},
-                                  {"crash_time", f.crash_time},
-                                  {"log", "log.csv"}});
+  const double seconds = static_cast<double>(f.log.rows()) * aircraft->step_seconds();
+  nlohmann::json summary = {{"seconds", seconds},
+                            {"rows", f.log.rows()},
+                            {"crashed", f.crash != CrashReason::kNone},
+                            {"crash_reason", crash_reason_name(f.crash)},
+                            {"crash_time", f.crash_time},
+                            {"log", "log.csv"}};
+  if (!c.get_string("vehicle").empty()) summary["vehicle"] = vehicle.name();
+  dir.write_json("summary.json", summary);
   ctx.out << fmt::format("flew {:.1f} s (sweeps, then the manoeuvres {} times){}; log: {}\n", seconds,
                          c.get_int("repeats"),
                          f.crash != CrashReason::kNone ? ", CRASHED: " + crash_reason_name(f.crash) : "",
@@ -446,16 +508,29 @@ void run_pilot(RunContext& ctx) {
 }  // namespace
 
 std::vector<Command> heli_maneuver_commands() {
-  return {Command{.path = "heli maneuver",
-                  .description = "Learn an AMA Class III manoeuvre (III.1, III.2, III.3) with PEGASUS and "
-                                 "fly it on the ground truth (thesis 5.4)",
-                  .declare = declare,
-                  .run = run},
-          Command{.path = "heli maneuver-pilot",
-                  .description = "Fly the scripted pilot through hover, sweeps and the three manoeuvres: "
-                                 "identification data that covers them",
-                  .declare = declare_pilot,
-                  .run = run_pilot}};
+  std::vector<Command> commands = {
+      Command{.path = "heli maneuver",
+              .description = "Learn an AMA Class III manoeuvre (III.1, III.2, III.3) with PEGASUS and "
+                             "fly it on the ground truth (thesis 5.4)",
+              .declare = declare,
+              .run = run},
+      Command{.path = "heli maneuver-pilot",
+              .description = "Fly the scripted pilot through hover, sweeps and the three manoeuvres: "
+                             "identification data that covers them",
+              .declare = declare_pilot,
+              .run = run_pilot}};
+  // The same for any vehicle with a ground truth (--vehicle V.toml); the `heli` ones fly the X-Cell 60.
+  Command maneuver = commands[0], pilot = commands[1];
+  maneuver.path = "maneuver";
+  maneuver.description =
+      "Learn a manoeuvre or a figure-eight on a vehicle's identified model and fly it on its "
+      "ground truth (--vehicle V.toml)";
+  pilot.path = "maneuver-pilot";
+  pilot.description =
+      "Fly a vehicle's scripted pilot through hover, sweeps and manoeuvres (--vehicle V.toml, --maneuvers)";
+  commands.push_back(std::move(maneuver));
+  commands.push_back(std::move(pilot));
+  return commands;
 }
 
 }  // namespace pegasus::cli

@@ -41,7 +41,8 @@ void Disturbances::start(std::span<const double> p, Vec3& gust_W, LoggedState& e
   }
 }
 
-void Disturbances::step(double dt, std::span<const double> p, Vec3& gust_W, LoggedState& estimate_error) const {
+void Disturbances::step(double dt, std::span<const double> p, Vec3& gust_W,
+                        LoggedState& estimate_error) const {
   const double rho_g = std::exp(-dt / gust_tau);
   const double k_g = gust_sigma * std::sqrt(1 - rho_g * rho_g);
   for (int i = 0; i < 3; ++i)
@@ -50,7 +51,8 @@ void Disturbances::step(double dt, std::span<const double> p, Vec3& gust_W, Logg
   const double k_e = std::sqrt(1 - rho_e * rho_e);
   for (int i = 0; i < kLoggedStates; ++i) {
     const auto ui = static_cast<std::size_t>(i);
-    estimate_error[ui] = rho_e * estimate_error[ui] + estimate_sigma(*this, i) * k_e * normal_quantile(p[3 + ui]);
+    estimate_error[ui] =
+        rho_e * estimate_error[ui] + estimate_sigma(*this, i) * k_e * normal_quantile(p[3 + ui]);
   }
 }
 

@@ -57,18 +57,20 @@ nlohmann::json maneuver_options_json(const ManeuverFileOptions& o) {
           {"rectangle_width", o.size.rectangle_width},
           {"rectangle_height", o.size.rectangle_height},
           {"hold_start_s", o.size.hold_start_s},
-          {"hold_end_s", o.size.hold_end_s}};
+          {"hold_end_s", o.size.hold_end_s},
+          {"figure_eight_radius", o.size.figure_eight_radius},
+          {"start_z", o.size.start_W.z()}};
 }
 
 ManeuverFileOptions maneuver_options_from_json(const nlohmann::json& j, const std::string& file) {
   if (!j.is_object()) throw InputError(file + ": options: expected an object naming the manoeuvre");
   ManeuverFileOptions o;
   if (!j.contains("name") || !j.at("name").is_string())
-    throw InputError(file + ": options.name: expected \"III.1\", \"III.2\" or \"III.3\"");
+    throw InputError(file + ": options.name: expected " + maneuver_name_list());
   o.name = j.at("name").get<std::string>();
   if (std::find(kManeuverNames.begin(), kManeuverNames.end(), o.name) == kManeuverNames.end())
-    throw InputError(fmt::format("{}: options.name: expected \"III.1\", \"III.2\" or \"III.3\", got \"{}\"",
-                                 file, o.name));
+    throw InputError(
+        fmt::format("{}: options.name: expected {}, got \"{}\"", file, maneuver_name_list(), o.name));
   o.policy.learn_delay = boolean(j, "learn_delay", o.policy.learn_delay, file);
   o.policy.feedforward = boolean(j, "feedforward", o.policy.feedforward, file);
   o.policy.max_delay_s = number(j, "max_delay_s", o.policy.max_delay_s, file);
@@ -79,6 +81,8 @@ ManeuverFileOptions maneuver_options_from_json(const nlohmann::json& j, const st
   o.size.triangle_base = number(j, "triangle_base", o.size.triangle_base, file);
   o.size.circle_radius = number(j, "circle_radius", o.size.circle_radius, file);
   o.size.pause_s = number(j, "pause_s", o.size.pause_s, file);
+  o.size.figure_eight_radius = number(j, "figure_eight_radius", o.size.figure_eight_radius, file);
+  o.size.start_W.z() = number(j, "start_z", o.size.start_W.z(), file);
   o.size.rectangle_width = number(j, "rectangle_width", o.size.rectangle_width, file);
   o.size.rectangle_height = number(j, "rectangle_height", o.size.rectangle_height, file);
   o.size.hold_start_s = number(j, "hold_start_s", o.size.hold_start_s, file);

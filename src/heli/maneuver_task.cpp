@@ -8,6 +8,7 @@
 #include "pegasus/core/error.hpp"
 #include "pegasus/evaluators/monte_carlo.hpp"
 #include "pegasus/evaluators/pegasus_evaluator.hpp"
+#include "pegasus/heli/simulators.hpp"
 #include "pegasus/optimizers/training.hpp"
 #include "pegasus/scenarios/scenario_set.hpp"
 #include "pegasus/shaping/potential_shaping.hpp"
@@ -88,7 +89,7 @@ OptimizerOptions ManeuverTrainingOptions::default_optimizer() {
 
 bool ManeuverTrainingOptions::IsValid(std::string* error) const {
   if (std::find(kManeuverNames.begin(), kManeuverNames.end(), name) == kManeuverNames.end())
-    return fail(error, fmt::format("name: expected III.1, III.2 or III.3, got \"{}\"", name));
+    return fail(error, fmt::format("name: expected {}, got \"{}\"", maneuver_name_list(), name));
   std::string inner;
   if (!size.IsValid(&inner)) return fail(error, inner);
   if (!limits.IsValid(&inner)) return fail(error, inner);
@@ -189,26 +190,34 @@ std::vector<ManeuverFlight> fly_maneuver(const ManeuverPolicy& policy, std::span
     throw InputError(fmt::format("manoeuvre flights: expected {} policy parameters, got {}",
                                  policy.parameters().size(), theta.size()));
   const Trajectory& traj = policy.trajectory();
-  AircraftParams params;
-  params.gust_sigma = o.gust_sigma;
-  params.start_p_W = traj.start_W();
-  params.start_yaw = wrap_angle(traj.start_yaw());
-  params.start_pos_sigma = o.start_pos_sigma;
-  params.start_vel_sigma = o.start_vel_sigma;
-  const Aircraft aircraft(params);
-  const int steps = static_cast<int>(std::ceil((traj.duration() + o.extra_seconds) / params.dt - 1e-9));
+  GroundTruthSettings settings;
+  settings.gust_sigma = o.gust_sigma;
+  settings.set_start = true;
+  settings.start_p_W = traj.start_W();
+  settings.start_yaw = wrap_angle(traj.start_yaw());
+  settings.start_pos_sigma = o.start_pos_sigma;
+  settings.start_vel_sigma = o.start_vel_sigma;
+  std::unique_ptr<GroundTruth> aircraft;
+  try {
+    aircraft = make_ground_truth(o.simulator, settings);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(std::string("manoeuvre flights: ") + e.what());
+  }
+  const double dt = aircraft->step_seconds();
+  const int steps = static_cast<int>(std::ceil((traj.duration() + o.extra_seconds) / dt - 1e-9));
   const ScenarioSet noise({.seed = o.seed,
                            .count = o.flights,
                            .horizon = std::max(1, steps),
-                           .noise_dim = Aircraft::kStepNoise,
-                           .initial_noise_dim = Aircraft::kInitialNoise});
+                           .noise_dim = aircraft->step_noise_dim(),
+                           .initial_noise_dim = aircraft->initial_noise_dim()});
   std::vector<ManeuverFlight> flights(static_cast<std::size_t>(o.flights));
   auto fly = [&](std::size_t i) {
     ManeuverFlight& f = flights[i];
     f.truth.reserve(static_cast<std::size_t>(steps) + 1);
-    std::array<double, Aircraft::kInitialNoise> p0;
-    noise.initial_noise(static_cast<int>(i), p0);
-    AircraftState s = aircraft.initial_state(p0);
+    std::vector<double> p(static_cast<std::size_t>(aircraft->initial_noise_dim()));
+    noise.initial_noise(static_cast<int>(i), p);
+    const std::unique_ptr<SimulatedFlight> s = aircraft->start_flight(p);
+    p.resize(static_cast<std::size_t>(aircraft->step_noise_dim()));
     PathProjection path = observer.start();
     auto record = [&](const LoggedState& truth, double t) {
       path = observer.update(path, position_of(truth), truth[logged::yaw]);
@@ -217,20 +226,19 @@ std::vector<ManeuverFlight> fly_maneuver(const ManeuverPolicy& policy, std::span
       f.deviation.push_back((position_of(truth) - path.p_W).norm());
       f.progress.push_back(path.progress);
     };
-    record(true_logged_state(s), 0.0);
-    std::array<double, Aircraft::kStepNoise> p;
-    for (int t = 0; t < steps && !aircraft.terminal(s); ++t) {
-      const double time = t * params.dt;
-      const Controls a = policy.act(theta, ManeuverObservation{aircraft.observe(s), time});
+    record(s->truth(), 0.0);
+    for (int t = 0; t < steps; ++t) {
+      const double time = t * dt;
+      const Controls a = policy.act(theta, ManeuverObservation{s->observe(), time});
       f.controls.push_back(a);
       noise.step_noise(static_cast<int>(i), t, p);
-      s = aircraft.step(s, a, p);
-      if (aircraft.terminal(s)) {
-        f.crash = s.crash;
-        f.crash_time = (t + 1) * params.dt;
+      s->step(a, p);
+      if (s->crash() != CrashReason::kNone) {
+        f.crash = s->crash();
+        f.crash_time = (t + 1) * dt;
         break;
       }
-      record(true_logged_state(s), (t + 1) * params.dt);
+      record(s->truth(), (t + 1) * dt);
     }
     f.controls.push_back(f.controls.empty() ? Controls{} : f.controls.back());
     f.controls.resize(f.truth.size());

@@ -32,8 +32,8 @@ QuadrotorState advance(const QuadrotorState& s, const Quadrotor::Derivative& d, 
 }
 
 Disturbances disturbances_of(const QuadrotorParams& P) {
-  return {P.gust_sigma,      P.gust_tau,      P.est_sigma_pos, P.est_sigma_angle,
-          P.est_sigma_vel,   P.est_sigma_rate, P.est_tau};
+  return {P.gust_sigma,    P.gust_tau,       P.est_sigma_pos, P.est_sigma_angle,
+          P.est_sigma_vel, P.est_sigma_rate, P.est_tau};
 }
 
 class QuadrotorFlight final : public SimulatedFlight {
@@ -65,12 +65,14 @@ bool QuadrotorParams::IsValid(std::string* error) const {
     return fail("the four motors' full thrust must exceed the weight");
   if (!(max_tilt_command_rad > 0 && max_tilt_command_rad < max_tilt_rad && max_yaw_rate_command > 0))
     return fail("need 0 < max_tilt_command_rad < max_tilt_rad and max_yaw_rate_command > 0");
-  if (!(attitude_gain > 0 && rate_gain > 0 && yaw_rate_gain > 0)) return fail("controller gains must be positive");
+  if (!(attitude_gain > 0 && rate_gain > 0 && yaw_rate_gain > 0))
+    return fail("controller gains must be positive");
   if (!(gust_tau > 0 && est_tau > 0)) return fail("time constants must be positive");
   if (!(gust_sigma >= 0 && est_sigma_pos >= 0 && est_sigma_vel >= 0 && est_sigma_angle >= 0 &&
         est_sigma_rate >= 0))
     return fail("noise sizes must be >= 0");
-  if (!(max_tilt_rad > 0 && max_tilt_rad < 1.5 && max_rate_rad_s > 0)) return fail("crash limits out of range");
+  if (!(max_tilt_rad > 0 && max_tilt_rad < 1.5 && max_rate_rad_s > 0))
+    return fail("crash limits out of range");
   if (!(dt > 0 && substeps >= 1)) return fail("need dt > 0 and substeps >= 1");
   if (!(start_p_W.z() < 0)) return fail("the start must be above the ground (z < 0)");
   if (!(start_pos_sigma >= 0 && start_vel_sigma >= 0)) return fail("start perturbations must be >= 0");
@@ -84,9 +86,9 @@ Quadrotor::Quadrotor(QuadrotorParams params) : params_(std::move(params)) {
   Eigen::Matrix4d wrench_from_thrust;
   for (int i = 0; i < 4; ++i) {
     const auto ui = static_cast<std::size_t>(i);
-    wrench_from_thrust(0, i) = 1;                                          // collective thrust
-    wrench_from_thrust(1, i) = -d * kMotorY[ui];                           // roll torque
-    wrench_from_thrust(2, i) = d * kMotorX[ui];                            // pitch torque
+    wrench_from_thrust(0, i) = 1;                                             // collective thrust
+    wrench_from_thrust(1, i) = -d * kMotorY[ui];                              // roll torque
+    wrench_from_thrust(2, i) = d * kMotorX[ui];                               // pitch torque
     wrench_from_thrust(3, i) = kMotorSpin[ui] * params_.torque_per_thrust_m;  // yaw torque
   }
   thrust_from_wrench_ = wrench_from_thrust.inverse();

@@ -27,7 +27,8 @@ void apply(const GroundTruthSettings& s, Params& p) {
 
 std::vector<std::string> simulator_names() { return {"none", "xcell", "crazyflie2"}; }
 
-std::unique_ptr<GroundTruth> make_ground_truth(const std::string& simulator, const GroundTruthSettings& settings) {
+std::unique_ptr<GroundTruth> make_ground_truth(const std::string& simulator,
+                                               const GroundTruthSettings& settings) {
   if (simulator == "xcell") {
     AircraftParams p;
     apply(settings, p);

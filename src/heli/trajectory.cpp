@@ -88,6 +88,9 @@ bool ManeuverSize::IsValid(std::string* error) const {
   if (!positive(rectangle_height) || rectangle_height > 100)
     return fail(error,
                 fmt::format("rectangle_height: expected a number in (0, 100] m, got {}", rectangle_height));
+  if (!positive(figure_eight_radius) || figure_eight_radius > 100)
+    return fail(error, fmt::format("figure_eight_radius: expected a number in (0, 100] m, got {}",
+                                   figure_eight_radius));
   if (!(hold_start_s >= 0 && hold_start_s <= 60))
     return fail(error, fmt::format("hold_start_s: expected a number in [0, 60] s, got {}", hold_start_s));
   if (!(hold_end_s >= 0 && hold_end_s <= 60))
@@ -113,10 +116,14 @@ Trajectory::Trajectory(std::string name, std::vector<TrajectoryLeg> legs, Trajec
       case K::kLine:
         leg.length = (leg.to_W - leg.from_W).norm();
         break;
-      case K::kArc:
-        leg.length = std::abs(leg.sweep) *
-                     std::hypot(leg.from_W.x() - leg.centre_W.x(), leg.from_W.y() - leg.centre_W.y());
+      case K::kArc: {
+        const double r = std::hypot(leg.from_W.x() - leg.centre_W.x(), leg.from_W.y() - leg.centre_W.y());
+        leg.length = std::abs(leg.sweep) * r;
+        // The nose turns with the set point: no faster than the pirouette limits let it.
+        v = std::min(v, limits_.yaw_rate * r);
+        a = std::min(a, limits_.yaw_accel * r);
         break;
+      }
       case K::kTurn:
         leg.length = std::abs(leg.sweep);
         v = limits_.yaw_rate;
@@ -240,6 +247,13 @@ std::vector<std::array<double, 5>> Trajectory::sample(double dt_s) const {
   return rows;
 }
 
+std::string maneuver_name_list() {
+  std::string list;
+  for (std::size_t i = 0; i < kManeuverNames.size(); ++i)
+    list += (i == 0 ? "" : i + 1 == kManeuverNames.size() ? " or " : ", ") + std::string(kManeuverNames[i]);
+  return list;
+}
+
 Trajectory maneuver_trajectory(std::string_view name, const ManeuverSize& size,
                                const TrajectoryLimits& limits) {
   std::string error;
@@ -276,8 +290,15 @@ Trajectory maneuver_trajectory(std::string_view name, const ManeuverSize& size,
     b.turn(-2 * kPi);
     b.line_to(o + Vec3(-w, 0, 0));
     b.line_to(o);
+  } else if (name == "figure8") {
+    // Two nose-in circles touching at the start, flown in opposite senses with a pirouette between them.
+    const double r = size.figure_eight_radius;
+    b.arc(o + Vec3(r, 0, 0), 2 * kPi);
+    b.turn(kPi);  // nose on the southern centre
+    b.arc(o + Vec3(-r, 0, 0), -2 * kPi);
+    b.turn(-kPi);  // nose north again
   } else {
-    throw InputError(fmt::format("manoeuvre name: expected III.1, III.2 or III.3, got \"{}\"", name));
+    throw InputError(fmt::format("manoeuvre name: expected {}, got \"{}\"", maneuver_name_list(), name));
   }
   b.hold(size.hold_end_s);
   return Trajectory(std::string(name), b.take(), limits);

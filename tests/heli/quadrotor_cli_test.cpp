@@ -24,8 +24,8 @@ class QuadrotorCli : public test_support::TempDirTest {
 
 TEST_F(QuadrotorCli, LogsIdentifiesLearnsToHoverAndFliesItsGroundTruth) {
   for (const auto& [name, seconds, seed] : {std::tuple{"train", "150", "1"}, std::tuple{"test", "60", "2"}}) {
-    const auto r = run_pegasus(fmt::format("pilot --vehicle {} --seconds {} --seed {} --quiet --out {}", vehicle_,
-                                           seconds, seed, path(name)));
+    const auto r = run_pegasus(fmt::format("pilot --vehicle {} --seconds {} --seed {} --quiet --out {}",
+                                           vehicle_, seconds, seed, path(name)));
     ASSERT_EQ(r.code, 0) << r.output;
     EXPECT_EQ(summary(name).at("vehicle"), "crazyflie2");
     EXPECT_FALSE(summary(name).at("crashed").get<bool>());

@@ -108,11 +108,12 @@ TEST(Quadrotor, SameUniformsSameFlightAndCrashesAreDetected) {
   QuadrotorParams p;
   p.start_pos_sigma = 0.2;
   const Quadrotor q(p);
-  const std::vector<double> p0 = {0.1, 0.9, 0.3, 0.7, 0.2, 0.6, 0.4, 0.8, 0.15, 0.5, 0.5, 0.5, 0.5, 0.5, 0.5,
-                                  0.5, 0.5, 0.5, 0.5, 0.5, 0.5};
+  const std::vector<double> p0 = {0.1, 0.9, 0.3, 0.7, 0.2, 0.6, 0.4, 0.8, 0.15, 0.5, 0.5,
+                                  0.5, 0.5, 0.5, 0.5, 0.5, 0.5, 0.5, 0.5, 0.5,  0.5};
   ASSERT_EQ(static_cast<int>(p0.size()), Quadrotor::kInitialNoise);
   auto a = q.initial_state(p0), b = q.initial_state(p0);
-  const std::vector<double> noise = {0.3, 0.8, 0.1, 0.5, 0.5, 0.5, 0.6, 0.4, 0.5, 0.5, 0.5, 0.5, 0.7, 0.2, 0.5};
+  const std::vector<double> noise = {0.3, 0.8, 0.1, 0.5, 0.5, 0.5, 0.6, 0.4,
+                                     0.5, 0.5, 0.5, 0.5, 0.7, 0.2, 0.5};
   for (int t = 0; t < 100; ++t) {
     a = q.step(a, q.hover_point().controls, noise);
     b = q.step(b, q.hover_point().controls, noise);

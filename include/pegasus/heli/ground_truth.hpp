@@ -1,8 +1,8 @@
 #pragma once
-// A simulated aircraft that plays the real one of thesis chapter 5: the scripted pilot's logs and every flight
-// of a learned controller come from one. Two are built in, named by a vehicle file's `[vehicle] simulator`:
-// the X-Cell 60 helicopter (aircraft.hpp, "xcell") and the Crazyflie 2.0 quadrotor (quadrotor.hpp,
-// "crazyflie2").
+// A simulated aircraft that plays the real one of thesis chapter 5: the scripted pilot's logs and every
+// flight of a learned controller come from one. Two are built in, named by a vehicle file's `[vehicle]
+// simulator`: the X-Cell 60 helicopter (aircraft.hpp, "xcell") and the Crazyflie 2.0 quadrotor
+// (quadrotor.hpp, "crazyflie2").
 //
 // Every aircraft takes controls a in [-1, 1]^4 on the pipeline's four axes (each aircraft says what drives
 // them): a1 pitch (+: nose down, accelerate forward), a2 roll (+: roll right), a3 thrust (+: climb), a4 yaw
@@ -44,7 +44,7 @@ struct HoverPoint {
 // process (the Dryden spectrum's low-frequency form), and state-estimate errors, each logged state's a
 // Gauss-Markov process like a Kalman filter's output error.
 struct Disturbances {
-  double gust_sigma = 0, gust_tau = 1;  // m/s, s
+  double gust_sigma = 0, gust_tau = 1;                                                   // m/s, s
   double est_sigma_pos = 0, est_sigma_angle = 0, est_sigma_vel = 0, est_sigma_rate = 0;  // m, rad, m/s, rad/s
   double est_tau = 1;                                                                    // s
   // Stationary draws from 3 + kLoggedStates uniforms: the gusts, then the estimate errors.

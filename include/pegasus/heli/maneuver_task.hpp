@@ -170,6 +170,7 @@ struct ManeuverFlightOptions {
   double start_pos_sigma = 0.5;  // start perturbation, m
   double start_vel_sigma = 0.2;  // m/s
   std::uint64_t seed = 1;
+  std::string simulator = "xcell";  // the ground truth flown (heli/simulators.hpp)
   bool IsValid(std::string* error) const;
 };
 

@@ -30,17 +30,18 @@ namespace pegasus::heli {
 
 struct QuadrotorParams {
   // --- Rigid body [F15] ---
-  double mass_kg = 0.028;      // [F15] m, with battery
-  double ixx = 16.571710e-6;   // [F15] I_xx, kg m^2
-  double iyy = 16.655602e-6;   // [F15] I_yy, kg m^2
-  double izz = 29.261652e-6;   // [F15] I_zz, kg m^2
-  double arm_m = 0.046;        // [F15] motor to centre of mass, m
-  double gravity = 9.81;       // m/s^2
+  double mass_kg = 0.028;     // [F15] m, with battery
+  double ixx = 16.571710e-6;  // [F15] I_xx, kg m^2
+  double iyy = 16.655602e-6;  // [F15] I_yy, kg m^2
+  double izz = 29.261652e-6;  // [F15] I_zz, kg m^2
+  double arm_m = 0.046;       // [F15] motor to centre of mass, m
+  double gravity = 9.81;      // m/s^2
   // --- Rotors ---
-  double thrust_coeff = 2.88e-8;         // k_f, N per (rad/s)^2 ([F15] as gym-pybullet-drones' cf2x: 3.16e-10 N/rpm^2)
+  double thrust_coeff =
+      2.88e-8;  // k_f, N per (rad/s)^2 ([F15] as gym-pybullet-drones' cf2x: 3.16e-10 N/rpm^2)
   double torque_per_thrust_m = 0.005964552;  // [F15] drag torque per thrust, m (the firmware's THRUST2TORQUE)
-  double max_motor_thrust_n = 0.1597;    // [F15] PWM-to-thrust map at full PWM, N per motor
-  double motor_tau = 0.0125;             // rotor speed's first-order lag, s (CrazyS's time_constant_up)
+  double max_motor_thrust_n = 0.1597;        // [F15] PWM-to-thrust map at full PWM, N per motor
+  double motor_tau = 0.0125;                 // rotor speed's first-order lag, s (CrazyS's time_constant_up)
   // Rotor drag [F15]: K_aero, kg/rad, force per (rotor speed sum * airspeed) in B.
   double drag_xy = 9.1785e-7;
   double drag_z = 10.311e-7;
@@ -48,8 +49,8 @@ struct QuadrotorParams {
   double max_tilt_command_rad = 0.5236;  // roll and pitch set points at full stick (cfclient: 30 degrees)
   double max_yaw_rate_command = 3.491;   // yaw rate set point at full stick, rad/s (cfclient: 200 deg/s)
   double attitude_gain = 6.0;            // rate set point per rad of attitude error, 1/s (firmware's Kp 6)
-  double rate_gain = 25.0;             // angular acceleration per rad/s of rate error, 1/s
-  double yaw_rate_gain = 10.0;         // yaw acceleration per rad/s of yaw rate error, 1/s
+  double rate_gain = 25.0;               // angular acceleration per rad/s of rate error, 1/s
+  double yaw_rate_gain = 10.0;           // yaw acceleration per rad/s of yaw rate error, 1/s
   // --- Disturbances ---
   Vec3 mean_wind_W = Vec3::Zero();  // m/s
   double gust_sigma = 0.2;          // turbulence standard deviation per axis, m/s
@@ -60,11 +61,11 @@ struct QuadrotorParams {
   double est_sigma_rate = 0.02;     // rad/s
   double est_tau = 0.1;             // correlation time of the estimator's error, s
   // --- Crash limits ---
-  double max_tilt_rad = 1.0;    // |roll| or |pitch| beyond this: crash
-  double max_rate_rad_s = 20;   // |p|, |q| or |r| beyond this: crash
+  double max_tilt_rad = 1.0;   // |roll| or |pitch| beyond this: crash
+  double max_rate_rad_s = 20;  // |p|, |q| or |r| beyond this: crash
   // --- Integration ---
-  double dt = 0.02;    // one control step, s (50 Hz)
-  int substeps = 10;   // onboard controller ticks and RK4 steps per control step (500 Hz)
+  double dt = 0.02;   // one control step, s (50 Hz)
+  int substeps = 10;  // onboard controller ticks and RK4 steps per control step (500 Hz)
   // --- Start ---
   Vec3 start_p_W{0.0, 0.0, -2.0};  // hover 2 m above the ground
   double start_yaw = 0.0;
@@ -75,10 +76,10 @@ struct QuadrotorParams {
 };
 
 struct QuadrotorState {
-  Vec3 p_W = Vec3::Zero();  // m
-  Vec3 v_B = Vec3::Zero();  // m/s
-  Euler attitude{};         // rad
-  Vec3 w_B = Vec3::Zero();  // rad/s
+  Vec3 p_W = Vec3::Zero();              // m
+  Vec3 v_B = Vec3::Zero();              // m/s
+  Euler attitude{};                     // rad
+  Vec3 w_B = Vec3::Zero();              // rad/s
   std::array<double, 4> rotor_speed{};  // rad/s: front-right, back-right, back-left, front-left
   Vec3 gust_W = Vec3::Zero();
   LoggedState estimate_error{};
@@ -109,8 +110,7 @@ class Quadrotor final : public GroundTruth {
     Vec3 p_dot_W, v_dot_B, euler_rates, w_dot_B;
     std::array<double, 4> rotor_accel;
   };
-  Derivative derivative(const State& s, const std::array<double, 4>& rotor_command,
-                        const Vec3& wind_W) const;
+  Derivative derivative(const State& s, const std::array<double, 4>& rotor_command, const Vec3& wind_W) const;
   // The onboard controller's rotor speed commands for the controls at a state.
   std::array<double, 4> rotor_commands(const State& s, const Controls& a) const;
 

@@ -12,9 +12,9 @@ namespace pegasus::heli {
 
 // What the commands change on any built-in aircraft; unset fields keep the aircraft's own values.
 struct GroundTruthSettings {
-  double gust_sigma = -1;       // m/s; < 0: the aircraft's own
-  bool estimate_noise = true;   // false: the controller sees the true state
-  bool set_start = false;       // true: start_p_W and start_yaw below replace the aircraft's start
+  double gust_sigma = -1;      // m/s; < 0: the aircraft's own
+  bool estimate_noise = true;  // false: the controller sees the true state
+  bool set_start = false;      // true: start_p_W and start_yaw below replace the aircraft's start
   Vec3 start_p_W = Vec3::Zero();
   double start_yaw = 0;
   double start_pos_sigma = 0, start_vel_sigma = 0;  // m, m/s
@@ -24,7 +24,8 @@ struct GroundTruthSettings {
 std::vector<std::string> simulator_names();
 // The ground truth of `simulator` with the settings; throws std::invalid_argument for an unknown name or
 // settings the aircraft rejects.
-std::unique_ptr<GroundTruth> make_ground_truth(const std::string& simulator, const GroundTruthSettings& settings);
+std::unique_ptr<GroundTruth> make_ground_truth(const std::string& simulator,
+                                               const GroundTruthSettings& settings);
 // The scripted pilot's options for that aircraft.
 PilotOptions pilot_options_for(const std::string& simulator);
 

@@ -36,6 +36,13 @@
 //          fly forwards 10 m to the north corner; climb 5 m; 360 degree pirouette clockwise (yaw +2 pi);
 //          climb 5 m; fly backwards 20 m along the top edge; descend 5 m; 360 degree pirouette
 //          counter-clockwise (yaw back by 2 pi); descend 5 m; fly forwards 10 m back to the start.
+//   figure8  a horizontal figure-eight for small aircraft (the quadrotor's trajectory; not an AMA manoeuvre):
+//          two circles of radius figure_eight_radius that touch at the start, north and south of it. Nose
+//          north on the northern circle's centre; fly it clockwise (yaw +2 pi, the nose on its centre), stop
+//          at the start, pirouette 180 degrees to face the southern centre, fly that circle
+//          counter-clockwise (yaw -2 pi), stop at the start, pirouette back to nose north.
+//   Arcs are flown no faster than the pirouette limits let the nose follow: speed <= yaw_rate * radius,
+//   acceleration <= yaw_accel * radius (no limit for III.2's 10 m circle at the default limits).
 //   Each begins with a 1 s hover and ends with a hover (hold_end_s).
 #include <array>
 #include <string>
@@ -111,19 +118,24 @@ class Trajectory {
 
 // Sizes of the manoeuvres (documented defaults above).
 struct ManeuverSize {
-  Vec3 start_W{0.0, 0.0, -10.0};  // the start hover, 10 m above the ground
-  double triangle_base = 20;      // III.1, m (apex at half the base above it: 45 degree edges)
-  double circle_radius = 10;      // III.2, m
-  double pause_s = 2;             // III.2: pause on the circle before circling, s
-  double rectangle_width = 20;    // III.3, m
-  double rectangle_height = 10;   // III.3, m
-  double hold_start_s = 1;        // hover before the first leg, s
-  double hold_end_s = 3;          // hover after the last leg, s
+  Vec3 start_W{0.0, 0.0, -10.0};   // the start hover, 10 m above the ground
+  double triangle_base = 20;       // III.1, m (apex at half the base above it: 45 degree edges)
+  double circle_radius = 10;       // III.2, m
+  double pause_s = 2;              // III.2: pause on the circle before circling, s
+  double rectangle_width = 20;     // III.3, m
+  double rectangle_height = 10;    // III.3, m
+  double figure_eight_radius = 1;  // figure8: radius of each circle, m
+  double hold_start_s = 1;         // hover before the first leg, s
+  double hold_end_s = 3;           // hover after the last leg, s
   bool IsValid(std::string* error) const;
 };
 
-inline constexpr std::array<std::string_view, 3> kManeuverNames = {"III.1", "III.2", "III.3"};
-// The trajectory of a manoeuvre by name ("III.1", "III.2", "III.3"); InputError for another name.
+inline constexpr std::array<std::string_view, 4> kManeuverNames = {"III.1", "III.2", "III.3", "figure8"};
+// The AMA Class III manoeuvres of thesis 5.4 (kManeuverNames' first three).
+inline constexpr std::array<std::string_view, 3> kClassThreeManeuvers = {"III.1", "III.2", "III.3"};
+// "III.1, III.2, III.3 or figure8", for messages.
+std::string maneuver_name_list();
+// The trajectory of a manoeuvre by name (kManeuverNames); InputError for another name.
 Trajectory maneuver_trajectory(std::string_view name, const ManeuverSize& size = {},
                                const TrajectoryLimits& limits = {});
 
