@@ -105,6 +105,9 @@ void declare(ConfigSchema& s) {
   s.add_double("gust_sigma", 0.5, "turbulence per axis on the ground truth, m/s").range(0, 10);
   s.add_double("flight_start_sigma", 0.5, "start position perturbation of the flights, m").range(0, 10);
   s.add_int("trace_flights", 20, "flights written to flights.csv").range(0, 100000);
+  s.add_bool(
+      "compare_pilot", false,
+      "also fly the vehicle's scripted pilot along the same set points, from the same starts and gusts");
 }
 
 struct Variant {
@@ -318,6 +321,16 @@ void run(RunContext& ctx) {
           summarize_maneuver_flights(fly_maneuver(*t.policy, start, observer, fo, &pool), observer.length());
       summary["rms_path_deviation_untrained_m"] = untrained.rms_path_deviation_m;
       summary["crashes_untrained"] = untrained.crashes;
+      if (c.get_bool("compare_pilot")) {
+        // The vehicle's scripted pilot on the same set points, starts and gusts.
+        const auto pilot = summarize_maneuver_flights(
+            fly_pilot_maneuver(*t.trajectory, pilot_options_for(fo.simulator), observer, fo, &pool),
+            observer.length());
+        summary["pilot"] = {{"crashes", pilot.crashes},
+                            {"completed", pilot.completed},
+                            {"rms_path_deviation_m", pilot.rms_path_deviation_m},
+                            {"max_path_deviation_m", pilot.max_path_deviation_m}};
+      }
       summary["initial_uhat"] = DoubleToJson(t.summary.initial_value);
       summary["final_uhat"] = DoubleToJson(t.summary.best_value);
       summary["iterations"] = t.summary.iterations;

@@ -181,15 +181,14 @@ bool ManeuverFlightOptions::IsValid(std::string* error) const {
   return true;
 }
 
-std::vector<ManeuverFlight> fly_maneuver(const ManeuverPolicy& policy, std::span<const double> theta,
-                                         const PathObserver& observer, const ManeuverFlightOptions& o,
-                                         ThreadPool* pool) {
-  std::string error;
-  if (!o.IsValid(&error)) throw InputError("manoeuvre flights: " + error);
-  if (theta.size() != policy.parameters().size())
-    throw InputError(fmt::format("manoeuvre flights: expected {} policy parameters, got {}",
-                                 policy.parameters().size(), theta.size()));
-  const Trajectory& traj = policy.trajectory();
+namespace {
+
+// Flights along `traj` on the options' ground truth: make_controller(i) gives flight i's controller, called
+// as controller(estimate, time) -> controls; target(time) is the set point recorded for each row.
+template <class MakeController, class Target>
+std::vector<ManeuverFlight> fly_along(const Trajectory& traj, const PathObserver& observer,
+                                      const ManeuverFlightOptions& o, ThreadPool* pool,
+                                      MakeController&& make_controller, Target&& target) {
   GroundTruthSettings settings;
   settings.gust_sigma = o.gust_sigma;
   settings.set_start = true;
@@ -218,18 +217,19 @@ std::vector<ManeuverFlight> fly_maneuver(const ManeuverPolicy& policy, std::span
     noise.initial_noise(static_cast<int>(i), p);
     const std::unique_ptr<SimulatedFlight> s = aircraft->start_flight(p);
     p.resize(static_cast<std::size_t>(aircraft->step_noise_dim()));
+    auto controller = make_controller(i, *aircraft);
     PathProjection path = observer.start();
     auto record = [&](const LoggedState& truth, double t) {
       path = observer.update(path, position_of(truth), truth[logged::yaw]);
       f.truth.push_back(truth);
-      f.targets.push_back(policy.target(theta, t));
+      f.targets.push_back(target(t));
       f.deviation.push_back((position_of(truth) - path.p_W).norm());
       f.progress.push_back(path.progress);
     };
     record(s->truth(), 0.0);
     for (int t = 0; t < steps; ++t) {
       const double time = t * dt;
-      const Controls a = policy.act(theta, ManeuverObservation{s->observe(), time});
+      const Controls a = controller(s->observe(), time);
       f.controls.push_back(a);
       noise.step_noise(static_cast<int>(i), t, p);
       s->step(a, p);
@@ -250,6 +250,52 @@ std::vector<ManeuverFlight> fly_maneuver(const ManeuverPolicy& policy, std::span
     for (std::size_t i = 0; i < flights.size(); ++i) fly(i);
   }
   return flights;
+}
+
+}  // namespace
+
+std::vector<ManeuverFlight> fly_maneuver(const ManeuverPolicy& policy, std::span<const double> theta,
+                                         const PathObserver& observer, const ManeuverFlightOptions& o,
+                                         ThreadPool* pool) {
+  std::string error;
+  if (!o.IsValid(&error)) throw InputError("manoeuvre flights: " + error);
+  if (theta.size() != policy.parameters().size())
+    throw InputError(fmt::format("manoeuvre flights: expected {} policy parameters, got {}",
+                                 policy.parameters().size(), theta.size()));
+  return fly_along(
+      policy.trajectory(), observer, o, pool,
+      [&](std::size_t, const GroundTruth&) {
+        return [&](const LoggedState& estimate, double time) {
+          return policy.act(theta, ManeuverObservation{estimate, time});
+        };
+      },
+      [&](double t) { return policy.target(theta, t); });
+}
+
+std::vector<ManeuverFlight> fly_pilot_maneuver(const Trajectory& trajectory, const PilotOptions& pilot,
+                                               const PathObserver& observer, const ManeuverFlightOptions& o,
+                                               ThreadPool* pool) {
+  std::string error;
+  if (!o.IsValid(&error)) throw InputError("manoeuvre flights: " + error);
+  PilotOptions plain = pilot;
+  plain.sweeps = false;
+  auto set_point = [&](double t) {
+    const TrajectoryPoint sp = trajectory.at(t);
+    return SetPoint{sp.p_W.x(), sp.p_W.y(), sp.p_W.z(), wrap_angle(sp.yaw)};
+  };
+  return fly_along(
+      trajectory, observer, o, pool,
+      [&](std::size_t i, const GroundTruth& aircraft) {
+        // The pilot's own noise from stream 2 of the flight's seed, as in fly_pilot_hover.
+        auto flyer = std::make_shared<ScriptedPilot>(aircraft, plain, mix_seed(o.seed, i), 2);
+        flyer->set_total_seconds(trajectory.duration() + o.extra_seconds);
+        return [flyer, &set_point](const LoggedState& estimate, double time) {
+          const SetPoint sp = set_point(time);
+          flyer->set_hold(sp.x, sp.y, sp.z, sp.yaw);
+          return flyer->act(estimate, time);
+        };
+      },
+      set_point);
 }
 
 ManeuverFlightSummary summarize_maneuver_flights(const std::vector<ManeuverFlight>& flights,

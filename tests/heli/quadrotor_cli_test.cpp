@@ -1,6 +1,7 @@
 // The second aircraft end to end, from its vehicle file alone: `pegasus pilot` logs the Crazyflie 2.0 ground
 // truth, `pegasus identify` fits a model to the logs, `pegasus hover` learns a controller on that model, and
-// `pegasus fly` flies it on the ground truth against the scripted pilot, from the same starts and gusts.
+// `pegasus fly` flies it on the ground truth against the scripted pilot, from the same starts and gusts; then
+// `pegasus maneuver-pilot` and `pegasus maneuver` do the same for a figure-eight.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -22,7 +23,7 @@ class QuadrotorCli : public test_support::TempDirTest {
   const std::string vehicle_ = std::string(PEGASUS_SOURCE_DIR) + "/experiments/vehicles/crazyflie2.toml";
 };
 
-TEST_F(QuadrotorCli, LogsIdentifiesLearnsToHoverAndFliesItsGroundTruth) {
+TEST_F(QuadrotorCli, LogsIdentifiesLearnsToHoverAndAFigureEightAndFliesThemOnItsGroundTruth) {
   for (const auto& [name, seconds, seed] : {std::tuple{"train", "150", "1"}, std::tuple{"test", "60", "2"}}) {
     const auto r = run_pegasus(fmt::format("pilot --vehicle {} --seconds {} --seed {} --quiet --out {}",
                                            vehicle_, seconds, seed, path(name)));
@@ -53,6 +54,36 @@ TEST_F(QuadrotorCli, LogsIdentifiesLearnsToHoverAndFliesItsGroundTruth) {
   // The learned controller holds the quadrotor from every start, and no worse than its pilot does.
   EXPECT_EQ(fly.at("crashes").get<int>(), 0);
   EXPECT_LT(fly.at("rms_position_m").get<double>(), fly.at("pilot").at("rms_position_m").get<double>());
+
+  // A figure-eight of 1 m circles at 0.5 m/s, 2 m up: the pilot's logs of it, a model, a short training from
+  // the hover policy, and flights against the pilot on the same set points.
+  const std::string size = "--altitude-m 2 --speed 0.5 --accel 0.5";
+  r =
+      run_pegasus(fmt::format("maneuver-pilot --vehicle {} --maneuvers figure8 {} --seconds 120 --repeats 2 "
+                              "--quiet --out {}",
+                              vehicle_, size, path("pilot8")));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_FALSE(summary("pilot8").at("crashed").get<bool>());
+  r = run_pegasus(fmt::format(
+      "identify --vehicle {} --train {} --test {} --cv-points 60 --scale-grid 1,4 --coordinate-passes 0 "
+      "--variants=false --quiet --out {}",
+      vehicle_, path("pilot8/log.csv"), path("test/log.csv"), path("id8")));
+  ASSERT_EQ(r.code, 0) << r.output;
+  r = run_pegasus(fmt::format(
+      "maneuver --vehicle {} --name figure8 {} --model {} --hover-policy {} --scenarios 3 --start-pos-sigma "
+      "0.1 "
+      "--start-vel-sigma 0.05 --optimizer.gradient.max-iterations 1 --ablations=false --flights 4 "
+      "--flight-start-sigma 0.1 --compare-pilot --quiet --out {}",
+      vehicle_, size, path("id8/model.json"), path("hover/policy.json"), path("figure8")));
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto eight = summary("figure8");
+  EXPECT_EQ(eight.at("vehicle"), "crazyflie2");
+  EXPECT_EQ(eight.at("maneuver"), "figure8");
+  // Every flight finishes the figure-eight, closer to the path than the pilot flying the same set points.
+  EXPECT_EQ(eight.at("crashes").get<int>(), 0);
+  EXPECT_EQ(eight.at("completed").get<int>(), 4);
+  EXPECT_LT(eight.at("rms_path_deviation_m").get<double>(),
+            eight.at("pilot").at("rms_path_deviation_m").get<double>());
 }
 
 }  // namespace

@@ -195,6 +195,12 @@ struct ManeuverFlightSummary {
 std::vector<ManeuverFlight> fly_maneuver(const ManeuverPolicy& policy, std::span<const double> theta,
                                          const PathObserver& observer, const ManeuverFlightOptions& options,
                                          ThreadPool* pool = nullptr);
+// The scripted pilot flying the same trajectory's set points (no sweeps; its delay, lag and noise) from the
+// same starts and gusts: what the learned policy is compared with.
+std::vector<ManeuverFlight> fly_pilot_maneuver(const Trajectory& trajectory, const PilotOptions& pilot,
+                                               const PathObserver& observer,
+                                               const ManeuverFlightOptions& options,
+                                               ThreadPool* pool = nullptr);
 ManeuverFlightSummary summarize_maneuver_flights(const std::vector<ManeuverFlight>& flights,
                                                  double path_length);
 
