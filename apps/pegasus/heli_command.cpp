@@ -97,6 +97,10 @@ void declare_pilot(ConfigSchema& s) {
       .range(1, 36000);
   s.add_double("hover_seconds", 10, "plain hover before the sweeps, s").range(0, 36000);
   s.add_bool("sweeps", true, "fly a frequency sweep (0.1 to 3 Hz) in each channel in turn after the hover");
+  s.add_double("sweep_scale", 1,
+               "multiplies the vehicle pilot's sweep amplitudes (larger sweeps excite the aircraft more than "
+               "the pilot's own corrections do, which lessens closed-loop bias)")
+      .range(0, 5);
   s.add_double("gust_sigma", 0.5, "turbulence standard deviation per axis, m/s").range(0, 10);
   s.add_bool("estimate_noise", true, "add Kalman-filter-like state-estimate errors to the log");
 }
@@ -112,6 +116,7 @@ void run_pilot(RunContext& ctx) {
   PilotOptions o = heli::pilot_options_for(vehicle.simulator);
   o.hover_seconds = c.get_double("hover_seconds");
   o.sweeps = c.get_bool("sweeps");
+  for (double& amplitude : o.sweep_amplitude) amplitude *= c.get_double("sweep_scale");
   const double seconds = c.get_double("seconds");
   const PilotFlight f = fly_pilot(*aircraft, o, seconds, ctx.seed);
   RunDirectory& dir = ctx.run_directory();

@@ -453,6 +453,10 @@ void declare_pilot(ConfigSchema& s) {
   declare_size(s);
   s.add_double("seconds", 339, "hover and sweeps before the manoeuvres, s (as heli pilot)").range(1, 36000);
   s.add_double("hover_seconds", 10, "plain hover before the sweeps, s").range(0, 36000);
+  s.add_double("sweep_scale", 1,
+               "multiplies the vehicle pilot's sweep amplitudes (larger sweeps excite the aircraft more than "
+               "the pilot's own corrections do, which lessens closed-loop bias)")
+      .range(0, 5);
   s.add_int("repeats", 2, "times the three manoeuvres are flown, one after another").range(1, 100);
   s.add_double("speed", 2.5, "set-point speed limit along the path, m/s").range(0.1, 20);
   s.add_double("accel", 1.0, "set-point acceleration limit, m/s^2").range(0.1, 20);
@@ -478,6 +482,7 @@ void run_pilot(RunContext& ctx) {
   }
   PilotOptions o = pilot_options_for(vehicle.simulator);
   o.hover_seconds = c.get_double("hover_seconds");
+  for (double& amplitude : o.sweep_amplitude) amplitude *= c.get_double("sweep_scale");
   std::vector<std::string> names;
   for (std::string_view rest = c.get_string("maneuvers"); !rest.empty();) {
     const auto comma = rest.find(',');

@@ -12,7 +12,9 @@
 #include "pegasus/heli/aircraft.hpp"
 #include "pegasus/heli/hover_policy.hpp"
 #include "pegasus/heli/hover_task.hpp"
+#include "pegasus/heli/pilot.hpp"
 #include "pegasus/heli/policy_file.hpp"
+#include "pegasus/heli/simulators.hpp"
 #include "pegasus/sysid/learned_model.hpp"
 
 namespace pegasus::python {
@@ -910,6 +912,49 @@ servos, gusts, estimate errors, time, crash code); observe() gives the 12 logged
           },
           py::arg("states"), "Why each row crashed ('none' when it has not).");
   HeliBatch<Aircraft>::bind(aircraft);
+
+  m.def(
+      "fly_pilot",
+      [](const std::string& simulator, double seconds, std::uint64_t seed, double gust_sigma,
+         bool estimate_noise, double hover_seconds, bool sweeps) {
+        heli::GroundTruthSettings settings;
+        settings.gust_sigma = gust_sigma;
+        settings.estimate_noise = estimate_noise;
+        std::unique_ptr<heli::GroundTruth> ground_truth;
+        try {
+          ground_truth = heli::make_ground_truth(simulator, settings);
+        } catch (const std::invalid_argument& e) {
+          throw py::value_error(e.what());
+        }
+        if (!(seconds > 0 && seconds <= 36000))
+          throw py::value_error("seconds: expected a number in (0, 36000]");
+        heli::PilotOptions options = heli::pilot_options_for(simulator);
+        options.hover_seconds = hover_seconds;
+        options.sweeps = sweeps;
+        std::string error;
+        if (!options.IsValid(&error)) throw py::value_error(error);
+        heli::PilotFlight f;
+        {
+          py::gil_scoped_release release;
+          f = heli::fly_pilot(*ground_truth, options, seconds, seed);
+        }
+        Array truth = matrix(static_cast<py::ssize_t>(f.truth.size()), heli::kLoggedStates);
+        for (std::size_t r = 0; r < f.truth.size(); ++r)
+          std::copy(f.truth[r].begin(), f.truth[r].end(), truth.mutable_data() + r * heli::kLoggedStates);
+        py::dict out;
+        out["log"] = std::move(f.log);
+        out["truth"] = truth;
+        out["crash"] = heli::crash_reason_name(f.crash);
+        out["crash_time"] = f.crash_time;
+        return out;
+      },
+      py::arg("simulator") = "xcell", py::arg("seconds") = 60.0, py::arg("seed") = 1,
+      py::arg("gust_sigma") = -1.0, py::arg("estimate_noise") = true, py::arg("hover_seconds") = 10.0,
+      py::arg("sweeps") = true,
+      R"doc(The scripted pilot flies a built-in ground truth ("xcell": the X-Cell 60; "crazyflie2": the Crazyflie 2.0
+quadrotor) as `pegasus pilot --vehicle` does: a hover, then a frequency sweep in each channel. Returns a dict:
+"log" (FlightLog of the state estimates and controls at 50 Hz), "truth" (the true states, rows x 12), "crash"
+('none' or why) and "crash_time" (s, -1 without a crash). gust_sigma < 0 keeps the aircraft's own.)doc");
 
   auto lmo = py::class_<LearnedModelOptions>(m, "LearnedModelOptions", R"doc(
 How the identified model is flown as a 50 Hz simulator (sysid/learned_model.hpp): refit period, support margin,

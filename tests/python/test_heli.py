@@ -385,3 +385,26 @@ def test_bad_helicopter_inputs_raise_value_error_naming_the_argument(tmp_path, m
     rows[0, -1] = 0.5
     with pytest.raises(ValueError, match="crashed"):
         learned.step(rows, np.zeros((1, 4)), np.full((1, 8), 0.5))
+
+
+def test_the_pilot_flies_the_quadrotor_as_the_cli_does_with_estimate_errors_of_their_size(cli, source_dir,
+                                                                                          tmp_path):
+    flight = pegasus.fly_pilot("crazyflie2", seconds=30, seed=3, gust_sigma=0.5)  # the CLI's default gusts
+    assert flight["crash"] == "none"
+    log, truth = flight["log"], flight["truth"]
+    assert log.rows == 1500 and truth.shape == (1500, 12)
+    # The same log as `pegasus pilot --vehicle crazyflie2.toml` (the CSV keeps 17 significant digits).
+    vehicle = source_dir / "experiments" / "vehicles" / "crazyflie2.toml"
+    result = subprocess.run([cli, "pilot", "--vehicle", str(vehicle), "--seconds", "30", "--seed", "3",
+                             "--quiet", "--out", str(tmp_path / "pilot")], capture_output=True, text=True)
+    assert result.returncode == 0, result.stdout + result.stderr
+    from_cli = pegasus.read_flight_log(str(tmp_path / "pilot" / "log.csv"))
+    np.testing.assert_array_equal(from_cli.states, log.states)
+    np.testing.assert_array_equal(from_cli.controls, log.controls)
+    # The estimate differs from the truth by the quadrotor's documented errors: 0.01 m in position, 0.02 m/s
+    # in velocity (Gauss-Markov, so the sample spread of 30 s lies within a generous band).
+    error = log.states - truth
+    assert 0.005 < error[:, 0:3].std() < 0.02
+    assert 0.01 < error[:, 6:9].std() < 0.04
+    with pytest.raises(ValueError, match="zeppelin"):
+        pegasus.fly_pilot("zeppelin")
