@@ -79,6 +79,20 @@ std::unique_ptr<heli::GroundTruth> ground_truth_of(const logs::Vehicle& v,
 }
 }  // namespace
 
+std::shared_ptr<const sysid::IdentifiedModel> model_argument(const ConfigSchema& c) {
+  const std::string& file = c.get_string("model");
+  if (file.empty())
+    throw InputError("--model: expected an identified model (model.json of pegasus identify)");
+  auto model = std::make_shared<const sysid::IdentifiedModel>(sysid::IdentifiedModel::load(file));
+  const std::string& identified_for = model->vehicle();
+  if (const logs::Vehicle v = vehicle_of(c); !identified_for.empty() && identified_for != v.name())
+    throw InputError(fmt::format(
+        "{}: vehicle: the model was identified from {}'s logs, and this run is for {}; give the vehicle file "
+        "it was identified with (--vehicle)",
+        file, identified_for, v.name()));
+  return model;
+}
+
 // The vehicle file's bytes, kept beside the results it shaped.
 void keep_vehicle_file(const ConfigSchema& c, RunDirectory& dir) {
   if (!c.get_string("vehicle").empty()) dir.write_text("vehicle.toml", read_file(c.get_string("vehicle")));
@@ -287,13 +301,6 @@ heli::HoverTrainingOptions hover_options(const RunContext& ctx) {
   return o;
 }
 
-std::shared_ptr<const IdentifiedModel> model_argument(const RunContext& ctx) {
-  const std::string& file = ctx.config.get_string("model");
-  if (file.empty())
-    throw InputError("--model: expected an identified model (model.json of pegasus heli identify)");
-  return std::make_shared<const IdentifiedModel>(IdentifiedModel::load(file));
-}
-
 std::string curve_svg(const std::vector<IterationRecord>& progress, std::int64_t gradient_iterations) {
   SvgPlot plot;
   plot.title("Hover training: U-hat of the best policy so far")
@@ -313,7 +320,7 @@ std::string curve_svg(const std::vector<IterationRecord>& progress, std::int64_t
 
 void run_hover(RunContext& ctx) {
   const heli::HoverTrainingOptions o = hover_options(ctx);
-  const auto model = model_argument(ctx);
+  const auto model = model_argument(ctx.config);
   const bool with_vehicle = !ctx.config.get_string("vehicle").empty();
   const std::string vehicle = with_vehicle ? vehicle_of(ctx.config).name() : std::string();
   RunDirectory& dir = ctx.run_directory();

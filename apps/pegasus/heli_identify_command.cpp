@@ -160,7 +160,8 @@ void run_identify(RunContext& ctx) {
     const auto k = static_cast<std::uint64_t>(done) - bar->done();
     replayed ? bar->skip(k) : bar->advance(k);
   };
-  const IdentifiedModel model = identify(train, o, pool, &report, hooks);
+  IdentifiedModel model = identify(train, o, pool, &report, hooks);
+  if (!own_layout) model.set_vehicle(vehicle.name());
   if (bar) bar->finish();
   model.save(dir.path() / "model.json");
   CsvWriter cv({"setting", "cv_error"});

@@ -191,8 +191,7 @@ void run(RunContext& ctx) {
   if (c.get_string("model").empty())
     throw InputError("--model: an identified model file is required (heli identify)");
   const ManeuverTrainingOptions base = training_options(ctx);
-  auto model =
-      std::make_shared<const sysid::IdentifiedModel>(sysid::IdentifiedModel::load(c.get_string("model")));
+  const auto model = model_argument(c);
 
   // Starting point: the hover weights (a trained hover policy, or the model's trim with default gains).
   HoverPolicyInit init = hover_init_from_model(*model);

@@ -117,6 +117,7 @@ nlohmann::json IdentifiedModel::to_json() const {
   for (int c = 0; c < kInputs; ++c)
     if (structure_.constant_inputs[static_cast<std::size_t>(c)])
       j["structure"]["constant_inputs"].push_back(kInputNames[static_cast<std::size_t>(c)]);
+  if (!vehicle_.empty()) j["vehicle"] = vehicle_;  // files without a vehicle stay as they were
   j["dt"] = dt();
   j["inputs"] = kInputNames;
   j["outputs"] = kBodyVarNames;
@@ -219,6 +220,13 @@ IdentifiedModel model_from_json(const nlohmann::json& j, const std::string& file
         throw InputError(fmt::format("model: unknown constant input '{}'", name.get<std::string>()));
       m.constant_inputs[static_cast<std::size_t>(it - kInputNames.begin())] = true;
     }
+  std::string vehicle;
+  if (j.contains("vehicle")) {
+    const nlohmann::json& v = j.at("vehicle");
+    if (!v.is_string() || v.get<std::string>().empty())
+      json_field_error(file, "vehicle", "a vehicle file's name (a non-empty string)", v);
+    vehicle = v.get<std::string>();
+  }
   Dataset d;
   d.dt = f.number(j, "dt", 0, 100, true);
   const auto& xs = f.at(j, "x");
@@ -265,7 +273,9 @@ IdentifiedModel model_from_json(const nlohmann::json& j, const std::string& file
       correlation.rho[k] = rho[i];
     }
   }
-  return IdentifiedModel(m, std::move(d), inv, sigma2, correlation);
+  IdentifiedModel model(m, std::move(d), inv, sigma2, correlation);
+  model.set_vehicle(std::move(vehicle));
+  return model;
 }
 
 }  // namespace

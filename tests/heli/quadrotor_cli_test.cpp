@@ -36,6 +36,17 @@ TEST_F(QuadrotorCli, LogsIdentifiesLearnsToHoverAndAFigureEightAndFliesThemOnIts
       "--variants=false --quiet --out {}",
       vehicle_, path("train/log.csv"), path("test/log.csv"), path("id")));
   ASSERT_EQ(r.code, 0) << r.output;
+  // The model names its vehicle; training it for another (here the X-Cell, `heli hover`'s default) is
+  // refused.
+  EXPECT_EQ(nlohmann::json::parse(test_support::read_text(dir_ / "id" / "model.json")).at("vehicle"),
+            "crazyflie2");
+  r = run_pegasus(
+      fmt::format("heli hover --model {} --quiet --out {}", path("id/model.json"), path("wrong")));
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("identified from crazyflie2's logs, and this run is for xcell60"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "wrong"));
   r = run_pegasus(fmt::format(
       "hover --vehicle {} --model {} --scenarios 10 --seconds 15 --start-pos-sigma 0.3 --start-vel-sigma 0.1 "
       "--optimizer.gradient.max-iterations 8 --then-hill-climb=false --quiet --out {}",

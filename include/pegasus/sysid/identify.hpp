@@ -83,6 +83,10 @@ class IdentifiedModel {
   const NoiseCorrelation& noise_correlation() const { return correlation_; }
   double dt() const { return data_->dt; }
   bool is_global() const { return lwr_->is_global(); }
+  // The vehicle file's name when the logs were read through one ("" otherwise): hover and manoeuvre training
+  // refuse a model identified for another vehicle. Set before the model is shared.
+  const std::string& vehicle() const { return vehicle_; }
+  void set_vehicle(std::string name) { vehicle_ = std::move(name); }
 
   // Predictive variance of each output at x under a fit (Eq 5.4); template-only outputs get sigma2.
   BodyVec predictive_variance(const LocalFit& fit) const;
@@ -100,6 +104,7 @@ class IdentifiedModel {
   std::unique_ptr<LocalRegression> lwr_;
   BodyVec sigma2_;
   NoiseCorrelation correlation_;
+  std::string vehicle_;
   std::array<OutputTemplate, kBodyVars> templates_;
 };
 
