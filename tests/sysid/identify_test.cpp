@@ -130,7 +130,21 @@ TEST(NoiseCorrelation, IdentifyRecoversAnAr1ResidualProcess) {
         << e.what();
   }
   o.noise = NoiseModel::kWhite;
-  EXPECT_FALSE(identify(log, o, pool).to_json().contains("noise"));  // white-noise model files as before
+  IdentifiedModel white = identify(log, o, pool);
+  EXPECT_FALSE(white.to_json().contains("noise"));  // white-noise model files as before
+  // The vehicle's name goes into the file only when there is one, and comes back; a bad one names the field.
+  EXPECT_FALSE(white.to_json().contains("vehicle"));
+  white.set_vehicle("crazyflie2");
+  EXPECT_EQ(IdentifiedModel::from_json(white.to_json()).vehicle(), "crazyflie2");
+  nlohmann::json unnamed = white.to_json();
+  unnamed["vehicle"] = 7;
+  try {
+    (void)IdentifiedModel::from_json(unnamed);
+    ADD_FAILURE() << "a numeric vehicle was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("vehicle: expected a vehicle file's name"), std::string::npos)
+        << e.what();
+  }
 }
 
 // The gusts (correlation time 2 s) make zdot_b's errors correlated in time: white per-step noise leaves its
