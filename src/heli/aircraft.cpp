@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "pegasus/heli/gaussian.hpp"
+#include "rk4.hpp"
 
 namespace pegasus::heli {
 
@@ -178,13 +179,13 @@ Aircraft::State Aircraft::step(const State& s, const Action& a, std::span<const 
     const Derivative k3 = derivative(advance(x, k2, h / 2), wind_W);
     const Derivative k4 = derivative(advance(x, k3, h), wind_W);
     Derivative sum;
-    sum.p_dot_W = (k1.p_dot_W + 2 * k2.p_dot_W + 2 * k3.p_dot_W + k4.p_dot_W) / 6;
-    sum.v_dot_B = (k1.v_dot_B + 2 * k2.v_dot_B + 2 * k3.v_dot_B + k4.v_dot_B) / 6;
-    sum.euler_rates = (k1.euler_rates + 2 * k2.euler_rates + 2 * k3.euler_rates + k4.euler_rates) / 6;
-    sum.w_dot_B = (k1.w_dot_B + 2 * k2.w_dot_B + 2 * k3.w_dot_B + k4.w_dot_B) / 6;
-    sum.flap_lon_dot = (k1.flap_lon_dot + 2 * k2.flap_lon_dot + 2 * k3.flap_lon_dot + k4.flap_lon_dot) / 6;
-    sum.flap_lat_dot = (k1.flap_lat_dot + 2 * k2.flap_lat_dot + 2 * k3.flap_lat_dot + k4.flap_lat_dot) / 6;
-    sum.gyro_dot = (k1.gyro_dot + 2 * k2.gyro_dot + 2 * k3.gyro_dot + k4.gyro_dot) / 6;
+    sum.p_dot_W = rk4_mean<Vec3>(k1.p_dot_W, k2.p_dot_W, k3.p_dot_W, k4.p_dot_W);
+    sum.v_dot_B = rk4_mean<Vec3>(k1.v_dot_B, k2.v_dot_B, k3.v_dot_B, k4.v_dot_B);
+    sum.euler_rates = rk4_mean<Vec3>(k1.euler_rates, k2.euler_rates, k3.euler_rates, k4.euler_rates);
+    sum.w_dot_B = rk4_mean<Vec3>(k1.w_dot_B, k2.w_dot_B, k3.w_dot_B, k4.w_dot_B);
+    sum.flap_lon_dot = rk4_mean(k1.flap_lon_dot, k2.flap_lon_dot, k3.flap_lon_dot, k4.flap_lon_dot);
+    sum.flap_lat_dot = rk4_mean(k1.flap_lat_dot, k2.flap_lat_dot, k3.flap_lat_dot, k4.flap_lat_dot);
+    sum.gyro_dot = rk4_mean(k1.gyro_dot, k2.gyro_dot, k3.gyro_dot, k4.gyro_dot);
     x = advance(x, sum, h);
   }
   x.attitude.yaw = wrap_angle(x.attitude.yaw);

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "pegasus/heli/gaussian.hpp"
+#include "rk4.hpp"
 
 namespace pegasus::heli {
 namespace {
@@ -168,13 +169,13 @@ Quadrotor::State Quadrotor::step(const State& s, const Controls& a, std::span<co
     const Derivative k3 = derivative(advance(x, k2, h / 2), command, wind_W);
     const Derivative k4 = derivative(advance(x, k3, h), command, wind_W);
     Derivative sum;
-    sum.p_dot_W = (k1.p_dot_W + 2 * k2.p_dot_W + 2 * k3.p_dot_W + k4.p_dot_W) / 6;
-    sum.v_dot_B = (k1.v_dot_B + 2 * k2.v_dot_B + 2 * k3.v_dot_B + k4.v_dot_B) / 6;
-    sum.euler_rates = (k1.euler_rates + 2 * k2.euler_rates + 2 * k3.euler_rates + k4.euler_rates) / 6;
-    sum.w_dot_B = (k1.w_dot_B + 2 * k2.w_dot_B + 2 * k3.w_dot_B + k4.w_dot_B) / 6;
+    sum.p_dot_W = rk4_mean<Vec3>(k1.p_dot_W, k2.p_dot_W, k3.p_dot_W, k4.p_dot_W);
+    sum.v_dot_B = rk4_mean<Vec3>(k1.v_dot_B, k2.v_dot_B, k3.v_dot_B, k4.v_dot_B);
+    sum.euler_rates = rk4_mean<Vec3>(k1.euler_rates, k2.euler_rates, k3.euler_rates, k4.euler_rates);
+    sum.w_dot_B = rk4_mean<Vec3>(k1.w_dot_B, k2.w_dot_B, k3.w_dot_B, k4.w_dot_B);
     for (std::size_t i = 0; i < 4; ++i)
       sum.rotor_accel[i] =
-          (k1.rotor_accel[i] + 2 * k2.rotor_accel[i] + 2 * k3.rotor_accel[i] + k4.rotor_accel[i]) / 6;
+          rk4_mean(k1.rotor_accel[i], k2.rotor_accel[i], k3.rotor_accel[i], k4.rotor_accel[i]);
     x = advance(x, sum, h);
   }
   x.attitude.yaw = wrap_angle(x.attitude.yaw);
