@@ -7,7 +7,7 @@
 #include <stdexcept>
 
 #include "pegasus/heli/gaussian.hpp"
-#include "rk4.hpp"
+#include "simulation.hpp"
 
 namespace pegasus::heli {
 
@@ -199,19 +199,9 @@ void Aircraft::check_crash(State& s) const {
   const AircraftParams& P = params_;
   RotorReport rotor;
   derivative(s, P.mean_wind_W + s.gust_W, &rotor);
-  const LoggedState t = true_logged_state(s);
-  for (double v : t)
-    if (!std::isfinite(v)) {
-      s.crash = CrashReason::kNumerical;
-      return;
-    }
-  if (s.p_W.z() >= 0)
-    s.crash = CrashReason::kGround;
-  else if (std::abs(s.attitude.roll) > P.max_tilt_rad || std::abs(s.attitude.pitch) > P.max_tilt_rad)
-    s.crash = CrashReason::kAttitude;
-  else if (s.w_B.cwiseAbs().maxCoeff() > P.max_rate_rad_s)
-    s.crash = CrashReason::kRate;
-  else if (std::abs(rotor.thrust_coeff_over_solidity) > P.max_thrust_coeff_over_solidity)
+  s.crash = rigid_body_crash(true_logged_state(s), s.attitude, s.w_B, P.max_tilt_rad, P.max_rate_rad_s);
+  if (s.crash == CrashReason::kNone &&
+      std::abs(rotor.thrust_coeff_over_solidity) > P.max_thrust_coeff_over_solidity)
     s.crash = CrashReason::kRotorOverload;
 }
 

@@ -7,7 +7,7 @@
 #include <stdexcept>
 
 #include "pegasus/heli/gaussian.hpp"
-#include "rk4.hpp"
+#include "simulation.hpp"
 
 namespace pegasus::heli {
 namespace {
@@ -186,18 +186,7 @@ Quadrotor::State Quadrotor::step(const State& s, const Controls& a, std::span<co
 }
 
 void Quadrotor::check_crash(State& s) const {
-  const QuadrotorParams& P = params_;
-  for (double v : true_state(s))
-    if (!std::isfinite(v)) {
-      s.crash = CrashReason::kNumerical;
-      return;
-    }
-  if (s.p_W.z() >= 0)
-    s.crash = CrashReason::kGround;
-  else if (std::abs(s.attitude.roll) > P.max_tilt_rad || std::abs(s.attitude.pitch) > P.max_tilt_rad)
-    s.crash = CrashReason::kAttitude;
-  else if (s.w_B.cwiseAbs().maxCoeff() > P.max_rate_rad_s)
-    s.crash = CrashReason::kRate;
+  s.crash = rigid_body_crash(true_state(s), s.attitude, s.w_B, params_.max_tilt_rad, params_.max_rate_rad_s);
 }
 
 Quadrotor::State Quadrotor::initial_state(std::span<const double> p0) const {
