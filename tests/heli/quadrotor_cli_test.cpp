@@ -1,9 +1,12 @@
 // The second aircraft end to end, from its vehicle file alone: `pegasus pilot` logs the Crazyflie 2.0 ground
 // truth, `pegasus identify` fits a model to the logs, `pegasus hover` learns a controller on that model, and
 // `pegasus fly` flies it on the ground truth against the scripted pilot, from the same starts and gusts; then
-// `pegasus maneuver-pilot` and `pegasus maneuver` do the same for a figure-eight.
+// `pegasus maneuver-pilot` and `pegasus maneuver` do the same for a figure-eight. Under the sanitizers
+// (PEGASUS_SANITIZED=1) the chain runs with tiny training and flights, and the flight-quality assertions are
+// left to the Release run: the training that earns them takes minutes there.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
@@ -24,6 +27,7 @@ class QuadrotorCli : public test_support::TempDirTest {
 };
 
 TEST_F(QuadrotorCli, LogsIdentifiesLearnsToHoverAndAFigureEightAndFliesThemOnItsGroundTruth) {
+  const bool sanitized = std::getenv("PEGASUS_SANITIZED") != nullptr;
   for (const auto& [name, seconds, seed] : {std::tuple{"train", "150", "1"}, std::tuple{"test", "60", "2"}}) {
     const auto r = run_pegasus(fmt::format("pilot --vehicle {} --seconds {} --seed {} --quiet --out {}",
                                            vehicle_, seconds, seed, path(name)));
@@ -48,23 +52,29 @@ TEST_F(QuadrotorCli, LogsIdentifiesLearnsToHoverAndAFigureEightAndFliesThemOnIts
       << r.output;
   EXPECT_FALSE(std::filesystem::exists(dir_ / "wrong"));
   r = run_pegasus(fmt::format(
-      "hover --vehicle {} --model {} --scenarios 10 --seconds 15 --start-pos-sigma 0.3 --start-vel-sigma 0.1 "
-      "--optimizer.gradient.max-iterations 8 --then-hill-climb=false --quiet --out {}",
-      vehicle_, path("id/model.json"), path("hover")));
+      "hover --vehicle {} --model {} {} --start-pos-sigma 0.3 --start-vel-sigma 0.1 --then-hill-climb=false "
+      "--quiet --out {}",
+      vehicle_, path("id/model.json"),
+      sanitized ? "--scenarios 2 --seconds 3 --optimizer.gradient.max-iterations 1"
+                : "--scenarios 10 --seconds 15 --optimizer.gradient.max-iterations 8",
+      path("hover")));
   ASSERT_EQ(r.code, 0) << r.output;
   const auto hover = summary("hover");
   EXPECT_GE(hover.at("final_uhat").get<double>(), hover.at("initial_uhat").get<double>());
   r = run_pegasus(fmt::format(
-      "fly --vehicle {} --policy {} --compare-pilot --flights 10 --seconds 20 --start-pos-sigma 0.3 "
-      "--start-vel-sigma 0.1 --quiet --out {}",
-      vehicle_, path("hover/policy.json"), path("fly")));
+      "fly --vehicle {} --policy {} --compare-pilot {} --start-pos-sigma 0.3 --start-vel-sigma 0.1 --quiet "
+      "--out {}",
+      vehicle_, path("hover/policy.json"),
+      sanitized ? "--flights 2 --seconds 5" : "--flights 10 --seconds 20", path("fly")));
   ASSERT_EQ(r.code, 0) << r.output;
   const auto fly = summary("fly");
   EXPECT_EQ(fly.at("vehicle"), "crazyflie2");
   EXPECT_TRUE(std::filesystem::exists(dir_ / "fly" / "vehicle.toml"));
-  // The learned controller holds the quadrotor from every start, and no worse than its pilot does.
-  EXPECT_EQ(fly.at("crashes").get<int>(), 0);
-  EXPECT_LT(fly.at("rms_position_m").get<double>(), fly.at("pilot").at("rms_position_m").get<double>());
+  if (!sanitized) {
+    // The learned controller holds the quadrotor from every start, and closer than its pilot does.
+    EXPECT_EQ(fly.at("crashes").get<int>(), 0);
+    EXPECT_LT(fly.at("rms_position_m").get<double>(), fly.at("pilot").at("rms_position_m").get<double>());
+  }
 
   // A figure-eight of 1 m circles at 0.5 m/s, 2 m up: the pilot's logs of it, a model, a short training from
   // the hover policy, and flights against the pilot on the same set points.
@@ -90,11 +100,14 @@ TEST_F(QuadrotorCli, LogsIdentifiesLearnsToHoverAndAFigureEightAndFliesThemOnIts
   const auto eight = summary("figure8");
   EXPECT_EQ(eight.at("vehicle"), "crazyflie2");
   EXPECT_EQ(eight.at("maneuver"), "figure8");
-  // Every flight finishes the figure-eight, closer to the path than the pilot flying the same set points.
-  EXPECT_EQ(eight.at("crashes").get<int>(), 0);
-  EXPECT_EQ(eight.at("completed").get<int>(), 4);
-  EXPECT_LT(eight.at("rms_path_deviation_m").get<double>(),
-            eight.at("pilot").at("rms_path_deviation_m").get<double>());
+  ASSERT_TRUE(eight.contains("pilot"));
+  if (!sanitized) {
+    // Every flight finishes the figure-eight, closer to the path than the pilot flying the same set points.
+    EXPECT_EQ(eight.at("crashes").get<int>(), 0);
+    EXPECT_EQ(eight.at("completed").get<int>(), 4);
+    EXPECT_LT(eight.at("rms_path_deviation_m").get<double>(),
+              eight.at("pilot").at("rms_path_deviation_m").get<double>());
+  }
 }
 
 }  // namespace
