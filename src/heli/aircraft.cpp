@@ -147,12 +147,7 @@ namespace {
 
 AircraftState advance(const AircraftState& s, const Aircraft::Derivative& d, double h) {
   AircraftState n = s;
-  n.p_W += h * d.p_dot_W;
-  n.v_B += h * d.v_dot_B;
-  n.attitude.roll += h * d.euler_rates.x();
-  n.attitude.pitch += h * d.euler_rates.y();
-  n.attitude.yaw += h * d.euler_rates.z();
-  n.w_B += h * d.w_dot_B;
+  advance_rigid_body(n, d, h);
   n.flap_lon += h * d.flap_lon_dot;
   n.flap_lat += h * d.flap_lat_dot;
   n.gyro_rate += h * d.gyro_dot;
@@ -269,35 +264,12 @@ LoggedState true_logged_state(const AircraftState& s) {
   return logged_state_of(s.p_W, s.attitude, s.v_B, s.w_B);
 }
 
-namespace {
-
-// The X-Cell behind the GroundTruth interface: a flight keeps its state and steps it.
-class AircraftFlight final : public SimulatedFlight {
- public:
-  AircraftFlight(const Aircraft& aircraft, std::span<const double> p0)
-      : aircraft_(aircraft), state_(aircraft.initial_state(p0)) {}
-  LoggedState observe() const override { return aircraft_.observe(state_); }
-  LoggedState truth() const override { return true_logged_state(state_); }
-  void step(const Controls& a, std::span<const double> p) override { state_ = aircraft_.step(state_, a, p); }
-  CrashReason crash() const override { return state_.crash; }
-
- private:
-  const Aircraft& aircraft_;
-  AircraftState state_;
-};
-
-}  // namespace
-
 std::unique_ptr<SimulatedFlight> Aircraft::start_flight(std::span<const double> p0) const {
-  return std::make_unique<AircraftFlight>(*this, p0);
+  return std::make_unique<ModelFlight<Aircraft>>(*this, p0);
 }
 
 Aircraft::Observation Aircraft::observe(const State& s) const {
-  LoggedState o = true_logged_state(s);
-  for (int i = 0; i < kLoggedStates; ++i)
-    o[static_cast<std::size_t>(i)] += s.estimate_error[static_cast<std::size_t>(i)];
-  o[logged::yaw] = wrap_angle(o[logged::yaw]);
-  return o;
+  return with_estimate_error(true_logged_state(s), s.estimate_error);
 }
 
 }  // namespace pegasus::heli

@@ -22,12 +22,7 @@ double clamp1(double x) { return std::clamp(x, -1.0, 1.0); }
 
 QuadrotorState advance(const QuadrotorState& s, const Quadrotor::Derivative& d, double h) {
   QuadrotorState n = s;
-  n.p_W += h * d.p_dot_W;
-  n.v_B += h * d.v_dot_B;
-  n.attitude.roll += h * d.euler_rates.x();
-  n.attitude.pitch += h * d.euler_rates.y();
-  n.attitude.yaw += h * d.euler_rates.z();
-  n.w_B += h * d.w_dot_B;
+  advance_rigid_body(n, d, h);
   for (std::size_t i = 0; i < 4; ++i) n.rotor_speed[i] += h * d.rotor_accel[i];
   return n;
 }
@@ -36,20 +31,6 @@ Disturbances disturbances_of(const QuadrotorParams& P) {
   return {P.gust_sigma,    P.gust_tau,       P.est_sigma_pos, P.est_sigma_angle,
           P.est_sigma_vel, P.est_sigma_rate, P.est_tau};
 }
-
-class QuadrotorFlight final : public SimulatedFlight {
- public:
-  QuadrotorFlight(const Quadrotor& quadrotor, std::span<const double> p0)
-      : quadrotor_(quadrotor), state_(quadrotor.initial_state(p0)) {}
-  LoggedState observe() const override { return quadrotor_.observe(state_); }
-  LoggedState truth() const override { return Quadrotor::true_state(state_); }
-  void step(const Controls& a, std::span<const double> p) override { state_ = quadrotor_.step(state_, a, p); }
-  CrashReason crash() const override { return state_.crash; }
-
- private:
-  const Quadrotor& quadrotor_;
-  QuadrotorState state_;
-};
 
 }  // namespace
 
@@ -186,7 +167,8 @@ Quadrotor::State Quadrotor::step(const State& s, const Controls& a, std::span<co
 }
 
 void Quadrotor::check_crash(State& s) const {
-  s.crash = rigid_body_crash(true_state(s), s.attitude, s.w_B, params_.max_tilt_rad, params_.max_rate_rad_s);
+  s.crash =
+      rigid_body_crash(true_logged_state(s), s.attitude, s.w_B, params_.max_tilt_rad, params_.max_rate_rad_s);
 }
 
 Quadrotor::State Quadrotor::initial_state(std::span<const double> p0) const {
@@ -205,17 +187,16 @@ Quadrotor::State Quadrotor::initial_state(std::span<const double> p0) const {
   return s;
 }
 
-LoggedState Quadrotor::true_state(const State& s) { return logged_state_of(s.p_W, s.attitude, s.v_B, s.w_B); }
+LoggedState true_logged_state(const QuadrotorState& s) {
+  return logged_state_of(s.p_W, s.attitude, s.v_B, s.w_B);
+}
 
 LoggedState Quadrotor::observe(const State& s) const {
-  LoggedState o = true_state(s);
-  for (std::size_t i = 0; i < o.size(); ++i) o[i] += s.estimate_error[i];
-  o[logged::yaw] = wrap_angle(o[logged::yaw]);
-  return o;
+  return with_estimate_error(true_logged_state(s), s.estimate_error);
 }
 
 std::unique_ptr<SimulatedFlight> Quadrotor::start_flight(std::span<const double> p0) const {
-  return std::make_unique<QuadrotorFlight>(*this, p0);
+  return std::make_unique<ModelFlight<Quadrotor>>(*this, p0);
 }
 
 }  // namespace pegasus::heli

@@ -118,7 +118,7 @@ TEST(Quadrotor, SameUniformsSameFlightAndCrashesAreDetected) {
     a = q.step(a, q.hover_point().controls, noise);
     b = q.step(b, q.hover_point().controls, noise);
   }
-  EXPECT_EQ(Quadrotor::true_state(a), Quadrotor::true_state(b));
+  EXPECT_EQ(true_logged_state(a), true_logged_state(b));
   EXPECT_EQ(q.observe(a), q.observe(b));
   // No thrust: it falls to the ground and stays there.
   const QuadrotorState fallen = fly(Quadrotor(calm()), {0, 0, -1, 0}, 2);

@@ -99,7 +99,6 @@ class Quadrotor final : public GroundTruth {
   State initial_state(std::span<const double> p0) const;
   State step(const State& s, const Controls& a, std::span<const double> p) const;
   LoggedState observe(const State& s) const;
-  static LoggedState true_state(const State& s);
 
   // Full thrust of the four motors, N, and the rotor speed that holds the aircraft at rest, rad/s.
   double max_thrust() const;
@@ -128,5 +127,8 @@ class Quadrotor final : public GroundTruth {
   QuadrotorParams params_;
   Eigen::Matrix4d thrust_from_wrench_;  // per-motor thrust from (collective, roll, pitch, yaw torque)
 };
+
+// The true 12 logged states (Euler angle rates, world velocities) of a quadrotor state.
+LoggedState true_logged_state(const QuadrotorState& s);
 
 }  // namespace pegasus::heli
