@@ -36,8 +36,8 @@ logs::Vehicle vehicle_of(const ConfigSchema& c);
 void from_vehicle(ConfigSchema& s, const logs::Vehicle& v, const std::string& field, FieldValue value,
                   const std::string& key);
 void keep_vehicle_file(const ConfigSchema& c, RunDirectory& dir);
-// The identified model `--model` names; one identified from another vehicle's logs than the run's is bad
+// The identified model `--model` names; one identified from another vehicle's logs than `v` is bad
 // input.
-std::shared_ptr<const sysid::IdentifiedModel> model_argument(const ConfigSchema& c);
+std::shared_ptr<const sysid::IdentifiedModel> model_argument(const ConfigSchema& c, const logs::Vehicle& v);
 
 }  // namespace pegasus::cli

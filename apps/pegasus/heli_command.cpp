@@ -79,13 +79,13 @@ std::unique_ptr<heli::GroundTruth> ground_truth_of(const logs::Vehicle& v,
 }
 }  // namespace
 
-std::shared_ptr<const sysid::IdentifiedModel> model_argument(const ConfigSchema& c) {
+std::shared_ptr<const sysid::IdentifiedModel> model_argument(const ConfigSchema& c, const logs::Vehicle& v) {
   const std::string& file = c.get_string("model");
   if (file.empty())
     throw InputError("--model: expected an identified model (model.json of pegasus identify)");
   auto model = std::make_shared<const sysid::IdentifiedModel>(sysid::IdentifiedModel::load(file));
   const std::string& identified_for = model->vehicle();
-  if (const logs::Vehicle v = vehicle_of(c); !identified_for.empty() && identified_for != v.name())
+  if (!identified_for.empty() && identified_for != v.name())
     throw InputError(fmt::format(
         "{}: vehicle: the model was identified from {}'s logs, and this run is for {}; give the vehicle file "
         "it was identified with (--vehicle)",
@@ -320,9 +320,10 @@ std::string curve_svg(const std::vector<IterationRecord>& progress, std::int64_t
 
 void run_hover(RunContext& ctx) {
   const heli::HoverTrainingOptions o = hover_options(ctx);
-  const auto model = model_argument(ctx.config);
+  const logs::Vehicle trained_for = vehicle_of(ctx.config);
+  const auto model = model_argument(ctx.config, trained_for);
   const bool with_vehicle = !ctx.config.get_string("vehicle").empty();
-  const std::string vehicle = with_vehicle ? vehicle_of(ctx.config).name() : std::string();
+  const std::string vehicle = with_vehicle ? trained_for.name() : std::string();
   RunDirectory& dir = ctx.run_directory();
   keep_vehicle_file(ctx.config, dir);
   heli::HoverTrainingHooks hooks;

@@ -191,7 +191,9 @@ void run(RunContext& ctx) {
   if (c.get_string("model").empty())
     throw InputError("--model: an identified model file is required (heli identify)");
   const ManeuverTrainingOptions base = training_options(ctx);
-  const auto model = model_argument(c);
+  const logs::Vehicle vehicle = vehicle_of(c);
+  const std::string simulator = simulator_of(vehicle);  // before training: the flights need a ground truth
+  const auto model = model_argument(c, vehicle);
 
   // Starting point: the hover weights (a trained hover policy, or the model's trim with default gains).
   HoverPolicyInit init = hover_init_from_model(*model);
@@ -289,9 +291,9 @@ void run(RunContext& ctx) {
   fo.gust_sigma = c.get_double("gust_sigma");
   fo.start_pos_sigma = c.get_double("flight_start_sigma");
   fo.seed = mix_seed(ctx.seed, 0x666c79);  // apart from the training scenarios
-  fo.simulator = simulator_of(vehicle_of(c));
+  fo.simulator = simulator;
   nlohmann::json summary = {{"maneuver", base.name}};
-  if (!c.get_string("vehicle").empty()) summary["vehicle"] = vehicle_of(c).name();
+  if (!c.get_string("vehicle").empty()) summary["vehicle"] = vehicle.name();
   keep_vehicle_file(c, dir);
   std::map<std::string, ManeuverFlightSummary> scores;
   std::vector<ManeuverFlight> main_flights;

@@ -27,11 +27,6 @@ QuadrotorState advance(const QuadrotorState& s, const Quadrotor::Derivative& d, 
   return n;
 }
 
-Disturbances disturbances_of(const QuadrotorParams& P) {
-  return {P.gust_sigma,    P.gust_tau,       P.est_sigma_pos, P.est_sigma_angle,
-          P.est_sigma_vel, P.est_sigma_rate, P.est_tau};
-}
-
 }  // namespace
 
 bool QuadrotorParams::IsValid(std::string* error) const {
@@ -64,6 +59,9 @@ bool QuadrotorParams::IsValid(std::string* error) const {
 Quadrotor::Quadrotor(QuadrotorParams params) : params_(std::move(params)) {
   std::string error;
   if (!params_.IsValid(&error)) throw std::invalid_argument(error);
+  const QuadrotorParams& P = params_;
+  disturbances_ = {P.gust_sigma,    P.gust_tau,       P.est_sigma_pos, P.est_sigma_angle,
+                   P.est_sigma_vel, P.est_sigma_rate, P.est_tau};
   const double d = params_.arm_m / std::numbers::sqrt2;
   Eigen::Matrix4d wrench_from_thrust;
   for (int i = 0; i < 4; ++i) {
@@ -161,7 +159,7 @@ Quadrotor::State Quadrotor::step(const State& s, const Controls& a, std::span<co
   }
   x.attitude.yaw = wrap_angle(x.attitude.yaw);
   x.time = s.time + P.dt;
-  disturbances_of(P).step(P.dt, p, x.gust_W, x.estimate_error);
+  disturbances_.step(P.dt, p, x.gust_W, x.estimate_error);
   check_crash(x);
   return x;
 }
@@ -183,7 +181,7 @@ Quadrotor::State Quadrotor::initial_state(std::span<const double> p0) const {
     v_W[i] = P.start_vel_sigma * n(3 + i);
   }
   s.v_B = body_from_world(s.attitude, v_W);
-  disturbances_of(P).start(p0.subspan(6), s.gust_W, s.estimate_error);
+  disturbances_.start(p0.subspan(6), s.gust_W, s.estimate_error);
   return s;
 }
 

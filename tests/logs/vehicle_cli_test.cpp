@@ -147,6 +147,13 @@ TEST_F(VehicleCli, AnOutsideAircraftIdentifiesHoversAndIsServedInItsOwnTerms) {
   EXPECT_NE(r.output.find("pegasus control --vehicle"), std::string::npos) << r.output;
   EXPECT_FALSE(std::filesystem::exists(dir_ / "fly"));
   EXPECT_FALSE(std::filesystem::exists(dir_ / "fly.partial"));
+  // Nor its manoeuvres, refused before any training (the flights at the end would need the ground truth).
+  r = run_pegasus(fmt::format("maneuver --vehicle {} --model {} --out {}", path("outside.toml"),
+                              path("id-outside/model.json"), path("maneuver")));
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("vehicle.simulator: 'none'"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "maneuver"));
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "maneuver.partial"));
 }
 
 TEST_F(VehicleCli, ABadVehicleFileStopsEveryCommandWithOneLineAndNoRunDirectory) {

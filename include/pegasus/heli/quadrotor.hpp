@@ -125,6 +125,7 @@ class Quadrotor final : public GroundTruth {
  private:
   void check_crash(State& s) const;
   QuadrotorParams params_;
+  Disturbances disturbances_;
   Eigen::Matrix4d thrust_from_wrench_;  // per-motor thrust from (collective, roll, pitch, yaw torque)
 };
 
