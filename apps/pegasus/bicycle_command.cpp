@@ -9,8 +9,8 @@
 #include "pegasus/core/error.hpp"
 #include "pegasus/experiments/bicycle_experiment.hpp"
 #include "pegasus/io/json_csv.hpp"
+#include "pegasus/runs/charts.hpp"
 #include "pegasus/runs/optimizer_config.hpp"
-#include "pegasus/runs/svg_plot.hpp"
 
 namespace pegasus::cli {
 namespace {
@@ -92,42 +92,50 @@ void add_ride_rows(CsvWriter& csv, const std::string& method, int trial,
                  std::int64_t{rides[i].reached ? 1 : 0}, std::int64_t{rides[i].fell ? 1 : 0}});
 }
 
-// The rides seen from above, the goal circle and the start.
-std::string rides_plot(const std::vector<BicycleRide>& rides, const BicycleGoal& goal,
-                       const std::string& title) {
-  SvgPlot plot;
-  plot.title(title).x_label("x (m)").y_label("y (m)").size(720, 480);
-  PlotSeries paths{.name = "front tyre", .line = true, .markers = false};
-  for (const auto& r : rides) {
-    paths.x.insert(paths.x.end(), r.x.begin(), r.x.end());
-    paths.y.insert(paths.y.end(), r.y.begin(), r.y.end());
-    paths.x.push_back(std::numeric_limits<double>::quiet_NaN());
-    paths.y.push_back(std::numeric_limits<double>::quiet_NaN());
-  }
-  plot.add_series(std::move(paths));
-  PlotSeries circle{.name = "goal", .line = true, .markers = false};
+// The rides seen from above (ride_paths.csv) and the goal circle (goal.csv), as a chart and its SVG.
+void write_rides_from_above(const RunDirectory& dir, const std::vector<BicycleRide>& rides,
+                            const BicycleGoal& goal, const std::string& title, const std::string& svg) {
+  CsvWriter paths({"ride", "x", "y"});
+  for (std::size_t i = 0; i < rides.size(); ++i)
+    for (std::size_t k = 0; k < rides[i].x.size(); ++k)
+      paths.add_row({static_cast<std::int64_t>(i), rides[i].x[k], rides[i].y[k]});
+  dir.write_csv("ride_paths.csv", paths);
+  CsvWriter circle({"x", "y"});
   for (int k = 0; k <= 64; ++k) {
     const double a = 2.0 * std::numbers::pi * k / 64;
-    circle.x.push_back(goal.x + goal.radius * std::cos(a));
-    circle.y.push_back(goal.y + goal.radius * std::sin(a));
+    circle.add_row({goal.x + goal.radius * std::cos(a), goal.y + goal.radius * std::sin(a)});
   }
-  plot.add_series(std::move(circle));
-  plot.add_series({.name = "start", .x = {0.0}, .y = {0.0}, .line = false, .markers = true});
-  return plot.render();
+  dir.write_csv("goal.csv", circle);
+  const Chart from_above{
+      .title = title,
+      .x = {"x (m)"},
+      .y = {"y (m)"},
+      .traces = {{.file = "ride_paths.csv",
+                  .x = "x",
+                  .y = "y",
+                  .group_by = {"ride"},
+                  .name = "front tyre",
+                  .one_trace = true,
+                  .width = 1},
+                 {.file = "goal.csv", .x = "x", .y = "y", .name = "goal", .color = "#000000"}},
+      .equal_aspect = true};
+  dir.add_charts(ChartSection{.id = "rides-from-above",
+                              .title = "Rides seen from above",
+                              .intro = "The path of the front tyre on each ride, and the goal.",
+                              .charts = {from_above}});
+  dir.write_chart_svg(svg, from_above);
 }
 
-std::string curve_plot(const std::vector<std::pair<std::string, std::vector<double>>>& curves) {
-  SvgPlot plot;
-  plot.title("Bicycle: U-hat against optimizer iterations").x_label("iteration").y_label("U-hat");
-  for (const auto& [name, values] : curves) {
-    PlotSeries s{.name = name, .markers = values.size() < 40};
-    for (std::size_t k = 0; k < values.size(); ++k) {
-      s.x.push_back(static_cast<double>(k + 1));
-      s.y.push_back(values[k]);
-    }
-    if (!s.x.empty()) plot.add_series(std::move(s));
-  }
-  return plot.render();
+// Distances ridden, a box per policy (rides.csv).
+void add_distance_chart(const RunDirectory& dir) {
+  dir.add_charts(ChartSection{
+      .id = "rides",
+      .title = "Rides",
+      .intro = "Each policy ridden from the initial-state distribution with fresh noise (rides.csv).",
+      .charts = {{.kind = ChartKind::kBox,
+                  .title = "Distance ridden to the goal",
+                  .y = {"distance ridden (km)"},
+                  .traces = {{.file = "rides.csv", .y = "distance_km", .group_by = {"method", "trial"}}}}}});
 }
 
 // Rides of one policy with their paths, for the plot.
@@ -166,7 +174,6 @@ void run_experiment(RunContext& ctx) {
   CsvWriter trials({"method", "trial", "initial_uhat", "final_uhat", "pegasus_uhat", "iterations",
                     "evaluations", "median_distance_km", "worst_distance_km", "reached", "falls"});
   nlohmann::json policies = nlohmann::json::array(), lessons = nlohmann::json::array();
-  std::vector<std::pair<std::string, std::vector<double>>> curve_series;
   for (const auto& t : result.trials) {
     add_ride_rows(rides, t.method, t.trial, t.rides);
     for (std::size_t k = 0; k < t.curve.size(); ++k)
@@ -185,18 +192,31 @@ void run_experiment(RunContext& ctx) {
       row["pegasus_uhat"] = t.pegasus_uhat;
       lessons.push_back(row);
     }
-    curve_series.emplace_back(fmt::format("{} {}", t.method, t.trial), t.curve);
   }
   dir.write_csv("rides.csv", rides);
   dir.write_csv("learning_curves.csv", curves);
   dir.write_csv("trials.csv", trials);
-  dir.write_text("learning_curves.svg", curve_plot(curve_series));
+  const Chart curves_chart{
+      .title = "Bicycle: U-hat against optimizer iterations",
+      .x = {"iteration"},
+      .y = {"U-hat (training scenarios)"},
+      .traces = {
+          {.file = "learning_curves.csv", .x = "iteration", .y = "uhat", .group_by = {"method", "trial"}}}};
+  dir.add_charts({{.id = "learning-curves",
+                   .title = "Learning curves",
+                   .intro = "U-hat of each training on its own scenario set, by optimizer iteration.",
+                   .charts = {curves_chart}},
+                  {.id = "trials",
+                   .title = "Trainings",
+                   .intro = "One row per training (trials.csv).",
+                   .charts = {{.kind = ChartKind::kTable, .traces = {{.file = "trials.csv"}}}}}});
+  dir.write_chart_svg("learning_curves.svg", curves_chart);
+  add_distance_chart(dir);
   const BicycleTrial& first = result.trials.front();
   BicycleRideOptions riding = o.riding;
   riding.seed = bicycle_ride_seed(o.seed, first.trial);
-  dir.write_text("rides_trial0.svg",
-                 rides_plot(rides_with_paths(first.theta, riding, ctx.pool()), riding.bicycle.goal,
-                            "The rides of the trial-0 policy, seen from above"));
+  write_rides_from_above(dir, rides_with_paths(first.theta, riding, ctx.pool()), riding.bicycle.goal,
+                         "The rides of the trial-0 policy, seen from above", "rides_trial0.svg");
   dir.write_json("summary.json", {{"experiment", "bicycle"},
                                   {"policies", policies},
                                   {"median_of_medians_km", number_or_null(result.median_of_medians_km)},
@@ -232,13 +252,15 @@ void run_train(RunContext& ctx) {
   const OptimizerSummary& s = trained.summary;
 
   CsvWriter curve({"iteration", "evaluations", "uhat"});
-  std::vector<double> values;
-  for (const auto& h : s.history) {
-    curve.add_row({h.iteration, h.evaluations, h.value});
-    values.push_back(h.value);
-  }
+  for (const auto& h : s.history) curve.add_row({h.iteration, h.evaluations, h.value});
   dir.write_csv("learning_curve.csv", curve);
-  dir.write_text("learning_curve.svg", curve_plot({{"PEGASUS", values}}));
+  const ChartSection progress =
+      optimizer_progress_section({{"PEGASUS", "learning_curve.csv"}},
+                                 "U-hat of the current policy on the training scenarios, by iteration and by "
+                                 "evaluations.",
+                                 "uhat", {"iteration", "evaluations"});
+  dir.add_charts(progress);
+  dir.write_chart_svg("learning_curve.svg", progress.charts.front());
   dir.write_json("policy.json", bicycle_policy_json(trained.theta));
   nlohmann::json summary = {
       {"experiment", "bicycle train"}, {"initial_uhat", s.initial_value},
@@ -254,8 +276,9 @@ void run_train(RunContext& ctx) {
     CsvWriter csv({"method", "trial", "ride", "distance_km", "reached", "fell"});
     add_ride_rows(csv, "pegasus", 0, rides);
     dir.write_csv("rides.csv", csv);
-    dir.write_text("rides.svg",
-                   rides_plot(rides, riding.bicycle.goal, "Rides of the trained policy, seen from above"));
+    add_distance_chart(dir);
+    write_rides_from_above(dir, rides, riding.bicycle.goal, "Rides of the trained policy, seen from above",
+                           "rides.svg");
     ctx.out << fmt::format("rides: median {} km, worst {} km, {} falls, {} of {} reached\n",
                            number_or_null(rs.median_distance_km).dump(),
                            number_or_null(rs.worst_distance_km).dump(), rs.falls, rs.reached, rs.rides);
@@ -283,7 +306,8 @@ void run_ride(RunContext& ctx) {
   CsvWriter csv({"method", "trial", "ride", "distance_km", "reached", "fell"});
   add_ride_rows(csv, "policy", 0, rides);
   dir.write_csv("rides.csv", csv);
-  dir.write_text("rides.svg", rides_plot(rides, riding.bicycle.goal, "Rides seen from above"));
+  add_distance_chart(dir);
+  write_rides_from_above(dir, rides, riding.bicycle.goal, "Rides seen from above", "rides.svg");
   dir.write_json("summary.json", ride_summary_json(rs));
   ctx.out << fmt::format("median {} km, worst {} km, {} falls, {} of {} reached\n",
                          number_or_null(rs.median_distance_km).dump(),
@@ -323,6 +347,14 @@ void run_variance(RunContext& ctx) {
   bar.finish();
   RunDirectory& dir = ctx.run_directory();
   dir.write_csv("uhat.csv", csv);
+  dir.add_charts(ChartSection{
+      .id = "variance",
+      .title = "U-hat by scenario variant",
+      .intro = "The spread of U-hat across scenario sets is the noise the optimizer sees (uhat.csv).",
+      .charts = {{.kind = ChartKind::kBox,
+                  .title = "U-hat of one policy over independent scenario sets",
+                  .y = {"U-hat"},
+                  .traces = {{.file = "uhat.csv", .y = "uhat", .group_by = {"variant"}}}}}});
   dir.write_json("summary.json",
                  {{"uhat_std", stds}, {"uhat_mean", means}, {"sets", sets}, {"scenarios", o.scenarios}});
 }

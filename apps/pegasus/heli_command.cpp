@@ -31,6 +31,8 @@
 #include "pegasus/io/json_csv.hpp"
 #include "pegasus/logs/vehicle.hpp"
 #include "pegasus/optimizers/training.hpp"
+#include "pegasus/runs/charts.hpp"
+#include "pegasus/runs/flight_charts.hpp"
 #include "pegasus/runs/optimizer_config.hpp"
 #include "pegasus/runs/progress.hpp"
 #include "pegasus/runs/svg_plot.hpp"
@@ -139,17 +141,10 @@ void run_pilot(RunContext& ctx) {
   FlightLog truth = f.log;
   for (std::size_t i = 0; i < truth.rows(); ++i) truth.states[i] = f.truth[i];
   dir.write_text("truth.csv", flight_log_csv(truth));
-  SvgPlot plot;
-  plot.title("Pilot flight: position (world, NED)").x_label("time, s").y_label("m");
-  for (int v = 0; v < 3; ++v) {
-    PlotSeries s{.name = kLogStateColumns[static_cast<std::size_t>(v)], .markers = false};
-    for (std::size_t i = 0; i < f.truth.size(); i += 5) {
-      s.x.push_back(f.log.time[i]);
-      s.y.push_back(f.truth[i][static_cast<std::size_t>(v)]);
-    }
-    plot.add_series(std::move(s));
-  }
-  dir.write_text("position.svg", plot.render());
+  const auto log_charts =
+      flight_log_sections("log.csv", "truth.csv", {kLogControlColumns.begin(), kLogControlColumns.end()});
+  dir.add_charts(log_charts);
+  dir.write_chart_svg("position.svg", log_charts.front().charts.back());
   const heli::HoverPoint trim = aircraft->hover_point();
   nlohmann::json summary = {{"seconds", static_cast<double>(f.log.rows()) * dt},
                             {"rows", f.log.rows()},
@@ -301,23 +296,6 @@ heli::HoverTrainingOptions hover_options(const RunContext& ctx) {
   return o;
 }
 
-std::string curve_svg(const std::vector<IterationRecord>& progress, std::int64_t gradient_iterations) {
-  SvgPlot plot;
-  plot.title("Hover training: U-hat of the best policy so far")
-      .x_label("optimizer iteration")
-      .y_label("U-hat");
-  PlotSeries g{.name = "gradient ascent", .markers = progress.size() < 60},
-      h{.name = "hill climbing", .markers = progress.size() < 60};
-  for (const auto& r : progress) {
-    PlotSeries& s = r.iteration <= gradient_iterations ? g : h;
-    s.x.push_back(static_cast<double>(r.iteration));
-    s.y.push_back(r.value);
-  }
-  if (!g.x.empty()) plot.add_series(std::move(g));
-  if (!h.x.empty()) plot.add_series(std::move(h));
-  return plot.render();
-}
-
 void run_hover(RunContext& ctx) {
   const heli::HoverTrainingOptions o = hover_options(ctx);
   const logs::Vehicle trained_for = vehicle_of(ctx.config);
@@ -349,11 +327,12 @@ void run_hover(RunContext& ctx) {
   const heli::HoverTrainingResult r = heli::train_hover(model, o, hooks, ctx.pool());
   bar.finish();
 
-  CsvWriter progress({"iteration", "evaluations", "seconds", "objective"});
-  for (const auto& h : r.progress) progress.add_row({h.iteration, h.evaluations, h.seconds, h.value});
-  dir.write_csv("progress.csv", progress);
-  dir.write_text("progress.svg",
-                 curve_svg(r.progress, r.gradient.method == "gradient" ? r.gradient.iterations : 0));
+  dir.write_csv("progress.csv", optimizer_progress_csv(r.progress));
+  const ChartSection progress = optimizer_progress_section(
+      {{"", "progress.csv"}},
+      "U-hat of the best policy so far against optimizer iterations, evaluations and time.");
+  dir.add_charts(progress);
+  dir.write_chart_svg("progress.svg", progress.charts.front());
   heli::HoverTrainingOptions used = o;  // with the LQR start's action weights as training settled them
   used.lqr_action_factor = r.lqr_action_factor;
   const heli::HoverPolicy policy = heli::hover_policy_for(*model, used);
@@ -466,7 +445,8 @@ nlohmann::json flight_summary_json(const heli::FlightSummary& s) {
 CsvWriter flights_csv(const std::vector<heli::FlightRecord>& flights) {
   std::vector<std::string> header = {"flight", "t"};
   for (const char* n : kLoggedStateNames) header.emplace_back(n);
-  for (const char* n : {"a1", "a2", "a3", "a4", "target_x", "target_y", "target_z", "target_yaw"})
+  for (const char* n : {"a1", "a2", "a3", "a4", "target_x", "target_y", "target_z", "target_yaw", "xdot_b",
+                        "ydot_b", "zdot_b"})
     header.emplace_back(n);
   CsvWriter csv(header);
   for (std::size_t i = 0; i < flights.size(); ++i)
@@ -475,6 +455,9 @@ CsvWriter flights_csv(const std::vector<heli::FlightRecord>& flights) {
       for (double v : row.truth) cells.emplace_back(v);
       for (double v : row.controls) cells.emplace_back(v);
       for (double v : {row.target.x, row.target.y, row.target.z, row.target.yaw}) cells.emplace_back(v);
+      const heli::Vec3 v_B =
+          heli::body_from_world(heli::attitude_of(row.truth), heli::velocity_of(row.truth));
+      for (double v : {v_B[0], v_B[1], v_B[2]}) cells.emplace_back(v);
       csv.add_row(std::move(cells));
     }
   return csv;
@@ -490,47 +473,29 @@ void add_per_flight(CsvWriter& csv, const std::string& who, const std::vector<he
   }
 }
 
-// Figs 5.6-5.7: one variable of flight 0 against time, the policy (and the pilot).
-void write_trace_plots(RunDirectory& dir, const std::vector<heli::FlightRecord>& main,
-                       const std::string& main_name, const std::vector<heli::FlightRecord>* pilot) {
-  if (main.empty() || main[0].trace.empty()) return;
-  struct Panel {
-    const char* file;
-    const char* title;
-    const char* unit;
-    int index;  // 0..2 world position, 3..5 body velocity
-  };
-  const Panel panels[] = {{"position_x.svg", "x (north), world (Fig 5.7)", "m", 0},
-                          {"position_y.svg", "y (east), world (Fig 5.7)", "m", 1},
-                          {"position_z.svg", "z (down), world (Fig 5.7)", "m", 2},
-                          {"velocity_xb.svg", "xdot_b (forward), body (Fig 5.6)", "m/s", 3},
-                          {"velocity_yb.svg", "ydot_b (right), body (Fig 5.6)", "m/s", 4},
-                          {"velocity_zb.svg", "zdot_b (down), body (Fig 5.6)", "m/s", 5}};
-  auto series = [](const heli::FlightRecord& f, int index, const std::string& name, const char* color) {
-    PlotSeries s{.name = name, .markers = false, .color = color};
-    for (std::size_t k = 0; k < f.trace.size(); k += 2) {
-      const auto& row = f.trace[k];
-      s.x.push_back(row.time);
-      if (index < 3) {
-        s.y.push_back(row.truth[static_cast<std::size_t>(index)]);
-      } else {
-        const heli::Vec3 v_B =
-            heli::body_from_world(heli::attitude_of(row.truth), heli::velocity_of(row.truth));
-        s.y.push_back(v_B[index - 3]);
-      }
-    }
-    return s;
-  };
-  for (const Panel& p : panels) {
-    SvgPlot plot;
-    plot.title(fmt::format("Hover on the ground truth, flight 0: {}", p.title))
-        .x_label("time, s")
-        .y_label(p.unit);
-    plot.add_series(series(main[0], p.index, main_name, "#1f77b4"));
-    if (pilot && !pilot->empty() && !(*pilot)[0].trace.empty())
-      plot.add_series(series((*pilot)[0], p.index, "scripted pilot", "#d62728"));
-    dir.write_text(p.file, plot.render());
-  }
+// Figs 5.6-5.7 (body-frame velocities and world positions of flight 0 against time, the policy against the
+// pilot) and the 3-D replay of every traced flight; the SVGs are drawn from the same charts.
+void add_flight_charts(RunDirectory& dir, const std::string& main_name, bool with_pilot) {
+  std::vector<FlightSeries> files = {{.file = "flights.csv", .label = main_name, .body_velocities = true}};
+  if (with_pilot)
+    files.push_back({.file = "pilot_flights.csv", .label = "scripted pilot", .body_velocities = true});
+  const ChartSection traces = flight_traces_section(
+      files, "hover", with_pilot ? "Flights against the pilot (Figs 5.6-5.7)" : "Flight traces",
+      with_pilot
+          ? "Blue, solid: the learned controller; red, dashed: the scripted pilot; the first flight of "
+            "each (all of them are in the 3-D replay). Body-frame velocities (Fig 5.6) and world "
+            "positions (Fig 5.7)."
+          : "Body-frame velocities and world positions of the first flight; all of them are in the 3-D "
+            "replay.");
+  dir.add_charts(
+      {traces, ChartSection{.id = "replay",
+                            .title = "3-D replay",
+                            .intro = "Drag to turn the view, scroll to zoom; Play runs the flight in "
+                                     "real time (speed adjustable), the slider moves through it.",
+                            .charts = {flight_replay_chart(files)}}});
+  const char* svgs[] = {"velocity_xb.svg", "velocity_yb.svg", "velocity_zb.svg",
+                        "position_x.svg",  "position_y.svg",  "altitude.svg"};
+  for (std::size_t i = 0; i < traces.charts.size(); ++i) dir.write_chart_svg(svgs[i], traces.charts[i]);
 }
 
 void run_fly(RunContext& ctx) {
@@ -607,8 +572,7 @@ void run_fly(RunContext& ctx) {
     dir.write_csv("pilot_flights.csv", flights_csv(pilot));
   }
   dir.write_csv("per_flight.csv", per_flight);
-  write_trace_plots(dir, main, pilot_only ? "scripted pilot" : "learned policy",
-                    with_pilot && !pilot_only ? &pilot : nullptr);
+  add_flight_charts(dir, pilot_only ? "scripted pilot" : "learned policy", with_pilot && !pilot_only);
   dir.write_json("summary.json", summary);
   auto line = [](const char* who, const heli::FlightSummary& f) {
     return fmt::format(

@@ -4,6 +4,7 @@
 // every identifying command declares.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -14,8 +15,9 @@
 #include "pegasus/heli/hover_task.hpp"
 #include "pegasus/io/json_csv.hpp"
 #include "pegasus/logs/vehicle.hpp"
+#include "pegasus/runs/charts.hpp"
+#include "pegasus/runs/flight_charts.hpp"
 #include "pegasus/runs/progress.hpp"
-#include "pegasus/runs/svg_plot.hpp"
 #include "pegasus/sysid/flight_log.hpp"
 #include "pegasus/sysid/identify.hpp"
 
@@ -167,6 +169,16 @@ void run_identify(RunContext& ctx) {
   CsvWriter cv({"setting", "cv_error"});
   for (const auto& [what, e] : report.cv_trace) cv.add_row({what, e});
   dir.write_csv("cross_validation.csv", cv);
+  dir.add_charts(
+      ChartSection{.id = "cross-validation",
+                   .title = "Bandwidth cross-validation",
+                   .intro = "(cross_validation.csv)",
+                   .charts = {{.kind = ChartKind::kBar,
+                               .title = "Cross-validation error by setting",
+                               .x = {"setting"},
+                               .y = {"cross-validation error", AxisScale::kLog10},
+                               .traces = {{.file = "cross_validation.csv", .x = "setting", .y = "cv_error"}},
+                               .categorical = true}}});
 
   const double horizon = c.get_double("horizon_s"), spacing = c.get_double("start_spacing_s");
   struct Variant {
@@ -227,22 +239,16 @@ void run_identify(RunContext& ctx) {
         mse_csv.add_row({v.name, v.mse.seconds[t], std::string(kReportVarNames[static_cast<std::size_t>(k)]),
                          v.mse.mse[t][static_cast<std::size_t>(k)], std::int64_t{v.mse.count[t]}});
   dir.write_csv("mse_vs_horizon.csv", mse_csv);
-  for (const char* var : {"xdot_b", "pitch_rate", "ydot_b", "z"}) {
-    int k = 0;
-    while (std::string(kReportVarNames[static_cast<std::size_t>(k)]) != var) ++k;
-    SvgPlot plot;
-    plot.title(fmt::format("Hold-out MSE of {} vs prediction horizon (Fig 5.2)", var))
-        .x_label("horizon, s")
-        .y_label("mean squared error");
-    for (const auto& v : variants) {
-      PlotSeries s{.name = v.name, .markers = false};
-      for (std::size_t t = 0; t < v.mse.seconds.size(); ++t) {
-        s.x.push_back(v.mse.seconds[t]);
-        s.y.push_back(v.mse.mse[t][static_cast<std::size_t>(k)]);
-      }
-      plot.add_series(std::move(s));
+  {
+    const std::vector<std::string> drawn = {"xdot_b", "pitch_rate", "ydot_b", "z"};
+    std::vector<std::string> all(kReportVarNames.begin(), kReportVarNames.end());
+    const ChartSection mse = mse_vs_horizon_section("mse_vs_horizon.csv", all);
+    dir.add_charts(mse);
+    for (const auto& chart : mse.charts) {
+      const std::string& var = chart.traces.front().where.at("variable");
+      if (std::find(drawn.begin(), drawn.end(), var) != drawn.end())
+        dir.write_chart_svg(fmt::format("mse_{}.svg", var), chart);
     }
-    dir.write_text(fmt::format("mse_{}.svg", var), plot.render());
   }
   variants.pop_back();  // as_trained: reported apart from Fig 5.2's variants
 
@@ -252,16 +258,26 @@ void run_identify(RunContext& ctx) {
     nc_csv.add_row({nc.time[i], nc.truth[i], nc.mean[i], nc.sd[i]});
   dir.write_csv("noise_check.csv", nc_csv);
   {
-    SvgPlot plot;
-    plot.title("ydot_b on hold-out data with +-2 sd bands, EKF reset every 2 s (Fig 5.3)")
-        .x_label("time, s")
-        .y_label("m/s");
-    plot.add_series({.name = "true", .x = nc.time, .y = nc.truth, .markers = false});
-    std::vector<double> two_sd(nc.sd.size());
-    for (std::size_t i = 0; i < nc.sd.size(); ++i) two_sd[i] = 2 * nc.sd[i];
-    plot.add_series(
-        {.name = "predicted +- 2 sd", .x = nc.time, .y = nc.mean, .error = two_sd, .markers = false});
-    dir.write_text("noise_check.svg", plot.render());
+    const Chart chart{.title = "ydot_b on hold-out data with +-2 sd bands, EKF reset every 2 s (Fig 5.3)",
+                      .x = {"time (s)"},
+                      .y = {"ydot_b (m/s)"},
+                      .traces = {{.file = "noise_check.csv", .x = "time", .y = "ydot_b_true", .name = "true"},
+                                 {.file = "noise_check.csv",
+                                  .x = "time",
+                                  .y = "ydot_b_predicted",
+                                  .name = "predicted",
+                                  .band = "sd",
+                                  .band_factor = 2,
+                                  .band_name = "+-2 standard deviations",
+                                  .dash = "dashdot"}}};
+    dir.add_charts(ChartSection{
+        .id = "noise-check",
+        .title = "Prediction with 2-sigma bands (Fig 5.3)",
+        .intro =
+            "The model's prediction from the true state, reset to the truth every few seconds; the band is 2 "
+            "standard deviations of the predicted state (noise_check.csv).",
+        .charts = {chart}});
+    dir.write_chart_svg("noise_check.svg", chart);
   }
 
   nlohmann::json bandwidth, sigma2, outside;

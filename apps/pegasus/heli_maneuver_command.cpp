@@ -14,6 +14,7 @@
 #include "experiment_commands.hpp"
 #include "pegasus/core/error.hpp"
 #include "pegasus/evaluators/monte_carlo.hpp"
+#include "pegasus/heli/frames.hpp"
 #include "pegasus/heli/hover_task.hpp"
 #include "pegasus/heli/maneuver_file.hpp"
 #include "pegasus/heli/maneuver_policy.hpp"
@@ -22,6 +23,8 @@
 #include "pegasus/heli/simulators.hpp"
 #include "pegasus/io/json_csv.hpp"
 #include "pegasus/logs/vehicle.hpp"
+#include "pegasus/runs/charts.hpp"
+#include "pegasus/runs/flight_charts.hpp"
 #include "pegasus/runs/optimizer_config.hpp"
 #include "pegasus/runs/svg_plot.hpp"
 #include "pegasus/sysid/flight_log.hpp"
@@ -155,35 +158,58 @@ ManeuverFileOptions file_options(const ManeuverTrainingOptions& o) {
   return {.name = o.name, .size = o.size, .limits = o.limits, .policy = o.policy};
 }
 
-std::string path_plot(const std::string& title, int a, int b, const char* xl, const char* yl,
-                      const std::vector<std::array<double, 5>>& ideal,
-                      const std::vector<ManeuverFlight>& flights, int max_flights) {
-  SvgPlot plot;
-  plot.title(title).x_label(xl).y_label(yl).size(720, 480);
-  auto axis = [](const std::array<double, 5>& r, int k) {
-    return k == 3 ? -r[3] : r[static_cast<std::size_t>(k)];
+// The flights against the ideal path (Fig 5.10): from above, from the side, altitude and distance to the path
+// against time, and the 3-D replay; the SVGs are drawn from the same charts.
+void add_path_charts(const RunDirectory& dir, const std::string& maneuver) {
+  const ChartTrace ideal{.file = "ideal_path.csv", .name = "ideal path", .dash = "dash", .color = "#000000"};
+  const ChartTrace flown{
+      .file = "flights.csv", .group_by = {"flight"}, .name = "flight", .max_groups = 10, .width = 1};
+  auto along = [](ChartTrace t, std::string x, std::string y, double y_factor = 1.0) {
+    t.x = std::move(x);
+    t.y = std::move(y);
+    t.y_factor = y_factor;
+    return t;
   };
-  PlotSeries flown{.name = "flights on the ground truth", .line = true, .markers = false};
-  int n = 0;
-  for (const auto& f : flights) {
-    if (n++ >= max_flights) break;
-    for (std::size_t i = 0; i < f.truth.size(); i += 5) {
-      const auto& s = f.truth[i];
-      const std::array<double, 5> r{0, s[0], s[1], s[2], 0};
-      flown.x.push_back(axis(r, a));
-      flown.y.push_back(axis(r, b));
-    }
-    flown.x.push_back(std::numeric_limits<double>::quiet_NaN());
-    flown.y.push_back(std::numeric_limits<double>::quiet_NaN());
-  }
-  plot.add_series(std::move(flown));
-  PlotSeries path{.name = "ideal path", .line = true, .markers = false};
-  for (const auto& r : ideal) {
-    path.x.push_back(axis(r, a));
-    path.y.push_back(axis(r, b));
-  }
-  plot.add_series(std::move(path));
-  return plot.render();
+  const Chart top{.title = maneuver + ": seen from above",
+                  .x = {"y, east (m)"},
+                  .y = {"x, north (m)"},
+                  .traces = {along(ideal, "y", "x"), along(flown, "y", "x")},
+                  .equal_aspect = true};
+  const Chart side{.title = maneuver + ": side view",
+                   .x = {"x, north (m)"},
+                   .y = {"altitude -z (m)"},
+                   .traces = {along(ideal, "x", "z", -1), along(flown, "x", "z", -1)},
+                   .equal_aspect = true};
+  const Chart altitude{.title = "Altitude against time",
+                       .x = {"time (s)"},
+                       .y = {"altitude -z (m)"},
+                       .traces = {along(ideal, "t", "z", -1), along(flown, "t", "z", -1)}};
+  const Chart deviation{.title = maneuver + ": distance to the ideal path (ground truth, gusts)",
+                        .x = {"time (s)"},
+                        .y = {"distance to the path (m)"},
+                        .traces = {{.file = "path_deviation.csv",
+                                    .x = "t",
+                                    .y = "path_deviation_m",
+                                    .group_by = {"flight"},
+                                    .name = "flight",
+                                    .max_groups = 5,
+                                    .width = 1.2}},
+                        .size = "wide"};
+  dir.add_charts(ChartSection{
+      .id = "replay",
+      .title = "3-D replay against the ideal path (Fig 5.10)",
+      .intro =
+          "Drag to turn the view, scroll to zoom; Play runs the flight in real time (speed adjustable), the "
+          "slider moves through it. Coloured lines: the flights; black dashed: the ideal path.",
+      .charts = {flight_replay_chart({{.file = "flights.csv", .label = "policy flight"}}, "ideal_path.csv"),
+                 top, side, altitude, deviation}});
+  dir.write_chart_svg("paths_top.svg", top);
+  dir.write_chart_svg("paths_side.svg", side);
+  dir.write_chart_svg("deviation.svg", deviation);
+}
+
+std::string progress_file(const std::string& variant) {
+  return variant == "full" ? std::string("progress.csv") : "progress_" + variant + ".csv";
 }
 
 void run(RunContext& ctx) {
@@ -310,10 +336,7 @@ void run(RunContext& ctx) {
     write_policy_file(
         dir.path() / (v.key == "full" ? std::string("policy.json") : "policy_" + v.key + ".json"), file);
 
-    CsvWriter progress({"iteration", "evaluations", "seconds", "objective"});
-    for (const auto& h : t.summary.history)
-      progress.add_row({h.iteration, h.evaluations, h.seconds, h.value});
-    dir.write_csv(v.key == "full" ? std::string("progress.csv") : "progress_" + v.key + ".csv", progress);
+    dir.write_csv(progress_file(v.key), optimizer_progress_csv(t.summary.history));
     if (v.key == "full") {
       // Untrained yardstick: the starting weights on the same flights.
       const Theta start =
@@ -349,9 +372,10 @@ void run(RunContext& ctx) {
   for (const auto& r : ideal) ideal_csv.add_row({r[0], r[1], r[2], r[3], r[4]});
   dir.write_csv("ideal_path.csv", ideal_csv);
 
-  CsvWriter flights_csv({"flight", "t",    "x",        "y",         "z",          "roll",      "pitch", "yaw",
-                         "xdot",   "ydot", "zdot",     "roll_rate", "pitch_rate", "yaw_rate",  "a1",    "a2",
-                         "a3",     "a4",   "target_x", "target_y",  "target_z",   "target_yaw"});
+  CsvWriter flights_csv({"flight",     "t",      "x",      "y",     "z",         "roll",       "pitch",
+                         "yaw",        "xdot",   "ydot",   "zdot",  "roll_rate", "pitch_rate", "yaw_rate",
+                         "a1",         "a2",     "a3",     "a4",    "target_x",  "target_y",   "target_z",
+                         "target_yaw", "xdot_b", "ydot_b", "zdot_b"});
   // The distance to the path per step, apart from flights.csv (whose columns are shared by every heli
   // command).
   CsvWriter deviation_csv({"flight", "t", "path_deviation_m", "progress_m"});
@@ -366,6 +390,9 @@ void run(RunContext& ctx) {
       row.emplace_back(f.targets[k].y);
       row.emplace_back(f.targets[k].z);
       row.emplace_back(f.targets[k].yaw);
+      const heli::Vec3 v_B =
+          heli::body_from_world(heli::attitude_of(f.truth[k]), heli::velocity_of(f.truth[k]));
+      for (double x : {v_B[0], v_B[1], v_B[2]}) row.emplace_back(x);
       flights_csv.add_row(row);
       deviation_csv.add_row(
           {static_cast<std::int64_t>(i), static_cast<double>(k) * 0.02, f.deviation[k], f.progress[k]});
@@ -373,45 +400,18 @@ void run(RunContext& ctx) {
   }
   dir.write_csv("flights.csv", flights_csv);
   dir.write_csv("path_deviation.csv", deviation_csv);
-  dir.write_text(
-      "paths_side.svg",
-      path_plot(fmt::format("{}: flights on the ground truth, side view (x north, altitude)", base.name), 1,
-                3, "x (north), m", "altitude, m", ideal, main_flights, 20));
-  dir.write_text("paths_top.svg",
-                 path_plot(fmt::format("{}: flights on the ground truth, top view", base.name), 2, 1,
-                           "y (east), m", "x (north), m", ideal, main_flights, 20));
   {
-    SvgPlot plot;
-    plot.title(fmt::format("{}: U-hat against optimizer iterations", base.name))
-        .x_label("iteration")
-        .y_label("U-hat");
-    for (const auto& v : variants) {
-      PlotSeries s{.name = v.label, .markers = true};
-      for (const auto& h : trained.at(v.key).summary.history) {
-        s.x.push_back(static_cast<double>(h.iteration));
-        s.y.push_back(h.value);
-      }
-      if (!s.x.empty()) plot.add_series(std::move(s));
-    }
-    dir.write_text("progress.svg", plot.render());
+    std::vector<std::pair<std::string, std::string>> files;
+    for (const auto& v : variants) files.emplace_back(v.label, progress_file(v.key));
+    const ChartSection progress = optimizer_progress_section(
+        files,
+        "U-hat of the best policy so far against optimizer iterations, evaluations and time, for each "
+        "variant trained.");
+    dir.add_charts(progress);
+    dir.write_chart_svg("progress.svg", progress.charts.front());
   }
-  {
-    SvgPlot plot;
-    plot.title(fmt::format("{}: distance to the ideal path (ground truth, gusts)", base.name))
-        .x_label("time, s")
-        .y_label("m");
-    int n = 0;
-    for (const auto& f : main_flights) {
-      if (n++ >= 5) break;
-      PlotSeries s{.name = fmt::format("flight {}", n - 1), .markers = false};
-      for (std::size_t k = 0; k < f.deviation.size(); k += 5) {
-        s.x.push_back(static_cast<double>(k) * 0.02);
-        s.y.push_back(f.deviation[k]);
-      }
-      plot.add_series(std::move(s));
-    }
-    dir.write_text("deviation.svg", plot.render());
-  }
+
+  add_path_charts(dir, base.name);
 
   const auto& m = scores.at("full");
   summary["flights"] = m.flights;
@@ -506,6 +506,8 @@ void run_pilot(RunContext& ctx) {
   RunDirectory& dir = ctx.run_directory();
   keep_vehicle_file(c, dir);
   dir.write_text("log.csv", sysid::flight_log_csv(f.log));
+  dir.add_charts(flight_log_sections("log.csv", "",
+                                     {sysid::kLogControlColumns.begin(), sysid::kLogControlColumns.end()}));
   const double seconds = static_cast<double>(f.log.rows()) * aircraft->step_seconds();
   nlohmann::json summary = {{"seconds", seconds},
                             {"rows", f.log.rows()},

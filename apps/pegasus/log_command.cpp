@@ -15,6 +15,7 @@
 #include "pegasus/io/json_csv.hpp"
 #include "pegasus/logs/ulog.hpp"
 #include "pegasus/logs/ulog_import.hpp"
+#include "pegasus/runs/flight_charts.hpp"
 #include "pegasus/sysid/flight_log.hpp"
 #include "pegasus/sysid/identify.hpp"
 
@@ -116,6 +117,8 @@ void run_import(RunContext& ctx) {
 
   RunDirectory& dir = ctx.run_directory();
   dir.write_text("log.csv", sysid::flight_log_csv(log));
+  dir.add_charts(flight_log_sections("log.csv", "",
+                                     {sysid::kLogControlColumns.begin(), sysid::kLogControlColumns.end()}));
   nlohmann::json prov = provenance.json;
   prov["source"] = {{"path", file.string()}, {"sha256", sha256}, {"bytes", bytes}};
   dir.write_json("provenance.json", prov);
@@ -192,6 +195,8 @@ void run_import(RunContext& ctx) {
       rollouts[keys[m]] = n;
     }
     dir.write_csv("mse_vs_horizon.csv", mse_csv);
+    dir.add_charts(mse_vs_horizon_section("mse_vs_horizon.csv",
+                                          {sysid::kReportVarNames.begin(), sysid::kReportVarNames.end()}));
     summary["prediction"] = {{"train_seconds", train.seconds()},
                              {"test_seconds", test.seconds()},
                              {"model_rate_hz", spec.model_rate_hz},

@@ -14,6 +14,7 @@
 #include "pegasus/mujoco/mujoco_objective.hpp"
 #include "pegasus/optimizers/optimizer.hpp"
 #include "pegasus/optimizers/training.hpp"
+#include "pegasus/runs/charts.hpp"
 #include "pegasus/runs/optimizer_config.hpp"
 
 namespace pegasus::cli {
@@ -90,6 +91,19 @@ CsvWriter evaluation_csv(const std::vector<MujocoRolloutResult>& results) {
 // colour once, and per control step (the start included) its world position and orientation, MuJoCo's z-up
 // world frame, quaternions (w, x, y, z). Written as replay.json by `mujoco train` (held-out episode 0) and
 // `mujoco rollout` (episode 0).
+// The 3-D replay of replay.json: every geom of the model as a three.js primitive after each control step.
+ChartSection replay_section(const std::string& what) {
+  return {
+      .id = "replay",
+      .title = "3-D replay",
+      .intro = what +
+               " (replay.json): every geom of the model drawn as a three.js primitive at its world "
+               "position and orientation after each control step. Drag to turn the view, scroll to "
+               "zoom; Play runs the episode in real time, the slider moves through it.",
+      .charts = {
+          {.kind = ChartKind::kMujocoReplay, .title = "3-D replay", .traces = {{.file = "replay.json"}}}}};
+}
+
 nlohmann::json replay_json(const MujocoEnvironment& env, const MujocoPolicy& policy,
                            std::span<const double> theta, const ObservationNormalizer& normalizer,
                            const ScenarioSet& scenarios) {
@@ -238,10 +252,12 @@ void run_train(RunContext& ctx) {
   const nlohmann::json evaluation = evaluation_json(results);
   dir.write_json("replay.json", replay_json(env, *problem.policy, theta, objective.normalizer(), held_out));
 
-  CsvWriter progress({"iteration", "evaluations", "seconds", "objective"});
-  for (const auto& h : summary.history) progress.add_row({h.iteration, h.evaluations, h.seconds, h.value});
-  dir.write_csv("progress.csv", progress);
+  dir.write_csv("progress.csv", optimizer_progress_csv(summary.history));
   dir.write_csv("evaluation.csv", evaluation_csv(results));
+  dir.add_charts({optimizer_progress_section({{"", "progress.csv"}},
+                                             "U-hat of the best policy so far against "
+                                             "optimizer iterations, evaluations and time."),
+                  replay_section("Held-out episode 0 of the final policy")});
   const nlohmann::json shape = problem.policy->describe();
   const MujocoPolicyFile policy{.model = std::filesystem::absolute(c.get_string("model")).string(),
                                 .task = std::filesystem::absolute(c.get_string("task")).string(),
@@ -336,6 +352,7 @@ void run_rollout(RunContext& ctx) {
   dir.write_csv("returns.csv", evaluation_csv(results));
   dir.write_csv("trajectory.csv", trajectory);
   dir.write_json("replay.json", replay_json(env, *problem.policy, theta, normalizer, scenarios));
+  dir.add_charts(replay_section("Episode 0 of the rollout"));
   dir.write_json("summary.json", {{"experiment", "mujoco rollout"},
                                   {"success_return", finite_or_null(env.task().success_return)},
                                   {"success", success_json(env)},

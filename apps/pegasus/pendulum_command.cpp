@@ -9,8 +9,8 @@
 #include "pegasus/evaluators/pegasus_evaluator.hpp"
 #include "pegasus/experiments/pendulum_experiment.hpp"
 #include "pegasus/io/json_csv.hpp"
+#include "pegasus/runs/charts.hpp"
 #include "pegasus/runs/optimizer_config.hpp"
-#include "pegasus/runs/svg_plot.hpp"
 
 namespace pegasus::cli {
 namespace {
@@ -73,48 +73,45 @@ void run_train(RunContext& ctx) {
 
   // One curve over both stages: the refinement's iterations and evaluations continue the race's count.
   CsvWriter curve({"stage", "iteration", "evaluations", "seconds", "uhat"});
-  PlotSeries uhat{.name = fmt::format("U-hat, race ({} scenarios)", o.scenarios)};
-  PlotSeries uhat_refined{.name = fmt::format("U-hat, refinement ({} scenarios)", o.refine_scenarios)};
   for (const auto& h : s.history) {
     curve.add_row({std::string("race"), h.iteration, h.evaluations, h.seconds, h.value});
-    uhat.x.push_back(static_cast<double>(h.evaluations));
-    uhat.y.push_back(h.value);
   }
   for (const auto& h : refined.history) {
     curve.add_row({std::string("refine"), s.iterations + h.iteration, s.evaluations + h.evaluations,
                    s.wall_seconds + h.seconds, h.value});
-    uhat_refined.x.push_back(static_cast<double>(s.evaluations + h.evaluations));
-    uhat_refined.y.push_back(h.value);
   }
-  const std::int64_t all_evaluations = s.evaluations + refined.evaluations;
   CsvWriter checks({"seconds", "evaluations", "uhat", "mean_return"});
-  PlotSeries fresh{.name = fmt::format("mean return, {} fresh starts", o.evaluation_episodes)};
-  for (const auto& c : r.checks) {
-    checks.add_row({c.seconds, c.evaluations, c.uhat, c.mean_return});
-    fresh.x.push_back(static_cast<double>(c.evaluations));
-    fresh.y.push_back(c.mean_return);
-  }
+  for (const auto& c : r.checks) checks.add_row({c.seconds, c.evaluations, c.uhat, c.mean_return});
   CsvWriter episodes({"episode", "return"});
   const auto returns =
       pendulum_episode_returns(r.theta, o.evaluation_episodes, pendulum_evaluation_seed(o.seed), &ctx.pool());
   for (std::size_t i = 0; i < returns.size(); ++i)
     episodes.add_row({static_cast<std::int64_t>(i), returns[i]});
-  SvgPlot plot;
-  plot.title("Pendulum-v1: PEGASUS swing-up search")
-      .x_label("U-hat evaluations")
-      .y_label("return (200 steps)");
-  plot.add_series(std::move(uhat));
-  if (refine) plot.add_series(std::move(uhat_refined));
-  plot.add_series(std::move(fresh));
-  plot.add_series({.name = "bar",
-                   .x = {1.0, static_cast<double>(std::max<std::int64_t>(2, all_evaluations))},
-                   .y = {o.bar, o.bar},
-                   .line = true,
-                   .markers = false});
   dir.write_csv("learning_curve.csv", curve);
   dir.write_csv("bar_checks.csv", checks);
   dir.write_csv("episode_returns.csv", episodes);
-  dir.write_text("learning_curve.svg", plot.render());
+  const Chart search{.title = "Pendulum-v1: PEGASUS swing-up search",
+                     .x = {"U-hat evaluations"},
+                     .y = {"return (200 steps)"},
+                     .traces = {{.file = "learning_curve.csv",
+                                 .x = "evaluations",
+                                 .y = "uhat",
+                                 .group_by = {"stage"},
+                                 .name = fmt::format("U-hat ({} race, {} refinement scenarios)", o.scenarios,
+                                                     o.refine_scenarios)},
+                                {.file = "bar_checks.csv",
+                                 .x = "evaluations",
+                                 .y = "mean_return",
+                                 .name = fmt::format("mean return, {} fresh starts", o.evaluation_episodes),
+                                 .mode = "lines+markers"}},
+                     .references = {{.y = o.bar, .name = "bar"}}};
+  dir.add_charts(ChartSection{.id = "progress",
+                              .title = "Optimizer progress",
+                              .intro =
+                                  "U-hat of the best policy so far on the training scenarios (race, then "
+                                  "refinement) and the mean return on fresh starts at the bar checks.",
+                              .charts = {search}});
+  dir.write_chart_svg("learning_curve.svg", search);
   dir.write_json("policy.json", pendulum_policy_json(r.theta));
   // The final policy on many other starts: a 100-start mean carries about +-8 of sampling noise.
   const double mean_return_5000 = ordered_mean(

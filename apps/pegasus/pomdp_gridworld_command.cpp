@@ -6,7 +6,7 @@
 #include "pegasus/core/error.hpp"
 #include "pegasus/experiments/pomdp_gridworld_experiment.hpp"
 #include "pegasus/io/json_csv.hpp"
-#include "pegasus/runs/svg_plot.hpp"
+#include "pegasus/runs/charts.hpp"
 
 namespace pegasus::cli {
 namespace {
@@ -55,42 +55,35 @@ nlohmann::json summary_json(const PomdpGridworldResult& r, const PomdpGridworldO
           {"results", rows}};
 }
 
-// One curve per (model, estimator) of kSeries: `field` of each summary row against m, with `band` as the
-// error band when given.
-void add_curves(SvgPlot& plot, const PomdpGridworldResult& r, double PomdpGridworldSummaryRow::*field,
-                double PomdpGridworldSummaryRow::*band) {
-  for (const auto& [model, estimator, name] : kSeries) {
-    PlotSeries s{.name = name};
-    for (const auto& row : r.rows)
-      if (row.model == model && row.estimator == estimator) {
-        s.x.push_back(row.m);
-        s.y.push_back(row.*field);
-        if (band) s.error.push_back(row.*band);
-      }
-    if (!s.x.empty()) plot.add_series(std::move(s));
+// Fig 4.5b and the uniform deviation against m, one curve per (model, estimator) (results.csv).
+ChartSection value_section(const PomdpGridworldResult& r) {
+  const ChartTrace curves{.file = "results.csv", .x = "m", .group_by = {"curve"}, .mode = "lines+markers"};
+  Chart value{.title = "POMDP gridworld: value of the chosen policy (Fig 4.5b)",
+              .x = {"scenarios m", AxisScale::kLog2},
+              .y = {"exact value of argmax U-hat"},
+              .traces = {curves},
+              .references = {{.y = r.best_in_class_value, .name = "best in class", .dash = "solid"}}};
+  value.traces[0].y = "mean_true_value";
+  value.traces[0].error = "stderr_true_value";
+  Chart deviation{.title = "Uniform convergence: mean of max over policies |U-hat - U|",
+                  .x = {"scenarios m", AxisScale::kLog2},
+                  .y = {"mean sup deviation"},
+                  .traces = {curves}};
+  deviation.traces[0].y = "mean_sup_deviation";
+  return {.id = "value-vs-m",
+          .title = "PEGASUS value against m (Fig 4.5b)",
+          .intro =
+              "Mean true value of the policy each estimator chose, with 1 s.e. bars, against the number of "
+              "scenarios; the line is the best policy in the class (results.csv).",
+          .charts = {value, deviation},
+          .data = {"trials.csv"}};
+}
+
+std::string curve_name(const std::string& model, const std::string& estimator) {
+  for (const auto& [m, e, name] : kSeries) {
+    if (m == model && e == estimator) return name;
   }
-}
-
-std::string value_plot(const PomdpGridworldResult& r) {
-  SvgPlot plot;
-  plot.title("POMDP gridworld: value of the chosen policy (Fig 4.5b)")
-      .x_label("scenarios m")
-      .y_label("exact value of argmax U-hat")
-      .x_scale(AxisScale::kLog2);
-  add_curves(plot, r, &PomdpGridworldSummaryRow::mean_true_value,
-             &PomdpGridworldSummaryRow::stderr_true_value);
-  plot.add_reference_line(r.best_in_class_value, "best in class");
-  return plot.render();
-}
-
-std::string deviation_plot(const PomdpGridworldResult& r) {
-  SvgPlot plot;
-  plot.title("Uniform convergence: mean of max over policies |U-hat - U|")
-      .x_label("scenarios m")
-      .y_label("mean sup deviation")
-      .x_scale(AxisScale::kLog2);
-  add_curves(plot, r, &PomdpGridworldSummaryRow::mean_sup_deviation, nullptr);
-  return plot.render();
+  return model + " " + estimator;
 }
 
 void run(RunContext& ctx) {
@@ -127,13 +120,16 @@ void run(RunContext& ctx) {
                     std::int64_t{r.chosen_policy}, r.true_value, r.estimate, r.sup_deviation});
   dir.write_csv("trials.csv", trials);
   CsvWriter rows({"model", "estimator", "m", "trials", "mean_true_value", "stderr_true_value",
-                  "mean_estimate", "mean_sup_deviation"});
+                  "mean_estimate", "mean_sup_deviation", "curve"});
   for (const auto& r : result.rows)
     rows.add_row({r.model, r.estimator, std::int64_t{r.m}, std::int64_t{r.trials}, r.mean_true_value,
-                  r.stderr_true_value, r.mean_estimate, r.mean_sup_deviation});
+                  r.stderr_true_value, r.mean_estimate, r.mean_sup_deviation,
+                  curve_name(r.model, r.estimator)});
   dir.write_csv("results.csv", rows);
-  dir.write_text("value_vs_m.svg", value_plot(result));
-  dir.write_text("sup_deviation_vs_m.svg", deviation_plot(result));
+  const ChartSection charts = value_section(result);
+  dir.add_charts(charts);
+  dir.write_chart_svg("value_vs_m.svg", charts.charts[0]);
+  dir.write_chart_svg("sup_deviation_vs_m.svg", charts.charts[1]);
   dir.write_json("summary.json", summary_json(result, o));
 
   ctx.out << "best in class (exact): " << result.best_in_class_value << "\n";

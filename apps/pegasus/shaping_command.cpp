@@ -17,7 +17,7 @@
 #include "pegasus/experiments/shaping_experiment.hpp"
 #include "pegasus/experiments/shaping_progress_bonus.hpp"
 #include "pegasus/io/json_csv.hpp"
-#include "pegasus/runs/svg_plot.hpp"
+#include "pegasus/runs/charts.hpp"
 
 namespace pegasus::cli {
 namespace {
@@ -149,24 +149,15 @@ std::vector<int> bin_edges(int trials, bool log_x) {
   return edges;
 }
 
-std::string learning_plot(const ShapingExperimentResult& r, const ShapingExperimentOptions& o,
-                          bool log_scale) {
+// The curves binned (bin_edges) as potential, trial, mean, stderr rows, and their chart (Figs 3.2-3.3).
+Chart binned_curves(const RunDirectory& dir, const ShapingExperimentResult& r,
+                    const ShapingExperimentOptions& o, bool log_scale) {
   const bool grid = o.world == ShapingWorld::kGridworld;
   const std::vector<int> edges = bin_edges(o.trials, log_scale);
   const bool binned = edges.size() - 1 < static_cast<std::size_t>(o.trials);
-  SvgPlot plot;
-  plot.title(fmt::format("{} {}x{}{}: {} runs{}", grid ? "Gridworld" : "Flag world", o.size, o.size,
-                         grid ? (o.size == 10   ? " (Fig 3.2a)"
-                                 : o.size == 50 ? " (Fig 3.2b)"
-                                                : "")
-                              : (o.size == 5 ? " (Fig 3.3a)" : " (Fig 3.3b)"),
-                         o.runs, binned ? ", trials binned" : ""))
-      .x_label("trial")
-      .y_label("steps to goal (mean, band +- 1 s.e.)")
-      .x_scale(log_scale ? AxisScale::kLog10 : AxisScale::kLinear)
-      .y_scale(log_scale ? AxisScale::kLog10 : AxisScale::kLinear);
+  const std::string file = log_scale ? "curves_binned_log.csv" : "curves_binned.csv";
+  CsvWriter csv({"potential", "trial", "mean", "stderr"});
   for (const auto& c : r.curves) {
-    PlotSeries s{.name = legend_name(c.potential)};
     for (std::size_t b = 0; b + 1 < edges.size(); ++b) {
       double x = 0, y = 0, e = 0;
       const int n = edges[b + 1] - edges[b];
@@ -175,15 +166,27 @@ std::string learning_plot(const ShapingExperimentResult& r, const ShapingExperim
         y += c.mean[static_cast<std::size_t>(t - 1)];
         e += c.standard_error[static_cast<std::size_t>(t - 1)];
       }
-      s.x.push_back(x / n);
-      s.y.push_back(y / n);
-      s.error.push_back(e / n);
+      csv.add_row({std::string(legend_name(c.potential)), x / n, y / n, e / n});
     }
-    s.markers = s.x.size() <= 60;
-    plot.add_series(std::move(s));
   }
-  plot.add_reference_line(r.optimal_expected_steps, "optimal (value iteration)");
-  return plot.render();
+  dir.write_csv(file, csv);
+  const AxisScale scale = log_scale ? AxisScale::kLog10 : AxisScale::kLinear;
+  return {.title = fmt::format("{} {}x{}{}: {} runs{}", grid ? "Gridworld" : "Flag world", o.size, o.size,
+                               grid ? (o.size == 10   ? " (Fig 3.2a)"
+                                       : o.size == 50 ? " (Fig 3.2b)"
+                                                      : "")
+                                    : (o.size == 5 ? " (Fig 3.3a)" : " (Fig 3.3b)"),
+                               o.runs, binned ? ", trials binned" : ""),
+          .x = {"trial", scale},
+          .y = {"steps to goal (mean, band +- 1 s.e.)", scale},
+          .traces = {{.file = file,
+                      .x = "trial",
+                      .y = "mean",
+                      .group_by = {"potential"},
+                      .band = "stderr",
+                      .band_name = "+-1 s.e.",
+                      .mode = edges.size() <= 61 ? "lines+markers" : "lines"}},
+          .references = {{.y = r.optimal_expected_steps, .name = "optimal (value iteration)"}}};
 }
 
 // Each finished run is saved as checkpoint/<potential>-<run>.json (written atomically, once); a resumed run
@@ -256,8 +259,18 @@ void run_learning(RunContext& ctx, ShapingWorld world) {
                   r.steps.front(), r.steps.back(), std::int64_t{r.truncated_trials}});
   }
   dir.write_csv("runs.csv", runs);
-  dir.write_text("steps_per_trial.svg", learning_plot(result, o, false));
-  dir.write_text("steps_per_trial_loglog.svg", learning_plot(result, o, true));
+  const Chart linear = binned_curves(dir, result, o, false), loglog = binned_curves(dir, result, o, true);
+  dir.add_charts(ChartSection{
+      .id = "shaping",
+      .title = o.world == ShapingWorld::kGridworld ? "Shaping curves (Fig 3.2)" : "Shaping curves (Fig 3.3)",
+      .intro =
+          fmt::format("Sarsa's steps to the goal per trial, mean over {} runs, for each potential; the "
+                      "shaded band is +-1 standard error (every trial in curves.csv, binned for drawing).",
+                      o.runs),
+      .charts = {linear, loglog},
+      .data = {"curves.csv", "runs.csv"}});
+  dir.write_chart_svg("steps_per_trial.svg", linear);
+  dir.write_chart_svg("steps_per_trial_loglog.svg", loglog);
   dir.write_json("summary.json", learning_summary(result, o));
   // Everything is written: the per-run checkpoints are no longer needed (a crash from here on only makes a
   // --resume learn the runs again, to the same result).
@@ -379,6 +392,22 @@ void run_progress_bonus(RunContext& ctx) {
   for (std::size_t e = 0; e < r.bonus.episode_steps.size(); ++e)
     csv.add_row({static_cast<std::int64_t>(e + 1), r.bonus.episode_steps[e], r.potential.episode_steps[e]});
   dir.write_csv("learning_curves.csv", csv);
+  dir.add_charts(ChartSection{.id = "learning-curves",
+                              .title = "Learning curves",
+                              .intro = "Steps per episode of each learner (learning_curves.csv).",
+                              .charts = {{.title = "Steps per episode",
+                                          .x = {"episode"},
+                                          .y = {"steps to the goal", AxisScale::kLog10},
+                                          .traces = {{.file = "learning_curves.csv",
+                                                      .x = "episode",
+                                                      .y = "progress_bonus_steps",
+                                                      .name = "progress bonus",
+                                                      .width = 1},
+                                                     {.file = "learning_curves.csv",
+                                                      .x = "episode",
+                                                      .y = "potential_steps",
+                                                      .name = "potential-based",
+                                                      .width = 1}}}}});
 }
 
 }  // namespace

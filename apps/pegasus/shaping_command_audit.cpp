@@ -181,6 +181,15 @@ void run(RunContext& ctx) {
   for (int s = 0; s < m.num_states; ++s)
     phi.add_row({std::int64_t{s}, audit.potential[static_cast<std::size_t>(s)]});
   dir.write_csv("potential.csv", phi);
+  dir.add_charts(ChartSection{
+      .id = "potential",
+      .title = "Recovered potential",
+      .intro = "Phi found by least squares over the transitions, 0 at absorbing states (potential.csv).",
+      .charts = {{.kind = ChartKind::kBar,
+                  .title = "Potential Phi by state",
+                  .x = {"state"},
+                  .y = {"Phi"},
+                  .traces = {{.file = "potential.csv", .x = "state", .y = "phi"}}}}});
   if (audit.counterexample) {
     dir.write_json("counterexample.json", mdp_to_json(audit.counterexample->mdp));
     dir.write_json("counterexample_shaped.json", mdp_to_json(audit.counterexample->shaped));

@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
-#include <functional>
 #include <map>
 #include <optional>
 #include <ostream>
@@ -14,9 +13,10 @@
 #include <vector>
 
 #include "pegasus/core/error.hpp"
-#include "pegasus/heli/frames.hpp"
 #include "pegasus/io/atomic_file.hpp"
+#include "pegasus/io/csv_table.hpp"
 #include "pegasus/io/json_csv.hpp"
+#include "pegasus/runs/charts.hpp"
 #include "pegasus/runs/config.hpp"
 
 namespace pegasus::report {
@@ -28,121 +28,6 @@ namespace {
 
 bool ends_with(std::string_view s, std::string_view tail) {
   return s.size() >= tail.size() && s.substr(s.size() - tail.size()) == tail;
-}
-
-// One CSV series of the run directory, read whole; cells are checked when a column is asked for.
-class Series {
- public:
-  // nullopt when the file is absent.
-  static std::optional<Series> load(const fs::path& dir, const std::string& name) {
-    const fs::path file = dir / name;
-    std::error_code ec;
-    if (!fs::is_regular_file(file, ec)) return std::nullopt;
-    Series s;
-    s.file_ = file;
-    std::string text;
-    try {
-      text = read_file(file);
-    } catch (const std::exception& e) {
-      throw InputError(e.what());
-    }
-    auto rows = parse_csv(text);
-    if (rows.empty())
-      throw InputError(fmt::format("{}: empty file, expected a CSV header line", file.string()));
-    s.header_ = std::move(rows.front());
-    for (std::size_t i = 1; i < rows.size(); ++i) {
-      if (rows[i].size() == 1 && rows[i][0].empty()) continue;  // a blank line
-      if (rows[i].size() != s.header_.size()) {
-        throw InputError(fmt::format("{}:{}: expected {} fields (as in the header), got {}", file.string(),
-                                     i + 1, s.header_.size(), rows[i].size()));
-      }
-      s.lines_.push_back(i + 1);
-      s.rows_.push_back(std::move(rows[i]));
-    }
-    return s;
-  }
-
-  std::string name() const { return file_.filename().string(); }
-  const std::vector<std::string>& header() const { return header_; }
-  std::size_t rows() const { return rows_.size(); }
-  bool has(std::string_view column) const { return index(column).has_value(); }
-
-  // The column as numbers (empty cells, "nan" -> NaN); InputError naming file:line and column otherwise.
-  // Parsed once per column (flight tables are read by several charts).
-  const std::vector<double>& numbers(std::string_view column) const {
-    const std::size_t c = require(column);
-    if (auto it = parsed_.find(c); it != parsed_.end()) return it->second;
-    std::vector<double> out;
-    out.reserve(rows_.size());
-    for (std::size_t i = 0; i < rows_.size(); ++i) {
-      const std::string& cell = rows_[i][c];
-      if (cell.empty()) {
-        out.push_back(std::nan(""));
-        continue;
-      }
-      const auto x = parse_double(cell);
-      if (!x) {
-        throw InputError(fmt::format("{}:{}: column '{}': expected a number, got '{}'", file_.string(),
-                                     lines_[i], column, cell));
-      }
-      out.push_back(*x);
-    }
-    return parsed_.emplace(c, std::move(out)).first->second;
-  }
-  // True when every cell of the column is a number (or empty).
-  bool numeric(std::string_view column) const {
-    const auto c = index(column);
-    if (!c) return false;
-    return std::all_of(rows_.begin(), rows_.end(),
-                       [&](const auto& row) { return row[*c].empty() || parse_double(row[*c]).has_value(); });
-  }
-  std::vector<std::string> texts(std::string_view column) const {
-    const std::size_t c = require(column);
-    std::vector<std::string> out;
-    out.reserve(rows_.size());
-    for (const auto& row : rows_) out.push_back(row[c]);
-    return out;
-  }
-  const std::vector<std::vector<std::string>>& cells() const { return rows_; }
-
- private:
-  std::optional<std::size_t> index(std::string_view column) const {
-    for (std::size_t i = 0; i < header_.size(); ++i) {
-      if (header_[i] == column) return i;
-    }
-    return std::nullopt;
-  }
-  std::size_t require(std::string_view column) const {
-    if (auto i = index(column)) return *i;
-    std::string columns;
-    for (const auto& h : header_) columns += (columns.empty() ? "" : ",") + h;
-    throw InputError(fmt::format("{}: expected a column '{}' (header: {})", file_.string(), column, columns));
-  }
-
-  fs::path file_;
-  std::vector<std::string> header_;
-  std::vector<std::vector<std::string>> rows_;
-  std::vector<std::size_t> lines_;  // the file line of each row
-  mutable std::map<std::size_t, std::vector<double>> parsed_;
-};
-
-// Rows of `series` grouped by the values of `keys` (joined by " "), in order of first appearance.
-std::vector<std::pair<std::string, std::vector<std::size_t>>> group_rows(
-    const Series& series, const std::vector<std::string>& keys) {
-  std::vector<std::vector<std::string>> columns;
-  for (const auto& k : keys) {
-    if (series.has(k)) columns.push_back(series.texts(k));
-  }
-  std::vector<std::pair<std::string, std::vector<std::size_t>>> groups;
-  std::map<std::string, std::size_t> where;
-  for (std::size_t r = 0; r < series.rows(); ++r) {
-    std::string key;
-    for (const auto& c : columns) key += (key.empty() ? "" : " ") + c[r];
-    auto [it, fresh] = where.try_emplace(key, groups.size());
-    if (fresh) groups.push_back({key, {}});
-    groups[it->second].second.push_back(r);
-  }
-  return groups;
 }
 
 std::vector<std::size_t> all_rows(std::size_t n) {
@@ -162,10 +47,13 @@ std::size_t thin(std::vector<std::size_t>& rows, std::size_t max_points) {
   return k;
 }
 
+// A row index that stands for a gap in a line (pick gives null).
+constexpr std::size_t kGap = static_cast<std::size_t>(-1);
+
 json pick(const std::vector<double>& values, const std::vector<std::size_t>& rows) {
   json out = json::array();
   for (std::size_t r : rows) {
-    const double v = values[r];
+    const double v = r == kGap ? std::nan("") : values[r];
     if (std::isfinite(v)) {
       out.push_back(v);
     } else {
@@ -270,172 +158,6 @@ std::string table_html(const std::vector<std::string>& header,
   return out + "</tbody>\n</table>\n";
 }
 
-// --- sections by file
-// ---------------------------------------------------------------------------------------
-
-// Objective (U-hat) against iterations, evaluations and time, one trace per run/trial/method if such a
-// column is there.
-void add_progress(Page& page, const std::vector<std::pair<std::string, Series>>& series,
-                  const std::string& y_column, const std::string& caption, const ReportOptions& options) {
-  std::string charts;
-  const Series& s = series.front().second;
-  const std::vector<std::pair<std::string, std::string>> xs = {
-      {"iteration", "iterations"},
-      {"evaluations", "evaluations of U-hat (policies x scenario sets)"},
-      {"seconds", "time (s)"}};
-  for (const auto& [column, label] : xs) {
-    if (!s.has(column)) continue;
-    json spec = xy_chart("U-hat against " + column, label, "U-hat", s.name());
-    for (const auto& [label_of_file, file] : series) {
-      if (!file.has(column)) continue;
-      const auto x = file.numbers(column);
-      const auto y = file.numbers(y_column);
-      for (const auto& [name, rows] : group_rows(file, {"method", "run", "trial"})) {
-        auto kept = rows;
-        const std::size_t stride = thin(kept, options.max_points);
-        std::string trace_name = label_of_file;
-        if (!name.empty()) trace_name += (trace_name.empty() ? "" : " ") + name;
-        json t = trace(trace_name.empty() ? "U-hat" : trace_name, pick(x, kept), pick(y, kept));
-        t["mode"] = "lines+markers";
-        if (stride > 1) t["stride"] = stride;
-        spec["traces"].push_back(std::move(t));
-      }
-    }
-    charts += page.chart(std::move(spec));
-  }
-  page.section("progress", "Optimizer progress", caption, grid(charts));
-  for (const auto& [label_of_file, file] : series) page.consumed(file.name());
-}
-
-void add_learning_curves(Page& page, const Series& s, const ReportOptions& options) {
-  if (s.has("method") && s.has("trial") && s.has("iteration") && s.has("uhat")) {
-    const auto x = s.numbers("iteration");
-    const auto y = s.numbers("uhat");
-    json spec = xy_chart("U-hat during training", "iteration", "U-hat (training scenarios)", s.name());
-    for (const auto& [name, rows] : group_rows(s, {"method", "trial"})) {
-      spec["traces"].push_back(trace(name, pick(x, rows), pick(y, rows)));
-    }
-    page.section(
-        "learning-curves", "Learning curves",
-        "U-hat of each training on its own scenario set, by optimizer iteration (learning_curves.csv).",
-        page.chart(std::move(spec)));
-  } else if (s.has("episode")) {
-    const auto x = s.numbers("episode");
-    json spec = xy_chart("Steps per episode", "episode", "steps to the goal", s.name());
-    spec["y_log"] = true;
-    auto rows = all_rows(s.rows());
-    const std::size_t stride = thin(rows, options.max_points);
-    for (const auto& column : s.header()) {
-      if (column == "episode") continue;
-      json t = trace(column, pick(x, rows), pick(s.numbers(column), rows));
-      t["width"] = 1;
-      if (stride > 1) t["stride"] = stride;
-      spec["traces"].push_back(std::move(t));
-    }
-    page.section("learning-curves", "Learning curves",
-                 "Steps per episode of each learner (learning_curves.csv).", page.chart(std::move(spec)));
-  } else {
-    return;
-  }
-  page.consumed(s.name());
-}
-
-// Shaping experiments (thesis §3.4, Figs 3.2-3.3): mean steps per trial with +-1 standard error bands.
-void add_shaping_curves(Page& page, const Series& s, const json& summary, const ReportOptions& options) {
-  const auto x = s.numbers("trial");
-  auto rows = all_rows(s.rows());
-  const std::size_t stride = thin(rows, options.max_points);
-  json linear =
-      xy_chart("Steps to the goal against trial", "trial", "steps to the goal (mean over runs)", s.name());
-  for (const auto& column : s.header()) {
-    if (!ends_with(column, "_mean")) continue;
-    const std::string name = column.substr(0, column.size() - 5);
-    const auto mean = s.numbers(column);
-    json t = trace(name, pick(x, rows), pick(mean, rows));
-    if (s.has(name + "_stderr")) {
-      const auto se = s.numbers(name + "_stderr");
-      std::vector<double> lo(mean.size()), hi(mean.size());
-      for (std::size_t i = 0; i < mean.size(); ++i) {
-        lo[i] = mean[i] - se[i];
-        hi[i] = mean[i] + se[i];
-      }
-      t["lower"] = pick(lo, rows);
-      t["upper"] = pick(hi, rows);
-      t["band_name"] = name + " +-1 s.e.";
-    }
-    if (stride > 1) t["stride"] = stride;
-    linear["traces"].push_back(std::move(t));
-  }
-  if (summary.contains("optimal_expected_steps") && summary["optimal_expected_steps"].is_number()) {
-    linear["hlines"] =
-        json::array({{{"y", summary["optimal_expected_steps"]}, {"name", "optimal policy (expected)"}}});
-  }
-  json loglog = linear;
-  loglog["title"] = "The same on log-log axes";
-  loglog["x_log"] = true;
-  loglog["y_log"] = true;
-  const std::string figure =
-      summary.value("experiment", std::string()) == "shaping-flags" ? "Fig 3.3" : "Fig 3.2";
-  const std::string runs = summary.contains("runs") ? summary["runs"].dump() : std::string("the");
-  page.section(
-      "shaping", "Shaping curves (" + figure + ")",
-      fmt::format("Sarsa's steps to the goal per trial, mean over {} runs, for each potential; the shaded "
-                  "band is +-1 standard error (curves.csv).",
-                  escape_markup(runs)),
-      grid(page.chart(std::move(linear)) + page.chart(std::move(loglog))));
-  page.consumed(s.name());
-}
-
-// POMDP gridworld (thesis §4.6, Fig 4.5b): value of the chosen policy against m, best-in-class line.
-void add_value_vs_m(Page& page, const Series& s, const json& summary) {
-  const auto m = s.numbers("m");
-  const auto value = s.numbers("mean_true_value");
-  json chart = xy_chart("Value of the chosen policy against m", "scenarios m",
-                        "true value of the chosen policy", s.name());
-  chart["x_log"] = true;
-  chart["x_log_base"] = 2;
-  std::optional<std::vector<double>> se;
-  if (s.has("stderr_true_value")) se = s.numbers("stderr_true_value");
-  for (const auto& [name, rows] : group_rows(s, {"model", "estimator"})) {
-    json t = trace(name, pick(m, rows), pick(value, rows));
-    t["mode"] = "lines+markers";
-    if (se) t["error"] = pick(*se, rows);
-    if (name.find("hashed") != std::string::npos) t["dash"] = "dash";
-    chart["traces"].push_back(std::move(t));
-  }
-  if (summary.contains("best_in_class_value") && summary["best_in_class_value"].is_number()) {
-    chart["hlines"] = json::array({{{"y", summary["best_in_class_value"]},
-                                    {"name", "best policy in the class (exact)"},
-                                    {"dash", "solid"}}});
-  }
-  std::string charts = page.chart(std::move(chart));
-  if (s.has("mean_sup_deviation")) {
-    const auto dev = s.numbers("mean_sup_deviation");
-    json chart2 = xy_chart("Uniform deviation sup |U-hat - U| against m", "scenarios m",
-                           "mean sup |U-hat - U|", s.name());
-    chart2["x_log"] = true;
-    chart2["x_log_base"] = 2;
-    for (const auto& [name, rows] : group_rows(s, {"model", "estimator"})) {
-      json t = trace(name, pick(m, rows), pick(dev, rows));
-      t["mode"] = "lines+markers";
-      chart2["traces"].push_back(std::move(t));
-    }
-    charts += page.chart(std::move(chart2));
-  }
-  page.section("value-vs-m", "PEGASUS value against m (Fig 4.5b)",
-               "Mean true value of the policy each estimator chose, with 1 s.e. bars, against the number of "
-               "scenarios; the line is the best policy in the class (results.csv).",
-               grid(charts));
-  page.consumed(s.name());
-}
-
-void add_small_table(Page& page, const Series& s, const std::string& id, const std::string& title,
-                     std::size_t max_rows = 60) {
-  if (s.rows() == 0 || s.rows() > max_rows) return;
-  page.section(id, title, "(" + escape_markup(s.name()) + ")", table_html(s.header(), s.cells()));
-  page.consumed(s.name());
-}
-
 std::string svg_image(const fs::path& file) {
   static constexpr char kBase64[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
   const std::string text = read_file(file);
@@ -459,385 +181,257 @@ std::string svg_image(const fs::path& file) {
 }
 
 // Bicycle (thesis §4.6): distances ridden, and the rides seen from above.
-void add_rides(Page& page, const fs::path& dir, const Series& rides, const ReportOptions& options) {
-  std::string content;
-  if (rides.has("distance_km")) {
-    const auto d = rides.numbers("distance_km");
-    json box = {{"kind", "box"},
-                {"title", "Distance ridden to the goal"},
-                {"y_title", "distance ridden (km)"},
-                {"source", rides.name()},
-                {"groups", json::array()}};
-    for (const auto& [name, rows] : group_rows(rides, {"method", "trial"})) {
-      box["groups"].push_back({{"name", name}, {"values", pick(d, rows)}});
+
+// --- charts.json: the run's own chart specifications -----------------------------------------------------
+
+// The CSV files of the run directory, each read once.
+class Tables {
+ public:
+  explicit Tables(fs::path dir) : dir_(std::move(dir)) {}
+  const CsvTable& get(const std::string& file, const std::string& chart) {
+    auto it = tables_.find(file);
+    if (it == tables_.end()) {
+      auto table = CsvTable::load(dir_ / file);
+      if (!table) {
+        throw InputError(
+            fmt::format("{}: not found (chart '{}' of charts.json draws it)", (dir_ / file).string(), chart));
+      }
+      it = tables_.emplace(file, std::move(*table)).first;
     }
-    content += page.chart(std::move(box));
+    return it->second;
   }
-  if (auto paths = Series::load(dir, "ride_paths.csv")) {
-    const auto x = paths->numbers("x");
-    const auto y = paths->numbers("y");
-    json chart = xy_chart("Rides seen from above", "x (m)", "y (m)", paths->name());
-    chart["equal_aspect"] = true;
-    for (const auto& [name, rows] : group_rows(*paths, {"method", "trial", "ride"})) {
+
+ private:
+  fs::path dir_;
+  std::map<std::string, CsvTable> tables_;
+};
+
+std::string trace_name(const ChartTrace& t, const std::string& key) {
+  if (t.name.empty()) return key;
+  return key.empty() ? t.name : t.name + " " + key;
+}
+
+// The groups of rows a trace draws (the first max_groups of them when it says so).
+std::vector<std::pair<std::string, std::vector<std::size_t>>> trace_groups(const CsvTable& table,
+                                                                           const ChartTrace& t,
+                                                                           std::size_t default_max = 0) {
+  auto groups = table.groups(t.group_by, t.where);
+  const std::size_t most = t.max_groups != 0 ? t.max_groups : default_max;
+  if (most != 0 && groups.size() > most) groups.resize(most);
+  return groups;
+}
+
+void put_axes(json& spec, const Chart& c) {
+  if (c.x.scale != AxisScale::kLinear) spec["x_log"] = true;
+  if (c.x.scale == AxisScale::kLog2) spec["x_log_base"] = 2;
+  if (c.y.scale != AxisScale::kLinear) spec["y_log"] = true;
+  if (c.y.scale == AxisScale::kLog2) spec["y_log_base"] = 2;
+}
+
+json xy_spec(const Chart& c, Tables& tables, const ReportOptions& options) {
+  json spec = xy_chart(c.title, c.x.title, c.y.title, c.traces.empty() ? "" : c.traces.front().file);
+  put_axes(spec, c);
+  if (c.equal_aspect) spec["equal_aspect"] = true;
+  for (const auto& t : c.traces) {
+    const CsvTable& table = tables.get(t.file, c.title);
+    const auto& xs = table.numbers(t.x);
+    std::vector<double> ys = table.numbers(t.y);
+    for (double& v : ys) v *= t.y_factor;
+    auto groups = trace_groups(table, t);
+    if (t.one_trace && !groups.empty()) {
+      // One trace: the groups' rows in order, a gap (null) between groups.
+      std::vector<std::size_t> joined;
+      for (const auto& g : groups) {
+        if (!joined.empty()) joined.push_back(kGap);
+        joined.insert(joined.end(), g.second.begin(), g.second.end());
+      }
+      groups = {{"", std::move(joined)}};
+    }
+    for (const auto& [key, rows] : groups) {
       auto kept = rows;
       const std::size_t stride = thin(kept, options.max_points);
-      json t = trace("ride " + name, pick(x, kept), pick(y, kept));
-      t["width"] = 1;
-      if (stride > 1) t["stride"] = stride;
-      chart["traces"].push_back(std::move(t));
+      json tr = trace(t.one_trace ? t.name : trace_name(t, key), pick(xs, kept), pick(ys, kept));
+      if (!t.band.empty()) {
+        const auto& half = table.numbers(t.band);
+        std::vector<double> lo(ys.size()), hi(ys.size());
+        for (std::size_t i = 0; i < ys.size(); ++i) {
+          lo[i] = ys[i] - t.band_factor * std::abs(t.y_factor) * half[i];
+          hi[i] = ys[i] + t.band_factor * std::abs(t.y_factor) * half[i];
+        }
+        tr["lower"] = pick(lo, kept);
+        tr["upper"] = pick(hi, kept);
+        if (!t.band_name.empty()) tr["band_name"] = t.band_name;
+      }
+      if (!t.error.empty()) tr["error"] = pick(table.numbers(t.error), kept);
+      if (!t.mode.empty()) tr["mode"] = t.mode;
+      if (!t.dash.empty()) tr["dash"] = t.dash;
+      if (!t.color.empty()) tr["color"] = t.color;
+      if (t.width != 0) tr["width"] = t.width;
+      if (stride > 1) tr["stride"] = stride;
+      spec["traces"].push_back(std::move(tr));
     }
-    content += page.chart(std::move(chart));
-    page.consumed(paths->name());
+  }
+  if (!c.references.empty()) {
+    spec["hlines"] = json::array();
+    for (const auto& r : c.references) {
+      json h = {{"y", r.y}, {"name", r.name}};
+      if (!r.dash.empty()) h["dash"] = r.dash;
+      spec["hlines"].push_back(std::move(h));
+    }
+  }
+  return spec;
+}
+
+json box_spec(const Chart& c, Tables& tables) {
+  json spec = {{"kind", "box"},
+               {"title", c.title},
+               {"x_title", c.x.title},
+               {"y_title", c.y.title},
+               {"source", c.traces.empty() ? "" : c.traces.front().file},
+               {"groups", json::array()}};
+  put_axes(spec, c);
+  for (const auto& t : c.traces) {
+    const CsvTable& table = tables.get(t.file, c.title);
+    const auto& values = table.numbers(t.y);
+    for (const auto& [key, rows] : trace_groups(table, t))
+      spec["groups"].push_back({{"name", trace_name(t, key)}, {"values", pick(values, rows)}});
+  }
+  return spec;
+}
+
+json bar_spec(const Chart& c, Tables& tables) {
+  if (c.traces.size() != 1)
+    throw InputError(fmt::format("charts.json: bar chart '{}': expected one trace", c.title));
+  const ChartTrace& t = c.traces.front();
+  const CsvTable& table = tables.get(t.file, c.title);
+  const auto rows = all_rows(table.rows());
+  json spec = {{"kind", "bar"},
+               {"title", c.title},
+               {"x_title", c.x.title},
+               {"y_title", c.y.title},
+               {"source", t.file},
+               {"categorical", c.categorical},
+               {"y", pick(table.numbers(t.y), rows)}};
+  put_axes(spec, c);
+  if (c.categorical) {
+    spec["x"] = table.texts(t.x);
   } else {
-    // The commands draw the rides from above as SVG; shown as they are until the paths come as CSV.
-    std::vector<fs::path> svgs;
-    for (const auto& e : fs::directory_iterator(dir)) {
-      const std::string name = e.path().filename().string();
-      if (name.starts_with("rides") && ends_with(name, ".svg")) svgs.push_back(e.path());
-    }
-    std::sort(svgs.begin(), svgs.end());
-    for (const auto& svg : svgs) content += svg_image(svg);
+    spec["x"] = pick(table.numbers(t.x), rows);
   }
-  page.section("rides", "Rides",
-               "Each policy ridden from the initial-state distribution with fresh noise (rides.csv).",
-               grid(content));
-  page.consumed(rides.name());
+  return spec;
 }
 
-void add_variance(Page& page, const Series& s) {
-  const auto u = s.numbers("uhat");
-  json box = {{"kind", "box"},
-              {"title", "U-hat of one policy over independent scenario sets"},
-              {"y_title", "U-hat"},
-              {"source", s.name()},
-              {"groups", json::array()}};
-  for (const auto& [name, rows] : group_rows(s, {"variant"})) {
-    box["groups"].push_back({{"name", name}, {"values", pick(u, rows)}});
-  }
-  page.section("variance", "U-hat by scenario variant",
-               "The spread of U-hat across scenario sets is the noise the optimizer sees (uhat.csv).",
-               page.chart(std::move(box)));
-  page.consumed(s.name());
-}
-
-void add_potential(Page& page, const Series& s) {
-  json bar = {{"kind", "bar"},
-              {"title", "Potential Phi by state"},
-              {"x_title", "state"},
-              {"y_title", "Phi"},
-              {"source", s.name()},
-              {"x", pick(s.numbers("state"), all_rows(s.rows()))},
-              {"y", pick(s.numbers("phi"), all_rows(s.rows()))}};
-  page.section("potential", "Recovered potential",
-               "Phi found by least squares over the transitions, 0 at absorbing states (potential.csv).",
-               page.chart(std::move(bar)));
-  page.consumed(s.name());
-}
-
-// System identification (thesis §5.2, Fig 5.2): mean-squared error of open-loop predictions against horizon.
-void add_mse_vs_horizon(Page& page, const Series& s) {
-  const auto seconds = s.numbers("seconds");
-  const auto mse = s.numbers("mse");
-  const auto models = s.texts("model");
-  std::string charts;
-  for (const auto& [variable, rows] : group_rows(s, {"variable"})) {
-    json chart = xy_chart(variable, "prediction horizon (s)", "mean-squared error", s.name());
-    std::vector<std::string> order;
-    std::map<std::string, std::vector<std::size_t>> by_model;
-    for (std::size_t r : rows) {
-      if (!by_model.count(models[r])) order.push_back(models[r]);
-      by_model[models[r]].push_back(r);
-    }
-    for (const auto& model : order) {
-      json t = trace(model, pick(seconds, by_model[model]), pick(mse, by_model[model]));
-      if (model.find("global") == std::string::npos) t["dash"] = "dashdot";
-      chart["traces"].push_back(std::move(t));
-    }
-    charts += page.chart(std::move(chart), "small");
-  }
-  page.section(
-      "identification", "Identification error against horizon (Fig 5.2)",
-      "Mean-squared error on the hold-out flight between each state variable and the model's open-loop "
-      "prediction from a perfect initial state, against the prediction horizon (mse_vs_horizon.csv).",
-      grid(charts));
-  page.consumed(s.name());
-}
-
-void add_cross_validation(Page& page, const Series& s) {
-  json bar = {{"kind", "bar"},
-              {"title", "Cross-validation error by setting"},
-              {"x_title", "setting"},
-              {"y_title", "cross-validation error"},
-              {"source", s.name()},
-              {"categorical", true},
-              {"y_log", true},
-              {"x", s.texts("setting")},
-              {"y", pick(s.numbers("cv_error"), all_rows(s.rows()))}};
-  page.section("cross-validation", "Bandwidth cross-validation", "(cross_validation.csv)",
-               page.chart(std::move(bar)));
-  page.consumed(s.name());
-}
-
-// Noise check (thesis §5.2, Fig 5.3): true state, prediction and its 2-sigma band, reset every few seconds.
-void add_noise_check(Page& page, const Series& s) {
-  const std::string time = s.has("time") ? "time" : "t";
-  const auto t = s.numbers(time);
-  const auto rows = all_rows(s.rows());
-  std::string charts;
-  for (const auto& column : s.header()) {
-    if (!ends_with(column, "_true")) continue;
-    const std::string v = column.substr(0, column.size() - 5);
-    if (!s.has(v + "_predicted")) continue;
-    const std::string sd_column = s.has(v + "_sd") ? v + "_sd" : "sd";
-    json chart = xy_chart(v + ": truth and prediction", "time (s)", v, s.name());
-    json truth = trace("true " + v, pick(t, rows), pick(s.numbers(column), rows));
-    const auto pred = s.numbers(v + "_predicted");
-    json predicted = trace("predicted", pick(t, rows), pick(pred, rows));
-    predicted["dash"] = "dashdot";
-    if (s.has(sd_column)) {
-      const auto sd = s.numbers(sd_column);
-      std::vector<double> lo(pred.size()), hi(pred.size());
-      for (std::size_t i = 0; i < pred.size(); ++i) {
-        lo[i] = pred[i] - 2 * sd[i];
-        hi[i] = pred[i] + 2 * sd[i];
-      }
-      predicted["lower"] = pick(lo, rows);
-      predicted["upper"] = pick(hi, rows);
-      predicted["band_name"] = "+-2 standard deviations";
-    }
-    chart["traces"].push_back(std::move(truth));
-    chart["traces"].push_back(std::move(predicted));
-    charts += page.chart(std::move(chart));
-  }
-  page.section(
-      "noise-check", "Prediction with 2-sigma bands (Fig 5.3)",
-      "The model's prediction from the true state, reset to the truth every few seconds; the band is 2 "
-      "standard deviations of the predicted state (noise_check.csv).",
-      charts);
-  page.consumed(s.name());
-}
-
-// A helicopter flight: rows of one flight of a flights.csv-like table (NED, radians, seconds).
-struct Flight {
-  std::string name;
-  std::vector<std::size_t> rows;
-};
-
-struct FlightTable {
-  const Series* series = nullptr;
-  std::string time_column;
-  std::vector<Flight> flights;
-};
-
-FlightTable flight_table(const Series& s, const std::string& label, std::size_t max_flights) {
-  FlightTable table{&s, s.has("t") ? "t" : "time", {}};
-  for (const auto& [key, rows] : group_rows(s, {"flight"})) {
-    if (table.flights.size() >= max_flights) break;
-    table.flights.push_back({key.empty() ? label : label + " " + key, rows});
-  }
-  return table;
-}
-
-json replay_flight(const FlightTable& table, const Flight& f, std::size_t max_points) {
-  // The replay needs fewer samples than a chart: 25 Hz is smooth on screen.
-  const Series& s = *table.series;
-  auto rows = f.rows;
-  const std::size_t stride = thin(rows, max_points);
-  json out = {{"name", f.name}, {"t", pick(s.numbers(table.time_column), rows)}};
-  for (const char* c : {"x", "y", "z", "roll", "pitch", "yaw"}) out[c] = pick(s.numbers(c), rows);
-  if (stride > 1) out["stride"] = stride;
-  return out;
-}
-
-// Hover traces against the pilot (thesis §5.3, Figs 5.6-5.7): body-frame velocities and world positions.
-void add_flight_traces(Page& page, const std::vector<FlightTable>& tables, const std::string& id,
-                       const std::string& title, const std::string& intro, const ReportOptions& options) {
-  struct Quantity {
-    std::string title, y_title;
-    std::function<std::vector<double>(const Series&)> values;
-  };
-  auto body = [](int axis) {
-    return [axis](const Series& s) {
-      const auto roll = s.numbers("roll"), pitch = s.numbers("pitch"), yaw = s.numbers("yaw");
-      const auto xd = s.numbers("xdot"), yd = s.numbers("ydot"), zd = s.numbers("zdot");
-      std::vector<double> out(roll.size());
-      for (std::size_t i = 0; i < out.size(); ++i) {
-        const heli::Vec3 v_B =
-            heli::body_from_world({roll[i], pitch[i], yaw[i]}, heli::Vec3(xd[i], yd[i], zd[i]));
-        out[i] = v_B[axis];
-      }
-      return out;
-    };
-  };
-  const bool velocities = std::all_of(tables.begin(), tables.end(), [](const FlightTable& t) {
-    return t.series->has("xdot") && t.series->has("ydot") && t.series->has("zdot");
-  });
-  std::vector<Quantity> quantities;
-  if (velocities) {
-    quantities.push_back({"Body velocity xdot_b (forward)", "xdot_b (m/s)", body(0)});
-    quantities.push_back({"Body velocity ydot_b (right)", "ydot_b (m/s)", body(1)});
-    quantities.push_back({"Body velocity zdot_b (down)", "zdot_b (m/s)", body(2)});
-  }
-  quantities.push_back({"Position x (north)", "x (m)", [](const Series& s) { return s.numbers("x"); }});
-  quantities.push_back({"Position y (east)", "y (m)", [](const Series& s) { return s.numbers("y"); }});
-  quantities.push_back({"Altitude -z", "altitude -z (m)", [](const Series& s) {
-                          auto z = s.numbers("z");
-                          for (double& v : z) v = -v;
-                          return z;
-                        }});
-  std::string charts;
-  for (const auto& q : quantities) {
-    json chart = xy_chart(q.title, "time (s)", q.y_title, tables.front().series->name());
-    for (std::size_t k = 0; k < tables.size(); ++k) {
-      const FlightTable& table = tables[k];
-      const auto values = q.values(*table.series);
-      const auto t = table.series->numbers(table.time_column);
-      // One flight of each controller, as in the thesis's figures; every flight is in the 3-D replay.
-      for (std::size_t f = 0; f < std::min<std::size_t>(table.flights.size(), 1); ++f) {
-        auto rows = table.flights[f].rows;
-        const std::size_t stride = thin(rows, options.max_points);
-        json tr = trace(table.flights[f].name, pick(t, rows), pick(values, rows));
-        tr["color"] = k == 0 ? "#1f77b4" : "#d62728";
-        if (k > 0) tr["dash"] = "dash";
-        if (f > 0) tr["hidden"] = true;
-        if (stride > 1) tr["stride"] = stride;
-        chart["traces"].push_back(std::move(tr));
-      }
-    }
-    charts += page.chart(std::move(chart), "small");
-  }
-  page.section(id, title, intro, grid(charts));
-}
-
-void add_flights(Page& page, const fs::path& dir, const ReportOptions& options) {
-  const auto flights = Series::load(dir, "flights.csv");
-  if (!flights) return;
-  const auto pilot = Series::load(dir, "pilot_flights.csv");
-  const auto ideal = Series::load(dir, "ideal_path.csv");
-  std::vector<FlightTable> tables = {flight_table(*flights, "policy flight", options.max_flights)};
-  if (pilot) tables.push_back(flight_table(*pilot, "pilot flight", options.max_flights));
-  add_flight_traces(
-      page, tables, "hover", pilot ? "Flights against the pilot (Figs 5.6-5.7)" : "Flight traces",
-      pilot
-          ? "Blue, solid: the learned controller; red, dashed: the scripted pilot; the first flight of each "
-            "(all of them are in the 3-D replay). Body-frame velocities (Fig 5.6) and world positions "
-            "(Fig 5.7) (flights.csv, pilot_flights.csv)."
-          : "Body-frame velocities and world positions of the first flight; all of them are in the 3-D "
-            "replay "
-            "(flights.csv).",
-      options);
-
-  json replay = {{"kind", "replay"},
-                 {"title", "3-D replay"},
-                 {"source", "flights.csv"},
-                 {"flights", json::array()},
-                 {"ideal", nullptr}};
-  for (const auto& table : tables) {
-    for (const auto& f : table.flights)
-      replay["flights"].push_back(replay_flight(table, f, options.max_replay_points));
-  }
-  std::string extra;
-  if (ideal) {
-    auto rows = all_rows(ideal->rows());
-    const std::size_t stride = thin(rows, options.max_points);
-    replay["ideal"] = {{"t", pick(ideal->numbers("t"), rows)},
-                       {"x", pick(ideal->numbers("x"), rows)},
-                       {"y", pick(ideal->numbers("y"), rows)},
-                       {"z", pick(ideal->numbers("z"), rows)}};
-    if (stride > 1) replay["ideal"]["stride"] = stride;
-    json top = xy_chart("Seen from above", "y, east (m)", "x, north (m)", "flights.csv");
-    top["equal_aspect"] = true;
-    json side = xy_chart("Altitude against time", "time (s)", "altitude -z (m)", "flights.csv");
-    const auto ix = ideal->numbers("x"), iy = ideal->numbers("y"), iz = ideal->numbers("z");
-    std::vector<double> ialt(iz.size());
-    for (std::size_t i = 0; i < iz.size(); ++i) ialt[i] = -iz[i];
-    json ideal_top = trace("ideal path", pick(iy, rows), pick(ix, rows));
-    ideal_top["dash"] = "dash";
-    ideal_top["color"] = "#000000";
-    top["traces"].push_back(std::move(ideal_top));
-    json ideal_side = trace("ideal path", pick(ideal->numbers("t"), rows), pick(ialt, rows));
-    ideal_side["dash"] = "dash";
-    ideal_side["color"] = "#000000";
-    side["traces"].push_back(std::move(ideal_side));
-    for (const auto& f : replay["flights"]) {
-      top["traces"].push_back(trace(f["name"], f["y"], f["x"]));
-      json alt = json::array();
-      for (const auto& z : f["z"]) alt.push_back(z.is_number() ? json(-z.get<double>()) : json(nullptr));
-      side["traces"].push_back(trace(f["name"], f["t"], alt));
-    }
-    extra = grid(page.chart(std::move(top)) + page.chart(std::move(side)));
-    page.consumed(ideal->name());
-  }
-  if (const auto deviation = Series::load(dir, "path_deviation.csv");
-      deviation && deviation->has("flight") && deviation->has("t") && deviation->has("path_deviation_m")) {
-    json chart =
-        xy_chart("Distance to the ideal path", "time (s)", "distance to the path (m)", deviation->name());
-    const auto t = deviation->numbers("t");
-    const auto d = deviation->numbers("path_deviation_m");
-    for (const auto& [name, rows] : group_rows(*deviation, {"flight"})) {
+// Flights for the 3-D replay: NED positions and Euler angles against time, every `stride`-th sample.
+json replay_spec(const Chart& c, Tables& tables, const ReportOptions& options) {
+  json spec = {{"kind", "replay"},
+               {"title", c.title},
+               {"source", c.traces.empty() ? "" : c.traces.front().file},
+               {"flights", json::array()},
+               {"ideal", nullptr}};
+  for (const auto& t : c.traces) {
+    const CsvTable& table = tables.get(t.file, c.title);
+    const std::string time = t.x.empty() ? "t" : t.x;
+    for (const auto& [key, rows] : trace_groups(table, t, options.max_flights)) {
       auto kept = rows;
-      const std::size_t stride = thin(kept, options.max_points);
-      json tr = trace("flight " + name, pick(t, kept), pick(d, kept));
-      tr["width"] = 1.2;
-      if (stride > 1) tr["stride"] = stride;
-      chart["traces"].push_back(std::move(tr));
+      const std::size_t stride = thin(kept, options.max_replay_points);
+      json f = {{"name", trace_name(t, key)}, {"t", pick(table.numbers(time), kept)}};
+      for (const char* column : {"x", "y", "z", "roll", "pitch", "yaw"})
+        f[column] = pick(table.numbers(column), kept);
+      if (stride > 1) f["stride"] = stride;
+      spec["flights"].push_back(std::move(f));
     }
-    extra += page.chart(std::move(chart), "wide");
-    page.consumed(deviation->name());
   }
-  page.section(
-      "replay", ideal ? "3-D replay against the ideal path (Fig 5.10)" : "3-D replay",
-      "Drag to turn the view, scroll to zoom; Play runs the flight in real time (speed adjustable), the "
-      "slider moves through it. Coloured lines: the flights; black dashed: the ideal path.",
-      page.chart(std::move(replay), "wide") + extra);
-  page.consumed(flights->name());
-  if (pilot) page.consumed(pilot->name());
+  if (!c.path.empty()) {
+    const CsvTable& ideal = tables.get(c.path, c.title);
+    auto rows = all_rows(ideal.rows());
+    const std::size_t stride = thin(rows, options.max_points);
+    spec["ideal"] = {{"t", pick(ideal.numbers("t"), rows)},
+                     {"x", pick(ideal.numbers("x"), rows)},
+                     {"y", pick(ideal.numbers("y"), rows)},
+                     {"z", pick(ideal.numbers("z"), rows)}};
+    if (stride > 1) spec["ideal"]["stride"] = stride;
+  }
+  return spec;
 }
 
-// heli pilot: the logged flight (state estimate) and the true state.
-void add_pilot_log(Page& page, const fs::path& dir, const ReportOptions& options) {
-  const auto log = Series::load(dir, "log.csv");
-  if (!log || !log->has("x") || !log->has("roll")) return;
-  const auto truth = Series::load(dir, "truth.csv");
-  std::vector<FlightTable> tables;
-  if (truth) tables.push_back(flight_table(*truth, "true state", 1));
-  tables.push_back(flight_table(*log, "logged estimate", 1));
-  add_flight_traces(
-      page, tables, "flight", "Pilot flight",
-      "The scripted pilot's flight: true state (blue) and the logged state estimate (red, dashed) "
-      "(truth.csv, log.csv).",
-      options);
-  if (log->has("a1")) {
-    json chart = xy_chart("Controls", "time (s)", "control in [-1, 1]", log->name());
-    auto rows = all_rows(log->rows());
-    const std::size_t stride = thin(rows, options.max_points);
-    const auto t = log->numbers(tables.back().time_column);
-    for (const char* a : {"a1", "a2", "a3", "a4"}) {
-      if (!log->has(a)) continue;
-      json tr = trace(a, pick(t, rows), pick(log->numbers(a), rows));
-      tr["width"] = 1;
-      if (stride > 1) tr["stride"] = stride;
-      chart["traces"].push_back(std::move(tr));
+json mujoco_replay_spec(const Chart& c, const fs::path& dir) {
+  if (c.traces.size() != 1)
+    throw InputError(fmt::format("charts.json: replay '{}': expected one trace naming replay.json", c.title));
+  const fs::path file = dir / c.traces.front().file;
+  json replay;
+  try {
+    replay = read_json_file(file);
+  } catch (const std::exception& e) {
+    throw InputError(e.what());
+  }
+  if (!replay.is_object() || replay.value("format", "") != "pegasus.mujoco.replay")
+    throw InputError(
+        fmt::format("{}: expected a MuJoCo replay (format pegasus.mujoco.replay)", file.string()));
+  return {{"kind", "mujoco_replay"},
+          {"title", c.title},
+          {"source", c.traces.front().file},
+          {"geoms", replay.value("geoms", json::array())},
+          {"t", replay.value("t", json::array())},
+          {"frames", replay.value("frames", json::array())}};
+}
+
+void add_chart_sections(Page& page, const fs::path& dir, const ReportOptions& options) {
+  const fs::path file = dir / "charts.json";
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec)) return;
+  std::vector<ChartSection> sections;
+  try {
+    sections = charts_from_json(read_json_file(file), file.string());
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw InputError(e.what());
+  }
+  Tables tables(dir);
+  for (const auto& s : sections) {
+    std::string content;
+    std::size_t plots = 0;
+    for (const auto& c : s.charts) {
+      switch (c.kind) {
+        case ChartKind::kXY:
+          content += page.chart(xy_spec(c, tables, options), c.size);
+          ++plots;
+          break;
+        case ChartKind::kBox:
+          content += page.chart(box_spec(c, tables), c.size);
+          ++plots;
+          break;
+        case ChartKind::kBar:
+          content += page.chart(bar_spec(c, tables), c.size);
+          ++plots;
+          break;
+        case ChartKind::kReplay:
+          content += page.chart(replay_spec(c, tables, options), "wide");
+          break;
+        case ChartKind::kMujocoReplay:
+          content += page.chart(mujoco_replay_spec(c, dir), "wide");
+          break;
+        case ChartKind::kTable:
+          for (const auto& t : c.traces) {
+            const CsvTable& table = tables.get(t.file, c.title);
+            content += table_html(table.header(), table.cells());
+          }
+          break;
+        case ChartKind::kImage:
+          for (const auto& t : c.traces) content += svg_image(dir / t.file);
+          ++plots;
+          break;
+      }
     }
-    page.section("controls", "Controls",
-                 "a1, a2: cyclic pitch; a3: main rotor collective; a4: tail rotor (log.csv).",
-                 page.chart(std::move(chart), "wide"));
+    if (!s.data.empty()) {
+      std::string names;
+      for (const auto& d : s.data) names += (names.empty() ? "" : ", ") + escape_markup(d);
+      content += "<p class=\"intro\">Data: " + names + "</p>\n";
+    }
+    page.section(s.id, s.title, escape_markup(s.intro), plots > 1 ? grid(content) : content);
   }
-  json replay = {{"kind", "replay"},
-                 {"title", "3-D replay"},
-                 {"source", tables.front().series->name()},
-                 {"flights", json::array()},
-                 {"ideal", nullptr}};
-  for (const auto& table : tables) {
-    for (const auto& f : table.flights)
-      replay["flights"].push_back(replay_flight(table, f, options.max_replay_points));
-  }
-  page.section("replay", "3-D replay",
-               "Drag to turn the view, scroll to zoom; Play runs the flight in real time, the slider moves "
-               "through it.",
-               page.chart(std::move(replay), "wide"));
-  page.consumed(log->name());
-  if (truth) page.consumed(truth->name());
+  page.consumed("charts.json");
+  for (const auto& f : chart_files(sections)) page.consumed(f);
 }
 
 // Any other CSV series with a numeric first column: its numeric columns against the first.
@@ -850,7 +444,7 @@ void add_other_series(Page& page, const fs::path& dir, const ReportOptions& opti
   std::sort(names.begin(), names.end());
   std::string charts;
   for (const auto& name : names) {
-    const auto s = Series::load(dir, name);
+    const auto s = CsvTable::load(dir / name);
     if (!s || s->rows() == 0 || s->header().size() < 2 || s->header().size() > 16 ||
         !s->numeric(s->header()[0]))
       continue;
@@ -876,7 +470,7 @@ void add_other_series(Page& page, const fs::path& dir, const ReportOptions& opti
   // Small tables that are not series (one row per flight, per run, ...).
   for (const auto& name : names) {
     if (page.used.count(name)) continue;
-    const auto s = Series::load(dir, name);
+    const auto s = CsvTable::load(dir / name);
     if (s && s->rows() > 0 && s->rows() <= 60 && s->header().size() <= 16) {
       page.section("table-" + name.substr(0, name.size() - 4), name, "", table_html(s->header(), s->cells()));
       page.consumed(name);
@@ -886,30 +480,6 @@ void add_other_series(Page& page, const fs::path& dir, const ReportOptions& opti
 
 // mujoco train / rollout: the 3-D replay of one rollout's geoms (replay.json), drawn with three.js
 // primitives.
-void add_mujoco_replay(Page& page, const fs::path& dir) {
-  const fs::path file = dir / "replay.json";
-  std::error_code ec;
-  if (!fs::is_regular_file(file, ec)) return;
-  json replay;
-  try {
-    replay = read_json_file(file);
-  } catch (const std::exception& e) {
-    throw InputError(e.what());
-  }
-  if (!replay.is_object() || replay.value("format", "") != "pegasus.mujoco.replay") return;
-  json spec = {{"kind", "mujoco_replay"},
-               {"title", "3-D replay"},
-               {"source", "replay.json"},
-               {"geoms", replay.value("geoms", json::array())},
-               {"t", replay.value("t", json::array())},
-               {"frames", replay.value("frames", json::array())}};
-  page.section(
-      "replay", "3-D replay",
-      "Held-out episode 0 of the final policy (replay.json): every geom of the model drawn as a "
-      "three.js primitive at its world position and orientation after each control step. Drag to "
-      "turn the view, scroll to zoom; Play runs the episode in real time, the slider moves through it.",
-      page.chart(std::move(spec), "wide"));
-}
 
 void add_policy(Page& page, const fs::path& dir) {
   const fs::path file = dir / "policy.json";
@@ -1077,55 +647,8 @@ json report_data(const fs::path& run_dir, const ReportOptions& options) {
                    : "The resolved configuration (defaults, then the config file, then the command line).",
                config_html);
 
-  // Series, by file.
-  if (auto s = Series::load(run_dir, "progress.csv")) {
-    // progress.csv, and progress_<variant>.csv of the runs that train several variants, as one trace each.
-    std::vector<std::pair<std::string, Series>> files;
-    std::vector<std::string> variants;
-    for (const auto& e : fs::directory_iterator(run_dir)) {
-      const std::string n = e.path().filename().string();
-      if (n.starts_with("progress_") && ends_with(n, ".csv")) variants.push_back(n);
-    }
-    std::sort(variants.begin(), variants.end());
-    files.emplace_back(variants.empty() ? "" : "progress", std::move(*s));
-    for (const auto& n : variants) {
-      auto v = Series::load(run_dir, n);
-      if (v && v->has("objective")) files.emplace_back(n.substr(9, n.size() - 13), std::move(*v));
-    }
-    add_progress(
-        page, files, "objective",
-        "U-hat of the best policy so far against optimizer iterations, evaluations and time (progress.csv).",
-        options);
-  } else if (auto lc = Series::load(run_dir, "learning_curve.csv");
-             lc && lc->has("uhat") && lc->has("iteration")) {
-    std::vector<std::pair<std::string, Series>> files;
-    files.emplace_back("", std::move(*lc));
-    add_progress(page, files, "uhat",
-                 "U-hat of the current policy on the training scenarios, by iteration and by evaluations "
-                 "(learning_curve.csv).",
-                 options);
-  }
-  if (auto s = Series::load(run_dir, "learning_curves.csv")) add_learning_curves(page, *s, options);
-  if (auto s = Series::load(run_dir, "curves.csv"); s && s->has("trial"))
-    add_shaping_curves(page, *s, summary, options);
-  if (auto s = Series::load(run_dir, "results.csv"); s && s->has("m") && s->has("mean_true_value")) {
-    add_value_vs_m(page, *s, summary);
-  }
-  if (auto s = Series::load(run_dir, "trials.csv"); s && s->has("method"))
-    add_small_table(page, *s, "trials", "Trainings");
-  if (auto s = Series::load(run_dir, "rides.csv")) add_rides(page, run_dir, *s, options);
-  if (auto s = Series::load(run_dir, "uhat.csv"); s && s->has("variant") && s->has("uhat"))
-    add_variance(page, *s);
-  if (auto s = Series::load(run_dir, "potential.csv"); s && s->has("state") && s->has("phi"))
-    add_potential(page, *s);
-  if (auto s = Series::load(run_dir, "mse_vs_horizon.csv"); s && s->has("variable"))
-    add_mse_vs_horizon(page, *s);
-  if (auto s = Series::load(run_dir, "noise_check.csv")) add_noise_check(page, *s);
-  if (auto s = Series::load(run_dir, "cross_validation.csv"); s && s->has("setting"))
-    add_cross_validation(page, *s);
-  add_flights(page, run_dir, options);
-  add_mujoco_replay(page, run_dir);
-  add_pilot_log(page, run_dir, options);
+  // The charts the run describes (charts.json), then whatever else it holds.
+  add_chart_sections(page, run_dir, options);
   add_policy(page, run_dir);
   add_other_series(page, run_dir, options);
 

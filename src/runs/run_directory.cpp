@@ -6,6 +6,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
@@ -27,6 +28,7 @@ namespace {
 
 constexpr const char* kConfigFile = "config.toml";
 constexpr const char* kCheckpointFile = "checkpoint.json";
+constexpr const char* kChartsFile = "charts.json";
 
 bool exists_no_follow(const fs::path& p) {
   std::error_code ec;
@@ -283,6 +285,27 @@ void RunDirectory::write_json(const fs::path& relative, const nlohmann::json& va
 void RunDirectory::write_csv(const fs::path& relative, const CsvWriter& csv) const {
   const fs::path file = resolve(relative);
   if (!shadow_) csv.write(file);
+}
+
+void RunDirectory::add_charts(const std::vector<ChartSection>& sections) const {
+  if (shadow_) return;
+  const fs::path file = resolve(kChartsFile);
+  std::vector<ChartSection> all;
+  std::error_code ec;
+  if (fs::is_regular_file(file, ec)) all = charts_from_json(read_json_file(file), file.string());
+  for (const auto& s : sections) {
+    auto same = std::find_if(all.begin(), all.end(), [&](const ChartSection& a) { return a.id == s.id; });
+    if (same == all.end()) {
+      all.push_back(s);
+    } else {
+      *same = s;
+    }
+  }
+  write_file_atomic(file, json_text(to_json(all)));
+}
+
+void RunDirectory::write_chart_svg(const fs::path& relative, const Chart& chart) const {
+  if (!shadow_) write_text(relative, render_svg(chart, staging_));
 }
 
 void RunDirectory::save_checkpoint(const nlohmann::json& state) const { write_json(kCheckpointFile, state); }

@@ -90,6 +90,25 @@ function writeRun(name, files, expect = {}) {
   pegasus(['report', dir]);
   runs.push([name, dir, expect]);
 }
+// charts.json (include/pegasus/runs/charts.hpp) of a synthetic run: optimizer progress, the first flight's
+// traces and the 3-D replay of the flights (against the ideal path when given).
+function chartsJson({ pilot = false, ideal = false } = {}) {
+  const files = [{ file: 'flights.csv', name: 'policy flight' }];
+  if (pilot) files.push({ file: 'pilot_flights.csv', name: 'pilot flight' });
+  const traces = (y, factor = 1) => files.map((f, i) => ({ file: f.file, x: 't', y, group_by: ['flight'], name: f.name,
+    y_factor: factor, max_groups: 1, dash: i ? 'dash' : '' }));
+  const sections = [
+    { id: 'progress', title: 'Optimizer progress', intro: '', charts: ['iteration', 'evaluations', 'seconds'].map((x) => ({
+      kind: 'xy', title: `U-hat against ${x}`, x: { title: x }, y: { title: 'U-hat' },
+      traces: [{ file: 'progress.csv', x, y: 'objective', mode: 'lines+markers' }] })) },
+    { id: 'hover', title: 'Flight traces', intro: '', charts: [['xdot', 1], ['y', 1], ['z', -1]].map(([y, f]) => ({
+      kind: 'xy', title: y, x: { title: 'time (s)' }, y: { title: y }, traces: traces(y, f), size: 'small' })) },
+    { id: 'replay', title: '3-D replay', intro: '', charts: [{ kind: 'replay', title: '3-D replay',
+      traces: files.map((f) => ({ file: f.file, x: 't', group_by: ['flight'], name: f.name })), size: 'wide',
+      ...(ideal ? { path: 'ideal_path.csv' } : {}) }] },
+  ];
+  return JSON.stringify({ format: 'pegasus.charts', version: 1, sections });
+}
 function progressCsv(n) {
   const lines = ['iteration,evaluations,seconds,objective'];
   for (let i = 1; i <= n; i++) lines.push(`${i},${60 * i},${(0.2 * i).toFixed(1)},${(-50 / i).toFixed(6)}`);
@@ -145,14 +164,15 @@ if (/^  mujoco /m.test(pegasus(['--help']))) {
       '--episodes', '2'], { replay: 1 });
   }
 }
-// The file formats of the helicopter commands (notes/heli_conventions.md), synthetic: a hover run and a
-// manoeuvre run with its ideal path.
+// The file formats of the helicopter commands (notes/heli_conventions.md), synthetic, with the charts.json
+// that describes them: a hover run and a manoeuvre run with its ideal path.
 writeRun('heli-hover-synthetic', {
   'summary.json': JSON.stringify({ experiment: 'heli hover', flights: 3, rms_position_error_m: 0.21 }),
   'config.toml': 'scenarios = 30\ngamma = 0.9995\n',
   'progress.csv': progressCsv(25),
   'flights.csv': [FLIGHT_HEADER, ...[0, 1, 2].flatMap((f) => flightRows(f, 6, { wobble: 0.2, phase: f }))].join('\n') + '\n',
   'pilot_flights.csv': [FLIGHT_HEADER, ...[0, 1].flatMap((f) => flightRows(f, 6, { wobble: 0.6, phase: 2 + f }))].join('\n') + '\n',
+  'charts.json': chartsJson({ pilot: true }),
 }, { replay: 1 });
 const idealLines = ['t,x,y,z,yaw'];
 for (let k = 0; k <= 200; k++) {
@@ -165,6 +185,7 @@ writeRun('heli-maneuver-synthetic', {
   'progress.csv': progressCsv(12),
   'flights.csv': [FLIGHT_HEADER, ...[0, 1].flatMap((f) => flightRows(f, 10, { wobble: 0.3, radius: 8, phase: f }))].join('\n') + '\n',
   'ideal_path.csv': idealLines.join('\n') + '\n',
+  'charts.json': chartsJson({ ideal: true }),
 }, { replay: 1 });
 console.log(`made ${runs.length} run directories in ${((Date.now() - started) / 1000).toFixed(1)} s`);
 

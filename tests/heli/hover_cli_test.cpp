@@ -15,6 +15,7 @@
 #include <string>
 #include <thread>
 
+#include "pegasus/heli/frames.hpp"
 #include "pegasus/io/json_csv.hpp"
 #include "support/cli_runner.hpp"
 
@@ -181,12 +182,21 @@ TEST_F(HoverCli, FlyWritesTheDocumentedSummaryAndTraces) {
     EXPECT_EQ(
         text.substr(0, text.find('\n')),
         "flight,t,x,y,z,roll,pitch,yaw,xdot,ydot,zdot,roll_rate,pitch_rate,yaw_rate,a1,a2,a3,a4,target_x,"
-        "target_y,target_z,target_yaw")
+        "target_y,target_z,target_yaw,xdot_b,ydot_b,zdot_b")
         << file;
     EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 1 + 2 * 150) << file;
+    // The body-frame velocities (Fig 5.6) are R_WB^T v_W of the same row, the one transform of frames.hpp.
+    const auto rows = pegasus::parse_csv(text);
+    for (std::size_t row : {std::size_t{1}, std::size_t{77}, rows.size() - 2}) {
+      auto cell = [&](std::size_t c) { return std::stod(rows[row][c]); };
+      const pegasus::heli::Vec3 v_B =
+          pegasus::heli::body_from_world({cell(5), cell(6), cell(7)}, {cell(8), cell(9), cell(10)});
+      for (int k = 0; k < 3; ++k)
+        EXPECT_NEAR(cell(22 + static_cast<std::size_t>(k)), v_B[k], 1e-12) << file << row;
+    }
   }
   for (const char* file :
-       {"position_x.svg", "position_z.svg", "velocity_xb.svg", "velocity_zb.svg", "per_flight.csv"})
+       {"position_x.svg", "altitude.svg", "velocity_xb.svg", "velocity_zb.svg", "per_flight.csv"})
     EXPECT_TRUE(fs::exists(dir_ / "fly" / file)) << file;
   const auto p = run_pegasus("heli fly --quiet --pilot --flights 2 --seconds 2" + out("pilot"));
   ASSERT_EQ(p.code, 0) << p.output;

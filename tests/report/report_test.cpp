@@ -15,8 +15,9 @@
 #include <string>
 
 #include "pegasus/core/error.hpp"
-#include "pegasus/heli/frames.hpp"
 #include "pegasus/io/json_csv.hpp"
+#include "pegasus/runs/charts.hpp"
+#include "pegasus/runs/flight_charts.hpp"
 #include "support/cli_runner.hpp"
 #include "support/input_error.hpp"
 
@@ -82,8 +83,20 @@ class Report : public pegasus::test_support::TempDirTest {
   std::string render() const { return pegasus::report::render_report(run_, kFakeBundle); }
 };
 
+// The run's charts.json, written as commands write it.
+void describe(const fs::path& run, const std::vector<pegasus::ChartSection>& sections) {
+  write(run / "charts.json", pegasus::to_json(sections).dump());
+}
+
+pegasus::ChartSection one_chart(pegasus::Chart chart, std::string id = "s") {
+  return {.id = std::move(id), .title = "Section", .intro = "intro", .charts = {std::move(chart)}};
+}
+
 TEST_F(Report, PageIsSelfContainedWithTheBundleInlinedOnce) {
   write(run_ / "curves.csv", "trial,none_mean,none_stderr\n1,100,10\n2,50,5\n");
+  describe(
+      run_,
+      {one_chart({.title = "Steps", .traces = {{.file = "curves.csv", .x = "trial", .y = "none_mean"}}})});
   const std::string html = render();
   EXPECT_EQ(html.find("<script src"), std::string::npos);
   EXPECT_EQ(html.find("<link"), std::string::npos);
@@ -108,6 +121,15 @@ TEST_F(Report, PageIsSelfContainedWithTheBundleInlinedOnce) {
 TEST_F(Report, TextFromTheRunCannotEndTheScriptElements) {
   write(run_ / "trials.csv", "method,trial,x\n\"</script><script>alert(1)//\",0,1\n");
   write(run_ / "rides.csv", "method,trial,ride,distance_km,reached,fell\n</SCRIPT>,0,0,1.0,1,0\n");
+  describe(
+      run_,
+      {{.id = "rides",
+        .title = "</script>",
+        .intro = "<!-- </script>",
+        .charts = {{.kind = pegasus::ChartKind::kBox,
+                    .title = "Distance",
+                    .traces = {{.file = "rides.csv", .y = "distance_km", .group_by = {"method", "trial"}}}},
+                   {.kind = pegasus::ChartKind::kTable, .traces = {{.file = "trials.csv"}}}}}});
   const std::string bundle = "var s = \"</script>\"; /<!--x/.test(s);";
   const std::string html = pegasus::report::render_report(run_, bundle);
   std::size_t closes = 0;
@@ -122,10 +144,20 @@ TEST_F(Report, TextFromTheRunCannotEndTheScriptElements) {
   EXPECT_EQ(data["charts"][0]["groups"][0]["name"], "</SCRIPT> 0");
 }
 
-TEST_F(Report, ShapingCurvesEmbedTheCsvValuesWithStandardErrorBands) {
+TEST_F(Report, XyTracesEmbedTheCsvValuesByGroupWithBandsAndReferenceLines) {
   write(run_ / "curves.csv",
-        "trial,none_mean,none_stderr,phi0_mean,phi0_stderr\n1,704.6,61.5,75.6,"
-        "9.25\n2,0.1,0.2,1e-300,0\n3,nan,1,3,1\n");
+        "potential,trial,mean,stderr\nnone,1,704.6,61.5\nnone,2,0.1,0.2\nnone,3,nan,1\n"
+        "phi0,1,75.6,9.25\nphi0,2,1e-300,0\n");
+  describe(run_, {one_chart({.title = "Steps to the goal against trial",
+                             .x = {"trial", pegasus::AxisScale::kLog10},
+                             .traces = {{.file = "curves.csv",
+                                         .x = "trial",
+                                         .y = "mean",
+                                         .group_by = {"potential"},
+                                         .band = "stderr",
+                                         .band_factor = 2,
+                                         .band_name = "+-2 s.e."}},
+                             .references = {{.y = 22.0, .name = "optimal"}}})});
   const json data = embedded_data(render());
   const json& c = chart_from(data, "curves.csv", "against trial");
   ASSERT_EQ(c["traces"].size(), 2u);
@@ -133,91 +165,107 @@ TEST_F(Report, ShapingCurvesEmbedTheCsvValuesWithStandardErrorBands) {
   EXPECT_EQ(none["name"], "none");
   EXPECT_EQ(doubles(none["x"]), (std::vector<double>{1, 2, 3}));
   EXPECT_EQ(none["y"][0].get<double>(), 704.6);
-  EXPECT_EQ(none["y"][1].get<double>(),
-            0.1);                       // exact: shortest round-trip text both ways
-  EXPECT_TRUE(none["y"][2].is_null());  // nan
-  EXPECT_EQ(none["lower"][0].get<double>(), 704.6 - 61.5);
-  EXPECT_EQ(none["upper"][1].get<double>(), 0.1 + 0.2);
+  EXPECT_EQ(none["y"][1].get<double>(), 0.1);  // exact: shortest round-trip text both ways
+  EXPECT_TRUE(none["y"][2].is_null());         // nan
+  EXPECT_EQ(none["lower"][0].get<double>(), 704.6 - 2 * 61.5);
+  EXPECT_EQ(none["upper"][1].get<double>(), 0.1 + 2 * 0.2);
+  EXPECT_EQ(none["band_name"], "+-2 s.e.");
+  EXPECT_EQ(c["traces"][1]["name"], "phi0");
   EXPECT_EQ(c["traces"][1]["y"][1].get<double>(), 1e-300);
+  EXPECT_TRUE(c["x_log"].get<bool>());
+  EXPECT_FALSE(c.contains("y_log"));
   ASSERT_EQ(c["hlines"].size(), 1u);
   EXPECT_EQ(c["hlines"][0]["y"].get<double>(), 22.0);
 }
 
-TEST_F(Report, ValueAgainstMHasErrorBarsAndTheBestInClassLine) {
-  write(run_ / "summary.json",
-        R"({"experiment": "pomdp-gridworld", "best_in_class_value": -9.409113125406012})");
+TEST_F(Report, ErrorBarsRowFiltersAndOneTraceWithGaps) {
   write(run_ / "results.csv",
-        "model,estimator,m,trials,mean_true_value,stderr_"
-        "true_value,mean_estimate,mean_sup_deviation\n"
-        "normal,pegasus,1,5,-12.87,1.94,-9.5,45\nnormal,"
-        "pegasus,2,5,-10.12,0.56,-9.1,37\n"
-        "hashed,pegasus,1,5,-17.44,2.06,-8.2,47\nhashed,"
-        "pegasus,2,5,-13.41,1.80,-8.0,38\n");
+        "curve,variable,m,value,stderr\nPEGASUS,v,1,-12.87,1.94\nPEGASUS,w,1,5,5\nPEGASUS,v,2,-10.12,0.56\n"
+        "hashed,v,1,-17.44,2.06\nhashed,v,2,-13.41,1.80\n");
+  describe(run_, {one_chart({.title = "Value",
+                             .x = {"m", pegasus::AxisScale::kLog2},
+                             .traces = {{.file = "results.csv",
+                                         .x = "m",
+                                         .y = "value",
+                                         .group_by = {"curve"},
+                                         .where = {{"variable", "v"}},
+                                         .error = "stderr"}}}),
+                  one_chart({.title = "Joined",
+                             .traces = {{.file = "results.csv",
+                                         .x = "m",
+                                         .y = "value",
+                                         .group_by = {"curve"},
+                                         .name = "all",
+                                         .one_trace = true}}},
+                            "t")});
   const json data = embedded_data(render());
   const json& c = chart_from(data, "results.csv", "Value");
   ASSERT_EQ(c["traces"].size(), 2u);
-  EXPECT_EQ(c["traces"][0]["name"], "normal pegasus");
+  EXPECT_EQ(c["traces"][0]["name"], "PEGASUS");
   EXPECT_EQ(doubles(c["traces"][0]["x"]), (std::vector<double>{1, 2}));
   EXPECT_EQ(doubles(c["traces"][0]["y"]), (std::vector<double>{-12.87, -10.12}));
   EXPECT_EQ(doubles(c["traces"][0]["error"]), (std::vector<double>{1.94, 0.56}));
   EXPECT_EQ(doubles(c["traces"][1]["y"]), (std::vector<double>{-17.44, -13.41}));
-  EXPECT_EQ(c["hlines"][0]["y"].get<double>(), -9.409113125406012);
-  EXPECT_TRUE(c["x_log"].get<bool>());
+  EXPECT_EQ(c["x_log_base"], 2);
+  const json& joined = chart_from(data, "results.csv", "Joined");
+  ASSERT_EQ(joined["traces"].size(), 1u);
+  EXPECT_EQ(joined["traces"][0]["name"], "all");
+  const auto y = doubles(joined["traces"][0]["y"]);
+  ASSERT_EQ(y.size(), 6u);  // 3 rows, a gap, 2 rows
+  EXPECT_TRUE(std::isnan(y[3]));
+  EXPECT_EQ(y[4], -17.44);
 }
 
-TEST_F(Report, FlightsGiveReplayAndBodyVelocitiesFromTheWorldFrame) {
-  const std::string header =
-      "flight,t,x,y,z,roll,pitch,yaw,xdot,ydot,zdot,roll_rate,pitch_rate,yaw_"
-      "rate,a1,a2,a3,a4,target_x,target_y,"
-      "target_z,target_yaw\n";
+TEST_F(Report, FlightChartsGiveReplayBodyVelocitiesAndAltitude) {
+  const std::string header = "flight,t,x,y,z,roll,pitch,yaw,xdot,ydot,zdot,xdot_b,ydot_b,zdot_b\n";
   std::string rows;
-  const double yaw = std::numbers::pi / 2;  // nose east
   for (int f = 0; f < 2; ++f) {
     for (int k = 0; k < 5; ++k) {
-      rows += fmt::format("{},{},{},{},{},0.1,-0.05,{},1,0,0.5,0,0,0,0,0,0,0,0,0,-10,0\n", f, 0.02 * k,
-                          0.1 * k + f, -0.2 * k, -10 - 0.01 * k, yaw);
+      rows += fmt::format("{},{},{},{},{},0.1,-0.05,1.5,1,0,0.5,{},-1,0.25\n", f, 0.02 * k, 0.1 * k + f,
+                          -0.2 * k, -10 - 0.01 * k, 0.5 * k + f);
     }
   }
   write(run_ / "flights.csv", header + rows);
   write(run_ / "pilot_flights.csv", header + rows);
   write(run_ / "ideal_path.csv", "t,x,y,z,yaw\n0,0,0,-10,0\n1,5,0,-10,0\n");
-  write(run_ / "path_deviation.csv",
-        "flight,t,path_deviation_m,progress_m\n0,0,0.5,0\n0,0.02,0.25,0.1\n1,0,0.75,0\n");
+  const std::vector<pegasus::FlightSeries> files = {
+      {.file = "flights.csv", .label = "policy flight", .body_velocities = true},
+      {.file = "pilot_flights.csv", .label = "pilot flight", .body_velocities = true}};
+  describe(run_, {pegasus::flight_traces_section(files, "hover", "Flights", "intro"),
+                  one_chart(pegasus::flight_replay_chart(files, "ideal_path.csv"), "replay")});
   const json data = embedded_data(render());
   const json* replay = nullptr;
   for (const auto& c : data["charts"]) {
     if (c["kind"] == "replay") replay = &c;
   }
   ASSERT_NE(replay, nullptr);
-  ASSERT_EQ((*replay)["flights"].size(),
-            4u);  // 2 policy flights, 2 pilot flights
+  ASSERT_EQ((*replay)["flights"].size(), 4u);  // 2 policy flights, 2 pilot flights
   const json& f1 = (*replay)["flights"][1];
   EXPECT_EQ(f1["name"], "policy flight 1");
   EXPECT_EQ(doubles(f1["x"]), (std::vector<double>{1, 1.1, 1.2, 1.3 /* 0.1*3+1 */, 1.4}));
   EXPECT_EQ(f1["z"][4].get<double>(), -10 - 0.01 * 4);
-  EXPECT_EQ(f1["yaw"][0].get<double>(), yaw);
+  EXPECT_EQ(f1["yaw"][0].get<double>(), 1.5);
   EXPECT_EQ(doubles((*replay)["ideal"]["x"]), (std::vector<double>{0, 5}));
-  // Fig 5.6: body velocities, R_WB^T v_W, the one transform of heli/frames.hpp.
-  const json& ydot_b = chart_from(data, "flights.csv", "ydot_b");
-  const pegasus::heli::Vec3 v_B = pegasus::heli::body_from_world({0.1, -0.05, yaw}, {1, 0, 0.5});
-  EXPECT_EQ(ydot_b["traces"][0]["y"][0].get<double>(), v_B[1]);
-  EXPECT_NEAR(v_B[1], -1,
-              0.1);                        // flying north with the nose east: sideways to the left
-  ASSERT_EQ(ydot_b["traces"].size(), 2u);  // the first flight of each controller
-  EXPECT_EQ(ydot_b["traces"][1]["name"], "pilot flight 0");
-  EXPECT_EQ(ydot_b["traces"][1]["dash"], "dash");
-  const json& deviation = chart_from(data, "path_deviation.csv", "Distance to the ideal path");
-  ASSERT_EQ(deviation["traces"].size(), 2u);
-  EXPECT_EQ(doubles(deviation["traces"][0]["y"]), (std::vector<double>{0.5, 0.25}));
-  EXPECT_EQ(doubles(deviation["traces"][1]["x"]), (std::vector<double>{0}));
+  // Fig 5.6 draws the body-frame velocity columns; the first flight of each file.
+  const json& xdot_b = chart_from(data, "flights.csv", "xdot_b");
+  ASSERT_EQ(xdot_b["traces"].size(), 2u);
+  EXPECT_EQ(doubles(xdot_b["traces"][0]["y"]), (std::vector<double>{0, 0.5, 1, 1.5, 2}));
+  EXPECT_EQ(xdot_b["traces"][1]["name"], "pilot flight 0");
+  EXPECT_EQ(xdot_b["traces"][1]["dash"], "dash");
   const json& altitude = chart_from(data, "flights.csv", "Altitude -z");
   EXPECT_EQ(altitude["traces"][0]["y"][1].get<double>(), -(-10 - 0.01));
+  // Without body-frame columns the world velocities are drawn.
+  describe(run_, {pegasus::flight_traces_section({{.file = "flights.csv", .label = "f"}}, "hover", "F", "")});
+  EXPECT_EQ(
+      chart_from(embedded_data(render()), "flights.csv", "xdot (north)")["traces"][0]["y"][0].get<double>(),
+      1);
 }
 
 TEST_F(Report, LongSeriesKeepEveryKthRowAndTheLast) {
   std::string text = "iteration,evaluations,seconds,objective\n";
   for (int i = 0; i < 1001; ++i) text += fmt::format("{},{},{},{}\n", i, 10 * i, 0.5 * i, std::sqrt(i));
   write(run_ / "progress.csv", text);
+  describe(run_, {pegasus::optimizer_progress_section({{"", "progress.csv"}}, "intro")});
   pegasus::report::ReportOptions options;
   options.max_points = 100;
   const json data = pegasus::report::report_data(run_, options);
@@ -240,6 +288,8 @@ TEST_F(Report, VariantProgressFilesAreTracesAndOtherSmallCsvsAreTables) {
   write(run_ / "progress.csv", "iteration,evaluations,seconds,objective\n1,10,0.5,-4\n2,20,1,-3\n");
   write(run_ / "progress_nofeed.csv", "iteration,evaluations,seconds,objective\n1,10,0.5,-6\n");
   write(run_ / "per_flight.csv", "controller,flight,rms_position_m\nlearned,0,0.25\npilot,0,0.61\n");
+  describe(run_, {pegasus::optimizer_progress_section(
+                     {{"full", "progress.csv"}, {"nofeed", "progress_nofeed.csv"}}, "intro")});
   const std::string html = render();
   const json data = embedded_data(html);
   const json& c = chart_from(data, "progress.csv", "evaluations");
@@ -249,6 +299,15 @@ TEST_F(Report, VariantProgressFilesAreTracesAndOtherSmallCsvsAreTables) {
   EXPECT_EQ(doubles(c["traces"][0]["x"]), (std::vector<double>{10, 20}));
   EXPECT_NE(html.find("<td>pilot</td><td class=\"num\">0</td><td class=\"num\">0.61</td>"),
             std::string::npos);
+}
+
+TEST_F(Report, WithoutChartsJsonOnlyTheGenericPartsAreShown) {
+  // A run directory from before charts.json: its series are drawn against their first column, nothing more.
+  write(run_ / "progress.csv", "iteration,evaluations,seconds,objective\n1,10,0.5,-4\n2,20,1,-3\n");
+  const json data = embedded_data(render());
+  ASSERT_EQ(data["charts"].size(), 1u);
+  EXPECT_EQ(data["charts"][0]["title"], "progress.csv");
+  EXPECT_EQ(data["charts"][0]["traces"].size(), 3u);  // evaluations, seconds, objective against iteration
 }
 
 TEST_F(Report, StagesOfAPipelineAreLinkedToTheirReports) {
@@ -276,6 +335,10 @@ TEST_F(Report, BadRunDirectoriesAreInputErrorsNamingTheFile) {
   write(dir_ / "badjson" / "summary.json", "{\"a\": ");
   EXPECT_NE(input_error_message([&] { report_data(dir_ / "badjson"); }).find("invalid JSON"),
             std::string::npos);
+  // A series a chart draws: bad cells, rows and columns are named with file and line.
+  describe(
+      run_,
+      {one_chart({.title = "Steps", .traces = {{.file = "curves.csv", .x = "trial", .y = "none_mean"}}})});
   write(run_ / "curves.csv", "trial,none_mean,none_stderr\n1,2,3\n2,x7,3\n");
   EXPECT_NE(input_error_message([&] {
               report_data(run_);
@@ -284,10 +347,29 @@ TEST_F(Report, BadRunDirectoriesAreInputErrorsNamingTheFile) {
   write(run_ / "curves.csv", "trial,none_mean,none_stderr\n1,2\n");
   EXPECT_NE(input_error_message([&] { report_data(run_); }).find("curves.csv:2: expected 3 fields"),
             std::string::npos);
-  write(run_ / "curves.csv", "trial,none_mean\n1,2\n");
-  write(run_ / "flights.csv", "flight,t,x,y\n0,0,0,0\n");
-  EXPECT_NE(input_error_message([&] { report_data(run_); }).find("flights.csv: expected a column 'z'"),
+  write(run_ / "curves.csv", "trial,other\n1,2\n");
+  EXPECT_NE(input_error_message([&] { report_data(run_); }).find("curves.csv: expected a column 'none_mean'"),
             std::string::npos);
+  fs::remove(run_ / "curves.csv");
+  EXPECT_NE(input_error_message([&] { report_data(run_); }).find("curves.csv: not found (chart 'Steps'"),
+            std::string::npos);
+  // charts.json itself: the field is named.
+  write(
+      run_ / "charts.json",
+      R"({"format": "pegasus.charts", "version": 1, "sections": [{"id": "s", "charts": [{"kind": "pie"}]}]})");
+  EXPECT_NE(
+      input_error_message([&] { report_data(run_); }).find("sections[0].charts[0].kind: expected xy, box"),
+      std::string::npos);
+  write(run_ / "charts.json",
+        R"({"format": "pegasus.charts", "version": 1, "sections": [{"id": "s", "charts": [{"kind": "xy",
+            "traces": [{"file": "../../etc/passwd", "x": "a", "y": "b"}]}]}]})");
+  EXPECT_NE(
+      input_error_message([&] { report_data(run_); }).find("traces[0].file: expected a file name inside"),
+      std::string::npos);
+  write(run_ / "charts.json", R"({"format": "other"})");
+  EXPECT_NE(
+      input_error_message([&] { report_data(run_); }).find("charts.json.format: expected \"pegasus.charts\""),
+      std::string::npos);
 }
 
 TEST_F(Report, AMissingBundleIsNamedWithWhereToGetIt) {
@@ -311,6 +393,9 @@ std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
 
 TEST_F(Report, CliRefusesABadRunDirectoryWithExit2AndWritesNothing) {
   write(run_ / "curves.csv", "trial,none_mean\n1,2\n2,oops\n");
+  describe(
+      run_,
+      {one_chart({.title = "Steps", .traces = {{.file = "curves.csv", .x = "trial", .y = "none_mean"}}})});
   const auto r = run_pegasus("report " + quoted(run_));
   EXPECT_EQ(r.code, 2) << r.output;
   EXPECT_EQ(r.output.rfind("pegasus: ", 0), 0u) << r.output;
@@ -355,6 +440,7 @@ TEST_F(Report, EveryRunEndsWithItsReportAndTheCommandRemakesIt) {
   EXPECT_NE(html.find("three"), std::string::npos);
 
   write(run_ / "progress.csv", "iteration,evaluations,seconds,objective\n1,10,0.1,-3\n2,20,0.2,-2\n");
+  describe(run_, {pegasus::optimizer_progress_section({{"", "progress.csv"}}, "intro")});
   const auto again = run_pegasus("report " + quoted(run_));
   ASSERT_EQ(again.code, 0) << again.output;
   EXPECT_NE(again.output.find("report.html"), std::string::npos);

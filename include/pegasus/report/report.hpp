@@ -7,12 +7,11 @@
 // (plotly.js), the 3-D flight replay (three.js) and the page code (web/src/report.js) is inlined from one
 // bundle file, pegasus-report.js, that the build makes with `npm ci` from web/package-lock.json.
 //
-// What a report shows follows from the files present, so new commands get reports by writing the usual
-// files (see report.cpp for the list): progress.csv (optimizer progress), curves.csv (shaping curves with
-// error bands, Figs 3.2-3.3), results.csv (PEGASUS value against m with the best-in-class line, Fig 4.5b),
-// rides.csv / ride_paths.csv (bicycle), mse_vs_horizon.csv and noise_check.csv (Figs 5.2-5.3), flights.csv
-// with pilot_flights.csv (hover traces against the pilot, Figs 5.6-5.7) and ideal_path.csv (3-D replay
-// against the ideal path, Fig 5.10); any other CSV series is drawn against its first column.
+// What a report shows is what the run directory says of itself: the sections and charts of charts.json
+// (runs/charts.hpp), which the command that wrote the series also wrote. The report knows no experiment:
+// beyond charts.json it shows policy.json's parameters, any other CSV series against its first column, small
+// CSV tables, links to the reports of runs inside this one and the list of files. A run directory written
+// before charts.json existed gets only those generic parts; rerunning its command gives the full report.
 //
 //   const auto bundle = pegasus::report::find_bundle();        // std::runtime_error: not found
 //   pegasus::report::write_report("runs/demo", bundle);        // InputError: not a readable run directory

@@ -28,8 +28,10 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string_view>
+#include <vector>
 
 #include "pegasus/io/json_csv.hpp"
+#include "pegasus/runs/charts.hpp"
 #include "pegasus/runs/config.hpp"
 
 namespace pegasus {
@@ -61,6 +63,12 @@ class RunDirectory {
   void write_text(const std::filesystem::path& relative, std::string_view content) const;
   void write_json(const std::filesystem::path& relative, const nlohmann::json& value) const;
   void write_csv(const std::filesystem::path& relative, const CsvWriter& csv) const;
+  // Adds chart sections to charts.json (charts.hpp), replacing a section of the same id; rewritten
+  // atomically each time, so the run directory describes its charts at every moment.
+  void add_charts(const std::vector<ChartSection>& sections) const;
+  void add_charts(const ChartSection& section) const { add_charts(std::vector<ChartSection>{section}); }
+  // An SVG of an xy chart drawn from the series already written (render_svg).
+  void write_chart_svg(const std::filesystem::path& relative, const Chart& chart) const;
 
   // checkpoint.json, written atomically; load_checkpoint() is nullopt when no checkpoint was saved. Under
   // mpirun every rank gets rank 0's checkpoint.
