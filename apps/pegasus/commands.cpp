@@ -12,7 +12,7 @@
 #include "command.hpp"
 #include "experiment_commands.hpp"
 #include "pegasus/evaluators/horizon.hpp"
-#include "pegasus/runs/svg_plot.hpp"
+#include "pegasus/runs/charts.hpp"
 
 namespace pegasus::cli {
 
@@ -88,17 +88,17 @@ Command dev_count_command() {
             bar.finish();
             double sum = 0;
             CsvWriter csv({"step", "value"});
-            std::vector<double> xs;
             for (std::size_t i = 0; i < values.size(); ++i) {
               sum += values[i];
               csv.add_row({static_cast<std::int64_t>(i), values[i]});
-              xs.push_back(static_cast<double>(i + 1));
             }
             dir.write_csv("values.csv", csv);
-            SvgPlot plot;
-            plot.title("dev count").x_label("step + 1").y_label("value").x_scale(AxisScale::kLog2);
-            plot.add_series({.name = "value", .x = xs, .y = values});
-            dir.write_text("values.svg", plot.render());
+            const Chart chart{.title = "dev count",
+                              .x = {"step"},
+                              .y = {"value"},
+                              .traces = {{.file = "values.csv", .x = "step", .y = "value", .name = "value"}}};
+            dir.add_charts(ChartSection{.id = "values", .title = "Values", .charts = {chart}});
+            dir.write_chart_svg("values.svg", chart);
             dir.write_json("summary.json", {{"steps", steps}, {"sum", sum}});
             ctx.out << fmt::format("sum {}\n", sum);
           },

@@ -35,7 +35,6 @@
 #include "pegasus/runs/flight_charts.hpp"
 #include "pegasus/runs/optimizer_config.hpp"
 #include "pegasus/runs/progress.hpp"
-#include "pegasus/runs/svg_plot.hpp"
 #include "pegasus/sysid/flight_log.hpp"
 #include "pegasus/sysid/identify.hpp"
 
