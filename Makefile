@@ -12,7 +12,7 @@ NINJA     := $(shell command -v ninja >/dev/null 2>&1 && echo "-G Ninja")
 gen = $(if $(wildcard $(1)/CMakeCache.txt),,$(NINJA))
 
 .PHONY: all deps configure cli build demo test test-fast test-release test-asan install fuzz bench benchmarks-md \
-        figures format format-check clean
+        figures format format-check tidy clean
 
 all: build
 
@@ -94,6 +94,14 @@ format:
 
 format-check:
 	@clang-format --dry-run -Werror $(CXX_FILES)
+
+# clang-tidy over the library's sources (src/, with the public headers they include) by the repo's .clang-tidy:
+# any finding fails. Uses the build directory's compile_commands.json (configure writes it).
+tidy: configure
+	@run-clang-tidy -p $(BUILD) -j $(JOBS) -quiet -extra-arg=-Wno-unknown-warning-option "$(CURDIR)/src/" \
+	  > $(BUILD)/tidy.log 2>&1 || { sed 's/\x1b\[[0-9;]*m//g' $(BUILD)/tidy.log | grep -E "(error|warning): " | sort -u; \
+	  echo "tidy: findings above (whole output: $(BUILD)/tidy.log)"; exit 1; }
+	@echo "tidy: no findings"
 
 clean:
 	rm -rf $(BUILD) $(ASAN) $(FUZZ)

@@ -6,7 +6,7 @@ set -euo pipefail
 
 packages=(
   # toolchain
-  g++ make cmake ninja-build ccache pkg-config git clang-format
+  g++ make cmake ninja-build ccache pkg-config git clang-format clang-tidy
   # libraries (README "Dependencies" says why each is here)
   libeigen3-dev libnlopt-cxx-dev librandom123-dev libboost-dev
   libcli11-dev libtomlplusplus-dev nlohmann-json3-dev libfmt-dev

@@ -20,6 +20,7 @@
 #include "pegasus/runs/progress.hpp"
 #include "pegasus/sysid/flight_log.hpp"
 #include "pegasus/sysid/identify.hpp"
+#include "pegasus/sysid/model_selection.hpp"
 
 namespace pegasus::cli {
 
@@ -100,25 +101,6 @@ void resolve_identify(ConfigSchema& s) {
   from_vehicle(s, v, "control_rate_hz", v.control_rate_hz, "control.rate_hz");
 }
 
-namespace {
-
-nlohmann::json mse_at(const HorizonMse& h) {
-  nlohmann::json out;
-  for (int sec : {1, 5, 10}) {
-    std::size_t best = 0;
-    for (std::size_t t = 0; t < h.seconds.size(); ++t)
-      if (std::abs(h.seconds[t] - sec) < std::abs(h.seconds[best] - sec)) best = t;
-    if (h.seconds.empty() || std::abs(h.seconds[best] - sec) > 1e-9 || h.count[best] == 0) continue;
-    nlohmann::json vars;
-    for (int v = 0; v < kReportVars; ++v)
-      vars[kReportVarNames[static_cast<std::size_t>(v)]] = h.mse[best][static_cast<std::size_t>(v)];
-    out[std::to_string(sec)] = vars;
-  }
-  return out;
-}
-
-}  // namespace
-
 void run_identify(RunContext& ctx) {
   const auto& c = ctx.config;
   if (c.get_string("train").empty()) throw InputError("--train: a training flight log is required");
@@ -180,60 +162,17 @@ void run_identify(RunContext& ctx) {
                                .traces = {{.file = "cross_validation.csv", .x = "setting", .y = "cv_error"}},
                                .categorical = true}}});
 
-  const double horizon = c.get_double("horizon_s"), spacing = c.get_double("start_spacing_s");
-  struct Variant {
-    std::string name;
-    HorizonMse mse;
-  };
-  std::vector<Variant> variants;
-  std::vector<double> skipped_rates;  // of Fig 5.2's, which the logs' rates do not allow
-  variants.push_back({o.local ? "locally weighted (chosen)" : "global linear (chosen)",
-                      horizon_mse(model, test, horizon, spacing, pool)});
-  // The global linear model of the same template, always.
-  auto variant_model = [&](ModelStructure m, bool local) {
-    Dataset d = build_dataset(train, m);
-    auto inv = local ? model.inv_bandwidth() : std::array<double, kInputs>{};
-    if (!m.extra_states) inv[kFlapLon] = inv[kFlapLat] = inv[kGyro] = 0;
-    IdentifyOptions vo = o;
-    vo.structure = m;
-    BodyVec sigma2;
-    cv_error(d, output_templates(m), inv, vo, pool, &sigma2);
-    return IdentifiedModel(m, std::move(d), inv, sigma2);
-  };
-  const IdentifiedModel global = variant_model(o.structure, false);
-  const HorizonMse global_mse = horizon_mse(global, test, horizon, spacing, pool);
-  if (o.local) variants.push_back({"global linear", global_mse});
-  if (c.get_bool("variants") && o.local) {
-    ModelStructure m = o.structure;
-    m.extra_states = !o.structure.extra_states;
-    variants.push_back({o.structure.extra_states ? "without a1s, b1s, gyro" : "with a1s, b1s, gyro",
-                        horizon_mse(variant_model(m, true), test, horizon, spacing, pool)});
-    m = o.structure;
-    m.intercept = !o.structure.intercept;
-    variants.push_back({o.structure.intercept ? "without intercept" : "with intercept",
-                        horizon_mse(variant_model(m, true), test, horizon, spacing, pool)});
-    // Fig 5.2's rates, where both logs hold a whole number of rows per model step (a 10 Hz log has no
-    // 25 or 50 Hz model).
-    for (double hz : {5.0, 10.0, 25.0, 50.0}) {
-      if (std::abs(hz - o.structure.rate_hz) < 1e-9) continue;
-      if (log_rows_per_model_step(train.dt(), hz) == 0 || log_rows_per_model_step(test.dt(), hz) == 0) {
-        skipped_rates.push_back(hz);
-        continue;
-      }
-      m = o.structure;
-      m.rate_hz = hz;
-      variants.push_back({fmt::format("identified at {} Hz", hz),
-                          horizon_mse(variant_model(m, true), test, horizon, spacing, pool)});
-    }
-  }
-  // The chosen model as hover training runs it: the learned model at the controller's rate, refitted at the
-  // model's (the variants above step at their own identification rate).
-  const double control_rate_hz = c.get_double("control_rate_hz");
-  const Variant as_trained{fmt::format("chosen, as training runs it ({} Hz)", control_rate_hz),
-                           horizon_mse_as_trained(model, test, control_rate_hz, horizon, spacing, pool)};
+  const ModelSelectionStudy study =
+      model_selection_study(model, train, test, o,
+                            {.horizon_s = c.get_double("horizon_s"),
+                             .start_spacing_s = c.get_double("start_spacing_s"),
+                             .variants = c.get_bool("variants"),
+                             .control_rate_hz = c.get_double("control_rate_hz")},
+                            pool);
   CsvWriter mse_csv({"model", "seconds", "variable", "mse", "rollouts"});
-  variants.push_back(as_trained);  // into the CSV and the plots; out again before the summary
-  for (const auto& v : variants)
+  std::vector<NamedHorizonMse> drawn_models = study.variants;
+  drawn_models.push_back(study.as_trained);
+  for (const auto& v : drawn_models)
     for (std::size_t t = 0; t < v.mse.seconds.size(); ++t)
       for (int k = 0; k < kReportVars; ++k)
         mse_csv.add_row({v.name, v.mse.seconds[t], std::string(kReportVarNames[static_cast<std::size_t>(k)]),
@@ -250,7 +189,6 @@ void run_identify(RunContext& ctx) {
         dir.write_chart_svg(fmt::format("mse_{}.svg", var), chart);
     }
   }
-  variants.pop_back();  // as_trained: reported apart from Fig 5.2's variants
 
   const NoiseCheck nc = noise_check(model, test, c.get_double("reset_s"), 10.0);
   CsvWriter nc_csv({"time", "ydot_b_true", "ydot_b_predicted", "sd"});
@@ -303,8 +241,8 @@ void run_identify(RunContext& ctx) {
     outside_by_horizon[format_double(seconds)] = at;
   }
   nlohmann::json variant_json = nlohmann::json::array();
-  for (const auto& v : variants)
-    variant_json.push_back({{"model", v.name}, {"mse_at_seconds", mse_at(v.mse)}});
+  for (const auto& v : study.variants)
+    variant_json.push_back({{"model", v.name}, {"mse_at_seconds", mse_at_seconds_json(v.mse)}});
   nlohmann::json summary = {{"train_seconds", train.seconds()},
                             {"test_seconds", test.seconds()},
                             {"rate_hz", o.structure.rate_hz},
@@ -313,10 +251,10 @@ void run_identify(RunContext& ctx) {
                             {"training_rows", model.data().rows()},
                             {"bandwidth", bandwidth},
                             {"sigma2", sigma2},
-                            {"mse_at_seconds", mse_at(variants.front().mse)},
-                            {"mse_at_seconds_as_trained", mse_at(as_trained.mse)},
-                            {"control_rate_hz", control_rate_hz},
-                            {"global_linear", {{"mse_at_seconds", mse_at(global_mse)}}},
+                            {"mse_at_seconds", mse_at_seconds_json(study.variants.front().mse)},
+                            {"mse_at_seconds_as_trained", mse_at_seconds_json(study.as_trained.mse)},
+                            {"control_rate_hz", c.get_double("control_rate_hz")},
+                            {"global_linear", {{"mse_at_seconds", mse_at_seconds_json(study.global_linear)}}},
                             {"variants", variant_json},
                             {"outside_2sigma_fraction", outside},
                             {"outside_2sigma_by_horizon", outside_by_horizon},
@@ -325,7 +263,7 @@ void run_identify(RunContext& ctx) {
                             {"cross_validation_steps", report.cv_trace.size()},
                             {"model", "model.json"}};
   // Only when some were skipped, so that the summaries of 50 Hz logs stay as they were (digests).
-  if (!skipped_rates.empty()) summary["variant_rates_skipped_hz"] = skipped_rates;
+  if (!study.skipped_rates_hz.empty()) summary["variant_rates_skipped_hz"] = study.skipped_rates_hz;
   if (!own_layout) summary["vehicle"] = vehicle.name();  // likewise
   if (!report.floored_inputs.empty()) summary["bandwidth_at_floor"] = report.floored_inputs;
   if (o.calibrate_noise) {
@@ -338,14 +276,9 @@ void run_identify(RunContext& ctx) {
     // The control gains' closed-loop bias, measured against a fit that whitens the residuals' correlation
     // (the model's AR(1) noise, or, for a white-noise model, the same fit made for this check alone): the
     // warning comes whatever noise model was asked for.
-    const NoiseCorrelation correlation =
-        model.noise_correlation().any()
-            ? model.noise_correlation()
-            : estimate_noise_correlation(model.data(), model.regression().templates(), model.inv_bandwidth(),
-                                         o.window_s, pool);
     nlohmann::json bias = nlohmann::json::object();
     const ControlGainBias* worst = nullptr;
-    const auto biases = closed_loop_bias(model.data(), model.regression().templates(), correlation);
+    const auto biases = model_closed_loop_bias(model, o.window_s, pool);
     for (const auto& b : biases) {
       bias[b.output + "/" + b.control] = {
           {"least_squares", b.least_squares}, {"whitened", b.whitened}, {"relative", b.relative}};
@@ -372,11 +305,11 @@ void run_identify(RunContext& ctx) {
     ctx.out << fmt::format(
         "bandwidth held at its floor (the logs move these inputs too little for a narrower one): {}\n",
         fmt::join(report.floored_inputs, ", "));
-  if (!skipped_rates.empty())
+  if (!study.skipped_rates_hz.empty())
     ctx.out << fmt::format(
         "variants not identified at {} Hz: the logs' rates ({:.4g} and {:.4g} Hz) are not "
         "multiples\n",
-        fmt::join(skipped_rates, ", "), 1 / train.dt(), 1 / test.dt());
+        fmt::join(study.skipped_rates_hz, ", "), 1 / train.dt(), 1 / test.dt());
   const auto& m1 = summary["mse_at_seconds"];
   const auto& g1 = summary["global_linear"]["mse_at_seconds"];
   ctx.out << fmt::format("identified on {:.0f} s ({} rows at {} Hz), cross-validation {:.1f} s\n",

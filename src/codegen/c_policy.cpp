@@ -609,10 +609,11 @@ ClassText bicycle_class(const nlohmann::json& j, const std::string& source) {
       ". "
       "x),\n * d = d_min + (d_max - d_min) sigmoid(w_d . x) over the fifteen features x of the observation.";
   t.observation_names = {"omega", "omega_dot", "theta", "theta_dot", "goal_angle"};
+  const std::string goal_angle_unit =
+      "rad in (-pi, pi], from the frame's direction to the goal seen from the front tyre (+: goal to the "
+      "left)";
   t.observation_units = {"rad, the bicycle's fall angle from vertical", "rad/s", "rad, the handlebar angle",
-                         "rad/s",
-                         "rad in (-pi, pi], from the frame's direction to the goal seen from the front tyre "
-                         "(+: goal to the left)"};
+                         "rad/s", goal_angle_unit};
   t.action_names = {"T", "d"};
   t.action_units = {fmt::format("N m, handlebar torque in [{}, {}]", space.low()[0], space.high()[0]),
                     fmt::format("m, rider's displacement in [{}, {}]", space.low()[1], space.high()[1])};

@@ -15,7 +15,7 @@ constexpr std::array<int, kGridActions> kDx = {0, 1, 0, -1};
 constexpr std::array<int, kGridActions> kDy = {1, 0, -1, 0};
 }  // namespace
 
-GridGeometry::GridGeometry(int width, int height, std::vector<Cell> blocked)
+GridGeometry::GridGeometry(int width, int height, const std::vector<Cell>& blocked)
     : width_(width), height_(height) {
   if (width < 1 || height < 1 || static_cast<long long>(width) * height > (1LL << 30))
     throw InputError(

@@ -71,7 +71,7 @@ HoverPolicy::HoverPolicy(const HoverPolicyInit& init) {
         p.initial = ch[c].err, p.scale = ch[c].err_scale;
       } else if (w == "err_tanh_gain") {
         p.initial = 0, p.scale = ch[c].err_scale;
-      } else if (w == "err_tanh_in") {
+      } else if (w == "err_tanh_in" || w == "out_tanh_in") {
         p.initial = 1, p.lower = -20, p.upper = 20, p.scale = 0.5;
       } else if (w == "vel") {
         p.initial = ch[c].vel, p.scale = ch[c].vel_scale;
@@ -79,8 +79,6 @@ HoverPolicy::HoverPolicy(const HoverPolicyInit& init) {
         p.initial = ch[c].att, p.scale = 0.2;
       } else if (w == "out_tanh_gain") {
         p.initial = 0, p.scale = 0.05;
-      } else if (w == "out_tanh_in") {
-        p.initial = 1, p.lower = -20, p.upper = 20, p.scale = 0.5;
       } else {  // out_linear
         p.initial = 1, p.lower = -inf, p.upper = inf, p.scale = 0.1;
       }

@@ -325,8 +325,8 @@ bool HoverTrainingOptions::IsValid(std::string* error) const {
 
 namespace {
 
-PegasusEvaluator<Task, HoverPolicy> hover_evaluator(std::shared_ptr<const sysid::IdentifiedModel> model,
-                                                    const HoverTrainingOptions& o) {
+PegasusEvaluator<Task, HoverPolicy> hover_evaluator(
+    const std::shared_ptr<const sysid::IdentifiedModel>& model, const HoverTrainingOptions& o) {
   std::string error;
   if (!o.IsValid(&error)) throw InputError("hover training: " + error);
   const HoverReward reward = hover_reward_for(*model, o);
@@ -343,10 +343,9 @@ PegasusEvaluator<Task, HoverPolicy> hover_evaluator(std::shared_ptr<const sysid:
 
 }  // namespace
 
-std::unique_ptr<Objective> hover_objective(std::shared_ptr<const sysid::IdentifiedModel> model,
+std::unique_ptr<Objective> hover_objective(const std::shared_ptr<const sysid::IdentifiedModel>& model,
                                            const HoverTrainingOptions& o, std::shared_ptr<ThreadPool> pool) {
-  return std::make_unique<PegasusObjective<Task, HoverPolicy>>(hover_evaluator(std::move(model), o),
-                                                               std::move(pool));
+  return std::make_unique<PegasusObjective<Task, HoverPolicy>>(hover_evaluator(model, o), std::move(pool));
 }
 
 namespace {
@@ -377,12 +376,12 @@ StartingPolicyCheck check_starting_policy(const PegasusEvaluator<Task, HoverPoli
 
 }  // namespace
 
-StartingPolicyCheck check_starting_policy(std::shared_ptr<const sysid::IdentifiedModel> model,
+StartingPolicyCheck check_starting_policy(const std::shared_ptr<const sysid::IdentifiedModel>& model,
                                           const HoverTrainingOptions& o, ThreadPool& pool) {
   return check_starting_policy(hover_evaluator(model, o), 1 / o.control_rate_hz, pool);
 }
 
-HoverTrainingResult train_hover(std::shared_ptr<const sysid::IdentifiedModel> model,
+HoverTrainingResult train_hover(const std::shared_ptr<const sysid::IdentifiedModel>& model,
                                 const HoverTrainingOptions& o, const HoverTrainingHooks& hooks,
                                 ThreadPool& pool) {
   std::string error;

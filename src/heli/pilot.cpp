@@ -24,7 +24,7 @@ bool PilotOptions::IsValid(std::string* error) const {
 
 ScriptedPilot::ScriptedPilot(const GroundTruth& aircraft, PilotOptions options, std::uint64_t seed,
                              std::uint32_t stream)
-    : aircraft_(aircraft), o_(std::move(options)), rng_(seed, stream) {
+    : aircraft_(aircraft), o_(options), rng_(seed, stream) {
   std::string error;
   if (!o_.IsValid(&error)) throw std::invalid_argument(error);
   const auto n = static_cast<std::size_t>(std::lround(o_.reaction_delay_s / aircraft_.step_seconds())) + 1;

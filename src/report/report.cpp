@@ -560,7 +560,7 @@ footer { padding: 12px 32px; color: var(--muted); font-size: 12px; border-top: 1
 fs::path find_bundle() {
   std::vector<fs::path> tried;
   if (const char* env = std::getenv(kBundleEnv); env != nullptr && *env != '\0') {
-    const fs::path p(env);
+    fs::path p(env);
     std::error_code ec;
     if (fs::is_regular_file(p, ec)) return p;
     throw std::runtime_error(fmt::format(
@@ -786,7 +786,7 @@ fs::path write_data(const fs::path& run_dir, json data, const fs::path& bundle) 
   } catch (const std::exception& e) {
     throw std::runtime_error(fmt::format("report JavaScript bundle: {}", e.what()));
   }
-  const fs::path out = run_dir / "report.html";
+  fs::path out = run_dir / "report.html";
   write_file_atomic(out, render_data(std::move(data), bundle_js));
   return out;
 }

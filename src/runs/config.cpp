@@ -296,7 +296,7 @@ std::string ConfigField::expectation() const {
   } else if (hi_) {
     bounds = fmt::format("{} {}", hi_->inclusive ? "<=" : "<", bound(hi_->value));
   }
-  auto with = [&](std::string what) { return bounds.empty() ? what : what + " " + bounds; };
+  auto with = [&](const std::string& what) { return bounds.empty() ? what : what + " " + bounds; };
   switch (type_) {
     case FieldType::kInt:
       return with("an integer");

@@ -81,10 +81,10 @@ std::string to_string(NoiseModel model) { return model == NoiseModel::kAr1 ? "ar
 IdentifiedModel::IdentifiedModel(ModelStructure structure, Dataset data,
                                  std::array<double, kInputs> inv_bandwidth, BodyVec sigma2,
                                  NoiseCorrelation correlation)
-    : structure_(std::move(structure)),
+    : structure_(structure),
       data_(std::make_shared<const Dataset>(std::move(data))),
-      sigma2_(sigma2),
-      correlation_(correlation),
+      sigma2_(std::move(sigma2)),
+      correlation_(std::move(correlation)),
       templates_(output_templates(structure_)) {
   lwr_ = std::make_unique<LocalRegression>(data_.get(), templates_, inv_bandwidth);
 }

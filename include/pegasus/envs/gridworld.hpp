@@ -30,7 +30,7 @@ inline constexpr int kGridActions = 4;
 // Grid geometry and the move table shared by the gridworld and the flag world.
 class GridGeometry {
  public:
-  GridGeometry(int width, int height, std::vector<Cell> blocked = {});
+  GridGeometry(int width, int height, const std::vector<Cell>& blocked = {});
 
   int width() const { return width_; }
   int height() const { return height_; }

@@ -167,7 +167,7 @@ struct HoverTrainingOptions {
 };
 
 // The objective U-hat(theta) of the hover task on the learned model: PegasusObjective over a HoverTask.
-std::unique_ptr<Objective> hover_objective(std::shared_ptr<const sysid::IdentifiedModel> model,
+std::unique_ptr<Objective> hover_objective(const std::shared_ptr<const sysid::IdentifiedModel>& model,
                                            const HoverTrainingOptions& options,
                                            std::shared_ptr<ThreadPool> pool);
 // The policy class with starting weights from the model's logs (and its LQR gains when options.lqr_start and
@@ -185,7 +185,7 @@ struct StartingPolicyCheck {
   double mean_seconds_to_crash = 0;  // over the crashed ones
   double uhat = 0;                   // the starting policy's U-hat
 };
-StartingPolicyCheck check_starting_policy(std::shared_ptr<const sysid::IdentifiedModel> model,
+StartingPolicyCheck check_starting_policy(const std::shared_ptr<const sysid::IdentifiedModel>& model,
                                           const HoverTrainingOptions& options, ThreadPool& pool);
 
 struct HoverTrainingHooks {
@@ -206,7 +206,7 @@ struct HoverTrainingResult {
   double lqr_action_factor = 1;           // the LQR start's, after train_hover raised it (options' otherwise)
 };
 
-HoverTrainingResult train_hover(std::shared_ptr<const sysid::IdentifiedModel> model,
+HoverTrainingResult train_hover(const std::shared_ptr<const sysid::IdentifiedModel>& model,
                                 const HoverTrainingOptions& options, const HoverTrainingHooks& hooks,
                                 ThreadPool& pool);
 

@@ -89,8 +89,8 @@ template <int N, FeatureMap Features, class Squash>
 class FeaturePolicy {
  public:
   using Action = std::array<double, N>;
-  FeaturePolicy(Features features, ActionSpace space, std::vector<std::string> output_names = {},
-                std::vector<std::string> feature_names = {}, double scale = 1.0)
+  FeaturePolicy(Features features, ActionSpace space, const std::vector<std::string>& output_names = {},
+                const std::vector<std::string>& feature_names = {}, double scale = 1.0)
       : features_(std::move(features)), space_(std::move(space)) {
     if (space_.is_finite() || space_.dim() != N)
       throw InputError("feature policy: expected a box action space of dimension " + std::to_string(N));
