@@ -41,7 +41,7 @@ const figures = [
   {
     name: 'pomdp',
     make: () => pegasus(['pomdp-gridworld', '--config', 'experiments/pomdp-gridworld-demo.toml', '--out', dir('pomdp'), '--force', '--quiet']),
-    shots: [{ run: 'pomdp', chart: 'Value of the chosen policy against m', file: 'fig-4-5b-value-vs-m.png' }],
+    shots: [{ run: 'pomdp', chart: 'value of the chosen policy', file: 'fig-4-5b-value-vs-m.png' }],
   },
   {
     name: 'shaping',
@@ -50,8 +50,8 @@ const figures = [
       pegasus(['shaping', 'flags', '--config', 'experiments/flags-5.toml', '--out', dir('flags-5'), '--force', '--quiet']);
     },
     shots: [
-      { run: 'shaping-gridworld-10', chart: 'The same on log-log axes', file: 'fig-3-2a-shaping-gridworld.png' },
-      { run: 'flags-5', chart: 'The same on log-log axes', file: 'fig-3-3a-shaping-flags.png' },
+      { run: 'shaping-gridworld-10', chart: 'log-log', file: 'fig-3-2a-shaping-gridworld.png' },
+      { run: 'flags-5', chart: 'log-log', file: 'fig-3-3a-shaping-flags.png' },
     ],
   },
   {
@@ -59,7 +59,7 @@ const figures = [
     make: () => pegasus(['bicycle', 'experiment', '--config', 'experiments/bicycle-demo.toml', '--out', dir('bicycle'), '--force', '--quiet']),
     shots: [
       { run: 'bicycle', section: 'rides', file: 'bicycle-rides.png' },
-      { run: 'bicycle', chart: 'U-hat during training', file: 'bicycle-learning-curves.png' },
+      { run: 'bicycle', chart: 'U-hat against optimizer iterations', file: 'bicycle-learning-curves.png' },
     ],
   },
   {
@@ -72,7 +72,7 @@ const figures = [
     },
     shots: [
       { run: 'heli-id', chart: 'xdot_b', file: 'fig-5-2-identification-xdot.png' },
-      { run: 'heli-id', chart: 'ydot_b: truth and prediction', file: 'fig-5-3-noise-check.png' },
+      { run: 'heli-id', chart: 'ydot_b on hold-out data', file: 'fig-5-3-noise-check.png' },
       { run: 'heli-test', replay: true, file: 'heli-replay.png' },
     ],
   },
@@ -89,7 +89,7 @@ const figures = [
       { run: 'heli-demo/fly', section: 'hover', file: 'fig-5-6-5-7-hover-vs-pilot.png' },
       { run: 'heli-demo/fly', replay: true, file: 'heli-hover-replay.png' },
       { run: 'heli-maneuver', replay: true, file: 'fig-5-10-maneuver-replay.png' },
-      { run: 'heli-maneuver', chart: 'Seen from above', file: 'fig-5-10-maneuver-from-above.png' },
+      { run: 'heli-maneuver', chart: 'seen from above', file: 'fig-5-10-maneuver-from-above.png' },
     ],
   },
 ];

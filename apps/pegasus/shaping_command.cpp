@@ -176,7 +176,8 @@ Chart binned_curves(const RunDirectory& dir, const ShapingExperimentResult& r,
                                        : o.size == 50 ? " (Fig 3.2b)"
                                                       : "")
                                     : (o.size == 5 ? " (Fig 3.3a)" : " (Fig 3.3b)"),
-                               o.runs, binned ? ", trials binned" : ""),
+                               o.runs, binned ? ", trials binned" : "") +
+                   (log_scale ? ", log-log" : ""),
           .x = {"trial", scale},
           .y = {"steps to goal (mean, band +- 1 s.e.)", scale},
           .traces = {{.file = file,
