@@ -1,0 +1,110 @@
+#include "heli_policy.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "builtin_problem.hpp"
+#include "pegasus/heli/hover_policy.hpp"
+
+namespace pegasus::python {
+
+namespace {
+constexpr py::ssize_t kLogged = heli::kLoggedStates;
+}  // namespace
+
+HeliPolicyObject::HeliPolicyObject(heli::PolicyFile f, std::string from)
+    : file(std::move(f)), source(std::move(from)) {
+  controller = heli::make_controller(file, source);
+}
+
+Array HeliPolicyObject::controls(py::object states, py::object time, std::int64_t threads) const {
+  const Array s = as_matrix(states, "states", -1, kLogged);
+  require_finite(s, "states");
+  const py::ssize_t n = s.shape(0);
+  Array t = as_array(time, "time");
+  if (!(t.ndim() == 0 || (t.ndim() == 1 && t.shape(0) == n)))
+    throw py::value_error(fmt::format("time: expected a number or a 1-D array of length {}", n));
+  require_finite(t, "time");
+  const bool one = t.ndim() == 0;
+  const auto pool = make_pool(threads);
+  Array out = matrix(n, 4);
+  const double *sp = s.data(), *tp = t.data();
+  double* o = out.mutable_data();
+  {
+    py::gil_scoped_release release;
+    pool->parallel_for(static_cast<std::size_t>(n), [&](std::size_t r) {
+      heli::LoggedState x;
+      std::copy(sp + r * kLogged, sp + (r + 1) * kLogged, x.begin());
+      const heli::Controls u = controller->act(x, one ? tp[0] : tp[r]);
+      std::copy(u.begin(), u.end(), o + r * 4);
+    });
+  }
+  return out;
+}
+
+void bind_heli_policy_files(py::module_& m) {
+  py::class_<HeliPolicyObject>(m, "HeliPolicy", R"doc(
+A helicopter policy file (heli/policy_file.hpp: "hover", "maneuver" or another registered class) with its
+controller bound: controls(states, time) gives the controls of a batch of logged states, as `pegasus heli
+control` and `pegasus heli fly` compute them, bit for bit. HeliPolicy.load(path), HeliPolicy.from_json(dict) or
+HeliPolicy.hover(theta, target, trim).)doc")
+      .def_static(
+          "load",
+          [](const std::string& path) { return HeliPolicyObject(heli::read_policy_file(path), path); },
+          py::arg("path"), "Reads and checks a policy file; ValueError 'FILE: FIELD: expected ...'.")
+      .def_static(
+          "from_json",
+          [](py::object j, const std::string& source) {
+            return HeliPolicyObject(heli::parse_policy_file(from_python(j, "policy"), source), source);
+          },
+          py::arg("policy"), py::arg("source") = "policy", "A policy from the file's JSON object (a dict).")
+      .def_static(
+          "hover",
+          [](py::object theta, const heli::SetPoint& target, py::object trim,
+             const heli::HoverPolicyInit& init) {
+            const heli::HoverPolicy policy(init);
+            const Theta w = as_theta(theta, "theta", policy.parameters());
+            const Array t = as_vector(trim, "trim", 4);
+            require_finite(t, "trim");
+            for (py::ssize_t c = 0; c < 4; ++c)
+              if (std::abs(t.data()[c]) > 1.0)
+                throw py::value_error(
+                    fmt::format("trim: expected controls in [-1, 1], got {} at {}", t.data()[c], c));
+            return HeliPolicyObject(
+                heli::hover_policy_file(policy, w, target,
+                                        {t.data()[0], t.data()[1], t.data()[2], t.data()[3]}),
+                "hover");
+          },
+          py::arg("theta"), py::arg("target") = heli::SetPoint{},
+          py::arg("trim") = std::vector<double>{0, 0, 0, 0}, py::arg("init") = heli::HoverPolicyInit{},
+          "A hover policy file from trained weights.")
+      .def_property_readonly("class_name", [](const HeliPolicyObject& p) { return p.file.class_name; })
+      .def_property_readonly("names", [](const HeliPolicyObject& p) { return p.file.names; })
+      .def_property_readonly("values", [](const HeliPolicyObject& p) { return vector_array(p.file.values); })
+      .def_property_readonly("target", [](const HeliPolicyObject& p) { return p.file.target; })
+      .def_property_readonly("trim", [](const HeliPolicyObject& p) { return vector_array(p.file.trim); })
+      .def_property_readonly("options", [](const HeliPolicyObject& p) { return to_python(p.file.options); })
+      .def_property_readonly("provenance",
+                             [](const HeliPolicyObject& p) { return to_python(p.file.provenance); })
+      .def("to_json", [](const HeliPolicyObject& p) { return to_python(heli::policy_file_json(p.file)); })
+      .def(
+          "save",
+          [](const HeliPolicyObject& p, const std::string& path) { heli::write_policy_file(path, p.file); },
+          py::arg("path"), "Writes the policy file atomically (doubles reading back to the same bits).")
+      .def("controls", &HeliPolicyObject::controls, py::arg("states"), py::arg("time") = 0.0, py::kw_only(),
+           py::arg("threads") = 1, R"doc(
+The controls [n, 4] (a1..a4 in [-1, 1]) for logged states [n, 12] (x, y, z, roll, pitch, yaw, xdot, ydot, zdot,
+roll_rate, pitch_rate, yaw_rate; world NED, m, rad) at `time` seconds after the flight or manoeuvre began (one
+number, or one per row). The GIL is released; rows run on `threads` threads, the result never depends on them.)doc")
+      .def(
+          "target_at", [](const HeliPolicyObject& p, double time) { return p.controller->target(time); },
+          py::arg("time"), "The set point the controller steers to at `time`.")
+      .def("__repr__", [](const HeliPolicyObject& p) {
+        return fmt::format("HeliPolicy(class_name='{}', parameters={}, source='{}')", p.file.class_name,
+                           p.file.values.size(), p.source);
+      });
+  m.def("heli_policy_classes", &heli::policy_class_names, "The registered policy-file class names.");
+}
+
+}  // namespace pegasus::python

@@ -1,0 +1,373 @@
+// What an identified model predicts on a hold-out log (thesis §5.2): the open-loop simulation of the model at
+// its own rate, Fig 5.2's errors against horizon (also as hover training runs the model, and the constant-
+// velocity baseline), and Fig 5.3's noise check with an extended Kalman filter.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "pegasus/core/error.hpp"
+#include "pegasus/heli/frames.hpp"
+#include "pegasus/sysid/identify.hpp"
+#include "pegasus/sysid/learned_model.hpp"
+
+namespace pegasus::sysid {
+
+namespace logged = heli::logged;
+
+using heli::Euler;
+using heli::Vec3;
+
+const std::array<const char*, kReportVars> kReportVarNames = {
+    "x",    "y",         "z",          "roll",     "pitch",  "yaw",    "xdot",  "ydot",
+    "zdot", "roll_rate", "pitch_rate", "yaw_rate", "xdot_b", "ydot_b", "zdot_b"};
+
+// ---------------------------------------------------------------- simulation
+
+InputVec sim_input(const SimState& s, const std::array<double, 4>& a) {
+  InputVec x;
+  x.head<kBodyVars>() = body_from_log_state(s.world);
+  x[kFlapLon] = s.flap_lon;
+  x[kFlapLat] = s.flap_lat;
+  x[kGyro] = s.gyro;
+  for (int c = 0; c < 4; ++c) x[kA1 + c] = a[static_cast<std::size_t>(c)];
+  x[kOne] = 1;
+  return x;
+}
+
+SimState sim_advance(const ModelStructure& m, const SimState& s, const std::array<double, 4>& a,
+                     const BodyVec& delta, double dt) {
+  const BodyVec b0 = body_from_log_state(s.world);
+  const BodyVec b1 = b0 + delta;
+  SimState n = s;
+  auto& w = n.world;
+  w[logged::roll] = b1[kRoll];
+  w[logged::pitch] = b1[kPitch];
+  w[logged::yaw] =
+      heli::wrap_angle(s.world[logged::yaw] + dt * 0.5 * (s.world[logged::yaw_rate] + b1[kYawRate]));
+  w[logged::roll_rate] = b1[kRollRate];
+  w[logged::pitch_rate] = b1[kPitchRate];
+  w[logged::yaw_rate] = b1[kYawRate];
+  const Vec3 v_W = heli::world_from_body(heli::attitude_of(w), Vec3(b1[kU], b1[kV], b1[kW]));
+  // Position by the trapezoid rule on the world velocity, axis by axis (x, y, z and xdot, ydot, zdot).
+  for (std::size_t i = 0; i < 3; ++i) {
+    w[logged::x + i] =
+        s.world[logged::x + i] + dt * 0.5 * (s.world[logged::xdot + i] + v_W[static_cast<int>(i)]);
+    w[logged::xdot + i] = v_W[static_cast<int>(i)];
+  }
+  const Vec3 w_B =
+      heli::body_rates_from_euler_rates(heli::attitude_of(s.world), heli::euler_rates_of(s.world));
+  m.extra.advance(dt, w_B, a, &n.flap_lon, &n.flap_lat, &n.gyro);
+  return n;
+}
+
+ReportState report_state(const std::array<double, kLogStates>& s) {
+  ReportState r{};
+  std::copy(s.begin(), s.end(), r.begin());
+  const BodyVec b = body_from_log_state(s);
+  r[12] = b[kU];
+  r[13] = b[kV];
+  r[14] = b[kW];
+  return r;
+}
+
+namespace {
+
+struct LogAtRate {
+  std::size_t step;  // log rows per model step
+  std::vector<std::array<double, 3>> extra;
+};
+
+// Log rows per model step of dt; InputError unless the log's rate is a multiple of the model's.
+std::size_t rows_per_step(double dt, const FlightLog& log) {
+  const std::size_t k = log_rows_per_model_step(log.dt(), 1 / dt);
+  if (k == 0)
+    throw InputError(fmt::format("the test log's rate {} Hz is not a multiple of the model rate {} Hz",
+                                 1 / log.dt(), 1 / dt));
+  return k;
+}
+
+LogAtRate log_at_rate(const IdentifiedModel& model, const FlightLog& log) {
+  return {rows_per_step(model.dt(), log), extra_states_along(log, model.structure())};
+}
+
+std::array<double, 4> mean_controls(const FlightLog& log, std::size_t row, std::size_t k) {
+  std::array<double, 4> a{};
+  for (std::size_t j = row; j < row + k; ++j)
+    for (std::size_t c = 0; c < 4; ++c) a[c] += log.controls[j][c];
+  for (double& v : a) v /= static_cast<double>(k);
+  return a;
+}
+
+// The log rows where open-loop predictions of `steps` model steps of `k` log rows start.
+std::vector<std::size_t> prediction_starts(const FlightLog& test, std::size_t k, std::size_t steps,
+                                           double start_spacing_s) {
+  const auto spacing =
+      std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(start_spacing_s / test.dt())));
+  std::vector<std::size_t> starts;
+  for (std::size_t r = 0; r + steps * k < test.rows(); r += spacing) starts.push_back(r);
+  return starts;
+}
+
+using Errors = std::vector<std::array<double, kReportVars>>;
+
+// Squared prediction errors of every report variable (yaw's wrapped).
+std::array<double, kReportVars> squared_errors(const std::array<double, kLogStates>& predicted,
+                                               const std::array<double, kLogStates>& truth) {
+  const ReportState p = report_state(predicted), t = report_state(truth);
+  std::array<double, kReportVars> sq{};
+  for (std::size_t v = 0; v < sq.size(); ++v) {
+    const double d = v == 5 ? heli::wrap_angle(p[v] - t[v]) : p[v] - t[v];
+    sq[v] = d * d;
+  }
+  return sq;
+}
+
+HorizonMse average(const std::vector<Errors>& per_start, std::size_t steps, double dt) {
+  HorizonMse out;
+  out.seconds.resize(steps + 1);
+  out.mse.assign(steps + 1, {});
+  out.count.assign(steps + 1, 0);
+  for (std::size_t t = 0; t <= steps; ++t) out.seconds[t] = static_cast<double>(t) * dt;
+  for (const Errors& e : per_start)
+    for (std::size_t t = 0; t < e.size(); ++t) {
+      for (int v = 0; v < kReportVars; ++v)
+        out.mse[t][static_cast<std::size_t>(v)] += e[t][static_cast<std::size_t>(v)];
+      ++out.count[t];
+    }
+  for (std::size_t t = 0; t <= steps; ++t)
+    if (out.count[t] > 0)
+      for (double& v : out.mse[t]) v /= out.count[t];
+  return out;
+}
+
+}  // namespace
+
+HorizonMse constant_velocity_mse(const FlightLog& test, double dt, double horizon_s, double start_spacing_s) {
+  const std::size_t k = rows_per_step(dt, test);
+  const auto steps = static_cast<std::size_t>(std::lround(horizon_s / dt));
+  const auto starts = prediction_starts(test, k, steps, start_spacing_s);
+  std::vector<Errors> per_start(starts.size());
+  for (std::size_t si = 0; si < starts.size(); ++si) {
+    const auto& s0 = test.states[starts[si]];
+    for (std::size_t t = 0; t <= steps; ++t) {
+      auto predicted = s0;
+      for (std::size_t i = 0; i < 3; ++i) predicted[i] = s0[i] + static_cast<double>(t) * dt * s0[6 + i];
+      per_start[si].push_back(squared_errors(predicted, test.states[starts[si] + t * k]));
+    }
+  }
+  return average(per_start, steps, dt);
+}
+
+HorizonMse horizon_mse(const IdentifiedModel& model, const FlightLog& test, double horizon_s,
+                       double start_spacing_s, ThreadPool& pool) {
+  const LogAtRate lr = log_at_rate(model, test);
+  const auto k = lr.step;
+  const auto steps = static_cast<std::size_t>(std::lround(horizon_s / model.dt()));
+  const auto refit_every = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(0.1 / model.dt())));
+  const std::vector<std::size_t> starts = prediction_starts(test, k, steps, start_spacing_s);
+  std::vector<Errors> per_start(starts.size());
+  pool.parallel_for(starts.size(), [&](std::size_t si) {
+    const std::size_t r0 = starts[si];
+    SimState s;
+    s.world = test.states[r0];
+    s.flap_lon = lr.extra[r0][0];
+    s.flap_lat = lr.extra[r0][1];
+    s.gyro = lr.extra[r0][2];
+    Errors& e = per_start[si];
+    e.reserve(steps + 1);
+    LocalFit fit;
+    for (std::size_t t = 0; t <= steps; ++t) {
+      e.push_back(squared_errors(s.world, test.states[r0 + t * k]));
+      if (t == steps) break;
+      const auto a = mean_controls(test, r0 + t * k, k);
+      const InputVec x = sim_input(s, a);
+      if (t % refit_every == 0) fit = model.regression().fit(x);
+      if (fit.singular) break;
+      s = sim_advance(model.structure(), s, a, model.mean_change(fit, x), model.dt());
+    }
+  });
+  return average(per_start, steps, model.dt());
+}
+
+HorizonMse horizon_mse_as_trained(const IdentifiedModel& model, const FlightLog& test, double control_rate_hz,
+                                  double horizon_s, double start_spacing_s, ThreadPool& pool) {
+  // Log rows per comparison and control steps per comparison: (k, 1) when the log is faster, (1, q) when the
+  // controller is.
+  std::size_t rows = log_rows_per_model_step(test.dt(), control_rate_hz), per_row = 1;
+  if (rows == 0) {
+    per_row = log_rows_per_model_step(1 / control_rate_hz, 1 / test.dt());
+    if (per_row == 0)
+      throw InputError(
+          fmt::format("control rate {} Hz: neither it nor the test log's {} Hz is a multiple of the "
+                      "other",
+                      control_rate_hz, 1 / test.dt()));
+    rows = 1;
+  }
+  const double compare_dt = static_cast<double>(per_row) / control_rate_hz;
+  const auto compares = static_cast<std::size_t>(std::lround(horizon_s / compare_dt));
+  const std::vector<std::size_t> starts = prediction_starts(test, rows, compares, start_spacing_s);
+  // A view of the caller's model for the simulator (which shares ownership of the models it is given).
+  const std::shared_ptr<const IdentifiedModel> view(std::shared_ptr<const IdentifiedModel>(), &model);
+  std::vector<Errors> per_start(starts.size());
+  pool.parallel_for(starts.size(), [&](std::size_t si) {
+    const std::size_t r0 = starts[si];
+    LearnedModelOptions lo;
+    lo.dt = 1 / control_rate_hz;
+    lo.refit_every = std::max(1, static_cast<int>(std::lround(model.dt() * control_rate_hz)));
+    lo.noise = false;
+    lo.start = test.states[r0];
+    const LearnedHeliModel sim(view, lo);
+    std::vector<double> p0(static_cast<std::size_t>(sim.initial_noise_dim()), 0.5);
+    std::vector<double> p(static_cast<std::size_t>(sim.noise_dim()), 0.5);
+    LearnedHeliModel::State s = sim.initial_state(p0);
+    Errors& e = per_start[si];
+    e.reserve(compares + 1);
+    for (std::size_t c = 0; c <= compares; ++c) {
+      e.push_back(squared_errors(s.sim.world, test.states[r0 + c * rows]));
+      if (c == compares) break;
+      const auto a = mean_controls(test, r0 + c * rows, rows);
+      for (std::size_t j = 0; j < per_row && !s.crashed; ++j) s = sim.step(s, a, p);
+      if (s.crashed) break;
+    }
+  });
+  return average(per_start, compares, compare_dt);
+}
+
+namespace {
+
+// The EKF's state: the 8 body variables and the 3 extra states (which the body rates drive, and which drive
+// the velocities and rates through the regression).
+constexpr int kEkfStates = kBodyVars + 3;
+using EkfVec = Eigen::Matrix<double, kEkfStates, 1>;
+using EkfMat = Eigen::Matrix<double, kEkfStates, kEkfStates>;
+
+// The model's mean one-step map on the EKF state with the controls and the local fit held.
+EkfVec mean_step(const IdentifiedModel& model, const EkfVec& z, const std::array<double, 4>& a,
+                 const LocalFit& fit) {
+  InputVec x;
+  x.head<kBodyVars>() = z.head<kBodyVars>();
+  x[kFlapLon] = z[kBodyVars];
+  x[kFlapLat] = z[kBodyVars + 1];
+  x[kGyro] = z[kBodyVars + 2];
+  for (int c = 0; c < 4; ++c) x[kA1 + c] = a[static_cast<std::size_t>(c)];
+  x[kOne] = 1;
+  EkfVec out;
+  out.head<kBodyVars>() = z.head<kBodyVars>() + model.mean_change(fit, x);
+  double fl = z[kBodyVars], fr = z[kBodyVars + 1], gy = z[kBodyVars + 2];
+  const Vec3 w_B = heli::body_rates_from_euler_rates(Euler{z[kRoll], z[kPitch], 0},
+                                                     Vec3(z[kRollRate], z[kPitchRate], z[kYawRate]));
+  model.structure().extra.advance(model.dt(), w_B, a, &fl, &fr, &gy);
+  out[kBodyVars] = fl;
+  out[kBodyVars + 1] = fr;
+  out[kBodyVars + 2] = gy;
+  return out;
+}
+
+}  // namespace
+
+NoiseCheck noise_check(const IdentifiedModel& model, const FlightLog& test, double reset_s,
+                       double trace_seconds) {
+  const LogAtRate lr = log_at_rate(model, test);
+  const auto k = lr.step;
+  const auto seg = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(reset_s / model.dt())));
+  const ModelStructure& m = model.structure();
+  // With AR(1) noise the filter carries each output's AR part c as 8 more states (mean 0: nothing observes
+  // them between resets): body' = mean step + c' + w, c' = rho c + eta. At a reset c is unknown and starts at
+  // its stationary variance share * sigma^2, so the first step's band is the white model's.
+  const NoiseCorrelation& nc_model = model.noise_correlation();
+  const bool ar = nc_model.any();
+  const int states = kEkfStates + (ar ? kBodyVars : 0);
+  NoiseCheck out;
+  out.outside_by_horizon.assign(seg, BodyVec::Zero());
+  out.steps_by_horizon.assign(seg, 0);
+  BodyVec outside = BodyVec::Zero();
+  for (std::size_t r0 = 0; r0 + k < test.rows(); r0 += seg * k) {
+    SimState s;
+    s.world = test.states[r0];
+    s.flap_lon = lr.extra[r0][0];
+    s.flap_lat = lr.extra[r0][1];
+    s.gyro = lr.extra[r0][2];
+    // Full covariance of the EKF state, propagated P' = J P J' + Q with the model's noise Q diagonal (the
+    // outputs' noises are independent, Eqs 5.5-5.6) and J the Jacobian of the mean step. Propagating only the
+    // diagonal of P (dropping cross-covariances) would ignore that attitude errors integrate rate errors and
+    // velocity errors integrate attitude errors: it shrinks the bands of the integrated variables.
+    EkfMat p = EkfMat::Zero();
+    Eigen::MatrixXd pa;  // the AR filter's covariance (states x states)
+    if (ar) {
+      pa = Eigen::MatrixXd::Zero(states, states);
+      for (int j = 0; j < kBodyVars; ++j)
+        pa(kEkfStates + j, kEkfStates + j) = nc_model.share[j] * model.sigma2()[j];
+    }
+    for (std::size_t t = 0; t < seg && r0 + (t + 1) * k < test.rows(); ++t) {
+      const auto a = mean_controls(test, r0 + t * k, k);
+      const InputVec x = sim_input(s, a);
+      const LocalFit fit = model.regression().fit(x);
+      if (fit.singular) break;
+      const BodyVec var = model.predictive_variance(fit);
+      EkfVec z;
+      z.head<kBodyVars>() = x.head<kBodyVars>();
+      z[kBodyVars] = s.flap_lon;
+      z[kBodyVars + 1] = s.flap_lat;
+      z[kBodyVars + 2] = s.gyro;
+      EkfMat jac;
+      for (int j = 0; j < kEkfStates; ++j) {
+        const double h = 1e-6 * std::max(1.0, std::abs(z[j]));
+        EkfVec zp = z, zm = z;
+        zp[j] += h;
+        zm[j] -= h;
+        jac.col(j) = (mean_step(model, zp, a, fit) - mean_step(model, zm, a, fit)) / (2 * h);
+      }
+      BodyVec band_var;
+      if (!ar) {
+        p = jac * p * jac.transpose();
+        p.diagonal().head<kBodyVars>() += var;
+        band_var = p.diagonal().head<kBodyVars>();
+      } else {
+        Eigen::MatrixXd ja = Eigen::MatrixXd::Zero(states, states);
+        ja.topLeftCorner(kEkfStates, kEkfStates) = jac;
+        Eigen::MatrixXd q = Eigen::MatrixXd::Zero(states, states);
+        for (int j = 0; j < kBodyVars; ++j) {
+          const double rho = nc_model.rho[j], share = nc_model.share[j];
+          const double eta = share * var[j] * (1 - rho * rho);
+          ja(j, kEkfStates + j) = rho;
+          ja(kEkfStates + j, kEkfStates + j) = rho;
+          q(j, j) = (1 - share) * var[j] + eta;
+          q(j, kEkfStates + j) = q(kEkfStates + j, j) = eta;
+          q(kEkfStates + j, kEkfStates + j) = eta;
+        }
+        pa = ja * pa * ja.transpose() + q;
+        band_var = pa.diagonal().head<kBodyVars>();
+      }
+      s = sim_advance(m, s, a, model.mean_change(fit, x), model.dt());
+      const BodyVec truth = body_from_log_state(test.states[r0 + (t + 1) * k]);
+      const BodyVec mean = body_from_log_state(s.world);
+      BodyVec normalized;
+      for (int j = 0; j < kBodyVars; ++j)
+        normalized[j] = band_var[j] > 0 ? std::abs(truth[j] - mean[j]) / std::sqrt(band_var[j]) : 0.0;
+      out.normalized_errors.push_back(normalized);
+      for (int j = 0; j < kBodyVars; ++j) {
+        if (std::abs(truth[j] - mean[j]) > 2 * std::sqrt(band_var[j])) {
+          outside[j] += 1;
+          out.outside_by_horizon[t][j] += 1;
+        }
+      }
+      ++out.steps;
+      ++out.steps_by_horizon[t];
+      const double time = test.time[r0 + (t + 1) * k] - test.time[0];
+      if (time <= trace_seconds) {
+        out.time.push_back(time);
+        out.truth.push_back(truth[kV]);
+        out.mean.push_back(mean[kV]);
+        out.sd.push_back(std::sqrt(band_var[kV]));
+      }
+    }
+  }
+  if (out.steps > 0) out.outside_fraction = outside / out.steps;
+  for (std::size_t t = 0; t < seg; ++t)
+    if (out.steps_by_horizon[t] > 0) out.outside_by_horizon[t] /= out.steps_by_horizon[t];
+  return out;
+}
+
+}  // namespace pegasus::sysid
