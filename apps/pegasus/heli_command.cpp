@@ -442,24 +442,10 @@ nlohmann::json flight_summary_json(const heli::FlightSummary& s) {
 }
 
 CsvWriter flights_csv(const std::vector<heli::FlightRecord>& flights) {
-  std::vector<std::string> header = {"flight", "t"};
-  for (const char* n : kLoggedStateNames) header.emplace_back(n);
-  for (const char* n : {"a1", "a2", "a3", "a4", "target_x", "target_y", "target_z", "target_yaw", "xdot_b",
-                        "ydot_b", "zdot_b"})
-    header.emplace_back(n);
-  CsvWriter csv(header);
+  FlightsCsv table;
   for (std::size_t i = 0; i < flights.size(); ++i)
-    for (const auto& row : flights[i].trace) {
-      std::vector<CsvCell> cells = {static_cast<std::int64_t>(i), row.time};
-      for (double v : row.truth) cells.emplace_back(v);
-      for (double v : row.controls) cells.emplace_back(v);
-      for (double v : {row.target.x, row.target.y, row.target.z, row.target.yaw}) cells.emplace_back(v);
-      const heli::Vec3 v_B =
-          heli::body_from_world(heli::attitude_of(row.truth), heli::velocity_of(row.truth));
-      for (double v : {v_B[0], v_B[1], v_B[2]}) cells.emplace_back(v);
-      csv.add_row(std::move(cells));
-    }
-  return csv;
+    for (const auto& row : flights[i].trace) table.add(static_cast<std::int64_t>(i), row);
+  return table.csv();
 }
 
 void add_per_flight(CsvWriter& csv, const std::string& who, const std::vector<heli::FlightRecord>& flights) {

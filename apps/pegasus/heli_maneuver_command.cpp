@@ -14,7 +14,6 @@
 #include "experiment_commands.hpp"
 #include "pegasus/core/error.hpp"
 #include "pegasus/evaluators/monte_carlo.hpp"
-#include "pegasus/heli/frames.hpp"
 #include "pegasus/heli/hover_task.hpp"
 #include "pegasus/heli/maneuver_file.hpp"
 #include "pegasus/heli/maneuver_policy.hpp"
@@ -371,10 +370,7 @@ void run(RunContext& ctx) {
   for (const auto& r : ideal) ideal_csv.add_row({r[0], r[1], r[2], r[3], r[4]});
   dir.write_csv("ideal_path.csv", ideal_csv);
 
-  CsvWriter flights_csv({"flight",     "t",      "x",      "y",     "z",         "roll",       "pitch",
-                         "yaw",        "xdot",   "ydot",   "zdot",  "roll_rate", "pitch_rate", "yaw_rate",
-                         "a1",         "a2",     "a3",     "a4",    "target_x",  "target_y",   "target_z",
-                         "target_yaw", "xdot_b", "ydot_b", "zdot_b"});
+  FlightsCsv flights_csv;
   // The distance to the path per step, apart from flights.csv (whose columns are shared by every heli
   // command).
   CsvWriter deviation_csv({"flight", "t", "path_deviation_m", "progress_m"});
@@ -382,22 +378,15 @@ void run(RunContext& ctx) {
   for (std::size_t i = 0; i < main_flights.size() && i < trace; ++i) {
     const auto& f = main_flights[i];
     for (std::size_t k = 0; k < f.truth.size(); ++k) {
-      std::vector<CsvCell> row{static_cast<std::int64_t>(i), static_cast<double>(k) * 0.02};
-      for (double x : f.truth[k]) row.emplace_back(x);
-      for (double x : f.controls[k]) row.emplace_back(x);
-      row.emplace_back(f.targets[k].x);
-      row.emplace_back(f.targets[k].y);
-      row.emplace_back(f.targets[k].z);
-      row.emplace_back(f.targets[k].yaw);
-      const heli::Vec3 v_B =
-          heli::body_from_world(heli::attitude_of(f.truth[k]), heli::velocity_of(f.truth[k]));
-      for (double x : {v_B[0], v_B[1], v_B[2]}) row.emplace_back(x);
-      flights_csv.add_row(row);
+      flights_csv.add(static_cast<std::int64_t>(i), {.time = static_cast<double>(k) * 0.02,
+                                                     .truth = f.truth[k],
+                                                     .controls = f.controls[k],
+                                                     .target = f.targets[k]});
       deviation_csv.add_row(
           {static_cast<std::int64_t>(i), static_cast<double>(k) * 0.02, f.deviation[k], f.progress[k]});
     }
   }
-  dir.write_csv("flights.csv", flights_csv);
+  dir.write_csv("flights.csv", flights_csv.csv());
   dir.write_csv("path_deviation.csv", deviation_csv);
   {
     std::vector<std::pair<std::string, std::string>> files;

@@ -37,23 +37,23 @@ std::vector<std::size_t> all_rows(std::size_t n) {
 }
 
 // Every k-th of `rows` (and the last one) so that at most about `max_points` remain; k is returned.
+// Gaps (kGapRow) are always kept, so that thinning never joins two groups of a one_trace line.
 std::size_t thin(std::vector<std::size_t>& rows, std::size_t max_points) {
   if (max_points == 0 || rows.size() <= max_points) return 1;
   const std::size_t k = (rows.size() + max_points - 1) / max_points;
   std::vector<std::size_t> kept;
-  for (std::size_t i = 0; i < rows.size(); i += k) kept.push_back(rows[i]);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    if (rows[i] == kGapRow || i % k == 0) kept.push_back(rows[i]);
+  }
   if (kept.back() != rows.back()) kept.push_back(rows.back());
   rows = std::move(kept);
   return k;
 }
 
-// A row index that stands for a gap in a line (pick gives null).
-constexpr std::size_t kGap = static_cast<std::size_t>(-1);
-
 json pick(const std::vector<double>& values, const std::vector<std::size_t>& rows) {
   json out = json::array();
   for (std::size_t r : rows) {
-    const double v = r == kGap ? std::nan("") : values[r];
+    const double v = r == kGapRow ? std::nan("") : values[r];
     if (std::isfinite(v)) {
       out.push_back(v);
     } else {
@@ -184,43 +184,6 @@ std::string svg_image(const fs::path& file) {
 
 // --- charts.json: the run's own chart specifications -----------------------------------------------------
 
-// The CSV files of the run directory, each read once.
-class Tables {
- public:
-  explicit Tables(fs::path dir) : dir_(std::move(dir)) {}
-  const CsvTable& get(const std::string& file, const std::string& chart) {
-    auto it = tables_.find(file);
-    if (it == tables_.end()) {
-      auto table = CsvTable::load(dir_ / file);
-      if (!table) {
-        throw InputError(
-            fmt::format("{}: not found (chart '{}' of charts.json draws it)", (dir_ / file).string(), chart));
-      }
-      it = tables_.emplace(file, std::move(*table)).first;
-    }
-    return it->second;
-  }
-
- private:
-  fs::path dir_;
-  std::map<std::string, CsvTable> tables_;
-};
-
-std::string trace_name(const ChartTrace& t, const std::string& key) {
-  if (t.name.empty()) return key;
-  return key.empty() ? t.name : t.name + " " + key;
-}
-
-// The groups of rows a trace draws (the first max_groups of them when it says so).
-std::vector<std::pair<std::string, std::vector<std::size_t>>> trace_groups(const CsvTable& table,
-                                                                           const ChartTrace& t,
-                                                                           std::size_t default_max = 0) {
-  auto groups = table.groups(t.group_by, t.where);
-  const std::size_t most = t.max_groups != 0 ? t.max_groups : default_max;
-  if (most != 0 && groups.size() > most) groups.resize(most);
-  return groups;
-}
-
 void put_axes(json& spec, const Chart& c) {
   if (c.x.scale != AxisScale::kLinear) spec["x_log"] = true;
   if (c.x.scale == AxisScale::kLog2) spec["x_log_base"] = 2;
@@ -228,7 +191,7 @@ void put_axes(json& spec, const Chart& c) {
   if (c.y.scale == AxisScale::kLog2) spec["y_log_base"] = 2;
 }
 
-json xy_spec(const Chart& c, Tables& tables, const ReportOptions& options) {
+json xy_spec(const Chart& c, ChartFiles& tables, const ReportOptions& options) {
   json spec = xy_chart(c.title, c.x.title, c.y.title, c.traces.empty() ? "" : c.traces.front().file);
   put_axes(spec, c);
   if (c.equal_aspect) spec["equal_aspect"] = true;
@@ -237,29 +200,23 @@ json xy_spec(const Chart& c, Tables& tables, const ReportOptions& options) {
     const auto& xs = table.numbers(t.x);
     std::vector<double> ys = table.numbers(t.y);
     for (double& v : ys) v *= t.y_factor;
-    auto groups = trace_groups(table, t);
-    if (t.one_trace && !groups.empty()) {
-      // One trace: the groups' rows in order, a gap (null) between groups.
-      std::vector<std::size_t> joined;
-      for (const auto& g : groups) {
-        if (!joined.empty()) joined.push_back(kGap);
-        joined.insert(joined.end(), g.second.begin(), g.second.end());
+    std::vector<double> lower, upper;
+    if (!t.band.empty()) {
+      const auto& half = table.numbers(t.band);
+      lower.resize(ys.size());
+      upper.resize(ys.size());
+      for (std::size_t i = 0; i < ys.size(); ++i) {
+        lower[i] = ys[i] - t.band_factor * std::abs(t.y_factor) * half[i];
+        upper[i] = ys[i] + t.band_factor * std::abs(t.y_factor) * half[i];
       }
-      groups = {{"", std::move(joined)}};
     }
-    for (const auto& [key, rows] : groups) {
-      auto kept = rows;
+    for (const auto& line : trace_rows(t, table)) {
+      auto kept = line.rows;
       const std::size_t stride = thin(kept, options.max_points);
-      json tr = trace(t.one_trace ? t.name : trace_name(t, key), pick(xs, kept), pick(ys, kept));
+      json tr = trace(line.name, pick(xs, kept), pick(ys, kept));
       if (!t.band.empty()) {
-        const auto& half = table.numbers(t.band);
-        std::vector<double> lo(ys.size()), hi(ys.size());
-        for (std::size_t i = 0; i < ys.size(); ++i) {
-          lo[i] = ys[i] - t.band_factor * std::abs(t.y_factor) * half[i];
-          hi[i] = ys[i] + t.band_factor * std::abs(t.y_factor) * half[i];
-        }
-        tr["lower"] = pick(lo, kept);
-        tr["upper"] = pick(hi, kept);
+        tr["lower"] = pick(lower, kept);
+        tr["upper"] = pick(upper, kept);
         if (!t.band_name.empty()) tr["band_name"] = t.band_name;
       }
       if (!t.error.empty()) tr["error"] = pick(table.numbers(t.error), kept);
@@ -282,7 +239,7 @@ json xy_spec(const Chart& c, Tables& tables, const ReportOptions& options) {
   return spec;
 }
 
-json box_spec(const Chart& c, Tables& tables) {
+json box_spec(const Chart& c, ChartFiles& tables) {
   json spec = {{"kind", "box"},
                {"title", c.title},
                {"x_title", c.x.title},
@@ -293,13 +250,13 @@ json box_spec(const Chart& c, Tables& tables) {
   for (const auto& t : c.traces) {
     const CsvTable& table = tables.get(t.file, c.title);
     const auto& values = table.numbers(t.y);
-    for (const auto& [key, rows] : trace_groups(table, t))
-      spec["groups"].push_back({{"name", trace_name(t, key)}, {"values", pick(values, rows)}});
+    for (const auto& line : trace_rows(t, table))
+      spec["groups"].push_back({{"name", line.name}, {"values", pick(values, line.rows)}});
   }
   return spec;
 }
 
-json bar_spec(const Chart& c, Tables& tables) {
+json bar_spec(const Chart& c, ChartFiles& tables) {
   if (c.traces.size() != 1)
     throw InputError(fmt::format("charts.json: bar chart '{}': expected one trace", c.title));
   const ChartTrace& t = c.traces.front();
@@ -322,7 +279,7 @@ json bar_spec(const Chart& c, Tables& tables) {
 }
 
 // Flights for the 3-D replay: NED positions and Euler angles against time, every `stride`-th sample.
-json replay_spec(const Chart& c, Tables& tables, const ReportOptions& options) {
+json replay_spec(const Chart& c, ChartFiles& tables, const ReportOptions& options) {
   json spec = {{"kind", "replay"},
                {"title", c.title},
                {"source", c.traces.empty() ? "" : c.traces.front().file},
@@ -331,10 +288,10 @@ json replay_spec(const Chart& c, Tables& tables, const ReportOptions& options) {
   for (const auto& t : c.traces) {
     const CsvTable& table = tables.get(t.file, c.title);
     const std::string time = t.x.empty() ? "t" : t.x;
-    for (const auto& [key, rows] : trace_groups(table, t, options.max_flights)) {
-      auto kept = rows;
+    for (const auto& line : trace_rows(t, table, options.max_flights)) {
+      auto kept = line.rows;
       const std::size_t stride = thin(kept, options.max_replay_points);
-      json f = {{"name", trace_name(t, key)}, {"t", pick(table.numbers(time), kept)}};
+      json f = {{"name", line.name}, {"t", pick(table.numbers(time), kept)}};
       for (const char* column : {"x", "y", "z", "roll", "pitch", "yaw"})
         f[column] = pick(table.numbers(column), kept);
       if (stride > 1) f["stride"] = stride;
@@ -387,7 +344,7 @@ void add_chart_sections(Page& page, const fs::path& dir, const ReportOptions& op
   } catch (const std::exception& e) {
     throw InputError(e.what());
   }
-  Tables tables(dir);
+  ChartFiles tables(dir);
   for (const auto& s : sections) {
     std::string content;
     std::size_t plots = 0;

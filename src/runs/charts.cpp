@@ -292,6 +292,40 @@ std::vector<std::string> chart_files(const std::vector<ChartSection>& sections) 
   return out;
 }
 
+ChartFiles::ChartFiles(std::filesystem::path dir) : dir_(std::move(dir)) {}
+
+const CsvTable& ChartFiles::get(const std::string& file, const std::string& chart) {
+  auto it = tables_.find(file);
+  if (it == tables_.end()) {
+    auto table = CsvTable::load(dir_ / file);
+    if (!table)
+      throw InputError(fmt::format("{}: not found (chart '{}' draws it)", (dir_ / file).string(), chart));
+    it = tables_.emplace(file, std::move(*table)).first;
+  }
+  return it->second;
+}
+
+std::vector<TraceRows> trace_rows(const ChartTrace& trace, const CsvTable& table, std::size_t default_max) {
+  auto groups = table.groups(trace.group_by, trace.where);
+  const std::size_t most = trace.max_groups != 0 ? trace.max_groups : default_max;
+  if (most != 0 && groups.size() > most) groups.resize(most);
+  std::vector<TraceRows> out;
+  if (trace.one_trace) {
+    TraceRows joined{.name = trace.name, .rows = {}};
+    for (const auto& [key, rows] : groups) {
+      if (!joined.rows.empty()) joined.rows.push_back(kGapRow);
+      joined.rows.insert(joined.rows.end(), rows.begin(), rows.end());
+    }
+    if (!groups.empty()) out.push_back(std::move(joined));
+    return out;
+  }
+  for (auto& [key, rows] : groups) {
+    const std::string name = trace.name.empty() ? key : (key.empty() ? trace.name : trace.name + " " + key);
+    out.push_back({.name = name, .rows = std::move(rows)});
+  }
+  return out;
+}
+
 std::string render_svg(const Chart& chart, const std::filesystem::path& dir) {
   if (chart.kind != ChartKind::kXY)
     throw std::invalid_argument(fmt::format("render_svg: chart '{}' is not an xy chart", chart.title));
@@ -301,48 +335,28 @@ std::string render_svg(const Chart& chart, const std::filesystem::path& dir) {
       .y_label(chart.y.title)
       .x_scale(chart.x.scale)
       .y_scale(chart.y.scale);
-  std::map<std::string, CsvTable> tables;
+  ChartFiles files(dir);
   for (const auto& t : chart.traces) {
-    auto it = tables.find(t.file);
-    if (it == tables.end()) {
-      auto table = CsvTable::load(dir / t.file);
-      if (!table)
-        throw InputError(
-            fmt::format("{}: not found (a series of chart '{}')", (dir / t.file).string(), chart.title));
-      it = tables.emplace(t.file, std::move(*table)).first;
-    }
-    const CsvTable& table = it->second;
+    const CsvTable& table = files.get(t.file, chart.title);
     const auto& xs = table.numbers(t.x);
     const auto& ys = table.numbers(t.y);
+    // SvgPlot draws one symmetric band per series: the band column, else the error column.
     const std::vector<double>* spread =
-        t.band.empty() ? (t.error.empty() ? nullptr : &table.numbers(t.error)) : &table.numbers(t.band);
-    const double spread_factor = t.band.empty() ? 1.0 : t.band_factor;
-    std::size_t drawn = 0;
-    std::vector<PlotSeries> series;
-    for (const auto& [key, rows] : table.groups(t.group_by, t.where)) {
-      if (t.max_groups != 0 && drawn++ >= t.max_groups) break;
-      if (series.empty() || !t.one_trace) {
-        PlotSeries s;
-        s.name = t.one_trace ? t.name : (t.name.empty() ? key : (key.empty() ? t.name : t.name + " " + key));
-        s.line = t.mode != "markers";
-        s.markers = t.mode == "markers" || t.mode == "lines+markers";
-        s.color = t.color;
-        series.push_back(std::move(s));
-      } else {
-        // A break between groups: SvgPlot leaves out points that are not finite.
-        PlotSeries& s = series.back();
-        s.x.push_back(std::nan(""));
-        s.y.push_back(std::nan(""));
-        if (spread) s.error.push_back(0);
+        !t.band.empty() ? &table.numbers(t.band) : (!t.error.empty() ? &table.numbers(t.error) : nullptr);
+    const double spread_factor = (t.band.empty() ? 1.0 : t.band_factor) * std::abs(t.y_factor);
+    for (const auto& line : trace_rows(t, table)) {
+      PlotSeries s{.name = line.name,
+                   .line = t.mode != "markers",
+                   .markers = t.mode == "markers" || t.mode == "lines+markers",
+                   .color = t.color};
+      for (std::size_t r : line.rows) {
+        const bool gap = r == kGapRow;  // SvgPlot breaks the line at a point that is not finite
+        s.x.push_back(gap ? std::nan("") : xs[r]);
+        s.y.push_back(gap ? std::nan("") : ys[r] * t.y_factor);
+        if (spread) s.error.push_back(gap ? 0.0 : (*spread)[r] * spread_factor);
       }
-      PlotSeries& s = series.back();
-      for (std::size_t r : rows) {
-        s.x.push_back(xs[r]);
-        s.y.push_back(ys[r] * t.y_factor);
-        if (spread) s.error.push_back((*spread)[r] * spread_factor * std::abs(t.y_factor));
-      }
+      plot.add_series(std::move(s));
     }
-    for (auto& s : series) plot.add_series(std::move(s));
   }
   for (const auto& r : chart.references) plot.add_reference_line(r.y, r.name);
   return plot.render();

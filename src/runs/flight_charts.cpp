@@ -2,7 +2,36 @@
 
 #include <algorithm>
 
+#include "pegasus/heli/frames.hpp"
+#include "pegasus/heli/state.hpp"
+
 namespace pegasus {
+
+namespace {
+
+std::vector<std::string> flights_header() {
+  std::vector<std::string> header = {"flight", "t"};
+  for (const char* n : heli::kLoggedStateNames) header.emplace_back(n);
+  for (const char* n : {"a1", "a2", "a3", "a4", "target_x", "target_y", "target_z", "target_yaw", "xdot_b",
+                        "ydot_b", "zdot_b"})
+    header.emplace_back(n);
+  return header;
+}
+
+}  // namespace
+
+FlightsCsv::FlightsCsv() : csv_(flights_header()) {}
+
+void FlightsCsv::add(std::int64_t flight, const heli::FlightRow& row) {
+  std::vector<CsvCell> cells = {flight, row.time};
+  cells.reserve(csv_.header().size());
+  for (double v : row.truth) cells.emplace_back(v);
+  for (double v : row.controls) cells.emplace_back(v);
+  for (double v : {row.target.x, row.target.y, row.target.z, row.target.yaw}) cells.emplace_back(v);
+  const heli::Vec3 v_B = heli::body_from_world(heli::attitude_of(row.truth), heli::velocity_of(row.truth));
+  for (double v : {v_B[0], v_B[1], v_B[2]}) cells.emplace_back(v);
+  csv_.add_row(std::move(cells));
+}
 
 namespace {
 

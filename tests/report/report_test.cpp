@@ -214,6 +214,13 @@ TEST_F(Report, ErrorBarsRowFiltersAndOneTraceWithGaps) {
   ASSERT_EQ(y.size(), 6u);  // 3 rows, a gap, 2 rows
   EXPECT_TRUE(std::isnan(y[3]));
   EXPECT_EQ(y[4], -17.44);
+  // Thinning keeps the gap: the groups never join.
+  pegasus::report::ReportOptions few;
+  few.max_points = 3;  // every 2nd row: without the rule the gap (the 4th) would be dropped
+  const auto thinned =
+      doubles(chart_from(pegasus::report::report_data(run_, few), "results.csv", "Joined")["traces"][0]["y"]);
+  EXPECT_EQ(std::count_if(thinned.begin(), thinned.end(), [](double v) { return std::isnan(v); }), 1);
+  EXPECT_LT(thinned.size(), y.size());
 }
 
 TEST_F(Report, FlightChartsGiveReplayBodyVelocitiesAndAltitude) {

@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "pegasus/io/csv_table.hpp"
 #include "pegasus/optimizers/optimizer_summary.hpp"
 #include "pegasus/runs/svg_plot.hpp"
 
@@ -94,6 +95,31 @@ nlohmann::json to_json(const std::vector<ChartSection>& sections);  // the whole
 std::vector<ChartSection> charts_from_json(const nlohmann::json& document, const std::string& source);
 // The files the sections name, drawn or as data (each once, in order).
 std::vector<std::string> chart_files(const std::vector<ChartSection>& sections);
+
+// The CSV files of a run directory, each read once; InputError naming a missing file and the chart that
+// draws it.
+class ChartFiles {
+ public:
+  explicit ChartFiles(std::filesystem::path dir);
+  const CsvTable& get(const std::string& file, const std::string& chart);
+
+ private:
+  std::filesystem::path dir_;
+  std::map<std::string, CsvTable> tables_;
+};
+
+// A row index that stands for a break in a line.
+inline constexpr std::size_t kGapRow = static_cast<std::size_t>(-1);
+// One line a trace draws: its name and rows.
+struct TraceRows {
+  std::string name;
+  std::vector<std::size_t> rows;
+};
+// The lines of a trace: one per group of rows (named `name key`; the first max_groups, or default_max when
+// the trace sets none), or with one_trace a single line through every group, kGapRow between groups. What the
+// report and render_svg both draw.
+std::vector<TraceRows> trace_rows(const ChartTrace& trace, const CsvTable& table,
+                                  std::size_t default_max = 0);
 
 // An SVG of an xy chart, reading its files from `dir` (InputError naming a missing file or column);
 // std::invalid_argument for another kind.

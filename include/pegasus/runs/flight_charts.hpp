@@ -7,9 +7,23 @@
 #include <utility>
 #include <vector>
 
+#include "pegasus/heli/flights.hpp"
+#include "pegasus/io/json_csv.hpp"
 #include "pegasus/runs/charts.hpp"
 
 namespace pegasus {
+
+// flights.csv, the table of flights every flying command writes: flight, t, the logged state by name, a1..a4,
+// target_x, target_y, target_z, target_yaw, and the body-frame velocities xdot_b, ydot_b, zdot_b (Fig 5.6).
+class FlightsCsv {
+ public:
+  FlightsCsv();
+  void add(std::int64_t flight, const heli::FlightRow& row);
+  const CsvWriter& csv() const { return csv_; }
+
+ private:
+  CsvWriter csv_;
+};
 
 // One table of flights and how to draw it.
 struct FlightSeries {
