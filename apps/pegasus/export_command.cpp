@@ -58,6 +58,10 @@ Command export_command() {
                 {"action_size", code.action_names.size()},
                 {"observation_names", code.observation_names},
                 {"action_names", code.action_names}};
+            if (code.has_memory) {  // only then: the summaries of stateless classes stay as they were
+              summary["memory_type"] = options.prefix + "_memory";
+              summary["reset_function"] = options.prefix + "_reset";
+            }
             if (vehicle) {
               summary["vehicle"] = vehicle->name();
               summary["vehicle_act_function"] = options.prefix + "_act_vehicle";

@@ -192,6 +192,20 @@ void declare_hover(ConfigSchema& s) {
        "when the hover class's share of them holds the linear model)")
       .choices({"constant", "lqr"});
   s.add_double(
+       "integral_seconds", defaults.integral_seconds,
+       "the hover class's integral term against steady offsets (wind): each channel's int weight starts "
+       "at its error gain / this (LQR start: doubled until stable on the linear model); 0: none (the "
+       "thesis's class)")
+      .range(0, 3600);
+  s.add_double("integral_limit_position", defaults.integral_limit_position,
+               "anti-windup: the position error integral's limit per axis, m s")
+      .greater_than(0)
+      .max(1e6);
+  s.add_double("integral_limit_yaw", defaults.integral_limit_yaw,
+               "anti-windup: the yaw error integral's limit, rad s")
+      .greater_than(0)
+      .max(1e6);
+  s.add_double(
        "gamma", defaults.gamma,
        "discount per 1/50 s (thesis 5.3: 0.9995 per 50 Hz step); per step it is gamma^(50 / control_rate_hz)")
       .greater_than(0)
@@ -261,6 +275,7 @@ void resolve_hover(ConfigSchema& s) {
   const logs::Vehicle v = logs::read_vehicle(s.get_string("vehicle"));
   from_vehicle(s, v, "control_rate_hz", v.control_rate_hz, "control.rate_hz");
   from_vehicle(s, v, "starting_gains", v.starting_gains, "hover.starting_gains");
+  from_vehicle(s, v, "integral_seconds", v.integral_seconds, "hover.integral_seconds");
   from_vehicle(s, v, "target", std::vector<double>(v.target.begin(), v.target.end()), "hover.target");
   from_vehicle(s, v, "max_tilt_rad", v.max_tilt_rad, "envelope.max_tilt_rad");
   for (const auto& [key, size] : v.reward) from_vehicle(s, v, "reward." + key, size, "hover.reward." + key);
@@ -275,6 +290,9 @@ heli::HoverTrainingOptions hover_options(const RunContext& ctx) {
   o.refit_every = static_cast<int>(c.get_int("refit_every"));
   o.control_rate_hz = c.get_double("control_rate_hz");
   o.lqr_start = c.get_string("starting_gains") == "lqr";
+  o.integral_seconds = c.get_double("integral_seconds");
+  o.integral_limit_position = c.get_double("integral_limit_position");
+  o.integral_limit_yaw = c.get_double("integral_limit_yaw");
   o.start_pos_sigma = c.get_double("start_pos_sigma");
   o.start_vel_sigma = c.get_double("start_vel_sigma");
   o.max_tilt_rad = c.get_double("max_tilt_rad");
@@ -335,8 +353,8 @@ void run_hover(RunContext& ctx) {
   heli::HoverTrainingOptions used = o;  // with the LQR start's action weights as training settled them
   used.lqr_action_factor = r.lqr_action_factor;
   const heli::HoverPolicy policy = heli::hover_policy_for(*model, used);
-  heli::PolicyFile file =
-      heli::hover_policy_file(policy, r.theta, o.target, heli::hover_init_from_model(*model).trim);
+  heli::PolicyFile file = heli::hover_policy_file(policy, r.theta, o.target,
+                                                  heli::hover_init_from_model(*model).trim, o.integrator());
   file.provenance = {{"command", "pegasus heli hover"},
                      {"model", ctx.config.get_string("model")},
                      {"uhat", r.final_uhat},
@@ -396,6 +414,15 @@ void run_hover(RunContext& ctx) {
           used.lqr_action_factor / o.lqr_action_factor);
   }
   if (with_vehicle) summary["vehicle"] = vehicle;  // likewise
+  if (o.integral_seconds > 0) {                    // likewise
+    nlohmann::json integral = {{"integral_seconds", o.integral_seconds},
+                               {"limit_position", o.integral_limit_position},
+                               {"limit_yaw", o.integral_limit_yaw}};
+    if (o.lqr_start) integral["lqr_integral_seconds"] = heli::lqr_hover_init(*model, used).integral_seconds;
+    for (std::size_t c = 0; c < 4; ++c)
+      integral["a" + std::to_string(c + 1)] = r.theta[heli::HoverPolicy::kParameters + c];
+    summary["integral"] = integral;
+  }
   if (o.max_tilt_rad != heli::HoverTrainingOptions{}.max_tilt_rad) summary["max_tilt_rad"] = o.max_tilt_rad;
   if (o.control_rate_hz != 50) {  // likewise
     summary["control_rate_hz"] = o.control_rate_hz;
@@ -426,6 +453,14 @@ void declare_fly(ConfigSchema& s) {
   s.add_int("flights", 100, "flights from perturbed starts").range(1, 1000000);
   s.add_double("seconds", 60, "flight length, s").greater_than(0).max(36000);
   s.add_double("gust_sigma", 0.5, "turbulence standard deviation per axis, m/s").range(0, 10);
+  s.add_double_list("wind", {0, 0, 0}, "steady wind north, east, down (m/s, W), under the gusts")
+      .validate([](const FieldValue& v) {
+        const auto& w = std::get<std::vector<double>>(v);
+        if (w.size() != 3) return std::string("3 numbers: north, east, down (m/s)");
+        for (const double x : w)
+          if (!(std::abs(x) <= 30)) return std::string("3 numbers in [-30, 30] m/s");
+        return std::string();
+      });
   s.add_bool("estimate_noise", true, "the controller sees Kalman-filter-like state-estimate errors");
   s.add_double("start_pos_sigma", 1.0, "start position perturbation per axis, m").range(0, 100);
   s.add_double("start_vel_sigma", 0.3, "start velocity perturbation per axis, m/s").range(0, 100);
@@ -512,6 +547,8 @@ void run_fly(RunContext& ctx) {
   settings.start_yaw = target.yaw;
   settings.start_pos_sigma = c.get_double("start_pos_sigma");
   settings.start_vel_sigma = c.get_double("start_vel_sigma");
+  const auto& wind = c.get_double_list("wind");
+  settings.mean_wind_W = heli::Vec3(wind[0], wind[1], wind[2]);
   const std::unique_ptr<heli::GroundTruth> aircraft = ground_truth_of(vehicle, settings);
   const double dt = aircraft->step_seconds();
   heli::FlightOptions fo;
@@ -543,6 +580,7 @@ void run_fly(RunContext& ctx) {
   summary["controller"] = pilot_only ? "pilot" : policy_path;
   summary["seconds"] = fo.seconds;
   if (!c.get_string("vehicle").empty()) summary["vehicle"] = vehicle.name();
+  if (wind[0] != 0 || wind[1] != 0 || wind[2] != 0) summary["wind"] = wind;  // only then: digests
   keep_vehicle_file(c, dir);
   CsvWriter per_flight({"controller", "flight", "crashed", "crash_reason", "crash_time", "rms_position_m",
                         "rms_velocity_mps", "rms_yaw_rad"});

@@ -227,7 +227,15 @@ void run(RunContext& ctx) {
     const PolicyFile hover = read_policy_file(file);
     if (hover.class_name != "hover")
       throw InputError(file + ": class: expected \"hover\", got \"" + hover.class_name + "\"");
-    hover_theta = checked_parameters(hover, HoverPolicy(init).parameters(), file);
+    // The manoeuvre class has no integral term: a hover policy with one starts it from its networks.
+    HoverPolicyInit spec_init = init;
+    spec_init.integral_seconds = hover_file_integrator(hover, file).on() ? 1 : 0;
+    hover_theta = checked_parameters(hover, HoverPolicy(spec_init).parameters(), file);
+    if (hover_theta.size() > HoverPolicy::kParameters) {
+      hover_theta.resize(HoverPolicy::kParameters);
+      ctx.out << "note: " << file
+              << " has the integral term; the manoeuvre class has none and starts from its networks\n";
+    }
     init.trim = hover.trim;
   }
 

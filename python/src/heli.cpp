@@ -264,10 +264,11 @@ struct HeliBatch {
         crashed[i] = -1;
         auto o = model.observe(s);
         std::copy(o.begin(), o.end(), obs + (i * (T + 1)) * kLogged);
+        heli::ControllerMemory memory;  // the flight's
         for (std::size_t t = 0; t < T; ++t) {
           Controls u{};
           if (controller != nullptr)
-            u = controller->act(o, static_cast<double>(t) * dt);
+            u = controller->act(o, static_cast<double>(t) * dt, memory);
           else
             u = controls_row(app + (i * T + t) * 4);
           typename M::State next = model.step(s, u, std::span<const double>(pp + (i * T + t) * dp, dp));
@@ -392,9 +393,11 @@ std::unique_ptr<HoverProblemObject> hover_problem(const M& model, const SetPoint
                                                   const std::string& variant, std::int64_t threads) {
   std::string error;
   if (!reward.IsValid(&error)) throw py::value_error("reward." + error);
+  // With the integral term the task carries the error integral, stepped 0.02 s per (50 Hz) step.
+  const heli::ErrorIntegrator integrator{.dt = init.integral_seconds > 0 ? 0.02 : 0.0};
   auto inner = std::make_unique<BuiltinProblem<HoverTask<M>, HoverPolicy>>(
-      HoverTask<M>(model, target, reward), HoverPolicy(init), seed, scenarios, horizon, gamma, variant,
-      threads);
+      HoverTask<M>(model, target, reward, integrator), HoverPolicy(init), seed, scenarios, horizon, gamma,
+      variant, threads);
   const auto* raw = inner.get();
   return std::make_unique<HoverProblemObject>(std::move(inner),
                                               [raw](const Theta& t) { return raw->returns(t); });
@@ -422,6 +425,9 @@ climbing, on the identified model (heli/hover_task.hpp).)doc");
       .def_readwrite("then_hill_climb", &heli::HoverTrainingOptions::then_hill_climb)
       .def_readwrite("seed", &heli::HoverTrainingOptions::seed)
       .def_readwrite("max_start_crash_fraction", &heli::HoverTrainingOptions::max_start_crash_fraction)
+      .def_readwrite("integral_seconds", &heli::HoverTrainingOptions::integral_seconds)
+      .def_readwrite("integral_limit_position", &heli::HoverTrainingOptions::integral_limit_position)
+      .def_readwrite("integral_limit_yaw", &heli::HoverTrainingOptions::integral_limit_yaw)
       .def("horizon", &heli::HoverTrainingOptions::horizon, "Steps of 1 / control_rate_hz.")
       .def("gamma_per_step", &heli::HoverTrainingOptions::gamma_per_step, "gamma^(50 / control_rate_hz).")
       .def(
@@ -435,10 +441,26 @@ climbing, on the identified model (heli/hover_task.hpp).)doc");
         const bool ok = o.IsValid(&error);
         return py::make_tuple(ok, error);
       });
-  set_fields(options,
-             {"scenarios", "seconds", "gamma", "refit_every", "control_rate_hz", "lqr_start",
-              "lqr_action_factor", "max_tilt_rad", "target", "start_pos_sigma", "start_vel_sigma", "reward",
-              "centre_at_trim", "optimizer", "then_hill_climb", "seed", "max_start_crash_fraction"});
+  set_fields(options, {"scenarios",
+                       "seconds",
+                       "gamma",
+                       "refit_every",
+                       "control_rate_hz",
+                       "lqr_start",
+                       "lqr_action_factor",
+                       "max_tilt_rad",
+                       "target",
+                       "start_pos_sigma",
+                       "start_vel_sigma",
+                       "reward",
+                       "centre_at_trim",
+                       "optimizer",
+                       "then_hill_climb",
+                       "seed",
+                       "max_start_crash_fraction",
+                       "integral_seconds",
+                       "integral_limit_position",
+                       "integral_limit_yaw"});
 
   auto problem = py::class_<HoverProblemObject, Objective>(m, "HoverProblem", R"doc(
 PEGASUS U-hat (thesis §5.3) of the hover policy class (HoverPolicy(init), 34 weights) on a helicopter model, the
@@ -497,6 +519,8 @@ HoverProblem.from_training_options(model, options) is the objective `pegasus hel
         out["reason"] = r.reason;
         out["spectral_radius"] = r.spectral_radius;
         out["open_loop_radius"] = r.open_loop_radius;
+        out["integral_seconds"] = r.integral_seconds;
+        out["integral_radius"] = r.integral_radius;
         return out;
       },
       py::arg("model"), py::arg("options") = heli::HoverTrainingOptions{},
@@ -623,9 +647,10 @@ The hover policy class's starting weights: a linear controller around a trim (he
       .def_readwrite("k_alt", &heli::HoverPolicyInit::k_alt)
       .def_readwrite("k_climb", &heli::HoverPolicyInit::k_climb)
       .def_readwrite("k_yaw", &heli::HoverPolicyInit::k_yaw)
-      .def_readwrite("k_yaw_rate", &heli::HoverPolicyInit::k_yaw_rate);
+      .def_readwrite("k_yaw_rate", &heli::HoverPolicyInit::k_yaw_rate)
+      .def_readwrite("integral_seconds", &heli::HoverPolicyInit::integral_seconds);
   set_fields(init, {"trim", "trim_roll", "trim_pitch", "k_pos", "k_vel", "k_att", "k_pos_lat", "k_vel_lat",
-                    "k_roll", "k_alt", "k_climb", "k_yaw", "k_yaw_rate"});
+                    "k_roll", "k_alt", "k_climb", "k_yaw", "k_yaw_rate", "integral_seconds"});
 
   py::class_<HoverPolicy>(m, "HoverPolicy", R"doc(
 The hover policy class of thesis §5.3 (Fig 5.4, Eqs 5.7-5.8): 34 weights, one tanh network per control channel

@@ -18,7 +18,8 @@ HeliPolicyObject::HeliPolicyObject(heli::PolicyFile f, std::string from)
   controller = heli::make_controller(file, source);
 }
 
-Array HeliPolicyObject::controls(py::object states, py::object time, std::int64_t threads) const {
+Array HeliPolicyObject::controls(py::object states, py::object time, std::int64_t threads,
+                                 bool one_flight) const {
   const Array s = as_matrix(states, "states", -1, kLogged);
   require_finite(s, "states");
   const py::ssize_t n = s.shape(0);
@@ -31,14 +32,23 @@ Array HeliPolicyObject::controls(py::object states, py::object time, std::int64_
   Array out = matrix(n, 4);
   const double *sp = s.data(), *tp = t.data();
   double* o = out.mutable_data();
+  const auto row = [&](std::size_t r, heli::ControllerMemory& memory) {
+    heli::LoggedState x;
+    std::copy(sp + r * kLogged, sp + (r + 1) * kLogged, x.begin());
+    const heli::Controls u = controller->act(x, one ? tp[0] : tp[r], memory);
+    std::copy(u.begin(), u.end(), o + r * 4);
+  };
   {
     py::gil_scoped_release release;
-    pool->parallel_for(static_cast<std::size_t>(n), [&](std::size_t r) {
-      heli::LoggedState x;
-      std::copy(sp + r * kLogged, sp + (r + 1) * kLogged, x.begin());
-      const heli::Controls u = controller->act(x, one ? tp[0] : tp[r]);
-      std::copy(u.begin(), u.end(), o + r * 4);
-    });
+    if (one_flight) {  // one control period after another: the controller's memory runs through the rows
+      heli::ControllerMemory memory;
+      for (std::size_t r = 0; r < static_cast<std::size_t>(n); ++r) row(r, memory);
+    } else {
+      pool->parallel_for(static_cast<std::size_t>(n), [&](std::size_t r) {
+        heli::ControllerMemory fresh;
+        row(r, fresh);
+      });
+    }
   }
   return out;
 }
@@ -62,7 +72,7 @@ HeliPolicy.hover(theta, target, trim).)doc")
       .def_static(
           "hover",
           [](py::object theta, const heli::SetPoint& target, py::object trim,
-             const heli::HoverPolicyInit& init) {
+             const heli::HoverPolicyInit& init, double integral_dt) {
             const heli::HoverPolicy policy(init);
             const Theta w = as_theta(theta, "theta", policy.parameters());
             const Array t = as_vector(trim, "trim", 4);
@@ -71,14 +81,21 @@ HeliPolicy.hover(theta, target, trim).)doc")
               if (std::abs(t.data()[c]) > 1.0)
                 throw py::value_error(
                     fmt::format("trim: expected controls in [-1, 1], got {} at {}", t.data()[c], c));
+            if (policy.has_integral() && !(integral_dt > 0))
+              throw py::value_error(
+                  "integral_dt: expected the control period > 0, s (init has the integral term)");
             return HeliPolicyObject(
                 heli::hover_policy_file(policy, w, target,
-                                        {t.data()[0], t.data()[1], t.data()[2], t.data()[3]}),
+                                        {t.data()[0], t.data()[1], t.data()[2], t.data()[3]},
+                                        {.dt = policy.has_integral() ? integral_dt : 0.0}),
                 "hover");
           },
           py::arg("theta"), py::arg("target") = heli::SetPoint{},
           py::arg("trim") = std::vector<double>{0, 0, 0, 0}, py::arg("init") = heli::HoverPolicyInit{},
-          "A hover policy file from trained weights.")
+          py::arg("integral_dt") = 0.02,
+          "A hover policy file from trained weights (with init.integral_seconds > 0: 38 weights, the "
+          "integral "
+          "term's integrator stepping integral_dt s per call, the default limits).")
       .def_property_readonly("class_name", [](const HeliPolicyObject& p) { return p.file.class_name; })
       .def_property_readonly("names", [](const HeliPolicyObject& p) { return p.file.names; })
       .def_property_readonly("values", [](const HeliPolicyObject& p) { return vector_array(p.file.values); })
@@ -93,10 +110,13 @@ HeliPolicy.hover(theta, target, trim).)doc")
           [](const HeliPolicyObject& p, const std::string& path) { heli::write_policy_file(path, p.file); },
           py::arg("path"), "Writes the policy file atomically (doubles reading back to the same bits).")
       .def("controls", &HeliPolicyObject::controls, py::arg("states"), py::arg("time") = 0.0, py::kw_only(),
-           py::arg("threads") = 1, R"doc(
+           py::arg("threads") = 1, py::arg("one_flight") = false, R"doc(
 The controls [n, 4] (a1..a4 in [-1, 1]) for logged states [n, 12] (x, y, z, roll, pitch, yaw, xdot, ydot, zdot,
 roll_rate, pitch_rate, yaw_rate; world NED, m, rad) at `time` seconds after the flight or manoeuvre began (one
-number, or one per row). The GIL is released; rows run on `threads` threads, the result never depends on them.)doc")
+number, or one per row). Each row is a flight's first call, unless one_flight: then the rows are one flight's
+control periods in order, and a controller with memory (a hover policy with the integral term, options
+"integral") carries it from row to row as `pegasus heli fly` and `heli control` do. The GIL is released; rows
+run on `threads` threads (one_flight: one), the result never depends on them.)doc")
       .def(
           "target_at", [](const HeliPolicyObject& p, double time) { return p.controller->target(time); },
           py::arg("time"), "The set point the controller steers to at `time`.")

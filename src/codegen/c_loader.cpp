@@ -27,11 +27,21 @@ LoadedCPolicy::LoadedCPolicy(const CPolicyCode& code, const std::filesystem::pat
   handle_ = dlopen(library.c_str(), RTLD_NOW | RTLD_LOCAL);
   if (!handle_) throw std::runtime_error(fmt::format("dlopen {}: {}", library.string(), dlerror()));
   const std::string prefix = code.source_name.substr(0, code.source_name.size() - 2);
-  act_ = reinterpret_cast<Act>(dlsym(handle_, (prefix + "_act").c_str()));
+  void* const act = dlsym(handle_, (prefix + "_act").c_str());
+  void* const act_vehicle =
+      code.vehicle_action_names.empty() ? nullptr : dlsym(handle_, (prefix + "_act_vehicle").c_str());
+  // The generated prototypes take the generated struct's pointer; Memory* has the same representation.
+  if (code.has_memory) {
+    act_flight_ = reinterpret_cast<ActFlight>(act);
+    act_vehicle_flight_ = reinterpret_cast<ActFlight>(act_vehicle);
+    reset_ = reinterpret_cast<Reset>(dlsym(handle_, (prefix + "_reset").c_str()));
+  } else {
+    act_ = reinterpret_cast<Act>(act);
+    act_vehicle_ = reinterpret_cast<Act>(act_vehicle);
+  }
   if (code.has_target) target_ = reinterpret_cast<Target>(dlsym(handle_, (prefix + "_target").c_str()));
-  if (!code.vehicle_action_names.empty())
-    act_vehicle_ = reinterpret_cast<Act>(dlsym(handle_, (prefix + "_act_vehicle").c_str()));
-  if (!act_ || (code.has_target && !target_) || (!code.vehicle_action_names.empty() && !act_vehicle_)) {
+  if (!act || (code.has_target && !target_) || (!code.vehicle_action_names.empty() && !act_vehicle) ||
+      (code.has_memory && !reset_)) {
     dlclose(handle_);
     throw std::runtime_error(fmt::format("{}: the generated functions are missing", library.string()));
   }

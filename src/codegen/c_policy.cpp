@@ -87,9 +87,7 @@ extern "C" {
 #define @MACRO@_OBSERVATION_SIZE @OBS_SIZE@
 #define @MACRO@_ACTION_SIZE @ACT_SIZE@
 
-/* The action for one observation (see above); returns 0, or 1 for a non-finite observation value. */
-int @NAME@_act(const double* observation, double* action);
-@EXTRA_DECLARATIONS@
+@ACT_DECLARATION@@EXTRA_DECLARATIONS@
 #ifdef __cplusplus
 }
 #endif
@@ -103,7 +101,25 @@ struct ClassText {
   std::string extra_declarations;  // more prototypes for the header
   std::string body;                // the source after its #include lines
   bool has_target = false;
+  bool has_memory = false;  // PREFIX_memory, PREFIX_reset, and a memory argument first in PREFIX_act
 };
+
+// The parameters of PREFIX_act (and PREFIX_act_vehicle), and the memory argument to pass on.
+std::string act_parameters(const ClassText& t) {
+  return t.has_memory ? "@NAME@_memory* memory, const double* observation, double* action"
+                      : "const double* observation, double* action";
+}
+
+constexpr const char* kMemoryDeclarations =
+    R"(/* What the controller keeps between the calls of one flight: @MEMORY_WHAT@.
+ * One per flight: @NAME@_reset before the flight's first call, then every call in order (one per
+ * control period) with it. A call with a non-finite observation value leaves it as it was. */
+typedef struct @NAME@_memory {
+  double integral[4];
+  int started;
+} @NAME@_memory;
+void @NAME@_reset(@NAME@_memory* memory);
+)";
 
 CPolicyCode assemble(const ClassText& t, const std::string& source, const CPolicyOptions& options) {
   CPolicyCode code;
@@ -113,8 +129,16 @@ CPolicyCode assemble(const ClassText& t, const std::string& source, const CPolic
   code.observation_names = t.observation_names;
   code.action_names = t.action_names;
   code.has_target = t.has_target;
+  code.has_memory = t.has_memory;
+  const std::string act_declaration =
+      (t.has_memory ? std::string(kMemoryDeclarations) : std::string()) +
+      "\n/* The action for one observation (see above); returns 0, or 1 for a non-finite observation value. "
+      "*/\nint @NAME@_act(" +
+      act_parameters(t) + ");\n";
   const std::vector<std::pair<std::string, std::string>> values = {
+      {"ACT_DECLARATION", act_declaration},
       {"EXTRA_DECLARATIONS", t.extra_declarations},
+      {"MEMORY_WHAT", "the error integral of the integral term (x, y, z in W, m s; yaw, rad s)"},
       {"OBS_COLUMNS", column_list(t.observation_names, t.observation_units)},
       {"ACT_COLUMNS", column_list(t.action_names, t.action_units)},
       {"OBS_SIZE", std::to_string(t.observation_names.size())},
@@ -158,9 +182,10 @@ static double clip_control(double x) { return isnan(x) ? 0.0 : clamp(x, -1.0, 1.
 
 /* heli/hover_policy.cpp hover_inputs: the position error and velocity rotated into the body frame,
  * R_BW = R_WB^T with R_WB = R_z(yaw) R_y(pitch) R_x(roll). The products sum as Eigen's 3x3 product does
- * (rows 0 and 1 left to right, row 2 as a0 + (a1 + a2)). */
-static void hover_inputs(const double* s, const double* target, double* error, double* velocity,
-                         double* attitude) {
+ * (rows 0 and 1 left to right, row 2 as a0 + (a1 + a2)). With an error integral (integral_w not 0), its
+ * position part likewise (zeros when it is all zero). */
+static void hover_inputs(const double* s, const double* target, const double* integral_w, double* error,
+                         double* velocity, double* attitude, double* integral_b) {
   const double cf = cos(s[3]), sf = sin(s[3]);
   const double ct = cos(s[4]), st = sin(s[4]);
   const double cp = cos(s[5]), sp = sin(s[5]);
@@ -178,13 +203,23 @@ static void hover_inputs(const double* s, const double* target, double* error, d
   velocity[3] = s[11];
   attitude[0] = s[4];
   attitude[1] = s[3];
+  if (integral_w) {
+    const double* i = integral_w;
+    integral_b[0] = integral_b[1] = integral_b[2] = integral_b[3] = 0;
+    if (i[0] != 0 || i[1] != 0 || i[2] != 0 || i[3] != 0) {
+      integral_b[0] = r00 * i[0] + r10 * i[1] + r20 * i[2];
+      integral_b[1] = r01 * i[0] + r11 * i[1] + r21 * i[2];
+      integral_b[2] = r02 * i[0] + (r12 * i[1] + r22 * i[2]);
+      integral_b[3] = i[3];
+    }
+  }
 }
 
 /* heli/hover_policy.cpp HoverPolicy::unclipped (Eqs 5.7-5.8): per channel c,
- *   t = bias + err e + err_tanh_gain tanh(err_tanh_in e) + vel v (+ att g for a1, a2),
+ *   t = bias + err e + err_tanh_gain tanh(err_tanh_in e) + vel v (+ att g for a1, a2) (+ int I_c),
  *   a = out_tanh_gain tanh(out_tanh_in t) + out_linear t. */
 static void hover_networks(const double* w, const double* error, const double* velocity,
-                           const double* attitude, double* a) {
+                           const double* attitude, const double* integral, double* a) {
   static const int offset[4] = {0, 9, 18, 26};
   int c;
   for (c = 0; c < 4; ++c) {
@@ -196,6 +231,7 @@ static void hover_networks(const double* w, const double* error, const double* v
     } else {
       --k; /* no attitude weight: the out_* weights sit one place earlier */
     }
+    if (integral) t += w[34 + c] * integral[c];
     a[c] = k[6] * tanh(k[7] * t) + k[8] * t;
   }
 }
@@ -253,15 +289,65 @@ ClassText heli_class(const heli::PolicyFile& file, const std::vector<double>& ho
   return t;
 }
 
+// The integral term's integrator (heli/hover_policy.cpp ErrorIntegrator::advanced) and the act with memory.
+constexpr const char* kHoverIntegral = R"(
+/* heli/hover_policy.cpp ErrorIntegrator::advanced: I <- clamp(I + dt e, -limit, limit) per axis, e the error
+ * of the state reached (a non-finite one adds nothing). */
+static void advance_integral(double* integral, const double* s) {
+  double e[4];
+  int i;
+  e[0] = s[0] - kTarget[0];
+  e[1] = s[1] - kTarget[1];
+  e[2] = s[2] - kTarget[2];
+  e[3] = wrap_angle(s[5] - kTarget[3]);
+  for (i = 0; i < 4; ++i) {
+    const double limit = i < 3 ? kIntegral[1] : kIntegral[2];
+    if (isfinite(e[i])) integral[i] = clamp(integral[i] + kIntegral[0] * e[i], -limit, limit);
+  }
+}
+
+void @NAME@_reset(@NAME@_memory* memory) {
+  int i;
+  for (i = 0; i < 4; ++i) memory->integral[i] = 0;
+  memory->started = 0;
+}
+
+int @NAME@_act(@NAME@_memory* memory, const double* observation, double* action) {
+  double error[4], velocity[4], attitude[2], integral[4];
+  int c;
+  if (!all_finite(observation, 13)) {
+    for (c = 0; c < 4; ++c) action[c] = kTrim[c];
+    return 1;
+  }
+  /* heli/policy_file.cpp HoverController::act: 0 at the flight's first call, then one period's error each. */
+  if (memory->started) {
+    advance_integral(memory->integral, observation + 1);
+  } else {
+    @NAME@_reset(memory);
+    memory->started = 1;
+  }
+  hover_inputs(observation + 1, kTarget, memory->integral, error, velocity, attitude, integral);
+  hover_networks(kWeights, error, velocity, attitude, integral, action);
+  for (c = 0; c < 4; ++c) action[c] = clip_control(action[c]);
+  return 0;
+}
+)";
+
 ClassText hover_class(const heli::PolicyFile& file, const std::string& source) {
-  const heli::HoverPolicy spec_only;
+  const heli::ErrorIntegrator integrator = heli::hover_file_integrator(file, source);
+  const heli::HoverPolicy spec_only(heli::HoverPolicyInit{.integral_seconds = integrator.on() ? 1.0 : 0.0});
   const Theta theta = heli::checked_parameters(file, spec_only.parameters(), source);
   ClassText t = heli_class(file, theta);
   t.class_name = "hover";
+  t.has_memory = integrator.on();
   t.description = heli_description(
       fmt::format("The hover controller of thesis §5.3 (Fig 5.4, Eqs 5.7-5.8) holding the set point x = {}, "
-                  "y = {}, z = {} m, yaw = {} rad.",
-                  file.target.x, file.target.y, file.target.z, file.target.yaw));
+                  "y = {}, z = {} m, yaw = {} rad{}.",
+                  file.target.x, file.target.y, file.target.z, file.target.yaw,
+                  integrator.on() ? fmt::format(",\n * with the integral term (its integrator steps {} s per "
+                                                "call: one call per control period)",
+                                                integrator.dt)
+                                  : std::string()));
   t.extra_declarations =
       "/* The set point at `time`: x, y, z (m, W north-east-down), yaw (rad). Returns 0. */\n"
       "int @NAME@_target(double time, double* set_point);\n";
@@ -274,7 +360,14 @@ int @NAME@_target(double time, double* set_point) {
   for (i = 0; i < 4; ++i) set_point[i] = kTarget[i];
   return 0;
 }
-
+)";
+  if (integrator.on()) {
+    t.body += c_table("kIntegral", {integrator.dt, integrator.limit_position, integrator.limit_yaw},
+                      {"dt (s)", "limit_position (m s)", "limit_yaw (rad s)"});
+    t.body += kHoverIntegral;
+    return t;
+  }
+  t.body += R"(
 int @NAME@_act(const double* observation, double* action) {
   double error[4], velocity[4], attitude[2];
   int c;
@@ -282,8 +375,8 @@ int @NAME@_act(const double* observation, double* action) {
     for (c = 0; c < 4; ++c) action[c] = kTrim[c];
     return 1;
   }
-  hover_inputs(observation + 1, kTarget, error, velocity, attitude);
-  hover_networks(kWeights, error, velocity, attitude, action);
+  hover_inputs(observation + 1, kTarget, 0, error, velocity, attitude, 0);
+  hover_networks(kWeights, error, velocity, attitude, 0, action);
   for (c = 0; c < 4; ++c) action[c] = clip_control(action[c]);
   return 0;
 }
@@ -309,12 +402,12 @@ static void vehicle_state(const double* v, double* s) {
   s[5] = yaw;
 @VELOCITY@@RATES@}
 
-int @NAME@_act_vehicle(const double* observation, double* action) {
+int @NAME@_act_vehicle(@ACT_PARAMETERS@) {
   double own[13], axes[4];
   int c, result;
   own[0] = observation[0];
   vehicle_state(observation + 1, own + 1);
-  result = @NAME@_act(own, axes);
+  result = @NAME@_act(@MEMORY_ARGUMENT@own, axes);
   for (c = 0; c < 4; ++c) action[c] = (axes[kChannelAxis[c]] - kChannelOffset[c]) / kChannelScale[c];
   return result;
 }
@@ -377,7 +470,9 @@ void add_vehicle(ClassText& t, const logs::Vehicle& vehicle, CPolicyCode* names)
                                                        c_table("kChannelOffset", offset, labels)},
                                 {"ATTITUDE", attitude},
                                 {"VELOCITY", velocity},
-                                {"RATES", rate_code}});
+                                {"RATES", rate_code},
+                                {"ACT_PARAMETERS", act_parameters(t)},
+                                {"MEMORY_ARGUMENT", t.has_memory ? "memory, " : ""}});
   names->vehicle_observation_names = {"time"};
   for (const auto& f : vehicle.state_fields()) names->vehicle_observation_names.push_back(f);
   names->vehicle_action_names = labels;
@@ -394,9 +489,10 @@ void add_vehicle(ClassText& t, const logs::Vehicle& vehicle, CPolicyCode* names)
       " * Returns what @NAME@_act returns (1 and the trim in the channels' terms for a non-finite value). "
       "*/\n"
       "#define @MACRO@_VEHICLE_OBSERVATION_SIZE {}\n"
-      "int @NAME@_act_vehicle(const double* observation, double* action);\n",
+      "int @NAME@_act_vehicle({});\n",
       vehicle.name(), log.file.empty() ? std::string("(built in)") : log.file,
-      names->vehicle_observation_names.size(), observation, action, names->vehicle_observation_names.size());
+      names->vehicle_observation_names.size(), observation, action, names->vehicle_observation_names.size(),
+      act_parameters(t));
 }
 
 // The trajectory's legs and the set point along them, as heli/trajectory.cpp computes them.
@@ -523,8 +619,8 @@ int @NAME@_act(const double* observation, double* action) {
     state[8] -= kFeedforward * v[2];
     state[11] -= kFeedforward * yaw_rate;
   }
-  hover_inputs(state, target, error, velocity, attitude);
-  hover_networks(kWeights, error, velocity, attitude, action);
+  hover_inputs(state, target, 0, error, velocity, attitude, 0);
+  hover_networks(kWeights, error, velocity, attitude, 0, action);
   tail = action[3] - kTrim[3];
   coll = action[2] - kTrim[2];
   action[1] += kTailToLat * tail;

@@ -154,6 +154,7 @@ ControlLoopStats run_control_loop(const HeliController& controller, const Contro
   std::size_t capacity = 0;
   std::int64_t data_lines = 0;
   LoggedState s{};
+  ControllerMemory memory;  // the flight's (the input is one flight)
   std::string why;
   std::vector<int> columns;  // from a header naming the fields
   auto say = [&](const std::string& what) {
@@ -181,7 +182,8 @@ ControlLoopStats run_control_loop(const HeliController& controller, const Contro
     bool has_time = false;
     double time = 0;
     if (parse_state_line(line, format, columns, &s, &has_time, &time, &why)) {
-      write_controls(out, controller.act(s, has_time ? time : static_cast<double>(data_lines) * dt), format);
+      write_controls(out, controller.act(s, has_time ? time : static_cast<double>(data_lines) * dt, memory),
+                     format);
     } else {
       ++stats.malformed;
       write_controls(out, safe, format);

@@ -111,8 +111,10 @@ FlightSummary summarize_flights(const std::vector<FlightRecord>& flights) {
 std::vector<FlightRecord> fly_controller(const GroundTruth& aircraft, const HeliController& controller,
                                          const FlightOptions& options, ThreadPool* pool) {
   return fly_all(options, pool, [&](int i) {
+    ControllerMemory memory;  // the flight's: zero at its start
     return fly_one(
-        aircraft, options, i, [&](const LoggedState& est, double time) { return controller.act(est, time); },
+        aircraft, options, i,
+        [&](const LoggedState& est, double time) { return controller.act(est, time, memory); },
         [&](double time) { return controller.target(time); });
   });
 }

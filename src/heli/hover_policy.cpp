@@ -30,6 +30,32 @@ int HoverPolicy::index(int channel, Weight w) {
   return base + w - 1;
 }
 
+std::array<double, 4> ErrorIntegrator::advanced(const std::array<double, 4>& integral, const LoggedState& s,
+                                                const SetPoint& t) const {
+  const std::array<double, 4> e = {s[logged::x] - t.x, s[logged::y] - t.y, s[logged::z] - t.z,
+                                   wrap_angle(s[logged::yaw] - t.yaw)};
+  std::array<double, 4> next{};
+  for (std::size_t i = 0; i < 4; ++i) {
+    const double limit = i < 3 ? limit_position : limit_yaw;
+    // A non-finite estimate adds nothing: one bad sample must not poison the rest of the flight.
+    next[i] = std::isfinite(e[i]) ? std::clamp(integral[i] + dt * e[i], -limit, limit) : integral[i];
+  }
+  return next;
+}
+
+bool ErrorIntegrator::IsValid(std::string* error) const {
+  const auto fail = [&](std::string message) {
+    if (error) *error = std::move(message);
+    return false;
+  };
+  if (!(dt >= 0 && std::isfinite(dt))) return fail("dt: expected a finite number >= 0 (0: no integral term)");
+  if (!(limit_position > 0 && std::isfinite(limit_position)))
+    return fail("limit_position: expected a finite number > 0 (m s)");
+  if (!(limit_yaw > 0 && std::isfinite(limit_yaw)))
+    return fail("limit_yaw: expected a finite number > 0 (rad s)");
+  return true;
+}
+
 HoverInputs hover_inputs(const HeliObservation& o) {
   const LoggedState& s = o.state;
   const Euler e = attitude_of(s);
@@ -41,6 +67,11 @@ HoverInputs hover_inputs(const HeliObservation& o) {
   in.error = {err_B.x(), err_B.y(), err_B.z(), wrap_angle(s[logged::yaw] - o.target.yaw)};
   in.velocity = {v_B.x(), v_B.y(), v_B.z(), s[logged::yaw_rate]};
   in.attitude = {s[logged::pitch], s[logged::roll]};
+  const auto& i_W = o.integral;
+  if (i_W[0] != 0 || i_W[1] != 0 || i_W[2] != 0 || i_W[3] != 0) {  // a policy without the term skips this
+    const Vec3 i_B = r_BW * Vec3(i_W[0], i_W[1], i_W[2]);
+    in.integral = {i_B.x(), i_B.y(), i_B.z(), i_W[3]};
+  }
   return in;
 }
 
@@ -85,10 +116,18 @@ HoverPolicy::HoverPolicy(const HoverPolicyInit& init) {
       spec_.add(std::move(p));
     }
   }
+  if (init.integral_seconds > 0) {
+    // Scale: the change of int that moves the channel as much as err's scale does after 5 s of error.
+    for (std::size_t c = 0; c < 4; ++c)
+      spec_.add({.name = "a" + std::to_string(c + 1) + ".int",
+                 .initial = ch[c].err / init.integral_seconds,
+                 .scale = ch[c].err_scale / 5});
+  }
 }
 
 Controls HoverPolicy::unclipped(std::span<const double> w, const HoverInputs& in) {
   Controls a;
+  const bool integral = w.size() >= static_cast<std::size_t>(kParameters + kIntegralParameters);
   for (std::size_t c = 0; c < 4; ++c) {
     const double* k = w.data() + kOffset[c];
     const double e = in.error[c];
@@ -99,6 +138,7 @@ Controls HoverPolicy::unclipped(std::span<const double> w, const HoverInputs& in
     } else {
       --k;  // no attitude weight: the out_* weights sit one place earlier
     }
+    if (integral) t += w[static_cast<std::size_t>(kParameters) + c] * in.integral[c];
     a[c] = k[kOutTanhGain] * std::tanh(k[kOutTanhIn] * t) + k[kOutLinear] * t;
   }
   return a;

@@ -116,13 +116,17 @@ HoverPolicy hover_policy_for(const sysid::IdentifiedModel& model) {
 }
 
 HoverPolicy hover_policy_for(const sysid::IdentifiedModel& model, const HoverTrainingOptions& options) {
-  return options.lqr_start ? HoverPolicy(lqr_hover_init(model, options).init) : hover_policy_for(model);
+  if (options.lqr_start) return HoverPolicy(lqr_hover_init(model, options).init);
+  HoverPolicyInit init = hover_init_from_model(model);
+  init.integral_seconds = options.integral_seconds;
+  return HoverPolicy(init);
 }
 
 LqrStart lqr_hover_init(const sysid::IdentifiedModel& model, const HoverTrainingOptions& o) {
   using Matrix = Eigen::MatrixXd;
   LqrStart out;
   out.init = hover_init_from_model(model);
+  out.init.integral_seconds = o.integral_seconds;
   const HoverPolicyInit& init = out.init;
   const sysid::ModelStructure& m = model.structure();
   // The state: the 12 logged states and the 3 extra states; x0 the hover at the set point, heading north (the
@@ -242,6 +246,36 @@ LqrStart lqr_hover_init(const sysid::IdentifiedModel& model, const HoverTraining
         out.spectral_radius);
     return out;
   }
+  if (o.integral_seconds > 0) {
+    // The integral states I' = I + dt (p' - p*) (x, y, z, yaw rows of the next state) and u += K_i I with
+    // K_i = K_p / T_i per channel; T_i doubles until the augmented loop is stable (a slow integral is safe).
+    constexpr int ni = 4;
+    const std::array<Eigen::Index, ni> error_rows = {at(logged::x), at(logged::y), at(logged::z), kYawAt};
+    const std::array<double, ni> k_err = {g.k_pos, g.k_pos_lat, g.k_alt, g.k_yaw};
+    const Matrix closed = a_mat + b_mat * wired;
+    double seconds = o.integral_seconds;
+    for (int doubling = 0; doubling <= 10; ++doubling, seconds *= 2) {
+      Matrix aug = Matrix::Zero(n + ni, n + ni);
+      aug.topLeftCorner(n, n) = closed;
+      for (int c = 0; c < ni; ++c)
+        aug.block(0, n + c, n, 1) = b_mat.col(c) * (k_err[static_cast<std::size_t>(c)] / seconds);
+      for (int i = 0; i < ni; ++i) {
+        aug.block(n + i, 0, 1, n + ni) =
+            model.dt() * aug.block(error_rows[static_cast<std::size_t>(i)], 0, 1, n + ni);
+        aug(n + i, n + i) += 1;
+      }
+      out.integral_radius = radius(aug);
+      if (out.integral_radius < 1) break;
+    }
+    if (!(out.integral_radius < 1)) {
+      out.reason = fmt::format(
+          "the LQR gains with an integral term as slow as {:.4g} s do not hold the linear model (spectral "
+          "radius {:.4g})",
+          seconds / 2, out.integral_radius);
+      return out;
+    }
+    g.integral_seconds = out.integral_seconds = seconds;
+  }
   out.init = g;
   out.used = true;
   return out;
@@ -281,12 +315,19 @@ double HoverTrainingOptions::gamma_per_step() const {
   return control_rate_hz == 50 ? gamma : std::pow(gamma, 50 / control_rate_hz);
 }
 
+ErrorIntegrator HoverTrainingOptions::integrator() const {
+  return {.dt = integral_seconds > 0 ? 1 / control_rate_hz : 0.0,
+          .limit_position = integral_limit_position,
+          .limit_yaw = integral_limit_yaw};
+}
+
 int HoverTrainingOptions::refit_steps(const sysid::IdentifiedModel& model) const {
   if (refit_every > 0) return refit_every;
   return std::max(1, static_cast<int>(std::lround(model.dt() * control_rate_hz)));
 }
 
 bool HoverTrainingOptions::IsValid(std::string* error) const {
+  std::string inner;
   if (scenarios < 1)
     return fail(error, fmt::format("scenarios: expected an integer >= 1, got {}", scenarios));
   if (!(positive_finite(seconds) && seconds <= 3600))
@@ -307,12 +348,16 @@ bool HoverTrainingOptions::IsValid(std::string* error) const {
   if (!(max_start_crash_fraction >= 0 && max_start_crash_fraction <= 1))
     return fail(error, fmt::format("max_start_crash_fraction: expected a number in [0, 1], got {}",
                                    max_start_crash_fraction));
+  if (!(nonnegative_finite(integral_seconds) && integral_seconds <= 3600))
+    return fail(error, fmt::format("integral_seconds: expected a number in [0, 3600] (0: no integral term), "
+                                   "got {}",
+                                   integral_seconds));
+  if (!integrator().IsValid(&inner)) return fail(error, "integral_" + inner);
   if (!(nonnegative_finite(start_pos_sigma) && nonnegative_finite(start_vel_sigma)))
     return fail(error, "start_pos_sigma, start_vel_sigma: expected finite numbers >= 0");
   if (!(std::isfinite(target.x) && std::isfinite(target.y) && std::isfinite(target.z) &&
         std::isfinite(target.yaw)))
     return fail(error, "target: expected finite numbers");
-  std::string inner;
   if (!reward.IsValid(&inner)) return fail(error, "reward." + inner);
   if (!optimizer.IsValid(&inner)) return fail(error, "optimizer." + inner);
   if (then_hill_climb && optimizer.method == "gradient") {
@@ -331,7 +376,7 @@ PegasusEvaluator<Task, HoverPolicy> hover_evaluator(
   if (!o.IsValid(&error)) throw InputError("hover training: " + error);
   const HoverReward reward = hover_reward_for(*model, o);
   const HoverPolicy policy = hover_policy_for(*model, o);
-  Task task(sysid::LearnedHeliModel(model, learned_options(o, *model)), o.target, reward);
+  Task task(sysid::LearnedHeliModel(model, learned_options(o, *model)), o.target, reward, o.integrator());
   ScenarioSet scenarios({.seed = o.seed,
                          .count = o.scenarios,
                          .horizon = o.horizon(),

@@ -14,7 +14,8 @@ class ManeuverController final : public HeliController {
  public:
   ManeuverController(ManeuverPolicy policy, Theta theta)
       : policy_(std::move(policy)), theta_(std::move(theta)) {}
-  Controls act(const LoggedState& estimate, double time) const override {
+  using HeliController::act;
+  Controls act(const LoggedState& estimate, double time, ControllerMemory&) const override {
     return policy_.act(theta_, ManeuverObservation{estimate, time});
   }
   SetPoint target(double time) const override { return policy_.target(theta_, time); }

@@ -32,9 +32,20 @@ Registry& registry() {
 
 class HoverController final : public HeliController {
  public:
-  HoverController(Theta theta, SetPoint target) : theta_(std::move(theta)), target_(target) {}
-  Controls act(const LoggedState& estimate, double) const override {
-    return policy_.act(theta_, HeliObservation{estimate, target_});
+  HoverController(Theta theta, SetPoint target, ErrorIntegrator integrator)
+      : theta_(std::move(theta)), target_(target), integrator_(integrator) {}
+  using HeliController::act;
+  Controls act(const LoggedState& estimate, double, ControllerMemory& memory) const override {
+    if (integrator_.on() &&
+        std::all_of(estimate.begin(), estimate.end(), [](double x) { return std::isfinite(x); })) {
+      // The first call of a flight starts from 0, as the training task's state does; every later call first
+      // adds the control period's error (the state reached), as HoverTask::step does. A non-finite estimate
+      // leaves the memory alone (as `heli control` and the exported C leave it for a malformed line).
+      memory.integral =
+          memory.started ? integrator_.advanced(memory.integral, estimate, target_) : std::array<double, 4>{};
+      memory.started = true;
+    }
+    return policy_.act(theta_, HeliObservation{estimate, target_, memory.integral});
   }
   SetPoint target(double) const override { return target_; }
 
@@ -42,6 +53,7 @@ class HoverController final : public HeliController {
   HoverPolicy policy_;
   Theta theta_;
   SetPoint target_;
+  ErrorIntegrator integrator_;
 };
 
 }  // namespace
@@ -169,20 +181,42 @@ Theta checked_parameters(const PolicyFile& policy, const ParameterSpec& spec, co
   return policy.values;
 }
 
+ErrorIntegrator hover_file_integrator(const PolicyFile& policy, const std::string& file) {
+  const auto it = policy.options.find("integral");
+  if (it == policy.options.end()) return {};
+  if (!it->is_object())
+    json_field_error(file, "options.integral", "{\"dt\", \"limit_position\", \"limit_yaw\"}", *it);
+  const auto positive = [&](const char* name, const char* unit) {
+    const std::string field = fmt::format("options.integral.{}", name);
+    const nlohmann::json& v = json_member(*it, name, file, field);
+    const double x = json_finite_number(v, file, field);
+    if (!(x > 0)) json_field_error(file, field, fmt::format("a number > 0, {}", unit), v);
+    return x;
+  };
+  return {.dt = positive("dt", "s (the control period)"),
+          .limit_position = positive("limit_position", "m s"),
+          .limit_yaw = positive("limit_yaw", "rad s")};
+}
+
 std::unique_ptr<HeliController> make_hover_controller(const PolicyFile& policy, const std::string& file) {
-  const HoverPolicy spec_only;
+  const ErrorIntegrator integrator = hover_file_integrator(policy, file);
+  const HoverPolicy spec_only(HoverPolicyInit{.integral_seconds = integrator.on() ? 1.0 : 0.0});
   return std::make_unique<HoverController>(checked_parameters(policy, spec_only.parameters(), file),
-                                           policy.target);
+                                           policy.target, integrator);
 }
 
 PolicyFile hover_policy_file(const HoverPolicy& policy, std::span<const double> theta, const SetPoint& target,
-                             const Controls& trim) {
+                             const Controls& trim, const ErrorIntegrator& integrator) {
   PolicyFile p;
   p.class_name = "hover";
   for (const auto& param : policy.parameters().all()) p.names.push_back(param.name);
   p.values.assign(theta.begin(), theta.end());
   p.target = target;
   p.trim = trim;
+  if (integrator.on())
+    p.options["integral"] = {{"dt", integrator.dt},
+                             {"limit_position", integrator.limit_position},
+                             {"limit_yaw", integrator.limit_yaw}};
   return p;
 }
 

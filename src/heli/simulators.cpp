@@ -19,6 +19,7 @@ void apply(const GroundTruthSettings& s, Params& p) {
   }
   p.start_pos_sigma = s.start_pos_sigma;
   p.start_vel_sigma = s.start_vel_sigma;
+  p.mean_wind_W += s.mean_wind_W;
   std::string error;
   if (!p.IsValid(&error)) throw std::invalid_argument(error);
 }

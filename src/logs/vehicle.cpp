@@ -230,7 +230,7 @@ Vehicle vehicle(const toml::table& root, const std::filesystem::path& file) {
   for (const char* q : {"log.velocity", "log.attitude", "log.rates"})
     r.only_keys(q, {"topic", "fields", std::string(q) == "log.velocity" ? "frame" : "form"});
   r.only_keys("control", {"rate_hz"});
-  r.only_keys("hover", {"target", "starting_gains", "reward"});
+  r.only_keys("hover", {"target", "starting_gains", "integral_seconds", "reward"});
   r.only_keys("hover.reward",
               {"position_m", "velocity_mps", "yaw_rad", "action", "attitude_rad", "rate_radps"});
   r.only_keys("envelope", {"max_tilt_rad"});
@@ -244,6 +244,7 @@ Vehicle vehicle(const toml::table& root, const std::filesystem::path& file) {
     std::copy(t.begin(), t.end(), v.target.begin());
   }
   v.starting_gains = r.string("hover.starting_gains", v.starting_gains, {"lqr", "constant"});
+  v.integral_seconds = r.number("hover.integral_seconds", v.integral_seconds, 0, 3600);
   for (const char* key : {"position_m", "velocity_mps", "yaw_rad", "action", "attitude_rad", "rate_radps"}) {
     const std::string path = std::string("hover.reward.") + key;
     if (!r.at(path)) continue;
@@ -304,6 +305,7 @@ Vehicle xcell_vehicle() {
   v.xcell_latent_states = true;
   v.simulator = "xcell";
   v.starting_gains = "constant";
+  v.integral_seconds = 0;
   return v;
 }
 

@@ -12,6 +12,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <limits>
+#include <new>
 #include <numbers>
 #include <random>
 
@@ -67,11 +69,15 @@ Theta perturbed_hover_theta(const heli::HoverPolicy& policy, std::mt19937_64& rn
 
 const heli::HoverPolicyInit kTrimmedInit{.trim = {0.0, 0.036, 0.184, 0.194}};
 
-heli::PolicyFile hover_file(std::uint64_t seed, double spread, const heli::SetPoint& target) {
+// `integrator` on: the integral term (38 weights).
+heli::PolicyFile hover_file(std::uint64_t seed, double spread, const heli::SetPoint& target,
+                            const heli::ErrorIntegrator& integrator = {}) {
   std::mt19937_64 rng(seed);
-  const heli::HoverPolicy policy(kTrimmedInit);
+  heli::HoverPolicyInit init = kTrimmedInit;
+  init.integral_seconds = integrator.on() ? 5 : 0;
+  const heli::HoverPolicy policy(init);
   return heli::hover_policy_file(policy, perturbed_hover_theta(policy, rng, spread), target,
-                                 kTrimmedInit.trim);
+                                 kTrimmedInit.trim, integrator);
 }
 
 // A manoeuvre file; `ablated` drops the learned delay and the feed-forward, as the ablations of heli
@@ -306,17 +312,35 @@ TEST_F(CPolicyExport, PendulumIsBitIdenticalToTheCppPolicyOn100000ObservationsWi
   }
 }
 
+// PREFIX_memory of the hover class with the integral term, as its header declares it.
+struct CIntegralMemory {
+  double integral[4];
+  int started;
+};
+
 // The exported controller served to the ground-truth flight loop (heli/flights.hpp) through the same
 // interface as the C++ one.
 class CController final : public heli::HeliController {
  public:
   explicit CController(const LoadedCPolicy& c) : c_(c) {}
-  Controls act(const LoggedState& estimate, double time) const override {
+  using heli::HeliController::act;
+  Controls act(const LoggedState& estimate, double time, heli::ControllerMemory& memory) const override {
     std::array<double, 13> observation;
     observation[0] = time;
     std::copy(estimate.begin(), estimate.end(), observation.begin() + 1);
     Controls a;
-    c_.act()(observation.data(), a.data());
+    if (!c_.act_flight()) {
+      c_.act()(observation.data(), a.data());
+      return a;
+    }
+    // The flight's memory lives in the C struct the header documents ({double integral[4]; int started;}).
+    LoadedCPolicy::Memory c_memory;
+    CIntegralMemory* m = std::launder(reinterpret_cast<CIntegralMemory*>(c_memory.bytes));
+    std::copy(memory.integral.begin(), memory.integral.end(), m->integral);
+    m->started = memory.started ? 1 : 0;
+    c_.act_flight()(&c_memory, observation.data(), a.data());
+    std::copy(m->integral, m->integral + 4, memory.integral.begin());
+    memory.started = m->started != 0;
     return a;
   }
   heli::SetPoint target(double time) const override {
@@ -364,14 +388,21 @@ TEST_F(CPolicyExport, ExportedControllersFlyTheGroundTruthExactlyAsTheCppPolicie
   options.trace_flights = 3;
   options.seed = 7;
   // The hover controller at its trimmed start with tanh terms switched on, and a manoeuvre.
-  const heli::PolicyFile files[] = {hover_file(8, 0.2, {0, 0, -10, 0}), maneuver_file("III.1", 9, 0.1)};
-  for (const auto& file : files) {
-    SCOPED_TRACE(file.class_name);
-    const LoadedCPolicy c(export_c_policy(heli::policy_file_json(file), "policy.json"),
-                          dir_ / file.class_name);
+  // And the hover controller with the integral term, in a steady wind that it has to lean into.
+  params.mean_wind_W = heli::Vec3(3, -2, 0);
+  const heli::Aircraft windy(params);
+  const std::pair<heli::PolicyFile, const heli::Aircraft*> cases[] = {
+      {hover_file(8, 0.2, {0, 0, -10, 0}), &aircraft},
+      {maneuver_file("III.1", 9, 0.1), &aircraft},
+      {hover_file(8, 0.2, {0, 0, -10, 0}, {.dt = 0.02}), &windy}};
+  for (const auto& [file, flown_on] : cases) {
+    SCOPED_TRACE(file.class_name + (file.options.contains("integral") ? " with the integral term" : ""));
+    const CPolicyCode code = export_c_policy(heli::policy_file_json(file), "policy.json");
+    const LoadedCPolicy c(code,
+                          dir_ / fmt::format("{}{}", file.class_name, code.has_memory ? "-memory" : ""));
     const auto cpp_flights =
-        heli::fly_controller(aircraft, *heli::make_controller(file, "policy.json"), options);
-    const auto c_flights = heli::fly_controller(aircraft, CController(c), options);
+        heli::fly_controller(*flown_on, *heli::make_controller(file, "policy.json"), options);
+    const auto c_flights = heli::fly_controller(*flown_on, CController(c), options);
     expect_same_flights(cpp_flights, c_flights);
     // A flight that flies: the comparison covers the whole 20 s, not a crash after a few steps.
     EXPECT_FALSE(cpp_flights[0].crashed);
@@ -526,6 +557,86 @@ TEST_F(CPolicyExport, CommandRejectsBadInputWithOneLineExit2AndNoOutputDirectory
       "export --policy {} --lang rust --out {}", (dir_ / "unknown.json").string(), (dir_ / "o").string()));
   EXPECT_EQ(r.code, 2) << r.output;
   EXPECT_FALSE(std::filesystem::exists(dir_ / "o"));
+}
+
+// With the integral term the controller remembers: 100 flights of 1000 control periods (random states, so the
+// integral also runs into its limits), the C memory and the C++ memory side by side, and now and then a
+// non-finite observation, which both leave alone (the C answers the trim, as `heli control` does).
+TEST_F(CPolicyExport, HoverWithTheIntegralTermIsBitIdenticalOverAHundredFlightsOfAThousandSteps) {
+  const heli::ErrorIntegrator integrator{.dt = 0.02, .limit_position = 4, .limit_yaw = 1};
+  const heli::PolicyFile file = hover_file(3, 1.0, {3.0, -2.0, -12.0, 0.7}, integrator);
+  const CPolicyCode code = export_c_policy(heli::policy_file_json(file), "hover.json");
+  ASSERT_TRUE(code.has_memory);
+  EXPECT_NE(
+      code.header.find("typedef struct pegasus_policy_memory {\n  double integral[4];\n  int started;\n}"),
+      std::string::npos)
+      << code.header;
+  EXPECT_NE(
+      code.header.find("int pegasus_policy_act(pegasus_policy_memory* memory, const double* observation, "
+                       "double* action);"),
+      std::string::npos);
+  const LoadedCPolicy c(code, dir_);
+  ASSERT_EQ(c.act(), nullptr);
+  const auto cpp = heli::make_controller(file, "hover.json");
+  std::mt19937_64 rng(4);
+  Mismatches actions, memories;
+  int at_limit = 0;
+  for (int flight = 0; flight < kInputs / 1000; ++flight) {
+    heli::ControllerMemory memory;
+    LoadedCPolicy::Memory c_memory;
+    c.reset()(&c_memory);
+    const auto* m = std::launder(reinterpret_cast<const CIntegralMemory*>(c_memory.bytes));
+    for (int step = 0; step < 1000; ++step) {
+      const double t = 0.02 * step;
+      LoggedState s = random_state(rng, file.target);
+      const bool bad = step % 97 == 50;
+      if (bad) s[2] = std::numeric_limits<double>::quiet_NaN();
+      std::array<double, 13> observation;
+      observation[0] = t;
+      std::copy(s.begin(), s.end(), observation.begin() + 1);
+      double action[4];
+      ASSERT_EQ(c.act_flight()(&c_memory, observation.data(), action), bad ? 1 : 0);
+      const heli::ControllerMemory before = memory;
+      const Controls a = cpp->act(s, t, memory);
+      const std::string where = fmt::format("flight {} step {}", flight, step);
+      if (bad) {
+        EXPECT_EQ(memory.integral, before.integral) << where;
+      } else {
+        actions.check(a, action, where);
+      }
+      memories.check(memory.integral, m->integral, where);
+      at_limit += std::abs(memory.integral[0]) == integrator.limit_position;
+    }
+  }
+  EXPECT_EQ(actions.count, 0) << actions.first;
+  EXPECT_EQ(memories.count, 0) << memories.first;
+  EXPECT_GT(at_limit, 1000);  // the anti-windup limit was reached, and matched
+
+  // In an aircraft's own terms the memory comes first too, and one flight's answers match the C++ ones.
+  const logs::Vehicle vehicle = logs::parse_vehicle(test_support::kOutsideVehicle, "outside.toml");
+  const CPolicyCode own =
+      export_c_policy(heli::policy_file_json(file), "p.json", {.prefix = "outside", .vehicle = &vehicle});
+  EXPECT_NE(own.header.find("int outside_act_vehicle(outside_memory* memory, const double* observation, "
+                            "double* action);"),
+            std::string::npos);
+  const LoadedCPolicy cv(own, dir_ / "vehicle");
+  ASSERT_NE(cv.act_vehicle_flight(), nullptr);
+  heli::ControllerMemory memory;
+  LoadedCPolicy::Memory c_memory;
+  cv.reset()(&c_memory);
+  for (int step = 0; step < 2000; ++step) {
+    const double t = 0.1 * step;
+    const auto native_state = test_support::outside_state(random_state(rng, file.target));
+    std::array<double, 14> observation;
+    observation[0] = t;
+    std::copy(native_state.begin(), native_state.end(), observation.begin() + 1);
+    double action[4];
+    EXPECT_EQ(cv.act_vehicle_flight()(&c_memory, observation.data(), action), 0);
+    actions.check(vehicle.native_of(cpp->act(vehicle.state_of(native_state), t, memory)), action,
+                  fmt::format("vehicle step {}", step));
+  }
+  EXPECT_EQ(actions.count, 0) << actions.first;
+  EXPECT_NE(memory.integral[0], 0.0);
 }
 
 }  // namespace

@@ -205,6 +205,40 @@ TEST_F(HoverCli, FlyWritesTheDocumentedSummaryAndTraces) {
   EXPECT_EQ(ps.at("flights"), 2);
 }
 
+// The integral term end to end: hover writes its weights, integrator and summary; fly flies it in a steady
+// wind (said in the summary) with its memory, and it ends closer to the set point than the thesis's class.
+TEST_F(HoverCli, TheIntegralTermIsTrainedWrittenAndFlownInASteadyWind) {
+  const std::string without = train();
+  auto r = run_pegasus("heli hover --model " + model() + tiny() + " --integral-seconds 5" + out("integral"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto s = json_file(dir_ / "integral" / "summary.json");
+  ASSERT_TRUE(s.contains("integral")) << s.dump();
+  EXPECT_EQ(s.at("integral").at("integral_seconds"), 5.0);
+  EXPECT_EQ(s.at("integral").at("limit_position"), 50.0);
+  EXPECT_FALSE(json_file(dir_ / "hover" / "summary.json").contains("integral"));  // off: as before
+  const std::string with = (dir_ / "integral" / "policy.json").string();
+  const auto p = json_file(with);
+  ASSERT_EQ(p.at("parameters").size(), 38u);
+  EXPECT_EQ(p.at("parameters")[37].at("name"), "a4.int");
+  EXPECT_EQ(s.at("integral").at("a4"), p.at("parameters")[37].at("value"));
+  EXPECT_EQ(p.at("options").at("integral").at("dt"), 0.02);
+  // 20 s in a 4.5 m/s wind without gusts: the integral has time to lean into it.
+  const std::string fly = " --quiet --flights 2 --seconds 20 --gust-sigma 0 --wind 4,2,0 --policy ";
+  r = run_pegasus("heli fly" + fly + with + out("fly-with"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  r = run_pegasus("heli fly" + fly + without + out("fly-without"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto flown_with = json_file(dir_ / "fly-with" / "summary.json"),
+             flown_without = json_file(dir_ / "fly-without" / "summary.json");
+  EXPECT_EQ(flown_with.at("wind"), (std::vector<double>{4, 2, 0}));
+  EXPECT_EQ(flown_with.at("crashes"), 0);
+  EXPECT_LT(flown_with.at("rms_position_m").get<double>(),
+            0.7 * flown_without.at("rms_position_m").get<double>());
+  r = run_pegasus("heli fly --quiet --wind 4,2 --policy " + with + out("bad-wind"));
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("wind"), std::string::npos) << r.output;
+}
+
 // A controller for a flight computer that runs it at 10 Hz: trained on the learned model stepping at 10 Hz
 // (refit every step from the 10 Hz model), its policy file says so, and `heli fly` calls it every fifth 50 Hz
 // step of the aircraft, holding its controls in between; a rate that does not divide 50 Hz is refused.

@@ -122,5 +122,63 @@ TEST(HoverPolicy, YawErrorWrapsAndErrorsAreInTheBodyFrame) {
   EXPECT_NEAR(in.error[1], -1.0, 1e-12);
 }
 
+// The integral term (issue 15): four weights after the networks, fed the flight's error integral rotated into
+// the body frame like the error; without it (34 weights) the integral changes nothing.
+TEST(HoverPolicy, IntegralTermAddsFourWeightsFedTheIntegralInTheBodyFrame) {
+  const HoverPolicyInit init{.integral_seconds = 4};
+  const HoverPolicy pi(init);
+  ASSERT_EQ(pi.parameters().size(), 38u);
+  EXPECT_TRUE(pi.has_integral());
+  EXPECT_FALSE(HoverPolicy().has_integral());
+  const std::array<double, 4> gains = {init.k_pos, init.k_pos_lat, init.k_alt, init.k_yaw};
+  for (std::size_t c = 0; c < 4; ++c) {
+    EXPECT_EQ(pi.parameters()[34 + c].name, "a" + std::to_string(c + 1) + ".int");
+    EXPECT_EQ(pi.parameters()[34 + c].initial, gains[c] / 4);  // the PI rule k_i = k_p / T_i
+  }
+  Theta w = pi.parameters().initial();
+  for (std::size_t i = 0; i < w.size(); ++i) w[i] = 0.1 + 0.01 * static_cast<double>(i);
+  // Facing east (yaw pi/2): an integral of 2 m s north is 2 m s to the body's left (y_B = -2).
+  HeliObservation o = at_target({0, 0, -10, std::numbers::pi / 2});
+  o.integral = {2, 0, 0.5, -0.3};
+  const HoverInputs in = hover_inputs(o);
+  EXPECT_NEAR(in.integral[0], 0.0, 1e-15);
+  EXPECT_NEAR(in.integral[1], -2.0, 1e-15);
+  EXPECT_NEAR(in.integral[2], 0.5, 1e-15);
+  EXPECT_EQ(in.integral[3], -0.3);
+  // A linear output network (out_tanh_gain 0, out_linear 1): a_c = t_c, so the term adds int * I_c to it.
+  for (int c = 0; c < 4; ++c) {
+    w[static_cast<std::size_t>(HoverPolicy::index(c, HoverPolicy::kOutTanhGain))] = 0;
+    w[static_cast<std::size_t>(HoverPolicy::index(c, HoverPolicy::kOutLinear))] = 1;
+  }
+  HoverInputs none = in;
+  none.integral = {};
+  const Controls with = HoverPolicy::unclipped(w, in), without = HoverPolicy::unclipped(w, none);
+  for (std::size_t c = 0; c < 4; ++c)
+    EXPECT_NEAR(with[c] - without[c], w[34 + c] * in.integral[c], 1e-15) << c;
+  const Theta w34(w.begin(), w.begin() + 34);
+  EXPECT_EQ(HoverPolicy::unclipped(w34, in), without);  // the thesis's class ignores it
+}
+
+TEST(ErrorIntegrator, AddsOnePeriodOfErrorClampsAndSkipsNonFiniteErrors) {
+  const ErrorIntegrator on{.dt = 0.1, .limit_position = 1, .limit_yaw = 0.5};
+  EXPECT_TRUE(on.on());
+  EXPECT_FALSE(ErrorIntegrator{}.on());
+  const SetPoint target{1, 2, -10, 0.1};
+  LoggedState s{};
+  s[logged::x] = 3, s[logged::y] = 2, s[logged::z] = -10.5, s[logged::yaw] = 2 * std::numbers::pi + 0.05;
+  const auto once = on.advanced({0, 0.95, 0, 0}, s, target);
+  EXPECT_DOUBLE_EQ(once[0], 0.2);       // + 0.1 s * 2 m
+  EXPECT_DOUBLE_EQ(once[1], 0.95);      // no error in y
+  EXPECT_DOUBLE_EQ(once[2], -0.05);     // z error -0.5 m
+  EXPECT_NEAR(once[3], -0.005, 1e-12);  // the yaw error wraps: -0.05 rad
+  s[logged::y] = 100;
+  EXPECT_EQ(on.advanced(once, s, target)[1], 1.0);  // clamped at the limit (anti-windup)
+  s[logged::x] = std::nan("");
+  EXPECT_EQ(on.advanced(once, s, target)[0], once[0]);  // a bad estimate adds nothing
+  std::string why;
+  EXPECT_FALSE((ErrorIntegrator{.dt = 0.02, .limit_position = 0}).IsValid(&why));
+  EXPECT_EQ(why, "limit_position: expected a finite number > 0 (m s)");
+}
+
 }  // namespace
 }  // namespace pegasus::heli

@@ -3,9 +3,11 @@
 // flights on the ground truth.
 #include "pegasus/heli/hover_task.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -15,6 +17,7 @@
 #include "pegasus/heli/flights.hpp"
 #include "pegasus/heli/pilot.hpp"
 #include "pegasus/heli/policy_file.hpp"
+#include "pegasus/scenarios/counter_rng.hpp"
 #include "pegasus/sysid/identify.hpp"
 #include "support/input_error.hpp"
 
@@ -108,7 +111,7 @@ TEST(HoverTask, RewardAddsTheLearnedModelsCrashPenalty) {
                                           HoverReward::from_typical(0.5, 0.5, 0.1, 0.1, {}));
   auto s = task.initial_state(std::array<double, 6>{0.5, 0.5, 0.5, 0.5, 0.5, 0.5});
   auto crashed = s;
-  crashed.crashed = true;
+  crashed.model.crashed = true;
   const Controls a{0, 0, 0, 0};
   EXPECT_EQ(task.reward(s, a, s), 0.0);
   EXPECT_EQ(task.reward(s, a, crashed), lo.crash_reward);
@@ -295,7 +298,9 @@ TEST(PolicyFile, RegistryTakesNewClasses) {
                           struct Constant final : HeliController {
                             Controls a;
                             SetPoint sp;
-                            Controls act(const LoggedState&, double) const override { return a; }
+                            Controls act(const LoggedState&, double, ControllerMemory&) const override {
+                              return a;
+                            }
                             SetPoint target(double) const override { return sp; }
                           };
                           auto c = std::make_unique<Constant>();
@@ -370,6 +375,172 @@ TEST(Flights, PolicyAndPilotMeetTheSameStartsAndScoresAreConsistent) {
   }
   EXPECT_NEAR(s.rms_position_m, std::sqrt(pos / steps), 1e-12);
   EXPECT_GT(s.rms_position_m, 0.0);
+}
+
+// ---- The integral term (issue 15) ----------------------------------------------------------------------
+
+// The X-Cell's hover policy at its calm-air trim, with or without the integral term.
+PolicyFile xcell_hover_file(const Aircraft& aircraft, double integral_seconds) {
+  const HoverPoint trim = aircraft.hover_point();
+  const HoverPolicy pi(HoverPolicyInit{.trim = trim.controls,
+                                       .trim_roll = trim.roll,
+                                       .trim_pitch = trim.pitch,
+                                       .integral_seconds = integral_seconds});
+  const ErrorIntegrator integrator{.dt = integral_seconds > 0 ? 0.02 : 0.0};
+  return hover_policy_file(pi, pi.parameters().initial(), {0, 0, -10, 0}, trim.controls, integrator);
+}
+
+// Training and flying must see the same controller: the task's state carries the integral exactly as a
+// flight's memory does, so the actions of a rollout equal the flown controller's bit for bit.
+TEST(HoverTask, CarriesTheErrorIntegralExactlyAsTheFlownControllerDoes) {
+  AircraftParams p;
+  p.start_pos_sigma = 1.0;
+  p.start_vel_sigma = 0.3;
+  p.gust_sigma = 0.5;
+  const Aircraft aircraft(p);
+  const PolicyFile file = xcell_hover_file(aircraft, 5);
+  const auto controller = make_controller(file, "f.json");
+  const HoverPolicy pi(HoverPolicyInit{.integral_seconds = 5});
+  const HoverTask<Aircraft> task(aircraft, file.target, HoverReward{}, hover_file_integrator(file, "f.json"));
+  UniformStream rng(7, 0);
+  std::vector<double> p0(static_cast<std::size_t>(task.initial_noise_dim())),
+      noise(static_cast<std::size_t>(task.noise_dim()));
+  for (double& u : p0) u = rng.next();
+  auto s = task.initial_state(p0);
+  ControllerMemory memory;
+  double largest = 0;
+  for (int t = 0; t < 500; ++t) {
+    const HeliObservation o = task.observe(s);
+    const Controls a = pi.act(file.values, o);
+    ASSERT_EQ(a, controller->act(o.state, t * 0.02, memory)) << "step " << t;
+    ASSERT_EQ(o.integral, memory.integral) << "step " << t;
+    largest = std::max(largest, std::abs(o.integral[0]));
+    for (double& u : noise) u = rng.next();
+    s = task.step(s, a, noise);
+  }
+  EXPECT_GT(largest, 0.05);  // the integral did move (a 1 m start error over 10 s)
+}
+
+// The point of the term: in a steady wind the thesis's class holds a steady offset, the integral removes it.
+TEST(Flights, IntegralTermRemovesTheSteadyOffsetOfASteadyWind) {
+  AircraftParams p;
+  p.mean_wind_W = Vec3(4, 2, 0);  // m/s from the south-west, no gusts, exact estimates
+  p.gust_sigma = 0;
+  p.est_sigma_pos = p.est_sigma_vel = p.est_sigma_angle = p.est_sigma_rate = 0;
+  const Aircraft aircraft(p);
+  FlightOptions fo;
+  fo.flights = 1;
+  fo.seconds = 60;
+  fo.trace_flights = 1;
+  // Mean distance to the set point over the last 10 s.
+  const auto offset = [&](double integral_seconds) {
+    const auto controller = make_controller(xcell_hover_file(aircraft, integral_seconds), "f.json");
+    const auto flights = fly_controller(aircraft, *controller, fo, nullptr);
+    EXPECT_FALSE(flights[0].crashed);
+    double sum = 0;
+    int n = 0;
+    for (const FlightRow& row : flights[0].trace) {
+      if (row.time < 50) continue;
+      sum += std::hypot(row.truth[logged::x], row.truth[logged::y], row.truth[logged::z] + 10);
+      ++n;
+    }
+    return sum / n;
+  };
+  const double without = offset(0), with = offset(5);
+  std::printf("steady offset in a 4.5 m/s wind: %.4f m without the integral term, %.4f m with it\n", without,
+              with);
+  EXPECT_GT(without, 1.0);
+  EXPECT_LT(with, 0.05);
+}
+
+TEST(PolicyFile, IntegralTermRoundTripsAndBadIntegratorsNameTheField) {
+  const Aircraft aircraft;
+  const PolicyFile f = xcell_hover_file(aircraft, 5);
+  EXPECT_EQ(f.values.size(), 38u);
+  const PolicyFile back = parse_policy_file(nlohmann::json::parse(policy_file_json(f).dump()), "p.json");
+  EXPECT_EQ(hover_file_integrator(back, "p.json"), (ErrorIntegrator{.dt = 0.02}));
+  EXPECT_EQ(back.values, f.values);
+  auto message = [](const nlohmann::json& j) {
+    return input_error_message([&] { make_controller(parse_policy_file(j, "p.json"), "p.json"); });
+  };
+  const nlohmann::json good = policy_file_json(f);
+  EXPECT_EQ(message(good), "(no error)");
+  nlohmann::json j = good;
+  j["options"]["integral"].erase("dt");
+  EXPECT_EQ(message(j), "p.json: options.integral.dt: missing");
+  j = good;
+  j["options"]["integral"]["limit_yaw"] = 0;
+  EXPECT_EQ(message(j), "p.json: options.integral.limit_yaw: expected a number > 0, rad s, got 0");
+  j = good;
+  j["options"]["integral"] = 5;
+  EXPECT_EQ(message(j),
+            "p.json: options.integral: expected {\"dt\", \"limit_position\", \"limit_yaw\"}, got 5");
+  j = good;
+  j["options"].erase("integral");  // 38 weights without the integrator
+  EXPECT_EQ(message(j), "p.json: parameters: expected 34 parameters for class hover, got 38");
+  j = policy_file_json(xcell_hover_file(aircraft, 0));
+  j["options"]["integral"] = good["options"]["integral"];  // an integrator without the weights
+  EXPECT_EQ(message(j), "p.json: parameters: expected 38 parameters for class hover, got 34");
+}
+
+// `heli control` serves one flight: the memory runs over its lines, and a malformed line leaves it alone.
+TEST(ControlLoop, ControllerMemoryRunsOverTheLinesAndSkipsMalformedOnes) {
+  const Aircraft aircraft;
+  const auto controller = make_controller(xcell_hover_file(aircraft, 5), "f.json");
+  const std::vector<LoggedState> states = {{1, 0, -10, 0, 0, 0, 0, 0, 0, 0, 0, 0},
+                                           {1.5, -0.5, -9, 0, 0, 0.1, 0, 0, 0, 0, 0, 0},
+                                           {2, -1, -9.5, 0.05, 0, 0.2, 0, 0, 0, 0, 0, 0}};
+  std::string input;
+  for (std::size_t i = 0; i < states.size(); ++i) {
+    for (std::size_t k = 0; k < 12; ++k) input += fmt::format("{}{}", k ? "," : "", states[i][k]);
+    input += "\n";
+    if (i == 0) input += "1,2,x\n";
+  }
+  std::FILE* in = fmemopen(input.data(), input.size(), "r");
+  char* out_text = nullptr;
+  std::size_t out_size = 0;
+  std::FILE* out = open_memstream(&out_text, &out_size);
+  std::FILE* err = std::tmpfile();
+  run_control_loop(*controller, {0, 0, 0, 0}, in, out, err);
+  std::fclose(in);
+  std::fclose(out);
+  std::fclose(err);
+  const std::string answers(out_text, out_size);
+  std::free(out_text);
+  ControllerMemory memory;
+  std::string expected;
+  for (std::size_t i = 0; i < states.size(); ++i) {
+    const Controls a = controller->act(states[i], 0.02 * static_cast<double>(i), memory);
+    expected += fmt::format("{},{},{},{}\n", a[0], a[1], a[2], a[3]);
+    if (i == 0) expected += "0,0,0,0\n";
+  }
+  EXPECT_EQ(answers, expected);
+  EXPECT_NE(memory.integral[0], 0.0);
+  EXPECT_NE(controller->act(states[2], 0.04), controller->act(states[2], 0.04, memory));
+}
+
+TEST(HoverTraining, IntegralTermTrainsThirtyEightWeightsAndItsLqrStartHoldsTheLinearModel) {
+  HoverTrainingOptions o = tiny_options();
+  o.integral_seconds = 2;
+  ThreadPool pool(2);
+  const HoverTrainingResult r = train_hover(small_model(), o, {}, pool);
+  EXPECT_EQ(r.theta.size(), 38u);
+  EXPECT_EQ(r.start.crashed, 0);
+  o.lqr_start = true;
+  const LqrStart lqr = lqr_hover_init(*small_model(), o);
+  ASSERT_TRUE(lqr.used) << lqr.reason;
+  EXPECT_GE(lqr.integral_seconds, 2.0);
+  EXPECT_LT(lqr.integral_radius, 1.0);
+  EXPECT_EQ(hover_policy_for(*small_model(), o).parameters()[34].initial,
+            lqr.init.k_pos / lqr.integral_seconds);
+  std::string why;
+  o.integral_seconds = -1;
+  EXPECT_FALSE(o.IsValid(&why));
+  EXPECT_EQ(why, "integral_seconds: expected a number in [0, 3600] (0: no integral term), got -1");
+  o.integral_seconds = 5;
+  o.integral_limit_yaw = 0;
+  EXPECT_FALSE(o.IsValid(&why));
+  EXPECT_EQ(why, "integral_limit_yaw: expected a finite number > 0 (rad s)");
 }
 
 }  // namespace

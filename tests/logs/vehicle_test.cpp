@@ -146,7 +146,8 @@ TEST(Vehicles, ControlsMapBothWaysForEveryWayOfWritingAChannel) {
 // A controller that answers a fixed function of the state it sees, in the pipeline's layout.
 class StateEcho : public heli::HeliController {
  public:
-  heli::Controls act(const heli::LoggedState& s, double time) const override {
+  using heli::HeliController::act;
+  heli::Controls act(const heli::LoggedState& s, double time, heli::ControllerMemory&) const override {
     return {s[4] + s[9], -s[3] + 0.1 * time, s[2] / 20 + s[8], std::sin(s[5]) + s[11]};
   }
   heli::SetPoint target(double) const override { return {}; }

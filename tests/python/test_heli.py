@@ -248,6 +248,26 @@ def test_a_hover_policy_file_serves_the_cli_controls_for_a_batch_of_states(cli, 
     assert np.array_equal(again.controls(states), controls)
 
 
+def test_a_hover_policy_with_the_integral_term_remembers_over_one_flight_as_the_cli_does(cli, tmp_path):
+    states, aircraft = flown_states()
+    init = trimmed_init(aircraft)
+    init.integral_seconds = 5
+    theta = pegasus.HoverPolicy(init).parameters.initial
+    assert theta.shape == (38,) and pegasus.HoverPolicy(init).parameters.names[34] == "a1.int"
+    target = pegasus.SetPoint(1.0, -2.0, -12.0, 0.3)
+    path = tmp_path / "policy.json"
+    pegasus.HeliPolicy.hover(theta, target, init.trim, init).save(str(path))
+    policy = pegasus.HeliPolicy.load(str(path))
+    assert policy.options["integral"]["dt"] == 0.02
+    times = np.arange(40) * 0.02
+    flight = policy.controls(states, times, one_flight=True)
+    batch = policy.controls(states, times)  # every row a flight's first call: the integral is 0
+    assert np.array_equal(batch, pegasus.HoverPolicy(init).act(theta, states, target))
+    assert np.array_equal(flight[0], batch[0]) and not np.array_equal(flight[1:], batch[1:])
+    # `heli control` serves one flight: its answers carry the same memory, bit for bit.
+    assert np.array_equal(flight, control_lines(cli, path, times, states))
+
+
 def test_a_maneuver_policy_file_serves_the_cli_controls_at_each_time(cli, tmp_path):
     states, aircraft = flown_states()
     init = trimmed_init(aircraft)

@@ -123,7 +123,8 @@ TEST(SvgPlotExtremes, HugeTinyAndEqualValuesGiveAFinitePlot) {
 TEST(ControlLoop, EachMalformedLineGetsExactlyOneStderrLineWhateverItsBytes) {
   class Fixed : public pegasus::heli::HeliController {
    public:
-    pegasus::heli::Controls act(const pegasus::heli::LoggedState&, double) const override {
+    pegasus::heli::Controls act(const pegasus::heli::LoggedState&, double,
+                                pegasus::heli::ControllerMemory&) const override {
       return {0.1, 0, 0, 0};
     }
     pegasus::heli::SetPoint target(double) const override { return {}; }

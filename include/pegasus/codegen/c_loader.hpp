@@ -16,6 +16,13 @@ class LoadedCPolicy {
  public:
   using Act = int (*)(const double* observation, double* action);
   using Target = int (*)(double time, double* set_point);
+  // A controller with memory (CPolicyCode::has_memory): its PREFIX_act and PREFIX_act_vehicle take the
+  // flight's PREFIX_memory first; Memory holds one (the generated struct is far smaller).
+  struct Memory {
+    alignas(16) unsigned char bytes[256];
+  };
+  using ActFlight = int (*)(Memory* memory, const double* observation, double* action);
+  using Reset = void (*)(Memory* memory);
 
   // Writes the code into `dir` (created), compiles it with `compiler` (kCFlags -fPIC -shared ... -lm) and
   // loads it. std::runtime_error with the compiler's output when it does not compile or load.
@@ -25,9 +32,13 @@ class LoadedCPolicy {
   LoadedCPolicy(const LoadedCPolicy&) = delete;
   LoadedCPolicy& operator=(const LoadedCPolicy&) = delete;
 
-  Act act() const { return act_; }
+  Act act() const { return act_; }                  // nullptr for a controller with memory
   Target target() const { return target_; }         // nullptr for classes without a set point
-  Act act_vehicle() const { return act_vehicle_; }  // nullptr without a vehicle
+  Act act_vehicle() const { return act_vehicle_; }  // nullptr without a vehicle (or with memory)
+  // A controller with memory's (nullptr otherwise).
+  ActFlight act_flight() const { return act_flight_; }
+  ActFlight act_vehicle_flight() const { return act_vehicle_flight_; }
+  Reset reset() const { return reset_; }
   const std::string& compile_command() const { return command_; }
 
  private:
@@ -35,6 +46,8 @@ class LoadedCPolicy {
   Act act_ = nullptr;
   Target target_ = nullptr;
   Act act_vehicle_ = nullptr;
+  ActFlight act_flight_ = nullptr, act_vehicle_flight_ = nullptr;
+  Reset reset_ = nullptr;
   std::string command_;
 };
 

@@ -22,6 +22,10 @@
 //   int prefix_act_vehicle(const double* observation, double* action);   with a vehicle file: the same
 //       controller in the aircraft's own terms (quaternion or Euler attitude, body or world velocity, body
 //       or Euler rates in; its channels out), converted as `pegasus control --vehicle` converts a line
+// A controller with memory (a hover policy with the integral term: options "integral") remembers its error
+// integral within a flight; its code adds `typedef struct prefix_memory {...} prefix_memory;` and
+// `void prefix_reset(prefix_memory*)`, and its prefix_act and prefix_act_vehicle take the flight's memory
+// first: int prefix_act(prefix_memory* memory, const double* observation, double* action).
 // No allocation, no global written (weights and tables are `static const`), only <math.h> (link -lm).
 //
 // The guarantee: compiled without FMA contraction (x86-64 without -march, or -ffp-contract=off), the C
@@ -54,6 +58,7 @@ struct CPolicyCode {
   std::vector<std::string> observation_names;  // the observation's columns, in order
   std::vector<std::string> action_names;       // the action's columns, in order
   bool has_target = false;                     // PREFIX_target exists (helicopter classes)
+  bool has_memory = false;                     // PREFIX_memory and PREFIX_reset exist; PREFIX_act takes one
   // PREFIX_act_vehicle (options.vehicle): its observation (time, the vehicle's state fields) and action (its
   // channels); empty without a vehicle.
   std::vector<std::string> vehicle_observation_names, vehicle_action_names;

@@ -16,7 +16,9 @@
 // state fields, their conversion, and the controls' names, order and scaling: ControlLineFormat. A malformed
 // line (wrong field count, a field that is not a finite number) is answered with the SAFE OUTPUT, the hover
 // trim controls stored in the policy file, and one line "stdin:LINE: <what was wrong>; answered the trim
-// controls" goes to the error stream. Nothing stops the loop but the end of the input.
+// controls" goes to the error stream. Nothing stops the loop but the end of the input. The input is one
+// flight: a controller with memory (the hover class's integral term) starts it at the first well-formed line
+// and advances it once per well-formed line (a malformed line leaves it as it was).
 #include <array>
 #include <cstdint>
 #include <cstdio>

@@ -17,6 +17,14 @@
 // Parameters (34, names "<channel>.<weight>", channel a1..a4, weight as above) are laid out channel by
 // channel: a1 at 0..8, a2 at 9..17, a3 at 18..25, a4 at 26..33 (HoverPolicy::offset). The set point may
 // change every step: the manoeuvre policy (§5.4) feeds moving set points to this class.
+//
+// The integral term (not in the thesis; issue 15: without it every learned controller holds a steady offset
+// in a steady wind). With an ErrorIntegrator on, four more parameters follow the 34 (names "a1.int" ..
+// "a4.int", at 34..37), and each channel adds int * I_c to t_c, where I is the integral over the flight of
+// the W-frame position error (m s) and the wrapped yaw error (rad s), each clamped to its limit
+// (anti-windup), and the position part rotated into the body frame like the error: I_B = R_WB^T I_W. The
+// integral is the flight's memory, not the controller's: the task (training) or the flight
+// (heli/policy_file.hpp, ControllerMemory) carries it and hands it over in HeliObservation::integral.
 #include <array>
 #include <span>
 #include <string>
@@ -33,10 +41,29 @@ struct SetPoint {
 };
 
 // What a helicopter controller sees at one 50 Hz step: the 12 logged states (log column order,
-// kLoggedStateNames) and the set point of that step.
+// kLoggedStateNames), the set point of that step, and the error integral so far (ErrorIntegrator; zeros
+// without one).
 struct HeliObservation {
   LoggedState state{};
   SetPoint target{};
+  std::array<double, 4> integral{};  // of x, y, z error in W (m s), of the yaw error (rad s)
+};
+
+// The integral term's integrator: I_0 = 0 at the start of a flight, then after every control period dt
+// I <- clamp(I + dt * e, -limit, limit) with e the error of the state reached (W-frame position error,
+// wrapped yaw error; a non-finite one adds nothing). The one definition the training task and the flown
+// controller share.
+struct ErrorIntegrator {
+  double dt = 0;  // control period, s; 0: no integral term
+  // Anti-windup. At the PI rule's int = err / 5 s the limit is worth a 10 m offset: the X-Cell in a steady
+  // 4.5 m/s wind needs 3.3 m worth (16.6 m s), and a start error of 1 m decaying over 3 s adds about 3 m s.
+  double limit_position = 50;  // |I| per W axis, m s
+  double limit_yaw = 10;       // |I_yaw|, rad s
+  bool on() const { return dt > 0; }
+  std::array<double, 4> advanced(const std::array<double, 4>& integral, const LoggedState& state,
+                                 const SetPoint& target) const;
+  bool IsValid(std::string* error) const;
+  bool operator==(const ErrorIntegrator&) const = default;
 };
 
 // The inputs of the four channel networks at one observation.
@@ -44,6 +71,7 @@ struct HoverInputs {
   std::array<double, 4> error{};     // x_B, y_B, z_B position error (m), wrapped yaw error (rad)
   std::array<double, 4> velocity{};  // xdot_B, ydot_B, zdot_B (m/s), yaw rate (rad/s)
   std::array<double, 2> attitude{};  // pitch (for a1), roll (for a2), rad
+  std::array<double, 4> integral{};  // I_B (x, y, z; m s), I_yaw (rad s); zeros without the term
 };
 HoverInputs hover_inputs(const HeliObservation& o);
 
@@ -65,13 +93,17 @@ struct HoverPolicyInit {
   double k_climb = 0.15;      // a3 per m/s of zdot_B
   double k_yaw = -0.4;        // a4 per rad of yaw error
   double k_yaw_rate = -0.05;  // a4 per rad/s of yaw rate
+  // The integral term: none when 0; else each channel's int weight starts at its error gain / this (the
+  // classic PI rule k_i = k_p / T_i).
+  double integral_seconds = 0;
 };
 
 class HoverPolicy {
  public:
   using Observation = HeliObservation;
   using Action = Controls;
-  static constexpr int kParameters = 34;
+  static constexpr int kParameters = 34;         // the four networks
+  static constexpr int kIntegralParameters = 4;  // a1.int .. a4.int after them, with the integral term
   static constexpr std::array<int, 4> kOffset = {0, 9, 18, 26};  // first parameter of each channel
   static constexpr std::array<int, 4> kWeights = {9, 9, 8, 8};   // parameters of each channel
   // Index of a weight within a channel (a3 and a4 have no kAtt; their out_* weights shift down by one).
@@ -91,10 +123,11 @@ class HoverPolicy {
 
   explicit HoverPolicy(const HoverPolicyInit& init = {});
   const ParameterSpec& parameters() const { return spec_; }
+  bool has_integral() const { return spec_.size() > kParameters; }
 
   // The clipped controls.
   Controls act(std::span<const double> theta, const HeliObservation& o) const;
-  // The network outputs before clipping.
+  // The network outputs before clipping; the integral term's weights are used when theta has them.
   static Controls unclipped(std::span<const double> theta, const HoverInputs& in);
 
  private:

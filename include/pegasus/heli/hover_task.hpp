@@ -63,40 +63,50 @@ struct HoverReward {
 };
 
 // A helicopter model M (LearnedHeliModel for training; Observation = the 12 logged states) with a fixed set
-// point and the hover reward. Satisfies SimulativeModel; the policy sees HeliObservation.
+// point and the hover reward. Satisfies SimulativeModel; the policy sees HeliObservation. With an
+// ErrorIntegrator on, the task's state carries the error integral beside the model's (the integral term's
+// memory, advanced after every step exactly as a flown controller advances it).
 template <SimulativeModel M>
 class HoverTask {
  public:
-  using State = typename M::State;
+  struct State {
+    typename M::State model;
+    std::array<double, 4> integral{};
+  };
   using Action = Controls;
   using Observation = HeliObservation;
 
-  HoverTask(M model, SetPoint target, HoverReward reward)
-      : model_(std::move(model)), target_(target), reward_(reward) {}
+  HoverTask(M model, SetPoint target, HoverReward reward, ErrorIntegrator integrator = {})
+      : model_(std::move(model)), target_(target), reward_(reward), integrator_(integrator) {}
 
   int state_dim() const { return model_.state_dim(); }
   int noise_dim() const { return model_.noise_dim(); }
   int initial_noise_dim() const { return model_.initial_noise_dim(); }
   ActionSpace action_space() const { return model_.action_space(); }
-  State initial_state(std::span<const double> p0) const { return model_.initial_state(p0); }
+  State initial_state(std::span<const double> p0) const { return {model_.initial_state(p0), {}}; }
   State step(const State& s, const Action& a, std::span<const double> p) const {
-    return model_.step(s, a, p);
+    State next{model_.step(s.model, a, p), s.integral};
+    if (integrator_.on())
+      next.integral = integrator_.advanced(s.integral, model_.observe(next.model), target_);
+    return next;
   }
-  bool terminal(const State& s) const { return model_.terminal(s); }
-  Observation observe(const State& s) const { return {model_.observe(s), target_}; }
+  bool terminal(const State& s) const { return model_.terminal(s.model); }
+  Observation observe(const State& s) const { return {model_.observe(s.model), target_, s.integral}; }
   double reward(const State& s, const Action& a, const State& next) const {
-    return transition_reward(model_, s, a, next) - reward_.state_cost(model_.observe(s), target_) -
-           reward_.action_cost(a);
+    return transition_reward(model_, s.model, a, next.model) -
+           reward_.state_cost(model_.observe(s.model), target_) - reward_.action_cost(a);
   }
 
   const M& model() const { return model_; }
   const SetPoint& target() const { return target_; }
   const HoverReward& hover_reward() const { return reward_; }
+  const ErrorIntegrator& integrator() const { return integrator_; }
 
  private:
   M model_;
   SetPoint target_;
   HoverReward reward_;
+  ErrorIntegrator integrator_;
 };
 
 // Trim estimate from the pilot's logs, as the identified model holds them: the mean controls, roll and
@@ -117,6 +127,10 @@ struct LqrStart {
   std::string reason;           // why not used (empty when used)
   double spectral_radius = 0;   // of the linear model under the hover class's gains, per model step
   double open_loop_radius = 0;  // of the linear model with the controls held
+  // With the integral term: the integral_seconds the start uses (options' doubled until stable) and the
+  // spectral radius with the integral states.
+  double integral_seconds = 0;
+  double integral_radius = 0;
 };
 struct HoverTrainingOptions;
 LqrStart lqr_hover_init(const sysid::IdentifiedModel& model, const HoverTrainingOptions& options);
@@ -158,11 +172,19 @@ struct HoverTrainingOptions {
   // the data, and crashed 22 of 30 starts), and says so in HoverTrainingResult::lqr_action_factor.
   double lqr_action_factor = 1;
   static constexpr double kMaxLqrActionFactor = 1000;
+  // The integral term (HoverPolicy, ErrorIntegrator; not in the thesis): 0 leaves it out (the thesis's
+  // class); else the policy gets a1.int .. a4.int, each starting at its channel's error gain /
+  // integral_seconds (with the LQR start: doubled until the gains with the integral hold the linear model),
+  // and the integrator runs at the control rate within these limits.
+  double integral_seconds = 0;
+  double integral_limit_position = ErrorIntegrator{}.limit_position;  // m s
+  double integral_limit_yaw = ErrorIntegrator{}.limit_yaw;            // rad s
 
   static OptimizerOptions default_optimizer();
   int horizon() const;                                         // steps of 1 / control_rate_hz
   double gamma_per_step() const;                               // gamma^(50 / control_rate_hz)
   int refit_steps(const sysid::IdentifiedModel& model) const;  // refit_every, or the model's rate when 0
+  ErrorIntegrator integrator() const;                          // off when integral_seconds is 0
   bool IsValid(std::string* error) const;
 };
 

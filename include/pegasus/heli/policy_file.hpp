@@ -15,8 +15,9 @@
 //                                                        pilot's logs (the class's starting point, and the
 //                                                        safe output of `heli control`), each in [-1, 1]
 //     "options": {...},                     optional: class-specific settings (maneuver: which trajectory
-//     ...) "provenance": {...}                   optional, ignored: how the policy was made (command, U-hat,
-//     ...)
+//                                           ...; hover: "integral": {"dt", "limit_position", "limit_yaw"},
+//                                           the integral term's integrator, with parameters a1.int..a4.int)
+//     "provenance": {...}                   optional, ignored: how the policy was made (command, U-hat, ...)
 //   }
 // Doubles are written with the shortest text that reads back to the same bits, so a policy file reproduces
 // the trained controller exactly. Reading checks everything and throws InputError
@@ -25,6 +26,7 @@
 // A registry maps class names to factories that bind the weights into a HeliController. "hover" is built in;
 // another class registers itself with register_policy_class (or adds one line to the built-in table in
 // src/heli/policy_file.cpp, so that it is there without a call).
+#include <array>
 #include <filesystem>
 #include <functional>
 #include <memory>
@@ -50,14 +52,27 @@ struct PolicyFile {
   nlohmann::json provenance = nlohmann::json::object();
 };
 
-// A policy with its weights bound: what flies. Stateless between calls (a class that needs state, such as a
-// path observer, keeps it from `time` alone), so one controller may serve many flights at once.
+// What a controller keeps between the calls of one flight: the hover class's error integral (its integral
+// term; ErrorIntegrator). Zero at the start of every flight; the flight owns it, so one controller still
+// serves many flights at once. Classes without memory leave it alone.
+struct ControllerMemory {
+  std::array<double, 4> integral{};  // HeliObservation::integral
+  bool started = false;              // set by the flight's first call
+};
+
+// A policy with its weights bound: what flies. Const: whatever a class remembers within a flight lives in
+// the flight's ControllerMemory (a path observer keeps its own from `time` alone).
 class HeliController {
  public:
   virtual ~HeliController() = default;
   // Controls in [-1, 1]^4 for the state estimate (12 logged states, log column order) `time` seconds after
-  // the flight (or the manoeuvre) began.
-  virtual Controls act(const LoggedState& estimate, double time) const = 0;
+  // the flight (or the manoeuvre) began; one call per control period, in order, with the flight's memory.
+  virtual Controls act(const LoggedState& estimate, double time, ControllerMemory& memory) const = 0;
+  // One call with a fresh memory: a flight's first call (every call, for a class without memory).
+  Controls act(const LoggedState& estimate, double time) const {
+    ControllerMemory fresh;
+    return act(estimate, time, fresh);
+  }
   // The set point the controller steers to at `time` (for traces and errors).
   virtual SetPoint target(double time) const = 0;
 };
@@ -87,8 +102,11 @@ Theta checked_parameters(const PolicyFile& policy, const ParameterSpec& spec, co
 
 // The hover class: HoverPolicy steering to policy.target at every time.
 std::unique_ptr<HeliController> make_hover_controller(const PolicyFile& policy, const std::string& file);
-// A hover policy file from trained weights.
+// A hover policy file from trained weights (with the integrator in its options when it is on).
 PolicyFile hover_policy_file(const HoverPolicy& policy, std::span<const double> theta, const SetPoint& target,
-                             const Controls& trim);
+                             const Controls& trim, const ErrorIntegrator& integrator = {});
+// The integral term's integrator of a hover file's options (off without "integral"); InputError naming
+// `file` and the field.
+ErrorIntegrator hover_file_integrator(const PolicyFile& policy, const std::string& file);
 
 }  // namespace pegasus::heli

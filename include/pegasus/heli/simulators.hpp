@@ -18,6 +18,7 @@ struct GroundTruthSettings {
   Vec3 start_p_W = Vec3::Zero();
   double start_yaw = 0;
   double start_pos_sigma = 0, start_vel_sigma = 0;  // m, m/s
+  Vec3 mean_wind_W = Vec3::Zero();                  // steady wind added to the aircraft's own, m/s in W
 };
 
 // The simulators `[vehicle] simulator` may name ("none" included: a vehicle without a ground truth).

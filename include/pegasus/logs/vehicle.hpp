@@ -90,6 +90,10 @@ struct Vehicle {
   // model, the default) or "constant" (the X-Cell's tuned constants).
   std::array<double, 4> target{0, 0, -10, 0};
   std::string starting_gains = "lqr";
+  // [hover] integral_seconds: the hover class's integral term (heli/hover_policy.hpp), its int weights
+  // starting at each error gain / this; 0: none (the X-Cell's, as in the thesis). On by default: without it
+  // every learned controller holds a steady offset in a steady wind.
+  double integral_seconds = 5;
   // [hover.reward]: the typical sizes the hover reward's weights stand for (alpha = 1 / typical^2; `hover
   // --reward.*`), set to match the cost the aircraft is judged by. Only the keys the file gives.
   std::vector<std::pair<std::string, double>> reward;
