@@ -8,12 +8,14 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <limits>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -669,6 +671,7 @@ void run_control(RunContext& ctx) {
 // ------------------------------------------------------------------ heli pipeline
 
 void declare_pipeline(ConfigSchema& s) {
+  declare_vehicle(s);
   s.add_double("train_seconds", 339, "pilot training flight, s (thesis 5.2: 339)").range(30, 36000);
   s.add_double("test_seconds", 140, "pilot hold-out flight, s (thesis 5.2: 140)").range(20, 36000);
   s.add_int("cv_points", 300, "identification: held-out points per cross-validation evaluation")
@@ -687,6 +690,13 @@ void declare_pipeline(ConfigSchema& s) {
             heli::HoverTrainingOptions::default_optimizer().hill_climbing.max_iterations,
             "hover training: hill-climbing iterations")
       .range(0, 1000000);
+  const heli::HoverTrainingOptions hover_defaults;
+  s.add_double("start_pos_sigma", hover_defaults.start_pos_sigma,
+               "hover training and flights: start position perturbation per axis, m")
+      .range(0, 100);
+  s.add_double("start_vel_sigma", hover_defaults.start_vel_sigma,
+               "hover training and flights: start velocity perturbation per axis, m/s")
+      .range(0, 100);
   s.add_int("flights", 100, "flights on the ground truth (policy and pilot)").range(1, 1000000);
   s.add_double("flight_seconds", 60, "flight length on the ground truth, s").greater_than(0).max(36000);
 }
@@ -716,11 +726,34 @@ int run_stage(const std::vector<std::string>& args, const std::filesystem::path&
 
 void run_pipeline(RunContext& ctx) {
   const auto& c = ctx.config;
+  // Another aircraft: its vehicle file, checked before any stage runs, goes to every stage (by its absolute
+  // path: the stages run in the run directory), which are then the generic commands; the X-Cell's stages stay
+  // the `heli` ones they always were.
+  const std::string vehicle_file = c.get_string("vehicle");
+  std::optional<logs::Vehicle> vehicle;
+  if (!vehicle_file.empty()) {
+    vehicle = logs::read_vehicle(vehicle_file);
+    if (vehicle->simulator == "none")
+      throw InputError(fmt::format(
+          "{}: vehicle.simulator: expected a built-in ground truth for the pipeline to fly (one of xcell, "
+          "crazyflie2), got 'none'; for this aircraft run `pegasus identify` and `pegasus hover --vehicle` "
+          "on "
+          "its own logs and serve the policy with `pegasus control`",
+          vehicle_file));
+  }
+  const auto command = [&](const char* name) {
+    return vehicle ? std::vector<std::string>{name} : std::vector<std::string>{"heli", name};
+  };
+  const auto with_vehicle = [&](std::vector<std::string> args) {
+    if (vehicle) args.insert(args.end(), {"--vehicle", std::filesystem::absolute(vehicle_file).string()});
+    return args;
+  };
   RunDirectory& dir = ctx.run_directory();
   const std::filesystem::path root = dir.path();
   const std::string threads = std::to_string(ctx.threads);
   auto num = [](double x) { return format_double(x); };
   auto stage = [&](const std::string& name, std::vector<std::string> args) {
+    args = with_vehicle(std::move(args));
     const std::filesystem::path out = root / name;
     if (std::filesystem::exists(out / "summary.json")) {
       ctx.out << fmt::format("[{}] done before, kept: {}\n", name, (dir.final_path() / name).string());
@@ -751,26 +784,45 @@ void run_pipeline(RunContext& ctx) {
   }
   std::string grid;
   for (double g : c.get_double_list("scale_grid")) grid += (grid.empty() ? "" : ",") + num(g);
+  // The stage's command and its arguments.
+  const auto args = [&](const char* name, std::initializer_list<std::string> rest) {
+    std::vector<std::string> a = command(name);
+    a.insert(a.end(), rest);
+    return a;
+  };
+  // Passed only when set, so that the X-Cell's stages are the commands they always were.
+  std::vector<std::string> starts;
+  for (const char* key : {"start_pos_sigma", "start_vel_sigma"}) {
+    if (c.origin(key) == "default") continue;
+    std::string option = std::string("--") + key;
+    std::replace(option.begin() + 2, option.end(), '_', '-');
+    starts.insert(starts.end(), {option, num(c.get_double(key))});
+  }
   stage("pilot-train",
-        {"heli", "pilot", "--seconds", num(c.get_double("train_seconds")), "--seed", std::to_string(seed)});
-  stage("pilot-test", {"heli", "pilot", "--seconds", num(c.get_double("test_seconds")), "--seed",
-                       std::to_string(seed + 1)});
+        args("pilot", {"--seconds", num(c.get_double("train_seconds")), "--seed", std::to_string(seed)}));
+  stage("pilot-test",
+        args("pilot", {"--seconds", num(c.get_double("test_seconds")), "--seed", std::to_string(seed + 1)}));
   stage("identify",
-        {"heli", "identify", "--train", "pilot-train/log.csv", "--test", "pilot-test/log.csv", "--cv-points",
-         std::to_string(c.get_int("cv_points")), "--scale-grid", grid, "--coordinate-passes",
-         std::to_string(c.get_int("coordinate_passes")), "--variants=false"});
-  stage("hover", {"heli", "hover", "--model", "identify/model.json", "--scenarios",
-                  std::to_string(c.get_int("scenarios")), "--seconds", num(c.get_double("scenario_seconds")),
-                  "--optimizer.gradient.max-iterations", std::to_string(c.get_int("gradient_iterations")),
-                  "--optimizer.hill-climbing.max-iterations",
-                  std::to_string(c.get_int("hill_climbing_iterations")), "--seed", std::to_string(seed)});
-  stage("fly", {"heli", "fly", "--policy", "hover/policy.json", "--compare-pilot", "--flights",
-                std::to_string(c.get_int("flights")), "--seconds", num(c.get_double("flight_seconds")),
-                "--seed", std::to_string(seed + 2)});
+        args("identify", {"--train", "pilot-train/log.csv", "--test", "pilot-test/log.csv", "--cv-points",
+                          std::to_string(c.get_int("cv_points")), "--scale-grid", grid, "--coordinate-passes",
+                          std::to_string(c.get_int("coordinate_passes")), "--variants=false"}));
+  std::vector<std::string> hover_args = args(
+      "hover", {"--model", "identify/model.json", "--scenarios", std::to_string(c.get_int("scenarios")),
+                "--seconds", num(c.get_double("scenario_seconds")), "--optimizer.gradient.max-iterations",
+                std::to_string(c.get_int("gradient_iterations")), "--optimizer.hill-climbing.max-iterations",
+                std::to_string(c.get_int("hill_climbing_iterations")), "--seed", std::to_string(seed)});
+  hover_args.insert(hover_args.end(), starts.begin(), starts.end());
+  stage("hover", hover_args);
+  std::vector<std::string> fly_args =
+      args("fly", {"--policy", "hover/policy.json", "--compare-pilot", "--flights",
+                   std::to_string(c.get_int("flights")), "--seconds", num(c.get_double("flight_seconds")),
+                   "--seed", std::to_string(seed + 2)});
+  fly_args.insert(fly_args.end(), starts.begin(), starts.end());
+  stage("fly", fly_args);
 
   const nlohmann::json hover = read_json_file(root / "hover" / "summary.json");
   const nlohmann::json fly = read_json_file(root / "fly" / "summary.json");
-  const nlohmann::json summary = {
+  nlohmann::json summary = {
       {"hover", {{"initial_uhat", hover.at("initial_uhat")}, {"final_uhat", hover.at("final_uhat")}}},
       {"flights", fly.at("flights")},
       {"crashes", fly.at("crashes")},
@@ -779,10 +831,11 @@ void run_pipeline(RunContext& ctx) {
       {"rms_yaw_rad", fly.at("rms_yaw_rad")},
       {"pilot", fly.at("pilot")},
       {"stages", {"pilot-train", "pilot-test", "identify", "hover", "fly"}}};
+  if (vehicle) summary["vehicle"] = vehicle->name();  // only then: the X-Cell's summaries stay as they were
   dir.write_json("summary.json", summary);
   const auto& pl = fly.at("pilot");
   const std::filesystem::path final_fly = dir.final_path() / "fly";
-  ctx.out << "\n== helicopter pipeline: headline figures ==\n";
+  ctx.out << fmt::format("\n== {} pipeline: headline figures ==\n", vehicle ? vehicle->name() : "helicopter");
   ctx.out << fmt::format("hover training U-hat: {:.6g} -> {:.6g}\n", hover.at("initial_uhat").get<double>(),
                          hover.at("final_uhat").get<double>());
   ctx.out << fmt::format(
@@ -847,6 +900,10 @@ std::vector<Command> heli_commands() {
       {"identify", "Identify an aircraft's model from its flight logs (--vehicle V.toml; thesis 5.2)"},
       {"hover", "Learn to hover an identified aircraft model by PEGASUS (--vehicle V.toml; thesis 5.3)"},
       {"pilot", "Fly the vehicle's ground truth with the scripted pilot (hover, then sweeps) and log it"},
+      {"pipeline",
+       "The whole chain for a vehicle with a ground truth (--vehicle V.toml): pilot logs, identification, "
+       "hover "
+       "training, flights vs the pilot"},
       {"fly", "Fly a policy on the vehicle's ground truth (vehicles with a simulator: xcell, crazyflie2)"},
       {"control",
        "Serve a policy to an aircraft in its own layout (--vehicle V.toml): a state line in, its "

@@ -429,6 +429,7 @@ class HoverPolicyInit:
     k_climb: float
     k_yaw: float
     k_yaw_rate: float
+    integral_seconds: float
 
 class HoverPolicy:
     def __init__(self, init: HoverPolicyInit = ...) -> None: ...
@@ -507,6 +508,51 @@ class Aircraft(_HeliBatchModel):
     def true_state(self, states: ArrayLike) -> Array: ...
     def crash_reason(self, states: ArrayLike) -> list[str]: ...
 
+class QuadrotorParams:
+    _fields: Tuple[str, ...]
+    mass_kg: float
+    ixx: float
+    iyy: float
+    izz: float
+    arm_m: float
+    gravity: float
+    thrust_coeff: float
+    torque_per_thrust_m: float
+    max_motor_thrust_n: float
+    motor_tau: float
+    drag_xy: float
+    drag_z: float
+    max_tilt_command_rad: float
+    max_yaw_rate_command: float
+    attitude_gain: float
+    rate_gain: float
+    yaw_rate_gain: float
+    mean_wind_W: Array
+    gust_sigma: float
+    gust_tau: float
+    est_sigma_pos: float
+    est_sigma_vel: float
+    est_sigma_angle: float
+    est_sigma_rate: float
+    est_tau: float
+    max_tilt_rad: float
+    max_rate_rad_s: float
+    dt: float
+    substeps: int
+    start_p_W: Array
+    start_yaw: float
+    start_pos_sigma: float
+    start_vel_sigma: float
+    def is_valid(self) -> Tuple[bool, str]: ...
+
+class Quadrotor(_HeliBatchModel):
+    def __init__(self, params: QuadrotorParams = ...) -> None: ...
+    params: QuadrotorParams
+    hover_trim: dict
+    hover_rotor_speed: float
+    def true_state(self, states: ArrayLike) -> Array: ...
+    def crash_reason(self, states: ArrayLike) -> list[str]: ...
+
 class LearnedModelOptions:
     _fields: Tuple[str, ...]
     dt: float
@@ -544,13 +590,17 @@ class HoverTrainingOptions:
     then_hill_climb: bool
     seed: int
     max_start_crash_fraction: float
+    integral_seconds: float
+    integral_limit_position: float
+    integral_limit_yaw: float
     def horizon(self) -> int: ...
     def gamma_per_step(self) -> float: ...
     def refit_steps(self, model: Union[str, IdentifiedModel]) -> int: ...
     def is_valid(self) -> Tuple[bool, str]: ...
 
 class HoverProblem(Objective):
-    def __init__(self, model: Union[Aircraft, LearnedHeliModel], *, target: SetPoint = ..., reward: HoverReward = ...,
+    def __init__(self, model: Union[Aircraft, Quadrotor, LearnedHeliModel], *, target: SetPoint = ...,
+                 reward: HoverReward = ...,
                  init: HoverPolicyInit = ..., seed: int, scenarios: int, horizon: int, gamma: float = 0.9995,
                  variant: str = "plain", threads: int = 1) -> None: ...
     @staticmethod
@@ -590,8 +640,8 @@ class HeliPolicy:
     @staticmethod
     def from_json(policy: dict, source: str = "policy") -> HeliPolicy: ...
     @staticmethod
-    def hover(theta: ArrayLike, target: SetPoint = ..., trim: ArrayLike = ..., init: HoverPolicyInit = ...
-              ) -> HeliPolicy: ...
+    def hover(theta: ArrayLike, target: SetPoint = ..., trim: ArrayLike = ..., init: HoverPolicyInit = ...,
+              integral_dt: float = 0.02) -> HeliPolicy: ...
     class_name: str
     names: list[str]
     values: Array
@@ -601,7 +651,8 @@ class HeliPolicy:
     provenance: dict
     def to_json(self) -> dict: ...
     def save(self, path: str) -> None: ...
-    def controls(self, states: ArrayLike, time: Union[float, ArrayLike] = 0.0, *, threads: int = 1) -> Array: ...
+    def controls(self, states: ArrayLike, time: Union[float, ArrayLike] = 0.0, *, threads: int = 1,
+                 one_flight: bool = False) -> Array: ...
     def target_at(self, time: float) -> SetPoint: ...
 
 def heli_policy_classes() -> list[str]: ...

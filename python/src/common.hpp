@@ -97,6 +97,7 @@ void set_fields(C& c, std::initializer_list<const char*> names) {
 void bind_scenarios(py::module_& m);
 void bind_training(py::module_& m);
 void bind_heli(py::module_& m);
+void bind_quadrotor(py::module_& m);  // after bind_heli
 void bind_optimizers(py::module_& m);
 void bind_vectorized(py::module_& m);
 void bind_envs(py::module_& m);

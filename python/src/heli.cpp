@@ -8,12 +8,14 @@
 #include <memory>
 
 #include "builtin_problem.hpp"
+#include "heli_batch.hpp"
 #include "heli_policy.hpp"
 #include "pegasus/heli/aircraft.hpp"
 #include "pegasus/heli/hover_policy.hpp"
 #include "pegasus/heli/hover_task.hpp"
 #include "pegasus/heli/pilot.hpp"
 #include "pegasus/heli/policy_file.hpp"
+#include "pegasus/heli/quadrotor.hpp"
 #include "pegasus/heli/simulators.hpp"
 #include "pegasus/sysid/learned_model.hpp"
 
@@ -33,8 +35,6 @@ using heli::SetPoint;
 using sysid::IdentifiedModel;
 using sysid::LearnedHeliModel;
 using sysid::LearnedModelOptions;
-
-constexpr py::ssize_t kLogged = heli::kLoggedStates;
 
 // ---- State rows ------------------------------------------------------------------------------------------
 
@@ -131,200 +131,27 @@ LearnedHeliModel::State learned_row(const double* x, py::ssize_t row, const char
   return s;
 }
 
-// Uniforms in [0, 1] (the models map them through the normal quantile).
-void require_uniform(const Array& a, const std::string& name) {
-  const double* x = a.data();
-  for (py::ssize_t k = 0; k < a.size(); ++k)
-    if (!(x[k] >= 0.0 && x[k] <= 1.0))
-      throw py::value_error(
-          fmt::format("{}: expected uniforms in [0, 1], got {} at flat index {}", name, x[k], k));
-}
+}  // namespace
 
-Controls controls_row(const double* a) { return {a[0], a[1], a[2], a[3]}; }
-
-// ---- Batch models -----------------------------------------------------------------------------------------
-
-// The batch interface shared by the two helicopter models: rows in, rows out; the GIL is released while a
-// batch steps, on `threads` threads (each row is independent: results never depend on them).
-template <class M>
-struct HeliBatch {
-  static constexpr py::ssize_t columns() {
-    if constexpr (std::is_same_v<M, Aircraft>)
-      return kAircraftColumns;
-    else
-      return kLearnedColumns;
-  }
-  static typename M::State row(const double* x, py::ssize_t r, const char* name) {
-    if constexpr (std::is_same_v<M, Aircraft>)
-      return aircraft_row(x, r, name);
-    else
-      return learned_row(x, r, name);
-  }
-  static std::vector<typename M::State> states(const Array& s, const char* name) {
-    std::vector<typename M::State> out;
-    out.reserve(static_cast<std::size_t>(s.shape(0)));
-    for (py::ssize_t r = 0; r < s.shape(0); ++r) out.push_back(row(s.data() + r * columns(), r, name));
-    return out;
-  }
-
-  static Array initial_state(const M& model, py::object noise, std::int64_t threads) {
-    const Array p = as_matrix(noise, "noise", -1, model.initial_noise_dim());
-    require_uniform(p, "noise");
-    const auto pool = make_pool(threads);
-    Array out = matrix(p.shape(0), columns());
-    const auto d = static_cast<std::size_t>(model.initial_noise_dim());
-    const double* pp = p.data();
-    double* o = out.mutable_data();
-    {
-      py::gil_scoped_release release;
-      pool->parallel_for(static_cast<std::size_t>(p.shape(0)), [&](std::size_t r) {
-        write_row(model.initial_state(std::span<const double>(pp + r * d, d)), o + r * columns());
-      });
-    }
-    return out;
-  }
-
-  static Array step(const M& model, py::object states, py::object actions, py::object noise,
-                    std::int64_t threads) {
-    const Array s = as_matrix(states, "states", -1, columns());
-    const Array a = as_matrix(actions, "actions", s.shape(0), 4);
-    const Array p = as_matrix(noise, "noise", s.shape(0), model.noise_dim());
-    require_finite(a, "actions");
-    require_uniform(p, "noise");
-    const std::vector<typename M::State> in = HeliBatch::states(s, "states");
-    const auto pool = make_pool(threads);
-    Array out = matrix(s.shape(0), columns());
-    const auto d = static_cast<std::size_t>(model.noise_dim());
-    const double *ap = a.data(), *pp = p.data();
-    double* o = out.mutable_data();
-    {
-      py::gil_scoped_release release;
-      pool->parallel_for(in.size(), [&](std::size_t r) {
-        write_row(model.step(in[r], controls_row(ap + 4 * r), std::span<const double>(pp + r * d, d)),
-                  o + r * columns());
-      });
-    }
-    return out;
-  }
-
-  static Array observe(const M& model, py::object states) {
-    const Array s = as_matrix(states, "states", -1, columns());
-    Array out = matrix(s.shape(0), kLogged);
-    for (py::ssize_t r = 0; r < s.shape(0); ++r) {
-      const auto o = model.observe(row(s.data() + r * columns(), r, "states"));
-      std::copy(o.begin(), o.end(), out.mutable_data() + r * kLogged);
-    }
-    return out;
-  }
-
-  static py::array_t<bool> terminal(const M& model, py::object states) {
-    const Array s = as_matrix(states, "states", -1, columns());
-    py::array_t<bool> out(s.shape(0));
-    for (py::ssize_t r = 0; r < s.shape(0); ++r)
-      out.mutable_data()[r] = model.terminal(row(s.data() + r * columns(), r, "states"));
-    return out;
-  }
-
-  // Open loop (actions [n, T, 4]) or closed loop under a policy file's controller; see the docstring.
-  static py::dict simulate(const M& model, py::object initial_noise, py::object noise, py::object actions,
-                           const heli::HeliController* controller, std::int64_t threads) {
-    const Array p0 = as_matrix(initial_noise, "initial_noise", -1, model.initial_noise_dim());
-    require_uniform(p0, "initial_noise");
-    const py::ssize_t n = p0.shape(0);
-    Array p = as_array(noise, "noise");
-    if (p.ndim() != 3 || p.shape(0) != n || p.shape(2) != model.noise_dim())
-      throw py::value_error(
-          fmt::format("noise: expected a 3-D array of shape ({}, steps, {})", n, model.noise_dim()));
-    require_uniform(p, "noise");
-    const py::ssize_t steps = p.shape(1);
-    Array a;
-    if ((controller == nullptr) == actions.is_none())
-      throw py::value_error("actions, controller: expected exactly one of them");
-    if (controller == nullptr) {
-      a = as_array(actions, "actions");
-      if (a.ndim() != 3 || a.shape(0) != n || a.shape(1) != steps || a.shape(2) != 4)
-        throw py::value_error(fmt::format("actions: expected a 3-D array of shape ({}, {}, 4)", n, steps));
-      require_finite(a, "actions");
-    }
-    const auto pool = make_pool(threads);
-    Array observed({n, steps + 1, kLogged}), applied({n, steps, py::ssize_t{4}});
-    Array rewards = matrix(n, steps);
-    py::array_t<std::int64_t> crash_step(n);
-    const auto d0 = static_cast<std::size_t>(model.initial_noise_dim());
-    const auto dp = static_cast<std::size_t>(model.noise_dim());
-    const auto T = static_cast<std::size_t>(steps);
-    const double *p0p = p0.data(), *pp = p.data(), *app = controller ? nullptr : a.data();
-    double *obs = observed.mutable_data(), *act = applied.mutable_data(), *rew = rewards.mutable_data();
-    std::int64_t* crashed = crash_step.mutable_data();
-    const double dt = 0.02;
-    {
-      py::gil_scoped_release release;
-      pool->parallel_for(static_cast<std::size_t>(n), [&](std::size_t i) {
-        typename M::State s = model.initial_state(std::span<const double>(p0p + i * d0, d0));
-        crashed[i] = -1;
-        auto o = model.observe(s);
-        std::copy(o.begin(), o.end(), obs + (i * (T + 1)) * kLogged);
-        heli::ControllerMemory memory;  // the flight's
-        for (std::size_t t = 0; t < T; ++t) {
-          Controls u{};
-          if (controller != nullptr)
-            u = controller->act(o, static_cast<double>(t) * dt, memory);
-          else
-            u = controls_row(app + (i * T + t) * 4);
-          typename M::State next = model.step(s, u, std::span<const double>(pp + (i * T + t) * dp, dp));
-          rew[i * T + t] = model.reward(s, u, next);
-          if (crashed[i] < 0 && model.terminal(next)) crashed[i] = static_cast<std::int64_t>(t);
-          s = next;
-          o = model.observe(s);
-          std::copy(u.begin(), u.end(), act + (i * T + t) * 4);
-          std::copy(o.begin(), o.end(), obs + (i * (T + 1) + t + 1) * kLogged);
-        }
-      });
-    }
-    py::dict out;
-    out["observations"] = observed;
-    out["actions"] = applied;
-    out["rewards"] = rewards;
-    out["crash_step"] = crash_step;
-    return out;
-  }
-
-  template <class Class>
-  static void bind(Class& c) {
-    c.def_property_readonly("noise_dim", &M::noise_dim, "Uniforms per step.")
-        .def_property_readonly("initial_noise_dim", &M::initial_noise_dim, "Uniforms for the initial state.")
-        .def("initial_state", &HeliBatch::initial_state, py::arg("noise"), py::kw_only(),
-             py::arg("threads") = 1, "State rows [n, columns] from uniforms [n, initial_noise_dim].")
-        .def("step", &HeliBatch::step, py::arg("states"), py::arg("actions"), py::arg("noise"), py::kw_only(),
-             py::arg("threads") = 1,
-             "One 50 Hz step of every row: states [n, columns], actions [n, 4] (a1..a4, clipped to [-1, 1]), "
-             "noise [n, noise_dim] uniforms; a new array. Deterministic; threads never change the result.")
-        .def("observe", &HeliBatch::observe, py::arg("states"),
-             "What a controller sees, [n, 12] (x, y, z, roll, pitch, yaw, xdot, ydot, zdot, roll_rate, "
-             "pitch_rate, yaw_rate; world frame NED).")
-        .def("terminal", &HeliBatch::terminal, py::arg("states"), "Whether each row has crashed (absorbing).")
-        .def(
-            "simulate",
-            [](const M& model, py::object initial_noise, py::object noise, py::object actions,
-               py::object policy, std::int64_t threads) {
-              const heli::HeliController* controller = nullptr;
-              if (!policy.is_none()) {
-                if (!py::isinstance<HeliPolicyObject>(policy))
-                  throw py::value_error("policy: expected a pegasus.HeliPolicy or None");
-                controller = policy.cast<const HeliPolicyObject*>()->controller.get();
-              }
-              return simulate(model, initial_noise, noise, actions, controller, threads);
-            },
-            py::arg("initial_noise"), py::arg("noise"), py::kw_only(), py::arg("actions") = py::none(),
-            py::arg("policy") = py::none(), py::arg("threads") = 1,
-            R"doc(Flies n flights of `steps` 50 Hz steps from initial_noise [n, initial_noise_dim] with noise
-[n, steps, noise_dim] (a ScenarioSet's initial_noise() and step_noise() fit), either open loop (actions
-[n, steps, 4]) or closed loop under a policy file (policy=HeliPolicy, controller time t * 0.02 s). Returns a
-dict: observations [n, steps + 1, 12] (what a controller sees), actions [n, steps, 4] (applied), rewards
-[n, steps] (the model's own: the learned model's crash penalty), crash_step [n] (the step whose transition
-crashed, -1 for none). The GIL is released; rows run on `threads` threads, the result never depends on them.)doc");
+// The helicopter's two batch models' rows (heli_batch.hpp).
+template <>
+struct StateRows<Aircraft> {
+  static constexpr py::ssize_t kColumns = kAircraftColumns;
+  static void write(const AircraftState& s, double* x) { write_row(s, x); }
+  static AircraftState read(const double* x, py::ssize_t r, const char* name) {
+    return aircraft_row(x, r, name);
   }
 };
+template <>
+struct StateRows<LearnedHeliModel> {
+  static constexpr py::ssize_t kColumns = kLearnedColumns;
+  static void write(const LearnedHeliModel::State& s, double* x) { write_row(s, x); }
+  static LearnedHeliModel::State read(const double* x, py::ssize_t r, const char* name) {
+    return learned_row(x, r, name);
+  }
+};
+
+namespace {
 
 SetPoint set_point(double x, double y, double z, double yaw) {
   for (const auto& [v, name] : {std::pair{x, "x"}, {y, "y"}, {z, "z"}, {yaw, "yaw"}})
@@ -351,18 +178,6 @@ void def_array(py::class_<T>& c, const char* name, std::array<double, N> T::*fie
         const Array a = as_vector(v, name, static_cast<py::ssize_t>(N));
         require_finite(a, name);
         std::copy(a.data(), a.data() + N, (t.*field).begin());
-      },
-      doc);
-}
-
-template <class T>
-void def_vec3(py::class_<T>& c, const char* name, heli::Vec3 T::*field, const char* doc) {
-  c.def_property(
-      name, [field](const T& t) { return vector_array(std::span<const double>((t.*field).data(), 3)); },
-      [field, name](T& t, py::object v) {
-        const Array a = as_vector(v, name, 3);
-        require_finite(a, name);
-        t.*field = heli::Vec3(a.data()[0], a.data()[1], a.data()[2]);
       },
       doc);
 }
@@ -464,7 +279,7 @@ climbing, on the identified model (heli/hover_task.hpp).)doc");
 
   auto problem = py::class_<HoverProblemObject, Objective>(m, "HoverProblem", R"doc(
 PEGASUS U-hat (thesis §5.3) of the hover policy class (HoverPolicy(init), 34 weights) on a helicopter model, the
-ground truth (Aircraft) or the identified model (LearnedHeliModel): HoverTask adds the set point `target` and
+ground truth (Aircraft, Quadrotor) or the identified model (LearnedHeliModel): HoverTask adds the set point `target` and
 the reward (Eqs 5.9-5.10) to the model's own; m scenarios of the given seed and variant, `horizon` 50 Hz steps,
 discount gamma, evaluated on `threads` threads (the result never depends on them).
 HoverProblem.from_training_options(model, options) is the objective `pegasus heli hover` maximises.)doc");
@@ -478,7 +293,11 @@ HoverProblem.from_training_options(model, options) is the objective `pegasus hel
              if (py::isinstance<LearnedHeliModel>(model))
                return hover_problem(model.cast<const LearnedHeliModel&>(), target, reward, init, seed,
                                     scenarios, horizon, gamma, variant, threads);
-             throw py::value_error("model: expected a pegasus.Aircraft or a pegasus.LearnedHeliModel");
+             if (py::isinstance<heli::Quadrotor>(model))
+               return hover_problem(model.cast<const heli::Quadrotor&>(), target, reward, init, seed,
+                                    scenarios, horizon, gamma, variant, threads);
+             throw py::value_error(
+                 "model: expected a pegasus.Aircraft, a pegasus.Quadrotor or a pegasus.LearnedHeliModel");
            }),
            py::arg("model"), py::kw_only(), py::arg("target") = SetPoint{}, py::arg("reward") = HoverReward{},
            py::arg("init") = heli::HoverPolicyInit{}, py::arg("seed"), py::arg("scenarios"),

@@ -5,13 +5,10 @@
 #include <cmath>
 
 #include "builtin_problem.hpp"
+#include "heli_batch.hpp"
 #include "pegasus/heli/hover_policy.hpp"
 
 namespace pegasus::python {
-
-namespace {
-constexpr py::ssize_t kLogged = heli::kLoggedStates;
-}  // namespace
 
 HeliPolicyObject::HeliPolicyObject(heli::PolicyFile f, std::string from)
     : file(std::move(f)), source(std::move(from)) {

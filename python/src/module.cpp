@@ -27,4 +27,5 @@ PYBIND11_MODULE(_pegasus, m) {
   pegasus::python::bind_mdp(m);
   pegasus::python::bind_sysid(m);
   pegasus::python::bind_heli(m);
+  pegasus::python::bind_quadrotor(m);
 }

@@ -6,6 +6,7 @@
 // left to the Release run: the training that earns them takes minutes there.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -108,6 +109,42 @@ TEST_F(QuadrotorCli, LogsIdentifiesLearnsToHoverAndAFigureEightAndFliesThemOnIts
     EXPECT_LT(eight.at("rms_path_deviation_m").get<double>(),
               eight.at("pilot").at("rms_path_deviation_m").get<double>());
   }
+}
+
+// `pegasus pipeline --vehicle`: the whole chain of the helicopter's demo for any vehicle with a ground truth,
+// each stage the generic command with the vehicle file; a vehicle without a ground truth is refused before
+// anything runs.
+TEST_F(QuadrotorCli, ThePipelineRunsTheWholeChainFromTheVehicleFileAlone) {
+  const auto r = run_pegasus(fmt::format(
+      "pipeline --vehicle {} --quiet --train-seconds 60 --test-seconds 25 --cv-points 40 --scale-grid 2,4 "
+      "--coordinate-passes 0 --scenarios 2 --scenario-seconds 2 --gradient-iterations 0 "
+      "--hill-climbing-iterations 1 --flights 2 --flight-seconds 3 --start-pos-sigma 0.3 --start-vel-sigma "
+      "0.1 "
+      "--out {}",
+      vehicle_, path("chain")));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_EQ(summary("chain").at("vehicle"), "crazyflie2");
+  EXPECT_EQ(summary("chain").at("flights"), 2);
+  for (const char* stage :
+       {"chain/pilot-train", "chain/pilot-test", "chain/identify", "chain/hover", "chain/fly"})
+    EXPECT_EQ(summary(stage).at("vehicle"), "crazyflie2") << stage;
+  // The vehicle file's hover settings reach the stage: its integral term (38 weights) and starts.
+  const auto policy =
+      nlohmann::json::parse(test_support::read_text(dir_ / "chain" / "hover" / "policy.json"));
+  EXPECT_EQ(policy.at("parameters").size(), 38u);
+  const std::string hover_config = test_support::read_text(dir_ / "chain" / "hover" / "config.toml");
+  EXPECT_NE(hover_config.find("start_pos_sigma = 0.3"), std::string::npos) << hover_config;
+  EXPECT_NE(r.output.find("== crazyflie2 pipeline: headline figures =="), std::string::npos) << r.output;
+
+  const auto refused =
+      run_pegasus(fmt::format("pipeline --vehicle {}/experiments/vehicles/template.toml --quiet --out {}",
+                              PEGASUS_SOURCE_DIR, path("none")));
+  EXPECT_EQ(refused.code, 2) << refused.output;
+  EXPECT_NE(refused.output.find("template.toml: vehicle.simulator: expected a built-in ground truth"),
+            std::string::npos)
+      << refused.output;
+  EXPECT_EQ(std::count(refused.output.begin(), refused.output.end(), '\n'), 1) << refused.output;
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "none"));
 }
 
 }  // namespace

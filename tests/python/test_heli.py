@@ -93,6 +93,70 @@ def test_hover_uhat_on_the_ground_truth_is_bit_identical_for_any_threads():
     assert np.array_equal(flight["actions"][:, 10], pegasus.HoverPolicy(init).act(theta, states))
 
 
+def calm_quadrotor(wind=(0.0, 0.0, 0.0)):
+    params = pegasus.QuadrotorParams()
+    params.gust_sigma = 0.0
+    params.est_sigma_pos = params.est_sigma_vel = params.est_sigma_angle = params.est_sigma_rate = 0.0
+    params.mean_wind_W = list(wind)
+    return pegasus.Quadrotor(params)
+
+
+def test_the_quadrotor_is_a_batch_model_like_the_helicopter():
+    quad = calm_quadrotor()
+    assert len(pegasus.Quadrotor.STATE_COLUMNS) == 33 and quad.noise_dim == 15 and quad.initial_noise_dim == 21
+    assert pegasus.Quadrotor.STATE_COLUMNS[12] == "rotor_speed.1" and pegasus.Quadrotor.STATE_COLUMNS[-1] == "crash"
+    s = quad.initial_state(np.full((3, 21), 0.5))
+    assert np.array_equal(quad.observe(s)[:, :3], np.tile([0.0, 0.0, -2.0], (3, 1)))
+    assert np.all(s[:, 12:16] == quad.hover_rotor_speed)
+    trim = np.tile(quad.hover_trim["controls"], (3, 1))
+    for _ in range(50):  # one second at the trim, no wind: it stays where it is
+        s = quad.step(s, trim, np.full((3, 15), 0.5))
+    assert np.abs(quad.true_state(s)[:, :3] - [0.0, 0.0, -2.0]).max() < 1e-9
+    assert not quad.terminal(s).any() and quad.crash_reason(s) == ["none"] * 3
+    # Zero thrust (a3 = -1) falls to the ground: a crash.
+    down = quad.initial_state(np.full((1, 21), 0.5))
+    for _ in range(150):
+        down = quad.step(down, [[0.0, 0.0, -1.0, 0.0]], np.full((1, 15), 0.5))
+    assert quad.terminal(down)[0] and quad.crash_reason(down) == ["ground impact"]
+    bad = s.copy()
+    bad[0, 32] = 0.5
+    with pytest.raises(ValueError, match="states: expected a crash code in 0..[0-9]+ in column 32"):
+        quad.observe(bad)
+
+    gusty = pegasus.Quadrotor()
+    scenarios = pegasus.ScenarioSet(7, 8, 30, gusty.noise_dim, gusty.initial_noise_dim)
+    s0 = gusty.initial_state(scenarios.initial_noise())
+    a = np.clip(trim[:1] + 0.05 * np.random.default_rng(1).normal(size=(8, 4)), -1, 1)
+    one = gusty.step(s0, a, scenarios.step_noise()[:, 0], threads=1)
+    assert np.array_equal(one, gusty.step(s0, a, scenarios.step_noise()[:, 0], threads=3))
+    flight = gusty.simulate(scenarios.initial_noise(), scenarios.step_noise(),
+                            actions=np.repeat(a[:, None, :], 30, axis=1), threads=2)
+    s = s0
+    for t in range(30):
+        s = gusty.step(s, a, scenarios.step_noise()[:, t])
+        assert np.array_equal(flight["observations"][:, t + 1], gusty.observe(s))
+
+
+def test_on_the_quadrotor_the_integral_term_removes_the_steady_offset_of_a_steady_wind():
+    quad = calm_quadrotor(wind=(1.0, 0.5, 0.0))
+    scenarios = pegasus.ScenarioSet(1, 2, 3000, 15, 21)
+    offsets = []
+    for integral_seconds in (0, 5):
+        init = pegasus.HoverPolicyInit()
+        init.trim, init.integral_seconds = quad.hover_trim["controls"], integral_seconds
+        policy = pegasus.HeliPolicy.hover(pegasus.HoverPolicy(init).parameters.initial, pegasus.SetPoint(0, 0, -2, 0),
+                                          init.trim, init)
+        flight = quad.simulate(scenarios.initial_noise(), scenarios.step_noise(), policy=policy, threads=2)
+        assert np.all(flight["crash_step"] == -1)
+        offsets.append(np.linalg.norm(flight["observations"][:, -500:, :3] - [0, 0, -2], axis=2).mean())
+        # The ground truth's hover U-hat takes the quadrotor too, bit for bit on any threads.
+        problems = [pegasus.HoverProblem(quad, target=pegasus.SetPoint(0, 0, -2, 0), init=init, seed=3, scenarios=2,
+                                         horizon=100, threads=t) for t in (1, 2)]
+        theta = pegasus.HoverPolicy(init).parameters.initial
+        assert problems[0].uhat(theta) == problems[1].uhat(theta)
+    assert offsets[0] > 2.0 and offsets[1] < 0.2  # 60 s in a 1.1 m/s wind, the last 10 s
+
+
 # ---- Identified model -------------------------------------------------------------------------------------------
 
 def test_the_learned_model_from_a_path_or_an_object_steps_alike(model_json):

@@ -25,6 +25,7 @@
 
 #include "pegasus/heli/frames.hpp"
 #include "pegasus/heli/ground_truth.hpp"
+#include "pegasus/models/action_space.hpp"
 
 namespace pegasus::heli {
 
@@ -90,15 +91,25 @@ struct QuadrotorState {
 class Quadrotor final : public GroundTruth {
  public:
   using State = QuadrotorState;
+  using Action = Controls;
+  using Observation = LoggedState;
   static constexpr int kStepNoise = 3 + kLoggedStates;             // gusts, estimate errors
   static constexpr int kInitialNoise = 3 + 3 + 3 + kLoggedStates;  // position, velocity, gusts, estimate
 
   explicit Quadrotor(QuadrotorParams params = {});
   const QuadrotorParams& params() const { return params_; }
 
+  // A SimulativeModel (models/model.hpp), as the helicopter's Aircraft: tasks (HoverTask) and the Python
+  // batch models run it directly.
+  int state_dim() const { return kLoggedStates; }
+  int noise_dim() const { return kStepNoise; }
+  ActionSpace action_space() const { return ActionSpace::box({-1, -1, -1, -1}, {1, 1, 1, 1}); }
   State initial_state(std::span<const double> p0) const;
   State step(const State& s, const Controls& a, std::span<const double> p) const;
+  bool terminal(const State& s) const { return s.crash != CrashReason::kNone; }
   LoggedState observe(const State& s) const;
+  // Task rewards belong to the tasks; the bare aircraft pays nothing.
+  double reward(const State&, const Action&, const State&) const { return 0.0; }
 
   // Full thrust of the four motors, N, and the rotor speed that holds the aircraft at rest, rad/s.
   double max_thrust() const;
