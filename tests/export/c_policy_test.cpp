@@ -481,59 +481,73 @@ int main(void) {
 }
 
 // What a flight computer sees: the same state lines through `pegasus heli control` and through a program
-// built on the exported hover controller give the same controls, bit for bit.
+// built on the exported hover controller give the same controls, bit for bit. With the integral term the
+// program keeps one memory over the lines, as `heli control` serves one flight.
 TEST_F(CPolicyExport, ExportedHoverAnswersHeliControlLinesWithHeliControlsBits) {
-  const heli::PolicyFile file = hover_file(11, 1.0, {1.0, 2.0, -10.0, 0.3});
-  heli::write_policy_file(dir_ / "hover.json", file);
-  const auto out = dir_ / "c";
-  const auto exported = test_support::run_pegasus(
-      fmt::format("export --policy {} --out {}", (dir_ / "hover.json").string(), out.string()));
-  ASSERT_EQ(exported.code, 0) << exported.output;
-  std::ofstream(out / "main.c") << R"(#include "pegasus_policy.h"
+  for (const bool with_memory : {false, true}) {
+    SCOPED_TRACE(with_memory ? "with the integral term" : "without memory");
+    const heli::PolicyFile file =
+        hover_file(11, 1.0, {1.0, 2.0, -10.0, 0.3}, {.dt = with_memory ? 0.02 : 0.0, .limit_position = 3});
+    const auto policy = dir_ / (with_memory ? "integral.json" : "hover.json");
+    heli::write_policy_file(policy, file);
+    const auto out = dir_ / (with_memory ? "c-memory" : "c");
+    const auto exported =
+        test_support::run_pegasus(fmt::format("export --policy {} --out {}", policy.string(), out.string()));
+    ASSERT_EQ(exported.code, 0) << exported.output;
+    const auto summary = nlohmann::json::parse(test_support::read_text(out / "summary.json"));
+    EXPECT_EQ(summary.contains("memory_type"), with_memory);
+    if (with_memory) {
+      EXPECT_EQ(summary["reset_function"], "pegasus_policy_reset");
+    }
+    std::ofstream(out / "main.c") << fmt::format(
+        R"(#include "pegasus_policy.h"
 #include <stdio.h>
-int main(void) {
+int main(void) {{
   double o[PEGASUS_POLICY_OBSERVATION_SIZE], a[PEGASUS_POLICY_ACTION_SIZE];
-  for (;;) {
+{}  for (;;) {{
     int i;
     for (i = 0; i < PEGASUS_POLICY_OBSERVATION_SIZE; ++i)
       if (scanf(i ? " ,%lf" : "%lf", &o[i]) != 1) return 0;
-    pegasus_policy_act(o, a);
+    pegasus_policy_act({}o, a);
     printf("%a,%a,%a,%a\n", a[0], a[1], a[2], a[3]);
+  }}
+}}
+)",
+        with_memory ? "  pegasus_policy_memory m;\n  pegasus_policy_reset(&m);\n" : "",
+        with_memory ? "&m, " : "");
+    std::mt19937_64 rng(12);
+    std::string lines;
+    for (int i = 0; i < 500; ++i) {
+      const LoggedState s = random_state(rng, file.target);
+      lines += fmt::format("{}", 0.02 * i);
+      for (const double x : s) lines += fmt::format(",{}", x);
+      lines += "\n";
+    }
+    std::ofstream(dir_ / "states.csv") << lines;
+    const auto flight_computer = test_support::run_shell(
+        fmt::format("cd {} && gcc {} main.c pegasus_policy.c -o main -lm && ./main < {}", out.string(),
+                    kCFlags, (dir_ / "states.csv").string()));
+    ASSERT_EQ(flight_computer.code, 0) << flight_computer.output;
+    const auto served = test_support::run_pegasus(
+        fmt::format("heli control --policy {} < {}", policy.string(), (dir_ / "states.csv").string()));
+    ASSERT_EQ(served.code, 0) << served.output;
+    auto numbers = [](const std::string& text) {
+      std::vector<double> v;
+      std::string field;
+      for (const char ch : text + "\n")
+        if (ch == ',' || ch == '\n') {
+          if (!field.empty()) v.push_back(std::strtod(field.c_str(), nullptr));
+          field.clear();
+        } else {
+          field += ch;
+        }
+      return v;
+    };
+    const std::vector<double> c = numbers(flight_computer.output), cpp = numbers(served.output);
+    ASSERT_EQ(c.size(), 2000u);
+    ASSERT_EQ(cpp.size(), 2000u);
+    for (std::size_t i = 0; i < c.size(); ++i) ASSERT_TRUE(same_bits(c[i], cpp[i])) << "line " << i / 4 + 1;
   }
-}
-)";
-  std::mt19937_64 rng(12);
-  std::string lines;
-  for (int i = 0; i < 500; ++i) {
-    const LoggedState s = random_state(rng, file.target);
-    lines += fmt::format("{}", 0.02 * i);
-    for (const double x : s) lines += fmt::format(",{}", x);
-    lines += "\n";
-  }
-  std::ofstream(dir_ / "states.csv") << lines;
-  const auto flight_computer = test_support::run_shell(
-      fmt::format("cd {} && gcc {} main.c pegasus_policy.c -o main -lm && ./main < {}", out.string(), kCFlags,
-                  (dir_ / "states.csv").string()));
-  ASSERT_EQ(flight_computer.code, 0) << flight_computer.output;
-  const auto served = test_support::run_pegasus(fmt::format(
-      "heli control --policy {} < {}", (dir_ / "hover.json").string(), (dir_ / "states.csv").string()));
-  ASSERT_EQ(served.code, 0) << served.output;
-  auto numbers = [](const std::string& text) {
-    std::vector<double> v;
-    std::string field;
-    for (const char ch : text + "\n")
-      if (ch == ',' || ch == '\n') {
-        if (!field.empty()) v.push_back(std::strtod(field.c_str(), nullptr));
-        field.clear();
-      } else {
-        field += ch;
-      }
-    return v;
-  };
-  const std::vector<double> c = numbers(flight_computer.output), cpp = numbers(served.output);
-  ASSERT_EQ(c.size(), 2000u);
-  ASSERT_EQ(cpp.size(), 2000u);
-  for (std::size_t i = 0; i < c.size(); ++i) ASSERT_TRUE(same_bits(c[i], cpp[i])) << "line " << i / 4 + 1;
 }
 
 TEST_F(CPolicyExport, CommandRejectsBadInputWithOneLineExit2AndNoOutputDirectory) {
