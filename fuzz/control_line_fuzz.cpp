@@ -12,7 +12,9 @@ namespace {
 // A controller that answers a fixed, valid command: the protocol is under test, not a policy.
 class FixedController : public pegasus::heli::HeliController {
  public:
-  pegasus::heli::Controls act(const pegasus::heli::LoggedState&, double) const override {
+  using pegasus::heli::HeliController::act;
+  pegasus::heli::Controls act(const pegasus::heli::LoggedState&, double,
+                              pegasus::heli::ControllerMemory&) const override {
     return {0.1, -0.1, 0.2, 0};
   }
   pegasus::heli::SetPoint target(double) const override { return {}; }
