@@ -2,10 +2,8 @@
 // or throws InputError, never anything else, and the message names the file and the byte offset
 // ("NAME: byte N: ..."), with N inside the input. Both truncation policies are exercised, and every topic
 // read is checked for consistency (records whole, one timestamp per record).
-//
-//   clang++ -std=c++20 -g -O1 -fsanitize=fuzzer,address,undefined -Iinclude fuzz/ulog_fuzz.cpp
-//   src/logs/ulog.cpp \
-//       -lfmt -o ulog_fuzz && ./ulog_fuzz fuzz/corpus/ulog_fuzz
+// Built by `make fuzz` with the others (fuzz/CMakeLists.txt), and replayed over its seed corpus by `make
+// test`.
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
