@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 #include <type_traits>
+#include <vector>
 
 #include "pegasus/optimizers/run_progress.hpp"
 #include "pegasus/policies/parameter_spec.hpp"
@@ -81,7 +82,7 @@ class IterationCallbackList {
 // Gives a bound class the dataclass-like attribute `_fields` (its field names, as the C++ struct's); the
 // package adds __repr__, __eq__ and copy from it (python/pegasus/__init__.py).
 template <class C>
-void set_fields(C& c, std::initializer_list<const char*> names) {
+void set_fields(C& c, const std::vector<const char*>& names) {
   py::tuple t(names.size());
   std::size_t k = 0;
   for (const char* n : names) t[k++] = py::str(n);
@@ -92,6 +93,10 @@ void set_fields(C& c, std::initializer_list<const char*> names) {
     c.def(
         "__deepcopy__", [](const T& x, py::handle) { return T(x); }, py::arg("memo"));
   }
+}
+template <class C>
+void set_fields(C& c, std::initializer_list<const char*> names) {
+  set_fields(c, std::vector<const char*>(names));
 }
 
 void bind_scenarios(py::module_& m);

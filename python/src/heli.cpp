@@ -500,7 +500,8 @@ fed by the body-frame errors, velocities and attitude.)doc")
 The ground-truth helicopter's parameters (heli/aircraft.hpp: the X-Cell 60 of Gavrilets, Mettler and Feron, rotor,
 servos, disturbances, crash limits, integration, start), every field with the C++ name and unit.)doc");
   params.def(py::init<>());
-#define PEGASUS_PARAM(field) params.def_readwrite(#field, &AircraftParams::field)
+  std::vector<const char*> own;  // the fields this aircraft alone has, in order
+#define PEGASUS_PARAM(field) (params.def_readwrite(#field, &AircraftParams::field), own.push_back(#field))
   PEGASUS_PARAM(mass_kg);
   PEGASUS_PARAM(ixx);
   PEGASUS_PARAM(iyy);
@@ -534,79 +535,9 @@ servos, disturbances, crash limits, integration, start), every field with the C+
   PEGASUS_PARAM(fus_area_y);
   PEGASUS_PARAM(fus_area_z);
   PEGASUS_PARAM(servo_rate);
-  PEGASUS_PARAM(gust_sigma);
-  PEGASUS_PARAM(gust_tau);
-  PEGASUS_PARAM(est_sigma_pos);
-  PEGASUS_PARAM(est_sigma_vel);
-  PEGASUS_PARAM(est_sigma_angle);
-  PEGASUS_PARAM(est_sigma_rate);
-  PEGASUS_PARAM(est_tau);
-  PEGASUS_PARAM(max_tilt_rad);
-  PEGASUS_PARAM(max_rate_rad_s);
   PEGASUS_PARAM(max_thrust_coeff_over_solidity);
-  PEGASUS_PARAM(dt);
-  PEGASUS_PARAM(substeps);
-  PEGASUS_PARAM(start_yaw);
-  PEGASUS_PARAM(start_pos_sigma);
-  PEGASUS_PARAM(start_vel_sigma);
 #undef PEGASUS_PARAM
-  def_vec3(params, "mean_wind_W", &AircraftParams::mean_wind_W, "Mean wind in the world frame, m/s.");
-  def_vec3(params, "start_p_W", &AircraftParams::start_p_W, "Start position in the world frame (NED), m.");
-  params.def("is_valid", [](const AircraftParams& p) {
-    std::string error;
-    const bool ok = p.IsValid(&error);
-    return py::make_tuple(ok, error);
-  });
-  set_fields(params, {"mass_kg",
-                      "ixx",
-                      "iyy",
-                      "izz",
-                      "gravity",
-                      "air_density",
-                      "omega_mr",
-                      "radius_mr",
-                      "chord_mr",
-                      "lift_slope_mr",
-                      "profile_drag_mr",
-                      "hub_height",
-                      "hub_stiffness",
-                      "tau_flap",
-                      "a_lon",
-                      "b_lat",
-                      "cyclic_max_rad",
-                      "collective_mid_rad",
-                      "collective_span_rad",
-                      "gear_tr",
-                      "radius_tr",
-                      "chord_tr",
-                      "lift_slope_tr",
-                      "arm_tr",
-                      "height_tr",
-                      "tail_mid_rad",
-                      "tail_span_rad",
-                      "gyro_gain",
-                      "gyro_tau",
-                      "fus_area_x",
-                      "fus_area_y",
-                      "fus_area_z",
-                      "servo_rate",
-                      "mean_wind_W",
-                      "gust_sigma",
-                      "gust_tau",
-                      "est_sigma_pos",
-                      "est_sigma_vel",
-                      "est_sigma_angle",
-                      "est_sigma_rate",
-                      "est_tau",
-                      "max_tilt_rad",
-                      "max_rate_rad_s",
-                      "max_thrust_coeff_over_solidity",
-                      "dt",
-                      "substeps",
-                      "start_p_W",
-                      "start_yaw",
-                      "start_pos_sigma",
-                      "start_vel_sigma"});
+  bind_ground_truth_params(params, std::move(own));
 
   auto aircraft = py::class_<Aircraft>(m, "Aircraft", R"doc(
 The ground-truth helicopter (heli/aircraft.hpp): a nonlinear 6-DOF model of the X-Cell 60 stepped at 50 Hz, with

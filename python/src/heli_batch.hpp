@@ -37,6 +37,41 @@ void def_vec3(py::class_<T>& c, const char* name, heli::Vec3 T::*field, const ch
       doc);
 }
 
+// The fields every built-in ground truth's params share (ground_truth.hpp: disturbances, crash limits,
+// integration, start) and is_valid, bound by their C++ names after the aircraft's own fields
+// (`own_fields`, already bound); sets `_fields` to all of them.
+template <class P>
+void bind_ground_truth_params(py::class_<P>& params, std::vector<const char*> own_fields) {
+#define PEGASUS_SHARED(field) params.def_readwrite(#field, &P::field)
+  PEGASUS_SHARED(gust_sigma);
+  PEGASUS_SHARED(gust_tau);
+  PEGASUS_SHARED(est_sigma_pos);
+  PEGASUS_SHARED(est_sigma_vel);
+  PEGASUS_SHARED(est_sigma_angle);
+  PEGASUS_SHARED(est_sigma_rate);
+  PEGASUS_SHARED(est_tau);
+  PEGASUS_SHARED(max_tilt_rad);
+  PEGASUS_SHARED(max_rate_rad_s);
+  PEGASUS_SHARED(dt);
+  PEGASUS_SHARED(substeps);
+  PEGASUS_SHARED(start_yaw);
+  PEGASUS_SHARED(start_pos_sigma);
+  PEGASUS_SHARED(start_vel_sigma);
+#undef PEGASUS_SHARED
+  def_vec3(params, "mean_wind_W", &P::mean_wind_W, "Mean wind in the world frame, m/s.");
+  def_vec3(params, "start_p_W", &P::start_p_W, "Start position in the world frame (NED), m.");
+  params.def("is_valid", [](const P& p) {
+    std::string error;
+    const bool ok = p.IsValid(&error);
+    return py::make_tuple(ok, error);
+  });
+  for (const char* name : {"mean_wind_W", "gust_sigma", "gust_tau", "est_sigma_pos", "est_sigma_vel",
+                           "est_sigma_angle", "est_sigma_rate", "est_tau", "max_tilt_rad", "max_rate_rad_s",
+                           "dt", "substeps", "start_p_W", "start_yaw", "start_pos_sigma", "start_vel_sigma"})
+    own_fields.push_back(name);
+  set_fields(params, own_fields);
+}
+
 // Uniforms in [0, 1] (the models map them through the normal quantile).
 inline void require_uniform(const Array& a, const std::string& name) {
   const double* x = a.data();

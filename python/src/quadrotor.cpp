@@ -68,7 +68,8 @@ The ground-truth quadrotor's parameters (heli/quadrotor.hpp: the Crazyflie 2.0 a
 onboard angle-mode controller, disturbances, crash limits, integration, start), every field with the C++ name
 and unit.)doc");
   params.def(py::init<>());
-#define PEGASUS_PARAM(field) params.def_readwrite(#field, &QuadrotorParams::field)
+  std::vector<const char*> own;  // the fields this aircraft alone has, in order
+#define PEGASUS_PARAM(field) (params.def_readwrite(#field, &QuadrotorParams::field), own.push_back(#field))
   PEGASUS_PARAM(mass_kg);
   PEGASUS_PARAM(ixx);
   PEGASUS_PARAM(iyy);
@@ -86,61 +87,8 @@ and unit.)doc");
   PEGASUS_PARAM(attitude_gain);
   PEGASUS_PARAM(rate_gain);
   PEGASUS_PARAM(yaw_rate_gain);
-  PEGASUS_PARAM(gust_sigma);
-  PEGASUS_PARAM(gust_tau);
-  PEGASUS_PARAM(est_sigma_pos);
-  PEGASUS_PARAM(est_sigma_vel);
-  PEGASUS_PARAM(est_sigma_angle);
-  PEGASUS_PARAM(est_sigma_rate);
-  PEGASUS_PARAM(est_tau);
-  PEGASUS_PARAM(max_tilt_rad);
-  PEGASUS_PARAM(max_rate_rad_s);
-  PEGASUS_PARAM(dt);
-  PEGASUS_PARAM(substeps);
-  PEGASUS_PARAM(start_yaw);
-  PEGASUS_PARAM(start_pos_sigma);
-  PEGASUS_PARAM(start_vel_sigma);
 #undef PEGASUS_PARAM
-  def_vec3(params, "mean_wind_W", &QuadrotorParams::mean_wind_W, "Mean wind in the world frame, m/s.");
-  def_vec3(params, "start_p_W", &QuadrotorParams::start_p_W, "Start position in the world frame (NED), m.");
-  params.def("is_valid", [](const QuadrotorParams& p) {
-    std::string error;
-    const bool ok = p.IsValid(&error);
-    return py::make_tuple(ok, error);
-  });
-  set_fields(params, {"mass_kg",
-                      "ixx",
-                      "iyy",
-                      "izz",
-                      "arm_m",
-                      "gravity",
-                      "thrust_coeff",
-                      "torque_per_thrust_m",
-                      "max_motor_thrust_n",
-                      "motor_tau",
-                      "drag_xy",
-                      "drag_z",
-                      "max_tilt_command_rad",
-                      "max_yaw_rate_command",
-                      "attitude_gain",
-                      "rate_gain",
-                      "yaw_rate_gain",
-                      "mean_wind_W",
-                      "gust_sigma",
-                      "gust_tau",
-                      "est_sigma_pos",
-                      "est_sigma_vel",
-                      "est_sigma_angle",
-                      "est_sigma_rate",
-                      "est_tau",
-                      "max_tilt_rad",
-                      "max_rate_rad_s",
-                      "dt",
-                      "substeps",
-                      "start_p_W",
-                      "start_yaw",
-                      "start_pos_sigma",
-                      "start_vel_sigma"});
+  bind_ground_truth_params(params, std::move(own));
 
   auto quadrotor = py::class_<Quadrotor>(m, "Quadrotor", R"doc(
 The ground-truth quadrotor (heli/quadrotor.hpp): the Crazyflie 2.0 flown through its onboard angle-mode
