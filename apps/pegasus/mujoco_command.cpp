@@ -178,7 +178,7 @@ void declare_train(ConfigSchema& s) {
 
 // The theta of --initial-policy, checked against this run's policy; empty when none is given.
 Theta initial_theta(const ConfigSchema& c, const Problem& problem) {
-  const std::string path = c.get_string("initial_policy");
+  const std::string& path = c.get_string("initial_policy");
   if (path.empty()) return {};
   const MujocoPolicyFile start = read_mujoco_policy_file(path);
   const nlohmann::json shape = problem.policy->describe();
