@@ -394,8 +394,11 @@ void run_hover(RunContext& ctx) {
                             {"policy", "policy.json"}};
   // Only for AR(1) models, so that the summaries of white-noise models stay as they were (digests).
   if (model->noise_correlation().any()) summary["model_noise"] = "ar1";
-  if (o.lqr_start) {  // only when asked: summaries with the constants stay as they were
-    const heli::LqrStart lqr = heli::lqr_hover_init(*model, used);
+  // The LQR start as training settled it, for the summary's starting_gains and integral.
+  const std::optional<heli::LqrStart> settled_lqr =
+      o.lqr_start ? std::optional(heli::lqr_hover_init(*model, used)) : std::nullopt;
+  if (settled_lqr) {  // only when asked: summaries with the constants stay as they were
+    const heli::LqrStart& lqr = *settled_lqr;
     const heli::HoverPolicyInit& g = lqr.init;
     summary["starting_gains"] = {{"method", lqr.used ? "lqr" : "constant"},
                                  {"reason", lqr.reason},
@@ -420,7 +423,7 @@ void run_hover(RunContext& ctx) {
     nlohmann::json integral = {{"integral_seconds", o.integral_seconds},
                                {"limit_position", o.integral_limit_position},
                                {"limit_yaw", o.integral_limit_yaw}};
-    if (o.lqr_start) integral["lqr_integral_seconds"] = heli::lqr_hover_init(*model, used).integral_seconds;
+    if (settled_lqr) integral["lqr_integral_seconds"] = settled_lqr->integral_seconds;
     for (std::size_t c = 0; c < 4; ++c)
       integral["a" + std::to_string(c + 1)] = r.theta[heli::HoverPolicy::kParameters + c];
     summary["integral"] = integral;

@@ -228,9 +228,7 @@ void run(RunContext& ctx) {
     if (hover.class_name != "hover")
       throw InputError(file + ": class: expected \"hover\", got \"" + hover.class_name + "\"");
     // The manoeuvre class has no integral term: a hover policy with one starts it from its networks.
-    HoverPolicyInit spec_init = init;
-    spec_init.integral_seconds = hover_file_integrator(hover, file).on() ? 1 : 0;
-    hover_theta = checked_parameters(hover, HoverPolicy(spec_init).parameters(), file);
+    hover_theta = checked_hover_parameters(hover, file);
     if (hover_theta.size() > HoverPolicy::kParameters) {
       hover_theta.resize(HoverPolicy::kParameters);
       ctx.out << "note: " << file

@@ -335,8 +335,7 @@ int @NAME@_act(@NAME@_memory* memory, const double* observation, double* action)
 
 ClassText hover_class(const heli::PolicyFile& file, const std::string& source) {
   const heli::ErrorIntegrator integrator = heli::hover_file_integrator(file, source);
-  const heli::HoverPolicy spec_only(heli::HoverPolicyInit{.integral_seconds = integrator.on() ? 1.0 : 0.0});
-  const Theta theta = heli::checked_parameters(file, spec_only.parameters(), source);
+  const Theta theta = heli::checked_hover_parameters(file, source);
   ClassText t = heli_class(file, theta);
   t.class_name = "hover";
   t.has_memory = integrator.on();

@@ -198,11 +198,16 @@ ErrorIntegrator hover_file_integrator(const PolicyFile& policy, const std::strin
           .limit_yaw = positive("limit_yaw", "rad s")};
 }
 
+Theta checked_hover_parameters(const PolicyFile& policy, const std::string& file) {
+  // Only the names and bounds matter here, which the starting gains do not change.
+  const HoverPolicy spec_only(
+      HoverPolicyInit{.integral_seconds = hover_file_integrator(policy, file).on() ? 1.0 : 0.0});
+  return checked_parameters(policy, spec_only.parameters(), file);
+}
+
 std::unique_ptr<HeliController> make_hover_controller(const PolicyFile& policy, const std::string& file) {
-  const ErrorIntegrator integrator = hover_file_integrator(policy, file);
-  const HoverPolicy spec_only(HoverPolicyInit{.integral_seconds = integrator.on() ? 1.0 : 0.0});
-  return std::make_unique<HoverController>(checked_parameters(policy, spec_only.parameters(), file),
-                                           policy.target, integrator);
+  return std::make_unique<HoverController>(checked_hover_parameters(policy, file), policy.target,
+                                           hover_file_integrator(policy, file));
 }
 
 PolicyFile hover_policy_file(const HoverPolicy& policy, std::span<const double> theta, const SetPoint& target,

@@ -108,5 +108,8 @@ PolicyFile hover_policy_file(const HoverPolicy& policy, std::span<const double> 
 // The integral term's integrator of a hover file's options (off without "integral"); InputError naming
 // `file` and the field.
 ErrorIntegrator hover_file_integrator(const PolicyFile& policy, const std::string& file);
+// A hover file's weights checked against the class: the 34, and a1.int..a4.int when its options have the
+// integral term's integrator. InputError naming `file` and the field.
+Theta checked_hover_parameters(const PolicyFile& policy, const std::string& file);
 
 }  // namespace pegasus::heli
