@@ -13,10 +13,12 @@
 #include <stdexcept>
 #include <system_error>
 #include <thread>
+#include <variant>
 
 #include "pegasus/core/environment_error.hpp"
 #include "pegasus/core/error.hpp"
 #include "pegasus/core/untrusted_text.hpp"
+#include "pegasus/io/json_csv.hpp"
 #include "pegasus/parallel/mpi.hpp"
 #include "pegasus/parallel/thread_limits.hpp"
 #include "pegasus/report/report.hpp"
@@ -180,52 +182,62 @@ void leave_after_saying(bool running) {
   if (!running) mpi::barrier();
 }
 
+// Opens the run directory (when `dir` is given), runs `command` with the resolved and validated `schema`,
+// and writes run.json and the report before committing. `run_dir` stays with the caller for its error
+// message; `running` turns true once the set-up is past. A stage of another command (run_stage) leaves the
+// MPI stop message to the command that runs it.
+int run_command(const Command& command, const ConfigSchema& schema, const std::string& dir,
+                RunDirectoryOptions opening, bool quiet, bool stage, const std::vector<std::string>& argv,
+                std::optional<RunDirectory>& run_dir, bool& running, std::ostream& out, std::ostream& err) {
+  const auto start = std::chrono::steady_clock::now();
+  if (!dir.empty()) {
+    run_dir.emplace(RunDirectory::open(dir, schema, opening));
+    if (!stage)
+      mpi::set_stop_message(
+          fmt::format("pegasus: error: the MPI job was stopped (a rank failed or the job was "
+                      "killed); partial results kept in {}: rerun with --resume to continue",
+                      run_dir->path().string()));
+  } else if (command.out == OutDir::kRequired) {
+    throw InputError("--out: expected a directory name, got an empty value");
+  }
+  running = true;
+  RunContext context(schema, quiet, run_dir ? &*run_dir : nullptr, out);
+  try {
+    command.run(context);
+  } catch (const InputError&) {
+    if (run_dir) run_dir->abandon();  // bad input leaves nothing behind (a resumed DIR.partial is kept)
+    throw;
+  }
+  out.flush();
+  if (run_dir) {
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    // Provenance that is not a result (wall time varies), kept apart from summary.json.
+    nlohmann::json provenance = {
+        {"command", command.path},       {"version", kVersion},        {"argv", argv},
+        {"resumed", run_dir->resumed()}, {"threads", context.threads}, {"ranks", mpi::size()},
+        {"wall_time_s", wall},           {"timings", context.timings}};
+    if (mpi::size() > 1) {
+      const mpi::CommStats comm = mpi::comm_stats();  // rank 0's
+      provenance["allgathers"] = comm.calls;
+      provenance["allgather_seconds"] = comm.seconds;
+    }
+    run_dir->write_json("run.json", provenance);
+    // The run's HTML report (report/report.hpp), by rank 0 alone; a failure costs only the report (one
+    // note).
+    if (mpi::is_root()) report::write_report_or_note(run_dir->path(), err);
+    run_dir->commit();
+  }
+  return context.exit_code;
+}
+
 // Runs the command of `leaf` after parsing succeeded.
 int execute(Leaf& leaf, std::vector<std::string> argv, std::ostream& out, std::ostream& err) {
   std::optional<RunDirectory> run_dir;
   bool running = false;  // past the set-up: with several ranks, a failure ends the whole job
   try {
-    ConfigSchema& schema = leaf.schema;
     set_up_config(leaf);
-
-    const auto start = std::chrono::steady_clock::now();
-    if (!leaf.out.empty()) {
-      run_dir.emplace(RunDirectory::open(leaf.out, schema, {.force = leaf.force, .resume = leaf.resume}));
-      mpi::set_stop_message(
-          fmt::format("pegasus: error: the MPI job was stopped (a rank failed or the job was "
-                      "killed); partial results kept in {}: rerun with --resume to continue",
-                      run_dir->path().string()));
-    } else if (leaf.command->out == OutDir::kRequired) {
-      throw InputError("--out: expected a directory name, got an empty value");
-    }
-    running = true;
-    RunContext context(schema, leaf.quiet, run_dir ? &*run_dir : nullptr, out);
-    try {
-      leaf.command->run(context);
-    } catch (const InputError&) {
-      if (run_dir) run_dir->abandon();  // bad input leaves nothing behind (a resumed DIR.partial is kept)
-      throw;
-    }
-    out.flush();
-    if (run_dir) {
-      const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      // Provenance that is not a result (wall time varies), kept apart from summary.json.
-      nlohmann::json provenance = {
-          {"command", leaf.command->path}, {"version", kVersion},        {"argv", argv},
-          {"resumed", run_dir->resumed()}, {"threads", context.threads}, {"ranks", mpi::size()},
-          {"wall_time_s", wall},           {"timings", context.timings}};
-      if (mpi::size() > 1) {
-        const mpi::CommStats comm = mpi::comm_stats();  // rank 0's
-        provenance["allgathers"] = comm.calls;
-        provenance["allgather_seconds"] = comm.seconds;
-      }
-      run_dir->write_json("run.json", provenance);
-      // The run's HTML report (report/report.hpp), by rank 0 alone; a failure costs only the report (one
-      // note).
-      if (mpi::is_root()) report::write_report_or_note(run_dir->path(), err);
-      run_dir->commit();
-    }
-    return context.exit_code;
+    return run_command(*leaf.command, leaf.schema, leaf.out, {.force = leaf.force, .resume = leaf.resume},
+                       leaf.quiet, /*stage=*/false, argv, run_dir, running, out, err);
   } catch (const InputError& e) {
     err << "pegasus: " << one_line(e.what()) << std::endl;
     leave_after_saying(running);
@@ -297,6 +309,61 @@ std::string precheck(CLI::App& app, int argc, const char* const* argv) {
 }
 
 }  // namespace
+
+ConfigSchema command_schema(const Command& command) {
+  ConfigSchema schema;
+  if (command.declare) command.declare(schema);
+  add_common_fields(schema);
+  return schema;
+}
+
+std::vector<std::string> command_line_of(const Command& command, const ConfigSchema& config,
+                                         const std::string& out) {
+  std::vector<std::string> line = {"pegasus"};
+  for (std::size_t from = 0; from <= command.path.size();) {
+    const std::size_t space = std::min(command.path.find(' ', from), command.path.size());
+    line.push_back(command.path.substr(from, space - from));
+    from = space + 1;
+  }
+  struct Text {
+    std::string operator()(std::int64_t x) const { return std::to_string(x); }
+    std::string operator()(double x) const { return format_double(x); }
+    std::string operator()(bool x) const { return x ? "true" : "false"; }
+    std::string operator()(const std::string& x) const { return x; }
+    std::string operator()(const std::vector<std::int64_t>& xs) const {
+      return fmt::format("{}", fmt::join(xs, ","));
+    }
+    std::string operator()(const std::vector<double>& xs) const {
+      std::string text;
+      for (double x : xs) text += (text.empty() ? "" : ",") + format_double(x);
+      return text;
+    }
+  };
+  for (const ConfigField& f : config.fields()) {
+    if (config.origin(f.name()) == "default") continue;
+    const FieldValue& value = config.value(f.name());
+    const std::string option = ConfigSchema::option_name(f.name());
+    if (f.type() == FieldType::kBool)
+      line.push_back(std::get<bool>(value) ? option : option + "=false");
+    else
+      line.insert(line.end(), {option, std::visit(Text{}, value)});
+  }
+  if (!out.empty()) line.insert(line.end(), {"--out", out});
+  return line;
+}
+
+void run_stage(const Command& command, ConfigSchema config, const std::string& out_dir,
+               const StageOptions& options, std::ostream& out, std::ostream& err) {
+  std::vector<std::string> argv = command_line_of(command, config, out_dir);  // what the caller set
+  argv.emplace_back("--resume");
+  if (options.quiet) argv.emplace_back("--quiet");
+  if (command.resolve) command.resolve(config);
+  config.validate();
+  std::optional<RunDirectory> run_dir;
+  bool running = false;
+  run_command(command, config, out_dir, {.resume = true}, options.quiet, /*stage=*/true, argv, run_dir,
+              running, out, err);
+}
 
 int run_cli(int argc, const char* const* argv, const std::vector<CommandGroup>& groups,
             const std::vector<Command>& commands, std::ostream& out, std::ostream& err) {

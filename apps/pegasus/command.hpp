@@ -102,6 +102,26 @@ struct CommandGroup {
 std::vector<CommandGroup> command_groups();
 std::vector<Command> commands();
 
+// A fresh schema of `command`: its fields and the common ones (seed, threads), at their defaults.
+ConfigSchema command_schema(const Command& command);
+
+// The command line that gives `config` (every field not at its default; a value as its option takes it),
+// with `--out OUT` when OUT is not empty: what run.json records and a composed command prints.
+std::vector<std::string> command_line_of(const Command& command, const ConfigSchema& config,
+                                         const std::string& out = {});
+
+struct StageOptions {
+  bool quiet = false;  // no progress bar
+};
+
+// Runs `command` in this process with `config` (a command_schema whose fields the caller set with their
+// types) into the run directory `out_dir`, exactly as `pegasus PATH ... --out OUT_DIR --resume` would: the
+// command's resolve step, validation, the run, run.json, the report and the commit. For commands made of
+// others (heli pipeline). Throws what the command throws: InputError leaves no directory behind, any other
+// failure keeps OUT_DIR.partial for a rerun to continue.
+void run_stage(const Command& command, ConfigSchema config, const std::string& out_dir,
+               const StageOptions& options, std::ostream& out, std::ostream& err);
+
 // Parses argv, runs the chosen command and returns the process exit code. `err` gets the one-line errors.
 int run_cli(int argc, const char* const* argv, const std::vector<CommandGroup>& groups,
             const std::vector<Command>& commands, std::ostream& out, std::ostream& err);

@@ -4,19 +4,17 @@
 // (thesis §5.1-5.2), PEGASUS hover training on the identified model and flights of the result on the ground
 // truth (§5.3), a line-by-line controller server, and the whole chain in one command (the demo).
 #include <fmt/format.h>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
+#include <iostream>
 #include <limits>
 #include <map>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "experiment_commands.hpp"
@@ -39,8 +37,6 @@
 #include "pegasus/runs/progress.hpp"
 #include "pegasus/sysid/flight_log.hpp"
 #include "pegasus/sysid/identify.hpp"
-
-extern char** environ;
 
 namespace pegasus::cli {
 
@@ -704,28 +700,27 @@ void declare_pipeline(ConfigSchema& s) {
   s.add_double("flight_seconds", 60, "flight length on the ground truth, s").greater_than(0).max(36000);
 }
 
-// Runs `pegasus ARGS` as a child process in the folder `cwd` (so that every stage is exactly the command a
-// user would type there, and its files name each other by paths relative to the pipeline's run directory,
-// which moves when the run is committed); its output goes to ours. Returns the exit code.
-int run_stage(const std::vector<std::string>& args, const std::filesystem::path& cwd) {
-  std::vector<std::string> argv = {"pegasus"};
-  argv.insert(argv.end(), args.begin(), args.end());
-  std::vector<char*> raw;
-  for (auto& a : argv) raw.push_back(a.data());
-  raw.push_back(nullptr);
-  std::fflush(stdout);
-  std::fflush(stderr);
-  pid_t pid = 0;
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addchdir_np(&actions, cwd.c_str());
-  const int spawned = posix_spawn(&pid, "/proc/self/exe", &actions, nullptr, raw.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  if (spawned != 0) throw std::runtime_error("pipeline: cannot start pegasus (/proc/self/exe)");
-  int status = 0;
-  if (waitpid(pid, &status, 0) != pid) throw std::runtime_error("pipeline: lost a stage's process");
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 1;
-}
+// The table's command at `path` (heli_commands, below).
+const Command& heli_command(const std::string& path);
+
+// While alive, the process works in `dir`: the pipeline's stages run in its run directory, so that their
+// files name each other by paths relative to it (it moves when the run is committed), exactly as a user
+// typing the stages there would. Nothing else runs meanwhile: the stages' thread pools open no paths.
+class WorkingDirectory {
+ public:
+  explicit WorkingDirectory(const std::filesystem::path& dir) : previous_(std::filesystem::current_path()) {
+    std::filesystem::current_path(dir);
+  }
+  WorkingDirectory(const WorkingDirectory&) = delete;
+  WorkingDirectory& operator=(const WorkingDirectory&) = delete;
+  ~WorkingDirectory() {
+    std::error_code ignored;  // the folder the process came from is gone: nothing better to do
+    std::filesystem::current_path(previous_, ignored);
+  }
+
+ private:
+  std::filesystem::path previous_;
+};
 
 void run_pipeline(RunContext& ctx) {
   const auto& c = ctx.config;
@@ -744,38 +739,6 @@ void run_pipeline(RunContext& ctx) {
           "its own logs and serve the policy with `pegasus control`",
           vehicle_file));
   }
-  const auto command = [&](const char* name) {
-    return vehicle ? std::vector<std::string>{name} : std::vector<std::string>{"heli", name};
-  };
-  const auto with_vehicle = [&](std::vector<std::string> args) {
-    if (vehicle) args.insert(args.end(), {"--vehicle", std::filesystem::absolute(vehicle_file).string()});
-    return args;
-  };
-  RunDirectory& dir = ctx.run_directory();
-  const std::filesystem::path root = dir.path();
-  const std::string threads = std::to_string(ctx.threads);
-  auto num = [](double x) { return format_double(x); };
-  auto stage = [&](const std::string& name, std::vector<std::string> args) {
-    args = with_vehicle(std::move(args));
-    const std::filesystem::path out = root / name;
-    if (std::filesystem::exists(out / "summary.json")) {
-      ctx.out << fmt::format("[{}] done before, kept: {}\n", name, (dir.final_path() / name).string());
-      return;
-    }
-    args.insert(args.end(), {"--out", name, "--threads", threads, "--resume"});
-    if (ctx.quiet) args.push_back("--quiet");
-    std::string shown = "pegasus";
-    for (const auto& a : args) shown += " " + a;
-    ctx.out << fmt::format("[{}] {}\n", name, shown);
-    ctx.out.flush();
-    const auto start = std::chrono::steady_clock::now();
-    const int code = run_stage(args, root);
-    if (code == 2) throw InputError(fmt::format("pipeline stage {}: bad input (its message is above)", name));
-    if (code != 0)
-      throw std::runtime_error(fmt::format("pipeline stage {} failed with exit code {}", name, code));
-    ctx.out << fmt::format("[{}] {:.1f} s\n", name,
-                           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-  };
   const std::uint64_t seed = ctx.seed;
   // The stages take seed, seed + 1 and seed + 2: all must be valid seeds before the first stage runs.
   constexpr std::uint64_t kLargestSeed = std::numeric_limits<std::int64_t>::max() - 2;
@@ -785,43 +748,86 @@ void run_pipeline(RunContext& ctx) {
                     "seed + 2), got {}",
                     kLargestSeed, seed));
   }
-  std::string grid;
-  for (double g : c.get_double_list("scale_grid")) grid += (grid.empty() ? "" : ",") + num(g);
-  // The stage's command and its arguments.
-  const auto args = [&](const char* name, std::initializer_list<std::string> rest) {
-    std::vector<std::string> a = command(name);
-    a.insert(a.end(), rest);
-    return a;
+  RunDirectory& dir = ctx.run_directory();
+  const std::filesystem::path root = std::filesystem::absolute(dir.path());
+  const std::string absolute_vehicle =
+      vehicle ? std::filesystem::absolute(vehicle_file).string() : std::string();
+
+  // A stage's settings: its command's own fields, each set with its type from the pipeline's field of the
+  // same meaning (named in a stage's error about it; the pipeline itself for the files the stages pass on),
+  // the vehicle file and the common ones.
+  struct Stage {
+    const Command* command;
+    ConfigSchema config;
+    void set(const std::string& field, FieldValue value, const std::string& from = {}) {
+      config.set(field, std::move(value), from.empty() ? "heli pipeline" : ConfigSchema::option_name(from));
+    }
   };
-  // Passed only when set, so that the X-Cell's stages are the commands they always were.
-  std::vector<std::string> starts;
-  for (const char* key : {"start_pos_sigma", "start_vel_sigma"}) {
-    if (c.origin(key) == "default") continue;
-    std::string option = std::string("--") + key;
-    std::replace(option.begin() + 2, option.end(), '_', '-');
-    starts.insert(starts.end(), {option, num(c.get_double(key))});
+  const auto stage_of = [&](const char* name, std::uint64_t stage_seed) {
+    const Command& command = heli_command(vehicle ? name : std::string("heli ") + name);
+    Stage stage{&command, command_schema(command)};
+    stage.set("seed", static_cast<std::int64_t>(stage_seed), "seed");
+    stage.set("threads", std::int64_t{ctx.threads}, "threads");
+    if (vehicle) stage.set("vehicle", absolute_vehicle, "vehicle");
+    return stage;
+  };
+  const auto run = [&](const std::string& name, const Stage& stage) {
+    if (std::filesystem::exists(root / name / "summary.json")) {
+      ctx.out << fmt::format("[{}] done before, kept: {}\n", name, (dir.final_path() / name).string());
+      return;
+    }
+    ctx.out << fmt::format("[{}] {}\n", name,
+                           fmt::join(command_line_of(*stage.command, stage.config, name), " "));
+    ctx.out.flush();
+    const auto start = std::chrono::steady_clock::now();
+    {
+      const WorkingDirectory in_run_directory(root);
+      try {
+        run_stage(*stage.command, stage.config, name, {.quiet = ctx.quiet}, ctx.out, std::cerr);
+      } catch (const InputError& e) {
+        throw InputError(fmt::format("pipeline stage {}: {}", name, e.what()));
+      }
+    }
+    ctx.out << fmt::format("[{}] {:.1f} s\n", name,
+                           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  };
+
+  for (const auto& [name, seconds, stage_seed] : {std::tuple{"pilot-train", "train_seconds", seed},
+                                                  std::tuple{"pilot-test", "test_seconds", seed + 1}}) {
+    Stage pilot = stage_of("pilot", stage_seed);
+    pilot.set("seconds", c.get_double(seconds), seconds);
+    run(name, pilot);
   }
-  stage("pilot-train",
-        args("pilot", {"--seconds", num(c.get_double("train_seconds")), "--seed", std::to_string(seed)}));
-  stage("pilot-test",
-        args("pilot", {"--seconds", num(c.get_double("test_seconds")), "--seed", std::to_string(seed + 1)}));
-  stage("identify",
-        args("identify", {"--train", "pilot-train/log.csv", "--test", "pilot-test/log.csv", "--cv-points",
-                          std::to_string(c.get_int("cv_points")), "--scale-grid", grid, "--coordinate-passes",
-                          std::to_string(c.get_int("coordinate_passes")), "--variants=false"}));
-  std::vector<std::string> hover_args = args(
-      "hover", {"--model", "identify/model.json", "--scenarios", std::to_string(c.get_int("scenarios")),
-                "--seconds", num(c.get_double("scenario_seconds")), "--optimizer.gradient.max-iterations",
-                std::to_string(c.get_int("gradient_iterations")), "--optimizer.hill-climbing.max-iterations",
-                std::to_string(c.get_int("hill_climbing_iterations")), "--seed", std::to_string(seed)});
-  hover_args.insert(hover_args.end(), starts.begin(), starts.end());
-  stage("hover", hover_args);
-  std::vector<std::string> fly_args =
-      args("fly", {"--policy", "hover/policy.json", "--compare-pilot", "--flights",
-                   std::to_string(c.get_int("flights")), "--seconds", num(c.get_double("flight_seconds")),
-                   "--seed", std::to_string(seed + 2)});
-  fly_args.insert(fly_args.end(), starts.begin(), starts.end());
-  stage("fly", fly_args);
+  Stage identify_stage = stage_of("identify", seed);
+  identify_stage.set("train", std::string("pilot-train/log.csv"));
+  identify_stage.set("test", std::string("pilot-test/log.csv"));
+  for (const char* field : {"cv_points", "coordinate_passes"})
+    identify_stage.set(field, c.get_int(field), field);
+  identify_stage.set("scale_grid", c.get_double_list("scale_grid"), "scale_grid");
+  identify_stage.set("variants", false);
+  run("identify", identify_stage);
+  // The start sigmas only when set, so that the X-Cell's stages are the commands they always were.
+  const auto with_starts = [&](Stage& stage) {
+    for (const char* field : {"start_pos_sigma", "start_vel_sigma"})
+      if (c.origin(field) != "default") stage.set(field, c.get_double(field), field);
+  };
+  Stage hover_stage = stage_of("hover", seed);
+  hover_stage.set("model", std::string("identify/model.json"));
+  hover_stage.set("scenarios", c.get_int("scenarios"), "scenarios");
+  hover_stage.set("seconds", c.get_double("scenario_seconds"), "scenario_seconds");
+  hover_stage.set("optimizer.gradient.max_iterations", c.get_int("gradient_iterations"),
+                  "gradient_iterations");
+  hover_stage.set("optimizer.hill_climbing.max_iterations", c.get_int("hill_climbing_iterations"),
+                  "hill_climbing_iterations");
+  with_starts(hover_stage);
+  run("hover", hover_stage);
+  Stage fly_stage = stage_of("fly", seed + 2);
+  fly_stage.set("policy", std::string("hover/policy.json"));
+  fly_stage.set("compare_pilot", true);
+  fly_stage.set("flights", c.get_int("flights"), "flights");
+  fly_stage.set("seconds", c.get_double("flight_seconds"), "flight_seconds");
+  with_starts(fly_stage);
+  run("fly", fly_stage);
 
   const nlohmann::json hover = read_json_file(root / "hover" / "summary.json");
   const nlohmann::json fly = read_json_file(root / "fly" / "summary.json");
@@ -844,9 +850,9 @@ void run_pipeline(RunContext& ctx) {
   ctx.out << fmt::format(
       "learned policy on the ground truth: {} flights of {} s, {} crashes, RMS position {:.3f} m, velocity "
       "{:.3f} m/s, yaw {:.4f} rad\n",
-      fly.at("flights").get<int>(), num(c.get_double("flight_seconds")), fly.at("crashes").get<int>(),
-      fly.at("rms_position_m").get<double>(), fly.at("rms_velocity_mps").get<double>(),
-      fly.at("rms_yaw_rad").get<double>());
+      fly.at("flights").get<int>(), format_double(c.get_double("flight_seconds")),
+      fly.at("crashes").get<int>(), fly.at("rms_position_m").get<double>(),
+      fly.at("rms_velocity_mps").get<double>(), fly.at("rms_yaw_rad").get<double>());
   ctx.out << fmt::format(
       "scripted pilot, same starts and gusts:       {} crashes, RMS position {:.3f} m, velocity {:.3f} m/s, "
       "yaw {:.4f} rad\n",
@@ -922,5 +928,14 @@ std::vector<Command> heli_commands() {
   }
   return commands;
 }
+
+namespace {
+const Command& heli_command(const std::string& path) {
+  static const std::vector<Command> table = heli_commands();
+  const auto it = std::find_if(table.begin(), table.end(), [&](const Command& c) { return c.path == path; });
+  if (it == table.end()) throw std::logic_error("no command '" + path + "'");
+  return *it;
+}
+}  // namespace
 
 }  // namespace pegasus::cli

@@ -47,9 +47,10 @@ class HoverCli : public pegasus::test_support::TempDirTest {
   std::string out(const std::string& name) const { return " --out " + (dir_ / name).string(); }
   static std::string tiny() {
     const bool asan = std::getenv("PEGASUS_SANITIZED") != nullptr;
-    return std::string(" --quiet --scenarios 2 --seconds ") + (asan ? "1" : "3") +
-           " --optimizer.gradient.max-iterations 1 --optimizer.hill-climbing.max-iterations 2 "
-           "--optimizer.hill-climbing.proposals-per-iteration 2";
+    return fmt::format(
+        " --quiet --scenarios 2 --seconds {} --optimizer.gradient.max-iterations 1 "
+        "--optimizer.hill-climbing.max-iterations 2 --optimizer.hill-climbing.proposals-per-iteration 2",
+        asan ? 1 : 3);
   }
   // A trained policy file in dir_/hover.
   std::string train() {
@@ -385,6 +386,32 @@ TEST_F(HoverCli, PipelineRunsEveryStageAndPrintsTheHeadline) {
   EXPECT_NE(r.output.find("headline figures"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find((dir_ / "demo" / "fly" / "position_x.svg").string()), std::string::npos)
       << r.output;
+  // Each stage is the command a user would type in the run directory, and its run.json says which.
+  const auto hover_run = json_file(dir_ / "demo" / "hover" / "run.json");
+  EXPECT_EQ(hover_run.at("command"), "heli hover");
+  const std::vector<std::string> argv = hover_run.at("argv");
+  std::string line;
+  for (const auto& word : argv) line += (line.empty() ? "" : " ") + word;
+  EXPECT_TRUE(
+      line.starts_with("pegasus heli hover --model identify/model.json --scenarios 2 --seconds 2 "
+                       "--optimizer.gradient.max-iterations 0 "
+                       "--optimizer.hill-climbing.max-iterations 1 --seed 1 "))
+      << line;
+  const std::string flights = read_text(dir_ / "demo" / "fly" / "summary.json");
+
+  // Killed after the hover stage: the rerun with --resume keeps the finished stages and gives the same
+  // flights.
+  fs::rename(dir_ / "demo", dir_ / "killed.partial");
+  for (const char* gone : {"fly", "summary.json", "run.json", "report.html"})
+    fs::remove_all(dir_ / "killed.partial" / gone);
+  const auto resumed = run_pegasus(args + out("killed") + " --resume");
+  ASSERT_EQ(resumed.code, 0) << resumed.output;
+  for (const char* stage : {"pilot-train", "pilot-test", "identify", "hover"})
+    EXPECT_NE(resumed.output.find(fmt::format("[{}] done before, kept", stage)), std::string::npos)
+        << stage << "\n"
+        << resumed.output;
+  EXPECT_EQ(read_text(dir_ / "killed" / "fly" / "summary.json"), flights);
+  EXPECT_EQ(json_file(dir_ / "killed" / "summary.json"), s);
 }
 
 }  // namespace
