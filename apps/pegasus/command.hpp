@@ -32,6 +32,7 @@
 #include "pegasus/runs/config.hpp"
 #include "pegasus/runs/progress.hpp"
 #include "pegasus/runs/run_directory.hpp"
+#include "pegasus/runs/run_sink.hpp"
 #include "pegasus/version.hpp"
 
 namespace pegasus::cli {
@@ -71,6 +72,8 @@ class RunContext {
   Progress progress(std::string label, std::uint64_t total) const;
   // A pool of `threads` threads, made on first use.
   ThreadPool& pool();
+  // Where a library experiment writes (runs/run_sink.hpp): the run directory, out, timings and quiet.
+  RunSink sink() { return RunSink{.dir = run_directory(), .out = out, .timings = timings, .quiet = quiet}; }
 
  private:
   RunDirectory* run_dir_;

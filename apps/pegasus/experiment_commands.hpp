@@ -2,6 +2,7 @@
 // The experiment commands, one function each; commands.cpp puts them in the command table.
 #include "command.hpp"
 #include "pegasus/logs/vehicle.hpp"
+#include "pegasus/runs/heli_runs.hpp"
 #include "pegasus/sysid/identify.hpp"
 
 namespace pegasus::cli {
@@ -29,15 +30,10 @@ void resolve_identify(ConfigSchema& s);
 void run_identify(RunContext& ctx);
 
 // Vehicle files (logs/vehicle.hpp) for the helicopter commands (heli_command.cpp): the `vehicle` option, the
-// vehicle it names (the X-Cell 60 when empty), a field set from the vehicle unless the user set it, and the
-// file's bytes kept in the run directory.
+// aircraft it names (the X-Cell 60 when empty), and a field set from the vehicle unless the user set it.
 void declare_vehicle(ConfigSchema& s);
-logs::Vehicle vehicle_of(const ConfigSchema& c);
+heli::VehicleChoice aircraft_of(const ConfigSchema& c);
 void from_vehicle(ConfigSchema& s, const logs::Vehicle& v, const std::string& field, FieldValue value,
                   const std::string& key);
-void keep_vehicle_file(const ConfigSchema& c, RunDirectory& dir);
-// The identified model `--model` names; one identified from another vehicle's logs than `v` is bad
-// input.
-std::shared_ptr<const sysid::IdentifiedModel> model_argument(const ConfigSchema& c, const logs::Vehicle& v);
 
 }  // namespace pegasus::cli

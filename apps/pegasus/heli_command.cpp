@@ -48,53 +48,14 @@ void declare_vehicle(ConfigSchema& s) {
                "channels, rates and hover settings; empty: the X-Cell 60 in the project's own log layout");
 }
 
-logs::Vehicle vehicle_of(const ConfigSchema& c) {
-  const std::string& file = c.get_string("vehicle");
-  return file.empty() ? logs::xcell_vehicle() : logs::read_vehicle(file);
+heli::VehicleChoice aircraft_of(const ConfigSchema& c) {
+  return heli::VehicleChoice::read(c.get_string("vehicle"));
 }
 
 // Sets `field` from the vehicle file unless the user set it (a config file or an option wins).
 void from_vehicle(ConfigSchema& s, const logs::Vehicle& v, const std::string& field, FieldValue value,
                   const std::string& key) {
   if (s.origin(field) == "default") s.set(field, std::move(value), fmt::format("{}: {}", v.log.file, key));
-}
-
-namespace {
-// The vehicle's ground truth with the command's settings; a vehicle without one, or settings it rejects,
-// is bad input.
-std::unique_ptr<heli::GroundTruth> ground_truth_of(const logs::Vehicle& v,
-                                                   const heli::GroundTruthSettings& s) {
-  if (v.simulator == "none")
-    throw InputError(
-        fmt::format("{}: vehicle.simulator: 'none': the project has no ground truth of {} to fly; serve its "
-                    "controller to "
-                    "the aircraft or its simulator with `pegasus control --vehicle {} --policy P.json`",
-                    v.log.file, v.name(), v.log.file));
-  try {
-    return heli::make_ground_truth(v.simulator, s);
-  } catch (const std::invalid_argument& e) {
-    throw InputError(e.what());
-  }
-}
-}  // namespace
-
-std::shared_ptr<const sysid::IdentifiedModel> model_argument(const ConfigSchema& c, const logs::Vehicle& v) {
-  const std::string& file = c.get_string("model");
-  if (file.empty())
-    throw InputError("--model: expected an identified model (model.json of pegasus identify)");
-  auto model = std::make_shared<const sysid::IdentifiedModel>(sysid::IdentifiedModel::load(file));
-  const std::string& identified_for = model->vehicle();
-  if (!identified_for.empty() && identified_for != v.name())
-    throw InputError(fmt::format(
-        "{}: vehicle: the model was identified from {}'s logs, and this run is for {}; give the vehicle file "
-        "it was identified with (--vehicle)",
-        file, identified_for, v.name()));
-  return model;
-}
-
-// The vehicle file's bytes, kept beside the results it shaped.
-void keep_vehicle_file(const ConfigSchema& c, RunDirectory& dir) {
-  if (!c.get_string("vehicle").empty()) dir.write_text("vehicle.toml", read_file(c.get_string("vehicle")));
 }
 
 namespace {
@@ -120,53 +81,16 @@ void declare_pilot(ConfigSchema& s) {
 
 void run_pilot(RunContext& ctx) {
   const auto& c = ctx.config;
-  const logs::Vehicle vehicle = vehicle_of(c);
-  heli::GroundTruthSettings settings;
-  settings.gust_sigma = c.get_double("gust_sigma");
-  settings.estimate_noise = c.get_bool("estimate_noise");
-  const std::unique_ptr<heli::GroundTruth> aircraft = ground_truth_of(vehicle, settings);
-  const double dt = aircraft->step_seconds();
-  PilotOptions o = heli::pilot_options_for(vehicle.simulator);
+  PilotRunOptions o{.aircraft = aircraft_of(c)};
+  o.settings.gust_sigma = c.get_double("gust_sigma");
+  o.settings.estimate_noise = c.get_bool("estimate_noise");
+  o.seconds = c.get_double("seconds");
   o.hover_seconds = c.get_double("hover_seconds");
   o.sweeps = c.get_bool("sweeps");
-  for (double& amplitude : o.sweep_amplitude) amplitude *= c.get_double("sweep_scale");
-  const double seconds = c.get_double("seconds");
-  const PilotFlight f = fly_pilot(*aircraft, o, seconds, ctx.seed);
-  RunDirectory& dir = ctx.run_directory();
-  keep_vehicle_file(c, dir);
-  dir.write_text("log.csv", flight_log_csv(f.log));
-  FlightLog truth = f.log;
-  for (std::size_t i = 0; i < truth.rows(); ++i) truth.states[i] = f.truth[i];
-  dir.write_text("truth.csv", flight_log_csv(truth));
-  const auto log_charts =
-      flight_log_sections("log.csv", "truth.csv", {kLogControlColumns.begin(), kLogControlColumns.end()});
-  dir.add_charts(log_charts);
-  dir.write_chart_svg("position.svg", log_charts.front().charts.back());
-  const heli::HoverPoint trim = aircraft->hover_point();
-  nlohmann::json summary = {{"seconds", static_cast<double>(f.log.rows()) * dt},
-                            {"rows", f.log.rows()},
-                            {"rate_hz", 1 / dt},
-                            {"crashed", f.crash != CrashReason::kNone},
-                            {"crash_reason", crash_reason_name(f.crash)},
-                            {"crash_time", f.crash_time},
-                            {"trim",
-                             {{"a1", trim.controls[0]},
-                              {"a2", trim.controls[1]},
-                              {"a3", trim.controls[2]},
-                              {"a4", trim.controls[3]},
-                              {"roll", trim.roll},
-                              {"pitch", trim.pitch}}},
-                            {"log", "log.csv"},
-                            {"truth", "truth.csv"}};
-  if (!c.get_string("vehicle").empty()) summary["vehicle"] = vehicle.name();
-  dir.write_json("summary.json", summary);
-  ctx.out << fmt::format("flew {:.1f} s ({} rows at {:g} Hz){}; log: {}\n", summary["seconds"].get<double>(),
-                         f.log.rows(), 1 / dt,
-                         f.crash != CrashReason::kNone ? ", CRASHED: " + crash_reason_name(f.crash) : "",
-                         (dir.final_path() / "log.csv").string());
-  if (f.crash != CrashReason::kNone)
-    throw std::runtime_error(
-        fmt::format("the pilot crashed ({}) at {} s", crash_reason_name(f.crash), f.crash_time));
+  o.sweep_scale = c.get_double("sweep_scale");
+  o.seed = ctx.seed;
+  RunSink sink = ctx.sink();
+  heli::run_pilot(o, sink);
 }
 
 // ------------------------------------------------------------------ heli hover
@@ -312,136 +236,11 @@ heli::HoverTrainingOptions hover_options(const RunContext& ctx) {
 }
 
 void run_hover(RunContext& ctx) {
-  const heli::HoverTrainingOptions o = hover_options(ctx);
-  const logs::Vehicle trained_for = vehicle_of(ctx.config);
-  const auto model = model_argument(ctx.config, trained_for);
-  const bool with_vehicle = !ctx.config.get_string("vehicle").empty();
-  const std::string vehicle = with_vehicle ? trained_for.name() : std::string();
-  RunDirectory& dir = ctx.run_directory();
-  keep_vehicle_file(ctx.config, dir);
-  heli::HoverTrainingHooks hooks;
-  hooks.checkpoint_every = 1;
-  hooks.resume_from = dir.load_checkpoint();
-  const bool two = o.optimizer.method == "gradient" && o.then_hill_climb;
-  const std::int64_t g_iters = o.optimizer.method == "gradient" ? o.optimizer.gradient.max_iterations
-                                                                : o.optimizer.hill_climbing.max_iterations;
-  auto bar = ctx.progress(
-      "optimizer iterations",
-      static_cast<std::uint64_t>(g_iters + (two ? o.optimizer.hill_climbing.max_iterations : 0)));
-  std::uint64_t last = 0;
-  if (hooks.resume_from) {
-    last = static_cast<std::uint64_t>(TrainingCheckpointIterations(*hooks.resume_from));
-    bar.skip(last);
-  }
-  hooks.on_checkpoint = [&](const nlohmann::json& c) {
-    dir.save_checkpoint(c);
-    const auto done = static_cast<std::uint64_t>(TrainingCheckpointIterations(c));
-    if (done > last) bar.advance(done - last);
-    last = done;
-  };
-  const heli::HoverTrainingResult r = heli::train_hover(model, o, hooks, ctx.pool());
-  bar.finish();
-
-  dir.write_csv("progress.csv", optimizer_progress_csv(r.progress));
-  const ChartSection progress = optimizer_progress_section(
-      {{"", "progress.csv"}},
-      "U-hat of the best policy so far against optimizer iterations, evaluations and time.");
-  dir.add_charts(progress);
-  dir.write_chart_svg("progress.svg", progress.charts.front());
-  heli::HoverTrainingOptions used = o;  // with the LQR start's action weights as training settled them
-  used.lqr_action_factor = r.lqr_action_factor;
-  const heli::HoverPolicy policy = heli::hover_policy_for(*model, used);
-  heli::PolicyFile file = heli::hover_policy_file(policy, r.theta, o.target,
-                                                  heli::hover_init_from_model(*model).trim, o.integrator());
-  file.provenance = {{"command", "pegasus heli hover"},
-                     {"model", ctx.config.get_string("model")},
-                     {"uhat", r.final_uhat},
-                     {"scenarios", o.scenarios},
-                     {"seconds", o.seconds},
-                     {"seed", ctx.seed}};
-  // Only with a vehicle file, so that the X-Cell's policy files stay as they were.
-  if (with_vehicle) file.provenance["vehicle"] = vehicle;
-  // Only when not 50 Hz, so that policy files trained at the thesis's rate stay as they were.
-  if (o.control_rate_hz != 50) file.options["control_rate_hz"] = o.control_rate_hz;
-  dir.write_json("policy.json", heli::policy_file_json(file));
-  auto phase = [](const OptimizerSummary& s) -> nlohmann::json {
-    if (s.method.empty()) return nullptr;
-    return {
-        {"method", s.method},           {"iterations", s.iterations},
-        {"evaluations", s.evaluations}, {"initial_uhat", s.initial_value},
-        {"best_uhat", s.best_value},    {"termination", std::string(TerminationTypeName(s.termination_type))},
-        {"message", s.message}};
-  };
-  const double seconds = r.progress.empty() ? 0.0 : r.progress.back().seconds;
-  const std::int64_t evaluations = r.progress.empty() ? 0 : r.progress.back().evaluations;
-  nlohmann::json summary = {{"initial_uhat", r.initial_uhat},
-                            {"final_uhat", r.final_uhat},
-                            {"iterations", r.progress.size()},
-                            {"evaluations", evaluations},
-                            {"scenarios", o.scenarios},
-                            {"scenario_seconds", o.seconds},
-                            {"gamma", o.gamma},
-                            {"gradient", phase(r.gradient)},
-                            {"hill_climb", phase(r.hill_climb)},
-                            {"starting_policy",
-                             {{"scenarios", r.start.scenarios},
-                              {"crashed_scenarios", r.start.crashed},
-                              {"mean_seconds_to_crash", r.start.mean_seconds_to_crash}}},
-                            {"policy", "policy.json"}};
-  // Only for AR(1) models, so that the summaries of white-noise models stay as they were (digests).
-  if (model->noise_correlation().any()) summary["model_noise"] = "ar1";
-  // The LQR start as training settled it, for the summary's starting_gains and integral.
-  const std::optional<heli::LqrStart> settled_lqr =
-      o.lqr_start ? std::optional(heli::lqr_hover_init(*model, used)) : std::nullopt;
-  if (settled_lqr) {  // only when asked: summaries with the constants stay as they were
-    const heli::LqrStart& lqr = *settled_lqr;
-    const heli::HoverPolicyInit& g = lqr.init;
-    summary["starting_gains"] = {{"method", lqr.used ? "lqr" : "constant"},
-                                 {"reason", lqr.reason},
-                                 {"action_weight_factor", used.lqr_action_factor},
-                                 {"spectral_radius", lqr.spectral_radius},
-                                 {"open_loop_radius", lqr.open_loop_radius},
-                                 {"gains",
-                                  {{"a1", {{"err", g.k_pos}, {"vel", g.k_vel}, {"att", g.k_att}}},
-                                   {"a2", {{"err", g.k_pos_lat}, {"vel", g.k_vel_lat}, {"att", g.k_roll}}},
-                                   {"a3", {{"err", g.k_alt}, {"vel", g.k_climb}}},
-                                   {"a4", {{"err", g.k_yaw}, {"vel", g.k_yaw_rate}}}}}};
-    if (!lqr.used)
-      ctx.out << "warning: LQR starting gains not used: " << lqr.reason << "; the constants were\n";
-    if (used.lqr_action_factor != o.lqr_action_factor)
-      ctx.out << fmt::format(
-          "LQR starting gains made gentler: its action weights x{} (with the reward's, the starting policy "
-          "crashed the learned model in more than max_start_crash_fraction of the scenarios)\n",
-          used.lqr_action_factor / o.lqr_action_factor);
-  }
-  if (with_vehicle) summary["vehicle"] = vehicle;  // likewise
-  if (o.integral_seconds > 0) {                    // likewise
-    nlohmann::json integral = {{"integral_seconds", o.integral_seconds},
-                               {"limit_position", o.integral_limit_position},
-                               {"limit_yaw", o.integral_limit_yaw}};
-    if (settled_lqr) integral["lqr_integral_seconds"] = settled_lqr->integral_seconds;
-    for (std::size_t c = 0; c < 4; ++c)
-      integral["a" + std::to_string(c + 1)] = r.theta[heli::HoverPolicy::kParameters + c];
-    summary["integral"] = integral;
-  }
-  if (o.max_tilt_rad != heli::HoverTrainingOptions{}.max_tilt_rad) summary["max_tilt_rad"] = o.max_tilt_rad;
-  if (o.control_rate_hz != 50) {  // likewise
-    summary["control_rate_hz"] = o.control_rate_hz;
-    summary["refit_every"] = o.refit_steps(*model);
-  }
-  dir.write_json("summary.json", summary);
-  ctx.timings = {{"train_seconds", seconds},
-                 {"gradient_seconds", r.gradient.method.empty() ? 0.0 : r.gradient.wall_seconds},
-                 {"hill_climb_seconds", r.hill_climb.method.empty() ? 0.0 : r.hill_climb.wall_seconds}};
-  if (r.start.crashed > 0)
-    ctx.out << fmt::format(
-        "warning: the starting policy crashes the learned model in {} of {} scenarios (after {:.2f} s on "
-        "average)\n",
-        r.start.crashed, r.start.scenarios, r.start.mean_seconds_to_crash);
-  ctx.out << fmt::format(
-      "hover training: U-hat {:.6g} -> {:.6g} in {} iterations, {} evaluations, {:.1f} s\n", r.initial_uhat,
-      r.final_uhat, r.progress.size(), evaluations, seconds);
-  ctx.out << "policy: " << (dir.final_path() / "policy.json").string() << "\n";
+  const HoverRunOptions o{.aircraft = aircraft_of(ctx.config),
+                          .model_file = ctx.config.get_string("model"),
+                          .training = hover_options(ctx)};
+  RunSink sink = ctx.sink();
+  heli::run_hover(o, sink, ctx.pool());
 }
 
 // ------------------------------------------------------------------ heli fly
@@ -469,144 +268,24 @@ void declare_fly(ConfigSchema& s) {
       .range(0, 1000000);
 }
 
-nlohmann::json flight_summary_json(const heli::FlightSummary& s) {
-  return {{"flights", s.flights},
-          {"crashes", s.crashes},
-          {"rms_position_m", s.rms_position_m},
-          {"rms_velocity_mps", s.rms_velocity_mps},
-          {"rms_yaw_rad", s.rms_yaw_rad}};
-}
-
-CsvWriter flights_csv(const std::vector<heli::FlightRecord>& flights) {
-  FlightsCsv table;
-  for (std::size_t i = 0; i < flights.size(); ++i)
-    for (const auto& row : flights[i].trace) table.add(static_cast<std::int64_t>(i), row);
-  return table.csv();
-}
-
-void add_per_flight(CsvWriter& csv, const std::string& who, const std::vector<heli::FlightRecord>& flights) {
-  for (std::size_t i = 0; i < flights.size(); ++i) {
-    const auto& f = flights[i];
-    const double n = std::max(1, f.steps);
-    csv.add_row({who, static_cast<std::int64_t>(i), std::int64_t{f.crashed ? 1 : 0},
-                 crash_reason_name(f.crash), f.crash_time, std::sqrt(f.sum_sq_position / n),
-                 std::sqrt(f.sum_sq_velocity / n), std::sqrt(f.sum_sq_yaw / n)});
-  }
-}
-
-// Figs 5.6-5.7 (body-frame velocities and world positions of flight 0 against time, the policy against the
-// pilot) and the 3-D replay of every traced flight; the SVGs are drawn from the same charts.
-void add_flight_charts(RunDirectory& dir, const std::string& main_name, bool with_pilot) {
-  std::vector<FlightSeries> files = {{.file = "flights.csv", .label = main_name, .body_velocities = true}};
-  if (with_pilot)
-    files.push_back({.file = "pilot_flights.csv", .label = "scripted pilot", .body_velocities = true});
-  const ChartSection traces = flight_traces_section(
-      files, "hover", with_pilot ? "Flights against the pilot (Figs 5.6-5.7)" : "Flight traces",
-      with_pilot
-          ? "Blue, solid: the learned controller; red, dashed: the scripted pilot; the first flight of "
-            "each (all of them are in the 3-D replay). Body-frame velocities (Fig 5.6) and world "
-            "positions (Fig 5.7)."
-          : "Body-frame velocities and world positions of the first flight; all of them are in the 3-D "
-            "replay.");
-  dir.add_charts(
-      {traces, ChartSection{.id = "replay",
-                            .title = "3-D replay",
-                            .intro = "Drag to turn the view, scroll to zoom; Play runs the flight in "
-                                     "real time (speed adjustable), the slider moves through it.",
-                            .charts = {flight_replay_chart(files)}}});
-  const char* svgs[] = {"velocity_xb.svg", "velocity_yb.svg", "velocity_zb.svg",
-                        "position_x.svg",  "position_y.svg",  "altitude.svg"};
-  for (std::size_t i = 0; i < traces.charts.size(); ++i) dir.write_chart_svg(svgs[i], traces.charts[i]);
-}
-
 void run_fly(RunContext& ctx) {
   const auto& c = ctx.config;
-  const logs::Vehicle vehicle = vehicle_of(c);
-  const bool pilot_only = c.get_bool("pilot");
-  const std::string& policy_path = c.get_string("policy");
-  if (!pilot_only && policy_path.empty())
-    throw InputError("--policy: expected a policy file (policy.json of pegasus heli hover), or --pilot");
-  std::unique_ptr<heli::HeliController> controller;
-  heli::SetPoint target;
-  double control_rate_hz = 0;  // the policy's rate; 0: the aircraft's
-  if (!policy_path.empty()) {
-    const heli::PolicyFile file = heli::read_policy_file(policy_path);
-    controller = heli::make_controller(file, policy_path);
-    target = controller->target(0);
-    if (const auto it = file.options.find("control_rate_hz"); it != file.options.end()) {
-      if (!it->is_number() || !(it->get<double>() > 0))
-        throw InputError(fmt::format("{}: options.control_rate_hz: expected a number > 0, got {}",
-                                     policy_path, it->dump()));
-      control_rate_hz = it->get<double>();
-    }
-  }
-  heli::GroundTruthSettings settings;
-  settings.gust_sigma = c.get_double("gust_sigma");
-  settings.estimate_noise = c.get_bool("estimate_noise");
-  settings.set_start = true;
-  settings.start_p_W = heli::Vec3(target.x, target.y, target.z);
-  settings.start_yaw = target.yaw;
-  settings.start_pos_sigma = c.get_double("start_pos_sigma");
-  settings.start_vel_sigma = c.get_double("start_vel_sigma");
+  FlyRunOptions o{.aircraft = aircraft_of(c),
+                  .policy_file = c.get_string("policy"),
+                  .pilot_only = c.get_bool("pilot"),
+                  .compare_pilot = c.get_bool("compare_pilot")};
+  o.settings.gust_sigma = c.get_double("gust_sigma");
+  o.settings.estimate_noise = c.get_bool("estimate_noise");
+  o.settings.start_pos_sigma = c.get_double("start_pos_sigma");
+  o.settings.start_vel_sigma = c.get_double("start_vel_sigma");
   const auto& wind = c.get_double_list("wind");
-  settings.mean_wind_W = heli::Vec3(wind[0], wind[1], wind[2]);
-  const std::unique_ptr<heli::GroundTruth> aircraft = ground_truth_of(vehicle, settings);
-  const double dt = aircraft->step_seconds();
-  heli::FlightOptions fo;
-  fo.flights = static_cast<int>(c.get_int("flights"));
-  fo.seconds = c.get_double("seconds");
-  fo.seed = ctx.seed;
-  fo.trace_flights = static_cast<int>(c.get_int("trace_flights"));
-  heli::FlightOptions controller_options = fo;
-  if (control_rate_hz > 0) {
-    // A policy trained at a slower rate than the aircraft's 50 Hz is called at its own rate, its controls
-    // held.
-    const double ratio = 1 / (dt * control_rate_hz);
-    if (std::abs(ratio - std::round(ratio)) > 1e-9 * ratio || std::round(ratio) < 1)
-      throw InputError(fmt::format("{}: options.control_rate_hz: {} Hz does not divide the aircraft's {} Hz",
-                                   policy_path, control_rate_hz, 1 / dt));
-    controller_options.control_every = static_cast<int>(std::round(ratio));
-  }
-  RunDirectory& dir = ctx.run_directory();
-
-  const bool with_pilot = pilot_only || c.get_bool("compare_pilot");
-  std::vector<heli::FlightRecord> flown, pilot;
-  if (!pilot_only) flown = heli::fly_controller(*aircraft, *controller, controller_options, &ctx.pool());
-  if (with_pilot)
-    pilot =
-        heli::fly_pilot_hover(*aircraft, heli::pilot_options_for(vehicle.simulator), target, fo, &ctx.pool());
-  const std::vector<heli::FlightRecord>& main = pilot_only ? pilot : flown;
-  const heli::FlightSummary s = heli::summarize_flights(main);
-  nlohmann::json summary = flight_summary_json(s);
-  summary["controller"] = pilot_only ? "pilot" : policy_path;
-  summary["seconds"] = fo.seconds;
-  if (!c.get_string("vehicle").empty()) summary["vehicle"] = vehicle.name();
-  if (wind[0] != 0 || wind[1] != 0 || wind[2] != 0) summary["wind"] = wind;  // only then: digests
-  keep_vehicle_file(c, dir);
-  CsvWriter per_flight({"controller", "flight", "crashed", "crash_reason", "crash_time", "rms_position_m",
-                        "rms_velocity_mps", "rms_yaw_rad"});
-  add_per_flight(per_flight, pilot_only ? "pilot" : "policy", main);
-  dir.write_csv("flights.csv", flights_csv(main));
-  if (with_pilot && !pilot_only) {
-    const heli::FlightSummary ps = heli::summarize_flights(pilot);
-    summary["pilot"] = flight_summary_json(ps);
-    summary["better_than_pilot"] = {{"position", s.rms_position_m < ps.rms_position_m},
-                                    {"velocity", s.rms_velocity_mps < ps.rms_velocity_mps}};
-    add_per_flight(per_flight, "pilot", pilot);
-    dir.write_csv("pilot_flights.csv", flights_csv(pilot));
-  }
-  dir.write_csv("per_flight.csv", per_flight);
-  add_flight_charts(dir, pilot_only ? "scripted pilot" : "learned policy", with_pilot && !pilot_only);
-  dir.write_json("summary.json", summary);
-  auto line = [](const char* who, const heli::FlightSummary& f) {
-    return fmt::format(
-        "{}: {} flights, {} crashes, RMS position {:.3f} m, velocity {:.3f} m/s, yaw {:.4f} rad\n", who,
-        f.flights, f.crashes, f.rms_position_m, f.rms_velocity_mps, f.rms_yaw_rad);
-  };
-  ctx.out << line(pilot_only ? "pilot" : "policy", s);
-  if (with_pilot && !pilot_only) ctx.out << line("pilot", heli::summarize_flights(pilot));
-  ctx.out << "plots: " << (dir.final_path() / "position_x.svg").string()
-          << " (and position_*, velocity_*.svg)\n";
+  o.settings.mean_wind_W = heli::Vec3(wind[0], wind[1], wind[2]);
+  o.flights.flights = static_cast<int>(c.get_int("flights"));
+  o.flights.seconds = c.get_double("seconds");
+  o.flights.seed = ctx.seed;
+  o.flights.trace_flights = static_cast<int>(c.get_int("trace_flights"));
+  RunSink sink = ctx.sink();
+  heli::run_fly(o, sink, ctx.pool());
 }
 
 // ------------------------------------------------------------------ heli control
@@ -632,7 +311,7 @@ void run_control(RunContext& ctx) {
     if (ctx.config.get_string("vehicle").empty()) {
       heli::run_control_loop(*controller, file.trim, stdin, stdout, stderr, dt);
     } else {
-      const logs::Vehicle vehicle = vehicle_of(ctx.config);
+      const logs::Vehicle vehicle = aircraft_of(ctx.config).vehicle;
       // A policy trained for another aircraft still runs (the user may mean it), but not silently.
       if (const auto it = file.provenance.find("vehicle");
           it != file.provenance.end() && it->is_string() && *it != vehicle.name())

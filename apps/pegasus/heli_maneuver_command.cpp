@@ -215,9 +215,10 @@ void run(RunContext& ctx) {
   if (c.get_string("model").empty())
     throw InputError("--model: an identified model file is required (heli identify)");
   const ManeuverTrainingOptions base = training_options(ctx);
-  const logs::Vehicle vehicle = vehicle_of(c);
+  const heli::VehicleChoice aircraft = aircraft_of(c);
+  const logs::Vehicle& vehicle = aircraft.vehicle;
   const std::string simulator = simulator_of(vehicle);  // before training: the flights need a ground truth
-  const auto model = model_argument(c, vehicle);
+  const auto model = aircraft.load_model(c.get_string("model"));
 
   // Starting point: the hover weights (a trained hover policy, or the model's trim with default gains).
   HoverPolicyInit init = hover_init_from_model(*model);
@@ -324,7 +325,7 @@ void run(RunContext& ctx) {
   fo.simulator = simulator;
   nlohmann::json summary = {{"maneuver", base.name}};
   if (!c.get_string("vehicle").empty()) summary["vehicle"] = vehicle.name();
-  keep_vehicle_file(c, dir);
+  aircraft.keep(dir);
   std::map<std::string, ManeuverFlightSummary> scores;
   std::vector<ManeuverFlight> main_flights;
   for (const auto& v : variants) {
@@ -462,7 +463,8 @@ void declare_pilot(ConfigSchema& s) {
 
 void run_pilot(RunContext& ctx) {
   const auto& c = ctx.config;
-  const logs::Vehicle vehicle = vehicle_of(c);
+  const heli::VehicleChoice aircraft_file = aircraft_of(c);
+  const logs::Vehicle& vehicle = aircraft_file.vehicle;
   ManeuverSize size;
   read_size(c, size);
   GroundTruthSettings settings;
@@ -498,7 +500,7 @@ void run_pilot(RunContext& ctx) {
     for (const auto& name : names) trajectories.push_back(maneuver_trajectory(name, size, limits));
   const PilotFlight f = fly_pilot_maneuvers(*aircraft, o, c.get_double("seconds"), trajectories, ctx.seed);
   RunDirectory& dir = ctx.run_directory();
-  keep_vehicle_file(c, dir);
+  aircraft_file.keep(dir);
   dir.write_text("log.csv", sysid::flight_log_csv(f.log));
   dir.add_charts(flight_log_sections("log.csv", "",
                                      {sysid::kLogControlColumns.begin(), sysid::kLogControlColumns.end()}));

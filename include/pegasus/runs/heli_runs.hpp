@@ -1,0 +1,95 @@
+#pragma once
+// The helicopter experiments of thesis chapter 5 for any aircraft a vehicle file describes, each a function
+// of typed options that writes a run directory through a RunSink (the `pegasus pilot`, `identify`, `hover`
+// and `fly` commands, and their `heli` aliases, map their options onto these and call them):
+//   run_pilot     the ground truth flown by its scripted pilot (hover, then frequency sweeps), logged;
+//   run_identify  system identification by locally weighted regression (§5.2), with the model-selection
+//                 study of Fig 5.2, the noise check of Fig 5.3, the model as hover training runs it and the
+//                 closed-loop bias check;
+//   run_hover     PEGASUS hover training on the identified model (§5.3): policy.json;
+//   run_fly       flights of a policy file (or the pilot) on the ground truth with gusts (Figs 5.6-5.7).
+// Each writes summary.json (a function of the options alone), CSV series, chart specifications and SVGs,
+// and the vehicle file's bytes when there is one; bad input throws InputError naming the file or field.
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include "pegasus/heli/flights.hpp"
+#include "pegasus/heli/hover_task.hpp"
+#include "pegasus/heli/simulators.hpp"
+#include "pegasus/logs/vehicle.hpp"
+#include "pegasus/parallel/thread_pool.hpp"
+#include "pegasus/runs/run_sink.hpp"
+#include "pegasus/sysid/identify.hpp"
+
+namespace pegasus::heli {
+
+// The aircraft a run is for: a vehicle file, or (no file) the X-Cell 60 in the project's own log layout,
+// whose outputs then name no vehicle, as they always did.
+struct VehicleChoice {
+  std::string file;                               // empty: the built-in X-Cell 60
+  logs::Vehicle vehicle = logs::xcell_vehicle();  // read from `file`
+
+  static VehicleChoice read(const std::string& file);  // empty: the X-Cell
+  bool from_file() const { return !file.empty(); }
+  // The vehicle file's bytes, kept beside the results it shaped (vehicle.toml), when there is one.
+  void keep(const RunDirectory& dir) const;
+  // The vehicle's ground truth with the settings; a vehicle without one, or settings it rejects, is bad
+  // input.
+  std::unique_ptr<GroundTruth> ground_truth(const GroundTruthSettings& settings) const;
+  // The identified model in `file`; one identified from another vehicle's logs is bad input.
+  std::shared_ptr<const sysid::IdentifiedModel> load_model(const std::string& file) const;
+};
+
+struct PilotRunOptions {
+  VehicleChoice aircraft{};
+  GroundTruthSettings settings{};  // gusts and estimate errors
+  double seconds = 339;            // flight length, s (thesis: 339 s to train, 140 s to test)
+  double hover_seconds = 10;       // plain hover before the sweeps, s
+  bool sweeps = true;              // a frequency sweep in each channel in turn after the hover
+  double sweep_scale = 1;          // multiplies the pilot's sweep amplitudes
+  std::uint64_t seed = 1;
+};
+// log.csv, truth.csv, their charts, summary.json; a crash of the pilot is a failure after the files are
+// written.
+void run_pilot(const PilotRunOptions& options, RunSink& sink);
+
+struct IdentifyRunOptions {
+  VehicleChoice aircraft{};
+  std::string train_log, test_log;  // CSV in the vehicle's layout (the project's own without a file)
+  sysid::IdentifyOptions identify{};
+  double horizon_s = 10;        // longest prediction horizon of the report, s
+  double start_spacing_s = 2;   // spacing of the open-loop prediction starts on the test log, s
+  double reset_s = 2;           // the noise check's EKF is reset to the true state this often, s
+  bool variants = true;         // the model-selection variants of Fig 5.2
+  double control_rate_hz = 50;  // the rate hover training will step the model at
+};
+// model.json, cross_validation.csv, mse_vs_horizon.csv, noise_check.csv, their charts, summary.json. The
+// bandwidth search checkpoints after each cross-validation step and resumes from the run directory's
+// checkpoint.
+void run_identify(const IdentifyRunOptions& options, RunSink& sink, ThreadPool& pool);
+
+struct HoverRunOptions {
+  VehicleChoice aircraft{};
+  std::string model_file;  // model.json of run_identify
+  HoverTrainingOptions training{};
+};
+// progress.csv, policy.json, summary.json; checkpoints every optimizer iteration and resumes from the run
+// directory's checkpoint.
+void run_hover(const HoverRunOptions& options, RunSink& sink, ThreadPool& pool);
+
+struct FlyRunOptions {
+  VehicleChoice aircraft{};
+  std::string policy_file;         // policy.json of hover or manoeuvre training; empty with pilot_only
+  bool pilot_only = false;         // fly the scripted pilot's hover instead of a policy
+  bool compare_pilot = false;      // also fly the pilot from the same starts and gusts
+  GroundTruthSettings settings{};  // gusts, estimate errors, start perturbations, steady wind (the start
+                                   // position and yaw are the policy's set point)
+  FlightOptions flights{};
+};
+// flights.csv (traced flights), per_flight.csv, pilot_flights.csv, the flight charts and the 3-D replay,
+// summary.json.
+void run_fly(const FlyRunOptions& options, RunSink& sink, ThreadPool& pool);
+
+}  // namespace pegasus::heli

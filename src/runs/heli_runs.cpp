@@ -1,0 +1,381 @@
+#include "pegasus/runs/heli_runs.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "pegasus/core/error.hpp"
+#include "pegasus/heli/aircraft.hpp"
+#include "pegasus/heli/flights.hpp"
+#include "pegasus/heli/frames.hpp"
+#include "pegasus/heli/pilot.hpp"
+#include "pegasus/heli/policy_file.hpp"
+#include "pegasus/io/atomic_file.hpp"
+#include "pegasus/io/json_csv.hpp"
+#include "pegasus/optimizers/training.hpp"
+#include "pegasus/runs/charts.hpp"
+#include "pegasus/runs/flight_charts.hpp"
+#include "pegasus/sysid/flight_log.hpp"
+
+namespace pegasus::heli {
+
+using sysid::FlightLog;
+using sysid::IdentifiedModel;
+using sysid::kLogControlColumns;
+
+// ------------------------------------------------------------------ the aircraft
+
+VehicleChoice VehicleChoice::read(const std::string& file) {
+  if (file.empty()) return {};
+  return {.file = file, .vehicle = logs::read_vehicle(file)};
+}
+
+void VehicleChoice::keep(const RunDirectory& dir) const {
+  if (from_file()) dir.write_text("vehicle.toml", read_file(file));
+}
+
+std::unique_ptr<GroundTruth> VehicleChoice::ground_truth(const GroundTruthSettings& settings) const {
+  if (vehicle.simulator == "none")
+    throw InputError(
+        fmt::format("{}: vehicle.simulator: 'none': the project has no ground truth of {} to fly; serve its "
+                    "controller to the aircraft or its simulator with `pegasus control --vehicle {} --policy "
+                    "P.json`",
+                    vehicle.log.file, vehicle.name(), vehicle.log.file));
+  try {
+    return make_ground_truth(vehicle.simulator, settings);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(e.what());
+  }
+}
+
+std::shared_ptr<const IdentifiedModel> VehicleChoice::load_model(const std::string& model_file) const {
+  if (model_file.empty())
+    throw InputError("--model: expected an identified model (model.json of pegasus identify)");
+  auto model = std::make_shared<const IdentifiedModel>(IdentifiedModel::load(model_file));
+  const std::string& identified_for = model->vehicle();
+  if (!identified_for.empty() && identified_for != vehicle.name())
+    throw InputError(fmt::format(
+        "{}: vehicle: the model was identified from {}'s logs, and this run is for {}; give the vehicle file "
+        "it was identified with (--vehicle)",
+        model_file, identified_for, vehicle.name()));
+  return model;
+}
+
+// ------------------------------------------------------------------ pilot
+
+void run_pilot(const PilotRunOptions& options, RunSink& sink) {
+  const std::unique_ptr<GroundTruth> aircraft = options.aircraft.ground_truth(options.settings);
+  const double dt = aircraft->step_seconds();
+  PilotOptions o = pilot_options_for(options.aircraft.vehicle.simulator);
+  o.hover_seconds = options.hover_seconds;
+  o.sweeps = options.sweeps;
+  for (double& amplitude : o.sweep_amplitude) amplitude *= options.sweep_scale;
+  const double seconds = options.seconds;
+  RunDirectory& dir = sink.dir;
+  const PilotFlight f = fly_pilot(*aircraft, o, seconds, options.seed);
+  options.aircraft.keep(dir);
+  dir.write_text("log.csv", flight_log_csv(f.log));
+  FlightLog truth = f.log;
+  for (std::size_t i = 0; i < truth.rows(); ++i) truth.states[i] = f.truth[i];
+  dir.write_text("truth.csv", flight_log_csv(truth));
+  const auto log_charts =
+      flight_log_sections("log.csv", "truth.csv", {kLogControlColumns.begin(), kLogControlColumns.end()});
+  dir.add_charts(log_charts);
+  dir.write_chart_svg("position.svg", log_charts.front().charts.back());
+  const HoverPoint trim = aircraft->hover_point();
+  nlohmann::json summary = {{"seconds", static_cast<double>(f.log.rows()) * dt},
+                            {"rows", f.log.rows()},
+                            {"rate_hz", 1 / dt},
+                            {"crashed", f.crash != CrashReason::kNone},
+                            {"crash_reason", crash_reason_name(f.crash)},
+                            {"crash_time", f.crash_time},
+                            {"trim",
+                             {{"a1", trim.controls[0]},
+                              {"a2", trim.controls[1]},
+                              {"a3", trim.controls[2]},
+                              {"a4", trim.controls[3]},
+                              {"roll", trim.roll},
+                              {"pitch", trim.pitch}}},
+                            {"log", "log.csv"},
+                            {"truth", "truth.csv"}};
+  if (options.aircraft.from_file()) summary["vehicle"] = options.aircraft.vehicle.name();
+  dir.write_json("summary.json", summary);
+  sink.out << fmt::format("flew {:.1f} s ({} rows at {:g} Hz){}; log: {}\n", summary["seconds"].get<double>(),
+                          f.log.rows(), 1 / dt,
+                          f.crash != CrashReason::kNone ? ", CRASHED: " + crash_reason_name(f.crash) : "",
+                          (dir.final_path() / "log.csv").string());
+  if (f.crash != CrashReason::kNone)
+    throw std::runtime_error(
+        fmt::format("the pilot crashed ({}) at {} s", crash_reason_name(f.crash), f.crash_time));
+}
+
+// ------------------------------------------------------------------ hover
+
+void run_hover(const HoverRunOptions& options, RunSink& sink, ThreadPool& pool) {
+  const HoverTrainingOptions& o = options.training;
+  std::string error;
+  if (!o.IsValid(&error)) throw InputError(error);
+  const auto model = options.aircraft.load_model(options.model_file);
+  RunDirectory& dir = sink.dir;
+  options.aircraft.keep(dir);
+  HoverTrainingHooks hooks;
+  hooks.checkpoint_every = 1;
+  hooks.resume_from = dir.load_checkpoint();
+  const bool two = o.optimizer.method == "gradient" && o.then_hill_climb;
+  const std::int64_t g_iters = o.optimizer.method == "gradient" ? o.optimizer.gradient.max_iterations
+                                                                : o.optimizer.hill_climbing.max_iterations;
+  auto bar = sink.progress(
+      "optimizer iterations",
+      static_cast<std::uint64_t>(g_iters + (two ? o.optimizer.hill_climbing.max_iterations : 0)));
+  std::uint64_t last = 0;
+  if (hooks.resume_from) {
+    last = static_cast<std::uint64_t>(TrainingCheckpointIterations(*hooks.resume_from));
+    bar.skip(last);
+  }
+  hooks.on_checkpoint = [&](const nlohmann::json& c) {
+    dir.save_checkpoint(c);
+    const auto done = static_cast<std::uint64_t>(TrainingCheckpointIterations(c));
+    if (done > last) bar.advance(done - last);
+    last = done;
+  };
+  const HoverTrainingResult r = train_hover(model, o, hooks, pool);
+  bar.finish();
+
+  dir.write_csv("progress.csv", optimizer_progress_csv(r.progress));
+  const ChartSection progress = optimizer_progress_section(
+      {{"", "progress.csv"}},
+      "U-hat of the best policy so far against optimizer iterations, evaluations and time.");
+  dir.add_charts(progress);
+  dir.write_chart_svg("progress.svg", progress.charts.front());
+  HoverTrainingOptions used = o;  // with the LQR start's action weights as training settled them
+  used.lqr_action_factor = r.lqr_action_factor;
+  const HoverPolicy policy = hover_policy_for(*model, used);
+  PolicyFile file =
+      hover_policy_file(policy, r.theta, o.target, hover_init_from_model(*model).trim, o.integrator());
+  file.provenance = {{"command", "pegasus heli hover"}, {"model", options.model_file}, {"uhat", r.final_uhat},
+                     {"scenarios", o.scenarios},        {"seconds", o.seconds},        {"seed", o.seed}};
+  // Only with a vehicle file, so that the X-Cell's policy files stay as they were.
+  if (options.aircraft.from_file()) file.provenance["vehicle"] = options.aircraft.vehicle.name();
+  // Only when not 50 Hz, so that policy files trained at the thesis's rate stay as they were.
+  if (o.control_rate_hz != 50) file.options["control_rate_hz"] = o.control_rate_hz;
+  dir.write_json("policy.json", policy_file_json(file));
+  auto phase = [](const OptimizerSummary& s) -> nlohmann::json {
+    if (s.method.empty()) return nullptr;
+    return {
+        {"method", s.method},           {"iterations", s.iterations},
+        {"evaluations", s.evaluations}, {"initial_uhat", s.initial_value},
+        {"best_uhat", s.best_value},    {"termination", std::string(TerminationTypeName(s.termination_type))},
+        {"message", s.message}};
+  };
+  const double seconds = r.progress.empty() ? 0.0 : r.progress.back().seconds;
+  const std::int64_t evaluations = r.progress.empty() ? 0 : r.progress.back().evaluations;
+  nlohmann::json summary = {{"initial_uhat", r.initial_uhat},
+                            {"final_uhat", r.final_uhat},
+                            {"iterations", r.progress.size()},
+                            {"evaluations", evaluations},
+                            {"scenarios", o.scenarios},
+                            {"scenario_seconds", o.seconds},
+                            {"gamma", o.gamma},
+                            {"gradient", phase(r.gradient)},
+                            {"hill_climb", phase(r.hill_climb)},
+                            {"starting_policy",
+                             {{"scenarios", r.start.scenarios},
+                              {"crashed_scenarios", r.start.crashed},
+                              {"mean_seconds_to_crash", r.start.mean_seconds_to_crash}}},
+                            {"policy", "policy.json"}};
+  // Only for AR(1) models, so that the summaries of white-noise models stay as they were (digests).
+  if (model->noise_correlation().any()) summary["model_noise"] = "ar1";
+  // The LQR start as training settled it, for the summary's starting_gains and integral.
+  const std::optional<LqrStart> settled_lqr =
+      o.lqr_start ? std::optional(lqr_hover_init(*model, used)) : std::nullopt;
+  if (settled_lqr) {  // only when asked: summaries with the constants stay as they were
+    const LqrStart& lqr = *settled_lqr;
+    const HoverPolicyInit& g = lqr.init;
+    summary["starting_gains"] = {{"method", lqr.used ? "lqr" : "constant"},
+                                 {"reason", lqr.reason},
+                                 {"action_weight_factor", used.lqr_action_factor},
+                                 {"spectral_radius", lqr.spectral_radius},
+                                 {"open_loop_radius", lqr.open_loop_radius},
+                                 {"gains",
+                                  {{"a1", {{"err", g.k_pos}, {"vel", g.k_vel}, {"att", g.k_att}}},
+                                   {"a2", {{"err", g.k_pos_lat}, {"vel", g.k_vel_lat}, {"att", g.k_roll}}},
+                                   {"a3", {{"err", g.k_alt}, {"vel", g.k_climb}}},
+                                   {"a4", {{"err", g.k_yaw}, {"vel", g.k_yaw_rate}}}}}};
+    if (!lqr.used)
+      sink.out << "warning: LQR starting gains not used: " << lqr.reason << "; the constants were\n";
+    if (used.lqr_action_factor != o.lqr_action_factor)
+      sink.out << fmt::format(
+          "LQR starting gains made gentler: its action weights x{} (with the reward's, the starting policy "
+          "crashed the learned model in more than max_start_crash_fraction of the scenarios)\n",
+          used.lqr_action_factor / o.lqr_action_factor);
+  }
+  if (options.aircraft.from_file()) summary["vehicle"] = options.aircraft.vehicle.name();  // likewise
+  if (o.integral_seconds > 0) {                                                            // likewise
+    nlohmann::json integral = {{"integral_seconds", o.integral_seconds},
+                               {"limit_position", o.integral_limit_position},
+                               {"limit_yaw", o.integral_limit_yaw}};
+    if (settled_lqr) integral["lqr_integral_seconds"] = settled_lqr->integral_seconds;
+    for (std::size_t c = 0; c < 4; ++c)
+      integral["a" + std::to_string(c + 1)] = r.theta[HoverPolicy::kParameters + c];
+    summary["integral"] = integral;
+  }
+  if (o.max_tilt_rad != HoverTrainingOptions{}.max_tilt_rad) summary["max_tilt_rad"] = o.max_tilt_rad;
+  if (o.control_rate_hz != 50) {  // likewise
+    summary["control_rate_hz"] = o.control_rate_hz;
+    summary["refit_every"] = o.refit_steps(*model);
+  }
+  dir.write_json("summary.json", summary);
+  sink.timings = {{"train_seconds", seconds},
+                  {"gradient_seconds", r.gradient.method.empty() ? 0.0 : r.gradient.wall_seconds},
+                  {"hill_climb_seconds", r.hill_climb.method.empty() ? 0.0 : r.hill_climb.wall_seconds}};
+  if (r.start.crashed > 0)
+    sink.out << fmt::format(
+        "warning: the starting policy crashes the learned model in {} of {} scenarios (after {:.2f} s on "
+        "average)\n",
+        r.start.crashed, r.start.scenarios, r.start.mean_seconds_to_crash);
+  sink.out << fmt::format(
+      "hover training: U-hat {:.6g} -> {:.6g} in {} iterations, {} evaluations, {:.1f} s\n", r.initial_uhat,
+      r.final_uhat, r.progress.size(), evaluations, seconds);
+  sink.out << "policy: " << (dir.final_path() / "policy.json").string() << "\n";
+}
+
+// ------------------------------------------------------------------ fly
+
+namespace {
+
+nlohmann::json flight_summary_json(const FlightSummary& s) {
+  return {{"flights", s.flights},
+          {"crashes", s.crashes},
+          {"rms_position_m", s.rms_position_m},
+          {"rms_velocity_mps", s.rms_velocity_mps},
+          {"rms_yaw_rad", s.rms_yaw_rad}};
+}
+
+CsvWriter flights_csv(const std::vector<FlightRecord>& flights) {
+  FlightsCsv table;
+  for (std::size_t i = 0; i < flights.size(); ++i)
+    for (const auto& row : flights[i].trace) table.add(static_cast<std::int64_t>(i), row);
+  return table.csv();
+}
+
+void add_per_flight(CsvWriter& csv, const std::string& who, const std::vector<FlightRecord>& flights) {
+  for (std::size_t i = 0; i < flights.size(); ++i) {
+    const auto& f = flights[i];
+    const double n = std::max(1, f.steps);
+    csv.add_row({who, static_cast<std::int64_t>(i), std::int64_t{f.crashed ? 1 : 0},
+                 crash_reason_name(f.crash), f.crash_time, std::sqrt(f.sum_sq_position / n),
+                 std::sqrt(f.sum_sq_velocity / n), std::sqrt(f.sum_sq_yaw / n)});
+  }
+}
+
+// Figs 5.6-5.7 (body-frame velocities and world positions of flight 0 against time, the policy against the
+// pilot) and the 3-D replay of every traced flight; the SVGs are drawn from the same charts.
+void add_flight_charts(RunDirectory& dir, const std::string& main_name, bool with_pilot) {
+  std::vector<FlightSeries> files = {{.file = "flights.csv", .label = main_name, .body_velocities = true}};
+  if (with_pilot)
+    files.push_back({.file = "pilot_flights.csv", .label = "scripted pilot", .body_velocities = true});
+  const ChartSection traces = flight_traces_section(
+      files, "hover", with_pilot ? "Flights against the pilot (Figs 5.6-5.7)" : "Flight traces",
+      with_pilot
+          ? "Blue, solid: the learned controller; red, dashed: the scripted pilot; the first flight of "
+            "each (all of them are in the 3-D replay). Body-frame velocities (Fig 5.6) and world "
+            "positions (Fig 5.7)."
+          : "Body-frame velocities and world positions of the first flight; all of them are in the 3-D "
+            "replay.");
+  dir.add_charts(
+      {traces, ChartSection{.id = "replay",
+                            .title = "3-D replay",
+                            .intro = "Drag to turn the view, scroll to zoom; Play runs the flight in "
+                                     "real time (speed adjustable), the slider moves through it.",
+                            .charts = {flight_replay_chart(files)}}});
+  const char* svgs[] = {"velocity_xb.svg", "velocity_yb.svg", "velocity_zb.svg",
+                        "position_x.svg",  "position_y.svg",  "altitude.svg"};
+  for (std::size_t i = 0; i < traces.charts.size(); ++i) dir.write_chart_svg(svgs[i], traces.charts[i]);
+}
+
+}  // namespace
+
+void run_fly(const FlyRunOptions& options, RunSink& sink, ThreadPool& pool) {
+  const logs::Vehicle& vehicle = options.aircraft.vehicle;
+  const bool pilot_only = options.pilot_only;
+  const std::string& policy_path = options.policy_file;
+  if (!pilot_only && policy_path.empty())
+    throw InputError("--policy: expected a policy file (policy.json of pegasus heli hover), or --pilot");
+  std::unique_ptr<HeliController> controller;
+  SetPoint target;
+  double control_rate_hz = 0;  // the policy's rate; 0: the aircraft's
+  if (!policy_path.empty()) {
+    const PolicyFile file = read_policy_file(policy_path);
+    controller = make_controller(file, policy_path);
+    target = controller->target(0);
+    if (const auto it = file.options.find("control_rate_hz"); it != file.options.end()) {
+      if (!it->is_number() || !(it->get<double>() > 0))
+        throw InputError(fmt::format("{}: options.control_rate_hz: expected a number > 0, got {}",
+                                     policy_path, it->dump()));
+      control_rate_hz = it->get<double>();
+    }
+  }
+  GroundTruthSettings settings = options.settings;
+  settings.set_start = true;
+  settings.start_p_W = Vec3(target.x, target.y, target.z);
+  settings.start_yaw = target.yaw;
+  const std::unique_ptr<GroundTruth> aircraft = options.aircraft.ground_truth(settings);
+  const double dt = aircraft->step_seconds();
+  const FlightOptions& fo = options.flights;
+  FlightOptions controller_options = fo;
+  if (control_rate_hz > 0) {
+    // A policy trained at a slower rate than the aircraft's 50 Hz is called at its own rate, its controls
+    // held.
+    const double ratio = 1 / (dt * control_rate_hz);
+    if (std::abs(ratio - std::round(ratio)) > 1e-9 * ratio || std::round(ratio) < 1)
+      throw InputError(fmt::format("{}: options.control_rate_hz: {} Hz does not divide the aircraft's {} Hz",
+                                   policy_path, control_rate_hz, 1 / dt));
+    controller_options.control_every = static_cast<int>(std::round(ratio));
+  }
+  RunDirectory& dir = sink.dir;
+
+  const bool with_pilot = pilot_only || options.compare_pilot;
+  std::vector<FlightRecord> flown, pilot;
+  if (!pilot_only) flown = fly_controller(*aircraft, *controller, controller_options, &pool);
+  if (with_pilot) pilot = fly_pilot_hover(*aircraft, pilot_options_for(vehicle.simulator), target, fo, &pool);
+  const std::vector<FlightRecord>& main = pilot_only ? pilot : flown;
+  const FlightSummary s = summarize_flights(main);
+  nlohmann::json summary = flight_summary_json(s);
+  summary["controller"] = pilot_only ? "pilot" : policy_path;
+  summary["seconds"] = fo.seconds;
+  if (options.aircraft.from_file()) summary["vehicle"] = vehicle.name();
+  if (const Vec3& wind = options.settings.mean_wind_W; !wind.isZero(0))  // only then: digests
+    summary["wind"] = std::vector<double>{wind.x(), wind.y(), wind.z()};
+  options.aircraft.keep(dir);
+  CsvWriter per_flight({"controller", "flight", "crashed", "crash_reason", "crash_time", "rms_position_m",
+                        "rms_velocity_mps", "rms_yaw_rad"});
+  add_per_flight(per_flight, pilot_only ? "pilot" : "policy", main);
+  dir.write_csv("flights.csv", flights_csv(main));
+  if (with_pilot && !pilot_only) {
+    const FlightSummary ps = summarize_flights(pilot);
+    summary["pilot"] = flight_summary_json(ps);
+    summary["better_than_pilot"] = {{"position", s.rms_position_m < ps.rms_position_m},
+                                    {"velocity", s.rms_velocity_mps < ps.rms_velocity_mps}};
+    add_per_flight(per_flight, "pilot", pilot);
+    dir.write_csv("pilot_flights.csv", flights_csv(pilot));
+  }
+  dir.write_csv("per_flight.csv", per_flight);
+  add_flight_charts(dir, pilot_only ? "scripted pilot" : "learned policy", with_pilot && !pilot_only);
+  dir.write_json("summary.json", summary);
+  auto line = [](const char* who, const FlightSummary& f) {
+    return fmt::format(
+        "{}: {} flights, {} crashes, RMS position {:.3f} m, velocity {:.3f} m/s, yaw {:.4f} rad\n", who,
+        f.flights, f.crashes, f.rms_position_m, f.rms_velocity_mps, f.rms_yaw_rad);
+  };
+  sink.out << line(pilot_only ? "pilot" : "policy", s);
+  if (with_pilot && !pilot_only) sink.out << line("pilot", summarize_flights(pilot));
+  sink.out << "plots: " << (dir.final_path() / "position_x.svg").string()
+           << " (and position_*, velocity_*.svg)\n";
+}
+
+}  // namespace pegasus::heli

@@ -1,0 +1,225 @@
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "pegasus/core/error.hpp"
+#include "pegasus/io/json_csv.hpp"
+#include "pegasus/runs/charts.hpp"
+#include "pegasus/runs/flight_charts.hpp"
+#include "pegasus/runs/heli_runs.hpp"
+#include "pegasus/sysid/flight_log.hpp"
+#include "pegasus/sysid/model_selection.hpp"
+
+namespace pegasus::heli {
+
+using namespace pegasus::sysid;
+
+void run_identify(const IdentifyRunOptions& options, RunSink& sink, ThreadPool& pool) {
+  if (options.train_log.empty()) throw InputError("--train: a training flight log is required");
+  if (options.test_log.empty()) throw InputError("--test: a hold-out flight log is required");
+  const bool own_layout = !options.aircraft.from_file();
+  const logs::Vehicle& vehicle = options.aircraft.vehicle;
+  const FlightLog train =
+      own_layout ? read_flight_log(options.train_log) : logs::read_vehicle_log(options.train_log, vehicle);
+  const FlightLog test =
+      own_layout ? read_flight_log(options.test_log) : logs::read_vehicle_log(options.test_log, vehicle);
+  const IdentifyOptions& o = options.identify;
+  std::string error;
+  if (!o.IsValid(&error)) throw InputError(error);
+  RunDirectory& dir = sink.dir;
+  options.aircraft.keep(dir);
+
+  IdentifyReport report;
+  // The bandwidth search checkpoints after each cross-validation step; --resume replays the saved steps.
+  IdentifyHooks hooks;
+  if (const auto saved = dir.load_checkpoint(); saved && saved->contains("identify"))
+    hooks.resume_from = saved->at("identify");
+  hooks.checkpoint = [&dir](const nlohmann::json& state) { dir.save_checkpoint({{"identify", state}}); };
+  std::unique_ptr<Progress> bar;
+  hooks.progress = [&](int done, int total, bool replayed) {
+    if (!bar)
+      bar = std::make_unique<Progress>("bandwidth cross-validation", total,
+                                       Progress::default_enabled(sink.quiet));
+    const auto k = static_cast<std::uint64_t>(done) - bar->done();
+    replayed ? bar->skip(k) : bar->advance(k);
+  };
+  IdentifiedModel model = identify(train, o, pool, &report, hooks);
+  if (!own_layout) model.set_vehicle(vehicle.name());
+  if (bar) bar->finish();
+  model.save(dir.path() / "model.json");
+  CsvWriter cv({"setting", "cv_error"});
+  for (const auto& [what, e] : report.cv_trace) cv.add_row({what, e});
+  dir.write_csv("cross_validation.csv", cv);
+  dir.add_charts(
+      ChartSection{.id = "cross-validation",
+                   .title = "Bandwidth cross-validation",
+                   .intro = "(cross_validation.csv)",
+                   .charts = {{.kind = ChartKind::kBar,
+                               .title = "Cross-validation error by setting",
+                               .x = {"setting"},
+                               .y = {"cross-validation error", AxisScale::kLog10},
+                               .traces = {{.file = "cross_validation.csv", .x = "setting", .y = "cv_error"}},
+                               .categorical = true}}});
+
+  const ModelSelectionStudy study = model_selection_study(model, train, test, o,
+                                                          {.horizon_s = options.horizon_s,
+                                                           .start_spacing_s = options.start_spacing_s,
+                                                           .variants = options.variants,
+                                                           .control_rate_hz = options.control_rate_hz},
+                                                          pool);
+  CsvWriter mse_csv({"model", "seconds", "variable", "mse", "rollouts"});
+  std::vector<NamedHorizonMse> drawn_models = study.variants;
+  drawn_models.push_back(study.as_trained);
+  for (const auto& v : drawn_models)
+    for (std::size_t t = 0; t < v.mse.seconds.size(); ++t)
+      for (int k = 0; k < kReportVars; ++k)
+        mse_csv.add_row({v.name, v.mse.seconds[t], std::string(kReportVarNames[static_cast<std::size_t>(k)]),
+                         v.mse.mse[t][static_cast<std::size_t>(k)], std::int64_t{v.mse.count[t]}});
+  dir.write_csv("mse_vs_horizon.csv", mse_csv);
+  {
+    const std::vector<std::string> drawn = {"xdot_b", "pitch_rate", "ydot_b", "z"};
+    std::vector<std::string> all(kReportVarNames.begin(), kReportVarNames.end());
+    const ChartSection mse = mse_vs_horizon_section("mse_vs_horizon.csv", all);
+    dir.add_charts(mse);
+    for (const auto& chart : mse.charts) {
+      const std::string& var = chart.traces.front().where.at("variable");
+      if (std::find(drawn.begin(), drawn.end(), var) != drawn.end())
+        dir.write_chart_svg(fmt::format("mse_{}.svg", var), chart);
+    }
+  }
+
+  const NoiseCheck nc = noise_check(model, test, options.reset_s, 10.0);
+  CsvWriter nc_csv({"time", "ydot_b_true", "ydot_b_predicted", "sd"});
+  for (std::size_t i = 0; i < nc.time.size(); ++i)
+    nc_csv.add_row({nc.time[i], nc.truth[i], nc.mean[i], nc.sd[i]});
+  dir.write_csv("noise_check.csv", nc_csv);
+  {
+    const Chart chart{.title = "ydot_b on hold-out data with +-2 sd bands, EKF reset every 2 s (Fig 5.3)",
+                      .x = {"time (s)"},
+                      .y = {"ydot_b (m/s)"},
+                      .traces = {{.file = "noise_check.csv", .x = "time", .y = "ydot_b_true", .name = "true"},
+                                 {.file = "noise_check.csv",
+                                  .x = "time",
+                                  .y = "ydot_b_predicted",
+                                  .name = "predicted",
+                                  .band = "sd",
+                                  .band_factor = 2,
+                                  .band_name = "+-2 standard deviations",
+                                  .dash = "dashdot"}}};
+    dir.add_charts(ChartSection{
+        .id = "noise-check",
+        .title = "Prediction with 2-sigma bands (Fig 5.3)",
+        .intro =
+            "The model's prediction from the true state, reset to the truth every few seconds; the band is 2 "
+            "standard deviations of the predicted state (noise_check.csv).",
+        .charts = {chart}});
+    dir.write_chart_svg("noise_check.svg", chart);
+  }
+
+  nlohmann::json bandwidth, sigma2, outside;
+  for (int j = 0; j < kInputs; ++j) {
+    if (j == kOne) continue;
+    const double ih = model.inv_bandwidth()[static_cast<std::size_t>(j)];
+    bandwidth[kInputNames[static_cast<std::size_t>(j)]] =
+        ih > 0 ? nlohmann::json(1 / ih) : nlohmann::json("inf");
+  }
+  for (int k = 0; k < kBodyVars; ++k) {
+    sigma2[kBodyVarNames[static_cast<std::size_t>(k)]] = model.sigma2()[k];
+    outside[kBodyVarNames[static_cast<std::size_t>(k)]] = nc.outside_fraction[k];
+  }
+  // The bands' misses at 0.5, 1 and 2 s after a reset: an honest noise model misses about 5% at every
+  // horizon.
+  nlohmann::json outside_by_horizon = nlohmann::json::object();
+  for (double seconds : {0.5, 1.0, 2.0}) {
+    const auto t = static_cast<std::size_t>(std::lround(seconds / model.dt())) - 1;
+    if (t >= nc.steps_by_horizon.size() || nc.steps_by_horizon[t] == 0) continue;
+    nlohmann::json at;
+    for (int k = 0; k < kBodyVars; ++k)
+      at[kBodyVarNames[static_cast<std::size_t>(k)]] = nc.outside_by_horizon[t][k];
+    outside_by_horizon[format_double(seconds)] = at;
+  }
+  nlohmann::json variant_json = nlohmann::json::array();
+  for (const auto& v : study.variants)
+    variant_json.push_back({{"model", v.name}, {"mse_at_seconds", mse_at_seconds_json(v.mse)}});
+  nlohmann::json summary = {{"train_seconds", train.seconds()},
+                            {"test_seconds", test.seconds()},
+                            {"rate_hz", o.structure.rate_hz},
+                            {"structure", o.structure.describe()},
+                            {"local", o.local},
+                            {"training_rows", model.data().rows()},
+                            {"bandwidth", bandwidth},
+                            {"sigma2", sigma2},
+                            {"mse_at_seconds", mse_at_seconds_json(study.variants.front().mse)},
+                            {"mse_at_seconds_as_trained", mse_at_seconds_json(study.as_trained.mse)},
+                            {"control_rate_hz", options.control_rate_hz},
+                            {"global_linear", {{"mse_at_seconds", mse_at_seconds_json(study.global_linear)}}},
+                            {"variants", variant_json},
+                            {"outside_2sigma_fraction", outside},
+                            {"outside_2sigma_by_horizon", outside_by_horizon},
+                            {"noise", to_string(o.noise)},
+                            {"noise_check_steps", nc.steps},
+                            {"cross_validation_steps", report.cv_trace.size()},
+                            {"model", "model.json"}};
+  // Only when some were skipped, so that the summaries of 50 Hz logs stay as they were (digests).
+  if (!study.skipped_rates_hz.empty()) summary["variant_rates_skipped_hz"] = study.skipped_rates_hz;
+  if (!own_layout) summary["vehicle"] = vehicle.name();  // likewise
+  if (!report.floored_inputs.empty()) summary["bandwidth_at_floor"] = report.floored_inputs;
+  if (o.calibrate_noise) {
+    nlohmann::json inflation;
+    for (int k = 0; k < kBodyVars; ++k)
+      inflation[kBodyVarNames[static_cast<std::size_t>(k)]] = report.noise_inflation[k];
+    summary["noise_inflation"] = inflation;
+  }
+  {
+    // The control gains' closed-loop bias, measured against a fit that whitens the residuals' correlation
+    // (the model's AR(1) noise, or, for a white-noise model, the same fit made for this check alone): the
+    // warning comes whatever noise model was asked for.
+    nlohmann::json bias = nlohmann::json::object();
+    const ControlGainBias* worst = nullptr;
+    const auto biases = model_closed_loop_bias(model, o.window_s, pool);
+    for (const auto& b : biases) {
+      bias[b.output + "/" + b.control] = {
+          {"least_squares", b.least_squares}, {"whitened", b.whitened}, {"relative", b.relative}};
+      if (!worst || std::abs(b.relative) > std::abs(worst->relative)) worst = &b;
+    }
+    summary["closed_loop_bias"] = bias;
+    if (worst && std::abs(worst->relative) > 0.2)
+      sink.out << fmt::format(
+          "warning: the control gains look biased by closed-loop data: {} per {} is {:.0f}% {} in the "
+          "least-squares fit than in one that whitens the correlated noise ({:.4g} against {:.4g}; "
+          "closed_loop_bias in summary.json)\n",
+          worst->output, worst->control, 100 * std::abs(worst->relative),
+          worst->relative < 0 ? "smaller" : "larger", worst->least_squares, worst->whitened);
+  }
+  if (model.noise_correlation().any()) {
+    nlohmann::json correlation;
+    for (int k = 0; k < kBodyVars; ++k)
+      correlation[kBodyVarNames[static_cast<std::size_t>(k)]] = {
+          {"share", model.noise_correlation().share[k]}, {"rho", model.noise_correlation().rho[k]}};
+    summary["noise_correlation"] = correlation;
+  }
+  dir.write_json("summary.json", summary);
+  if (!report.floored_inputs.empty())
+    sink.out << fmt::format(
+        "bandwidth held at its floor (the logs move these inputs too little for a narrower one): {}\n",
+        fmt::join(report.floored_inputs, ", "));
+  if (!study.skipped_rates_hz.empty())
+    sink.out << fmt::format(
+        "variants not identified at {} Hz: the logs' rates ({:.4g} and {:.4g} Hz) are not "
+        "multiples\n",
+        fmt::join(study.skipped_rates_hz, ", "), 1 / train.dt(), 1 / test.dt());
+  const auto& m1 = summary["mse_at_seconds"];
+  const auto& g1 = summary["global_linear"]["mse_at_seconds"];
+  sink.out << fmt::format("identified on {:.0f} s ({} rows at {} Hz), cross-validation {:.1f} s\n",
+                          train.seconds(), model.data().rows(), o.structure.rate_hz, report.cv_seconds);
+  if (m1.contains("1") && g1.contains("1"))
+    sink.out << fmt::format("hold-out MSE at 1 s, xdot_b: {:.4g} (chosen) vs {:.4g} (global linear)\n",
+                            m1["1"]["xdot_b"].get<double>(), g1["1"]["xdot_b"].get<double>());
+  sink.out << "model: " << (dir.final_path() / "model.json").string() << "\n";
+}
+
+}  // namespace pegasus::heli
