@@ -39,15 +39,20 @@ void VehicleChoice::keep(const RunDirectory& dir) const {
   if (from_file()) dir.write_text("vehicle.toml", read_file(file));
 }
 
-std::unique_ptr<GroundTruth> VehicleChoice::ground_truth(const GroundTruthSettings& settings) const {
+const std::string& VehicleChoice::simulator() const {
   if (vehicle.simulator == "none")
     throw InputError(
         fmt::format("{}: vehicle.simulator: 'none': the project has no ground truth of {} to fly; serve its "
                     "controller to the aircraft or its simulator with `pegasus control --vehicle {} --policy "
                     "P.json`",
                     vehicle.log.file, vehicle.name(), vehicle.log.file));
+  return vehicle.simulator;
+}
+
+std::unique_ptr<GroundTruth> VehicleChoice::ground_truth(const GroundTruthSettings& settings) const {
+  const std::string& name = simulator();
   try {
-    return make_ground_truth(vehicle.simulator, settings);
+    return make_ground_truth(name, settings);
   } catch (const std::invalid_argument& e) {
     throw InputError(e.what());
   }

@@ -35,6 +35,8 @@ struct VehicleChoice {
   bool from_file() const { return !file.empty(); }
   // The vehicle file's bytes, kept beside the results it shaped (vehicle.toml), when there is one.
   void keep(const RunDirectory& dir) const;
+  // The name of the vehicle's ground truth (heli/simulators.hpp); a vehicle without one is bad input.
+  const std::string& simulator() const;
   // The vehicle's ground truth with the settings; a vehicle without one, or settings it rejects, is bad
   // input.
   std::unique_ptr<GroundTruth> ground_truth(const GroundTruthSettings& settings) const;
