@@ -1,0 +1,47 @@
+#pragma once
+// PEGASUS policy search on any MJCF model (issue 18) written to a run directory through a RunSink (the
+// `mujoco train` and `mujoco rollout` commands map their options onto these). Only with PEGASUS_MUJOCO.
+//   run_mujoco_training  the search (checkpointed, resumable), then the final policy on held-out scenarios:
+//                        policy.json, progress.csv, evaluation.csv, replay.json, summary.json;
+//   run_mujoco_rollout   a policy file's episodes: returns.csv, trajectory.csv (episode 0), replay.json.
+#ifdef PEGASUS_HAVE_MUJOCO
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "pegasus/mujoco/mujoco_objective.hpp"
+#include "pegasus/optimizers/optimizer.hpp"
+#include "pegasus/parallel/thread_pool.hpp"
+#include "pegasus/runs/run_sink.hpp"
+#include "pegasus/scenarios/scenario_set.hpp"
+
+namespace pegasus {
+
+// ARS (Mania, Guy and Recht 2018) by default, 100 iterations of every iterative method.
+OptimizerOptions mujoco_default_optimizer();
+
+struct MujocoTrainingRunOptions {
+  std::string model_file;                                   // MJCF
+  std::string task_file;                                    // TOML naming the model's parts
+  std::string policy_class = "linear";                      // "linear" | "mlp"
+  std::vector<int> hidden = {16};                           // the mlp's hidden widths
+  bool normalize = true;                                    // running observation statistics (ARS V2)
+  OptimizerOptions optimizer = mujoco_default_optimizer();  // its seeds: the run's
+  int scenarios = 8;                                        // PEGASUS scenarios per evaluation of U-hat
+  ScenarioVariant variant = ScenarioVariant::kPlain;
+  int evaluation_episodes = 100;       // held-out scenarios for the final return and success rate
+  std::int64_t checkpoint_every = 10;  // iterations
+  std::string initial_policy_file;     // start from this policy.json's theta (normalize = false)
+  std::uint64_t seed = 1;
+};
+void run_mujoco_training(const MujocoTrainingRunOptions& options, RunSink& sink, ThreadPool& pool);
+
+struct MujocoRolloutRunOptions {
+  std::string policy_file;  // policy.json of run_mujoco_training
+  int episodes = 10;        // the first is recorded step by step
+  std::uint64_t seed = 1;
+};
+void run_mujoco_rollout(const MujocoRolloutRunOptions& options, RunSink& sink);
+
+}  // namespace pegasus
+#endif
