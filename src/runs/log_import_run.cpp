@@ -1,0 +1,195 @@
+#include "pegasus/runs/log_import_run.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "pegasus/core/error.hpp"
+#include "pegasus/io/json_csv.hpp"
+#include "pegasus/logs/ulog.hpp"
+#include "pegasus/runs/flight_charts.hpp"
+#include "pegasus/sysid/flight_log.hpp"
+
+namespace pegasus {
+
+namespace {
+
+using sysid::FlightLog;
+using sysid::HorizonMse;
+
+constexpr std::array<double, 3> kHorizons = {0.5, 1.0, 2.0};
+
+// Two copies of a log: rows [0, split) and [split, rows).
+std::pair<FlightLog, FlightLog> split_log(const FlightLog& log, std::size_t split) {
+  FlightLog a, b;
+  for (FlightLog* part : {&a, &b}) {
+    const std::size_t lo = part == &a ? 0 : split, hi = part == &a ? split : log.rows();
+    part->time.assign(log.time.begin() + static_cast<std::ptrdiff_t>(lo),
+                      log.time.begin() + static_cast<std::ptrdiff_t>(hi));
+    part->states.assign(log.states.begin() + static_cast<std::ptrdiff_t>(lo),
+                        log.states.begin() + static_cast<std::ptrdiff_t>(hi));
+    part->controls.assign(log.controls.begin() + static_cast<std::ptrdiff_t>(lo),
+                          log.controls.begin() + static_cast<std::ptrdiff_t>(hi));
+  }
+  return {std::move(a), std::move(b)};
+}
+
+// Root-mean-square error of every report variable at each of kHorizons, and the rollouts behind it.
+nlohmann::json rmse_at_horizons(const HorizonMse& h, nlohmann::json* rollouts) {
+  nlohmann::json out = nlohmann::json::object();
+  for (double horizon : kHorizons) {
+    const std::size_t t = h.seconds.empty() || h.seconds.size() < 2
+                              ? 0
+                              : static_cast<std::size_t>(std::lround(horizon / h.seconds[1]));
+    const std::string key = fmt::format("{}", horizon);
+    if (t >= h.seconds.size() || h.count[t] == 0) continue;
+    nlohmann::json vars;
+    for (std::size_t v = 0; v < sysid::kReportVars; ++v)
+      vars[sysid::kReportVarNames[v]] = std::sqrt(h.mse[t][v]);
+    out[key] = vars;
+    (*rollouts)[key] = h.count[t];
+  }
+  return out;
+}
+
+}  // namespace
+
+void run_log_import(const LogImportRunOptions& o, RunSink& sink, ThreadPool& pool) {
+  if (o.ulog_file.empty()) throw InputError("ulog: a ULog file is required (pegasus log import FILE.ulg)");
+  if (o.vehicle_file.empty()) throw InputError("--vehicle: a vehicle file with a [log] section is required");
+  const std::filesystem::path file = o.ulog_file;
+  const logs::VehicleLogSpec spec = logs::read_vehicle_log_spec(o.vehicle_file);
+  const logs::UlogFile ulog =
+      logs::read_ulog(file, {.truncated_tail = o.truncated_tail, .topics = spec.topic_names()});
+  logs::ImportProvenance provenance;
+  const FlightLog log = logs::import_ulog(ulog, spec, file.string(), o.window, &provenance);
+  const std::string sha256 = logs::file_sha256(file);
+  const auto bytes = std::filesystem::file_size(file);
+
+  // What moved: a control that never changes carries nothing an identification can learn from.
+  nlohmann::json control_range, constant_controls = nlohmann::json::array();
+  for (std::size_t k = 0; k < 4; ++k) {
+    double lo = INFINITY, hi = -INFINITY;
+    for (const auto& a : log.controls) {
+      lo = std::min(lo, a[k]);
+      hi = std::max(hi, a[k]);
+    }
+    const std::string name = sysid::kLogControlColumns[k];
+    control_range[name] = {lo, hi};
+    if (lo == hi) constant_controls.push_back(name);
+  }
+
+  RunDirectory& dir = sink.dir;
+  dir.write_text("log.csv", sysid::flight_log_csv(log));
+  dir.add_charts(flight_log_sections("log.csv", "",
+                                     {sysid::kLogControlColumns.begin(), sysid::kLogControlColumns.end()}));
+  nlohmann::json prov = provenance.json;
+  prov["source"] = {{"path", file.string()}, {"sha256", sha256}, {"bytes", bytes}};
+  dir.write_json("provenance.json", prov);
+
+  nlohmann::json summary = {
+      {"source", {{"file", file.filename().string()}, {"sha256", sha256}, {"bytes", bytes}}},
+      {"vehicle", spec.vehicle},
+      {"rows", log.rows()},
+      {"rate_hz", spec.rate_hz},
+      {"seconds", log.seconds()},
+      {"time_range_s", prov["time_range_s"]},
+      {"topics", prov["topics"]},
+      {"instance", spec.instance},
+      {"dropouts", ulog.dropouts.size()},
+      {"dropout_total_ms", prov["dropout_total_ms"]},
+      {"truncated_at_byte", prov["ulog"]["truncated_at_byte"]},
+      {"control_range", control_range},
+      {"constant_controls", constant_controls},
+      {"log", "log.csv"},
+      {"provenance", "provenance.json"}};
+  std::string topics;
+  for (const auto& t : prov["topics"]) topics += (topics.empty() ? "" : ", ") + t["topic"].get<std::string>();
+  sink.out << fmt::format("imported {:.1f} s ({} rows at {} Hz) of {} from {}; {} dropouts ({} ms)\n",
+                          log.seconds(), log.rows(), spec.rate_hz, topics, file.filename().string(),
+                          ulog.dropouts.size(), prov["dropout_total_ms"].get<double>());
+  if (ulog.truncated_at)
+    sink.out << fmt::format("warning: the file ends inside the message at byte {}; read up to it\n",
+                            *ulog.truncated_at);
+  for (const auto& name : constant_controls)
+    sink.out << fmt::format(
+        "warning: {} is constant over the log: nothing about its effect can be identified\n",
+        name.get<std::string>());
+
+  if (o.identify) {
+    const auto split =
+        static_cast<std::size_t>(std::lround(o.train_fraction * static_cast<double>(log.rows())));
+    const auto [train, test] = split_log(log, split);
+    sysid::IdentifyOptions io = o.identification;
+    io.structure.rate_hz = spec.model_rate_hz;
+    io.structure.extra_states = false;  // the X-Cell's rotor and gyro lags are no part of this vehicle
+    sysid::IdentifyReport report;
+    const sysid::IdentifiedModel model = sysid::identify(train, io, pool, &report);
+    sysid::IdentifyOptions global_options = io;
+    global_options.local = false;
+    const sysid::IdentifiedModel global = sysid::identify(train, global_options, pool);
+    model.save(dir.path() / "model.json");
+
+    const double spacing = o.start_spacing_s, longest = kHorizons.back();
+    const std::vector<std::pair<std::string, HorizonMse>> models = {
+        {io.local ? "identified (locally weighted)" : "identified (global linear)",
+         sysid::horizon_mse(model, test, longest, spacing, pool)},
+        {"global linear", sysid::horizon_mse(global, test, longest, spacing, pool)},
+        {"constant velocity", sysid::constant_velocity_mse(test, model.dt(), longest, spacing)}};
+    if (models.back().second.count.back() == 0)
+      throw InputError(
+          fmt::format("--train-fraction: the hold-out part ({:.1f} s) is shorter than the {} s horizon",
+                      test.seconds(), longest));
+    CsvWriter mse_csv({"model", "seconds", "variable", "mse", "rollouts"});
+    nlohmann::json rmse, rollouts;
+    const std::array<const char*, 3> keys = {"identified", "global_linear", "constant_velocity"};
+    for (std::size_t m = 0; m < models.size(); ++m) {
+      const HorizonMse& h = models[m].second;
+      for (std::size_t t = 0; t < h.seconds.size(); ++t)
+        for (std::size_t v = 0; v < sysid::kReportVars; ++v)
+          mse_csv.add_row({models[m].first, h.seconds[t], std::string(sysid::kReportVarNames[v]), h.mse[t][v],
+                           std::int64_t{h.count[t]}});
+      nlohmann::json n;
+      rmse[keys[m]] = rmse_at_horizons(h, &n);
+      rollouts[keys[m]] = n;
+    }
+    dir.write_csv("mse_vs_horizon.csv", mse_csv);
+    dir.add_charts(mse_vs_horizon_section("mse_vs_horizon.csv",
+                                          {sysid::kReportVarNames.begin(), sysid::kReportVarNames.end()}));
+    summary["prediction"] = {{"train_seconds", train.seconds()},
+                             {"test_seconds", test.seconds()},
+                             {"model_rate_hz", spec.model_rate_hz},
+                             {"structure", model.structure().describe()},
+                             {"local", io.local},
+                             {"training_rows", model.data().rows()},
+                             {"horizons_s", kHorizons},
+                             {"rmse", rmse},
+                             {"rollouts", rollouts},
+                             {"model", "model.json"}};
+    if (!report.floored_inputs.empty()) summary["prediction"]["bandwidth_at_floor"] = report.floored_inputs;
+    sink.out
+        << "hold-out RMSE (identified | global linear | constant velocity; - where the model's fit turned "
+           "singular before that horizon):\n";
+    for (double horizon : kHorizons) {
+      const std::string key = fmt::format("{}", horizon);
+      std::string line = fmt::format("  at {} s", horizon);
+      for (const char* var : {"z", "zdot_b", "roll", "roll_rate"}) {
+        line += fmt::format("  {}", var);
+        for (std::size_t m = 0; m < keys.size(); ++m)
+          line += (m == 0 ? " " : " | ") + (rmse[keys[m]].contains(key)
+                                                ? fmt::format("{:.3g}", rmse[keys[m]][key][var].get<double>())
+                                                : std::string("-"));
+      }
+      sink.out << line << "\n";
+    }
+  }
+  dir.write_json("summary.json", summary);
+  sink.out << "log: " << (dir.final_path() / "log.csv").string() << "\n";
+}
+
+}  // namespace pegasus
