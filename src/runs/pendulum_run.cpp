@@ -1,0 +1,120 @@
+#include "pegasus/runs/pendulum_run.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "pegasus/core/error.hpp"
+#include "pegasus/evaluators/pegasus_evaluator.hpp"
+#include "pegasus/io/json_csv.hpp"
+#include "pegasus/runs/charts.hpp"
+
+namespace pegasus {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+nlohmann::json number_or_null(double x) {
+  return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
+}
+
+}  // namespace
+
+void run_pendulum_training(const PendulumTrainingOptions& o, RunSink& sink, ThreadPool& pool) {
+  std::string error;
+  if (!o.IsValid(&error)) throw InputError(error);
+  RunDirectory& dir = sink.dir;
+  PendulumTrainingHooks hooks;
+  hooks.checkpoint_every = 10;
+  hooks.on_checkpoint = [&](const nlohmann::json& state) { dir.save_checkpoint(state); };
+  hooks.resume_from = dir.load_checkpoint();
+  auto bar = sink.progress("training", 1);
+  const PendulumTrainingResult r = train_pendulum(o, hooks, &pool);
+  bar.advance();
+  bar.finish();
+  const OptimizerSummary& s = r.summary;
+  const OptimizerSummary& refined = r.refine_summary;
+  const bool refine = !refined.method.empty();
+
+  // One curve over both stages: the refinement's iterations and evaluations continue the race's count.
+  CsvWriter curve({"stage", "iteration", "evaluations", "seconds", "uhat"});
+  for (const auto& h : s.history) {
+    curve.add_row({std::string("race"), h.iteration, h.evaluations, h.seconds, h.value});
+  }
+  for (const auto& h : refined.history) {
+    curve.add_row({std::string("refine"), s.iterations + h.iteration, s.evaluations + h.evaluations,
+                   s.wall_seconds + h.seconds, h.value});
+  }
+  CsvWriter checks({"seconds", "evaluations", "uhat", "mean_return"});
+  for (const auto& c : r.checks) checks.add_row({c.seconds, c.evaluations, c.uhat, c.mean_return});
+  CsvWriter episodes({"episode", "return"});
+  const auto returns =
+      pendulum_episode_returns(r.theta, o.evaluation_episodes, pendulum_evaluation_seed(o.seed), &pool);
+  for (std::size_t i = 0; i < returns.size(); ++i)
+    episodes.add_row({static_cast<std::int64_t>(i), returns[i]});
+  dir.write_csv("learning_curve.csv", curve);
+  dir.write_csv("bar_checks.csv", checks);
+  dir.write_csv("episode_returns.csv", episodes);
+  const Chart search{.title = "Pendulum-v1: PEGASUS swing-up search",
+                     .x = {"U-hat evaluations"},
+                     .y = {"return (200 steps)"},
+                     .traces = {{.file = "learning_curve.csv",
+                                 .x = "evaluations",
+                                 .y = "uhat",
+                                 .group_by = {"stage"},
+                                 .name = fmt::format("U-hat ({} race, {} refinement scenarios)", o.scenarios,
+                                                     o.refine_scenarios)},
+                                {.file = "bar_checks.csv",
+                                 .x = "evaluations",
+                                 .y = "mean_return",
+                                 .name = fmt::format("mean return, {} fresh starts", o.evaluation_episodes),
+                                 .mode = "lines+markers"}},
+                     .references = {{.y = o.bar, .name = "bar"}}};
+  dir.add_charts(ChartSection{.id = "progress",
+                              .title = "Optimizer progress",
+                              .intro =
+                                  "U-hat of the best policy so far on the training scenarios (race, then "
+                                  "refinement) and the mean return on fresh starts at the bar checks.",
+                              .charts = {search}});
+  dir.write_chart_svg("learning_curve.svg", search);
+  dir.write_json("policy.json", pendulum_policy_json(r.theta));
+  // The final policy on many other starts: a 100-start mean carries about +-8 of sampling noise.
+  const double mean_return_5000 =
+      ordered_mean(pendulum_episode_returns(r.theta, 5000, pendulum_large_evaluation_seed(o.seed), &pool));
+  dir.write_json("summary.json",
+                 {{"experiment", "pendulum train"},
+                  {"mean_return_100", r.mean_return_100},
+                  {"race_mean_return_100", r.race_mean_return_100},
+                  {"mean_return_5000", mean_return_5000},
+                  {"evaluation_episodes", o.evaluation_episodes},
+                  {"bar", o.bar},
+                  {"evaluations_to_bar", r.evaluations_to_bar},
+                  {"initial_uhat", number_or_null(s.initial_value)},
+                  {"final_uhat", s.best_value},
+                  {"iterations", s.iterations},
+                  {"evaluations", s.evaluations},
+                  {"scenarios", o.scenarios},
+                  {"termination", std::string(TerminationTypeName(s.termination_type))},
+                  {"message", s.message},
+                  {"refine_scenarios", refine ? o.refine_scenarios : 0},
+                  {"refine_initial_uhat", number_or_null(refine ? refined.initial_value : kNaN)},
+                  {"refine_final_uhat", number_or_null(refine ? refined.best_value : kNaN)},
+                  {"refine_iterations", refined.iterations},
+                  {"refine_evaluations", refined.evaluations}});
+  sink.timings = {{"seconds_to_bar", number_or_null(r.seconds_to_bar)},
+                  {"cpu_seconds_to_bar", number_or_null(r.cpu_seconds_to_bar)},
+                  {"training_seconds", s.wall_seconds + refined.wall_seconds},
+                  {"refine_seconds", refined.wall_seconds}};
+  sink.out << "race: " << s.BriefReport() << "\n";
+  if (refine) sink.out << "refinement: " << refined.BriefReport() << "\n";
+  sink.out << fmt::format(
+      "mean return over {} fresh starts: {:.2f} (race {:.2f}), over 5000 others {:.2f}; bar {} "
+      "reached after {} s ({} evaluations)\n",
+      o.evaluation_episodes, r.mean_return_100, r.race_mean_return_100, mean_return_5000, o.bar,
+      number_or_null(r.seconds_to_bar).dump(), r.evaluations_to_bar);
+}
+
+}  // namespace pegasus
