@@ -231,7 +231,7 @@ int run_command(const Command& command, const ConfigSchema& schema, const std::s
 }
 
 // Runs the command of `leaf` after parsing succeeded.
-int execute(Leaf& leaf, std::vector<std::string> argv, std::ostream& out, std::ostream& err) {
+int execute(Leaf& leaf, const std::vector<std::string>& argv, std::ostream& out, std::ostream& err) {
   std::optional<RunDirectory> run_dir;
   bool running = false;  // past the set-up: with several ranks, a failure ends the whole job
   try {

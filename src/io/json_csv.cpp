@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <charconv>
+#include <cmath>
 #include <stdexcept>
 
 #include "pegasus/core/untrusted_text.hpp"
@@ -54,6 +55,10 @@ std::optional<std::int64_t> parse_int(std::string_view text) {
 std::string format_double(double x) {
   // fmt's default format is the shortest text that reads back to the same double.
   return fmt::format("{}", x);
+}
+
+nlohmann::json number_or_null(double x) {
+  return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
 }
 
 std::string json_text(const nlohmann::json& value) {

@@ -15,10 +15,6 @@ namespace pegasus {
 
 namespace {
 
-nlohmann::json number_or_null(double x) {
-  return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
-}
-
 nlohmann::json ride_summary_json(const BicycleRideSummary& s) {
   return {{"median_distance_km", number_or_null(s.median_distance_km)},
           {"worst_distance_km", number_or_null(s.worst_distance_km)},

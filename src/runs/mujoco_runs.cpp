@@ -68,10 +68,6 @@ nlohmann::json evaluation_json(const std::vector<MujocoRolloutResult>& results) 
           {"control_steps", steps}};
 }
 
-nlohmann::json finite_or_null(double x) {
-  return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
-}
-
 // The task's success criterion, as the summary records it.
 nlohmann::json success_json(const MujocoEnvironment& env) {
   const MujocoTask& task = env.task();
@@ -80,9 +76,9 @@ nlohmann::json success_json(const MujocoEnvironment& env) {
   for (const auto& r : task.success_ranges)
     ranges.push_back({{"quantity", kQuantities[static_cast<int>(r.kind)]},
                       {"name", r.name},
-                      {"min", finite_or_null(r.lower)},
-                      {"max", finite_or_null(r.upper)}});
-  return {{"return", finite_or_null(task.success_return)},
+                      {"min", number_or_null(r.lower)},
+                      {"max", number_or_null(r.upper)}});
+  return {{"return", number_or_null(task.success_return)},
           {"hold_steps", task.success_hold_steps},
           {"at", task.success_anywhere ? "any" : "end"},
           {"ranges", ranges}};
@@ -266,7 +262,7 @@ void run_mujoco_training(const MujocoTrainingRunOptions& o, RunSink& sink, Threa
                                   {"training_physics_steps", objective.control_steps() * frame_skip},
                                   {"training_crashes", objective.crashes()},
                                   {"first_success", first_success},
-                                  {"success_return", finite_or_null(env.task().success_return)},
+                                  {"success_return", number_or_null(env.task().success_return)},
                                   {"success", success_json(env)},
                                   {"evaluation", evaluation}});
   // Wall-clock measurements go to run.json ("timings"): summary.json is identical for any threads and ranks.
@@ -317,7 +313,7 @@ void run_mujoco_rollout(const MujocoRolloutRunOptions& o, RunSink& sink) {
   dir.write_json("replay.json", replay_json(env, *problem.policy, theta, normalizer, scenarios));
   dir.add_charts(replay_section("Episode 0 of the rollout"));
   dir.write_json("summary.json", {{"experiment", "mujoco rollout"},
-                                  {"success_return", finite_or_null(env.task().success_return)},
+                                  {"success_return", number_or_null(env.task().success_return)},
                                   {"success", success_json(env)},
                                   {"evaluation", evaluation_json(results)}});
   sink.out << fmt::format("mean return {:.3f} over {} episodes\n",

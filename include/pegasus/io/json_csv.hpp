@@ -25,6 +25,10 @@ std::optional<std::int64_t> parse_int(std::string_view text);
 // Shortest text that reads back to exactly `x` ("0.1", "1e-300", "inf").
 std::string format_double(double x);
 
+// A finite number, or null for NaN and infinities (JSON has neither): for summary fields that may be
+// undefined (a median of no rides, a time to a bar never reached).
+nlohmann::json number_or_null(double x);
+
 // Pretty-printed JSON text with a final newline; doubles round-trip exactly.
 std::string json_text(const nlohmann::json& value);
 // Parses a JSON file; std::runtime_error naming the file on failure.
