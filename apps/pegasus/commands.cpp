@@ -1,5 +1,6 @@
 // The table of `pegasus` commands. A new command is one entry here (or a function returning entries, kept in
-// its own apps/pegasus/<area>_commands.cpp) wiring library pieces together; see command.hpp.
+// its own apps/pegasus/<area>_command.cpp, declared below) that maps its options onto a library function;
+// see command.hpp.
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -127,6 +128,19 @@ std::vector<CommandGroup> command_groups() {
        .description = "Reward shaping (thesis ch. 3): the shaping audit and the 3.4 experiments"},
   };
 }
+
+// Each command file's group of commands (apps/pegasus/<area>_command.cpp). A new command is a new file with
+// its function, declared and listed here: no other edit.
+Command pomdp_gridworld_command();
+std::vector<Command> bicycle_commands();        // bicycle experiment, train, ride, variance
+std::vector<Command> heli_commands();           // heli pilot, identify, hover, fly, control, pipeline
+std::vector<Command> heli_maneuver_commands();  // heli maneuver, maneuver-pilot, and their generic forms
+std::vector<Command> log_commands();            // log import
+std::vector<Command> pendulum_commands();       // pendulum train (Pendulum-v1, the RLtools race)
+std::vector<Command> mujoco_commands();         // mujoco train, rollout (empty without PEGASUS_MUJOCO)
+std::vector<Command> shaping_commands();        // shaping audit, gridworld, flags, progress-bonus
+Command report_command();                       // report RUN_DIR
+Command export_command();                       // export --policy P.json --lang c
 
 std::vector<Command> commands() {
   std::vector<Command> all = {

@@ -1,5 +1,6 @@
 #pragma once
-// The experiment commands, one function each; commands.cpp puts them in the command table.
+// What the command files share: the vehicle and bandwidth-floor options, and `heli identify`, which
+// heli_commands() lists. The command groups themselves are declared beside the table (commands.cpp).
 #include "command.hpp"
 #include "pegasus/logs/vehicle.hpp"
 #include "pegasus/runs/heli_runs.hpp"
@@ -7,17 +8,8 @@
 
 namespace pegasus::cli {
 
-Command pomdp_gridworld_command();
-std::vector<Command> bicycle_commands();        // bicycle experiment, train, ride, variance
-std::vector<Command> heli_commands();           // heli pilot, identify, hover, fly, control, pipeline
-std::vector<Command> heli_maneuver_commands();  // heli maneuver (heli_maneuver_command.cpp)
-std::vector<Command> log_commands();            // log import (log_command.cpp)
-std::vector<Command> pendulum_commands();       // pendulum train (Pendulum-v1, the RLtools race)
-std::vector<Command> mujoco_commands();         // mujoco train, rollout (empty without PEGASUS_MUJOCO)
+// `shaping audit` (shaping_command_audit.cpp), one of shaping_commands().
 Command shaping_audit_command();
-std::vector<Command> shaping_commands();  // shaping audit, gridworld, flags, progress-bonus
-Command report_command();                 // report RUN_DIR (report_command.cpp)
-Command export_command();                 // export --policy P.json --lang c (export_command.cpp)
 
 // The identification's bandwidth floors, `bandwidth_floor.*`, for every command that identifies
 // (heli_identify_command.cpp); defaults from sysid::BandwidthFloor.
