@@ -131,6 +131,9 @@ namespace detail {
 // sum_k |p_k v_k|, not bit for bit. Exposed for tests.
 // out[a] = sum_{k < n} p[a * stride + k] v[k], a = 0..3. `isa` must be supported.
 void dense_dot4(InstructionSet isa, const double* p, std::size_t stride, const double* v, int n, double* out);
+// The same kernel as a function pointer, for a sweep to look up once.
+using DenseDot4 = void (*)(const double* p, std::size_t stride, const double* v, int n, double* out);
+DenseDot4 dense_dot4_kernel(InstructionSet isa);
 }  // namespace detail
 
 }  // namespace pegasus
