@@ -83,9 +83,6 @@ void run_experiment(RunContext& ctx) {
   o.riding = ride_options(ctx);
   o.seed = ctx.seed;
   o.threads = ctx.threads;
-  std::string error;
-  if (!o.IsValid(&error)) throw InputError(error);
-
   RunSink sink = ctx.sink();
   run_bicycle_study(o, sink, ctx.pool());
 }

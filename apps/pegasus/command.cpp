@@ -398,8 +398,7 @@ int run_cli(int argc, const char* const* argv, const std::vector<CommandGroup>& 
       leaf.command = &command;
       leaf.app = parent_of(command.path)->add_subcommand(word_of(command.path), command.description);
       if (command.hidden) leaf.app->group("");
-      if (command.declare) command.declare(leaf.schema);
-      add_common_fields(leaf.schema);
+      leaf.schema = command_schema(command);
       declare_options(leaf);
       apps[command.path] = leaf.app;
     }

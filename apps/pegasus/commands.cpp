@@ -132,8 +132,9 @@ std::vector<CommandGroup> command_groups() {
 // Each command file's group of commands (apps/pegasus/<area>_command.cpp). A new command is a new file with
 // its function, declared and listed here: no other edit.
 Command pomdp_gridworld_command();
-std::vector<Command> bicycle_commands();        // bicycle experiment, train, ride, variance
-std::vector<Command> heli_commands();           // heli pilot, identify, hover, fly, control, pipeline
+std::vector<Command> bicycle_commands();  // bicycle experiment, train, ride, variance
+// heli_commands() (heli pilot, identify, hover, fly, control, pipeline): experiment_commands.hpp, since the
+// pipeline looks its stages up in it.
 std::vector<Command> heli_maneuver_commands();  // heli maneuver, maneuver-pilot, and their generic forms
 std::vector<Command> log_commands();            // log import
 std::vector<Command> pendulum_commands();       // pendulum train (Pendulum-v1, the RLtools race)

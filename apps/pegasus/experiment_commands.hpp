@@ -21,6 +21,11 @@ void declare_identify(ConfigSchema& s);
 void resolve_identify(ConfigSchema& s);
 void run_identify(RunContext& ctx);
 
+// `heli pipeline` / `pipeline` (heli_pipeline_command.cpp), listed by heli_commands().
+void declare_pipeline(ConfigSchema& s);
+void run_pipeline(RunContext& ctx);
+std::vector<Command> heli_commands();
+
 // Vehicle files (logs/vehicle.hpp) for the helicopter commands (heli_command.cpp): the `vehicle` option, the
 // aircraft it names (the X-Cell 60 when empty), and a field set from the vehicle unless the user set it.
 void declare_vehicle(ConfigSchema& s);

@@ -253,9 +253,7 @@ void run_mujoco_training(const MujocoTrainingRunOptions& o, RunSink& sink, Threa
                                   {"message", summary.message},
                                   {"iterations", summary.iterations},
                                   {"evaluations", summary.evaluations},
-                                  {"initial_uhat", std::isfinite(summary.initial_value)
-                                                       ? nlohmann::json(summary.initial_value)
-                                                       : nlohmann::json(nullptr)},
+                                  {"initial_uhat", number_or_null(summary.initial_value)},
                                   {"final_uhat", summary.best_value},
                                   {"training_rollouts", objective.rollouts()},
                                   {"training_control_steps", objective.control_steps()},
