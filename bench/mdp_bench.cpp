@@ -31,10 +31,10 @@
 #include <vector>
 
 #include "pegasus/envs/gridworld.hpp"
-#include "pegasus/mdp/block_stream.hpp"
 #include "pegasus/mdp/learners.hpp"
 #include "pegasus/mdp/random_mdp.hpp"
 #include "pegasus/mdp/solvers.hpp"
+#include "pegasus/random/block_stream.hpp"
 
 namespace pegasus {
 namespace {

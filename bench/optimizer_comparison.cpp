@@ -46,6 +46,7 @@
 #include "pegasus/heli/pilot.hpp"
 #include "pegasus/io/atomic_file.hpp"
 #include "pegasus/optimizers/optimizer.hpp"
+#include "pegasus/random/seed.hpp"
 #include "pegasus/sysid/identify.hpp"
 
 namespace {

@@ -1,6 +1,6 @@
 // The helicopter of thesis chapter 5 from Python: the ground-truth aircraft (heli/aircraft.hpp) and the
-// identified model (sysid/learned_model.hpp) as batch models over numpy rows, and the hover task (§5.3) and
-// its PEGASUS U-hat on either. Policy files are in heli_policy.cpp.
+// identified model (sysid/learned_model.hpp) as batch models over numpy rows. The hover task (§5.3) and its
+// U-hat are in heli_hover.cpp, policy files in heli_policy.cpp.
 #include <fmt/format.h>
 
 #include <cmath>
@@ -9,6 +9,7 @@
 
 #include "builtin_problem.hpp"
 #include "heli_batch.hpp"
+#include "heli_hover.hpp"
 #include "heli_policy.hpp"
 #include "pegasus/heli/aircraft.hpp"
 #include "pegasus/heli/hover_policy.hpp"
@@ -20,6 +21,17 @@
 #include "pegasus/sysid/learned_model.hpp"
 
 namespace pegasus::python {
+
+std::shared_ptr<const sysid::IdentifiedModel> identified_model(py::object model) {
+  if (py::isinstance<py::str>(model))
+    return std::make_shared<const sysid::IdentifiedModel>(
+        sysid::IdentifiedModel::load(model.cast<std::string>()));
+  try {
+    return model.cast<std::shared_ptr<sysid::IdentifiedModel>>();
+  } catch (const py::cast_error&) {
+    throw py::value_error("model: expected a pegasus.IdentifiedModel or the path of a model.json");
+  }
+}
 
 namespace {
 
@@ -160,16 +172,6 @@ SetPoint set_point(double x, double y, double z, double yaw) {
   return {x, y, z, yaw};
 }
 
-std::shared_ptr<const IdentifiedModel> identified(py::object model) {
-  if (py::isinstance<py::str>(model))
-    return std::make_shared<const IdentifiedModel>(IdentifiedModel::load(model.cast<std::string>()));
-  try {
-    return model.cast<std::shared_ptr<IdentifiedModel>>();
-  } catch (const py::cast_error&) {
-    throw py::value_error("model: expected a pegasus.IdentifiedModel or the path of a model.json");
-  }
-}
-
 template <class T, std::size_t N>
 void def_array(py::class_<T>& c, const char* name, std::array<double, N> T::*field, const char* doc) {
   c.def_property(
@@ -180,229 +182,6 @@ void def_array(py::class_<T>& c, const char* name, std::array<double, N> T::*fie
         std::copy(a.data(), a.data() + N, (t.*field).begin());
       },
       doc);
-}
-
-// U-hat of the hover policy class on a helicopter model, with its per-scenario returns.
-class HoverProblemObject final : public Objective {
- public:
-  using Returns = std::function<std::vector<double>(const Theta&)>;
-  HoverProblemObject(std::unique_ptr<Objective> inner, Returns returns)
-      : inner_(std::move(inner)), returns_(std::move(returns)) {}
-  const ParameterSpec& parameters() const override { return inner_->parameters(); }
-  double evaluate(std::span<const double> theta) override { return inner_->evaluate(theta); }
-  void evaluate_batch(std::span<const Theta> thetas, std::span<double> values) override {
-    inner_->evaluate_batch(thetas, values);
-  }
-  std::vector<double> returns(const Theta& theta) const { return returns_(theta); }
-
- private:
-  std::unique_ptr<Objective> inner_;
-  Returns returns_;
-};
-
-template <class M>
-std::unique_ptr<HoverProblemObject> hover_problem(const M& model, const SetPoint& target,
-                                                  const HoverReward& reward,
-                                                  const heli::HoverPolicyInit& init, py::object seed,
-                                                  std::int64_t scenarios, std::int64_t horizon, double gamma,
-                                                  const std::string& variant, std::int64_t threads) {
-  std::string error;
-  if (!reward.IsValid(&error)) throw py::value_error("reward." + error);
-  // With the integral term the task carries the error integral, stepped 0.02 s per (50 Hz) step.
-  const heli::ErrorIntegrator integrator{.dt = init.integral_seconds > 0 ? 0.02 : 0.0};
-  auto inner = std::make_unique<BuiltinProblem<HoverTask<M>, HoverPolicy>>(
-      HoverTask<M>(model, target, reward, integrator), HoverPolicy(init), seed, scenarios, horizon, gamma,
-      variant, threads);
-  const auto* raw = inner.get();
-  return std::make_unique<HoverProblemObject>(std::move(inner),
-                                              [raw](const Theta& t) { return raw->returns(t); });
-}
-
-void bind_hover(py::module_& m) {
-  auto options = py::class_<heli::HoverTrainingOptions>(m, "HoverTrainingOptions", R"doc(
-`pegasus heli hover`'s training (thesis §5.3): 30 scenarios of 35 s, gamma 0.9995, gradient ascent then hill
-climbing, on the identified model (heli/hover_task.hpp).)doc");
-  options.def(py::init<>())
-      .def_readwrite("scenarios", &heli::HoverTrainingOptions::scenarios)
-      .def_readwrite("seconds", &heli::HoverTrainingOptions::seconds)
-      .def_readwrite("gamma", &heli::HoverTrainingOptions::gamma)
-      .def_readwrite("refit_every", &heli::HoverTrainingOptions::refit_every)
-      .def_readwrite("control_rate_hz", &heli::HoverTrainingOptions::control_rate_hz)
-      .def_readwrite("lqr_start", &heli::HoverTrainingOptions::lqr_start)
-      .def_readwrite("lqr_action_factor", &heli::HoverTrainingOptions::lqr_action_factor)
-      .def_readwrite("max_tilt_rad", &heli::HoverTrainingOptions::max_tilt_rad)
-      .def_readwrite("target", &heli::HoverTrainingOptions::target)
-      .def_readwrite("start_pos_sigma", &heli::HoverTrainingOptions::start_pos_sigma)
-      .def_readwrite("start_vel_sigma", &heli::HoverTrainingOptions::start_vel_sigma)
-      .def_readwrite("reward", &heli::HoverTrainingOptions::reward)
-      .def_readwrite("centre_at_trim", &heli::HoverTrainingOptions::centre_at_trim)
-      .def_readwrite("optimizer", &heli::HoverTrainingOptions::optimizer)
-      .def_readwrite("then_hill_climb", &heli::HoverTrainingOptions::then_hill_climb)
-      .def_readwrite("seed", &heli::HoverTrainingOptions::seed)
-      .def_readwrite("max_start_crash_fraction", &heli::HoverTrainingOptions::max_start_crash_fraction)
-      .def_readwrite("integral_seconds", &heli::HoverTrainingOptions::integral_seconds)
-      .def_readwrite("integral_limit_position", &heli::HoverTrainingOptions::integral_limit_position)
-      .def_readwrite("integral_limit_yaw", &heli::HoverTrainingOptions::integral_limit_yaw)
-      .def("horizon", &heli::HoverTrainingOptions::horizon, "Steps of 1 / control_rate_hz.")
-      .def("gamma_per_step", &heli::HoverTrainingOptions::gamma_per_step, "gamma^(50 / control_rate_hz).")
-      .def(
-          "refit_steps",
-          [](const heli::HoverTrainingOptions& o, py::object model) {
-            return o.refit_steps(*identified(model));
-          },
-          py::arg("model"), "refit_every, or the identified model's rate in steps when 0.")
-      .def("is_valid", [](const heli::HoverTrainingOptions& o) {
-        std::string error;
-        const bool ok = o.IsValid(&error);
-        return py::make_tuple(ok, error);
-      });
-  set_fields(options, {"scenarios",
-                       "seconds",
-                       "gamma",
-                       "refit_every",
-                       "control_rate_hz",
-                       "lqr_start",
-                       "lqr_action_factor",
-                       "max_tilt_rad",
-                       "target",
-                       "start_pos_sigma",
-                       "start_vel_sigma",
-                       "reward",
-                       "centre_at_trim",
-                       "optimizer",
-                       "then_hill_climb",
-                       "seed",
-                       "max_start_crash_fraction",
-                       "integral_seconds",
-                       "integral_limit_position",
-                       "integral_limit_yaw"});
-
-  auto problem = py::class_<HoverProblemObject, Objective>(m, "HoverProblem", R"doc(
-PEGASUS U-hat (thesis §5.3) of the hover policy class (HoverPolicy(init), 34 weights) on a helicopter model, the
-ground truth (Aircraft, Quadrotor) or the identified model (LearnedHeliModel): HoverTask adds the set point `target` and
-the reward (Eqs 5.9-5.10) to the model's own; m scenarios of the given seed and variant, `horizon` 50 Hz steps,
-discount gamma, evaluated on `threads` threads (the result never depends on them).
-HoverProblem.from_training_options(model, options) is the objective `pegasus heli hover` maximises.)doc");
-  problem
-      .def(py::init([](py::object model, const SetPoint& target, const HoverReward& reward,
-                       const heli::HoverPolicyInit& init, py::object seed, std::int64_t scenarios,
-                       std::int64_t horizon, double gamma, const std::string& variant, std::int64_t threads) {
-             if (py::isinstance<Aircraft>(model))
-               return hover_problem(model.cast<const Aircraft&>(), target, reward, init, seed, scenarios,
-                                    horizon, gamma, variant, threads);
-             if (py::isinstance<LearnedHeliModel>(model))
-               return hover_problem(model.cast<const LearnedHeliModel&>(), target, reward, init, seed,
-                                    scenarios, horizon, gamma, variant, threads);
-             if (py::isinstance<heli::Quadrotor>(model))
-               return hover_problem(model.cast<const heli::Quadrotor&>(), target, reward, init, seed,
-                                    scenarios, horizon, gamma, variant, threads);
-             throw py::value_error(
-                 "model: expected a pegasus.Aircraft, a pegasus.Quadrotor or a pegasus.LearnedHeliModel");
-           }),
-           py::arg("model"), py::kw_only(), py::arg("target") = SetPoint{}, py::arg("reward") = HoverReward{},
-           py::arg("init") = heli::HoverPolicyInit{}, py::arg("seed"), py::arg("scenarios"),
-           py::arg("horizon"), py::arg("gamma") = 0.9995, py::arg("variant") = "plain",
-           py::arg("threads") = 1)
-      .def_static(
-          "from_training_options",
-          [](py::object model, const heli::HoverTrainingOptions& o, std::int64_t threads) {
-            std::string error;
-            if (!o.IsValid(&error)) throw py::value_error("options." + error);
-            auto inner = heli::hover_objective(identified(model), o, make_pool(threads));
-            using Exact = PegasusObjective<HoverTask<LearnedHeliModel>, HoverPolicy>;
-            const auto* raw = dynamic_cast<const Exact*>(inner.get());
-            if (raw == nullptr) throw std::logic_error("hover_objective: unexpected objective type");
-            return std::make_unique<HoverProblemObject>(std::move(inner), [raw](const Theta& t) {
-              std::vector<double> out(static_cast<std::size_t>(raw->evaluator().scenarios().size()));
-              raw->evaluator().per_scenario(t, out, nullptr);
-              return out;
-            });
-          },
-          py::arg("model"), py::arg("options") = heli::HoverTrainingOptions{}, py::kw_only(),
-          py::arg("threads") = 1,
-          "The objective `pegasus heli hover` maximises on an identified model (or model.json path): "
-          "heli::hover_objective, the policy class and reward centred on the logs' trim.");
-  bind_returns(problem);
-
-  m.def(
-      "hover_init_from_model",
-      [](py::object model) { return heli::hover_init_from_model(*identified(model)); }, py::arg("model"),
-      "The hover policy's starting weights around the trim estimate of the model's logs.");
-  m.def(
-      "lqr_hover_init",
-      [](py::object model, const heli::HoverTrainingOptions& o) {
-        const heli::LqrStart r = heli::lqr_hover_init(*identified(model), o);
-        py::dict out;
-        out["init"] = r.init;
-        out["used"] = r.used;
-        out["reason"] = r.reason;
-        out["spectral_radius"] = r.spectral_radius;
-        out["open_loop_radius"] = r.open_loop_radius;
-        out["integral_seconds"] = r.integral_seconds;
-        out["integral_radius"] = r.integral_radius;
-        return out;
-      },
-      py::arg("model"), py::arg("options") = heli::HoverTrainingOptions{},
-      "Starting gains by LQR on the identified model at the hover (`heli hover --starting-gains lqr`): a "
-      "dict of "
-      "init (HoverPolicyInit; the constants when not used), used, reason, spectral_radius, "
-      "open_loop_radius.");
-  m.def(
-      "hover_reward_for",
-      [](py::object model, const heli::HoverTrainingOptions& o) {
-        return heli::hover_reward_for(*identified(model), o);
-      },
-      py::arg("model"), py::arg("options") = heli::HoverTrainingOptions{},
-      "The reward of options, centred on the logs' trim when options.centre_at_trim.");
-
-  auto start = py::class_<heli::StartingPolicyCheck>(m, "StartingPolicyCheck", R"doc(
-The starting weights flown on the training scenarios of the learned model before hover training: train_hover
-stops when more than options.max_start_crash_fraction of them crash (heli/hover_task.hpp).)doc");
-  start.def_readonly("scenarios", &heli::StartingPolicyCheck::scenarios)
-      .def_readonly("crashed", &heli::StartingPolicyCheck::crashed)
-      .def_readonly("mean_seconds_to_crash", &heli::StartingPolicyCheck::mean_seconds_to_crash)
-      .def_readonly("uhat", &heli::StartingPolicyCheck::uhat);
-  set_fields(start, {"scenarios", "crashed", "mean_seconds_to_crash", "uhat"});
-
-  auto result = py::class_<heli::HoverTrainingResult>(m, "HoverTrainingResult",
-                                                      "What train_hover returns (heli/hover_task.hpp).");
-  result
-      .def_property_readonly("theta",
-                             [](const heli::HoverTrainingResult& r) { return vector_array(r.theta); })
-      .def_readonly("initial_uhat", &heli::HoverTrainingResult::initial_uhat)
-      .def_readonly("final_uhat", &heli::HoverTrainingResult::final_uhat)
-      .def_readonly("gradient", &heli::HoverTrainingResult::gradient)
-      .def_readonly("hill_climb", &heli::HoverTrainingResult::hill_climb)
-      .def_readonly("progress", &heli::HoverTrainingResult::progress)
-      .def_readonly("start", &heli::HoverTrainingResult::start)
-      .def_readonly("lqr_action_factor", &heli::HoverTrainingResult::lqr_action_factor);
-  set_fields(result, {"theta", "initial_uhat", "final_uhat", "gradient", "hill_climb", "progress", "start",
-                      "lqr_action_factor"});
-  m.def(
-      "train_hover",
-      [](py::object model, const heli::HoverTrainingOptions& o, std::int64_t checkpoint_every,
-         py::object on_checkpoint, py::object resume_from, py::object callbacks, std::int64_t threads) {
-        std::string error;
-        if (!o.IsValid(&error)) throw py::value_error("options." + error);
-        if (checkpoint_every < 0)
-          throw py::value_error(
-              fmt::format("checkpoint_every: expected an integer >= 0, got {}", checkpoint_every));
-        heli::HoverTrainingHooks hooks;
-        hooks.checkpoint_every = on_checkpoint.is_none() ? 0 : checkpoint_every;
-        hooks.on_checkpoint = checkpoint_callback(on_checkpoint);
-        if (!resume_from.is_none()) hooks.resume_from = from_python(resume_from, "resume_from");
-        const IterationCallbackList list(callbacks);
-        hooks.callbacks = list.pointers();
-        const auto shared = identified(model);
-        const auto pool = make_pool(threads);
-        py::gil_scoped_release release;
-        return heli::train_hover(shared, o, hooks, *pool);
-      },
-      py::arg("model"), py::arg("options") = heli::HoverTrainingOptions{}, py::kw_only(),
-      py::arg("checkpoint_every") = 1, py::arg("on_checkpoint") = py::none(),
-      py::arg("resume_from") = py::none(), py::arg("callbacks") = py::none(), py::arg("threads") = 1,
-      "Trains the hover controller as `pegasus heli hover` does (the same plan, checkpoints and bits for any "
-      "threads); checkpoints are training-plan checkpoints (dicts).");
 }
 
 }  // namespace
@@ -664,7 +443,7 @@ is the crash penalty.)doc");
       .def(py::init([](py::object model, const LearnedModelOptions& o) {
              std::string error;
              if (!o.IsValid(&error)) throw py::value_error("options." + error);
-             return LearnedHeliModel(identified(model), o);
+             return LearnedHeliModel(identified_model(model), o);
            }),
            py::arg("model"), py::arg("options") = LearnedModelOptions{})
       .def_property_readonly("options", &LearnedHeliModel::options)

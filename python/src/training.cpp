@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "common.hpp"
+#include "pegasus/random/seed.hpp"
 
 namespace pegasus::python {
 

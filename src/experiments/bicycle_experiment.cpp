@@ -18,6 +18,7 @@
 #include "pegasus/optimizers/training.hpp"
 #include "pegasus/parallel/mpi.hpp"
 #include "pegasus/policies/policy_json.hpp"
+#include "pegasus/random/seed.hpp"
 #include "pegasus/shaping/potential_shaping.hpp"
 
 namespace pegasus {

@@ -15,6 +15,7 @@
 #include "pegasus/evaluators/pegasus_evaluator.hpp"
 #include "pegasus/optimizers/training.hpp"
 #include "pegasus/policies/policy_json.hpp"
+#include "pegasus/random/seed.hpp"
 
 namespace pegasus {
 namespace {

@@ -12,6 +12,7 @@
 #include "pegasus/evaluators/monte_carlo.hpp"
 #include "pegasus/evaluators/table_policy_values.hpp"
 #include "pegasus/models/hashed_model.hpp"
+#include "pegasus/random/seed.hpp"
 
 namespace pegasus {
 namespace {

@@ -11,10 +11,10 @@
 #include "pegasus/core/error.hpp"
 #include "pegasus/envs/flags.hpp"
 #include "pegasus/envs/gridworld.hpp"
-#include "pegasus/mdp/block_stream.hpp"
 #include "pegasus/mdp/learners.hpp"
 #include "pegasus/mdp/solvers.hpp"
 #include "pegasus/parallel/thread_pool.hpp"
+#include "pegasus/random/block_stream.hpp"
 #include "pegasus/shaping/potential_shaping.hpp"
 
 namespace pegasus {

@@ -4,10 +4,10 @@
 
 #include "pegasus/core/error.hpp"
 #include "pegasus/envs/gridworld.hpp"
-#include "pegasus/mdp/block_stream.hpp"
 #include "pegasus/mdp/learners.hpp"
 #include "pegasus/mdp/policy_paths.hpp"
 #include "pegasus/mdp/solvers.hpp"
+#include "pegasus/random/block_stream.hpp"
 #include "pegasus/shaping/potential_shaping.hpp"
 
 namespace pegasus {

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "pegasus/heli/gaussian.hpp"
+#include "pegasus/random/normal_quantile.hpp"
 
 namespace pegasus::heli {
 

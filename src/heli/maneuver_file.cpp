@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "pegasus/core/error.hpp"
+#include "pegasus/io/json_input.hpp"
 
 namespace pegasus::heli {
 namespace {
@@ -24,22 +25,6 @@ class ManeuverController final : public HeliController {
   ManeuverPolicy policy_;
   Theta theta_;
 };
-
-double number(const nlohmann::json& j, const char* field, double fallback, const std::string& file) {
-  if (!j.contains(field)) return fallback;
-  const auto& v = j.at(field);
-  if (!v.is_number() || !std::isfinite(v.get<double>()))
-    throw InputError(fmt::format("{}: options.{}: expected a finite number, got {}", file, field, v.dump()));
-  return v.get<double>();
-}
-
-bool boolean(const nlohmann::json& j, const char* field, bool fallback, const std::string& file) {
-  if (!j.contains(field)) return fallback;
-  if (!j.at(field).is_boolean())
-    throw InputError(
-        fmt::format("{}: options.{}: expected true or false, got {}", file, field, j.at(field).dump()));
-  return j.at(field).get<bool>();
-}
 
 }  // namespace
 
@@ -72,22 +57,28 @@ ManeuverFileOptions maneuver_options_from_json(const nlohmann::json& j, const st
   if (std::find(kManeuverNames.begin(), kManeuverNames.end(), o.name) == kManeuverNames.end())
     throw InputError(
         fmt::format("{}: options.name: expected {}, got \"{}\"", file, maneuver_name_list(), o.name));
-  o.policy.learn_delay = boolean(j, "learn_delay", o.policy.learn_delay, file);
-  o.policy.feedforward = boolean(j, "feedforward", o.policy.feedforward, file);
-  o.policy.max_delay_s = number(j, "max_delay_s", o.policy.max_delay_s, file);
-  o.limits.speed = number(j, "speed", o.limits.speed, file);
-  o.limits.accel = number(j, "accel", o.limits.accel, file);
-  o.limits.yaw_rate = number(j, "yaw_rate", o.limits.yaw_rate, file);
-  o.limits.yaw_accel = number(j, "yaw_accel", o.limits.yaw_accel, file);
-  o.size.triangle_base = number(j, "triangle_base", o.size.triangle_base, file);
-  o.size.circle_radius = number(j, "circle_radius", o.size.circle_radius, file);
-  o.size.pause_s = number(j, "pause_s", o.size.pause_s, file);
-  o.size.figure_eight_radius = number(j, "figure_eight_radius", o.size.figure_eight_radius, file);
-  o.size.start_W.z() = number(j, "start_z", o.size.start_W.z(), file);
-  o.size.rectangle_width = number(j, "rectangle_width", o.size.rectangle_width, file);
-  o.size.rectangle_height = number(j, "rectangle_height", o.size.rectangle_height, file);
-  o.size.hold_start_s = number(j, "hold_start_s", o.size.hold_start_s, file);
-  o.size.hold_end_s = number(j, "hold_end_s", o.size.hold_end_s, file);
+  const auto number = [&](const char* name, double fallback) {
+    return json_number_or(j, name, fallback, file, fmt::format("options.{}", name));
+  };
+  const auto flag = [&](const char* name, bool fallback) {
+    return json_flag_or(j, name, fallback, file, fmt::format("options.{}", name));
+  };
+  o.policy.learn_delay = flag("learn_delay", o.policy.learn_delay);
+  o.policy.feedforward = flag("feedforward", o.policy.feedforward);
+  o.policy.max_delay_s = number("max_delay_s", o.policy.max_delay_s);
+  o.limits.speed = number("speed", o.limits.speed);
+  o.limits.accel = number("accel", o.limits.accel);
+  o.limits.yaw_rate = number("yaw_rate", o.limits.yaw_rate);
+  o.limits.yaw_accel = number("yaw_accel", o.limits.yaw_accel);
+  o.size.triangle_base = number("triangle_base", o.size.triangle_base);
+  o.size.circle_radius = number("circle_radius", o.size.circle_radius);
+  o.size.pause_s = number("pause_s", o.size.pause_s);
+  o.size.figure_eight_radius = number("figure_eight_radius", o.size.figure_eight_radius);
+  o.size.start_W.z() = number("start_z", o.size.start_W.z());
+  o.size.rectangle_width = number("rectangle_width", o.size.rectangle_width);
+  o.size.rectangle_height = number("rectangle_height", o.size.rectangle_height);
+  o.size.hold_start_s = number("hold_start_s", o.size.hold_start_s);
+  o.size.hold_end_s = number("hold_end_s", o.size.hold_end_s);
   std::string error;
   if (!o.limits.IsValid(&error) || !o.size.IsValid(&error)) throw InputError(file + ": options." + error);
   if (!(o.policy.max_delay_s > 0)) throw InputError(file + ": options.max_delay_s: expected a number > 0");

@@ -10,6 +10,7 @@
 #include "pegasus/evaluators/pegasus_evaluator.hpp"
 #include "pegasus/heli/simulators.hpp"
 #include "pegasus/optimizers/training.hpp"
+#include "pegasus/random/seed.hpp"
 #include "pegasus/scenarios/scenario_set.hpp"
 #include "pegasus/shaping/potential_shaping.hpp"
 

@@ -5,7 +5,7 @@
 #include <numbers>
 #include <stdexcept>
 
-#include "pegasus/heli/gaussian.hpp"
+#include "pegasus/random/normal_quantile.hpp"
 
 namespace pegasus::heli {
 

@@ -94,17 +94,10 @@ void write_policy_file(const std::filesystem::path& file, const PolicyFile& poli
 }
 
 PolicyFile parse_policy_file(const nlohmann::json& j, const std::string& file) {
-  if (!j.is_object()) json_field_error(file, "(top level)", "a JSON object", j);
+  json_format_header(j, file, kPolicyFormat, kPolicyVersion);
   PolicyFile p;
-  const auto& format = json_member(j, "format", file, "format");
-  if (format != kPolicyFormat) json_field_error(file, "format", fmt::format("\"{}\"", kPolicyFormat), format);
-  const auto& version = json_member(j, "version", file, "version");
-  if (!version.is_number_integer() || version.get<int>() != kPolicyVersion)
-    json_field_error(file, "version", std::to_string(kPolicyVersion), version);
   const auto& cls = json_member(j, "class", file, "class");
-  if (!cls.is_string() || cls.get<std::string>().empty())
-    json_field_error(file, "class", "a class name", cls);
-  p.class_name = cls.get<std::string>();
+  p.class_name = json_nonempty_string(cls, file, "class");
   const auto& params = json_member(j, "parameters", file, "parameters");
   if (!params.is_array() || params.empty())
     json_field_error(file, "parameters", "a non-empty array of {\"name\", \"value\"}", params);

@@ -6,7 +6,7 @@
 #include <numbers>
 #include <stdexcept>
 
-#include "pegasus/heli/gaussian.hpp"
+#include "pegasus/random/normal_quantile.hpp"
 #include "simulation.hpp"
 
 namespace pegasus::heli {

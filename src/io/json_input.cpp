@@ -77,4 +77,82 @@ double json_finite_number(const nlohmann::json& j, std::string_view file, std::s
   return x;
 }
 
+void json_format_header(const nlohmann::json& j, std::string_view file, std::string_view format, int version,
+                        std::string_view made_by) {
+  if (!j.is_object()) json_field_error(file, "(top level)", "a JSON object", j);
+  const nlohmann::json& f = json_member(j, "format", file, "format");
+  if (!f.is_string() || f.get_ref<const std::string&>() != format)
+    json_field_error(
+        file, "format",
+        made_by.empty() ? fmt::format("\"{}\"", format) : fmt::format("\"{}\" ({})", format, made_by), f);
+  const nlohmann::json& v = json_member(j, "version", file, "version");
+  if (!v.is_number_integer() || v != version) json_field_error(file, "version", std::to_string(version), v);
+}
+
+double json_number_in(const nlohmann::json& j, std::string_view file, std::string_view field, double lo,
+                      double hi, bool open_lo) {
+  const auto expected = [&] { return fmt::format("a number in {}{}, {}]", open_lo ? "(" : "[", lo, hi); };
+  if (!j.is_number()) json_field_error(file, field, expected(), j);
+  const double x = j.get<double>();
+  if (!(open_lo ? x > lo : x >= lo) || !(x <= hi)) json_field_error(file, field, expected(), j);
+  return x;
+}
+
+long long json_integer(const nlohmann::json& j, std::string_view file, std::string_view field, long long lo,
+                       long long hi) {
+  const auto expected = [&] { return fmt::format("an integer in [{}, {}]", lo, hi); };
+  if (!j.is_number_integer()) json_field_error(file, field, expected(), j);
+  // An unsigned value above LLONG_MAX is out of any range a field takes.
+  if (j.is_number_unsigned() && j.get<unsigned long long>() > static_cast<unsigned long long>(hi))
+    json_field_error(file, field, expected(), j);
+  const auto v = j.get<long long>();
+  if (v < lo || v > hi) json_field_error(file, field, expected(), j);
+  return v;
+}
+
+int json_index(const nlohmann::json& j, std::string_view file, std::string_view field, int count,
+               std::string_view what) {
+  const auto expected = [&] { return fmt::format("a {} in [0, {})", what, count); };
+  if (!j.is_number_integer() || count < 1) json_field_error(file, field, expected(), j);
+  if (j.is_number_unsigned() ? j.get<unsigned long long>() >= static_cast<unsigned long long>(count)
+                             : (j.get<long long>() < 0 || j.get<long long>() >= count))
+    json_field_error(file, field, expected(), j);
+  return j.get<int>();
+}
+
+bool json_flag(const nlohmann::json& j, std::string_view file, std::string_view field) {
+  if (!j.is_boolean()) json_field_error(file, field, "true or false", j);
+  return j.get<bool>();
+}
+
+std::string json_nonempty_string(const nlohmann::json& j, std::string_view file, std::string_view field) {
+  if (!j.is_string() || j.get_ref<const std::string&>().empty())
+    json_field_error(file, field, "a non-empty string", j);
+  return j.get<std::string>();
+}
+
+std::vector<double> json_finite_numbers(const nlohmann::json& j, std::string_view file,
+                                        std::string_view field, std::size_t size) {
+  if (!j.is_array() || (size > 0 && j.size() != size))
+    json_field_error(file, field,
+                     size > 0 ? fmt::format("an array of {} numbers", size) : "an array of numbers", j);
+  std::vector<double> out;
+  out.reserve(j.size());
+  for (std::size_t i = 0; i < j.size(); ++i)
+    out.push_back(json_finite_number(j[i], file, fmt::format("{}[{}]", field, i)));
+  return out;
+}
+
+double json_number_or(const nlohmann::json& object, const char* name, double fallback, std::string_view file,
+                      std::string_view field) {
+  const auto it = object.find(name);
+  return it == object.end() ? fallback : json_finite_number(*it, file, field);
+}
+
+bool json_flag_or(const nlohmann::json& object, const char* name, bool fallback, std::string_view file,
+                  std::string_view field) {
+  const auto it = object.find(name);
+  return it == object.end() ? fallback : json_flag(*it, file, field);
+}
+
 }  // namespace pegasus

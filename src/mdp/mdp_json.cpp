@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <nlohmann/json.hpp>
 
 #include "pegasus/core/error.hpp"
@@ -21,46 +22,19 @@ using nlohmann::json;
   throw InputError(fmt::format("{}: {}: {}", src, field, msg));
 }
 
-const json& required(const json& j, const char* key, const std::string& src) {
-  if (!j.contains(key)) fail(src, key, "missing required field");
-  return j.at(key);
-}
-
-int as_int(const json& j, const std::string& src, const std::string& field) {
-  if (!j.is_number_integer()) fail(src, field, fmt::format("expected an integer, got {}", j.dump()));
-  const auto v = j.get<long long>();
-  if (v < std::numeric_limits<int>::min() || v > std::numeric_limits<int>::max())
-    fail(src, field, fmt::format("integer {} out of range", v));
-  return static_cast<int>(v);
-}
-
-double as_number(const json& j, const std::string& src, const std::string& field) {
-  if (!j.is_number()) fail(src, field, fmt::format("expected a number, got {}", j.dump()));
-  const double v = j.get<double>();
-  if (!std::isfinite(v)) fail(src, field, "expected a finite number");
-  return v;
-}
-
-int as_index(const json& j, int limit, const std::string& src, const std::string& field, const char* what) {
-  const int v = as_int(j, src, field);
-  if (v < 0 || v >= limit) fail(src, field, fmt::format("{} {} outside [0, {})", what, v, limit));
-  return v;
+// An MDP's size (states or actions): a positive int (what the file holds bounds it further, below).
+int mdp_size(const json& j, const std::string& src, const char* field) {
+  return static_cast<int>(
+      json_integer(json_member(j, field, src, field), src, field, 1, std::numeric_limits<int>::max()));
 }
 
 }  // namespace
 
 FiniteMdp mdp_from_json(const json& j, const std::string& src) {
-  if (!j.is_object()) fail(src, "(top level)", "expected a JSON object");
-  const auto& fmt_field = required(j, "format", src);
-  if (!fmt_field.is_string() || fmt_field.get<std::string>() != "pegasus-mdp")
-    fail(src, "format", "expected \"pegasus-mdp\"");
-  if (as_int(required(j, "version", src), src, "version") != 1) fail(src, "version", "expected 1");
-  const int S = as_int(required(j, "num_states", src), src, "num_states");
-  if (S < 1) fail(src, "num_states", "expected at least 1");
-  const int A = as_int(required(j, "num_actions", src), src, "num_actions");
-  if (A < 1) fail(src, "num_actions", "expected at least 1");
-  const double gamma = as_number(required(j, "gamma", src), src, "gamma");
-  if (!(gamma >= 0.0 && gamma <= 1.0)) fail(src, "gamma", fmt::format("{} outside [0, 1]", gamma));
+  json_format_header(j, src, "pegasus-mdp", 1);
+  const int S = mdp_size(j, src, "num_states");
+  const int A = mdp_size(j, src, "num_actions");
+  const double gamma = json_number_in(json_member(j, "gamma", src, "gamma"), src, "gamma", 0.0, 1.0);
 
   // Every state is listed as absorbing or has one transitions entry per action, so the sizes the file
   // declares are bounded by what it holds: checked before anything of size S*A is allocated (issue 16:
@@ -83,9 +57,9 @@ FiniteMdp mdp_from_json(const json& j, const std::string& src) {
   std::vector<std::uint8_t> absorbing(static_cast<std::size_t>(S), 0);
   if (j.contains("absorbing")) {
     const auto& abs = j.at("absorbing");
-    if (!abs.is_array()) fail(src, "absorbing", "expected an array of state indices");
+    if (!abs.is_array()) json_field_error(src, "absorbing", "an array of state indices", abs);
     for (std::size_t i = 0; i < abs.size(); ++i) {
-      const int s = as_index(abs[i], S, src, fmt::format("absorbing[{}]", i), "state");
+      const int s = json_index(abs[i], src, fmt::format("absorbing[{}]", i), S, "state");
       absorbing[static_cast<std::size_t>(s)] = 1;
       b.set_absorbing(s);
     }
@@ -93,59 +67,57 @@ FiniteMdp mdp_from_json(const json& j, const std::string& src) {
   if (j.contains("initial")) {
     const auto& init = j.at("initial");
     if (!init.is_array() || init.empty())
-      fail(src, "initial", "expected a non-empty array of [state, probability]");
+      json_field_error(src, "initial", "a non-empty array of [state, probability]", init);
     for (std::size_t i = 0; i < init.size(); ++i) {
       const std::string f = fmt::format("initial[{}]", i);
-      if (!init[i].is_array() || init[i].size() != 2) fail(src, f, "expected [state, probability]");
-      const int s = as_index(init[i][0], S, src, f + "[0]", "state");
-      const double p = as_number(init[i][1], src, f + "[1]");
-      if (!(p >= 0.0 && p <= 1.0)) fail(src, f + "[1]", fmt::format("probability {} outside [0, 1]", p));
+      if (!init[i].is_array() || init[i].size() != 2)
+        json_field_error(src, f, "[state, probability]", init[i]);
+      const int s = json_index(init[i][0], src, f + "[0]", S, "state");
+      const double p = json_number_in(init[i][1], src, f + "[1]", 0.0, 1.0);
       b.set_initial(s, p);
     }
   }
   if (j.contains("state_rewards")) {
     const auto& sr = j.at("state_rewards");
     if (!sr.is_array() || sr.size() != static_cast<std::size_t>(S))
-      fail(src, "state_rewards", fmt::format("expected an array of {} numbers", S));
+      json_field_error(src, "state_rewards", fmt::format("an array of {} numbers", S), sr);
     for (int s = 0; s < S; ++s) {
-      const double r = as_number(sr[static_cast<std::size_t>(s)], src, fmt::format("state_rewards[{}]", s));
+      const double r =
+          json_finite_number(sr[static_cast<std::size_t>(s)], src, fmt::format("state_rewards[{}]", s));
       if (!absorbing[static_cast<std::size_t>(s)])
         b.set_state_reward(s, r);
       else if (r != 0.0)
         fail(src, fmt::format("state_rewards[{}]", s), "absorbing states must have reward 0");
     }
   }
-  const auto& tr = required(j, "transitions", src);
-  if (!tr.is_array()) fail(src, "transitions", "expected an array");
+  const auto& tr = json_member(j, "transitions", src, "transitions");
+  if (!tr.is_array()) json_field_error(src, "transitions", "an array", tr);
   std::vector<std::uint8_t> seen(static_cast<std::size_t>(S) * A, 0);
   for (std::size_t i = 0; i < tr.size(); ++i) {
     const std::string f = fmt::format("transitions[{}]", i);
     const auto& t = tr[i];
-    if (!t.is_object()) fail(src, f, "expected an object with state, action, next");
-    if (!t.contains("state")) fail(src, f + ".state", "missing required field");
-    if (!t.contains("action")) fail(src, f + ".action", "missing required field");
-    if (!t.contains("next")) fail(src, f + ".next", "missing required field");
-    const int s = as_index(t.at("state"), S, src, f + ".state", "state");
-    const int a = as_index(t.at("action"), A, src, f + ".action", "action");
+    if (!t.is_object()) json_field_error(src, f, "an object with state, action, next", t);
+    const int s = json_index(json_member(t, "state", src, f + ".state"), src, f + ".state", S, "state");
+    const int a = json_index(json_member(t, "action", src, f + ".action"), src, f + ".action", A, "action");
     if (absorbing[static_cast<std::size_t>(s)])
       fail(src, f + ".state", fmt::format("state {} is absorbing and takes no transitions", s));
     auto& flag = seen[static_cast<std::size_t>(s) * A + a];
     if (flag) fail(src, f, fmt::format("state {} action {} given twice", s, a));
     flag = 1;
-    if (t.contains("reward")) b.set_state_action_reward(s, a, as_number(t.at("reward"), src, f + ".reward"));
-    const auto& next = t.at("next");
+    if (t.contains("reward"))
+      b.set_state_action_reward(s, a, json_finite_number(t.at("reward"), src, f + ".reward"));
+    const auto& next = json_member(t, "next", src, f + ".next");
     if (!next.is_array() || next.empty())
-      fail(src, f + ".next", "expected a non-empty array of [successor, probability(, reward)]");
+      json_field_error(src, f + ".next", "a non-empty array of [successor, probability(, reward)]", next);
     double sum = 0.0;
     for (std::size_t k = 0; k < next.size(); ++k) {
       const std::string fk = fmt::format("{}.next[{}]", f, k);
       const auto& e = next[k];
       if (!e.is_array() || (e.size() != 2 && e.size() != 3))
-        fail(src, fk, "expected [successor, probability] or [successor, probability, reward]");
-      const int n = as_index(e[0], S, src, fk + "[0]", "successor");
-      const double p = as_number(e[1], src, fk + "[1]");
-      if (!(p >= 0.0 && p <= 1.0)) fail(src, fk + "[1]", fmt::format("probability {} outside [0, 1]", p));
-      const double r = e.size() == 3 ? as_number(e[2], src, fk + "[2]") : 0.0;
+        json_field_error(src, fk, "[successor, probability] or [successor, probability, reward]", e);
+      const int n = json_index(e[0], src, fk + "[0]", S, "successor");
+      const double p = json_number_in(e[1], src, fk + "[1]", 0.0, 1.0);
+      const double r = e.size() == 3 ? json_finite_number(e[2], src, fk + "[2]") : 0.0;
       sum += p;
       b.add_transition(s, a, n, p, r);
     }

@@ -159,23 +159,6 @@ namespace {
 
 constexpr int kMaxHiddenLayers = 16;
 
-std::string nonempty_string(const nlohmann::json& j, const std::string& file, const std::string& field) {
-  if (!j.is_string() || j.get_ref<const std::string&>().empty())
-    json_field_error(file, field, "a non-empty string", j);
-  return j.get<std::string>();
-}
-
-std::vector<double> finite_numbers(const nlohmann::json& j, const std::string& file,
-                                   const std::string& field) {
-  if (!j.is_array()) json_field_error(file, field, "an array of numbers", j);
-  std::vector<double> out;
-  out.reserve(j.size());
-  for (std::size_t i = 0; i < j.size(); ++i) {
-    out.push_back(json_finite_number(j[i], file, fmt::format("{}[{}]", field, i)));
-  }
-  return out;
-}
-
 }  // namespace
 
 nlohmann::json mujoco_policy_file_json(const MujocoPolicyFile& f) {
@@ -193,16 +176,10 @@ nlohmann::json mujoco_policy_file_json(const MujocoPolicyFile& f) {
 }
 
 MujocoPolicyFile parse_mujoco_policy_file(const nlohmann::json& j, const std::string& file) {
-  if (!j.is_object()) json_field_error(file, "(top level)", "a JSON object", j);
-  const nlohmann::json& format = json_member(j, "format", file, "format");
-  if (format != "pegasus.mujoco.policy")
-    json_field_error(file, "format", "\"pegasus.mujoco.policy\" (policy.json of `pegasus mujoco train`)",
-                     format);
-  const nlohmann::json& version = json_member(j, "version", file, "version");
-  if (!version.is_number_integer() || version != 1) json_field_error(file, "version", "1", version);
+  json_format_header(j, file, "pegasus.mujoco.policy", 1, "policy.json of `pegasus mujoco train`");
   MujocoPolicyFile f;
-  f.model = nonempty_string(json_member(j, "model", file, "model"), file, "model");
-  f.task = nonempty_string(json_member(j, "task", file, "task"), file, "task");
+  f.model = json_nonempty_string(json_member(j, "model", file, "model"), file, "model");
+  f.task = json_nonempty_string(json_member(j, "task", file, "task"), file, "task");
   const nlohmann::json& policy_class = json_member(j, "class", file, "class");
   if (policy_class != "linear" && policy_class != "mlp")
     json_field_error(file, "class", "\"linear\" or \"mlp\"", policy_class);
@@ -221,7 +198,7 @@ MujocoPolicyFile parse_mujoco_policy_file(const nlohmann::json& j, const std::st
       json_field_error(file, fmt::format("hidden[{}]", i), "a width in [1, 4096]", w);
     f.hidden.push_back(w.get<int>());
   }
-  f.theta = finite_numbers(json_member(j, "theta", file, "theta"), file, "theta");
+  f.theta = json_finite_numbers(json_member(j, "theta", file, "theta"), file, "theta");
   // What the hidden layers alone need (any observation and action have at least one dimension): a file
   // whose theta cannot hold them is refused here, before a policy of that shape is built.
   std::size_t least = 0;
@@ -239,8 +216,8 @@ MujocoPolicyFile parse_mujoco_policy_file(const nlohmann::json& j, const std::st
   if (!normalizer.is_object())
     json_field_error(file, "normalizer", "an object (mean, inverse_std, clip)", normalizer);
   f.normalizer.mean =
-      finite_numbers(json_member(normalizer, "mean", file, "normalizer.mean"), file, "normalizer.mean");
-  f.normalizer.inverse_std = finite_numbers(
+      json_finite_numbers(json_member(normalizer, "mean", file, "normalizer.mean"), file, "normalizer.mean");
+  f.normalizer.inverse_std = json_finite_numbers(
       json_member(normalizer, "inverse_std", file, "normalizer.inverse_std"), file, "normalizer.inverse_std");
   if (f.normalizer.inverse_std.size() != f.normalizer.mean.size())
     json_field_error(file, "normalizer.inverse_std",

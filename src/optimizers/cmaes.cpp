@@ -10,7 +10,7 @@
 
 #include "pegasus/core/error.hpp"
 #include "pegasus/optimizers/hill_climbing.hpp"  // FillStandardNormals
-#include "pegasus/scenarios/counter_rng.hpp"
+#include "pegasus/random/counter_rng.hpp"
 
 namespace pegasus {
 

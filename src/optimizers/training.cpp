@@ -6,6 +6,7 @@
 
 #include "pegasus/core/error.hpp"
 #include "pegasus/evaluators/monte_carlo.hpp"
+#include "pegasus/random/seed.hpp"
 
 namespace pegasus {
 namespace {

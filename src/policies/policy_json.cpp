@@ -6,23 +6,23 @@
 
 #include "pegasus/core/error.hpp"
 #include "pegasus/core/untrusted_text.hpp"
+#include "pegasus/io/json_input.hpp"
 
 namespace pegasus {
 
 const nlohmann::json& policy_parameters_json(const nlohmann::json& j, std::string_view source,
                                              std::string_view policy_class, const ParameterSpec& spec,
                                              std::string_view what) {
-  if (!j.is_object()) throw InputError(fmt::format("{}: expected a JSON object", source));
-  if (!j.contains("policy") || j.at("policy") != policy_class)
-    throw InputError(fmt::format("{}: field 'policy': expected \"{}\"", source, policy_class));
-  if (!j.contains("parameters") || !j.at("parameters").is_object())
-    throw InputError(
-        fmt::format("{}: field 'parameters': expected an object of parameter names and numbers", source));
-  const auto& parameters = j.at("parameters");
+  if (!j.is_object()) json_field_error(source, "(top level)", "a JSON object", j);
+  const auto& policy = json_member(j, "policy", source, "policy");
+  if (policy != policy_class) json_field_error(source, "policy", fmt::format("\"{}\"", policy_class), policy);
+  const auto& parameters = json_member(j, "parameters", source, "parameters");
+  if (!parameters.is_object())
+    json_field_error(source, "parameters", "an object of parameter names and numbers", parameters);
   for (const auto& [name, value] : parameters.items())
     if (spec.index_of(name) == spec.size())
       throw InputError(
-          fmt::format("{}: field 'parameters.{}': not a parameter of {}", source, printable(name), what));
+          fmt::format("{}: parameters.{}: not a parameter of {}", printable(source), printable(name), what));
   return parameters;
 }
 
@@ -31,13 +31,8 @@ Theta named_parameters(const nlohmann::json& parameters, std::string_view source
   Theta theta(count);
   for (std::size_t k = 0; k < count; ++k) {
     const std::string& name = spec[k].name;
-    if (!parameters.contains(name))
-      throw InputError(fmt::format("{}: field 'parameters.{}': missing", source, name));
-    const auto& value = parameters.at(name);
-    if (!value.is_number() || !std::isfinite(value.get<double>()))
-      throw InputError(fmt::format("{}: field 'parameters.{}': expected a finite number, got {}", source,
-                                   name, value.dump()));
-    theta[k] = value.get<double>();
+    const std::string field = "parameters." + name;
+    theta[k] = json_finite_number(json_member(parameters, name.c_str(), source, field), source, field);
   }
   return theta;
 }

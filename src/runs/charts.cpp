@@ -11,6 +11,7 @@
 #include "pegasus/core/error.hpp"
 #include "pegasus/io/csv_table.hpp"
 #include "pegasus/io/json_csv.hpp"
+#include "pegasus/io/json_input.hpp"
 
 namespace pegasus {
 
@@ -107,50 +108,46 @@ json chart_json(const Chart& c) {
 }
 
 // Reads fields of one JSON object, naming `where` (file and path) in every error.
+// The members of one object of charts.json, named in errors by their path from the file's top
+// ("sections[0].charts[1].x.scale"); every check goes through io/json_input's readers.
 class Fields {
  public:
-  Fields(const json& object, std::string where) : object_(object), where_(std::move(where)) {
-    if (!object_.is_object()) fail("", "an object");
+  Fields(const json& object, std::string file, std::string where)
+      : object_(object), file_(std::move(file)), where_(std::move(where)) {
+    if (!object_.is_object())
+      json_field_error(file_, where_.empty() ? "(top level)" : where_, "an object", object_);
   }
-  [[noreturn]] void fail(const std::string& key, const std::string& expected) const {
-    throw InputError(fmt::format("{}{}: expected {}", where_, key.empty() ? "" : "." + key, expected));
+  [[noreturn]] void fail(const std::string& key, const std::string& expected, const json& value) const {
+    json_field_error(file_, at(key), expected, value);
   }
   const json* find(const char* key) const {
     auto it = object_.find(key);
     return it == object_.end() ? nullptr : &*it;
   }
   std::string text(const char* key, bool required = false) const {
-    const json* v = find(key);
-    if (!v) {
-      if (required) fail(key, "a string");
-      return {};
-    }
-    if (!v->is_string()) fail(key, "a string");
+    const json* v = required ? &json_member(object_, key, file_, at(key)) : find(key);
+    if (!v) return {};
+    if (!v->is_string()) fail(key, "a string", *v);
     return v->get<std::string>();
   }
   double number(const char* key, double fallback) const {
-    const json* v = find(key);
-    if (!v) return fallback;
-    if (!v->is_number()) fail(key, "a number");
-    return v->get<double>();
+    return json_number_or(object_, key, fallback, file_, at(key));
   }
-  bool flag(const char* key) const {
-    const json* v = find(key);
-    if (!v) return false;
-    if (!v->is_boolean()) fail(key, "true or false");
-    return v->get<bool>();
-  }
+  bool flag(const char* key) const { return json_flag_or(object_, key, false, file_, at(key)); }
   const json& array(const char* key) const {
     static const json empty = json::array();
     const json* v = find(key);
     if (!v) return empty;
-    if (!v->is_array()) fail(key, "an array");
+    if (!v->is_array()) fail(key, "an array", *v);
     return *v;
   }
-  std::string at(const char* key) const { return where_ + "." + key; }
+  // The path of a member, or of a nested object's member, from the file's top.
+  std::string at(const std::string& key) const { return where_.empty() ? key : where_ + "." + key; }
+  const std::string& file() const { return file_; }
 
  private:
   const json& object_;
+  std::string file_;
   std::string where_;
 };
 
@@ -158,35 +155,35 @@ ChartAxis axis_from(const Fields& parent, const char* key) {
   ChartAxis a;
   const json* v = parent.find(key);
   if (!v) return a;
-  Fields f(*v, parent.at(key));
+  Fields f(*v, parent.file(), parent.at(key));
   a.title = f.text("title");
   const std::string scale = f.text("scale");
   if (!scale.empty()) {
     auto it =
         std::find_if(std::begin(kScales), std::end(kScales), [&](const auto& s) { return scale == s.name; });
-    if (it == std::end(kScales)) f.fail("scale", "linear, log2 or log10, got '" + scale + "'");
+    if (it == std::end(kScales)) f.fail("scale", "linear, log2 or log10", scale);
     a.scale = it->scale;
   }
   return a;
 }
 
-ChartTrace trace_from(const json& value, const std::string& where) {
-  Fields f(value, where);
+ChartTrace trace_from(const json& value, const std::string& file, const std::string& where) {
+  Fields f(value, file, where);
   ChartTrace t;
   t.file = f.text("file", true);
   if (t.file.empty() || t.file.find("..") != std::string::npos || t.file.front() == '/')
-    f.fail("file", "a file name inside the run directory, got '" + t.file + "'");
+    f.fail("file", "a file name inside the run directory", t.file);
   t.x = f.text("x");
   t.y = f.text("y");
   const json& groups = f.array("group_by");
   for (std::size_t i = 0; i < groups.size(); ++i) {
-    if (!groups[i].is_string()) f.fail(fmt::format("group_by[{}]", i), "a column name");
+    if (!groups[i].is_string()) f.fail(fmt::format("group_by[{}]", i), "a column name", groups[i]);
     t.group_by.push_back(groups[i].get<std::string>());
   }
   if (const json* filter = f.find("where")) {
-    if (!filter->is_object()) f.fail("where", "an object of column: text");
+    if (!filter->is_object()) f.fail("where", "an object of column: text", *filter);
     for (const auto& [column, text] : filter->items()) {
-      if (!text.is_string()) f.fail("where." + column, "a string");
+      if (!text.is_string()) f.fail("where." + column, "a string", text);
       t.where[column] = text.get<std::string>();
     }
   }
@@ -199,36 +196,35 @@ ChartTrace trace_from(const json& value, const std::string& where) {
   const double max_groups = f.number("max_groups", 0);
   if (max_groups < 0 || max_groups > 1e6 ||
       max_groups != static_cast<double>(static_cast<std::size_t>(max_groups)))
-    f.fail("max_groups", "a whole number from 0");
+    f.fail("max_groups", "a whole number from 0", max_groups);
   t.max_groups = static_cast<std::size_t>(max_groups);
   t.one_trace = f.flag("one_trace");
   t.mode = f.text("mode");
   if (!t.mode.empty() && t.mode != "lines" && t.mode != "markers" && t.mode != "lines+markers")
-    f.fail("mode", "lines, markers or lines+markers, got '" + t.mode + "'");
+    f.fail("mode", "lines, markers or lines+markers", t.mode);
   t.dash = f.text("dash");
   t.color = f.text("color");
   t.width = f.number("width", 0);
   return t;
 }
 
-Chart chart_from(const json& value, const std::string& where) {
-  Fields f(value, where);
+Chart chart_from(const json& value, const std::string& file, const std::string& where) {
+  Fields f(value, file, where);
   Chart c;
   const std::string kind = f.text("kind", true);
   auto it = std::find_if(std::begin(kKinds), std::end(kKinds), [&](const auto& k) { return kind == k.name; });
-  if (it == std::end(kKinds))
-    f.fail("kind", "xy, box, bar, table, replay, mujoco_replay or image, got '" + kind + "'");
+  if (it == std::end(kKinds)) f.fail("kind", "xy, box, bar, table, replay, mujoco_replay or image", kind);
   c.kind = it->kind;
   c.title = f.text("title");
   c.x = axis_from(f, "x");
   c.y = axis_from(f, "y");
   const json& traces = f.array("traces");
   for (std::size_t i = 0; i < traces.size(); ++i)
-    c.traces.push_back(trace_from(traces[i], fmt::format("{}.traces[{}]", where, i)));
+    c.traces.push_back(trace_from(traces[i], file, fmt::format("{}.traces[{}]", where, i)));
   const json& references = f.array("references");
   for (std::size_t i = 0; i < references.size(); ++i) {
-    Fields r(references[i], fmt::format("{}.references[{}]", where, i));
-    if (!r.find("y")) r.fail("y", "a number");
+    Fields r(references[i], file, fmt::format("{}.references[{}]", where, i));
+    json_member(references[i], "y", file, r.at("y"));
     c.references.push_back({r.number("y", 0), r.text("name"), r.text("dash")});
   }
   c.equal_aspect = f.flag("equal_aspect");
@@ -255,21 +251,20 @@ json to_json(const std::vector<ChartSection>& sections) {
 }
 
 std::vector<ChartSection> charts_from_json(const json& document, const std::string& source) {
-  Fields top(document, source);
-  if (top.text("format") != kFormat) top.fail("format", fmt::format("\"{}\"", kFormat));
-  if (top.number("version", 0) != kVersion) top.fail("version", std::to_string(kVersion));
+  json_format_header(document, source, kFormat, kVersion);
+  const Fields top(document, source, "");
   std::vector<ChartSection> out;
   const json& sections = top.array("sections");
   for (std::size_t i = 0; i < sections.size(); ++i) {
-    const std::string where = fmt::format("{}: sections[{}]", source, i);
-    Fields f(sections[i], where);
+    const std::string where = fmt::format("sections[{}]", i);
+    Fields f(sections[i], source, where);
     ChartSection s{.id = f.text("id", true), .title = f.text("title"), .intro = f.text("intro")};
     const json& charts = f.array("charts");
     for (std::size_t k = 0; k < charts.size(); ++k)
-      s.charts.push_back(chart_from(charts[k], fmt::format("{}.charts[{}]", where, k)));
+      s.charts.push_back(chart_from(charts[k], source, fmt::format("{}.charts[{}]", where, k)));
     const json& data = f.array("data");
     for (std::size_t k = 0; k < data.size(); ++k) {
-      if (!data[k].is_string()) f.fail(fmt::format("data[{}]", k), "a file name");
+      if (!data[k].is_string()) f.fail(fmt::format("data[{}]", k), "a file name", data[k]);
       s.data.push_back(data[k].get<std::string>());
     }
     out.push_back(std::move(s));

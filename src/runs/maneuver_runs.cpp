@@ -17,6 +17,7 @@
 #include "pegasus/heli/pilot.hpp"
 #include "pegasus/heli/policy_file.hpp"
 #include "pegasus/io/json_csv.hpp"
+#include "pegasus/random/seed.hpp"
 #include "pegasus/runs/charts.hpp"
 #include "pegasus/runs/flight_charts.hpp"
 #include "pegasus/sysid/flight_log.hpp"

@@ -96,44 +96,23 @@ FiniteMdp add_shaping(const FiniteMdp& mdp, const ShapingTable& f) {
 }
 
 ShapingTable shaping_from_json(const nlohmann::json& j, const std::string& src) {
-  auto fail = [&](const std::string& field, const std::string& msg) -> void {
-    throw InputError(fmt::format("{}: {}: {}", src, field, msg));
-  };
-  if (!j.is_object()) fail("(top level)", "expected a JSON object");
-  if (!j.contains("format") || !j["format"].is_string() ||
-      j["format"].get<std::string>() != "pegasus-shaping")
-    fail("format", "expected \"pegasus-shaping\"");
-  if (!j.contains("version") || !j["version"].is_number_integer() || j["version"].get<long long>() != 1)
-    fail("version", "expected 1");
-  auto count = [&](const char* k) {
-    if (!j.contains(k)) fail(k, "missing required field");
-    if (!j[k].is_number_integer() || j[k].get<long long>() < 1 || j[k].get<long long>() > (1LL << 30))
-      fail(k, "expected a positive integer");
-    return static_cast<int>(j[k].get<long long>());
+  json_format_header(j, src, "pegasus-shaping", 1);
+  const auto count = [&](const char* k) {
+    return static_cast<int>(json_integer(json_member(j, k, src, k), src, k, 1, 1LL << 30));
   };
   const int S = count("num_states"), A = count("num_actions");
-  if (!j.contains("entries")) fail("entries", "missing required field");
-  const auto& en = j["entries"];
-  if (!en.is_array()) fail("entries", "expected an array of [state, action, next_state, F]");
+  const auto& en = json_member(j, "entries", src, "entries");
+  if (!en.is_array()) json_field_error(src, "entries", "an array of [state, action, next_state, F]", en);
   std::vector<ShapingEntry> out;
   out.reserve(en.size());
   for (std::size_t i = 0; i < en.size(); ++i) {
     const std::string f = fmt::format("entries[{}]", i);
     const auto& e = en[i];
-    if (!e.is_array() || e.size() != 4) fail(f, "expected [state, action, next_state, F]");
-    const char* names[3] = {"state", "action", "next_state"};
-    int idx[3];
-    for (int c = 0; c < 3; ++c) {
-      const int limit = c == 1 ? A : S;
-      if (!e[static_cast<std::size_t>(c)].is_number_integer())
-        fail(fmt::format("{}[{}]", f, c), fmt::format("{} must be an integer", names[c]));
-      const long long v = e[static_cast<std::size_t>(c)].get<long long>();
-      if (v < 0 || v >= limit)
-        fail(fmt::format("{}[{}]", f, c), fmt::format("{} {} outside [0, {})", names[c], v, limit));
-      idx[c] = static_cast<int>(v);
-    }
-    if (!e[3].is_number() || !std::isfinite(e[3].get<double>())) fail(f + "[3]", "F must be a finite number");
-    out.push_back({idx[0], idx[1], idx[2], e[3].get<double>()});
+    if (!e.is_array() || e.size() != 4) json_field_error(src, f, "[state, action, next_state, F]", e);
+    const int state = json_index(e[0], src, f + "[0]", S, "state");
+    const int action = json_index(e[1], src, f + "[1]", A, "action");
+    const int next_state = json_index(e[2], src, f + "[2]", S, "next_state");
+    out.push_back({state, action, next_state, json_finite_number(e[3], src, f + "[3]")});
   }
   try {
     return ShapingTable(S, A, std::move(out));

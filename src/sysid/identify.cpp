@@ -140,42 +140,25 @@ class ModelFields {
  public:
   explicit ModelFields(std::string file) : file_(std::move(file)) {}
 
+  // The member a dotted field names (its last component) of the object j.
   const nlohmann::json& at(const nlohmann::json& j, const std::string& field) const {
     if (!j.is_object()) json_field_error(file_, field, "an object holding it", j);
-    const auto it = j.find(field.substr(field.rfind('.') + 1));
-    if (it == j.end()) throw InputError(fmt::format("{}: {}: expected a value, got none", file_, field));
-    return *it;
+    return json_member(j, field.substr(field.rfind('.') + 1).c_str(), file_, field);
   }
   double number(const nlohmann::json& j, const std::string& field, double lo, double hi,
                 bool open_lo = false) const {
-    const nlohmann::json& v = at(j, field);
-    const char* bound = open_lo ? "(" : "[";
-    const std::string expected = fmt::format("a number in {}{}, {}]", bound, lo, hi);
-    if (!v.is_number()) json_field_error(file_, field, expected, v);
-    const double x = v.get<double>();
-    if (!(open_lo ? x > lo : x >= lo) || !(x <= hi)) json_field_error(file_, field, expected, v);
-    return x;
+    return json_number_in(at(j, field), file_, field, lo, hi, open_lo);
   }
   bool flag(const nlohmann::json& j, const std::string& field) const {
-    const nlohmann::json& v = at(j, field);
-    if (!v.is_boolean()) json_field_error(file_, field, "true or false", v);
-    return v.get<bool>();
+    return json_flag(at(j, field), file_, field);
   }
   // An array of exactly `size` finite numbers (any size when size is 0), each at least `lo`.
   std::vector<double> numbers(const nlohmann::json& v, const std::string& field, std::size_t size,
                               double lo = -std::numeric_limits<double>::max()) const {
-    const std::string expected =
-        size > 0 ? fmt::format("an array of {} numbers", size) : "an array of numbers";
-    if (!v.is_array() || (size > 0 && v.size() != size)) json_field_error(file_, field, expected, v);
-    std::vector<double> out;
-    out.reserve(v.size());
-    for (std::size_t i = 0; i < v.size(); ++i) {
-      const std::string element = fmt::format("{}[{}]", field, i);
-      if (!v[i].is_number() || !std::isfinite(v[i].get<double>()))
-        json_field_error(file_, element, "a finite number", v[i]);
-      if (v[i].get<double>() < lo) json_field_error(file_, element, fmt::format("a number >= {}", lo), v[i]);
-      out.push_back(v[i].get<double>());
-    }
+    std::vector<double> out = json_finite_numbers(v, file_, field, size);
+    for (std::size_t i = 0; i < out.size(); ++i)
+      if (out[i] < lo)
+        json_field_error(file_, fmt::format("{}[{}]", field, i), fmt::format("a number >= {}", lo), v[i]);
     return out;
   }
 
@@ -186,11 +169,7 @@ class ModelFields {
 // model.json read as `file`: every field checked where it is read.
 IdentifiedModel model_from_json(const nlohmann::json& j, const std::string& file) {
   const ModelFields f(file);
-  if (!j.is_object()) json_field_error(file, "(top level)", "a JSON object", j);
-  const nlohmann::json& format = f.at(j, "format");
-  if (format != "pegasus-heli-model") json_field_error(file, "format", "\"pegasus-heli-model\"", format);
-  const nlohmann::json& version = f.at(j, "version");
-  if (!version.is_number_integer() || version != 1) json_field_error(file, "version", "1", version);
+  json_format_header(j, file, "pegasus-heli-model", 1);
   constexpr double kMax = std::numeric_limits<double>::max();
   ModelStructure m;
   const auto& s = f.at(j, "structure");
@@ -211,12 +190,7 @@ IdentifiedModel model_from_json(const nlohmann::json& j, const std::string& file
       m.constant_inputs[static_cast<std::size_t>(it - kInputNames.begin())] = true;
     }
   std::string vehicle;
-  if (j.contains("vehicle")) {
-    const nlohmann::json& v = j.at("vehicle");
-    if (!v.is_string() || v.get<std::string>().empty())
-      json_field_error(file, "vehicle", "a vehicle file's name (a non-empty string)", v);
-    vehicle = v.get<std::string>();
-  }
+  if (const auto it = j.find("vehicle"); it != j.end()) vehicle = json_nonempty_string(*it, file, "vehicle");
   Dataset d;
   d.dt = f.number(j, "dt", 0, 100, true);
   const auto& xs = f.at(j, "x");

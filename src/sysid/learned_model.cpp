@@ -4,7 +4,7 @@
 #include <stdexcept>
 
 #include "pegasus/heli/frames.hpp"
-#include "pegasus/heli/gaussian.hpp"
+#include "pegasus/random/normal_quantile.hpp"
 
 namespace pegasus::sysid {
 
@@ -52,13 +52,13 @@ LearnedHeliModel::State LearnedHeliModel::initial_state(std::span<const double> 
   State s;
   s.sim.world = options_.start;
   for (std::size_t i = 0; i < 3; ++i) {
-    s.sim.world[i] += options_.start_pos_sigma * heli::normal_quantile(p0[i]);
-    s.sim.world[6 + i] += options_.start_vel_sigma * heli::normal_quantile(p0[3 + i]);
+    s.sim.world[i] += options_.start_pos_sigma * normal_quantile(p0[i]);
+    s.sim.world[6 + i] += options_.start_vel_sigma * normal_quantile(p0[3 + i]);
   }
   if (colored_)
     for (int k = 0; k < kBodyVars; ++k)
       s.colored[k] = std::sqrt(model_->sigma2()[k] * colored_scale_[k]) *
-                     heli::normal_quantile(p0[static_cast<std::size_t>(6 + k)]);
+                     normal_quantile(p0[static_cast<std::size_t>(6 + k)]);
   return s;
 }
 
@@ -84,14 +84,13 @@ LearnedHeliModel::State LearnedHeliModel::step(const State& s, const Action& a_i
     delta[k] += f * n.beta[static_cast<std::size_t>(k)].dot(x);
     if (colored_) {
       const double rho = rho_step_[k];
-      n.colored[k] =
-          rho * s.colored[k] + std::sqrt(n.variance[k] * colored_scale_[k] * (1 - rho * rho)) *
-                                   heli::normal_quantile(p[static_cast<std::size_t>(kBodyVars + k)]);
+      n.colored[k] = rho * s.colored[k] + std::sqrt(n.variance[k] * colored_scale_[k] * (1 - rho * rho)) *
+                                              normal_quantile(p[static_cast<std::size_t>(kBodyVars + k)]);
       delta[k] +=
-          std::sqrt(n.variance[k] * white_scale_[k]) * heli::normal_quantile(p[static_cast<std::size_t>(k)]) +
+          std::sqrt(n.variance[k] * white_scale_[k]) * normal_quantile(p[static_cast<std::size_t>(k)]) +
           n.colored[k];
     } else if (options_.noise) {
-      delta[k] += std::sqrt(n.variance[k] * f) * heli::normal_quantile(p[static_cast<std::size_t>(k)]);
+      delta[k] += std::sqrt(n.variance[k] * f) * normal_quantile(p[static_cast<std::size_t>(k)]);
     }
   }
   n.sim = sim_advance(model_->structure(), s.sim, a, delta, options_.dt);

@@ -10,7 +10,7 @@
 #include "pegasus/envs/bicycle_policy.hpp"
 #include "pegasus/evaluators/pegasus_evaluator.hpp"
 #include "pegasus/experiments/bicycle_experiment.hpp"
-#include "pegasus/scenarios/counter_rng.hpp"
+#include "pegasus/random/counter_rng.hpp"
 #include "pegasus/shaping/potential_shaping.hpp"
 
 namespace pegasus {

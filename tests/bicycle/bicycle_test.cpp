@@ -10,7 +10,7 @@
 #include "bicycle_reference.hpp"
 #include "pegasus/envs/bicycle_policy.hpp"
 #include "pegasus/evaluators/rollout.hpp"
-#include "pegasus/scenarios/counter_rng.hpp"
+#include "pegasus/random/counter_rng.hpp"
 
 namespace pegasus {
 namespace {

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "pegasus/core/error.hpp"
-#include "pegasus/scenarios/counter_rng.hpp"
+#include "pegasus/random/counter_rng.hpp"
 
 namespace pegasus {
 

@@ -433,7 +433,7 @@ TEST_F(CPolicyExport, BadPolicyFilesAreOneLineNamingTheFieldOrByte) {
   nlohmann::json four = pendulum_policy_json({1, 2, 3, 4, 5});
   four["parameters"].erase("stabilise.rate");
   EXPECT_EQ(input_error_message([&] { export_c_policy(four, "p.json"); }),
-            "p.json: field 'parameters.stabilise.rate': missing");
+            "p.json: parameters.stabilise.rate: missing");
   std::ofstream(dir_ / "broken.json") << "{\"policy\": ";
   EXPECT_EQ(input_error_message([&] { export_c_policy_file(dir_ / "broken.json"); }),
             (dir_ / "broken.json").string() + ": not JSON (byte 12): expected a policy file");

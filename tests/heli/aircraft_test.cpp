@@ -9,7 +9,6 @@
 #include <vector>
 
 #include "pegasus/heli/frames.hpp"
-#include "pegasus/heli/gaussian.hpp"
 #include "pegasus/heli/pilot.hpp"
 
 namespace {
@@ -61,14 +60,6 @@ TEST(HeliFrames, WrapAngleLandsInHalfOpenInterval) {
     EXPECT_LE(w, std::numbers::pi);
     EXPECT_NEAR(std::remainder(w - a, 2 * std::numbers::pi), 0, 1e-12);
   }
-}
-
-TEST(HeliGaussian, NormalQuantileInvertsTheCdf) {
-  for (double u : {1e-12, 1e-6, 0.01, 0.024, 0.3, 0.5, 0.7, 0.976, 0.999, 1 - 1e-9}) {
-    const double x = normal_quantile(u);
-    EXPECT_NEAR(0.5 * std::erfc(-x / std::numbers::sqrt2), u, 1e-14 + 1e-12 * u) << u;
-  }
-  EXPECT_DOUBLE_EQ(normal_quantile(0.5), 0.0);
 }
 
 TEST(HeliAircraft, HoverTrimIsFoundWithSmallRightRollAndExpectedCollective) {

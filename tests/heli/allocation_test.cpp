@@ -7,7 +7,7 @@
 #include <new>
 
 #include "pegasus/heli/aircraft.hpp"
-#include "pegasus/scenarios/counter_rng.hpp"
+#include "pegasus/random/counter_rng.hpp"
 
 long pegasus_test_allocation_count();  // allocation_counter_test.cpp
 

@@ -17,7 +17,7 @@
 #include "pegasus/heli/flights.hpp"
 #include "pegasus/heli/pilot.hpp"
 #include "pegasus/heli/policy_file.hpp"
-#include "pegasus/scenarios/counter_rng.hpp"
+#include "pegasus/random/counter_rng.hpp"
 #include "pegasus/sysid/identify.hpp"
 #include "support/input_error.hpp"
 

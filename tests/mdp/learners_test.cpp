@@ -1,14 +1,12 @@
 #include "pegasus/mdp/learners.hpp"
 
-#include <Random123/philox.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "pegasus/envs/gridworld.hpp"
-#include "pegasus/mdp/block_stream.hpp"
 #include "pegasus/mdp/solvers.hpp"
-#include "pegasus/scenarios/counter_rng.hpp"
+#include "pegasus/random/block_stream.hpp"
 
 namespace pegasus {
 namespace {
@@ -22,65 +20,6 @@ double expected_steps(const GridWorld& w, const std::vector<int>& policy) {
 double optimal_steps(const GridWorld& w) {
   const FiniteMdp m = to_finite_mdp(w);
   return -policy_iteration(m).value[static_cast<std::size_t>(w.start())];
-}
-
-TEST(BlockUniformStream, IsAPureFunctionOfSeedStreamAndPosition) {
-  BlockUniformStream a(42, 3);
-  std::vector<double> xs(1000);
-  for (auto& x : xs) x = a.next();
-  EXPECT_EQ(a.position(), 1000u);
-  for (std::uint64_t start : {0u, 1u, 63u, 64u, 65u, 517u}) {
-    BlockUniformStream b(42, 3, start);
-    for (std::uint64_t i = start; i < 1000; ++i) ASSERT_EQ(b.next(), xs[i]) << start;
-  }
-  BlockUniformStream other_stream(42, 4), other_seed(43, 3);
-  EXPECT_NE(other_stream.next(), xs[0]);
-  EXPECT_NE(other_seed.next(), xs[0]);
-  double mean = 0.0;
-  for (double x : xs) {
-    EXPECT_GT(x, 0.0);
-    EXPECT_LT(x, 1.0);
-    mean += x / 1000.0;
-  }
-  EXPECT_NEAR(mean, 0.5, 0.03);
-}
-
-// The vector Philox paths must give Random123's scalar numbers bit for bit: BlockUniformStream's numbers,
-// and so every learner's results, may not depend on the CPU.
-TEST(BlockUniformStream, VectorPhiloxPathsMatchScalarPhiloxBitForBit) {
-  const r123::Philox4x32 philox;
-  for (const std::uint64_t seed : {0ull, 42ull, 0xfedcba9876543210ull}) {
-    for (const std::uint64_t first : {0ull, 5ull, 0xffffffe0ull, 0x1234567890ull}) {
-      // Counters crossing 2^32 exercise the second counter word; odd counts exercise the tails.
-      for (const int calls : {1, 3, 4, 7, 8, 15, 16, 31, 32, 33, 64, 67}) {
-        std::vector<double> want(static_cast<std::size_t>(4 * calls));
-        const r123::Philox4x32::key_type key = {
-            {static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32)}};
-        for (int j = 0; j < calls; ++j) {
-          const std::uint64_t c = first + static_cast<std::uint64_t>(j);
-          const auto r = philox(
-              {{static_cast<std::uint32_t>(c), static_cast<std::uint32_t>(c >> 32), 9u, kBlockStreamDomain}},
-              key);
-          for (int w = 0; w < 4; ++w)
-            want[static_cast<std::size_t>(4 * j + w)] =
-                (static_cast<double>(r[static_cast<std::size_t>(w)]) + 0.5) * 0x1.0p-32;
-        }
-        for (const InstructionSet path : supported_instruction_sets()) {
-          std::vector<double> got(want.size(), -1.0);
-          detail::philox_uniforms(path, key[0], key[1], first, 9u, kBlockStreamDomain, calls, got.data());
-          for (std::size_t i = 0; i < want.size(); ++i)
-            ASSERT_EQ(got[i], want[i]) << "path " << instruction_set_name(path) << " seed " << seed
-                                       << " first " << first << " calls " << calls << " index " << i;
-        }
-      }
-    }
-  }
-  // And the stream itself (whatever path this CPU picks) is the scalar Philox stream.
-  BlockUniformStream s(77, 5, 3);
-  const auto r = philox({{0u, 0u, 5u, kBlockStreamDomain}}, r123::Philox4x32::key_type{{77u, 0u}});
-  EXPECT_EQ(s.next(), (static_cast<double>(r[3]) + 0.5) * 0x1.0p-32);
-  const auto r1 = philox({{1u, 0u, 5u, kBlockStreamDomain}}, r123::Philox4x32::key_type{{77u, 0u}});
-  EXPECT_EQ(s.next(), (static_cast<double>(r1[0]) + 0.5) * 0x1.0p-32);
 }
 
 TEST(EpsilonGreedy, BreaksTiesUniformlyAndExploresWithProbabilityEpsilon) {

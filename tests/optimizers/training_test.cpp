@@ -8,6 +8,7 @@
 #include "pegasus/core/error.hpp"
 #include "pegasus/evaluators/monte_carlo.hpp"
 #include "pegasus/optimizers/test_problems.hpp"
+#include "pegasus/random/seed.hpp"
 
 namespace pegasus {
 namespace {

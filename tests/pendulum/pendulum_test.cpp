@@ -16,6 +16,7 @@
 #include "pegasus/evaluators/pegasus_evaluator.hpp"
 #include "pegasus/experiments/pendulum_experiment.hpp"
 #include "pegasus/models/model.hpp"
+#include "pegasus/random/seed.hpp"
 
 namespace pegasus {
 namespace {

@@ -76,22 +76,22 @@ TEST(Charts, BadDocumentsNameTheField) {
   auto error = [](const std::string& text) {
     return input_error_message([&] { charts_from_json(nlohmann::json::parse(text), "c.json"); });
   };
-  EXPECT_EQ(error(R"({"format": "pegasus.charts", "version": 2})"), "c.json.version: expected 1");
+  EXPECT_EQ(error(R"({"format": "pegasus.charts", "version": 2})"), "c.json: version: expected 1, got 2");
   EXPECT_EQ(error(R"({"format": "pegasus.charts", "version": 1, "sections": [{"title": "x"}]})"),
-            "c.json: sections[0].id: expected a string");
+            "c.json: sections[0].id: missing");
   EXPECT_EQ(
       error(R"({"format": "pegasus.charts", "version": 1, "sections": [{"id": "s", "charts": [{"kind": "xy",
                   "x": {"scale": "log3"}}]}]})"),
-      "c.json: sections[0].charts[0].x.scale: expected linear, log2 or log10, got 'log3'");
+      "c.json: sections[0].charts[0].x.scale: expected linear, log2 or log10, got \"log3\"");
   EXPECT_EQ(
       error(R"({"format": "pegasus.charts", "version": 1, "sections": [{"id": "s", "charts": [{"kind": "xy",
                   "traces": [{"file": "a.csv", "max_groups": 1.5}]}]}]})"),
-      "c.json: sections[0].charts[0].traces[0].max_groups: expected a whole number from 0");
+      "c.json: sections[0].charts[0].traces[0].max_groups: expected a whole number from 0, got 1.5");
   EXPECT_EQ(
       error(R"({"format": "pegasus.charts", "version": 1, "sections": [{"id": "s", "charts": [{"kind": "xy",
                   "traces": [{"file": "/etc/passwd"}]}]}]})"),
       "c.json: sections[0].charts[0].traces[0].file: expected a file name inside the run directory, got "
-      "'/etc/passwd'");
+      "\"/etc/passwd\"");
 }
 
 TEST(Charts, AddChartsReplacesASectionOfTheSameIdAndKeepsTheOthers) {

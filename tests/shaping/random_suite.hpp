@@ -7,7 +7,7 @@
 
 #include "pegasus/mdp/random_mdp.hpp"
 #include "pegasus/mdp/solvers.hpp"
-#include "pegasus/scenarios/counter_rng.hpp"
+#include "pegasus/random/counter_rng.hpp"
 
 namespace pegasus::test_support {
 

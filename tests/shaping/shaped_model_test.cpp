@@ -5,11 +5,11 @@
 
 #include "pegasus/envs/flags.hpp"
 #include "pegasus/envs/gridworld.hpp"
-#include "pegasus/mdp/block_stream.hpp"
 #include "pegasus/mdp/learners.hpp"
 #include "pegasus/mdp/mdp_model.hpp"
 #include "pegasus/mdp/solvers.hpp"
 #include "pegasus/models/model.hpp"
+#include "pegasus/random/block_stream.hpp"
 #include "pegasus/shaping/potential_shaping.hpp"
 
 namespace pegasus {

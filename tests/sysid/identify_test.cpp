@@ -17,9 +17,9 @@
 
 #include "pegasus/core/error.hpp"
 #include "pegasus/heli/aircraft.hpp"
-#include "pegasus/heli/gaussian.hpp"
 #include "pegasus/heli/pilot.hpp"
-#include "pegasus/scenarios/counter_rng.hpp"
+#include "pegasus/random/counter_rng.hpp"
+#include "pegasus/random/normal_quantile.hpp"
 #include "support/cli_runner.hpp"
 
 namespace fs = std::filesystem;
@@ -91,7 +91,7 @@ TEST(NoiseCorrelation, TheFitRecoversShareAndRho) {
 TEST(NoiseCorrelation, IdentifyRecoversAnAr1ResidualProcess) {
   FlightLog log;
   UniformStream rng(5, 0);
-  auto normal = [&rng] { return heli::normal_quantile(rng.next()); };
+  auto normal = [&rng] { return normal_quantile(rng.next()); };
   const double dt = 0.1, share = 0.6, rho = 0.9;
   std::array<double, kLogStates> state{};
   state[2] = -10;
@@ -142,7 +142,7 @@ TEST(NoiseCorrelation, IdentifyRecoversAnAr1ResidualProcess) {
     (void)IdentifiedModel::from_json(unnamed);
     ADD_FAILURE() << "a numeric vehicle was accepted";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("vehicle: expected a vehicle file's name"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("vehicle: expected a non-empty string"), std::string::npos)
         << e.what();
   }
 }

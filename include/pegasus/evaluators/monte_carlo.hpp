@@ -9,16 +9,9 @@
 #include <vector>
 
 #include "pegasus/evaluators/pegasus_evaluator.hpp"
+#include "pegasus/random/seed.hpp"
 
 namespace pegasus {
-
-// SplitMix64 finaliser: decorrelates (seed, counter) pairs into a new 64-bit seed.
-inline std::uint64_t mix_seed(std::uint64_t seed, std::uint64_t counter) {
-  std::uint64_t z = seed + 0x9e3779b97f4a7c15ull * (counter + 1);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  return z ^ (z >> 31);
-}
 
 template <GenerativeModel M, class P>
 class MonteCarloEvaluator {

@@ -21,6 +21,7 @@
 #include "pegasus/heli/pilot.hpp"
 #include "pegasus/heli/policy_file.hpp"
 #include "pegasus/parallel/thread_pool.hpp"
+#include "pegasus/random/seed.hpp"
 
 namespace pegasus::heli {
 

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "pegasus/heli/ground_truth.hpp"
-#include "pegasus/scenarios/counter_rng.hpp"
+#include "pegasus/random/counter_rng.hpp"
 #include "pegasus/sysid/flight_log.hpp"
 
 namespace pegasus::heli {

@@ -7,7 +7,9 @@
 //   const nlohmann::json j = read_json_input(path, "MDP");  // "m.json: expected a readable MDP file, ..."
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <string>
 #include <string_view>
+#include <vector>
 
 namespace pegasus {
 
@@ -27,5 +29,31 @@ const nlohmann::json& json_member(const nlohmann::json& j, const char* name, std
                                   std::string_view field);
 // A finite number: "FILE: FIELD: expected a number, got VALUE" (or "a finite number") otherwise.
 double json_finite_number(const nlohmann::json& j, std::string_view file, std::string_view field);
+
+// The header of a file the project writes: j is an object whose "format" is `format` and whose "version"
+// is `version`; `made_by` (when given) tells the user which file that is ("policy.json of `pegasus ...`").
+void json_format_header(const nlohmann::json& j, std::string_view file, std::string_view format, int version,
+                        std::string_view made_by = {});
+
+// The other field readers every JSON reader uses, so that each field error has json_field_error's form.
+// A number in [lo, hi] ((lo, hi] when open_lo).
+double json_number_in(const nlohmann::json& j, std::string_view file, std::string_view field, double lo,
+                      double hi, bool open_lo = false);
+// An integer in [lo, hi].
+long long json_integer(const nlohmann::json& j, std::string_view file, std::string_view field, long long lo,
+                       long long hi);
+// An index into something of `count` elements: an integer in [0, count), "a WHAT in [0, COUNT)" otherwise.
+int json_index(const nlohmann::json& j, std::string_view file, std::string_view field, int count,
+               std::string_view what);
+bool json_flag(const nlohmann::json& j, std::string_view file, std::string_view field);
+std::string json_nonempty_string(const nlohmann::json& j, std::string_view file, std::string_view field);
+// An array of finite numbers; of exactly `size` when size > 0.
+std::vector<double> json_finite_numbers(const nlohmann::json& j, std::string_view file,
+                                        std::string_view field, std::size_t size = 0);
+// Optional members of an object: the fallback when `name` is absent, the checked value otherwise.
+double json_number_or(const nlohmann::json& object, const char* name, double fallback, std::string_view file,
+                      std::string_view field);
+bool json_flag_or(const nlohmann::json& object, const char* name, bool fallback, std::string_view file,
+                  std::string_view field);
 
 }  // namespace pegasus

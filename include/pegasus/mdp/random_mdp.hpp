@@ -3,7 +3,7 @@
 #include <string>
 
 #include "pegasus/mdp/finite_mdp.hpp"
-#include "pegasus/scenarios/counter_rng.hpp"
+#include "pegasus/random/counter_rng.hpp"
 
 namespace pegasus {
 

@@ -31,7 +31,7 @@
 
 #include "pegasus/core/error.hpp"
 #include "pegasus/models/action_space.hpp"
-#include "pegasus/scenarios/counter_rng.hpp"
+#include "pegasus/random/counter_rng.hpp"
 
 namespace pegasus {
 

@@ -20,7 +20,7 @@
 #include "pegasus/optimizers/objective.hpp"
 #include "pegasus/optimizers/optimizer_summary.hpp"
 #include "pegasus/optimizers/run_progress.hpp"
-#include "pegasus/scenarios/counter_rng.hpp"
+#include "pegasus/random/counter_rng.hpp"
 
 namespace pegasus {
 

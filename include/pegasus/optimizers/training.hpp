@@ -31,6 +31,7 @@
 #include <vector>
 
 #include "pegasus/optimizers/optimizer.hpp"
+#include "pegasus/random/seed.hpp"
 
 namespace pegasus {
 

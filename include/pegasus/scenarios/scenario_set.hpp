@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "pegasus/scenarios/counter_rng.hpp"
+#include "pegasus/random/counter_rng.hpp"
 
 namespace pegasus {
 

@@ -1,9 +1,9 @@
-#include "pegasus/heli/gaussian.hpp"
+#include "pegasus/random/normal_quantile.hpp"
 
 #include <cmath>
 #include <numbers>
 
-namespace pegasus::heli {
+namespace pegasus {
 
 double normal_quantile(double u) {
   // Coefficients of P. J. Acklam's algorithm (2003), public domain rational approximation.
@@ -38,4 +38,4 @@ double normal_quantile(double u) {
   return x - g / (1 + x * g / 2);
 }
 
-}  // namespace pegasus::heli
+}  // namespace pegasus

@@ -37,10 +37,13 @@ class CounterRng {
     return (static_cast<std::uint64_t>(r[0]) << 32) | r[1];
   }
 
-  // 53 bits -> (0, 1): the midpoint of one of 2^53 equal cells, so 0 and 1 never occur.
+  // 53 bits -> (0, 1): the midpoint of one of 2^53 equal cells, rounded to a double, so 0 never occurs; the
+  // top cell's midpoint 1 - 2^-54 rounds to 1 (a tie, to even), so it becomes 1 - 2^-53, the largest double
+  // below 1.
   static double to_unit(std::uint32_t hi, std::uint32_t lo) {
     const std::uint64_t x = ((static_cast<std::uint64_t>(hi) << 32) | lo) >> 11;
-    return (static_cast<double>(x) + 0.5) * 0x1.0p-53;
+    const double u = (static_cast<double>(x) + 0.5) * 0x1.0p-53;
+    return u < 1.0 ? u : 1.0 - 0x1.0p-53;
   }
 
  private:

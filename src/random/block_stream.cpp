@@ -1,4 +1,4 @@
-#include "pegasus/mdp/block_stream.hpp"
+#include "pegasus/random/block_stream.hpp"
 
 #include <Random123/philox.h>
 
