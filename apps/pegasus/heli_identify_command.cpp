@@ -74,8 +74,9 @@ void declare_identify(ConfigSchema& s) {
   s.add_string(
        "noise", "white",
        "the model's noise: white per model step (Eqs 5.5-5.6) or ar1 (each output's noise a white part "
-       "plus a first-order autoregressive part fitted to the residuals' autocorrelation up to 2 s)")
-      .choices({"white", "ar1"});
+       "plus a first-order autoregressive part fitted to the residuals' autocorrelation up to 2 s) or "
+       "ar1+measurement (ar1 plus an error of the logged states themselves, which the model does not fly)")
+      .choices({"white", "ar1", "ar1+measurement"});
   s.add_bool(
       "calibrate_noise", IdentifyOptions{}.calibrate_noise,
       "widen each output's noise until the training log's own noise check has 4.55% of its steps outside "

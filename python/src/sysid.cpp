@@ -160,7 +160,8 @@ variables' changes, its bandwidth and noise. Save it as the model.json `pegasus 
       "Identifies a model from a training log as `pegasus heli identify` does (same options, same bits, any "
       "threads). bandwidth_floor overrides the narrowest bandwidths (keys angle_rad, velocity_mps, "
       "rate_radps, "
-      "flap_rad, control; the defaults are the CLI's); noise is \"white\" or \"ar1\" (the CLI's --noise).");
+      "flap_rad, control; the defaults are the CLI's); noise is \"white\", \"ar1\" or \"ar1+measurement\" "
+      "(the CLI's --noise).");
 
   // Fig 5.2's errors of a HorizonMse as a dict: seconds, mse [T, 15], count, names.
   auto horizon_dict = [](const sysid::HorizonMse& h) {

@@ -194,7 +194,8 @@ void run_hover(const HoverRunOptions& options, RunSink& sink, ThreadPool& pool) 
                               {"mean_seconds_to_crash", r.start.mean_seconds_to_crash}}},
                             {"policy", "policy.json"}};
   // Only for AR(1) models, so that the summaries of white-noise models stay as they were (digests).
-  if (model->noise_correlation().any()) summary["model_noise"] = "ar1";
+  if (model->noise_correlation().any())
+    summary["model_noise"] = model->noise_correlation().has_measurement() ? "ar1+measurement" : "ar1";
   // The LQR start as training settled it, for the summary's starting_gains and integral.
   const std::optional<LqrStart> settled_lqr =
       o.lqr_start ? std::optional(lqr_hover_init(*model, used)) : std::nullopt;

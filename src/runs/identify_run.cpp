@@ -195,11 +195,17 @@ void run_identify(const IdentifyRunOptions& options, RunSink& sink, ThreadPool& 
           worst->output, worst->control, 100 * std::abs(worst->relative),
           worst->relative < 0 ? "smaller" : "larger", worst->least_squares, worst->whitened);
   }
-  if (model.noise_correlation().any()) {
+  if (const NoiseCorrelation& c = model.noise_correlation(); c.any()) {
     nlohmann::json correlation;
-    for (int k = 0; k < kBodyVars; ++k)
-      correlation[kBodyVarNames[static_cast<std::size_t>(k)]] = {
-          {"share", model.noise_correlation().share[k]}, {"rho", model.noise_correlation().rho[k]}};
+    for (int k = 0; k < kBodyVars; ++k) {
+      auto& entry = correlation[kBodyVarNames[static_cast<std::size_t>(k)]];
+      entry = {{"share", c.share[k]}, {"rho", c.rho[k]}};
+      if (c.has_measurement()) {
+        entry["measurement_share"] = c.measurement_share[k];
+        entry["measurement_rho"] = c.measurement_rho[k];
+        entry["measurement_persistence"] = c.measurement_persistence[k];
+      }
+    }
     summary["noise_correlation"] = correlation;
   }
   dir.write_json("summary.json", summary);

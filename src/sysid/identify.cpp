@@ -10,6 +10,7 @@
 #include <string>
 
 #include "pegasus/core/error.hpp"
+#include "pegasus/core/untrusted_text.hpp"
 #include "pegasus/io/atomic_file.hpp"
 #include "pegasus/io/json_csv.hpp"
 #include "pegasus/io/json_input.hpp"
@@ -63,10 +64,22 @@ bool IdentifyOptions::IsValid(std::string* error) const {
 NoiseModel parse_noise_model(const std::string& name) {
   if (name == "white") return NoiseModel::kWhite;
   if (name == "ar1") return NoiseModel::kAr1;
-  throw InputError(fmt::format("noise: expected \"white\" or \"ar1\", got \"{}\"", name));
+  if (name == "ar1+measurement") return NoiseModel::kAr1Measurement;
+  throw InputError(
+      fmt::format("noise: expected \"white\", \"ar1\" or \"ar1+measurement\", got \"{}\"", printable(name)));
 }
 
-std::string to_string(NoiseModel model) { return model == NoiseModel::kAr1 ? "ar1" : "white"; }
+std::string to_string(NoiseModel model) {
+  switch (model) {
+    case NoiseModel::kAr1:
+      return "ar1";
+    case NoiseModel::kAr1Measurement:
+      return "ar1+measurement";
+    case NoiseModel::kWhite:
+      break;
+  }
+  return "white";
+}
 
 IdentifiedModel::IdentifiedModel(ModelStructure structure, Dataset data,
                                  std::array<double, kInputs> inv_bandwidth, BodyVec sigma2,
@@ -113,11 +126,17 @@ nlohmann::json IdentifiedModel::to_json() const {
   j["outputs"] = kBodyVarNames;
   j["inv_bandwidth"] = inv_bandwidth();
   j["sigma2"] = std::vector<double>(sigma2_.data(), sigma2_.data() + kBodyVars);
-  if (correlation_.any())  // only then: white-noise model files stay as they were
-    j["noise"] = {
-        {"model", "ar1"},
-        {"share", std::vector<double>(correlation_.share.data(), correlation_.share.data() + kBodyVars)},
-        {"rho", std::vector<double>(correlation_.rho.data(), correlation_.rho.data() + kBodyVars)}};
+  const auto values = [](const BodyVec& v) { return std::vector<double>(v.data(), v.data() + kBodyVars); };
+  if (correlation_.any()) {  // only then: white-noise model files stay as they were
+    j["noise"] = {{"model", correlation_.has_measurement() ? "ar1+measurement" : "ar1"},
+                  {"share", values(correlation_.share)},
+                  {"rho", values(correlation_.rho)}};
+    if (correlation_.has_measurement()) {
+      j["noise"]["measurement_share"] = values(correlation_.measurement_share);
+      j["noise"]["measurement_rho"] = values(correlation_.measurement_rho);
+      j["noise"]["measurement_persistence"] = values(correlation_.measurement_persistence);
+    }
+  }
   nlohmann::json xs = nlohmann::json::array(), ys = nlohmann::json::array();
   for (Eigen::Index i = 0; i < data_->rows(); ++i) {
     std::vector<double> xr(kInputs), yr(kBodyVars);
@@ -224,17 +243,43 @@ IdentifiedModel model_from_json(const nlohmann::json& j, const std::string& file
   if (j.contains("noise")) {
     const auto& noise = j.at("noise");
     const nlohmann::json& model = f.at(noise, "noise.model");
-    if (model != "ar1") json_field_error(file, "noise.model", "\"ar1\"", model);
-    const auto share = f.numbers(f.at(noise, "noise.share"), "noise.share", kBodyVars, 0);
-    const auto rho = f.numbers(f.at(noise, "noise.rho"), "noise.rho", kBodyVars, 0);
-    for (int k = 0; k < kBodyVars; ++k) {
-      const auto i = static_cast<std::size_t>(k);
-      if (share[i] > 1)
-        json_field_error(file, fmt::format("noise.share[{}]", k), "a number in [0, 1]", share[i]);
-      if (!(rho[i] < 1))
-        json_field_error(file, fmt::format("noise.rho[{}]", k), "a number in [0, 1)", rho[i]);
-      correlation.share[k] = share[i];
-      correlation.rho[k] = rho[i];
+    if (model != "ar1" && model != "ar1+measurement")
+      json_field_error(file, "noise.model", "\"ar1\" or \"ar1+measurement\"", model);
+    // A share in [0, 1] and a correlation in [0, 1) per output.
+    const auto read = [&](const char* name, BodyVec& share_out, const char* rho_name, BodyVec& rho_out) {
+      const std::string share_field = fmt::format("noise.{}", name),
+                        rho_field = fmt::format("noise.{}", rho_name);
+      const auto share = f.numbers(f.at(noise, share_field), share_field, kBodyVars, 0);
+      const auto rho = f.numbers(f.at(noise, rho_field), rho_field, kBodyVars, 0);
+      for (int k = 0; k < kBodyVars; ++k) {
+        const auto i = static_cast<std::size_t>(k);
+        if (share[i] > 1)
+          json_field_error(file, fmt::format("{}[{}]", share_field, k), "a number in [0, 1]", share[i]);
+        if (!(rho[i] < 1))
+          json_field_error(file, fmt::format("{}[{}]", rho_field, k), "a number in [0, 1)", rho[i]);
+        share_out[k] = share[i];
+        rho_out[k] = rho[i];
+      }
+    };
+    read("share", correlation.share, "rho", correlation.rho);
+    if (model == "ar1+measurement") {
+      read("measurement_share", correlation.measurement_share, "measurement_rho",
+           correlation.measurement_rho);
+      const auto persistence = f.numbers(f.at(noise, "noise.measurement_persistence"),
+                                         "noise.measurement_persistence", kBodyVars, 0);
+      for (int k = 0; k < kBodyVars; ++k) {
+        const auto i = static_cast<std::size_t>(k);
+        if (persistence[i] > 1)
+          json_field_error(file, fmt::format("noise.measurement_persistence[{}]", k), "a number in [0, 1]",
+                           persistence[i]);
+        correlation.measurement_persistence[k] = persistence[i];
+      }
+      for (int k = 0; k < kBodyVars; ++k)
+        if (correlation.share[k] + correlation.measurement_share[k] > 1)
+          json_field_error(
+              file, fmt::format("noise.measurement_share[{}]", k),
+              fmt::format("a number in [0, {}] (1 - noise.share[{}])", 1 - correlation.share[k], k),
+              correlation.measurement_share[k]);
     }
   }
   IdentifiedModel model(m, std::move(d), inv, sigma2, correlation);
@@ -346,10 +391,102 @@ std::vector<BodyVec> residual_autocorrelation(const Dataset& data,
   return out;
 }
 
+namespace {
+
+// The measurement fit of one output: least squares of f rho^lag + mu m(lag) against the autocorrelations y,
+// m(lag) = rho_m^(lag-1) (rho_m (1 + phi^2) - phi (1 + rho_m^2)) / (1 + phi^2 - 2 phi rho_m), over a grid of
+// (rho, rho_m) in [0, 0.99] by 0.01, (f, mu) in closed form on the triangle f, mu >= 0, f + mu <= 1 (the
+// interior optimum or, when it lies outside, the best of each edge's). A tiny cost on f + mu (1e-12 of y'y)
+// settles the ties of equal fits (where rho_m's term is rho's, or a share is 0) for the smaller shares.
+void fit_with_measurement(const std::vector<double>& y, double phi, int k, NoiseCorrelation& c) {
+  const std::size_t lags = y.size();
+  std::vector<double> a(lags), b(lags);
+  double best = std::numeric_limits<double>::infinity();
+  double yy = 0;
+  for (const double v : y) yy += v * v;
+  const double tie_cost = 1e-12 * yy;
+  for (int gr = 0; gr < 100; ++gr) {
+    const double rho = gr / 100.0;
+    double power = 1;
+    for (std::size_t l = 0; l < lags; ++l) a[l] = (power *= rho);
+    for (int gm = 0; gm < 100; ++gm) {
+      const double rho_m = gm / 100.0;
+      const double lag1 =
+          (rho_m * (1 + phi * phi) - phi * (1 + rho_m * rho_m)) / (1 + phi * phi - 2 * phi * rho_m);
+      power = 1;
+      for (std::size_t l = 0; l < lags; ++l) {
+        b[l] = lag1 * power;
+        power *= rho_m;
+      }
+      double aa = 0, bb = 0, ab = 0, ay = -tie_cost / 2, by = -tie_cost / 2;
+      for (std::size_t l = 0; l < lags; ++l) {
+        aa += a[l] * a[l];
+        bb += b[l] * b[l];
+        ab += a[l] * b[l];
+        ay += a[l] * y[l];
+        by += b[l] * y[l];
+      }
+      // Summed from the residuals, not expanded from the sums above: the expansion can come out below 0 by
+      // rounding where the two terms are nearly collinear, and would win every tie.
+      const auto error = [&](double f, double mu) {
+        double e = tie_cost * (f + mu);
+        for (std::size_t l = 0; l < lags; ++l) {
+          const double r = y[l] - f * a[l] - mu * b[l];
+          e += r * r;
+        }
+        return e;
+      };
+      const auto consider = [&](double f, double mu) {
+        // A share within rounding of 0 is 0, so that its correlation is 0 too rather than any grid value.
+        if (f < 1e-9) f = 0;
+        if (mu < 1e-9) mu = 0;
+        const double e = error(f, mu);
+        if (e < best) {
+          best = e;
+          c.share[k] = f;
+          c.rho[k] = f > 0 ? rho : 0;
+          c.measurement_share[k] = mu;
+          c.measurement_rho[k] = mu > 0 ? rho_m : 0;
+          c.measurement_persistence[k] = phi;
+        }
+      };
+      const double det = aa * bb - ab * ab;
+      if (det > 1e-12 * aa * bb) {
+        const double f = (ay * bb - by * ab) / det, mu = (by * aa - ay * ab) / det;
+        if (f >= 0 && mu >= 0 && f + mu <= 1) {
+          consider(f, mu);
+          continue;
+        }
+      }
+      consider(aa > 0 ? std::clamp(ay / aa, 0.0, 1.0) : 0.0, 0.0);  // mu = 0
+      if (bb > 0) consider(0.0, std::clamp(by / bb, 0.0, 1.0));     // f = 0
+      // f + mu = 1: f = t, mu = 1 - t.
+      const double dd = aa - 2 * ab + bb, dy = (ay - by) - (ab - bb);
+      if (dd > 0) {
+        const double t = std::clamp(dy / dd, 0.0, 1.0);
+        consider(t, 1 - t);
+      }
+    }
+  }
+}
+
+}  // namespace
+
+NoiseCorrelation fit_noise_correlation_with_measurement(const std::vector<BodyVec>& autocorrelation,
+                                                        const BodyVec& persistence) {
+  NoiseCorrelation c;
+  for (int k = 0; k < kBodyVars; ++k) {
+    std::vector<double> y;
+    for (const auto& a : autocorrelation) y.push_back(a[k]);
+    fit_with_measurement(y, std::clamp(persistence[k], 0.0, 1.0), k, c);
+  }
+  return c;
+}
+
 NoiseCorrelation fit_noise_correlation(const std::vector<BodyVec>& autocorrelation) {
+  NoiseCorrelation c;
   // Least squares of f rho^lag against the autocorrelations over a grid of rho, f in closed form and clipped
   // to [0, 1]: robust to the noisy long lags, and deterministic.
-  NoiseCorrelation c;
   for (int k = 0; k < kBodyVars; ++k) {
     double best = INFINITY;
     for (int g = 1; g < 1000; ++g) {
@@ -380,10 +517,18 @@ NoiseCorrelation fit_noise_correlation(const std::vector<BodyVec>& autocorrelati
 NoiseCorrelation estimate_noise_correlation(const Dataset& data,
                                             const std::array<OutputTemplate, kBodyVars>& templates,
                                             const std::array<double, kInputs>& inv_bandwidth, double window_s,
-                                            ThreadPool& pool) {
+                                            ThreadPool& pool, bool measurement) {
   const int max_lag = std::max(2, static_cast<int>(std::lround(2.0 / data.dt)));
-  return fit_noise_correlation(
-      residual_autocorrelation(data, templates, inv_bandwidth, window_s, max_lag, pool));
+  const std::vector<BodyVec> autocorrelation =
+      residual_autocorrelation(data, templates, inv_bandwidth, window_s, max_lag, pool);
+  if (!measurement) return fit_noise_correlation(autocorrelation);
+  // Each output's persistence over a model step: 1 + its own coefficient in the global linear fit.
+  const LocalRegression global(&data, templates, std::array<double, kInputs>{});
+  const LocalFit fit = global.fit(data.x.row(0).transpose());
+  BodyVec persistence = BodyVec::Ones();
+  if (!fit.singular)
+    for (int k = 0; k < kBodyVars; ++k) persistence[k] = 1 + fit.beta[static_cast<std::size_t>(k)][k];
+  return fit_noise_correlation_with_measurement(autocorrelation, persistence);
 }
 
 std::vector<ControlGainBias> closed_loop_bias(const Dataset& data,
@@ -559,8 +704,9 @@ IdentifiedModel identify(const FlightLog& train, const IdentifyOptions& o, Threa
     if (templates[static_cast<std::size_t>(k)].free_count() == 0)
       sigma2[k] = data.y.col(k).squaredNorm() / data.rows();
   NoiseCorrelation correlation;
-  if (o.noise == NoiseModel::kAr1)
-    correlation = estimate_noise_correlation(data, templates, best_inv, o.window_s, pool);
+  if (o.noise != NoiseModel::kWhite)
+    correlation = estimate_noise_correlation(data, templates, best_inv, o.window_s, pool,
+                                             o.noise == NoiseModel::kAr1Measurement);
   if (o.calibrate_noise) {
     // The noise check on the training log with the model as identified; each output's band is widened until
     // 4.55% of its steps fall outside, never narrowed.

@@ -29,7 +29,7 @@ LearnedHeliModel::LearnedHeliModel(std::shared_ptr<const IdentifiedModel> model,
   if (!model_) throw std::invalid_argument("learned model: no identified model");
   min_weight_ = std::exp(-0.5 * options_.support_bandwidths * options_.support_bandwidths);
   const NoiseCorrelation& c = model_->noise_correlation();
-  colored_ = options_.noise && c.any();
+  colored_ = options_.noise && (c.share.array() > 0).any();
   const double f = options_.dt / model_->dt();  // model steps per step
   const double n = 1 / f;                       // steps per model step
   for (int k = 0; k < kBodyVars; ++k) {
@@ -40,7 +40,8 @@ LearnedHeliModel::LearnedHeliModel(std::shared_ptr<const IdentifiedModel> model,
     for (int j = 1; j < static_cast<int>(std::ceil(n)); ++j)
       sum_factor += 2 * (n - j) * std::pow(rho_step_[k], j);
     colored_scale_[k] = c.share[k] / sum_factor;
-    white_scale_[k] = (1 - c.share[k]) * f;
+    // The logged states' own error (measurement_share) is not the aircraft's motion: not simulated.
+    white_scale_[k] = (1 - c.share[k] - c.measurement_share[k]) * f;
   }
 }
 

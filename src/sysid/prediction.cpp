@@ -276,9 +276,14 @@ NoiseCheck noise_check(const IdentifiedModel& model, const FlightLog& test, doub
   // With AR(1) noise the filter carries each output's AR part c as 8 more states (mean 0: nothing observes
   // them between resets): body' = mean step + c' + w, c' = rho c + eta. At a reset c is unknown and starts at
   // its stationary variance share * sigma^2, so the first step's band is the white model's.
+  // With the logged states' own error m (NoiseModel::kAr1Measurement) it carries m as 8 more states,
+  // m' = rho_m m + nu: the log shows body + m, and at a reset the filter's body is the logged value, so its
+  // error is -m_0 (covariance -sigma_m^2 with m). The band is that of body + m: zero at the reset itself.
   const NoiseCorrelation& nc_model = model.noise_correlation();
-  const bool ar = nc_model.any();
-  const int states = kEkfStates + (ar ? kBodyVars : 0);
+  const bool ar = (nc_model.share.array() > 0).any();
+  const bool measured = nc_model.has_measurement();
+  const int c0 = kEkfStates, m0 = kEkfStates + (ar ? kBodyVars : 0);
+  const int states = m0 + (measured ? kBodyVars : 0);
   NoiseCheck out;
   out.outside_by_horizon.assign(seg, BodyVec::Zero());
   out.steps_by_horizon.assign(seg, 0);
@@ -294,11 +299,17 @@ NoiseCheck noise_check(const IdentifiedModel& model, const FlightLog& test, doub
     // diagonal of P (dropping cross-covariances) would ignore that attitude errors integrate rate errors and
     // velocity errors integrate attitude errors: it shrinks the bands of the integrated variables.
     EkfMat p = EkfMat::Zero();
-    Eigen::MatrixXd pa;  // the AR filter's covariance (states x states)
-    if (ar) {
+    Eigen::MatrixXd pa;  // the augmented filter's covariance (states x states)
+    if (ar || measured) {
       pa = Eigen::MatrixXd::Zero(states, states);
-      for (int j = 0; j < kBodyVars; ++j)
-        pa(kEkfStates + j, kEkfStates + j) = nc_model.share[j] * model.sigma2()[j];
+      for (int j = 0; j < kBodyVars; ++j) {
+        if (ar) pa(c0 + j, c0 + j) = nc_model.share[j] * model.sigma2()[j];
+        if (measured) {
+          const double vm = nc_model.measurement_variance(j, model.sigma2()[j]);
+          pa(m0 + j, m0 + j) = pa(j, j) = vm;
+          pa(j, m0 + j) = pa(m0 + j, j) = -vm;
+        }
+      }
     }
     for (std::size_t t = 0; t < seg && r0 + (t + 1) * k < test.rows(); ++t) {
       const auto a = mean_controls(test, r0 + t * k, k);
@@ -320,7 +331,7 @@ NoiseCheck noise_check(const IdentifiedModel& model, const FlightLog& test, doub
         jac.col(j) = (mean_step(model, zp, a, fit) - mean_step(model, zm, a, fit)) / (2 * h);
       }
       BodyVec band_var;
-      if (!ar) {
+      if (!ar && !measured) {
         p = jac * p * jac.transpose();
         p.diagonal().head<kBodyVars>() += var;
         band_var = p.diagonal().head<kBodyVars>();
@@ -329,16 +340,27 @@ NoiseCheck noise_check(const IdentifiedModel& model, const FlightLog& test, doub
         ja.topLeftCorner(kEkfStates, kEkfStates) = jac;
         Eigen::MatrixXd q = Eigen::MatrixXd::Zero(states, states);
         for (int j = 0; j < kBodyVars; ++j) {
-          const double rho = nc_model.rho[j], share = nc_model.share[j];
-          const double eta = share * var[j] * (1 - rho * rho);
-          ja(j, kEkfStates + j) = rho;
-          ja(kEkfStates + j, kEkfStates + j) = rho;
-          q(j, j) = (1 - share) * var[j] + eta;
-          q(j, kEkfStates + j) = q(kEkfStates + j, j) = eta;
-          q(kEkfStates + j, kEkfStates + j) = eta;
+          const double share = nc_model.share[j];
+          q(j, j) = (1 - share - nc_model.measurement_share[j]) * var[j];
+          if (ar) {
+            const double rho = nc_model.rho[j];
+            const double eta = share * var[j] * (1 - rho * rho);
+            ja(j, c0 + j) = rho;
+            ja(c0 + j, c0 + j) = rho;
+            q(j, j) += eta;
+            q(j, c0 + j) = q(c0 + j, j) = eta;
+            q(c0 + j, c0 + j) = eta;
+          }
+          if (measured) {
+            const double rho_m = nc_model.measurement_rho[j];
+            ja(m0 + j, m0 + j) = rho_m;
+            q(m0 + j, m0 + j) = nc_model.measurement_variance(j, model.sigma2()[j]) * (1 - rho_m * rho_m);
+          }
         }
         pa = ja * pa * ja.transpose() + q;
         band_var = pa.diagonal().head<kBodyVars>();
+        if (measured)
+          for (int j = 0; j < kBodyVars; ++j) band_var[j] += pa(m0 + j, m0 + j) + 2 * pa(j, m0 + j);
       }
       s = sim_advance(m, s, a, model.mean_change(fit, x), model.dt());
       const BodyVec truth = body_from_log_state(test.states[r0 + (t + 1) * k]);

@@ -100,7 +100,7 @@ def test_ar1_noise_is_the_clis(logs, cli, tmp_path):
     assert as_trained["mse"].shape == (21, 15) and as_trained["seconds"][1] == pytest.approx(0.1)
     assert pegasus.closed_loop_bias(pegasus.identify(pegasus.read_flight_log(train), cv_points=60,
                                                      scale_grid=[1.0, 4.0], coordinate_passes=0)) == []
-    with pytest.raises(ValueError, match='noise: expected "white" or "ar1", got "pink"'):
+    with pytest.raises(ValueError, match=r'noise: expected "white", "ar1" or "ar1\+measurement", got "pink"'):
         pegasus.identify(pegasus.read_flight_log(train), noise="pink")
 
 

@@ -42,16 +42,39 @@ struct BandwidthFloor {
 // variance and rho fitted per output to the autocorrelation of the windowed leave-one-out residuals at lags
 // up to 2 s (autocorrelation f rho^lag). White noise leaves a model's bands too narrow at longer horizons
 // when gusts make the errors correlated.
-enum class NoiseModel { kWhite, kAr1 };
-NoiseModel parse_noise_model(const std::string& name);  // "white", "ar1"; InputError otherwise
+// "ar1+measurement": ar1 plus an error in the logged states themselves (a state estimator's), m_t, an AR(1)
+// of its own (correlation rho_m per model step) that is in the log but not in the aircraft's motion. The
+// regression predicts an output's change from the logged state, so its residual carries m_{t+1} - phi m_t,
+// phi = 1 + the output's own coefficient in the global linear fit (the state's persistence over a step);
+// that adds mu rho_m^(lag-1) (rho_m (1 + phi^2) - phi (1 + rho_m^2)) / (1 + phi^2 - 2 phi rho_m) to the
+// residuals' autocorrelation (mu: its share of the one-step variance; negative at lag 1). It does not
+// accumulate: the model's simulated motion carries only the process part (1 - mu of the variance), and a
+// prediction of a logged output from a logged start misses by the process noise propagated plus m_t less
+// what the dynamics make of m_0, which stays bounded. A white per-step noise fitted to the same residuals
+// makes the bands of the states that integrate (phi near 1) far too wide at longer horizons.
+enum class NoiseModel { kWhite, kAr1, kAr1Measurement };
+// "white", "ar1", "ar1+measurement"; InputError otherwise
+NoiseModel parse_noise_model(const std::string& name);
 std::string to_string(NoiseModel model);
 
-// The AR part of each output's noise: share of the one-step variance (0: white) and correlation per model
-// step.
+// The correlated parts of each output's one-step noise: the AR process part (its share of the one-step
+// variance, 0: white, and its correlation per model step) and the logged states' own error (the share of the
+// one-step variance it makes, its correlation per model step, and the persistence phi it was fitted with).
 struct NoiseCorrelation {
   BodyVec share = BodyVec::Zero();
   BodyVec rho = BodyVec::Zero();
-  bool any() const { return (share.array() > 0).any(); }
+  BodyVec measurement_share = BodyVec::Zero();
+  BodyVec measurement_rho = BodyVec::Zero();
+  BodyVec measurement_persistence = BodyVec::Ones();
+  bool any() const { return (share.array() > 0).any() || has_measurement(); }
+  bool has_measurement() const { return (measurement_share.array() > 0).any(); }
+  // The variance of output k's logged error itself (sigma_m^2) when the one-step variance is `step_var`: the
+  // residual's part m_{t+1} - phi m_t has the variance sigma_m^2 (1 + phi^2 - 2 phi rho_m) =
+  // measurement_share * step_var.
+  double measurement_variance(int k, double step_var) const {
+    const double phi = measurement_persistence[k], rho_m = measurement_rho[k];
+    return measurement_share[k] * step_var / (1 + phi * phi - 2 * phi * rho_m);
+  }
 };
 
 struct IdentifyOptions {
@@ -146,12 +169,16 @@ std::vector<BodyVec> residual_autocorrelation(const Dataset& data,
                                               const std::array<double, kInputs>& inv_bandwidth,
                                               double window_s, int max_lag, ThreadPool& pool);
 NoiseCorrelation fit_noise_correlation(const std::vector<BodyVec>& autocorrelation);
+// The fit with the logged states' error too (NoiseModel::kAr1Measurement), each output's persistence phi
+// given (in [0, 1]).
+NoiseCorrelation fit_noise_correlation_with_measurement(const std::vector<BodyVec>& autocorrelation,
+                                                        const BodyVec& persistence);
 // Both at lags up to 2 s (the horizons over which the noise check and the hover task's refits compound
-// errors): what identify() fits for NoiseModel::kAr1.
+// errors): what identify() fits for NoiseModel::kAr1 and kAr1Measurement.
 NoiseCorrelation estimate_noise_correlation(const Dataset& data,
                                             const std::array<OutputTemplate, kBodyVars>& templates,
                                             const std::array<double, kInputs>& inv_bandwidth, double window_s,
-                                            ThreadPool& pool);
+                                            ThreadPool& pool, bool measurement = false);
 
 // Closed-loop bias of the control gains (issue 15): a pilot or controller that reacts to the state reacts to
 // past noise, and with noise correlated in time (gusts) the controls then correlate with the present noise,
