@@ -164,8 +164,7 @@ LocalRegression::LocalRegression(const Dataset* data, const std::array<OutputTem
     grp.outputs[static_cast<std::size_t>(grp.count++)] = k;
   }
   if (is_global()) {
-    global_g_ = data_->x.transpose() * data_->x;
-    global_b_ = data_->x.transpose() * data_->y;
+    add_global_sums(0, data_->rows(), 1.0, &global_g_, &global_b_);
     return;
   }
   const int nd = static_cast<int>(dims_.size());
@@ -363,16 +362,28 @@ void LocalRegression::solve_groups(const detail::KernelResult& k, const InputVec
   }
 }
 
+void LocalRegression::add_global_sums(Eigen::Index begin, Eigen::Index end, double sign, Gram* g,
+                                      Cross* b) const {
+  // Row by row in data order, each row's products added as they come. Not Eigen's x' x: its product blocks
+  // the sum over rows by the cache sizes it reads from the CPU at run time, so the global model's bits (and
+  // every summary that reports it) differed between two machines with the same instruction set.
+  const auto& x = data_->x;
+  const auto& y = data_->y;
+  for (Eigen::Index i = begin; i < end; ++i)
+    for (int c = 0; c < kInputs; ++c) {
+      const double xc = sign * x(i, c);
+      for (int r = 0; r < kInputs; ++r) (*g)(r, c) += x(i, r) * xc;
+      for (int k = 0; k < kBodyVars; ++k) (*b)(c, k) += xc * y(i, k);
+    }
+}
+
 LocalFit LocalRegression::fit(const InputVec& q, Eigen::Index exclude_begin, Eigen::Index exclude_end) const {
   LocalFit fit;
   if (is_global()) {
     Gram g = global_g_;
     Cross b = global_b_;
     if (exclude_end > exclude_begin) {
-      const auto len = exclude_end - exclude_begin;
-      const auto xs = data_->x.middleRows(exclude_begin, len);
-      g -= xs.transpose() * xs;
-      b -= xs.transpose() * data_->y.middleRows(exclude_begin, len);
+      add_global_sums(exclude_begin, exclude_end, -1.0, &g, &b);
     }
     fit.points = static_cast<int>(data_->rows() - std::max<Eigen::Index>(0, exclude_end - exclude_begin));
     fit.weight_sum = fit.points;

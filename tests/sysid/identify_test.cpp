@@ -187,6 +187,40 @@ TEST(NoiseCorrelation, IdentifySeparatesTheLoggedStatesErrorFromTheMotion) {
   EXPECT_LT(white.outside_by_horizon[last][kYawRate], 0.01);
 }
 
+// Eigen's matrix product splits a long sum by the cache sizes it reads from the CPU at run time, so the
+// global model's Gram sums went through it gave other bits on a machine with other caches (the shipped
+// heli-demo's identify summary differed between two machines). The global fit, the closed-loop bias check
+// built on it and the noise fit's persistence must not depend on them.
+TEST(GlobalFit, DoesNotDependOnTheCpuCacheSizes) {
+  ThreadPool pool(2);
+  IdentifyOptions o = small_search();
+  o.local = false;
+  o.noise = NoiseModel::kAr1Measurement;
+  const auto run = [&] {
+    const IdentifiedModel model = identify(logs().train, o, pool);
+    const LocalFit fit = model.regression().fit(model.data().x.row(17).transpose(), 100, 160);
+    const auto bias =
+        closed_loop_bias(model.data(), model.regression().templates(), model.noise_correlation());
+    std::vector<double> bits;
+    for (const auto& beta : fit.beta) bits.insert(bits.end(), beta.data(), beta.data() + kInputs);
+    bits.insert(bits.end(), model.sigma2().data(), model.sigma2().data() + kBodyVars);
+    const NoiseCorrelation& c = model.noise_correlation();
+    for (const BodyVec* v :
+         {&c.share, &c.rho, &c.measurement_share, &c.measurement_rho, &c.measurement_persistence})
+      bits.insert(bits.end(), v->data(), v->data() + kBodyVars);
+    for (const auto& b : bias) bits.insert(bits.end(), {b.least_squares, b.whitened});
+    return bits;
+  };
+  std::ptrdiff_t l1 = 0, l2 = 0, l3 = 0;
+  Eigen::internal::manage_caching_sizes(Eigen::GetAction, &l1, &l2, &l3);
+  const std::vector<double> as_detected = run();
+  Eigen::setCpuCacheSizes(16 * 1024, 128 * 1024, 2 * 1024 * 1024);
+  const std::vector<double> small_caches = run();
+  Eigen::setCpuCacheSizes(l1, l2, l3);
+  ASSERT_EQ(as_detected.size(), small_caches.size());
+  for (std::size_t i = 0; i < as_detected.size(); ++i) EXPECT_EQ(as_detected[i], small_caches[i]) << i;
+}
+
 // Residuals made of white noise plus an AR(1) process (share 0.6, rho 0.9 per step) on a linear system: the
 // windowed leave-one-out residuals' autocorrelation gives them back, and the model file keeps them.
 TEST(NoiseCorrelation, IdentifyRecoversAnAr1ResidualProcess) {

@@ -98,6 +98,9 @@ class LocalRegression {
   };
   using Gram = Eigen::Matrix<double, kInputs, kInputs>;
   using Cross = Eigen::Matrix<double, kInputs, kBodyVars>;
+  // Adds sign * (x' x, x' y) over the rows [begin, end) to *g and *b, in a summation order that is the same
+  // on every machine.
+  void add_global_sums(Eigen::Index begin, Eigen::Index end, double sign, Gram* g, Cross* b) const;
   int build(int begin, int end, int depth, const std::vector<double>& z);
   void solve(const Gram& g, const Cross& b, const InputVec& q, LocalFit* fit) const;
   void solve_groups(const detail::KernelResult& k, const InputVec& q, LocalFit* fit) const;
