@@ -104,6 +104,34 @@ def test_ar1_noise_is_the_clis(logs, cli, tmp_path):
         pegasus.identify(pegasus.read_flight_log(train), noise="pink")
 
 
+def test_measurement_noise_is_the_clis(logs, cli, tmp_path):
+    """--noise ar1+measurement: the CLI's model is Python's, its file and summary keep the logged error's
+    share, correlation and persistence, and the learned model flies only the process part."""
+    train, test = str(logs / "train" / "log.csv"), str(logs / "test" / "log.csv")
+    result = subprocess.run([cli, "heli", "identify", "--train", train, "--test", test, *IDENTIFY, "--threads", "2",
+                             "--noise", "ar1+measurement", "--out", str(tmp_path / "cli")],
+                            capture_output=True, text=True)
+    assert result.returncode == 0, result.stdout + result.stderr
+    cli_model = json.loads((tmp_path / "cli" / "model.json").read_text())
+    model = pegasus.identify(pegasus.read_flight_log(train), noise="ar1+measurement", cv_points=60,
+                             scale_grid=[1.0, 4.0], coordinate_passes=0)
+    assert model.to_json() == cli_model
+    noise = cli_model["noise"]
+    assert noise["model"] == "ar1+measurement"
+    assert max(noise["measurement_share"]) > 0
+    for share, logged, rho_m, phi in zip(noise["share"], noise["measurement_share"], noise["measurement_rho"],
+                                         noise["measurement_persistence"]):
+        assert 0 <= share + logged <= 1 and 0 <= rho_m < 1 and 0 <= phi <= 1
+    summary = json.loads((tmp_path / "cli" / "summary.json").read_text())
+    assert summary["noise"] == "ar1+measurement"
+    for name, entry in summary["noise_correlation"].items():
+        k = cli_model["outputs"].index(name)
+        assert entry["measurement_share"] == noise["measurement_share"][k]
+        assert entry["measurement_rho"] == noise["measurement_rho"][k]
+    learned = pegasus.LearnedHeliModel(model, pegasus.LearnedModelOptions())
+    assert learned.noise_dim == (16 if max(noise["share"]) > 0 else 8)
+
+
 def test_the_model_from_logs_example_runs(logs, source_dir):
     import sys
     result = subprocess.run([sys.executable, str(source_dir / "examples" / "python" / "model_from_logs.py"),
