@@ -41,10 +41,8 @@ using heli::AircraftState;
 using heli::Controls;
 using heli::HoverPolicy;
 using heli::HoverReward;
-using heli::HoverTask;
 using heli::LoggedState;
 using heli::SetPoint;
-using sysid::IdentifiedModel;
 using sysid::LearnedHeliModel;
 using sysid::LearnedModelOptions;
 

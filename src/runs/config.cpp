@@ -65,8 +65,6 @@ std::string toml_quoted(std::string_view raw) {
 
 namespace {
 
-using detail::is_int_type;
-using detail::is_number_type;
 using detail::toml_quoted;
 
 bool valid_field_name(std::string_view name) {
