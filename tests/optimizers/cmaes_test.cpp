@@ -3,6 +3,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <Eigen/Core>
 #include <bit>
 #include <cmath>
 #include <functional>
@@ -143,6 +144,54 @@ TEST(Cmaes, GivesBitIdenticalResultsWhenRunTwiceAndOtherResultsForAnotherSeed) {
   EXPECT_TRUE(SameOutcome(a, b, &difference)) << difference;
   EXPECT_FALSE(SameOutcome(a, c));
   EXPECT_NE(Bits(a.best_value), Bits(c.best_value));
+}
+
+TEST(Cmaes, ALargeSearchUsesEigensFixedCacheSizesNotTheCpus) {
+  // Eigen splits large matrix products and blocked decompositions by cache sizes, which changes the order of
+  // the sums and so the last bits. At 300 parameters (an MLP policy's size) the covariance's
+  // eigendecomposition and its inverse square root are that large. The library is built so that Eigen never
+  // asks the CPU (EIGEN_NO_CPUID): the sizes are Eigen's fixed defaults, and a run under them set by hand is
+  // the same run, candidate for candidate. Without that, this machine's own sizes would be used.
+#if defined(__x86_64__)
+  EXPECT_EQ(Eigen::l1CacheSize(), 32 * 1024);
+  EXPECT_EQ(Eigen::l2CacheSize(), 256 * 1024);
+  EXPECT_EQ(Eigen::l3CacheSize(), 2 * 1024 * 1024);
+#endif
+  auto run = [] {
+    std::vector<double> candidates;
+    FunctionObjective objective(Box(300, 0.5, 5.0), [&candidates](std::span<const double> theta) {
+      candidates.insert(candidates.end(), theta.begin(), theta.end());
+      double sum = 0.0;
+      for (std::size_t i = 0; i + 1 < theta.size(); ++i) {
+        const double a = theta[i + 1] - theta[i] * theta[i];
+        sum += 100.0 * a * a + (1.0 - theta[i]) * (1.0 - theta[i]) + 0.1 * theta[i] * theta[i + 1];
+      }
+      return -sum;
+    });
+    CmaesOptions options;
+    options.max_iterations = 16;
+    Theta theta;
+    OptimizerSummary summary;
+    Solve(options, objective, &theta, &summary);
+    candidates.push_back(summary.best_value);
+    return candidates;
+  };
+  const std::ptrdiff_t l1 = Eigen::l1CacheSize(), l2 = Eigen::l2CacheSize(), l3 = Eigen::l3CacheSize();
+  const std::vector<double> as_built = run();
+  Eigen::setCpuCacheSizes(32 * 1024, 256 * 1024, 2 * 1024 * 1024);
+  const std::vector<double> fixed_sizes = run();
+  Eigen::setCpuCacheSizes(16 * 1024, 128 * 1024, 1024 * 1024);
+  const std::vector<double> smaller_sizes = run();
+  Eigen::setCpuCacheSizes(l1, l2, l3);
+  ASSERT_EQ(as_built.size(), fixed_sizes.size());
+  std::size_t differing = 0, differing_when_smaller = 0;
+  for (std::size_t i = 0; i < as_built.size(); ++i) {
+    differing += Bits(as_built[i]) != Bits(fixed_sizes[i]);
+    differing_when_smaller += Bits(as_built[i]) != Bits(smaller_sizes[i]);
+  }
+  EXPECT_EQ(differing, 0U) << "of " << as_built.size() << " numbers";
+  // The size is large enough for the blocking to matter: other sizes do give another run.
+  EXPECT_GT(differing_when_smaller, as_built.size() / 10);
 }
 
 TEST(Cmaes, PowerOfTwoScalesGiveTheSameRunBitForBit) {
