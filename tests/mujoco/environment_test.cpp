@@ -2,9 +2,12 @@
 // scenario), a control step is frame_skip of MuJoCo's own steps, actions land inside the ctrl ranges, and
 // instability ends a rollout as a counted crash.
 #ifdef PEGASUS_HAVE_MUJOCO
+#include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <mujoco/mujoco.h>
+
+#include <utility>
 
 #include "mujoco_test_support.hpp"
 #include "pegasus/mujoco/mujoco_objective.hpp"
@@ -102,6 +105,83 @@ TEST(MujocoObjective, UhatAndCountsAreBitIdenticalForOneAndThreeThreads) {
   EXPECT_LT(a.normalizer().mean[1], -0.5);
   // evaluate is the batch's first value.
   EXPECT_EQ(a.evaluate(theta), b.evaluate(theta));
+}
+
+class MujocoLargeModel : public test_support::TempDirTest {};
+
+TEST_F(MujocoLargeModel, StartsAndStepsDrawAsManyScenarioNumbersAsTheModelNeeds) {
+  // A chain of 40 hinges, each with a motor: the start draws nq + nv = 80 numbers, a step 40 for the
+  // actuators plus 4 for each of 8 pushed links (72): more than the generic models' 64, and every one is
+  // used.
+  constexpr int kLinks = 40;
+  std::string bodies, closing, motors;
+  for (int k = 0; k < kLinks; ++k) {
+    bodies += fmt::format(
+        R"(<body name="b{0}" pos="0 0 -0.1"><joint name="j{0}" type="hinge" axis="0 1 0" damping="0.1"/>
+<geom type="capsule" fromto="0 0 0 0 0 -0.1" size="0.02" mass="0.1"/>)",
+        k);
+    closing += "</body>";
+    motors += fmt::format(R"(<motor joint="j{0}" ctrllimited="true" ctrlrange="-1 1"/>)", k);
+  }
+  const auto xml = test_support::write_file(
+      dir_ / "chain.xml",
+      "<mujoco><worldbody>" + bodies + closing + "</worldbody><actuator>" + motors + "</actuator></mujoco>");
+  const auto toml = test_support::write_file(dir_ / "task.toml", R"(
+horizon = 5
+[initial]
+qpos_noise = 0.01
+qvel_noise = 0.02
+[noise]
+actuator = 0.1
+push_bodies = ["b0", "b5", "b10", "b15", "b20", "b25", "b30", "b39"]
+push_force = 1.0
+push_probability = 0.5
+[observation]
+qpos = ["j0", "j39"]
+[[reward]]
+term = "healthy"
+)");
+  MujocoModel model = MujocoModel::load(xml);
+  MujocoTask task = load_mujoco_task(toml, model);
+  const auto env = std::make_shared<const MujocoEnvironment>(std::move(model), std::move(task));
+  ASSERT_EQ(env->initial_noise_dim(), 80);
+  ASSERT_EQ(env->noise_dim(), 72);
+  const ScenarioSet scenarios = env->scenarios(3, 2, ScenarioVariant::kPlain);
+  std::vector<double> p0(80), p1(72);
+  scenarios.initial_noise(1, p0);
+  scenarios.step_noise(1, 0, p1);
+
+  // The start: qpos0 = 0 moved by 0.01 (2u - 1), qvel by 0.02 (2u - 1), for the last joint too.
+  MujocoSlot slot(*env);
+  env->reset(slot, p0);
+  const mjData* d = slot.data;
+  for (int j : {0, kLinks - 1}) {
+    EXPECT_DOUBLE_EQ(d->qpos[j], 0.01 * (2.0 * p0[static_cast<std::size_t>(j)] - 1.0)) << j;
+    EXPECT_DOUBLE_EQ(d->qvel[j], 0.02 * (2.0 * p0[static_cast<std::size_t>(kLinks + j)] - 1.0)) << j;
+  }
+  // A step: the last numbers (the last pushed link's) decide whether it is pushed, so the step with them
+  // changed to the other side of 1 - push_probability moves the chain otherwise.
+  const std::vector<double> zero_action(kLinks, 0.0);
+  env->step(slot, zero_action, p1);
+  const double tip_pushed_or_not = slot.data->qvel[kLinks - 1];
+  std::vector<double> flipped = p1;
+  flipped[68] = p1[68] < 0.5 ? 0.9 : 0.1;
+  env->reset(slot, p0);
+  env->step(slot, zero_action, flipped);
+  EXPECT_NE(slot.data->qvel[kLinks - 1], tip_pushed_or_not);
+  // A whole rollout runs its horizon with them, and ends where the same scenario ends after another one.
+  std::shared_ptr<const MujocoPolicy> policy = make_mujoco_policy("linear", 2, kLinks, {});
+  const Theta theta = wiggly_theta(*policy);
+  std::vector<double> tip;
+  const MujocoStepObserver record = [&](int, const mjData* data, std::span<const double>, double) {
+    tip.push_back(data->qpos[kLinks - 1]);
+  };
+  const auto a = env->rollout(*policy, theta, ObservationNormalizer(2), scenarios, 1, slot, nullptr, &record);
+  const std::vector<double> first = std::exchange(tip, {});
+  env->rollout(*policy, theta, ObservationNormalizer(2), scenarios, 0, slot);
+  env->rollout(*policy, theta, ObservationNormalizer(2), scenarios, 1, slot, nullptr, &record);
+  EXPECT_EQ(a.steps, 5);
+  EXPECT_EQ(first, tip);
 }
 
 class MujocoCrash : public test_support::TempDirTest {};
