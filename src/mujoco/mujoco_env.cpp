@@ -278,6 +278,7 @@ MujocoRolloutResult MujocoEnvironment::rollout(const MujocoPolicy& policy, std::
       reached = reached || held >= task_.success_hold_steps;
     }
   }
+  // NaN (no bar on the return) compares false: without [success] ranges nothing succeeds.
   result.success = result.discounted_return >= task_.success_return;
   if (!task_.success_ranges.empty())
     result.success =

@@ -235,7 +235,8 @@ MujocoTask mujoco_task_from_toml(const toml::table& root, const std::filesystem:
   task.discount = r.number(top["discount"], "discount", 1.0, 0.0, 1.0);
   task.frame_skip = r.integer(top["frame_skip"], "frame_skip", 1, 1, 1000);
   task.crash_penalty = r.number(top["crash_penalty"], "crash_penalty", -100.0);
-  task.success_return = r.number(top["success_return"], "success_return", 0.0);
+  task.success_return =
+      r.number(top["success_return"], "success_return", std::numeric_limits<double>::quiet_NaN());
 
   if (const toml::table* initial = root["initial"].as_table()) {
     r.check_keys(*initial, "initial.", {"qpos", "qpos_noise", "qvel_noise"});

@@ -50,7 +50,8 @@ Problem load_problem(const std::string& model_path, const std::string& task_path
   return {env, policy};
 }
 
-nlohmann::json evaluation_json(const std::vector<MujocoRolloutResult>& results) {
+// success_rate is null when the task has no success criterion.
+nlohmann::json evaluation_json(const std::vector<MujocoRolloutResult>& results, const MujocoTask& task) {
   double sum = 0.0;
   int successes = 0, crashes = 0;
   std::int64_t steps = 0;
@@ -63,7 +64,7 @@ nlohmann::json evaluation_json(const std::vector<MujocoRolloutResult>& results) 
   const double n = static_cast<double>(results.size());
   return {{"episodes", results.size()},
           {"mean_return", sum / n},
-          {"success_rate", successes / n},
+          {"success_rate", task.has_success_criterion() ? nlohmann::json(successes / n) : nullptr},
           {"crashes", crashes},
           {"control_steps", steps}};
 }
@@ -214,7 +215,7 @@ void run_mujoco_training(const MujocoTrainingRunOptions& o, RunSink& sink, Threa
   const int episodes = o.evaluation_episodes;
   const ScenarioSet held_out = env.scenarios(evaluation_seed(o.seed), episodes, ScenarioVariant::kPlain);
   const auto results = objective.rollout_all(theta, held_out);
-  const nlohmann::json evaluation = evaluation_json(results);
+  const nlohmann::json evaluation = evaluation_json(results, env.task());
   dir.write_json("replay.json", replay_json(env, *problem.policy, theta, objective.normalizer(), held_out));
 
   dir.write_csv("progress.csv", optimizer_progress_csv(summary.history));
@@ -265,11 +266,13 @@ void run_mujoco_training(const MujocoTrainingRunOptions& o, RunSink& sink, Threa
                                   {"evaluation", evaluation}});
   // Wall-clock measurements go to run.json ("timings"): summary.json is identical for any threads and ranks.
   sink.out << summary.BriefReport() << "\n";
+  const nlohmann::json& rate = evaluation.at("success_rate");
   sink.out << fmt::format(
-      "held-out: mean return {:.3f}, success rate {:.3f} over {} episodes ({} crashes); {} training control "
-      "steps\n",
-      evaluation.at("mean_return").get<double>(), evaluation.at("success_rate").get<double>(), episodes,
-      evaluation.at("crashes").get<int>(), objective.control_steps());
+      "held-out: mean return {:.3f}, {} over {} episodes ({} crashes); {} training control steps\n",
+      evaluation.at("mean_return").get<double>(),
+      rate.is_null() ? std::string("no success rate (the task sets neither success_return nor [success])")
+                     : fmt::format("success rate {:.3f}", rate.get<double>()),
+      episodes, evaluation.at("crashes").get<int>(), objective.control_steps());
 }
 
 void run_mujoco_rollout(const MujocoRolloutRunOptions& o, RunSink& sink) {
@@ -313,9 +316,9 @@ void run_mujoco_rollout(const MujocoRolloutRunOptions& o, RunSink& sink) {
   dir.write_json("summary.json", {{"experiment", "mujoco rollout"},
                                   {"success_return", number_or_null(env.task().success_return)},
                                   {"success", success_json(env)},
-                                  {"evaluation", evaluation_json(results)}});
+                                  {"evaluation", evaluation_json(results, env.task())}});
   sink.out << fmt::format("mean return {:.3f} over {} episodes\n",
-                          evaluation_json(results).at("mean_return").get<double>(), episodes);
+                          evaluation_json(results, env.task()).at("mean_return").get<double>(), episodes);
 }
 
 }  // namespace pegasus

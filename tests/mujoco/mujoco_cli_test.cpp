@@ -136,6 +136,31 @@ TEST_F(MujocoCli, TheHopperTrainsByCmaesOnSmallSettingsTheSameOnOneAndTwoThreads
   EXPECT_LE(rate, 1.0);
 }
 
+TEST_F(MujocoCli, ATaskWithoutASuccessCriterionReportsNoSuccessRate) {
+  // Every rollout of this task earns a positive return; without success_return or [success] none of them
+  // is called a success, and the summary says there is no rate rather than 1.
+  const auto task = test_support::write_file(dir_ / "plain.toml", R"(
+horizon = 50
+[observation]
+qpos = ["slider", "hinge"]
+[[reward]]
+term = "healthy"
+)");
+  const auto run =
+      run_pegasus("mujoco train --model " + (test_support::mujoco_experiments() / "cartpole.xml").string() +
+                  " --task " + task.string() +
+                  " --policy linear --scenarios 2 --optimizer.ars.max-iterations 1 "
+                  "--evaluation-episodes 3 --quiet --out " +
+                  (dir_ / "run").string());
+  ASSERT_EQ(run.code, 0) << run.output;
+  EXPECT_THAT(run.output, HasSubstr("no success rate (the task sets neither success_return nor [success])"));
+  const auto s = nlohmann::json::parse(read_text(dir_ / "run" / "summary.json"));
+  EXPECT_EQ(s.at("evaluation").at("mean_return"), 50.0);
+  EXPECT_TRUE(s.at("evaluation").at("success_rate").is_null());
+  EXPECT_TRUE(s.at("first_success").is_null());
+  EXPECT_TRUE(s.at("success_return").is_null());
+}
+
 // Runs `args` (ending in " --out DIR/whole") whole, then killed after its first checkpoint and resumed into
 // DIR/cut: both summaries must be the same bytes (counters of steps, rollouts and first success included).
 void expect_resume_gives_the_uninterrupted_summary(const std::filesystem::path& dir, const std::string& args,

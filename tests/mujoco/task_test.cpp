@@ -154,6 +154,9 @@ TEST_F(MujocoTaskFile, ARolloutSucceedsOnlyWhenItEndsItsWholeHorizonInsideTheSuc
   // Without a [success] table the bar is the return alone.
   EXPECT_TRUE(outcome("success_return = 100.0\n", "").success);
   EXPECT_FALSE(outcome("success_return = 100.5\n", "").success);
+  // With neither, the task has no criterion: a rollout that earned 100 is no success.
+  EXPECT_FALSE(outcome("", "").success);
+  EXPECT_EQ(outcome("", "").discounted_return, 100.0);
 }
 
 TEST_F(MujocoTaskFile, ACapLimitsWhatATermPaysBeforeItsWeight) {

@@ -12,7 +12,8 @@
 //   discount = 1.0                gamma in [0, 1]
 //   frame_skip = 2                physics steps (of the MJCF's timestep) per control step
 //   crash_penalty = -100.0        reward of the step at which MuJoCo reported instability (NaN, huge qacc)
-//   success_return = 300.0        a rollout succeeds when its return reaches this
+//   success_return = 300.0        a rollout succeeds when its return reaches this (none by default: without
+//                                 it or [success] the task has no success criterion and no success rate)
 //   [initial]   qpos = { hinge = 3.14159 }            start values of scalar joints (else the MJCF's qpos0)
 //               qpos_noise = 0.01, qvel_noise = 0.01  half-widths of uniform perturbations of every qpos/qvel
 //   [noise]     actuator = 0.05     half-width of uniform noise on each ctrl, as a fraction of its half-range
@@ -27,6 +28,7 @@
 //   [[termination]] quantity = "qpos" | "qvel" | "body_height" | "site_height", name = ..., min = .., max =
 //   ..
 #include <array>
+#include <cmath>
 #include <filesystem>
 #include <limits>
 #include <memory>
@@ -116,7 +118,7 @@ struct MujocoTask {
   double discount = 1.0;
   int frame_skip = 1;
   double crash_penalty = -100.0;
-  double success_return = 0.0;
+  double success_return = std::numeric_limits<double>::quiet_NaN();  // NaN: no bar on the return
 
   std::vector<std::pair<int, double>> initial_qpos;  // (qpos address, value)
   double initial_qpos_noise = 0.0;
@@ -142,6 +144,9 @@ struct MujocoTask {
   bool success_anywhere = false;
 
   int observation_dim() const;
+  // The task says what success is: a return to reach or [success] ranges. Without either no rollout
+  // succeeds and no success rate is reported (a made-up bar would call a falling robot a success).
+  bool has_success_criterion() const { return !std::isnan(success_return) || !success_ranges.empty(); }
 };
 
 // Parses the task file and resolves every name against `model`. InputError "FILE: field: ..." otherwise.
