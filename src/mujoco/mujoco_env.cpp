@@ -205,7 +205,7 @@ MujocoStepOutcome MujocoEnvironment::step(MujocoSlot& slot, std::span<const doub
     reward += term.weight * std::min(value, term.cap);
   }
   if (hook_) reward += hook_(m, d, action);
-  out.reward = reward;
+  out.reward = is_healthy ? reward : reward + task_.termination_penalty;
   out.terminal = !is_healthy;
   return out;
 }

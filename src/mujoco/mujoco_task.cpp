@@ -227,14 +227,15 @@ MujocoTask mujoco_task_from_toml(const toml::table& root, const std::filesystem:
   const mjModel* m = model.get();
   TaskReader r(path, model);
   r.check_keys(root, "",
-               {"horizon", "discount", "frame_skip", "crash_penalty", "success_return", "initial", "noise",
-                "observation", "reward", "termination", "success"});
+               {"horizon", "discount", "frame_skip", "crash_penalty", "termination_penalty", "success_return",
+                "initial", "noise", "observation", "reward", "termination", "success"});
   MujocoTask task;
   const toml::node_view<const toml::node> top{root};
   task.horizon = r.integer(top["horizon"], "horizon", 1000, 1, 1'000'000);
   task.discount = r.number(top["discount"], "discount", 1.0, 0.0, 1.0);
   task.frame_skip = r.integer(top["frame_skip"], "frame_skip", 1, 1, 1000);
   task.crash_penalty = r.number(top["crash_penalty"], "crash_penalty", -100.0);
+  task.termination_penalty = r.number(top["termination_penalty"], "termination_penalty", 0.0);
   task.success_return =
       r.number(top["success_return"], "success_return", std::numeric_limits<double>::quiet_NaN());
 

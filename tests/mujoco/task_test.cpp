@@ -182,6 +182,34 @@ TEST_F(MujocoTaskFile, ACapLimitsWhatATermPaysBeforeItsWeight) {
               HasSubstr("reward[1].cap: expected a number"));
 }
 
+TEST_F(MujocoTaskFile, TheTerminationPenaltyIsPaidOnceOnTheStepThatLeavesARange) {
+  // The cart starts at 0.95 m moving at 2 m/s toward the 1 m limit: the first step ends outside it.
+  auto step = [&](const std::string& top, double x) {
+    const auto path = test_support::write_file(
+        dir_ / "fall.toml", top + minimal("[[termination]]\nquantity = \"qpos\"\nname = \"slider\"\n"
+                                          "min = -1.0\nmax = 1.0\n"));
+    MujocoModel model = MujocoModel::load(test_support::mujoco_experiments() / "cartpole.xml");
+    MujocoTask task = load_mujoco_task(path, model);
+    const MujocoEnvironment env(std::move(model), std::move(task));
+    MujocoSlot slot(env);
+    env.reset(slot, {});
+    slot.data->qpos[0] = x;
+    slot.data->qvel[0] = 2.0;
+    const double a = 0.0;
+    return env.step(slot, std::span<const double>(&a, 1), {});
+  };
+  const MujocoStepOutcome fall = step("termination_penalty = -250.0\n", 0.99);
+  EXPECT_TRUE(fall.terminal);
+  EXPECT_FALSE(fall.crashed);
+  EXPECT_EQ(fall.reward, -250.0);  // no healthy bonus on the step that left, and the penalty
+  EXPECT_EQ(step("", 0.99).reward, 0.0);
+  const MujocoStepOutcome inside = step("termination_penalty = -250.0\n", 0.0);
+  EXPECT_FALSE(inside.terminal);
+  EXPECT_EQ(inside.reward, 1.0);
+  EXPECT_THAT(task_error("termination_penalty = \"big\"\n" + minimal("")),
+              HasSubstr("termination_penalty: expected a number"));
+}
+
 TEST_F(MujocoTaskFile, TheShippedTaskResolvesToTheModelsAddresses) {
   const MujocoTask task =
       load_mujoco_task(test_support::mujoco_experiments() / "cartpole_swingup.toml", *model_);

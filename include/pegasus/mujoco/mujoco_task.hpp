@@ -12,6 +12,7 @@
 //   discount = 1.0                gamma in [0, 1]
 //   frame_skip = 2                physics steps (of the MJCF's timestep) per control step
 //   crash_penalty = -100.0        reward of the step at which MuJoCo reported instability (NaN, huge qacc)
+//   termination_penalty = -300.0  added to the reward of the step that leaves a termination range (a fall)
 //   success_return = 300.0        a rollout succeeds when its return reaches this (none by default: without
 //                                 it or [success] the task has no success criterion and no success rate)
 //   [initial]   qpos = { hinge = 3.14159 }            start values of scalar joints (else the MJCF's qpos0)
@@ -118,6 +119,7 @@ struct MujocoTask {
   double discount = 1.0;
   int frame_skip = 1;
   double crash_penalty = -100.0;
+  double termination_penalty = 0.0;
   double success_return = std::numeric_limits<double>::quiet_NaN();  // NaN: no bar on the return
 
   std::vector<std::pair<int, double>> initial_qpos;  // (qpos address, value)
