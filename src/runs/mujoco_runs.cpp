@@ -268,11 +268,11 @@ void run_mujoco_training(const MujocoTrainingRunOptions& o, RunSink& sink, Threa
   sink.out << summary.BriefReport() << "\n";
   const nlohmann::json& rate = evaluation.at("success_rate");
   sink.out << fmt::format(
-      "held-out: mean return {:.3f}, {} over {} episodes ({} crashes); {} training control steps\n",
+      "held-out: mean return {:.3f}{} over {} episodes ({} crashes){}; {} training control steps\n",
       evaluation.at("mean_return").get<double>(),
-      rate.is_null() ? std::string("no success rate (the task sets neither success_return nor [success])")
-                     : fmt::format("success rate {:.3f}", rate.get<double>()),
-      episodes, evaluation.at("crashes").get<int>(), objective.control_steps());
+      rate.is_null() ? "" : fmt::format(", success rate {:.3f}", rate.get<double>()), episodes,
+      evaluation.at("crashes").get<int>(), rate.is_null() ? ", no success criterion in the task" : "",
+      objective.control_steps());
 }
 
 void run_mujoco_rollout(const MujocoRolloutRunOptions& o, RunSink& sink) {

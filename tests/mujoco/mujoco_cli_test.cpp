@@ -153,7 +153,7 @@ term = "healthy"
                   "--evaluation-episodes 3 --quiet --out " +
                   (dir_ / "run").string());
   ASSERT_EQ(run.code, 0) << run.output;
-  EXPECT_THAT(run.output, HasSubstr("no success rate (the task sets neither success_return nor [success])"));
+  EXPECT_THAT(run.output, HasSubstr("over 3 episodes (0 crashes), no success criterion in the task;"));
   const auto s = nlohmann::json::parse(read_text(dir_ / "run" / "summary.json"));
   EXPECT_EQ(s.at("evaluation").at("mean_return"), 50.0);
   EXPECT_TRUE(s.at("evaluation").at("success_rate").is_null());
