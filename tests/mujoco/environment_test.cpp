@@ -141,9 +141,7 @@ qpos = ["j0", "j39"]
 [[reward]]
 term = "healthy"
 )");
-  MujocoModel model = MujocoModel::load(xml);
-  MujocoTask task = load_mujoco_task(toml, model);
-  const auto env = std::make_shared<const MujocoEnvironment>(std::move(model), std::move(task));
+  const auto env = test_support::environment_of(xml, toml);
   ASSERT_EQ(env->initial_noise_dim(), 80);
   ASSERT_EQ(env->noise_dim(), 72);
   const ScenarioSet scenarios = env->scenarios(3, 2, ScenarioVariant::kPlain);
@@ -205,9 +203,7 @@ qvel = ["j"]
 [[reward]]
 term = "healthy"
 )");
-  MujocoModel model = MujocoModel::load(xml);
-  MujocoTask task = load_mujoco_task(toml, model);
-  const auto env = std::make_shared<const MujocoEnvironment>(std::move(model), std::move(task));
+  const auto env = test_support::environment_of(xml, toml);
   std::shared_ptr<const MujocoPolicy> policy = make_mujoco_policy("linear", 2, 1, {});
   const Theta theta(policy->parameters().size(), 0.0);
   MujocoSlot slot(*env);

@@ -14,10 +14,17 @@ inline std::filesystem::path mujoco_experiments() {
   return std::filesystem::path(PEGASUS_SOURCE_DIR) / "experiments" / "mujoco";
 }
 
-inline std::shared_ptr<const MujocoEnvironment> cartpole_environment() {
-  MujocoModel model = MujocoModel::load(mujoco_experiments() / "cartpole.xml");
-  MujocoTask task = load_mujoco_task(mujoco_experiments() / "cartpole_swingup.toml", model);
+// The environment of an MJCF file and a task file for it.
+inline std::shared_ptr<const MujocoEnvironment> environment_of(const std::filesystem::path& mjcf,
+                                                               const std::filesystem::path& task_file) {
+  MujocoModel model = MujocoModel::load(mjcf);
+  MujocoTask task = load_mujoco_task(task_file, model);
   return std::make_shared<const MujocoEnvironment>(std::move(model), std::move(task));
+}
+
+inline std::shared_ptr<const MujocoEnvironment> cartpole_environment() {
+  return environment_of(mujoco_experiments() / "cartpole.xml",
+                        mujoco_experiments() / "cartpole_swingup.toml");
 }
 
 inline std::filesystem::path write_file(const std::filesystem::path& path, const std::string& text) {
