@@ -7,7 +7,7 @@
 #include <map>
 #include <set>
 
-#include "../io/toml_input.hpp"
+#include "../io/toml_fields.hpp"
 #include "pegasus/core/error.hpp"
 #include "pegasus/core/untrusted_text.hpp"
 #include "pegasus/heli/frames.hpp"
@@ -18,12 +18,10 @@ namespace {
 
 class SpecReader {
  public:
-  SpecReader(const toml::table& root, std::string file) : root_(root), file_(std::move(file)) {}
+  SpecReader(const toml::table& root, std::string file) : root_(root), fields_(std::move(file)) {}
 
   [[noreturn]] void fail(const toml::node* node, const std::string& key, const std::string& what) const {
-    const auto line = node ? node->source().begin.line : 0;
-    throw InputError(line ? fmt::format("{}:{}: {}: {}", file_, line, key, what)
-                          : fmt::format("{}: {}: {}", file_, key, what));
+    fields_.fail(node, key, what);
   }
   const toml::node* at(const std::string& key) const { return root_.at_path(key).node(); }
   const toml::node& required(const std::string& key, const std::string& what) const {
@@ -33,16 +31,8 @@ class SpecReader {
   }
   std::string string(const std::string& key, std::string fallback,
                      std::vector<std::string> choices = {}) const {
-    const toml::node* n = at(key);
-    if (!n) return fallback;
-    const auto v = n->value<std::string>();
-    if (!v) fail(n, key, "expected a string");
-    if (!choices.empty() && std::find(choices.begin(), choices.end(), *v) == choices.end()) {
-      std::string list;
-      for (const auto& c : choices) list += (list.empty() ? "" : " or ") + ("'" + c + "'");
-      fail(n, key, fmt::format("expected {}, found '{}'", list, printable(*v)));
-    }
-    return *v;
+    return choices.empty() ? fields_.string(at(key), key, std::move(fallback))
+                           : fields_.choice(at(key), key, std::move(fallback), choices);
   }
   std::string required_string(const std::string& key) const {
     const toml::node& n = required(key, "a string");
@@ -51,12 +41,7 @@ class SpecReader {
     return *v;
   }
   double number(const std::string& key, double fallback, double lo, double hi) const {
-    const toml::node* n = at(key);
-    if (!n) return fallback;
-    const auto v = n->value<double>();
-    if (!v || !std::isfinite(*v)) fail(n, key, "expected a number");
-    if (*v < lo || *v > hi) fail(n, key, fmt::format("expected a number in [{}, {}], found {}", lo, hi, *v));
-    return *v;
+    return fields_.number(at(key), key, fallback, lo, hi);
   }
   std::vector<double> numbers(const std::string& key, std::size_t count) const {
     const toml::node* n = at(key);
@@ -88,14 +73,7 @@ class SpecReader {
   }
   // Every key of the table at `key` must be one of `known` (a misspelt key would silently keep a default).
   void only_keys(const std::string& key, const toml::table& table, const std::set<std::string>& known) const {
-    for (const auto& [k, node] : table) {
-      const std::string name(k.str());
-      if (known.count(name)) continue;
-      std::string list;
-      for (const auto& s : known) list += (list.empty() ? "" : ", ") + s;
-      fail(&node, key.empty() ? name : key + "." + name,
-           fmt::format("unknown key; expected one of {}", list));
-    }
+    fields_.only_keys(table, key, known);
   }
   void only_keys(const std::string& key, const std::set<std::string>& known) const {
     if (const toml::node* n = key.empty() ? &root_ : at(key)) {
@@ -108,7 +86,7 @@ class SpecReader {
 
  private:
   const toml::table& root_;
-  std::string file_;
+  TomlFields fields_;
 };
 
 // A channel's scale and offset (a = scale * value + offset): bounded so that the mapping inverts in doubles.
@@ -134,7 +112,7 @@ VehicleLogSpec vehicle_log_spec(const toml::table& root, const SpecReader& r,
   const double ratio = s.rate_hz / s.model_rate_hz;
   if (std::abs(ratio - std::round(ratio)) > 1e-9)
     r.fail(r.at("log.model_rate_hz"), "log.model_rate_hz",
-           fmt::format("expected a rate that divides log.rate_hz = {} Hz, found {} Hz", s.rate_hz,
+           fmt::format("expected a rate that divides log.rate_hz = {} Hz, got {} Hz", s.rate_hz,
                        s.model_rate_hz));
   s.instance = static_cast<int>(r.number("log.instance", 0, 0, 255));
   if (s.instance != r.number("log.instance", 0, 0, 255))

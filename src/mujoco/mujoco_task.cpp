@@ -7,7 +7,7 @@
 #include <mutex>
 #include <set>
 
-#include "../io/toml_input.hpp"
+#include "../io/toml_fields.hpp"
 #include "pegasus/core/error.hpp"
 #include "pegasus/core/untrusted_text.hpp"
 
@@ -55,11 +55,12 @@ int object_count(const mjModel* m, int type) {
 
 class TaskReader {
  public:
-  TaskReader(const std::filesystem::path& path, const MujocoModel& model) : path_(path), model_(model) {}
+  TaskReader(const std::filesystem::path& path, const MujocoModel& model)
+      : fields_(path.string()), model_(model) {}
 
+  // Names come from the user's file and may hold any bytes (a TOML "\n" escape): TomlFields prints one line.
   [[noreturn]] void fail(const std::string& field, const std::string& what) const {
-    // Names come from the user's file and may hold any bytes (a TOML "\n" escape): one printable line.
-    throw InputError(printable(fmt::format("{}: {}: {}", path_.string(), field, what)));
+    fields_.fail(nullptr, field, what);
   }
 
   // Id of the named object; fails naming the field, the name and the model's objects of that kind.
@@ -85,59 +86,34 @@ class TaskReader {
 
   double number(const toml::node_view<const toml::node>& node, const std::string& field, double fallback,
                 double lower = -INFINITY, double upper = INFINITY) const {
-    if (!node) return fallback;
-    const auto value = node.value<double>();
-    if (!value) fail(field, "expected a number");
-    if (!(*value >= lower && *value <= upper))
-      fail(field, fmt::format("expected a number in [{}, {}], got {}", lower, upper, *value));
-    return *value;
+    return fields_.number(node.node(), field, fallback, lower, upper);
   }
 
   int integer(const toml::node_view<const toml::node>& node, const std::string& field, int fallback,
               int lower, int upper) const {
-    if (!node) return fallback;
-    const auto value = node.value<std::int64_t>();
-    if (!value || !node.is_integer()) fail(field, "expected an integer");
-    if (*value < lower || *value > upper)
-      fail(field, fmt::format("expected an integer in [{}, {}], got {}", lower, upper, *value));
-    return static_cast<int>(*value);
+    return static_cast<int>(fields_.integer(node.node(), field, fallback, lower, upper));
   }
 
   std::string string(const toml::node_view<const toml::node>& node, const std::string& field) const {
     if (!node) fail(field, "missing (expected a name)");
-    const auto value = node.value<std::string>();
-    if (!value || !node.is_string()) fail(field, "expected a string");
-    return *value;
+    return fields_.string(node.node(), field, "");
   }
 
   std::vector<std::string> names(const toml::node_view<const toml::node>& node,
                                  const std::string& field) const {
-    std::vector<std::string> out;
-    if (!node) return out;
-    const toml::array* array = node.as_array();
-    if (!array) fail(field, "expected an array of names");
-    for (std::size_t i = 0; i < array->size(); ++i) {
-      const auto value = (*array)[i].value<std::string>();
-      if (!value || !(*array)[i].is_string()) fail(fmt::format("{}[{}]", field, i), "expected a string");
-      out.push_back(*value);
-    }
-    return out;
+    return fields_.strings(node.node(), field);
   }
 
+  // `prefix` names the table with a trailing dot ("initial."), or is empty for the file's top level.
   void check_keys(const toml::table& table, const std::string& prefix,
                   const std::set<std::string>& allowed) const {
-    for (const auto& [key, value] : table) {
-      (void)value;
-      if (!allowed.contains(std::string(key.str()))) {
-        std::string list;
-        for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
-        fail(prefix + std::string(key.str()), fmt::format("unknown field (expected one of {})", list));
-      }
-    }
+    fields_.only_keys(table, prefix.empty() ? prefix : prefix.substr(0, prefix.size() - 1), allowed);
   }
 
+  const TomlFields& fields() const { return fields_; }
+
  private:
-  std::filesystem::path path_;
+  TomlFields fields_;
   const MujocoModel& model_;
 };
 
@@ -245,9 +221,7 @@ MujocoTask mujoco_task_from_toml(const toml::table& root, const std::filesystem:
       for (const auto& [key, value] : *qpos) {
         const std::string field = "initial.qpos." + std::string(key.str());
         const int joint = r.scalar_joint(std::string(key.str()), field);
-        const auto v = value.value<double>();
-        if (!v) r.fail(field, "expected a number");
-        task.initial_qpos.emplace_back(m->jnt_qposadr[joint], *v);
+        task.initial_qpos.emplace_back(m->jnt_qposadr[joint], r.fields().number(&value, field, 0.0));
       }
     } else if ((*initial)["qpos"]) {
       r.fail("initial.qpos", "expected a table of joint = value");
@@ -394,10 +368,7 @@ MujocoTask mujoco_task_from_toml(const toml::table& root, const std::filesystem:
     const toml::node_view<const toml::node> v{*success};
     task.success_hold_steps = r.integer(v["hold_steps"], "success.hold_steps", 1, 1, task.horizon);
     if (v["at"]) {
-      const std::string at = r.string(v["at"], "success.at");
-      if (at != "end" && at != "any")
-        r.fail("success.at", fmt::format("expected end or any, got \"{}\"", at));
-      task.success_anywhere = at == "any";
+      task.success_anywhere = r.fields().choice(v["at"].node(), "success.at", "end", {"end", "any"}) == "any";
     }
     const toml::array* ranges = v["range"].as_array();
     if (!ranges || ranges->empty()) r.fail("success.range", "missing (expected [[success.range]] tables)");

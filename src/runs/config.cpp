@@ -12,7 +12,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "../io/toml_input.hpp"
+#include "../io/toml_fields.hpp"
 #include "config_values.hpp"
 #include "pegasus/core/error.hpp"
 #include "pegasus/core/untrusted_text.hpp"
@@ -111,21 +111,6 @@ bool same_value(const FieldValue& a, const FieldValue& b) {
     return with_invalid_bytes_escaped(*x) == with_invalid_bytes_escaped(std::get<std::string>(b));
   }
   return a == b;
-}
-
-std::size_t edit_distance(std::string_view a, std::string_view b) {
-  std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    std::size_t diagonal = row[0];
-    row[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      std::size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diagonal = up;
-    }
-  }
-  return row[b.size()];
 }
 
 const char* type_name(FieldType t) {

@@ -230,11 +230,11 @@ TEST_F(VehicleFile, BadEntriesNameTheLineAndKey) {
             std::string::npos);
   EXPECT_NE(input_error_message([&] {
               read_vehicle_log_spec(replaced("model_rate_hz = 10", "model_rate_hz = 15"));
-            }).find(":11: log.model_rate_hz: expected a rate that divides log.rate_hz = 50 Hz, found 15 Hz"),
+            }).find(":11: log.model_rate_hz: expected a rate that divides log.rate_hz = 50 Hz, got 15 Hz"),
             std::string::npos);
   EXPECT_NE(input_error_message([&] {
               read_vehicle_log_spec(replaced("form = \"quaternion\"", "form = \"matrix\""));
-            }).find("log.attitude.form: expected 'quaternion' or 'euler', found 'matrix'"),
+            }).find("log.attitude.form: expected 'quaternion' or 'euler', got 'matrix'"),
             std::string::npos);
   EXPECT_NE(input_error_message([&] {
               read_vehicle_log_spec(write("[vehicle]\nname = \"x\"\n"));

@@ -85,13 +85,18 @@ TEST_F(MujocoTaskFile, InvalidUtf8IsNamedWithItsLineAndTextEqualsTheFile) {
 
 TEST_F(MujocoTaskFile, WrongFieldsTermsRangesAndSyntaxAreNamed) {
   EXPECT_THAT(task_error("horizn = 3\n" + minimal("")),
-              HasSubstr("task.toml: horizn: unknown field (expected one of"));
+              HasSubstr("task.toml:1: horizn: unknown key (did you mean 'horizon'?); expected one of"));
   EXPECT_THAT(task_error(minimal("[[reward]]\nterm = \"speed\"\n")),
               HasSubstr("reward[1].term: expected one of body_velocity"));
   EXPECT_THAT(task_error("discount = 1.5\n" + minimal("")),
               HasSubstr("discount: expected a number in [0, 1], got 1.5"));
   EXPECT_THAT(task_error("frame_skip = 0\n" + minimal("")),
               HasSubstr("frame_skip: expected an integer in [1, 1000]"));
+  // A value of the wrong type is named with its line and what the file holds.
+  EXPECT_THAT(task_error("horizon = \"long\"\n" + minimal("")),
+              HasSubstr("task.toml:1: horizon: expected an integer in [1, 1000000], got 'long'"));
+  EXPECT_THAT(task_error("crash_penalty = -inf\n" + minimal("")),
+              HasSubstr("task.toml:1: crash_penalty: expected a finite number, got -inf"));
   EXPECT_THAT(task_error("[[reward]]\nterm = \"healthy\"\n"), HasSubstr("observation: missing"));
   EXPECT_THAT(task_error("[observation]\nqpos = [\"slider\"]\n"), HasSubstr("reward: missing"));
   EXPECT_THAT(task_error("horizon = \n"), HasSubstr("task.toml:1:"));
@@ -109,11 +114,12 @@ TEST_F(MujocoTaskFile, SuccessRangesAreCheckedLikeTerminationRanges) {
               HasSubstr("success.hold_steps: expected an integer in [1, 50], got 51"));
   EXPECT_THAT(task_error(minimal("[success]\nat = \"start\"\n[[success.range]]\nquantity = \"qpos\"\n"
                                  "name = \"slider\"\nmin = 0\n")),
-              HasSubstr("success.at: expected end or any, got \"start\""));
+              HasSubstr("success.at: expected 'end' or 'any', got 'start'"));
   EXPECT_THAT(
       task_error(minimal("[success]\n[[success.range]]\nquantity = \"site_height\"\nname = \"top\"\n")),
       HasSubstr("success.range[0].name: the model has no site \"top\""));
-  EXPECT_THAT(task_error(minimal("[success]\nhold = 3\n")), HasSubstr("success.hold: unknown field"));
+  EXPECT_THAT(task_error(minimal("[success]\nhold = 3\n")),
+              HasSubstr("success.hold: unknown key (did you mean 'hold_steps'?)"));
 }
 
 TEST_F(MujocoTaskFile, ARolloutSucceedsOnlyWhenItEndsItsWholeHorizonInsideTheSuccessRanges) {
@@ -179,7 +185,7 @@ TEST_F(MujocoTaskFile, ACapLimitsWhatATermPaysBeforeItsWeight) {
   EXPECT_EQ(reward(speed + "cap = 0.5\n"), 1.5);
   EXPECT_EQ(reward(speed + "cap = 10.0\n"), uncapped);
   EXPECT_THAT(task_error(minimal("[[reward]]\n" + speed + "cap = \"fast\"\n")),
-              HasSubstr("reward[1].cap: expected a number"));
+              HasSubstr(":10: reward[1].cap: expected a finite number, got 'fast'"));
 }
 
 TEST_F(MujocoTaskFile, TheTerminationPenaltyIsPaidOnceOnTheStepThatLeavesARange) {
@@ -207,7 +213,7 @@ TEST_F(MujocoTaskFile, TheTerminationPenaltyIsPaidOnceOnTheStepThatLeavesARange)
   EXPECT_FALSE(inside.terminal);
   EXPECT_EQ(inside.reward, 1.0);
   EXPECT_THAT(task_error("termination_penalty = \"big\"\n" + minimal("")),
-              HasSubstr("termination_penalty: expected a number"));
+              HasSubstr("task.toml:1: termination_penalty: expected a finite number, got 'big'"));
 }
 
 TEST_F(MujocoTaskFile, TheShippedTaskResolvesToTheModelsAddresses) {
