@@ -30,7 +30,7 @@ class SpecReader {
     return *n;
   }
   std::string string(const std::string& key, std::string fallback,
-                     std::vector<std::string> choices = {}) const {
+                     const std::vector<std::string>& choices = {}) const {
     return choices.empty() ? fields_.string(at(key), key, std::move(fallback))
                            : fields_.choice(at(key), key, std::move(fallback), choices);
   }
