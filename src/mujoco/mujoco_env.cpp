@@ -217,7 +217,7 @@ void MujocoEnvironment::observe(const MujocoSlot& slot, std::span<double> out) c
   for (const auto& item : task_.observation) {
     switch (item.kind) {
       case ObservationKind::kQpos:
-        out[k++] = d->qpos[item.adr];
+        for (int j = 0; j < item.dim; ++j) out[k++] = d->qpos[item.adr + j];
         break;
       case ObservationKind::kQposSinCos: {
         // glibc's sincos gives exactly std::sin and std::cos in one call (checked on 5e7 angles): about a
@@ -229,7 +229,7 @@ void MujocoEnvironment::observe(const MujocoSlot& slot, std::span<double> out) c
         break;
       }
       case ObservationKind::kQvel:
-        out[k++] = d->qvel[item.adr];
+        for (int j = 0; j < item.dim; ++j) out[k++] = d->qvel[item.adr + j];
         break;
       case ObservationKind::kSensor:
         for (int j = 0; j < item.dim; ++j) out[k++] = d->sensordata[item.adr + j];

@@ -53,6 +53,10 @@ int object_count(const mjModel* m, int type) {
   }
 }
 
+// The numbers of a joint in qpos and in qvel.
+int joint_qpos_size(int type) { return type == mjJNT_FREE ? 7 : type == mjJNT_BALL ? 4 : 1; }
+int joint_dof_size(int type) { return type == mjJNT_FREE ? 6 : type == mjJNT_BALL ? 3 : 1; }
+
 class TaskReader {
  public:
   TaskReader(const std::filesystem::path& path, const MujocoModel& model)
@@ -257,14 +261,22 @@ MujocoTask mujoco_task_from_toml(const toml::table& root, const std::filesystem:
       ObservationItem item{.kind = kind, .name = list[i]};
       switch (kind) {
         case ObservationKind::kQpos:
+          // Any joint: a free joint gives its 7 numbers (position, orientation quaternion w, x, y, z), a
+          // ball joint its quaternion, a hinge or slide its one.
+          item.id = r.resolve(mjOBJ_JOINT, list[i], item_field);
+          item.adr = m->jnt_qposadr[item.id];
+          item.dim = joint_qpos_size(m->jnt_type[item.id]);
+          break;
         case ObservationKind::kQposSinCos:
           item.id = r.scalar_joint(list[i], item_field);
           item.adr = m->jnt_qposadr[item.id];
-          item.dim = kind == ObservationKind::kQposSinCos ? 2 : 1;
+          item.dim = 2;
           break;
         case ObservationKind::kQvel:
-          item.id = r.scalar_joint(list[i], item_field);
+          // A free joint's 6 (linear velocity in the world frame, angular in the body's), a ball's 3.
+          item.id = r.resolve(mjOBJ_JOINT, list[i], item_field);
           item.adr = m->jnt_dofadr[item.id];
+          item.dim = joint_dof_size(m->jnt_type[item.id]);
           break;
         case ObservationKind::kSensor:
           item.id = r.resolve(mjOBJ_SENSOR, list[i], item_field);

@@ -13,6 +13,7 @@
 #include "pegasus/mujoco/mujoco_objective.hpp"
 #include "pegasus/parallel/thread_pool.hpp"
 #include "support/cli_runner.hpp"
+#include "support/input_error.hpp"
 
 namespace pegasus {
 namespace {
@@ -105,6 +106,56 @@ TEST(MujocoObjective, UhatAndCountsAreBitIdenticalForOneAndThreeThreads) {
   EXPECT_LT(a.normalizer().mean[1], -0.5);
   // evaluate is the batch's first value.
   EXPECT_EQ(a.evaluate(theta), b.evaluate(theta));
+}
+
+class MujocoFloatingBody : public test_support::TempDirTest {};
+
+TEST_F(MujocoFloatingBody, FreeAndBallJointsAreObservedWithAllTheirCoordinates) {
+  // A floating torso (free joint) with an arm on a ball joint: the policy sees the torso's 7 position numbers
+  // and 6 velocities, and the ball's 4 and 3, in MuJoCo's own order.
+  const auto xml = test_support::write_file(dir_ / "floating.xml", R"(
+<mujoco><worldbody><geom type="plane" size="5 5 0.1"/>
+  <body name="torso" pos="0 0 1"><freejoint name="root"/><geom type="sphere" size="0.1" mass="1"/>
+    <body name="arm"><joint name="shoulder" type="ball"/><geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03" mass="0.2"/>
+      <body name="forearm" pos="0.3 0 0"><joint name="elbow" type="hinge" axis="0 1 0"/>
+        <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03" mass="0.1"/></body></body></body></worldbody>
+  <actuator><motor joint="elbow" ctrllimited="true" ctrlrange="-1 1"/></actuator></mujoco>)");
+  const auto toml = test_support::write_file(dir_ / "task.toml", R"(
+horizon = 3
+[initial]
+qpos_noise = 0.05
+qvel_noise = 0.5
+[observation]
+qpos = ["root", "shoulder", "elbow"]
+qvel = ["root", "shoulder"]
+[[reward]]
+term = "healthy"
+)");
+  const auto env = test_support::environment_of(xml, toml);
+  ASSERT_EQ(env->observation_dim(), 7 + 4 + 1 + 6 + 3);
+  const mjModel* m = env->model().get();
+  ASSERT_EQ(m->nq, 12);
+  ASSERT_EQ(m->nv, 10);
+  MujocoSlot slot(*env);
+  std::vector<double> p0(static_cast<std::size_t>(env->initial_noise_dim()));
+  env->scenarios(2, 1, ScenarioVariant::kPlain).initial_noise(0, p0);
+  env->reset(slot, p0);
+  const double a = 0.3;
+  env->step(slot, std::span<const double>(&a, 1), {});
+  std::vector<double> observed(static_cast<std::size_t>(env->observation_dim()));
+  env->observe(slot, observed);
+  const mjData* d = slot.data;
+  std::vector<double> expected(d->qpos, d->qpos + m->nq);  // root 7, shoulder 4, elbow 1
+  expected.insert(expected.end(), d->qvel, d->qvel + 9);   // root 6, shoulder 3
+  EXPECT_EQ(observed, expected);
+  EXPECT_GT(d->qpos[2], 0.5);  // the torso's height: the observation holds the root's position
+  // A free joint has no single angle to take the sine and cosine of.
+  const auto bad = test_support::write_file(dir_ / "bad.toml",
+                                            "[observation]\nqpos_sincos = [\"root\"]\n"
+                                            "[[reward]]\nterm = \"healthy\"\n");
+  EXPECT_THAT(
+      test_support::input_error_message([&] { test_support::environment_of(xml, bad); }),
+      ::testing::HasSubstr("observation.qpos_sincos[0]: joint \"root\" is not a hinge or slide joint"));
 }
 
 class MujocoLargeModel : public test_support::TempDirTest {};
