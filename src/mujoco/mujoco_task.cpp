@@ -393,7 +393,7 @@ MujocoTask mujoco_task_from_toml(const toml::table& root, const std::filesystem:
   }
 
   // No bound on the scenario numbers a start or a step draws: each rollout slot holds buffers of the model's
-  // own sizes (MujocoSlot), unlike the generic evaluators' stack buffers (models/model.hpp: kMaxNoiseDim).
+  // own sizes (MujocoSlot).
   if (m->nu < 1) r.fail("model", "has no actuators (nothing for a policy to drive)");
   return task;
 }

@@ -11,6 +11,7 @@
 #include "pegasus/evaluators/table_policy_values.hpp"
 #include "pegasus/evaluators/trajectory_tree.hpp"
 #include "pegasus/models/hashed_model.hpp"
+#include "pegasus/policies/policies.hpp"
 
 namespace pegasus {
 namespace {
@@ -175,6 +176,59 @@ TEST(MonteCarloEvaluator, DrawsFreshRandomnessPerEvaluationYetIsReproducible) {
   std::vector<double> batch(20);
   b.evaluate_batch(thetas, batch, &pool);
   EXPECT_EQ(batch, first);
+}
+
+// A simulative model that draws more scenario numbers than fit on the stack (NoiseBuffer): its start sums
+// 100 of them and each step adds 80 more, times the action; the reward is the state being left.
+struct WideNoise {
+  using State = double;
+  using Action = double;
+  using Observation = double;
+  int state_dim() const { return 1; }
+  int noise_dim() const { return 80; }
+  int initial_noise_dim() const { return 100; }
+  ActionSpace action_space() const { return ActionSpace::box({-1}, {1}); }
+  bool terminal(double) const { return false; }
+  double observe(double s) const { return s; }
+  double reward(double s) const { return s; }
+  static double sum(std::span<const double> p) {
+    double total = 0.0;
+    for (const double u : p) total += u;
+    return total;
+  }
+  double initial_state(std::span<const double> p0) const { return sum(p0); }
+  double step(double s, double a, std::span<const double> p) const { return s + a * sum(p); }
+};
+
+TEST(PegasusEvaluator, AModelMayDrawMoreScenarioNumbersThanTheStackBufferHolds) {
+  static_assert(SimulativeModel<WideNoise>);
+  ASSERT_GT(WideNoise{}.initial_noise_dim(), static_cast<int>(NoiseBuffer::kInlineNoiseDim));
+  const Discounting d{.gamma = 1.0, .horizon = 5};
+  const ScenarioSet scenarios(
+      {.seed = 4, .count = 3, .horizon = 5, .noise_dim = 80, .initial_noise_dim = 100});
+  auto policy = make_program_policy<double>(ParameterSpec({{.name = "gain", .initial = 0.5}}),
+                                            [](std::span<const double> k, double) { return k[0]; });
+  const PegasusEvaluator evaluator(WideNoise{}, policy, scenarios, d);
+  const Theta theta = {0.5};
+  // The same sums by hand, from every number of every scenario.
+  std::vector<double> returns;
+  for (int i = 0; i < 3; ++i) {
+    std::vector<double> p0(100), p(80);
+    scenarios.initial_noise(i, p0);
+    double s = WideNoise::sum(p0), ret = 0.0;
+    for (int t = 0; t < 5; ++t) {
+      ret += s;
+      scenarios.step_noise(i, t, p);
+      s = s + 0.5 * WideNoise::sum(p);
+    }
+    returns.push_back(ret);
+  }
+  EXPECT_EQ(evaluator.evaluate(theta), ordered_mean(returns));
+  // The generative path (fresh numbers from a stream) takes the same sizes: its mean is 5 x 50 (the start's
+  // 100 numbers) plus 0.5 x 40 x (1 + 2 + 3 + 4), where 64 numbers would give 360.
+  MonteCarloEvaluator monte_carlo(WideNoise{}, policy, 4, d, 7);
+  const double estimate = monte_carlo.evaluate(theta);
+  EXPECT_NEAR(estimate, 5 * 50.0 + 0.5 * 40.0 * (1 + 2 + 3 + 4), 40.0);
 }
 
 // A model that only samples internally (a generative model): a walk on {0..4} that drifts right.

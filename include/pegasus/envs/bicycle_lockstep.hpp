@@ -35,7 +35,7 @@ void lockstep_returns(const M& m, const P& policy, std::span<const std::span<con
   std::array<State, K> s;
   std::array<double, K> ret{}, weight{};
   std::array<bool, K> riding{};
-  std::array<double, kMaxNoiseDim> p;
+  NoiseBuffer p(std::max(initial_dim, noise_dim));
   for (std::size_t j = 0; j < lanes; ++j) {
     scenarios.initial_noise(scenario_ids[j], std::span<double>(p.data(), initial_dim));
     s[j] = m.initial_state(std::span<const double>(p.data(), initial_dim));

@@ -45,12 +45,12 @@ struct ScenarioOutcome {
 template <SimulativeModel M, class P>
 ScenarioOutcome scenario_outcome(const M& m, const P& policy, std::span<const double> theta,
                                  const ScenarioSet& scenarios, int i, const Discounting& d) {
-  std::array<double, kMaxNoiseDim> p;
-  scenarios.initial_noise(
-      i, std::span<double>(p.data(), static_cast<std::size_t>(scenarios.initial_noise_dim())));
-  auto s = m.initial_state(
-      std::span<const double>(p.data(), static_cast<std::size_t>(scenarios.initial_noise_dim())));
-  const auto noise = std::span<double>(p.data(), static_cast<std::size_t>(scenarios.noise_dim()));
+  const auto initial_dim = static_cast<std::size_t>(scenarios.initial_noise_dim());
+  const auto noise_dim = static_cast<std::size_t>(scenarios.noise_dim());
+  NoiseBuffer p(std::max(initial_dim, noise_dim));
+  scenarios.initial_noise(i, p.first(initial_dim));
+  auto s = m.initial_state(p.first(initial_dim));
+  const auto noise = p.first(noise_dim);
   ScenarioOutcome out;
   double weight = 1.0;
   for (; out.steps < d.horizon; ++out.steps) {

@@ -43,12 +43,10 @@ class TablePolicyValues {
         scenarios.step_noise(
             i, t, std::span<double>(noise_.data() + noise_index(i, t), static_cast<std::size_t>(dp)));
     initial_.resize(static_cast<std::size_t>(m));
-    std::array<double, kMaxNoiseDim> p0;
+    NoiseBuffer p0(static_cast<std::size_t>(model.initial_noise_dim()));
     for (int i = 0; i < m; ++i) {
-      scenarios.initial_noise(
-          i, std::span<double>(p0.data(), static_cast<std::size_t>(model.initial_noise_dim())));
-      initial_[static_cast<std::size_t>(i)] = model.initial_state(
-          std::span<const double>(p0.data(), static_cast<std::size_t>(model.initial_noise_dim())));
+      scenarios.initial_noise(i, p0.span());
+      initial_[static_cast<std::size_t>(i)] = model.initial_state(p0.span());
     }
   }
 

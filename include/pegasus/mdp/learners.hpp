@@ -201,18 +201,16 @@ namespace detail {
 
 template <TabularModel M, UniformSource G>
 inline int draw_initial(const M& m, G& rng) {
-  std::array<double, kMaxNoiseDim> p;
-  const int d = m.initial_noise_dim();
-  for (int j = 0; j < d; ++j) p[static_cast<std::size_t>(j)] = rng.next();
-  return m.initial_state(std::span<const double>(p.data(), static_cast<std::size_t>(d)));
+  NoiseBuffer p(static_cast<std::size_t>(m.initial_noise_dim()));
+  for (double& u : p.span()) u = rng.next();
+  return m.initial_state(p.span());
 }
 
 template <TabularModel M, UniformSource G>
 [[gnu::always_inline]] inline int draw_step(const M& m, int s, int a, G& rng) {
-  std::array<double, kMaxNoiseDim> p;
-  const int d = m.noise_dim();
-  for (int j = 0; j < d; ++j) p[static_cast<std::size_t>(j)] = rng.next();
-  return m.step(s, a, std::span<const double>(p.data(), static_cast<std::size_t>(d)));
+  NoiseBuffer p(static_cast<std::size_t>(m.noise_dim()));
+  for (double& u : p.span()) u = rng.next();
+  return m.step(s, a, p.span());
 }
 
 template <TabularModel M>

@@ -68,12 +68,12 @@ class HashedModel {
   }
 
   State step(const State& s, const Action& a, std::span<const double> p) const {
-    std::array<double, kMaxNoiseDim> hashed;
+    NoiseBuffer hashed(p.size());
     for (std::size_t j = 0; j < p.size(); ++j) {
       const double x = static_cast<double>(multiplier(s, a, static_cast<int>(j))) * p[j];
       hashed[j] = x - std::floor(x);  // fract(k p)
     }
-    return base_.step(s, a, std::span<const double>(hashed.data(), p.size()));
+    return base_.step(s, a, hashed.span());
   }
 
  private:

@@ -27,7 +27,9 @@
 #include <algorithm>
 #include <array>
 #include <concepts>
+#include <memory>
 #include <span>
+#include <string>
 
 #include "pegasus/core/error.hpp"
 #include "pegasus/models/action_space.hpp"
@@ -35,9 +37,27 @@
 
 namespace pegasus {
 
-// Upper bound on d_P and on the initial-state noise dimension; noise lives in stack buffers of this size
-// so that no step or rollout allocates.
-inline constexpr int kMaxNoiseDim = 64;
+// Scratch for one draw of scenario numbers (a step's p or a start's p0), of a model's own size: on the stack
+// up to kInlineNoiseDim numbers (every model the project ships draws fewer), so that no step or rollout of
+// those allocates; on the heap beyond, so that a model's noise dimensions have no upper bound (a
+// domain-randomised start may draw hundreds).
+class NoiseBuffer {
+ public:
+  static constexpr std::size_t kInlineNoiseDim = 64;
+  explicit NoiseBuffer(std::size_t size)
+      : size_(size), heap_(size > kInlineNoiseDim ? std::make_unique<double[]>(size) : nullptr) {}
+  double* data() { return heap_ ? heap_.get() : inline_.data(); }
+  double& operator[](std::size_t j) { return data()[j]; }
+  // The first n numbers (n <= size()).
+  std::span<double> first(std::size_t n) { return {data(), n}; }
+  std::span<double> span() { return first(size_); }
+  std::size_t size() const { return size_; }
+
+ private:
+  std::size_t size_;
+  std::array<double, kInlineNoiseDim> inline_;  // uninitialised: every user writes before reading
+  std::unique_ptr<double[]> heap_;
+};
 
 template <class M>
 concept HasTransitionReward = requires(const M& m, const typename M::State& s, const typename M::Action& a) {
@@ -119,9 +139,9 @@ inline double transition_event_fraction(const M& m, const typename M::State& s, 
 // Checks a simulative model's declared dimensions once, where it enters an evaluator.
 template <SimulativeModel M>
 void check_noise_dims(const M& m) {
-  if (m.noise_dim() < 0 || m.noise_dim() > kMaxNoiseDim || m.initial_noise_dim() < 0 ||
-      m.initial_noise_dim() > kMaxNoiseDim)
-    throw InputError("model: noise dimensions must lie in [0, " + std::to_string(kMaxNoiseDim) + "]");
+  if (m.noise_dim() < 0 || m.initial_noise_dim() < 0)
+    throw InputError("model: noise dimensions must be >= 0, got " + std::to_string(m.noise_dim()) +
+                     " per step and " + std::to_string(m.initial_noise_dim()) + " for the start");
 }
 
 // s0 ~ D drawn from a sequential stream (Monte Carlo with fresh randomness, trajectory trees).
@@ -130,10 +150,9 @@ typename M::State generative_initial(const M& m, UniformStream& rng) {
   if constexpr (SamplingModel<M>) {
     return m.sample_initial(rng);
   } else {
-    std::array<double, kMaxNoiseDim> p;
-    const int d = m.initial_noise_dim();
-    for (int j = 0; j < d; ++j) p[j] = rng.next();
-    return m.initial_state(std::span<const double>(p.data(), static_cast<std::size_t>(d)));
+    NoiseBuffer p(static_cast<std::size_t>(m.initial_noise_dim()));
+    for (double& u : p.span()) u = rng.next();
+    return m.initial_state(p.span());
   }
 }
 
@@ -144,10 +163,9 @@ typename M::State generative_step(const M& m, const typename M::State& s, const 
   if constexpr (SamplingModel<M>) {
     return m.sample_step(s, a, rng);
   } else {
-    std::array<double, kMaxNoiseDim> p;
-    const int d = m.noise_dim();
-    for (int j = 0; j < d; ++j) p[j] = rng.next();
-    return m.step(s, a, std::span<const double>(p.data(), static_cast<std::size_t>(d)));
+    NoiseBuffer p(static_cast<std::size_t>(m.noise_dim()));
+    for (double& u : p.span()) u = rng.next();
+    return m.step(s, a, p.span());
   }
 }
 
