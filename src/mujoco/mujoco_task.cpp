@@ -9,7 +9,6 @@
 
 #include "../io/toml_fields.hpp"
 #include "pegasus/core/error.hpp"
-#include "pegasus/core/untrusted_text.hpp"
 
 namespace pegasus {
 
@@ -108,10 +107,10 @@ class TaskReader {
     return fields_.strings(node.node(), field);
   }
 
-  // `prefix` names the table with a trailing dot ("initial."), or is empty for the file's top level.
-  void check_keys(const toml::table& table, const std::string& prefix,
+  // `table_name` names the table in messages ("initial", "reward[0]"); empty for the file's top level.
+  void check_keys(const toml::table& table, const std::string& table_name,
                   const std::set<std::string>& allowed) const {
-    fields_.only_keys(table, prefix.empty() ? prefix : prefix.substr(0, prefix.size() - 1), allowed);
+    fields_.only_keys(table, table_name, allowed);
   }
 
   const TomlFields& fields() const { return fields_; }
@@ -127,7 +126,7 @@ TerminationRange read_range(const TaskReader& r, const mjModel* m, const toml::n
                             const std::string& prefix, bool check_keys = true) {
   const toml::table* t = node.as_table();
   if (!t) r.fail(prefix, "expected a table");
-  if (check_keys) r.check_keys(*t, prefix + ".", {"quantity", "name", "min", "max"});
+  if (check_keys) r.check_keys(*t, prefix, {"quantity", "name", "min", "max"});
   const toml::node_view<const toml::node> v{*t};
   const std::string quantity = r.string(v["quantity"], prefix + ".quantity");
   TerminationRange out{};
@@ -220,7 +219,7 @@ MujocoTask mujoco_task_from_toml(const toml::table& root, const std::filesystem:
       r.number(top["success_return"], "success_return", std::numeric_limits<double>::quiet_NaN());
 
   if (const toml::table* initial = root["initial"].as_table()) {
-    r.check_keys(*initial, "initial.", {"qpos", "qpos_noise", "qvel_noise"});
+    r.check_keys(*initial, "initial", {"qpos", "qpos_noise", "qvel_noise"});
     if (const toml::table* qpos = (*initial)["qpos"].as_table()) {
       for (const auto& [key, value] : *qpos) {
         const std::string field = "initial.qpos." + std::string(key.str());
@@ -236,7 +235,7 @@ MujocoTask mujoco_task_from_toml(const toml::table& root, const std::filesystem:
   }
 
   if (const toml::table* noise = root["noise"].as_table()) {
-    r.check_keys(*noise, "noise.", {"actuator", "push_bodies", "push_force", "push_probability"});
+    r.check_keys(*noise, "noise", {"actuator", "push_bodies", "push_force", "push_probability"});
     const toml::node_view<const toml::node> n{*noise};
     task.actuator_noise = r.number(n["actuator"], "noise.actuator", 0.0, 0.0, 1.0);
     task.push_body_names = r.names(n["push_bodies"], "noise.push_bodies");
@@ -249,7 +248,7 @@ MujocoTask mujoco_task_from_toml(const toml::table& root, const std::filesystem:
 
   const toml::table* observation = root["observation"].as_table();
   if (!observation) r.fail("observation", "missing (expected a table naming what the policy sees)");
-  r.check_keys(*observation, "observation.",
+  r.check_keys(*observation, "observation",
                {"qpos", "qpos_sincos", "qvel", "sensors", "site_pos", "body_linvel", "clip"});
   const toml::node_view<const toml::node> obs{*observation};
   task.observation_clip = r.number(obs["clip"], "observation.clip", 10.0, 1e-6, 1e9);
@@ -309,7 +308,7 @@ MujocoTask mujoco_task_from_toml(const toml::table& root, const std::filesystem:
     const std::string prefix = fmt::format("reward[{}]", i);
     const toml::table* t = (*reward)[i].as_table();
     if (!t) r.fail(prefix, "expected a table");
-    r.check_keys(*t, prefix + ".",
+    r.check_keys(*t, prefix,
                  {"term", "weight", "cap", "body", "axis", "site", "joint", "target", "quantity", "name",
                   "min", "max"});
     const toml::node_view<const toml::node> v{*t};
@@ -376,7 +375,7 @@ MujocoTask mujoco_task_from_toml(const toml::table& root, const std::filesystem:
   }
 
   if (const toml::table* success = root["success"].as_table()) {
-    r.check_keys(*success, "success.", {"hold_steps", "at", "range"});
+    r.check_keys(*success, "success", {"hold_steps", "at", "range"});
     const toml::node_view<const toml::node> v{*success};
     task.success_hold_steps = r.integer(v["hold_steps"], "success.hold_steps", 1, 1, task.horizon);
     if (v["at"]) {

@@ -309,6 +309,7 @@ void run_mujoco_rollout(const MujocoRolloutRunOptions& o, RunSink& sink) {
                                                        nullptr, i == 0 ? &record : nullptr);
 
   RunDirectory& dir = sink.dir;
+  const nlohmann::json evaluation = evaluation_json(results, env.task());
   dir.write_csv("returns.csv", evaluation_csv(results));
   dir.write_csv("trajectory.csv", trajectory);
   dir.write_json("replay.json", replay_json(env, *problem.policy, theta, normalizer, scenarios));
@@ -316,9 +317,9 @@ void run_mujoco_rollout(const MujocoRolloutRunOptions& o, RunSink& sink) {
   dir.write_json("summary.json", {{"experiment", "mujoco rollout"},
                                   {"success_return", number_or_null(env.task().success_return)},
                                   {"success", success_json(env)},
-                                  {"evaluation", evaluation_json(results, env.task())}});
-  sink.out << fmt::format("mean return {:.3f} over {} episodes\n",
-                          evaluation_json(results, env.task()).at("mean_return").get<double>(), episodes);
+                                  {"evaluation", evaluation}});
+  sink.out << fmt::format("mean return {:.3f} over {} episodes\n", evaluation.at("mean_return").get<double>(),
+                          episodes);
 }
 
 }  // namespace pegasus
