@@ -12,7 +12,7 @@
 namespace {
 bool same(const pegasus::MujocoPolicyFile& a, const pegasus::MujocoPolicyFile& b) {
   return a.model == b.model && a.task == b.task && a.policy_class == b.policy_class && a.hidden == b.hidden &&
-         a.theta == b.theta && a.normalizer.mean == b.normalizer.mean &&
+         a.phase == b.phase && a.theta == b.theta && a.normalizer.mean == b.normalizer.mean &&
          a.normalizer.inverse_std == b.normalizer.inverse_std && a.normalizer.clip == b.normalizer.clip;
 }
 }  // namespace

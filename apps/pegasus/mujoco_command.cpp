@@ -13,6 +13,10 @@ void declare_train(ConfigSchema& s) {
   s.add_string("task", "", "task file (TOML) naming the model's joints, bodies, sites, sensors, actuators");
   s.add_string("policy", "linear", "policy class").choices({"linear", "mlp"});
   s.add_int_list("hidden", {16}, "hidden layer widths of the mlp policy").min(1).max(4096).min_size(1);
+  s.add_string("phase_observation", "",
+               "make the policy phased: two policies of the class, switched by this raw observation number "
+               "(KIND.NAME or KIND.NAME[k] as the task's [observation] names it, e.g. sensors.foot_touch)");
+  s.add_double("phase_above", 0.0, "the phased policy's second half acts while that number exceeds this");
   s.add_bool("normalize", true, "normalise observations by running statistics frozen per iteration (ARS V2)");
   declare_optimizer_options(s, "optimizer", mujoco_default_optimizer());
   s.add_int("scenarios", 8, "PEGASUS scenarios m per evaluation of U-hat").min(1).max(1000000);
@@ -40,6 +44,8 @@ void run_train(RunContext& ctx) {
                              .task_file = c.get_string("task"),
                              .policy_class = c.get_string("policy"),
                              .hidden = hidden_widths(c),
+                             .phase_observation = c.get_string("phase_observation"),
+                             .phase_above = c.get_double("phase_above"),
                              .normalize = c.get_bool("normalize"),
                              .scenarios = static_cast<int>(c.get_int("scenarios")),
                              .variant = parse_scenario_variant(c.get_string("variant")),

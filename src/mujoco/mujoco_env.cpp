@@ -262,7 +262,7 @@ MujocoRolloutResult MujocoEnvironment::rollout(const MujocoPolicy& policy, std::
     observe(slot, slot.observation);
     if (moments) moments->add(slot.observation);
     normalizer.apply(slot.observation, slot.normalized);
-    policy.act(theta, slot.normalized, slot.action, slot.scratch);
+    policy.act(theta, slot.observation, slot.normalized, slot.action, slot.scratch);
     scenarios.step_noise(i, t, slot.step_noise);
     const MujocoStepOutcome outcome = step(slot, slot.action, slot.step_noise);
     result.discounted_return += weight * outcome.reward;

@@ -80,8 +80,8 @@ class LinearPolicy final : public MujocoPolicy {
     }
   }
   const ParameterSpec& parameters() const override { return spec_; }
-  void act(std::span<const double> theta, std::span<const double> z, std::span<double> action,
-           std::span<double>) const override {
+  void act(std::span<const double> theta, std::span<const double>, std::span<const double> z,
+           std::span<double> action, std::span<double>) const override {
     // Row k of theta is (W_k, b_k).
     for (int k = 0; k < nu_; ++k) {
       const double* w = theta.data() + static_cast<std::size_t>(k) * static_cast<std::size_t>(d_ + 1);
@@ -115,8 +115,8 @@ class TanhMlpPolicy final : public MujocoPolicy {
   }
   const ParameterSpec& parameters() const override { return spec_; }
   int scratch_size() const override { return scratch_; }
-  void act(std::span<const double> theta, std::span<const double> z, std::span<double> action,
-           std::span<double> scratch) const override {
+  void act(std::span<const double> theta, std::span<const double>, std::span<const double> z,
+           std::span<double> action, std::span<double> scratch) const override {
     const double* input = z.data();
     const double* w = theta.data();
     double* buffers[2] = {scratch.data(), scratch.data() + (scratch.size() / 2)};
@@ -141,10 +141,41 @@ class TanhMlpPolicy final : public MujocoPolicy {
   ParameterSpec spec_;
 };
 
-}  // namespace
+// Two policies of one class: theta is the "below" half, then the "above" half; the raw observation number at
+// phase.position chooses the half of each step (so the switch does not move with the normaliser).
+class PhasedPolicy final : public MujocoPolicy {
+ public:
+  PhasedPolicy(std::unique_ptr<MujocoPolicy> below, std::unique_ptr<MujocoPolicy> above, PolicyPhase phase)
+      : below_(std::move(below)), above_(std::move(above)), phase_(std::move(phase)) {
+    half_ = below_->parameters().size();
+    for (const auto& [half, prefix] : {std::pair{below_.get(), "below."}, std::pair{above_.get(), "above."}})
+      for (Parameter p : half->parameters().all()) {
+        p.name = prefix + p.name;
+        spec_.add(std::move(p));
+      }
+  }
+  const ParameterSpec& parameters() const override { return spec_; }
+  int scratch_size() const override { return below_->scratch_size(); }
+  void act(std::span<const double> theta, std::span<const double> observation, std::span<const double> z,
+           std::span<double> action, std::span<double> scratch) const override {
+    const bool above = observation[static_cast<std::size_t>(phase_.position)] > phase_.above;
+    (above ? above_ : below_)->act(theta.subspan(above ? half_ : 0, half_), observation, z, action, scratch);
+  }
+  nlohmann::json describe() const override {
+    nlohmann::json out = below_->describe();
+    out["phase"] = {{"observation", phase_.observation}, {"above", phase_.above}};
+    return out;
+  }
 
-std::unique_ptr<MujocoPolicy> make_mujoco_policy(const std::string& kind, int observation_dim, int action_dim,
-                                                 const std::vector<int>& hidden) {
+ private:
+  std::unique_ptr<MujocoPolicy> below_, above_;
+  PolicyPhase phase_;
+  std::size_t half_ = 0;
+  ParameterSpec spec_;
+};
+
+std::unique_ptr<MujocoPolicy> make_unphased_policy(const std::string& kind, int observation_dim,
+                                                   int action_dim, const std::vector<int>& hidden) {
   if (kind == "linear") return std::make_unique<LinearPolicy>(observation_dim, action_dim);
   if (kind == "mlp") {
     if (hidden.empty()) throw InputError("hidden: expected at least one hidden layer for policy = mlp");
@@ -153,6 +184,21 @@ std::unique_ptr<MujocoPolicy> make_mujoco_policy(const std::string& kind, int ob
     return std::make_unique<TanhMlpPolicy>(observation_dim, action_dim, hidden);
   }
   throw InputError(fmt::format("policy: expected linear or mlp, got \"{}\"", kind));
+}
+
+}  // namespace
+
+std::unique_ptr<MujocoPolicy> make_mujoco_policy(const std::string& kind, int observation_dim, int action_dim,
+                                                 const std::vector<int>& hidden, const PolicyPhase& phase) {
+  if (!phase.phased()) return make_unphased_policy(kind, observation_dim, action_dim, hidden);
+  if (phase.position < 0 || phase.position >= observation_dim)
+    throw InputError(fmt::format("phase_observation: \"{}\" is not resolved in an observation of {} numbers",
+                                 printable(phase.observation), observation_dim));
+  if (!std::isfinite(phase.above))
+    throw InputError(fmt::format("phase_above: expected a finite number, got {}", phase.above));
+  return std::make_unique<PhasedPolicy>(make_unphased_policy(kind, observation_dim, action_dim, hidden),
+                                        make_unphased_policy(kind, observation_dim, action_dim, hidden),
+                                        phase);
 }
 
 namespace {
@@ -168,6 +214,9 @@ nlohmann::json mujoco_policy_file_json(const MujocoPolicyFile& f) {
           {"task", f.task},
           {"class", f.policy_class},
           {"hidden", f.hidden},
+          {"phase", f.phase.phased()
+                        ? nlohmann::json{{"observation", f.phase.observation}, {"above", f.phase.above}}
+                        : nlohmann::json(nullptr)},
           {"theta", f.theta},
           {"normalizer",
            {{"mean", f.normalizer.mean},
@@ -197,6 +246,17 @@ MujocoPolicyFile parse_mujoco_policy_file(const nlohmann::json& j, const std::st
     if (!w.is_number_integer() || w.get<std::int64_t>() < 1 || w.get<std::int64_t>() > 4096)
       json_field_error(file, fmt::format("hidden[{}]", i), "a width in [1, 4096]", w);
     f.hidden.push_back(w.get<int>());
+  }
+  // "phase" came with phased policies: a file without it (or with null) holds an unphased one.
+  if (const auto phase = j.find("phase"); phase != j.end() && !phase->is_null()) {
+    if (!phase->is_object())
+      json_field_error(file, "phase", "null or an object (observation, above)", *phase);
+    f.phase.observation = json_nonempty_string(json_member(*phase, "observation", file, "phase.observation"),
+                                               file, "phase.observation");
+    const nlohmann::json& above = json_member(*phase, "above", file, "phase.above");
+    if (!above.is_number() || !std::isfinite(above.get<double>()))
+      json_field_error(file, "phase.above", "a finite number", above);
+    f.phase.above = above.get<double>();
   }
   f.theta = json_finite_numbers(json_member(j, "theta", file, "theta"), file, "theta");
   // What the hidden layers alone need (any observation and action have at least one dimension): a file

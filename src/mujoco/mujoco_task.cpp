@@ -1,6 +1,7 @@
 #include "pegasus/mujoco/mujoco_task.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <mujoco/mujoco.h>
 
 #include <cmath>
@@ -9,6 +10,7 @@
 
 #include "../io/toml_fields.hpp"
 #include "pegasus/core/error.hpp"
+#include "pegasus/core/untrusted_text.hpp"
 
 namespace pegasus {
 
@@ -189,6 +191,36 @@ int MujocoTask::observation_dim() const {
   int d = 0;
   for (const auto& item : observation) d += item.dim;
   return d;
+}
+
+namespace {
+
+// The [observation] key of each kind, in the order of ObservationKind.
+constexpr const char* kObservationKeys[] = {"qpos",    "qpos_sincos", "qvel",
+                                            "sensors", "site_pos",    "body_linvel"};
+
+}  // namespace
+
+int observation_position(const MujocoTask& task, std::string_view reference, std::string_view field) {
+  std::vector<std::string> known;
+  int position = 0;
+  for (const auto& item : task.observation) {
+    const std::string name = fmt::format("{}.{}", kObservationKeys[static_cast<int>(item.kind)], item.name);
+    for (int k = 0; k < item.dim; ++k) {
+      const std::string numbered = item.dim == 1 ? name : fmt::format("{}[{}]", name, k);
+      if (numbered == reference) return position + k;
+      known.push_back(numbered);
+    }
+    position += item.dim;
+  }
+  constexpr std::size_t kListed = 24;  // a humanoid's observation has hundreds
+  const std::string listed =
+      known.size() <= kListed
+          ? fmt::format("{}", fmt::join(known, ", "))
+          : fmt::format("{}, ... ({} in all)", fmt::join(known.begin(), known.begin() + kListed, ", "),
+                        known.size());
+  throw InputError(fmt::format("{}: the task's observation has no number \"{}\" (expected one of {})", field,
+                               printable(reference), listed));
 }
 
 MujocoTask load_mujoco_task(const std::filesystem::path& path, const MujocoModel& model) {

@@ -38,16 +38,26 @@ struct Problem {
   std::shared_ptr<const MujocoPolicy> policy;
 };
 
+// `phase_field` names where the phase's observation came from in messages.
 Problem load_problem(const std::string& model_path, const std::string& task_path,
-                     const std::string& policy_class, const std::vector<int>& hidden) {
+                     const std::string& policy_class, const std::vector<int>& hidden, PolicyPhase phase,
+                     std::string_view phase_field) {
   if (model_path.empty()) throw InputError("model: expected an MJCF file (--model M.xml)");
   if (task_path.empty()) throw InputError("task: expected a task file (--task T.toml)");
   MujocoModel model = MujocoModel::load(model_path);
   MujocoTask task = load_mujoco_task(task_path, model);
+  if (phase.phased()) phase.position = observation_position(task, phase.observation, phase_field);
   auto env = std::make_shared<const MujocoEnvironment>(std::move(model), std::move(task));
   auto policy = std::shared_ptr<const MujocoPolicy>(
-      make_mujoco_policy(policy_class, env->observation_dim(), env->action_dim(), hidden));
+      make_mujoco_policy(policy_class, env->observation_dim(), env->action_dim(), hidden, phase));
   return {env, policy};
+}
+
+// The phase of policy.json (unresolved, as the file holds it) of a policy `describe`s.
+PolicyPhase described_phase(const nlohmann::json& shape) {
+  if (!shape.contains("phase")) return {};
+  return {.observation = shape.at("phase").at("observation").get<std::string>(),
+          .above = shape.at("phase").at("above").get<double>()};
 }
 
 // success_rate is null when the task has no success criterion.
@@ -163,6 +173,14 @@ Theta initial_theta(const MujocoTrainingRunOptions& o, const Problem& problem) {
         "{} policy with [{}]",
         path, start.policy_class, fmt::join(start.hidden, ", "), shape.at("class").get<std::string>(),
         fmt::join(shape.at("hidden").get<std::vector<int>>(), ", ")));
+  if (const PolicyPhase phase = described_phase(shape); start.phase != phase) {
+    auto said = [](const PolicyPhase& p) {
+      return p.phased() ? fmt::format("phased by {} above {}", p.observation, p.above)
+                        : std::string("unphased");
+    };
+    throw InputError(fmt::format("initial_policy: {} holds a policy {}; this run trains one {}", path,
+                                 said(start.phase), said(phase)));
+  }
   if (o.normalize)
     throw InputError(
         "initial_policy: only with normalize = false (this run's observation statistics would replace the "
@@ -174,7 +192,9 @@ Theta initial_theta(const MujocoTrainingRunOptions& o, const Problem& problem) {
 }  // namespace
 
 void run_mujoco_training(const MujocoTrainingRunOptions& o, RunSink& sink, ThreadPool& pool) {
-  const Problem problem = load_problem(o.model_file, o.task_file, o.policy_class, o.hidden);
+  const Problem problem =
+      load_problem(o.model_file, o.task_file, o.policy_class, o.hidden,
+                   {.observation = o.phase_observation, .above = o.phase_above}, "phase_observation");
   const MujocoEnvironment& env = *problem.env;
   OptimizerOptions options = o.optimizer;
   // Every random method draws from the run's seed itself (the figures of experiments/mujoco/README.md were
@@ -229,6 +249,7 @@ void run_mujoco_training(const MujocoTrainingRunOptions& o, RunSink& sink, Threa
                                 .task = std::filesystem::absolute(o.task_file).string(),
                                 .policy_class = shape.at("class").get<std::string>(),
                                 .hidden = shape.at("hidden").get<std::vector<int>>(),
+                                .phase = described_phase(shape),
                                 .theta = theta,
                                 .normalizer = objective.normalizer()};
   dir.write_json("policy.json", mujoco_policy_file_json(policy));
@@ -243,7 +264,8 @@ void run_mujoco_training(const MujocoTrainingRunOptions& o, RunSink& sink, Threa
   }
   dir.write_json("summary.json", {{"experiment", "mujoco train"},
                                   {"method", summary.method},
-                                  {"policy_class", problem.policy->describe().at("class")},
+                                  {"policy_class", shape.at("class")},
+                                  {"phase", shape.contains("phase") ? shape.at("phase") : nullptr},
                                   {"parameters", problem.policy->parameters().size()},
                                   {"observation_dim", env.observation_dim()},
                                   {"action_dim", env.action_dim()},
@@ -278,7 +300,8 @@ void run_mujoco_training(const MujocoTrainingRunOptions& o, RunSink& sink, Threa
 void run_mujoco_rollout(const MujocoRolloutRunOptions& o, RunSink& sink) {
   if (o.policy_file.empty()) throw InputError("policy: expected a policy file (--policy FILE)");
   const MujocoPolicyFile file = read_mujoco_policy_file(o.policy_file);
-  const Problem problem = load_problem(file.model, file.task, file.policy_class, file.hidden);
+  const Problem problem = load_problem(file.model, file.task, file.policy_class, file.hidden, file.phase,
+                                       fmt::format("{}: phase.observation", o.policy_file));
   const MujocoEnvironment& env = *problem.env;
   check_mujoco_policy_file(file, *problem.policy, env.observation_dim(), o.policy_file);
   const std::vector<double>& theta = file.theta;

@@ -7,6 +7,7 @@
 #include <mujoco/mujoco.h>
 
 #include "mujoco_test_support.hpp"
+#include "pegasus/core/error.hpp"
 
 namespace pegasus {
 namespace {
@@ -65,6 +66,29 @@ TEST(MujocoHopper, TheTaskSeesTenNumbersAndDrivesTwoActuators) {
   EXPECT_LT(r.steps, env.task().horizon);
   EXPECT_FALSE(r.success);
   EXPECT_FALSE(r.crashed);
+}
+
+// A phased policy's switch is named as the task names its observation: the touch sensor is number 9 of
+// (rootz, pitch, hip, spring; five velocities; the touch), and a name the observation lacks lists what it
+// has.
+TEST(MujocoHopper, ObservationNumbersAreFoundByTheTasksNames) {
+  const MujocoModel model = hopper_model();
+  const MujocoTask task = load_mujoco_task(test_support::mujoco_experiments() / "hopper_forward.toml", model);
+  EXPECT_EQ(observation_position(task, "sensors.foot_touch", "phase"), 9);
+  EXPECT_EQ(observation_position(task, "qpos.rootz", "phase"), 0);
+  EXPECT_EQ(observation_position(task, "qvel.rootx", "phase"), 4);
+  EXPECT_EQ(observation_position(task, "qvel.spring", "phase"), 8);
+  EXPECT_THAT(
+      [&] { observation_position(task, "qpos.rootx", "phase_observation"); },
+      ::testing::ThrowsMessage<InputError>(::testing::HasSubstr(
+          "phase_observation: the task's observation has no number \"qpos.rootx\" (expected one of "
+          "qpos.rootz, qpos.pitch, qpos.hip, qpos.spring, qvel.rootx, qvel.rootz, qvel.pitch, qvel.hip, "
+          "qvel.spring, sensors.foot_touch)")));
+  // Items of several numbers are indexed: a site's position has three.
+  MujocoTask with_site = task;
+  with_site.observation.push_back({.kind = ObservationKind::kSitePos, .name = "foot", .dim = 3});
+  EXPECT_EQ(observation_position(with_site, "site_pos.foot[2]", "phase"), 12);
+  EXPECT_THROW(observation_position(with_site, "site_pos.foot", "phase"), InputError);
 }
 
 }  // namespace

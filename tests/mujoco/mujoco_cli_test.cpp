@@ -75,6 +75,7 @@ TEST_F(MujocoCli, RolloutRefusesABrokenPolicyFileNamingTheField) {
                               .task = (exp / "cartpole_swingup.toml").string(),
                               .policy_class = "linear",
                               .hidden = {},
+                              .phase = {},
                               .theta = {0.5, -0.5},
                               .normalizer = ObservationNormalizer(1)};
   EXPECT_EQ(parse_mujoco_policy_file(mujoco_policy_file_json(good), "p.json").theta, good.theta);
@@ -134,6 +135,59 @@ TEST_F(MujocoCli, TheHopperTrainsByCmaesOnSmallSettingsTheSameOnOneAndTwoThreads
   const double rate = s.at("evaluation").at("success_rate").get<double>();
   EXPECT_GE(rate, 0.0);
   EXPECT_LE(rate, 1.0);
+}
+
+// A phased policy (two linear policies switched by the hopper's foot contact) trains, is saved with its
+// switch, and replays: the rollout gives the training run's held-out evaluation back. A switch the task's
+// observation lacks, or a start policy of the other phasing, is one line, exit 2, no run directory.
+TEST_F(MujocoCli, APhasedPolicyTrainsSavesItsSwitchAndReplays) {
+  const auto exp = test_support::mujoco_experiments();
+  const std::string base =
+      "mujoco train --model " + (exp / "hopper.xml").string() + " --task " +
+      (exp / "hopper_forward.toml").string() +
+      " --policy linear --normalize=false --optimizer.method cmaes "
+      "--optimizer.cmaes.population-size 4 --scenarios 2 --evaluation-episodes 3 --seed 5 "
+      "--quiet";
+  const auto trained = run_pegasus(base +
+                                   " --phase-observation sensors.foot_touch --phase-above 1 "
+                                   "--optimizer.cmaes.max-iterations 2 --out " +
+                                   (dir_ / "phased").string());
+  ASSERT_EQ(trained.code, 0) << trained.output;
+  const auto s = nlohmann::json::parse(read_text(dir_ / "phased" / "summary.json"));
+  EXPECT_EQ(s.at("parameters"), 2 * 2 * (10 + 1));
+  EXPECT_EQ(s.at("phase"), nlohmann::json::parse(R"({"observation": "sensors.foot_touch", "above": 1.0})"));
+  const std::string saved = (dir_ / "phased" / "policy.json").string();
+  EXPECT_EQ(read_mujoco_policy_file(saved).phase,
+            (PolicyPhase{.observation = "sensors.foot_touch", .above = 1.0}));
+  const auto rollout = run_pegasus("mujoco rollout --policy " + saved +
+                                   " --episodes 3 --seed 5 --quiet --out " + (dir_ / "replay").string());
+  ASSERT_EQ(rollout.code, 0) << rollout.output;
+  EXPECT_EQ(nlohmann::json::parse(read_text(dir_ / "replay" / "summary.json")).at("evaluation"),
+            s.at("evaluation"));
+
+  struct Case {
+    std::string args, expected;
+  };
+  const std::vector<Case> cases = {
+      {" --phase-observation sensors.foot",
+       "phase_observation: the task's observation has no number \"sensors.foot\" (expected one of "
+       "qpos.rootz"},
+      {" --initial-policy " + saved,
+       "holds a policy phased by sensors.foot_touch above 1; this run trains one unphased"},
+      {" --phase-observation sensors.foot_touch --initial-policy " + saved,
+       "holds a policy phased by sensors.foot_touch above 1; this run trains one phased by "
+       "sensors.foot_touch above 0"},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.args);
+    const auto out = dir_ / "refused";
+    const auto r = run_pegasus(base + c.args + " --optimizer.cmaes.max-iterations 1 --out " + out.string());
+    EXPECT_EQ(r.code, 2);
+    EXPECT_THAT(r.output, HasSubstr(c.expected));
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+    EXPECT_FALSE(std::filesystem::exists(out));
+    EXPECT_FALSE(std::filesystem::exists(out.string() + ".partial"));
+  }
 }
 
 TEST_F(MujocoCli, ATaskWithoutASuccessCriterionReportsNoSuccessRate) {

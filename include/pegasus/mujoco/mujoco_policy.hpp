@@ -6,7 +6,12 @@
 // each actuator's ctrlrange.
 //   linear   a = clip(W z + b, -1, 1)                                     nu (d + 1) parameters
 //   mlp      h_1 = tanh(W_1 z + b_1), ..., a = tanh(W_L h_{L-1} + b_L)     (Eigen)
-// Every parameter starts at 0 (ARS's zero start: the first perturbations explore every weight equally).
+// Either class may be phased: two policies of the class, one acting while a chosen raw observation number is
+// above a threshold and the other while it is not (twice the parameters, "below." and "above." names). A
+// legged robot's stance and flight are such phases (a touch sensor above 0), and Raibert's hopping
+// controllers are a state machine over them: a servo of the body's pitch in stance, the foot placed by the
+// speed in flight. Every parameter starts at 0 (ARS's zero start: the first perturbations explore every
+// weight equally).
 //
 // act writes into caller-owned spans (no allocation in a step) instead of returning the action by value
 // as the project's PolicyFor concept does for small fixed-size actions.
@@ -55,26 +60,44 @@ class MujocoPolicy {
  public:
   virtual ~MujocoPolicy() = default;
   virtual const ParameterSpec& parameters() const = 0;
-  // action (size nu) in [-1, 1] from z (size d); scratch has scratch_size() doubles.
-  virtual void act(std::span<const double> theta, std::span<const double> z, std::span<double> action,
-                   std::span<double> scratch) const = 0;
+  // action (size nu) in [-1, 1] from the raw observation (size d) and its normalised z (size d); scratch
+  // has scratch_size() doubles.
+  virtual void act(std::span<const double> theta, std::span<const double> observation,
+                   std::span<const double> z, std::span<double> action, std::span<double> scratch) const = 0;
   virtual int scratch_size() const { return 0; }
-  // {"class": "linear" | "mlp", "hidden": [...]}
+  // {"class": "linear" | "mlp", "hidden": [...]}, and "phase" ({"observation", "above"}) when phased
   virtual nlohmann::json describe() const = 0;
 };
 
-// kind "linear" or "mlp" (hidden: layer widths, >= 1 layer of >= 1 unit). InputError naming `policy` or
-// `hidden` otherwise.
+// The switch of a phased policy: the "above" half acts while observation[position] > above, the "below" half
+// otherwise. `observation` names the number as observation_position (mujoco_task.hpp) reads it; an empty
+// name is no switch.
+struct PolicyPhase {
+  std::string observation;
+  int position = -1;
+  double above = 0.0;
+
+  bool phased() const { return !observation.empty(); }
+  bool operator==(const PolicyPhase&) const = default;
+};
+
+// kind "linear" or "mlp" (hidden: layer widths, >= 1 layer of >= 1 unit), phased when phase.phased() (its
+// position resolved, below observation_dim). InputError naming `policy`, `hidden` or `phase_observation`
+// otherwise.
 std::unique_ptr<MujocoPolicy> make_mujoco_policy(const std::string& kind, int observation_dim, int action_dim,
-                                                 const std::vector<int>& hidden);
+                                                 const std::vector<int>& hidden,
+                                                 const PolicyPhase& phase = {});
 
 // policy.json, as `pegasus mujoco train` writes it and `pegasus mujoco rollout` reads it:
 //   {"format": "pegasus.mujoco.policy", "version": 1, "model": PATH, "task": PATH, "class": "linear" | "mlp",
 //    "hidden": [WIDTH, ...], "theta": [...], "normalizer": {"mean": [...], "inverse_std": [...], "clip": C}}
+// and, for a phased policy, "phase": {"observation": "KIND.NAME", "above": X} (theta: the below half, then
+// the above half).
 struct MujocoPolicyFile {
   std::string model, task;  // the MJCF and the task file it was trained on (absolute paths when written)
   std::string policy_class;
   std::vector<int> hidden;
+  PolicyPhase phase;  // position unresolved (-1): the task resolves the name
   std::vector<double> theta;
   ObservationNormalizer normalizer;
 };

@@ -151,6 +151,12 @@ struct MujocoTask {
   bool has_success_criterion() const { return !std::isnan(success_return) || !success_ranges.empty(); }
 };
 
+// The position in the observation vector of one number, written as the task file names it: "KIND.NAME" for
+// an item of one number (a hinge's qpos, a touch sensor) or "KIND.NAME[k]" for number k of a longer one
+// (site_pos.foot[2] is the foot's height), KIND one of the [observation] keys. InputError "FIELD: ..." naming
+// what the observation holds otherwise.
+int observation_position(const MujocoTask& task, std::string_view reference, std::string_view field);
+
 // Parses the task file and resolves every name against `model`. InputError "FILE: field: ..." otherwise.
 MujocoTask load_mujoco_task(const std::filesystem::path& path, const MujocoModel& model);
 // The same for text already read; `name` stands for the file in messages.

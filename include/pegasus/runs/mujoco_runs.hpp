@@ -21,11 +21,13 @@ namespace pegasus {
 OptimizerOptions mujoco_default_optimizer();
 
 struct MujocoTrainingRunOptions {
-  std::string model_file;                                   // MJCF
-  std::string task_file;                                    // TOML naming the model's parts
-  std::string policy_class = "linear";                      // "linear" | "mlp"
-  std::vector<int> hidden = {16};                           // the mlp's hidden widths
-  bool normalize = true;                                    // running observation statistics (ARS V2)
+  std::string model_file;               // MJCF
+  std::string task_file;                // TOML naming the model's parts
+  std::string policy_class = "linear";  // "linear" | "mlp"
+  std::vector<int> hidden = {16};       // the mlp's hidden widths
+  std::string phase_observation;        // phased policy switched by this observation number ("" none)
+  double phase_above = 0.0;             // the "above" half acts while that number exceeds this
+  bool normalize = true;                // running observation statistics (ARS V2)
   OptimizerOptions optimizer = mujoco_default_optimizer();  // its seeds: the run's
   int scenarios = 8;                                        // PEGASUS scenarios per evaluation of U-hat
   ScenarioVariant variant = ScenarioVariant::kPlain;
