@@ -68,6 +68,55 @@ TEST(MujocoHopper, TheTaskSeesTenNumbersAndDrivesTwoActuators) {
   EXPECT_FALSE(r.crashed);
 }
 
+// The phased linear class holds Raibert's hopping controller (Raibert 1986, ch. 2), and with gains set by
+// hand from the model's numbers it meets the task's bar on every one of 40 scenarios: the bar is within the
+// class's reach, whatever a search finds. Stance (the foot's touch sensor above 0): the hip servoes the
+// body's pitch, a torque of 250 N m/rad and 100 N m s/rad (about 5 rad/s on the body's 10 kg m^2), and the
+// leg pushes a little while it extends (0.1 of full thrust per m/s of extension); flight: the hip places the
+// leg (world angle phi = pitch + hip) at phi* = 0.2 - 0.215 xdot rad, 0.215 s being about half the stance
+// time (a 11.1 kg mass on 1000 N/m: pi sqrt(m/k) / 2 ~ 0.17 s, plus a placement gain), with a servo of 150 N
+// m/rad and 10 N m s/rad. Actions are fractions of the hip's 60 N m and the leg's 250 N.
+TEST(MujocoHopper, RaibertsControllerInThePhasedLinearClassHopsTwoMetresOnEveryScenario) {
+  MujocoModel model = hopper_model();
+  MujocoTask task = load_mujoco_task(test_support::mujoco_experiments() / "hopper_forward.toml", model);
+  const PolicyPhase contact{.observation = "sensors.foot_touch",
+                            .position = observation_position(task, "sensors.foot_touch", "phase")};
+  const MujocoEnvironment env(std::move(model), std::move(task));
+  const auto policy = make_mujoco_policy("linear", env.observation_dim(), env.action_dim(), {}, contact);
+  // Rows of (rootz, pitch, hip, spring, xdot, zdot, pitch rate, hip rate, spring rate, touch, bias).
+  const double kp_flight = 150.0 / 60.0, kd_flight = 10.0 / 60.0;
+  const std::vector<double> flight_hip = {0,          -kp_flight, -kp_flight, 0, -0.215 * kp_flight, 0,
+                                          -kd_flight, -kd_flight, 0,          0, 0.2 * kp_flight};
+  const std::vector<double> flight_thrust(11, 0.0);
+  const std::vector<double> stance_hip = {0, 250.0 / 60.0, 0, 0, 0, 0, 100.0 / 60.0, 0, 0, 0, 0};
+  const std::vector<double> stance_thrust = {0, 0, 0, 0, 0, 0, 0, 0, -0.1, 0, 0};
+  Theta theta;
+  for (const auto* row : {&flight_hip, &flight_thrust, &stance_hip, &stance_thrust})
+    theta.insert(theta.end(), row->begin(), row->end());
+  ASSERT_EQ(theta.size(), policy->parameters().size());
+  const int n = 40;
+  const ScenarioSet scenarios = env.scenarios(11, n, ScenarioVariant::kPlain);
+  MujocoSlot slot(env);
+  int successes = 0;
+  for (int i = 0; i < n; ++i)
+    successes +=
+        env.rollout(*policy, theta, ObservationNormalizer(env.observation_dim()), scenarios, i, slot).success
+            ? 1
+            : 0;
+  EXPECT_EQ(successes, n);
+  // Without its phases (the stance rows acting in flight too) the same gains fall on every scenario.
+  const auto plain = make_mujoco_policy("linear", env.observation_dim(), env.action_dim(), {});
+  const Theta stance_only(theta.begin() + 22, theta.end());
+  int plain_successes = 0;
+  for (int i = 0; i < n; ++i)
+    plain_successes +=
+        env.rollout(*plain, stance_only, ObservationNormalizer(env.observation_dim()), scenarios, i, slot)
+                .success
+            ? 1
+            : 0;
+  EXPECT_EQ(plain_successes, 0);
+}
+
 // A phased policy's switch is named as the task names its observation: the touch sensor is number 9 of
 // (rootz, pitch, hip, spring; five velocities; the touch), and a name the observation lacks lists what it
 // has.
