@@ -285,6 +285,9 @@ MujocoRolloutResult MujocoEnvironment::rollout(const MujocoPolicy& policy, std::
         result.success && !result.crashed &&
         (task_.success_anywhere ? reached
                                 : result.steps == task_.horizon && held >= task_.success_hold_steps);
+  // The bonus joins the last step's reward after the bar on the return was checked without it.
+  if (result.success && task_.success_bonus != 0.0)
+    result.discounted_return += std::pow(task_.discount, result.steps - 1) * task_.success_bonus;
   return result;
 }
 

@@ -238,8 +238,8 @@ MujocoTask mujoco_task_from_toml(const toml::table& root, const std::filesystem:
   const mjModel* m = model.get();
   TaskReader r(path, model);
   r.check_keys(root, "",
-               {"horizon", "discount", "frame_skip", "crash_penalty", "termination_penalty", "success_return",
-                "initial", "noise", "observation", "reward", "termination", "success"});
+               {"horizon", "discount", "frame_skip", "crash_penalty", "termination_penalty", "success_bonus",
+                "success_return", "initial", "noise", "observation", "reward", "termination", "success"});
   MujocoTask task;
   const toml::node_view<const toml::node> top{root};
   task.horizon = r.integer(top["horizon"], "horizon", 1000, 1, 1'000'000);
@@ -247,6 +247,7 @@ MujocoTask mujoco_task_from_toml(const toml::table& root, const std::filesystem:
   task.frame_skip = r.integer(top["frame_skip"], "frame_skip", 1, 1, 1000);
   task.crash_penalty = r.number(top["crash_penalty"], "crash_penalty", -100.0);
   task.termination_penalty = r.number(top["termination_penalty"], "termination_penalty", 0.0);
+  task.success_bonus = r.number(top["success_bonus"], "success_bonus", 0.0);
   task.success_return =
       r.number(top["success_return"], "success_return", std::numeric_limits<double>::quiet_NaN());
 

@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 #include <mujoco/mujoco.h>
 
+#include <cmath>
+
 #include "mujoco_test_support.hpp"
 #include "support/cli_runner.hpp"
 #include "support/input_error.hpp"
@@ -163,6 +165,13 @@ TEST_F(MujocoTaskFile, ARolloutSucceedsOnlyWhenItEndsItsWholeHorizonInsideTheSuc
   // With neither, the task has no criterion: a rollout that earned 100 is no success.
   EXPECT_FALSE(outcome("", "").success);
   EXPECT_EQ(outcome("", "").discounted_return, 100.0);
+  // success_bonus joins the last step's reward of a success only (discounted as that step), and the bar on
+  // the return is checked without it.
+  EXPECT_EQ(outcome("success_bonus = 50.0\n", hanging).discounted_return, 150.0);
+  EXPECT_EQ(outcome("success_bonus = 50.0\ndiscount = 0.99\n", hanging).discounted_return,
+            outcome("discount = 0.99\n", hanging).discounted_return + std::pow(0.99, 99) * 50.0);
+  EXPECT_EQ(outcome("success_bonus = 50.0\n", "").discounted_return, 100.0);  // no criterion, no success
+  EXPECT_FALSE(outcome("success_bonus = 50.0\nsuccess_return = 120.0\n", "").success);
 }
 
 TEST_F(MujocoTaskFile, ACapLimitsWhatATermPaysBeforeItsWeight) {

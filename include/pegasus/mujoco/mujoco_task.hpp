@@ -13,6 +13,7 @@
 //   frame_skip = 2                physics steps (of the MJCF's timestep) per control step
 //   crash_penalty = -100.0        reward of the step at which MuJoCo reported instability (NaN, huge qacc)
 //   termination_penalty = -300.0  added to the reward of the step that leaves a termination range (a fall)
+//   success_bonus = 500.0         added to the reward of a rollout's last step when the rollout succeeds
 //   success_return = 300.0        a rollout succeeds when its return reaches this (none by default: without
 //                                 it or [success] the task has no success criterion and no success rate)
 //   [initial]   qpos = { hinge = 3.14159 }            start values of scalar joints (else the MJCF's qpos0)
@@ -120,6 +121,7 @@ struct MujocoTask {
   int frame_skip = 1;
   double crash_penalty = -100.0;
   double termination_penalty = 0.0;
+  double success_bonus = 0.0;  // paid on the last step of a rollout that meets the success criterion
   double success_return = std::numeric_limits<double>::quiet_NaN();  // NaN: no bar on the return
 
   std::vector<std::pair<int, double>> initial_qpos;  // (qpos address, value)
