@@ -66,8 +66,9 @@ template <class Model>
 class LockstepPegasusObjective final : public Objective {
  public:
   static constexpr int kLanes = 4;
-  LockstepPegasusObjective(PegasusEvaluator<Model, BicyclePolicy> evaluator, std::shared_ptr<ThreadPool> pool)
-      : evaluator_(std::move(evaluator)), pool_(std::move(pool)) {}
+  LockstepPegasusObjective(PegasusEvaluator<Model, BicyclePolicy> evaluator, std::shared_ptr<ThreadPool> pool,
+                           mpi::Communicator ranks)
+      : evaluator_(std::move(evaluator)), pool_(std::move(pool)), ranks_(ranks) {}
   const ParameterSpec& parameters() const override { return evaluator_.policy().parameters(); }
   double evaluate(std::span<const double> theta) override {
     const Theta one(theta.begin(), theta.end());
@@ -78,7 +79,7 @@ class LockstepPegasusObjective final : public Objective {
   void evaluate_batch(std::span<const Theta> thetas, std::span<double> values) override {
     const auto m = static_cast<std::size_t>(evaluator_.scenarios().size());
     std::vector<double> returns(thetas.size() * m);
-    const mpi::Share share = mpi::collective_share();
+    const mpi::Share share = mpi::collective_share(ranks_);
     const std::size_t owned = share.count(returns.size());
     auto group = [&](std::size_t g) {
       std::array<std::span<const double>, kLanes> lane_theta;
@@ -109,20 +110,22 @@ class LockstepPegasusObjective final : public Objective {
  private:
   PegasusEvaluator<Model, BicyclePolicy> evaluator_;
   std::shared_ptr<ThreadPool> pool_;
+  mpi::Communicator ranks_;
 };
 
 std::unique_ptr<Objective> training_objective(const BicycleTrainingOptions& o,
-                                              std::shared_ptr<ThreadPool> pool) {
+                                              std::shared_ptr<ThreadPool> pool, mpi::Communicator ranks) {
   const Discounting d{.gamma = o.gamma, .horizon = o.horizon};
   return with_training_model(o, [&](auto model) -> std::unique_ptr<Objective> {
     using Model = decltype(model);
     if (o.estimator == "montecarlo") {
       return std::make_unique<MonteCarloObjective<Model, BicyclePolicy>>(
           MonteCarloEvaluator<Model, BicyclePolicy>(model, make_bicycle_policy(), o.scenarios, d, o.seed),
-          pool);
+          pool, ranks);
     }
     return std::make_unique<LockstepPegasusObjective<Model>>(
-        PegasusEvaluator<Model, BicyclePolicy>(model, make_bicycle_policy(), training_scenarios(o), d), pool);
+        PegasusEvaluator<Model, BicyclePolicy>(model, make_bicycle_policy(), training_scenarios(o), d), pool,
+        ranks);
   });
 }
 
@@ -188,10 +191,10 @@ bool BicycleTrainingOptions::IsValid(std::string* error) const {
 }
 
 BicycleTrainingResult train_bicycle(const BicycleTrainingOptions& options, const BicycleTrainingHooks& hooks,
-                                    ThreadPool* pool) {
+                                    const ExecutionContext& where) {
   std::string error;
   if (!options.IsValid(&error)) throw InputError("bicycle training: " + error);
-  auto objective = training_objective(options, borrow_pool(pool, options.threads));
+  auto objective = training_objective(options, borrow_pool(where.pool, options.threads), where.ranks);
   TrainingPlan plan;
   plan.seed = options.seed;
   plan.stages = {{.name = options.optimizer.method, .optimizer = options.optimizer}};
@@ -210,10 +213,11 @@ BicycleTrainingResult train_bicycle(const BicycleTrainingOptions& options, const
   return result;
 }
 
-double bicycle_uhat(const BicycleTrainingOptions& options, const Theta& theta, ThreadPool* pool) {
+double bicycle_uhat(const BicycleTrainingOptions& options, const Theta& theta,
+                    const ExecutionContext& where) {
   std::string error;
   if (!options.IsValid(&error)) throw InputError("bicycle training: " + error);
-  auto objective = training_objective(options, borrow_pool(pool, options.threads));
+  auto objective = training_objective(options, borrow_pool(where.pool, options.threads), where.ranks);
   return objective->evaluate(theta);
 }
 

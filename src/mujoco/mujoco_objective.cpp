@@ -7,11 +7,12 @@ namespace pegasus {
 
 MujocoObjective::MujocoObjective(std::shared_ptr<const MujocoEnvironment> env,
                                  std::shared_ptr<const MujocoPolicy> policy, ScenarioSet scenarios,
-                                 ThreadPool* pool, bool normalize)
+                                 const ExecutionContext& where, bool normalize)
     : env_(std::move(env)),
       policy_(std::move(policy)),
       scenarios_(std::move(scenarios)),
-      pool_(pool),
+      pool_(where.pool),
+      ranks_(where.ranks),
       normalize_(normalize),
       normalizer_(env_->observation_dim(), env_->task().observation_clip),
       moments_(env_->observation_dim()),
@@ -70,7 +71,7 @@ void MujocoObjective::evaluate_batch(std::span<const Theta> thetas, std::span<do
   steps_.assign(n, 0.0);
   crashed_.assign(n, 0.0);
   success_.assign(n, 0.0);
-  const mpi::Share share = mpi::collective_share();
+  const mpi::Share share = mpi::collective_share(ranks_);
   auto body = [&](std::size_t j) {
     const std::size_t k = share.item(j);
     auto slot = acquire();

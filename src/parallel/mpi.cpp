@@ -138,8 +138,11 @@ Session::~Session() {
 int rank() { return g_rank; }
 int size() { return g_size; }
 
-Share collective_share() {
-  if (g_size == 1 || std::this_thread::get_id() != g_main_thread || ThreadPool::inside_parallel_for())
+int Communicator::rank() const { return job_ ? g_rank : 0; }
+int Communicator::size() const { return job_ ? g_size : 1; }
+
+Share collective_share(const Communicator& ranks) {
+  if (ranks.size() == 1 || std::this_thread::get_id() != g_main_thread || ThreadPool::inside_parallel_for())
     return {};
   return {g_rank, g_size};
 }

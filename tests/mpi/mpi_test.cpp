@@ -19,11 +19,15 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <numeric>
 #include <string>
 #include <vector>
 
+#include "pegasus/envs/pendulum.hpp"
+#include "pegasus/envs/pendulum_policy.hpp"
+#include "pegasus/evaluators/pegasus_evaluator.hpp"
 #include "pegasus/optimizers/training.hpp"
 #include "support/cli_runner.hpp"
 
@@ -61,7 +65,7 @@ TEST(MpiShare, EveryItemHasExactlyOneOwner) {
 TEST(MpiShare, OneProcessIsOneRankAndFillsEverything) {
   EXPECT_EQ(pegasus::mpi::size(), 1);
   EXPECT_TRUE(pegasus::mpi::is_root());
-  const Share whole = pegasus::mpi::collective_share();
+  const Share whole = pegasus::mpi::collective_share(pegasus::mpi::Communicator::job());
   EXPECT_EQ(whole.size, 1);
   pegasus::ThreadPool pool(3);
   std::vector<double> values(100, -1.0);
@@ -153,6 +157,80 @@ class MpiCli : public pegasus::test_support::TempDirTest {
 
   std::string mpirun_;
 };
+
+// ---- The library under mpirun: an evaluator's ranks are its execution context's ---------------------------
+
+using PendulumEvaluator = pegasus::PegasusEvaluator<pegasus::Pendulum, pegasus::PendulumSwingUpPolicy>;
+
+PendulumEvaluator small_pendulum_evaluator() {
+  return PendulumEvaluator(
+      pegasus::Pendulum{}, pegasus::PendulumSwingUpPolicy(false),
+      pegasus::ScenarioSet({.seed = 4, .count = 24, .horizon = 60, .noise_dim = 0, .initial_noise_dim = 2}),
+      pegasus::Discounting{.gamma = 1.0, .horizon = 60});
+}
+
+// Policy k of a small sweep: the class's initial gains scaled by 1 + k / 10.
+pegasus::Theta sweep_theta(const PendulumEvaluator& evaluator, std::size_t k) {
+  pegasus::Theta theta = evaluator.policy().parameters().initial();
+  for (double& x : theta) x *= 1.0 + 0.1 * static_cast<double>(k);
+  return theta;
+}
+
+// Run by the test below under `mpirun -np 2` (gtest's --gtest_also_run_disabled_tests), never on its own: the
+// same evaluation on the job's ranks and on this process alone, and a sweep whose items are split among the
+// job's ranks while each item's evaluation runs on its owner alone. Rank 0 writes what it saw as JSON to
+// $PEGASUS_MPI_INNER_OUT.
+TEST(MpiRanksInner, DISABLED_EvaluatorsSplitAmongTheRanksOfTheirContext) {
+  int argc = 1;
+  char name[] = "test_mpi";
+  char* args[] = {name, nullptr};
+  char** argv = args;
+  pegasus::mpi::Session session(&argc, &argv);
+  using pegasus::mpi::Communicator;
+  const PendulumEvaluator evaluator = small_pendulum_evaluator();
+  const pegasus::Theta theta = sweep_theta(evaluator, 0);
+  pegasus::mpi::reset_comm_stats();
+  const double on_job = evaluator.evaluate(theta, {nullptr, Communicator::job()});
+  const std::int64_t job_calls = pegasus::mpi::comm_stats().calls;
+  const double alone = evaluator.evaluate(theta, {nullptr, Communicator::this_process()});
+  const std::int64_t alone_calls = pegasus::mpi::comm_stats().calls - job_calls;
+  std::vector<double> sweep(5);
+  pegasus::mpi::distributed_fill(
+      std::span<double>(sweep), {nullptr, Communicator::job()}, [&](std::size_t k) {
+        return evaluator.evaluate(sweep_theta(evaluator, k), {nullptr, Communicator::this_process()});
+      });
+  if (pegasus::mpi::is_root())
+    std::ofstream(std::getenv("PEGASUS_MPI_INNER_OUT"))
+        << nlohmann::json{{"ranks", Communicator::job().size()},
+                          {"on_job", on_job},
+                          {"job_calls", job_calls},
+                          {"alone", alone},
+                          {"alone_calls", alone_calls},
+                          {"sweep", sweep}}
+               .dump();
+}
+
+TEST_F(MpiCli, AnEvaluatorSplitsItsWorkAmongTheRanksItIsGivenAndNoOthers) {
+  const fs::path result = dir_ / "inner.json";
+  fs::create_directories(dir_ / "tmp");
+  const auto r =
+      run_shell("TMPDIR=" + (dir_ / "tmp").string() + " PEGASUS_MPI_INNER_OUT=" + result.string() + " " +
+                mpirun_ + " -np 2 --oversubscribe " + fs::read_symlink("/proc/self/exe").string() +
+                " --gtest_also_run_disabled_tests --gtest_filter=MpiRanksInner.*");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto seen = nlohmann::json::parse(read_text(result));
+  EXPECT_EQ(seen.at("ranks"), 2);
+  // On the job's ranks one allgather; on this process alone none, and the same bits.
+  const PendulumEvaluator evaluator = small_pendulum_evaluator();
+  const double single = evaluator.evaluate(sweep_theta(evaluator, 0));
+  EXPECT_EQ(seen.at("job_calls"), 1);
+  EXPECT_EQ(seen.at("alone_calls"), 0);
+  EXPECT_EQ(seen.at("on_job").get<double>(), single);
+  EXPECT_EQ(seen.at("alone").get<double>(), single);
+  // The sweep: item k computed by its owner alone, gathered to every rank, equals the single process's value.
+  for (std::size_t k = 0; k < 5; ++k)
+    EXPECT_EQ(seen.at("sweep").at(k).get<double>(), evaluator.evaluate(sweep_theta(evaluator, k))) << k;
+}
 
 // Bicycle training on small settings: 6 scenarios of 1 s, hill climbing (one batch of 16 proposals per
 // iteration, so the run cannot stop early) for 12 iterations; a checkpoint every 5 iterations.

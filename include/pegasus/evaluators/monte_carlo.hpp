@@ -39,19 +39,20 @@ class MonteCarloEvaluator {
   // Under mpirun the work is split across ranks like PegasusEvaluator's (parallel/mpi.hpp): the rollouts of
   // a single evaluation, the thetas of a batch. Each estimate is the rollout-order sum of evaluate_at, so the
   // numbers are the same for any number of ranks and threads.
-  double evaluate(std::span<const double> theta, ThreadPool* pool = nullptr) {
+  double evaluate(std::span<const double> theta, const ExecutionContext& where = {}) {
     std::vector<double> returns(static_cast<std::size_t>(rollouts_));
     const std::uint64_t call = calls_++;
-    mpi::distributed_fill(std::span<double>(returns), pool,
+    mpi::distributed_fill(std::span<double>(returns), where,
                           [&](std::size_t i) { return rollout(theta, call, static_cast<int>(i)); });
     double sum = 0.0;
     for (double r : returns) sum += r;
     return sum / static_cast<double>(rollouts_);
   }
 
-  void evaluate_batch(std::span<const Theta> thetas, std::span<double> values, ThreadPool* pool = nullptr) {
+  void evaluate_batch(std::span<const Theta> thetas, std::span<double> values,
+                      const ExecutionContext& where = {}) {
     const std::uint64_t first = calls_;
-    mpi::distributed_fill(values.first(thetas.size()), pool,
+    mpi::distributed_fill(values.first(thetas.size()), where,
                           [&](std::size_t k) { return evaluate_at(thetas[k], first + k); });
     calls_ += thetas.size();
   }
@@ -73,17 +74,22 @@ class MonteCarloEvaluator {
 template <GenerativeModel M, class P>
 class MonteCarloObjective final : public Objective {
  public:
-  MonteCarloObjective(MonteCarloEvaluator<M, P> evaluator, std::shared_ptr<ThreadPool> pool)
-      : evaluator_(std::move(evaluator)), pool_(std::move(pool)) {}
+  // The evaluations run on `pool` (null: the calling thread) and are split among `ranks`.
+  MonteCarloObjective(MonteCarloEvaluator<M, P> evaluator, std::shared_ptr<ThreadPool> pool,
+                      mpi::Communicator ranks = mpi::Communicator::job())
+      : evaluator_(std::move(evaluator)), pool_(std::move(pool)), ranks_(ranks) {}
   const ParameterSpec& parameters() const override { return evaluator_.policy().parameters(); }
-  double evaluate(std::span<const double> theta) override { return evaluator_.evaluate(theta, pool_.get()); }
+  double evaluate(std::span<const double> theta) override { return evaluator_.evaluate(theta, where()); }
   void evaluate_batch(std::span<const Theta> thetas, std::span<double> values) override {
-    evaluator_.evaluate_batch(thetas, values, pool_.get());
+    evaluator_.evaluate_batch(thetas, values, where());
   }
 
  private:
   MonteCarloEvaluator<M, P> evaluator_;
+  ExecutionContext where() const { return {pool_.get(), ranks_}; }
+
   std::shared_ptr<ThreadPool> pool_;
+  mpi::Communicator ranks_;
 };
 
 }  // namespace pegasus

@@ -50,22 +50,23 @@ class PegasusEvaluator {
   }
 
   // Per-scenario returns of one theta (out.size() == scenarios().size()), on every rank.
-  void per_scenario(std::span<const double> theta, std::span<double> out, ThreadPool* pool = nullptr) const {
-    mpi::distributed_fill(out.first(static_cast<std::size_t>(scenarios_.size())), pool,
+  void per_scenario(std::span<const double> theta, std::span<double> out,
+                    const ExecutionContext& where = {}) const {
+    mpi::distributed_fill(out.first(static_cast<std::size_t>(scenarios_.size())), where,
                           [&](std::size_t i) { return scenario_value(theta, static_cast<int>(i)); });
   }
 
-  double evaluate(std::span<const double> theta, ThreadPool* pool = nullptr) const {
+  double evaluate(std::span<const double> theta, const ExecutionContext& where = {}) const {
     std::vector<double> returns(static_cast<std::size_t>(scenarios_.size()));
-    per_scenario(theta, returns, pool);
+    per_scenario(theta, returns, where);
     return ordered_mean(returns);
   }
 
   void evaluate_batch(std::span<const Theta> thetas, std::span<double> values,
-                      ThreadPool* pool = nullptr) const {
+                      const ExecutionContext& where = {}) const {
     const auto m = static_cast<std::size_t>(scenarios_.size());
     std::vector<double> returns(thetas.size() * m);
-    mpi::distributed_fill(std::span<double>(returns), pool, [&](std::size_t k) {
+    mpi::distributed_fill(std::span<double>(returns), where, [&](std::size_t k) {
       return scenario_value(thetas[k / m], static_cast<int>(k % m));
     });
     for (std::size_t k = 0; k < thetas.size(); ++k)
@@ -83,18 +84,23 @@ class PegasusEvaluator {
 template <SimulativeModel M, class P>
 class PegasusObjective final : public Objective {
  public:
-  PegasusObjective(PegasusEvaluator<M, P> evaluator, std::shared_ptr<ThreadPool> pool)
-      : evaluator_(std::move(evaluator)), pool_(std::move(pool)) {}
+  // The evaluations run on `pool` (null: the calling thread) and are split among `ranks`.
+  PegasusObjective(PegasusEvaluator<M, P> evaluator, std::shared_ptr<ThreadPool> pool,
+                   mpi::Communicator ranks = mpi::Communicator::job())
+      : evaluator_(std::move(evaluator)), pool_(std::move(pool)), ranks_(ranks) {}
   const ParameterSpec& parameters() const override { return evaluator_.policy().parameters(); }
-  double evaluate(std::span<const double> theta) override { return evaluator_.evaluate(theta, pool_.get()); }
+  double evaluate(std::span<const double> theta) override { return evaluator_.evaluate(theta, where()); }
   void evaluate_batch(std::span<const Theta> thetas, std::span<double> values) override {
-    evaluator_.evaluate_batch(thetas, values, pool_.get());
+    evaluator_.evaluate_batch(thetas, values, where());
   }
   const PegasusEvaluator<M, P>& evaluator() const { return evaluator_; }
 
  private:
   PegasusEvaluator<M, P> evaluator_;
+  ExecutionContext where() const { return {pool_.get(), ranks_}; }
+
   std::shared_ptr<ThreadPool> pool_;
+  mpi::Communicator ranks_;
 };
 
 }  // namespace pegasus

@@ -35,7 +35,7 @@
 #include "pegasus/envs/bicycle.hpp"
 #include "pegasus/envs/bicycle_policy.hpp"
 #include "pegasus/optimizers/optimizer.hpp"
-#include "pegasus/parallel/thread_pool.hpp"
+#include "pegasus/parallel/execution_context.hpp"
 #include "pegasus/scenarios/scenario_set.hpp"
 
 namespace pegasus {
@@ -72,12 +72,14 @@ struct BicycleTrainingResult {
   OptimizerSummary summary;  // iterations, evaluations, U-hat history
 };
 
-// Trains on `pool` when given (else a pool of options.threads).
+// Trains on where.pool when given (else a pool of options.threads), split among where.ranks.
 BicycleTrainingResult train_bicycle(const BicycleTrainingOptions& options,
-                                    const BicycleTrainingHooks& hooks = {}, ThreadPool* pool = nullptr);
+                                    const BicycleTrainingHooks& hooks = {},
+                                    const ExecutionContext& where = {});
 
 // U-hat of theta on m scenarios of the training problem (the objective train_bicycle maximises).
-double bicycle_uhat(const BicycleTrainingOptions& options, const Theta& theta, ThreadPool* pool = nullptr);
+double bicycle_uhat(const BicycleTrainingOptions& options, const Theta& theta,
+                    const ExecutionContext& where = {});
 
 struct BicycleRideOptions {
   int rides = 50;

@@ -2,11 +2,11 @@
 // theta -> U-hat(theta) on a MuJoCo environment (thesis §4.4.2, Eq 4.22): the mean discounted return of
 // the policy over m fixed scenarios, each a full rollout's randomness.
 //
-// Work is parallel over (theta, scenario) pairs on the thread pool and, under mpirun, split across ranks
-// (mpi::distributed_fill); every pair writes its own slot and sums run in scenario order, so U-hat, the
-// step counts and the crash counts are bit-identical for any number of threads and ranks. Each thread takes
-// an mjData slot from a small free list for the length of one rollout: slots are made the first time more
-// rollouts run at once than slots exist (at most one per thread), never inside a rollout.
+// Work is parallel over (theta, scenario) pairs on the context's thread pool and split across its ranks
+// (ExecutionContext, parallel/mpi.hpp); every pair writes its own slot and sums run in scenario order, so
+// U-hat, the step counts and the crash counts are bit-identical for any number of threads and ranks. Each
+// thread takes an mjData slot from a small free list for the length of one rollout: slots are made the first
+// time more rollouts run at once than slots exist (at most one per thread), never inside a rollout.
 //
 // Observation normalisation (ARS "V2", optimizers/augmented_random_search.hpp): EvaluateAndUpdateNormalizer
 // runs theta's m rollouts on every rank (no communication: each rank computes them all, the same bits),
@@ -22,7 +22,7 @@
 #include "pegasus/mujoco/mujoco_env.hpp"
 #include "pegasus/optimizers/augmented_random_search.hpp"
 #include "pegasus/optimizers/objective.hpp"
-#include "pegasus/parallel/thread_pool.hpp"
+#include "pegasus/parallel/execution_context.hpp"
 
 namespace pegasus {
 
@@ -30,7 +30,7 @@ class MujocoObjective final : public Objective, public ObservationNormalizing {
  public:
   // normalize = false keeps the identity normalisation (EvaluateAndUpdateNormalizer then only evaluates).
   MujocoObjective(std::shared_ptr<const MujocoEnvironment> env, std::shared_ptr<const MujocoPolicy> policy,
-                  ScenarioSet scenarios, ThreadPool* pool, bool normalize = true);
+                  ScenarioSet scenarios, const ExecutionContext& where, bool normalize = true);
 
   const ParameterSpec& parameters() const override { return policy_->parameters(); }
   double evaluate(std::span<const double> theta) override;
@@ -71,6 +71,7 @@ class MujocoObjective final : public Objective, public ObservationNormalizing {
   std::shared_ptr<const MujocoPolicy> policy_;
   ScenarioSet scenarios_;
   ThreadPool* pool_;
+  mpi::Communicator ranks_;  // split evaluate_batch's pairs; the other evaluations run on this rank alone
   bool normalize_;
   ObservationNormalizer normalizer_;
   ObservationMoments moments_;

@@ -16,6 +16,9 @@
 //   mpi::distributed_fill(returns, pool, [&](std::size_t k) { return rollout(k / m, k % m); });
 //   // every rank now holds all returns; sum them in order
 //
+// The ranks an evaluation is split among are its ExecutionContext's (parallel/execution_context.hpp): the
+// job's, or this process alone (no collective), which a rank uses for work that only it does.
+//
 // Collectives must be entered by every rank in the same order. distributed_fill only communicates when
 // called on the main thread outside any ThreadPool::parallel_for body; elsewhere (a worker thread, a nested
 // call) it computes every item locally, which gives the same numbers.
@@ -28,6 +31,7 @@
 #include <string>
 #include <vector>
 
+#include "pegasus/parallel/execution_context.hpp"
 #include "pegasus/parallel/thread_pool.hpp"
 
 namespace pegasus::mpi {
@@ -64,19 +68,20 @@ struct Share {
   }
 };
 
-// This rank's share when a collective may run here (more than one rank, the main thread, outside any
-// parallel_for body); otherwise the whole, {0, 1}.
-Share collective_share();
+// This rank's share of `ranks`' work when a collective may run here (more than one rank, the main thread,
+// outside any parallel_for body); otherwise the whole, {0, 1}.
+Share collective_share(const Communicator& ranks);
 
 // Collective over all ranks: on entry every rank has filled values[k] for the k of its share; on return every
 // rank holds every value, bit for bit. No-op when share.size == 1.
 void allgather_shares(std::span<double> values, const Share& share);
 
-// out[k] = value(k) for every k, on every rank: each rank computes its share (on `pool` when given), then
-// allgather_shares. value must be deterministic in k.
+// out[k] = value(k) for every k, on every rank of where.ranks: each rank computes its share (on where.pool
+// when given), then allgather_shares. value must be deterministic in k.
 template <class Value>
-void distributed_fill(std::span<double> out, ThreadPool* pool, Value&& value) {
-  const Share share = collective_share();
+void distributed_fill(std::span<double> out, const ExecutionContext& where, Value&& value) {
+  const Share share = collective_share(where.ranks);
+  ThreadPool* pool = where.pool;
   const std::size_t owned = share.count(out.size());
   auto body = [&](std::size_t j) {
     const std::size_t k = share.item(j);
