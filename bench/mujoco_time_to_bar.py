@@ -41,7 +41,8 @@ def run(build, task, method, threads, out):
     return {
         "task": task,
         "method": summary["method"],
-        "policy": f'{summary["policy_class"]} ({summary["parameters"]} parameters)',
+        "policy": f'{summary["policy_class"]}{" phased by " + summary["phase"]["observation"] if summary.get("phase") else ""}'
+                  f' ({summary["parameters"]} parameters)',
         "threads": threads,
         "first_success_evaluation": first and first["evaluation"],
         "first_success_control_steps": first and first["control_steps"],

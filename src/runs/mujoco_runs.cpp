@@ -90,6 +90,7 @@ nlohmann::json success_json(const MujocoEnvironment& env) {
                       {"min", number_or_null(r.lower)},
                       {"max", number_or_null(r.upper)}});
   return {{"return", number_or_null(task.success_return)},
+          {"bonus", task.success_bonus},
           {"hold_steps", task.success_hold_steps},
           {"at", task.success_anywhere ? "any" : "end"},
           {"ranges", ranges}};
