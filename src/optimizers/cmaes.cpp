@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <limits>
 #include <numeric>
 
 #include "pegasus/core/error.hpp"
@@ -111,6 +112,15 @@ struct Distribution {
   void RefreshInverseSquareRoot() { inv_sqrt_C = B * D.cwiseInverse().asDiagonal() * B.transpose(); }
 };
 
+// sigma = initial_step, C = I (decomposed), no evolution paths: the start of every run.
+void StartDistribution(double initial_step, Distribution* d) {
+  const auto size = static_cast<Eigen::Index>(d->mean.size());
+  d->sigma = initial_step;
+  d->C = d->B = Eigen::MatrixXd::Identity(size, size);
+  d->D = Eigen::VectorXd::Ones(size);
+  d->p_sigma = d->p_c = Eigen::VectorXd::Zero(size);
+}
+
 // Maps the search space onto the box [lower, upper] of one parameter, continuously differentiable: the
 // identity on [lower + margin, upper - margin], quadratic within `margin` of a bound (reaching the bound
 // with zero slope at bound -/+ margin), mirrored beyond, periodic for a two-sided box (the shape of pycma's
@@ -178,6 +188,12 @@ bool CmaesOptions::IsValid(std::string* error) const {
   if (!(function_tolerance >= 0.0 && std::isfinite(function_tolerance)))
     return RejectOption(error, "function_tolerance", "a finite value >= 0", function_tolerance);
   if (!(max_condition > 1.0)) return RejectOption(error, "max_condition", "a value > 1", max_condition);
+  if (stall_generations < 0)
+    return RejectOption(error, "stall_generations", ">= 0", static_cast<double>(stall_generations));
+  if (!(stall_tolerance >= 0.0 && std::isfinite(stall_tolerance)))
+    return RejectOption(error, "stall_tolerance", "a finite value >= 0", stall_tolerance);
+  // 2^restarts times the population must stay an int.
+  if (restarts < 0 || restarts > 20) return RejectOption(error, "restarts", "in [0, 20]", restarts);
   return ValidateCheckpointOptions(checkpoint_every, on_checkpoint, resume_from, "cmaes", error);
 }
 
@@ -198,17 +214,43 @@ void Solve(const CmaesOptions& options, Objective& objective, Theta* theta, Opti
   const Theta lower = spec.lower();
   const Theta upper = spec.upper();
   const Theta scale = spec.scales();
-  const Strategy strategy = MakeStrategy(n, CmaesPopulationSize(options, n));
+  const int first_population = CmaesPopulationSize(options, n);
+  if ((static_cast<std::int64_t>(first_population) << options.restarts) > std::numeric_limits<int>::max())
+    throw InputError(
+        fmt::format("cmaes options: restarts: {} restarts would double the population of {} past {}",
+                    options.restarts, first_population, std::numeric_limits<int>::max()));
+  const auto population_of_run = [&](std::int64_t restart) {
+    return static_cast<int>(static_cast<std::int64_t>(first_population) << restart);
+  };
+  Strategy strategy = MakeStrategy(n, first_population);
   std::vector<BoxTransform> box;
   for (std::size_t i = 0; i < n; ++i) box.emplace_back(lower[i], upper[i], scale[i]);
-  const auto lambda = static_cast<std::size_t>(strategy.lambda);
   RunProgress run("cmaes", spec, options.callbacks);
 
   Distribution d;
   std::deque<double> recent_best;  // best U-hat of each of the last tolfun_window generations
   std::uint64_t stream_position = 0;
+  std::int64_t restarts = 0;             // runs started after the first
+  std::int64_t run_first_iteration = 0;  // the iteration count when this run started
+  std::deque<double> run_best;           // this run's best U-hat after each of its last generations
+  Theta start;                           // the first mean (search space), where every run starts
   if (options.resume_from) {
     const json& state = run.Resume(*options.resume_from);
+    if (state.contains("restarts")) {
+      restarts = StateInteger(state, "restarts");
+      if (restarts < 0 || restarts > options.restarts)
+        throw InputError(
+            fmt::format("checkpoint state.restarts: expected 0 to {} (the options' restarts), got {}",
+                        options.restarts, restarts));
+      run_first_iteration = StateInteger(state, "run_first_iteration");
+      for (const double v : VectorFromJson(StateField(state, "run_best"), "state.run_best"))
+        run_best.push_back(v);
+      start = VectorFromJson(StateField(state, "start"), "state.start");
+      if (start.size() != n) throw InputError(fmt::format("checkpoint state.start: expected {} numbers", n));
+    } else if (options.restarts > 0) {
+      throw InputError("checkpoint state.restarts: missing (the checkpoint was written without restarts)");
+    }
+    strategy = MakeStrategy(n, population_of_run(restarts));
     if (StateInteger(state, "population") != strategy.lambda)
       throw InputError(
           fmt::format("checkpoint state.population: expected {} (the options' population), got {}",
@@ -228,26 +270,43 @@ void Solve(const CmaesOptions& options, Objective& objective, Theta* theta, Opti
       recent_best.push_back(v);
     stream_position = StateUnsigned(state, "stream_position");
   } else {
-    const Theta start = StartingTheta(spec, *theta);
-    const double value = objective.evaluate(start);
+    const Theta first = StartingTheta(spec, *theta);
+    const double value = objective.evaluate(first);
     run.AddEvaluations(1);
     run.set_initial_value(value);
-    run.Offer(start, value);
+    run.Offer(first, value);
     d.mean.resize(n);
-    for (std::size_t i = 0; i < n; ++i) d.mean[i] = box[i].Inverse(start[i]);
-    d.sigma = options.initial_step;
-    const auto size = static_cast<Eigen::Index>(n);
-    d.C = d.B = Eigen::MatrixXd::Identity(size, size);
-    d.D = Eigen::VectorXd::Ones(size);
-    d.p_sigma = d.p_c = Eigen::VectorXd::Zero(size);
+    for (std::size_t i = 0; i < n; ++i) d.mean[i] = box[i].Inverse(first[i]);
+    start = d.mean;
+    StartDistribution(options.initial_step, &d);
   }
   d.RefreshInverseSquareRoot();
   UniformStream uniforms(options.seed, options.stream, stream_position);
 
+  auto lambda = static_cast<std::size_t>(strategy.lambda);
   std::vector<Theta> candidates(lambda, Theta(n));
   std::vector<double> values(lambda);
   std::vector<Eigen::VectorXd> steps(lambda, Eigen::VectorXd(n));  // y_k, scaled units
   std::vector<std::size_t> order(lambda);
+  // A stop that restarts (IPOP) when restarts remain: the next run from the first mean, twice the population.
+  auto restart = [&]() {
+    if (restarts >= options.restarts) return false;
+    ++restarts;
+    strategy = MakeStrategy(n, population_of_run(restarts));
+    lambda = static_cast<std::size_t>(strategy.lambda);
+    candidates.assign(lambda, Theta(n));
+    values.assign(lambda, 0.0);
+    steps.assign(lambda, Eigen::VectorXd(n));
+    order.assign(lambda, 0);
+    d.mean = start;
+    StartDistribution(options.initial_step, &d);
+    d.eigen_iteration = run.iterations();
+    d.RefreshInverseSquareRoot();
+    recent_best.clear();
+    run_best.clear();
+    run_first_iteration = run.iterations();
+    return true;
+  };
   Theta normals(n);
   Eigen::VectorXd scaled_normals(n), weighted_step(n), whitened(n);
   Eigen::MatrixXd rank_mu(n, n);
@@ -295,7 +354,7 @@ void Solve(const CmaesOptions& options, Objective& objective, Theta* theta, Opti
     d.p_sigma = (1.0 - strategy.c_sigma) * d.p_sigma +
                 std::sqrt(strategy.c_sigma * (2.0 - strategy.c_sigma) * strategy.mueff) * whitened;
     const double p_sigma_norm = d.p_sigma.norm();
-    const auto generation = static_cast<double>(run.iterations() + 1);
+    const auto generation = static_cast<double>(run.iterations() + 1 - run_first_iteration);
     const bool h_sigma = p_sigma_norm / std::sqrt(1.0 - std::pow(1.0 - strategy.c_sigma, 2.0 * generation)) <
                          (1.4 + 2.0 / (static_cast<double>(n) + 1.0)) * strategy.chi_n;
     d.sigma *= std::exp(strategy.c_sigma / strategy.d_sigma * (p_sigma_norm / strategy.chi_n - 1.0));
@@ -323,6 +382,14 @@ void Solve(const CmaesOptions& options, Objective& objective, Theta* theta, Opti
 
     recent_best.push_back(values[order[0]]);
     if (recent_best.size() > strategy.tolfun_window) recent_best.pop_front();
+    if (options.stall_generations > 0) {
+      // NaN never raises the run's best (IsImprovement ranks it last).
+      const double best = run_best.empty() || IsImprovement(values[order[0]], run_best.back())
+                              ? values[order[0]]
+                              : run_best.back();
+      run_best.push_back(best);
+      if (run_best.size() > static_cast<std::size_t>(options.stall_generations) + 1) run_best.pop_front();
+    }
     if (!go_on) {
       termination = TerminationType::kUserRequested;
       message = "an iteration callback asked to stop";
@@ -358,6 +425,7 @@ void Solve(const CmaesOptions& options, Objective& objective, Theta* theta, Opti
     double spread = 0.0;
     for (std::size_t i = 0; i < n; ++i) spread = std::max({spread, std::abs(d.p_c[i]), std::sqrt(d.C(i, i))});
     if (d.sigma * spread < options.x_tolerance) {
+      if (restart()) continue;
       termination = TerminationType::kConvergence;
       message = fmt::format("sigma * max(|p_c|, sqrt(diag C)) = {:.3g} fell below x_tolerance = {:.3g}",
                             d.sigma * spread, options.x_tolerance);
@@ -372,11 +440,21 @@ void Solve(const CmaesOptions& options, Objective& objective, Theta* theta, Opti
       for (const double v : values) finite = finite && std::isfinite(v);
       for (const double v : recent_best) finite = finite && std::isfinite(v);
       if (finite && hi - lo < options.function_tolerance) {
+        if (restart()) continue;
         termination = TerminationType::kConvergence;
         message = fmt::format("U-hat ranged by {:.3g} < function_tolerance = {:.3g} over {} generations",
                               hi - lo, options.function_tolerance, strategy.tolfun_window);
         break;
       }
+    }
+    if (run_best.size() == static_cast<std::size_t>(options.stall_generations) + 1 &&
+        !(run_best.back() - run_best.front() > options.stall_tolerance)) {
+      if (restart()) continue;
+      termination = TerminationType::kConvergence;
+      message =
+          fmt::format("the best U-hat rose by {:.3g} <= stall_tolerance = {:.3g} over {} generations",
+                      run_best.back() - run_best.front(), options.stall_tolerance, options.stall_generations);
+      break;
     }
     if (run.CheckpointDue(options.checkpoint_every)) {
       options.on_checkpoint(run.Checkpoint(
@@ -390,10 +468,17 @@ void Solve(const CmaesOptions& options, Objective& objective, Theta* theta, Opti
                {"p_c", VectorToJson(std::span<const double>(d.p_c.data(), n))},
                {"eigen_iteration", d.eigen_iteration},
                {"recent_best", VectorToJson(std::vector<double>(recent_best.begin(), recent_best.end()))},
-               {"stream_position", uniforms.position()}}));
+               {"stream_position", uniforms.position()},
+               {"restarts", restarts},
+               {"run_first_iteration", run_first_iteration},
+               {"run_best", VectorToJson(std::vector<double>(run_best.begin(), run_best.end()))},
+               {"start", VectorToJson(start)}}));
     }
   }
 
+  if (restarts > 0)
+    message += fmt::format(" (after {} restart{}, population {})", restarts, restarts == 1 ? "" : "s",
+                           strategy.lambda);
   run.Finish(termination, std::move(message), summary);
   summary->final_step = d.sigma;
   *theta = summary->best_theta;

@@ -72,6 +72,15 @@ void visit_optimizer_fields(Visitor& v, OptimizerOptions& o) {
          "CMA-ES: stop when recent best U-hats differ by less than this (0: off)", 0, kInf);
   v.real("cmaes.max_condition", c.max_condition,
          "CMA-ES: fail when the covariance's condition number passes this", 1, kInf);
+  v.integer(
+      "cmaes.stall_generations", c.stall_generations,
+      "CMA-ES: a run stops when its best U-hat rose by at most stall_tolerance over this many generations "
+      "(0: off)",
+      0);
+  v.real("cmaes.stall_tolerance", c.stall_tolerance, "CMA-ES: see stall_generations", 0, kInf);
+  v.integer32(
+      "cmaes.restarts", c.restarts,
+      "CMA-ES: runs after the first (IPOP): each starts again from the start with twice the population", 0);
 
   auto& a = o.ars;
   v.integer("ars.max_iterations", a.max_iterations, "ARS: iterations at most", 0);

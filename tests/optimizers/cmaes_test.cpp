@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <functional>
@@ -83,6 +84,99 @@ TEST(Cmaes, ALargePopulationFindsTheGlobalMaximumOfRastriginFromEverySeed) {
     EXPECT_GE(summary.best_value, -1e-8) << summary.FullReport();
     for (const double t : theta) EXPECT_NEAR(t, 0.0, 1e-5);
   }
+}
+
+// IPOP (Auger and Hansen 2005): a run that converges on a local maximum of Rastrigin in 4 dimensions stops;
+// with up to 8 restarts, each from the same start (3, 3, 3, 3) with twice the population, a later run finds
+// the global maximum.
+TEST(Cmaes, RestartsWithDoubledPopulationsLeaveTheLocalMaximumOneRunEndsOn) {
+  int stayed = 0, rescued = 0;
+  for (std::uint64_t seed = 0; seed < 10; ++seed) {
+    SCOPED_TRACE(seed);
+    CmaesOptions options;
+    options.seed = seed;
+    options.initial_step = 2.0;
+    options.max_evaluations = 100000;
+    options.x_tolerance = 1e-9;
+    auto objective = NegatedRastrigin(Box(4, 3.0, 5.12));
+    Theta theta;
+    OptimizerSummary one_run;
+    Solve(options, objective, &theta, &one_run);
+    ASSERT_EQ(one_run.termination_type, TerminationType::kConvergence) << one_run.FullReport();
+    if (one_run.best_value > -1e-6) continue;  // this seed's one run found the global maximum anyway
+    ++stayed;
+    options.restarts = 8;
+    OptimizerSummary restarted;
+    Solve(options, objective, &theta, &restarted);
+    EXPECT_GT(restarted.best_value, -1e-6) << restarted.FullReport();
+    EXPECT_THAT(restarted.message, HasSubstr("restart"));
+    rescued += restarted.best_value > -1e-6 ? 1 : 0;
+  }
+  // One run stays on a local maximum (U-hat -1 to -11) from every seed of 10 (seeds 0 to 9 were checked);
+  // the restarted runs all end on the global one.
+  EXPECT_GE(stayed, 8);
+  EXPECT_EQ(rescued, stayed);
+}
+
+// A flat U-hat stalls every run after stall_generations + 1 generations; each restart doubles the population,
+// so the evaluations are 1 + (g + 1) (lambda + 2 lambda + 4 lambda).
+TEST(Cmaes, AStalledRunRestartsWithTwiceThePopulationUntilNoRestartsRemain) {
+  FunctionObjective flat(Box(3, 0.0, 1.0), [](std::span<const double>) { return 1.0; });
+  CmaesOptions options;
+  options.population_size = 6;
+  options.stall_generations = 5;
+  options.restarts = 2;
+  Theta theta;
+  OptimizerSummary summary;
+  Solve(options, flat, &theta, &summary);
+  EXPECT_EQ(summary.termination_type, TerminationType::kConvergence);
+  EXPECT_EQ(summary.iterations, 3 * 6);
+  EXPECT_EQ(summary.evaluations, 1 + 6 * (6 + 12 + 24));
+  EXPECT_THAT(summary.message, HasSubstr("stall_tolerance"));
+  EXPECT_THAT(summary.message, HasSubstr("after 2 restarts, population 24"));
+  // Without restarts the one run stops at its stall.
+  options.restarts = 0;
+  Solve(options, flat, &theta, &summary);
+  EXPECT_EQ(summary.iterations, 6);
+}
+
+// A checkpoint taken after a restart carries the restart count, the run's first iteration, its best values
+// and the start, so the resumed run ends as the uninterrupted one, bit for bit.
+TEST(Cmaes, ResumedAfterARestartEndsBitIdenticallyToTheUninterruptedRun) {
+  auto make = [] { return NegatedRastrigin(Box(3, 2.0, 5.12)); };
+  CmaesOptions options;
+  options.seed = 5;
+  options.initial_step = 0.5;
+  options.stall_generations = 15;
+  options.stall_tolerance = 1e-3;
+  options.restarts = 3;
+  options.max_evaluations = 6000;
+  options.checkpoint_every = 1;
+  std::vector<json> checkpoints;
+  options.on_checkpoint = [&](const json& j) { checkpoints.push_back(j); };
+  auto objective = make();
+  Theta reference_theta;
+  OptimizerSummary reference;
+  Solve(options, objective, &reference_theta, &reference);
+  ASSERT_THAT(reference.message, HasSubstr("restart")) << reference.FullReport();
+  const auto after = std::find_if(checkpoints.begin(), checkpoints.end(), [](const json& c) {
+    return c["state"]["restarts"].get<int>() == 1 && c["state"]["run_best"].size() > 3;
+  });
+  ASSERT_NE(after, checkpoints.end());
+  EXPECT_EQ((*after)["state"]["population"], 2 * CmaesPopulationSize(options, 3));
+  auto fresh = make();
+  options.on_checkpoint = [](const json&) {};
+  options.resume_from = *after;
+  Theta theta;
+  OptimizerSummary resumed;
+  Solve(options, fresh, &theta, &resumed);
+  std::string difference;
+  EXPECT_TRUE(SameOutcome(resumed, reference, &difference)) << difference;
+  for (std::size_t i = 0; i < theta.size(); ++i) EXPECT_EQ(Bits(theta[i]), Bits(reference_theta[i]));
+  // More restarts than the options allow, or a checkpoint of a run without restarts, is refused.
+  options.restarts = 0;
+  EXPECT_THAT([&] { Solve(options, fresh, &theta, &resumed); },
+              ::testing::ThrowsMessage<InputError>(HasSubstr("state.restarts")));
 }
 
 TEST(Cmaes, EvaluatesOnlyInsideTheBoundsAndConvergesToTheCornerBeyondWhichThePeakLies) {
@@ -364,6 +458,9 @@ TEST(CmaesOptions, IsValidRejectsEachBadFieldByName) {
       {"x_tolerance", [](CmaesOptions& o) { o.x_tolerance = -1e-9; }},
       {"function_tolerance", [](CmaesOptions& o) { o.function_tolerance = NAN; }},
       {"max_condition", [](CmaesOptions& o) { o.max_condition = 1.0; }},
+      {"stall_generations", [](CmaesOptions& o) { o.stall_generations = -1; }},
+      {"stall_tolerance", [](CmaesOptions& o) { o.stall_tolerance = NAN; }},
+      {"restarts", [](CmaesOptions& o) { o.restarts = 21; }},
       {"on_checkpoint", [](CmaesOptions& o) { o.checkpoint_every = 5; }},
   };
   std::string error;

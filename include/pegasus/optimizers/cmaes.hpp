@@ -18,13 +18,23 @@
 // Stops on max_iterations, max_evaluations, sigma * max_i max(|p_c,i|, sqrt(C_ii)) below x_tolerance
 // (the whole distribution and its path are smaller than that, scaled units), a range of U-hat below
 // function_tolerance over the current generation and the best values of the last 10 + ceil(30 n /
-// population) generations, or a condition number of C above max_condition (FAILURE: C has degenerated).
+// population) generations, a stall (the run's best U-hat rose by at most stall_tolerance over the last
+// stall_generations generations, when stall_generations > 0), or a condition number of C above max_condition
+// (FAILURE: C has degenerated).
+//
+// Restarts (IPOP-CMA-ES, Auger and Hansen, "A restart CMA evolution strategy with increasing population
+// size", CEC 2005): when a run stops by x_tolerance, function_tolerance or a stall and restarts remain, a new
+// run starts from the first mean with the first sigma, C = I and twice the population; max_iterations and
+// max_evaluations count over all runs, and the result is the best theta of any run. A larger population
+// searches more globally, so a run stuck on a local maximum of a multimodal U-hat is left for a wider search.
 //
 // Randomness comes only from UniformStream(seed, stream) (FillStandardNormals, a fixed order per
 // generation): the run is a pure function of the options and the objective, on any library. Ranking breaks
 // ties by candidate index, and NaN ranks last (IsImprovement). Checkpoint state: {"population", "mean",
 // "sigma", "C" (row by row), "B", "D", "p_sigma", "p_c", "eigen_iteration", "recent_best",
-// "stream_position"}: everything the next generation reads, so a resumed run continues bit for bit. The
+// "stream_position", "restarts", "run_first_iteration", "run_best", "start"}: everything the next generation
+// reads, so a resumed run continues bit for bit (a checkpoint without the last four, written before restarts,
+// resumes a run of no restarts). The
 // mean is a point of the search space (it may lie beyond a bound); every theta evaluated is inside.
 #include <cstdint>
 #include <nlohmann/json.hpp>
@@ -58,6 +68,13 @@ struct CmaesOptions {
   double function_tolerance = 1e-12;
   // Stop (FAILURE) when the condition number of C exceeds this. > 1.
   double max_condition = 1e14;
+  // A run stops when its best U-hat rose by at most stall_tolerance over its last stall_generations
+  // generations (0 = never). >= 0.
+  std::int64_t stall_generations = 0;
+  double stall_tolerance = 0.0;
+  // Runs after the first (IPOP, see above): each starts again from the first mean with twice the previous
+  // population. >= 0.
+  int restarts = 0;
 
   // Write a checkpoint every this many iterations; 0 = never.
   std::int64_t checkpoint_every = 0;
@@ -72,7 +89,8 @@ struct CmaesOptions {
   bool IsValid(std::string* error) const;
 };
 
-// The population size a run of these options uses on n parameters (resolves population_size = 0).
+// The population size the first run of these options uses on n parameters (resolves population_size = 0);
+// restart r uses 2^r times as many.
 int CmaesPopulationSize(const CmaesOptions& options, std::size_t parameter_count);
 
 // Maximises objective from *theta (clamped into the bounds; empty = the spec's initial values), which is
