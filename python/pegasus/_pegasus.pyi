@@ -105,6 +105,9 @@ class CmaesOptions(_Checkpointing):
     x_tolerance: float
     function_tolerance: float
     max_condition: float
+    stall_generations: int
+    stall_tolerance: float
+    restarts: int
 
 class AugmentedRandomSearchOptions(_Checkpointing):
     seed: int

@@ -231,11 +231,17 @@ pycma's BoundTransform; deterministic from (seed, stream). Fields as optimizers/
       .def_readwrite("initial_step", &CmaesOptions::initial_step, "sigma at the start, scaled units.")
       .def_readwrite("x_tolerance", &CmaesOptions::x_tolerance)
       .def_readwrite("function_tolerance", &CmaesOptions::function_tolerance)
-      .def_readwrite("max_condition", &CmaesOptions::max_condition);
+      .def_readwrite("max_condition", &CmaesOptions::max_condition)
+      .def_readwrite("stall_generations", &CmaesOptions::stall_generations,
+                     "A run stops when its best U-hat rose by at most stall_tolerance over this many "
+                     "generations (0: never).")
+      .def_readwrite("stall_tolerance", &CmaesOptions::stall_tolerance)
+      .def_readwrite("restarts", &CmaesOptions::restarts,
+                     "Runs after the first (IPOP): each from the first mean with twice the population.");
   bind_checkpointing(cmaes);
   set_fields(cmaes, {"seed", "stream", "max_iterations", "max_evaluations", "population_size", "initial_step",
-                     "x_tolerance", "function_tolerance", "max_condition", "checkpoint_every",
-                     "on_checkpoint", "resume_from"});
+                     "x_tolerance", "function_tolerance", "max_condition", "stall_generations",
+                     "stall_tolerance", "restarts", "checkpoint_every", "on_checkpoint", "resume_from"});
 
   auto ars = py::class_<AugmentedRandomSearchOptions>(m, "AugmentedRandomSearchOptions", R"doc(
 Augmented Random Search (Mania, Guy and Recht 2018): N antithetic directions per iteration (2N evaluations in one

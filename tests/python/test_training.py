@@ -20,7 +20,8 @@ CPP_FIELDS = {
     pegasus.NloptOptions: ["algorithm", "max_evaluations", "initial_step", "x_tolerance", "function_tolerance",
                            "population", "seed"],
     pegasus.CmaesOptions: ["seed", "stream", "max_iterations", "max_evaluations", "population_size", "initial_step",
-                           "x_tolerance", "function_tolerance", "max_condition"],
+                           "x_tolerance", "function_tolerance", "max_condition", "stall_generations",
+                           "stall_tolerance", "restarts"],
     pegasus.AugmentedRandomSearchOptions: ["seed", "stream", "max_iterations", "max_evaluations", "directions",
                                            "top_directions", "step_size", "exploration_noise"],
 }
