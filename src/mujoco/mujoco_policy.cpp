@@ -163,7 +163,7 @@ class PhasedPolicy final : public MujocoPolicy {
   }
   nlohmann::json describe() const override {
     nlohmann::json out = below_->describe();
-    out["phase"] = {{"observation", phase_.observation}, {"above", phase_.above}};
+    out["phase"] = policy_phase_json(phase_);
     return out;
   }
 
@@ -187,6 +187,11 @@ std::unique_ptr<MujocoPolicy> make_unphased_policy(const std::string& kind, int 
 }
 
 }  // namespace
+
+nlohmann::json policy_phase_json(const PolicyPhase& phase) {
+  if (!phase.phased()) return nullptr;
+  return {{"observation", phase.observation}, {"above", phase.above}};
+}
 
 std::unique_ptr<MujocoPolicy> make_mujoco_policy(const std::string& kind, int observation_dim, int action_dim,
                                                  const std::vector<int>& hidden, const PolicyPhase& phase) {
@@ -214,9 +219,7 @@ nlohmann::json mujoco_policy_file_json(const MujocoPolicyFile& f) {
           {"task", f.task},
           {"class", f.policy_class},
           {"hidden", f.hidden},
-          {"phase", f.phase.phased()
-                        ? nlohmann::json{{"observation", f.phase.observation}, {"above", f.phase.above}}
-                        : nlohmann::json(nullptr)},
+          {"phase", policy_phase_json(f.phase)},
           {"theta", f.theta},
           {"normalizer",
            {{"mean", f.normalizer.mean},

@@ -36,6 +36,7 @@ std::uint64_t evaluation_seed(std::uint64_t seed) { return seed * 0x9E3779B97F4A
 struct Problem {
   std::shared_ptr<const MujocoEnvironment> env;
   std::shared_ptr<const MujocoPolicy> policy;
+  PolicyPhase phase;  // the policy's switch, its position resolved in the task's observation
 };
 
 // `phase_field` names where the phase's observation came from in messages.
@@ -50,14 +51,7 @@ Problem load_problem(const std::string& model_path, const std::string& task_path
   auto env = std::make_shared<const MujocoEnvironment>(std::move(model), std::move(task));
   auto policy = std::shared_ptr<const MujocoPolicy>(
       make_mujoco_policy(policy_class, env->observation_dim(), env->action_dim(), hidden, phase));
-  return {env, policy};
-}
-
-// The phase of policy.json (unresolved, as the file holds it) of a policy `describe`s.
-PolicyPhase described_phase(const nlohmann::json& shape) {
-  if (!shape.contains("phase")) return {};
-  return {.observation = shape.at("phase").at("observation").get<std::string>(),
-          .above = shape.at("phase").at("above").get<double>()};
+  return {env, policy, phase};
 }
 
 // success_rate is null when the task has no success criterion.
@@ -174,7 +168,7 @@ Theta initial_theta(const MujocoTrainingRunOptions& o, const Problem& problem) {
         "{} policy with [{}]",
         path, start.policy_class, fmt::join(start.hidden, ", "), shape.at("class").get<std::string>(),
         fmt::join(shape.at("hidden").get<std::vector<int>>(), ", ")));
-  if (const PolicyPhase phase = described_phase(shape); start.phase != phase) {
+  if (const PolicyPhase& phase = problem.phase; !start.phase.same_switch(phase)) {
     auto said = [](const PolicyPhase& p) {
       return p.phased() ? fmt::format("phased by {} above {}", p.observation, p.above)
                         : std::string("unphased");
@@ -250,7 +244,7 @@ void run_mujoco_training(const MujocoTrainingRunOptions& o, RunSink& sink, Threa
                                 .task = std::filesystem::absolute(o.task_file).string(),
                                 .policy_class = shape.at("class").get<std::string>(),
                                 .hidden = shape.at("hidden").get<std::vector<int>>(),
-                                .phase = described_phase(shape),
+                                .phase = problem.phase,
                                 .theta = theta,
                                 .normalizer = objective.normalizer()};
   dir.write_json("policy.json", mujoco_policy_file_json(policy));
@@ -266,7 +260,7 @@ void run_mujoco_training(const MujocoTrainingRunOptions& o, RunSink& sink, Threa
   dir.write_json("summary.json", {{"experiment", "mujoco train"},
                                   {"method", summary.method},
                                   {"policy_class", shape.at("class")},
-                                  {"phase", shape.contains("phase") ? shape.at("phase") : nullptr},
+                                  {"phase", policy_phase_json(problem.phase)},
                                   {"parameters", problem.policy->parameters().size()},
                                   {"observation_dim", env.observation_dim()},
                                   {"action_dim", env.action_dim()},

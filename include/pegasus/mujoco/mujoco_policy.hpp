@@ -78,8 +78,15 @@ struct PolicyPhase {
   double above = 0.0;
 
   bool phased() const { return !observation.empty(); }
+  // The same switch, whether or not either side's position is resolved.
+  bool same_switch(const PolicyPhase& other) const {
+    return observation == other.observation && above == other.above;
+  }
   bool operator==(const PolicyPhase&) const = default;
 };
+// {"observation": ..., "above": ...}, or null when unphased: as policy.json, summary.json and describe hold
+// it.
+nlohmann::json policy_phase_json(const PolicyPhase& phase);
 
 // kind "linear" or "mlp" (hidden: layer widths, >= 1 layer of >= 1 unit), phased when phase.phased() (its
 // position resolved, below observation_dim). InputError naming `policy`, `hidden` or `phase_observation`
