@@ -137,6 +137,44 @@ TEST_F(MujocoCli, TheHopperTrainsByCmaesOnSmallSettingsTheSameOnOneAndTwoThreads
   EXPECT_LE(rate, 1.0);
 }
 
+// The training configs of the README's table (experiments/mujoco/*-train.toml) load and run one iteration,
+// with the optimizer and the policy size the table names: a config that drifts from its row fails here, not
+// in a newcomer's hands. Their model and task paths are relative to the repository's root, so the test names
+// them.
+TEST_F(MujocoCli, TheShippedTrainingConfigsRunWithTheMethodAndPolicySizeTheReadmeGives) {
+  const auto exp = test_support::mujoco_experiments();
+  struct Shipped {
+    std::string config, model, task, method;
+    int parameters;
+    nlohmann::json phase;
+  };
+  const std::vector<Shipped> shipped = {
+      {"cartpole-train.toml", "cartpole.xml", "cartpole_swingup.toml", "cmaes", 113, nullptr},
+      {"acrobot-train.toml", "acrobot.xml", "acrobot_swingup.toml", "cmaes", 7, nullptr},
+      {"hopper-train.toml",
+       "hopper.xml",
+       "hopper_forward.toml",
+       "ars",
+       44,
+       {{"observation", "sensors.foot_touch"}, {"above", 0.0}}},
+  };
+  for (const auto& c : shipped) {
+    SCOPED_TRACE(c.config);
+    const auto out = dir_ / c.config;
+    const auto r = run_pegasus("mujoco train --config " + (exp / c.config).string() + " --model " +
+                               (exp / c.model).string() + " --task " + (exp / c.task).string() +
+                               " --optimizer.cmaes.max-iterations 1 --optimizer.ars.max-iterations 1 "
+                               "--scenarios 2 --evaluation-episodes 2 --quiet --threads 2 --out " +
+                               out.string());
+    ASSERT_EQ(r.code, 0) << r.output;
+    const auto s = nlohmann::json::parse(read_text(out / "summary.json"));
+    EXPECT_EQ(s.at("method"), c.method);
+    EXPECT_EQ(s.at("iterations"), 1);
+    EXPECT_EQ(s.at("parameters"), c.parameters);
+    EXPECT_EQ(s.at("phase"), c.phase);
+  }
+}
+
 // A phased policy (two linear policies switched by the hopper's foot contact) trains, is saved with its
 // switch, and replays: the rollout gives the training run's held-out evaluation back. A switch the task's
 // observation lacks, or a start policy of the other phasing, is one line, exit 2, no run directory.
