@@ -247,8 +247,8 @@ Aircraft::State Aircraft::initial_state(std::span<const double> p0) const {
   State s;
   s.attitude = {trim_.roll, trim_.pitch, wrap_angle(P.start_yaw)};
   s.servo = trim_.controls;
-  s.flap_lon = P.a_lon * P.cyclic_max_rad * trim_.controls[0];
-  s.flap_lat = P.b_lat * P.cyclic_max_rad * trim_.controls[1];
+  s.flap_lon = P.a_lon * P.cyclic_max_rad * trim_.controls[control_axis::pitch];  // longitudinal cyclic
+  s.flap_lat = P.b_lat * P.cyclic_max_rad * trim_.controls[control_axis::roll];   // lateral cyclic
   const auto n = [&](int i) { return normal_quantile(p0[static_cast<std::size_t>(i)]); };
   Vec3 v_W;
   for (int i = 0; i < 3; ++i) {

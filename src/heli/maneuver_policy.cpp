@@ -43,9 +43,10 @@ Controls ManeuverPolicy::act(std::span<const double> theta, const ManeuverObserv
     h.state[logged::yaw_rate] -= k * p.yaw_rate;
   }
   Controls a = HoverPolicy::unclipped(theta.first(kHover), hover_inputs(h));
-  const double tail = a[3] - init_.trim[3], coll = a[2] - init_.trim[2];
-  a[1] += theta[kTailToLat] * tail;
-  a[3] += theta[kCollToTail] * coll;
+  namespace axis = control_axis;
+  const double tail = a[axis::yaw] - init_.trim[axis::yaw], coll = a[axis::thrust] - init_.trim[axis::thrust];
+  a[axis::roll] += theta[kTailToLat] * tail;
+  a[axis::yaw] += theta[kCollToTail] * coll;
   for (double& x : a) x = std::isnan(x) ? 0.0 : std::clamp(x, -1.0, 1.0);
   return a;
 }

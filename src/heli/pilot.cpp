@@ -54,7 +54,7 @@ double ScriptedPilot::sweep_offset(double time) const {
 
 void ScriptedPilot::set_hold(double x, double y, double z, double yaw) {
   hold_ = {};
-  hold_[0] = x, hold_[1] = y, hold_[2] = z, hold_[5] = yaw;
+  hold_[logged::x] = x, hold_[logged::y] = y, hold_[logged::z] = z, hold_[logged::yaw] = yaw;
   have_hold_ = true;
 }
 
@@ -73,7 +73,7 @@ Controls ScriptedPilot::act(const LoggedState& estimate, double time) {
   const double yaw = s[logged::yaw];
   const double cy = std::cos(yaw), sy = std::sin(yaw);
   // Errors and velocities in the heading frame (x forward, y right, level).
-  const double ex_W = s[logged::x] - hold_[0], ey_W = s[logged::y] - hold_[1];
+  const double ex_W = s[logged::x] - hold_[logged::x], ey_W = s[logged::y] - hold_[logged::y];
   const double ex = cy * ex_W + sy * ey_W, ey = -sy * ex_W + cy * ey_W;
   const double vx = cy * s[logged::xdot] + sy * s[logged::ydot],
                vy = -sy * s[logged::xdot] + cy * s[logged::ydot];
@@ -83,14 +83,18 @@ Controls ScriptedPilot::act(const LoggedState& estimate, double time) {
   const double pitch_cmd = trim.pitch + std::clamp((o_.k_pos * ex + o_.k_vel * vx) / g, -tilt, tilt);
   const double roll_cmd = trim.roll - std::clamp((o_.k_pos * ey + o_.k_vel * vy) / g, -tilt, tilt);
   Controls fb;
-  fb[0] =
-      trim.controls[0] + o_.k_att * (s[logged::pitch] - pitch_cmd) + o_.k_att_rate * s[logged::pitch_rate];
-  fb[1] = trim.controls[1] + o_.k_att * (roll_cmd - s[logged::roll]) - o_.k_att_rate * s[logged::roll_rate];
-  fb[2] = trim.controls[2] + o_.k_alt * (s[logged::z] - hold_[2]) + o_.k_climb * s[logged::zdot];
-  fb[3] = trim.controls[3] + o_.k_yaw * wrap_angle(hold_[5] - yaw) - o_.k_yaw_rate * s[logged::yaw_rate];
+  namespace axis = control_axis;
+  fb[axis::pitch] = trim.controls[axis::pitch] + o_.k_att * (s[logged::pitch] - pitch_cmd) +
+                    o_.k_att_rate * s[logged::pitch_rate];
+  fb[axis::roll] = trim.controls[axis::roll] + o_.k_att * (roll_cmd - s[logged::roll]) -
+                   o_.k_att_rate * s[logged::roll_rate];
+  fb[axis::thrust] = trim.controls[axis::thrust] + o_.k_alt * (s[logged::z] - hold_[logged::z]) +
+                     o_.k_climb * s[logged::zdot];
+  fb[axis::yaw] = trim.controls[axis::yaw] + o_.k_yaw * wrap_angle(hold_[logged::yaw] - yaw) -
+                  o_.k_yaw_rate * s[logged::yaw_rate];
   if (o_.attitude_command_gain != 0) {
-    fb[0] -= o_.attitude_command_gain * (pitch_cmd - trim.pitch);
-    fb[1] += o_.attitude_command_gain * (roll_cmd - trim.roll);
+    fb[axis::pitch] -= o_.attitude_command_gain * (pitch_cmd - trim.pitch);
+    fb[axis::roll] += o_.attitude_command_gain * (roll_cmd - trim.roll);
   }
   const double lag = 1 - std::exp(-dt / o_.bandwidth_tau_s);
   const double rho = std::exp(-dt / o_.noise_tau_s);

@@ -82,16 +82,16 @@ double Quadrotor::hover_rotor_speed() const {
 
 HoverPoint Quadrotor::hover_point() const {
   HoverPoint h;
-  h.controls[2] = 2 * params_.mass_kg * params_.gravity / max_thrust() - 1;
+  h.controls[control_axis::thrust] = 2 * params_.mass_kg * params_.gravity / max_thrust() - 1;
   return h;
 }
 
 std::array<double, 4> Quadrotor::rotor_commands(const State& s, const Controls& a) const {
   const QuadrotorParams& P = params_;
-  const double roll_set = P.max_tilt_command_rad * clamp1(a[1]);
-  const double pitch_set = -P.max_tilt_command_rad * clamp1(a[0]);
-  const double yaw_rate_set = P.max_yaw_rate_command * clamp1(a[3]);
-  const double thrust = max_thrust() * (clamp1(a[2]) + 1) / 2;
+  const double roll_set = P.max_tilt_command_rad * clamp1(a[control_axis::roll]);
+  const double pitch_set = -P.max_tilt_command_rad * clamp1(a[control_axis::pitch]);
+  const double yaw_rate_set = P.max_yaw_rate_command * clamp1(a[control_axis::yaw]);
+  const double thrust = max_thrust() * (clamp1(a[control_axis::thrust]) + 1) / 2;
   const double p_set = P.attitude_gain * (roll_set - s.attitude.roll);
   const double q_set = P.attitude_gain * (pitch_set - s.attitude.pitch);
   Eigen::Vector4d wrench;

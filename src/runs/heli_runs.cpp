@@ -99,15 +99,10 @@ void run_pilot(const PilotRunOptions& options, RunSink& sink) {
                             {"crashed", f.crash != CrashReason::kNone},
                             {"crash_reason", crash_reason_name(f.crash)},
                             {"crash_time", f.crash_time},
-                            {"trim",
-                             {{"a1", trim.controls[0]},
-                              {"a2", trim.controls[1]},
-                              {"a3", trim.controls[2]},
-                              {"a4", trim.controls[3]},
-                              {"roll", trim.roll},
-                              {"pitch", trim.pitch}}},
+                            {"trim", {{"roll", trim.roll}, {"pitch", trim.pitch}}},
                             {"log", "log.csv"},
                             {"truth", "truth.csv"}};
+  for (std::size_t c = 0; c < kControlNames.size(); ++c) summary["trim"][kControlNames[c]] = trim.controls[c];
   if (options.aircraft.from_file()) summary["vehicle"] = options.aircraft.vehicle.name();
   dir.write_json("summary.json", summary);
   sink.out << fmt::format("flew {:.1f} s ({} rows at {:g} Hz){}; log: {}\n", summary["seconds"].get<double>(),

@@ -124,9 +124,10 @@ Dataset build_dataset(const FlightLog& log, const ModelStructure& m) {
     const BodyVec b1 = body_from_log_state(log.states[i + step]);
     InputVec x;
     x.head<kBodyVars>() = b0;
-    x[kFlapLon] = extra[i][0];
-    x[kFlapLat] = extra[i][1];
-    x[kGyro] = extra[i][2];
+    const auto& [flap_lon, flap_lat, gyro] = extra[i];
+    x[kFlapLon] = flap_lon;
+    x[kFlapLat] = flap_lat;
+    x[kGyro] = gyro;
     for (int c = 0; c < 4; ++c) {
       double sum = 0;
       for (std::size_t j = i; j < i + step; ++j) sum += log.controls[j][static_cast<std::size_t>(c)];

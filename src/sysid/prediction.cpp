@@ -66,9 +66,9 @@ ReportState report_state(const std::array<double, kLogStates>& s) {
   ReportState r{};
   std::copy(s.begin(), s.end(), r.begin());
   const BodyVec b = body_from_log_state(s);
-  r[12] = b[kU];
-  r[13] = b[kV];
-  r[14] = b[kW];
+  r[report_column::xdot_b] = b[kU];
+  r[report_column::ydot_b] = b[kV];
+  r[report_column::zdot_b] = b[kW];
   return r;
 }
 
@@ -90,6 +90,17 @@ std::size_t rows_per_step(double dt, const FlightLog& log) {
 
 LogAtRate log_at_rate(const IdentifiedModel& model, const FlightLog& log) {
   return {rows_per_step(model.dt(), log), extra_states_along(log, model.structure())};
+}
+
+// The simulation's state at log row r: the logged state and the extra states along the log.
+SimState sim_state_at(const FlightLog& log, const LogAtRate& lr, std::size_t r) {
+  SimState s;
+  s.world = log.states[r];
+  const auto& [flap_lon, flap_lat, gyro] = lr.extra[r];
+  s.flap_lon = flap_lon;
+  s.flap_lat = flap_lat;
+  s.gyro = gyro;
+  return s;
 }
 
 std::array<double, 4> mean_controls(const FlightLog& log, std::size_t row, std::size_t k) {
@@ -170,11 +181,7 @@ HorizonMse horizon_mse(const IdentifiedModel& model, const FlightLog& test, doub
   std::vector<Errors> per_start(starts.size());
   pool.parallel_for(starts.size(), [&](std::size_t si) {
     const std::size_t r0 = starts[si];
-    SimState s;
-    s.world = test.states[r0];
-    s.flap_lon = lr.extra[r0][0];
-    s.flap_lat = lr.extra[r0][1];
-    s.gyro = lr.extra[r0][2];
+    SimState s = sim_state_at(test, lr, r0);
     Errors& e = per_start[si];
     e.reserve(steps + 1);
     LocalFit fit;
@@ -238,8 +245,9 @@ HorizonMse horizon_mse_as_trained(const IdentifiedModel& model, const FlightLog&
 namespace {
 
 // The EKF's state: the 8 body variables and the 3 extra states (which the body rates drive, and which drive
-// the velocities and rates through the regression).
-constexpr int kEkfStates = kBodyVars + 3;
+// the velocities and rates through the regression), at their places in the regression input.
+static_assert(kFlapLon == kBodyVars && kFlapLat == kBodyVars + 1 && kGyro == kBodyVars + 2);
+constexpr int kEkfStates = kGyro + 1;
 using EkfVec = Eigen::Matrix<double, kEkfStates, 1>;
 using EkfMat = Eigen::Matrix<double, kEkfStates, kEkfStates>;
 
@@ -248,20 +256,20 @@ EkfVec mean_step(const IdentifiedModel& model, const EkfVec& z, const std::array
                  const LocalFit& fit) {
   InputVec x;
   x.head<kBodyVars>() = z.head<kBodyVars>();
-  x[kFlapLon] = z[kBodyVars];
-  x[kFlapLat] = z[kBodyVars + 1];
-  x[kGyro] = z[kBodyVars + 2];
+  x[kFlapLon] = z[kFlapLon];
+  x[kFlapLat] = z[kFlapLat];
+  x[kGyro] = z[kGyro];
   for (int c = 0; c < 4; ++c) x[kA1 + c] = a[static_cast<std::size_t>(c)];
   x[kOne] = 1;
   EkfVec out;
   out.head<kBodyVars>() = z.head<kBodyVars>() + model.mean_change(fit, x);
-  double fl = z[kBodyVars], fr = z[kBodyVars + 1], gy = z[kBodyVars + 2];
+  double fl = z[kFlapLon], fr = z[kFlapLat], gy = z[kGyro];
   const Vec3 w_B = heli::body_rates_from_euler_rates(Euler{z[kRoll], z[kPitch], 0},
                                                      Vec3(z[kRollRate], z[kPitchRate], z[kYawRate]));
   model.structure().extra.advance(model.dt(), w_B, a, &fl, &fr, &gy);
-  out[kBodyVars] = fl;
-  out[kBodyVars + 1] = fr;
-  out[kBodyVars + 2] = gy;
+  out[kFlapLon] = fl;
+  out[kFlapLat] = fr;
+  out[kGyro] = gy;
   return out;
 }
 
@@ -289,11 +297,7 @@ NoiseCheck noise_check(const IdentifiedModel& model, const FlightLog& test, doub
   out.steps_by_horizon.assign(seg, 0);
   BodyVec outside = BodyVec::Zero();
   for (std::size_t r0 = 0; r0 + k < test.rows(); r0 += seg * k) {
-    SimState s;
-    s.world = test.states[r0];
-    s.flap_lon = lr.extra[r0][0];
-    s.flap_lat = lr.extra[r0][1];
-    s.gyro = lr.extra[r0][2];
+    SimState s = sim_state_at(test, lr, r0);
     // Full covariance of the EKF state, propagated P' = J P J' + Q with the model's noise Q diagonal (the
     // outputs' noises are independent, Eqs 5.5-5.6) and J the Jacobian of the mean step. Propagating only the
     // diagonal of P (dropping cross-covariances) would ignore that attitude errors integrate rate errors and
@@ -319,9 +323,9 @@ NoiseCheck noise_check(const IdentifiedModel& model, const FlightLog& test, doub
       const BodyVec var = model.predictive_variance(fit);
       EkfVec z;
       z.head<kBodyVars>() = x.head<kBodyVars>();
-      z[kBodyVars] = s.flap_lon;
-      z[kBodyVars + 1] = s.flap_lat;
-      z[kBodyVars + 2] = s.gyro;
+      z[kFlapLon] = s.flap_lon;
+      z[kFlapLat] = s.flap_lat;
+      z[kGyro] = s.gyro;
       EkfMat jac;
       for (int j = 0; j < kEkfStates; ++j) {
         const double h = 1e-6 * std::max(1.0, std::abs(z[j]));

@@ -104,7 +104,7 @@ std::size_t log_rows_per_model_step(double log_dt, double rate_hz);
 Dataset build_dataset(const FlightLog& log, const ModelStructure& m);
 // The inputs (the constant 1 aside) whose every row equals the first: ModelStructure::constant_inputs.
 std::array<bool, kInputs> constant_inputs(const Dataset& data);
-// The extra states along a full-rate log (one row per log row).
+// The extra states along a full-rate log (one row per log row): flap_lon, flap_lat, gyro.
 std::vector<std::array<double, 3>> extra_states_along(const FlightLog& log, const ModelStructure& m);
 
 }  // namespace pegasus::sysid

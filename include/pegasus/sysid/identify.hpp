@@ -199,7 +199,11 @@ std::vector<ControlGainBias> closed_loop_bias(const Dataset& data,
 // Open-loop simulation on a log (Fig 5.2): from log row `start`, simulate `horizon_steps` model steps with
 // the recorded controls and the model noise off; returns predicted 12 log states + 3 body velocities per step
 // (step 0 = the start state). Stops early (shorter result) when the fit becomes singular.
-inline constexpr int kReportVars = 15;
+inline constexpr int kReportVars = kLogStates + 3;
+// Where the body velocities follow the log states in a ReportState.
+namespace report_column {
+inline constexpr std::size_t xdot_b = kLogStates, ydot_b = kLogStates + 1, zdot_b = kLogStates + 2;
+}  // namespace report_column
 extern const std::array<const char*, kReportVars>
     kReportVarNames;  // the 12 log states, xdot_b, ydot_b, zdot_b
 using ReportState = std::array<double, kReportVars>;
