@@ -23,7 +23,8 @@ namespace pegasus::heli {
 inline constexpr std::array<const char*, 4> kControlNames = {"a1", "a2", "a3", "a4"};
 using Controls = std::array<double, 4>;
 
-// Where each axis of kControlNames lives in Controls: a1 pitch, a2 roll, a3 thrust, a4 yaw.
+// The axes a1..a4 drive, by name (vehicle files name them so), and where each lives in Controls.
+inline constexpr std::array<const char*, 4> kControlAxisNames = {"pitch", "roll", "thrust", "yaw"};
 namespace control_axis {
 inline constexpr std::size_t pitch = 0, roll = 1, thrust = 2, yaw = 3;
 }  // namespace control_axis

@@ -33,8 +33,7 @@ struct TopicFields {
   std::vector<std::string> fields;
 };
 
-// The control axes a1..a4, by name, in column order.
-inline constexpr std::array<const char*, 4> kControlAxisNames = {"pitch", "roll", "thrust", "yaw"};
+using heli::kControlAxisNames;
 
 // One control channel of the aircraft: the axis it drives is a_axis = scale * value + offset, in [-1, 1].
 struct ControlChannel {
