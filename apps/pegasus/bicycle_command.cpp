@@ -18,31 +18,40 @@ namespace {
 
 // ---- Config fields shared by the commands ------------------------------------------------------------
 
+void declare_fall_reward(ConfigSchema& s) {
+  s.add_double("fall_reward", BicycleOptions{}.fall_reward, "reward of falling over (absorbing)").max(0);
+}
+
 void declare_training(ConfigSchema& s) {
-  s.add_int("scenarios", 30, "PEGASUS scenarios m").min(1).max(100000);
-  s.add_double("gamma", 0.998, "discount per 0.01 s step").greater_than(0).max(1);
-  s.add_int("horizon", 500, "training rollout length H (steps of 0.01 s)").min(1).max(1000000);
-  s.add_double("shaping_per_metre", 1.0, "shaping potential per metre of progress towards the goal").min(0);
-  s.add_double("fall_reward", -100.0, "reward of falling over (absorbing)").max(0);
-  s.add_string("variant", "plain", "scenario variant")
-      .choices({"plain", "antithetic", "stratified", "sobol"});
-  s.add_string("initial_policy", "balance",
+  const BicycleTrainingOptions d;
+  s.add_int("scenarios", d.scenarios, "PEGASUS scenarios m").min(1).max(100000);
+  s.add_double("gamma", d.gamma, "discount per 0.01 s step").greater_than(0).max(1);
+  s.add_int("horizon", d.horizon, "training rollout length H (steps of 0.01 s)").min(1).max(1000000);
+  s.add_double("shaping_per_metre", d.shaping_per_metre,
+               "shaping potential per metre of progress towards the goal")
+      .min(0);
+  declare_fall_reward(s);
+  s.add_string("variant", to_string(d.variant), "scenario variant").choices(scenario_variant_names());
+  s.add_string("initial_policy", d.initial_policy,
                "starting weights: a crude hand-set balancing feedback, or all zero")
       .choices({"balance", "zero"});
   // Bounded-step gradient ascent (thesis 4.6) by default; every method for a continuous class.
-  declare_optimizer_options(s, "optimizer", BicycleTrainingOptions::default_optimizer(),
+  declare_optimizer_options(s, "optimizer", d.optimizer,
                             {"gradient", "hill-climb", "bobyqa", "sbplx", "crs2", "esch", "cmaes", "ars"});
 }
 
 void declare_riding(ConfigSchema& s, std::int64_t rides) {
+  const BicycleRideOptions d;
   s.add_int("rides", rides, "rides of each policy, from the initial-state distribution with fresh noise")
       .min(0)
       .max(1000000);
-  s.add_double("max_km", 10.0, "a ride that has not reached the goal stops after this distance")
+  s.add_double("max_km", d.max_km, "a ride that has not reached the goal stops after this distance")
       .greater_than(0)
       .max(1000);
-  s.add_double("goal_km", 1.0, "distance of the goal from the start").greater_than(0).max(100);
-  s.add_double("goal_radius", 10.0, "radius of the goal circle (m)").greater_than(0);
+  s.add_double("goal_km", d.bicycle.goal.x / 1000.0, "distance of the goal from the start")
+      .greater_than(0)
+      .max(100);
+  s.add_double("goal_radius", d.bicycle.goal.radius, "radius of the goal circle (m)").greater_than(0);
 }
 
 BicycleTrainingOptions training_options(const RunContext& ctx) {
@@ -130,9 +139,10 @@ std::vector<Command> bicycle_commands() {
                   "Thesis 4.6: train PEGASUS policies (trials) and ride each to a goal 1 km away (rides)",
               .declare =
                   [](ConfigSchema& s) {
-                    s.add_int("trials", 10, "independent trainings (scenario sets)").min(1).max(100000);
+                    const BicycleExperimentOptions d;
+                    s.add_int("trials", d.trials, "independent trainings (scenario sets)").min(1).max(100000);
                     s.add_int(
-                         "lesson_trials", 2,
+                         "lesson_trials", d.lesson_trials,
                          "scenario sets on which the progress bonus and naive Monte Carlo are also trained")
                         .min(0)
                         .max(100000);
@@ -153,7 +163,7 @@ std::vector<Command> bicycle_commands() {
               .declare =
                   [](ConfigSchema& s) {
                     s.add_string("policy", "", "policy file (JSON with parameter names and values)");
-                    s.add_double("fall_reward", -100.0, "reward of falling over (absorbing)").max(0);
+                    declare_fall_reward(s);
                     declare_riding(s, 50);
                   },
               .run = run_ride},

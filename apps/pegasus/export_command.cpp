@@ -25,7 +25,8 @@ Command export_command() {
                 "policy", "",
                 "policy file: policy.json of heli hover, heli maneuver, bicycle train or pendulum train");
             s.add_string("lang", "c", "language of the generated code").choices({"c"});
-            s.add_string("prefix", "pegasus_policy", "file name and symbol prefix of the generated code");
+            s.add_string("prefix", codegen::CPolicyOptions{}.prefix,
+                         "file name and symbol prefix of the generated code");
             s.add_string(
                 "vehicle", "",
                 "helicopter classes: a vehicle file; adds PREFIX_act_vehicle, the controller in that "

@@ -48,17 +48,20 @@ using namespace pegasus::sysid;
 // ------------------------------------------------------------------ heli pilot
 
 void declare_pilot(ConfigSchema& s) {
+  const PilotRunOptions d;
   declare_vehicle(s);
-  s.add_double("seconds", 339, "flight length, s (the thesis used 339 s to train, 140 s to test)")
+  s.add_double("seconds", d.seconds, "flight length, s (the thesis used 339 s to train, 140 s to test)")
       .range(1, 36000);
-  s.add_double("hover_seconds", 10, "plain hover before the sweeps, s").range(0, 36000);
-  s.add_bool("sweeps", true, "fly a frequency sweep (0.1 to 3 Hz) in each channel in turn after the hover");
-  s.add_double("sweep_scale", 1,
+  s.add_double("hover_seconds", d.hover_seconds, "plain hover before the sweeps, s").range(0, 36000);
+  s.add_bool("sweeps", d.sweeps,
+             "fly a frequency sweep (0.1 to 3 Hz) in each channel in turn after the hover");
+  s.add_double("sweep_scale", d.sweep_scale,
                "multiplies the vehicle pilot's sweep amplitudes (larger sweeps excite the aircraft more than "
                "the pilot's own corrections do, which lessens closed-loop bias)")
       .range(0, 5);
   s.add_double("gust_sigma", 0.5, "turbulence standard deviation per axis, m/s").range(0, 10);
-  s.add_bool("estimate_noise", true, "add Kalman-filter-like state-estimate errors to the log");
+  s.add_bool("estimate_noise", d.settings.estimate_noise,
+             "add Kalman-filter-like state-estimate errors to the log");
 }
 
 void run_pilot(RunContext& ctx) {
@@ -80,9 +83,11 @@ void run_pilot(RunContext& ctx) {
 void declare_hover(ConfigSchema& s) {
   declare_vehicle(s);
   s.add_string("model", "", "identified model (model.json of pegasus heli identify)");
-  s.add_int("scenarios", 30, "PEGASUS scenarios m (thesis 5.3: 30)").range(1, 100000);
-  s.add_double("seconds", 35, "flight per scenario, s (thesis 5.3: 35)").greater_than(0).max(3600);
   const heli::HoverTrainingOptions defaults;
+  s.add_int("scenarios", defaults.scenarios, "PEGASUS scenarios m (thesis 5.3: 30)").range(1, 100000);
+  s.add_double("seconds", defaults.seconds, "flight per scenario, s (thesis 5.3: 35)")
+      .greater_than(0)
+      .max(3600);
   s.add_double(
        "control_rate_hz", defaults.control_rate_hz,
        "the controller's rate, Hz: the learned model steps at it and the policy is trained for it (thesis "
@@ -90,7 +95,7 @@ void declare_hover(ConfigSchema& s) {
       .greater_than(0)
       .max(1000);
   s.add_string(
-       "starting_gains", "constant",
+       "starting_gains", defaults.lqr_start ? "lqr" : "constant",
        "the policy's starting gains: the X-Cell's constants, or LQR on the identified model at the hover "
        "with the reward's weights (for an aircraft with other control signs or strengths; kept only "
        "when the hover class's share of them holds the linear model)")
@@ -119,17 +124,20 @@ void declare_hover(ConfigSchema& s) {
        "learned model: steps between local-regression refits; 0: at the model's own rate (thesis 5.2.2: 5 "
        "steps at 50 Hz from a 10 Hz model)")
       .range(0, 1000);
-  s.add_double("start_pos_sigma", 1.0, "start position perturbation per axis, m").range(0, 100);
-  s.add_double("start_vel_sigma", 0.3, "start velocity perturbation per axis, m/s").range(0, 100);
+  s.add_double("start_pos_sigma", defaults.start_pos_sigma, "start position perturbation per axis, m")
+      .range(0, 100);
+  s.add_double("start_vel_sigma", defaults.start_vel_sigma, "start velocity perturbation per axis, m/s")
+      .range(0, 100);
   s.add_double("max_tilt_rad", defaults.max_tilt_rad,
                "the envelope: |roll| or |pitch| beyond this crashes the learned model, rad")
       .greater_than(0)
       .max(1.5);
-  s.add_double("max_start_crash_fraction", heli::HoverTrainingOptions{}.max_start_crash_fraction,
+  s.add_double("max_start_crash_fraction", defaults.max_start_crash_fraction,
                "stop before training when the starting policy crashes the learned model in more than this "
                "fraction of the scenarios (1: never stop)")
       .range(0, 1);
-  s.add_double_list("target", {0, 0, -10, 0}, "set point x, y, z (m, NED: z < 0 is up) and yaw (rad)")
+  s.add_double_list("target", {defaults.target.x, defaults.target.y, defaults.target.z, defaults.target.yaw},
+                    "set point x, y, z (m, NED: z < 0 is up) and yaw (rad)")
       .validate([](const FieldValue& v) {
         return std::get<std::vector<double>>(v).size() == 4 ? std::string()
                                                             : std::string("4 numbers: x, y, z, yaw");
@@ -164,13 +172,13 @@ void declare_hover(ConfigSchema& s) {
                "typical roll, pitch and yaw rate: alpha = 1 / this^2; 0: no rate term (as Eq 5.9)")
       .min(0)
       .validate(zero_or_typical);
-  s.add_string("reward.action_centre", "trim",
+  s.add_string("reward.action_centre", defaults.centre_at_trim ? "trim" : "zero",
                "controls the action cost is taken about: the logs' mean (trim) or 0 (Eq 5.10 as printed)")
       .choices({"trim", "zero"});
   // Gradient ascent by default (thesis 5.3), then hill climbing from its result (then_hill_climb).
-  declare_optimizer_options(s, "optimizer", heli::HoverTrainingOptions::default_optimizer(),
+  declare_optimizer_options(s, "optimizer", defaults.optimizer,
                             {"gradient", "hill-climb", "bobyqa", "sbplx", "crs2", "esch", "cmaes", "ars"});
-  s.add_bool("then_hill_climb", heli::HoverTrainingOptions{}.then_hill_climb,
+  s.add_bool("then_hill_climb", defaults.then_hill_climb,
              "after gradient ascent, random-walk hill climbing (optimizer.hill_climbing) from its result");
 }
 
@@ -226,12 +234,15 @@ void run_hover(RunContext& ctx) {
 // ------------------------------------------------------------------ heli fly
 
 void declare_fly(ConfigSchema& s) {
+  const FlyRunOptions d;
+  const HoverTrainingOptions hover;  // by default, flights start as perturbed as hover training's scenarios
   declare_vehicle(s);
   s.add_string("policy", "", "policy file (policy.json of pegasus heli hover or heli maneuver)");
-  s.add_bool("pilot", false, "fly the scripted pilot's hover instead of a policy");
-  s.add_bool("compare_pilot", false, "also fly the scripted pilot's hover from the same starts and gusts");
-  s.add_int("flights", 100, "flights from perturbed starts").range(1, 1000000);
-  s.add_double("seconds", 60, "flight length, s").greater_than(0).max(36000);
+  s.add_bool("pilot", d.pilot_only, "fly the scripted pilot's hover instead of a policy");
+  s.add_bool("compare_pilot", d.compare_pilot,
+             "also fly the scripted pilot's hover from the same starts and gusts");
+  s.add_int("flights", d.flights.flights, "flights from perturbed starts").range(1, 1000000);
+  s.add_double("seconds", d.flights.seconds, "flight length, s").greater_than(0).max(36000);
   s.add_double("gust_sigma", 0.5, "turbulence standard deviation per axis, m/s").range(0, 10);
   s.add_double_list("wind", {0, 0, 0}, "steady wind north, east, down (m/s, W), under the gusts")
       .validate([](const FieldValue& v) {
@@ -241,10 +252,14 @@ void declare_fly(ConfigSchema& s) {
           if (!(std::abs(x) <= 30)) return std::string("3 numbers in [-30, 30] m/s");
         return std::string();
       });
-  s.add_bool("estimate_noise", true, "the controller sees Kalman-filter-like state-estimate errors");
-  s.add_double("start_pos_sigma", 1.0, "start position perturbation per axis, m").range(0, 100);
-  s.add_double("start_vel_sigma", 0.3, "start velocity perturbation per axis, m/s").range(0, 100);
-  s.add_int("trace_flights", 10, "flights written step by step to flights.csv (the first ones)")
+  s.add_bool("estimate_noise", d.settings.estimate_noise,
+             "the controller sees Kalman-filter-like state-estimate errors");
+  s.add_double("start_pos_sigma", hover.start_pos_sigma, "start position perturbation per axis, m")
+      .range(0, 100);
+  s.add_double("start_vel_sigma", hover.start_vel_sigma, "start velocity perturbation per axis, m/s")
+      .range(0, 100);
+  s.add_int("trace_flights", d.flights.trace_flights,
+            "flights written step by step to flights.csv (the first ones)")
       .range(0, 1000000);
 }
 

@@ -55,39 +55,46 @@ BandwidthFloor read_bandwidth_floor(const ConfigSchema& c) {
 }
 
 void declare_identify(ConfigSchema& s) {
+  const IdentifyRunOptions d;
+  const IdentifyOptions& id = d.identify;
   declare_vehicle(s);
   s.add_string("train", "", "training flight log (CSV in the vehicle's layout, see README)");
   s.add_string("test", "", "hold-out flight log (CSV)");
-  s.add_double("rate_hz", 10, "identification rate, Hz (the log is downsampled)").range(1, 50);
-  s.add_bool("local", true, "locally weighted regression (false: globally linear)");
-  s.add_bool("extra_states", true, "use the flapping and yaw-gyro states of the published model");
-  s.add_bool("intercept", true, "regress on a constant");
-  s.add_bool("templates", true, "fix kinematic and gravity coefficients (thesis 5.2.2)");
-  s.add_double("window_s", 16, "cross-validation leaves out this window around each held-out point, s")
+  s.add_double("rate_hz", id.structure.rate_hz, "identification rate, Hz (the log is downsampled)")
+      .range(1, 50);
+  s.add_bool("local", id.local, "locally weighted regression (false: globally linear)");
+  s.add_bool("extra_states", id.structure.extra_states,
+             "use the flapping and yaw-gyro states of the published model");
+  s.add_bool("intercept", id.structure.intercept, "regress on a constant");
+  s.add_bool("templates", id.structure.templates, "fix kinematic and gravity coefficients (thesis 5.2.2)");
+  s.add_double("window_s", id.window_s,
+               "cross-validation leaves out this window around each held-out point, s")
       .range(0, 1000);
-  s.add_int("cv_points", 300, "held-out points per cross-validation evaluation").range(10, 100000);
-  s.add_double_list("scale_grid", {0.5, 1, 2, 4, 8}, "bandwidths tried, in input standard deviations")
+  s.add_int("cv_points", id.cv_points, "held-out points per cross-validation evaluation").range(10, 100000);
+  s.add_double_list("scale_grid", id.scale_grid, "bandwidths tried, in input standard deviations")
       .min(1e-6)
       .min_size(1);
-  s.add_int("coordinate_passes", 1, "passes of per-input bandwidth refinement").range(0, 10);
+  s.add_int("coordinate_passes", id.coordinate_passes, "passes of per-input bandwidth refinement")
+      .range(0, 10);
   declare_bandwidth_floor(s);
   s.add_string(
-       "noise", "white",
+       "noise", to_string(id.noise),
        "the model's noise: white per model step (Eqs 5.5-5.6) or ar1 (each output's noise a white part "
        "plus a first-order autoregressive part fitted to the residuals' autocorrelation up to 2 s) or "
        "ar1+measurement (ar1 plus an error of the logged states themselves, which the model does not fly)")
       .choices({"white", "ar1", "ar1+measurement"});
   s.add_bool(
-      "calibrate_noise", IdentifyOptions{}.calibrate_noise,
+      "calibrate_noise", id.calibrate_noise,
       "widen each output's noise until the training log's own noise check has 4.55% of its steps outside "
       "+-2 sd (never narrow it)");
-  s.add_double("horizon_s", 10, "longest prediction horizon of the report, s").range(0.1, 100);
-  s.add_double("start_spacing_s", 2, "spacing of the open-loop prediction starts on the test log, s")
+  s.add_double("horizon_s", d.horizon_s, "longest prediction horizon of the report, s").range(0.1, 100);
+  s.add_double("start_spacing_s", d.start_spacing_s,
+               "spacing of the open-loop prediction starts on the test log, s")
       .range(0.02, 1000);
-  s.add_double("reset_s", 2, "the noise check's EKF is reset to the true state this often, s")
+  s.add_double("reset_s", d.reset_s, "the noise check's EKF is reset to the true state this often, s")
       .range(0.1, 100);
-  s.add_bool("variants", true, "also report the model-selection variants of Fig 5.2");
-  s.add_double("control_rate_hz", heli::HoverTrainingOptions{}.control_rate_hz,
+  s.add_bool("variants", d.variants, "also report the model-selection variants of Fig 5.2");
+  s.add_double("control_rate_hz", d.control_rate_hz,
                "the rate hover training will step the model at (heli hover --control-rate-hz): the chosen "
                "model's errors are also reported as training runs it")
       .greater_than(0)

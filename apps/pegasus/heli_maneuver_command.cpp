@@ -1,5 +1,8 @@
 // `pegasus heli maneuver` and `heli maneuver-pilot` (and `maneuver`, `maneuver-pilot` with --vehicle): their
 // options, mapped onto the library's manoeuvre experiments (runs/maneuver_runs.hpp, thesis §5.4).
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
 #include <string>
 #include <string_view>
 #include <vector>
@@ -21,10 +24,11 @@ std::vector<std::string> maneuver_choices() {
 
 // Where the manoeuvres start and what size the figure-eight is (both commands).
 void declare_size(ConfigSchema& s) {
-  s.add_double("altitude_m", -ManeuverSize{}.start_W.z(), "height of the start hover above the ground, m")
+  const ManeuverSize d;
+  s.add_double("altitude_m", -d.start_W.z(), "height of the start hover above the ground, m")
       .greater_than(0)
       .max(1000);
-  s.add_double("figure_eight_radius", ManeuverSize{}.figure_eight_radius, "figure8: radius of each circle, m")
+  s.add_double("figure_eight_radius", d.figure_eight_radius, "figure8: radius of each circle, m")
       .range(0.1, 100);
 }
 
@@ -33,9 +37,27 @@ void read_size(const ConfigSchema& c, ManeuverSize& size) {
   size.figure_eight_radius = c.get_double("figure_eight_radius");
 }
 
+// The set point's speed and acceleration limits (both commands).
+void declare_limits(ConfigSchema& s) {
+  const TrajectoryLimits d;
+  s.add_double("speed", d.speed, "set-point speed limit along the path, m/s").range(0.1, 20);
+  s.add_double("accel", d.accel, "set-point acceleration limit, m/s^2").range(0.1, 20);
+  s.add_double("yaw_rate", d.yaw_rate, "pirouette rate limit, rad/s").range(0.1, 10);
+  s.add_double("yaw_accel", d.yaw_accel, "pirouette acceleration limit, rad/s^2").range(0.1, 20);
+}
+
+TrajectoryLimits read_limits(const ConfigSchema& c) {
+  return {.speed = c.get_double("speed"),
+          .accel = c.get_double("accel"),
+          .yaw_rate = c.get_double("yaw_rate"),
+          .yaw_accel = c.get_double("yaw_accel")};
+}
+
 void declare(ConfigSchema& s) {
+  const ManeuverRunOptions run;
+  const ManeuverTrainingOptions& d = run.training;
   declare_vehicle(s);
-  s.add_string("name", "III.1", "manoeuvre: AMA Class III (thesis 5.4) or a figure-eight (figure8)")
+  s.add_string("name", d.name, "manoeuvre: AMA Class III (thesis 5.4) or a figure-eight (figure8)")
       .choices(maneuver_choices());
   declare_size(s);
   s.add_string("model", "", "identified model file (model.json of `pegasus heli identify`)");
@@ -43,45 +65,53 @@ void declare(ConfigSchema& s) {
       "hover_policy", "",
       "optional: a trained hover policy file to start from (else the model's trim and default gains)");
   // Trajectory
-  s.add_double("speed", 2.5, "set-point speed limit along the path, m/s").range(0.1, 20);
-  s.add_double("accel", 1.0, "set-point acceleration limit, m/s^2").range(0.1, 20);
-  s.add_double("yaw_rate", 1.0, "pirouette rate limit, rad/s").range(0.1, 10);
-  s.add_double("yaw_accel", 1.0, "pirouette acceleration limit, rad/s^2").range(0.1, 20);
-  s.add_double("triangle_base", 20, "III.1: base of the triangle, m (apex at half of it above)")
+  declare_limits(s);
+  s.add_double("triangle_base", d.size.triangle_base,
+               "III.1: base of the triangle, m (apex at half of it above)")
       .range(1, 200);
-  s.add_double("circle_radius", 10, "III.2: radius of the circle, m").range(1, 100);
-  s.add_double("pause_s", 2, "III.2: pause on the circle before circling, s").range(0, 60);
-  s.add_double("rectangle_width", 20, "III.3: width of the rectangle, m").range(1, 200);
-  s.add_double("rectangle_height", 10, "III.3: height of the rectangle, m").range(1, 100);
-  s.add_double("hold_end_s", 3, "hover after the last leg, s").range(0, 60);
+  s.add_double("circle_radius", d.size.circle_radius, "III.2: radius of the circle, m").range(1, 100);
+  s.add_double("pause_s", d.size.pause_s, "III.2: pause on the circle before circling, s").range(0, 60);
+  s.add_double("rectangle_width", d.size.rectangle_width, "III.3: width of the rectangle, m").range(1, 200);
+  s.add_double("rectangle_height", d.size.rectangle_height, "III.3: height of the rectangle, m")
+      .range(1, 100);
+  s.add_double("hold_end_s", d.size.hold_end_s, "hover after the last leg, s").range(0, 60);
   // Training
-  s.add_int("scenarios", 30, "PEGASUS scenarios m").range(1, 100000);
-  s.add_double("gamma", 0.9995, "discount per 50 Hz step").greater_than(0).max(1);
-  s.add_int("refit_every", 5, "learned model: 50 Hz steps between local-regression refits").range(1, 1000);
-  s.add_double("start_pos_sigma", 0.5, "start position perturbation per axis, m").range(0, 10);
-  s.add_double("start_vel_sigma", 0.2, "start velocity perturbation per axis, m/s").range(0, 10);
-  s.add_double("reward.alpha_pos", 4, "per m^2 of distance to the path's projection").min(0);
-  s.add_double("reward.alpha_yaw", 4, "per rad^2 of yaw error to the projection").min(0);
-  s.add_double("reward.alpha_vel", 1, "per (m/s)^2 of velocity minus the path's velocity at the projection")
+  s.add_int("scenarios", d.scenarios, "PEGASUS scenarios m").range(1, 100000);
+  s.add_double("gamma", d.gamma, "discount per 50 Hz step").greater_than(0).max(1);
+  s.add_int("refit_every", d.refit_every, "learned model: 50 Hz steps between local-regression refits")
+      .range(1, 1000);
+  s.add_double("start_pos_sigma", d.start_pos_sigma, "start position perturbation per axis, m").range(0, 10);
+  s.add_double("start_vel_sigma", d.start_vel_sigma, "start velocity perturbation per axis, m/s")
+      .range(0, 10);
+  s.add_double("reward.alpha_pos", d.reward.alpha_pos, "per m^2 of distance to the path's projection").min(0);
+  s.add_double("reward.alpha_yaw", d.reward.alpha_yaw, "per rad^2 of yaw error to the projection").min(0);
+  s.add_double("reward.alpha_vel", d.reward.alpha_vel,
+               "per (m/s)^2 of velocity minus the path's velocity at the projection")
       .min(0);
-  s.add_double("reward.alpha_action", 4, "per unit^2 of each control about the trim").min(0);
-  s.add_bool("shaping", true, "potential-based shaping reward growing along the path");
-  s.add_double("shaping_per_metre", 5, "shaping potential per m of progress along the path").min(0);
-  s.add_bool("learn_delay", true,
+  s.add_double("reward.alpha_action", d.reward.alpha_action[0], "per unit^2 of each control about the trim")
+      .min(0);
+  s.add_bool("shaping", d.shaping, "potential-based shaping reward growing along the path");
+  s.add_double("shaping_per_metre", d.shaping_per_metre, "shaping potential per m of progress along the path")
+      .min(0);
+  s.add_bool("learn_delay", d.policy.learn_delay,
              "learn the delay t of the vertical set point in angled climbs and descents");
-  s.add_bool("feedforward", true,
+  s.add_bool("feedforward", d.policy.feedforward,
              "the hover networks see the velocity relative to the set point's (learned gain)");
-  declare_optimizer_options(s, "optimizer", heli::ManeuverTrainingOptions::default_optimizer(),
+  declare_optimizer_options(s, "optimizer", d.optimizer,
                             {"gradient", "hill-climb", "bobyqa", "sbplx", "crs2", "esch", "cmaes", "ars"});
-  s.add_bool("ablations", true,
+  s.add_bool("ablations", run.ablations,
              "also train without the learned delay and without shaping (same budget) and fly them");
   // Flights on the ground truth
-  s.add_int("flights", 20, "flights on the ground-truth aircraft per policy").range(1, 100000);
-  s.add_double("gust_sigma", 0.5, "turbulence per axis on the ground truth, m/s").range(0, 10);
-  s.add_double("flight_start_sigma", 0.5, "start position perturbation of the flights, m").range(0, 10);
-  s.add_int("trace_flights", 20, "flights written to flights.csv").range(0, 100000);
+  s.add_int("flights", run.flights.flights, "flights on the ground-truth aircraft per policy")
+      .range(1, 100000);
+  s.add_double("gust_sigma", run.flights.gust_sigma, "turbulence per axis on the ground truth, m/s")
+      .range(0, 10);
+  s.add_double("flight_start_sigma", run.flights.start_pos_sigma,
+               "start position perturbation of the flights, m")
+      .range(0, 10);
+  s.add_int("trace_flights", run.trace_flights, "flights written to flights.csv").range(0, 100000);
   s.add_bool(
-      "compare_pilot", false,
+      "compare_pilot", run.compare_pilot,
       "also fly the vehicle's scripted pilot along the same set points, from the same starts and gusts");
 }
 
@@ -89,10 +119,7 @@ ManeuverTrainingOptions training_options(const RunContext& ctx) {
   const auto& c = ctx.config;
   ManeuverTrainingOptions o;
   o.name = c.get_string("name");
-  o.limits = {.speed = c.get_double("speed"),
-              .accel = c.get_double("accel"),
-              .yaw_rate = c.get_double("yaw_rate"),
-              .yaw_accel = c.get_double("yaw_accel")};
+  o.limits = read_limits(c);
   o.size.triangle_base = c.get_double("triangle_base");
   o.size.circle_radius = c.get_double("circle_radius");
   o.size.pause_s = c.get_double("pause_s");
@@ -137,22 +164,21 @@ void run(RunContext& ctx) {
 // ---- heli maneuver-pilot: identification data covering the manoeuvres
 
 void declare_pilot(ConfigSchema& s) {
+  const ManeuverPilotRunOptions p;
   declare_vehicle(s);
-  s.add_string("maneuvers", "III.1,III.2,III.3",
+  s.add_string("maneuvers", fmt::format("{}", fmt::join(p.maneuvers, ",")),
                "the manoeuvres flown after the sweeps, comma-separated (III.1, III.2, III.3, figure8)");
   declare_size(s);
-  s.add_double("seconds", 339, "hover and sweeps before the manoeuvres, s (as heli pilot)").range(1, 36000);
-  s.add_double("hover_seconds", 10, "plain hover before the sweeps, s").range(0, 36000);
-  s.add_double("sweep_scale", 1,
+  s.add_double("seconds", p.seconds, "hover and sweeps before the manoeuvres, s (as heli pilot)")
+      .range(1, 36000);
+  s.add_double("hover_seconds", p.hover_seconds, "plain hover before the sweeps, s").range(0, 36000);
+  s.add_double("sweep_scale", p.sweep_scale,
                "multiplies the vehicle pilot's sweep amplitudes (larger sweeps excite the aircraft more than "
                "the pilot's own corrections do, which lessens closed-loop bias)")
       .range(0, 5);
-  s.add_int("repeats", 2, "times the three manoeuvres are flown, one after another").range(1, 100);
-  s.add_double("speed", 2.5, "set-point speed limit along the path, m/s").range(0.1, 20);
-  s.add_double("accel", 1.0, "set-point acceleration limit, m/s^2").range(0.1, 20);
-  s.add_double("yaw_rate", 1.0, "pirouette rate limit, rad/s").range(0.1, 10);
-  s.add_double("yaw_accel", 1.0, "pirouette acceleration limit, rad/s^2").range(0.1, 20);
-  s.add_double("gust_sigma", 0.5, "turbulence standard deviation per axis, m/s").range(0, 10);
+  s.add_int("repeats", p.repeats, "times the three manoeuvres are flown, one after another").range(1, 100);
+  declare_limits(s);
+  s.add_double("gust_sigma", p.gust_sigma, "turbulence standard deviation per axis, m/s").range(0, 10);
 }
 
 void run_pilot(RunContext& ctx) {
@@ -164,10 +190,7 @@ void run_pilot(RunContext& ctx) {
     rest = comma == std::string_view::npos ? std::string_view() : rest.substr(comma + 1);
   }
   read_size(c, o.size);
-  o.limits = {.speed = c.get_double("speed"),
-              .accel = c.get_double("accel"),
-              .yaw_rate = c.get_double("yaw_rate"),
-              .yaw_accel = c.get_double("yaw_accel")};
+  o.limits = read_limits(c);
   o.seconds = c.get_double("seconds");
   o.hover_seconds = c.get_double("hover_seconds");
   o.sweep_scale = c.get_double("sweep_scale");

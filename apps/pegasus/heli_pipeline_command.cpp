@@ -54,34 +54,44 @@ class WorkingDirectory {
 }  // namespace
 
 void declare_pipeline(ConfigSchema& s) {
+  const sysid::IdentifyOptions identify_defaults;
+  const heli::HoverTrainingOptions hover_defaults;
+  const heli::FlightOptions flight_defaults;
   declare_vehicle(s);
-  s.add_double("train_seconds", 339, "pilot training flight, s (thesis 5.2: 339)").range(30, 36000);
+  s.add_double("train_seconds", heli::PilotRunOptions{}.seconds, "pilot training flight, s (thesis 5.2: 339)")
+      .range(30, 36000);
   s.add_double("test_seconds", 140, "pilot hold-out flight, s (thesis 5.2: 140)").range(20, 36000);
-  s.add_int("cv_points", 300, "identification: held-out points per cross-validation evaluation")
+  s.add_int("cv_points", identify_defaults.cv_points,
+            "identification: held-out points per cross-validation evaluation")
       .range(10, 100000);
-  s.add_double_list("scale_grid", {0.5, 1, 2, 4, 8},
+  s.add_double_list("scale_grid", identify_defaults.scale_grid,
                     "identification: bandwidths tried, in input standard deviations")
       .min(1e-6)
       .min_size(1);
-  s.add_int("coordinate_passes", 1, "identification: passes of per-input bandwidth refinement").range(0, 10);
-  s.add_int("scenarios", 30, "hover training: PEGASUS scenarios").range(1, 100000);
-  s.add_double("scenario_seconds", 35, "hover training: flight per scenario, s").greater_than(0).max(3600);
-  s.add_int("gradient_iterations", heli::HoverTrainingOptions::default_optimizer().gradient.max_iterations,
+  s.add_int("coordinate_passes", identify_defaults.coordinate_passes,
+            "identification: passes of per-input bandwidth refinement")
+      .range(0, 10);
+  s.add_int("scenarios", hover_defaults.scenarios, "hover training: PEGASUS scenarios").range(1, 100000);
+  s.add_double("scenario_seconds", hover_defaults.seconds, "hover training: flight per scenario, s")
+      .greater_than(0)
+      .max(3600);
+  s.add_int("gradient_iterations", hover_defaults.optimizer.gradient.max_iterations,
             "hover training: gradient ascent iterations")
       .range(0, 1000000);
-  s.add_int("hill_climbing_iterations",
-            heli::HoverTrainingOptions::default_optimizer().hill_climbing.max_iterations,
+  s.add_int("hill_climbing_iterations", hover_defaults.optimizer.hill_climbing.max_iterations,
             "hover training: hill-climbing iterations")
       .range(0, 1000000);
-  const heli::HoverTrainingOptions hover_defaults;
   s.add_double("start_pos_sigma", hover_defaults.start_pos_sigma,
                "hover training and flights: start position perturbation per axis, m")
       .range(0, 100);
   s.add_double("start_vel_sigma", hover_defaults.start_vel_sigma,
                "hover training and flights: start velocity perturbation per axis, m/s")
       .range(0, 100);
-  s.add_int("flights", 100, "flights on the ground truth (policy and pilot)").range(1, 1000000);
-  s.add_double("flight_seconds", 60, "flight length on the ground truth, s").greater_than(0).max(36000);
+  s.add_int("flights", flight_defaults.flights, "flights on the ground truth (policy and pilot)")
+      .range(1, 1000000);
+  s.add_double("flight_seconds", flight_defaults.seconds, "flight length on the ground truth, s")
+      .greater_than(0)
+      .max(36000);
 }
 
 void run_pipeline(RunContext& ctx) {

@@ -18,7 +18,8 @@ void declare_import(ConfigSchema& s) {
   s.add_string("truncated_tail", "discard",
                "a last message cut off by the end of the file: discard it (the ULog spec's rule) or error")
       .choices({"discard", "error"});
-  s.add_bool("identify", true, "identify a model on the first part and report hold-out prediction errors");
+  s.add_bool("identify", LogImportRunOptions{}.identify,
+             "identify a model on the first part and report hold-out prediction errors");
   s.add_double("train_fraction", LogImportRunOptions{}.train_fraction,
                "the first part of the log used for identification")
       .range(0.1, 0.95);

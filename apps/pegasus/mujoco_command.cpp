@@ -9,23 +9,30 @@ namespace pegasus::cli {
 namespace {
 
 void declare_train(ConfigSchema& s) {
+  const MujocoTrainingRunOptions d;
   s.add_string("model", "", "MJCF model file");
   s.add_string("task", "", "task file (TOML) naming the model's joints, bodies, sites, sensors, actuators");
-  s.add_string("policy", "linear", "policy class").choices({"linear", "mlp"});
-  s.add_int_list("hidden", {16}, "hidden layer widths of the mlp policy").min(1).max(4096).min_size(1);
+  s.add_string("policy", d.policy_class, "policy class").choices({"linear", "mlp"});
+  s.add_int_list("hidden", std::vector<std::int64_t>(d.hidden.begin(), d.hidden.end()),
+                 "hidden layer widths of the mlp policy")
+      .min(1)
+      .max(4096)
+      .min_size(1);
   s.add_string("phase_observation", "",
                "make the policy phased: two policies of the class, switched by this raw observation number "
                "(KIND.NAME or KIND.NAME[k] as the task's [observation] names it, e.g. sensors.foot_touch)");
-  s.add_double("phase_above", 0.0, "the phased policy's second half acts while that number exceeds this");
-  s.add_bool("normalize", true, "normalise observations by running statistics frozen per iteration (ARS V2)");
-  declare_optimizer_options(s, "optimizer", mujoco_default_optimizer());
-  s.add_int("scenarios", 8, "PEGASUS scenarios m per evaluation of U-hat").min(1).max(1000000);
-  s.add_string("variant", "plain", "scenario variant")
-      .choices({"plain", "antithetic", "stratified", "sobol"});
-  s.add_int("evaluation_episodes", 100, "held-out scenarios for the final return and success rate")
+  s.add_double("phase_above", d.phase_above,
+               "the phased policy's second half acts while that number exceeds this");
+  s.add_bool("normalize", d.normalize,
+             "normalise observations by running statistics frozen per iteration (ARS V2)");
+  declare_optimizer_options(s, "optimizer", d.optimizer);
+  s.add_int("scenarios", d.scenarios, "PEGASUS scenarios m per evaluation of U-hat").min(1).max(1000000);
+  s.add_string("variant", to_string(d.variant), "scenario variant").choices(scenario_variant_names());
+  s.add_int("evaluation_episodes", d.evaluation_episodes,
+            "held-out scenarios for the final return and success rate")
       .min(1)
       .max(1000000);
-  s.add_int("checkpoint_every", 10, "iterations between checkpoints").min(1).max(1000000);
+  s.add_int("checkpoint_every", d.checkpoint_every, "iterations between checkpoints").min(1).max(1000000);
   s.add_string("initial_policy", "",
                "start from this policy.json's theta instead of the class's initial values (same policy class "
                "and hidden widths, normalize = false): to continue a search on a longer horizon or another "
@@ -60,7 +67,10 @@ void run_train(RunContext& ctx) {
 
 void declare_rollout(ConfigSchema& s) {
   s.add_string("policy", "", "policy.json written by `pegasus mujoco train`");
-  s.add_int("episodes", 10, "scenarios rolled out (the first is recorded step by step)").min(1).max(1000000);
+  s.add_int("episodes", MujocoRolloutRunOptions{}.episodes,
+            "scenarios rolled out (the first is recorded step by step)")
+      .min(1)
+      .max(1000000);
 }
 
 void run_rollout(RunContext& ctx) {

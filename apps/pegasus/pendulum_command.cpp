@@ -7,21 +7,23 @@ namespace pegasus::cli {
 namespace {
 
 void declare_training(ConfigSchema& s) {
-  s.add_int("scenarios", 32, "PEGASUS scenarios m (training start states)").min(1).max(1000000);
-  s.add_string("variant", "stratified", "scenario variant (both stages)")
-      .choices({"plain", "antithetic", "stratified", "sobol"});
+  const PendulumTrainingOptions d;
+  s.add_int("scenarios", d.scenarios, "PEGASUS scenarios m (training start states)").min(1).max(1000000);
+  s.add_string("variant", to_string(d.variant), "scenario variant (both stages)")
+      .choices(scenario_variant_names());
   // The race (thesis 4.6's hill climbing on the five numbers), then the refinement of all seven on more
   // scenarios; each stage takes every method.
-  declare_optimizer_options(s, "optimizer", PendulumTrainingOptions::default_optimizer());
-  s.add_int("refine_scenarios", PendulumTrainingOptions{}.refine_scenarios,
+  declare_optimizer_options(s, "optimizer", d.optimizer);
+  s.add_int("refine_scenarios", d.refine_scenarios,
             "scenarios of the refinement of all seven numbers (0: no refinement)")
       .min(0)
       .max(1000000);
-  declare_optimizer_options(s, "refine", PendulumTrainingOptions::default_refine_optimizer());
-  s.add_int("evaluation_episodes", 100, "fresh starts for the bar and the final mean return")
+  declare_optimizer_options(s, "refine", d.refine_optimizer);
+  s.add_int("evaluation_episodes", d.evaluation_episodes,
+            "fresh starts for the bar and the final mean return")
       .min(1)
       .max(1000000);
-  s.add_double("bar", -200.0, "mean return over the evaluation episodes that counts as solved").max(0);
+  s.add_double("bar", d.bar, "mean return over the evaluation episodes that counts as solved").max(0);
 }
 
 PendulumTrainingOptions training_options(const RunContext& ctx) {

@@ -6,20 +6,23 @@ namespace pegasus::cli {
 namespace {
 
 void declare(ConfigSchema& s) {
-  s.add_int_list("scenarios", {1, 2, 4, 8, 16, 32, 64}, "the numbers of scenarios m to try")
+  const PomdpGridworldOptions d;
+  s.add_int_list("scenarios", std::vector<std::int64_t>(d.scenarios.begin(), d.scenarios.end()),
+                 "the numbers of scenarios m to try")
       .min(1)
       .max(100000)
       .min_size(1);
-  s.add_int("trials", 200, "independent scenario sets per m (the thesis averaged 10000)").min(1).max(1000000);
-  s.add_int("montecarlo_max_m", 16, "naive Monte Carlo runs only for m up to this (0: never)")
+  s.add_int("trials", d.trials, "independent scenario sets per m (the thesis averaged 10000)")
+      .min(1)
+      .max(1000000);
+  s.add_int("montecarlo_max_m", d.montecarlo_max_m, "naive Monte Carlo runs only for m up to this (0: never)")
       .min(0)
       .max(100000);
-  s.add_double("gamma", 0.99, "discount factor").range(0.0, 1.0);
-  s.add_int("horizon", 100, "steps per rollout H").min(1).max(3000);
-  s.add_bool("hashed", true, "also run PEGASUS on the hashed model g'(s,a,p) = g(s,a,h_sa(p))");
-  s.add_bool("montecarlo", true, "also run naive Monte Carlo with fresh randomness per evaluation");
-  s.add_string("variant", "plain", "scenario variant")
-      .choices({"plain", "antithetic", "stratified", "sobol"});
+  s.add_double("gamma", d.gamma, "discount factor").range(0.0, 1.0);
+  s.add_int("horizon", d.horizon, "steps per rollout H").min(1).max(3000);
+  s.add_bool("hashed", d.hashed, "also run PEGASUS on the hashed model g'(s,a,p) = g(s,a,h_sa(p))");
+  s.add_bool("montecarlo", d.montecarlo, "also run naive Monte Carlo with fresh randomness per evaluation");
+  s.add_string("variant", to_string(d.variant), "scenario variant").choices(scenario_variant_names());
 }
 
 void run(RunContext& ctx) {

@@ -2,6 +2,7 @@
 // `pegasus shaping progress-bonus` (the §3.1 bug, shown by learning). `shaping audit` lives in
 // shaping_command_audit.cpp.
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cmath>
@@ -38,8 +39,9 @@ std::vector<std::string> split_list(const std::string& text) {
 
 void declare_learning(ConfigSchema& s, ShapingWorld world) {
   const bool grid = world == ShapingWorld::kGridworld;
+  const ShapingExperimentOptions d;  // the gridworld's; the flag world's size and curves are its own
   if (grid) {
-    s.add_int("size", 10, "grid side n: start (0, 0), goal (n-1, n-1); the thesis used 10 and 50")
+    s.add_int("size", d.size, "grid side n: start (0, 0), goal (n-1, n-1); the thesis used 10 and 50")
         .range(2, 1000);
   } else {
     s.add_int("size", 5, "flag world: 5 (5x5, 5 flags) or 8 (8x8, 7 flags)")
@@ -48,12 +50,12 @@ void declare_learning(ConfigSchema& s, ShapingWorld world) {
           return n == 5 || n == 8 ? std::string() : std::string("5 or 8");
         });
   }
-  s.add_int("runs", 40, "independent Sarsa runs per potential (the thesis averaged 40)").range(1, 100000);
-  s.add_int("trials", 300, "trials (episodes from start to goal) per run").range(1, 10000000);
+  s.add_int("runs", d.runs, "independent Sarsa runs per potential (the thesis averaged 40)").range(1, 100000);
+  s.add_int("trials", d.trials, "trials (episodes from start to goal) per run").range(1, 10000000);
   const std::vector<std::string> allowed = grid ? std::vector<std::string>{"none", "half", "phi0"}
                                                 : std::vector<std::string>{"none", "half", "phi0", "phi1"};
   s.add_string(
-       "potentials", grid ? "none,half,phi0" : "none,phi0,phi1",
+       "potentials", grid ? fmt::format("{}", fmt::join(d.potentials, ",")) : "none,phi0,phi1",
        grid ? "curves to learn: none, half (0.5 Phi0), phi0 (-manhattan/0.8)"
             : "curves to learn: none, phi0 (flags collected), phi1 (remaining route/0.8), half (0.5 Phi0)")
       .validate([allowed](const FieldValue& v) {
@@ -69,12 +71,14 @@ void declare_learning(ConfigSchema& s, ShapingWorld world) {
         }
         return std::string();
       });
-  s.add_double("alpha", 0.02, "Sarsa learning rate (thesis: 0.02)").greater_than(0).max(1);
-  s.add_double("epsilon", 0.1, "epsilon-greedy exploration rate (thesis: 0.1)").range(0, 1);
-  s.add_double("intended", 0.8, "probability a move goes the intended way, else a uniformly random direction")
+  s.add_double("alpha", d.alpha, "Sarsa learning rate (thesis: 0.02)").greater_than(0).max(1);
+  s.add_double("epsilon", d.epsilon, "epsilon-greedy exploration rate (thesis: 0.1)").range(0, 1);
+  s.add_double("intended", d.intended,
+               "probability a move goes the intended way, else a uniformly random direction")
       .greater_than(0)
       .max(1);
-  s.add_int("max_steps_per_trial", 100000000, "a trial is cut off after this many steps (and counted)")
+  s.add_int("max_steps_per_trial", d.max_steps_per_trial,
+            "a trial is cut off after this many steps (and counted)")
       .min(1);
 }
 
@@ -104,15 +108,17 @@ void run_learning(RunContext& ctx, ShapingWorld world) {
 // ---- shaping progress-bonus ------------------------------------------------------------------------------
 
 void declare_progress_bonus(ConfigSchema& s) {
-  s.add_int("size", 10, "grid side n: start (0, 0), goal (n-1, n-1)").range(2, 1000);
-  s.add_double("bonus", 3.0, "reward for a step that ends closer to the goal (shuttling pays when > 2)")
+  const ProgressBonusOptions d;
+  s.add_int("size", d.size, "grid side n: start (0, 0), goal (n-1, n-1)").range(2, 1000);
+  s.add_double("bonus", d.bonus, "reward for a step that ends closer to the goal (shuttling pays when > 2)")
       .greater_than(0)
       .less_than(1e9);
-  s.add_int("episodes", 10000, "Sarsa episodes per learner").range(1, 10000000);
-  s.add_double("alpha", 0.02, "Sarsa learning rate").greater_than(0).max(1);
-  s.add_double("epsilon", 0.1, "epsilon-greedy exploration rate").range(0, 1);
-  s.add_double("gamma", 1.0, "discount of the learners (and of the potential-based F)").range(0, 1);
-  s.add_int("max_steps_per_episode", 10000, "an episode is cut off after this many steps").min(1);
+  s.add_int("episodes", d.episodes, "Sarsa episodes per learner").range(1, 10000000);
+  s.add_double("alpha", d.alpha, "Sarsa learning rate").greater_than(0).max(1);
+  s.add_double("epsilon", d.epsilon, "epsilon-greedy exploration rate").range(0, 1);
+  s.add_double("gamma", d.gamma, "discount of the learners (and of the potential-based F)").range(0, 1);
+  s.add_int("max_steps_per_episode", d.max_steps_per_episode, "an episode is cut off after this many steps")
+      .min(1);
 }
 
 void run_progress_bonus(RunContext& ctx) {

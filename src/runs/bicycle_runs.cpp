@@ -238,8 +238,9 @@ void run_bicycle_variance(const Theta& theta, BicycleTrainingOptions o, int sets
   CsvWriter csv({"variant", "set", "uhat"});
   nlohmann::json stds = nlohmann::json::object(), means = nlohmann::json::object();
   auto bar = sink.progress("scenario sets", static_cast<std::uint64_t>(4 * sets));
-  for (const char* name : {"plain", "antithetic", "stratified", "sobol"}) {
-    o.variant = parse_scenario_variant(name);
+  for (const ScenarioVariant variant : kScenarioVariants) {
+    const std::string name = to_string(variant);
+    o.variant = variant;
     std::vector<double> values;
     for (int k = 0; k < sets; ++k) {
       o.seed = bicycle_training_seed(seed, k);

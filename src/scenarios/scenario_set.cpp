@@ -1,6 +1,7 @@
 #include "pegasus/scenarios/scenario_set.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <boost/random/sobol.hpp>
@@ -11,12 +12,10 @@
 namespace pegasus {
 
 ScenarioVariant parse_scenario_variant(const std::string& name) {
-  if (name == "plain") return ScenarioVariant::kPlain;
-  if (name == "antithetic") return ScenarioVariant::kAntithetic;
-  if (name == "stratified") return ScenarioVariant::kStratified;
-  if (name == "sobol") return ScenarioVariant::kSobol;
-  throw InputError("scenario variant: expected one of plain, antithetic, stratified, sobol; got '" + name +
-                   "'");
+  for (const ScenarioVariant v : kScenarioVariants)
+    if (to_string(v) == name) return v;
+  throw InputError(fmt::format("scenario variant: expected one of {}; got '{}'",
+                               fmt::join(scenario_variant_names(), ", "), name));
 }
 
 std::string to_string(ScenarioVariant variant) {
@@ -31,6 +30,12 @@ std::string to_string(ScenarioVariant variant) {
       return "sobol";
   }
   return "plain";
+}
+
+std::vector<std::string> scenario_variant_names() {
+  std::vector<std::string> names;
+  for (const ScenarioVariant v : kScenarioVariants) names.push_back(to_string(v));
+  return names;
 }
 
 ScenarioSet::ScenarioSet(const ScenarioOptions& options) : options_(options), rng_(options.seed) {

@@ -61,11 +61,12 @@ struct IdentifyRunOptions {
   VehicleChoice aircraft{};
   std::string train_log, test_log;  // CSV in the vehicle's layout (the project's own without a file)
   sysid::IdentifyOptions identify{};
-  double horizon_s = 10;        // longest prediction horizon of the report, s
-  double start_spacing_s = 2;   // spacing of the open-loop prediction starts on the test log, s
-  double reset_s = 2;           // the noise check's EKF is reset to the true state this often, s
-  bool variants = true;         // the model-selection variants of Fig 5.2
-  double control_rate_hz = 50;  // the rate hover training will step the model at
+  double horizon_s = 10;       // longest prediction horizon of the report, s
+  double start_spacing_s = 2;  // spacing of the open-loop prediction starts on the test log, s
+  double reset_s = 2;          // the noise check's EKF is reset to the true state this often, s
+  bool variants = true;        // the model-selection variants of Fig 5.2
+  double control_rate_hz =
+      HoverTrainingOptions{}.control_rate_hz;  // the rate hover training steps the model at
 };
 // model.json, cross_validation.csv, mse_vs_horizon.csv, noise_check.csv, their charts, summary.json. The
 // bandwidth search checkpoints after each cross-validation step and resumes from the run directory's

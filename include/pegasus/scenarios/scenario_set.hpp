@@ -4,6 +4,7 @@
 // (scenario, step, block): random access, nothing stored, the same numbers on every thread and process.
 // Variance-reduction variants (§4.7): antithetic pairs, stratified (Latin hypercube) initial states, and
 // quasi-Monte Carlo (Sobol points from Boost, randomised by a random digital shift).
+#include <array>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -20,8 +21,13 @@ enum class ScenarioVariant {
   kSobol,       // every uniform of scenario i is a coordinate of the i-th randomised Sobol point
 };
 
+inline constexpr std::array<ScenarioVariant, 4> kScenarioVariants = {
+    ScenarioVariant::kPlain, ScenarioVariant::kAntithetic, ScenarioVariant::kStratified,
+    ScenarioVariant::kSobol};
+
 ScenarioVariant parse_scenario_variant(const std::string& name);  // "plain", "antithetic", ...
 std::string to_string(ScenarioVariant variant);
+std::vector<std::string> scenario_variant_names();  // to_string of each of kScenarioVariants
 
 struct ScenarioOptions {
   std::uint64_t seed = 1;
