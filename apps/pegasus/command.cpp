@@ -39,7 +39,8 @@ RunDirectory& RunContext::run_directory() const {
 }
 
 Progress RunContext::progress(std::string label, std::uint64_t total) const {
-  return Progress(std::move(label), total, Progress::default_enabled(quiet));
+  return Progress(std::move(label), total,
+                  Progress::default_enabled(quiet, run_dir_ ? run_dir_->ranks() : mpi::Communicator::job()));
 }
 
 ThreadPool& RunContext::pool() {

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <optional>
 
 #include "pegasus/core/error.hpp"
 #include "pegasus/evaluators/monte_carlo.hpp"
@@ -35,20 +36,30 @@ void RequireTrainingCheckpoint(const json& c) {
     throw InputError(fmt::format("checkpoint: expected format \"{}\"", kTrainingCheckpointFormat));
 }
 
-// Appends a stage's history to the merged one, counting on from the stages before it.
-void AppendHistory(const OptimizerSummary& stage, double seconds_before,
+// What the stages before one did: the merged history counts on from it.
+struct StagesBefore {
+  std::int64_t iterations = 0;
+  std::int64_t evaluations = 0;
+  double seconds = 0;
+};
+
+// Appends a stage's history to the merged one, counting on from the stages before it, and adds the stage to
+// them. Counted from the stages' totals, not their last records: a stage that ends inside an iteration (a
+// gradient whose line search found no uphill step) spent evaluations and time that no record shows.
+void AppendHistory(const OptimizerSummary& stage, StagesBefore* before,
                    std::vector<IterationRecord>* merged) {
-  const IterationRecord last = merged->empty() ? IterationRecord{} : merged->back();
-  const bool first = merged->empty();
+  const std::optional<double> best_before =
+      merged->empty() ? std::nullopt : std::optional<double>(merged->back().value);
   for (IterationRecord r : stage.history) {
-    if (!first) {
-      r.iteration += last.iteration;
-      r.evaluations += last.evaluations;
-      r.seconds += seconds_before;
-      r.value = std::max(r.value, last.value);
-    }
+    r.iteration += before->iterations;
+    r.evaluations += before->evaluations;
+    r.seconds += before->seconds;
+    if (best_before) r.value = std::max(r.value, *best_before);
     merged->push_back(r);
   }
+  before->iterations += stage.iterations;
+  before->evaluations += stage.evaluations;
+  before->seconds += stage.wall_seconds;
 }
 
 }  // namespace
@@ -127,15 +138,14 @@ void Train(const TrainingPlan& plan, Objective& objective, Theta* theta, Trainin
   }
 
   // The stages already finished, from the checkpoint.
-  double seconds_before = 0;
+  StagesBefore before;
   std::size_t next_finished = 0;
   for (std::size_t k = 0; k < first_stage; ++k) {
     if (plan.stages[k].optimizer.method == "none") continue;
     if (next_finished >= finished.size())
       throw InputError(fmt::format("checkpoint: finished: expected a summary of stage {}", k));
     OptimizerSummary s = SummaryFromJson(finished[next_finished++], fmt::format("finished[{}]", k));
-    AppendHistory(s, seconds_before, &summary->history);
-    seconds_before += s.wall_seconds;
+    AppendHistory(s, &before, &summary->history);
     *theta = s.best_theta;
     summary->stage_names.push_back(plan.stages[k].name);
     summary->stages.push_back(std::move(s));
@@ -158,8 +168,7 @@ void Train(const TrainingPlan& plan, Objective& objective, Theta* theta, Trainin
     Solve(options, stage.objective != nullptr ? *stage.objective : objective, theta, &s);
     *theta = s.best_theta;
     const bool stopped = s.termination_type == TerminationType::kUserRequested;
-    AppendHistory(s, seconds_before, &summary->history);
-    seconds_before += s.wall_seconds;
+    AppendHistory(s, &before, &summary->history);
     finished.push_back(SummaryToJson(s));
     summary->stage_names.push_back(stage.name);
     summary->stages.push_back(std::move(s));

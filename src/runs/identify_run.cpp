@@ -43,7 +43,7 @@ void run_identify(const IdentifyRunOptions& options, RunSink& sink, ThreadPool& 
   hooks.progress = [&](int done, int total, bool replayed) {
     if (!bar)
       bar = std::make_unique<Progress>("bandwidth cross-validation", total,
-                                       Progress::default_enabled(sink.quiet));
+                                       Progress::default_enabled(sink.quiet, sink.dir.ranks()));
     const auto k = static_cast<std::uint64_t>(done) - bar->done();
     replayed ? bar->skip(k) : bar->advance(k);
   };

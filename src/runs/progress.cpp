@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "pegasus/parallel/mpi.hpp"
 
 namespace pegasus {
 
@@ -32,9 +31,8 @@ Progress::Progress(std::string label, std::uint64_t total, bool enabled, std::FI
 
 Progress::~Progress() { finish(); }
 
-// Under mpirun only rank 0 draws (every rank runs the same work).
-bool Progress::default_enabled(bool quiet) {
-  return !quiet && mpi::is_root() && ::isatty(STDERR_FILENO) == 1;
+bool Progress::default_enabled(bool quiet, const mpi::Communicator& ranks) {
+  return !quiet && ranks.rank() == 0 && ::isatty(STDERR_FILENO) == 1;
 }
 
 void Progress::advance(std::uint64_t k) {

@@ -50,9 +50,8 @@ void remove_stale_temporaries(const fs::path& dir) {
 }
 
 // A private folder for a shadow's direct writes, removed when the last copy of the pointer goes.
-std::shared_ptr<const fs::path> make_scratch() {
-  std::string pattern =
-      (fs::temp_directory_path() / fmt::format("pegasus-rank{}-XXXXXX", mpi::rank())).string();
+std::shared_ptr<const fs::path> make_scratch(int rank) {
+  std::string pattern = (fs::temp_directory_path() / fmt::format("pegasus-rank{}-XXXXXX", rank)).string();
   if (::mkdtemp(pattern.data()) == nullptr)
     throw std::runtime_error(
         fmt::format("cannot create a scratch folder {}: {}", pattern, std::strerror(errno)));
@@ -140,11 +139,12 @@ class RunDirectory::Lock {
 
 RunDirectory RunDirectory::open(const fs::path& dir, const ConfigSchema& config,
                                 RunDirectoryOptions options) {
-  if (mpi::size() == 1) return open_here(dir, config, options);
-  // Rank 0 opens; every rank learns the outcome, so all go on or all throw the same error.
+  const mpi::Communicator ranks = options.ranks;
+  if (ranks.size() == 1) return open_here(dir, config, options);
+  // The first rank opens; every rank learns the outcome, so all go on or all throw the same error.
   std::optional<RunDirectory> opened;
   nlohmann::json outcome;
-  if (mpi::is_root()) {
+  if (ranks.rank() == 0) {
     try {
       opened.emplace(open_here(dir, config, options));
       outcome = {{"ok", true},
@@ -169,11 +169,12 @@ RunDirectory RunDirectory::open(const fs::path& dir, const ConfigSchema& config,
   }
   if (opened) return std::move(*opened);
   RunDirectory run;
+  run.ranks_ = ranks;
   run.shadow_ = true;
   run.final_ = outcome.at("final").get<std::string>();
   run.resumed_ = outcome.at("resumed").get<bool>();
   run.force_ = options.force;
-  run.scratch_ = make_scratch();
+  run.scratch_ = make_scratch(ranks.rank());
   run.staging_ = *run.scratch_;
   return run;
 }
@@ -205,6 +206,7 @@ RunDirectory RunDirectory::open_here(const fs::path& dir, const ConfigSchema& co
         fmt::format("--out: '{}' already exists (use --force to replace it)", final_dir.string()));
   }
   RunDirectory run;
+  run.ranks_ = options.ranks;
   run.final_ = final_dir;
   run.staging_ = staging;
   run.force_ = options.force;
@@ -317,8 +319,8 @@ std::optional<nlohmann::json> RunDirectory::load_checkpoint_here() const {
 }
 
 std::optional<nlohmann::json> RunDirectory::load_checkpoint() const {
-  if (mpi::size() == 1) return load_checkpoint_here();
-  // Rank 0 reads; every rank gets its checkpoint, or its error.
+  if (ranks_.size() == 1) return load_checkpoint_here();
+  // The first rank reads; every rank gets its checkpoint, or its error.
   nlohmann::json outcome = {{"ok", true}};
   if (!shadow_) {
     try {

@@ -29,6 +29,7 @@
 #include "pegasus/envs/pendulum_policy.hpp"
 #include "pegasus/evaluators/pegasus_evaluator.hpp"
 #include "pegasus/optimizers/training.hpp"
+#include "pegasus/runs/run_directory.hpp"
 #include "support/cli_runner.hpp"
 
 namespace fs = std::filesystem;
@@ -230,6 +231,62 @@ TEST_F(MpiCli, AnEvaluatorSplitsItsWorkAmongTheRanksItIsGivenAndNoOthers) {
   // The sweep: item k computed by its owner alone, gathered to every rank, equals the single process's value.
   for (std::size_t k = 0; k < 5; ++k)
     EXPECT_EQ(seen.at("sweep").at(k).get<double>(), evaluator.evaluate(sweep_theta(evaluator, k))) << k;
+}
+
+// Run by the test below under `mpirun -np 2`, never on its own: a directory opened among the job's ranks (the
+// first writes it, the other is a shadow that reads the first's checkpoint) and one opened by each rank for
+// itself alone (each writes its own, and reads its own checkpoint without a collective). Under
+// $PEGASUS_MPI_INNER_OUT.
+TEST(MpiRunDirectoryInner, DISABLED_ADirectoryBelongsToTheRanksItIsOpenedAmong) {
+  int argc = 1;
+  char name[] = "test_mpi";
+  char* args[] = {name, nullptr};
+  char** argv = args;
+  pegasus::mpi::Session session(&argc, &argv);
+  using pegasus::mpi::Communicator;
+  const fs::path root = std::getenv("PEGASUS_MPI_INNER_OUT");
+  const int rank = Communicator::job().rank();
+  pegasus::ConfigSchema schema;
+  schema.add_int("seed", 1, "seed");
+
+  pegasus::RunDirectory shared = pegasus::RunDirectory::open(root / "job", schema);
+  shared.write_text("written_by.txt", std::to_string(rank));
+  shared.save_checkpoint({{"rank", rank}});
+  const nlohmann::json job_checkpoint = shared.load_checkpoint().value();
+  shared.commit();
+
+  pegasus::RunDirectory own = pegasus::RunDirectory::open(root / ("rank" + std::to_string(rank)), schema,
+                                                          {.ranks = Communicator::this_process()});
+  own.save_checkpoint({{"rank", rank}});
+  own.write_json("seen.json", {{"rank", rank},
+                               {"job_checkpoint", job_checkpoint.at("rank")},
+                               {"own_checkpoint", own.load_checkpoint().value().at("rank")},
+                               {"own_ranks", own.ranks().size()},
+                               {"job_ranks", shared.ranks().size()}});
+  own.commit();
+}
+
+TEST_F(MpiCli, ARunDirectoryIsWrittenByTheFirstOfTheRanksItIsOpenedAmong) {
+  fs::create_directories(dir_ / "tmp");
+  const auto r = run_shell("TMPDIR=" + (dir_ / "tmp").string() + " PEGASUS_MPI_INNER_OUT=" + dir_.string() +
+                           " " + mpirun_ + " -np 2 --oversubscribe " +
+                           fs::read_symlink("/proc/self/exe").string() +
+                           " --gtest_also_run_disabled_tests --gtest_filter=MpiRunDirectoryInner.*");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_EQ(read_text(dir_ / "job" / "written_by.txt"), "0");
+  for (int rank = 0; rank < 2; ++rank) {
+    const fs::path own = dir_ / ("rank" + std::to_string(rank));
+    ASSERT_TRUE(fs::exists(own / "config.toml")) << own;
+    const auto seen = nlohmann::json::parse(read_text(own / "seen.json"));
+    EXPECT_EQ(seen.at("rank"), rank);
+    EXPECT_EQ(seen.at("job_checkpoint"), 0) << "every rank of the job reads the first rank's checkpoint";
+    EXPECT_EQ(seen.at("own_checkpoint"), rank) << "a directory of one rank reads its own";
+    EXPECT_EQ(seen.at("own_ranks"), 1);
+    EXPECT_EQ(seen.at("job_ranks"), 2);
+  }
+  // The shadow's scratch folder is gone.
+  for (const auto& entry : fs::directory_iterator(dir_ / "tmp"))
+    EXPECT_FALSE(entry.path().filename().string().starts_with("pegasus-rank")) << entry.path();
 }
 
 // Bicycle training on small settings: 6 scenarios of 1 s, hill climbing (one batch of 16 proposals per

@@ -65,10 +65,28 @@ TEST(Training, HistoryCountsOnAcrossStages) {
   const IterationRecord& boundary = first.history.back();
   for (std::size_t i = 0; i < second.history.size(); ++i) {
     const IterationRecord& merged = summary.history[first.history.size() + i];
-    EXPECT_EQ(merged.iteration, boundary.iteration + second.history[i].iteration);
-    EXPECT_EQ(merged.evaluations, boundary.evaluations + second.history[i].evaluations);
+    EXPECT_EQ(merged.iteration, first.iterations + second.history[i].iteration);
+    EXPECT_EQ(merged.evaluations, first.evaluations + second.history[i].evaluations);
     EXPECT_EQ(merged.value, std::max(second.history[i].value, boundary.value));
   }
+  EXPECT_EQ(summary.history.back().evaluations, first.evaluations + second.evaluations);
+}
+
+// A stage that ends inside an iteration (here the gradient's probes find U-hat flat, so no iteration ends)
+// spent evaluations that no record of its own shows; the next stage counts on from all of them.
+TEST(Training, HistoryCountsTheEvaluationsOfAStageThatEndedInsideAnIteration) {
+  FunctionObjective flat(Box(3), [](std::span<const double>) { return -1.0; });
+  Theta theta;
+  TrainingSummary summary;
+  Train(GradientThenHillClimb(), flat, &theta, &summary);
+  const auto& first = summary.stages[0];
+  const auto& second = summary.stages[1];
+  ASSERT_TRUE(first.history.empty()) << first.message;
+  EXPECT_EQ(first.evaluations, 1 + 2 * 3);  // the start, and two probes per parameter
+  ASSERT_EQ(summary.history.size(), second.history.size());
+  EXPECT_EQ(summary.history.front().iteration, 1);
+  EXPECT_EQ(summary.history.back().evaluations, first.evaluations + second.evaluations);
+  EXPECT_EQ(summary.history.back().seconds, first.wall_seconds + second.history.back().seconds);
 }
 
 TEST(Training, SeedsComeFromTheRunSeedAndTheStagesDomains) {
@@ -124,6 +142,7 @@ TEST(Training, ResumingFromAnyCheckpointEndsBitIdentically) {
     ASSERT_EQ(s.history.size(), whole.history.size());
     for (std::size_t i = 0; i < s.history.size(); ++i) {
       EXPECT_EQ(s.history[i].iteration, whole.history[i].iteration);
+      EXPECT_EQ(s.history[i].evaluations, whole.history[i].evaluations);
       EXPECT_EQ(s.history[i].value, whole.history[i].value);
     }
   }

@@ -15,6 +15,8 @@
 #include <mutex>
 #include <string>
 
+#include "pegasus/parallel/execution_context.hpp"
+
 namespace pegasus {
 
 class Progress {
@@ -28,8 +30,9 @@ class Progress {
   Progress(const Progress&) = delete;
   Progress& operator=(const Progress&) = delete;
 
-  // True when stderr is a terminal and not quiet, on rank 0 of an MPI job (parallel/mpi.hpp).
-  static bool default_enabled(bool quiet);
+  // True when stderr is a terminal and not quiet, on the first of `ranks` (parallel/mpi.hpp: every rank of a
+  // job runs the same work, so one draws; a run that only this process makes draws here).
+  static bool default_enabled(bool quiet, const mpi::Communicator& ranks = mpi::Communicator::job());
 
   // Counts k more units done.
   void advance(std::uint64_t k = 1);

@@ -18,11 +18,13 @@
 //   run.write_json("summary.json", summary);
 //   run.commit();
 //
-// Under mpirun (parallel/mpi.hpp) only rank 0 touches DIR: open() runs there and its outcome (or its error)
-// is broadcast, so every rank succeeds or throws alike; on the other ranks the object is a shadow whose
-// writes, checkpoints, commit() and abandon() do nothing, whose load_checkpoint() returns rank 0's checkpoint
-// (a collective: every rank calls it at the same point), and whose path() is a private scratch folder,
-// removed at the end, for code that writes files there directly.
+// Under mpirun (parallel/mpi.hpp) a directory belongs to the ranks it is opened among (options.ranks: the
+// job's by default, or this process alone for a run that only this rank makes), and only the first of them
+// touches DIR: open() runs there and its outcome (or its error) is broadcast, so every rank succeeds or throws
+// alike; on the other ranks the object is a shadow whose writes, checkpoints, commit() and abandon() do
+// nothing, whose load_checkpoint() returns the first rank's checkpoint (a collective: every rank calls it at
+// the same point), and whose path() is a private scratch folder, removed at the end, for code that writes
+// files there directly.
 #include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -31,6 +33,7 @@
 #include <vector>
 
 #include "pegasus/io/json_csv.hpp"
+#include "pegasus/parallel/execution_context.hpp"
 #include "pegasus/runs/charts.hpp"
 #include "pegasus/runs/config.hpp"
 
@@ -39,6 +42,9 @@ namespace pegasus {
 struct RunDirectoryOptions {
   bool force = false;   // replace an existing DIR; discard an existing DIR.partial unless resume
   bool resume = false;  // continue an existing DIR.partial
+  // The ranks that share the run: the first writes DIR, the others are shadows. this_process(): every rank
+  // that opens one writes its own DIR (a per-rank run; never the same DIR on two ranks).
+  mpi::Communicator ranks = mpi::Communicator::job();
 };
 
 class RunDirectory {
@@ -56,6 +62,8 @@ class RunDirectory {
   // True when this run continues an interrupted one (an existing DIR.partial was reopened).
   bool resumed() const { return resumed_; }
   bool committed() const { return committed_; }
+  // The ranks the directory was opened among (RunDirectoryOptions::ranks); progress bars draw on the first.
+  const mpi::Communicator& ranks() const { return ranks_; }
   // True when DIR.partial holds what --resume needs (its config.toml): what a failure may point the user to.
   bool resumable() const;
 
@@ -92,7 +100,8 @@ class RunDirectory {
 
   std::filesystem::path final_, staging_;
   bool force_ = false, resumed_ = false, created_ = false, committed_ = false;
-  bool shadow_ = false;                                   // a rank other than 0: writes nothing
+  mpi::Communicator ranks_ = mpi::Communicator::job();
+  bool shadow_ = false;                                   // not the first of ranks_: writes nothing
   std::shared_ptr<const std::filesystem::path> scratch_;  // a shadow's staging_, removed with the last copy
   std::shared_ptr<const Lock> lock_;                      // DIR.lock, held by rank 0 for the whole run
 };

@@ -24,9 +24,9 @@ struct RunSink {
   nlohmann::json& timings;  // wall-clock figures (run.json), never in summary.json
   bool quiet = false;       // no progress bars
 
-  // A progress bar on stderr, drawn only on a terminal and unless quiet.
+  // A progress bar on stderr, drawn only on a terminal, unless quiet, on the first of the directory's ranks.
   Progress progress(std::string label, std::uint64_t total) const {
-    return Progress(std::move(label), total, Progress::default_enabled(quiet));
+    return Progress(std::move(label), total, Progress::default_enabled(quiet, dir.ranks()));
   }
 };
 
