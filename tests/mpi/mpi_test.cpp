@@ -268,10 +268,10 @@ TEST(MpiRunDirectoryInner, DISABLED_ADirectoryBelongsToTheRanksItIsOpenedAmong) 
 
 TEST_F(MpiCli, ARunDirectoryIsWrittenByTheFirstOfTheRanksItIsOpenedAmong) {
   fs::create_directories(dir_ / "tmp");
-  const auto r = run_shell("TMPDIR=" + (dir_ / "tmp").string() + " PEGASUS_MPI_INNER_OUT=" + dir_.string() +
-                           " " + mpirun_ + " -np 2 --oversubscribe " +
-                           fs::read_symlink("/proc/self/exe").string() +
-                           " --gtest_also_run_disabled_tests --gtest_filter=MpiRunDirectoryInner.*");
+  const auto r =
+      run_shell("TMPDIR=" + (dir_ / "tmp").string() + " PEGASUS_MPI_INNER_OUT=" + dir_.string() + " " +
+                mpirun_ + " -np 2 --oversubscribe " + fs::read_symlink("/proc/self/exe").string() +
+                " --gtest_also_run_disabled_tests --gtest_filter=MpiRunDirectoryInner.*");
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_EQ(read_text(dir_ / "job" / "written_by.txt"), "0");
   for (int rank = 0; rank < 2; ++rank) {

@@ -20,10 +20,10 @@
 //
 // Under mpirun (parallel/mpi.hpp) a directory belongs to the ranks it is opened among (options.ranks: the
 // job's by default, or this process alone for a run that only this rank makes), and only the first of them
-// touches DIR: open() runs there and its outcome (or its error) is broadcast, so every rank succeeds or throws
-// alike; on the other ranks the object is a shadow whose writes, checkpoints, commit() and abandon() do
-// nothing, whose load_checkpoint() returns the first rank's checkpoint (a collective: every rank calls it at
-// the same point), and whose path() is a private scratch folder, removed at the end, for code that writes
+// touches DIR: open() runs there and its outcome (or its error) is broadcast, so every rank succeeds or
+// throws alike; on the other ranks the object is a shadow whose writes, checkpoints, commit() and abandon()
+// do nothing, whose load_checkpoint() returns the first rank's checkpoint (a collective: every rank calls it
+// at the same point), and whose path() is a private scratch folder, removed at the end, for code that writes
 // files there directly.
 #include <filesystem>
 #include <memory>
