@@ -106,6 +106,7 @@ void resolve_identify(ConfigSchema& s) {
   const logs::Vehicle v = logs::read_vehicle(s.get_string("vehicle"));
   from_vehicle(s, v, "rate_hz", v.log.model_rate_hz, "log.model_rate_hz");
   from_vehicle(s, v, "extra_states", v.xcell_latent_states, "vehicle.latent_states");
+  from_vehicle(s, v, "templates", v.kinematic_templates, "model.templates");
   from_vehicle(s, v, "control_rate_hz", v.control_rate_hz, "control.rate_hz");
 }
 

@@ -200,13 +200,14 @@ VehicleLogSpec vehicle_log_spec(const toml::table& root, const SpecReader& r,
 
 Vehicle vehicle(const toml::table& root, const std::filesystem::path& file) {
   const SpecReader r(root, file.string());
-  r.only_keys("", {"vehicle", "log", "control", "hover", "envelope"});
+  r.only_keys("", {"vehicle", "log", "model", "control", "hover", "envelope"});
   r.only_keys("vehicle", {"name", "latent_states", "simulator"});
   r.only_keys("log", {"rate_hz", "model_rate_hz", "instance", "max_gap_s", "time", "position", "velocity",
                       "attitude", "rates", "controls"});
   r.only_keys("log.position", {"topic", "fields"});
   for (const char* q : {"log.velocity", "log.attitude", "log.rates"})
     r.only_keys(q, {"topic", "fields", std::string(q) == "log.velocity" ? "frame" : "form"});
+  r.only_keys("model", {"templates"});
   r.only_keys("control", {"rate_hz"});
   r.only_keys("hover", {"target", "starting_gains", "integral_seconds", "reward"});
   r.only_keys("hover.reward",
@@ -216,6 +217,7 @@ Vehicle vehicle(const toml::table& root, const std::filesystem::path& file) {
   v.log = vehicle_log_spec(root, r, file);
   v.xcell_latent_states = r.string("vehicle.latent_states", "none", {"none", "xcell"}) == "xcell";
   v.simulator = r.string("vehicle.simulator", v.simulator, heli::simulator_names());
+  v.kinematic_templates = r.string("model.templates", "kinematic", {"kinematic", "none"}) == "kinematic";
   v.control_rate_hz = r.number("control.rate_hz", v.control_rate_hz, 0.1, 1000);
   if (r.at("hover.target")) {
     const auto t = r.numbers("hover.target", 4);

@@ -63,7 +63,8 @@ void run_log_import(const LogImportRunOptions& o, RunSink& sink, ThreadPool& poo
   if (o.ulog_file.empty()) throw InputError("ulog: a ULog file is required (pegasus log import FILE.ulg)");
   if (o.vehicle_file.empty()) throw InputError("--vehicle: a vehicle file with a [log] section is required");
   const std::filesystem::path file = o.ulog_file;
-  const logs::VehicleLogSpec spec = logs::read_vehicle_log_spec(o.vehicle_file);
+  const logs::Vehicle vehicle = logs::read_vehicle(o.vehicle_file);
+  const logs::VehicleLogSpec& spec = vehicle.log;
   const logs::UlogFile ulog =
       logs::read_ulog(file, {.truncated_tail = o.truncated_tail, .topics = spec.topic_names()});
   logs::ImportProvenance provenance;
@@ -128,6 +129,7 @@ void run_log_import(const LogImportRunOptions& o, RunSink& sink, ThreadPool& poo
     sysid::IdentifyOptions io = o.identification;
     io.structure.rate_hz = spec.model_rate_hz;
     io.structure.extra_states = false;  // the X-Cell's rotor and gyro lags are no part of this vehicle
+    io.structure.templates = vehicle.kinematic_templates;
     sysid::IdentifyReport report;
     const sysid::IdentifiedModel model = sysid::identify(train, io, pool, &report);
     sysid::IdentifyOptions global_options = io;

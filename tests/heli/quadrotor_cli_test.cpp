@@ -41,6 +41,9 @@ TEST_F(QuadrotorCli, LogsIdentifiesLearnsToHoverAndAFigureEightAndFliesThemOnIts
       "--variants=false --quiet --out {}",
       vehicle_, path("train/log.csv"), path("test/log.csv"), path("id")));
   ASSERT_EQ(r.code, 0) << r.output;
+  // The vehicle file's [model] templates = "none" reaches the identification.
+  const std::string id_config = test_support::read_text(dir_ / "id" / "config.toml");
+  EXPECT_NE(id_config.find("\ntemplates = false\n"), std::string::npos) << id_config;
   // The model names its vehicle; training it for another (here the X-Cell, `heli hover`'s default) is
   // refused.
   EXPECT_EQ(nlohmann::json::parse(test_support::read_text(dir_ / "id" / "model.json")).at("vehicle"),

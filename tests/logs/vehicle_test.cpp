@@ -56,6 +56,7 @@ TEST(Vehicles, TheShippedXCellFileIsWhatTheHeliCommandsAssume) {
     EXPECT_EQ(file.log.controls[c].offset, 0.0);
   }
   EXPECT_EQ(file.xcell_latent_states, builtin.xcell_latent_states);
+  EXPECT_EQ(file.kinematic_templates, builtin.kinematic_templates);
   EXPECT_EQ(file.simulator, builtin.simulator);
   EXPECT_EQ(file.control_rate_hz, builtin.control_rate_hz);
   EXPECT_EQ(file.target, builtin.target);
@@ -81,6 +82,18 @@ TEST(Vehicles, TheShippedTemplateReadsAsTheOutsideHelicopter) {
     EXPECT_EQ(t.native_of(a), o.native_of(a));
   EXPECT_EQ(t.reward.size(), 6u);
   EXPECT_FALSE(t.xcell_latent_states);
+  EXPECT_TRUE(t.kinematic_templates);
+}
+
+// Thesis 5.2.2's templates unless the file says otherwise: the quadrotor, whose controls are attitude set
+// points its onboard loop follows within a model step, regresses every coefficient.
+TEST(Vehicles, KinematicTemplatesUnlessTheFileSaysNone) {
+  EXPECT_TRUE(parse_vehicle(test_support::kOutsideVehicle, "outside.toml").kinematic_templates);
+  EXPECT_TRUE(xcell_vehicle().kinematic_templates);
+  EXPECT_FALSE(read_vehicle(kVehicles / "crazyflie2.toml").kinematic_templates);
+  EXPECT_FALSE(parse_vehicle(std::string(test_support::kOutsideVehicle) + "\n[model]\ntemplates = \"none\"\n",
+                             "v.toml")
+                   .kinematic_templates);
 }
 
 TEST(Vehicles, PresentDefaultsAreNoLatentStatesLqrGainsAndFiftyHertz) {
@@ -251,7 +264,9 @@ TEST(Vehicles, EveryMalformedFileIsRefusedNamingItsLineAndKey) {
       {replaced(good, "[log.rates]\nfields = [\"p\", \"q\", \"r\"]", "[log.rates]"),
        "log.rates.fields: missing; expected a list of 3 field (or CSV column) names"},
       {good + "\n[wind]\nspeed = 3\n",
-       "wind: unknown key; expected one of control, envelope, hover, log, vehicle"},
+       "wind: unknown key; expected one of control, envelope, hover, log, model, vehicle"},
+      {good + "\n[model]\ntemplates = \"thesis\"\n",
+       "model.templates: expected 'kinematic' or 'none', got 'thesis'"},
   };
   for (const auto& c : cases) {
     const std::string m = message(c.text);

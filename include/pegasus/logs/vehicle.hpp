@@ -80,6 +80,12 @@ struct Vehicle {
   // [vehicle] latent_states: "xcell" models the X-Cell's flapping and yaw-gyro states (GMF01); "none" (the
   // default) models none, as for any aircraft without them.
   bool xcell_latent_states = false;
+  // [model] templates: "kinematic" (the default) fixes the coefficients of thesis §5.2.2: attitude steps by
+  // rate x dt, and acts on the velocities through gravity only and on the rates not at all, which holds for
+  // an aircraft whose controls move its rotor or surfaces (the X-Cell); "none" regresses every coefficient,
+  // for an aircraft whose controls are attitude set points that an onboard controller follows within a model
+  // step (a quadrotor's), where attitude acts on the rates and rate x dt is not the step's attitude change.
+  bool kinematic_templates = true;
   // [vehicle] simulator: the project's ground truth that `pegasus pilot` and `pegasus fly` fly it on
   // ("xcell", "crazyflie2": heli/simulators.hpp), or "none".
   std::string simulator = "none";
