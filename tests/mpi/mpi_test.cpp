@@ -156,10 +156,32 @@ class MpiCli : public pegasus::test_support::TempDirTest {
     return nlohmann::json::parse(read_text(dir_ / name / "run.json"));
   }
 
+  // Runs this test binary's disabled suite `suite` under `mpirun -np 2`, with $PEGASUS_MPI_INNER_OUT = out
+  // and a private TMPDIR (dir_/tmp).
+  CliResult run_inner(const std::string& suite, const fs::path& out) const {
+    fs::create_directories(dir_ / "tmp");
+    return run_shell("TMPDIR=" + (dir_ / "tmp").string() + " PEGASUS_MPI_INNER_OUT=" + out.string() + " " +
+                     mpirun_ + " -np 2 --oversubscribe " + fs::read_symlink("/proc/self/exe").string() +
+                     " --gtest_also_run_disabled_tests --gtest_filter=" + suite + ".*");
+  }
+
   std::string mpirun_;
 };
 
 // ---- The library under mpirun: an evaluator's ranks are its execution context's ---------------------------
+
+// MPI for a test that another test runs under `mpirun -np 2` (MpiCli::run_inner), as main starts it.
+class InnerSession {
+ public:
+  InnerSession() : session_(&argc_, &argv_) {}
+
+ private:
+  int argc_ = 1;
+  char name_[9] = "test_mpi";
+  char* args_[2] = {name_, nullptr};
+  char** argv_ = args_;
+  pegasus::mpi::Session session_;
+};
 
 using PendulumEvaluator = pegasus::PegasusEvaluator<pegasus::Pendulum, pegasus::PendulumSwingUpPolicy>;
 
@@ -182,11 +204,7 @@ pegasus::Theta sweep_theta(const PendulumEvaluator& evaluator, std::size_t k) {
 // job's ranks while each item's evaluation runs on its owner alone. Rank 0 writes what it saw as JSON to
 // $PEGASUS_MPI_INNER_OUT.
 TEST(MpiRanksInner, DISABLED_EvaluatorsSplitAmongTheRanksOfTheirContext) {
-  int argc = 1;
-  char name[] = "test_mpi";
-  char* args[] = {name, nullptr};
-  char** argv = args;
-  pegasus::mpi::Session session(&argc, &argv);
+  const InnerSession session;
   using pegasus::mpi::Communicator;
   const PendulumEvaluator evaluator = small_pendulum_evaluator();
   const pegasus::Theta theta = sweep_theta(evaluator, 0);
@@ -213,11 +231,7 @@ TEST(MpiRanksInner, DISABLED_EvaluatorsSplitAmongTheRanksOfTheirContext) {
 
 TEST_F(MpiCli, AnEvaluatorSplitsItsWorkAmongTheRanksItIsGivenAndNoOthers) {
   const fs::path result = dir_ / "inner.json";
-  fs::create_directories(dir_ / "tmp");
-  const auto r =
-      run_shell("TMPDIR=" + (dir_ / "tmp").string() + " PEGASUS_MPI_INNER_OUT=" + result.string() + " " +
-                mpirun_ + " -np 2 --oversubscribe " + fs::read_symlink("/proc/self/exe").string() +
-                " --gtest_also_run_disabled_tests --gtest_filter=MpiRanksInner.*");
+  const auto r = run_inner("MpiRanksInner", result);
   ASSERT_EQ(r.code, 0) << r.output;
   const auto seen = nlohmann::json::parse(read_text(result));
   EXPECT_EQ(seen.at("ranks"), 2);
@@ -238,11 +252,7 @@ TEST_F(MpiCli, AnEvaluatorSplitsItsWorkAmongTheRanksItIsGivenAndNoOthers) {
 // itself alone (each writes its own, and reads its own checkpoint without a collective). Under
 // $PEGASUS_MPI_INNER_OUT.
 TEST(MpiRunDirectoryInner, DISABLED_ADirectoryBelongsToTheRanksItIsOpenedAmong) {
-  int argc = 1;
-  char name[] = "test_mpi";
-  char* args[] = {name, nullptr};
-  char** argv = args;
-  pegasus::mpi::Session session(&argc, &argv);
+  const InnerSession session;
   using pegasus::mpi::Communicator;
   const fs::path root = std::getenv("PEGASUS_MPI_INNER_OUT");
   const int rank = Communicator::job().rank();
@@ -267,11 +277,7 @@ TEST(MpiRunDirectoryInner, DISABLED_ADirectoryBelongsToTheRanksItIsOpenedAmong) 
 }
 
 TEST_F(MpiCli, ARunDirectoryIsWrittenByTheFirstOfTheRanksItIsOpenedAmong) {
-  fs::create_directories(dir_ / "tmp");
-  const auto r =
-      run_shell("TMPDIR=" + (dir_ / "tmp").string() + " PEGASUS_MPI_INNER_OUT=" + dir_.string() + " " +
-                mpirun_ + " -np 2 --oversubscribe " + fs::read_symlink("/proc/self/exe").string() +
-                " --gtest_also_run_disabled_tests --gtest_filter=MpiRunDirectoryInner.*");
+  const auto r = run_inner("MpiRunDirectoryInner", dir_);
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_EQ(read_text(dir_ / "job" / "written_by.txt"), "0");
   for (int rank = 0; rank < 2; ++rank) {
