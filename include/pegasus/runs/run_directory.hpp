@@ -103,7 +103,7 @@ class RunDirectory {
   mpi::Communicator ranks_ = mpi::Communicator::job();
   bool shadow_ = false;                                   // not the first of ranks_: writes nothing
   std::shared_ptr<const std::filesystem::path> scratch_;  // a shadow's staging_, removed with the last copy
-  std::shared_ptr<const Lock> lock_;                      // DIR.lock, held by rank 0 for the whole run
+  std::shared_ptr<const Lock> lock_;                      // DIR.lock, the first rank's for the whole run
 };
 
 }  // namespace pegasus
