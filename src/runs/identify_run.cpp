@@ -173,6 +173,16 @@ void run_identify(const IdentifyRunOptions& options, RunSink& sink, ThreadPool& 
     for (int k = 0; k < kBodyVars; ++k)
       inflation[kBodyVarNames[static_cast<std::size_t>(k)]] = report.noise_inflation[k];
     summary["noise_inflation"] = inflation;
+    // The variance scales by source (sysid::fit_noise_scale): the measurement ones only where the model has a
+    // measurement error.
+    nlohmann::json process, measurement;
+    for (int k = 0; k < kBodyVars; ++k) {
+      const char* name = kBodyVarNames[static_cast<std::size_t>(k)];
+      process[name] = report.noise_scale.process[k];
+      if (model.noise_correlation().has_measurement()) measurement[name] = report.noise_scale.measurement[k];
+    }
+    summary["noise_scale"] = {{"process", process}};
+    if (!measurement.is_null()) summary["noise_scale"]["measurement"] = measurement;
   }
   {
     // The control gains' closed-loop bias, measured against a fit that whitens the residuals' correlation

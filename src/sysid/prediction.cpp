@@ -275,8 +275,17 @@ EkfVec mean_step(const IdentifiedModel& model, const EkfVec& z, const std::array
 
 }  // namespace
 
-NoiseCheck noise_check(const IdentifiedModel& model, const FlightLog& test, double reset_s,
-                       double trace_seconds) {
+namespace {
+
+// Runs Fig 5.3's filter over the log once per set of noise scales and calls
+// visit(r0, t, truth, mean, band variances of each set) after every step counted (t: model steps since the
+// reset at log row r0, 0-based). The mean trajectory, its local fits and Jacobians do not depend on the
+// noise, so the sets share them; the covariances are propagated per set. With leave_out_s > 0 the log is the
+// model's training log and each window's fits leave out its training rows within leave_out_s / 2 of the
+// window, as cross-validation leaves out a window around each point.
+template <typename Visit>
+void run_noise_filter(const IdentifiedModel& model, const FlightLog& test, double reset_s, double leave_out_s,
+                      const std::vector<NoiseScale>& scales, Visit&& visit) {
   const LogAtRate lr = log_at_rate(model, test);
   const auto k = lr.step;
   const auto seg = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(reset_s / model.dt())));
@@ -287,38 +296,46 @@ NoiseCheck noise_check(const IdentifiedModel& model, const FlightLog& test, doub
   // With the logged states' own error m (NoiseModel::kAr1Measurement) it carries m as 8 more states,
   // m' = rho_m m + nu: the log shows body + m, and at a reset the filter's body is the logged value, so its
   // error is -m_0 (covariance -sigma_m^2 with m). The band is that of body + m: zero at the reset itself.
+  // A set's process scale multiplies the white and AR parts' variances, its measurement scale m's.
   const NoiseCorrelation& nc_model = model.noise_correlation();
   const bool ar = (nc_model.share.array() > 0).any();
   const bool measured = nc_model.has_measurement();
   const int c0 = kEkfStates, m0 = kEkfStates + (ar ? kBodyVars : 0);
   const int states = m0 + (measured ? kBodyVars : 0);
-  NoiseCheck out;
-  out.outside_by_horizon.assign(seg, BodyVec::Zero());
-  out.steps_by_horizon.assign(seg, 0);
-  BodyVec outside = BodyVec::Zero();
+  const std::size_t sets = scales.size();
+  std::vector<BodyVec> band_var(sets);
   for (std::size_t r0 = 0; r0 + k < test.rows(); r0 += seg * k) {
     SimState s = sim_state_at(test, lr, r0);
+    Eigen::Index leave_begin = 0, leave_end = 0;
+    if (leave_out_s > 0) {
+      const std::vector<double>& times = model.data().time;
+      const double first = test.time[r0], last = test.time[std::min(test.rows() - 1, r0 + seg * k)];
+      leave_begin = std::lower_bound(times.begin(), times.end(), first - leave_out_s / 2) - times.begin();
+      leave_end = std::upper_bound(times.begin(), times.end(), last + leave_out_s / 2) - times.begin();
+    }
     // Full covariance of the EKF state, propagated P' = J P J' + Q with the model's noise Q diagonal (the
     // outputs' noises are independent, Eqs 5.5-5.6) and J the Jacobian of the mean step. Propagating only the
     // diagonal of P (dropping cross-covariances) would ignore that attitude errors integrate rate errors and
     // velocity errors integrate attitude errors: it shrinks the bands of the integrated variables.
-    EkfMat p = EkfMat::Zero();
-    Eigen::MatrixXd pa;  // the augmented filter's covariance (states x states)
+    std::vector<EkfMat> p(sets, EkfMat::Zero());
+    std::vector<Eigen::MatrixXd> pa(sets);  // the augmented filter's covariance (states x states)
     if (ar || measured) {
-      pa = Eigen::MatrixXd::Zero(states, states);
-      for (int j = 0; j < kBodyVars; ++j) {
-        if (ar) pa(c0 + j, c0 + j) = nc_model.share[j] * model.sigma2()[j];
-        if (measured) {
-          const double vm = nc_model.measurement_variance(j, model.sigma2()[j]);
-          pa(m0 + j, m0 + j) = pa(j, j) = vm;
-          pa(j, m0 + j) = pa(m0 + j, j) = -vm;
+      for (std::size_t q = 0; q < sets; ++q) {
+        pa[q] = Eigen::MatrixXd::Zero(states, states);
+        for (int j = 0; j < kBodyVars; ++j) {
+          if (ar) pa[q](c0 + j, c0 + j) = nc_model.share[j] * model.sigma2()[j] * scales[q].process[j];
+          if (measured) {
+            const double vm = nc_model.measurement_variance(j, model.sigma2()[j]) * scales[q].measurement[j];
+            pa[q](m0 + j, m0 + j) = pa[q](j, j) = vm;
+            pa[q](j, m0 + j) = pa[q](m0 + j, j) = -vm;
+          }
         }
       }
     }
     for (std::size_t t = 0; t < seg && r0 + (t + 1) * k < test.rows(); ++t) {
       const auto a = mean_controls(test, r0 + t * k, k);
       const InputVec x = sim_input(s, a);
-      const LocalFit fit = model.regression().fit(x);
+      const LocalFit fit = model.regression().fit(x, leave_begin, leave_end);
       if (fit.singular) break;
       const BodyVec var = model.predictive_variance(fit);
       EkfVec z;
@@ -334,65 +351,118 @@ NoiseCheck noise_check(const IdentifiedModel& model, const FlightLog& test, doub
         zm[j] -= h;
         jac.col(j) = (mean_step(model, zp, a, fit) - mean_step(model, zm, a, fit)) / (2 * h);
       }
-      BodyVec band_var;
       if (!ar && !measured) {
-        p = jac * p * jac.transpose();
-        p.diagonal().head<kBodyVars>() += var;
-        band_var = p.diagonal().head<kBodyVars>();
+        for (std::size_t q = 0; q < sets; ++q) {
+          p[q] = jac * p[q] * jac.transpose();
+          p[q].diagonal().head<kBodyVars>() += (var.array() * scales[q].process.array()).matrix();
+          band_var[q] = p[q].diagonal().head<kBodyVars>();
+        }
       } else {
         Eigen::MatrixXd ja = Eigen::MatrixXd::Zero(states, states);
         ja.topLeftCorner(kEkfStates, kEkfStates) = jac;
-        Eigen::MatrixXd q = Eigen::MatrixXd::Zero(states, states);
         for (int j = 0; j < kBodyVars; ++j) {
-          const double share = nc_model.share[j];
-          q(j, j) = (1 - share - nc_model.measurement_share[j]) * var[j];
-          if (ar) {
-            const double rho = nc_model.rho[j];
-            const double eta = share * var[j] * (1 - rho * rho);
-            ja(j, c0 + j) = rho;
-            ja(c0 + j, c0 + j) = rho;
-            q(j, j) += eta;
-            q(j, c0 + j) = q(c0 + j, j) = eta;
-            q(c0 + j, c0 + j) = eta;
-          }
-          if (measured) {
-            const double rho_m = nc_model.measurement_rho[j];
-            ja(m0 + j, m0 + j) = rho_m;
-            q(m0 + j, m0 + j) = nc_model.measurement_variance(j, model.sigma2()[j]) * (1 - rho_m * rho_m);
-          }
+          if (ar) ja(j, c0 + j) = ja(c0 + j, c0 + j) = nc_model.rho[j];
+          if (measured) ja(m0 + j, m0 + j) = nc_model.measurement_rho[j];
         }
-        pa = ja * pa * ja.transpose() + q;
-        band_var = pa.diagonal().head<kBodyVars>();
-        if (measured)
-          for (int j = 0; j < kBodyVars; ++j) band_var[j] += pa(m0 + j, m0 + j) + 2 * pa(j, m0 + j);
+        for (std::size_t q = 0; q < sets; ++q) {
+          Eigen::MatrixXd noise = Eigen::MatrixXd::Zero(states, states);
+          for (int j = 0; j < kBodyVars; ++j) {
+            const double share = nc_model.share[j], process = scales[q].process[j];
+            noise(j, j) = (1 - share - nc_model.measurement_share[j]) * var[j] * process;
+            if (ar) {
+              const double rho = nc_model.rho[j];
+              const double eta = share * var[j] * (1 - rho * rho) * process;
+              noise(j, j) += eta;
+              noise(j, c0 + j) = noise(c0 + j, j) = eta;
+              noise(c0 + j, c0 + j) = eta;
+            }
+            if (measured) {
+              const double rho_m = nc_model.measurement_rho[j];
+              noise(m0 + j, m0 + j) = nc_model.measurement_variance(j, model.sigma2()[j]) *
+                                      (1 - rho_m * rho_m) * scales[q].measurement[j];
+            }
+          }
+          pa[q] = ja * pa[q] * ja.transpose() + noise;
+          band_var[q] = pa[q].diagonal().head<kBodyVars>();
+          if (measured)
+            for (int j = 0; j < kBodyVars; ++j)
+              band_var[q][j] += pa[q](m0 + j, m0 + j) + 2 * pa[q](j, m0 + j);
+        }
       }
       s = sim_advance(m, s, a, model.mean_change(fit, x), model.dt());
-      const BodyVec truth = body_from_log_state(test.states[r0 + (t + 1) * k]);
-      const BodyVec mean = body_from_log_state(s.world);
-      BodyVec normalized;
-      for (int j = 0; j < kBodyVars; ++j)
-        normalized[j] = band_var[j] > 0 ? std::abs(truth[j] - mean[j]) / std::sqrt(band_var[j]) : 0.0;
-      out.normalized_errors.push_back(normalized);
-      for (int j = 0; j < kBodyVars; ++j) {
-        if (std::abs(truth[j] - mean[j]) > 2 * std::sqrt(band_var[j])) {
-          outside[j] += 1;
-          out.outside_by_horizon[t][j] += 1;
-        }
-      }
-      ++out.steps;
-      ++out.steps_by_horizon[t];
-      const double time = test.time[r0 + (t + 1) * k] - test.time[0];
-      if (time <= trace_seconds) {
-        out.time.push_back(time);
-        out.truth.push_back(truth[kV]);
-        out.mean.push_back(mean[kV]);
-        out.sd.push_back(std::sqrt(band_var[kV]));
-      }
+      visit(r0, t, body_from_log_state(test.states[r0 + (t + 1) * k]), body_from_log_state(s.world),
+            band_var);
     }
   }
+}
+
+}  // namespace
+
+NoiseCheck noise_check(const IdentifiedModel& model, const FlightLog& test, double reset_s,
+                       double trace_seconds) {
+  const auto seg = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(reset_s / model.dt())));
+  const std::size_t k = log_at_rate(model, test).step;
+  NoiseCheck out;
+  out.outside_by_horizon.assign(seg, BodyVec::Zero());
+  out.steps_by_horizon.assign(seg, 0);
+  BodyVec outside = BodyVec::Zero();
+  run_noise_filter(model, test, reset_s, 0.0, {NoiseScale{}},
+                   [&](std::size_t r0, std::size_t t, const BodyVec& truth, const BodyVec& mean,
+                       const std::vector<BodyVec>& bands) {
+                     const BodyVec& band_var = bands.front();
+                     BodyVec normalized;
+                     for (int j = 0; j < kBodyVars; ++j)
+                       normalized[j] =
+                           band_var[j] > 0 ? std::abs(truth[j] - mean[j]) / std::sqrt(band_var[j]) : 0.0;
+                     out.normalized_errors.push_back(normalized);
+                     for (int j = 0; j < kBodyVars; ++j) {
+                       if (std::abs(truth[j] - mean[j]) > 2 * std::sqrt(band_var[j])) {
+                         outside[j] += 1;
+                         out.outside_by_horizon[t][j] += 1;
+                       }
+                     }
+                     ++out.steps;
+                     ++out.steps_by_horizon[t];
+                     const double time = test.time[r0 + (t + 1) * k] - test.time[0];
+                     if (time <= trace_seconds) {
+                       out.time.push_back(time);
+                       out.truth.push_back(truth[kV]);
+                       out.mean.push_back(mean[kV]);
+                       out.sd.push_back(std::sqrt(band_var[kV]));
+                     }
+                   });
   if (out.steps > 0) out.outside_fraction = outside / out.steps;
   for (std::size_t t = 0; t < seg; ++t)
     if (out.steps_by_horizon[t] > 0) out.outside_by_horizon[t] /= out.steps_by_horizon[t];
+  return out;
+}
+
+NoiseBandTerms noise_band_terms(const IdentifiedModel& model, const FlightLog& test, double reset_s,
+                                double leave_out_s) {
+  NoiseBandTerms out;
+  const bool measured = model.noise_correlation().has_measurement();
+  std::vector<NoiseScale> unit;
+  for (int j = 0; j < kBodyVars; ++j) {
+    NoiseScale process{.process = BodyVec::Zero(), .measurement = BodyVec::Zero()};
+    process.process[j] = 1;
+    unit.push_back(process);
+  }
+  if (measured)
+    for (int j = 0; j < kBodyVars; ++j) {
+      NoiseScale measurement{.process = BodyVec::Zero(), .measurement = BodyVec::Zero()};
+      measurement.measurement[j] = 1;
+      unit.push_back(measurement);
+    }
+  out.sources = static_cast<int>(unit.size());
+  run_noise_filter(model, test, reset_s, leave_out_s, unit,
+                   [&](std::size_t, std::size_t t, const BodyVec& truth, const BodyVec& mean,
+                       const std::vector<BodyVec>& bands) {
+                     out.horizon.push_back(static_cast<int>(t));
+                     out.error.push_back((truth - mean).cwiseAbs());
+                     Eigen::Matrix<double, kBodyVars, Eigen::Dynamic> b(kBodyVars, out.sources);
+                     for (int q = 0; q < out.sources; ++q) b.col(q) = bands[static_cast<std::size_t>(q)];
+                     out.band.push_back(std::move(b));
+                   });
   return out;
 }
 

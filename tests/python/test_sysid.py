@@ -1,6 +1,7 @@
 """Logs, identified models and controllers: a model identified from a CSV path or from numpy arrays with column
 names is the one `pegasus heli identify` writes, bit for bit; prediction errors grow with the horizon."""
 import json
+import math
 import subprocess
 
 import numpy as np
@@ -93,8 +94,14 @@ def test_ar1_noise_is_the_clis(logs, cli, tmp_path):
     calibrated = pegasus.identify(pegasus.read_flight_log(train), noise="ar1", calibrate_noise=True, cv_points=60,
                                   scale_grid=[1.0, 4.0], coordinate_passes=0)
     assert calibrated.to_json() == json.loads((tmp_path / "calibrated" / "model.json").read_text())
-    inflation = json.loads((tmp_path / "calibrated" / "summary.json").read_text())["noise_inflation"]
-    assert min(inflation.values()) >= 1.0 and max(inflation.values()) > 1.0
+    summary = json.loads((tmp_path / "calibrated" / "summary.json").read_text())
+    # An AR(1) model has no measurement part: its sd factors are the square roots of its process scales.
+    assert set(summary["noise_scale"]) == {"process"}
+    body = ["roll", "pitch", "xdot_b", "ydot_b", "zdot_b", "roll_rate", "pitch_rate", "yaw_rate"]  # sigma2's order
+    for i, name in enumerate(body):
+        scale = summary["noise_scale"]["process"][name]
+        assert summary["noise_inflation"][name] == pytest.approx(math.sqrt(scale), rel=1e-12)
+        assert calibrated.to_json()["sigma2"][i] == pytest.approx(model.to_json()["sigma2"][i] * scale, rel=1e-12)
     test_log = pegasus.read_flight_log(test)
     as_trained = pegasus.horizon_mse_as_trained(model, test_log, control_rate_hz=10.0, horizon_s=2.0)
     assert as_trained["mse"].shape == (21, 15) and as_trained["seconds"][1] == pytest.approx(0.1)

@@ -8,6 +8,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "pegasus/parallel/thread_pool.hpp"
@@ -77,13 +78,22 @@ struct NoiseCorrelation {
   }
 };
 
+// Multipliers of each output's noise variances: `process` scales the part the model flies (white and AR(1)),
+// `measurement` the logged states' own error (NoiseModel::kAr1Measurement).
+struct NoiseScale {
+  BodyVec process = BodyVec::Ones();
+  BodyVec measurement = BodyVec::Ones();
+};
+
 struct IdentifyOptions {
   ModelStructure structure{};  // rate, extra states, intercept, templates
   BandwidthFloor min_bandwidth{};
   NoiseModel noise = NoiseModel::kWhite;
-  // Inflate each output's noise variance (never shrink it) so that the noise check on the training log itself
-  // (Fig 5.3's filter, reset every 2 s) leaves 4.55% of its steps outside +-2 sd, as a Gaussian would: the
-  // "measured factor" of issue 15, for outputs whose errors the noise model still under-states.
+  // Scale each output's noise variances, by source (fit_noise_scale: process, and measurement with
+  // kAr1Measurement), so that the noise check on the training log itself (Fig 5.3's filter, reset every 2 s,
+  // each window predicted by fits that leave out its rows and window_s / 2 on either side) leaves about 4.55%
+  // of its steps outside +-2 sd in each third of the reset window, as a Gaussian would: the "measured factor"
+  // of issue 15, for errors whose size or growth with the horizon the noise model misstates.
   bool calibrate_noise = false;
   bool local = true;     // locally weighted (else globally linear with the same template)
   double window_s = 16;  // cross-validation leaves out this window around each held-out point (fn 5)
@@ -137,7 +147,8 @@ struct IdentifyReport {
   std::vector<std::string> floored_inputs;
   // The factor each output's noise standard deviation was multiplied by (IdentifyOptions::calibrate_noise).
   BodyVec noise_inflation = BodyVec::Ones();
-  double cv_seconds = 0;  // wall time of the search (display only: never in results)
+  NoiseScale noise_scale{};  // the variance scales behind it, by source (fit_noise_scale)
+  double cv_seconds = 0;     // wall time of the search (display only: never in results)
 };
 
 // Checkpoint, resume and progress of the bandwidth search, one step per cross-validation evaluation. The
@@ -243,6 +254,32 @@ struct NoiseCheck {
 };
 NoiseCheck noise_check(const IdentifiedModel& model, const FlightLog& test, double reset_s,
                        double trace_seconds);
+
+// The noise check's band variances split by noise source. The filter's covariance is linear in the noise
+// covariances (the mean trajectory and its Jacobians do not depend on them), so the bands of the model with
+// its noise scaled are band * (the scales as one vector). Sources (columns of band): the process noise of
+// each body variable, then, when the model has it, the measurement error of each. With leave_out_s > 0 the
+// log is the model's training log, and each reset window is predicted by fits that leave out the training
+// rows within leave_out_s / 2 of it (the model's errors on data it was fitted to are smaller than on new
+// data).
+struct NoiseBandTerms {
+  int sources = 0;
+  std::vector<int> horizon;    // model steps since the last reset, 0-based, of every step counted
+  std::vector<BodyVec> error;  // |truth - mean| of every step counted
+  std::vector<Eigen::Matrix<double, kBodyVars, Eigen::Dynamic>> band;  // kBodyVars x sources per step
+};
+NoiseBandTerms noise_band_terms(const IdentifiedModel& model, const FlightLog& test, double reset_s,
+                                double leave_out_s = 0);
+// The scales that put each body variable's errors at 2 sd at their 95.45th percentile (a Gaussian's) in each
+// third of the time since a reset, (0, 1/4], (1/4, 1/2] and (1/2, 1] of reset_s, as near as the sources
+// allow: least squares of the log of (percentile / 2) over variables and thirds plus 0.003 (log scale)^2 per
+// source, by coordinate search on the log of each source's scale within [1/100, 100]. A process scale moves a
+// variable's band at every horizon, more at long ones; a measurement scale the same at every horizon, so with
+// both the bands can follow errors that grow more slowly than the process noise integrates.
+NoiseScale fit_noise_scale(const NoiseBandTerms& terms, double dt, double reset_s);
+// The model's noise with its variances scaled (IdentifiedModel::sigma2 and the shares of its correlation).
+std::pair<BodyVec, NoiseCorrelation> scaled_noise(const BodyVec& sigma2, const NoiseCorrelation& correlation,
+                                                  const NoiseScale& scale);
 
 }  // namespace pegasus::sysid
 
