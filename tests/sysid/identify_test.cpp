@@ -20,6 +20,7 @@
 #include "pegasus/heli/pilot.hpp"
 #include "pegasus/random/counter_rng.hpp"
 #include "pegasus/random/normal_quantile.hpp"
+#include "pegasus/sysid/learned_model.hpp"
 #include "support/cli_runner.hpp"
 
 namespace fs = std::filesystem;
@@ -529,6 +530,31 @@ TEST(NoiseCalibration, CalibratedBandsFitTheTrainingLogsErrorsBetter) {
   // Measured: 3.3 points before, 1.2 after.
   const double before = rms_miss(plain), after = rms_miss(calibrated);
   EXPECT_LT(after, 0.6 * before) << "before " << before << ", after " << after;
+}
+
+// What calibration writes, its file gives back (the loader's check of the shares is the simulator's: a white
+// part not below 0), and the simulator flies it with finite noise.
+TEST(NoiseCalibration, ACalibratedModelRoundTripsItsFileAndFlies) {
+  ThreadPool pool(2);
+  IdentifyOptions o = small_search();
+  o.noise = NoiseModel::kAr1Measurement;
+  o.calibrate_noise = true;
+  const auto model = std::make_shared<const IdentifiedModel>(identify(logs().train, o, pool));
+  const nlohmann::json file = model->to_json();
+  EXPECT_EQ(IdentifiedModel::from_json(file).to_json(), file);
+  LearnedModelOptions lo;
+  lo.start = logs().train.states[400];
+  const LearnedHeliModel sim(model, lo);
+  std::vector<double> p0(static_cast<std::size_t>(sim.initial_noise_dim()), 0.5);
+  auto s = sim.initial_state(p0);
+  UniformStream rng(3, 0);
+  std::vector<double> p(static_cast<std::size_t>(sim.noise_dim()));
+  for (int t = 0; t < 100; ++t) {
+    for (double& u : p) u = rng.next();
+    s = sim.step(s, logs().train.controls[static_cast<std::size_t>(400 + t)], p);
+    ASSERT_FALSE(s.crashed) << "step " << t;
+    for (double v : s.sim.world) ASSERT_TRUE(std::isfinite(v)) << "step " << t;
+  }
 }
 
 TEST(IdentifyCheckpoint, ResumedSearchEqualsAnUninterruptedOne) {
