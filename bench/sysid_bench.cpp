@@ -6,6 +6,7 @@
 //   BM_LwrRefit_Exact      the plain reference refit (every point, one system per output), same queries
 //   BM_LwrRefit_{Fast,Exact}_Narrow   the same with every bandwidth divided by 8, where the k-d tree prunes
 //   BM_BandwidthCrossValidation/threads   the whole default bandwidth search (identify) on 1 or 2 threads
+//   BM_NoiseCheck/threads  Fig 5.3's noise check on the 140 s test flight, on 1 or 2 threads
 //   BM_LearnedModelStep    one 50 Hz step of the learned simulative model (a refit every 5 steps)
 #include <benchmark/benchmark.h>
 
@@ -107,6 +108,15 @@ void BM_BandwidthCrossValidation(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(sysid::identify(w.train, sysid::IdentifyOptions{}, pool));
 }
 BENCHMARK(BM_BandwidthCrossValidation)->Arg(1)->Arg(2)->Unit(benchmark::kSecond)->Iterations(1);
+
+// Fig 5.3's noise check of the shipped model on the 140 s test flight, its 2 s windows filtered on 1 or 2
+// threads.
+void BM_NoiseCheck(benchmark::State& state) {
+  const Workload& w = workload();
+  ThreadPool pool(static_cast<int>(state.range(0)));
+  for (auto _ : state) benchmark::DoNotOptimize(sysid::noise_check(*w.model, w.test, 2.0, 0.0, pool));
+}
+BENCHMARK(BM_NoiseCheck)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
 
 void BM_LearnedModelStep(benchmark::State& state) {
   const Workload& w = workload();

@@ -92,7 +92,7 @@ void run_identify(const IdentifyRunOptions& options, RunSink& sink, ThreadPool& 
     }
   }
 
-  const NoiseCheck nc = noise_check(model, test, options.reset_s, 10.0);
+  const NoiseCheck nc = noise_check(model, test, options.reset_s, 10.0, pool);
   CsvWriter nc_csv({"time", "ydot_b_true", "ydot_b_predicted", "sd"});
   for (std::size_t i = 0; i < nc.time.size(); ++i)
     nc_csv.add_row({nc.time[i], nc.truth[i], nc.mean[i], nc.sd[i]});

@@ -493,7 +493,7 @@ IdentifiedModel identify(const FlightLog& train, const IdentifyOptions& o, Threa
     constexpr double kReset = 2.0;
     const IdentifiedModel current(structure, data, best_inv, sigma2, correlation);
     const NoiseScale scale =
-        fit_noise_scale(noise_band_terms(current, train, kReset, o.window_s), current.dt(), kReset);
+        fit_noise_scale(noise_band_terms(current, train, kReset, o.window_s, pool), current.dt(), kReset);
     const BodyVec before = sigma2;
     std::tie(sigma2, correlation) = scaled_noise(sigma2, correlation, scale);
     if (report) {

@@ -285,7 +285,7 @@ namespace {
 // window, as cross-validation leaves out a window around each point.
 template <typename Visit>
 void run_noise_filter(const IdentifiedModel& model, const FlightLog& test, double reset_s, double leave_out_s,
-                      const std::vector<NoiseScale>& scales, Visit&& visit) {
+                      const std::vector<NoiseScale>& scales, ThreadPool& pool, Visit&& visit) {
   const LogAtRate lr = log_at_rate(model, test);
   const auto k = lr.step;
   const auto seg = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(reset_s / model.dt())));
@@ -303,8 +303,19 @@ void run_noise_filter(const IdentifiedModel& model, const FlightLog& test, doubl
   const int c0 = kEkfStates, m0 = kEkfStates + (ar ? kBodyVars : 0);
   const int states = m0 + (measured ? kBodyVars : 0);
   const std::size_t sets = scales.size();
-  std::vector<BodyVec> band_var(sets);
-  for (std::size_t r0 = 0; r0 + k < test.rows(); r0 += seg * k) {
+  // The windows are independent: they are filtered in parallel and visited in order, so that the visitor sees
+  // the same steps in the same order for any number of threads.
+  struct Step {
+    std::size_t r0, t;
+    BodyVec truth, mean;
+    std::vector<BodyVec> bands;
+  };
+  std::vector<std::size_t> starts;
+  for (std::size_t r0 = 0; r0 + k < test.rows(); r0 += seg * k) starts.push_back(r0);
+  std::vector<std::vector<Step>> windows(starts.size());
+  pool.parallel_for(starts.size(), [&](std::size_t w) {
+    const std::size_t r0 = starts[w];
+    std::vector<BodyVec> band_var(sets);
     SimState s = sim_state_at(test, lr, r0);
     Eigen::Index leave_begin = 0, leave_end = 0;
     if (leave_out_s > 0) {
@@ -390,23 +401,25 @@ void run_noise_filter(const IdentifiedModel& model, const FlightLog& test, doubl
         }
       }
       s = sim_advance(m, s, a, model.mean_change(fit, x), model.dt());
-      visit(r0, t, body_from_log_state(test.states[r0 + (t + 1) * k]), body_from_log_state(s.world),
-            band_var);
+      windows[w].push_back({r0, t, body_from_log_state(test.states[r0 + (t + 1) * k]),
+                            body_from_log_state(s.world), band_var});
     }
-  }
+  });
+  for (const auto& window : windows)
+    for (const Step& step : window) visit(step.r0, step.t, step.truth, step.mean, step.bands);
 }
 
 }  // namespace
 
 NoiseCheck noise_check(const IdentifiedModel& model, const FlightLog& test, double reset_s,
-                       double trace_seconds) {
+                       double trace_seconds, ThreadPool& pool) {
   const auto seg = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(reset_s / model.dt())));
   const std::size_t k = log_at_rate(model, test).step;
   NoiseCheck out;
   out.outside_by_horizon.assign(seg, BodyVec::Zero());
   out.steps_by_horizon.assign(seg, 0);
   BodyVec outside = BodyVec::Zero();
-  run_noise_filter(model, test, reset_s, 0.0, {NoiseScale{}},
+  run_noise_filter(model, test, reset_s, 0.0, {NoiseScale{}}, pool,
                    [&](std::size_t r0, std::size_t t, const BodyVec& truth, const BodyVec& mean,
                        const std::vector<BodyVec>& bands) {
                      const BodyVec& band_var = bands.front();
@@ -438,7 +451,7 @@ NoiseCheck noise_check(const IdentifiedModel& model, const FlightLog& test, doub
 }
 
 NoiseBandTerms noise_band_terms(const IdentifiedModel& model, const FlightLog& test, double reset_s,
-                                double leave_out_s) {
+                                double leave_out_s, ThreadPool& pool) {
   NoiseBandTerms out;
   const bool measured = model.noise_correlation().has_measurement();
   std::vector<NoiseScale> unit;
@@ -454,7 +467,7 @@ NoiseBandTerms noise_band_terms(const IdentifiedModel& model, const FlightLog& t
       unit.push_back(measurement);
     }
   out.sources = static_cast<int>(unit.size());
-  run_noise_filter(model, test, reset_s, leave_out_s, unit,
+  run_noise_filter(model, test, reset_s, leave_out_s, unit, pool,
                    [&](std::size_t, std::size_t t, const BodyVec& truth, const BodyVec& mean,
                        const std::vector<BodyVec>& bands) {
                      out.horizon.push_back(static_cast<int>(t));

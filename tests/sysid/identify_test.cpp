@@ -57,7 +57,7 @@ TEST(NoiseCheck, BandsOfTheIntegratedVariablesHoldOnHoldOutData) {
   o.cv_points = 150;
   o.coordinate_passes = 0;
   const IdentifiedModel model = identify(logs().train, o, pool);
-  const NoiseCheck nc = noise_check(model, logs().test, 2.0, 10.0);
+  const NoiseCheck nc = noise_check(model, logs().test, 2.0, 10.0, pool);
   ASSERT_GT(nc.steps, 500);
   // Attitudes integrate the rates and the horizontal velocities integrate the attitudes (through gravity):
   // with the full state covariance their bands hold about as often as an honest model's (a diagonal-only
@@ -176,9 +176,9 @@ TEST(NoiseCorrelation, IdentifySeparatesTheLoggedStatesErrorFromTheMotion) {
   EXPECT_EQ(back.noise_correlation().measurement_persistence, c.measurement_persistence);
   EXPECT_EQ(model.to_json()["noise"]["model"], "ar1+measurement");
 
-  const NoiseCheck split = noise_check(model, test, 2.0, 0.0);
+  const NoiseCheck split = noise_check(model, test, 2.0, 0.0, pool);
   o.noise = NoiseModel::kWhite;
-  const NoiseCheck white = noise_check(identify(train, o, pool), test, 2.0, 0.0);
+  const NoiseCheck white = noise_check(identify(train, o, pool), test, 2.0, 0.0, pool);
   const std::size_t last = split.outside_by_horizon.size() - 1;  // 2 s after the reset
   ASSERT_EQ(last, 19u);
   for (const std::size_t t : {std::size_t{0}, last}) {
@@ -290,10 +290,10 @@ TEST(NoiseCheck, Ar1NoiseCoversTheGustDrivenVerticalVelocity) {
   IdentifyOptions o;
   o.cv_points = 150;
   o.coordinate_passes = 0;
-  const NoiseCheck white = noise_check(identify(logs().train, o, pool), logs().test, 2.0, 0.0);
+  const NoiseCheck white = noise_check(identify(logs().train, o, pool), logs().test, 2.0, 0.0, pool);
   o.noise = NoiseModel::kAr1;
   const IdentifiedModel model = identify(logs().train, o, pool);
-  const NoiseCheck ar1 = noise_check(model, logs().test, 2.0, 0.0);
+  const NoiseCheck ar1 = noise_check(model, logs().test, 2.0, 0.0, pool);
   EXPECT_GT(model.noise_correlation().rho[kW], 0.8);
   EXPECT_GT(white.outside_fraction[kW], 0.10);
   EXPECT_LT(ar1.outside_fraction[kW], 0.07);
@@ -390,8 +390,18 @@ TEST(NoiseCheck, BandsAreLinearInTheNoiseScalesBySource) {
   o.noise = NoiseModel::kAr1Measurement;
   const IdentifiedModel plain = identify(logs().train, o, pool);
   ASSERT_TRUE(plain.noise_correlation().has_measurement());
-  const NoiseBandTerms terms = noise_band_terms(plain, logs().test, 2.0);
+  const NoiseBandTerms terms = noise_band_terms(plain, logs().test, 2.0, 0.0, pool);
   ASSERT_EQ(terms.sources, 2 * kBodyVars);
+  {
+    // The windows are filtered in parallel: one thread gives the same steps, bit for bit.
+    ThreadPool one(1);
+    const NoiseBandTerms serial = noise_band_terms(plain, logs().test, 2.0, 0.0, one);
+    ASSERT_EQ(serial.horizon, terms.horizon);
+    for (std::size_t i = 0; i < terms.error.size(); ++i) {
+      ASSERT_EQ(serial.error[i], terms.error[i]) << i;
+      ASSERT_EQ(serial.band[i], terms.band[i]) << i;
+    }
+  }
   NoiseScale scale;
   for (int k = 0; k < kBodyVars; ++k) {
     scale.process[k] = 0.25 + 0.5 * k;
@@ -401,7 +411,7 @@ TEST(NoiseCheck, BandsAreLinearInTheNoiseScalesBySource) {
   scales << scale.process, scale.measurement;
   const auto [sigma2, correlation] = scaled_noise(plain.sigma2(), plain.noise_correlation(), scale);
   const IdentifiedModel scaled(plain.structure(), plain.data(), plain.inv_bandwidth(), sigma2, correlation);
-  const NoiseCheck check = noise_check(scaled, logs().test, 2.0, 0.0);
+  const NoiseCheck check = noise_check(scaled, logs().test, 2.0, 0.0, pool);
   ASSERT_EQ(check.normalized_errors.size(), terms.error.size());
   ASSERT_GT(terms.error.size(), 300u);
   for (std::size_t i = 0; i < terms.error.size(); ++i)
@@ -510,7 +520,7 @@ TEST(NoiseCalibration, CalibratedBandsFitTheTrainingLogsErrorsBetter) {
     EXPECT_DOUBLE_EQ(report.noise_inflation[k], std::sqrt(sigma2[k] / plain.sigma2()[k]));
   }
   const auto rms_miss = [&](const IdentifiedModel& m) {
-    const NoiseBandTerms terms = noise_band_terms(m, logs().train, 2.0, o.window_s);
+    const NoiseBandTerms terms = noise_band_terms(m, logs().train, 2.0, o.window_s, pool);
     const Eigen::VectorXd ones = Eigen::VectorXd::Ones(terms.sources);
     std::array<BodyVec, 3> outside{}, steps{};
     for (auto& v : outside) v.setZero();

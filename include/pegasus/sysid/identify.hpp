@@ -253,7 +253,7 @@ struct NoiseCheck {
   std::vector<double> time, truth, mean, sd;  // ydot_b over the first trace_seconds, for Fig 5.3
 };
 NoiseCheck noise_check(const IdentifiedModel& model, const FlightLog& test, double reset_s,
-                       double trace_seconds);
+                       double trace_seconds, ThreadPool& pool);
 
 // The noise check's band variances split by noise source. The filter's covariance is linear in the noise
 // covariances (the mean trajectory and its Jacobians do not depend on them), so the bands of the model with
@@ -269,7 +269,7 @@ struct NoiseBandTerms {
   std::vector<Eigen::Matrix<double, kBodyVars, Eigen::Dynamic>> band;  // kBodyVars x sources per step
 };
 NoiseBandTerms noise_band_terms(const IdentifiedModel& model, const FlightLog& test, double reset_s,
-                                double leave_out_s = 0);
+                                double leave_out_s, ThreadPool& pool);
 // The scales that put each body variable's errors at 2 sd at their 95.45th percentile (a Gaussian's) in each
 // third of the time since a reset, (0, 1/4], (1/4, 1/2] and (1/2, 1] of reset_s, as near as the sources
 // allow: least squares of the log of (percentile / 2) over variables and thirds plus 0.003 (log scale)^2 per
