@@ -87,7 +87,7 @@ void declare_identify(ConfigSchema& s) {
       "calibrate_noise", id.calibrate_noise,
       "scale each output's noise, the part the model flies and (ar1+measurement) the log's own error apart, "
       "so that the training log's own noise check (each window predicted without its data) has about 4.55% "
-      "of its steps outside +-2 sd in each third of the reset window");
+      "of its steps outside +-2 sd in each of three spans of the reset window (to 1/4, 1/2 and all of it)");
   s.add_double("horizon_s", d.horizon_s, "longest prediction horizon of the report, s").range(0.1, 100);
   s.add_double("start_spacing_s", d.start_spacing_s,
                "spacing of the open-loop prediction starts on the test log, s")

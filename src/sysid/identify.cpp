@@ -487,9 +487,9 @@ IdentifiedModel identify(const FlightLog& train, const IdentifyOptions& o, Threa
                                              o.noise == NoiseModel::kAr1Measurement);
   if (o.calibrate_noise) {
     // The noise check on the training log with the model as identified, its bands split by noise source, and
-    // the scales that put the errors' 95.45th percentiles at 2 sd in each third of the reset window. Each
-    // window is predicted by fits that leave out what cross-validation leaves out around a point (window_s):
-    // on data it was fitted to a locally weighted model's errors are too small.
+    // the scales that put the errors' 95.45th percentiles at 2 sd in each of three spans of the reset window.
+    // Each window is predicted by fits that leave out what cross-validation leaves out around a point
+    // (window_s): on data it was fitted to a locally weighted model's errors are too small.
     constexpr double kReset = 2.0;
     const IdentifiedModel current(structure, data, best_inv, sigma2, correlation);
     const NoiseScale scale =

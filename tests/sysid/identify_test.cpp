@@ -502,7 +502,7 @@ TEST(NoiseCalibration, ScaledNoiseScalesEachPartByItsOwnScale) {
 
 // calibrate_noise: on the training log itself, with each window predicted by fits that leave it and
 // window_s / 2 on either side out, the calibrated model's fractions of steps outside +-2 sd per variable and
-// third of the reset window are nearer a Gaussian's 4.55% than the model's as identified (root mean square
+// span of the reset window are nearer a Gaussian's 4.55% than the model's as identified (root mean square
 // over the 24 cells), and the model keeps the fitted scales.
 TEST(NoiseCalibration, CalibratedBandsFitTheTrainingLogsErrorsBetter) {
   ThreadPool pool(2);
@@ -526,10 +526,10 @@ TEST(NoiseCalibration, CalibratedBandsFitTheTrainingLogsErrorsBetter) {
     for (auto& v : outside) v.setZero();
     for (auto& v : steps) v.setZero();
     for (std::size_t i = 0; i < terms.error.size(); ++i) {
-      const auto third = static_cast<std::size_t>(terms.horizon[i] < 5 ? 0 : terms.horizon[i] < 10 ? 1 : 2);
+      const auto span = static_cast<std::size_t>(terms.horizon[i] < 5 ? 0 : terms.horizon[i] < 10 ? 1 : 2);
       for (int k = 0; k < kBodyVars; ++k) {
-        steps[third][k] += 1;
-        if (terms.error[i][k] > 2 * std::sqrt(terms.band[i].row(k).dot(ones))) outside[third][k] += 1;
+        steps[span][k] += 1;
+        if (terms.error[i][k] > 2 * std::sqrt(terms.band[i].row(k).dot(ones))) outside[span][k] += 1;
       }
     }
     double sum = 0;
