@@ -239,7 +239,7 @@ NoiseScale fit_noise_scale(const NoiseBandTerms& terms, double dt, double reset_
   constexpr double kLimit = 4.605170185988091;  // log(100)
   // A source scaled x2 costs what one cell's percentile 4% off does. Without it the scales the errors hardly
   // constrain drifted to the bounds (the Crazyflie's pitch process noise x16 beside roll's x0.03); with it
-  // they stay near 1, and the hold-out cells within 3-7% moved by at most 2 of 24 (README, Honest noise).
+  // they stay near 1, and the hold-out cells within 3-7% moved by at most 2 of 24 (README, Calibrated noise).
   constexpr double kPenalty = 0.003;
   auto bin_of = [&](int horizon) {
     const double seconds = (horizon + 1) * dt;
