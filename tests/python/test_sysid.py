@@ -137,6 +137,22 @@ def test_measurement_noise_is_the_clis(logs, cli, tmp_path):
         assert entry["measurement_rho"] == noise["measurement_rho"][k]
     learned = pegasus.LearnedHeliModel(model, pegasus.LearnedModelOptions())
     assert learned.noise_dim == (16 if max(noise["share"]) > 0 else 8)
+    # Calibrated: the process part and the logged error are scaled apart (summary's noise_scale), the white part
+    # stays >= 0, and Python's calibrated model is the CLI's.
+    result = subprocess.run([cli, "heli", "identify", "--train", train, "--test", test, *IDENTIFY, "--threads", "2",
+                             "--noise", "ar1+measurement", "--calibrate-noise", "--out", str(tmp_path / "calibrated")],
+                            capture_output=True, text=True)
+    assert result.returncode == 0, result.stdout + result.stderr
+    calibrated = json.loads((tmp_path / "calibrated" / "model.json").read_text())
+    scale = json.loads((tmp_path / "calibrated" / "summary.json").read_text())["noise_scale"]
+    assert set(scale) == {"process", "measurement"}
+    for k, name in enumerate(cli_model["outputs"]):
+        sigma2, logged = cli_model["sigma2"][k], noise["measurement_share"][k]
+        expected = scale["process"][name] * (1 - logged) * sigma2 + scale["measurement"][name] * logged * sigma2
+        assert calibrated["sigma2"][k] == pytest.approx(expected, rel=1e-12)
+        assert 1 - calibrated["noise"]["share"][k] - calibrated["noise"]["measurement_share"][k] >= 0
+    assert pegasus.identify(pegasus.read_flight_log(train), noise="ar1+measurement", calibrate_noise=True,
+                            cv_points=60, scale_grid=[1.0, 4.0], coordinate_passes=0).to_json() == calibrated
 
 
 def test_the_model_from_logs_example_runs(logs, source_dir):
