@@ -20,7 +20,7 @@
 #include "pegasus/heli/pilot.hpp"
 #include "pegasus/random/counter_rng.hpp"
 #include "pegasus/random/normal_quantile.hpp"
-#include "pegasus/sysid/learned_model.hpp"
+#include "pilot_logs.hpp"
 #include "support/cli_runner.hpp"
 
 namespace fs = std::filesystem;
@@ -29,27 +29,8 @@ namespace {
 
 using namespace pegasus;
 using namespace pegasus::sysid;
-
-struct Logs {
-  FlightLog train, test;
-};
-const Logs& logs() {
-  static const Logs l = [] {
-    const heli::Aircraft heli;
-    heli::PilotOptions o;
-    o.hover_seconds = 4;
-    return Logs{heli::fly_pilot(heli, o, 200, 41).log, heli::fly_pilot(heli, o, 80, 42).log};
-  }();
-  return l;
-}
-
-IdentifyOptions small_search() {
-  IdentifyOptions o;
-  o.cv_points = 60;
-  o.scale_grid = {1, 2, 4};
-  o.coordinate_passes = 1;
-  return o;
-}
+using pegasus::sysid::test::logs;
+using pegasus::sysid::test::small_search;
 
 TEST(NoiseCheck, BandsOfTheIntegratedVariablesHoldOnHoldOutData) {
   ThreadPool pool(2);
@@ -379,191 +360,6 @@ TEST(ClosedLoopBias, WhiteningTheNoiseRecoversTheGroundTruthsControlGains) {
     EXPECT_LT(std::abs(it->whitened - truth), 0.5 * std::abs(it->least_squares - truth))
         << output << "/" << control;
     EXPECT_LT(it->relative, -0.1) << output << "/" << control;
-  }
-}
-
-// The filter's covariance is linear in the noise covariances: the bands of a model whose noise is scaled by
-// source (scaled_noise) are the split bands (noise_band_terms) times the scales, step by step.
-TEST(NoiseCheck, BandsAreLinearInTheNoiseScalesBySource) {
-  ThreadPool pool(2);
-  IdentifyOptions o = small_search();
-  o.noise = NoiseModel::kAr1Measurement;
-  const IdentifiedModel plain = identify(logs().train, o, pool);
-  ASSERT_TRUE(plain.noise_correlation().has_measurement());
-  const NoiseBandTerms terms = noise_band_terms(plain, logs().test, 2.0, 0.0, pool);
-  ASSERT_EQ(terms.sources, 2 * kBodyVars);
-  {
-    // The windows are filtered in parallel: one thread gives the same steps, bit for bit.
-    ThreadPool one(1);
-    const NoiseBandTerms serial = noise_band_terms(plain, logs().test, 2.0, 0.0, one);
-    ASSERT_EQ(serial.horizon, terms.horizon);
-    for (std::size_t i = 0; i < terms.error.size(); ++i) {
-      ASSERT_EQ(serial.error[i], terms.error[i]) << i;
-      ASSERT_EQ(serial.band[i], terms.band[i]) << i;
-    }
-  }
-  NoiseScale scale;
-  for (int k = 0; k < kBodyVars; ++k) {
-    scale.process[k] = 0.25 + 0.5 * k;
-    scale.measurement[k] = 3.0 - 0.3 * k;
-  }
-  Eigen::VectorXd scales(terms.sources);
-  scales << scale.process, scale.measurement;
-  const auto [sigma2, correlation] = scaled_noise(plain.sigma2(), plain.noise_correlation(), scale);
-  const IdentifiedModel scaled(plain.structure(), plain.data(), plain.inv_bandwidth(), sigma2, correlation);
-  const NoiseCheck check = noise_check(scaled, logs().test, 2.0, 0.0, pool);
-  ASSERT_EQ(check.normalized_errors.size(), terms.error.size());
-  ASSERT_GT(terms.error.size(), 300u);
-  for (std::size_t i = 0; i < terms.error.size(); ++i)
-    for (int k = 0; k < kBodyVars; ++k) {
-      const double expected = terms.error[i][k] / std::sqrt(terms.band[i].row(k).dot(scales));
-      ASSERT_NEAR(check.normalized_errors[i][k], expected, 1e-9 * expected)
-          << "step " << i << ", " << kBodyVarNames[static_cast<std::size_t>(k)];
-    }
-}
-
-// Errors drawn with known scales on split bands shaped as the filter's are (process parts growing with the
-// horizon, some reaching another variable, measurement parts flat): the fit gives the scales back (its small
-// pull towards 1 included).
-TEST(NoiseCalibration, FitGivesBackTheScalesOfErrorsDrawnWithThem) {
-  const double dt = 0.1, reset_s = 2.0;
-  NoiseScale truth;
-  for (int k = 0; k < kBodyVars; ++k) {
-    truth.process[k] = std::pow(2.0, (k % 3) - 1.0);  // 0.5, 1 or 2
-    truth.measurement[k] = std::pow(2.0, 1.0 - ((k + 1) % 3));
-  }
-  Eigen::VectorXd true_scales(2 * kBodyVars);
-  true_scales << truth.process, truth.measurement;
-  NoiseBandTerms terms;
-  terms.sources = 2 * kBodyVars;
-  UniformStream rng(7, 0);
-  for (int window = 0; window < 600; ++window)
-    for (int h = 0; h < 20; ++h) {
-      Eigen::Matrix<double, kBodyVars, Eigen::Dynamic> band =
-          Eigen::Matrix<double, kBodyVars, Eigen::Dynamic>::Zero(kBodyVars, terms.sources);
-      for (int k = 0; k < kBodyVars; ++k) {
-        band(k, k) = 0.01 * (h + 1);                             // a random walk's variance
-        band(k, kBodyVars + k) = 0.05;                           // the log's own error
-        if (k < 2) band(k, 5 + k) = 0.0005 * (h + 1) * (h + 1);  // an attitude integrating a rate
-      }
-      BodyVec error;
-      for (int k = 0; k < kBodyVars; ++k)
-        error[k] = std::abs(normal_quantile(rng.next())) * std::sqrt(band.row(k).dot(true_scales));
-      terms.horizon.push_back(h);
-      terms.error.push_back(error);
-      terms.band.push_back(std::move(band));
-    }
-  const NoiseScale fitted = fit_noise_scale(terms, dt, reset_s);
-  for (int k = 0; k < kBodyVars; ++k) {
-    const char* name = kBodyVarNames[static_cast<std::size_t>(k)];
-    EXPECT_NEAR(std::log(fitted.process[k] / truth.process[k]), 0, std::log(1.25)) << name;
-    EXPECT_NEAR(std::log(fitted.measurement[k] / truth.measurement[k]), 0, std::log(1.25)) << name;
-  }
-}
-
-// scaled_noise moves each part of the variance by its own scale: the process part the model flies (white and
-// AR(1)) by the process scale, the logged error's by the measurement scale.
-TEST(NoiseCalibration, ScaledNoiseScalesEachPartByItsOwnScale) {
-  BodyVec sigma2;
-  NoiseCorrelation c;
-  NoiseScale scale;
-  for (int k = 0; k < kBodyVars; ++k) {
-    sigma2[k] = 0.1 * (k + 1);
-    c.share[k] = 0.3;
-    c.rho[k] = 0.9;
-    c.measurement_share[k] = 0.2;
-    c.measurement_rho[k] = 0.5;
-    c.measurement_persistence[k] = 0.95;
-    scale.process[k] = 0.5 + k;
-    scale.measurement[k] = 4.0 / (k + 1);
-  }
-  const auto [s2, out] = scaled_noise(sigma2, c, scale);
-  for (int k = 0; k < kBodyVars; ++k) {
-    EXPECT_NEAR(out.share[k] * s2[k], scale.process[k] * 0.3 * sigma2[k], 1e-15);
-    EXPECT_NEAR((1 - out.share[k] - out.measurement_share[k]) * s2[k], scale.process[k] * 0.5 * sigma2[k],
-                1e-15);
-    EXPECT_NEAR(out.measurement_variance(k, s2[k]),
-                scale.measurement[k] * c.measurement_variance(k, sigma2[k]), 1e-15);
-    EXPECT_EQ(out.rho[k], c.rho[k]);
-  }
-  // A process scale far below the measurement's leaves a white part of (nearly) 0, never below it: the
-  // simulator takes its square root.
-  // (With these shares the plain quotients leave -1e-16 for 2 of the 8.)
-  for (int k = 0; k < kBodyVars; ++k) {
-    sigma2[k] = 0.1;
-    scale.process[k] = 1e-2;
-    scale.measurement[k] = 30;
-    c.share[k] = 0.001 + 0.0007 * (k + 1);
-    c.measurement_share[k] = 1 - c.share[k];
-  }
-  const auto [s2_low, low] = scaled_noise(sigma2, c, scale);
-  for (int k = 0; k < kBodyVars; ++k) EXPECT_GE(1 - low.share[k] - low.measurement_share[k], 0.0) << k;
-}
-
-// calibrate_noise: on the training log itself, with each window predicted by fits that leave it and
-// window_s / 2 on either side out, the calibrated model's fractions of steps outside +-2 sd per variable and
-// span of the reset window are nearer a Gaussian's 4.55% than the model's as identified (root mean square
-// over the 24 cells), and the model keeps the fitted scales.
-TEST(NoiseCalibration, CalibratedBandsFitTheTrainingLogsErrorsBetter) {
-  ThreadPool pool(2);
-  IdentifyOptions o = small_search();
-  o.noise = NoiseModel::kAr1Measurement;
-  const IdentifiedModel plain = identify(logs().train, o, pool);
-  o.calibrate_noise = true;
-  IdentifyReport report;
-  const IdentifiedModel calibrated = identify(logs().train, o, pool, &report);
-  const auto [sigma2, correlation] =
-      scaled_noise(plain.sigma2(), plain.noise_correlation(), report.noise_scale);
-  for (int k = 0; k < kBodyVars; ++k) {
-    EXPECT_DOUBLE_EQ(calibrated.sigma2()[k], sigma2[k]);
-    EXPECT_DOUBLE_EQ(calibrated.noise_correlation().measurement_share[k], correlation.measurement_share[k]);
-    EXPECT_DOUBLE_EQ(report.noise_inflation[k], std::sqrt(sigma2[k] / plain.sigma2()[k]));
-  }
-  const auto rms_miss = [&](const IdentifiedModel& m) {
-    const NoiseBandTerms terms = noise_band_terms(m, logs().train, 2.0, o.window_s, pool);
-    const Eigen::VectorXd ones = Eigen::VectorXd::Ones(terms.sources);
-    std::array<BodyVec, 3> outside{}, steps{};
-    for (auto& v : outside) v.setZero();
-    for (auto& v : steps) v.setZero();
-    for (std::size_t i = 0; i < terms.error.size(); ++i) {
-      const auto span = static_cast<std::size_t>(terms.horizon[i] < 5 ? 0 : terms.horizon[i] < 10 ? 1 : 2);
-      for (int k = 0; k < kBodyVars; ++k) {
-        steps[span][k] += 1;
-        if (terms.error[i][k] > 2 * std::sqrt(terms.band[i].row(k).dot(ones))) outside[span][k] += 1;
-      }
-    }
-    double sum = 0;
-    for (std::size_t b = 0; b < 3; ++b)
-      for (int k = 0; k < kBodyVars; ++k) sum += std::pow(outside[b][k] / steps[b][k] - 0.0455, 2);
-    return std::sqrt(sum / (3 * kBodyVars));
-  };
-  // Measured: 3.3 points before, 1.2 after.
-  const double before = rms_miss(plain), after = rms_miss(calibrated);
-  EXPECT_LT(after, 0.6 * before) << "before " << before << ", after " << after;
-}
-
-// What calibration writes, its file gives back (the loader's check of the shares is the simulator's: a white
-// part not below 0), and the simulator flies it with finite noise.
-TEST(NoiseCalibration, ACalibratedModelRoundTripsItsFileAndFlies) {
-  ThreadPool pool(2);
-  IdentifyOptions o = small_search();
-  o.noise = NoiseModel::kAr1Measurement;
-  o.calibrate_noise = true;
-  const auto model = std::make_shared<const IdentifiedModel>(identify(logs().train, o, pool));
-  const nlohmann::json file = model->to_json();
-  EXPECT_EQ(IdentifiedModel::from_json(file).to_json(), file);
-  LearnedModelOptions lo;
-  lo.start = logs().train.states[400];
-  const LearnedHeliModel sim(model, lo);
-  std::vector<double> p0(static_cast<std::size_t>(sim.initial_noise_dim()), 0.5);
-  auto s = sim.initial_state(p0);
-  UniformStream rng(3, 0);
-  std::vector<double> p(static_cast<std::size_t>(sim.noise_dim()));
-  for (int t = 0; t < 100; ++t) {
-    for (double& u : p) u = rng.next();
-    s = sim.step(s, logs().train.controls[static_cast<std::size_t>(400 + t)], p);
-    ASSERT_FALSE(s.crashed) << "step " << t;
-    for (double v : s.sim.world) ASSERT_TRUE(std::isfinite(v)) << "step " << t;
   }
 }
 
