@@ -9,6 +9,7 @@
 #include <memory>
 #include <sstream>
 
+#include "../core/validation.hpp"
 #include "pegasus/core/error.hpp"
 #include "pegasus/core/untrusted_text.hpp"
 #include "pegasus/envs/bicycle_lockstep.hpp"
@@ -26,16 +27,7 @@ namespace {
 
 using K = BicycleConstants;
 
-bool fail(std::string* error, std::string message) {
-  if (error) *error = std::move(message);
-  return false;
-}
-
-// A pool for a call: the caller's, or one of `threads` owned by the returned pointer.
-std::shared_ptr<ThreadPool> borrow_pool(ThreadPool* pool, int threads) {
-  if (pool) return std::shared_ptr<ThreadPool>(std::shared_ptr<ThreadPool>(), pool);  // non-owning
-  return std::make_shared<ThreadPool>(threads);
-}
+using detail::fail;
 
 ScenarioSet training_scenarios(const BicycleTrainingOptions& o) {
   return ScenarioSet({.seed = o.seed,

@@ -10,6 +10,7 @@
 #include <memory>
 #include <optional>
 
+#include "../core/validation.hpp"
 #include "pegasus/core/error.hpp"
 #include "pegasus/evaluators/monte_carlo.hpp"
 #include "pegasus/evaluators/pegasus_evaluator.hpp"
@@ -22,15 +23,7 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-bool fail(std::string* error, std::string message) {
-  if (error) *error = std::move(message);
-  return false;
-}
-
-std::shared_ptr<ThreadPool> borrow_pool(ThreadPool* pool, int threads) {
-  if (pool) return std::shared_ptr<ThreadPool>(std::shared_ptr<ThreadPool>(), pool);  // non-owning
-  return std::make_shared<ThreadPool>(threads);
-}
+using detail::fail;
 
 using Evaluator = PegasusEvaluator<Pendulum, PendulumSwingUpPolicy>;
 

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <optional>
 
+#include "../core/validation.hpp"
 #include "pegasus/core/error.hpp"
 #include "pegasus/evaluators/monte_carlo.hpp"
 #include "pegasus/evaluators/pegasus_evaluator.hpp"
@@ -16,15 +17,11 @@
 namespace pegasus::heli {
 namespace {
 
-bool fail(std::string* error, std::string message) {
-  if (error) *error = std::move(message);
-  return false;
-}
+using detail::fail;
+using detail::nonnegative_finite;
+using detail::positive_finite;
 
-bool positive_finite(double x) { return x > 0 && std::isfinite(x); }
-bool nonnegative_finite(double x) { return x >= 0 && std::isfinite(x); }
-
-using Task = HoverTask<sysid::LearnedHeliModel>;
+using HoverTaskOnModel = HoverTask<sysid::LearnedHeliModel>;
 
 sysid::LearnedModelOptions learned_options(const HoverTrainingOptions& o,
                                            const sysid::IdentifiedModel& model) {
@@ -370,33 +367,35 @@ bool HoverTrainingOptions::IsValid(std::string* error) const {
 
 namespace {
 
-PegasusEvaluator<Task, HoverPolicy> hover_evaluator(
+PegasusEvaluator<HoverTaskOnModel, HoverPolicy> hover_evaluator(
     const std::shared_ptr<const sysid::IdentifiedModel>& model, const HoverTrainingOptions& o) {
   std::string error;
   if (!o.IsValid(&error)) throw InputError("hover training: " + error);
   const HoverReward reward = hover_reward_for(*model, o);
   const HoverPolicy policy = hover_policy_for(*model, o);
-  Task task(sysid::LearnedHeliModel(model, learned_options(o, *model)), o.target, reward, o.integrator());
+  HoverTaskOnModel task(sysid::LearnedHeliModel(model, learned_options(o, *model)), o.target, reward,
+                        o.integrator());
   ScenarioSet scenarios({.seed = o.seed,
                          .count = o.scenarios,
                          .horizon = o.horizon(),
                          .noise_dim = task.noise_dim(),
                          .initial_noise_dim = task.initial_noise_dim()});
   const Discounting d{.gamma = o.gamma_per_step(), .horizon = o.horizon()};
-  return PegasusEvaluator<Task, HoverPolicy>(std::move(task), policy, std::move(scenarios), d);
+  return PegasusEvaluator<HoverTaskOnModel, HoverPolicy>(std::move(task), policy, std::move(scenarios), d);
 }
 
 }  // namespace
 
 std::unique_ptr<Objective> hover_objective(const std::shared_ptr<const sysid::IdentifiedModel>& model,
                                            const HoverTrainingOptions& o, std::shared_ptr<ThreadPool> pool) {
-  return std::make_unique<PegasusObjective<Task, HoverPolicy>>(hover_evaluator(model, o), std::move(pool));
+  return std::make_unique<PegasusObjective<HoverTaskOnModel, HoverPolicy>>(hover_evaluator(model, o),
+                                                                           std::move(pool));
 }
 
 namespace {
 
 // The starting weights on the evaluator's scenarios; `step_seconds` is the model's step.
-StartingPolicyCheck check_starting_policy(const PegasusEvaluator<Task, HoverPolicy>& evaluator,
+StartingPolicyCheck check_starting_policy(const PegasusEvaluator<HoverTaskOnModel, HoverPolicy>& evaluator,
                                           double step_seconds, ThreadPool& pool) {
   const Theta theta = evaluator.policy().parameters().initial();
   std::vector<ScenarioOutcome> outcomes(static_cast<std::size_t>(evaluator.scenarios().size()));
@@ -437,7 +436,7 @@ HoverTrainingResult train_hover(const std::shared_ptr<const sysid::IdentifiedMod
     return c.crashed > o.max_start_crash_fraction * c.scenarios;
   };
   HoverTrainingOptions settled = o;
-  std::optional<PegasusEvaluator<Task, HoverPolicy>> evaluator(hover_evaluator(model, settled));
+  std::optional<PegasusEvaluator<HoverTaskOnModel, HoverPolicy>> evaluator(hover_evaluator(model, settled));
   StartingPolicyCheck start = check_starting_policy(*evaluator, 1 / o.control_rate_hz, pool);
   for (double factor = 10 * o.lqr_action_factor;
        o.lqr_start && too_many(start) &&
@@ -445,7 +444,7 @@ HoverTrainingResult train_hover(const std::shared_ptr<const sysid::IdentifiedMod
        factor *= 10) {
     HoverTrainingOptions gentler = o;
     gentler.lqr_action_factor = factor;
-    PegasusEvaluator<Task, HoverPolicy> candidate = hover_evaluator(model, gentler);
+    PegasusEvaluator<HoverTaskOnModel, HoverPolicy> candidate = hover_evaluator(model, gentler);
     const StartingPolicyCheck check = check_starting_policy(candidate, 1 / o.control_rate_hz, pool);
     if (too_many(check)) continue;
     settled = gentler;
@@ -462,8 +461,8 @@ HoverTrainingResult train_hover(const std::shared_ptr<const sysid::IdentifiedMod
         o.lqr_start ? fmt::format("the LQR start crashed as often with its action weights up to {}x; try ",
                                   HoverTrainingOptions::kMaxLqrActionFactor)
                     : "try starting_gains = \"lqr\", "));
-  auto objective = std::make_unique<PegasusObjective<Task, HoverPolicy>>(
-      std::move(*evaluator), std::shared_ptr<ThreadPool>(std::shared_ptr<ThreadPool>(), &pool));
+  auto objective = std::make_unique<PegasusObjective<HoverTaskOnModel, HoverPolicy>>(std::move(*evaluator),
+                                                                                     borrow_pool(&pool, 1));
   // §5.3: gradient ascent, then random-walk hill climbing from its result. Both stages draw hill climbing's
   // stream from the first stage's seed domain, as this task always has.
   TrainingPlan plan;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "../core/validation.hpp"
 #include "pegasus/core/error.hpp"
 #include "pegasus/evaluators/monte_carlo.hpp"
 #include "pegasus/evaluators/pegasus_evaluator.hpp"
@@ -17,15 +18,11 @@
 namespace pegasus::heli {
 namespace {
 
-bool fail(std::string* error, std::string message) {
-  if (error) *error = std::move(message);
-  return false;
-}
-
-bool nonnegative_finite(double x) { return x >= 0 && std::isfinite(x); }
+using detail::fail;
+using detail::nonnegative_finite;
 
 using Learned = sysid::LearnedHeliModel;
-using Task = ManeuverTask<Learned>;
+using ManeuverTaskOnModel = ManeuverTask<Learned>;
 
 sysid::LearnedModelOptions learned_options(const ManeuverTrainingOptions& o, const Trajectory& t) {
   sysid::LearnedModelOptions m;
@@ -126,7 +123,8 @@ std::unique_ptr<Objective> maneuver_objective(std::shared_ptr<const sysid::Ident
   std::string error;
   if (!o.IsValid(&error)) throw InputError("manoeuvre training: " + error);
   auto observer = std::make_shared<const PathObserver>(policy.trajectory(), o.observer);
-  const Task task(Learned(std::move(model), learned_options(o, policy.trajectory())), observer, o.reward);
+  const ManeuverTaskOnModel task(Learned(std::move(model), learned_options(o, policy.trajectory())), observer,
+                                 o.reward);
   const int horizon = maneuver_horizon(policy.trajectory());
   const ScenarioSet scenarios({.seed = o.seed,
                                .count = o.scenarios,
@@ -140,16 +138,15 @@ std::unique_ptr<Objective> maneuver_objective(std::shared_ptr<const sysid::Ident
     return std::make_unique<PegasusObjective<Model, ManeuverPolicy>>(
         PegasusEvaluator<Model, ManeuverPolicy>(std::move(shaped), policy, scenarios, d), std::move(pool));
   }
-  return std::make_unique<PegasusObjective<Task, ManeuverPolicy>>(
-      PegasusEvaluator<Task, ManeuverPolicy>(task, policy, scenarios, d), std::move(pool));
+  return std::make_unique<PegasusObjective<ManeuverTaskOnModel, ManeuverPolicy>>(
+      PegasusEvaluator<ManeuverTaskOnModel, ManeuverPolicy>(task, policy, scenarios, d), std::move(pool));
 }
 
 ManeuverTrainingResult train_maneuver(std::shared_ptr<const sysid::IdentifiedModel> model,
                                       const ManeuverTrainingOptions& o, const ManeuverPolicy& policy,
                                       const Theta& start, const ManeuverTrainingHooks& hooks,
                                       ThreadPool& pool) {
-  auto objective = maneuver_objective(std::move(model), o, policy,
-                                      std::shared_ptr<ThreadPool>(std::shared_ptr<ThreadPool>(), &pool));
+  auto objective = maneuver_objective(std::move(model), o, policy, borrow_pool(&pool, 1));
   TrainingPlan plan;
   plan.seed = o.seed;
   plan.stages = {{.name = o.optimizer.method, .optimizer = o.optimizer}};

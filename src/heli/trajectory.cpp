@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "../core/validation.hpp"
 #include "pegasus/core/error.hpp"
 
 namespace pegasus::heli {
@@ -13,10 +14,7 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-bool fail(std::string* error, std::string message) {
-  if (error) *error = std::move(message);
-  return false;
-}
+using detail::fail;
 
 bool positive(double x) { return std::isfinite(x) && x > 0; }
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <optional>
 
+#include "../core/validation.hpp"
 #include "pegasus/core/error.hpp"
 #include "pegasus/evaluators/monte_carlo.hpp"
 #include "pegasus/random/seed.hpp"
@@ -14,10 +15,7 @@ namespace {
 
 using json = nlohmann::json;
 
-bool fail(std::string* error, std::string message) {
-  if (error != nullptr) *error = std::move(message);
-  return false;
-}
+using detail::fail;
 
 json PlanCheckpoint(const TrainingPlan& plan, std::size_t stage, const json& finished, json optimizer) {
   return json{{"format", kTrainingCheckpointFormat},

@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <exception>
 #include <functional>
+#include <memory>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -63,5 +64,12 @@ class ThreadPool {
   bool stop_ = false;
   std::exception_ptr error_;
 };
+
+// A pool for one call: the caller's `pool`, not owned by the returned pointer, or when there is none a new
+// pool of `threads` that the pointer owns.
+inline std::shared_ptr<ThreadPool> borrow_pool(ThreadPool* pool, int threads) {
+  if (pool != nullptr) return std::shared_ptr<ThreadPool>(std::shared_ptr<ThreadPool>(), pool);
+  return std::make_shared<ThreadPool>(threads);
+}
 
 }  // namespace pegasus

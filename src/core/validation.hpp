@@ -1,0 +1,19 @@
+#pragma once
+// The small helpers of the library's validators, which answer bool and say why through an optional
+// out-parameter (`std::string* error`). Internal: not installed.
+#include <cmath>
+#include <string>
+#include <utility>
+
+namespace pegasus::detail {
+
+// Stores `message` where the caller asked for it (error may be nullptr) and returns false.
+inline bool fail(std::string* error, std::string message) {
+  if (error != nullptr) *error = std::move(message);
+  return false;
+}
+
+inline bool positive_finite(double x) { return x > 0 && std::isfinite(x); }
+inline bool nonnegative_finite(double x) { return x >= 0 && std::isfinite(x); }
+
+}  // namespace pegasus::detail
