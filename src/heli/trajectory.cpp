@@ -15,8 +15,7 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 
 using detail::fail;
-
-bool positive(double x) { return std::isfinite(x) && x > 0; }
+using detail::positive_finite;
 
 // Builds a manoeuvre leg by leg, keeping track of where the previous leg ended.
 class LegBuilder {
@@ -60,13 +59,13 @@ class LegBuilder {
 }  // namespace
 
 bool TrajectoryLimits::IsValid(std::string* error) const {
-  if (!positive(speed) || speed > 20)
+  if (!positive_finite(speed) || speed > 20)
     return fail(error, fmt::format("speed: expected a number in (0, 20] m/s, got {}", speed));
-  if (!positive(accel) || accel > 20)
+  if (!positive_finite(accel) || accel > 20)
     return fail(error, fmt::format("accel: expected a number in (0, 20] m/s^2, got {}", accel));
-  if (!positive(yaw_rate) || yaw_rate > 10)
+  if (!positive_finite(yaw_rate) || yaw_rate > 10)
     return fail(error, fmt::format("yaw_rate: expected a number in (0, 10] rad/s, got {}", yaw_rate));
-  if (!positive(yaw_accel) || yaw_accel > 20)
+  if (!positive_finite(yaw_accel) || yaw_accel > 20)
     return fail(error, fmt::format("yaw_accel: expected a number in (0, 20] rad/s^2, got {}", yaw_accel));
   return true;
 }
@@ -74,19 +73,19 @@ bool TrajectoryLimits::IsValid(std::string* error) const {
 bool ManeuverSize::IsValid(std::string* error) const {
   if (!start_W.allFinite() || start_W.z() >= 0)
     return fail(error, "start: expected a finite point above the ground (z < 0)");
-  if (!positive(triangle_base) || triangle_base > 200)
+  if (!positive_finite(triangle_base) || triangle_base > 200)
     return fail(error, fmt::format("triangle_base: expected a number in (0, 200] m, got {}", triangle_base));
-  if (!positive(circle_radius) || circle_radius > 100)
+  if (!positive_finite(circle_radius) || circle_radius > 100)
     return fail(error, fmt::format("circle_radius: expected a number in (0, 100] m, got {}", circle_radius));
   if (!(pause_s >= 0 && pause_s <= 60))
     return fail(error, fmt::format("pause_s: expected a number in [0, 60] s, got {}", pause_s));
-  if (!positive(rectangle_width) || rectangle_width > 200)
+  if (!positive_finite(rectangle_width) || rectangle_width > 200)
     return fail(error,
                 fmt::format("rectangle_width: expected a number in (0, 200] m, got {}", rectangle_width));
-  if (!positive(rectangle_height) || rectangle_height > 100)
+  if (!positive_finite(rectangle_height) || rectangle_height > 100)
     return fail(error,
                 fmt::format("rectangle_height: expected a number in (0, 100] m, got {}", rectangle_height));
-  if (!positive(figure_eight_radius) || figure_eight_radius > 100)
+  if (!positive_finite(figure_eight_radius) || figure_eight_radius > 100)
     return fail(error, fmt::format("figure_eight_radius: expected a number in (0, 100] m, got {}",
                                    figure_eight_radius));
   if (!(hold_start_s >= 0 && hold_start_s <= 60))
@@ -233,7 +232,7 @@ TrajectoryPoint Trajectory::delayed(double t, double z_delay_s) const {
 }
 
 std::vector<std::array<double, 5>> Trajectory::sample(double dt_s) const {
-  if (!positive(dt_s)) throw InputError("trajectory sample: expected a step > 0");
+  if (!positive_finite(dt_s)) throw InputError("trajectory sample: expected a step > 0");
   std::vector<std::array<double, 5>> rows;
   const auto n = static_cast<std::size_t>(std::floor(duration_ / dt_s + 1e-9));
   rows.reserve(n + 2);
