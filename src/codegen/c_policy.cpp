@@ -15,7 +15,7 @@
 #include "pegasus/experiments/pendulum_experiment.hpp"
 #include "pegasus/heli/maneuver_file.hpp"
 #include "pegasus/heli/policy_file.hpp"
-#include "pegasus/io/atomic_file.hpp"
+#include "pegasus/io/json_input.hpp"
 
 namespace pegasus::codegen {
 namespace {
@@ -99,7 +99,7 @@ CPolicyCode assemble(const ClassText& t, const std::string& source, const CPolic
       {"DESCRIPTION", t.description},
       {"SAFE", t.safe},
       {"CLASS", t.class_name},
-      {"SOURCE", source},
+      {"SOURCE", comment_text(source)},
       {"VERSION", kVersion},
       {"GUARD", upper(options.prefix) + "_H"},
       {"MACRO", upper(options.prefix)},
@@ -316,19 +316,8 @@ CPolicyCode export_c_policy(const nlohmann::json& j, const std::string& source,
 }
 
 CPolicyCode export_c_policy_file(const std::filesystem::path& file, const CPolicyOptions& options) {
-  std::string text;
-  try {
-    text = read_file(file);
-  } catch (const std::exception&) {
-    throw InputError(fmt::format("{}: cannot read the policy file", file.string()));
-  }
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw InputError(fmt::format("{}: not JSON (byte {}): expected a policy file", file.string(), e.byte));
-  }
-  return export_c_policy(j, file.string(), options);
+  // read_json_input turns every failure (no file, bad syntax, a number beyond a double) into one line.
+  return export_c_policy(read_json_input(file, "policy"), file.string(), options);
 }
 
 }  // namespace pegasus::codegen

@@ -319,8 +319,9 @@ void add_vehicle(ClassText& t, const logs::Vehicle& vehicle, CPolicyCode* names)
                               {"R1", std::to_string(rates + 1)},
                               {"R2", std::to_string(rates + 2)}})
           : fmt::format("  s[9] = v[{}];\n  s[10] = v[{}];\n  s[11] = v[{}];\n", rates, rates + 1, rates + 2);
-  t.body += fill(kVehicleCode, {{"VEHICLE_FILE", log.file.empty() ? std::string("(built in)") : log.file},
-                                {"VEHICLE", vehicle.name()},
+  const std::string vehicle_file = comment_text(log.file.empty() ? std::string("(built in)") : log.file);
+  t.body += fill(kVehicleCode, {{"VEHICLE_FILE", vehicle_file},
+                                {"VEHICLE", comment_text(vehicle.name())},
                                 {"AXES", axes},
                                 {"CHANNEL_TABLES", c_table("kChannelScale", scale, labels) +
                                                        c_table("kChannelOffset", offset, labels)},
@@ -333,8 +334,9 @@ void add_vehicle(ClassText& t, const logs::Vehicle& vehicle, CPolicyCode* names)
   for (const auto& f : vehicle.state_fields()) names->vehicle_observation_names.push_back(f);
   names->vehicle_action_names = labels;
   std::string observation, action;
-  for (const auto& n : names->vehicle_observation_names) observation += (observation.empty() ? "" : ", ") + n;
-  for (const auto& n : labels) action += (action.empty() ? "" : ", ") + n;
+  for (const auto& n : names->vehicle_observation_names)
+    observation += (observation.empty() ? "" : ", ") + comment_text(n);
+  for (const auto& n : labels) action += (action.empty() ? "" : ", ") + comment_text(n);
   t.extra_declarations += fmt::format(
       "\n/* The controller in the terms of the aircraft \"{}\" (vehicle file {}): observation ({} doubles) "
       "{};\n"
@@ -346,9 +348,8 @@ void add_vehicle(ClassText& t, const logs::Vehicle& vehicle, CPolicyCode* names)
       "*/\n"
       "#define @MACRO@_VEHICLE_OBSERVATION_SIZE {}\n"
       "int @NAME@_act_vehicle({});\n",
-      vehicle.name(), log.file.empty() ? std::string("(built in)") : log.file,
-      names->vehicle_observation_names.size(), observation, action, names->vehicle_observation_names.size(),
-      act_parameters(t));
+      comment_text(vehicle.name()), vehicle_file, names->vehicle_observation_names.size(), observation,
+      action, names->vehicle_observation_names.size(), act_parameters(t));
 }
 
 namespace {
@@ -517,8 +518,8 @@ ClassText maneuver_class(const heli::PolicyFile& file, const std::string& source
       "The manoeuvre controller of thesis §5.4 (Fig 5.9) flying AMA Class III manoeuvre {} ({:.2f} s,\n"
       " * {} legs) from ({}, {}, {}) m: the hover networks fed a set point moving along the trajectory,\n"
       " * with the couplings of Fig 5.9; after the end it holds the end point.",
-      trajectory.name(), trajectory.duration(), trajectory.legs().size(), file.target.x, file.target.y,
-      file.target.z));
+      comment_text(trajectory.name()), trajectory.duration(), trajectory.legs().size(), file.target.x,
+      file.target.y, file.target.z));
   t.extra_declarations =
       "/* The set point at `time` (s since the manoeuvre began): x, y, z (m, W north-east-down), yaw (rad,\n"
       " * wrapped to (-pi, pi]). Returns 0. */\n"

@@ -15,6 +15,20 @@
 
 namespace pegasus::codegen::detail {
 
+// Text from the user's files (paths, the vehicle's names) as it may stand inside a C comment: printable
+// ASCII, with "*/" and "/*" broken apart, so that no name can end the comment early or open a nested one
+// (which -Werror=comment refuses).
+inline std::string comment_text(const std::string& text) {
+  std::string s;
+  for (const char c : text) {
+    const auto u = static_cast<unsigned char>(c);
+    const char kept = u >= 0x20 && u < 0x7f ? c : '_';
+    if (!s.empty() && ((s.back() == '*' && kept == '/') || (s.back() == '/' && kept == '*'))) s += ' ';
+    s += kept;
+  }
+  return s;
+}
+
 // A double as a C99 hexadecimal literal: exact, so the C reads the very bits the C++ holds.
 inline std::string c_double(double x) { return fmt::format("{:a}", x); }
 
@@ -24,7 +38,7 @@ inline std::string c_table(const std::string& name, const std::vector<double>& v
   std::string s = fmt::format("static const double {}[{}] = {{\n", name, values.size());
   for (std::size_t i = 0; i < values.size(); ++i)
     s += fmt::format("    {},{} /* {}: {} */\n", c_double(values[i]), i + 1 < values.size() ? "" : " ",
-                     i < names.size() ? names[i] : fmt::format("[{}]", i), values[i]);
+                     i < names.size() ? comment_text(names[i]) : fmt::format("[{}]", i), values[i]);
   return s + "};\n";
 }
 
@@ -46,7 +60,7 @@ inline std::string fill(std::string text, const std::vector<std::pair<std::strin
 inline std::string column_list(const std::vector<std::string>& names, const std::vector<std::string>& units) {
   std::string s;
   for (std::size_t i = 0; i < names.size(); ++i)
-    s += fmt::format(" *   [{:2}] {:<11} {}\n", i, names[i], i < units.size() ? units[i] : "");
+    s += fmt::format(" *   [{:2}] {:<11} {}\n", i, comment_text(names[i]), i < units.size() ? units[i] : "");
   return s;
 }
 

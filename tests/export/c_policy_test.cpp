@@ -262,6 +262,29 @@ TEST_F(CPolicyExport, InAVehiclesOwnTermsItIsBitIdenticalToTheCppConversionAndPo
   EXPECT_NE(message.find("p.json: --vehicle: only the helicopter classes"), std::string::npos) << message;
 }
 
+// Names from the user's files stand in the generated comments: none may end a comment or open one.
+TEST_F(CPolicyExport, NamesThatLookLikeCommentMarkersStayInsideTheComments) {
+  using test_support::replaced;
+  const std::string text = replaced(replaced(test_support::kOutsideVehicle, "name = \"outside-heli\"",
+                                             "name = \"heli */ #error injected /*\""),
+                                    "name = \"rudder_us\"", "name = \"rudder*/us/*\\u00e9\"");
+  const logs::Vehicle vehicle = logs::parse_vehicle(text, "evil*/.toml");
+  const CPolicyCode code = export_c_policy(heli::policy_file_json(hover_file(3, 1.0, {1.0, 2.0, -8.0, 0.3})),
+                                           "run*/policy.json", {.prefix = "evil", .vehicle = &vehicle});
+  for (const std::string* file : {&code.header, &code.source}) {
+    EXPECT_EQ(file->find("*/ #error"), std::string::npos);
+    EXPECT_NE(file->find("heli * / #error injected / *"), std::string::npos);
+  }
+  EXPECT_NE(code.source.find("run* /policy.json"), std::string::npos);
+  EXPECT_NE(code.source.find("rudder* /us/ *__"), std::string::npos);  // and no byte beyond ASCII
+  // It compiles with -Werror (a nested "/*" would be refused), and the vehicle's channels act as before.
+  const LoadedCPolicy c(code, dir_ / "evil");
+  ASSERT_NE(c.act_vehicle(), nullptr);
+  std::array<double, 14> zero{};
+  double action[4];
+  EXPECT_EQ(c.act_vehicle()(zero.data(), action), 1);
+}
+
 TEST_F(CPolicyExport, BicycleIsBitIdenticalToTheCppPolicyOn100000Observations) {
   std::mt19937_64 rng(5);
   std::normal_distribution<double> normal;
@@ -435,8 +458,10 @@ TEST_F(CPolicyExport, BadPolicyFilesAreOneLineNamingTheFieldOrByte) {
   EXPECT_EQ(input_error_message([&] { export_c_policy(four, "p.json"); }),
             "p.json: parameters.stabilise.rate: missing");
   std::ofstream(dir_ / "broken.json") << "{\"policy\": ";
-  EXPECT_EQ(input_error_message([&] { export_c_policy_file(dir_ / "broken.json"); }),
-            (dir_ / "broken.json").string() + ": not JSON (byte 12): expected a policy file");
+  EXPECT_TRUE(
+      input_error_message([&] {
+        export_c_policy_file(dir_ / "broken.json");
+      }).starts_with((dir_ / "broken.json").string() + ": byte 12: expected a JSON policy file, got "));
 }
 
 // ---- The command, end to end ----------------------------------------------------------------------------
@@ -553,8 +578,10 @@ int main(void) {{
 TEST_F(CPolicyExport, CommandRejectsBadInputWithOneLineExit2AndNoOutputDirectory) {
   std::ofstream(dir_ / "malformed.json") << "{\"format\": \"pegasus-heli-policy\",";
   std::ofstream(dir_ / "unknown.json") << R"({"policy": "cart-pole-pid", "parameters": {}})";
+  std::ofstream(dir_ / "overflow.json") << R"({"policy": "pendulum", "parameters": {"k": 1e999}})";
   const std::pair<std::string, std::string> cases[] = {
-      {"malformed.json", "malformed.json: not JSON (byte 34): expected a policy file"},
+      {"malformed.json", "malformed.json: byte 34: expected a JSON policy file"},
+      {"overflow.json", "overflow.json: expected numbers within the range of a double"},
       {"unknown.json", "unknown.json: policy: expected a policy file of class hover"},
   };
   for (const auto& [file, message] : cases) {
