@@ -26,10 +26,13 @@ std::shared_ptr<const sysid::IdentifiedModel> identified_model(py::object model)
   if (py::isinstance<py::str>(model))
     return std::make_shared<const sysid::IdentifiedModel>(
         sysid::IdentifiedModel::load(model.cast<std::string>()));
+  constexpr const char* kExpected = "model: expected a pegasus.IdentifiedModel or the path of a model.json";
+  // None casts to an empty pointer, which every caller would dereference.
+  if (model.is_none()) throw py::value_error(kExpected);
   try {
     return model.cast<std::shared_ptr<sysid::IdentifiedModel>>();
   } catch (const py::cast_error&) {
-    throw py::value_error("model: expected a pegasus.IdentifiedModel or the path of a model.json");
+    throw py::value_error(kExpected);
   }
 }
 

@@ -145,3 +145,16 @@ def test_builtin_policy_and_env_arguments():
         pegasus.ParameterSpec([pegasus.Parameter("a"), pegasus.Parameter("a")])
     with pytest.raises(ValueError, match="expected lower <= initial <= upper"):
         pegasus.ParameterSpec([pegasus.Parameter("a", initial=2.0, lower=0.0, upper=1.0)])
+
+
+@pytest.mark.parametrize("call", [
+    lambda: pegasus.train_hover(None),
+    lambda: pegasus.hover_init_from_model(None),
+    lambda: pegasus.lqr_hover_init(None),
+    lambda: pegasus.hover_reward_for(None),
+    lambda: pegasus.HoverProblem.from_training_options(None),
+])
+def test_a_model_of_none_is_a_value_error_not_a_crash(call):
+    # None casts to an empty model pointer in the binding; each of these once dereferenced it (a segfault).
+    with pytest.raises(ValueError, match="model: expected a pegasus.IdentifiedModel or the path of a model.json"):
+        call()
