@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <map>
 #include <set>
 
@@ -12,6 +13,7 @@
 #include "pegasus/core/untrusted_text.hpp"
 #include "pegasus/heli/frames.hpp"
 #include "pegasus/heli/simulators.hpp"
+#include "pegasus/io/json_csv.hpp"
 
 namespace pegasus::logs {
 namespace {
@@ -107,6 +109,8 @@ VehicleLogSpec vehicle_log_spec(const toml::table& root, const SpecReader& r,
   VehicleLogSpec s;
   s.file = file.string();
   s.vehicle = r.string("vehicle.name", file.stem().string());
+  // An empty name would make a model or policy of this aircraft look like the X-Cell's (which has none).
+  if (s.vehicle.empty()) r.fail(r.at("vehicle.name"), "vehicle.name", "expected a non-empty name");
   s.rate_hz = r.number("log.rate_hz", s.rate_hz, 1, 10000);
   s.model_rate_hz = r.number("log.model_rate_hz", s.model_rate_hz, 0.1, s.rate_hz);
   const double ratio = s.rate_hz / s.model_rate_hz;
@@ -195,6 +199,24 @@ VehicleLogSpec vehicle_log_spec(const toml::table& root, const SpecReader& r,
         r.fail(controls, "log.controls",
                fmt::format("channels {} and {} have the same name '{}'; expected distinct names", d, c,
                            printable(s.controls[c].label())));
+  // Each log column (or topic field) means one thing: a second use would silently read the first.
+  std::vector<std::pair<std::string, std::string>> used;  // (key, topic + field)
+  used.emplace_back("log.time", "\n" + s.time);
+  for (const auto& [key, quantity] : {std::pair{"log.position", &s.position},
+                                      {"log.velocity", &s.velocity},
+                                      {"log.attitude", &s.attitude},
+                                      {"log.rates", &s.rates}})
+    for (const std::string& field : quantity->fields) used.emplace_back(key, quantity->topic + "\n" + field);
+  for (std::size_t c = 0; c < 4; ++c)
+    used.emplace_back(fmt::format("log.controls[{}]", c), s.controls[c].topic + "\n" + s.controls[c].field);
+  for (std::size_t i = 0; i < used.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (used[i].second == used[j].second) {
+        const std::string field = used[i].second.substr(used[i].second.find('\n') + 1);
+        r.fail(r.at(used[i].first), used[i].first,
+               fmt::format("the field '{}' is also in {}; expected each field once", printable(field),
+                           used[j].first));
+      }
   return s;
 }
 
@@ -332,6 +354,67 @@ heli::LoggedState Vehicle::state_of(std::span<const double> v) const {
   s[heli::logged::xdot] = vel.x(), s[heli::logged::ydot] = vel.y(), s[heli::logged::zdot] = vel.z();
   s[heli::logged::roll_rate] = w.x(), s[heli::logged::pitch_rate] = w.y(), s[heli::logged::yaw_rate] = w.z();
   return s;
+}
+
+bool logs_in_pipeline_layout(const Vehicle& v) {
+  const VehicleLogSpec& l = v.log;
+  const auto named = [](const TopicFields& q, std::initializer_list<const char*> names) {
+    return q.topic.empty() && std::equal(q.fields.begin(), q.fields.end(), names.begin(), names.end());
+  };
+  if (!(l.time == "time" && l.attitude_form == "euler" && l.velocity_frame == "world" &&
+        l.rates_form == "euler" && named(l.position, {"x", "y", "z"}) &&
+        named(l.velocity, {"xdot", "ydot", "zdot"}) && named(l.attitude, {"roll", "pitch", "yaw"}) &&
+        named(l.rates, {"roll_rate", "pitch_rate", "yaw_rate"})))
+    return false;
+  for (std::size_t c = 0; c < 4; ++c) {
+    const ControlChannel& ch = l.controls[c];
+    if (!(ch.topic.empty() && ch.scale == 1 && ch.offset == 0 &&
+          ch.field == sysid::kLogControlColumns[static_cast<std::size_t>(ch.column(c))]))
+      return false;
+  }
+  return true;
+}
+
+std::vector<std::string> vehicle_log_columns(const Vehicle& vehicle) {
+  const VehicleLogSpec& spec = vehicle.log;
+  std::vector<std::string> header{spec.time};
+  const std::vector<std::string> state = vehicle.state_fields();
+  header.insert(header.end(), state.begin(), state.end());
+  for (const auto& c : spec.controls) header.push_back(c.field);
+  for (std::size_t i = 0; i < header.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (header[i] == header[j])
+        throw InputError(
+            fmt::format("{}: the column '{}' stands for two quantities (of different topics); "
+                        "expected distinct field names for a CSV log",
+                        spec.file, printable(header[i])));
+  return header;
+}
+
+std::string vehicle_log_csv(const sysid::FlightLog& log, const Vehicle& vehicle, std::size_t every) {
+  const VehicleLogSpec& spec = vehicle.log;
+  const bool quaternion = spec.attitude_form == "quaternion";
+  CsvWriter csv(vehicle_log_columns(vehicle));
+  for (std::size_t i = 0; i < log.rows(); i += std::max<std::size_t>(every, 1)) {
+    const heli::LoggedState& s = log.states[i];
+    namespace logged = heli::logged;
+    const heli::Euler e{s[logged::roll], s[logged::pitch], s[logged::yaw]};
+    heli::Vec3 velocity(s[logged::xdot], s[logged::ydot], s[logged::zdot]);
+    if (spec.velocity_frame == "body") velocity = heli::body_from_world(e, velocity);
+    heli::Vec3 rates(s[logged::roll_rate], s[logged::pitch_rate], s[logged::yaw_rate]);
+    if (spec.rates_form == "body") rates = heli::body_rates_from_euler_rates(e, rates);
+    std::vector<CsvCell> row{log.time[i],  s[logged::x], s[logged::y], s[logged::z],
+                             velocity.x(), velocity.y(), velocity.z()};
+    if (quaternion) {
+      for (const double q : heli::quaternion_from_euler(e)) row.emplace_back(q);
+    } else {
+      row.insert(row.end(), {e.roll, e.pitch, e.yaw});
+    }
+    row.insert(row.end(), {rates.x(), rates.y(), rates.z()});
+    for (const double a : vehicle.native_of(log.controls[i])) row.emplace_back(a);
+    csv.add_row(std::move(row));
+  }
+  return csv.str();
 }
 
 sysid::FlightLog parse_vehicle_log(const std::string& text, const std::string& name, const Vehicle& vehicle,

@@ -58,6 +58,42 @@ std::unique_ptr<GroundTruth> VehicleChoice::ground_truth(const GroundTruthSettin
   }
 }
 
+namespace {
+
+// Simulator steps per row of the vehicle's log, when its rate divides the simulator's.
+std::optional<std::size_t> steps_per_log_row(const logs::Vehicle& vehicle, const GroundTruth& aircraft) {
+  const double steps = 1 / (aircraft.step_seconds() * vehicle.log.rate_hz);
+  if (!(steps >= 1 - 1e-9 && std::abs(steps - std::round(steps)) <= 1e-9)) return std::nullopt;
+  return static_cast<std::size_t>(std::llround(steps));
+}
+
+}  // namespace
+
+void VehicleChoice::check_pilot_log(const GroundTruth& aircraft) const {
+  if (!from_file()) return;
+  if (!steps_per_log_row(vehicle, aircraft))
+    throw InputError(
+        fmt::format("{}: log.rate_hz: the {} ground truth steps at {:g} Hz and its pilot logs every n-th "
+                    "step; expected a "
+                    "rate that divides {:g} Hz, got {:g} Hz",
+                    file, vehicle.simulator, 1 / aircraft.step_seconds(), 1 / aircraft.step_seconds(),
+                    vehicle.log.rate_hz));
+  (void)logs::vehicle_log_columns(vehicle);
+}
+
+VehicleChoice::PilotLog VehicleChoice::write_pilot_log(const RunDirectory& dir, const FlightLog& log,
+                                                       const GroundTruth& aircraft) const {
+  check_pilot_log(aircraft);
+  const std::size_t every = from_file() ? *steps_per_log_row(vehicle, aircraft) : 1;
+  if (every == 1 && logs_in_pipeline_layout(vehicle)) {
+    dir.write_text("log.csv", flight_log_csv(log));
+    return {.charted = "log.csv", .rows = log.rows(), .every = 1};
+  }
+  dir.write_text("log.csv", logs::vehicle_log_csv(log, vehicle, every));
+  dir.write_text("pipeline_log.csv", flight_log_csv(log));
+  return {.charted = "pipeline_log.csv", .rows = (log.rows() + every - 1) / every, .every = every};
+}
+
 std::shared_ptr<const IdentifiedModel> VehicleChoice::load_model(const std::string& model_file) const {
   if (model_file.empty())
     throw InputError("--model: expected an identified model (model.json of pegasus identify)");
@@ -82,20 +118,21 @@ void run_pilot(const PilotRunOptions& options, RunSink& sink) {
   for (double& amplitude : o.sweep_amplitude) amplitude *= options.sweep_scale;
   const double seconds = options.seconds;
   RunDirectory& dir = sink.dir;
+  options.aircraft.check_pilot_log(*aircraft);
   const PilotFlight f = fly_pilot(*aircraft, o, seconds, options.seed);
   options.aircraft.keep(dir);
-  dir.write_text("log.csv", flight_log_csv(f.log));
+  const VehicleChoice::PilotLog written = options.aircraft.write_pilot_log(dir, f.log, *aircraft);
   FlightLog truth = f.log;
   for (std::size_t i = 0; i < truth.rows(); ++i) truth.states[i] = f.truth[i];
   dir.write_text("truth.csv", flight_log_csv(truth));
-  const auto log_charts =
-      flight_log_sections("log.csv", "truth.csv", {kLogControlColumns.begin(), kLogControlColumns.end()});
+  const auto log_charts = flight_log_sections(written.charted, "truth.csv",
+                                              {kLogControlColumns.begin(), kLogControlColumns.end()});
   dir.add_charts(log_charts);
   dir.write_chart_svg("position.svg", log_charts.front().charts.back());
   const HoverPoint trim = aircraft->hover_point();
   nlohmann::json summary = {{"seconds", static_cast<double>(f.log.rows()) * dt},
-                            {"rows", f.log.rows()},
-                            {"rate_hz", 1 / dt},
+                            {"rows", written.rows},
+                            {"rate_hz", 1 / (dt * static_cast<double>(written.every))},
                             {"crashed", f.crash != CrashReason::kNone},
                             {"crash_reason", crash_reason_name(f.crash)},
                             {"crash_time", f.crash_time},
@@ -104,9 +141,10 @@ void run_pilot(const PilotRunOptions& options, RunSink& sink) {
                             {"truth", "truth.csv"}};
   for (std::size_t c = 0; c < kControlNames.size(); ++c) summary["trim"][kControlNames[c]] = trim.controls[c];
   if (options.aircraft.from_file()) summary["vehicle"] = options.aircraft.vehicle.name();
+  if (written.charted != "log.csv") summary["pipeline_log"] = written.charted;  // log.csv in the file's terms
   dir.write_json("summary.json", summary);
   sink.out << fmt::format("flew {:.1f} s ({} rows at {:g} Hz){}; log: {}\n", summary["seconds"].get<double>(),
-                          f.log.rows(), 1 / dt,
+                          written.rows, summary["rate_hz"].get<double>(),
                           f.crash != CrashReason::kNone ? ", CRASHED: " + crash_reason_name(f.crash) : "",
                           (dir.final_path() / "log.csv").string());
   if (f.crash != CrashReason::kNone)
@@ -208,7 +246,8 @@ void run_hover(const HoverRunOptions& options, RunSink& sink, ThreadPool& pool) 
                                    {"a3", {{"err", g.k_alt}, {"vel", g.k_climb}}},
                                    {"a4", {{"err", g.k_yaw}, {"vel", g.k_yaw_rate}}}}}};
     if (!lqr.used)
-      sink.out << "warning: LQR starting gains not used: " << lqr.reason << "; the constants were\n";
+      sink.out << "warning: LQR starting gains not used: " << lqr.reason
+               << "; training starts from the constant gains instead\n";
     if (used.lqr_action_factor != o.lqr_action_factor)
       sink.out << fmt::format(
           "LQR starting gains made gentler: its action weights x{} (with the reward's, the starting policy "

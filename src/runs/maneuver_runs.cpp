@@ -337,20 +337,22 @@ void run_maneuver_pilot(const ManeuverPilotRunOptions& options, RunSink& sink) {
   for (int r = 0; r < options.repeats; ++r)
     for (const auto& name : options.maneuvers)
       trajectories.push_back(maneuver_trajectory(name, options.size, options.limits));
+  options.aircraft.check_pilot_log(*aircraft);
   const PilotFlight f = fly_pilot_maneuvers(*aircraft, o, options.seconds, trajectories, options.seed);
   RunDirectory& dir = sink.dir;
   options.aircraft.keep(dir);
-  dir.write_text("log.csv", sysid::flight_log_csv(f.log));
-  dir.add_charts(flight_log_sections("log.csv", "",
+  const VehicleChoice::PilotLog written = options.aircraft.write_pilot_log(dir, f.log, *aircraft);
+  dir.add_charts(flight_log_sections(written.charted, "",
                                      {sysid::kLogControlColumns.begin(), sysid::kLogControlColumns.end()}));
   const double seconds = static_cast<double>(f.log.rows()) * aircraft->step_seconds();
   nlohmann::json summary = {{"seconds", seconds},
-                            {"rows", f.log.rows()},
+                            {"rows", written.rows},
                             {"crashed", f.crash != CrashReason::kNone},
                             {"crash_reason", crash_reason_name(f.crash)},
                             {"crash_time", f.crash_time},
                             {"log", "log.csv"}};
   if (options.aircraft.from_file()) summary["vehicle"] = options.aircraft.vehicle.name();
+  if (written.charted != "log.csv") summary["pipeline_log"] = written.charted;  // log.csv in the file's terms
   dir.write_json("summary.json", summary);
   sink.out << fmt::format("flew {:.1f} s (sweeps, then the manoeuvres {} times){}; log: {}\n", seconds,
                           options.repeats,

@@ -4,6 +4,7 @@
 // its controls in another order with other ranges and signs. Its logs are made from the X-Cell's own, so the
 // pipeline's results on them can be checked against the X-Cell's.
 #include <fmt/format.h>
+#include <gtest/gtest.h>
 
 #include <string>
 
@@ -63,6 +64,13 @@ sign = -1
 [control]
 rate_hz = 10
 )";
+
+// `text` with the first `from` replaced by `to` (a test fails when there is none).
+inline std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  const auto at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return text.replace(at, from.size(), to);
+}
 
 // The outside aircraft's channels from a1..a4: thr, ail, ele, rud.
 inline std::array<double, 4> outside_controls(const heli::Controls& a) {

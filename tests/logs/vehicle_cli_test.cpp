@@ -11,7 +11,9 @@
 #include <nlohmann/json.hpp>
 
 #include "outside_aircraft.hpp"
+#include "pegasus/heli/frames.hpp"
 #include "pegasus/io/json_csv.hpp"
+#include "pegasus/logs/vehicle.hpp"
 #include "pegasus/sysid/flight_log.hpp"
 #include "support/cli_runner.hpp"
 
@@ -154,6 +156,55 @@ TEST_F(VehicleCli, AnOutsideAircraftIdentifiesHoversAndIsServedInItsOwnTerms) {
   EXPECT_NE(r.output.find("vehicle.simulator: 'none'"), std::string::npos) << r.output;
   EXPECT_FALSE(std::filesystem::exists(dir_ / "maneuver"));
   EXPECT_FALSE(std::filesystem::exists(dir_ / "maneuver.partial"));
+}
+
+// An aircraft the project can fly whose logs come in another layout and at another rate: the pilot writes
+// log.csv as its vehicle file describes (10 Hz, quaternions, body frames, its channels), which identify then
+// reads, and the flight in the pipeline's layout beside it; a rate the simulator cannot log is refused
+// before anything flies.
+TEST_F(VehicleCli, ThePilotLogsInTheVehiclesOwnLayoutAndRate) {
+  write("outside-sim.toml", test_support::replaced(test_support::kOutsideVehicle, "name = \"outside-heli\"",
+                                                   "name = \"outside-heli\"\nsimulator = \"xcell\""));
+  auto r = run_pegasus(fmt::format("pilot --vehicle {} --seconds 40 --quiet --out {}",
+                                   path("outside-sim.toml"), path("pilot")));
+  ASSERT_EQ(r.code, 0) << r.output;
+  r = run_pegasus(fmt::format("heli pilot --seconds 40 --quiet --out {}", path("xcell")));
+  ASSERT_EQ(r.code, 0) << r.output;
+  // The same flight: the pipeline's layout byte for byte, and log.csv reads back to its every fifth row.
+  EXPECT_EQ(test_support::read_text(dir_ / "pilot" / "pipeline_log.csv"),
+            test_support::read_text(dir_ / "xcell" / "log.csv"));
+  const logs::Vehicle vehicle = logs::read_vehicle(path("outside-sim.toml"));
+  const sysid::FlightLog own =
+      test_support::every_nth_row(sysid::read_flight_log(dir_ / "xcell" / "log.csv"), 5);
+  const sysid::FlightLog read = logs::read_vehicle_log(dir_ / "pilot" / "log.csv", vehicle);
+  ASSERT_EQ(read.rows(), own.rows());
+  for (std::size_t i = 0; i < own.rows(); ++i) {
+    ASSERT_EQ(read.time[i], own.time[i]);
+    for (std::size_t k = 0; k < 12; ++k) {
+      const double d = read.states[i][k] - own.states[i][k];
+      ASSERT_NEAR(k == 5 ? heli::wrap_angle(d) : d, 0.0, 1e-12) << "row " << i << " state " << k;
+    }
+    for (std::size_t c = 0; c < 4; ++c) ASSERT_NEAR(read.controls[i][c], own.controls[i][c], 1e-12) << i;
+  }
+  EXPECT_EQ(summary("pilot")["rate_hz"], 10.0);
+  EXPECT_EQ(summary("pilot")["rows"], own.rows());
+  r = run_pegasus(fmt::format("identify --vehicle {} --train {} --test {} {} --out {}",
+                              path("outside-sim.toml"), path("pilot/log.csv"), path("pilot/log.csv"), kSmall,
+                              path("id")));
+  EXPECT_EQ(r.code, 0) << r.output;
+  // 30 Hz does not divide the simulator's 50 Hz.
+  write("outside-30.toml",
+        test_support::replaced(
+            test_support::replaced(test_support::kOutsideVehicle, "rate_hz = 10\nmodel_rate_hz = 10",
+                                   "rate_hz = 30\nmodel_rate_hz = 10"),
+            "name = \"outside-heli\"", "name = \"outside-heli\"\nsimulator = \"xcell\""));
+  r = run_pegasus(
+      fmt::format("pilot --vehicle {} --seconds 40 --out {}", path("outside-30.toml"), path("pilot30")));
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("log.rate_hz: the xcell ground truth steps at 50 Hz"), std::string::npos)
+      << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "pilot30"));
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "pilot30.partial"));
 }
 
 TEST_F(VehicleCli, ABadVehicleFileStopsEveryCommandWithOneLineAndNoRunDirectory) {

@@ -144,6 +144,29 @@ TEST(Vehicles, AnOutsideAircraftsLogReadsBackToThePipelinesLayout) {
   }
 }
 
+// What a pilot on the project's ground truth writes for the vehicle (vehicle_log_csv) reads back through the
+// vehicle file to the same rows; the shipped files read the pipeline's own layout as it is.
+TEST(Vehicles, ALogWrittenInTheVehiclesLayoutReadsBackToThePipelinesLayout) {
+  const Vehicle v = parse_vehicle(test_support::kOutsideVehicle, "outside.toml");
+  const sysid::FlightLog log = synthetic_log(2000);
+  const sysid::FlightLog own = test_support::every_nth_row(log, 5);
+  const sysid::FlightLog read = parse_vehicle_log(vehicle_log_csv(log, v, 5), "outside.csv", v);
+  ASSERT_EQ(read.rows(), own.rows());
+  for (std::size_t i = 0; i < own.rows(); ++i) {
+    EXPECT_EQ(read.time[i], own.time[i]);
+    for (std::size_t k = 0; k < 12; ++k) {
+      const double d = read.states[i][k] - own.states[i][k];
+      EXPECT_NEAR(k == 5 ? heli::wrap_angle(d) : d, 0.0, 1e-12) << "row " << i << " state " << k;
+    }
+    for (std::size_t c = 0; c < 4; ++c)
+      EXPECT_NEAR(read.controls[i][c], own.controls[i][c], 1e-12) << "row " << i << " control " << c;
+  }
+  EXPECT_FALSE(logs_in_pipeline_layout(v));
+  for (const char* shipped : {"xcell60.toml", "crazyflie2.toml"})
+    EXPECT_TRUE(logs_in_pipeline_layout(read_vehicle(kVehicles / shipped))) << shipped;
+  EXPECT_TRUE(logs_in_pipeline_layout(xcell_vehicle()));
+}
+
 TEST(Vehicles, ControlsMapBothWaysForEveryWayOfWritingAChannel) {
   const Vehicle v = parse_vehicle(test_support::kOutsideVehicle, "outside.toml");
   for (const heli::Controls a :
@@ -225,11 +248,7 @@ TEST(Vehicles, ControlLinesAreServedInTheAircraftsOwnTerms) {
   EXPECT_NE(why.find("quaternion"), std::string::npos) << why;
 }
 
-std::string replaced(std::string text, const std::string& from, const std::string& to) {
-  const auto at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  return text.replace(at, from.size(), to);
-}
+using test_support::replaced;
 
 TEST(Vehicles, EveryMalformedFileIsRefusedNamingItsLineAndKey) {
   const std::string good = test_support::kOutsideVehicle;
@@ -267,6 +286,12 @@ TEST(Vehicles, EveryMalformedFileIsRefusedNamingItsLineAndKey) {
        "wind: unknown key; expected one of control, envelope, hover, log, model, vehicle"},
       {good + "\n[model]\ntemplates = \"thesis\"\n",
        "model.templates: expected 'kinematic' or 'none', got 'thesis'"},
+      {replaced(good, "name = \"outside-heli\"", "name = \"\""),
+       "v.toml:3: vehicle.name: expected a non-empty name"},
+      {replaced(good, "fields = [\"u\", \"v\", \"w\"]", "fields = [\"u\", \"n\", \"w\"]"),
+       "log.velocity: the field 'n' is also in log.position; expected each field once"},
+      {replaced(good, "time = \"t\"", "time = \"thr\""),
+       "log.controls[0]: the field 'thr' is also in log.time; expected each field once"},
   };
   for (const auto& c : cases) {
     const std::string m = message(c.text);

@@ -132,6 +132,19 @@ sysid::FlightLog read_vehicle_log(const std::filesystem::path& file, const Vehic
 sysid::FlightLog parse_vehicle_log(const std::string& text, const std::string& name, const Vehicle& vehicle,
                                    const sysid::LogReadOptions& options = {});
 
+// Whether the vehicle's logs are the pipeline's own CSV layout (sysid::flight_log_csv: the columns time, x,
+// y, z, roll, pitch, yaw, xdot, ..., yaw_rate, a1..a4 as they are, in any order), as the shipped X-Cell and
+// Crazyflie files say; the rate aside.
+bool logs_in_pipeline_layout(const Vehicle& vehicle);
+// A flight log in the pipeline's layout written as the vehicle's logs come (the inverse of
+// parse_vehicle_log): its time column, its state fields (quaternion or Euler attitude, world or body
+// velocity, body or Euler rates) and its channels in its order, ranges and signs; every `every`-th row from
+// the first.
+std::string vehicle_log_csv(const sysid::FlightLog& log, const Vehicle& vehicle, std::size_t every = 1);
+// Its header; InputError when two quantities of the file name the same field (of different topics): a CSV
+// log cannot hold both.
+std::vector<std::string> vehicle_log_columns(const Vehicle& vehicle);
+
 // The `pegasus control` line format of the vehicle: state lines in its fields (its column names in a
 // header), the answer in its channels' order, names and units.
 heli::ControlLineFormat control_line_format(const Vehicle& vehicle);

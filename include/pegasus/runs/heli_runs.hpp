@@ -40,6 +40,20 @@ struct VehicleChoice {
   // The vehicle's ground truth with the settings; a vehicle without one, or settings it rejects, is bad
   // input.
   std::unique_ptr<GroundTruth> ground_truth(const GroundTruthSettings& settings) const;
+  // A pilot's flight of `aircraft` (the pipeline's layout, one row per simulator step) as the vehicle's logs
+  // come: log.csv in the pipeline's layout when the vehicle file reads that at the simulator's rate (the
+  // built-in X-Cell and the shipped files), else in the file's own layout at its log.rate_hz, with the
+  // pipeline's layout beside it in pipeline_log.csv.
+  struct PilotLog {
+    std::string charted;    // the file in the pipeline's layout, which the charts read
+    std::size_t rows = 0;   // of log.csv
+    std::size_t every = 1;  // simulator steps per row of log.csv
+  };
+  PilotLog write_pilot_log(const RunDirectory& dir, const sysid::FlightLog& log,
+                           const GroundTruth& aircraft) const;
+  // Bad input, before anything flies, when write_pilot_log could not write the file's layout: its rate does
+  // not divide the simulator's, or two of its quantities name one CSV column.
+  void check_pilot_log(const GroundTruth& aircraft) const;
   // The identified model in `file`; one identified from another vehicle's logs is bad input.
   std::shared_ptr<const sysid::IdentifiedModel> load_model(const std::string& file) const;
 };
