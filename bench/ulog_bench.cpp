@@ -9,6 +9,7 @@
 
 #include <filesystem>
 
+#include "pegasus/io/atomic_file.hpp"
 #include "pegasus/logs/ulog.hpp"
 #include "pegasus/logs/ulog_import.hpp"
 
@@ -53,7 +54,7 @@ void BM_UlogImport(benchmark::State& state) {
   for (auto _ : state) {
     const logs::UlogFile f = logs::read_ulog(kSample, {.topics = spec.topic_names()});
     const sysid::FlightLog log = logs::import_ulog(f, spec, kSample.string());
-    const std::string sha = logs::file_sha256(kSample);
+    const std::string sha = file_sha256(kSample);
     benchmark::DoNotOptimize(log.rows());
     benchmark::DoNotOptimize(sha.data());
   }

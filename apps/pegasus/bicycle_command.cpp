@@ -158,21 +158,22 @@ std::vector<Command> bicycle_commands() {
                     declare_riding(s, 20);
                   },
               .run = run_train},
-      Command{.path = "bicycle ride",
-              .description = "Ride a bicycle policy file to the goal and report the distances",
-              .declare =
-                  [](ConfigSchema& s) {
-                    s.add_string("policy", "", "policy file (JSON with parameter names and values)");
-                    declare_fall_reward(s);
-                    declare_riding(s, 50);
-                  },
-              .run = run_ride},
+      Command{
+          .path = "bicycle ride",
+          .description = "Ride a bicycle policy file to the goal and report the distances",
+          .declare =
+              [](ConfigSchema& s) {
+                s.add_string("policy", "", "policy file (JSON with parameter names and values)").input_file();
+                declare_fall_reward(s);
+                declare_riding(s, 50);
+              },
+          .run = run_ride},
       Command{
           .path = "bicycle variance",
           .description = "Thesis 4.7: spread of U-hat over scenario sets, plain/antithetic/stratified/Sobol",
           .declare =
               [](ConfigSchema& s) {
-                s.add_string("policy", "", "policy file (JSON with parameter names and values)");
+                s.add_string("policy", "", "policy file (JSON with parameter names and values)").input_file();
                 s.add_int("sets", 100, "independent scenario sets per method").min(2).max(1000000);
                 declare_training(s);
               },

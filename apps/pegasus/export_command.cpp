@@ -22,15 +22,17 @@ Command export_command() {
       .declare =
           [](ConfigSchema& s) {
             s.add_string(
-                "policy", "",
-                "policy file: policy.json of heli hover, heli maneuver, bicycle train or pendulum train");
+                 "policy", "",
+                 "policy file: policy.json of heli hover, heli maneuver, bicycle train or pendulum train")
+                .input_file();
             s.add_string("lang", "c", "language of the generated code").choices({"c"});
             s.add_string("prefix", codegen::CPolicyOptions{}.prefix,
                          "file name and symbol prefix of the generated code");
             s.add_string(
-                "vehicle", "",
-                "helicopter classes: a vehicle file; adds PREFIX_act_vehicle, the controller in that "
-                "aircraft's own state fields and channels");
+                 "vehicle", "",
+                 "helicopter classes: a vehicle file; adds PREFIX_act_vehicle, the controller in that "
+                 "aircraft's own state fields and channels")
+                .input_file();
           },
       .run =
           [](RunContext& ctx) {

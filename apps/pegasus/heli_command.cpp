@@ -27,7 +27,8 @@ namespace pegasus::cli {
 void declare_vehicle(ConfigSchema& s) {
   s.add_string("vehicle", "",
                "vehicle file (README: Vehicle files; experiments/vehicles/): the aircraft's log layout, "
-               "channels, rates and hover settings; empty: the X-Cell 60 in the project's own log layout");
+               "channels, rates and hover settings; empty: the X-Cell 60 in the project's own log layout")
+      .input_file();
 }
 
 heli::VehicleChoice aircraft_of(const ConfigSchema& c) {
@@ -82,7 +83,7 @@ void run_pilot(RunContext& ctx) {
 
 void declare_hover(ConfigSchema& s) {
   declare_vehicle(s);
-  s.add_string("model", "", "identified model (model.json of pegasus heli identify)");
+  s.add_string("model", "", "identified model (model.json of pegasus heli identify)").input_file();
   const heli::HoverTrainingOptions defaults;
   s.add_int("scenarios", defaults.scenarios, "PEGASUS scenarios m (thesis 5.3: 30)").range(1, 100000);
   s.add_double("seconds", defaults.seconds, "flight per scenario, s (thesis 5.3: 35)")
@@ -237,7 +238,7 @@ void declare_fly(ConfigSchema& s) {
   const FlyRunOptions d;
   const HoverTrainingOptions hover;  // by default, flights start as perturbed as hover training's scenarios
   declare_vehicle(s);
-  s.add_string("policy", "", "policy file (policy.json of pegasus heli hover or heli maneuver)");
+  s.add_string("policy", "", "policy file (policy.json of pegasus heli hover or heli maneuver)").input_file();
   s.add_bool("pilot", d.pilot_only, "fly the scripted pilot's hover instead of a policy");
   s.add_bool("compare_pilot", d.compare_pilot,
              "also fly the scripted pilot's hover from the same starts and gusts");

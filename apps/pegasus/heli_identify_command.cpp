@@ -58,8 +58,8 @@ void declare_identify(ConfigSchema& s) {
   const IdentifyRunOptions d;
   const IdentifyOptions& id = d.identify;
   declare_vehicle(s);
-  s.add_string("train", "", "training flight log (CSV in the vehicle's layout, see README)");
-  s.add_string("test", "", "hold-out flight log (CSV)");
+  s.add_string("train", "", "training flight log (CSV in the vehicle's layout, see README)").input_file();
+  s.add_string("test", "", "hold-out flight log (CSV)").input_file();
   s.add_double("rate_hz", id.structure.rate_hz, "identification rate, Hz (the log is downsampled)")
       .range(1, 50);
   s.add_bool("local", id.local, "locally weighted regression (false: globally linear)");

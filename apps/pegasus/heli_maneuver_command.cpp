@@ -60,10 +60,11 @@ void declare(ConfigSchema& s) {
   s.add_string("name", d.name, "manoeuvre: AMA Class III (thesis 5.4) or a figure-eight (figure8)")
       .choices(maneuver_choices());
   declare_size(s);
-  s.add_string("model", "", "identified model file (model.json of `pegasus heli identify`)");
+  s.add_string("model", "", "identified model file (model.json of `pegasus heli identify`)").input_file();
   s.add_string(
-      "hover_policy", "",
-      "optional: a trained hover policy file to start from (else the model's trim and default gains)");
+       "hover_policy", "",
+       "optional: a trained hover policy file to start from (else the model's trim and default gains)")
+      .input_file();
   // Trajectory
   declare_limits(s);
   s.add_double("triangle_base", d.size.triangle_base,

@@ -9,8 +9,9 @@ namespace pegasus::cli {
 namespace {
 
 void declare_import(ConfigSchema& s) {
-  s.add_string("ulog", "", "the PX4 ULog file (.ulg)");
-  s.add_string("vehicle", "", "vehicle file whose [log] section names the topics (README: vehicle files)");
+  s.add_string("ulog", "", "the PX4 ULog file (.ulg)").input_file();
+  s.add_string("vehicle", "", "vehicle file whose [log] section names the topics (README: vehicle files)")
+      .input_file();
   s.add_double("start_s", 0, "skip this many seconds after the first time every topic has data")
       .range(0, 1e6);
   s.add_double("end_s", 0, "end this many seconds after that time (0: where the first topic ends)")

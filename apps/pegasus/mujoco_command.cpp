@@ -10,8 +10,9 @@ namespace {
 
 void declare_train(ConfigSchema& s) {
   const MujocoTrainingRunOptions d;
-  s.add_string("model", "", "MJCF model file");
-  s.add_string("task", "", "task file (TOML) naming the model's joints, bodies, sites, sensors, actuators");
+  s.add_string("model", "", "MJCF model file").input_file();
+  s.add_string("task", "", "task file (TOML) naming the model's joints, bodies, sites, sensors, actuators")
+      .input_file();
   s.add_string("policy", d.policy_class, "policy class").choices({"linear", "mlp"});
   s.add_int_list("hidden", std::vector<std::int64_t>(d.hidden.begin(), d.hidden.end()),
                  "hidden layer widths of the mlp policy")
@@ -36,7 +37,8 @@ void declare_train(ConfigSchema& s) {
   s.add_string("initial_policy", "",
                "start from this policy.json's theta instead of the class's initial values (same policy class "
                "and hidden widths, normalize = false): to continue a search on a longer horizon or another "
-               "task");
+               "task")
+      .input_file();
 }
 
 std::vector<int> hidden_widths(const ConfigSchema& c) {
@@ -66,7 +68,7 @@ void run_train(RunContext& ctx) {
 }
 
 void declare_rollout(ConfigSchema& s) {
-  s.add_string("policy", "", "policy.json written by `pegasus mujoco train`");
+  s.add_string("policy", "", "policy.json written by `pegasus mujoco train`").input_file();
   s.add_int("episodes", MujocoRolloutRunOptions{}.episodes,
             "scenarios rolled out (the first is recorded step by step)")
       .min(1)

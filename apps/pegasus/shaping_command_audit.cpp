@@ -8,9 +8,11 @@ namespace pegasus::cli {
 namespace {
 
 void declare(ConfigSchema& s) {
-  s.add_string("mdp", "", "the MDP, a pegasus-mdp JSON file (format: include/pegasus/mdp/mdp_json.hpp)");
+  s.add_string("mdp", "", "the MDP, a pegasus-mdp JSON file (format: include/pegasus/mdp/mdp_json.hpp)")
+      .input_file();
   s.add_string("shaping", "",
-               "the shaping reward F(s, a, s'), a pegasus-shaping JSON file (shaping_table.hpp)");
+               "the shaping reward F(s, a, s'), a pegasus-shaping JSON file (shaping_table.hpp)")
+      .input_file();
   s.add_double("tolerance", ShapingAuditRunOptions{}.tolerance,
                "relative tolerance: residuals below tolerance * (1 + max |F|) count as zero")
       .greater_than(0)

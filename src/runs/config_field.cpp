@@ -55,6 +55,13 @@ ConfigField& ConfigField::validate(Validator check) {
   validators_.push_back(std::move(check));
   return *this;
 }
+ConfigField& ConfigField::input_file() {
+  if (type_ != FieldType::kString)
+    throw std::logic_error("ConfigField::input_file: " + name_ + " is no string");
+  input_file_ = true;
+  return *this;
+}
+
 ConfigField& ConfigField::affects_results(bool yes) {
   affects_results_ = yes;
   return *this;

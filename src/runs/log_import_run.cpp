@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "pegasus/core/error.hpp"
+#include "pegasus/io/atomic_file.hpp"
 #include "pegasus/io/json_csv.hpp"
 #include "pegasus/logs/ulog.hpp"
 #include "pegasus/runs/flight_charts.hpp"
@@ -69,7 +70,7 @@ void run_log_import(const LogImportRunOptions& o, RunSink& sink, ThreadPool& poo
       logs::read_ulog(file, {.truncated_tail = o.truncated_tail, .topics = spec.topic_names()});
   logs::ImportProvenance provenance;
   const FlightLog log = logs::import_ulog(ulog, spec, file.string(), o.window, &provenance);
-  const std::string sha256 = logs::file_sha256(file);
+  const std::string sha256 = file_sha256(file);
   const auto bytes = std::filesystem::file_size(file);
 
   // What moved: a control that never changes carries nothing an identification can learn from.

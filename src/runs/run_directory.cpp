@@ -18,6 +18,7 @@
 #include "pegasus/core/error.hpp"
 #include "pegasus/core/untrusted_text.hpp"
 #include "pegasus/io/atomic_file.hpp"
+#include "pegasus/io/json_csv.hpp"
 #include "pegasus/parallel/mpi.hpp"
 
 namespace pegasus {
@@ -29,6 +30,7 @@ namespace {
 constexpr const char* kConfigFile = "config.toml";
 constexpr const char* kCheckpointFile = "checkpoint.json";
 constexpr const char* kChartsFile = "charts.json";
+constexpr const char* kInputsFile = "inputs.json";
 
 bool exists_no_follow(const fs::path& p) {
   std::error_code ec;
@@ -47,6 +49,44 @@ void remove_stale_temporaries(const fs::path& dir) {
     }
   }
   for (const auto& p : stale) fs::remove(p, ec);
+}
+
+// The SHA-256 of each input file the config names (ConfigField::input_file), by field; files that cannot be
+// read are left to the command to report.
+nlohmann::json input_digests(const ConfigSchema& config) {
+  nlohmann::json digests = nlohmann::json::object();
+  for (const ConfigField& field : config.fields()) {
+    if (!field.is_input_file()) continue;
+    const std::string& file = config.get_string(field.name());
+    std::error_code ec;
+    if (file.empty() || !fs::is_regular_file(file, ec)) continue;
+    try {
+      digests[field.name()] = {{"file", file}, {"sha256", file_sha256(file)}};
+    } catch (const InputError&) {
+      // unreadable: the command says so
+    }
+  }
+  return digests;
+}
+
+// What --resume continues was computed from the input files as they were: refuse when one changed since.
+void check_inputs_unchanged(const fs::path& stored_file, const ConfigSchema& config) {
+  if (!exists_no_follow(stored_file)) return;  // a run without input files, or of an older version
+  nlohmann::json stored;
+  try {
+    stored = read_json_file(stored_file);
+  } catch (const std::exception& e) {
+    throw InputError(fmt::format("--resume: cannot read {}: {}", stored_file.string(), e.what()));
+  }
+  const nlohmann::json now = input_digests(config);
+  for (const auto& [field, recorded] : stored.items()) {
+    if (now.contains(field) && now[field] == recorded) continue;
+    throw InputError(fmt::format(
+        "--resume: {} ({}) {} since the interrupted run began; use the same inputs, or --force to start "
+        "over",
+        printable(recorded.value("file", std::string("?"))), ConfigSchema::option_name(field),
+        now.contains(field) ? "changed" : "cannot be read"));
+  }
 }
 
 // A private folder for a shadow's direct writes, removed when the last copy of the pointer goes.
@@ -240,6 +280,7 @@ RunDirectory RunDirectory::open_here(const fs::path& dir, const ConfigSchema& co
                         ConfigSchema::format_value(config.value(*key))));
       }
     }
+    check_inputs_unchanged(staging / kInputsFile, config);
     remove_stale_temporaries(staging);
     run.resumed_ = true;
   } else {
@@ -257,6 +298,9 @@ RunDirectory RunDirectory::open_here(const fs::path& dir, const ConfigSchema& co
   }
   try {
     run.write_text(kConfigFile, config.to_toml());
+    if (run.created_)
+      if (const nlohmann::json digests = input_digests(config); !digests.empty())
+        run.write_json(kInputsFile, digests);
   } catch (...) {
     // A fresh DIR.partial without its config.toml (a full disk) is no interrupted run: remove it.
     run.abandon();

@@ -133,6 +133,43 @@ TEST(RunDirectory, ResumeRefusesADifferentConfigNamingTheKey) {
   EXPECT_TRUE(fs::exists(root / "out.partial" / "checkpoint.json"));
 }
 
+// A run continued from its checkpoint was computed from its input files as they were when it began: a file
+// whose bytes changed since (a log rewritten, a vehicle file edited) is refused by name, as a changed setting
+// is; the same bytes (touched, or copied back) resume.
+TEST(RunDirectory, ResumeRefusesAnInputFileWhoseContentsChanged) {
+  const fs::path root = scratch();
+  const fs::path log = root / "train.csv";
+  write_file_atomic(log, "time,x\n0,1\n");
+  const auto with_log = [&] {
+    ConfigSchema s = schema();
+    s.add_string("train", "", "training log").input_file();
+    s.add_string("note", "", "not a file");
+    s.set("train", log.string());
+    return s;
+  };
+  { RunDirectory::open(root / "out", with_log()).save_checkpoint({{"next", 1}}); }
+  EXPECT_TRUE(fs::exists(root / "out.partial" / "inputs.json"));
+  write_file_atomic(log, "time,x\n0,2\n");
+  const std::string message =
+      input_error_message([&] { RunDirectory::open(root / "out", with_log(), {.resume = true}); });
+  EXPECT_EQ(message,
+            "--resume: " + log.string() +
+                " (--train) changed since the interrupted run began; use the same inputs, or --force "
+                "to start over");
+  EXPECT_TRUE(fs::exists(root / "out.partial" / "checkpoint.json"));  // untouched
+  fs::remove(log);
+  EXPECT_NE(input_error_message([&] {
+              RunDirectory::open(root / "out", with_log(), {.resume = true});
+            }).find("(--train) cannot be read since"),
+            std::string::npos);
+  write_file_atomic(log, "time,x\n0,1\n");  // the bytes it began with
+  RunDirectory resumed = RunDirectory::open(root / "out", with_log(), {.resume = true});
+  EXPECT_TRUE(resumed.resumed());
+  // Without input files there is nothing to record.
+  { RunDirectory::open(root / "plain", schema()).save_checkpoint({{"next", 1}}); }
+  EXPECT_FALSE(fs::exists(root / "plain.partial" / "inputs.json"));
+}
+
 TEST(RunDirectory, ResumeWithoutAnInterruptedRunStartsFresh) {
   const fs::path root = scratch();
   RunDirectory run = RunDirectory::open(root / "out", schema(), {.resume = true});

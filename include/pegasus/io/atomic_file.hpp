@@ -14,6 +14,9 @@ void write_file_atomic(const std::filesystem::path& file, std::string_view conte
 // The whole file; std::runtime_error naming the file if it cannot be read.
 std::string read_file(const std::filesystem::path& file);
 
+// SHA-256 of a file's bytes as 64 hex digits (OpenSSL); InputError naming the file when it cannot be read.
+std::string file_sha256(const std::filesystem::path& file);
+
 // The temporary name write_file_atomic uses for `file` (".NAME.tmp" in the same folder).
 std::filesystem::path atomic_temp_path(const std::filesystem::path& file);
 

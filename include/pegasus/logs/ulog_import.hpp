@@ -39,7 +39,4 @@ struct ImportProvenance {
 sysid::FlightLog import_ulog(const UlogFile& ulog, const VehicleLogSpec& spec, const std::string& file,
                              const ImportOptions& options = {}, ImportProvenance* provenance = nullptr);
 
-// SHA-256 of a file's bytes as 64 hex digits (OpenSSL); InputError when it cannot be read.
-std::string file_sha256(const std::filesystem::path& file);
-
 }  // namespace pegasus::logs

@@ -61,6 +61,9 @@ class ConfigField {
   ConfigField& validate(Validator check);
   // Fields that cannot change a result (e.g. `threads`) may differ when a run is resumed.
   ConfigField& affects_results(bool yes);
+  // A string field naming a file whose bytes shape the results (a log, a model, a vehicle file): --resume
+  // refuses to continue when the file's contents changed since the run began (RunDirectory: inputs.json).
+  ConfigField& input_file();
 
   const std::string& name() const { return name_; }
   FieldType type() const { return type_; }
@@ -68,6 +71,7 @@ class ConfigField {
   const FieldValue& default_value() const { return default_; }
   const std::vector<std::string>& allowed_choices() const { return choices_; }
   bool affects_results() const { return affects_results_; }
+  bool is_input_file() const { return input_file_; }
   // "a number in [0, 1]", "an integer >= 1", "one of \"plain\", \"antithetic\"", ...
   std::string expectation() const;
   // Empty when `value` (already of this field's type) is acceptable, else what was expected.
@@ -89,6 +93,7 @@ class ConfigField {
   std::size_t min_size_ = 0;
   std::vector<Validator> validators_;
   bool affects_results_ = true;
+  bool input_file_ = false;
 };
 
 class ConfigSchema {
