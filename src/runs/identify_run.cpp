@@ -166,6 +166,13 @@ void run_identify(const IdentifyRunOptions& options, RunSink& sink, ThreadPool& 
                             {"model", "model.json"}};
   // Only when some were skipped, so that the summaries of 50 Hz logs stay as they were (digests).
   if (!study.skipped_rates_hz.empty()) summary["variant_rates_skipped_hz"] = study.skipped_rates_hz;
+  // mse_at_seconds reports whole model steps: at 12.5 Hz there is no 1 s or 5 s. Only then (digests).
+  std::vector<int> horizons_skipped;
+  for (const int seconds : {1, 5, 10}) {
+    const double steps = seconds * o.structure.rate_hz;
+    if (std::abs(steps - std::round(steps)) > 1e-9) horizons_skipped.push_back(seconds);
+  }
+  if (!horizons_skipped.empty()) summary["mse_seconds_skipped"] = horizons_skipped;
   if (!own_layout) summary["vehicle"] = vehicle.name();  // likewise
   if (!report.floored_inputs.empty()) summary["bandwidth_at_floor"] = report.floored_inputs;
   if (o.calibrate_noise) {
@@ -228,6 +235,10 @@ void run_identify(const IdentifyRunOptions& options, RunSink& sink, ThreadPool& 
         "variants not identified at {} Hz: the logs' rates ({:.4g} and {:.4g} Hz) are not "
         "multiples\n",
         fmt::join(study.skipped_rates_hz, ", "), 1 / train.dt(), 1 / test.dt());
+  if (!horizons_skipped.empty())
+    sink.out << fmt::format(
+        "no hold-out MSE at {} s: a {} Hz model's steps do not end there (mse_seconds_skipped)\n",
+        fmt::join(horizons_skipped, ", "), o.structure.rate_hz);
   const auto& m1 = summary["mse_at_seconds"];
   const auto& g1 = summary["global_linear"]["mse_at_seconds"];
   sink.out << fmt::format("identified on {:.0f} s ({} rows at {} Hz), cross-validation {:.1f} s\n",

@@ -14,8 +14,10 @@ ModelSelectionStudy model_selection_study(const IdentifiedModel& model, const Fl
   out.variants.push_back({options.local ? "locally weighted (chosen)" : "global linear (chosen)",
                           horizon_mse(model, test, horizon, spacing, pool)});
   // A variant: the chosen bandwidths (or none) on another structure, its noise from cross-validation.
-  auto variant_model = [&](const ModelStructure& m, bool local) {
+  auto variant_model = [&](ModelStructure m, bool local) {
     Dataset d = build_dataset(train, m);
+    // As identify does: an input the log never moves is left out, or it would make X'WX singular.
+    m.constant_inputs = constant_inputs(d);
     auto inv = local ? model.inv_bandwidth() : std::array<double, kInputs>{};
     if (!m.extra_states) inv[kFlapLon] = inv[kFlapLat] = inv[kGyro] = 0;
     IdentifyOptions vo = options;

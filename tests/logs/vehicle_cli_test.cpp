@@ -192,6 +192,15 @@ TEST_F(VehicleCli, ThePilotLogsInTheVehiclesOwnLayoutAndRate) {
                               path("outside-sim.toml"), path("pilot/log.csv"), path("pilot/log.csv"), kSmall,
                               path("id")));
   EXPECT_EQ(r.code, 0) << r.output;
+  // A 12.5 Hz model has no step at 1 s or 5 s: the summary says so instead of leaving the keys out silently.
+  r = run_pegasus(fmt::format("heli identify --train {} --test {} --rate-hz 12.5 {} --out {}",
+                              path("xcell/log.csv"), path("xcell/log.csv"), kSmall, path("id-12.5")));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_EQ(summary("id-12.5")["mse_seconds_skipped"], nlohmann::json::array({1, 5}));
+  EXPECT_FALSE(summary("id-12.5")["mse_at_seconds"].contains("1"));
+  EXPECT_TRUE(summary("id-12.5")["mse_at_seconds"].contains("10"));
+  EXPECT_FALSE(summary("id")["mse_at_seconds"].empty());
+  EXPECT_FALSE(summary("id").contains("mse_seconds_skipped"));
   // 30 Hz does not divide the simulator's 50 Hz.
   write("outside-30.toml",
         test_support::replaced(

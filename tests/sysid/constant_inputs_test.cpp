@@ -10,6 +10,7 @@
 #include "pegasus/heli/aircraft.hpp"
 #include "pegasus/heli/pilot.hpp"
 #include "pegasus/sysid/identify.hpp"
+#include "pegasus/sysid/model_selection.hpp"
 
 namespace {
 
@@ -53,6 +54,20 @@ TEST(ConstantInputs, AControlThatNeverMovesLeavesTheRegressionInsteadOfMakingItS
   const IdentifiedModel back = IdentifiedModel::from_json(model.to_json());
   EXPECT_EQ(back.structure().constant_inputs, model.structure().constant_inputs);
   EXPECT_NE(model.structure().describe().find("constant in the data (left out): a3"), std::string::npos);
+  // The comparison models of Fig 5.2 leave it out too: each rollout reaches every horizon (they were all
+  // stopped at once, and the summary's global linear MSE was null).
+  IdentifyOptions local = global_fit();
+  local.local = true;
+  const IdentifiedModel chosen = identify(train, local, pool);
+  const ModelSelectionStudy study =
+      model_selection_study(chosen, train, test, local, {.horizon_s = 1.0, .start_spacing_s = 2.0}, pool);
+  ASSERT_GE(study.variants.size(), 4u);
+  for (const NamedHorizonMse& v : study.variants) {
+    ASSERT_FALSE(v.mse.count.empty()) << v.name;
+    EXPECT_EQ(v.mse.count.back(), v.mse.count.front()) << v.name;
+    EXPECT_GT(v.mse.count.back(), 0) << v.name;
+  }
+  EXPECT_EQ(study.global_linear.count.back(), study.global_linear.count.front());
 }
 
 TEST(ConstantInputs, NoneOnTheXCellsOwnLogs) {
