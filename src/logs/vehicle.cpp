@@ -452,7 +452,7 @@ sysid::FlightLog parse_vehicle_log(const std::string& text, const std::string& n
     }
     log.controls.push_back(a);
   }
-  sysid::check_log_rows(log, table.lines, table.last_line, name, options);
+  sysid::check_log_rows(log, table.lines, table.last_line, name, options, spec.time);
   const double rate = 1 / log.dt();
   if (std::abs(rate / spec.rate_hz - 1) > options.rate_tolerance)
     throw InputError(fmt::format("{}: rows come at {:.6g} Hz; expected log.rate_hz = {} Hz of {}", name, rate,

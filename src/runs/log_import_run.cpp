@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <filesystem>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -112,14 +113,17 @@ void run_log_import(const LogImportRunOptions& o, RunSink& sink, ThreadPool& poo
       {"provenance", "provenance.json"}};
   std::string topics;
   for (const auto& t : prov["topics"]) topics += (topics.empty() ? "" : ", ") + t["topic"].get<std::string>();
-  sink.out << fmt::format("imported {:.1f} s ({} rows at {} Hz) of {} from {}; {} dropouts ({} ms)\n",
-                          log.seconds(), log.rows(), spec.rate_hz, topics, file.filename().string(),
-                          ulog.dropouts.size(), prov["dropout_total_ms"].get<double>());
+  // Printed once the identification below has worked too: bad input there is the one line the run prints.
+  std::ostringstream imported;
+  imported << fmt::format(
+      "imported {:.1f} s ({} rows at {} Hz) of {} from {}; {} dropouts in the file ({} ms)\n", log.seconds(),
+      log.rows(), spec.rate_hz, topics, file.filename().string(), ulog.dropouts.size(),
+      prov["dropout_total_ms"].get<double>());
   if (ulog.truncated_at)
-    sink.out << fmt::format("warning: the file ends inside the message at byte {}; read up to it\n",
+    imported << fmt::format("warning: the file ends inside the message at byte {}; read up to it\n",
                             *ulog.truncated_at);
   for (const auto& name : constant_controls)
-    sink.out << fmt::format(
+    imported << fmt::format(
         "warning: {} is constant over the log: nothing about its effect can be identified\n",
         name.get<std::string>());
 
@@ -175,6 +179,8 @@ void run_log_import(const LogImportRunOptions& o, RunSink& sink, ThreadPool& poo
                              {"rollouts", rollouts},
                              {"model", "model.json"}};
     if (!report.floored_inputs.empty()) summary["prediction"]["bandwidth_at_floor"] = report.floored_inputs;
+    sink.out << imported.str();
+    imported.str("");
     sink.out
         << "hold-out RMSE (identified | global linear | constant velocity; - where the model's fit turned "
            "singular before that horizon):\n";
@@ -192,7 +198,7 @@ void run_log_import(const LogImportRunOptions& o, RunSink& sink, ThreadPool& poo
     }
   }
   dir.write_json("summary.json", summary);
-  sink.out << "log: " << (dir.final_path() / "log.csv").string() << "\n";
+  sink.out << imported.str() << "log: " << (dir.final_path() / "log.csv").string() << "\n";
 }
 
 }  // namespace pegasus

@@ -79,8 +79,13 @@ CsvColumns read_csv_columns(const std::string& text, const std::string& name,
   std::vector<std::size_t> index(columns.size());
   for (std::size_t r = 0; r < columns.size(); ++r) {
     std::size_t found = header.size();
-    for (std::size_t h = 0; h < header.size(); ++h)
-      if (header[h] == columns[r]) found = h;
+    for (std::size_t h = 0; h < header.size(); ++h) {
+      if (header[h] != columns[r]) continue;
+      if (found != header.size())  // which of the two would the user mean?
+        throw InputError(fmt::format("{}:1:{}: the column appears twice in the header; expected it once",
+                                     name, printable(columns[r])));
+      found = h;
+    }
     if (found == header.size()) {
       std::string need;
       for (const auto& c : columns) need += (need.empty() ? "" : ", ") + c;
@@ -118,21 +123,22 @@ CsvColumns read_csv_columns(const std::string& text, const std::string& name,
 }
 
 void check_log_rows(const FlightLog& log, const std::vector<std::size_t>& lines, std::size_t last_line,
-                    const std::string& name, const LogReadOptions& options) {
+                    const std::string& name, const LogReadOptions& options, const std::string& time_column) {
+  const std::string time = printable(time_column);
   if (log.rows() < static_cast<std::size_t>(options.min_rows))
     throw InputError(fmt::format("{}:{}: expected at least {} data rows, found {}", name, last_line,
                                  options.min_rows, log.rows()));
   for (std::size_t i = 1; i < log.rows(); ++i)
     if (!(log.time[i] > log.time[i - 1]))
-      throw InputError(fmt::format("{}:{}:time: expected time to increase strictly, found {} after {}", name,
-                                   lines[i], log.time[i], log.time[i - 1]));
+      throw InputError(fmt::format("{}:{}:{}: expected time to increase strictly, found {} after {}", name,
+                                   lines[i], time, log.time[i], log.time[i - 1]));
   const double dt = log.dt();
   for (std::size_t i = 1; i < log.rows(); ++i) {
     const double step = log.time[i] - log.time[i - 1];
     if (std::abs(step - dt) > options.rate_tolerance * dt)
       throw InputError(
-          fmt::format("{}:{}:time: expected a constant sample interval {} s (within {}%), found {} s", name,
-                      lines[i], dt, 100 * options.rate_tolerance, step));
+          fmt::format("{}:{}:{}: expected a constant sample interval {} s (within {}%), found {} s", name,
+                      lines[i], time, dt, 100 * options.rate_tolerance, step));
   }
 }
 

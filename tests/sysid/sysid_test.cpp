@@ -81,6 +81,10 @@ TEST(FlightLogFormat, AcceptsColumnsInAnyOrderWithExtras) {
 
 TEST(FlightLogFormat, ErrorsNameFileLineAndColumn) {
   EXPECT_NE(expect_input_error("time,x,y\n").find("log.csv:1:z: required column missing"), std::string::npos);
+  EXPECT_NE(
+      expect_input_error("x," + std::string(kHeader) + "1," + row(0) + "1," + row(0.02) + "1," + row(0.04))
+          .find("log.csv:1:x: the column appears twice in the header; expected it once"),
+      std::string::npos);
   EXPECT_NE(expect_input_error(std::string(kHeader) + row(0) + row(0.02, "abc") + row(0.04))
                 .find("log.csv:3:x: expected a number, found 'abc'"),
             std::string::npos);

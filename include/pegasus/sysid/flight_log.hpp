@@ -62,8 +62,10 @@ struct CsvColumns {
 CsvColumns read_csv_columns(const std::string& text, const std::string& name,
                             const std::vector<std::string>& columns);
 // The checks every log gets: at least options.min_rows rows, time strictly increasing at a constant rate
-// (within options.rate_tolerance); `lines` are the rows' lines, for the messages.
+// (within options.rate_tolerance); `lines` are the rows' lines and `time_column` the log's name for its time,
+// for the messages.
 void check_log_rows(const FlightLog& log, const std::vector<std::size_t>& lines, std::size_t last_line,
-                    const std::string& name, const LogReadOptions& options);
+                    const std::string& name, const LogReadOptions& options,
+                    const std::string& time_column = "time");
 
 }  // namespace pegasus::sysid
