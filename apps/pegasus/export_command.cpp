@@ -9,6 +9,7 @@
 #include "experiment_commands.hpp"
 #include "pegasus/codegen/c_policy.hpp"
 #include "pegasus/core/error.hpp"
+#include "pegasus/heli/policy_file.hpp"
 #include "pegasus/logs/vehicle.hpp"
 
 namespace pegasus::cli {
@@ -46,6 +47,11 @@ Command export_command() {
             std::string error;
             if (!options.IsValid(&error)) throw InputError("--" + error);
             const codegen::CPolicyCode code = codegen::export_c_policy_file(policy, options);
+            if (vehicle)
+              if (const std::string w = heli::other_vehicle_warning(
+                      code.trained_vehicle, policy, vehicle->name(), "writing it in the terms of");
+                  !w.empty())
+                ctx.out << w << "\n";
             RunDirectory& dir = ctx.run_directory();
             dir.write_text(code.header_name, code.header);
             dir.write_text(code.source_name, code.source);

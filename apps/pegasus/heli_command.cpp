@@ -309,10 +309,10 @@ void run_control(RunContext& ctx) {
     } else {
       const logs::Vehicle vehicle = aircraft_of(ctx.config).vehicle;
       // A policy trained for another aircraft still runs (the user may mean it), but not silently.
-      if (const auto it = file.provenance.find("vehicle");
-          it != file.provenance.end() && it->is_string() && *it != vehicle.name())
-        std::fprintf(stderr, "warning: %s was trained for vehicle '%s'; serving it in the terms of '%s'\n",
-                     path.c_str(), it->get<std::string>().c_str(), vehicle.name().c_str());
+      if (const std::string w = heli::other_vehicle_warning(heli::trained_vehicle(file), path, vehicle.name(),
+                                                            "serving it in the terms of");
+          !w.empty())
+        std::fprintf(stderr, "%s\n", w.c_str());
       heli::run_control_loop(*controller, file.trim, stdin, stdout, stderr, dt,
                              logs::control_line_format(vehicle));
     }

@@ -275,8 +275,10 @@ CPolicyCode export_c_policy(const nlohmann::json& j, const std::string& source,
   if (!options.IsValid(&error)) throw InputError(error);
   if (!j.is_object()) throw InputError(fmt::format("{}: (top level): expected a JSON object", source));
   ClassText text;
+  std::string trained_for;
   if (j.contains("format")) {  // a helicopter policy file (heli/policy_file.hpp)
     const heli::PolicyFile file = heli::parse_policy_file(j, source);
+    trained_for = heli::trained_vehicle(file);
     if (file.class_name == "hover") {
       text = hover_class(file, source);
     } else if (file.class_name == "maneuver") {
@@ -310,6 +312,7 @@ CPolicyCode export_c_policy(const nlohmann::json& j, const std::string& source,
     add_vehicle(text, *options.vehicle, &names);
   }
   CPolicyCode code = assemble(text, source, options);
+  code.trained_vehicle = trained_for;
   code.vehicle_observation_names = std::move(names.vehicle_observation_names);
   code.vehicle_action_names = std::move(names.vehicle_action_names);
   return code;

@@ -8,6 +8,7 @@
 #include <mutex>
 
 #include "pegasus/core/error.hpp"
+#include "pegasus/core/untrusted_text.hpp"
 #include "pegasus/heli/maneuver_file.hpp"
 #include "pegasus/io/atomic_file.hpp"
 #include "pegasus/io/json_csv.hpp"
@@ -91,6 +92,18 @@ nlohmann::json policy_file_json(const PolicyFile& p) {
 
 void write_policy_file(const std::filesystem::path& file, const PolicyFile& policy) {
   write_file_atomic(file, json_text(policy_file_json(policy)));
+}
+
+std::string trained_vehicle(const PolicyFile& file) {
+  const auto it = file.provenance.find("vehicle");
+  return it != file.provenance.end() && it->is_string() ? it->get<std::string>() : std::string();
+}
+
+std::string other_vehicle_warning(const std::string& trained_for, const std::string& file,
+                                  const std::string& vehicle, const std::string& doing) {
+  if (trained_for.empty() || trained_for == vehicle) return {};
+  return fmt::format("warning: {} was trained for vehicle '{}'; {} '{}'", printable(file),
+                     printable(trained_for), doing, printable(vehicle));
 }
 
 PolicyFile parse_policy_file(const nlohmann::json& j, const std::string& file) {

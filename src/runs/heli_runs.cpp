@@ -352,6 +352,10 @@ void run_fly(const FlyRunOptions& options, RunSink& sink, ThreadPool& pool) {
   if (!policy_path.empty()) {
     const PolicyFile file = read_policy_file(policy_path);
     controller = make_controller(file, policy_path);
+    if (const std::string w =
+            other_vehicle_warning(trained_vehicle(file), policy_path, vehicle.name(), "flying it on");
+        !w.empty())
+      sink.out << w << "\n";
     target = controller->target(0);
     if (const auto it = file.options.find("control_rate_hz"); it != file.options.end()) {
       if (!it->is_number() || !(it->get<double>() > 0))

@@ -217,6 +217,8 @@ void run_maneuver(const ManeuverRunOptions& options, RunSink& sink, ThreadPool& 
                        {"variant", v.key},
                        {"uhat", DoubleToJson(t.summary.best_value)},
                        {"seed", base.seed}};
+    // Only with a vehicle file, so that the X-Cell's policy files stay as they were.
+    if (aircraft.from_file()) file.provenance["vehicle"] = vehicle.name();
     write_policy_file(
         dir.path() / (v.key == "full" ? std::string("policy.json") : "policy_" + v.key + ".json"), file);
 

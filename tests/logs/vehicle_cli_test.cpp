@@ -140,6 +140,22 @@ TEST_F(VehicleCli, AnOutsideAircraftIdentifiesHoversAndIsServedInItsOwnTerms) {
   EXPECT_NE(r.output.find("was trained for vehicle 'outside-heli'; serving it in the terms of 'xcell60'"),
             std::string::npos)
       << r.output;
+  // So do fly, on another aircraft's ground truth, and export, in another aircraft's terms.
+  r =
+      run_pegasus(fmt::format("fly --vehicle {}/experiments/vehicles/xcell60.toml --policy {} --flights 1 "
+                              "--seconds 1 --quiet --out {}",
+                              PEGASUS_SOURCE_DIR, path("hover/policy.json"), path("fly-xcell")));
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("was trained for vehicle 'outside-heli'; flying it on 'xcell60'"),
+            std::string::npos)
+      << r.output;
+  r = run_pegasus(
+      fmt::format("export --vehicle {}/experiments/vehicles/xcell60.toml --policy {} --quiet --out {}",
+                  PEGASUS_SOURCE_DIR, path("hover/policy.json"), path("export-xcell")));
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("was trained for vehicle 'outside-heli'; writing it in the terms of 'xcell60'"),
+            std::string::npos)
+      << r.output;
 
   // No ground truth of this aircraft: fly says so and how to fly it instead.
   r = run_pegasus(fmt::format("fly --vehicle {} --policy {} --out {}", path("outside.toml"),

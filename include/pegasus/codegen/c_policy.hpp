@@ -62,6 +62,8 @@ struct CPolicyCode {
   // PREFIX_act_vehicle (options.vehicle): its observation (time, the vehicle's state fields) and action (its
   // channels); empty without a vehicle.
   std::vector<std::string> vehicle_observation_names, vehicle_action_names;
+  // The aircraft the policy file says it was trained for (heli::trained_vehicle); empty when it names none.
+  std::string trained_vehicle;
 };
 
 // The class names export_c_policy knows, in the order above.

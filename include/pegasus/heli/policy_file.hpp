@@ -90,6 +90,13 @@ std::vector<std::string> policy_class_names();
 nlohmann::json policy_file_json(const PolicyFile& policy);
 void write_policy_file(const std::filesystem::path& file, const PolicyFile& policy);  // atomic
 // Parses and checks the common fields (not yet the class's); `file` names the source in messages.
+// The aircraft a policy was trained for, as its provenance names it (hover and maneuver with a vehicle
+// file); empty when it names none (trained for the built-in X-Cell, or by an older version).
+std::string trained_vehicle(const PolicyFile& file);
+// "warning: FILE was trained for vehicle 'A'; DOING 'B'" when `file` names another aircraft than `vehicle`,
+// else empty: a policy may be meant for another aircraft, but that should not pass unsaid.
+std::string other_vehicle_warning(const std::string& trained_for, const std::string& file,
+                                  const std::string& vehicle, const std::string& doing);
 PolicyFile parse_policy_file(const nlohmann::json& j, const std::string& file);
 PolicyFile read_policy_file(const std::filesystem::path& file);
 // The controller of a checked file through the registry (InputError "FILE: class: ..." when unknown).
