@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <string>
 
 #include "pegasus/heli/aircraft.hpp"
@@ -96,6 +97,26 @@ inline sysid::FlightLog every_nth_row(const sysid::FlightLog& log, std::size_t e
     out.controls.push_back(log.controls[i]);
   }
   return out;
+}
+
+// Where `read` first differs from `own`: a row count, a time, or a state or control beyond 1e-12 (yaw modulo
+// 2 pi); empty when the two are the same log.
+inline std::string log_difference(const sysid::FlightLog& read, const sysid::FlightLog& own) {
+  if (read.rows() != own.rows()) return fmt::format("{} rows, expected {}", read.rows(), own.rows());
+  for (std::size_t i = 0; i < own.rows(); ++i) {
+    if (read.time[i] != own.time[i])
+      return fmt::format("row {}: time {}, expected {}", i, read.time[i], own.time[i]);
+    for (std::size_t k = 0; k < 12; ++k) {
+      const double d = read.states[i][k] - own.states[i][k];
+      if (!(std::abs(k == 5 ? heli::wrap_angle(d) : d) <= 1e-12))
+        return fmt::format("row {} state {}: {}, expected {}", i, k, read.states[i][k], own.states[i][k]);
+    }
+    for (std::size_t c = 0; c < 4; ++c)
+      if (!(std::abs(read.controls[i][c] - own.controls[i][c]) <= 1e-12))
+        return fmt::format("row {} control {}: {}, expected {}", i, c, read.controls[i][c],
+                           own.controls[i][c]);
+  }
+  return {};
 }
 
 // The log as the outside aircraft writes it: its columns shuffled, one column it does not describe.

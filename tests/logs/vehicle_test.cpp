@@ -132,16 +132,7 @@ TEST(Vehicles, AnOutsideAircraftsLogReadsBackToThePipelinesLayout) {
   const Vehicle v = parse_vehicle(test_support::kOutsideVehicle, "outside.toml");
   const sysid::FlightLog own = test_support::every_nth_row(synthetic_log(2000), 5);  // 10 Hz
   const sysid::FlightLog read = parse_vehicle_log(test_support::outside_log_csv(own), "outside.csv", v);
-  ASSERT_EQ(read.rows(), own.rows());
-  for (std::size_t i = 0; i < own.rows(); ++i) {
-    EXPECT_EQ(read.time[i], own.time[i]);
-    for (std::size_t k = 0; k < 12; ++k) {
-      const double d = read.states[i][k] - own.states[i][k];
-      EXPECT_NEAR(k == 5 ? heli::wrap_angle(d) : d, 0.0, 1e-12) << "row " << i << " state " << k;
-    }
-    for (std::size_t c = 0; c < 4; ++c)
-      EXPECT_NEAR(read.controls[i][c], own.controls[i][c], 1e-12) << "row " << i << " control " << c;
-  }
+  EXPECT_EQ(test_support::log_difference(read, own), "");
 }
 
 // What a pilot on the project's ground truth writes for the vehicle (vehicle_log_csv) reads back through the
@@ -151,16 +142,7 @@ TEST(Vehicles, ALogWrittenInTheVehiclesLayoutReadsBackToThePipelinesLayout) {
   const sysid::FlightLog log = synthetic_log(2000);
   const sysid::FlightLog own = test_support::every_nth_row(log, 5);
   const sysid::FlightLog read = parse_vehicle_log(vehicle_log_csv(log, v, 5), "outside.csv", v);
-  ASSERT_EQ(read.rows(), own.rows());
-  for (std::size_t i = 0; i < own.rows(); ++i) {
-    EXPECT_EQ(read.time[i], own.time[i]);
-    for (std::size_t k = 0; k < 12; ++k) {
-      const double d = read.states[i][k] - own.states[i][k];
-      EXPECT_NEAR(k == 5 ? heli::wrap_angle(d) : d, 0.0, 1e-12) << "row " << i << " state " << k;
-    }
-    for (std::size_t c = 0; c < 4; ++c)
-      EXPECT_NEAR(read.controls[i][c], own.controls[i][c], 1e-12) << "row " << i << " control " << c;
-  }
+  EXPECT_EQ(test_support::log_difference(read, own), "");
   EXPECT_FALSE(logs_in_pipeline_layout(v));
   for (const char* shipped : {"xcell60.toml", "crazyflie2.toml"})
     EXPECT_TRUE(logs_in_pipeline_layout(read_vehicle(kVehicles / shipped))) << shipped;
