@@ -161,6 +161,14 @@ void run_hover(const HoverRunOptions& options, RunSink& sink, ThreadPool& pool) 
   const auto model = options.aircraft.load_model(options.model_file);
   RunDirectory& dir = sink.dir;
   options.aircraft.keep(dir);
+  // A control step longer than the model's is one model step's change stretched (learned_model.hpp): allowed,
+  // and `identify` reports it as training runs it, but not without a word.
+  if (const double ratio = model->dt() * o.control_rate_hz; ratio < 1 - 1e-9)
+    sink.out << fmt::format(
+        "warning: the controller's step ({:g} s) is {:g} steps of the {:g} Hz model, which takes it as one "
+        "step's "
+        "change times {:g}; a model identified at the control rate (log.model_rate_hz) steps it faithfully\n",
+        1 / o.control_rate_hz, 1 / ratio, 1 / model->dt(), 1 / ratio);
   HoverTrainingHooks hooks;
   hooks.checkpoint_every = 1;
   hooks.resume_from = dir.load_checkpoint();

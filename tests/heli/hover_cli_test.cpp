@@ -247,9 +247,19 @@ TEST_F(HoverCli, AControllerTrainedAt10HzIsFlownAt10Hz) {
   const auto r =
       run_pegasus("heli hover --model " + model() + tiny() + " --control-rate-hz 10" + out("hover10"));
   ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_EQ(r.output.find("warning: the controller's step"), std::string::npos) << r.output;
   const auto s = json_file(dir_ / "hover10" / "summary.json");
   EXPECT_EQ(s.at("control_rate_hz"), 10.0);
   EXPECT_EQ(s.at("refit_every"), 1);
+  // Slower than the 10 Hz model, each control step is one model step's change stretched: said, not refused.
+  const auto slow = run_pegasus("heli hover --model " + model() + tiny() +
+                                " --control-rate-hz 5 --max-start-crash-fraction 1" + out("hover5"));
+  ASSERT_EQ(slow.code, 0) << slow.output;
+  EXPECT_NE(
+      slow.output.find("warning: the controller's step (0.2 s) is 2 steps of the 10 Hz model, which takes "
+                       "it as one step's change times 2"),
+      std::string::npos)
+      << slow.output;
   const std::string policy = (dir_ / "hover10" / "policy.json").string();
   EXPECT_EQ(json_file(policy).at("options").at("control_rate_hz"), 10.0);
   // The 50 Hz default writes neither key (files as before).
