@@ -2,13 +2,16 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <string>
+#include <vector>
 
 #include "pegasus/core/error.hpp"
 #include "pegasus/core/untrusted_text.hpp"
 #include "pegasus/io/atomic_file.hpp"
+#include "toml_fields.hpp"
 
 namespace pegasus {
 
@@ -41,8 +44,30 @@ nlohmann::json read_json_input(const std::filesystem::path& file, std::string_vi
 
 nlohmann::json parse_json_input(std::string_view text, std::string_view file_name, std::string_view what) {
   const std::string name = printable(file_name);
+  // The keys seen in each open object, to refuse a key given twice.
+  std::vector<std::vector<std::string>> open_objects;
+  std::string twice;
+  const nlohmann::json::parser_callback_t keys_once = [&](int, nlohmann::json::parse_event_t event,
+                                                          nlohmann::json& parsed) {
+    using Event = nlohmann::json::parse_event_t;
+    if (event == Event::object_start) {
+      open_objects.emplace_back();
+    } else if (event == Event::object_end) {
+      if (!open_objects.empty()) open_objects.pop_back();
+    } else if (event == Event::key && !open_objects.empty() && twice.empty()) {
+      std::vector<std::string>& keys = open_objects.back();
+      const std::string& key = parsed.get_ref<const std::string&>();
+      if (std::find(keys.begin(), keys.end(), key) != keys.end()) twice = key;
+      keys.push_back(key);
+    }
+    return true;
+  };
   try {
-    return nlohmann::json::parse(text);
+    nlohmann::json j = nlohmann::json::parse(text, keys_once);
+    if (!twice.empty())
+      throw InputError(
+          fmt::format("{}: expected each key once in an object, got '{}' twice", name, printable(twice)));
+    return j;
   } catch (const nlohmann::json::parse_error& e) {
     throw InputError(
         fmt::format("{}: byte {}: expected a JSON {} file, got {}", name, e.byte, what, library_reason(e)));
@@ -61,6 +86,20 @@ void json_field_error(std::string_view file, std::string_view field, std::string
   if (shown.size() > kLongest) shown = shown.substr(0, kLongest) + "...";
   throw InputError(fmt::format("{}: {}: expected {}, got {}", printable(file), printable(field),
                                printable(expected), printable(shown)));
+}
+
+void json_only_keys(const nlohmann::json& j, std::initializer_list<std::string_view> known,
+                    std::string_view file, std::string_view field) {
+  if (!j.is_object()) return;  // the caller's own check names what was expected
+  for (const auto& [key, value] : j.items()) {
+    if (std::find(known.begin(), known.end(), key) != known.end()) continue;
+    std::string list;
+    for (const std::string_view k : known) list += (list.empty() ? "" : ", ") + std::string(k);
+    const std::string hint = did_you_mean(key, known);
+    throw InputError(fmt::format("{}: {}{}: unknown key{}; expected one of {}", printable(file),
+                                 printable(field), field.empty() ? printable(key) : "." + printable(key),
+                                 hint, list));
+  }
 }
 
 const nlohmann::json& json_member(const nlohmann::json& j, const char* name, std::string_view file,

@@ -100,17 +100,9 @@ void TomlFields::only_keys(const toml::table& table, std::string_view prefix,
   for (const auto& [key, node] : table) {
     const std::string name(key.str());
     if (known.contains(name)) continue;
-    std::string list, hint;
-    std::size_t best = std::max<std::size_t>(2, name.size() / 3) + 1;
-    for (const auto& k : known) {
-      list += (list.empty() ? "" : ", ") + k;
-      // A key cut short ("hold" for "hold_steps") is as close as one typo.
-      const bool cut_short = name.size() >= 3 && k.starts_with(name);
-      if (const std::size_t d = cut_short ? 1 : edit_distance(name, k); d < best) {
-        best = d;
-        hint = fmt::format(" (did you mean '{}'?)", k);
-      }
-    }
+    std::string list;
+    for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+    const std::string hint = did_you_mean(name, known);
     fail(&node, prefix.empty() ? name : fmt::format("{}.{}", prefix, name),
          fmt::format("unknown key{}; expected one of {}", hint, list));
   }

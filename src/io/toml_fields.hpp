@@ -2,6 +2,7 @@
 // The fields of a TOML file a user wrote (a vehicle file, a MuJoCo task): what io/json_input's readers are
 // for JSON. Every failure is one InputError line, `FILE:LINE: FIELD: expected X, got V` (without LINE where
 // the node has none), and an unknown key names the closest known one. Private to the libraries, like toml++.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <set>
@@ -15,6 +16,22 @@ namespace pegasus {
 
 // Levenshtein distance: the insertions, deletions and substitutions that turn a into b.
 std::size_t edit_distance(std::string_view a, std::string_view b);
+// " (did you mean 'K'?)" for the known key K closest to an unknown `name` (within about a third of its
+// letters, or one it cuts short: "hold" for "hold_steps"), else empty.
+template <typename Keys>
+std::string did_you_mean(std::string_view name, const Keys& known) {
+  std::string hint;
+  std::size_t best = std::max<std::size_t>(2, name.size() / 3) + 1;
+  for (const auto& key : known) {
+    const std::string_view k(key);
+    const bool cut_short = name.size() >= 3 && k.starts_with(name);
+    if (const std::size_t d = cut_short ? 1 : edit_distance(name, k); d < best) {
+      best = d;
+      hint = " (did you mean '" + std::string(k) + "'?)";
+    }
+  }
+  return hint;
+}
 
 class TomlFields {
  public:

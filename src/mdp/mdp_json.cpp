@@ -32,6 +32,10 @@ int mdp_size(const json& j, const std::string& src, const char* field) {
 
 FiniteMdp mdp_from_json(const json& j, const std::string& src) {
   json_format_header(j, src, "pegasus-mdp", 1);
+  json_only_keys(j,
+                 {"format", "version", "num_states", "num_actions", "gamma", "absorbing", "initial",
+                  "state_rewards", "transitions"},
+                 src, "");
   const int S = mdp_size(j, src, "num_states");
   const int A = mdp_size(j, src, "num_actions");
   const double gamma = json_number_in(json_member(j, "gamma", src, "gamma"), src, "gamma", 0.0, 1.0);
@@ -97,6 +101,7 @@ FiniteMdp mdp_from_json(const json& j, const std::string& src) {
     const std::string f = fmt::format("transitions[{}]", i);
     const auto& t = tr[i];
     if (!t.is_object()) json_field_error(src, f, "an object with state, action, next", t);
+    json_only_keys(t, {"state", "action", "reward", "next"}, src, f);
     const int s = json_index(json_member(t, "state", src, f + ".state"), src, f + ".state", S, "state");
     const int a = json_index(json_member(t, "action", src, f + ".action"), src, f + ".action", A, "action");
     if (absorbing[static_cast<std::size_t>(s)])

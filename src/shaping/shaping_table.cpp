@@ -97,6 +97,7 @@ FiniteMdp add_shaping(const FiniteMdp& mdp, const ShapingTable& f) {
 
 ShapingTable shaping_from_json(const nlohmann::json& j, const std::string& src) {
   json_format_header(j, src, "pegasus-shaping", 1);
+  json_only_keys(j, {"format", "version", "num_states", "num_actions", "entries"}, src, "");
   const auto count = [&](const char* k) {
     return static_cast<int>(json_integer(json_member(j, k, src, k), src, k, 1, 1LL << 30));
   };

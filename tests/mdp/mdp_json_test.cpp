@@ -118,6 +118,18 @@ TEST(MdpJson, ErrorsNameTheFileAndTheField) {
   const auto bad = std::filesystem::temp_directory_path() / "pegasus_bad_mdp.json";
   std::ofstream(bad) << "{ not json";
   EXPECT_THAT(input_error_message([&] { load_mdp(bad.string()); }), HasSubstr("expected a JSON MDP file"));
+  // A misspelt key would be ignored (a reward of 0), a key given twice would keep its last value: both
+  // refused.
+  EXPECT_THAT(with([](json& j) { j["transitions"][0]["rewrd"] = -1; }),
+              HasSubstr("m.json: transitions[0].rewrd: unknown key (did you mean 'reward'?); expected one of "
+                        "state, action, reward, next"));
+  EXPECT_THAT(with([](json& j) { j["discount"] = 0.9; }),
+              HasSubstr("m.json: discount: unknown key; expected one of"));
+  std::string twice = mdp_to_json(mdp_from_json(small_mdp_json(), "m.json")).dump();
+  twice.insert(1, "\"gamma\": 0.5, ");
+  std::ofstream(bad, std::ios::trunc) << twice;
+  EXPECT_EQ(input_error_message([&] { load_mdp(bad.string()); }),
+            bad.string() + ": expected each key once in an object, got 'gamma' twice");
   std::filesystem::remove(bad);
 }
 

@@ -6,6 +6,7 @@
 //
 //   const nlohmann::json j = read_json_input(path, "MDP");  // "m.json: expected a readable MDP file, ..."
 #include <filesystem>
+#include <initializer_list>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <string_view>
@@ -15,7 +16,8 @@ namespace pegasus {
 
 // The parsed file. InputError "FILE: expected a readable WHAT file, got ..." when it cannot be read (absent,
 // a directory, no permission); "FILE: byte N: expected a JSON WHAT file, got ..." for a syntax error; "FILE:
-// expected numbers within the range of a double, got ..." for a number too large for a double.
+// expected numbers within the range of a double, got ..." for a number too large for a double; "FILE:
+// expected each key once in an object, got 'KEY' twice" (the JSON library would keep the last silently).
 nlohmann::json read_json_input(const std::filesystem::path& file, std::string_view what);
 // The same for text already read; `name` stands for the file in messages.
 nlohmann::json parse_json_input(std::string_view text, std::string_view name, std::string_view what);
@@ -24,6 +26,10 @@ nlohmann::json parse_json_input(std::string_view text, std::string_view name, st
 // the one form of every JSON reader's field errors.
 [[noreturn]] void json_field_error(std::string_view file, std::string_view field, std::string_view expected,
                                    const nlohmann::json& value);
+// "FILE: FIELD.KEY: unknown key (did you mean 'K'?); expected one of ..." for a member of the object `j` not
+// among `known` (a misspelt optional key would otherwise be ignored). FIELD empty: the top level.
+void json_only_keys(const nlohmann::json& j, std::initializer_list<std::string_view> known,
+                    std::string_view file, std::string_view field);
 // The member `name` of the object `j`: "FILE: FIELD: missing" when it is absent.
 const nlohmann::json& json_member(const nlohmann::json& j, const char* name, std::string_view file,
                                   std::string_view field);
