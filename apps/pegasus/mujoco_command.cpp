@@ -2,6 +2,7 @@
 // Built only with PEGASUS_MUJOCO (libmujoco-dev); without it the table has no mujoco commands.
 #ifdef PEGASUS_HAVE_MUJOCO
 #include "experiment_commands.hpp"
+#include "pegasus/mujoco/mujoco_task.hpp"
 #include "pegasus/runs/mujoco_runs.hpp"
 #include "pegasus/runs/optimizer_config.hpp"
 
@@ -10,7 +11,9 @@ namespace {
 
 void declare_train(ConfigSchema& s) {
   const MujocoTrainingRunOptions d;
-  s.add_string("model", "", "MJCF model file").input_file();
+  s.add_string("model", "", "MJCF model file").input_file([](const std::string& file) {
+    return MujocoModel::load(file).digest();  // with the files it includes
+  });
   s.add_string("task", "", "task file (TOML) naming the model's joints, bodies, sites, sensors, actuators")
       .input_file();
   s.add_string("policy", d.policy_class, "policy class").choices({"linear", "mlp"});

@@ -11,6 +11,7 @@
 #include "../io/toml_fields.hpp"
 #include "pegasus/core/error.hpp"
 #include "pegasus/core/untrusted_text.hpp"
+#include "pegasus/io/atomic_file.hpp"
 
 namespace pegasus {
 
@@ -176,6 +177,12 @@ MujocoModel MujocoModel::load(const std::filesystem::path& path) {
       std::shared_ptr<const mjModel>(m, [](const mjModel* p) { mj_deleteModel(const_cast<mjModel*>(p)); });
   out.path_ = path;
   return out;
+}
+
+std::string MujocoModel::digest() const {
+  std::string bytes(static_cast<std::size_t>(mj_sizeModel(get())), '\0');
+  mj_saveModel(get(), nullptr, bytes.data(), static_cast<int>(bytes.size()));
+  return sha256_hex(bytes);
 }
 
 int MujocoModel::id_of(int type, const std::string& name) const {

@@ -55,10 +55,11 @@ ConfigField& ConfigField::validate(Validator check) {
   validators_.push_back(std::move(check));
   return *this;
 }
-ConfigField& ConfigField::input_file() {
+ConfigField& ConfigField::input_file(Digest digest) {
   if (type_ != FieldType::kString)
     throw std::logic_error("ConfigField::input_file: " + name_ + " is no string");
   input_file_ = true;
+  input_digest_ = std::move(digest);
   return *this;
 }
 

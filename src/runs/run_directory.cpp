@@ -61,7 +61,9 @@ nlohmann::json input_digests(const ConfigSchema& config) {
     std::error_code ec;
     if (file.empty() || !fs::is_regular_file(file, ec)) continue;
     try {
-      digests[field.name()] = {{"file", file}, {"sha256", file_sha256(file)}};
+      const ConfigField::Digest& digest = field.input_digest();
+      digests[field.name()] = {{"file", file}, {"sha256", digest ? digest(file) : file_sha256(file)}};
+      if (digest) digests[field.name()]["of"] = "the file and what it includes";
     } catch (const InputError&) {
       // unreadable: the command says so
     }
@@ -82,9 +84,10 @@ void check_inputs_unchanged(const fs::path& stored_file, const ConfigSchema& con
   for (const auto& [field, recorded] : stored.items()) {
     if (now.contains(field) && now[field] == recorded) continue;
     throw InputError(fmt::format(
-        "--resume: {} ({}) {} since the interrupted run began; use the same inputs, or --force to start "
+        "--resume: {} ({}){} {} since the interrupted run began; use the same inputs, or --force to start "
         "over",
         printable(recorded.value("file", std::string("?"))), ConfigSchema::option_name(field),
+        recorded.contains("of") ? " or a file it includes" : "",
         now.contains(field) ? "changed" : "cannot be read"));
   }
 }

@@ -1,5 +1,6 @@
 // Bad MJCF and task files are rejected with one line naming the file, the field and what is missing.
 #ifdef PEGASUS_HAVE_MUJOCO
+#include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <mujoco/mujoco.h>
@@ -42,6 +43,27 @@ TEST_F(MujocoTaskFile, AMissingOrMalformedMjcfNamesTheFile) {
   const std::string message = input_error_message([&] { MujocoModel::load(bad); });
   EXPECT_THAT(message, AllOf(HasSubstr("bad.xml"), HasSubstr("not a valid MJCF model")));
   EXPECT_EQ(message.find('\n'), std::string::npos);
+}
+
+// --resume compares what shapes the results: for an MJCF model that is the compiled model, so a change in a
+// file it includes shows (the main file's bytes alone would not), and the same files give the same digest.
+TEST_F(MujocoTaskFile, TheModelsDigestFollowsTheFilesItIncludes) {
+  const auto main =
+      test_support::write_file(dir_ / "main.xml", R"(<mujoco><include file="body.xml"/></mujoco>)");
+  const auto body = [&](double mass) {
+    test_support::write_file(dir_ / "body.xml",
+                             fmt::format(R"(<mujoco><worldbody><body><joint type="slide"/>)"
+                                         R"(<geom size="0.1" mass="{}"/></body></worldbody></mujoco>)",
+                                         mass));
+  };
+  body(1.0);
+  const std::string first = MujocoModel::load(main).digest();
+  EXPECT_EQ(first.size(), 64u);
+  EXPECT_EQ(MujocoModel::load(main).digest(), first);
+  body(2.0);
+  EXPECT_NE(MujocoModel::load(main).digest(), first);
+  body(1.0);
+  EXPECT_EQ(MujocoModel::load(main).digest(), first);
 }
 
 TEST_F(MujocoTaskFile, EveryMissingNameIsReportedWithItsFieldAndKind) {

@@ -16,6 +16,8 @@ std::string read_file(const std::filesystem::path& file);
 
 // SHA-256 of a file's bytes as 64 hex digits (OpenSSL); InputError naming the file when it cannot be read.
 std::string file_sha256(const std::filesystem::path& file);
+// The same of bytes in memory.
+std::string sha256_hex(std::string_view bytes);
 
 // The temporary name write_file_atomic uses for `file` (".NAME.tmp" in the same folder).
 std::filesystem::path atomic_temp_path(const std::filesystem::path& file);

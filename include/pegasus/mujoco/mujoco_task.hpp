@@ -50,6 +50,9 @@ class MujocoModel {
 
   const mjModel_* get() const { return model_.get(); }
   const std::filesystem::path& path() const { return path_; }
+  // SHA-256 of the compiled model (MuJoCo's binary form): it changes with the MJCF file and with every file
+  // it includes or loads (meshes, height fields), which the MJCF file's own bytes do not show.
+  std::string digest() const;
 
   // Id of the named object of MuJoCo type `type` (mjtObj), or -1.
   int id_of(int type, const std::string& name) const;

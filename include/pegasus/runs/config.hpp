@@ -63,7 +63,10 @@ class ConfigField {
   ConfigField& affects_results(bool yes);
   // A string field naming a file whose bytes shape the results (a log, a model, a vehicle file): --resume
   // refuses to continue when the file's contents changed since the run began (RunDirectory: inputs.json).
-  ConfigField& input_file();
+  // `digest` stands for the file's SHA-256 where more than its own bytes shape the results (an MJCF model
+  // and the files it includes); it may throw InputError for a file the command will refuse anyway.
+  using Digest = std::function<std::string(const std::string& file)>;
+  ConfigField& input_file(Digest digest = {});
 
   const std::string& name() const { return name_; }
   FieldType type() const { return type_; }
@@ -72,6 +75,7 @@ class ConfigField {
   const std::vector<std::string>& allowed_choices() const { return choices_; }
   bool affects_results() const { return affects_results_; }
   bool is_input_file() const { return input_file_; }
+  const Digest& input_digest() const { return input_digest_; }  // empty: the file's own SHA-256
   // "a number in [0, 1]", "an integer >= 1", "one of \"plain\", \"antithetic\"", ...
   std::string expectation() const;
   // Empty when `value` (already of this field's type) is acceptable, else what was expected.
@@ -94,6 +98,7 @@ class ConfigField {
   std::vector<Validator> validators_;
   bool affects_results_ = true;
   bool input_file_ = false;
+  Digest input_digest_;
 };
 
 class ConfigSchema {
