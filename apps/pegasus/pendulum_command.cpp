@@ -12,13 +12,15 @@ void declare_training(ConfigSchema& s) {
   s.add_string("variant", to_string(d.variant), "scenario variant (both stages)")
       .choices(scenario_variant_names());
   // The race (thesis 4.6's hill climbing on the five numbers), then the refinement of all seven on more
-  // scenarios; each stage takes every method.
-  declare_optimizer_options(s, "optimizer", d.optimizer);
+  // scenarios; each stage takes every method for a continuous class (not exhaustive search).
+  const std::vector<std::string> continuous = {"gradient", "hill-climb", "bobyqa", "sbplx",
+                                               "crs2",     "esch",       "cmaes",  "ars"};
+  declare_optimizer_options(s, "optimizer", d.optimizer, continuous);
   s.add_int("refine_scenarios", d.refine_scenarios,
             "scenarios of the refinement of all seven numbers (0: no refinement)")
       .min(0)
       .max(1000000);
-  declare_optimizer_options(s, "refine", d.refine_optimizer);
+  declare_optimizer_options(s, "refine", d.refine_optimizer, continuous);
   s.add_int("evaluation_episodes", d.evaluation_episodes,
             "fresh starts for the bar and the final mean return")
       .min(1)
