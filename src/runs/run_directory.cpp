@@ -80,9 +80,15 @@ void check_inputs_unchanged(const fs::path& stored_file, const ConfigSchema& con
   } catch (const std::exception& e) {
     throw InputError(fmt::format("--resume: cannot read {}: {}", stored_file.string(), e.what()));
   }
+  if (!stored.is_object())
+    throw InputError(
+        fmt::format("--resume: {}: expected the object this program writes", stored_file.string()));
   const nlohmann::json now = input_digests(config);
   for (const auto& [field, recorded] : stored.items()) {
     if (now.contains(field) && now[field] == recorded) continue;
+    if (!recorded.is_object())
+      throw InputError(fmt::format("--resume: {}: {}: expected the object this program writes",
+                                   stored_file.string(), field));
     throw InputError(fmt::format(
         "--resume: {} ({}){} {} since the interrupted run began; use the same inputs, or --force to start "
         "over",

@@ -165,6 +165,13 @@ TEST(RunDirectory, ResumeRefusesAnInputFileWhoseContentsChanged) {
   write_file_atomic(log, "time,x\n0,1\n");  // the bytes it began with
   RunDirectory resumed = RunDirectory::open(root / "out", with_log(), {.resume = true});
   EXPECT_TRUE(resumed.resumed());
+  // A hand-edited inputs.json is one line too, not a crash.
+  { RunDirectory::open(root / "edited", with_log()).save_checkpoint({{"next", 1}}); }
+  write_file_atomic(root / "edited.partial" / "inputs.json", R"({"train": 7})");
+  EXPECT_NE(input_error_message([&] {
+              RunDirectory::open(root / "edited", with_log(), {.resume = true});
+            }).find("inputs.json: train: expected the object this program writes"),
+            std::string::npos);
   // Without input files there is nothing to record.
   { RunDirectory::open(root / "plain", schema()).save_checkpoint({{"next", 1}}); }
   EXPECT_FALSE(fs::exists(root / "plain.partial" / "inputs.json"));
