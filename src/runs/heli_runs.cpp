@@ -74,8 +74,7 @@ void VehicleChoice::check_pilot_log(const GroundTruth& aircraft) const {
   if (!steps_per_log_row(vehicle, aircraft))
     throw InputError(
         fmt::format("{}: log.rate_hz: the {} ground truth steps at {:g} Hz and its pilot logs every n-th "
-                    "step; expected a "
-                    "rate that divides {:g} Hz, got {:g} Hz",
+                    "step; expected a rate that divides {:g} Hz, got {:g} Hz",
                     file, vehicle.simulator, 1 / aircraft.step_seconds(), 1 / aircraft.step_seconds(),
                     vehicle.log.rate_hz));
   (void)logs::vehicle_log_columns(vehicle);
@@ -166,8 +165,8 @@ void run_hover(const HoverRunOptions& options, RunSink& sink, ThreadPool& pool) 
   if (const double ratio = model->dt() * o.control_rate_hz; ratio < 1 - 1e-9)
     sink.out << fmt::format(
         "warning: the controller's step ({:g} s) is {:g} steps of the {:g} Hz model, which takes it as one "
-        "step's "
-        "change times {:g}; a model identified at the control rate (log.model_rate_hz) steps it faithfully\n",
+        "step's change times {:g}; a model identified at the control rate (log.model_rate_hz) steps it "
+        "faithfully\n",
         1 / o.control_rate_hz, 1 / ratio, 1 / model->dt(), 1 / ratio);
   HoverTrainingHooks hooks;
   hooks.checkpoint_every = 1;

@@ -168,7 +168,7 @@ void run_identify(const IdentifyRunOptions& options, RunSink& sink, ThreadPool& 
   if (!study.skipped_rates_hz.empty()) summary["variant_rates_skipped_hz"] = study.skipped_rates_hz;
   // mse_at_seconds reports whole model steps: at 12.5 Hz there is no 1 s or 5 s. Only then (digests).
   std::vector<int> horizons_skipped;
-  for (const int seconds : {1, 5, 10}) {
+  for (const int seconds : sysid::kMseReportSeconds) {
     const double steps = seconds * o.structure.rate_hz;
     if (std::abs(steps - std::round(steps)) > 1e-9) horizons_skipped.push_back(seconds);
   }

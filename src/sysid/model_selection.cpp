@@ -60,7 +60,7 @@ ModelSelectionStudy model_selection_study(const IdentifiedModel& model, const Fl
 
 nlohmann::json mse_at_seconds_json(const HorizonMse& h) {
   nlohmann::json out;
-  for (int sec : {1, 5, 10}) {
+  for (const int sec : kMseReportSeconds) {
     std::size_t best = 0;
     for (std::size_t t = 0; t < h.seconds.size(); ++t)
       if (std::abs(h.seconds[t] - sec) < std::abs(h.seconds[best] - sec)) best = t;

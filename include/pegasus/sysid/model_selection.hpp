@@ -6,6 +6,7 @@
 //
 //   const ModelSelectionStudy study = model_selection_study(model, train, test, options, {...}, pool);
 //   study.variants.front();   // the chosen model's errors against horizon
+#include <array>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -40,7 +41,9 @@ ModelSelectionStudy model_selection_study(const IdentifiedModel& model, const Fl
                                           const FlightLog& test, const IdentifyOptions& options,
                                           const ModelSelectionOptions& study, ThreadPool& pool);
 
-// The mean-squared errors at 1, 5 and 10 s ({"1": {"x": ..., ...}, ...}), horizons the rows hold only.
+// The horizons summaries report, s.
+inline constexpr std::array<int, 3> kMseReportSeconds = {1, 5, 10};
+// The mean-squared errors at kMseReportSeconds ({"1": {"x": ..., ...}, ...}), horizons the rows hold only.
 nlohmann::json mse_at_seconds_json(const HorizonMse& h);
 
 // The closed-loop bias of the model's control gains (closed_loop_bias), measured against a fit that whitens
