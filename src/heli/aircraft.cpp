@@ -24,6 +24,7 @@ bool AircraftParams::IsValid(std::string* error) const {
         est_sigma_rate >= 0))
     return fail("noise levels must be >= 0");
   if (!(servo_rate > 0)) return fail("servo_rate must be positive");
+  if (!(start_p_W.z() < 0)) return fail("the start must be above the ground (z < 0)");
   return true;
 }
 

@@ -46,6 +46,16 @@ Euler euler_from_quaternion(double w, double x, double y, double z) {
   return e;
 }
 
+Euler euler_from_any_quaternion(double w, double x, double y, double z) {
+  for (const double c : {w, x, y, z})
+    if (!std::isfinite(c)) return Euler{NAN, NAN, NAN};
+  const double largest = std::max({std::abs(w), std::abs(x), std::abs(y), std::abs(z)});
+  if (!(largest > 0)) return Euler{NAN, NAN, NAN};
+  w /= largest, x /= largest, y /= largest, z /= largest;
+  const double norm = std::sqrt(w * w + x * x + y * y + z * z);
+  return euler_from_quaternion(w / norm, x / norm, y / norm, z / norm);
+}
+
 std::array<double, 4> quaternion_from_euler(const Euler& e) {
   const double cr = std::cos(e.roll / 2), sr = std::sin(e.roll / 2);
   const double cp = std::cos(e.pitch / 2), sp = std::sin(e.pitch / 2);

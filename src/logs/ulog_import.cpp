@@ -90,14 +90,8 @@ Euler attitude_at(const Series& s, std::size_t i, double w, bool quaternion) {
     const double dot = a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3];
     const double sign = dot < 0 ? -1 : 1;
     std::array<double, 4> q{};
-    double norm = 0;
-    for (std::size_t c = 0; c < 4; ++c) {
-      q[c] = (1 - w) * a[c] + w * sign * b[c];
-      norm += q[c] * q[c];
-    }
-    norm = std::sqrt(norm);
-    if (!(norm > 0)) return Euler{NAN, NAN, NAN};
-    return heli::euler_from_quaternion(q[0] / norm, q[1] / norm, q[2] / norm, q[3] / norm);
+    for (std::size_t c = 0; c < 4; ++c) q[c] = (1 - w) * a[c] + w * sign * b[c];
+    return heli::euler_from_any_quaternion(q[0], q[1], q[2], q[3]);
   }
   const auto lerp_angle = [&](std::size_t c) {
     const double a = s.fields[c][i];

@@ -339,11 +339,7 @@ heli::LoggedState Vehicle::state_of(std::span<const double> v) const {
   const bool quaternion = log.attitude_form == "quaternion";
   const std::size_t rates_at = quaternion ? 10 : 9;
   heli::Euler e{v[6], v[7], v[8]};
-  if (quaternion) {
-    const double norm = std::sqrt(v[6] * v[6] + v[7] * v[7] + v[8] * v[8] + v[9] * v[9]);
-    e = norm > 0 ? heli::euler_from_quaternion(v[6] / norm, v[7] / norm, v[8] / norm, v[9] / norm)
-                 : heli::Euler{NAN, NAN, NAN};
-  }
+  if (quaternion) e = heli::euler_from_any_quaternion(v[6], v[7], v[8], v[9]);
   heli::Vec3 vel(v[3], v[4], v[5]);
   if (log.velocity_frame == "body") vel = heli::world_from_body(e, vel);
   heli::Vec3 w(v[rates_at], v[rates_at + 1], v[rates_at + 2]);

@@ -157,6 +157,11 @@ void run_hover(const HoverRunOptions& options, RunSink& sink, ThreadPool& pool) 
   const HoverTrainingOptions& o = options.training;
   std::string error;
   if (!o.IsValid(&error)) throw InputError(error);
+  if (options.aircraft.vehicle.simulator != "none" && !(o.target.z < 0))
+    throw InputError(
+        fmt::format("target: z = {:g} is at or below the ground of {}'s ground truth (NED: z < 0 "
+                    "is above it)",
+                    o.target.z, options.aircraft.vehicle.name()));
   const auto model = options.aircraft.load_model(options.model_file);
   RunDirectory& dir = sink.dir;
   options.aircraft.keep(dir);
@@ -364,6 +369,11 @@ void run_fly(const FlyRunOptions& options, RunSink& sink, ThreadPool& pool) {
         !w.empty())
       sink.out << w << "\n";
     target = controller->target(0);
+    if (!(target.z < 0))
+      throw InputError(
+          fmt::format("{}: target.z = {:g} is at or below the ground (NED: z < 0 is above it), "
+                      "where every flight would start",
+                      policy_path, target.z));
     if (const auto it = file.options.find("control_rate_hz"); it != file.options.end()) {
       if (!it->is_number() || !(it->get<double>() > 0))
         throw InputError(fmt::format("{}: options.control_rate_hz: expected a number > 0, got {}",

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <vector>
@@ -62,6 +63,20 @@ TEST(HeliFrames, WrapAngleLandsInHalfOpenInterval) {
   }
 }
 
+TEST(HeliFrames, QuaternionsOfAnyLengthGiveTheUnitQuaternionsAngles) {
+  const Euler e{0.3, -0.4, 2.8};
+  const std::array<double, 4> q = quaternion_from_euler(e);
+  for (const double length : {1.0, 1e-150, 3.0, 1e200, 1.7e308}) {
+    // 1.7e308 times the unit quaternion: each component is finite but the squared norm is not.
+    const Euler back = euler_from_any_quaternion(length * q[0], length * q[1], length * q[2], length * q[3]);
+    EXPECT_NEAR(back.roll, e.roll, 1e-12) << length;
+    EXPECT_NEAR(back.pitch, e.pitch, 1e-12) << length;
+    EXPECT_NEAR(back.yaw, e.yaw, 1e-12) << length;
+  }
+  EXPECT_TRUE(std::isnan(euler_from_any_quaternion(0, 0, 0, 0).roll));
+  EXPECT_TRUE(std::isnan(euler_from_any_quaternion(1, INFINITY, 0, 0).yaw));
+  EXPECT_TRUE(std::isnan(euler_from_any_quaternion(NAN, 1, 0, 0).pitch));
+}
 TEST(HeliAircraft, HoverTrimIsFoundWithSmallRightRollAndExpectedCollective) {
   const Aircraft heli;
   const auto& trim = heli.hover_trim();

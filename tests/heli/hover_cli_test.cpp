@@ -338,6 +338,24 @@ TEST_F(HoverCli, BadPolicyFileExitsTwoNamingFileAndField) {
   const auto missing = run_pegasus("heli fly --quiet --flights 1" + out("f"));
   EXPECT_EQ(missing.code, 2);
   EXPECT_NE(missing.output.find("--policy"), std::string::npos) << missing.output;
+  // A set point below the ground (z up, not NED's down): every flight would start there and crash at once.
+  j = json_file(policy);
+  j["target"]["z"] = 10.0;
+  std::ofstream(bad) << j.dump();
+  const auto underground =
+      run_pegasus("heli fly --quiet --flights 1 --seconds 1 --policy " + bad.string() + out("f"));
+  EXPECT_EQ(underground.code, 2) << underground.output;
+  EXPECT_NE(underground.output.find(bad.string() + ": target.z = 10 is at or below the ground"),
+            std::string::npos)
+      << underground.output;
+  EXPECT_FALSE(fs::exists(dir_ / "f.partial"));
+  const auto training =
+      run_pegasus("heli hover --model " + model() + tiny() + " --target 0,0,10,0" + out("h"));
+  EXPECT_EQ(training.code, 2) << training.output;
+  EXPECT_NE(training.output.find("target: z = 10 is at or below the ground of xcell60"), std::string::npos)
+      << training.output;
+  EXPECT_FALSE(fs::exists(dir_ / "h"));
+  EXPECT_FALSE(fs::exists(dir_ / "h.partial"));
 }
 
 TEST_F(HoverCli, ControlAnswersEveryLineAndMalformedOnesWithTheTrim) {

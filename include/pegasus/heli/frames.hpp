@@ -39,6 +39,10 @@ Vec3 body_rates_from_euler_rates(const Euler& e, const Vec3& euler_rates);
 // The Z-Y-X Euler angles of a unit quaternion (w, x, y, z) that rotates body vectors into W (PX4's
 // vehicle_attitude.q), and the unit quaternion with w >= 0 of Euler angles.
 Euler euler_from_quaternion(double w, double x, double y, double z);
+// The same for a quaternion of any length, as logs give them: scaled by its largest component first, so that
+// components near the largest double do not overflow the norm. NaN angles when it has no direction (all zero,
+// or a component not finite).
+Euler euler_from_any_quaternion(double w, double x, double y, double z);
 std::array<double, 4> quaternion_from_euler(const Euler& e);
 
 }  // namespace pegasus::heli
