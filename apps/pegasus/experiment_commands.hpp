@@ -28,7 +28,8 @@ std::vector<Command> heli_commands();
 
 // Vehicle files (logs/vehicle.hpp) for the helicopter commands (heli_command.cpp): the `vehicle` option, the
 // aircraft it names (the X-Cell 60 when empty), and a field set from the vehicle unless the user set it.
-void declare_vehicle(ConfigSchema& s);
+// `fills`: the vehicle file's settings that the command's resolve step takes as its defaults, for --help.
+void declare_vehicle(ConfigSchema& s, const std::string& fills = "");
 heli::VehicleChoice aircraft_of(const ConfigSchema& c);
 void from_vehicle(ConfigSchema& s, const logs::Vehicle& v, const std::string& field, FieldValue value,
                   const std::string& key);

@@ -24,10 +24,12 @@ namespace pegasus::cli {
 
 // ------------------------------------------------------------------ vehicle files
 
-void declare_vehicle(ConfigSchema& s) {
-  s.add_string("vehicle", "",
-               "vehicle file (README: Vehicle files; experiments/vehicles/): the aircraft's log layout, "
-               "channels, rates and hover settings; empty: the X-Cell 60 in the project's own log layout")
+void declare_vehicle(ConfigSchema& s, const std::string& fills) {
+  s.add_string(
+       "vehicle", "",
+       "vehicle file (README: Vehicle files; experiments/vehicles/): the aircraft's log layout, "
+       "channels, rates and hover settings; empty: the X-Cell 60 in the project's own log layout" +
+           (fills.empty() ? std::string() : "; its " + fills + " replace the defaults shown here unless set"))
       .input_file();
 }
 
@@ -82,7 +84,9 @@ void run_pilot(RunContext& ctx) {
 // ------------------------------------------------------------------ heli hover
 
 void declare_hover(ConfigSchema& s) {
-  declare_vehicle(s);
+  declare_vehicle(s,
+                  "[control] rate_hz, [hover] target, starting_gains, integral_seconds and reward, and "
+                  "[envelope] max_tilt_rad");
   s.add_string("model", "", "identified model (model.json of pegasus heli identify)").input_file();
   const heli::HoverTrainingOptions defaults;
   s.add_int("scenarios", defaults.scenarios, "PEGASUS scenarios m (thesis 5.3: 30)").range(1, 100000);

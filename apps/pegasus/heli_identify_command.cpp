@@ -57,7 +57,7 @@ BandwidthFloor read_bandwidth_floor(const ConfigSchema& c) {
 void declare_identify(ConfigSchema& s) {
   const IdentifyRunOptions d;
   const IdentifyOptions& id = d.identify;
-  declare_vehicle(s);
+  declare_vehicle(s, "[log] model_rate_hz, [vehicle] latent_states, [model] templates and [control] rate_hz");
   s.add_string("train", "", "training flight log (CSV in the vehicle's layout, see README)").input_file();
   s.add_string("test", "", "hold-out flight log (CSV)").input_file();
   s.add_double("rate_hz", id.structure.rate_hz, "identification rate, Hz (the log is downsampled)")
