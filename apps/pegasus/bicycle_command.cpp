@@ -35,9 +35,8 @@ void declare_training(ConfigSchema& s) {
   s.add_string("initial_policy", d.initial_policy,
                "starting weights: a crude hand-set balancing feedback, or all zero")
       .choices({"balance", "zero"});
-  // Bounded-step gradient ascent (thesis 4.6) by default; every method for a continuous class.
-  declare_optimizer_options(s, "optimizer", d.optimizer,
-                            {"gradient", "hill-climb", "bobyqa", "sbplx", "crs2", "esch", "cmaes", "ars"});
+  // Bounded-step gradient ascent (thesis 4.6) by default; every method for a continuous class without bounds.
+  declare_optimizer_options(s, "optimizer", d.optimizer, continuous_class_methods(false));
 }
 
 void declare_riding(ConfigSchema& s, std::int64_t rides) {

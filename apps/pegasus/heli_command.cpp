@@ -181,8 +181,7 @@ void declare_hover(ConfigSchema& s) {
                "controls the action cost is taken about: the logs' mean (trim) or 0 (Eq 5.10 as printed)")
       .choices({"trim", "zero"});
   // Gradient ascent by default (thesis 5.3), then hill climbing from its result (then_hill_climb).
-  declare_optimizer_options(s, "optimizer", defaults.optimizer,
-                            {"gradient", "hill-climb", "bobyqa", "sbplx", "crs2", "esch", "cmaes", "ars"});
+  declare_optimizer_options(s, "optimizer", defaults.optimizer, continuous_class_methods(false));
   s.add_bool("then_hill_climb", defaults.then_hill_climb,
              "after gradient ascent, random-walk hill climbing (optimizer.hill_climbing) from its result");
 }

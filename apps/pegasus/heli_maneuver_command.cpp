@@ -98,8 +98,7 @@ void declare(ConfigSchema& s) {
              "learn the delay t of the vertical set point in angled climbs and descents");
   s.add_bool("feedforward", d.policy.feedforward,
              "the hover networks see the velocity relative to the set point's (learned gain)");
-  declare_optimizer_options(s, "optimizer", d.optimizer,
-                            {"gradient", "hill-climb", "bobyqa", "sbplx", "crs2", "esch", "cmaes", "ars"});
+  declare_optimizer_options(s, "optimizer", d.optimizer, continuous_class_methods(false));
   s.add_bool("ablations", run.ablations,
              "also train without the learned delay and without shaping (same budget) and fly them");
   // Flights on the ground truth

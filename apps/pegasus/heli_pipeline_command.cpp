@@ -231,7 +231,7 @@ void run_pipeline(RunContext& ctx) {
       pl.at("crashes").get<int>(), pl.at("rms_position_m").get<double>(),
       pl.at("rms_velocity_mps").get<double>(), pl.at("rms_yaw_rad").get<double>());
   ctx.out << "plots: " << (final_fly / "position_x.svg").string()
-          << ", position_y/z.svg, velocity_xb/yb/zb.svg (Figs 5.6-5.7); "
+          << ", position_y.svg, altitude.svg, velocity_xb/yb/zb.svg (Figs 5.6-5.7); "
           << (dir.final_path() / "hover" / "progress.svg").string() << "; "
           << (dir.final_path() / "identify" / "mse_xdot_b.svg").string() << "\n";
 }

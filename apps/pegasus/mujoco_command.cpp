@@ -29,9 +29,7 @@ void declare_train(ConfigSchema& s) {
                "the phased policy's second half acts while that number exceeds this");
   s.add_bool("normalize", d.normalize,
              "normalise observations by running statistics frozen per iteration (ARS V2)");
-  // The methods for a continuous class without bounds (the global crs2 and esch need finite ones).
-  declare_optimizer_options(s, "optimizer", d.optimizer,
-                            {"gradient", "hill-climb", "bobyqa", "sbplx", "cmaes", "ars"});
+  declare_optimizer_options(s, "optimizer", d.optimizer, continuous_class_methods(false));
   s.add_int("scenarios", d.scenarios, "PEGASUS scenarios m per evaluation of U-hat").min(1).max(1000000);
   s.add_string("variant", to_string(d.variant), "scenario variant").choices(scenario_variant_names());
   s.add_int("evaluation_episodes", d.evaluation_episodes,

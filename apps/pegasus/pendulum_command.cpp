@@ -13,8 +13,7 @@ void declare_training(ConfigSchema& s) {
       .choices(scenario_variant_names());
   // The race (thesis 4.6's hill climbing on the five numbers), then the refinement of all seven on more
   // scenarios; each stage takes every method for a continuous class (not exhaustive search).
-  const std::vector<std::string> continuous = {"gradient", "hill-climb", "bobyqa", "sbplx",
-                                               "crs2",     "esch",       "cmaes",  "ars"};
+  const std::vector<std::string> continuous = continuous_class_methods(true);
   declare_optimizer_options(s, "optimizer", d.optimizer, continuous);
   s.add_int("refine_scenarios", d.refine_scenarios,
             "scenarios of the refinement of all seven numbers (0: no refinement)")

@@ -436,7 +436,7 @@ void run_fly(const FlyRunOptions& options, RunSink& sink, ThreadPool& pool) {
   sink.out << line(pilot_only ? "pilot" : "policy", s);
   if (with_pilot && !pilot_only) sink.out << line("pilot", summarize_flights(pilot));
   sink.out << "plots: " << (dir.final_path() / "position_x.svg").string()
-           << " (and position_*, velocity_*.svg)\n";
+           << " (and position_y.svg, altitude.svg, velocity_*.svg)\n";
 }
 
 }  // namespace pegasus::heli

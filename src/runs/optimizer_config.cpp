@@ -141,6 +141,14 @@ struct Reader {
 
 }  // namespace
 
+std::vector<std::string> continuous_class_methods(bool finite_bounds) {
+  std::vector<std::string> methods;
+  for (const std::string_view name : OptimizerMethodNames())
+    if (name != "exhaustive" && (finite_bounds || (name != "crs2" && name != "esch")))
+      methods.emplace_back(name);
+  return methods;
+}
+
 void declare_optimizer_options(ConfigSchema& schema, const std::string& prefix,
                                const OptimizerOptions& defaults, std::vector<std::string> methods,
                                bool allow_none) {

@@ -414,6 +414,12 @@ TEST_F(HoverCli, PipelineRunsEveryStageAndPrintsTheHeadline) {
   EXPECT_NE(r.output.find("headline figures"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find((dir_ / "demo" / "fly" / "position_x.svg").string()), std::string::npos)
       << r.output;
+  // The files the plots line names after it (it once named a position_z.svg that no stage writes).
+  EXPECT_NE(r.output.find(", position_y.svg, altitude.svg, velocity_xb/yb/zb.svg"), std::string::npos)
+      << r.output;
+  for (const char* plot : {"position_x.svg", "position_y.svg", "altitude.svg", "velocity_xb.svg",
+                           "velocity_yb.svg", "velocity_zb.svg"})
+    EXPECT_TRUE(fs::exists(dir_ / "demo" / "fly" / plot)) << plot;
   // Each stage is the command a user would type in the run directory, and its run.json says which.
   const auto hover_run = json_file(dir_ / "demo" / "hover" / "run.json");
   EXPECT_EQ(hover_run.at("command"), "heli hover");

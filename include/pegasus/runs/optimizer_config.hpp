@@ -20,6 +20,11 @@
 
 namespace pegasus {
 
+// The methods a continuous policy class can run (every method but exhaustive search, which needs a finite
+// class); without finite bounds on every parameter (a network's weights, a linear policy's gains) not the
+// global crs2 and esch either, which need them.
+std::vector<std::string> continuous_class_methods(bool finite_bounds);
+
 // Declares section `prefix` with `defaults`' values. `methods` limits `prefix.method`'s choices (empty: all).
 // With `allow_none`, `prefix.method` may also be "none" (a stage that does not run).
 void declare_optimizer_options(ConfigSchema& schema, const std::string& prefix,
