@@ -1,10 +1,13 @@
 #include "command.hpp"
 
 #include <fmt/format.h>
+#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
+#include <csignal>
+#include <cstring>
 #include <deque>
 #include <filesystem>
 #include <iostream>
@@ -183,6 +186,43 @@ void leave_after_saying(bool running) {
   if (!running) mpi::barrier();
 }
 
+// Ctrl-C, a hang-up or a plain kill (SIGTERM) while a run directory is open: the interrupted run's
+// DIR.partial stays for --resume, and the handler says so before the signal takes its default course (exit
+// status 128 + the signal, as a shell expects). The line is formatted when the directory opens and kept in
+// static storage, so that the handler only calls write(2). Under mpirun the launcher's SIGTERM is the MPI
+// layer's (mpi.hpp: its stop message).
+char g_interrupted_line[2048] = "";
+
+extern "C" void on_interrupt(int signal_number) {
+  const ssize_t ignored = ::write(STDERR_FILENO, g_interrupted_line, std::strlen(g_interrupted_line));
+  (void)ignored;
+  std::signal(signal_number, SIG_DFL);
+  std::raise(signal_number);
+}
+
+class InterruptLine {
+ public:
+  explicit InterruptLine(const std::filesystem::path& partial) {
+    // After a progress bar's carriage return, on a line of its own.
+    std::string text = fmt::format(
+        "{}pegasus: interrupted; partial results kept in {}: rerun the same command "
+        "with --resume to continue (or --force to start again)\n",
+        ::isatty(STDERR_FILENO) ? "\n" : "", printable(partial.string()));
+    if (text.size() >= sizeof g_interrupted_line)
+      text = "pegasus: interrupted; rerun with --resume to continue\n";
+    std::memcpy(g_interrupted_line, text.c_str(), text.size() + 1);
+    for (const int signal_number : kSignals) std::signal(signal_number, on_interrupt);
+  }
+  ~InterruptLine() {
+    for (const int signal_number : kSignals) std::signal(signal_number, SIG_DFL);
+  }
+  InterruptLine(const InterruptLine&) = delete;
+  InterruptLine& operator=(const InterruptLine&) = delete;
+
+ private:
+  static constexpr int kSignals[] = {SIGINT, SIGHUP, SIGTERM};
+};
+
 // Opens the run directory (when `dir` is given), runs `command` with the resolved and validated `schema`,
 // and writes run.json and the report before committing. `run_dir` stays with the caller for its error
 // message; `running` turns true once the set-up is past. A stage of another command (run_stage) leaves the
@@ -191,8 +231,10 @@ int run_command(const Command& command, const ConfigSchema& schema, const std::s
                 RunDirectoryOptions opening, bool quiet, bool stage, const std::vector<std::string>& argv,
                 std::optional<RunDirectory>& run_dir, bool& running, std::ostream& out, std::ostream& err) {
   const auto start = std::chrono::steady_clock::now();
+  std::optional<InterruptLine> interrupt_line;
   if (!dir.empty()) {
     run_dir.emplace(RunDirectory::open(dir, schema, opening));
+    if (!stage && mpi::size() == 1) interrupt_line.emplace(run_dir->path());
     if (!stage)
       mpi::set_stop_message(
           fmt::format("pegasus: error: the MPI job was stopped (a rank failed or the job was "

@@ -162,19 +162,30 @@ TEST_F(BicycleCli, BadPolicyFilesGetOneLineNamingFileAndFieldExitTwo) {
   }
 }
 
-// SIGKILL after the first finished trial, then --resume: the result equals an uninterrupted run's.
+// SIGKILL (a crash) or SIGINT (Ctrl-C) after the first finished trial, then --resume: the result equals an
+// uninterrupted run's. Ctrl-C also says, in one line, where the partial run is and how to go on.
 TEST_F(BicycleCli, KilledExperimentResumesToTheSameResult) {
   const std::string args = "bicycle experiment --trials 6 --rides 3 --lesson-trials 0 --threads 1" + kSmall;
   ASSERT_EQ(run(args + out("whole")).code, 0);
-  const fs::path target = dir_ / "killed";
-  // Five trials remain after the first checkpoint, so the kill always lands mid-run.
-  ASSERT_EQ(pegasus::test_support::kill_pegasus_after_first_checkpoint(args, target),
-            pegasus::test_support::KillOutcome::kKilled)
-      << "the run left no checkpoint or finished before it could be killed";
-  const auto resumed = run(args + " --resume" + out("killed"));
-  ASSERT_EQ(resumed.code, 0) << resumed.output;
-  for (const char* file : {"summary.json", "rides.csv", "learning_curves.csv", "trials.csv"})
-    EXPECT_EQ(read(dir_ / "whole" / file), read(target / file)) << file;
+  for (const int signal_number : {SIGKILL, SIGINT}) {
+    const fs::path target = dir_ / ("killed-" + std::to_string(signal_number));
+    std::string said;
+    // Five trials remain after the first checkpoint, so the kill always lands mid-run.
+    ASSERT_EQ(pegasus::test_support::kill_pegasus_after_first_checkpoint(args, target, signal_number, &said),
+              pegasus::test_support::KillOutcome::kKilled)
+        << "the run left no checkpoint or finished before it could be killed";
+    if (signal_number == SIGINT) {
+      EXPECT_EQ(said, "pegasus: interrupted; partial results kept in " + target.string() +
+                          ".partial: rerun the same command with --resume to continue (or --force to start "
+                          "again)\n");
+    } else {
+      EXPECT_EQ(said, "");
+    }
+    const auto resumed = run(args + " --resume --out " + target.string());
+    ASSERT_EQ(resumed.code, 0) << resumed.output;
+    for (const char* file : {"summary.json", "rides.csv", "learning_curves.csv", "trials.csv"})
+      EXPECT_EQ(read(dir_ / "whole" / file), read(target / file)) << signal_number << ": " << file;
+  }
 }
 
 }  // namespace

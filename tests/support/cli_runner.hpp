@@ -40,14 +40,19 @@ inline CliResult run_pegasus(const std::string& args) {
 enum class KillOutcome { kKilled, kNoCheckpoint, kFinishedFirst };
 
 // Starts `pegasus <args> --out OUT` in a child process, waits (at most 120 s) for
-// OUT.partial/checkpoint.json, then SIGKILLs it: the kill/resume tests' way of interrupting a run after its
-// first checkpoint. kKilled when the kill landed mid-run; kFinishedFirst when the run ended before it.
+// OUT.partial/checkpoint.json, then sends it `signal_number` (SIGKILL: as a crash would; SIGINT: Ctrl-C): the
+// kill/resume tests' way of interrupting a run after its first checkpoint. kKilled when the signal ended the
+// run mid-way; kFinishedFirst when the run ended before it. `stderr_text`, when given, gets what the run said
+// on stderr.
 inline KillOutcome kill_pegasus_after_first_checkpoint(const std::string& args,
-                                                       const std::filesystem::path& out) {
+                                                       const std::filesystem::path& out,
+                                                       int signal_number = SIGKILL,
+                                                       std::string* stderr_text = nullptr) {
+  const std::filesystem::path said = out.string() + ".stderr";
   const pid_t child = fork();
   if (child == 0) {
-    const std::string command =
-        std::string(PEGASUS_CLI_PATH) + " " + args + " --out " + out.string() + " >/dev/null 2>&1";
+    const std::string command = std::string(PEGASUS_CLI_PATH) + " " + args + " --out " + out.string() +
+                                " >/dev/null 2>" + (stderr_text ? said.string() : std::string("&1"));
     execl("/bin/sh", "sh", "-c", ("exec " + command).c_str(), static_cast<char*>(nullptr));
     _exit(127);
   }
@@ -57,11 +62,17 @@ inline KillOutcome kill_pegasus_after_first_checkpoint(const std::string& args,
   while (!std::filesystem::exists(checkpoint) && std::chrono::steady_clock::now() < deadline)
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   const bool checkpointed = std::filesystem::exists(checkpoint);
-  kill(child, SIGKILL);
+  kill(child, signal_number);
   int status = 0;
   waitpid(child, &status, 0);
+  if (stderr_text) {
+    std::ifstream in(said);
+    *stderr_text = std::string(std::istreambuf_iterator<char>(in), {});
+    std::filesystem::remove(said);
+  }
   if (!checkpointed) return KillOutcome::kNoCheckpoint;
-  return WIFSIGNALED(status) ? KillOutcome::kKilled : KillOutcome::kFinishedFirst;
+  return WIFSIGNALED(status) && WTERMSIG(status) == signal_number ? KillOutcome::kKilled
+                                                                  : KillOutcome::kFinishedFirst;
 }
 
 inline std::string read_text(const std::filesystem::path& path) {
