@@ -30,4 +30,6 @@ def main(train_path, test_path):
 
 
 if __name__ == "__main__":
+    if len(sys.argv) != 3:
+        sys.exit("usage: model_from_logs.py TRAIN.csv TEST.csv  (e.g. the log.csv of two `pegasus heli pilot` runs)")
     main(sys.argv[1], sys.argv[2])

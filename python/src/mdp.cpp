@@ -208,7 +208,10 @@ gamma, absorbing=..., initial=...) from numpy arrays or scipy.sparse matrices.)d
       .def_readonly("message", &SolveSummary::message)
       .def("brief_report", &SolveSummary::BriefReport);
 
-  py::class_<PolicyChange>(m, "PolicyChange")
+  py::class_<PolicyChange>(m, "PolicyChange", R"doc(
+Whether shaping changed what is optimal (ShapingAudit.policy_change): changes (some action optimal in M + F is
+not optimal in M), states (where), loss_under_initial (sum over starts D(s) of V*_M(s) - V_M^pi'(s) for pi'
+optimal in M + F) and max_loss (the largest such loss over states).)doc")
       .def_readonly("changes", &PolicyChange::changes)
       .def_readonly("states", &PolicyChange::states)
       .def_readonly("loss_under_initial", &PolicyChange::loss_under_initial)

@@ -23,8 +23,9 @@ PYBIND11_MODULE(_pegasus, m) {
   pegasus::python::bind_optimizers(m);
   pegasus::python::bind_training(m);
   pegasus::python::bind_vectorized(m);
-  pegasus::python::bind_envs(m);
+  // Before the environments: corner_gridworld_mdp's signature then names the Python class FiniteMdp.
   pegasus::python::bind_mdp(m);
+  pegasus::python::bind_envs(m);
   pegasus::python::bind_sysid(m);
   pegasus::python::bind_heli(m);
   pegasus::python::bind_quadrotor(m);

@@ -2,6 +2,7 @@
 // with the C++ field names, Solve with the GIL released, checkpoints as Python dicts.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <memory>
 
 #include "common.hpp"
@@ -267,6 +268,12 @@ Which optimizer runs (method: "exhaustive", "gradient", "hill-climb", "bobyqa", 
 "ars"; optimizer_methods() lists them) and the options of each; only the selected method's are used and validated.)doc")
           .def(py::init<>())
           .def(py::init([](const std::string& method) {
+                 const auto names = OptimizerMethodNames();
+                 if (std::find(names.begin(), names.end(), method) == names.end()) {
+                   std::string list;
+                   for (const auto name : names) list += (list.empty() ? "" : ", ") + std::string(name);
+                   throw py::value_error("method: expected one of " + list + ", got '" + method + "'");
+                 }
                  OptimizerOptions o;
                  o.method = method;
                  return o;
@@ -300,11 +307,15 @@ Which optimizer runs (method: "exhaustive", "gradient", "hill-climb", "bobyqa", 
           });
   set_fields(optimizer_options,
              {"method", "exhaustive", "gradient", "hill_climbing", "nlopt", "cmaes", "ars"});
-  m.def("optimizer_methods", [] {
-    std::vector<std::string> names;
-    for (auto n : OptimizerMethodNames()) names.emplace_back(n);
-    return names;
-  });
+  m.def(
+      "optimizer_methods",
+      [] {
+        std::vector<std::string> names;
+        for (auto n : OptimizerMethodNames()) names.emplace_back(n);
+        return names;
+      },
+      "The names OptimizerOptions.method takes (exhaustive needs a finite class; crs2 and esch finite "
+      "bounds).");
 
   auto record = py::class_<IterationRecord>(m, "IterationRecord", "One row of an optimizer's history.");
   record.def_readonly("iteration", &IterationRecord::iteration)

@@ -72,8 +72,12 @@ def test_invalid_options_raise_value_error_naming_the_field():
     assert options.is_valid()[0] is False and "gradient.max_step" in options.is_valid()[1]
     with pytest.raises(ValueError, match="gradient.max_step"):
         pegasus.solve(pegasus.FunctionObjective(spec(), quadratic), options)
+    with pytest.raises(ValueError, match="method: expected one of exhaustive, gradient, .*got 'newton'"):
+        pegasus.OptimizerOptions("newton")
+    renamed = pegasus.OptimizerOptions("gradient")
+    renamed.method = "newton"
     with pytest.raises(ValueError, match="method"):
-        pegasus.solve(pegasus.FunctionObjective(spec(), quadratic), pegasus.OptimizerOptions("newton"))
+        pegasus.solve(pegasus.FunctionObjective(spec(), quadratic), renamed)
     with pytest.raises(ValueError, match="algorithm"):
         pegasus.NloptOptions().algorithm = "lbfgs"
 

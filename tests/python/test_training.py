@@ -188,6 +188,17 @@ def test_every_compiled_name_has_a_stub_and_every_new_class_a_docstring(source_d
             stubbed.update(t.id for t in node.targets)
     public = {name for name in dir(pegasus._pegasus) if not name.startswith("__")}
     assert public <= stubbed, sorted(public - stubbed)
+    # Every compiled class and function says what it is (a function's doc is its signature, then the text), and
+    # a signature names Python classes, never a C++ type.
+    for name in sorted(public):
+        obj = getattr(pegasus._pegasus, name)
+        doc = (obj.__doc__ or "").strip()
+        if isinstance(obj, type):
+            assert len(doc) > 20, name
+        elif callable(obj):
+            signature, _, text = doc.partition("\n")
+            assert len(text.strip()) > 20, name
+            assert "::" not in signature, (name, signature)
     for name in ["CmaesOptions", "AugmentedRandomSearchOptions", "TrainingSummary", "SeedDomains", "IterationReport",
                  "Aircraft", "AircraftParams", "LearnedHeliModel", "LearnedModelOptions", "HoverProblem",
                  "HoverTrainingOptions", "HoverReward", "HoverPolicy", "HeliPolicy", "SetPoint"]:
