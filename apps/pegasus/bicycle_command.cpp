@@ -19,18 +19,26 @@ namespace {
 // ---- Config fields shared by the commands ------------------------------------------------------------
 
 void declare_fall_reward(ConfigSchema& s) {
-  s.add_double("fall_reward", BicycleOptions{}.fall_reward, "reward of falling over (absorbing)").max(0);
+  s.add_double("fall_reward", BicycleOptions{}.fall_reward, "reward of falling over (absorbing)")
+      .range(-kMaxRewardWeight, 0);
 }
 
-void declare_training(ConfigSchema& s) {
+// The objective U-hat: scenarios, discount, horizon and rewards.
+void declare_objective(ConfigSchema& s) {
   const BicycleTrainingOptions d;
   s.add_int("scenarios", d.scenarios, "PEGASUS scenarios m").min(1).max(100000);
   s.add_double("gamma", d.gamma, "discount per 0.01 s step").greater_than(0).max(1);
   s.add_int("horizon", d.horizon, "training rollout length H (steps of 0.01 s)").min(1).max(1000000);
   s.add_double("shaping_per_metre", d.shaping_per_metre,
                "shaping potential per metre of progress towards the goal")
-      .min(0);
+      .range(0, kMaxRewardWeight);
   declare_fall_reward(s);
+}
+
+// The objective, and how it is searched.
+void declare_training(ConfigSchema& s) {
+  const BicycleTrainingOptions d;
+  declare_objective(s);
   s.add_string("variant", to_string(d.variant), "scenario variant").choices(scenario_variant_names());
   s.add_string("initial_policy", d.initial_policy,
                "starting weights: a crude hand-set balancing feedback, or all zero")
@@ -39,10 +47,13 @@ void declare_training(ConfigSchema& s) {
   declare_optimizer_options(s, "optimizer", d.optimizer, continuous_class_methods(false));
 }
 
-void declare_riding(ConfigSchema& s, std::int64_t rides) {
+// `least_rides`: 0 where rides are optional (bicycle train), else 1.
+void declare_riding(ConfigSchema& s, std::int64_t rides, std::int64_t least_rides) {
   const BicycleRideOptions d;
-  s.add_int("rides", rides, "rides of each policy, from the initial-state distribution with fresh noise")
-      .min(0)
+  s.add_int("rides", rides,
+            "rides of each policy, from the initial-state distribution with fresh noise" +
+                std::string(least_rides == 0 ? " (0: none)" : ""))
+      .min(static_cast<double>(least_rides))
       .max(1000000);
   s.add_double("max_km", d.max_km, "a ride that has not reached the goal stops after this distance")
       .greater_than(0)
@@ -53,7 +64,7 @@ void declare_riding(ConfigSchema& s, std::int64_t rides) {
   s.add_double("goal_radius", d.bicycle.goal.radius, "radius of the goal circle (m)").greater_than(0);
 }
 
-BicycleTrainingOptions training_options(const RunContext& ctx) {
+BicycleTrainingOptions objective_options(const RunContext& ctx) {
   const auto& c = ctx.config;
   BicycleTrainingOptions o;
   o.scenarios = static_cast<int>(c.get_int("scenarios"));
@@ -61,18 +72,24 @@ BicycleTrainingOptions training_options(const RunContext& ctx) {
   o.horizon = static_cast<int>(c.get_int("horizon"));
   o.shaping_per_metre = c.get_double("shaping_per_metre");
   o.bicycle.fall_reward = c.get_double("fall_reward");
+  o.seed = ctx.seed;
+  o.threads = ctx.threads;
+  return o;
+}
+
+BicycleTrainingOptions training_options(const RunContext& ctx) {
+  const auto& c = ctx.config;
+  BicycleTrainingOptions o = objective_options(ctx);
   o.variant = parse_scenario_variant(c.get_string("variant"));
   o.initial_policy = c.get_string("initial_policy");
   read_optimizer_options(c, "optimizer", &o.optimizer);
-  o.seed = ctx.seed;
-  o.threads = ctx.threads;
   return o;
 }
 
 BicycleRideOptions ride_options(const RunContext& ctx) {
   const auto& c = ctx.config;
   BicycleRideOptions o;
-  o.rides = static_cast<int>(std::max<std::int64_t>(1, c.get_int("rides")));
+  o.rides = static_cast<int>(c.get_int("rides"));
   o.max_km = c.get_double("max_km");
   o.bicycle.goal = BicycleGoal::circle(1000.0 * c.get_double("goal_km"), 0.0, c.get_double("goal_radius"));
   o.bicycle.fall_reward = c.get_double("fall_reward");
@@ -125,7 +142,7 @@ void run_ride(RunContext& ctx) {
 void run_variance(RunContext& ctx) {
   const Theta theta = policy_argument(ctx);
   RunSink sink = ctx.sink();
-  run_bicycle_variance(theta, training_options(ctx), static_cast<int>(ctx.config.get_int("sets")), ctx.seed,
+  run_bicycle_variance(theta, objective_options(ctx), static_cast<int>(ctx.config.get_int("sets")), ctx.seed,
                        sink, ctx.pool());
 }
 
@@ -140,13 +157,14 @@ std::vector<Command> bicycle_commands() {
                   [](ConfigSchema& s) {
                     const BicycleExperimentOptions d;
                     s.add_int("trials", d.trials, "independent trainings (scenario sets)").min(1).max(100000);
-                    s.add_int(
-                         "lesson_trials", d.lesson_trials,
-                         "scenario sets on which the progress bonus and naive Monte Carlo are also trained")
+                    s.add_int("lesson_trials", d.lesson_trials,
+                              "the first scenario sets (at most trials) on which the progress bonus and "
+                              "naive Monte Carlo "
+                              "are also trained")
                         .min(0)
                         .max(100000);
                     declare_training(s);
-                    declare_riding(s, 50);
+                    declare_riding(s, 50, 1);
                   },
               .run = run_experiment},
       Command{.path = "bicycle train",
@@ -154,7 +172,7 @@ std::vector<Command> bicycle_commands() {
               .declare =
                   [](ConfigSchema& s) {
                     declare_training(s);
-                    declare_riding(s, 20);
+                    declare_riding(s, 20, 0);
                   },
               .run = run_train},
       Command{
@@ -164,7 +182,7 @@ std::vector<Command> bicycle_commands() {
               [](ConfigSchema& s) {
                 s.add_string("policy", "", "policy file (JSON with parameter names and values)").input_file();
                 declare_fall_reward(s);
-                declare_riding(s, 50);
+                declare_riding(s, 50, 1);
               },
           .run = run_ride},
       Command{
@@ -174,7 +192,7 @@ std::vector<Command> bicycle_commands() {
               [](ConfigSchema& s) {
                 s.add_string("policy", "", "policy file (JSON with parameter names and values)").input_file();
                 s.add_int("sets", 100, "independent scenario sets per method").min(2).max(1000000);
-                declare_training(s);
+                declare_objective(s);
               },
           .run = run_variance},
   };

@@ -28,6 +28,11 @@ std::vector<Command> heli_commands();
 
 // Vehicle files (logs/vehicle.hpp) for the helicopter commands (heli_command.cpp): the `vehicle` option, the
 // aircraft it names (the X-Cell 60 when empty), and a field set from the vehicle unless the user set it.
+// The largest reward weight, shaping rate or fall penalty a command takes: with errors inside any crash
+// envelope, a rollout of 10^5 steps then keeps a finite return (at 1e308 the returns overflowed to inf or NaN
+// and training ended as if it had worked).
+inline constexpr double kMaxRewardWeight = 1e12;
+
 // `fills`: the vehicle file's settings that the command's resolve step takes as its defaults, for --help.
 void declare_vehicle(ConfigSchema& s, const std::string& fills = "");
 heli::VehicleChoice aircraft_of(const ConfigSchema& c);

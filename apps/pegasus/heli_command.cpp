@@ -147,9 +147,9 @@ void declare_hover(ConfigSchema& s) {
         return std::get<std::vector<double>>(v).size() == 4 ? std::string()
                                                             : std::string("4 numbers: x, y, z, yaw");
       });
-  // Each weight is 1 / this^2 (Eq 5.9, 5.10): below kMinTypicalScale it would be infinite, and the reward's
-  // own check would then blame alpha_pos instead of the option given.
-  static constexpr double kMinTypicalScale = 1e-150;
+  // Each weight is 1 / this^2 (Eq 5.9, 5.10): below kMinTypicalScale it would exceed kMaxRewardWeight, and
+  // the reward's own check would then blame alpha_pos instead of the option given.
+  static constexpr double kMinTypicalScale = 1e-6;  // 1 / sqrt(kMaxRewardWeight)
   s.add_double("reward.position_m", heli::HoverReward::kTypicalPosition,
                "typical position error: alpha_x,y,z = 1 / this^2 (Eq 5.9)")
       .min(kMinTypicalScale);

@@ -84,16 +84,18 @@ void declare(ConfigSchema& s) {
   s.add_double("start_pos_sigma", d.start_pos_sigma, "start position perturbation per axis, m").range(0, 10);
   s.add_double("start_vel_sigma", d.start_vel_sigma, "start velocity perturbation per axis, m/s")
       .range(0, 10);
-  s.add_double("reward.alpha_pos", d.reward.alpha_pos, "per m^2 of distance to the path's projection").min(0);
-  s.add_double("reward.alpha_yaw", d.reward.alpha_yaw, "per rad^2 of yaw error to the projection").min(0);
+  s.add_double("reward.alpha_pos", d.reward.alpha_pos, "per m^2 of distance to the path's projection")
+      .range(0, kMaxRewardWeight);
+  s.add_double("reward.alpha_yaw", d.reward.alpha_yaw, "per rad^2 of yaw error to the projection")
+      .range(0, kMaxRewardWeight);
   s.add_double("reward.alpha_vel", d.reward.alpha_vel,
                "per (m/s)^2 of velocity minus the path's velocity at the projection")
-      .min(0);
+      .range(0, kMaxRewardWeight);
   s.add_double("reward.alpha_action", d.reward.alpha_action[0], "per unit^2 of each control about the trim")
-      .min(0);
+      .range(0, kMaxRewardWeight);
   s.add_bool("shaping", d.shaping, "potential-based shaping reward growing along the path");
   s.add_double("shaping_per_metre", d.shaping_per_metre, "shaping potential per m of progress along the path")
-      .min(0);
+      .range(0, kMaxRewardWeight);
   s.add_bool("learn_delay", d.policy.learn_delay,
              "learn the delay t of the vertical set point in angled climbs and descents");
   s.add_bool("feedforward", d.policy.feedforward,

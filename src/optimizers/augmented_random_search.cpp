@@ -18,7 +18,8 @@ bool AugmentedRandomSearchOptions::IsValid(std::string* error) const {
     return RejectOption(error, "max_iterations", ">= 0", static_cast<double>(max_iterations));
   if (max_evaluations < 1)
     return RejectOption(error, "max_evaluations", ">= 1", static_cast<double>(max_evaluations));
-  if (directions < 1) return RejectOption(error, "directions", ">= 1", directions);
+  if (directions < 1 || directions > kMaxPointsPerIteration)
+    return RejectOption(error, "directions", fmt::format("in [1, {}]", kMaxPointsPerIteration), directions);
   if (top_directions < 1 || top_directions > directions)
     return RejectOption(error, "top_directions",
                         fmt::format("1 <= top_directions <= directions = {}", directions), top_directions);

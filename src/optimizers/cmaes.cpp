@@ -179,8 +179,9 @@ bool CmaesOptions::IsValid(std::string* error) const {
     return RejectOption(error, "max_iterations", ">= 0", static_cast<double>(max_iterations));
   if (max_evaluations < 1)
     return RejectOption(error, "max_evaluations", ">= 1", static_cast<double>(max_evaluations));
-  if (population_size != 0 && population_size < 2)
-    return RejectOption(error, "population_size", "0 (automatic) or >= 2", population_size);
+  if (population_size != 0 && (population_size < 2 || population_size > kMaxPointsPerIteration))
+    return RejectOption(error, "population_size",
+                        fmt::format("0 (automatic) or in [2, {}]", kMaxPointsPerIteration), population_size);
   if (!(initial_step > 0.0 && std::isfinite(initial_step)))
     return RejectOption(error, "initial_step", "a finite value > 0", initial_step);
   if (!(x_tolerance >= 0.0 && std::isfinite(x_tolerance)))
@@ -193,7 +194,8 @@ bool CmaesOptions::IsValid(std::string* error) const {
   if (!(stall_tolerance >= 0.0 && std::isfinite(stall_tolerance)))
     return RejectOption(error, "stall_tolerance", "a finite value >= 0", stall_tolerance);
   // 2^restarts times the population must stay an int.
-  if (restarts < 0 || restarts > 20) return RejectOption(error, "restarts", "in [0, 20]", restarts);
+  if (restarts < 0 || restarts > kCmaesMaxRestarts)
+    return RejectOption(error, "restarts", fmt::format("in [0, {}]", kCmaesMaxRestarts), restarts);
   return ValidateCheckpointOptions(checkpoint_every, on_checkpoint, resume_from, "cmaes", error);
 }
 
@@ -215,10 +217,10 @@ void Solve(const CmaesOptions& options, Objective& objective, Theta* theta, Opti
   const Theta upper = spec.upper();
   const Theta scale = spec.scales();
   const int first_population = CmaesPopulationSize(options, n);
-  if ((static_cast<std::int64_t>(first_population) << options.restarts) > std::numeric_limits<int>::max())
+  if ((static_cast<std::int64_t>(first_population) << options.restarts) > kMaxPointsPerIteration)
     throw InputError(
         fmt::format("cmaes options: restarts: {} restarts would double the population of {} past {}",
-                    options.restarts, first_population, std::numeric_limits<int>::max()));
+                    options.restarts, first_population, kMaxPointsPerIteration));
   const auto population_of_run = [&](std::int64_t restart) {
     return static_cast<int>(static_cast<std::int64_t>(first_population) << restart);
   };

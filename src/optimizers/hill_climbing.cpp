@@ -17,8 +17,9 @@ bool HillClimbingOptions::IsValid(std::string* error) const {
     return RejectOption(error, "max_iterations", ">= 0", static_cast<double>(max_iterations));
   if (max_evaluations < 1)
     return RejectOption(error, "max_evaluations", ">= 1", static_cast<double>(max_evaluations));
-  if (proposals_per_iteration < 1)
-    return RejectOption(error, "proposals_per_iteration", ">= 1", proposals_per_iteration);
+  if (proposals_per_iteration < 1 || proposals_per_iteration > kMaxPointsPerIteration)
+    return RejectOption(error, "proposals_per_iteration", fmt::format("in [1, {}]", kMaxPointsPerIteration),
+                        proposals_per_iteration);
   if (!(max_step > 0.0 && std::isfinite(max_step)))
     return RejectOption(error, "max_step", "a finite value > 0", max_step);
   if (!(initial_step > 0.0 && initial_step <= max_step))

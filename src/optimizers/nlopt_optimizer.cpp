@@ -47,7 +47,9 @@ bool NloptOptions::IsValid(std::string* error) const {
     return RejectOption(error, "x_tolerance", "a finite value >= 0 (0 = off)", x_tolerance);
   if (!(function_tolerance >= 0.0 && std::isfinite(function_tolerance)))
     return RejectOption(error, "function_tolerance", "a finite value >= 0 (0 = off)", function_tolerance);
-  if (population < 0) return RejectOption(error, "population", ">= 0 (0 = NLopt's default)", population);
+  if (population < 0 || population > kMaxPointsPerIteration)
+    return RejectOption(error, "population",
+                        fmt::format("in [0, {}] (0 = NLopt's default)", kMaxPointsPerIteration), population);
   return ValidateCheckpointOptions(checkpoint_every, on_checkpoint, resume_from,
                                    NloptAlgorithmName(algorithm), error);
 }

@@ -37,7 +37,7 @@ void visit_optimizer_fields(Visitor& v, OptimizerOptions& o) {
   v.integer("hill_climbing.max_evaluations", h.max_evaluations, "hill climbing: U-hat evaluations at most",
             1);
   v.integer32("hill_climbing.proposals_per_iteration", h.proposals_per_iteration,
-              "hill climbing: proposals per iteration (evaluated in parallel)", 1);
+              "hill climbing: proposals per iteration (evaluated in parallel)", 1, kMaxPointsPerIteration);
   v.real("hill_climbing.initial_step", h.initial_step,
          "hill climbing: first perturbation size, in parameter scales", 0, kInf, true);
   v.real("hill_climbing.max_step", h.max_step, "hill climbing: largest perturbation, in parameter scales", 0,
@@ -58,13 +58,15 @@ void visit_optimizer_fields(Visitor& v, OptimizerOptions& o) {
          "NLopt methods: stop when a step moves every parameter less (0: off)", 0, kInf);
   v.real("nlopt.function_tolerance", n.function_tolerance,
          "NLopt methods: stop when a step changes U-hat by a smaller fraction (0: off)", 0, kInf);
-  v.integer32("nlopt.population", n.population, "crs2, esch: population size (0: NLopt's default)", 0);
+  v.integer32("nlopt.population", n.population, "crs2, esch: population size (0: NLopt's default)", 0,
+              kMaxPointsPerIteration);
 
   auto& c = o.cmaes;
   v.integer("cmaes.max_iterations", c.max_iterations, "CMA-ES: generations at most", 0);
   v.integer("cmaes.max_evaluations", c.max_evaluations, "CMA-ES: U-hat evaluations at most", 1);
   v.integer32("cmaes.population_size", c.population_size,
-              "CMA-ES: samples per generation (0: 4 + floor(3 ln n), Hansen's default)", 0);
+              "CMA-ES: samples per generation (0: 4 + floor(3 ln n), Hansen's default)", 0,
+              kMaxPointsPerIteration);
   v.real("cmaes.initial_step", c.initial_step, "CMA-ES: first sigma, in parameter scales", 0, kInf, true);
   v.real("cmaes.x_tolerance", c.x_tolerance, "CMA-ES: stop when every step is below this, in scales (0: off)",
          0, kInf);
@@ -80,12 +82,14 @@ void visit_optimizer_fields(Visitor& v, OptimizerOptions& o) {
   v.real("cmaes.stall_tolerance", c.stall_tolerance, "CMA-ES: see stall_generations", 0, kInf);
   v.integer32(
       "cmaes.restarts", c.restarts,
-      "CMA-ES: runs after the first (IPOP): each starts again from the start with twice the population", 0);
+      "CMA-ES: runs after the first (IPOP): each starts again from the start with twice the population", 0,
+      kCmaesMaxRestarts);
 
   auto& a = o.ars;
   v.integer("ars.max_iterations", a.max_iterations, "ARS: iterations at most", 0);
   v.integer("ars.max_evaluations", a.max_evaluations, "ARS: U-hat evaluations at most", 1);
-  v.integer32("ars.directions", a.directions, "ARS: random directions per iteration (each evaluated +-)", 1);
+  v.integer32("ars.directions", a.directions, "ARS: random directions per iteration (each evaluated +-)", 1,
+              kMaxPointsPerIteration);
   v.integer32("ars.top_directions", a.top_directions, "ARS: best directions that move theta (b)", 1);
   v.real("ars.step_size", a.step_size, "ARS: step size alpha, in parameter scales", 0, kInf, true);
   v.real("ars.exploration_noise", a.exploration_noise, "ARS: direction size nu, in parameter scales", 0, kInf,
@@ -104,8 +108,9 @@ struct Declarer {
   void integer(const char* name, std::int64_t& value, const char* help, double lo) {
     schema.add_int(field_name(prefix, name), value, help).min(lo);
   }
-  void integer32(const char* name, int& value, const char* help, double lo) {
-    schema.add_int(field_name(prefix, name), value, help).range(lo, std::numeric_limits<int>::max());
+  void integer32(const char* name, int& value, const char* help, double lo,
+                 double hi = std::numeric_limits<int>::max()) {
+    schema.add_int(field_name(prefix, name), value, help).range(lo, hi);
   }
   void real(const char* name, double& value, const char* help, double lo, double hi,
             bool exclusive_lo = false) {
@@ -131,7 +136,7 @@ struct Reader {
   void integer(const char* name, std::int64_t& value, const char*, double) {
     value = schema.get_int(field_name(prefix, name));
   }
-  void integer32(const char* name, int& value, const char*, double) {
+  void integer32(const char* name, int& value, const char*, double, double = 0) {
     value = static_cast<int>(schema.get_int(field_name(prefix, name)));
   }
   void real(const char* name, double& value, const char*, double, double, bool = false) {

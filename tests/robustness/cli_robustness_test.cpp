@@ -76,7 +76,21 @@ TEST_F(CliRobustness, ThreadsOutsideOneToTheDocumentedMaximumAreRefusedByName) {
 // Case 7: each message names the option the user gave, not an internal one it feeds.
 TEST_F(CliRobustness, MessagesNameTheOptionTheUserGave) {
   expect_bad_input("heli hover --reward.position-m 4.9e-324",
-                   "--reward.position-m: expected a number >= 1e-150");
+                   "--reward.position-m: expected a number >= 1e-06");
+  // Weights whose rollouts overflow a double: U-hat was inf or NaN and training "succeeded" (exit 0).
+  expect_bad_input("bicycle train --shaping-per-metre 1e308",
+                   "--shaping-per-metre: expected a number in [0, 1000000000000]");
+  expect_bad_input("bicycle train --fall-reward -1e308",
+                   "--fall-reward: expected a number in [-1000000000000, 0]");
+  expect_bad_input("heli maneuver --reward.alpha-pos 1e308",
+                   "--reward.alpha-pos: expected a number in [0, 1000000000000]");
+  // Sizes within int that only ended in std::bad_alloc (exit 3, a resumable-looking empty DIR.partial).
+  expect_bad_input("bicycle train --optimizer.cmaes.population-size 2147483647",
+                   "--optimizer.cmaes.population-size: expected an integer in [0, 100000]");
+  expect_bad_input("bicycle train --optimizer.hill-climbing.proposals-per-iteration 100001",
+                   "--optimizer.hill-climbing.proposals-per-iteration: expected an integer in [1, 100000]");
+  // A ride command with no rides (it rode once and said 1).
+  expect_bad_input("bicycle ride --rides 0", "--rides: expected an integer in [1, 1000000]");
   expect_bad_input("pendulum train --optimizer.hill-climbing.initial-step 4.9e-324",
                    "--optimizer.hill-climbing.initial-step: 5e-324 breaks optimizer.hill_climbing.min_step");
   expect_bad_input("pendulum train --optimizer.hill-climbing.initial-step inf",

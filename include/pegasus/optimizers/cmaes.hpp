@@ -47,6 +47,8 @@
 
 namespace pegasus {
 
+inline constexpr int kCmaesMaxRestarts = 20;
+
 struct CmaesOptions {
   // Seed and stream of the UniformStream that draws every sample. Change either for an independent run;
   // keep them apart from the scenario seed's streams to avoid correlated noise.
@@ -73,7 +75,7 @@ struct CmaesOptions {
   std::int64_t stall_generations = 0;
   double stall_tolerance = 0.0;
   // Runs after the first (IPOP, see above): each starts again from the first mean with twice the previous
-  // population. >= 0.
+  // population. In [0, kCmaesMaxRestarts], and the last population at most kMaxPointsPerIteration.
   int restarts = 0;
 
   // Write a checkpoint every this many iterations; 0 = never.

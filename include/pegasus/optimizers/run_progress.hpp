@@ -87,6 +87,10 @@ inline bool IsImprovement(double candidate, double incumbent) {
   return candidate > incumbent || (incumbent != incumbent && candidate == candidate);
 }
 
+// The most points one iteration of any method evaluates (a population, proposals, directions): past it the
+// batch's memory, not the objective, decides whether a run can start (2^31 ended in std::bad_alloc).
+inline constexpr int kMaxPointsPerIteration = 100000;
+
 // For IsValid: writes "field: expected <expected>, got <got>" to *error (when non-null); returns false.
 bool RejectOption(std::string* error, std::string_view field, std::string_view expected, double got);
 
