@@ -148,7 +148,10 @@ void set_up_config(Leaf& leaf) {
   ConfigSchema& schema = leaf.schema;
   std::exception_ptr error;
   try {
-    if (!leaf.config_file.empty()) schema.load_toml_file(leaf.config_file);
+    std::vector<std::string> given;  // on the command line, which wins over the file
+    for (std::size_t i = 0; i < leaf.options.size(); ++i)
+      if (leaf.options[i]->count() > 0) given.push_back(schema.fields()[i].name());
+    if (!leaf.config_file.empty()) schema.load_toml_file(leaf.config_file, given);
     for (std::size_t i = 0; i < leaf.options.size(); ++i) {
       if (leaf.options[i]->count() > 0) schema.set_from_cli(schema.fields()[i].name(), leaf.texts[i]);
     }

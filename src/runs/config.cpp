@@ -135,7 +135,12 @@ const char* type_name(FieldType t) {
 std::string describe(const toml::node& node) {
   if (const auto* s = node.as_string()) return "the string " + toml_quoted(s->get());
   if (const auto* i = node.as_integer()) return std::to_string(i->get());
-  if (const auto* d = node.as_floating_point()) return format_double(d->get());
+  if (const auto* d = node.as_floating_point()) {
+    // "the float 1.0", not "1": the message explains why an integer field refused it.
+    const std::string text = format_double(d->get());
+    const bool looks_integral = text.find_first_of(".eEna") == std::string::npos;
+    return "the float " + text + (looks_integral ? ".0" : "");
+  }
   if (const auto* b = node.as_boolean()) return b->get() ? "true" : "false";
   if (node.is_array()) return "an array";
   if (node.is_table()) return "a table";
@@ -284,7 +289,8 @@ void ConfigSchema::assign(std::size_t index, FieldValue value, const std::string
   values_[index] = std::move(value);
 }
 
-void ConfigSchema::load_toml_file(const std::filesystem::path& file) {
+void ConfigSchema::load_toml_file(const std::filesystem::path& file,
+                                  const std::vector<std::string>& overridden) {
   errno = 0;
   std::ifstream in(file, std::ios::binary);
   std::error_code ec;
@@ -295,10 +301,11 @@ void ConfigSchema::load_toml_file(const std::filesystem::path& file) {
   std::ostringstream text;
   text << in.rdbuf();
   if (in.bad()) throw InputError(fmt::format("{}: cannot read config file", file.string()));
-  load_toml_string(text.str(), file.string());
+  load_toml_string(text.str(), file.string(), overridden);
 }
 
-void ConfigSchema::load_toml_string(std::string_view text, const std::string& source_name) {
+void ConfigSchema::load_toml_string(std::string_view text, const std::string& source_name,
+                                    const std::vector<std::string>& overridden) {
   const toml::table root = parse_toml_input(text, source_name);
 
   auto unknown = [&](const std::string& full, const toml::key& key) {
@@ -343,6 +350,7 @@ void ConfigSchema::load_toml_string(std::string_view text, const std::string& so
       std::optional<FieldValue> value = from_toml(node, f->type());
       if (!value)
         throw InputError(fmt::format("{}: expected {}, got {}", where, f->expectation(), describe(node)));
+      if (std::find(overridden.begin(), overridden.end(), full) != overridden.end()) continue;
       assign(index, std::move(*value), where, format_value(*value));
       origins_[index] = fmt::format("{}:{}", source_name, line);
     }

@@ -146,6 +146,10 @@ TEST_F(Cli, EveryKindOfBadInputExitsTwoWithOneLineAndNoRunDirectory) {
   write("range.toml", "\n\ngamma = 1.5\n");
   expect_bad_input("horizon --config range.toml",
                    "range.toml:3: key 'gamma': expected a number in (0, 1), got 1.5");
+  // An option replaces the file's value, so the file's out-of-range one is not held against the run.
+  const auto overridden = run("horizon --config range.toml --gamma 0.5 --epsilon 0.1 --rmax 1");
+  EXPECT_EQ(overridden.rc, 0) << overridden.err;
+  EXPECT_EQ(overridden.out, "{\"horizon\":6}\n");
   write("threads.toml", "threads = 0\n");
   expect_bad_input("horizon --config threads.toml",
                    "threads.toml:1: key 'threads': expected an integer in [1, 1024], got 0");

@@ -79,12 +79,32 @@ TEST(ConfigSchema, OutOfRangeInFileNamesFileLineKeyExpectationAndValue) {
             "c.toml:1: key 'gamma': expected a number in [0, 1], got nan");
 }
 
+// An option given on the command line replaces the file's value before the file's is range-checked; its type
+// is still checked.
+TEST(ConfigSchema, AFieldOverriddenOnTheCommandLineIsOnlyTypeCheckedInTheFile) {
+  ConfigSchema s = example_schema();
+  s.load_toml_string("gamma = 1.5\nscenarios = 7\n", "c.toml", {"gamma"});
+  EXPECT_EQ(s.get_int("scenarios"), 7);
+  s.set_from_cli("gamma", "0.25");
+  EXPECT_EQ(s.get_double("gamma"), 0.25);
+  EXPECT_EQ(s.origin("gamma"), "--gamma");
+  EXPECT_EQ(
+      input_error_message([&] { example_schema().load_toml_string("gamma = \"x\"", "c.toml", {"gamma"}); }),
+      "c.toml:1: key 'gamma': expected a number in [0, 1], got the string \"x\"");
+  EXPECT_EQ(
+      input_error_message([&] { example_schema().load_toml_string("gamma = 1.5", "c.toml", {"scenarios"}); }),
+      "c.toml:1: key 'gamma': expected a number in [0, 1], got 1.5");
+}
+
 TEST(ConfigSchema, WrongTypeInFileNamesFileLineKeyAndExpectation) {
   ConfigSchema s = example_schema();
   EXPECT_EQ(input_error_message([&] { s.load_toml_string("gamma = \"high\"", "c.toml"); }),
             "c.toml:1: key 'gamma': expected a number in [0, 1], got the string \"high\"");
   EXPECT_EQ(input_error_message([&] { s.load_toml_string("\nscenarios = 2.5", "c.toml"); }),
-            "c.toml:2: key 'scenarios': expected an integer >= 1, got 2.5");
+            "c.toml:2: key 'scenarios': expected an integer >= 1, got the float 2.5");
+  // A whole number written as a float is not an integer either, and the message says why.
+  EXPECT_EQ(input_error_message([&] { s.load_toml_string("scenarios = 7.0", "c.toml"); }),
+            "c.toml:1: key 'scenarios': expected an integer >= 1, got the float 7.0");
   EXPECT_EQ(input_error_message([&] { s.load_toml_string("shaping = 1", "c.toml"); }),
             "c.toml:1: key 'shaping': expected true or false, got 1");
   EXPECT_EQ(input_error_message([&] { s.load_toml_string("sizes = [1, \"2\"]", "c.toml"); }),

@@ -116,10 +116,13 @@ class ConfigSchema {
   void add_constraint(Constraint constraint);
 
   // Reads a TOML file over the current values. Unknown keys, wrong types and out-of-range values are
-  // InputError "file:line: key 'name': expected ..., got ..."; an unreadable file names the file.
-  void load_toml_file(const std::filesystem::path& file);
+  // InputError "file:line: key 'name': expected ..., got ..."; an unreadable file names the file. The
+  // fields named in `overridden` (set on the command line after the file) keep their values: the file's
+  // are only type-checked, so that an option can replace a file's value that is out of range.
+  void load_toml_file(const std::filesystem::path& file, const std::vector<std::string>& overridden = {});
   // Same, from text; `source_name` stands for the file in messages.
-  void load_toml_string(std::string_view text, const std::string& source_name);
+  void load_toml_string(std::string_view text, const std::string& source_name,
+                        const std::vector<std::string>& overridden = {});
   // Sets one field from its command-line text ("0.9", "1,2,4", "true"); errors name `--field-name`.
   void set_from_cli(std::string_view name, std::string_view text);
   // Sets one field directly (checked like any other value; errors name the field, or `origin` when given,
