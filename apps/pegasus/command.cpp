@@ -99,8 +99,12 @@ void declare_options(Leaf& leaf) {
   leaf.texts.resize(fields.size());
   for (std::size_t i = 0; i < fields.size(); ++i) {
     const ConfigField& f = fields[i];
-    const std::string help = fmt::format("{} [{}; default {}]", f.help(), f.expectation(),
-                                         ConfigSchema::format_value(f.default_value()));
+    // A flag takes its value after '=' only (`--ablations false` would read `false` as the next argument).
+    const std::string expected = f.type() == FieldType::kBool
+                                     ? fmt::format("{0} or {0}=false", ConfigSchema::option_name(f.name()))
+                                     : f.expectation();
+    const std::string help =
+        fmt::format("{} [{}; default {}]", f.help(), expected, ConfigSchema::format_value(f.default_value()));
     CLI::Option* option = nullptr;
     if (f.type() == FieldType::kBool) {
       // `--flag` alone means true; `--flag=false` is accepted too.

@@ -73,10 +73,13 @@ void declare_learning(ConfigSchema& s, ShapingWorld world) {
       });
   s.add_double("alpha", d.alpha, "Sarsa learning rate (thesis: 0.02)").greater_than(0).max(1);
   s.add_double("epsilon", d.epsilon, "epsilon-greedy exploration rate (thesis: 0.1)").range(0, 1);
+  // Below 1: with moves that always go where intended, a policy that walks into a wall never reaches the
+  // goal, and the undiscounted world then has no finite values to learn.
   s.add_double("intended", d.intended,
-               "probability a move goes the intended way, else a uniformly random direction")
+               "probability a move goes the intended way, else a uniformly random direction (below 1: the "
+               "world is undiscounted)")
       .greater_than(0)
-      .max(1);
+      .less_than(1);
   s.add_int("max_steps_per_trial", d.max_steps_per_trial,
             "a trial is cut off after this many steps (and counted)")
       .min(1);

@@ -91,6 +91,9 @@ TEST_F(CliRobustness, MessagesNameTheOptionTheUserGave) {
                    "--optimizer.hill-climbing.proposals-per-iteration: expected an integer in [1, 100000]");
   // A ride command with no rides (it rode once and said 1).
   expect_bad_input("bicycle ride --rides 0", "--rides: expected an integer in [1, 1000000]");
+  // Moves that always go where intended: some policy never reaches the undiscounted world's goal (the message
+  // was about a gamma the user never set).
+  expect_bad_input("shaping gridworld --intended 1", "--intended: expected a number in (0, 1), got '1'");
   expect_bad_input("pendulum train --optimizer.hill-climbing.initial-step 4.9e-324",
                    "--optimizer.hill-climbing.initial-step: 5e-324 breaks optimizer.hill_climbing.min_step");
   expect_bad_input("pendulum train --optimizer.hill-climbing.initial-step inf",
