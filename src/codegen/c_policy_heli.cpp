@@ -267,13 +267,23 @@ int @NAME@_act_vehicle(@ACT_PARAMETERS@) {
 }
 )";
 
+// heli::euler_from_any_quaternion, operation for operation: scaled by the largest component (no overflow of
+// the norm), then normalised.
 constexpr const char* kQuaternionAttitude = R"(  {
-    const double norm = sqrt(v[6] * v[6] + v[7] * v[7] + v[8] * v[8] + v[9] * v[9]);
-    const double w = v[6] / norm, x = v[7] / norm, y = v[8] / norm, z = v[9] / norm;
-    roll = atan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y));
-    pitch = asin(clamp(2 * (w * y - z * x), -1.0, 1.0));
-    yaw = atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z));
-    if (!(norm > 0)) roll = pitch = yaw = NAN;
+    double w = v[6], x = v[7], y = v[8], z = v[9], largest = fabs(w), norm;
+    if (fabs(x) > largest) largest = fabs(x);
+    if (fabs(y) > largest) largest = fabs(y);
+    if (fabs(z) > largest) largest = fabs(z);
+    if (!(isfinite(w) && isfinite(x) && isfinite(y) && isfinite(z)) || !(largest > 0)) {
+      roll = pitch = yaw = NAN;
+    } else {
+      w /= largest, x /= largest, y /= largest, z /= largest;
+      norm = sqrt(w * w + x * x + y * y + z * z);
+      w /= norm, x /= norm, y /= norm, z /= norm;
+      roll = atan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y));
+      pitch = asin(clamp(2 * (w * y - z * x), -1.0, 1.0));
+      yaw = atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z));
+    }
   }
 )";
 

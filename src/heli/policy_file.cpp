@@ -96,7 +96,8 @@ void write_policy_file(const std::filesystem::path& file, const PolicyFile& poli
 
 std::string trained_vehicle(const PolicyFile& file) {
   const auto it = file.provenance.find("vehicle");
-  return it != file.provenance.end() && it->is_string() ? it->get<std::string>() : std::string();
+  return it != file.provenance.end() && it->is_string() ? it->get<std::string>()
+                                                        : std::string(kBuiltInVehicle);
 }
 
 std::string other_vehicle_warning(const std::string& trained_for, const std::string& file,

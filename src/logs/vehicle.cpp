@@ -12,6 +12,7 @@
 #include "pegasus/core/error.hpp"
 #include "pegasus/core/untrusted_text.hpp"
 #include "pegasus/heli/frames.hpp"
+#include "pegasus/heli/policy_file.hpp"
 #include "pegasus/heli/simulators.hpp"
 #include "pegasus/io/json_csv.hpp"
 
@@ -290,7 +291,7 @@ VehicleLogSpec parse_vehicle_log_spec(std::string_view text, const std::filesyst
 Vehicle xcell_vehicle() {
   Vehicle v;
   VehicleLogSpec& s = v.log;
-  s.vehicle = "xcell60";
+  s.vehicle = heli::kBuiltInVehicle;
   s.rate_hz = 50;
   s.model_rate_hz = 10;
   s.attitude_form = "euler";

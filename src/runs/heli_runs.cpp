@@ -97,8 +97,9 @@ std::shared_ptr<const IdentifiedModel> VehicleChoice::load_model(const std::stri
   if (model_file.empty())
     throw InputError("--model: expected an identified model (model.json of pegasus identify)");
   auto model = std::make_shared<const IdentifiedModel>(IdentifiedModel::load(model_file));
-  const std::string& identified_for = model->vehicle();
-  if (!identified_for.empty() && identified_for != vehicle.name())
+  const std::string identified_for =
+      model->vehicle().empty() ? std::string(kBuiltInVehicle) : model->vehicle();
+  if (identified_for != vehicle.name())
     throw InputError(fmt::format(
         "{}: vehicle: the model was identified from {}'s logs, and this run is for {}; give the vehicle file "
         "it was identified with (--vehicle)",

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "pegasus/core/error.hpp"
+#include "pegasus/core/untrusted_text.hpp"
 #include "pegasus/evaluators/monte_carlo.hpp"
 #include "pegasus/heli/maneuver_file.hpp"
 #include "pegasus/heli/maneuver_policy.hpp"
@@ -111,6 +112,12 @@ void run_maneuver(const ManeuverRunOptions& options, RunSink& sink, ThreadPool& 
     const PolicyFile hover = read_policy_file(file);
     if (hover.class_name != "hover")
       throw InputError(file + ": class: expected \"hover\", got \"" + hover.class_name + "\"");
+    // Its networks and trim start the manoeuvre's: another aircraft's would start it from the wrong trim.
+    if (const std::string trained_for = trained_vehicle(hover); trained_for != vehicle.name())
+      throw InputError(
+          fmt::format("{}: vehicle: the hover policy was trained for '{}', and this manoeuvre is for "
+                      "'{}'; give a hover policy trained with its vehicle file",
+                      printable(file), printable(trained_for), printable(vehicle.name())));
     // The manoeuvre class has no integral term: a hover policy with one starts it from its networks.
     hover_theta = checked_hover_parameters(hover, file);
     if (hover_theta.size() > HoverPolicy::kParameters) {

@@ -349,6 +349,34 @@ TEST_F(HoverCli, BadPolicyFileExitsTwoNamingFileAndField) {
             std::string::npos)
       << underground.output;
   EXPECT_FALSE(fs::exists(dir_ / "f.partial"));
+  // Files that name no vehicle are the built-in X-Cell's: another aircraft's training refuses its model, its
+  // flights warn about its policy, and a manoeuvre refuses another aircraft's hover policy (its trim).
+  const std::string crazyflie = std::string(PEGASUS_SOURCE_DIR) + "/experiments/vehicles/crazyflie2.toml";
+  const auto other_model =
+      run_pegasus("hover --vehicle " + crazyflie + " --model " + model() + tiny() + out("q"));
+  EXPECT_EQ(other_model.code, 2) << other_model.output;
+  EXPECT_NE(
+      other_model.output.find("the model was identified from xcell60's logs, and this run is for crazyflie2"),
+      std::string::npos)
+      << other_model.output;
+  const auto other_fly = run_pegasus("fly --vehicle " + crazyflie +
+                                     " --flights 1 --seconds 0.1 --quiet --policy " + policy + out("qf"));
+  EXPECT_EQ(other_fly.code, 0) << other_fly.output;
+  EXPECT_NE(other_fly.output.find("was trained for vehicle 'xcell60'; flying it on 'crazyflie2'"),
+            std::string::npos)
+      << other_fly.output;
+  j = json_file(policy);
+  j["provenance"]["vehicle"] = "crazyflie2";
+  std::ofstream(bad) << j.dump();
+  const auto other_hover = run_pegasus("heli maneuver --name III.2 --model " + model() + " --hover-policy " +
+                                       bad.string() + " --quiet" + out("m"));
+  EXPECT_EQ(other_hover.code, 2) << other_hover.output;
+  EXPECT_NE(other_hover.output.find(
+                bad.string() + ": vehicle: the hover policy was trained for 'crazyflie2', and this manoeuvre "
+                               "is for 'xcell60'"),
+            std::string::npos)
+      << other_hover.output;
+  EXPECT_FALSE(fs::exists(dir_ / "m"));
   const auto training =
       run_pegasus("heli hover --model " + model() + tiny() + " --target 0,0,10,0" + out("h"));
   EXPECT_EQ(training.code, 2) << training.output;

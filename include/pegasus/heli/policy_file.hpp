@@ -90,8 +90,11 @@ std::vector<std::string> policy_class_names();
 nlohmann::json policy_file_json(const PolicyFile& policy);
 void write_policy_file(const std::filesystem::path& file, const PolicyFile& policy);  // atomic
 // Parses and checks the common fields (not yet the class's); `file` names the source in messages.
+// The aircraft a model or policy file that names none was made for: the built-in X-Cell 60 (the commands
+// without --vehicle, and files of versions before vehicle files). logs::xcell_vehicle() carries the name.
+inline constexpr const char* kBuiltInVehicle = "xcell60";
 // The aircraft a policy was trained for, as its provenance names it (hover and maneuver with a vehicle
-// file); empty when it names none (trained for the built-in X-Cell, or by an older version).
+// file), else kBuiltInVehicle.
 std::string trained_vehicle(const PolicyFile& file);
 // "warning: FILE was trained for vehicle 'A'; DOING 'B'" when `file` names another aircraft than `vehicle`,
 // else empty: a policy may be meant for another aircraft, but that should not pass unsaid.
