@@ -97,8 +97,7 @@ void declare_hover(ConfigSchema& s) {
        "control_rate_hz", defaults.control_rate_hz,
        "the controller's rate, Hz: the learned model steps at it and the policy is trained for it (thesis "
        "5.1: 50; a flight computer that runs its controller at 10 Hz: 10)")
-      .greater_than(0)
-      .max(1000);
+      .range(0.1, 1000);
   s.add_string(
        "starting_gains", defaults.lqr_start ? "lqr" : "constant",
        "the policy's starting gains: the X-Cell's constants, or LQR on the identified model at the hover "

@@ -339,9 +339,15 @@ bool HoverTrainingOptions::IsValid(std::string* error) const {
   if (refit_every < 0)
     return fail(error, fmt::format("refit_every: expected an integer >= 0 (0: at the model's rate), got {}",
                                    refit_every));
-  if (!(positive_finite(control_rate_hz) && control_rate_hz <= 1000))
+  if (!(control_rate_hz >= 0.1 && control_rate_hz <= 1000))
     return fail(error,
-                fmt::format("control_rate_hz: expected a number in (0, 1000], got {}", control_rate_hz));
+                fmt::format("control_rate_hz: expected a number in [0.1, 1000], got {}", control_rate_hz));
+  // A scenario shorter than one control step scores the start alone: nothing the policy does counts.
+  if (seconds * control_rate_hz < 1)
+    return fail(error,
+                fmt::format("seconds: expected at least one control step (1 / control_rate_hz = {:g} s), "
+                            "got {:g}",
+                            1 / control_rate_hz, seconds));
   if (!(max_start_crash_fraction >= 0 && max_start_crash_fraction <= 1))
     return fail(error, fmt::format("max_start_crash_fraction: expected a number in [0, 1], got {}",
                                    max_start_crash_fraction));

@@ -93,6 +93,11 @@ TEST_F(CliRobustness, MessagesNameTheOptionTheUserGave) {
   expect_bad_input("bicycle ride --rides 0", "--rides: expected an integer in [1, 1000000]");
   // Moves that always go where intended: some policy never reaches the undiscounted world's goal (the message
   // was about a gamma the user never set).
+  // A hover scenario shorter than one control step scored the start alone, and trained.
+  expect_bad_input("heli hover --seconds 0.001",
+                   "seconds: expected at least one control step (1 / control_rate_hz = 0.02 s), got 0.001");
+  expect_bad_input("heli hover --control-rate-hz 0.001",
+                   "--control-rate-hz: expected a number in [0.1, 1000]");
   expect_bad_input("shaping gridworld --intended 1", "--intended: expected a number in (0, 1), got '1'");
   expect_bad_input("pendulum train --optimizer.hill-climbing.initial-step 4.9e-324",
                    "--optimizer.hill-climbing.initial-step: 5e-324 breaks optimizer.hill_climbing.min_step");
