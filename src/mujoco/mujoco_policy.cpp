@@ -213,18 +213,21 @@ constexpr int kMaxHiddenLayers = 16;
 }  // namespace
 
 nlohmann::json mujoco_policy_file_json(const MujocoPolicyFile& f) {
-  return {{"format", "pegasus.mujoco.policy"},
-          {"version", 1},
-          {"model", f.model},
-          {"task", f.task},
-          {"class", f.policy_class},
-          {"hidden", f.hidden},
-          {"phase", policy_phase_json(f.phase)},
-          {"theta", f.theta},
-          {"normalizer",
-           {{"mean", f.normalizer.mean},
-            {"inverse_std", f.normalizer.inverse_std},
-            {"clip", f.normalizer.clip}}}};
+  nlohmann::json j = {{"format", "pegasus.mujoco.policy"},
+                      {"version", 1},
+                      {"model", f.model},
+                      {"task", f.task},
+                      {"class", f.policy_class},
+                      {"hidden", f.hidden},
+                      {"phase", policy_phase_json(f.phase)},
+                      {"theta", f.theta},
+                      {"normalizer",
+                       {{"mean", f.normalizer.mean},
+                        {"inverse_std", f.normalizer.inverse_std},
+                        {"clip", f.normalizer.clip}}}};
+  if (!f.model_digest.empty()) j["model_digest"] = f.model_digest;
+  if (!f.task_digest.empty()) j["task_digest"] = f.task_digest;
+  return j;
 }
 
 MujocoPolicyFile parse_mujoco_policy_file(const nlohmann::json& j, const std::string& file) {
@@ -232,6 +235,9 @@ MujocoPolicyFile parse_mujoco_policy_file(const nlohmann::json& j, const std::st
   MujocoPolicyFile f;
   f.model = json_nonempty_string(json_member(j, "model", file, "model"), file, "model");
   f.task = json_nonempty_string(json_member(j, "task", file, "task"), file, "task");
+  for (const auto& [key, digest] :
+       {std::pair{"model_digest", &f.model_digest}, {"task_digest", &f.task_digest}})
+    if (j.contains(key)) *digest = json_nonempty_string(j.at(key), file, key);
   const nlohmann::json& policy_class = json_member(j, "class", file, "class");
   if (policy_class != "linear" && policy_class != "mlp")
     json_field_error(file, "class", "\"linear\" or \"mlp\"", policy_class);

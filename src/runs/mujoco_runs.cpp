@@ -9,6 +9,8 @@
 #include <filesystem>
 
 #include "pegasus/core/error.hpp"
+#include "pegasus/core/untrusted_text.hpp"
+#include "pegasus/io/atomic_file.hpp"
 #include "pegasus/io/json_csv.hpp"
 #include "pegasus/optimizers/training.hpp"
 #include "pegasus/runs/charts.hpp"
@@ -242,6 +244,8 @@ void run_mujoco_training(const MujocoTrainingRunOptions& o, RunSink& sink, Threa
   const nlohmann::json shape = problem.policy->describe();
   const MujocoPolicyFile policy{.model = std::filesystem::absolute(o.model_file).string(),
                                 .task = std::filesystem::absolute(o.task_file).string(),
+                                .model_digest = env.model().digest(),
+                                .task_digest = file_sha256(o.task_file),
                                 .policy_class = shape.at("class").get<std::string>(),
                                 .hidden = shape.at("hidden").get<std::vector<int>>(),
                                 .phase = problem.phase,
@@ -299,6 +303,15 @@ void run_mujoco_rollout(const MujocoRolloutRunOptions& o, RunSink& sink) {
                                        fmt::format("{}: phase.observation", o.policy_file));
   const MujocoEnvironment& env = *problem.env;
   check_mujoco_policy_file(file, *problem.policy, env.observation_dim(), o.policy_file);
+  // The files as they are now, which may not be what the policy was trained on: allowed, but not unsaid.
+  for (const auto& [what, path, then, now] :
+       {std::tuple{"model", file.model, file.model_digest, env.model().digest()},
+        std::tuple{"task", file.task, file.task_digest, file_sha256(file.task)}})
+    if (!then.empty() && then != now)
+      sink.out << fmt::format(
+          "warning: the {} {} has changed since {} was trained on it; the rollout uses it as it "
+          "is now\n",
+          what, printable(path), printable(o.policy_file));
   const std::vector<double>& theta = file.theta;
   const ObservationNormalizer& normalizer = file.normalizer;
 

@@ -65,6 +65,23 @@ TEST_F(MujocoCli, TrainGivesTheSameSummaryOnOneAndTwoThreadsAndRolloutReplaysThe
   const std::string trajectory = read_text(dir / "replay" / "trajectory.csv");
   EXPECT_THAT(trajectory.substr(0, trajectory.find('\n')), HasSubstr("step,time,reward,qpos0,qpos1,cart_x"));
   EXPECT_GT(std::count(trajectory.begin(), trajectory.end(), '\n'), 2);
+  EXPECT_EQ(rollout.output.find("warning"), std::string::npos) << rollout.output;
+
+  // The policy records what its model and task were; a task file edited since (here a comment) is used as it
+  // is now, with a warning that names it.
+  auto policy = nlohmann::json::parse(read_text(dir / "one" / "policy.json"));
+  EXPECT_EQ(policy.at("model_digest").get<std::string>().size(), 64u);
+  const auto edited_task = dir / "edited.toml";
+  test_support::write_file(edited_task, read_text(policy.at("task").get<std::string>()) + "# edited\n");
+  policy["task"] = edited_task.string();
+  test_support::write_file(dir / "edited.json", policy.dump());
+  const auto edited = run_pegasus("mujoco rollout --policy " + (dir / "edited.json").string() +
+                                  " --episodes 4 --seed 7 --quiet --out " + (dir / "edited").string());
+  ASSERT_EQ(edited.code, 0) << edited.output;
+  EXPECT_THAT(edited.output, HasSubstr("warning: the task " + edited_task.string() + " has changed since " +
+                                       (dir / "edited.json").string() + " was trained on it"));
+  EXPECT_EQ(nlohmann::json::parse(read_text(dir / "edited" / "summary.json")).at("evaluation"),
+            s.at("evaluation"));
 }
 
 // policy.json is checked where it is read (mujoco/mujoco_policy: parse_mujoco_policy_file): each broken field
@@ -73,6 +90,8 @@ TEST_F(MujocoCli, RolloutRefusesABrokenPolicyFileNamingTheField) {
   const auto exp = test_support::mujoco_experiments();
   const MujocoPolicyFile good{.model = (exp / "cartpole.xml").string(),
                               .task = (exp / "cartpole_swingup.toml").string(),
+                              .model_digest = {},
+                              .task_digest = {},
                               .policy_class = "linear",
                               .hidden = {},
                               .phase = {},

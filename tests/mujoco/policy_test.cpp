@@ -70,6 +70,8 @@ TEST(MujocoPhasedPolicy, AnUnresolvedOrOutOfRangeSwitchIsRefused) {
 TEST(MujocoPolicyFile, ThePhaseRoundTripsAndAFileWithoutOneIsUnphased) {
   MujocoPolicyFile f{.model = "m.xml",
                      .task = "t.toml",
+                     .model_digest = "model sha",
+                     .task_digest = "task sha",
                      .policy_class = "linear",
                      .hidden = {},
                      .phase = {.observation = "sensors.foot_touch", .above = 0.5},
@@ -77,6 +79,13 @@ TEST(MujocoPolicyFile, ThePhaseRoundTripsAndAFileWithoutOneIsUnphased) {
                      .normalizer = ObservationNormalizer(1)};
   nlohmann::json j = mujoco_policy_file_json(f);
   EXPECT_EQ(parse_mujoco_policy_file(j, "p.json").phase, f.phase);
+  // The digests round-trip, and a file written before them reads without them.
+  EXPECT_EQ(parse_mujoco_policy_file(j, "p.json").model_digest, "model sha");
+  EXPECT_EQ(parse_mujoco_policy_file(j, "p.json").task_digest, "task sha");
+  nlohmann::json older = j;
+  older.erase("model_digest");
+  older.erase("task_digest");
+  EXPECT_EQ(parse_mujoco_policy_file(older, "p.json").model_digest, "");
   j.erase("phase");  // as written before phased policies
   EXPECT_FALSE(parse_mujoco_policy_file(j, "p.json").phase.phased());
   j["phase"] = nullptr;

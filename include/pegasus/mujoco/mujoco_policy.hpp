@@ -102,6 +102,9 @@ std::unique_ptr<MujocoPolicy> make_mujoco_policy(const std::string& kind, int ob
 // the above half).
 struct MujocoPolicyFile {
   std::string model, task;  // the MJCF and the task file it was trained on (absolute paths when written)
+  // What they were then (MujocoModel::digest(), the task file's SHA-256): a rollout says when either changed.
+  // Empty in files written before they were recorded.
+  std::string model_digest, task_digest;
   std::string policy_class;
   std::vector<int> hidden;
   PolicyPhase phase;  // position unresolved (-1): the task resolves the name
