@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "pegasus/core/error.hpp"
+#include "pegasus/core/untrusted_text.hpp"
 #include "pegasus/io/csv_table.hpp"
 #include "pegasus/runs/charts.hpp"
 #include "report_page.hpp"
@@ -155,12 +156,28 @@ json mujoco_replay_spec(const Chart& c, const fs::path& dir) {
   if (!replay.is_object() || replay.value("format", "") != "pegasus.mujoco.replay")
     throw InputError(
         fmt::format("{}: expected a MuJoCo replay (format pegasus.mujoco.replay)", file.string()));
-  return {{"kind", "mujoco_replay"},
-          {"title", c.title},
-          {"source", c.traces.front().file},
-          {"geoms", replay.value("geoms", json::array())},
-          {"t", replay.value("t", json::array())},
-          {"frames", replay.value("frames", json::array())}};
+  // The viewer poses geom g of frame k from frames[k][7g .. 7g + 6] (position, quaternion) at time t[k]: a
+  // frame of another size would pose the wrong geoms, or read past its end.
+  const auto field_error = [&](const std::string& field, const std::string& expected) {
+    return InputError(fmt::format("{}: {}: expected {}", printable(file.string()), field, expected));
+  };
+  const json& geoms = replay.value("geoms", json::array());
+  const json& t = replay.value("t", json::array());
+  const json& frames = replay.value("frames", json::array());
+  if (!geoms.is_array()) throw field_error("geoms", "an array");
+  if (!t.is_array() || !frames.is_array() || t.size() != frames.size())
+    throw field_error("t, frames", "two arrays of one length");
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    if (!t[k].is_number()) throw field_error(fmt::format("t[{}]", k), "a number");
+    const json& frame = frames[k];
+    if (!frame.is_array() || frame.size() != 7 * geoms.size())
+      throw field_error(fmt::format("frames[{}]", k), fmt::format("{} numbers (7 for each of the {} geoms)",
+                                                                  7 * geoms.size(), geoms.size()));
+    for (const json& x : frame)
+      if (!x.is_number()) throw field_error(fmt::format("frames[{}]", k), "numbers only");
+  }
+  return {{"kind", "mujoco_replay"}, {"title", c.title}, {"source", c.traces.front().file},
+          {"geoms", geoms},          {"t", t},           {"frames", frames}};
 }
 
 }  // namespace

@@ -360,6 +360,32 @@ TEST_F(Report, BadRunDirectoriesAreInputErrorsNamingTheFile) {
   fs::remove(run_ / "curves.csv");
   EXPECT_NE(input_error_message([&] { report_data(run_); }).find("curves.csv: not found (chart 'Steps'"),
             std::string::npos);
+  // A MuJoCo replay whose frames do not hold 7 numbers per geom would pose the wrong geoms: named, with the
+  // frame.
+  describe(run_, {one_chart({.kind = pegasus::ChartKind::kMujocoReplay,
+                             .title = "3-D replay",
+                             .traces = {{.file = "replay.json"}}})});
+  json replay = {{"format", "pegasus.mujoco.replay"},
+                 {"version", 1},
+                 {"geoms", json::array({json::object(), json::object()})},
+                 {"t", {0.0, 0.01}},
+                 {"frames", {std::vector<double>(14, 0.5), std::vector<double>(13, 0.5)}}};
+  write(run_ / "replay.json", replay.dump());
+  EXPECT_NE(input_error_message([&] {
+              report_data(run_);
+            }).find("replay.json: frames[1]: expected 14 numbers (7 for each of the 2 geoms)"),
+            std::string::npos);
+  replay["frames"][1] = std::vector<double>(14, 0.5);
+  replay["t"] = {0.0};
+  write(run_ / "replay.json", replay.dump());
+  EXPECT_NE(input_error_message([&] {
+              report_data(run_);
+            }).find("replay.json: t, frames: expected two arrays of one length"),
+            std::string::npos);
+  replay["t"] = {0.0, 0.01};
+  write(run_ / "replay.json", replay.dump());
+  EXPECT_EQ(input_error_message([&] { report_data(run_); }), "(no error)");
+  fs::remove(run_ / "replay.json");
   // charts.json itself: the field is named.
   write(
       run_ / "charts.json",
