@@ -5,6 +5,7 @@
 #include <mujoco/mujoco.h>
 
 #include <cmath>
+#include <map>
 #include <mutex>
 #include <set>
 
@@ -403,6 +404,25 @@ MujocoTask mujoco_task_from_toml(const toml::table& root, const std::filesystem:
              fmt::format("expected one of body_velocity, healthy, site_distance, joint_target, joint_speed, "
                          "energy, in_range, control_cost, contact_cost; got \"{}\"",
                          term));
+    }
+    // A key another term reads (a body on a healthy term, say) would be ignored without a word.
+    const std::map<RewardKind, std::set<std::string>> own_keys = {
+        {RewardKind::kBodyVelocity, {"body", "axis"}},
+        {RewardKind::kSiteDistance, {"site", "target"}},
+        {RewardKind::kJointTarget, {"joint", "target"}},
+        {RewardKind::kJointSpeed, {"joint"}},
+        {RewardKind::kEnergy, {"target"}},
+        {RewardKind::kInRange, {"quantity", "name", "min", "max"}}};
+    const auto it = own_keys.find(out.kind);
+    const std::set<std::string> none;
+    const std::set<std::string>& own = it == own_keys.end() ? none : it->second;
+    for (const auto& [key, node] : *t) {
+      const std::string name(key.str());
+      if (name == "term" || name == "weight" || name == "cap" || own.contains(name)) continue;
+      std::string takes = "term, weight, cap";
+      for (const auto& k : own) takes += ", " + k;
+      r.fields().fail(&node, prefix + "." + name,
+                      fmt::format("the {} term does not read this key (it takes {})", term, takes));
     }
     task.reward.push_back(out);
   }

@@ -126,6 +126,15 @@ TEST_F(MujocoTaskFile, WrongFieldsTermsRangesAndSyntaxAreNamed) {
   EXPECT_THAT(task_error("horizon = \n"), HasSubstr("task.toml:1:"));
   EXPECT_THAT(task_error(minimal("[[reward]]\nterm = \"joint_target\"\njoint = \"hinge\"\n")),
               HasSubstr("reward[1].target: missing"));
+  // A key another term reads is named, not ignored.
+  EXPECT_THAT(
+      task_error(minimal("[[reward]]\nterm = \"healthy\"\nweight = 2\nbody = \"pole\"\n")),
+      HasSubstr("task.toml:8: reward[1].body: the healthy term does not read this key (it takes term, "
+                "weight, cap)"));
+  EXPECT_THAT(
+      task_error(minimal("[[reward]]\nterm = \"joint_speed\"\njoint = \"hinge\"\ntarget = 1\n")),
+      HasSubstr("reward[1].target: the joint_speed term does not read this key (it takes term, weight, "
+                "cap, joint)"));
   EXPECT_THAT(
       task_error(minimal("[[termination]]\nquantity = \"qpos\"\nname = \"slider\"\nmin = 1\nmax = 0\n")),
       HasSubstr("termination[0].max: expected max > min"));
