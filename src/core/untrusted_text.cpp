@@ -77,7 +77,20 @@ std::string one_line_message(const std::string& message) {
   for (char& c : line)
     if (c == '\n') c = ' ';
   while (!line.empty() && line.back() == ' ') line.pop_back();
-  return printable(line);
+  line = printable(line);
+  // A message that quotes what it was given (an unknown key, a value) must stay a line a terminal shows,
+  // however large the input: its start and end are kept, cut at UTF-8 character boundaries.
+  if (line.size() > kMaxMessageBytes) {
+    const auto boundary = [&](std::size_t at) {
+      while (at > 0 && (static_cast<unsigned char>(line[at]) & 0xC0) == 0x80) --at;
+      return at;
+    };
+    const std::size_t head = boundary(kMaxMessageBytes * 3 / 4);
+    const std::size_t tail = boundary(line.size() - kMaxMessageBytes / 8);
+    line =
+        line.substr(0, head) + fmt::format(" ... ({} bytes left out) ... ", tail - head) + line.substr(tail);
+  }
+  return line;
 }
 
 nlohmann::json with_valid_utf8(nlohmann::json value) {

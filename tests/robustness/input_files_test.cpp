@@ -237,6 +237,18 @@ TEST(UntrustedText, InvalidBytesAndControlsAreEscapedAndValidUtf8IsKept) {
   EXPECT_FALSE(pegasus::is_valid_utf8("\xF4\x90\x80\x80"));          // above U+10FFFF
   // What the CLI prints of every error: one printable line, whatever it quotes.
   EXPECT_EQ(pegasus::one_line_message(std::string("f\xff: x\ny\0", 8)), "f\\xFF: x y\\x00");
+  // However much it quotes: a 10 MB unknown key keeps the message's start and end, each character whole.
+  std::string key;
+  for (int i = 0; i < 2000000; ++i) key += "\xC3\xBC";  // u-umlaut, two bytes each
+  const std::string line =
+      pegasus::one_line_message("c.toml:1: unknown key '" + key + "' (did you mean 'gamma'?)");
+  EXPECT_LE(line.size(), pegasus::kMaxMessageBytes + 64);
+  EXPECT_TRUE(line.starts_with("c.toml:1: unknown key '\xC3\xBC")) << line.substr(0, 40);
+  EXPECT_TRUE(line.ends_with("\xC3\xBC' (did you mean 'gamma'?)"));
+  EXPECT_NE(line.find(" bytes left out) ... "), std::string::npos);
+  EXPECT_TRUE(pegasus::is_valid_utf8(line));
+  const std::string short_line(pegasus::kMaxMessageBytes, 'a');
+  EXPECT_EQ(pegasus::one_line_message(short_line), short_line);
 }
 
 TEST(UntrustedText, JsonWithInvalidStringsIsWrittenEscapedInsteadOfThrowing) {

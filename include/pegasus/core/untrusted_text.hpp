@@ -26,7 +26,9 @@ std::size_t first_invalid_utf8(std::string_view bytes);
 std::string printable(std::string_view bytes);
 
 // `message` as one printable line: line breaks become spaces, other control bytes and bytes that are not
-// UTF-8 are written \xNN. What the CLI prints of every error.
+// UTF-8 are written \xNN, and a line longer than kMaxMessageBytes keeps its start and end around a note of
+// how much was left out. What the CLI prints of every error.
+inline constexpr std::size_t kMaxMessageBytes = 2000;
 std::string one_line_message(const std::string& message);
 
 // `value` with every string and key that is not well-formed UTF-8 made so (its bad bytes written as \xNN):
