@@ -62,6 +62,15 @@ void declare_riding(ConfigSchema& s, std::int64_t rides, std::int64_t least_ride
       .greater_than(0)
       .max(100);
   s.add_double("goal_radius", d.bicycle.goal.radius, "radius of the goal circle (m)").greater_than(0);
+  // A goal circle around the start would count every ride as reached at 0 km.
+  s.add_constraint([](const ConfigSchema& c) {
+    const double distance_m = 1000 * c.get_double("goal_km"), radius_m = c.get_double("goal_radius");
+    return radius_m < distance_m ? std::string()
+                                 : fmt::format(
+                                       "goal_radius: expected less than the goal's distance ({:g} m, "
+                                       "goal_km), got {:g} m: the rides would start inside the goal",
+                                       distance_m, radius_m);
+  });
 }
 
 BicycleTrainingOptions objective_options(const RunContext& ctx) {

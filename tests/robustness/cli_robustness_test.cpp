@@ -91,6 +91,8 @@ TEST_F(CliRobustness, MessagesNameTheOptionTheUserGave) {
                    "--optimizer.hill-climbing.proposals-per-iteration: expected an integer in [1, 100000]");
   // A ride command with no rides (it rode once and said 1).
   expect_bad_input("bicycle ride --rides 0", "--rides: expected an integer in [1, 1000000]");
+  expect_bad_input("bicycle ride --goal-km 0.3 --goal-radius 300",
+                   "goal_radius: expected less than the goal's distance (300 m, goal_km), got 300 m");
   // Moves that always go where intended: some policy never reaches the undiscounted world's goal (the message
   // was about a gamma the user never set).
   // A hover scenario shorter than one control step scored the start alone, and trained.
@@ -145,14 +147,18 @@ TEST_F(CliRobustness, ARunDirectoryNamedWithInvalidUtf8WorksResumesAndReloads) {
   EXPECT_EQ(missing.err.find('\xff'), std::string::npos) << missing.err;
 }
 
-// Case 2: a goal radius of 1e308 crashed the rides plot (Axis::fit).
-TEST_F(CliRobustness, AHugeGoalRadiusIsPlottedNotACrash) {
+// Case 2: a goal radius of 1e308 crashed the rides plot (Axis::fit); a goal circle that holds the start is
+// now refused before anything rides (every ride counted as reached at 0 km).
+TEST_F(CliRobustness, AGoalCircleAroundTheStartIsRefusedBeforeAnythingRides) {
   const Run r =
       run("bicycle train --scenarios 2 --horizon 50 --optimizer.gradient.max-iterations 1 --rides 1 "
           "--goal-radius 1e308 --quiet "
           "--out t");
-  EXPECT_EQ(r.code, 0) << r.err;
-  EXPECT_TRUE(fs::exists(dir_ / "t" / "summary.json"));
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("goal_radius: expected less than the goal's distance (1000 m, goal_km), got 1e+308 m"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "t"));
   EXPECT_FALSE(fs::exists(dir_ / "t.partial"));
 }
 
