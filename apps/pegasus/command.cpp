@@ -218,16 +218,23 @@ class InterruptLine {
     if (text.size() >= sizeof g_interrupted_line)
       text = "pegasus: interrupted; rerun with --resume to continue\n";
     std::memcpy(g_interrupted_line, text.c_str(), text.size() + 1);
-    for (const int signal_number : kSignals) std::signal(signal_number, on_interrupt);
+    // A signal the process was started ignoring (a background job of a script ignores SIGINT, nohup
+    // SIGHUP) stays ignored.
+    for (std::size_t i = 0; i < std::size(kSignals); ++i) {
+      previous_[i] = std::signal(kSignals[i], on_interrupt);
+      if (previous_[i] == SIG_IGN) std::signal(kSignals[i], SIG_IGN);
+    }
   }
   ~InterruptLine() {
-    for (const int signal_number : kSignals) std::signal(signal_number, SIG_DFL);
+    for (std::size_t i = 0; i < std::size(kSignals); ++i) std::signal(kSignals[i], previous_[i]);
   }
   InterruptLine(const InterruptLine&) = delete;
   InterruptLine& operator=(const InterruptLine&) = delete;
 
  private:
   static constexpr int kSignals[] = {SIGINT, SIGHUP, SIGTERM};
+  using Handler = void (*)(int);
+  Handler previous_[std::size(kSignals)]{};
 };
 
 // Opens the run directory (when `dir` is given), runs `command` with the resolved and validated `schema`,

@@ -149,6 +149,10 @@ TerminationRange read_range(const TaskReader& r, const mjModel* m, const toml::n
     r.fail(prefix + ".quantity",
            fmt::format("expected one of qpos, qvel, body_height, site_height; got \"{}\"", quantity));
   }
+  // Without either bound every value is in range: a termination that never ends, a success or an in_range
+  // bonus that always holds.
+  if (!v["min"] && !v["max"])
+    r.fail(prefix, "expected min, max or both (without them every value is in range)");
   out.lower = r.number(v["min"], prefix + ".min", -INFINITY);
   out.upper = r.number(v["max"], prefix + ".max", INFINITY);
   if (!(out.lower < out.upper)) r.fail(prefix + ".max", "expected max > min");

@@ -126,6 +126,8 @@ TEST_F(MujocoTaskFile, WrongFieldsTermsRangesAndSyntaxAreNamed) {
   EXPECT_THAT(task_error("horizon = \n"), HasSubstr("task.toml:1:"));
   EXPECT_THAT(task_error(minimal("[[reward]]\nterm = \"joint_target\"\njoint = \"hinge\"\n")),
               HasSubstr("reward[1].target: missing"));
+  EXPECT_THAT(task_error(minimal("[[termination]]\nquantity = \"qpos\"\nname = \"slider\"\n")),
+              HasSubstr("termination[0]: expected min, max or both"));
   // A key another term reads is named, not ignored.
   EXPECT_THAT(
       task_error(minimal("[[reward]]\nterm = \"healthy\"\nweight = 2\nbody = \"pole\"\n")),
