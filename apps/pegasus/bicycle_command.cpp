@@ -168,8 +168,7 @@ std::vector<Command> bicycle_commands() {
                     s.add_int("trials", d.trials, "independent trainings (scenario sets)").min(1).max(100000);
                     s.add_int("lesson_trials", d.lesson_trials,
                               "the first scenario sets (at most trials) on which the progress bonus and "
-                              "naive Monte Carlo "
-                              "are also trained")
+                              "naive Monte Carlo are also trained")
                         .min(0)
                         .max(100000);
                     declare_training(s);
