@@ -62,7 +62,8 @@ struct CPolicyCode {
   // PREFIX_act_vehicle (options.vehicle): its observation (time, the vehicle's state fields) and action (its
   // channels); empty without a vehicle.
   std::vector<std::string> vehicle_observation_names, vehicle_action_names;
-  // The aircraft the policy file says it was trained for (heli::trained_vehicle); empty when it names none.
+  // The aircraft a helicopter policy file was trained for (heli::trained_vehicle: the X-Cell when it names
+  // none); empty for the other classes, which fly no aircraft.
   std::string trained_vehicle;
 };
 
