@@ -2,6 +2,7 @@
 // What the command files share: the vehicle and bandwidth-floor options, and `heli identify`, which
 // heli_commands() lists. The command groups themselves are declared beside the table (commands.cpp).
 #include "command.hpp"
+#include "pegasus/core/reward_limits.hpp"
 #include "pegasus/logs/vehicle.hpp"
 #include "pegasus/runs/heli_runs.hpp"
 #include "pegasus/sysid/identify.hpp"
@@ -28,15 +29,14 @@ std::vector<Command> heli_commands();
 
 // Vehicle files (logs/vehicle.hpp) for the helicopter commands (heli_command.cpp): the `vehicle` option, the
 // aircraft it names (the X-Cell 60 when empty), and a field set from the vehicle unless the user set it.
-// The largest reward weight, shaping rate or fall penalty a command takes: with errors inside any crash
-// envelope, a rollout of 10^5 steps then keeps a finite return (at 1e308 the returns overflowed to inf or NaN
-// and training ended as if it had worked).
-inline constexpr double kMaxRewardWeight = 1e12;
-
 // `fills`: the vehicle file's settings that the command's resolve step takes as its defaults, for --help.
 void declare_vehicle(ConfigSchema& s, const std::string& fills = "");
 heli::VehicleChoice aircraft_of(const ConfigSchema& c);
 void from_vehicle(ConfigSchema& s, const logs::Vehicle& v, const std::string& field, FieldValue value,
                   const std::string& key);
+// The ground truth's `gust_sigma` option (the X-Cell's by default), and the resolve step that gives it the
+// vehicle's ground truth's own (heli/simulators.hpp) when the user set none.
+void declare_gust_sigma(ConfigSchema& s, const std::string& help);
+void resolve_gust_sigma(ConfigSchema& s);
 
 }  // namespace pegasus::cli

@@ -17,6 +17,7 @@
 #include "pegasus/heli/control_loop.hpp"
 #include "pegasus/heli/hover_task.hpp"
 #include "pegasus/heli/policy_file.hpp"
+#include "pegasus/heli/simulators.hpp"
 #include "pegasus/logs/vehicle.hpp"
 #include "pegasus/runs/optimizer_config.hpp"
 
@@ -43,6 +44,21 @@ void from_vehicle(ConfigSchema& s, const logs::Vehicle& v, const std::string& fi
   if (s.origin(field) == "default") s.set(field, std::move(value), fmt::format("{}: {}", v.log.file, key));
 }
 
+void declare_gust_sigma(ConfigSchema& s, const std::string& help) {
+  s.add_double(
+       "gust_sigma", heli::own_gust_sigma("xcell"),
+       fmt::format("{}; with a vehicle file, its ground truth's own unless set (xcell {}, crazyflie2 {})",
+                   help, heli::own_gust_sigma("xcell"), heli::own_gust_sigma("crazyflie2")))
+      .range(0, 10);
+}
+
+void resolve_gust_sigma(ConfigSchema& s) {
+  if (s.get_string("vehicle").empty()) return;
+  const logs::Vehicle v = logs::read_vehicle(s.get_string("vehicle"));
+  if (v.simulator != "none")
+    from_vehicle(s, v, "gust_sigma", heli::own_gust_sigma(v.simulator), "vehicle.simulator");
+}
+
 namespace {
 
 using namespace pegasus::heli;
@@ -62,7 +78,7 @@ void declare_pilot(ConfigSchema& s) {
                "multiplies the vehicle pilot's sweep amplitudes (larger sweeps excite the aircraft more than "
                "the pilot's own corrections do, which lessens closed-loop bias)")
       .range(0, 5);
-  s.add_double("gust_sigma", 0.5, "turbulence standard deviation per axis, m/s").range(0, 10);
+  declare_gust_sigma(s, "turbulence standard deviation per axis, m/s");
   s.add_bool("estimate_noise", d.settings.estimate_noise,
              "add Kalman-filter-like state-estimate errors to the log");
 }
@@ -246,7 +262,7 @@ void declare_fly(ConfigSchema& s) {
              "also fly the scripted pilot's hover from the same starts and gusts");
   s.add_int("flights", d.flights.flights, "flights from perturbed starts").range(1, 1000000);
   s.add_double("seconds", d.flights.seconds, "flight length, s").greater_than(0).max(36000);
-  s.add_double("gust_sigma", 0.5, "turbulence standard deviation per axis, m/s").range(0, 10);
+  declare_gust_sigma(s, "turbulence standard deviation per axis, m/s");
   s.add_double_list("wind", {0, 0, 0}, "steady wind north, east, down (m/s, W), under the gusts")
       .validate([](const FieldValue& v) {
         const auto& w = std::get<std::vector<double>>(v);
@@ -352,7 +368,8 @@ std::vector<Command> heli_commands() {
               .description = "Fly the ground-truth helicopter with the scripted pilot (hover, then sweeps) "
                              "and log it at 50 Hz",
               .declare = declare_pilot,
-              .run = run_pilot},
+              .run = run_pilot,
+              .resolve = resolve_gust_sigma},
       Command{.path = "heli identify",
               .description =
                   "Identify a helicopter model by locally weighted regression from flight logs (thesis 5.2)",
@@ -369,7 +386,8 @@ std::vector<Command> heli_commands() {
               .description =
                   "Fly a policy file (or the scripted pilot) on the ground-truth helicopter with gusts",
               .declare = declare_fly,
-              .run = run_fly},
+              .run = run_fly,
+              .resolve = resolve_gust_sigma},
       Command{
           .path = "heli control",
           .description = "Serve a policy file: one state per line on stdin, four controls per line on stdout",

@@ -106,8 +106,7 @@ void declare(ConfigSchema& s) {
   // Flights on the ground truth
   s.add_int("flights", run.flights.flights, "flights on the ground-truth aircraft per policy")
       .range(1, 100000);
-  s.add_double("gust_sigma", run.flights.gust_sigma, "turbulence per axis on the ground truth, m/s")
-      .range(0, 10);
+  declare_gust_sigma(s, "turbulence per axis on the ground truth, m/s");
   s.add_double("flight_start_sigma", run.flights.start_pos_sigma,
                "start position perturbation of the flights, m")
       .range(0, 10);
@@ -180,7 +179,7 @@ void declare_pilot(ConfigSchema& s) {
       .range(0, 5);
   s.add_int("repeats", p.repeats, "times the three manoeuvres are flown, one after another").range(1, 100);
   declare_limits(s);
-  s.add_double("gust_sigma", p.gust_sigma, "turbulence standard deviation per axis, m/s").range(0, 10);
+  declare_gust_sigma(s, "turbulence standard deviation per axis, m/s");
 }
 
 void run_pilot(RunContext& ctx) {
@@ -211,12 +210,14 @@ std::vector<Command> heli_maneuver_commands() {
               .description = "Learn an AMA Class III manoeuvre (III.1, III.2, III.3) with PEGASUS and "
                              "fly it on the ground truth (thesis 5.4)",
               .declare = declare,
-              .run = run},
+              .run = run,
+              .resolve = resolve_gust_sigma},
       Command{.path = "heli maneuver-pilot",
               .description = "Fly the scripted pilot through hover, sweeps and the three manoeuvres: "
                              "identification data that covers them",
               .declare = declare_pilot,
-              .run = run_pilot}};
+              .run = run_pilot,
+              .resolve = resolve_gust_sigma}};
   // The same for any vehicle with a ground truth (--vehicle V.toml); the `heli` ones fly the X-Cell 60.
   Command maneuver = commands[0], pilot = commands[1];
   maneuver.path = "maneuver";

@@ -5,6 +5,8 @@
 #include <string>
 #include <utility>
 
+#include "pegasus/core/reward_limits.hpp"
+
 namespace pegasus::detail {
 
 // Stores `message` where the caller asked for it (error may be nullptr) and returns false.
@@ -15,5 +17,7 @@ inline bool fail(std::string* error, std::string message) {
 
 inline bool positive_finite(double x) { return x > 0 && std::isfinite(x); }
 inline bool nonnegative_finite(double x) { return x >= 0 && std::isfinite(x); }
+// A reward weight, shaping rate or penalty magnitude: in [0, kMaxRewardWeight].
+inline bool reward_weight(double x) { return x >= 0 && x <= kMaxRewardWeight; }
 
 }  // namespace pegasus::detail

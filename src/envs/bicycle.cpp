@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include "pegasus/core/error.hpp"
+#include "pegasus/core/reward_limits.hpp"
 
 namespace pegasus {
 
@@ -35,8 +36,11 @@ bool BicycleOptions::IsValid(std::string* error) const {
     return reject(error, "start.theta", "a number <= 1.3963", start.theta);
   if (!(start.goal_angle >= 0.0 && start.goal_angle <= std::numbers::pi))
     return reject(error, "start.goal_angle", "a number in [0, pi]", start.goal_angle);
-  if (!finite(fall_reward)) return reject(error, "fall_reward", "a finite number", fall_reward);
-  if (!finite(goal_reward)) return reject(error, "goal_reward", "a finite number", goal_reward);
+  const std::string reward_range = fmt::format("a number in [-{0}, {0}]", kMaxRewardWeight);
+  if (!(std::abs(fall_reward) <= kMaxRewardWeight))
+    return reject(error, "fall_reward", reward_range, fall_reward);
+  if (!(std::abs(goal_reward) <= kMaxRewardWeight))
+    return reject(error, "goal_reward", reward_range, goal_reward);
   if (!(noise >= 0.0 && finite(noise))) return reject(error, "noise", "a finite number >= 0", noise);
   return true;
 }

@@ -168,9 +168,9 @@ bool BicycleTrainingOptions::IsValid(std::string* error) const {
   if (shaping != "potential" && shaping != "progress-bonus" && shaping != "none")
     return fail(error,
                 fmt::format("shaping: expected one of potential, progress-bonus, none; got \"{}\"", shaping));
-  if (!(shaping_per_metre >= 0.0 && std::isfinite(shaping_per_metre)))
-    return fail(error,
-                fmt::format("shaping_per_metre: expected a finite number >= 0, got {}", shaping_per_metre));
+  if (!detail::reward_weight(shaping_per_metre))
+    return fail(error, fmt::format("shaping_per_metre: expected a number in [0, {}], got {}",
+                                   kMaxRewardWeight, shaping_per_metre));
   if (estimator != "pegasus" && estimator != "montecarlo")
     return fail(error, fmt::format("estimator: expected pegasus or montecarlo, got \"{}\"", estimator));
   if (initial_policy != "balance" && initial_policy != "zero")

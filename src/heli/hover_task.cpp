@@ -20,6 +20,7 @@ namespace {
 using detail::fail;
 using detail::nonnegative_finite;
 using detail::positive_finite;
+using detail::reward_weight;
 
 using HoverTaskOnModel = HoverTask<sysid::LearnedHeliModel>;
 
@@ -51,20 +52,20 @@ HoverReward HoverReward::from_typical(double position_m, double velocity_mps, do
 }
 
 bool HoverReward::IsValid(std::string* error) const {
+  const auto weight_error = [&](const char* name, double value) {
+    return fail(error, fmt::format("{}: expected numbers in [0, {}], got {}", name, kMaxRewardWeight, value));
+  };
   for (std::size_t i = 0; i < 3; ++i) {
-    if (!nonnegative_finite(alpha_pos[i]))
-      return fail(error, fmt::format("alpha_pos: expected finite numbers >= 0"));
-    if (!nonnegative_finite(alpha_vel[i]))
-      return fail(error, fmt::format("alpha_vel: expected finite numbers >= 0"));
+    if (!reward_weight(alpha_pos[i])) return weight_error("alpha_pos", alpha_pos[i]);
+    if (!reward_weight(alpha_vel[i])) return weight_error("alpha_vel", alpha_vel[i]);
   }
-  if (!nonnegative_finite(alpha_yaw)) return fail(error, "alpha_yaw: expected a finite number >= 0");
+  if (!reward_weight(alpha_yaw)) return weight_error("alpha_yaw", alpha_yaw);
   for (const double a : alpha_attitude)
-    if (!nonnegative_finite(a)) return fail(error, "alpha_attitude: expected finite numbers >= 0");
+    if (!reward_weight(a)) return weight_error("alpha_attitude", a);
   for (const double a : alpha_rate)
-    if (!nonnegative_finite(a)) return fail(error, "alpha_rate: expected finite numbers >= 0");
+    if (!reward_weight(a)) return weight_error("alpha_rate", a);
   for (std::size_t c = 0; c < 4; ++c) {
-    if (!nonnegative_finite(alpha_action[c]))
-      return fail(error, "alpha_action: expected finite numbers >= 0");
+    if (!reward_weight(alpha_action[c])) return weight_error("alpha_action", alpha_action[c]);
     if (!(std::abs(centre[c]) <= 1)) return fail(error, "centre: expected controls in [-1, 1]");
   }
   return true;

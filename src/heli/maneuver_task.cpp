@@ -20,6 +20,7 @@ namespace {
 
 using detail::fail;
 using detail::nonnegative_finite;
+using detail::reward_weight;
 
 using Learned = sysid::LearnedHeliModel;
 using ManeuverTaskOnModel = ManeuverTask<Learned>;
@@ -37,15 +38,16 @@ sysid::LearnedModelOptions learned_options(const ManeuverTrainingOptions& o, con
 }  // namespace
 
 bool ManeuverReward::IsValid(std::string* error) const {
-  if (!nonnegative_finite(alpha_pos))
-    return fail(error, fmt::format("alpha_pos: expected a number >= 0, got {}", alpha_pos));
-  if (!nonnegative_finite(alpha_yaw))
-    return fail(error, fmt::format("alpha_yaw: expected a number >= 0, got {}", alpha_yaw));
-  if (!nonnegative_finite(alpha_vel))
-    return fail(error, fmt::format("alpha_vel: expected a number >= 0, got {}", alpha_vel));
+  const auto weight_error = [&](const std::string& name, double value) {
+    return fail(error,
+                fmt::format("{}: expected a number in [0, {}], got {}", name, kMaxRewardWeight, value));
+  };
+  if (!reward_weight(alpha_pos)) return weight_error("alpha_pos", alpha_pos);
+  if (!reward_weight(alpha_yaw)) return weight_error("alpha_yaw", alpha_yaw);
+  if (!reward_weight(alpha_vel)) return weight_error("alpha_vel", alpha_vel);
   for (std::size_t c = 0; c < 4; ++c) {
-    if (!nonnegative_finite(alpha_action[c]))
-      return fail(error, fmt::format("alpha_action[{}]: expected a number >= 0, got {}", c, alpha_action[c]));
+    if (!reward_weight(alpha_action[c]))
+      return weight_error(fmt::format("alpha_action[{}]", c), alpha_action[c]);
     if (!(std::abs(centre[c]) <= 1))
       return fail(error, fmt::format("centre[{}]: expected a number in [-1, 1], got {}", c, centre[c]));
   }
@@ -103,8 +105,9 @@ bool ManeuverTrainingOptions::IsValid(std::string* error) const {
   if (!nonnegative_finite(start_vel_sigma))
     return fail(error, fmt::format("start_vel_sigma: expected a number >= 0, got {}", start_vel_sigma));
   if (!reward.IsValid(&inner)) return fail(error, "reward." + inner);
-  if (!nonnegative_finite(shaping_per_metre))
-    return fail(error, fmt::format("shaping_per_metre: expected a number >= 0, got {}", shaping_per_metre));
+  if (!reward_weight(shaping_per_metre))
+    return fail(error, fmt::format("shaping_per_metre: expected a number in [0, {}], got {}",
+                                   kMaxRewardWeight, shaping_per_metre));
   if (!optimizer.IsValid(&inner)) return fail(error, "optimizer." + inner);
   return true;
 }

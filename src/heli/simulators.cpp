@@ -43,6 +43,12 @@ std::unique_ptr<GroundTruth> make_ground_truth(const std::string& simulator,
   throw std::invalid_argument("no ground truth named '" + simulator + "' (built in: xcell, crazyflie2)");
 }
 
+double own_gust_sigma(const std::string& simulator) {
+  if (simulator == "xcell") return AircraftParams{}.gust_sigma;
+  if (simulator == "crazyflie2") return QuadrotorParams{}.gust_sigma;
+  throw std::invalid_argument("no ground truth named '" + simulator + "' (built in: xcell, crazyflie2)");
+}
+
 PilotOptions pilot_options_for(const std::string& simulator) {
   PilotOptions o;
   if (simulator == "crazyflie2") {

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -384,7 +385,15 @@ void ConfigSchema::set_from_cli(std::string_view name, std::string_view text) {
       if (auto x = parse_list<double>(text, parse_double)) value = std::move(*x);
       break;
   }
-  if (!value) throw InputError(fmt::format("{}: expected {}, got {}", where, f.expectation(), got));
+  if (!value) {
+    std::string expected = f.expectation();
+    // An integer beyond 64 bits: say where integers end when the field's own bound does not.
+    const std::string_view digits = text.substr(!text.empty() && (text[0] == '-' || text[0] == '+') ? 1 : 0);
+    if (f.type() == FieldType::kInt && !f.has_upper_bound() && !digits.empty() &&
+        digits.find_first_not_of("0123456789") == std::string_view::npos)
+      expected += fmt::format(" and at most {}", std::numeric_limits<std::int64_t>::max());
+    throw InputError(fmt::format("{}: expected {}, got {}", where, expected, got));
+  }
   assign(index, std::move(*value), where, got);
   origins_[index] = where;
 }

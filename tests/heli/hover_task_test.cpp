@@ -91,7 +91,7 @@ TEST(HoverReward, AttitudeAndRateTermsPriceTheirTypicalSizeAtOneAndAZeroTypicalS
   std::string error;
   r.alpha_rate[2] = -1;
   EXPECT_FALSE(r.IsValid(&error));
-  EXPECT_EQ(error, "alpha_rate: expected finite numbers >= 0");
+  EXPECT_EQ(error, "alpha_rate: expected numbers in [0, 1000000000000], got -1");
 }
 
 TEST(HoverReward, YawErrorWrapsAboutTwoPi) {

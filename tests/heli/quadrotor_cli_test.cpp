@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "pegasus/heli/simulators.hpp"
 #include "support/cli_runner.hpp"
 
 namespace {
@@ -137,6 +138,13 @@ TEST_F(QuadrotorCli, ThePipelineRunsTheWholeChainFromTheVehicleFileAlone) {
   EXPECT_EQ(policy.at("parameters").size(), 38u);
   const std::string hover_config = test_support::read_text(dir_ / "chain" / "hover" / "config.toml");
   EXPECT_NE(hover_config.find("start_pos_sigma = 0.3"), std::string::npos) << hover_config;
+  // The ground truth flies in the vehicle's own turbulence unless told otherwise, as in the library.
+  for (const char* stage : {"chain/pilot-train", "chain/pilot-test", "chain/fly"}) {
+    const std::string config = test_support::read_text(dir_ / stage / "config.toml");
+    EXPECT_NE(config.find(fmt::format("gust_sigma = {}", heli::own_gust_sigma("crazyflie2"))),
+              std::string::npos)
+        << stage << ": " << config;
+  }
   EXPECT_NE(r.output.find("== crazyflie2 pipeline: headline figures =="), std::string::npos) << r.output;
 
   const auto refused =

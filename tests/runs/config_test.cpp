@@ -157,7 +157,8 @@ TEST(ConfigSchema, CliErrorsNameTheOptionAndExpectation) {
   EXPECT_EQ(input_error_message([&] { s.set_from_cli("scenarios", "2.5"); }),
             "--scenarios: expected an integer >= 1, got '2.5'");
   EXPECT_EQ(input_error_message([&] { s.set_from_cli("scenarios", "99999999999999999999"); }),
-            "--scenarios: expected an integer >= 1, got '99999999999999999999'");
+            "--scenarios: expected an integer >= 1 and at most 9223372036854775807, got "
+            "'99999999999999999999'");
   EXPECT_EQ(input_error_message([&] { s.set_from_cli("shaping", "maybe"); }),
             "--shaping: expected true or false, got 'maybe'");
   EXPECT_EQ(input_error_message([&] { s.set_from_cli("sizes", "1,x"); }),

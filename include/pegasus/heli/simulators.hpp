@@ -27,6 +27,8 @@ std::vector<std::string> simulator_names();
 // settings the aircraft rejects.
 std::unique_ptr<GroundTruth> make_ground_truth(const std::string& simulator,
                                                const GroundTruthSettings& settings);
+// The turbulence standard deviation that aircraft flies in by default (its params' gust_sigma), m/s.
+double own_gust_sigma(const std::string& simulator);
 // The scripted pilot's options for that aircraft.
 PilotOptions pilot_options_for(const std::string& simulator);
 

@@ -78,6 +78,7 @@ class ConfigField {
   const Digest& input_digest() const { return input_digest_; }  // empty: the file's own SHA-256
   // "a number in [0, 1]", "an integer >= 1", "one of \"plain\", \"antithetic\"", ...
   std::string expectation() const;
+  bool has_upper_bound() const { return hi_.has_value(); }
   // Empty when `value` (already of this field's type) is acceptable, else what was expected.
   std::string check(const FieldValue& value) const;
 
