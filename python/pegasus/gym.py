@@ -26,6 +26,10 @@ class GymModel:
     def __init__(self, make_env, check_actions, check_seed=12345):
         if not callable(make_env):
             raise ValueError("make_env: expected a callable returning an environment")
+        check_actions = list(check_actions)
+        if not check_actions:
+            raise ValueError("check_actions: expected at least one action to play (the environment's "
+                             "determinism given its seed is checked by replaying them)")
         self.make_env = make_env
         self._envs = []
         first = self._episode(check_seed, check_actions)

@@ -13,7 +13,7 @@ namespace pegasus::python {
 
 ScenarioSet make_scenario_set(py::object seed, std::int64_t count, std::int64_t horizon,
                               std::int64_t noise_dim, std::int64_t initial_noise_dim,
-                              const std::string& variant);
+                              const std::string& variant, const char* count_name = "count");
 
 // A pool of `threads` (ValueError naming `threads` outside [1, 1024], as --threads).
 inline std::shared_ptr<ThreadPool> make_pool(std::int64_t threads) {
@@ -30,7 +30,7 @@ class BuiltinProblem final : public Objective {
       : pool_(make_pool(threads)),
         evaluator_(model, std::move(policy),
                    make_scenario_set(seed, scenarios, horizon, model.noise_dim(), model.initial_noise_dim(),
-                                     variant),
+                                     variant, "scenarios"),
                    checked_discounting(gamma, horizon)) {}
   BuiltinProblem(PegasusEvaluator<M, P> evaluator, std::shared_ptr<ThreadPool> pool)
       : pool_(std::move(pool)), evaluator_(std::move(evaluator)) {}

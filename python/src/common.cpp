@@ -58,7 +58,10 @@ void require_finite(const Array& array, const std::string& name) {
 Theta as_theta(py::handle object, const std::string& name, const ParameterSpec& spec) {
   const Array a = as_vector(object, name, static_cast<py::ssize_t>(spec.size()));
   require_finite(a, name);
-  return Theta(a.data(), a.data() + a.size());
+  Theta theta(a.data(), a.data() + a.size());
+  if (const std::string why = spec.integer_violation(theta); !why.empty())
+    throw py::value_error(name + ": " + why);
+  return theta;
 }
 
 std::vector<Theta> as_thetas(py::handle object, const std::string& name, const ParameterSpec& spec) {
@@ -68,7 +71,11 @@ std::vector<Theta> as_thetas(py::handle object, const std::string& name, const P
   a = as_matrix(a, name, -1, n);
   require_finite(a, name);
   std::vector<Theta> thetas;
-  for (py::ssize_t k = 0; k < a.shape(0); ++k) thetas.emplace_back(a.data() + k * n, a.data() + (k + 1) * n);
+  for (py::ssize_t k = 0; k < a.shape(0); ++k) {
+    thetas.emplace_back(a.data() + k * n, a.data() + (k + 1) * n);
+    if (const std::string why = spec.integer_violation(thetas.back()); !why.empty())
+      throw py::value_error(fmt::format("{}[{}]: {}", name, k, why));
+  }
   return thetas;
 }
 
@@ -109,7 +116,7 @@ CheckpointCallback checkpoint_callback(py::object callback) {
   };
 }
 
-IterationCallbackList::IterationCallbackList(py::handle callbacks) {
+IterationCallbackList::IterationCallbackList(py::handle callbacks) : pointers_{&interrupt_check_} {
   if (callbacks.is_none()) return;
   if (!py::isinstance<py::sequence>(callbacks) || py::isinstance<py::str>(callbacks))
     throw py::value_error("callbacks: expected a list of callables");
@@ -121,6 +128,12 @@ IterationCallbackList::IterationCallbackList(py::handle callbacks) {
     pointers_.push_back(owned_.back().get());
     ++k;
   }
+}
+
+CallbackReturnType IterationCallbackList::InterruptCheck::operator()(const IterationReport&) {
+  py::gil_scoped_acquire gil;
+  if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+  return CallbackReturnType::kContinue;
 }
 
 CallbackReturnType IterationCallbackList::Adapter::operator()(const IterationReport& report) {
@@ -141,7 +154,10 @@ py::object to_python(const nlohmann::json& j) { return py::module_::import("json
 nlohmann::json from_python(py::handle object, const std::string& name) {
   std::string text;
   try {
-    text = py::module_::import("json").attr("dumps")(object).cast<std::string>();
+    // allow_nan=False: JSON has no NaN or infinity, and nlohmann's parser would refuse Python's spelling of
+    // them.
+    text =
+        py::module_::import("json").attr("dumps")(object, py::arg("allow_nan") = false).cast<std::string>();
   } catch (const py::error_already_set& e) {
     throw py::value_error(name + ": expected JSON-serialisable data (" + std::string(e.what()) + ")");
   }

@@ -64,6 +64,8 @@ struct IterationReportCopy {
 class IterationCallbackList {
  public:
   explicit IterationCallbackList(py::handle callbacks);
+  IterationCallbackList(const IterationCallbackList&) = delete;  // pointers_ points into this object
+  IterationCallbackList& operator=(const IterationCallbackList&) = delete;
   const IterationCallbacks& pointers() const { return pointers_; }
 
  private:
@@ -75,9 +77,30 @@ class IterationCallbackList {
    private:
     std::shared_ptr<py::object> f_;
   };
+  // Raises KeyboardInterrupt (or what a signal handler raised) in the C++ run: always the first callback, so
+  // Ctrl-C stops any run within an iteration, as it would stop Python code.
+  class InterruptCheck final : public IterationCallback {
+   public:
+    CallbackReturnType operator()(const IterationReport& report) override;
+  };
+  InterruptCheck interrupt_check_;
   std::vector<std::unique_ptr<Adapter>> owned_;
   IterationCallbacks pointers_;
 };
+
+// `.def("is_valid", is_valid_method<T>(), kIsValidDoc)`: options.is_valid() -> (ok, error) for a C++ type
+// with IsValid(std::string*).
+inline constexpr const char* kIsValidDoc =
+    "(ok, error): whether these settings are valid, and when not, the first field that is not and what was "
+    "expected of it (the message the functions taking them raise as ValueError).";
+template <class T>
+auto is_valid_method() {
+  return [](const T& o) {
+    std::string error;
+    const bool ok = o.IsValid(&error);
+    return py::make_tuple(ok, error);
+  };
+}
 
 // Gives a bound class the dataclass-like attribute `_fields` (its field names, as the C++ struct's); the
 // package adds __repr__, __eq__ and copy from it (python/pegasus/__init__.py).

@@ -74,18 +74,14 @@ void bind_envs(py::module_& m) {
       .def_readwrite("fall_reward", &BicycleOptions::fall_reward)
       .def_readwrite("goal_reward", &BicycleOptions::goal_reward)
       .def_readwrite("noise", &BicycleOptions::noise)
-      .def("is_valid", [](const BicycleOptions& o) {
-        std::string error;
-        const bool ok = o.IsValid(&error);
-        return py::make_tuple(ok, error);
-      });
+      .def("is_valid", is_valid_method<BicycleOptions>(), kIsValidDoc);
 
   py::class_<Bicycle>(m, "Bicycle", R"doc(
 Randlov and Alstrom's bicycle (thesis §4.6) as a batch model. A state row is
 [omega, omega_dot, theta, theta_dot, xf, yf, xb, yb, psi] (radians, metres, world frame); an action row
 [T, d]; one uniform of noise per step, five for the initial state.)doc")
       .def(py::init([](const BicycleOptions& o) { return Bicycle(o); }),
-           py::arg("options") = BicycleOptions{})
+           py::arg_v("options", BicycleOptions{}, "BicycleOptions()"))
       .def_property_readonly("options", &Bicycle::options)
       .def_property_readonly("noise_dim", &Bicycle::noise_dim)
       .def_property_readonly("initial_noise_dim", &Bicycle::initial_noise_dim)
@@ -100,7 +96,9 @@ Randlov and Alstrom's bicycle (thesis §4.6) as a batch model. A state row is
                                   out.mutable_data() + r * kBicycleStateColumns);
             return out;
           },
-          py::arg("noise"))
+          py::arg("noise"),
+          "States (rows of omega, omega_dot, theta, theta_dot, xf, yf, xb, yb, psi) drawn from rows of 5 "
+          "uniforms.")
       .def(
           "step",
           [](const Bicycle& b, py::object states, py::object actions, py::object noise) {
@@ -117,7 +115,9 @@ Randlov and Alstrom's bicycle (thesis §4.6) as a batch model. A state row is
             }
             return out;
           },
-          py::arg("states"), py::arg("actions"), py::arg("noise"))
+          py::arg("states"), py::arg("actions"), py::arg("noise"),
+          "The next states (one 0.01 s step each) from states, actions (rows of torque, displacement) and "
+          "one noise uniform per row.")
       .def(
           "observe",
           [](const Bicycle& b, py::object states) {
@@ -187,8 +187,9 @@ variant, horizon H, discount gamma, evaluated on `threads` threads (the result n
         return std::make_unique<BicycleProblem>(Bicycle(bicycle), make_bicycle_policy(), seed, scenarios,
                                                 horizon, gamma, variant, threads);
       }),
-      py::arg("bicycle") = BicycleOptions{}, py::kw_only(), py::arg("seed"), py::arg("scenarios"),
-      py::arg("horizon"), py::arg("gamma") = 1.0, py::arg("variant") = "plain", py::arg("threads") = 1);
+      py::arg_v("bicycle", BicycleOptions{}, "BicycleOptions()"), py::kw_only(), py::arg("seed"),
+      py::arg("scenarios"), py::arg("horizon"), py::arg("gamma") = 1.0, py::arg("variant") = "plain",
+      py::arg("threads") = 1);
   bind_returns(bicycle_problem);
 
   py::class_<Pendulum>(m, "Pendulum", R"doc(
@@ -209,7 +210,7 @@ Gymnasium's Pendulum-v1 (envs/pendulum.hpp) as a batch model: a state row is [th
             }
             return out;
           },
-          py::arg("noise"))
+          py::arg("noise"), "States (rows of theta, theta_dot) drawn from rows of 2 uniforms.")
       .def(
           "step",
           [](const Pendulum& pendulum, py::object states, py::object actions) {
@@ -225,7 +226,8 @@ Gymnasium's Pendulum-v1 (envs/pendulum.hpp) as a batch model: a state row is [th
             }
             return out;
           },
-          py::arg("states"), py::arg("actions"))
+          py::arg("states"), py::arg("actions"),
+          "The next states (rows of theta, theta_dot) from states and actions (one torque per row).")
       .def(
           "reward",
           [](const Pendulum& pendulum, py::object states, py::object actions) {
@@ -236,7 +238,7 @@ Gymnasium's Pendulum-v1 (envs/pendulum.hpp) as a batch model: a state row is [th
               out.mutable_data()[r] = pendulum.reward({s.data()[2 * r], s.data()[2 * r + 1]}, a.data()[r]);
             return out;
           },
-          py::arg("states"), py::arg("actions"));
+          py::arg("states"), py::arg("actions"), "The reward of each row's state and action.");
   m.def(
       "pendulum_policy_parameters",
       [](bool refinements) { return PendulumSwingUpPolicy(refinements).parameters(); },
@@ -322,16 +324,14 @@ gridworld of thesis §4.6 (width x height, open grid, start (0, 0), goal at the 
       .def_readwrite("optimizer", &BicycleTrainingOptions::optimizer)
       .def_readwrite("seed", &BicycleTrainingOptions::seed)
       .def_readwrite("threads", &BicycleTrainingOptions::threads, "Worker threads, as --threads.")
-      .def("is_valid", [](const BicycleTrainingOptions& o) {
-        std::string error;
-        const bool ok = o.IsValid(&error);
-        return py::make_tuple(ok, error);
-      });
+      .def("is_valid", is_valid_method<BicycleTrainingOptions>(), kIsValidDoc);
   m.def(
       "train_bicycle",
       [](const BicycleTrainingOptions& options, std::int64_t checkpoint_every, py::object on_checkpoint,
-         py::object resume_from) {
+         py::object resume_from, py::object callbacks) {
+        const IterationCallbackList list(callbacks);
         BicycleTrainingHooks hooks;
+        hooks.callbacks = list.pointers();
         hooks.checkpoint_every = checkpoint_every;
         OptimizerOptions carrier;  // converts the Python callable and dict as OptimizerOptions does
         py::cast(&carrier, py::return_value_policy::reference)
@@ -349,7 +349,9 @@ gridworld of thesis §4.6 (width x height, open grid, start (0, 0), goal at the 
       },
       py::arg("options"), py::kw_only(), py::arg("checkpoint_every") = 0,
       py::arg("on_checkpoint") = py::none(), py::arg("resume_from") = py::none(),
-      "Trains the bicycle policy as `pegasus bicycle train` does; returns (theta, OptimizerSummary).");
+      py::arg("callbacks") = py::none(),
+      "Trains the bicycle policy as `pegasus bicycle train` does; returns (theta, OptimizerSummary). "
+      "callbacks: as solve's, told after every iteration.");
   m.def(
       "bicycle_training_problem",
       [](const BicycleTrainingOptions& o) -> std::unique_ptr<Objective> {

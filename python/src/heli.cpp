@@ -223,11 +223,7 @@ errors, minus the weighted squared controls about `centre` (heli/hover_task.hpp)
           },
           py::arg("position_m"), py::arg("velocity_mps"), py::arg("yaw_rad"), py::arg("action"),
           py::arg("centre") = std::vector<double>{0, 0, 0, 0}, "alpha = 1 / typical^2 for each term.")
-      .def("is_valid", [](const HoverReward& r) {
-        std::string error;
-        const bool ok = r.IsValid(&error);
-        return py::make_tuple(ok, error);
-      });
+      .def("is_valid", is_valid_method<HoverReward>(), kIsValidDoc);
   set_fields(reward, {"alpha_pos", "alpha_vel", "alpha_yaw", "alpha_action", "centre", "alpha_attitude",
                       "alpha_rate"});
 
@@ -254,7 +250,8 @@ The hover policy class's starting weights: a linear controller around a trim (he
   py::class_<HoverPolicy>(m, "HoverPolicy", R"doc(
 The hover policy class of thesis §5.3 (Fig 5.4, Eqs 5.7-5.8): 34 weights, one tanh network per control channel
 fed by the body-frame errors, velocities and attitude.)doc")
-      .def(py::init<const heli::HoverPolicyInit&>(), py::arg("init") = heli::HoverPolicyInit{})
+      .def(py::init<const heli::HoverPolicyInit&>(),
+           py::arg_v("init", heli::HoverPolicyInit{}, "HoverPolicyInit()"))
       .def_property_readonly("parameters", &HoverPolicy::parameters,
                              py::return_value_policy::reference_internal)
       .def(
@@ -273,7 +270,7 @@ fed by the body-frame errors, velocities and attitude.)doc")
             }
             return out;
           },
-          py::arg("theta"), py::arg("states"), py::arg("target") = SetPoint{},
+          py::arg("theta"), py::arg("states"), py::arg_v("target", SetPoint{}, "SetPoint()"),
           "The clipped controls [n, 4] of theta for logged states [n, 12] steering to target.");
 
   auto params = py::class_<AircraftParams>(m, "AircraftParams", R"doc(
@@ -330,7 +327,7 @@ servos, gusts, estimate errors, time, crash code); observe() gives the 12 logged
              if (!p.IsValid(&error)) throw py::value_error("params." + error);
              return Aircraft(p);
            }),
-           py::arg("params") = AircraftParams{})
+           py::arg_v("params", AircraftParams{}, "AircraftParams()"))
       .def_property_readonly("params", &Aircraft::params)
       .def_property_readonly_static("STATE_COLUMNS", [](py::object) { return aircraft_columns(); })
       .def_property_readonly(
@@ -426,11 +423,7 @@ crash penalty (footnote 13), noise on or off, and the start state and its pertur
   def_array(lmo, "start", &LearnedModelOptions::start, "The 12 logged states before perturbation.");
   lmo.def_readwrite("start_pos_sigma", &LearnedModelOptions::start_pos_sigma)
       .def_readwrite("start_vel_sigma", &LearnedModelOptions::start_vel_sigma)
-      .def("is_valid", [](const LearnedModelOptions& o) {
-        std::string error;
-        const bool ok = o.IsValid(&error);
-        return py::make_tuple(ok, error);
-      });
+      .def("is_valid", is_valid_method<LearnedModelOptions>(), kIsValidDoc);
   set_fields(lmo, {"dt", "refit_every", "support_bandwidths", "crash_reward", "max_tilt_rad", "noise",
                    "start", "start_pos_sigma", "start_vel_sigma"});
 
@@ -446,7 +439,7 @@ is the crash penalty.)doc");
              if (!o.IsValid(&error)) throw py::value_error("options." + error);
              return LearnedHeliModel(identified_model(model), o);
            }),
-           py::arg("model"), py::arg("options") = LearnedModelOptions{})
+           py::arg("model"), py::arg_v("options", LearnedModelOptions{}, "LearnedModelOptions()"))
       .def_property_readonly("options", &LearnedHeliModel::options)
       .def_property_readonly_static("STATE_COLUMNS", [](py::object) { return learned_columns(); })
       .def(

@@ -60,11 +60,7 @@ void bind_ground_truth_params(py::class_<P>& params, std::vector<const char*> ow
 #undef PEGASUS_SHARED
   def_vec3(params, "mean_wind_W", &P::mean_wind_W, "Mean wind in the world frame, m/s.");
   def_vec3(params, "start_p_W", &P::start_p_W, "Start position in the world frame (NED), m.");
-  params.def("is_valid", [](const P& p) {
-    std::string error;
-    const bool ok = p.IsValid(&error);
-    return py::make_tuple(ok, error);
-  });
+  params.def("is_valid", is_valid_method<P>(), kIsValidDoc);
   for (const char* name : {"mean_wind_W", "gust_sigma", "gust_tau", "est_sigma_pos", "est_sigma_vel",
                            "est_sigma_angle", "est_sigma_rate", "est_tau", "max_tilt_rad", "max_rate_rad_s",
                            "dt", "substeps", "start_p_W", "start_yaw", "start_pos_sigma", "start_vel_sigma"})

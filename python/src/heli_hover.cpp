@@ -99,11 +99,7 @@ climbing, on the identified model (heli/hover_task.hpp).)doc");
             return o.refit_steps(*identified_model(model));
           },
           py::arg("model"), "refit_every, or the identified model's rate in steps when 0.")
-      .def("is_valid", [](const heli::HoverTrainingOptions& o) {
-        std::string error;
-        const bool ok = o.IsValid(&error);
-        return py::make_tuple(ok, error);
-      });
+      .def("is_valid", is_valid_method<heli::HoverTrainingOptions>(), kIsValidDoc);
   set_fields(options, {"scenarios",
                        "seconds",
                        "gamma",
@@ -147,9 +143,10 @@ HoverProblem.from_training_options(model, options) is the objective `pegasus hel
              throw py::value_error(
                  "model: expected a pegasus.Aircraft, a pegasus.Quadrotor or a pegasus.LearnedHeliModel");
            }),
-           py::arg("model"), py::kw_only(), py::arg("target") = SetPoint{}, py::arg("reward") = HoverReward{},
-           py::arg("init") = heli::HoverPolicyInit{}, py::arg("seed"), py::arg("scenarios"),
-           py::arg("horizon"), py::arg("gamma") = 0.9995, py::arg("variant") = "plain",
+           py::arg("model"), py::kw_only(), py::arg_v("target", SetPoint{}, "SetPoint()"),
+           py::arg_v("reward", HoverReward{}, "HoverReward()"),
+           py::arg_v("init", heli::HoverPolicyInit{}, "HoverPolicyInit()"), py::arg("seed"),
+           py::arg("scenarios"), py::arg("horizon"), py::arg("gamma") = 0.9995, py::arg("variant") = "plain",
            py::arg("threads") = 1)
       .def_static(
           "from_training_options",
@@ -166,8 +163,8 @@ HoverProblem.from_training_options(model, options) is the objective `pegasus hel
               return out;
             });
           },
-          py::arg("model"), py::arg("options") = heli::HoverTrainingOptions{}, py::kw_only(),
-          py::arg("threads") = 1,
+          py::arg("model"), py::arg_v("options", heli::HoverTrainingOptions{}, "HoverTrainingOptions()"),
+          py::kw_only(), py::arg("threads") = 1,
           "The objective `pegasus heli hover` maximises on an identified model (or model.json path): "
           "heli::hover_objective, the policy class and reward centred on the logs' trim.");
   bind_returns(problem);
@@ -190,7 +187,7 @@ HoverProblem.from_training_options(model, options) is the objective `pegasus hel
         out["integral_radius"] = r.integral_radius;
         return out;
       },
-      py::arg("model"), py::arg("options") = heli::HoverTrainingOptions{},
+      py::arg("model"), py::arg_v("options", heli::HoverTrainingOptions{}, "HoverTrainingOptions()"),
       "Starting gains by LQR on the identified model at the hover (`heli hover --starting-gains lqr`): a "
       "dict of "
       "init (HoverPolicyInit; the constants when not used), used, reason, spectral_radius, "
@@ -200,7 +197,7 @@ HoverProblem.from_training_options(model, options) is the objective `pegasus hel
       [](py::object model, const heli::HoverTrainingOptions& o) {
         return heli::hover_reward_for(*identified_model(model), o);
       },
-      py::arg("model"), py::arg("options") = heli::HoverTrainingOptions{},
+      py::arg("model"), py::arg_v("options", heli::HoverTrainingOptions{}, "HoverTrainingOptions()"),
       "The reward of options, centred on the logs' trim when options.centre_at_trim.");
 
   auto start = py::class_<heli::StartingPolicyCheck>(m, "StartingPolicyCheck", R"doc(
@@ -246,8 +243,8 @@ stops when more than options.max_start_crash_fraction of them crash (heli/hover_
         py::gil_scoped_release release;
         return heli::train_hover(shared, o, hooks, *pool);
       },
-      py::arg("model"), py::arg("options") = heli::HoverTrainingOptions{}, py::kw_only(),
-      py::arg("checkpoint_every") = 1, py::arg("on_checkpoint") = py::none(),
+      py::arg("model"), py::arg_v("options", heli::HoverTrainingOptions{}, "HoverTrainingOptions()"),
+      py::kw_only(), py::arg("checkpoint_every") = 1, py::arg("on_checkpoint") = py::none(),
       py::arg("resume_from") = py::none(), py::arg("callbacks") = py::none(), py::arg("threads") = 1,
       "Trains the hover controller as `pegasus heli hover` does (the same plan, checkpoints and bits for any "
       "threads); checkpoints are training-plan checkpoints (dicts).");

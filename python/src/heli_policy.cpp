@@ -87,9 +87,9 @@ HeliPolicy.hover(theta, target, trim).)doc")
                                         {.dt = policy.has_integral() ? integral_dt : 0.0}),
                 "hover");
           },
-          py::arg("theta"), py::arg("target") = heli::SetPoint{},
-          py::arg("trim") = std::vector<double>{0, 0, 0, 0}, py::arg("init") = heli::HoverPolicyInit{},
-          py::arg("integral_dt") = 0.02,
+          py::arg("theta"), py::arg_v("target", heli::SetPoint{}, "SetPoint()"),
+          py::arg("trim") = std::vector<double>{0, 0, 0, 0},
+          py::arg_v("init", heli::HoverPolicyInit{}, "HoverPolicyInit()"), py::arg("integral_dt") = 0.02,
           "A hover policy file from trained weights (with init.integral_seconds > 0: 38 weights, the "
           "integral "
           "term's integrator stepping integral_dt s per call, the default limits).")
@@ -101,7 +101,9 @@ HeliPolicy.hover(theta, target, trim).)doc")
       .def_property_readonly("options", [](const HeliPolicyObject& p) { return to_python(p.file.options); })
       .def_property_readonly("provenance",
                              [](const HeliPolicyObject& p) { return to_python(p.file.provenance); })
-      .def("to_json", [](const HeliPolicyObject& p) { return to_python(heli::policy_file_json(p.file)); })
+      .def(
+          "to_json", [](const HeliPolicyObject& p) { return to_python(heli::policy_file_json(p.file)); },
+          "The policy file's contents as a dict (what save writes).")
       .def(
           "save",
           [](const HeliPolicyObject& p, const std::string& path) { heli::write_policy_file(path, p.file); },

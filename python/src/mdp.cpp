@@ -206,7 +206,8 @@ gamma, absorbing=..., initial=...) from numpy arrays or scipy.sparse matrices.)d
       .def_readonly("value_error_bound", &SolveSummary::value_error_bound)
       .def_property_readonly("converged", &SolveSummary::converged)
       .def_readonly("message", &SolveSummary::message)
-      .def("brief_report", &SolveSummary::BriefReport);
+      .def("brief_report", &SolveSummary::BriefReport,
+           "One line: termination, iterations, residual, policy-loss bound and time.");
 
   py::class_<PolicyChange>(m, "PolicyChange", R"doc(
 Whether shaping changed what is optimal (ShapingAudit.policy_change): changes (some action optimal in M + F is
@@ -233,7 +234,9 @@ optimal policy changes under F.)doc")
           [](const ShapingAudit& a) { return a.counterexample && a.counterexample->verified; })
       .def_readonly("counterexample_note", &ShapingAudit::counterexample_note)
       .def_readonly("policy_change", &ShapingAudit::policy_change)
-      .def("brief_report", &ShapingAudit::BriefReport);
+      .def("brief_report", &ShapingAudit::BriefReport,
+           "One line: potential-based or not, the residuals, why not, and whether the optimal policy "
+           "changes.");
 }
 
 }  // namespace pegasus::python

@@ -34,11 +34,7 @@ void bind_checkpointing(py::class_<Options>& c) {
               o.resume_from = from_python(state, "resume_from");
           },
           "A checkpoint (dict) to continue from, or None.")
-      .def("is_valid", [](const Options& o) {
-        std::string error;
-        const bool ok = o.IsValid(&error);
-        return py::make_tuple(ok, error);
-      });
+      .def("is_valid", is_valid_method<Options>(), kIsValidDoc);
 }
 
 py::array_t<double> theta_array(const Theta& theta) { return vector_array(theta); }
@@ -46,19 +42,23 @@ py::array_t<double> theta_array(const Theta& theta) { return vector_array(theta)
 }  // namespace
 
 void bind_optimizers(py::module_& m) {
-  py::class_<Parameter>(m, "Parameter", "One tunable parameter of a policy class (thesis §4.1).")
+  py::class_<Parameter>(m, "Parameter",
+                        "One tunable parameter of a policy class (thesis §4.1). Read-only once made (a spec "
+                        "checks its parameters when they are added): make a new one to change it.")
       .def(py::init(
                [](std::string name, double initial, double lower, double upper, double scale, bool integer) {
                  return Parameter{std::move(name), initial, lower, upper, scale, integer};
                }),
            py::arg("name"), py::arg("initial") = 0.0, py::arg("lower") = -INFINITY,
            py::arg("upper") = INFINITY, py::arg("scale") = 1.0, py::arg("integer") = false)
-      .def_readwrite("name", &Parameter::name)
-      .def_readwrite("initial", &Parameter::initial)
-      .def_readwrite("lower", &Parameter::lower)
-      .def_readwrite("upper", &Parameter::upper)
-      .def_readwrite("scale", &Parameter::scale, "Typical size of a useful change (§5.3).")
-      .def_readwrite("integer", &Parameter::integer)
+      .def_readonly("name", &Parameter::name, "Unique within its spec.")
+      .def_readonly("initial", &Parameter::initial, "Where optimizers start (finite, within the bounds).")
+      .def_readonly("lower", &Parameter::lower, "Lower bound (-inf: none).")
+      .def_readonly("upper", &Parameter::upper, "Upper bound (inf: none).")
+      .def_readonly("scale", &Parameter::scale, "Typical size of a useful change (§5.3).")
+      .def_readonly(
+          "integer", &Parameter::integer,
+          "Whole numbers within the bounds only (a table's action); only exhaustive search takes it.")
       .def("__repr__", [](const Parameter& p) {
         return fmt::format("Parameter('{}', initial={}, lower={}, upper={}, scale={}, integer={})", p.name,
                            p.initial, p.lower, p.upper, p.scale, p.integer ? "True" : "False");
@@ -78,14 +78,19 @@ ParameterSpec.from_names(names, initial=0, scale=1).)doc")
             return spec;
           },
           py::arg("names"), py::arg("initial") = 0.0, py::arg("scale") = 1.0)
-      .def("add", &ParameterSpec::add, py::arg("parameter"), py::return_value_policy::reference_internal)
+      .def(
+          "add", &ParameterSpec::add, py::arg("parameter"), py::return_value_policy::reference_internal,
+          "Appends a parameter (a unique name, lower <= initial <= upper, a finite initial value, scale > 0) "
+          "and returns the spec.")
       .def("__len__", &ParameterSpec::size)
-      .def("__getitem__",
-           [](const ParameterSpec& s, std::int64_t i) {
-             if (i < 0) i += static_cast<std::int64_t>(s.size());
-             if (i < 0 || i >= static_cast<std::int64_t>(s.size())) throw py::index_error("parameter index");
-             return s[static_cast<std::size_t>(i)];
-           })
+      .def(
+          "__getitem__",
+          [](const ParameterSpec& s, std::int64_t i) {
+            if (i < 0) i += static_cast<std::int64_t>(s.size());
+            if (i < 0 || i >= static_cast<std::int64_t>(s.size())) throw py::index_error("parameter index");
+            return s[static_cast<std::size_t>(i)];
+          },
+          py::arg("i"), "The parameter at position i (negative: from the end), read-only.")
       .def_property_readonly("names",
                              [](const ParameterSpec& s) {
                                std::vector<std::string> names;
@@ -96,7 +101,14 @@ ParameterSpec.from_names(names, initial=0, scale=1).)doc")
       .def_property_readonly("lower", [](const ParameterSpec& s) { return theta_array(s.lower()); })
       .def_property_readonly("upper", [](const ParameterSpec& s) { return theta_array(s.upper()); })
       .def_property_readonly("scales", [](const ParameterSpec& s) { return theta_array(s.scales()); })
-      .def("index_of", &ParameterSpec::index_of);
+      .def(
+          "index_of",
+          [](const ParameterSpec& s, const std::string& name) {
+            const std::size_t i = s.index_of(name);
+            if (i == s.size()) throw py::key_error(fmt::format("no parameter named '{}'", name));
+            return i;
+          },
+          py::arg("name"), "The position of the parameter named `name` (KeyError when there is none).");
 
   py::class_<Objective>(m, "Objective", R"doc(
 A deterministic objective theta -> U-hat(theta) that the optimizers maximise. Built by VectorizedProblem,
@@ -300,11 +312,7 @@ Which optimizer runs (method: "exhaustive", "gradient", "hill-climb", "bobyqa", 
               "Checkpointing of every method at once: each checkpoint (a dict) goes to on_checkpoint; "
               "resume_from "
               "continues one.")
-          .def("is_valid", [](const OptimizerOptions& o) {
-            std::string error;
-            const bool ok = o.IsValid(&error);
-            return py::make_tuple(ok, error);
-          });
+          .def("is_valid", is_valid_method<OptimizerOptions>(), kIsValidDoc);
   set_fields(optimizer_options,
              {"method", "exhaustive", "gradient", "hill_climbing", "nlopt", "cmaes", "ars"});
   m.def(
@@ -346,14 +354,22 @@ Which optimizer runs (method: "exhaustive", "gradient", "hill-climb", "bobyqa", 
       .def_readonly("history", &OptimizerSummary::history)
       .def_property_readonly("all_values",
                              [](const OptimizerSummary& s) { return vector_array(s.all_values); })
-      .def("brief_report", &OptimizerSummary::BriefReport)
-      .def("full_report", &OptimizerSummary::FullReport)
-      .def("same_outcome",
-           [](const OptimizerSummary& a, const OptimizerSummary& b) {
-             std::string difference;
-             const bool same = SameOutcome(a, b, &difference);
-             return py::make_tuple(same, difference);
-           })
+      .def("brief_report", &OptimizerSummary::BriefReport,
+           "One line: method, termination, iterations, evaluations, best value, time.")
+      .def("full_report", &OptimizerSummary::FullReport,
+           "Several lines: the brief report plus the message and the best theta by parameter name.")
+      .def(
+          "same_outcome",
+          [](const OptimizerSummary& a, const OptimizerSummary& b) {
+            std::string difference;
+            const bool same = SameOutcome(a, b, &difference);
+            return py::make_tuple(same, difference);
+          },
+          py::arg("other"),
+          "(same, difference): whether two runs ended identically (every number bit for bit; wall time, "
+          "resumed "
+          "and replayed evaluations ignored, so a resumed run compares with an uninterrupted one), and the "
+          "first difference when not.")
       .def("__repr__", &OptimizerSummary::BriefReport);
   set_fields(summary, {"method", "parameter_names", "termination_type", "message", "iterations",
                        "evaluations", "replayed_evaluations", "resumed", "initial_value", "best_value",
@@ -376,8 +392,8 @@ Which optimizer runs (method: "exhaustive", "gradient", "hill-climb", "bobyqa", 
         }
         return py::make_tuple(theta_array(t), result);
       },
-      py::arg("objective"), py::arg("options") = OptimizerOptions{}, py::arg("theta") = py::none(),
-      py::kw_only(), py::arg("callbacks") = py::none(),
+      py::arg("objective"), py::arg_v("options", OptimizerOptions{}, "OptimizerOptions()"),
+      py::arg("theta") = py::none(), py::kw_only(), py::arg("callbacks") = py::none(),
       R"doc(Maximises the objective with options.method, starting from theta (default: the spec's initial
 values). Returns (theta, OptimizerSummary). The GIL is released while the C++ optimizer works.
 callbacks: callables f(IterationReport) told after every iteration (the C++ Options' `callbacks`); one that

@@ -103,7 +103,7 @@ the 12 logged states a flight computer sees. The batch methods are Aircraft's.)d
              if (!p.IsValid(&error)) throw py::value_error("params." + error);
              return Quadrotor(p);
            }),
-           py::arg("params") = QuadrotorParams{})
+           py::arg_v("params", QuadrotorParams{}, "QuadrotorParams()"))
       .def_property_readonly("params", &Quadrotor::params)
       .def_property_readonly_static("STATE_COLUMNS", [](py::object) { return quadrotor_columns(); })
       .def_property_readonly(

@@ -17,10 +17,10 @@ int checked_int(std::int64_t value, const char* name, std::int64_t lowest) {
 
 ScenarioSet make_scenario_set(py::object seed, std::int64_t count, std::int64_t horizon,
                               std::int64_t noise_dim, std::int64_t initial_noise_dim,
-                              const std::string& variant) {
+                              const std::string& variant, const char* count_name) {
   ScenarioOptions o;
   o.seed = as_seed(seed, "seed");
-  o.count = checked_int(count, "count", 1);
+  o.count = checked_int(count, count_name, 1);
   o.horizon = checked_int(horizon, "horizon", 1);
   o.noise_dim = checked_int(noise_dim, "noise_dim", 0);
   o.initial_noise_dim = checked_int(initial_noise_dim, "initial_noise_dim", 0);
@@ -34,8 +34,13 @@ m PEGASUS scenarios (thesis §4.4.2): scenario i is (s0 noise, p_1, ..., p_H), c
 counter-based generator keyed by `seed`, so Python sees exactly the numbers the C++ evaluators use.
 variant: "plain", "antithetic" (scenario 2k+1 uses 1-u), "stratified" (Latin hypercube initial noise) or
 "sobol" (randomised quasi-Monte Carlo); all uniforms lie in the open interval (0, 1).)doc")
-      .def(py::init(&make_scenario_set), py::arg("seed"), py::arg("count"), py::arg("horizon"),
-           py::arg("noise_dim"), py::arg("initial_noise_dim") = 0, py::arg("variant") = "plain")
+      .def(py::init([](py::object seed, std::int64_t count, std::int64_t horizon, std::int64_t noise_dim,
+                       std::int64_t initial_noise_dim, const std::string& variant) {
+             return make_scenario_set(std::move(seed), count, horizon, noise_dim, initial_noise_dim, variant,
+                                      "count");
+           }),
+           py::arg("seed"), py::arg("count"), py::arg("horizon"), py::arg("noise_dim"),
+           py::arg("initial_noise_dim") = 0, py::arg("variant") = "plain")
       .def_property_readonly("count", &ScenarioSet::size)
       .def_property_readonly("horizon", &ScenarioSet::horizon)
       .def_property_readonly("noise_dim", &ScenarioSet::noise_dim)

@@ -101,10 +101,12 @@ variables' changes, its bandwidth and noise. Save it as the model.json `pegasus 
           })
       .def_property_readonly("inv_bandwidth",
                              [](const IdentifiedModel& model) { return vector_array(model.inv_bandwidth()); })
-      .def("to_json", [](const IdentifiedModel& model) { return to_python(model.to_json()); })
+      .def(
+          "to_json", [](const IdentifiedModel& model) { return to_python(model.to_json()); },
+          "The model file's contents (model.json) as a dict.")
       .def(
           "save", [](const IdentifiedModel& model, const std::string& path) { model.save(path); },
-          py::arg("path"))
+          py::arg("path"), "Writes model.json to path atomically.")
       .def_static(
           "load",
           [](const std::string& path) {

@@ -68,12 +68,14 @@ iteration's record (iteration, evaluations so far, best U-hat so far, seconds) a
 The seed domains of a stage's optimizers (optimizers/training.hpp): each random method's seed is
 mix_seed(plan seed, its domain), apart from the scenarios' streams and from other stages. The defaults are the
 first stage's; REFINE_SEED_DOMAINS those of a refinement stage.)doc");
-  seeds.def(py::init<>())
+  const SeedDomains first_stage;  // each domain left out keeps the first stage's
+  seeds
       .def(py::init(
                [](std::uint32_t hill_climbing, std::uint32_t nlopt, std::uint32_t cmaes, std::uint32_t ars) {
                  return SeedDomains{hill_climbing, nlopt, cmaes, ars};
                }),
-           py::arg("hill_climbing"), py::arg("nlopt"), py::arg("cmaes"), py::arg("ars"))
+           py::arg("hill_climbing") = first_stage.hill_climbing, py::arg("nlopt") = first_stage.nlopt,
+           py::arg("cmaes") = first_stage.cmaes, py::arg("ars") = first_stage.ars)
       .def_readwrite("hill_climbing", &SeedDomains::hill_climbing)
       .def_readwrite("nlopt", &SeedDomains::nlopt)
       .def_readwrite("cmaes", &SeedDomains::cmaes)

@@ -82,6 +82,14 @@ class BoxPolicy {
   ParameterSpec spec_;
 };
 
+// A read-only view of `a` for a user's method: the rollout keeps using the array afterwards, so a method
+// that changed its argument in place (`o *= 2`) would change the rollout behind the caller's back.
+py::object read_only(const Array& a) {
+  py::object view = a.attr("view")();
+  view.attr("setflags")(py::arg("write") = false);
+  return view;
+}
+
 int int_attribute(const py::object& model, const char* name) {
   if (!py::hasattr(model, name)) throw py::value_error(fmt::format("model: expected an attribute {}", name));
   const py::object value = model.attr(name);
@@ -112,7 +120,7 @@ class VectorizedProblem final : public Objective {
         model_(std::move(model)),
         policy_(std::move(policy)),
         scenarios_(make_scenario_set(seed, scenarios, horizon, int_attribute(model_, "noise_dim"),
-                                     int_attribute(model_, "initial_noise_dim"), variant)),
+                                     int_attribute(model_, "initial_noise_dim"), variant, "scenarios")),
         discounting_{gamma, static_cast<int>(horizon)} {
     if (!(gamma >= 0.0 && gamma <= 1.0))
       throw py::value_error(fmt::format("gamma: expected a number in [0, 1], got {}", gamma));
@@ -182,17 +190,18 @@ class VectorizedProblem final : public Objective {
       scenarios_.initial_noise(static_cast<int>(r % m), std::span<double>(p0 + r * d0, d0));
     });
     theta_rows_ = py::none();  // the policy's theta rows are rebuilt when the live rows change
-    Array states =
-        as_matrix(initial_state_(noise0), "model.initial_state result", static_cast<py::ssize_t>(n), -1);
+    Array states = as_matrix(initial_state_(read_only(noise0)), "model.initial_state result",
+                             static_cast<py::ssize_t>(n), -1);
     const py::ssize_t ds = states.shape(1);
     if (ds < 1) throw py::value_error("model.initial_state result: expected at least one state column");
+    require_finite(states, "model.initial_state result");
 
     double weight = 1.0;
     const double gamma = discounting_.gamma;
     for (int t = 0; t < discounting_.horizon; ++t) {
       if (!terminal_.is_none()) {  // absorbing states take no more steps and earn nothing (rollout.hpp)
-        const Array done =
-            as_vector(terminal_(states), "model.terminal result", static_cast<py::ssize_t>(rows.size()));
+        const Array done = as_vector(terminal_(read_only(states)), "model.terminal result",
+                                     static_cast<py::ssize_t>(rows.size()));
         std::vector<std::size_t> keep;
         for (std::size_t j = 0; j < rows.size(); ++j)
           if (done.data()[j] == 0.0) keep.push_back(j);
@@ -210,21 +219,27 @@ class VectorizedProblem final : public Objective {
         if (rows.empty()) break;
       }
       const auto na = static_cast<py::ssize_t>(rows.size());
-      const Array observations =
-          observe_.is_none() ? states : as_matrix(observe_(states), "model.observe result", na, -1);
+      Array observations = states;
+      if (!observe_.is_none()) {
+        observations = as_matrix(observe_(read_only(states)), "model.observe result", na, -1);
+        require_finite(observations, "model.observe result");
+      }
       const Array actions = act(thetas, rows, m, observations);
       Array noise = matrix(na, static_cast<py::ssize_t>(dp));
       double* pt = noise.mutable_data();
       pool_->parallel_for(rows.size(), [&](std::size_t j) {
         scenarios_.step_noise(static_cast<int>(rows[j] % m), t, std::span<double>(pt + j * dp, dp));
       });
-      Array next = as_matrix(step_(states, actions, noise), "model.step result", na, ds);
-      const Array r = as_vector(reward_(states, actions, next), "model.reward result", na);
+      Array next = as_matrix(step_(read_only(states), read_only(actions), read_only(noise)),
+                             "model.step result", na, ds);
+      require_finite(next, "model.step result");
+      const Array r = as_vector(reward_(read_only(states), read_only(actions), read_only(next)),
+                                "model.reward result", na);
       require_finite(r, "model.reward result");
       const double* rp = r.data();
       if (!event_fraction_.is_none()) {  // continuous-time discounting (footnote 9 of §4.4)
-        const Array tau =
-            as_vector(event_fraction_(states, actions, next), "model.event_fraction result", na);
+        const Array tau = as_vector(event_fraction_(read_only(states), read_only(actions), read_only(next)),
+                                    "model.event_fraction result", na);
         for (std::size_t j = 0; j < rows.size(); ++j) {
           const double f = tau.data()[j];
           if (!(f >= 0.0 && f <= 1.0))
@@ -269,9 +284,11 @@ class VectorizedProblem final : public Objective {
       theta_rows.attr("setflags")(py::arg("write") = false);
       theta_rows_ = std::move(theta_rows);
     }
-    Array a = as_array(act_(theta_rows_, observations), "policy.act result");
+    Array a = as_array(act_(theta_rows_, read_only(observations)), "policy.act result");
     if (a.ndim() == 1) a = as_matrix(a.reshape({a.shape(0), py::ssize_t{1}}), "policy.act result", na, 1);
-    return as_matrix(a, "policy.act result", na, -1);
+    a = as_matrix(a, "policy.act result", na, -1);
+    require_finite(a, "policy.act result");
+    return a;
   }
 
   std::shared_ptr<ThreadPool> pool_;

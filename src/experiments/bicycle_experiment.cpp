@@ -190,6 +190,7 @@ BicycleTrainingResult train_bicycle(const BicycleTrainingOptions& options, const
   TrainingPlan plan;
   plan.seed = options.seed;
   plan.stages = {{.name = options.optimizer.method, .optimizer = options.optimizer}};
+  plan.callbacks = hooks.callbacks;
   if (hooks.on_checkpoint && hooks.checkpoint_every > 0) {
     plan.checkpoint_every = hooks.checkpoint_every;
     plan.on_checkpoint = hooks.on_checkpoint;

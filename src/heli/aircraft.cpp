@@ -1,5 +1,7 @@
 #include "pegasus/heli/aircraft.hpp"
 
+#include <fmt/format.h>
+
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
@@ -12,12 +14,13 @@
 namespace pegasus::heli {
 
 bool AircraftParams::IsValid(std::string* error) const {
-  auto fail = [&](const char* what) {
+  auto fail = [&](const std::string& what) {
     if (error) *error = std::string("aircraft: ") + what;
     return false;
   };
   if (!(mass_kg > 0 && ixx > 0 && iyy > 0 && izz > 0)) return fail("mass and inertias must be positive");
-  if (!(dt > 0 && substeps >= 1)) return fail("dt must be positive and substeps >= 1");
+  if (!(dt > 0 && substeps >= 1 && substeps <= kMaxSubsteps))
+    return fail(fmt::format("dt must be positive and substeps in [1, {}]", kMaxSubsteps));
   if (!(tau_flap > 0 && gyro_tau > 0 && est_tau > 0 && gust_tau > 0))
     return fail("time constants must be positive");
   if (!(gust_sigma >= 0 && est_sigma_pos >= 0 && est_sigma_vel >= 0 && est_sigma_angle >= 0 &&

@@ -1,5 +1,7 @@
 #include "pegasus/heli/quadrotor.hpp"
 
+#include <fmt/format.h>
+
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
@@ -30,7 +32,7 @@ QuadrotorState advance(const QuadrotorState& s, const Quadrotor::Derivative& d, 
 }  // namespace
 
 bool QuadrotorParams::IsValid(std::string* error) const {
-  auto fail = [&](const char* what) {
+  auto fail = [&](const std::string& what) {
     if (error) *error = std::string("quadrotor: ") + what;
     return false;
   };
@@ -50,7 +52,8 @@ bool QuadrotorParams::IsValid(std::string* error) const {
     return fail("noise sizes must be >= 0");
   if (!(max_tilt_rad > 0 && max_tilt_rad < 1.5 && max_rate_rad_s > 0))
     return fail("crash limits out of range");
-  if (!(dt > 0 && substeps >= 1)) return fail("need dt > 0 and substeps >= 1");
+  if (!(dt > 0 && substeps >= 1 && substeps <= kMaxSubsteps))
+    return fail(fmt::format("need dt > 0 and substeps in [1, {}]", kMaxSubsteps));
   if (!(start_p_W.z() < 0)) return fail("the start must be above the ground (z < 0)");
   if (!(start_pos_sigma >= 0 && start_vel_sigma >= 0)) return fail("start perturbations must be >= 0");
   return true;

@@ -34,10 +34,9 @@ std::vector<IntegerRange> IntegerRanges(const ParameterSpec& spec) {
     if (!std::isfinite(p.lower) || !std::isfinite(p.upper))
       throw InputError(fmt::format("parameter {}: exhaustive search needs finite bounds, got [{}, {}]",
                                    p.name, p.lower, p.upper));
+    // At least one integer lies within: the spec holds a whole initial value there (ParameterSpec::add).
     const double first = std::ceil(p.lower);
     const double last = std::floor(p.upper);
-    if (last < first)
-      throw InputError(fmt::format("parameter {}: no integer lies in [{}, {}]", p.name, p.lower, p.upper));
     if (last - first >= 9.0e15)
       throw InputError(
           fmt::format("parameter {}: range [{}, {}] is too large to enumerate", p.name, first, last));

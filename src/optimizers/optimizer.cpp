@@ -71,6 +71,14 @@ bool OptimizerOptions::IsValid(std::string* error) const {
 void Solve(const OptimizerOptions& options, Objective& objective, Theta* theta, OptimizerSummary* summary) {
   std::string error;
   if (!options.IsValid(&error)) throw InputError("optimizer options: " + error);
+  // Every method but exhaustive search moves theta by real steps: an integer parameter (a table's action)
+  // would come back as a fraction.
+  const ParameterSpec& spec = objective.parameters();
+  if (const std::size_t i = spec.first_integer(); i < spec.size() && options.method != "exhaustive")
+    throw InputError(fmt::format(
+        "optimizer method {}: searches real numbers, but parameter '{}' is an integer (a table entry); "
+        "expected exhaustive",
+        options.method, spec[i].name));
   if (options.method == "exhaustive") return Solve(options.exhaustive, objective, theta, summary);
   if (options.method == "gradient") return Solve(options.gradient, objective, theta, summary);
   if (options.method == "hill-climb") return Solve(options.hill_climbing, objective, theta, summary);

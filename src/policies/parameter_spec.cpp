@@ -1,5 +1,7 @@
 #include "pegasus/policies/parameter_spec.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -16,6 +18,12 @@ ParameterSpec& ParameterSpec::add(Parameter p) {
   if (index_of(p.name) != size()) throw InputError("parameter " + p.name + ": name already used");
   if (!(p.lower <= p.initial && p.initial <= p.upper))
     throw InputError("parameter " + p.name + ": expected lower <= initial <= upper");
+  // An optimizer starts from the initial value: an infinite one gives every method U-hat -inf.
+  if (!std::isfinite(p.initial))
+    throw InputError(fmt::format("parameter {}: expected a finite initial value, got {}", p.name, p.initial));
+  if (p.integer && p.initial != std::floor(p.initial))
+    throw InputError(fmt::format(
+        "parameter {}: expected a whole initial value (an integer parameter), got {}", p.name, p.initial));
   if (!(p.scale > 0.0) || !std::isfinite(p.scale))
     throw InputError("parameter " + p.name + ": expected a finite scale > 0");
   parameters_.push_back(std::move(p));
@@ -52,6 +60,22 @@ std::size_t ParameterSpec::index_of(const std::string& name) const {
 void ParameterSpec::clamp(std::span<double> theta) const {
   for (std::size_t i = 0; i < theta.size() && i < parameters_.size(); ++i)
     theta[i] = std::clamp(theta[i], parameters_[i].lower, parameters_[i].upper);
+}
+
+std::size_t ParameterSpec::first_integer() const {
+  for (std::size_t i = 0; i < parameters_.size(); ++i)
+    if (parameters_[i].integer) return i;
+  return parameters_.size();
+}
+
+std::string ParameterSpec::integer_violation(std::span<const double> theta) const {
+  for (std::size_t i = 0; i < theta.size() && i < parameters_.size(); ++i) {
+    const Parameter& p = parameters_[i];
+    const double x = theta[i];
+    if (p.integer && !(x >= p.lower && x <= p.upper && x == std::floor(x)))
+      return fmt::format("{}: expected an integer in [{}, {}], got {}", p.name, p.lower, p.upper, x);
+  }
+  return {};
 }
 
 bool ParameterSpec::contains(std::span<const double> theta) const {

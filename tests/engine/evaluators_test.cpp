@@ -4,6 +4,7 @@
 #include <memory>
 #include <vector>
 
+#include "pegasus/core/error.hpp"
 #include "pegasus/envs/interval_mdp.hpp"
 #include "pegasus/envs/pomdp_gridworld.hpp"
 #include "pegasus/evaluators/monte_carlo.hpp"
@@ -331,6 +332,25 @@ TEST(Policies, SigmoidPolicyStaysInsideTheActionBoxAndProgramPoliciesTakeAFewLin
       ParameterSpec({{.name = "kp", .initial = 1.0}, {.name = "kd", .initial = 0.5}}),
       [](std::span<const double> k, const std::array<double, 2>& o) { return -k[0] * o[0] - k[1] * o[1]; });
   EXPECT_DOUBLE_EQ(pd.act(pd.parameters().initial(), {2.0, 2.0}), -3.0);
+}
+
+TEST(Policies, ATableKeepsItsActionsInRangeAndTheSpecNamesEntriesOutsideThem) {
+  const TablePolicy table(3, 4);
+  for (const double a : {0.0, 1.0, 3.0}) EXPECT_EQ(table.act(Theta{0, a, 0}, 1), static_cast<int>(a));
+  // Out of range, a table entry never indexes past the actions (1e10 is also beyond an int).
+  EXPECT_EQ(table.act(Theta{0, 7, 0}, 1), 3);
+  EXPECT_EQ(table.act(Theta{0, 1e10, 0}, 1), 3);
+  EXPECT_EQ(table.act(Theta{0, -1e10, 0}, 1), 0);
+  EXPECT_EQ(table.parameters().integer_violation(Theta{0, 3, 2}), "");
+  EXPECT_EQ(table.parameters().integer_violation(Theta{0, 4, 0}),
+            "action[1]: expected an integer in [0, 3], got 4");
+  EXPECT_EQ(table.parameters().integer_violation(Theta{0.5, 0, 0}),
+            "action[0]: expected an integer in [0, 3], got 0.5");
+  EXPECT_EQ(table.parameters().first_integer(), 0u);
+  EXPECT_EQ(ParameterSpec({{.name = "w"}}).first_integer(), 1u);
+  EXPECT_THROW(ParameterSpec({{.name = "w", .initial = INFINITY}}), InputError);
+  EXPECT_THROW(ParameterSpec({{.name = "t", .initial = 0.5, .lower = 0, .upper = 1, .integer = true}}),
+               InputError);
 }
 
 // Theorem 11 (§4.5.2): with the interval-enumerating g, some constant policy always has U-hat = 1 on any

@@ -124,8 +124,10 @@ TEST(ExhaustiveSearch, RefusesNonIntegerUnboundedOrTooLargeClasses) {
           "parameter w: exhaustive search needs integer");
   refuses(ParameterSpec({{.name = "k", .initial = 0, .lower = 0, .integer = true}}),
           "parameter k: exhaustive search needs finite bounds");
-  refuses(ParameterSpec({{.name = "k", .initial = 0.5, .lower = 0.2, .upper = 0.8, .integer = true}}),
-          "parameter k: no integer");
+  // A class with an integer parameter but no integer in its bounds cannot be made: its initial value must be
+  // one.
+  EXPECT_THROW(ParameterSpec({{.name = "k", .initial = 0.5, .lower = 0.2, .upper = 0.8, .integer = true}}),
+               InputError);
   refuses(SmallClass(), "max_policies = 99", 99);
   // 4^8 policies fit the default; 64^8 = 2^48 do not (and must not overflow while counting).
   std::vector<Parameter> table;

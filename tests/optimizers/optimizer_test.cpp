@@ -1,5 +1,6 @@
 #include "pegasus/optimizers/optimizer.hpp"
 
+#include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -12,9 +13,12 @@ namespace {
 using ::testing::HasSubstr;
 using ::testing::StartsWith;
 
-ParameterSpec Box() {
-  return ParameterSpec({{.name = "gain", .initial = 1.0, .lower = -3.0, .upper = 3.0, .integer = true},
-                        {.name = "bias", .initial = -2.0, .lower = -3.0, .upper = 3.0, .integer = true}});
+// Integer-valued for exhaustive search, which enumerates only integers; real for the others, which refuse
+// integer parameters.
+ParameterSpec Box(std::string_view method = "gradient") {
+  const bool integer = method == "exhaustive";
+  return ParameterSpec({{.name = "gain", .initial = 1.0, .lower = -3.0, .upper = 3.0, .integer = integer},
+                        {.name = "bias", .initial = -2.0, .lower = -3.0, .upper = 3.0, .integer = integer}});
 }
 
 TEST(OptimizerDispatch, EveryMethodNameRunsThatMethodAndFindsTheMaximum) {
@@ -22,7 +26,7 @@ TEST(OptimizerDispatch, EveryMethodNameRunsThatMethodAndFindsTheMaximum) {
   for (const std::string_view name : OptimizerMethodNames()) {
     SCOPED_TRACE(name);
     // Maximal at (1, -1), a point of the integer grid so exhaustive search can hit it exactly.
-    auto objective = ConcaveQuadratic(Box(), {1.0, -1.0}, {1.0, 2.0}, 3.0);
+    auto objective = ConcaveQuadratic(Box(name), {1.0, -1.0}, {1.0, 2.0}, 3.0);
     OptimizerOptions options;
     options.method = std::string(name);
     options.nlopt.max_evaluations = 3000;
@@ -102,7 +106,7 @@ TEST(OptimizerDispatch, TheMethodOverridesTheNloptAlgorithm) {
 TEST(OptimizerDispatch, SetCheckpointingReachesEveryMethodAndCheckpointsNameTheirMethod) {
   for (const std::string_view name : OptimizerMethodNames()) {
     SCOPED_TRACE(name);
-    auto objective = ConcaveQuadratic(Box(), {1.0, -1.0}, {1.0, 2.0});
+    auto objective = ConcaveQuadratic(Box(name), {1.0, -1.0}, {1.0, 2.0});
     OptimizerOptions options;
     options.method = std::string(name);
     options.exhaustive.block_size = 5;
@@ -120,6 +124,28 @@ TEST(OptimizerDispatch, SetCheckpointingReachesEveryMethodAndCheckpointsNameThei
     EXPECT_EQ(checkpoints.front()["iterations"], 2);
   }
   EXPECT_THROW(CheckpointMethod(nlohmann::json{{"method", "gradient"}}), InputError);
+}
+
+TEST(OptimizerDispatch, OnlyExhaustiveSearchTakesIntegerParameters) {
+  for (const std::string_view name : OptimizerMethodNames()) {
+    if (name == "exhaustive") continue;
+    SCOPED_TRACE(name);
+    auto objective = ConcaveQuadratic(Box("exhaustive"), {1.0, -1.0}, {1.0, 2.0});
+    OptimizerOptions options;
+    options.method = std::string(name);
+    Theta theta;
+    OptimizerSummary summary;
+    try {
+      Solve(options, objective, &theta, &summary);
+      ADD_FAILURE() << "a real-valued search over integer parameters";
+    } catch (const InputError& e) {
+      EXPECT_EQ(
+          std::string(e.what()),
+          fmt::format("optimizer method {}: searches real numbers, but parameter 'gain' is an integer (a "
+                      "table entry); expected exhaustive",
+                      name));
+    }
+  }
 }
 
 }  // namespace

@@ -48,7 +48,7 @@ def test_bad_batch_shapes():
 @pytest.mark.parametrize("field,value", [("scenarios", 0), ("scenarios", -5), ("horizon", -1), ("gamma", 1.5),
                                          ("gamma", float("nan")), ("seed", -2), ("variant", "halton")])
 def test_bad_problem_settings(field, value):
-    with pytest.raises(ValueError, match=field if field != "scenarios" else "count"):
+    with pytest.raises(ValueError, match=field):
         problem(**{field: value})
 
 
@@ -63,6 +63,8 @@ class BadModel(Walker):
             return nxt[:, :0]
         if self.what == "step dtype":
             return np.full(nxt.shape, "x")
+        if self.what == "step nan":
+            return nxt * np.nan
         return nxt
 
     def reward(self, s, a, nxt):
@@ -82,6 +84,8 @@ class BadModel(Walker):
     ("step shape", r"model.step result: expected a 2-D array of shape \(4, 1\), got shape \(4, 0\)"),
     ("step dtype", r"model.step result: expected an array of real numbers, got dtype <U1"),
     ("reward nan", r"model.reward result: expected finite numbers, got nan"),
+    # A NaN state is named where it is made, even when the reward never reads it.
+    ("step nan", r"model.step result: expected finite numbers, got nan"),
     ("reward shape", r"model.reward result: expected a 1-D array of length 4"),
     ("terminal shape", r"model.terminal result: expected a 1-D array of length 4"),
 ])
@@ -158,3 +162,95 @@ def test_a_model_of_none_is_a_value_error_not_a_crash(call):
     # None casts to an empty model pointer in the binding; each of these once dereferenced it (a segfault).
     with pytest.raises(ValueError, match="model: expected a pegasus.IdentifiedModel or the path of a model.json"):
         call()
+
+
+def test_the_arrays_a_model_or_policy_gets_are_read_only():
+    class Doubling(Gain):
+        def act(self, thetas, observations):
+            observations *= 2.0  # would change the state the model steps from
+            return super().act(thetas, observations)
+    with pytest.raises(ValueError, match="read-only"):
+        problem(policy=Doubling()).uhat(np.array([1.0]))
+    class SteppingInPlace(Walker):
+        def step(self, s, a, p):
+            s += a  # would change the state the reward is computed from
+            return s
+    with pytest.raises(ValueError, match="read-only"):
+        problem(SteppingInPlace()).uhat(np.array([1.0]))
+
+
+def test_a_nan_action_is_named_as_the_policys():
+    class NanPolicy(Gain):
+        def act(self, thetas, observations):
+            return super().act(thetas, observations) * np.nan
+    with pytest.raises(ValueError, match=r"policy.act result: expected finite numbers, got nan"):
+        problem(policy=NanPolicy()).uhat(np.array([1.0]))
+
+
+@pytest.mark.parametrize("make", [
+    lambda: pegasus.GridworldProblem(4, seed=1, scenarios=1, horizon=5),
+    lambda: pegasus.PomdpGridworldProblem(seed=1, scenarios=1, horizon=5),
+])
+def test_table_entries_outside_their_actions_are_refused_not_read_past_the_table(make):
+    p = make()
+    n = len(p.parameters)
+    for bad in (4.0, -1.0, 1e6, -1e9, 1.5):  # 1e6 read past the table and crashed the interpreter
+        with pytest.raises(ValueError, match=r"theta: action\[0\]: expected an integer in \[0, 3\]"):
+            p.uhat(np.full(n, bad))
+    with pytest.raises(ValueError, match=r"thetas\[1\]: action\[0\]: expected an integer"):
+        p.uhat_batch(np.stack([np.zeros(n), np.full(n, 9.0)]))
+    assert p.uhat(np.full(n, 3.0)) == p.uhat(np.full(n, 3.0))
+
+
+def test_only_exhaustive_search_takes_integer_parameters():
+    p = pegasus.GridworldProblem(3, seed=1, scenarios=3, horizon=20)
+    for method in ("gradient", "hill-climb", "crs2", "esch", "cmaes"):
+        with pytest.raises(ValueError, match=f"optimizer method {method}: searches real numbers, but parameter "
+                                             r"'action\[0\]' is an integer"):
+            pegasus.solve(p, pegasus.OptimizerOptions(method))
+    theta, summary = pegasus.solve(p, pegasus.OptimizerOptions("exhaustive"))
+    assert summary.termination_type == "SEARCH_COMPLETE" and np.all(theta == np.round(theta))
+
+
+def test_parameters_are_read_only_and_checked():
+    spec = pegasus.ParameterSpec.from_names(["a", "b"])
+    with pytest.raises(AttributeError):
+        spec[0].initial = 99.0  # a copy would have taken it silently
+    with pytest.raises(KeyError, match="no parameter named 'zz'"):
+        spec.index_of("zz")
+    assert spec.index_of(name="b") == 1
+    with pytest.raises(ValueError, match="parameter a: expected a finite initial value, got inf"):
+        pegasus.ParameterSpec([pegasus.Parameter("a", initial=float("inf"))])
+    with pytest.raises(ValueError, match="parameter t: expected a whole initial value"):
+        pegasus.ParameterSpec([pegasus.Parameter("t", initial=0.5, lower=0, upper=3, integer=True)])
+
+
+def test_an_aircraft_with_endless_substeps_is_refused():
+    for params, make in ((pegasus.AircraftParams(), pegasus.Aircraft), (pegasus.QuadrotorParams(), pegasus.Quadrotor)):
+        params.substeps = 10**9  # one step ran for minutes
+        with pytest.raises(ValueError, match=r"substeps in \[1, 10000\]"):
+            make(params)
+
+
+def test_reward_weights_beyond_the_bound_are_refused():
+    options = pegasus.BicycleTrainingOptions()
+    options.bicycle.fall_reward = -1e308  # U-hat overflowed to -inf and training ended as if it had worked
+    with pytest.raises(ValueError, match=r"fall_reward: expected a number in \[-1000000000000, 1000000000000\]"):
+        pegasus.train_bicycle(options)
+
+
+def test_ctrl_c_stops_a_long_cpp_run_within_an_iteration():
+    import os
+    import signal
+    import threading
+    import time
+    options = pegasus.BicycleTrainingOptions()
+    options.optimizer.method = "hill-climb"
+    options.optimizer.hill_climbing.max_iterations = 100000  # minutes of C++ without a Python callback
+    options.threads = 1
+    timer = threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGINT))
+    start = time.monotonic()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        pegasus.train_bicycle(options)
+    assert time.monotonic() - start < 10

@@ -473,7 +473,7 @@ def test_bad_helicopter_inputs_raise_value_error_naming_the_argument(tmp_path, m
 
 def test_the_pilot_flies_the_quadrotor_as_the_cli_does_with_estimate_errors_of_their_size(cli, source_dir,
                                                                                           tmp_path):
-    flight = pegasus.fly_pilot("crazyflie2", seconds=30, seed=3, gust_sigma=0.5)  # the CLI's default gusts
+    flight = pegasus.fly_pilot("crazyflie2", seconds=30, seed=3)  # the aircraft's own gusts, as the CLI's
     assert flight["crash"] == "none"
     log, truth = flight["log"], flight["truth"]
     assert log.rows == 1500 and truth.shape == (1500, 12)

@@ -199,6 +199,19 @@ def test_every_compiled_name_has_a_stub_and_every_new_class_a_docstring(source_d
             signature, _, text = doc.partition("\n")
             assert len(text.strip()) > 20, name
             assert "::" not in signature, (name, signature)
+    # So does every method of a compiled class (fields aside).
+    undocumented = []
+    for name in sorted(public):
+        cls = getattr(pegasus._pegasus, name)
+        if not isinstance(cls, type):
+            continue
+        for member, value in vars(cls).items():
+            if member.startswith("_") or isinstance(value, property) or not callable(value):
+                continue
+            signature, _, text = (value.__doc__ or "").strip().partition("\n")
+            if len(text.strip()) < 15:
+                undocumented.append(f"{name}.{member}")
+    assert undocumented == []
     for name in ["CmaesOptions", "AugmentedRandomSearchOptions", "TrainingSummary", "SeedDomains", "IterationReport",
                  "Aircraft", "AircraftParams", "LearnedHeliModel", "LearnedModelOptions", "HoverProblem",
                  "HoverTrainingOptions", "HoverReward", "HoverPolicy", "HeliPolicy", "SetPoint"]:

@@ -65,6 +65,7 @@ struct BicycleTrainingHooks {
   std::int64_t checkpoint_every = 0;          // optimizer iterations between checkpoints (0: none)
   CheckpointCallback on_checkpoint;           // receives the training layer's checkpoint (training.hpp)
   std::optional<nlohmann::json> resume_from;  // such a checkpoint to continue (PEGASUS only)
+  IterationCallbacks callbacks;               // told after every iteration (progress, early stops)
 };
 
 struct BicycleTrainingResult {

@@ -39,11 +39,18 @@ class ParameterSpec {
   Theta scales() const;
   // Index of the named parameter, or size() when absent.
   std::size_t index_of(const std::string& name) const;
+  // The first integer parameter, or size() when there is none (only exhaustive search then keeps theta in
+  // whole numbers).
+  std::size_t first_integer() const;
 
   // Clamps theta into the bounds in place.
   void clamp(std::span<double> theta) const;
   // True when theta has the right size and lies within the bounds.
   bool contains(std::span<const double> theta) const;
+  // Empty when each integer parameter's value in theta (of this spec's size) is a whole number within its
+  // bounds, else what was expected of the first that is not ("action[3]: expected an integer in [0, 3], got
+  // 7"): a table entry beyond its bounds would index past the table.
+  std::string integer_violation(std::span<const double> theta) const;
 
  private:
   std::vector<Parameter> parameters_;

@@ -44,8 +44,11 @@ class TablePolicy {
   const ParameterSpec& parameters() const { return spec_; }
   int observations() const { return observations_; }
   int actions() const { return actions_; }
+  // theta's entry, kept within [0, actions - 1] (so a theta outside the bounds never indexes past a table;
+  // ParameterSpec::integer_violation names it for callers that check).
   int act(std::span<const double> theta, int observation) const {
-    return static_cast<int>(theta[static_cast<std::size_t>(observation)]);
+    const double a = theta[static_cast<std::size_t>(observation)];
+    return a >= 0 ? static_cast<int>(std::min(a, static_cast<double>(actions_ - 1))) : 0;
   }
   // The theta of policy number `index` in the mixed-radix enumeration (observation 0 least significant).
   std::vector<double> theta_of_index(std::uint64_t index) const {

@@ -1,0 +1,70 @@
+"""The type stubs (python/pegasus/_pegasus.pyi) against the compiled module: every function and method both
+define takes the same parameter names (keywords a user writes from the stub must work at runtime). That every
+compiled name has a stub is test_training.py's."""
+import ast
+import pathlib
+import re
+
+import pegasus._pegasus as compiled
+
+STUB = pathlib.Path(compiled.__file__).with_name("_pegasus.pyi")
+
+
+def stub_signatures():
+    tree = ast.parse(STUB.read_text())
+    signatures = {}
+
+    def parameters(function):
+        a = function.args
+        return [x.arg for x in a.posonlyargs + a.args + a.kwonlyargs if x.arg not in ("self", "cls")]
+
+    for node in tree.body:
+        if isinstance(node, ast.FunctionDef):
+            signatures[node.name] = parameters(node)
+        elif isinstance(node, ast.ClassDef):
+            for member in node.body:
+                if isinstance(member, ast.FunctionDef) and not any(
+                        isinstance(d, ast.Name) and d.id == "property" for d in member.decorator_list):
+                    signatures[f"{node.name}.{member.name}"] = parameters(member)
+    return signatures
+
+
+def runtime_overloads(function, name):
+    """The parameter names of each overload pybind11 writes at the top of the docstring."""
+    overloads = []
+    for line in (function.__doc__ or "").splitlines():
+        match = re.match(rf"^(?:\d+\. )?{re.escape(name)}\((.*)\) ->", line)
+        if not match:
+            continue
+        depth, current, parts = 0, "", []
+        for ch in match.group(1):
+            depth += ch in "([{"
+            depth -= ch in ")]}"
+            if ch == "," and depth == 0:
+                parts.append(current)
+                current = ""
+            else:
+                current += ch
+        parts.append(current)
+        names = [p.split(":")[0].split("=")[0].strip() for p in parts]
+        overloads.append([n for n in names if n and n not in ("self", "*", "/")])
+    return overloads
+
+
+def test_stubbed_functions_and_methods_take_the_runtime_parameter_names():
+    signatures = stub_signatures()
+    checked, wrong = 0, []
+    for key, stub_parameters in signatures.items():
+        owner, _, member = key.rpartition(".")
+        holder = getattr(compiled, owner, None) if owner else compiled  # None: a stub-only typing base
+        target = getattr(holder, member, None)
+        if target is None or not callable(target):
+            continue
+        overloads = runtime_overloads(target, member)
+        if not overloads:
+            continue  # pure Python, or a stub-only typing helper
+        checked += 1
+        if stub_parameters not in overloads:
+            wrong.append(f"{key}: stub {stub_parameters}, runtime {overloads}")
+    assert wrong == []
+    assert checked >= 100  # the comparison reached the module, not an empty docstring set
