@@ -322,18 +322,18 @@ void run_control(RunContext& ctx) {
     if (const auto it = file.options.find("control_rate_hz");
         it != file.options.end() && it->is_number() && it->get<double>() > 0)
       dt = 1 / it->get<double>();
-    if (ctx.config.get_string("vehicle").empty()) {
+    // A policy trained for another aircraft (than --vehicle, or the X-Cell without one) still runs: the user
+    // may mean it, but not silently.
+    const logs::Vehicle vehicle = aircraft_of(ctx.config).vehicle;
+    if (const std::string w = heli::other_vehicle_warning(heli::trained_vehicle(file), path, vehicle.name(),
+                                                          "serving it in the terms of");
+        !w.empty())
+      std::fprintf(stderr, "%s\n", w.c_str());
+    if (ctx.config.get_string("vehicle").empty())
       heli::run_control_loop(*controller, file.trim, stdin, stdout, stderr, dt);
-    } else {
-      const logs::Vehicle vehicle = aircraft_of(ctx.config).vehicle;
-      // A policy trained for another aircraft still runs (the user may mean it), but not silently.
-      if (const std::string w = heli::other_vehicle_warning(heli::trained_vehicle(file), path, vehicle.name(),
-                                                            "serving it in the terms of");
-          !w.empty())
-        std::fprintf(stderr, "%s\n", w.c_str());
+    else
       heli::run_control_loop(*controller, file.trim, stdin, stdout, stderr, dt,
                              logs::control_line_format(vehicle));
-    }
     return;
   }
   if (!ctx.config.get_string("vehicle").empty())

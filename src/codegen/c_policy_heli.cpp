@@ -112,10 +112,12 @@ const std::vector<std::string> kHeliObservationUnits = {"s since the flight (man
                                                         "rad/s, d(pitch)/dt",
                                                         "rad/s, d(yaw)/dt"};
 const std::vector<std::string> kHeliActionNames = {"a1", "a2", "a3", "a4"};
+// By the axis each drives (heli::kControlAxisNames), as for any aircraft; the X-Cell's names in brackets.
 const std::vector<std::string> kHeliActionUnits = {
-    "longitudinal cyclic in [-1, 1] (+: nose down, accelerate forward)",
-    "lateral cyclic in [-1, 1] (+: roll right)", "main collective in [-1, 1] (+: more thrust, climb)",
-    "tail collective in [-1, 1] (+: yaw right)"};
+    "pitch in [-1, 1] (+: nose down, accelerate forward; the X-Cell's longitudinal cyclic)",
+    "roll in [-1, 1] (+: roll right; the X-Cell's lateral cyclic)",
+    "thrust in [-1, 1] (+: more thrust, climb; the X-Cell's main collective)",
+    "yaw in [-1, 1] (+: yaw right; the X-Cell's tail collective)"};
 
 std::string heli_description(const std::string& what) {
   return what +

@@ -37,6 +37,10 @@ Series series(const UlogFile& ulog, const std::string& file, int instance, const
     std::string what = inst.empty() ? "is not in the log"
                                     : fmt::format("has no records for instance {} (instances logged: {})",
                                                   instance, fmt::join(inst, ", "));
+    // A file cut short (a copy stopped early) may end before a topic's first record: say where it ends.
+    if (ulog.truncated_at)
+      what +=
+          fmt::format(" before the file ends inside a message at byte {} (cut short?)", *ulog.truncated_at);
     throw InputError(fmt::format("{}: topic {} {}", file, topic, what));
   }
   Series s;

@@ -154,8 +154,9 @@ VehicleLogSpec vehicle_log_spec(const toml::table& root, const SpecReader& r,
              "expected either range and sign, or scale and offset, not both");
     if (by_range) {
       // The channel's range maps onto [-1, 1]; sign -1: the channel's + drives the axis's -.
-      const double sign = r.number(key + ".sign", 1, -1, 1);
-      if (sign != 1 && sign != -1) r.fail(r.at(key + ".sign"), key + ".sign", "expected 1 or -1");
+      const double sign = r.number(key + ".sign", 1, -INFINITY, INFINITY);
+      if (sign != 1 && sign != -1)
+        r.fail(r.at(key + ".sign"), key + ".sign", fmt::format("expected 1 or -1, got {}", sign));
       double lo = -1, hi = 1;
       if (r.at(key + ".range")) {
         const auto range = r.numbers(key + ".range", 2);
@@ -464,12 +465,15 @@ sysid::FlightLog read_vehicle_log(const std::filesystem::path& file, const Vehic
 
 heli::ControlLineFormat control_line_format(const Vehicle& vehicle) {
   heli::ControlLineFormat f;
-  f.time_field = vehicle.log.time;
-  f.state_fields = vehicle.state_fields();
   f.control_names.clear();
   for (const auto& c : vehicle.log.controls) f.control_names.push_back(c.label());
-  f.state_of = [vehicle](std::span<const double> v) { return vehicle.state_of(v); };
   f.controls_of = [vehicle](const heli::Controls& a) { return vehicle.native_of(a); };
+  // A vehicle logged in the pipeline's own layout (the X-Cell's file) is read as `heli control` reads it: a
+  // line without a header in the order of its own log (x..yaw_rate), not position, velocity, attitude, rates.
+  if (logs_in_pipeline_layout(vehicle)) return f;
+  f.time_field = vehicle.log.time;
+  f.state_fields = vehicle.state_fields();
+  f.state_of = [vehicle](std::span<const double> v) { return vehicle.state_of(v); };
   return f;
 }
 

@@ -248,6 +248,10 @@ namespace {
 MujocoTask mujoco_task_from_toml(const toml::table& root, const std::filesystem::path& path,
                                  const MujocoModel& model) {
   const mjModel* m = model.get();
+  // The model's fault, not the task file's: named first, whatever the task says.
+  if (m->nu < 1)
+    throw InputError(fmt::format("{}: the model has no actuators (nothing for a policy to drive)",
+                                 model.path().empty() ? std::string("model") : model.path().string()));
   TaskReader r(path, model);
   r.check_keys(root, "",
                {"horizon", "discount", "frame_skip", "crash_penalty", "termination_penalty", "success_bonus",
@@ -457,7 +461,6 @@ MujocoTask mujoco_task_from_toml(const toml::table& root, const std::filesystem:
 
   // No bound on the scenario numbers a start or a step draws: each rollout slot holds buffers of the model's
   // own sizes (MujocoSlot).
-  if (m->nu < 1) r.fail("model", "has no actuators (nothing for a policy to drive)");
   return task;
 }
 }  // namespace

@@ -232,13 +232,20 @@ void run_hover(const HoverRunOptions& options, RunSink& sink, ThreadPool& pool) 
                             {"scenarios", o.scenarios},
                             {"scenario_seconds", o.seconds},
                             {"gamma", o.gamma},
-                            {"gradient", phase(r.gradient)},
+                            {"gradient", nullptr},
                             {"hill_climb", phase(r.hill_climb)},
                             {"starting_policy",
                              {{"scenarios", r.start.scenarios},
                               {"crashed_scenarios", r.start.crashed},
                               {"mean_seconds_to_crash", r.start.mean_seconds_to_crash}}},
                             {"policy", "policy.json"}};
+  // The first phase under its method's key (gradient by default; hill_climb, cmaes, bobyqa, ... when the
+  // optimizer is another, which then runs alone): a hill-climbing run is not reported as a gradient phase.
+  {
+    std::string first = o.optimizer.method;
+    std::replace(first.begin(), first.end(), '-', '_');
+    summary[first] = phase(r.gradient);
+  }
   // Only for AR(1) models, so that the summaries of white-noise models stay as they were (digests).
   if (model->noise_correlation().any())
     summary["model_noise"] = model->noise_correlation().has_measurement() ? "ar1+measurement" : "ar1";

@@ -136,9 +136,10 @@ void check_log_rows(const FlightLog& log, const std::vector<std::size_t>& lines,
   for (std::size_t i = 1; i < log.rows(); ++i) {
     const double step = log.time[i] - log.time[i - 1];
     if (std::abs(step - dt) > options.rate_tolerance * dt)
-      throw InputError(
-          fmt::format("{}:{}:{}: expected a constant sample interval {} s (within {}%), found {} s", name,
-                      lines[i], time, dt, 100 * options.rate_tolerance, step));
+      throw InputError(fmt::format(
+          "{}:{}:{}: expected a constant sample interval (within {}% of the file's mean, {:.6g} s), "
+          "found {:.6g} s (a missing or repeated row?)",
+          name, lines[i], time, 100 * options.rate_tolerance, dt, step));
   }
 }
 

@@ -93,6 +93,17 @@ TEST_F(HoverCli, HoverWritesPolicyProgressAndSummary) {
   EXPECT_TRUE(p.at("trim").contains("a4"));
 }
 
+TEST_F(HoverCli, APhaseIsReportedUnderItsOwnMethod) {
+  const auto r =
+      run_pegasus("heli hover --model " + model() + tiny() + " --optimizer.method hill-climb" + out("climb"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto s = json_file(dir_ / "climb" / "summary.json");
+  EXPECT_TRUE(s.at("gradient").is_null()) << s.dump();
+  EXPECT_EQ(s.at("hill_climb").at("method"), "hill-climb");
+  EXPECT_EQ(s.at("hill_climb").at("iterations"), 2);
+  EXPECT_EQ(s.at("hill_climb").at("best_uhat"), s.at("final_uhat"));
+}
+
 TEST_F(HoverCli, AStartingPolicyThatCrashesTheModelStopsTrainingWithOneLine) {
   // Starts at about 30 m/s, far outside the minute of logs the model was identified from: the learned model
   // crashes (no training point within 4 bandwidths) before any optimizer could learn from a rollout.

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -384,6 +385,17 @@ TEST_F(LogImportCli, CutFileIsReadToItsLastWholeMessageOrRefusedOnRequest) {
                 ": the file ends inside a message: expected a 3-byte message header, found 2 bytes "
                 "before the end of the file\n");
   EXPECT_FALSE(fs::exists(dir_ / "strict"));
+
+  // Cut inside the definitions, before any topic's first record: the missing topic is blamed on the cut.
+  bytes.resize(5000);
+  std::ofstream(cut, std::ios::binary | std::ios::trunc)
+      .write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  const auto early = test_support::run_pegasus(args + " --out " + (dir_ / "early").string());
+  EXPECT_EQ(early.code, 2);
+  EXPECT_NE(early.output.find(" before the file ends inside a message at byte "), std::string::npos)
+      << early.output;
+  EXPECT_EQ(std::count(early.output.begin(), early.output.end(), '\n'), 1) << early.output;
+  EXPECT_FALSE(fs::exists(dir_ / "early"));
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 // flown; a bad vehicle file stops every command with one line and no run directory.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -113,9 +114,14 @@ TEST_F(VehicleCli, AnOutsideAircraftIdentifiesHoversAndIsServedInItsOwnTerms) {
                             path("answers-outside.csv")));
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_EQ(r.output, "");  // no malformed line
-  r = run_shell(fmt::format("{} heli control --policy {} < {} > {}", PEGASUS_CLI_PATH,
+  r = run_shell(fmt::format("({} heli control --policy {} < {} > {})", PEGASUS_CLI_PATH,
                             path("hover/policy.json"), path("test-own.csv"), path("answers-own.csv")));
   ASSERT_EQ(r.code, 0) << r.output;
+  // Without --vehicle the lines are the X-Cell's: serving another aircraft's policy so is said, once.
+  EXPECT_NE(r.output.find("was trained for vehicle 'outside-heli'; serving it in the terms of 'xcell60'"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
   const auto native = parse_csv(test_support::read_text(dir_ / "answers-outside.csv"));
   const auto canonical = parse_csv(test_support::read_text(dir_ / "answers-own.csv"));
   ASSERT_EQ(native.size(), canonical.size());

@@ -230,6 +230,23 @@ TEST(Vehicles, ControlLinesAreServedInTheAircraftsOwnTerms) {
   EXPECT_NE(why.find("quaternion"), std::string::npos) << why;
 }
 
+TEST(Vehicles, AVehicleInThePipelinesLayoutReadsLinesWithoutAHeaderAsHeliControlDoes) {
+  const Vehicle xcell = read_vehicle(kVehicles / "xcell60.toml");
+  // x, y, z, roll, pitch, yaw, xdot, ydot, zdot and the rates, time first: `heli control`'s 13-field line.
+  const std::string line = "0.5,1,2,-10,0.1,-0.2,0.3,4,5,6,0.01,0.02,0.03";
+  heli::LoggedState own{}, through_vehicle{};
+  bool has_time = false;
+  double time = 0;
+  std::string why;
+  ASSERT_TRUE(heli::parse_state_line(line, &own, &has_time, &time, &why)) << why;
+  ASSERT_TRUE(
+      heli::parse_state_line(line, control_line_format(xcell), {}, &through_vehicle, &has_time, &time, &why))
+      << why;
+  EXPECT_EQ(through_vehicle, own);
+  EXPECT_EQ(own[heli::logged::roll], 0.1);
+  EXPECT_EQ(own[heli::logged::xdot], 4);
+}
+
 using test_support::replaced;
 
 TEST(Vehicles, EveryMalformedFileIsRefusedNamingItsLineAndKey) {
@@ -250,7 +267,9 @@ TEST(Vehicles, EveryMalformedFileIsRefusedNamingItsLineAndKey) {
       {replaced(good, "range = [0, 1]", "range = [0, 1]\nscale = 2"),
        "log.controls[0]: expected either range and sign, or scale and offset"},
       {replaced(good, "sign = -1\n\n[[log.controls]]", "sign = 0.5\n\n[[log.controls]]"),
-       "v.toml:38: log.controls[2].sign: expected 1 or -1"},
+       "v.toml:38: log.controls[2].sign: expected 1 or -1, got 0.5"},
+      {replaced(good, "sign = -1\n\n[[log.controls]]", "sign = 2\n\n[[log.controls]]"),
+       "v.toml:38: log.controls[2].sign: expected 1 or -1, got 2"},
       {replaced(good, "field = \"ail\"", "field = \"thr\""), "channels 0 and 1 have the same name 'thr'"},
       {replaced(good, "frame = \"body\"", "frame = \"body\"\nframes = \"world\""),
        "v.toml:16: log.velocity.frames: unknown key"},

@@ -45,6 +45,16 @@ TEST_F(MujocoTaskFile, AMissingOrMalformedMjcfNamesTheFile) {
   EXPECT_EQ(message.find('\n'), std::string::npos);
 }
 
+TEST_F(MujocoTaskFile, AModelWithoutActuatorsIsNamedNotTheTaskFile) {
+  const auto still = test_support::write_file(
+      dir_ / "still.xml",
+      R"(<mujoco><worldbody><body><joint name="slider" type="slide"/><geom size="0.1"/></body></worldbody></mujoco>)");
+  const MujocoModel model = MujocoModel::load(still);
+  const auto task = test_support::write_file(dir_ / "task.toml", minimal(""));
+  EXPECT_EQ(input_error_message([&] { load_mujoco_task(task, model); }),
+            still.string() + ": the model has no actuators (nothing for a policy to drive)");
+}
+
 // --resume compares what shapes the results: for an MJCF model that is the compiled model, so a change in a
 // file it includes shows (the main file's bytes alone would not), and the same files give the same digest.
 TEST_F(MujocoTaskFile, TheModelsDigestFollowsTheFilesItIncludes) {
