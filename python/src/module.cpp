@@ -1,7 +1,9 @@
 // The compiled half of `import pegasus` (python/pegasus/__init__.py re-exports it).
 #include <nlohmann/json.hpp>
+#include <system_error>
 
 #include "common.hpp"
+#include "pegasus/core/environment_error.hpp"
 #include "pegasus/core/error.hpp"
 
 PYBIND11_MODULE(_pegasus, m) {
@@ -17,6 +19,11 @@ PYBIND11_MODULE(_pegasus, m) {
     } catch (const nlohmann::json::exception& e) {
       // A JSON value of the wrong type deep in a checkpoint or file the caller gave: bad input too.
       PyErr_SetString(PyExc_ValueError, e.what());
+    } catch (const pegasus::EnvironmentError& e) {
+      // The machine refused (a full disk, a missing permission): what Python calls an OSError.
+      PyErr_SetString(PyExc_OSError, e.what());
+    } catch (const std::system_error& e) {  // std::filesystem::filesystem_error among them
+      PyErr_SetString(PyExc_OSError, e.what());
     }
   });
   pegasus::python::bind_scenarios(m);

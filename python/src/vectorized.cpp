@@ -203,8 +203,13 @@ class VectorizedProblem final : public Objective {
         const Array done = as_vector(terminal_(read_only(states)), "model.terminal result",
                                      static_cast<py::ssize_t>(rows.size()));
         std::vector<std::size_t> keep;
-        for (std::size_t j = 0; j < rows.size(); ++j)
-          if (done.data()[j] == 0.0) keep.push_back(j);
+        for (std::size_t j = 0; j < rows.size(); ++j) {
+          const double d = done.data()[j];
+          if (d != 0.0 && d != 1.0)  // 0.5 or NaN would silently count as absorbed
+            throw py::value_error(
+                fmt::format("model.terminal result: expected booleans (or 0 and 1), got {} at row {}", d, j));
+          if (d == 0.0) keep.push_back(j);
+        }
         if (keep.size() != rows.size()) {
           Array live = matrix(static_cast<py::ssize_t>(keep.size()), ds);
           for (std::size_t j = 0; j < keep.size(); ++j) {

@@ -306,6 +306,10 @@ MujocoTask mujoco_task_from_toml(const toml::table& root, const std::filesystem:
     const auto list = r.names(obs[key], field);
     for (std::size_t i = 0; i < list.size(); ++i) {
       const std::string item_field = fmt::format("{}[{}]", field, i);
+      // The same numbers twice would only give the policy a redundant input (a typo for another name?).
+      for (std::size_t j = 0; j < i; ++j)
+        if (list[j] == list[i])
+          r.fail(item_field, fmt::format("'{}' is already observed as {}[{}]", printable(list[i]), field, j));
       ObservationItem item{.kind = kind, .name = list[i]};
       switch (kind) {
         case ObservationKind::kQpos:

@@ -191,7 +191,7 @@ Theta initial_theta(const MujocoTrainingRunOptions& o, const Problem& problem) {
 void run_mujoco_training(const MujocoTrainingRunOptions& o, RunSink& sink, ThreadPool& pool) {
   const Problem problem =
       load_problem(o.model_file, o.task_file, o.policy_class, o.hidden,
-                   {.observation = o.phase_observation, .above = o.phase_above}, "phase_observation");
+                   {.observation = o.phase_observation, .above = o.phase_above}, "--phase-observation");
   const MujocoEnvironment& env = *problem.env;
   OptimizerOptions options = o.optimizer;
   // Every random method draws from the run's seed itself (the figures of experiments/mujoco/README.md were

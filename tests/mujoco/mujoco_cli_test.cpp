@@ -227,7 +227,7 @@ TEST_F(MujocoCli, APhasedPolicyTrainsSavesItsSwitchAndReplays) {
   };
   const std::vector<Case> cases = {
       {" --phase-observation sensors.foot",
-       "phase_observation: the task's observation has no number \"sensors.foot\" (expected one of "
+       "--phase-observation: the task's observation has no number \"sensors.foot\" (expected one of "
        "qpos.rootz"},
       {" --initial-policy " + saved,
        "holds a policy phased by sensors.foot_touch above 1; this run trains one unphased"},

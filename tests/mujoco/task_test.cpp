@@ -133,6 +133,8 @@ TEST_F(MujocoTaskFile, WrongFieldsTermsRangesAndSyntaxAreNamed) {
               HasSubstr("task.toml:1: crash_penalty: expected a finite number, got -inf"));
   EXPECT_THAT(task_error("[[reward]]\nterm = \"healthy\"\n"), HasSubstr("observation: missing"));
   EXPECT_THAT(task_error("[observation]\nqpos = [\"slider\"]\n"), HasSubstr("reward: missing"));
+  EXPECT_THAT(task_error("[observation]\nqpos = [\"slider\", \"slider\"]\n[[reward]]\nterm = \"healthy\"\n"),
+              HasSubstr("observation.qpos[1]: 'slider' is already observed as observation.qpos[0]"));
   EXPECT_THAT(task_error("horizon = \n"), HasSubstr("task.toml:1:"));
   EXPECT_THAT(task_error(minimal("[[reward]]\nterm = \"joint_target\"\njoint = \"hinge\"\n")),
               HasSubstr("reward[1].target: missing"));

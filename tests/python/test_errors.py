@@ -77,6 +77,8 @@ class BadModel(Walker):
 
     def terminal(self, s):
         done = super().terminal(s)
+        if self.what == "terminal half":
+            return np.full(len(done), 0.5)
         return done[:1] if self.what == "terminal shape" else done
 
 
@@ -88,6 +90,7 @@ class BadModel(Walker):
     ("step nan", r"model.step result: expected finite numbers, got nan"),
     ("reward shape", r"model.reward result: expected a 1-D array of length 4"),
     ("terminal shape", r"model.terminal result: expected a 1-D array of length 4"),
+    ("terminal half", r"model.terminal result: expected booleans \(or 0 and 1\), got 0.5 at row 0"),
 ])
 def test_a_model_returning_the_wrong_thing(what, message):
     with pytest.raises(ValueError, match=message):
@@ -254,3 +257,11 @@ def test_ctrl_c_stops_a_long_cpp_run_within_an_iteration():
     with pytest.raises(KeyboardInterrupt):
         pegasus.train_bicycle(options)
     assert time.monotonic() - start < 10
+
+
+def test_a_file_the_machine_refuses_is_an_os_error(tmp_path):
+    policy = pegasus.HeliPolicy.hover(pegasus.HoverPolicy().parameters.initial)
+    blocker = tmp_path / "file"
+    blocker.write_text("")
+    with pytest.raises(OSError, match="cannot"):
+        policy.save(str(blocker / "policy.json"))  # a directory that is a file
