@@ -379,6 +379,7 @@ class Parser {
         if (msg_id < record_count_.size()) {
           const std::size_t rows = record_count_[msg_id];
           t.timestamps.reserve(rows);
+          t.offsets.reserve(rows);
           t.data.reserve(std::min(rows * fm.size, 2 * record_bytes_[msg_id]));
         }
       }
@@ -410,6 +411,7 @@ class Parser {
     ++f_.data_messages;
     if (!st.keep) return;
     t.timestamps.push_back(timestamp);
+    t.offsets.push_back(pos);
     t.data.insert(t.data.end(), record, record + len);
     if (len < t.record_size) t.data.resize(t.data.size() + (t.record_size - len), 0);
   }

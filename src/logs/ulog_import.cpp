@@ -26,6 +26,7 @@ namespace {
 struct Series {
   std::string topic;
   std::vector<double> time;                 // s, non-decreasing
+  std::vector<std::size_t> bytes;           // per record, its message's byte offset in the file
   std::vector<std::vector<double>> fields;  // per field, per record
 };
 
@@ -45,14 +46,15 @@ Series series(const UlogFile& ulog, const std::string& file, int instance, const
   }
   Series s;
   s.topic = topic;
+  s.bytes = t->offsets;
   s.time.resize(t->rows());
   for (std::size_t r = 0; r < t->rows(); ++r) {
     s.time[r] = static_cast<double>(t->timestamps[r]) * 1e-6;
     if (r > 0 && t->timestamps[r] < t->timestamps[r - 1])
-      throw InputError(
-          fmt::format("{}: topic {}: record {} has timestamp {} us, before the previous record's {} us; "
-                      "expected timestamps that never go back",
-                      file, topic, r, t->timestamps[r], t->timestamps[r - 1]));
+      throw InputError(fmt::format(
+          "{}: byte {}: topic {}: record {} has timestamp {} us, before the previous record's {} "
+          "us (byte {}); expected timestamps that never go back",
+          file, t->offsets[r], topic, r, t->timestamps[r], t->timestamps[r - 1], t->offsets[r - 1]));
   }
   for (const auto& f : fields) s.fields.push_back(t->column(f, file));
   return s;
@@ -147,7 +149,7 @@ sysid::FlightLog import_ulog(const UlogFile& ulog, const VehicleLogSpec& spec, c
   nlohmann::json topics_json = nlohmann::json::array();
   for (const Series* s : all) {
     double gap = 0, gap_at = t0;
-    std::size_t used = 0;
+    std::size_t used = 0, gap_record = 0;
     for (std::size_t i = 0; i + 1 < s->time.size(); ++i) {
       if (s->time[i + 1] < t0 || s->time[i] > t1) continue;
       ++used;
@@ -155,14 +157,15 @@ sysid::FlightLog import_ulog(const UlogFile& ulog, const VehicleLogSpec& spec, c
       if (g > gap) {
         gap = g;
         gap_at = s->time[i];
+        gap_record = i;
       }
     }
     if (gap > spec.max_gap_s)
-      throw InputError(
-          fmt::format("{}: topic {}: no record for {:.3f} s after t = {:.3f} s; expected gaps of at "
-                      "most log.max_gap_s = {} s (cut the range with --start-s/--end-s or raise it "
-                      "in {})",
-                      file, s->topic, gap, gap_at, spec.max_gap_s, spec.file));
+      throw InputError(fmt::format(
+          "{}: byte {}: topic {}: no record for {:.3f} s after this one's t = {:.3f} s; expected "
+          "gaps of at most log.max_gap_s = {} s (cut the range with --start-s/--end-s or raise it "
+          "in {})",
+          file, s->bytes[gap_record], s->topic, gap, gap_at, spec.max_gap_s, spec.file));
     bool listed = false;
     for (const auto& j : topics_json) listed = listed || j["topic"] == s->topic;
     if (!listed)
@@ -207,10 +210,11 @@ sysid::FlightLog import_ulog(const UlogFile& ulog, const VehicleLogSpec& spec, c
       const double a = spec.controls[c].scale * raw + spec.controls[c].offset;
       const int column = spec.controls[c].column(c);
       if (!(std::abs(a) <= 1 + 1e-6))
-        throw InputError(fmt::format(
-            "{}: {}.{} = {} at t = {:.3f} s gives a{} = {}; expected [-1, 1] after the "
-            "scale and offset of {}",
-            file, spec.controls[c].topic, spec.controls[c].field, raw, t, column + 1, a, spec.file));
+        throw InputError(
+            fmt::format("{}: byte {}: {}.{} = {} at t = {:.3f} s gives a{} = {}; expected [-1, 1] after the "
+                        "scale and offset of {}",
+                        file, controls[c].bytes[ic[c]], spec.controls[c].topic, spec.controls[c].field, raw,
+                        t, column + 1, a, spec.file));
       log.controls[k][static_cast<std::size_t>(column)] = std::clamp(a, -1.0, 1.0);
     }
   }

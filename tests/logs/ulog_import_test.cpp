@@ -11,6 +11,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <numbers>
+#include <regex>
 
 #include "pegasus/core/error.hpp"
 #include "pegasus/logs/ulog.hpp"
@@ -173,15 +174,41 @@ TEST(UlogImport, ErrorsNameTheFileTopicAndWhatWasExpected) {
       std::string::npos);
   s = test_spec();
   s.controls[2].scale = 3;  // 3 * 0.75 - 1 = 1.25
-  EXPECT_NE(input_error_message([&] {
-              import_ulog(u, s, "s.ulg");
-            }).find("s.ulg: ctl.c[3] = 0.75 at t = 1.000 s gives a3 = 1.25; expected [-1, 1]"),
-            std::string::npos);
+  // Each value's error names the byte of the record it came from: one of that topic's data messages.
+  const auto record_byte = [](const std::string& message, const std::string& before) {
+    std::smatch m;
+    EXPECT_TRUE(std::regex_search(message, m, std::regex("^" + before + ": byte ([0-9]+): "))) << message;
+    return m.size() > 1 ? std::stoull(m[1].str()) : 0ull;
+  };
+  const auto is_record_of = [](const UlogFile& f, const std::string& topic, std::size_t byte) {
+    const auto& offsets = f.topic(topic, 0)->offsets;
+    return std::find(offsets.begin(), offsets.end(), byte) != offsets.end();
+  };
+  const std::string control = input_error_message([&] { import_ulog(u, s, "s.ulg"); });
+  EXPECT_NE(control.find("ctl.c[3] = 0.75 at t = 1.000 s gives a3 = 1.25; expected [-1, 1]"),
+            std::string::npos)
+      << control;
+  EXPECT_TRUE(is_record_of(u, "ctl", record_byte(control, "s\\.ulg"))) << control;
   const UlogFile gap = parse_ulog(synthetic_log(/*skip_pos=*/true), "g.ulg");
-  EXPECT_NE(input_error_message([&] { import_ulog(gap, test_spec(), "g.ulg"); })
-                .find("g.ulg: topic pos: no record for 0.600 s after t = 2.000 s; expected gaps of at most "
-                      "log.max_gap_s = 0.5 s"),
-            std::string::npos);
+  const std::string gap_message = input_error_message([&] { import_ulog(gap, test_spec(), "g.ulg"); });
+  EXPECT_NE(
+      gap_message.find("topic pos: no record for 0.600 s after this one's t = 2.000 s; expected gaps of "
+                       "at most log.max_gap_s = 0.5 s"),
+      std::string::npos)
+      << gap_message;
+  EXPECT_TRUE(is_record_of(gap, "pos", record_byte(gap_message, "g\\.ulg"))) << gap_message;
+  // A record whose timestamp goes back (a flipped bit): both records are named by their bytes.
+  std::vector<std::uint8_t> back = synthetic_log();
+  const std::size_t third = parse_ulog(back, "b.ulg").topic("pos", 0)->offsets[3];
+  std::fill_n(back.begin() + static_cast<std::ptrdiff_t>(third + 3 + 2), 8,
+              std::uint8_t{0});  // its timestamp
+  const UlogFile went_back = parse_ulog(back, "b.ulg");
+  const auto& pos_offsets = went_back.topic("pos", 0)->offsets;
+  EXPECT_EQ(
+      input_error_message([&] { import_ulog(went_back, test_spec(), "b.ulg"); }),
+      fmt::format("b.ulg: byte {}: topic pos: record 3 has timestamp 0 us, before the previous record's "
+                  "{} us (byte {}); expected timestamps that never go back",
+                  third, went_back.topic("pos", 0)->timestamps[2], pos_offsets[2]));
   const UlogFile other = parse_ulog(synthetic_log(false, /*pos_instance=*/1), "i.ulg");
   EXPECT_EQ(input_error_message([&] { import_ulog(other, test_spec(), "i.ulg"); }),
             "i.ulg: topic pos has no records for instance 0 (instances logged: 1)");
