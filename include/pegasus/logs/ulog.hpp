@@ -87,7 +87,7 @@ class UlogTopic {
   std::size_t record_size = 0;
   std::vector<UlogLeaf> leaves;
   std::vector<std::uint64_t> timestamps;  // us, of each record
-  std::vector<std::size_t> offsets;       // byte offset of each record's 'D' message, for messages
+  std::vector<std::size_t> offsets;       // byte offset of each record's 'D' message (for errors)
   std::vector<std::uint8_t> data;         // records back to back, record_size bytes each
 
   std::size_t rows() const { return timestamps.size(); }
