@@ -169,15 +169,24 @@ BicycleProblem, FunctionObjective, ...)doc")
   auto gradient = py::class_<GradientAscentOptions>(
       m, "GradientAscentOptions", "Bounded-step gradient ascent (thesis §4.6 footnote 14).");
   gradient.def(py::init<>())
-      .def_readwrite("max_iterations", &GradientAscentOptions::max_iterations)
-      .def_readwrite("max_evaluations", &GradientAscentOptions::max_evaluations)
-      .def_readwrite("relative_step", &GradientAscentOptions::relative_step)
-      .def_readwrite("initial_step", &GradientAscentOptions::initial_step)
-      .def_readwrite("max_step", &GradientAscentOptions::max_step)
-      .def_readwrite("min_step", &GradientAscentOptions::min_step)
-      .def_readwrite("step_growth", &GradientAscentOptions::step_growth)
-      .def_readwrite("max_backtracks", &GradientAscentOptions::max_backtracks)
-      .def_readwrite("function_tolerance", &GradientAscentOptions::function_tolerance);
+      .def_readwrite("max_iterations", &GradientAscentOptions::max_iterations,
+                     "Iterations at most (a gradient and its line search each); 0 evaluates the start only.")
+      .def_readwrite("max_evaluations", &GradientAscentOptions::max_evaluations,
+                     "Stop before an iteration that would pass this many evaluations in total (>= 1).")
+      .def_readwrite("relative_step", &GradientAscentOptions::relative_step,
+                     "Central-difference half-width as a fraction of each parameter's scale (> 0).")
+      .def_readwrite("initial_step", &GradientAscentOptions::initial_step,
+                     "Length of the first trial step, scaled units (0 < initial_step <= max_step).")
+      .def_readwrite("max_step", &GradientAscentOptions::max_step,
+                     "Upper bound on any step's length, scaled units (§4.6; > 0).")
+      .def_readwrite("min_step", &GradientAscentOptions::min_step,
+                     "Stop when backtracking shrinks the step below this, scaled units.")
+      .def_readwrite("step_growth", &GradientAscentOptions::step_growth,
+                     "Factor on the step length after an accepted step, capped at max_step (>= 1).")
+      .def_readwrite("max_backtracks", &GradientAscentOptions::max_backtracks,
+                     "Halvings tried in one iteration before giving up on an uphill step (>= 0).")
+      .def_readwrite("function_tolerance", &GradientAscentOptions::function_tolerance,
+                     "Stop when an accepted step improves U-hat by at most this times |U-hat| (>= 0).");
   bind_checkpointing(gradient);
   set_fields(gradient, {"max_iterations", "max_evaluations", "relative_step", "initial_step", "max_step",
                         "min_step", "step_growth", "max_backtracks", "function_tolerance", "checkpoint_every",
@@ -185,16 +194,26 @@ BicycleProblem, FunctionObjective, ...)doc")
 
   auto hill = py::class_<HillClimbingOptions>(m, "HillClimbingOptions", "Random-walk hill climbing.");
   hill.def(py::init<>())
-      .def_readwrite("seed", &HillClimbingOptions::seed)
-      .def_readwrite("stream", &HillClimbingOptions::stream)
-      .def_readwrite("max_iterations", &HillClimbingOptions::max_iterations)
-      .def_readwrite("max_evaluations", &HillClimbingOptions::max_evaluations)
-      .def_readwrite("proposals_per_iteration", &HillClimbingOptions::proposals_per_iteration)
-      .def_readwrite("initial_step", &HillClimbingOptions::initial_step)
-      .def_readwrite("max_step", &HillClimbingOptions::max_step)
-      .def_readwrite("min_step", &HillClimbingOptions::min_step)
-      .def_readwrite("step_growth", &HillClimbingOptions::step_growth)
-      .def_readwrite("step_shrink", &HillClimbingOptions::step_shrink);
+      .def_readwrite("seed", &HillClimbingOptions::seed, "Seed of the stream that draws every perturbation.")
+      .def_readwrite("stream", &HillClimbingOptions::stream,
+                     "Stream of that seed (change it, or the seed, for an independent run).")
+      .def_readwrite("max_iterations", &HillClimbingOptions::max_iterations,
+                     "Iterations at most (one batch of proposals each); 0 evaluates the start only.")
+      .def_readwrite("max_evaluations", &HillClimbingOptions::max_evaluations,
+                     "Stop before an iteration that would pass this many evaluations in total (>= 1).")
+      .def_readwrite(
+          "proposals_per_iteration", &HillClimbingOptions::proposals_per_iteration,
+          "Candidates drawn and evaluated in one batch per iteration; the best is kept if it improves.")
+      .def_readwrite("initial_step", &HillClimbingOptions::initial_step,
+                     "Standard deviation of the first perturbations, scaled units.")
+      .def_readwrite("max_step", &HillClimbingOptions::max_step,
+                     "Upper bound on the step, scaled units (> 0).")
+      .def_readwrite("min_step", &HillClimbingOptions::min_step,
+                     "Stop when the step has shrunk below this, scaled units.")
+      .def_readwrite("step_growth", &HillClimbingOptions::step_growth,
+                     "Step factor after an accepted proposal (>= 1).")
+      .def_readwrite("step_shrink", &HillClimbingOptions::step_shrink,
+                     "Step factor after an iteration without improvement, in (0, 1].");
   bind_checkpointing(hill);
   set_fields(hill, {"seed", "stream", "max_iterations", "max_evaluations", "proposals_per_iteration",
                     "initial_step", "max_step", "min_step", "step_growth", "step_shrink", "checkpoint_every",
@@ -203,9 +222,12 @@ BicycleProblem, FunctionObjective, ...)doc")
   auto exhaustive = py::class_<ExhaustiveSearchOptions>(m, "ExhaustiveSearchOptions",
                                                         "Enumerates every policy of integer parameters.");
   exhaustive.def(py::init<>())
-      .def_readwrite("max_policies", &ExhaustiveSearchOptions::max_policies)
-      .def_readwrite("block_size", &ExhaustiveSearchOptions::block_size)
-      .def_readwrite("keep_all_values", &ExhaustiveSearchOptions::keep_all_values);
+      .def_readwrite("max_policies", &ExhaustiveSearchOptions::max_policies,
+                     "Refuse a policy class with more members than this (>= 1).")
+      .def_readwrite("block_size", &ExhaustiveSearchOptions::block_size,
+                     "Policies handed to one evaluate_batch call (more parallel work per call).")
+      .def_readwrite("keep_all_values", &ExhaustiveSearchOptions::keep_all_values,
+                     "Keep every policy's U-hat in OptimizerSummary.all_values (8 bytes per policy).");
   bind_checkpointing(exhaustive);
   set_fields(exhaustive, {"max_policies", "block_size", "keep_all_values", "checkpoint_every",
                           "on_checkpoint", "resume_from"});
@@ -219,13 +241,19 @@ BicycleProblem, FunctionObjective, ...)doc")
             if (!a)
               throw py::value_error("algorithm: expected bobyqa, sbplx, crs2 or esch, got '" + name + "'");
             o.algorithm = *a;
-          })
-      .def_readwrite("max_evaluations", &NloptOptions::max_evaluations)
-      .def_readwrite("initial_step", &NloptOptions::initial_step)
-      .def_readwrite("x_tolerance", &NloptOptions::x_tolerance)
-      .def_readwrite("function_tolerance", &NloptOptions::function_tolerance)
-      .def_readwrite("population", &NloptOptions::population)
-      .def_readwrite("seed", &NloptOptions::seed);
+          },
+          "bobyqa, sbplx, crs2 or esch; solve() sets it from OptimizerOptions.method.")
+      .def_readwrite("max_evaluations", &NloptOptions::max_evaluations,
+                     "Evaluations allowed, a hard limit (1 .. 2^31 - 1).")
+      .def_readwrite("initial_step", &NloptOptions::initial_step,
+                     "Local methods: the first step or trust radius, scaled units (> 0).")
+      .def_readwrite("x_tolerance", &NloptOptions::x_tolerance,
+                     "Stop when a step changes every parameter by less than this times its scale (0: off).")
+      .def_readwrite("function_tolerance", &NloptOptions::function_tolerance,
+                     "Stop when a step changes U-hat by less than this times |U-hat| (0: off).")
+      .def_readwrite("population", &NloptOptions::population,
+                     "CRS2 and ESCH population size; 0: NLopt's default.")
+      .def_readwrite("seed", &NloptOptions::seed, "Seed of NLopt's random generator, set before every run.");
   bind_checkpointing(nlopt);
   set_fields(nlopt, {"algorithm", "max_evaluations", "initial_step", "x_tolerance", "function_tolerance",
                      "population", "seed", "checkpoint_every", "on_checkpoint", "resume_from"});
@@ -234,21 +262,27 @@ BicycleProblem, FunctionObjective, ...)doc")
 CMA-ES (Hansen's tutorial, arXiv:1604.00772): population_size candidates per generation in one batch; bounds by
 pycma's BoundTransform; deterministic from (seed, stream). Fields as optimizers/cmaes.hpp.)doc");
   cmaes.def(py::init<>())
-      .def_readwrite("seed", &CmaesOptions::seed)
-      .def_readwrite("stream", &CmaesOptions::stream)
+      .def_readwrite("seed", &CmaesOptions::seed, "Seed of the stream that draws every sample.")
+      .def_readwrite("stream", &CmaesOptions::stream,
+                     "Stream of that seed (change it, or the seed, for an independent run).")
       .def_readwrite("max_iterations", &CmaesOptions::max_iterations,
                      "Generations at most (0: the start only).")
-      .def_readwrite("max_evaluations", &CmaesOptions::max_evaluations)
+      .def_readwrite("max_evaluations", &CmaesOptions::max_evaluations,
+                     "Stop before a generation that would pass this many evaluations in total (>= 1).")
       .def_readwrite("population_size", &CmaesOptions::population_size,
                      "Candidates per generation; 0: 4 + floor(3 ln n).")
       .def_readwrite("initial_step", &CmaesOptions::initial_step, "sigma at the start, scaled units.")
-      .def_readwrite("x_tolerance", &CmaesOptions::x_tolerance)
-      .def_readwrite("function_tolerance", &CmaesOptions::function_tolerance)
-      .def_readwrite("max_condition", &CmaesOptions::max_condition)
+      .def_readwrite("x_tolerance", &CmaesOptions::x_tolerance,
+                     "Stop when sigma times the largest spread of the search distribution falls below this, "
+                     "scaled units.")
+      .def_readwrite("function_tolerance", &CmaesOptions::function_tolerance,
+                     "Stop when U-hat varies by less than this over the recent generations (0: never).")
+      .def_readwrite("max_condition", &CmaesOptions::max_condition,
+                     "Stop (FAILURE) when the covariance's condition number exceeds this (> 1).")
       .def_readwrite("stall_generations", &CmaesOptions::stall_generations,
                      "A run stops when its best U-hat rose by at most stall_tolerance over this many "
                      "generations (0: never).")
-      .def_readwrite("stall_tolerance", &CmaesOptions::stall_tolerance)
+      .def_readwrite("stall_tolerance", &CmaesOptions::stall_tolerance, "See stall_generations.")
       .def_readwrite("restarts", &CmaesOptions::restarts,
                      "Runs after the first (IPOP): each from the first mean with twice the population.");
   bind_checkpointing(cmaes);
@@ -260,10 +294,14 @@ pycma's BoundTransform; deterministic from (seed, stream). Fields as optimizers/
 Augmented Random Search (Mania, Guy and Recht 2018): N antithetic directions per iteration (2N evaluations in one
 batch), the b best used in the step. Fields as optimizers/augmented_random_search.hpp.)doc");
   ars.def(py::init<>())
-      .def_readwrite("seed", &AugmentedRandomSearchOptions::seed)
-      .def_readwrite("stream", &AugmentedRandomSearchOptions::stream)
-      .def_readwrite("max_iterations", &AugmentedRandomSearchOptions::max_iterations)
-      .def_readwrite("max_evaluations", &AugmentedRandomSearchOptions::max_evaluations)
+      .def_readwrite("seed", &AugmentedRandomSearchOptions::seed,
+                     "Seed of the stream that draws every direction.")
+      .def_readwrite("stream", &AugmentedRandomSearchOptions::stream,
+                     "Stream of that seed (change it, or the seed, for an independent run).")
+      .def_readwrite("max_iterations", &AugmentedRandomSearchOptions::max_iterations,
+                     "Iterations at most (>= 0).")
+      .def_readwrite("max_evaluations", &AugmentedRandomSearchOptions::max_evaluations,
+                     "Stop before an iteration that would pass this many evaluations in total (>= 1).")
       .def_readwrite("directions", &AugmentedRandomSearchOptions::directions, "N: directions per iteration.")
       .def_readwrite("top_directions", &AugmentedRandomSearchOptions::top_directions,
                      "b: the best directions used in the step.")
@@ -291,13 +329,16 @@ Which optimizer runs (method: "exhaustive", "gradient", "hill-climb", "bobyqa", 
                  return o;
                }),
                py::arg("method"))
-          .def_readwrite("method", &OptimizerOptions::method)
-          .def_readwrite("exhaustive", &OptimizerOptions::exhaustive)
-          .def_readwrite("gradient", &OptimizerOptions::gradient)
-          .def_readwrite("hill_climbing", &OptimizerOptions::hill_climbing)
-          .def_readwrite("nlopt", &OptimizerOptions::nlopt)
-          .def_readwrite("cmaes", &OptimizerOptions::cmaes)
-          .def_readwrite("ars", &OptimizerOptions::ars)
+          .def_readwrite("method", &OptimizerOptions::method,
+                         "The optimizer that runs: one of optimizer_methods().")
+          .def_readwrite("exhaustive", &OptimizerOptions::exhaustive, "Options of \"exhaustive\".")
+          .def_readwrite("gradient", &OptimizerOptions::gradient, "Options of \"gradient\".")
+          .def_readwrite("hill_climbing", &OptimizerOptions::hill_climbing, "Options of \"hill-climb\".")
+          .def_readwrite(
+              "nlopt", &OptimizerOptions::nlopt,
+              "Options of \"bobyqa\", \"sbplx\", \"crs2\" and \"esch\" (algorithm follows method).")
+          .def_readwrite("cmaes", &OptimizerOptions::cmaes, "Options of \"cmaes\".")
+          .def_readwrite("ars", &OptimizerOptions::ars, "Options of \"ars\".")
           .def("iteration_limit", &OptimizerOptions::IterationLimit,
                "The selected method's iteration limit (what a progress bar counts to).")
           .def(
