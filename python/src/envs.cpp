@@ -310,19 +310,27 @@ gridworld of thesis §4.6 (width x height, open grid, start (0, 0), goal at the 
 
   py::class_<BicycleTrainingOptions>(m, "BicycleTrainingOptions", "The bicycle experiment's training (§4.6).")
       .def(py::init<>())
-      .def_readwrite("scenarios", &BicycleTrainingOptions::scenarios)
-      .def_readwrite("gamma", &BicycleTrainingOptions::gamma)
-      .def_readwrite("horizon", &BicycleTrainingOptions::horizon)
-      .def_readwrite("shaping", &BicycleTrainingOptions::shaping)
-      .def_readwrite("shaping_per_metre", &BicycleTrainingOptions::shaping_per_metre)
-      .def_readwrite("estimator", &BicycleTrainingOptions::estimator)
+      .def_readwrite("scenarios", &BicycleTrainingOptions::scenarios, "PEGASUS scenarios m.")
+      .def_readwrite("gamma", &BicycleTrainingOptions::gamma, "Discount per 0.01 s step.")
+      .def_readwrite("horizon", &BicycleTrainingOptions::horizon, "Rollout length H, steps of 0.01 s.")
+      .def_readwrite("shaping", &BicycleTrainingOptions::shaping,
+                     "\"potential\", \"progress-bonus\" or \"none\".")
+      .def_readwrite("shaping_per_metre", &BicycleTrainingOptions::shaping_per_metre,
+                     "Phi = this times the progress towards the goal, m (the bonus: this times v dt).")
+      .def_readwrite("estimator", &BicycleTrainingOptions::estimator,
+                     "\"pegasus\" (fixed scenarios) or \"montecarlo\" (fresh numbers per evaluation).")
       .def_property(
           "variant", [](const BicycleTrainingOptions& o) { return to_string(o.variant); },
-          [](BicycleTrainingOptions& o, const std::string& v) { o.variant = parse_scenario_variant(v); })
-      .def_readwrite("initial_policy", &BicycleTrainingOptions::initial_policy)
-      .def_readwrite("bicycle", &BicycleTrainingOptions::bicycle)
-      .def_readwrite("optimizer", &BicycleTrainingOptions::optimizer)
-      .def_readwrite("seed", &BicycleTrainingOptions::seed)
+          [](BicycleTrainingOptions& o, const std::string& v) { o.variant = parse_scenario_variant(v); },
+          "Scenario variant: \"plain\", \"antithetic\", \"stratified\" or \"sobol\".")
+      .def_readwrite("initial_policy", &BicycleTrainingOptions::initial_policy,
+                     "\"balance\" (bicycle_balancing_theta) or \"zero\".")
+      .def_readwrite("bicycle", &BicycleTrainingOptions::bicycle,
+                     "The training bicycle (by default its goal is infinitely far to the east).")
+      .def_readwrite("optimizer", &BicycleTrainingOptions::optimizer,
+                     "The optimizer; bounded-step gradient ascent by default.")
+      .def_readwrite("seed", &BicycleTrainingOptions::seed,
+                     "Root of the scenarios (PEGASUS) or of the Monte Carlo streams.")
       .def_readwrite("threads", &BicycleTrainingOptions::threads, "Worker threads, as --threads.")
       .def("is_valid", is_valid_method<BicycleTrainingOptions>(), kIsValidDoc);
   m.def(

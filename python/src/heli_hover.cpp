@@ -71,26 +71,48 @@ void bind_hover(py::module_& m) {
 `pegasus heli hover`'s training (thesis §5.3): 30 scenarios of 35 s, gamma 0.9995, gradient ascent then hill
 climbing, on the identified model (heli/hover_task.hpp).)doc");
   options.def(py::init<>())
-      .def_readwrite("scenarios", &heli::HoverTrainingOptions::scenarios)
-      .def_readwrite("seconds", &heli::HoverTrainingOptions::seconds)
-      .def_readwrite("gamma", &heli::HoverTrainingOptions::gamma)
-      .def_readwrite("refit_every", &heli::HoverTrainingOptions::refit_every)
-      .def_readwrite("control_rate_hz", &heli::HoverTrainingOptions::control_rate_hz)
-      .def_readwrite("lqr_start", &heli::HoverTrainingOptions::lqr_start)
-      .def_readwrite("lqr_action_factor", &heli::HoverTrainingOptions::lqr_action_factor)
-      .def_readwrite("max_tilt_rad", &heli::HoverTrainingOptions::max_tilt_rad)
-      .def_readwrite("target", &heli::HoverTrainingOptions::target)
-      .def_readwrite("start_pos_sigma", &heli::HoverTrainingOptions::start_pos_sigma)
-      .def_readwrite("start_vel_sigma", &heli::HoverTrainingOptions::start_vel_sigma)
-      .def_readwrite("reward", &heli::HoverTrainingOptions::reward)
-      .def_readwrite("centre_at_trim", &heli::HoverTrainingOptions::centre_at_trim)
-      .def_readwrite("optimizer", &heli::HoverTrainingOptions::optimizer)
-      .def_readwrite("then_hill_climb", &heli::HoverTrainingOptions::then_hill_climb)
-      .def_readwrite("seed", &heli::HoverTrainingOptions::seed)
-      .def_readwrite("max_start_crash_fraction", &heli::HoverTrainingOptions::max_start_crash_fraction)
-      .def_readwrite("integral_seconds", &heli::HoverTrainingOptions::integral_seconds)
-      .def_readwrite("integral_limit_position", &heli::HoverTrainingOptions::integral_limit_position)
-      .def_readwrite("integral_limit_yaw", &heli::HoverTrainingOptions::integral_limit_yaw)
+      .def_readwrite("scenarios", &heli::HoverTrainingOptions::scenarios, "PEGASUS scenarios m (§5.3: 30).")
+      .def_readwrite("seconds", &heli::HoverTrainingOptions::seconds, "Flight per scenario, s (§5.3: 35).")
+      .def_readwrite("gamma", &heli::HoverTrainingOptions::gamma,
+                     "Discount per 1/50 s (§5.3); per control step it is gamma^(50 / control_rate_hz).")
+      .def_readwrite("refit_every", &heli::HoverTrainingOptions::refit_every,
+                     "Learned model: steps between local-regression refits; 0: at the model's own rate.")
+      .def_readwrite(
+          "control_rate_hz", &heli::HoverTrainingOptions::control_rate_hz,
+          "The controller's rate, Hz: the learned model steps at it and the policy is trained for it.")
+      .def_readwrite(
+          "lqr_start", &heli::HoverTrainingOptions::lqr_start,
+          "Starting gains from LQR on the identified model (True) or the X-Cell's constants (False).")
+      .def_readwrite("lqr_action_factor", &heli::HoverTrainingOptions::lqr_action_factor,
+                     "The LQR's action weights are the reward's times this (raised while the start crashes).")
+      .def_readwrite("max_tilt_rad", &heli::HoverTrainingOptions::max_tilt_rad,
+                     "|roll| or |pitch| beyond this crashes the learned model, rad.")
+      .def_readwrite("target", &heli::HoverTrainingOptions::target,
+                     "The set point to hover at (the model's start is it plus the perturbation).")
+      .def_readwrite("start_pos_sigma", &heli::HoverTrainingOptions::start_pos_sigma,
+                     "Start position perturbation per axis, m.")
+      .def_readwrite("start_vel_sigma", &heli::HoverTrainingOptions::start_vel_sigma,
+                     "Start velocity perturbation per axis, m/s.")
+      .def_readwrite("reward", &heli::HoverTrainingOptions::reward,
+                     "The reward (Eqs 5.9-5.10, plus optional attitude and rate terms).")
+      .def_readwrite("centre_at_trim", &heli::HoverTrainingOptions::centre_at_trim,
+                     "Take the action cost about the logs' trim (True) or about the reward's centre (False).")
+      .def_readwrite("optimizer", &heli::HoverTrainingOptions::optimizer,
+                     "The optimizer; gradient ascent by default (§5.3).")
+      .def_readwrite(
+          "then_hill_climb", &heli::HoverTrainingOptions::then_hill_climb,
+          "After gradient ascent, hill climbing from its result (when optimizer.method is gradient).")
+      .def_readwrite("seed", &heli::HoverTrainingOptions::seed,
+                     "Root of the scenarios' numbers (and hill climbing's stream).")
+      .def_readwrite("max_start_crash_fraction", &heli::HoverTrainingOptions::max_start_crash_fraction,
+                     "Stop before training when the starting policy crashes more than this fraction of the "
+                     "scenarios (1: never).")
+      .def_readwrite("integral_seconds", &heli::HoverTrainingOptions::integral_seconds,
+                     "The integral term's time constant, s; 0 leaves it out (the thesis's class).")
+      .def_readwrite("integral_limit_position", &heli::HoverTrainingOptions::integral_limit_position,
+                     "Anti-windup: the position error integral's limit per axis, m s.")
+      .def_readwrite("integral_limit_yaw", &heli::HoverTrainingOptions::integral_limit_yaw,
+                     "Anti-windup: the yaw error integral's limit, rad s.")
       .def("horizon", &heli::HoverTrainingOptions::horizon, "Steps of 1 / control_rate_hz.")
       .def("gamma_per_step", &heli::HoverTrainingOptions::gamma_per_step, "gamma^(50 / control_rate_hz).")
       .def(

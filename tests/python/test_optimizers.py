@@ -89,10 +89,11 @@ def test_an_exception_in_the_objective_reaches_the_caller():
         pegasus.solve(pegasus.FunctionObjective(spec(), broken), pegasus.OptimizerOptions("gradient"))
 
 
-def test_every_optimizer_option_says_what_it_does():
+def test_every_optimizer_and_training_option_says_what_it_does():
     for cls in (pegasus.OptimizerOptions, pegasus.GradientAscentOptions, pegasus.HillClimbingOptions,
                 pegasus.ExhaustiveSearchOptions, pegasus.NloptOptions, pegasus.CmaesOptions,
-                pegasus.AugmentedRandomSearchOptions):
+                pegasus.AugmentedRandomSearchOptions, pegasus.HoverTrainingOptions,
+                pegasus.BicycleTrainingOptions):
         undocumented = [name for name, value in vars(cls).items()
                         if isinstance(value, property) and len((value.__doc__ or "").strip()) < 10]
         assert undocumented == [], cls.__name__
