@@ -234,15 +234,22 @@ stops when more than options.max_start_crash_fraction of them crash (heli/hover_
   auto result = py::class_<heli::HoverTrainingResult>(m, "HoverTrainingResult",
                                                       "What train_hover returns (heli/hover_task.hpp).");
   result
-      .def_property_readonly("theta",
-                             [](const heli::HoverTrainingResult& r) { return vector_array(r.theta); })
-      .def_readonly("initial_uhat", &heli::HoverTrainingResult::initial_uhat)
-      .def_readonly("final_uhat", &heli::HoverTrainingResult::final_uhat)
-      .def_readonly("gradient", &heli::HoverTrainingResult::gradient)
-      .def_readonly("hill_climb", &heli::HoverTrainingResult::hill_climb)
-      .def_readonly("progress", &heli::HoverTrainingResult::progress)
-      .def_readonly("start", &heli::HoverTrainingResult::start)
-      .def_readonly("lqr_action_factor", &heli::HoverTrainingResult::lqr_action_factor);
+      .def_property_readonly(
+          "theta", [](const heli::HoverTrainingResult& r) { return vector_array(r.theta); },
+          "The best weights (HoverPolicy's parameters).")
+      .def_readonly("initial_uhat", &heli::HoverTrainingResult::initial_uhat,
+                    "U-hat of the starting weights.")
+      .def_readonly("final_uhat", &heli::HoverTrainingResult::final_uhat, "U-hat of the returned weights.")
+      .def_readonly("gradient", &heli::HoverTrainingResult::gradient,
+                    "The first phase's summary (gradient ascent, or the optimizer chosen instead).")
+      .def_readonly("hill_climb", &heli::HoverTrainingResult::hill_climb,
+                    "The hill-climbing phase's summary (method empty when it did not run).")
+      .def_readonly("progress", &heli::HoverTrainingResult::progress,
+                    "Both phases' iterations, with iterations and evaluations counted on.")
+      .def_readonly("start", &heli::HoverTrainingResult::start,
+                    "The starting weights flown on the training scenarios, before training.")
+      .def_readonly("lqr_action_factor", &heli::HoverTrainingResult::lqr_action_factor,
+                    "The LQR start's action factor after train_hover raised it (the options' otherwise).");
   set_fields(result, {"theta", "initial_uhat", "final_uhat", "gradient", "hill_climb", "progress", "start",
                       "lqr_action_factor"});
   m.def(

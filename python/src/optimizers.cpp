@@ -367,34 +367,49 @@ Which optimizer runs (method: "exhaustive", "gradient", "hill-climb", "bobyqa", 
       "bounds).");
 
   auto record = py::class_<IterationRecord>(m, "IterationRecord", "One row of an optimizer's history.");
-  record.def_readonly("iteration", &IterationRecord::iteration)
-      .def_readonly("evaluations", &IterationRecord::evaluations)
-      .def_readonly("value", &IterationRecord::value)
-      .def_readonly("seconds", &IterationRecord::seconds);
+  record.def_readonly("iteration", &IterationRecord::iteration, "1-based count of completed iterations.")
+      .def_readonly("evaluations", &IterationRecord::evaluations,
+                    "Objective evaluations so far, this iteration's included.")
+      .def_readonly("value", &IterationRecord::value, "Best U-hat found so far.")
+      .def_readonly("seconds", &IterationRecord::seconds,
+                    "Wall time since the run began (time before a resume included).");
   set_fields(record, {"iteration", "evaluations", "value", "seconds"});
 
   auto summary = py::class_<OptimizerSummary>(m, "OptimizerSummary",
                                               "What an optimizer run reports (Ceres' Summary shape).");
   summary.def(py::init<>())
-      .def_readonly("method", &OptimizerSummary::method)
-      .def_readonly("parameter_names", &OptimizerSummary::parameter_names)
+      .def_readonly("method", &OptimizerSummary::method, "The method as OptimizerOptions.method spells it.")
+      .def_readonly("parameter_names", &OptimizerSummary::parameter_names,
+                    "The policy class's parameter names, in theta's order.")
       .def_property_readonly(
           "termination_type",
-          [](const OptimizerSummary& s) { return std::string(TerminationTypeName(s.termination_type)); })
-      .def_readonly("message", &OptimizerSummary::message)
-      .def_readonly("iterations", &OptimizerSummary::iterations)
-      .def_readonly("evaluations", &OptimizerSummary::evaluations)
-      .def_readonly("replayed_evaluations", &OptimizerSummary::replayed_evaluations)
-      .def_readonly("resumed", &OptimizerSummary::resumed)
-      .def_readonly("initial_value", &OptimizerSummary::initial_value)
-      .def_readonly("best_value", &OptimizerSummary::best_value)
-      .def_property_readonly("best_theta",
-                             [](const OptimizerSummary& s) { return theta_array(s.best_theta); })
-      .def_readonly("final_step", &OptimizerSummary::final_step)
-      .def_readonly("wall_seconds", &OptimizerSummary::wall_seconds)
-      .def_readonly("history", &OptimizerSummary::history)
-      .def_property_readonly("all_values",
-                             [](const OptimizerSummary& s) { return vector_array(s.all_values); })
+          [](const OptimizerSummary& s) { return std::string(TerminationTypeName(s.termination_type)); },
+          "CONVERGENCE, MAX_ITERATIONS, MAX_EVALUATIONS, SEARCH_COMPLETE, FAILURE or USER_REQUESTED.")
+      .def_readonly("message", &OptimizerSummary::message,
+                    "Why the run stopped, with the numbers that triggered it.")
+      .def_readonly("iterations", &OptimizerSummary::iterations,
+                    "Completed iterations (a gradient step, a batch of proposals, a block of policies, an "
+                    "NLopt evaluation or a CMA-ES generation).")
+      .def_readonly("evaluations", &OptimizerSummary::evaluations,
+                    "Objective evaluations from the start of the run, those before a resume included.")
+      .def_readonly("replayed_evaluations", &OptimizerSummary::replayed_evaluations,
+                    "NLopt resume only: evaluations answered from the checkpoint's log.")
+      .def_readonly("resumed", &OptimizerSummary::resumed, "Whether the run continued from a checkpoint.")
+      .def_readonly("initial_value", &OptimizerSummary::initial_value,
+                    "U-hat at the (clamped) starting theta; NaN where the method never evaluates it.")
+      .def_readonly("best_value", &OptimizerSummary::best_value, "The best U-hat found.")
+      .def_property_readonly(
+          "best_theta", [](const OptimizerSummary& s) { return theta_array(s.best_theta); },
+          "The best theta found, in parameter_names' order.")
+      .def_readonly("final_step", &OptimizerSummary::final_step,
+                    "Gradient ascent and hill climbing: the step length at the stop (scaled units); CMA-ES: "
+                    "sigma; else NaN.")
+      .def_readonly("wall_seconds", &OptimizerSummary::wall_seconds,
+                    "Wall time of the whole run, time before a resume included.")
+      .def_readonly("history", &OptimizerSummary::history, "One IterationRecord per iteration.")
+      .def_property_readonly(
+          "all_values", [](const OptimizerSummary& s) { return vector_array(s.all_values); },
+          "Exhaustive search with keep_all_values: every policy's U-hat, in enumeration order.")
       .def("brief_report", &OptimizerSummary::BriefReport,
            "One line: method, termination, iterations, evaluations, best value, time.")
       .def("full_report", &OptimizerSummary::FullReport,

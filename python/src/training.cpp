@@ -96,14 +96,17 @@ What a training plan reports: one OptimizerSummary per stage that ran (stage_nam
 history (iterations, evaluations and seconds counting on across stages; the value the best so far), the first
 stage's initial U-hat, the last stage's best U-hat and theta, and whether a callback stopped the plan.)doc");
   summary.def(py::init<>())
-      .def_readonly("stages", &TrainingSummary::stages)
-      .def_readonly("stage_names", &TrainingSummary::stage_names)
-      .def_readonly("history", &TrainingSummary::history)
-      .def_readonly("initial_value", &TrainingSummary::initial_value)
-      .def_readonly("best_value", &TrainingSummary::best_value)
-      .def_property_readonly("best_theta",
-                             [](const TrainingSummary& s) { return vector_array(s.best_theta); })
-      .def_readonly("stopped_by_callback", &TrainingSummary::stopped_by_callback)
+      .def_readonly("stages", &TrainingSummary::stages, "One OptimizerSummary per stage that ran.")
+      .def_readonly("stage_names", &TrainingSummary::stage_names, "The stages' names, beside stages.")
+      .def_readonly("history", &TrainingSummary::history,
+                    "The merged history: counts go on across stages; value is the best so far.")
+      .def_readonly("initial_value", &TrainingSummary::initial_value, "The first stage's initial U-hat.")
+      .def_readonly("best_value", &TrainingSummary::best_value, "The last stage's best U-hat.")
+      .def_property_readonly(
+          "best_theta", [](const TrainingSummary& s) { return vector_array(s.best_theta); },
+          "The last stage's best theta.")
+      .def_readonly("stopped_by_callback", &TrainingSummary::stopped_by_callback,
+                    "Whether a callback stopped the plan.")
       .def("brief_report", &TrainingSummary::BriefReport, "One line per stage.")
       .def(
           "same_outcome",

@@ -89,11 +89,12 @@ def test_an_exception_in_the_objective_reaches_the_caller():
         pegasus.solve(pegasus.FunctionObjective(spec(), broken), pegasus.OptimizerOptions("gradient"))
 
 
-def test_every_optimizer_and_training_option_says_what_it_does():
+def test_every_optimizer_and_training_option_and_result_says_what_it_is():
     for cls in (pegasus.OptimizerOptions, pegasus.GradientAscentOptions, pegasus.HillClimbingOptions,
                 pegasus.ExhaustiveSearchOptions, pegasus.NloptOptions, pegasus.CmaesOptions,
                 pegasus.AugmentedRandomSearchOptions, pegasus.HoverTrainingOptions,
-                pegasus.BicycleTrainingOptions):
+                pegasus.BicycleTrainingOptions, pegasus.OptimizerSummary, pegasus.IterationRecord,
+                pegasus.TrainingSummary, pegasus.HoverTrainingResult):
         undocumented = [name for name, value in vars(cls).items()
                         if isinstance(value, property) and len((value.__doc__ or "").strip()) < 10]
         assert undocumented == [], cls.__name__
