@@ -42,21 +42,21 @@ void def_vec3(py::class_<T>& c, const char* name, heli::Vec3 T::*field, const ch
 // (`own_fields`, already bound); sets `_fields` to all of them.
 template <class P>
 void bind_ground_truth_params(py::class_<P>& params, std::vector<const char*> own_fields) {
-#define PEGASUS_SHARED(field) params.def_readwrite(#field, &P::field)
-  PEGASUS_SHARED(gust_sigma);
-  PEGASUS_SHARED(gust_tau);
-  PEGASUS_SHARED(est_sigma_pos);
-  PEGASUS_SHARED(est_sigma_vel);
-  PEGASUS_SHARED(est_sigma_angle);
-  PEGASUS_SHARED(est_sigma_rate);
-  PEGASUS_SHARED(est_tau);
-  PEGASUS_SHARED(max_tilt_rad);
-  PEGASUS_SHARED(max_rate_rad_s);
-  PEGASUS_SHARED(dt);
-  PEGASUS_SHARED(substeps);
-  PEGASUS_SHARED(start_yaw);
-  PEGASUS_SHARED(start_pos_sigma);
-  PEGASUS_SHARED(start_vel_sigma);
+#define PEGASUS_SHARED(field, doc) params.def_readwrite(#field, &P::field, doc)
+  PEGASUS_SHARED(gust_sigma, "Turbulence standard deviation per axis, m/s.");
+  PEGASUS_SHARED(gust_tau, "Turbulence correlation time, s.");
+  PEGASUS_SHARED(est_sigma_pos, "State-estimate error in position (standard deviation), m.");
+  PEGASUS_SHARED(est_sigma_vel, "State-estimate error in velocity, m/s.");
+  PEGASUS_SHARED(est_sigma_angle, "State-estimate error in attitude, rad.");
+  PEGASUS_SHARED(est_sigma_rate, "State-estimate error in the rates, rad/s.");
+  PEGASUS_SHARED(est_tau, "Correlation time of the estimate's error, s.");
+  PEGASUS_SHARED(max_tilt_rad, "|roll| or |pitch| beyond this crashes, rad.");
+  PEGASUS_SHARED(max_rate_rad_s, "|p|, |q| or |r| beyond this crashes, rad/s.");
+  PEGASUS_SHARED(dt, "One control step, s.");
+  PEGASUS_SHARED(substeps, "Integration substeps per control step, in [1, 10000].");
+  PEGASUS_SHARED(start_yaw, "Start yaw, rad.");
+  PEGASUS_SHARED(start_pos_sigma, "Start position perturbation per axis, m.");
+  PEGASUS_SHARED(start_vel_sigma, "Start velocity perturbation per axis, m/s.");
 #undef PEGASUS_SHARED
   def_vec3(params, "mean_wind_W", &P::mean_wind_W, "Mean wind in the world frame, m/s.");
   def_vec3(params, "start_p_W", &P::start_p_W, "Start position in the world frame (NED), m.");

@@ -492,3 +492,11 @@ def test_the_pilot_flies_the_quadrotor_as_the_cli_does_with_estimate_errors_of_t
     assert 0.01 < error[:, 6:9].std() < 0.04
     with pytest.raises(ValueError, match="zeppelin"):
         pegasus.fly_pilot("zeppelin")
+
+
+def test_the_ground_truths_shared_settings_say_what_they_are():
+    shared = ["gust_sigma", "gust_tau", "est_sigma_pos", "est_sigma_vel", "est_sigma_angle", "est_sigma_rate",
+              "est_tau", "max_tilt_rad", "max_rate_rad_s", "dt", "substeps", "start_yaw", "start_pos_sigma",
+              "start_vel_sigma", "mean_wind_W", "start_p_W"]
+    for cls in (pegasus.AircraftParams, pegasus.QuadrotorParams):
+        assert [f for f in shared if len((getattr(cls, f).__doc__ or "").strip()) < 10] == [], cls.__name__
