@@ -54,26 +54,32 @@ void bind_envs(py::module_& m) {
   py::class_<BicycleGoal>(m, "BicycleGoal", "A goal circle, or a direction at infinity (§4.6 footnote 15).")
       .def_static("circle", &BicycleGoal::circle, py::arg("x"), py::arg("y"), py::arg("radius"))
       .def_static("infinitely_far", &BicycleGoal::infinitely_far, py::arg("direction"))
-      .def_readwrite("at_infinity", &BicycleGoal::at_infinity)
-      .def_readwrite("x", &BicycleGoal::x)
-      .def_readwrite("y", &BicycleGoal::y)
-      .def_readwrite("radius", &BicycleGoal::radius)
-      .def_readwrite("direction", &BicycleGoal::direction);
+      .def_readwrite("at_infinity", &BicycleGoal::at_infinity,
+                     "True: a direction at infinity (direction); False: a circle (x, y, radius).")
+      .def_readwrite("x", &BicycleGoal::x, "The circle's centre, m (bike.c: 1000).")
+      .def_readwrite("y", &BicycleGoal::y, "The circle's centre, m (bike.c: 0).")
+      .def_readwrite("radius", &BicycleGoal::radius, "The circle's radius, m; entering it ends the ride.")
+      .def_readwrite("direction", &BicycleGoal::direction,
+                     "At infinity: the goal's direction, counter-clockwise from +x, rad.");
   py::class_<BicycleStart>(m, "BicycleStart", "Half-widths of the uniform initial-state distribution.")
       .def(py::init<>())
-      .def_readwrite("omega", &BicycleStart::omega)
-      .def_readwrite("omega_dot", &BicycleStart::omega_dot)
-      .def_readwrite("theta", &BicycleStart::theta)
-      .def_readwrite("theta_dot", &BicycleStart::theta_dot)
-      .def_readwrite("goal_angle", &BicycleStart::goal_angle);
+      .def_readwrite("omega", &BicycleStart::omega, "Half-width of the initial tilt from vertical, rad.")
+      .def_readwrite("omega_dot", &BicycleStart::omega_dot, "Half-width of its initial rate, rad/s.")
+      .def_readwrite("theta", &BicycleStart::theta, "Half-width of the initial handlebar angle, rad.")
+      .def_readwrite("theta_dot", &BicycleStart::theta_dot, "Half-width of its initial rate, rad/s.")
+      .def_readwrite("goal_angle", &BicycleStart::goal_angle,
+                     "Half-width of the initial heading relative to the goal, rad (pi: any heading).");
   py::class_<BicycleOptions>(m, "BicycleOptions",
                              "The bicycle's goal, start distribution, rewards and noise.")
       .def(py::init<>())
-      .def_readwrite("goal", &BicycleOptions::goal)
-      .def_readwrite("start", &BicycleOptions::start)
-      .def_readwrite("fall_reward", &BicycleOptions::fall_reward)
-      .def_readwrite("goal_reward", &BicycleOptions::goal_reward)
-      .def_readwrite("noise", &BicycleOptions::noise)
+      .def_readwrite("goal", &BicycleOptions::goal, "Where the ride goes (a BicycleGoal).")
+      .def_readwrite("start", &BicycleOptions::start, "The initial-state distribution (a BicycleStart).")
+      .def_readwrite("fall_reward", &BicycleOptions::fall_reward,
+                     "Reward of the transition into a fall (|value| <= 1e12).")
+      .def_readwrite("goal_reward", &BicycleOptions::goal_reward,
+                     "Reward of the transition into the goal circle (|value| <= 1e12).")
+      .def_readwrite("noise", &BicycleOptions::noise,
+                     "Half-width of the uniform noise on the rider's displacement d, m.")
       .def("is_valid", is_valid_method<BicycleOptions>(), kIsValidDoc);
 
   py::class_<Bicycle>(m, "Bicycle", R"doc(

@@ -193,10 +193,10 @@ void bind_heli(py::module_& m) {
                                  "z < 0 is above the ground) and the heading yaw (rad).");
   sp.def(py::init(&set_point), py::arg("x") = 0.0, py::arg("y") = 0.0, py::arg("z") = -10.0,
          py::arg("yaw") = 0.0)
-      .def_readwrite("x", &SetPoint::x)
-      .def_readwrite("y", &SetPoint::y)
-      .def_readwrite("z", &SetPoint::z)
-      .def_readwrite("yaw", &SetPoint::yaw);
+      .def_readwrite("x", &SetPoint::x, "North, m (world frame, NED).")
+      .def_readwrite("y", &SetPoint::y, "East, m.")
+      .def_readwrite("z", &SetPoint::z, "Down, m (z < 0 is above the ground).")
+      .def_readwrite("yaw", &SetPoint::yaw, "Heading, rad.");
   set_fields(sp, {"x", "y", "z", "yaw"});
 
   auto reward = py::class_<HoverReward>(m, "HoverReward", R"doc(
@@ -414,15 +414,23 @@ quadrotor) as `pegasus pilot --vehicle` does: a hover, then a frequency sweep in
 How the identified model is flown as a 50 Hz simulator (sysid/learned_model.hpp): refit period, support margin,
 crash penalty (footnote 13), noise on or off, and the start state and its perturbation.)doc");
   lmo.def(py::init<>())
-      .def_readwrite("dt", &LearnedModelOptions::dt)
-      .def_readwrite("refit_every", &LearnedModelOptions::refit_every)
-      .def_readwrite("support_bandwidths", &LearnedModelOptions::support_bandwidths)
-      .def_readwrite("crash_reward", &LearnedModelOptions::crash_reward)
-      .def_readwrite("max_tilt_rad", &LearnedModelOptions::max_tilt_rad)
-      .def_readwrite("noise", &LearnedModelOptions::noise);
+      .def_readwrite("dt", &LearnedModelOptions::dt, "One model step, s (50 Hz: 0.02).")
+      .def_readwrite("refit_every", &LearnedModelOptions::refit_every,
+                     "Steps between local-regression refits (§5.2.2: 5).")
+      .def_readwrite(
+          "support_bandwidths", &LearnedModelOptions::support_bandwidths,
+          "A query with no training point within this many bandwidths crashes (off the data's support).")
+      .def_readwrite("crash_reward", &LearnedModelOptions::crash_reward,
+                     "Reward of a crash (footnote 13: -50000).")
+      .def_readwrite("max_tilt_rad", &LearnedModelOptions::max_tilt_rad,
+                     "|roll| or |pitch| beyond this crashes, rad.")
+      .def_readwrite("noise", &LearnedModelOptions::noise,
+                     "False: the mean model (the scenario's numbers are ignored).");
   def_array(lmo, "start", &LearnedModelOptions::start, "The 12 logged states before perturbation.");
-  lmo.def_readwrite("start_pos_sigma", &LearnedModelOptions::start_pos_sigma)
-      .def_readwrite("start_vel_sigma", &LearnedModelOptions::start_vel_sigma)
+  lmo.def_readwrite("start_pos_sigma", &LearnedModelOptions::start_pos_sigma,
+                    "Start position perturbation per axis, m.")
+      .def_readwrite("start_vel_sigma", &LearnedModelOptions::start_vel_sigma,
+                     "Start velocity perturbation per axis, m/s.")
       .def("is_valid", is_valid_method<LearnedModelOptions>(), kIsValidDoc);
   set_fields(lmo, {"dt", "refit_every", "support_bandwidths", "crash_reward", "max_tilt_rad", "noise",
                    "start", "start_pos_sigma", "start_vel_sigma"});

@@ -500,3 +500,11 @@ def test_the_ground_truths_shared_settings_say_what_they_are():
               "start_vel_sigma", "mean_wind_W", "start_p_W"]
     for cls in (pegasus.AircraftParams, pegasus.QuadrotorParams):
         assert [f for f in shared if len((getattr(cls, f).__doc__ or "").strip()) < 10] == [], cls.__name__
+
+
+def test_the_set_point_bicycle_and_learned_model_settings_say_what_they_are():
+    for cls in (pegasus.SetPoint, pegasus.LearnedModelOptions, pegasus.BicycleOptions, pegasus.BicycleGoal,
+                pegasus.BicycleStart):
+        undocumented = [name for name, value in vars(cls).items()
+                        if isinstance(value, property) and len((value.__doc__ or "").strip()) < 5]
+        assert undocumented == [], cls.__name__
