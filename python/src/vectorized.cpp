@@ -195,13 +195,16 @@ class VectorizedProblem final : public Objective {
     const py::ssize_t ds = states.shape(1);
     if (ds < 1) throw py::value_error("model.initial_state result: expected at least one state column");
     require_finite(states, "model.initial_state result");
+    // Each array a user's method gets is a read-only view, made once per array (a state's serves terminal,
+    // observe, step and reward).
+    py::object states_view = read_only(states);
 
     double weight = 1.0;
     const double gamma = discounting_.gamma;
     for (int t = 0; t < discounting_.horizon; ++t) {
       if (!terminal_.is_none()) {  // absorbing states take no more steps and earn nothing (rollout.hpp)
-        const Array done = as_vector(terminal_(read_only(states)), "model.terminal result",
-                                     static_cast<py::ssize_t>(rows.size()));
+        const Array done =
+            as_vector(terminal_(states_view), "model.terminal result", static_cast<py::ssize_t>(rows.size()));
         std::vector<std::size_t> keep;
         for (std::size_t j = 0; j < rows.size(); ++j) {
           const double d = done.data()[j];
@@ -219,31 +222,34 @@ class VectorizedProblem final : public Objective {
           }
           rows.resize(keep.size());
           states = std::move(live);
+          states_view = read_only(states);
           theta_rows_ = py::none();
         }
         if (rows.empty()) break;
       }
       const auto na = static_cast<py::ssize_t>(rows.size());
       Array observations = states;
+      py::object observations_view = states_view;
       if (!observe_.is_none()) {
-        observations = as_matrix(observe_(read_only(states)), "model.observe result", na, -1);
+        observations = as_matrix(observe_(states_view), "model.observe result", na, -1);
         require_finite(observations, "model.observe result");
+        observations_view = read_only(observations);
       }
-      const Array actions = act(thetas, rows, m, observations);
+      const Array actions = act(thetas, rows, m, observations, observations_view);
+      const py::object actions_view = read_only(actions);
       Array noise = matrix(na, static_cast<py::ssize_t>(dp));
       double* pt = noise.mutable_data();
       pool_->parallel_for(rows.size(), [&](std::size_t j) {
         scenarios_.step_noise(static_cast<int>(rows[j] % m), t, std::span<double>(pt + j * dp, dp));
       });
-      Array next = as_matrix(step_(read_only(states), read_only(actions), read_only(noise)),
-                             "model.step result", na, ds);
+      Array next = as_matrix(step_(states_view, actions_view, read_only(noise)), "model.step result", na, ds);
       require_finite(next, "model.step result");
-      const Array r = as_vector(reward_(read_only(states), read_only(actions), read_only(next)),
-                                "model.reward result", na);
+      py::object next_view = read_only(next);
+      const Array r = as_vector(reward_(states_view, actions_view, next_view), "model.reward result", na);
       require_finite(r, "model.reward result");
       const double* rp = r.data();
       if (!event_fraction_.is_none()) {  // continuous-time discounting (footnote 9 of §4.4)
-        const Array tau = as_vector(event_fraction_(read_only(states), read_only(actions), read_only(next)),
+        const Array tau = as_vector(event_fraction_(states_view, actions_view, next_view),
                                     "model.event_fraction result", na);
         for (std::size_t j = 0; j < rows.size(); ++j) {
           const double f = tau.data()[j];
@@ -257,13 +263,15 @@ class VectorizedProblem final : public Objective {
       }
       weight *= gamma;
       states = std::move(next);
+      states_view = std::move(next_view);
     }
     return returns;
   }
 
  private:
+  // `observations_view` is the read-only view of `observations` a Python policy gets.
   Array act(std::span<const Theta> thetas, const std::vector<std::size_t>& rows, std::size_t m,
-            const Array& observations) {
+            const Array& observations, const py::object& observations_view) {
     const auto na = static_cast<py::ssize_t>(rows.size());
     const std::size_t np = spec_.size();
     if (box_) {
@@ -289,7 +297,7 @@ class VectorizedProblem final : public Objective {
       theta_rows.attr("setflags")(py::arg("write") = false);
       theta_rows_ = std::move(theta_rows);
     }
-    Array a = as_array(act_(theta_rows_, read_only(observations)), "policy.act result");
+    Array a = as_array(act_(theta_rows_, observations_view), "policy.act result");
     if (a.ndim() == 1) a = as_matrix(a.reshape({a.shape(0), py::ssize_t{1}}), "policy.act result", na, 1);
     a = as_matrix(a, "policy.act result", na, -1);
     require_finite(a, "policy.act result");
