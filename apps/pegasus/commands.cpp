@@ -1,6 +1,6 @@
 // The table of `pegasus` commands. A new command is one entry here (or a function returning entries, kept in
-// its own apps/pegasus/<area>_command.cpp, declared below) that maps its options onto a library function;
-// see command.hpp.
+// its own apps/pegasus/<area>_command.cpp, declared below) that names its config section and its run
+// function, both in the library (include/pegasus/runs/); see command.hpp.
 #include <fmt/format.h>
 
 #include <algorithm>

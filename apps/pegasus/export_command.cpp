@@ -1,16 +1,7 @@
 // pegasus export --policy P.json --lang c --out DIR: a policy file becomes a dependency-free C99 header and
-// source for a flight computer (include/pegasus/codegen/c_policy.hpp: the classes, the API, the guarantee).
-#include <fmt/format.h>
-
-#include <optional>
-#include <ostream>
-
+// source for a flight computer: the library's config section and export (runs/export_run.hpp).
 #include "command.hpp"
-#include "experiment_commands.hpp"
-#include "pegasus/codegen/c_policy.hpp"
-#include "pegasus/core/error.hpp"
-#include "pegasus/heli/policy_file.hpp"
-#include "pegasus/logs/vehicle.hpp"
+#include "pegasus/runs/export_run.hpp"
 
 namespace pegasus::cli {
 
@@ -20,68 +11,11 @@ Command export_command() {
       .description =
           "Write a policy file as a dependency-free C99 controller (PREFIX.h, PREFIX.c), bit-identical "
           "to the C++ policy",
-      .declare =
-          [](ConfigSchema& s) {
-            s.add_string(
-                 "policy", "",
-                 "policy file: policy.json of heli hover, heli maneuver, bicycle train or pendulum train")
-                .input_file();
-            s.add_string("lang", "c", "language of the generated code").choices({"c"});
-            s.add_string("prefix", codegen::CPolicyOptions{}.prefix,
-                         "file name and symbol prefix of the generated code");
-            s.add_string(
-                 "vehicle", "",
-                 "helicopter classes: a vehicle file; adds PREFIX_act_vehicle, the controller in that "
-                 "aircraft's own state fields and channels")
-                .input_file();
-          },
+      .declare = declare_export_config,
       .run =
           [](RunContext& ctx) {
-            const std::string& policy = ctx.config.get_string("policy");
-            if (policy.empty()) throw InputError("--policy: expected a policy file");
-            std::optional<logs::Vehicle> vehicle;
-            if (!ctx.config.get_string("vehicle").empty())
-              vehicle = logs::read_vehicle(ctx.config.get_string("vehicle"));
-            const codegen::CPolicyOptions options{.prefix = ctx.config.get_string("prefix"),
-                                                  .vehicle = vehicle ? &*vehicle : nullptr};
-            std::string error;
-            if (!options.IsValid(&error)) throw InputError("--" + error);
-            const codegen::CPolicyCode code = codegen::export_c_policy_file(policy, options);
-            if (vehicle)
-              if (const std::string w = heli::other_vehicle_warning(
-                      code.trained_vehicle, policy, vehicle->name(), "writing it in the terms of");
-                  !w.empty())
-                ctx.out << w << "\n";
-            RunDirectory& dir = ctx.run_directory();
-            dir.write_text(code.header_name, code.header);
-            dir.write_text(code.source_name, code.source);
-            nlohmann::json summary = {
-                {"class", code.class_name},
-                {"lang", "c"},
-                {"header_file", code.header_name},
-                {"source_file", code.source_name},
-                {"act_function", options.prefix + "_act"},
-                {"target_function",
-                 code.has_target ? nlohmann::json(options.prefix + "_target") : nlohmann::json(nullptr)},
-                {"observation_size", code.observation_names.size()},
-                {"action_size", code.action_names.size()},
-                {"observation_names", code.observation_names},
-                {"action_names", code.action_names}};
-            if (code.has_memory) {  // only then: the summaries of stateless classes stay as they were
-              summary["memory_type"] = options.prefix + "_memory";
-              summary["reset_function"] = options.prefix + "_reset";
-            }
-            if (vehicle) {
-              summary["vehicle"] = vehicle->name();
-              summary["vehicle_act_function"] = options.prefix + "_act_vehicle";
-              summary["vehicle_observation_names"] = code.vehicle_observation_names;
-              summary["vehicle_action_names"] = code.vehicle_action_names;
-            }
-            dir.write_json("summary.json", summary);
-            ctx.out << fmt::format("class {}: {} observations -> {} actions\n", code.class_name,
-                                   code.observation_names.size(), code.action_names.size());
-            ctx.out << fmt::format("header: {}\nsource: {}\n", (dir.final_path() / code.header_name).string(),
-                                   (dir.final_path() / code.source_name).string());
+            RunSink sink = ctx.sink();
+            run_c_export(read_export_config(ctx.config), sink);
           },
   };
 }

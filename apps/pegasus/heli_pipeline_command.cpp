@@ -16,8 +16,6 @@
 
 #include "experiment_commands.hpp"
 #include "pegasus/core/error.hpp"
-#include "pegasus/heli/hover_task.hpp"
-#include "pegasus/io/json_csv.hpp"
 #include "pegasus/logs/vehicle.hpp"
 
 namespace pegasus::cli {
@@ -52,47 +50,6 @@ class WorkingDirectory {
 };
 
 }  // namespace
-
-void declare_pipeline(ConfigSchema& s) {
-  const sysid::IdentifyOptions identify_defaults;
-  const heli::HoverTrainingOptions hover_defaults;
-  const heli::FlightOptions flight_defaults;
-  declare_vehicle(s);
-  s.add_double("train_seconds", heli::PilotRunOptions{}.seconds, "pilot training flight, s (thesis 5.2: 339)")
-      .range(30, 36000);
-  s.add_double("test_seconds", 140, "pilot hold-out flight, s (thesis 5.2: 140)").range(20, 36000);
-  s.add_int("cv_points", identify_defaults.cv_points,
-            "identification: held-out points per cross-validation evaluation")
-      .range(10, 100000);
-  s.add_double_list("scale_grid", identify_defaults.scale_grid,
-                    "identification: bandwidths tried, in input standard deviations")
-      .min(1e-6)
-      .min_size(1);
-  s.add_int("coordinate_passes", identify_defaults.coordinate_passes,
-            "identification: passes of per-input bandwidth refinement")
-      .range(0, 10);
-  s.add_int("scenarios", hover_defaults.scenarios, "hover training: PEGASUS scenarios").range(1, 100000);
-  s.add_double("scenario_seconds", hover_defaults.seconds, "hover training: flight per scenario, s")
-      .greater_than(0)
-      .max(3600);
-  s.add_int("gradient_iterations", hover_defaults.optimizer.gradient.max_iterations,
-            "hover training: gradient ascent iterations")
-      .range(0, 1000000);
-  s.add_int("hill_climbing_iterations", hover_defaults.optimizer.hill_climbing.max_iterations,
-            "hover training: hill-climbing iterations")
-      .range(0, 1000000);
-  s.add_double("start_pos_sigma", hover_defaults.start_pos_sigma,
-               "hover training and flights: start position perturbation per axis, m")
-      .range(0, 100);
-  s.add_double("start_vel_sigma", hover_defaults.start_vel_sigma,
-               "hover training and flights: start velocity perturbation per axis, m/s")
-      .range(0, 100);
-  s.add_int("flights", flight_defaults.flights, "flights on the ground truth (policy and pilot)")
-      .range(1, 1000000);
-  s.add_double("flight_seconds", flight_defaults.seconds, "flight length on the ground truth, s")
-      .greater_than(0)
-      .max(36000);
-}
 
 void run_pipeline(RunContext& ctx) {
   const auto& c = ctx.config;
@@ -201,39 +158,9 @@ void run_pipeline(RunContext& ctx) {
   with_starts(fly_stage);
   run("fly", fly_stage);
 
-  const nlohmann::json hover = read_json_file(root / "hover" / "summary.json");
-  const nlohmann::json fly = read_json_file(root / "fly" / "summary.json");
-  nlohmann::json summary = {
-      {"hover", {{"initial_uhat", hover.at("initial_uhat")}, {"final_uhat", hover.at("final_uhat")}}},
-      {"flights", fly.at("flights")},
-      {"crashes", fly.at("crashes")},
-      {"rms_position_m", fly.at("rms_position_m")},
-      {"rms_velocity_mps", fly.at("rms_velocity_mps")},
-      {"rms_yaw_rad", fly.at("rms_yaw_rad")},
-      {"pilot", fly.at("pilot")},
-      {"stages", {"pilot-train", "pilot-test", "identify", "hover", "fly"}}};
-  if (vehicle) summary["vehicle"] = vehicle->name();  // only then: the X-Cell's summaries stay as they were
-  dir.write_json("summary.json", summary);
-  const auto& pl = fly.at("pilot");
-  const std::filesystem::path final_fly = dir.final_path() / "fly";
-  ctx.out << fmt::format("\n== {} pipeline: headline figures ==\n", vehicle ? vehicle->name() : "helicopter");
-  ctx.out << fmt::format("hover training U-hat: {:.6g} -> {:.6g}\n", hover.at("initial_uhat").get<double>(),
-                         hover.at("final_uhat").get<double>());
-  ctx.out << fmt::format(
-      "learned policy on the ground truth: {} flights of {} s, {} crashes, RMS position {:.3f} m, velocity "
-      "{:.3f} m/s, yaw {:.4f} rad\n",
-      fly.at("flights").get<int>(), format_double(c.get_double("flight_seconds")),
-      fly.at("crashes").get<int>(), fly.at("rms_position_m").get<double>(),
-      fly.at("rms_velocity_mps").get<double>(), fly.at("rms_yaw_rad").get<double>());
-  ctx.out << fmt::format(
-      "scripted pilot, same starts and gusts:       {} crashes, RMS position {:.3f} m, velocity {:.3f} m/s, "
-      "yaw {:.4f} rad\n",
-      pl.at("crashes").get<int>(), pl.at("rms_position_m").get<double>(),
-      pl.at("rms_velocity_mps").get<double>(), pl.at("rms_yaw_rad").get<double>());
-  ctx.out << "plots: " << (final_fly / "position_x.svg").string()
-          << ", position_y.svg, altitude.svg, velocity_xb/yb/zb.svg (Figs 5.6-5.7); "
-          << (dir.final_path() / "hover" / "progress.svg").string() << "; "
-          << (dir.final_path() / "identify" / "mse_xdot_b.svg").string() << "\n";
+  RunSink sink = ctx.sink();
+  heli::write_pipeline_summary(vehicle ? vehicle->name() : std::string(), c.get_double("flight_seconds"),
+                               sink);
 }
 
 }  // namespace pegasus::cli

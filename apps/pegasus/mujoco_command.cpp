@@ -1,109 +1,36 @@
-// `pegasus mujoco train` and `pegasus mujoco rollout`: PEGASUS policy search on any MJCF model (issue 18).
-// Built only with PEGASUS_MUJOCO (libmujoco-dev); without it the table has no mujoco commands.
+// `pegasus mujoco train` and `pegasus mujoco rollout`: PEGASUS policy search on any MJCF model (issue 18):
+// the library's config sections (runs/mujoco_config.hpp) and experiments (runs/mujoco_runs.hpp). Built only
+// with PEGASUS_MUJOCO (libmujoco-dev); without it the table has no mujoco commands.
 #ifdef PEGASUS_HAVE_MUJOCO
-#include "experiment_commands.hpp"
-#include "pegasus/mujoco/mujoco_task.hpp"
-#include "pegasus/runs/mujoco_runs.hpp"
-#include "pegasus/runs/optimizer_config.hpp"
+#include "command.hpp"
+#include "pegasus/runs/mujoco_config.hpp"
 
 namespace pegasus::cli {
-namespace {
-
-void declare_train(ConfigSchema& s) {
-  const MujocoTrainingRunOptions d;
-  s.add_string("model", "", "MJCF model file").input_file([](const std::string& file) {
-    return MujocoModel::load(file).digest();  // with the files it includes
-  });
-  s.add_string("task", "", "task file (TOML) naming the model's joints, bodies, sites, sensors, actuators")
-      .input_file();
-  s.add_string("policy", d.policy_class, "policy class").choices({"linear", "mlp"});
-  s.add_int_list("hidden", std::vector<std::int64_t>(d.hidden.begin(), d.hidden.end()),
-                 "hidden layer widths of the mlp policy")
-      .min(1)
-      .max(4096)
-      .min_size(1);
-  s.add_string("phase_observation", "",
-               "make the policy phased: two policies of the class, switched by this raw observation number "
-               "(KIND.NAME or KIND.NAME[k] as the task's [observation] names it, e.g. sensors.foot_touch)");
-  s.add_double("phase_above", d.phase_above,
-               "the phased policy's second half acts while that number exceeds this");
-  s.add_bool("normalize", d.normalize,
-             "normalise observations by running statistics frozen per iteration (ARS V2)");
-  declare_optimizer_options(s, "optimizer", d.optimizer, continuous_class_methods(false));
-  s.add_int("scenarios", d.scenarios, "PEGASUS scenarios m per evaluation of U-hat").min(1).max(1000000);
-  s.add_string("variant", to_string(d.variant), "scenario variant").choices(scenario_variant_names());
-  s.add_int("evaluation_episodes", d.evaluation_episodes,
-            "held-out scenarios for the final return and success rate")
-      .min(1)
-      .max(1000000);
-  s.add_int("checkpoint_every", d.checkpoint_every, "iterations between checkpoints").min(1).max(1000000);
-  s.add_string("initial_policy", "",
-               "start from this policy.json's theta instead of the class's initial values (same policy class "
-               "and hidden widths, normalize = false): to continue a search on a longer horizon or another "
-               "task")
-      .input_file();
-}
-
-std::vector<int> hidden_widths(const ConfigSchema& c) {
-  std::vector<int> out;
-  for (const auto w : c.get_int_list("hidden")) out.push_back(static_cast<int>(w));
-  return out;
-}
-
-void run_train(RunContext& ctx) {
-  const auto& c = ctx.config;
-  MujocoTrainingRunOptions o{.model_file = c.get_string("model"),
-                             .task_file = c.get_string("task"),
-                             .policy_class = c.get_string("policy"),
-                             .hidden = hidden_widths(c),
-                             .phase_observation = c.get_string("phase_observation"),
-                             .phase_above = c.get_double("phase_above"),
-                             .normalize = c.get_bool("normalize"),
-                             .scenarios = static_cast<int>(c.get_int("scenarios")),
-                             .variant = parse_scenario_variant(c.get_string("variant")),
-                             .evaluation_episodes = static_cast<int>(c.get_int("evaluation_episodes")),
-                             .checkpoint_every = c.get_int("checkpoint_every"),
-                             .initial_policy_file = c.get_string("initial_policy"),
-                             .seed = ctx.seed};
-  read_optimizer_options(c, "optimizer", &o.optimizer);
-  RunSink sink = ctx.sink();
-  run_mujoco_training(o, sink, ctx.pool());
-}
-
-void declare_rollout(ConfigSchema& s) {
-  s.add_string("policy", "", "policy.json written by `pegasus mujoco train`").input_file();
-  s.add_int("episodes", MujocoRolloutRunOptions{}.episodes,
-            "scenarios rolled out (the first is recorded step by step)")
-      .min(1)
-      .max(1000000);
-}
-
-void run_rollout(RunContext& ctx) {
-  RunSink sink = ctx.sink();
-  run_mujoco_rollout({.policy_file = ctx.config.get_string("policy"),
-                      .episodes = static_cast<int>(ctx.config.get_int("episodes")),
-                      .seed = ctx.seed},
-                     sink);
-}
-
-}  // namespace
 
 std::vector<Command> mujoco_commands() {
   return {
       Command{.path = "mujoco train",
               .description = "PEGASUS policy search on an MJCF model and a task file (ARS by default)",
-              .declare = declare_train,
-              .run = run_train},
+              .declare = declare_mujoco_train_config,
+              .run =
+                  [](RunContext& ctx) {
+                    RunSink sink = ctx.sink();
+                    run_mujoco_training(read_mujoco_train_config(ctx.config, ctx.seed), sink, ctx.pool());
+                  }},
       Command{.path = "mujoco rollout",
               .description = "Roll out a trained MuJoCo policy: returns and a per-step CSV of positions",
-              .declare = declare_rollout,
-              .run = run_rollout},
+              .declare = declare_mujoco_rollout_config,
+              .run =
+                  [](RunContext& ctx) {
+                    RunSink sink = ctx.sink();
+                    run_mujoco_rollout(read_mujoco_rollout_config(ctx.config, ctx.seed), sink);
+                  }},
   };
 }
 
 }  // namespace pegasus::cli
 #else
-#include "experiment_commands.hpp"
+#include "command.hpp"
 
 namespace pegasus::cli {
 std::vector<Command> mujoco_commands() { return {}; }

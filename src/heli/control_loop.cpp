@@ -4,8 +4,12 @@
 
 #include <array>
 #include <charconv>
+#include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
+#include <stdexcept>
+#include <string>
 
 #include "pegasus/core/untrusted_text.hpp"
 
@@ -194,6 +198,30 @@ ControlLoopStats run_control_loop(const HeliController& controller, const Contro
   }
   std::free(buffer);
   return stats;
+}
+
+ControlLoopTiming time_control_loop(const HeliController& controller, const Controls& safe,
+                                    std::int64_t lines) {
+  std::string input;
+  for (std::int64_t i = 0; i < lines; ++i) {
+    const double t = 0.02 * static_cast<double>(i);
+    input += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{}\n", 0.3 * std::sin(t), -0.2 * std::cos(t),
+                         -10 + 0.1 * std::sin(0.5 * t), 0.05, -0.01, 0.02 * std::sin(t), 0.1, -0.1, 0.02,
+                         0.01, 0.0, 0.01);
+  }
+  std::FILE* in = fmemopen(input.data(), input.size(), "r");
+  std::FILE* out = std::fopen("/dev/null", "w");
+  if (!in || !out) {
+    if (in) std::fclose(in);
+    if (out) std::fclose(out);
+    throw std::runtime_error("control loop timing: cannot open the in-memory input or /dev/null");
+  }
+  const auto start = std::chrono::steady_clock::now();
+  const ControlLoopStats stats = run_control_loop(controller, safe, in, out, stderr);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::fclose(in);
+  std::fclose(out);
+  return {.lines = stats.lines, .seconds = seconds};
 }
 
 }  // namespace pegasus::heli

@@ -5,12 +5,14 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <ostream>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "pegasus/core/error.hpp"
 #include "pegasus/heli/aircraft.hpp"
+#include "pegasus/heli/control_loop.hpp"
 #include "pegasus/heli/flights.hpp"
 #include "pegasus/heli/frames.hpp"
 #include "pegasus/heli/pilot.hpp"
@@ -445,6 +447,76 @@ void run_fly(const FlyRunOptions& options, RunSink& sink, ThreadPool& pool) {
   if (with_pilot && !pilot_only) sink.out << line("pilot", summarize_flights(pilot));
   sink.out << "plots: " << (dir.final_path() / "position_x.svg").string()
            << " (and position_y.svg, altitude.svg, velocity_*.svg)\n";
+}
+
+void run_control(const ControlRunOptions& options, std::FILE* in, std::FILE* out, std::FILE* err,
+                 std::ostream& report) {
+  const std::string& path = options.policy_file;
+  if (path.empty()) throw InputError("--policy: expected a policy file (policy.json of pegasus heli hover)");
+  const PolicyFile file = read_policy_file(path);
+  const auto controller = make_controller(file, path);
+  if (options.bench_lines > 0) {
+    if (options.aircraft.from_file())
+      throw InputError(
+          "--bench-lines: the synthetic lines are in the pipeline's own layout; time the loop without "
+          "--vehicle");
+    const ControlLoopTiming t = time_control_loop(*controller, file.trim, options.bench_lines);
+    report << fmt::format("{} lines in {:.3f} s: {:.0f} lines/s (each line parsed, answered and flushed)\n",
+                          t.lines, t.seconds, static_cast<double>(t.lines) / t.seconds);
+    return;
+  }
+  double dt = 0.02;  // a line's time when it has none: the policy's rate
+  if (const auto it = file.options.find("control_rate_hz");
+      it != file.options.end() && it->is_number() && it->get<double>() > 0)
+    dt = 1 / it->get<double>();
+  // A policy trained for another aircraft (than the vehicle file, or the X-Cell without one) still runs: the
+  // user may mean it, but not silently.
+  const logs::Vehicle& vehicle = options.aircraft.vehicle;
+  if (const std::string w =
+          other_vehicle_warning(trained_vehicle(file), path, vehicle.name(), "serving it in the terms of");
+      !w.empty())
+    std::fprintf(err, "%s\n", w.c_str());
+  if (options.aircraft.from_file())
+    run_control_loop(*controller, file.trim, in, out, err, dt, logs::control_line_format(vehicle));
+  else
+    run_control_loop(*controller, file.trim, in, out, err, dt);
+}
+
+void write_pipeline_summary(const std::string& vehicle, double flight_seconds, RunSink& sink) {
+  const nlohmann::json hover = read_json_file(sink.dir.path() / "hover" / "summary.json");
+  const nlohmann::json fly = read_json_file(sink.dir.path() / "fly" / "summary.json");
+  nlohmann::json summary = {
+      {"hover", {{"initial_uhat", hover.at("initial_uhat")}, {"final_uhat", hover.at("final_uhat")}}},
+      {"flights", fly.at("flights")},
+      {"crashes", fly.at("crashes")},
+      {"rms_position_m", fly.at("rms_position_m")},
+      {"rms_velocity_mps", fly.at("rms_velocity_mps")},
+      {"rms_yaw_rad", fly.at("rms_yaw_rad")},
+      {"pilot", fly.at("pilot")},
+      {"stages", {"pilot-train", "pilot-test", "identify", "hover", "fly"}}};
+  if (!vehicle.empty()) summary["vehicle"] = vehicle;  // only then: the X-Cell's summaries stay as they were
+  sink.dir.write_json("summary.json", summary);
+  const auto& pl = fly.at("pilot");
+  const std::filesystem::path final_fly = sink.dir.final_path() / "fly";
+  sink.out << fmt::format("\n== {} pipeline: headline figures ==\n",
+                          vehicle.empty() ? std::string("helicopter") : vehicle);
+  sink.out << fmt::format("hover training U-hat: {:.6g} -> {:.6g}\n", hover.at("initial_uhat").get<double>(),
+                          hover.at("final_uhat").get<double>());
+  sink.out << fmt::format(
+      "learned policy on the ground truth: {} flights of {} s, {} crashes, RMS position {:.3f} m, velocity "
+      "{:.3f} m/s, yaw {:.4f} rad\n",
+      fly.at("flights").get<int>(), format_double(flight_seconds), fly.at("crashes").get<int>(),
+      fly.at("rms_position_m").get<double>(), fly.at("rms_velocity_mps").get<double>(),
+      fly.at("rms_yaw_rad").get<double>());
+  sink.out << fmt::format(
+      "scripted pilot, same starts and gusts:       {} crashes, RMS position {:.3f} m, velocity {:.3f} m/s, "
+      "yaw {:.4f} rad\n",
+      pl.at("crashes").get<int>(), pl.at("rms_position_m").get<double>(),
+      pl.at("rms_velocity_mps").get<double>(), pl.at("rms_yaw_rad").get<double>());
+  sink.out << "plots: " << (final_fly / "position_x.svg").string()
+           << ", position_y.svg, altitude.svg, velocity_xb/yb/zb.svg (Figs 5.6-5.7); "
+           << (sink.dir.final_path() / "hover" / "progress.svg").string() << "; "
+           << (sink.dir.final_path() / "identify" / "mse_xdot_b.svg").string() << "\n";
 }
 
 }  // namespace pegasus::heli

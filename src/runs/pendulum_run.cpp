@@ -10,6 +10,7 @@
 #include "pegasus/evaluators/pegasus_evaluator.hpp"
 #include "pegasus/io/json_csv.hpp"
 #include "pegasus/runs/charts.hpp"
+#include "pegasus/runs/optimizer_config.hpp"
 
 namespace pegasus {
 
@@ -111,6 +112,42 @@ void run_pendulum_training(const PendulumTrainingOptions& o, RunSink& sink, Thre
       "reached after {} s ({} evaluations)\n",
       o.evaluation_episodes, r.mean_return_100, r.race_mean_return_100, mean_return_5000, o.bar,
       number_or_null(r.seconds_to_bar).dump(), r.evaluations_to_bar);
+}
+
+void declare_pendulum_training_config(ConfigSchema& s) {
+  const PendulumTrainingOptions d;
+  s.add_int("scenarios", d.scenarios, "PEGASUS scenarios m (training start states)").min(1).max(1000000);
+  s.add_string("variant", to_string(d.variant), "scenario variant (both stages)")
+      .choices(scenario_variant_names());
+  // The race (thesis 4.6's hill climbing on the five numbers), then the refinement of all seven on more
+  // scenarios; each stage takes every method for a continuous class (not exhaustive search).
+  const std::vector<std::string> continuous = continuous_class_methods(true);
+  declare_optimizer_options(s, "optimizer", d.optimizer, continuous);
+  s.add_int("refine_scenarios", d.refine_scenarios,
+            "scenarios of the refinement of all seven numbers (0: no refinement)")
+      .min(0)
+      .max(1000000);
+  declare_optimizer_options(s, "refine", d.refine_optimizer, continuous);
+  s.add_int("evaluation_episodes", d.evaluation_episodes,
+            "fresh starts for the bar and the final mean return")
+      .min(1)
+      .max(1000000);
+  s.add_double("bar", d.bar, "mean return over the evaluation episodes that counts as solved").max(0);
+}
+
+PendulumTrainingOptions read_pendulum_training_config(const ConfigSchema& c, std::uint64_t seed,
+                                                      int threads) {
+  PendulumTrainingOptions o;
+  o.scenarios = static_cast<int>(c.get_int("scenarios"));
+  o.variant = parse_scenario_variant(c.get_string("variant"));
+  read_optimizer_options(c, "optimizer", &o.optimizer);
+  o.refine_scenarios = static_cast<int>(c.get_int("refine_scenarios"));
+  read_optimizer_options(c, "refine", &o.refine_optimizer);
+  o.evaluation_episodes = static_cast<int>(c.get_int("evaluation_episodes"));
+  o.bar = c.get_double("bar");
+  o.seed = seed;
+  o.threads = threads;
+  return o;
 }
 
 }  // namespace pegasus

@@ -111,4 +111,40 @@ void run_pomdp_gridworld_study(const PomdpGridworldOptions& o, RunSink& sink) {
              << r.mean_sup_deviation << "\n";
 }
 
+void declare_pomdp_gridworld_config(ConfigSchema& s) {
+  const PomdpGridworldOptions d;
+  s.add_int_list("scenarios", std::vector<std::int64_t>(d.scenarios.begin(), d.scenarios.end()),
+                 "the numbers of scenarios m to try")
+      .min(1)
+      .max(100000)
+      .min_size(1);
+  s.add_int("trials", d.trials, "independent scenario sets per m (the thesis averaged 10000)")
+      .min(1)
+      .max(1000000);
+  s.add_int("montecarlo_max_m", d.montecarlo_max_m, "naive Monte Carlo runs only for m up to this (0: never)")
+      .min(0)
+      .max(100000);
+  s.add_double("gamma", d.gamma, "discount factor").range(0.0, 1.0);
+  s.add_int("horizon", d.horizon, "steps per rollout H").min(1).max(3000);
+  s.add_bool("hashed", d.hashed, "also run PEGASUS on the hashed model g'(s,a,p) = g(s,a,h_sa(p))");
+  s.add_bool("montecarlo", d.montecarlo, "also run naive Monte Carlo with fresh randomness per evaluation");
+  s.add_string("variant", to_string(d.variant), "scenario variant").choices(scenario_variant_names());
+}
+
+PomdpGridworldOptions read_pomdp_gridworld_config(const ConfigSchema& c, std::uint64_t seed, int threads) {
+  PomdpGridworldOptions o;
+  o.scenarios.clear();
+  for (auto m : c.get_int_list("scenarios")) o.scenarios.push_back(static_cast<int>(m));
+  o.trials = static_cast<int>(c.get_int("trials"));
+  o.montecarlo_max_m = static_cast<int>(c.get_int("montecarlo_max_m"));
+  o.gamma = c.get_double("gamma");
+  o.horizon = static_cast<int>(c.get_int("horizon"));
+  o.hashed = c.get_bool("hashed");
+  o.montecarlo = c.get_bool("montecarlo");
+  o.variant = parse_scenario_variant(c.get_string("variant"));
+  o.seed = seed;
+  o.threads = threads;
+  return o;
+}
+
 }  // namespace pegasus

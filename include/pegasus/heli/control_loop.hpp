@@ -63,4 +63,13 @@ ControlLoopStats run_control_loop(const HeliController& controller, const Contro
                                   std::FILE* out, std::FILE* err, double dt = 0.02,
                                   const ControlLineFormat& format = {});
 
+// The loop timed on `lines` synthetic hover states in the pipeline's layout, each parsed, answered and
+// flushed (to /dev/null): `control --bench-lines`.
+struct ControlLoopTiming {
+  std::int64_t lines = 0;
+  double seconds = 0;
+};
+ControlLoopTiming time_control_loop(const HeliController& controller, const Controls& safe,
+                                    std::int64_t lines);
+
 }  // namespace pegasus::heli

@@ -11,7 +11,9 @@
 // Each writes summary.json (a function of the options alone), CSV series, chart specifications and SVGs,
 // and the vehicle file's bytes when there is one; bad input throws InputError naming the file or field.
 #include <cstdint>
+#include <cstdio>
 #include <filesystem>
+#include <iosfwd>
 #include <memory>
 #include <string>
 
@@ -108,5 +110,21 @@ struct FlyRunOptions {
 // flights.csv (traced flights), per_flight.csv, pilot_flights.csv, the flight charts and the 3-D replay,
 // summary.json.
 void run_fly(const FlyRunOptions& options, RunSink& sink, ThreadPool& pool);
+
+// The pipeline's summary.json and headline lines, from the summaries of its `hover` and `fly` stages in the
+// run directory's sub-directories of those names; `vehicle`: the vehicle file's aircraft, empty for the
+// built-in X-Cell (whose summary then names none, as it always did).
+void write_pipeline_summary(const std::string& vehicle, double flight_seconds, RunSink& sink);
+
+struct ControlRunOptions {
+  VehicleChoice aircraft{};  // the lines' layout: the vehicle file's own, or the pipeline's without a file
+  std::string policy_file;   // policy.json of hover or manoeuvre training
+  std::int64_t bench_lines = 0;  // 0: serve; N: time N synthetic lines (the pipeline's layout) instead
+};
+// Serves the policy file line by line, a state line from `in` answered by its controls on `out` (errors and
+// a warning when the policy was trained for another aircraft go to `err`), until `in` ends; or, with
+// bench_lines, prints the loop's lines per second to `report`.
+void run_control(const ControlRunOptions& options, std::FILE* in, std::FILE* out, std::FILE* err,
+                 std::ostream& report);
 
 }  // namespace pegasus::heli

@@ -10,6 +10,7 @@
 #include "pegasus/logs/ulog.hpp"
 #include "pegasus/logs/ulog_import.hpp"
 #include "pegasus/parallel/thread_pool.hpp"
+#include "pegasus/runs/config.hpp"
 #include "pegasus/runs/run_sink.hpp"
 #include "pegasus/sysid/identify.hpp"
 
@@ -32,5 +33,9 @@ struct LogImportRunOptions {
 };
 
 void run_log_import(const LogImportRunOptions& options, RunSink& sink, ThreadPool& pool);
+
+// Its config section (the `log import` command's fields; bandwidth floors as runs/heli_config.hpp's).
+void declare_log_import_config(ConfigSchema& s);
+LogImportRunOptions read_log_import_config(const ConfigSchema& c);
 
 }  // namespace pegasus

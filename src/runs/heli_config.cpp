@@ -1,0 +1,430 @@
+// The helicopter experiments' config sections (runs/heli_config.hpp).
+#include "pegasus/runs/heli_config.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "pegasus/core/reward_limits.hpp"
+#include "pegasus/heli/hover_task.hpp"
+#include "pegasus/heli/simulators.hpp"
+#include "pegasus/runs/optimizer_config.hpp"
+
+namespace pegasus::heli {
+
+using sysid::BandwidthFloor;
+using sysid::IdentifyOptions;
+
+void declare_vehicle(ConfigSchema& s, const std::string& fills) {
+  s.add_string(
+       "vehicle", "",
+       "vehicle file (README: Vehicle files; experiments/vehicles/): the aircraft's log layout, "
+       "channels, rates and hover settings; empty: the X-Cell 60 in the project's own log layout" +
+           (fills.empty() ? std::string() : "; its " + fills + " replace the defaults shown here unless set"))
+      .input_file();
+}
+
+VehicleChoice vehicle_of(const ConfigSchema& c) { return VehicleChoice::read(c.get_string("vehicle")); }
+
+// Sets `field` from the vehicle file unless the user set it (a config file or an option wins).
+void set_from_vehicle(ConfigSchema& s, const logs::Vehicle& v, const std::string& field, FieldValue value,
+                      const std::string& key) {
+  if (s.origin(field) == "default") s.set(field, std::move(value), fmt::format("{}: {}", v.log.file, key));
+}
+
+void declare_gust_sigma(ConfigSchema& s, const std::string& help) {
+  s.add_double(
+       "gust_sigma", own_gust_sigma("xcell"),
+       fmt::format("{}; with a vehicle file, its ground truth's own unless set (xcell {}, crazyflie2 {})",
+                   help, own_gust_sigma("xcell"), own_gust_sigma("crazyflie2")))
+      .range(0, 10);
+}
+
+void resolve_gust_sigma(ConfigSchema& s) {
+  if (s.get_string("vehicle").empty()) return;
+  const logs::Vehicle v = logs::read_vehicle(s.get_string("vehicle"));
+  if (v.simulator != "none")
+    set_from_vehicle(s, v, "gust_sigma", own_gust_sigma(v.simulator), "vehicle.simulator");
+}
+
+void declare_bandwidth_floor(ConfigSchema& s) {
+  const BandwidthFloor d;
+  s.add_double("bandwidth_floor.angle_rad", d.angle_rad, "narrowest kernel bandwidth of roll and pitch, rad")
+      .range(0, 1e6);
+  s.add_double("bandwidth_floor.velocity_mps", d.velocity_mps,
+               "narrowest kernel bandwidth of the body velocities, m/s")
+      .range(0, 1e6);
+  s.add_double("bandwidth_floor.rate_radps", d.rate_radps,
+               "narrowest kernel bandwidth of the body rates (and the gyro state), rad/s")
+      .range(0, 1e6);
+  s.add_double("bandwidth_floor.flap_rad", d.flap_rad,
+               "narrowest kernel bandwidth of the flapping states, rad")
+      .range(0, 1e6);
+  s.add_double("bandwidth_floor.control", d.control,
+               "narrowest kernel bandwidth of each control, in its [-1, 1] units (a control the pilot barely "
+               "moved is not given a bandwidth below this)")
+      .range(0, 1e6);
+}
+
+BandwidthFloor read_bandwidth_floor(const ConfigSchema& c) {
+  return {.angle_rad = c.get_double("bandwidth_floor.angle_rad"),
+          .velocity_mps = c.get_double("bandwidth_floor.velocity_mps"),
+          .rate_radps = c.get_double("bandwidth_floor.rate_radps"),
+          .flap_rad = c.get_double("bandwidth_floor.flap_rad"),
+          .control = c.get_double("bandwidth_floor.control")};
+}
+
+void declare_identify_config(ConfigSchema& s) {
+  const IdentifyRunOptions d;
+  const IdentifyOptions& id = d.identify;
+  declare_vehicle(s, "[log] model_rate_hz, [vehicle] latent_states, [model] templates and [control] rate_hz");
+  s.add_string("train", "", "training flight log (CSV in the vehicle's layout, see README)").input_file();
+  s.add_string("test", "", "hold-out flight log (CSV)").input_file();
+  s.add_double("rate_hz", id.structure.rate_hz, "identification rate, Hz (the log is downsampled)")
+      .range(1, 50);
+  s.add_bool("local", id.local, "locally weighted regression (false: globally linear)");
+  s.add_bool("extra_states", id.structure.extra_states,
+             "use the flapping and yaw-gyro states of the published model");
+  s.add_bool("intercept", id.structure.intercept, "regress on a constant");
+  s.add_bool("templates", id.structure.templates, "fix kinematic and gravity coefficients (thesis 5.2.2)");
+  s.add_double("window_s", id.window_s,
+               "cross-validation leaves out this window around each held-out point, s")
+      .range(0, 1000);
+  s.add_int("cv_points", id.cv_points, "held-out points per cross-validation evaluation").range(10, 100000);
+  s.add_double_list("scale_grid", id.scale_grid, "bandwidths tried, in input standard deviations")
+      .min(1e-6)
+      .min_size(1);
+  s.add_int("coordinate_passes", id.coordinate_passes, "passes of per-input bandwidth refinement")
+      .range(0, 10);
+  declare_bandwidth_floor(s);
+  s.add_string(
+       "noise", sysid::to_string(id.noise),
+       "the model's noise: white per model step (Eqs 5.5-5.6) or ar1 (each output's noise a white part "
+       "plus a first-order autoregressive part fitted to the residuals' autocorrelation up to 2 s) or "
+       "ar1+measurement (ar1 plus an error of the logged states themselves, which the model does not fly)")
+      .choices({"white", "ar1", "ar1+measurement"});
+  s.add_bool(
+      "calibrate_noise", id.calibrate_noise,
+      "scale each output's noise, the part the model flies and (ar1+measurement) the log's own error apart, "
+      "so that the training log's own noise check (each window predicted without its data) has about 4.55% "
+      "of its steps outside +-2 sd in each of three spans of the reset window (to 1/4, 1/2 and all of it)");
+  s.add_double("horizon_s", d.horizon_s, "longest prediction horizon of the report, s").range(0.1, 100);
+  s.add_double("start_spacing_s", d.start_spacing_s,
+               "spacing of the open-loop prediction starts on the test log, s")
+      .range(0.02, 1000);
+  s.add_double("reset_s", d.reset_s, "the noise check's EKF is reset to the true state this often, s")
+      .range(0.1, 100);
+  s.add_bool("variants", d.variants, "also report the model-selection variants of Fig 5.2");
+  s.add_double("control_rate_hz", d.control_rate_hz,
+               "the rate hover training will step the model at (heli hover --control-rate-hz): the chosen "
+               "model's errors are also reported as training runs it")
+      .greater_than(0)
+      .max(1000);
+}
+
+void resolve_identify_config(ConfigSchema& s) {
+  if (s.get_string("vehicle").empty()) return;
+  const logs::Vehicle v = logs::read_vehicle(s.get_string("vehicle"));
+  set_from_vehicle(s, v, "rate_hz", v.log.model_rate_hz, "log.model_rate_hz");
+  set_from_vehicle(s, v, "extra_states", v.xcell_latent_states, "vehicle.latent_states");
+  set_from_vehicle(s, v, "templates", v.kinematic_templates, "model.templates");
+  set_from_vehicle(s, v, "control_rate_hz", v.control_rate_hz, "control.rate_hz");
+}
+
+IdentifyRunOptions read_identify_config(const ConfigSchema& c) {
+  IdentifyRunOptions o;
+  o.aircraft = vehicle_of(c);
+  o.train_log = c.get_string("train");
+  o.test_log = c.get_string("test");
+  o.horizon_s = c.get_double("horizon_s");
+  o.start_spacing_s = c.get_double("start_spacing_s");
+  o.reset_s = c.get_double("reset_s");
+  o.variants = c.get_bool("variants");
+  o.control_rate_hz = c.get_double("control_rate_hz");
+  IdentifyOptions& id = o.identify;
+  id.structure.rate_hz = c.get_double("rate_hz");
+  id.structure.extra_states = c.get_bool("extra_states");
+  id.structure.intercept = c.get_bool("intercept");
+  id.structure.templates = c.get_bool("templates");
+  id.local = c.get_bool("local");
+  id.window_s = c.get_double("window_s");
+  id.cv_points = static_cast<int>(c.get_int("cv_points"));
+  id.scale_grid = c.get_double_list("scale_grid");
+  id.coordinate_passes = static_cast<int>(c.get_int("coordinate_passes"));
+  id.min_bandwidth = read_bandwidth_floor(c);
+  id.noise = sysid::parse_noise_model(c.get_string("noise"));
+  id.calibrate_noise = c.get_bool("calibrate_noise");
+  return o;
+}
+
+void declare_pilot_config(ConfigSchema& s) {
+  const PilotRunOptions d;
+  declare_vehicle(s);
+  s.add_double("seconds", d.seconds, "flight length, s (the thesis used 339 s to train, 140 s to test)")
+      .range(1, 36000);
+  s.add_double("hover_seconds", d.hover_seconds, "plain hover before the sweeps, s").range(0, 36000);
+  s.add_bool("sweeps", d.sweeps,
+             "fly a frequency sweep (0.1 to 3 Hz) in each channel in turn after the hover");
+  s.add_double("sweep_scale", d.sweep_scale,
+               "multiplies the vehicle pilot's sweep amplitudes (larger sweeps excite the aircraft more than "
+               "the pilot's own corrections do, which lessens closed-loop bias)")
+      .range(0, 5);
+  declare_gust_sigma(s, "turbulence standard deviation per axis, m/s");
+  s.add_bool("estimate_noise", d.settings.estimate_noise,
+             "add Kalman-filter-like state-estimate errors to the log");
+}
+
+PilotRunOptions read_pilot_config(const ConfigSchema& c, std::uint64_t seed) {
+  PilotRunOptions o{.aircraft = vehicle_of(c)};
+  o.settings.gust_sigma = c.get_double("gust_sigma");
+  o.settings.estimate_noise = c.get_bool("estimate_noise");
+  o.seconds = c.get_double("seconds");
+  o.hover_seconds = c.get_double("hover_seconds");
+  o.sweeps = c.get_bool("sweeps");
+  o.sweep_scale = c.get_double("sweep_scale");
+  o.seed = seed;
+  return o;
+}
+
+void declare_hover_config(ConfigSchema& s) {
+  declare_vehicle(s,
+                  "[control] rate_hz, [hover] target, starting_gains, integral_seconds and reward, and "
+                  "[envelope] max_tilt_rad");
+  s.add_string("model", "", "identified model (model.json of pegasus heli identify)").input_file();
+  const HoverTrainingOptions defaults;
+  s.add_int("scenarios", defaults.scenarios, "PEGASUS scenarios m (thesis 5.3: 30)").range(1, 100000);
+  s.add_double("seconds", defaults.seconds, "flight per scenario, s (thesis 5.3: 35)")
+      .greater_than(0)
+      .max(3600);
+  s.add_double(
+       "control_rate_hz", defaults.control_rate_hz,
+       "the controller's rate, Hz: the learned model steps at it and the policy is trained for it (thesis "
+       "5.1: 50; a flight computer that runs its controller at 10 Hz: 10)")
+      .range(0.1, 1000);
+  s.add_string(
+       "starting_gains", defaults.lqr_start ? "lqr" : "constant",
+       "the policy's starting gains: the X-Cell's constants, or LQR on the identified model at the hover "
+       "with the reward's weights (for an aircraft with other control signs or strengths; kept only "
+       "when the hover class's share of them holds the linear model)")
+      .choices({"constant", "lqr"});
+  s.add_double(
+       "integral_seconds", defaults.integral_seconds,
+       "the hover class's integral term against steady offsets (wind): each channel's int weight starts "
+       "at its error gain / this (LQR start: doubled until stable on the linear model); 0: none (the "
+       "thesis's class)")
+      .range(0, 3600);
+  s.add_double("integral_limit_position", defaults.integral_limit_position,
+               "anti-windup: the position error integral's limit per axis, m s")
+      .greater_than(0)
+      .max(1e6);
+  s.add_double("integral_limit_yaw", defaults.integral_limit_yaw,
+               "anti-windup: the yaw error integral's limit, rad s")
+      .greater_than(0)
+      .max(1e6);
+  s.add_double(
+       "gamma", defaults.gamma,
+       "discount per 1/50 s (thesis 5.3: 0.9995 per 50 Hz step); per step it is gamma^(50 / control_rate_hz)")
+      .greater_than(0)
+      .max(1);
+  s.add_int(
+       "refit_every", defaults.refit_every,
+       "learned model: steps between local-regression refits; 0: at the model's own rate (thesis 5.2.2: 5 "
+       "steps at 50 Hz from a 10 Hz model)")
+      .range(0, 1000);
+  s.add_double("start_pos_sigma", defaults.start_pos_sigma, "start position perturbation per axis, m")
+      .range(0, 100);
+  s.add_double("start_vel_sigma", defaults.start_vel_sigma, "start velocity perturbation per axis, m/s")
+      .range(0, 100);
+  s.add_double("max_tilt_rad", defaults.max_tilt_rad,
+               "the envelope: |roll| or |pitch| beyond this crashes the learned model, rad")
+      .greater_than(0)
+      .max(1.5);
+  s.add_double("max_start_crash_fraction", defaults.max_start_crash_fraction,
+               "stop before training when the starting policy crashes the learned model in more than this "
+               "fraction of the scenarios (1: never stop)")
+      .range(0, 1);
+  s.add_double_list("target", {defaults.target.x, defaults.target.y, defaults.target.z, defaults.target.yaw},
+                    "set point x, y, z (m, NED: z < 0 is up) and yaw (rad)")
+      .validate([](const FieldValue& v) {
+        return std::get<std::vector<double>>(v).size() == 4 ? std::string()
+                                                            : std::string("4 numbers: x, y, z, yaw");
+      });
+  // Each weight is 1 / this^2 (Eq 5.9, 5.10): below kMinTypicalScale it would exceed kMaxRewardWeight, and
+  // the reward's own check would then blame alpha_pos instead of the option given.
+  static constexpr double kMinTypicalScale = 1e-6;  // 1 / sqrt(kMaxRewardWeight)
+  s.add_double("reward.position_m", HoverReward::kTypicalPosition,
+               "typical position error: alpha_x,y,z = 1 / this^2 (Eq 5.9)")
+      .min(kMinTypicalScale);
+  s.add_double("reward.velocity_mps", HoverReward::kTypicalVelocity,
+               "typical velocity: alpha_xdot,ydot,zdot = 1 / this^2 (Eq 5.9)")
+      .min(kMinTypicalScale);
+  s.add_double("reward.yaw_rad", HoverReward::kTypicalYaw,
+               "typical yaw error: alpha_yaw = 1 / this^2 (Eq 5.9)")
+      .min(kMinTypicalScale);
+  // 0 or at least kMinTypicalScale: 0 leaves the term out.
+  const auto zero_or_typical = [](const FieldValue& v) {
+    const double x = std::get<double>(v);
+    return x == 0 || x >= kMinTypicalScale ? std::string()
+                                           : fmt::format("0 or at least {}", kMinTypicalScale);
+  };
+  s.add_double("reward.action", HoverReward::kTypicalAction,
+               "typical control departure: alpha_a = 1 / this^2 (Eq 5.10); 0: no action cost")
+      .min(0)
+      .validate(zero_or_typical);
+  s.add_double("reward.attitude_rad", 0,
+               "typical roll and pitch (about level): alpha = 1 / this^2; 0: no attitude term (as Eq 5.9)")
+      .min(0)
+      .validate(zero_or_typical);
+  s.add_double("reward.rate_radps", 0,
+               "typical roll, pitch and yaw rate: alpha = 1 / this^2; 0: no rate term (as Eq 5.9)")
+      .min(0)
+      .validate(zero_or_typical);
+  s.add_string("reward.action_centre", defaults.centre_at_trim ? "trim" : "zero",
+               "controls the action cost is taken about: the logs' mean (trim) or 0 (Eq 5.10 as printed)")
+      .choices({"trim", "zero"});
+  // Gradient ascent by default (thesis 5.3), then hill climbing from its result (then_hill_climb).
+  declare_optimizer_options(s, "optimizer", defaults.optimizer, continuous_class_methods(false));
+  s.add_bool("then_hill_climb", defaults.then_hill_climb,
+             "after gradient ascent, random-walk hill climbing (optimizer.hill_climbing) from its result");
+}
+
+void resolve_hover_config(ConfigSchema& s) {
+  if (s.get_string("vehicle").empty()) return;
+  const logs::Vehicle v = logs::read_vehicle(s.get_string("vehicle"));
+  set_from_vehicle(s, v, "control_rate_hz", v.control_rate_hz, "control.rate_hz");
+  set_from_vehicle(s, v, "starting_gains", v.starting_gains, "hover.starting_gains");
+  set_from_vehicle(s, v, "integral_seconds", v.integral_seconds, "hover.integral_seconds");
+  set_from_vehicle(s, v, "target", std::vector<double>(v.target.begin(), v.target.end()), "hover.target");
+  set_from_vehicle(s, v, "max_tilt_rad", v.max_tilt_rad, "envelope.max_tilt_rad");
+  for (const auto& [key, size] : v.reward)
+    set_from_vehicle(s, v, "reward." + key, size, "hover.reward." + key);
+}
+
+HoverRunOptions read_hover_config(const ConfigSchema& c, std::uint64_t seed) {
+  HoverRunOptions run{.aircraft = vehicle_of(c), .model_file = c.get_string("model")};
+  HoverTrainingOptions& o = run.training;
+  o.scenarios = static_cast<int>(c.get_int("scenarios"));
+  o.seconds = c.get_double("seconds");
+  o.gamma = c.get_double("gamma");
+  o.refit_every = static_cast<int>(c.get_int("refit_every"));
+  o.control_rate_hz = c.get_double("control_rate_hz");
+  o.lqr_start = c.get_string("starting_gains") == "lqr";
+  o.integral_seconds = c.get_double("integral_seconds");
+  o.integral_limit_position = c.get_double("integral_limit_position");
+  o.integral_limit_yaw = c.get_double("integral_limit_yaw");
+  o.start_pos_sigma = c.get_double("start_pos_sigma");
+  o.start_vel_sigma = c.get_double("start_vel_sigma");
+  o.max_tilt_rad = c.get_double("max_tilt_rad");
+  const auto& t = c.get_double_list("target");
+  o.target = {t[0], t[1], t[2], t[3]};
+  o.reward = HoverReward::from_typical(c.get_double("reward.position_m"), c.get_double("reward.velocity_mps"),
+                                       c.get_double("reward.yaw_rad"), c.get_double("reward.action"), {});
+  o.reward.alpha_attitude.fill(HoverReward::weight_of_typical(c.get_double("reward.attitude_rad")));
+  o.reward.alpha_rate.fill(HoverReward::weight_of_typical(c.get_double("reward.rate_radps")));
+  o.centre_at_trim = c.get_string("reward.action_centre") == "trim";
+  read_optimizer_options(c, "optimizer", &o.optimizer);
+  o.then_hill_climb = c.get_bool("then_hill_climb");
+  o.max_start_crash_fraction = c.get_double("max_start_crash_fraction");
+  o.seed = seed;
+  return run;  // run_hover checks it
+}
+
+void declare_fly_config(ConfigSchema& s) {
+  const FlyRunOptions d;
+  const HoverTrainingOptions hover;  // by default, flights start as perturbed as hover training's scenarios
+  declare_vehicle(s);
+  s.add_string("policy", "", "policy file (policy.json of pegasus heli hover or heli maneuver)").input_file();
+  s.add_bool("pilot", d.pilot_only, "fly the scripted pilot's hover instead of a policy");
+  s.add_bool("compare_pilot", d.compare_pilot,
+             "also fly the scripted pilot's hover from the same starts and gusts");
+  s.add_int("flights", d.flights.flights, "flights from perturbed starts").range(1, 1000000);
+  s.add_double("seconds", d.flights.seconds, "flight length, s").greater_than(0).max(36000);
+  declare_gust_sigma(s, "turbulence standard deviation per axis, m/s");
+  s.add_double_list("wind", {0, 0, 0}, "steady wind north, east, down (m/s, W), under the gusts")
+      .validate([](const FieldValue& v) {
+        const auto& w = std::get<std::vector<double>>(v);
+        if (w.size() != 3) return std::string("3 numbers: north, east, down (m/s)");
+        for (const double x : w)
+          if (!(std::abs(x) <= 30)) return std::string("3 numbers in [-30, 30] m/s");
+        return std::string();
+      });
+  s.add_bool("estimate_noise", d.settings.estimate_noise,
+             "the controller sees Kalman-filter-like state-estimate errors");
+  s.add_double("start_pos_sigma", hover.start_pos_sigma, "start position perturbation per axis, m")
+      .range(0, 100);
+  s.add_double("start_vel_sigma", hover.start_vel_sigma, "start velocity perturbation per axis, m/s")
+      .range(0, 100);
+  s.add_int("trace_flights", d.flights.trace_flights,
+            "flights written step by step to flights.csv (the first ones)")
+      .range(0, 1000000);
+}
+
+FlyRunOptions read_fly_config(const ConfigSchema& c, std::uint64_t seed) {
+  FlyRunOptions o{.aircraft = vehicle_of(c),
+                  .policy_file = c.get_string("policy"),
+                  .pilot_only = c.get_bool("pilot"),
+                  .compare_pilot = c.get_bool("compare_pilot")};
+  o.settings.gust_sigma = c.get_double("gust_sigma");
+  o.settings.estimate_noise = c.get_bool("estimate_noise");
+  o.settings.start_pos_sigma = c.get_double("start_pos_sigma");
+  o.settings.start_vel_sigma = c.get_double("start_vel_sigma");
+  const auto& wind = c.get_double_list("wind");
+  o.settings.mean_wind_W = Vec3(wind[0], wind[1], wind[2]);
+  o.flights.flights = static_cast<int>(c.get_int("flights"));
+  o.flights.seconds = c.get_double("seconds");
+  o.flights.seed = seed;
+  o.flights.trace_flights = static_cast<int>(c.get_int("trace_flights"));
+  return o;
+}
+
+void declare_control_config(ConfigSchema& s) {
+  declare_vehicle(s);
+  s.add_string("policy", "", "policy file (policy.json of pegasus heli hover)");
+  s.add_int("bench_lines", 0, "0: serve stdin; N: time N synthetic lines and print lines/s")
+      .range(0, 100000000);
+}
+
+void declare_pipeline_config(ConfigSchema& s) {
+  const sysid::IdentifyOptions identify_defaults;
+  const HoverTrainingOptions hover_defaults;
+  const FlightOptions flight_defaults;
+  declare_vehicle(s);
+  s.add_double("train_seconds", PilotRunOptions{}.seconds, "pilot training flight, s (thesis 5.2: 339)")
+      .range(30, 36000);
+  s.add_double("test_seconds", 140, "pilot hold-out flight, s (thesis 5.2: 140)").range(20, 36000);
+  s.add_int("cv_points", identify_defaults.cv_points,
+            "identification: held-out points per cross-validation evaluation")
+      .range(10, 100000);
+  s.add_double_list("scale_grid", identify_defaults.scale_grid,
+                    "identification: bandwidths tried, in input standard deviations")
+      .min(1e-6)
+      .min_size(1);
+  s.add_int("coordinate_passes", identify_defaults.coordinate_passes,
+            "identification: passes of per-input bandwidth refinement")
+      .range(0, 10);
+  s.add_int("scenarios", hover_defaults.scenarios, "hover training: PEGASUS scenarios").range(1, 100000);
+  s.add_double("scenario_seconds", hover_defaults.seconds, "hover training: flight per scenario, s")
+      .greater_than(0)
+      .max(3600);
+  s.add_int("gradient_iterations", hover_defaults.optimizer.gradient.max_iterations,
+            "hover training: gradient ascent iterations")
+      .range(0, 1000000);
+  s.add_int("hill_climbing_iterations", hover_defaults.optimizer.hill_climbing.max_iterations,
+            "hover training: hill-climbing iterations")
+      .range(0, 1000000);
+  s.add_double("start_pos_sigma", hover_defaults.start_pos_sigma,
+               "hover training and flights: start position perturbation per axis, m")
+      .range(0, 100);
+  s.add_double("start_vel_sigma", hover_defaults.start_vel_sigma,
+               "hover training and flights: start velocity perturbation per axis, m/s")
+      .range(0, 100);
+  s.add_int("flights", flight_defaults.flights, "flights on the ground truth (policy and pilot)")
+      .range(1, 1000000);
+  s.add_double("flight_seconds", flight_defaults.seconds, "flight length on the ground truth, s")
+      .greater_than(0)
+      .max(36000);
+}
+
+}  // namespace pegasus::heli
