@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,70 @@ namespace pegasus::heli {
 
 using sysid::BandwidthFloor;
 using sysid::IdentifyOptions;
+
+namespace {
+
+// A field a section takes from the vehicle file when the user set none: the field, the file's key, the value.
+struct VehicleFill {
+  std::string field, key;
+  FieldValue (*value)(const logs::Vehicle& v);
+};
+
+const std::vector<VehicleFill>& identify_fills() {
+  static const std::vector<VehicleFill> fills = {
+      {"rate_hz", "log.model_rate_hz",
+       [](const logs::Vehicle& v) { return FieldValue(v.log.model_rate_hz); }},
+      {"extra_states", "vehicle.latent_states",
+       [](const logs::Vehicle& v) { return FieldValue(v.xcell_latent_states); }},
+      {"templates", "model.templates",
+       [](const logs::Vehicle& v) { return FieldValue(v.kinematic_templates); }},
+      {"control_rate_hz", "control.rate_hz",
+       [](const logs::Vehicle& v) { return FieldValue(v.control_rate_hz); }},
+  };
+  return fills;
+}
+
+// And each key of the file's [hover.reward] to the field `reward.KEY`.
+const std::vector<VehicleFill>& hover_fills() {
+  static const std::vector<VehicleFill> fills = {
+      {"control_rate_hz", "control.rate_hz",
+       [](const logs::Vehicle& v) { return FieldValue(v.control_rate_hz); }},
+      {"starting_gains", "hover.starting_gains",
+       [](const logs::Vehicle& v) { return FieldValue(v.starting_gains); }},
+      {"integral_seconds", "hover.integral_seconds",
+       [](const logs::Vehicle& v) { return FieldValue(v.integral_seconds); }},
+      {"target", "hover.target",
+       [](const logs::Vehicle& v) {
+         return FieldValue(std::vector<double>(v.target.begin(), v.target.end()));
+       }},
+      {"max_tilt_rad", "envelope.max_tilt_rad",
+       [](const logs::Vehicle& v) { return FieldValue(v.max_tilt_rad); }},
+  };
+  return fills;
+}
+constexpr const char* kHoverRewardKeys = "hover.reward.*";
+
+// "A, B and C": the fills' keys (and `more`), for the `vehicle` field's help.
+std::string fills_help(const std::vector<VehicleFill>& fills, const std::string& more = {}) {
+  std::vector<std::string> keys;
+  for (const auto& f : fills) keys.push_back(f.key);
+  if (!more.empty()) keys.push_back(more);
+  std::string list = keys.front();
+  for (std::size_t i = 1; i < keys.size(); ++i) list += (i + 1 == keys.size() ? " and " : ", ") + keys[i];
+  return list;
+}
+
+// The vehicle file the `vehicle` field names, or none.
+std::optional<logs::Vehicle> vehicle_file_of(const ConfigSchema& s) {
+  if (s.get_string("vehicle").empty()) return std::nullopt;
+  return logs::read_vehicle(s.get_string("vehicle"));
+}
+
+void apply_fills(ConfigSchema& s, const logs::Vehicle& v, const std::vector<VehicleFill>& fills) {
+  for (const auto& f : fills) set_from_vehicle(s, v, f.field, f.value(v), f.key);
+}
+
+}  // namespace
 
 void declare_vehicle(ConfigSchema& s, const std::string& fills) {
   s.add_string(
@@ -43,10 +108,8 @@ void declare_gust_sigma(ConfigSchema& s, const std::string& help) {
 }
 
 void resolve_gust_sigma(ConfigSchema& s) {
-  if (s.get_string("vehicle").empty()) return;
-  const logs::Vehicle v = logs::read_vehicle(s.get_string("vehicle"));
-  if (v.simulator != "none")
-    set_from_vehicle(s, v, "gust_sigma", own_gust_sigma(v.simulator), "vehicle.simulator");
+  if (const auto v = vehicle_file_of(s); v && v->simulator != "none")
+    set_from_vehicle(s, *v, "gust_sigma", own_gust_sigma(v->simulator), "vehicle.simulator");
 }
 
 void declare_bandwidth_floor(ConfigSchema& s) {
@@ -79,7 +142,7 @@ BandwidthFloor read_bandwidth_floor(const ConfigSchema& c) {
 void declare_identify_config(ConfigSchema& s) {
   const IdentifyRunOptions d;
   const IdentifyOptions& id = d.identify;
-  declare_vehicle(s, "[log] model_rate_hz, [vehicle] latent_states, [model] templates and [control] rate_hz");
+  declare_vehicle(s, fills_help(identify_fills()));
   s.add_string("train", "", "training flight log (CSV in the vehicle's layout, see README)").input_file();
   s.add_string("test", "", "hold-out flight log (CSV)").input_file();
   s.add_double("rate_hz", id.structure.rate_hz, "identification rate, Hz (the log is downsampled)")
@@ -125,12 +188,7 @@ void declare_identify_config(ConfigSchema& s) {
 }
 
 void resolve_identify_config(ConfigSchema& s) {
-  if (s.get_string("vehicle").empty()) return;
-  const logs::Vehicle v = logs::read_vehicle(s.get_string("vehicle"));
-  set_from_vehicle(s, v, "rate_hz", v.log.model_rate_hz, "log.model_rate_hz");
-  set_from_vehicle(s, v, "extra_states", v.xcell_latent_states, "vehicle.latent_states");
-  set_from_vehicle(s, v, "templates", v.kinematic_templates, "model.templates");
-  set_from_vehicle(s, v, "control_rate_hz", v.control_rate_hz, "control.rate_hz");
+  if (const auto v = vehicle_file_of(s)) apply_fills(s, *v, identify_fills());
 }
 
 IdentifyRunOptions read_identify_config(const ConfigSchema& c) {
@@ -189,9 +247,7 @@ PilotRunOptions read_pilot_config(const ConfigSchema& c, std::uint64_t seed) {
 }
 
 void declare_hover_config(ConfigSchema& s) {
-  declare_vehicle(s,
-                  "[control] rate_hz, [hover] target, starting_gains, integral_seconds and reward, and "
-                  "[envelope] max_tilt_rad");
+  declare_vehicle(s, fills_help(hover_fills(), kHoverRewardKeys));
   s.add_string("model", "", "identified model (model.json of pegasus heli identify)").input_file();
   const HoverTrainingOptions defaults;
   s.add_int("scenarios", defaults.scenarios, "PEGASUS scenarios m (thesis 5.3: 30)").range(1, 100000);
@@ -291,15 +347,11 @@ void declare_hover_config(ConfigSchema& s) {
 }
 
 void resolve_hover_config(ConfigSchema& s) {
-  if (s.get_string("vehicle").empty()) return;
-  const logs::Vehicle v = logs::read_vehicle(s.get_string("vehicle"));
-  set_from_vehicle(s, v, "control_rate_hz", v.control_rate_hz, "control.rate_hz");
-  set_from_vehicle(s, v, "starting_gains", v.starting_gains, "hover.starting_gains");
-  set_from_vehicle(s, v, "integral_seconds", v.integral_seconds, "hover.integral_seconds");
-  set_from_vehicle(s, v, "target", std::vector<double>(v.target.begin(), v.target.end()), "hover.target");
-  set_from_vehicle(s, v, "max_tilt_rad", v.max_tilt_rad, "envelope.max_tilt_rad");
-  for (const auto& [key, size] : v.reward)
-    set_from_vehicle(s, v, "reward." + key, size, "hover.reward." + key);
+  const auto v = vehicle_file_of(s);
+  if (!v) return;
+  apply_fills(s, *v, hover_fills());
+  for (const auto& [key, size] : v->reward)
+    set_from_vehicle(s, *v, "reward." + key, size, "hover.reward." + key);
 }
 
 HoverRunOptions read_hover_config(const ConfigSchema& c, std::uint64_t seed) {

@@ -119,6 +119,35 @@ TEST(ExperimentConfig, AVehicleFileFillsOnlyWhatTheUserLeftAtDefaults) {
   EXPECT_EQ(heli::read_fly_config(g, kSeed).settings.gust_sigma, heli::own_gust_sigma("crazyflie2"));
 }
 
+// Every field a section's resolve step takes from a vehicle file is named, by the file's key, in the help of
+// its `vehicle` field, which says that those replace the defaults shown.
+TEST(ExperimentConfig, TheVehicleFieldsHelpNamesEveryKeyTheResolveStepFills) {
+  const std::string vehicle =
+      (std::filesystem::path(PEGASUS_SOURCE_DIR) / "experiments/vehicles/crazyflie2.toml").string();
+  struct Section {
+    void (*declare)(ConfigSchema&);
+    void (*resolve)(ConfigSchema&);
+    std::size_t least_filled;
+  };
+  for (const Section& section : {Section{heli::declare_hover_config, heli::resolve_hover_config, 6},
+                                 Section{heli::declare_identify_config, heli::resolve_identify_config, 4}}) {
+    ConfigSchema s = defaults_of(section.declare);
+    s.set("vehicle", vehicle, "--vehicle");
+    section.resolve(s);
+    const std::string& help = s.field("vehicle").help();
+    std::size_t filled = 0;
+    for (const ConfigField& f : s.fields()) {
+      const std::string& origin = s.origin(f.name());
+      if (origin == "default" || f.name() == "vehicle") continue;
+      ++filled;
+      const std::string key = origin.substr(origin.rfind(": ") + 2);
+      const std::string named = key.starts_with("hover.reward.") ? "hover.reward.*" : key;
+      EXPECT_NE(help.find(named), std::string::npos) << f.name() << " from " << key << " not in: " << help;
+    }
+    EXPECT_GE(filled, section.least_filled) << help;  // the file's settings were applied at all
+  }
+}
+
 TEST(ExperimentConfig, HelicopterSectionsReadTheirDefaults) {
   const heli::PilotRunOptions pilot = heli::read_pilot_config(defaults_of(heli::declare_pilot_config), kSeed);
   const heli::PilotRunOptions pilot_defaults;
