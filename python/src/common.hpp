@@ -88,6 +88,12 @@ class IterationCallbackList {
   IterationCallbacks pointers_;
 };
 
+// The noise sizes of every batch model (Aircraft, Quadrotor, LearnedHeliModel, Bicycle, Pendulum) and of
+// ScenarioSet: one meaning (SimulativeModel, thesis §4.2.1), so one text.
+inline constexpr const char* kNoiseDimDoc =
+    "Uniforms per step: the width of each p_t of a scenario (all of a step's randomness).";
+inline constexpr const char* kInitialNoiseDimDoc = "Uniforms that draw the initial state s0 of a scenario.";
+
 // `.def("is_valid", is_valid_method<T>(), kIsValidDoc)`: options.is_valid() -> (ok, error) for a C++ type
 // with IsValid(std::string*).
 inline constexpr const char* kIsValidDoc =

@@ -88,9 +88,10 @@ Randlov and Alstrom's bicycle (thesis §4.6) as a batch model. A state row is
 [T, d]; one uniform of noise per step, five for the initial state.)doc")
       .def(py::init([](const BicycleOptions& o) { return Bicycle(o); }),
            py::arg_v("options", BicycleOptions{}, "BicycleOptions()"))
-      .def_property_readonly("options", &Bicycle::options)
-      .def_property_readonly("noise_dim", &Bicycle::noise_dim)
-      .def_property_readonly("initial_noise_dim", &Bicycle::initial_noise_dim)
+      .def_property_readonly("options", &Bicycle::options, py::return_value_policy::copy,
+                             "The BicycleOptions it was built with (goal, start, rewards, noise).")
+      .def_property_readonly("noise_dim", &Bicycle::noise_dim, kNoiseDimDoc)
+      .def_property_readonly("initial_noise_dim", &Bicycle::initial_noise_dim, kInitialNoiseDimDoc)
       .def(
           "initial_state",
           [](const Bicycle& b, py::object noise) {
@@ -202,8 +203,8 @@ variant, horizon H, discount gamma, evaluated on `threads` threads (the result n
 Gymnasium's Pendulum-v1 (envs/pendulum.hpp) as a batch model: a state row is [theta, theta_dot], an action row
 [torque]; no noise per step, two uniforms for the initial state.)doc")
       .def(py::init<>())
-      .def_property_readonly("noise_dim", &Pendulum::noise_dim)
-      .def_property_readonly("initial_noise_dim", &Pendulum::initial_noise_dim)
+      .def_property_readonly("noise_dim", &Pendulum::noise_dim, kNoiseDimDoc)
+      .def_property_readonly("initial_noise_dim", &Pendulum::initial_noise_dim, kInitialNoiseDimDoc)
       .def(
           "initial_state",
           [](const Pendulum& pendulum, py::object noise) {

@@ -94,9 +94,9 @@ AircraftState aircraft_row(const double* x, py::ssize_t row, const char* name) {
   return s;
 }
 
-// The identified model's state as a row of 153 numbers: the 12 world-frame logged states, the three extra
-// states, the held regression coefficients (8 x 16), the predictive variance (8), the step count and the
-// crash flag.
+// The identified model's state as a row of 161 numbers: the 12 world-frame logged states, the three extra
+// states, the held regression coefficients (8 x 16), the predictive variance (8), the AR part of the noise
+// (8), the step count and the crash flag.
 constexpr py::ssize_t kLearnedColumns =
     kLogged + 3 + sysid::kBodyVars * sysid::kInputs + 2 * sysid::kBodyVars + 2;
 std::vector<std::string> learned_columns() {
@@ -194,7 +194,7 @@ void bind_heli(py::module_& m) {
   sp.def(py::init(&set_point), py::arg("x") = 0.0, py::arg("y") = 0.0, py::arg("z") = -10.0,
          py::arg("yaw") = 0.0)
       .def_readwrite("x", &SetPoint::x, "North, m (world frame, NED).")
-      .def_readwrite("y", &SetPoint::y, "East, m.")
+      .def_readwrite("y", &SetPoint::y, "East, m (world frame, NED).")
       .def_readwrite("z", &SetPoint::z, "Down, m (z < 0 is above the ground).")
       .def_readwrite("yaw", &SetPoint::yaw, "Heading, rad.");
   set_fields(sp, {"x", "y", "z", "yaw"});
@@ -231,19 +231,37 @@ errors, minus the weighted squared controls about `centre` (heli/hover_task.hpp)
 The hover policy class's starting weights: a linear controller around a trim (heli/hover_policy.hpp).)doc");
   init.def(py::init<>());
   def_array(init, "trim", &heli::HoverPolicyInit::trim, "Controls that hold a hover.");
-  init.def_readwrite("trim_roll", &heli::HoverPolicyInit::trim_roll)
-      .def_readwrite("trim_pitch", &heli::HoverPolicyInit::trim_pitch)
-      .def_readwrite("k_pos", &heli::HoverPolicyInit::k_pos)
-      .def_readwrite("k_vel", &heli::HoverPolicyInit::k_vel)
-      .def_readwrite("k_att", &heli::HoverPolicyInit::k_att)
-      .def_readwrite("k_pos_lat", &heli::HoverPolicyInit::k_pos_lat)
-      .def_readwrite("k_vel_lat", &heli::HoverPolicyInit::k_vel_lat)
-      .def_readwrite("k_roll", &heli::HoverPolicyInit::k_roll)
-      .def_readwrite("k_alt", &heli::HoverPolicyInit::k_alt)
-      .def_readwrite("k_climb", &heli::HoverPolicyInit::k_climb)
-      .def_readwrite("k_yaw", &heli::HoverPolicyInit::k_yaw)
-      .def_readwrite("k_yaw_rate", &heli::HoverPolicyInit::k_yaw_rate)
-      .def_readwrite("integral_seconds", &heli::HoverPolicyInit::integral_seconds);
+  init.def_readwrite(
+          "trim_roll", &heli::HoverPolicyInit::trim_roll,
+          "Roll at that hover, rad: a2.bias starts at trim[1] - k_roll * trim_roll (within [-1, 1]), "
+          "so the roll term acts about it.")
+      .def_readwrite(
+          "trim_pitch", &heli::HoverPolicyInit::trim_pitch,
+          "Pitch at that hover, rad: a1.bias starts at trim[0] - k_att * trim_pitch (within [-1, 1]), "
+          "so the pitch term acts about it.")
+      .def_readwrite("k_pos", &heli::HoverPolicyInit::k_pos,
+                     "a1.err: longitudinal cyclic per m of x_B error (position minus set point, rotated into "
+                     "the body frame B, forward-right-down).")
+      .def_readwrite("k_vel", &heli::HoverPolicyInit::k_vel,
+                     "a1.vel: longitudinal cyclic per m/s of xdot_B (forward velocity in B).")
+      .def_readwrite("k_att", &heli::HoverPolicyInit::k_att, "a1.att: longitudinal cyclic per rad of pitch.")
+      .def_readwrite("k_pos_lat", &heli::HoverPolicyInit::k_pos_lat,
+                     "a2.err: lateral cyclic per m of y_B error (right of the set point in B).")
+      .def_readwrite("k_vel_lat", &heli::HoverPolicyInit::k_vel_lat,
+                     "a2.vel: lateral cyclic per m/s of ydot_B (rightward velocity in B).")
+      .def_readwrite("k_roll", &heli::HoverPolicyInit::k_roll, "a2.att: lateral cyclic per rad of roll.")
+      .def_readwrite("k_alt", &heli::HoverPolicyInit::k_alt,
+                     "a3.err: main collective per m of z_B error (z down: below the set point gives more "
+                     "collective).")
+      .def_readwrite("k_climb", &heli::HoverPolicyInit::k_climb,
+                     "a3.vel: main collective per m/s of zdot_B (downward velocity in B).")
+      .def_readwrite("k_yaw", &heli::HoverPolicyInit::k_yaw,
+                     "a4.err: tail collective per rad of yaw error, wrap(yaw - yaw*) in (-pi, pi].")
+      .def_readwrite("k_yaw_rate", &heli::HoverPolicyInit::k_yaw_rate,
+                     "a4.vel: tail collective per rad/s of yaw rate.")
+      .def_readwrite("integral_seconds", &heli::HoverPolicyInit::integral_seconds,
+                     "The integral term's time constant T_i, s: each channel's int weight starts at its err "
+                     "gain / T_i (the PI rule); 0: no integral term (34 weights, the thesis's class).");
   set_fields(init, {"trim", "trim_roll", "trim_pitch", "k_pos", "k_vel", "k_att", "k_pos_lat", "k_vel_lat",
                     "k_roll", "k_alt", "k_climb", "k_yaw", "k_yaw_rate", "integral_seconds"});
 
@@ -252,8 +270,9 @@ The hover policy class of thesis §5.3 (Fig 5.4, Eqs 5.7-5.8): 34 weights, one t
 fed by the body-frame errors, velocities and attitude.)doc")
       .def(py::init<const heli::HoverPolicyInit&>(),
            py::arg_v("init", heli::HoverPolicyInit{}, "HoverPolicyInit()"))
-      .def_property_readonly("parameters", &HoverPolicy::parameters,
-                             py::return_value_policy::reference_internal)
+      .def_property_readonly("parameters", &HoverPolicy::parameters, py::return_value_policy::copy,
+                             "The ParameterSpec of the weights: 34, \"a1.bias\" .. \"a4.out_linear\", then "
+                             "\"a1.int\" .. \"a4.int\" with the integral term (38).")
       .def(
           "act",
           [](const HoverPolicy& policy, py::object theta, py::object states, const SetPoint& target) {
@@ -278,41 +297,71 @@ The ground-truth helicopter's parameters (heli/aircraft.hpp: the X-Cell 60 of Ga
 servos, disturbances, crash limits, integration, start), every field with the C++ name and unit.)doc");
   params.def(py::init<>());
   std::vector<const char*> own;  // the fields this aircraft alone has, in order
-#define PEGASUS_PARAM(field) (params.def_readwrite(#field, &AircraftParams::field), own.push_back(#field))
-  PEGASUS_PARAM(mass_kg);
-  PEGASUS_PARAM(ixx);
-  PEGASUS_PARAM(iyy);
-  PEGASUS_PARAM(izz);
-  PEGASUS_PARAM(gravity);
-  PEGASUS_PARAM(air_density);
-  PEGASUS_PARAM(omega_mr);
-  PEGASUS_PARAM(radius_mr);
-  PEGASUS_PARAM(chord_mr);
-  PEGASUS_PARAM(lift_slope_mr);
-  PEGASUS_PARAM(profile_drag_mr);
-  PEGASUS_PARAM(hub_height);
-  PEGASUS_PARAM(hub_stiffness);
-  PEGASUS_PARAM(tau_flap);
-  PEGASUS_PARAM(a_lon);
-  PEGASUS_PARAM(b_lat);
-  PEGASUS_PARAM(cyclic_max_rad);
-  PEGASUS_PARAM(collective_mid_rad);
-  PEGASUS_PARAM(collective_span_rad);
-  PEGASUS_PARAM(gear_tr);
-  PEGASUS_PARAM(radius_tr);
-  PEGASUS_PARAM(chord_tr);
-  PEGASUS_PARAM(lift_slope_tr);
-  PEGASUS_PARAM(arm_tr);
-  PEGASUS_PARAM(height_tr);
-  PEGASUS_PARAM(tail_mid_rad);
-  PEGASUS_PARAM(tail_span_rad);
-  PEGASUS_PARAM(gyro_gain);
-  PEGASUS_PARAM(gyro_tau);
-  PEGASUS_PARAM(fus_area_x);
-  PEGASUS_PARAM(fus_area_y);
-  PEGASUS_PARAM(fus_area_z);
-  PEGASUS_PARAM(servo_rate);
-  PEGASUS_PARAM(max_thrust_coeff_over_solidity);
+  // Published values are Gavrilets, Mettler and Feron's (AIAA 2001-4333), as heli/aircraft.hpp cites them.
+#define PEGASUS_PARAM(field, doc) \
+  (params.def_readwrite(#field, &AircraftParams::field, doc), own.push_back(#field))
+  PEGASUS_PARAM(mass_kg, "Mass, kg (Gavrilets et al.: 8.2).");
+  PEGASUS_PARAM(ixx, "Moment of inertia about the body x axis (forward), kg m^2 (Gavrilets et al.: 0.18).");
+  PEGASUS_PARAM(iyy, "Moment of inertia about the body y axis (right), kg m^2 (Gavrilets et al.: 0.34).");
+  PEGASUS_PARAM(izz, "Moment of inertia about the body z axis (down), kg m^2 (Gavrilets et al.: 0.28).");
+  PEGASUS_PARAM(gravity, "Gravitational acceleration, m/s^2 (along +z, down, in the NED world frame).");
+  PEGASUS_PARAM(air_density, "Air density, kg/m^3 (1.204: sea level at 20 C).");
+  PEGASUS_PARAM(omega_mr, "Nominal main-rotor speed, rad/s (Gavrilets et al.: 167, about 1600 rpm).");
+  PEGASUS_PARAM(radius_mr, "Main-rotor radius R_mr, m (Gavrilets et al.: 0.775).");
+  PEGASUS_PARAM(chord_mr, "Main-rotor blade chord c_mr, m (Gavrilets et al.: 0.058; two blades).");
+  PEGASUS_PARAM(lift_slope_mr, "Main-rotor blade lift-curve slope a_mr, 1/rad (Gavrilets et al.: 5.5).");
+  PEGASUS_PARAM(profile_drag_mr,
+                "Main-rotor blade profile drag coefficient C_D0, dimensionless (Gavrilets et al.: 0.024).");
+  PEGASUS_PARAM(hub_height,
+                "Main-rotor hub height h_mr above the centre of mass, m (Gavrilets et al.: 0.235).");
+  PEGASUS_PARAM(hub_stiffness,
+                "Effective hub torsional stiffness K_beta: hub moment per rad of flapping, N m/rad "
+                "(Gavrilets et al.: 54).");
+  PEGASUS_PARAM(tau_flap,
+                "Time constant tau_e of the rotor with its stabilizer bar: the flapping's first-order lag, s "
+                "(Gavrilets et al.: 0.1).");
+  PEGASUS_PARAM(a_lon,
+                "Steady longitudinal flapping per rad of longitudinal cyclic pitch A_lon, rad/rad (Gavrilets "
+                "et al.: 4.2).");
+  PEGASUS_PARAM(b_lat,
+                "Steady lateral flapping per rad of lateral cyclic pitch B_lat, rad/rad (Gavrilets et al.: "
+                "4.2).");
+  PEGASUS_PARAM(cyclic_max_rad,
+                "Cyclic blade pitch at full stick (a1 or a2 = +-1), rad (chosen: with A_lon 4.2, 0.21 rad of "
+                "steady flapping).");
+  PEGASUS_PARAM(collective_mid_rad, "Main collective pitch at a3 = 0, rad (chosen; hover needs about 0.1).");
+  PEGASUS_PARAM(collective_span_rad,
+                "Main collective pitch change from a3 = 0 to a3 = +-1, rad (pitch = mid + span * a3).");
+  PEGASUS_PARAM(gear_tr, "Tail-rotor to main-rotor speed ratio n_tr (Gavrilets et al.: 4.66).");
+  PEGASUS_PARAM(radius_tr, "Tail-rotor radius R_tr, m (Gavrilets et al.: 0.13).");
+  PEGASUS_PARAM(chord_tr, "Tail-rotor blade chord c_tr, m (Gavrilets et al.: 0.029).");
+  PEGASUS_PARAM(lift_slope_tr, "Tail-rotor blade lift-curve slope a_tr, 1/rad (Gavrilets et al.: 5.0).");
+  PEGASUS_PARAM(arm_tr,
+                "Tail-rotor hub distance l_tr behind the centre of mass, m (Gavrilets et al.: 0.91).");
+  PEGASUS_PARAM(height_tr,
+                "Tail-rotor hub height h_tr above the centre of mass, m (Gavrilets et al.: 0.08).");
+  PEGASUS_PARAM(tail_mid_rad, "Tail collective pitch at a4 = 0, rad (chosen).");
+  PEGASUS_PARAM(tail_span_rad,
+                "Tail collective pitch change from a4 = 0 to a4 = +-1, rad (pitch = mid + span * a4, less "
+                "the gyro's feedback).");
+  PEGASUS_PARAM(gyro_gain,
+                "Yaw-rate gyro: tail pitch taken off per rad/s of its lagged yaw rate, rad per rad/s "
+                "(chosen).");
+  PEGASUS_PARAM(gyro_tau, "First-order lag of the yaw-rate gyro loop, s (chosen).");
+  PEGASUS_PARAM(fus_area_x,
+                "Fuselage effective flat-plate drag area S_x^fus along the body x axis, m^2 "
+                "(Gavrilets et al.: 0.1).");
+  PEGASUS_PARAM(fus_area_y,
+                "Fuselage effective flat-plate drag area S_y^fus along the body y axis, m^2 "
+                "(Gavrilets et al.: 0.22).");
+  PEGASUS_PARAM(fus_area_z,
+                "Fuselage effective flat-plate drag area S_z^fus along the body z axis (in the rotor "
+                "downwash), m^2 (Gavrilets et al.: 0.15).");
+  PEGASUS_PARAM(servo_rate,
+                "Servo slew-rate limit, control units (of [-1, 1]) per second (chosen: an RC servo "
+                "moves about 60 degrees in 0.15 s).");
+  PEGASUS_PARAM(max_thrust_coeff_over_solidity,
+                "Main-rotor C_T / sigma beyond this crashes (blade stall, rotor overload), dimensionless.");
 #undef PEGASUS_PARAM
   bind_ground_truth_params(params, std::move(own));
 
@@ -328,8 +377,11 @@ servos, gusts, estimate errors, time, crash code); observe() gives the 12 logged
              return Aircraft(p);
            }),
            py::arg_v("params", AircraftParams{}, "AircraftParams()"))
-      .def_property_readonly("params", &Aircraft::params)
-      .def_property_readonly_static("STATE_COLUMNS", [](py::object) { return aircraft_columns(); })
+      .def_property_readonly("params", &Aircraft::params, py::return_value_policy::copy,
+                             "The AircraftParams it was built with (a copy: a model's settings are fixed).")
+      .def_property_readonly_static(
+          "STATE_COLUMNS", [](py::object) { return aircraft_columns(); },
+          "The names of a state row's 36 columns, in order (p_W.x .. crash).")
       .def_property_readonly(
           "hover_trim",
           [](const Aircraft& a) {
@@ -438,9 +490,10 @@ crash penalty (footnote 13), noise on or off, and the start state and its pertur
   auto learned = py::class_<LearnedHeliModel>(m, "LearnedHeliModel", R"doc(
 The identified helicopter (an IdentifiedModel, or the path of a model.json from `pegasus heli identify`) as a
 deterministic 50 Hz simulator g(s, a, p) (thesis §5.2.2): locally weighted regression refitted every refit_every
-steps, noise_dim 8, initial_noise_dim 6. A state row has 153 columns (STATE_COLUMNS: the 12 logged states first,
-then the extra states, the held coefficients, the predictive variance, the step and the crash flag); reward()
-is the crash penalty.)doc");
+steps, noise_dim 8, initial_noise_dim 6 (16 and 14 for a model identified with AR(1) noise, noise on). A state
+row has 161 columns (STATE_COLUMNS: the 12 logged states first, then the extra states, the held coefficients,
+the predictive variance, the AR part of the noise, the step and the crash flag); reward() is the crash
+penalty.)doc");
   learned
       .def(py::init([](py::object model, const LearnedModelOptions& o) {
              std::string error;
@@ -448,8 +501,11 @@ is the crash penalty.)doc");
              return LearnedHeliModel(identified_model(model), o);
            }),
            py::arg("model"), py::arg_v("options", LearnedModelOptions{}, "LearnedModelOptions()"))
-      .def_property_readonly("options", &LearnedHeliModel::options)
-      .def_property_readonly_static("STATE_COLUMNS", [](py::object) { return learned_columns(); })
+      .def_property_readonly("options", &LearnedHeliModel::options, py::return_value_policy::copy,
+                             "The LearnedModelOptions it was built with.")
+      .def_property_readonly_static(
+          "STATE_COLUMNS", [](py::object) { return learned_columns(); },
+          "The names of a state row's 161 columns, in order (x .. yaw_rate first, crashed last).")
       .def(
           "reward",
           [](const LearnedHeliModel& model, py::object states, py::object actions, py::object next) {

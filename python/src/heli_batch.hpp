@@ -222,8 +222,8 @@ struct HeliBatch {
 
   template <class Class>
   static void bind(Class& c) {
-    c.def_property_readonly("noise_dim", &M::noise_dim, "Uniforms per step.")
-        .def_property_readonly("initial_noise_dim", &M::initial_noise_dim, "Uniforms for the initial state.")
+    c.def_property_readonly("noise_dim", &M::noise_dim, kNoiseDimDoc)
+        .def_property_readonly("initial_noise_dim", &M::initial_noise_dim, kInitialNoiseDimDoc)
         .def("initial_state", &HeliBatch::initial_state, py::arg("noise"), py::kw_only(),
              py::arg("threads") = 1, "State rows [n, columns] from uniforms [n, initial_noise_dim].")
         .def("step", &HeliBatch::step, py::arg("states"), py::arg("actions"), py::arg("noise"), py::kw_only(),

@@ -225,10 +225,13 @@ HoverProblem.from_training_options(model, options) is the objective `pegasus hel
   auto start = py::class_<heli::StartingPolicyCheck>(m, "StartingPolicyCheck", R"doc(
 The starting weights flown on the training scenarios of the learned model before hover training: train_hover
 stops when more than options.max_start_crash_fraction of them crash (heli/hover_task.hpp).)doc");
-  start.def_readonly("scenarios", &heli::StartingPolicyCheck::scenarios)
-      .def_readonly("crashed", &heli::StartingPolicyCheck::crashed)
-      .def_readonly("mean_seconds_to_crash", &heli::StartingPolicyCheck::mean_seconds_to_crash)
-      .def_readonly("uhat", &heli::StartingPolicyCheck::uhat);
+  start.def_readonly("scenarios", &heli::StartingPolicyCheck::scenarios, "Training scenarios flown.")
+      .def_readonly("crashed", &heli::StartingPolicyCheck::crashed,
+                    "Scenarios whose rollout ended in the model's crash state.")
+      .def_readonly("mean_seconds_to_crash", &heli::StartingPolicyCheck::mean_seconds_to_crash,
+                    "Mean flight time before the crash over the crashed scenarios, s (0 when none crashed).")
+      .def_readonly("uhat", &heli::StartingPolicyCheck::uhat,
+                    "U-hat of the starting weights on the training scenarios.");
   set_fields(start, {"scenarios", "crashed", "mean_seconds_to_crash", "uhat"});
 
   auto result = py::class_<heli::HoverTrainingResult>(m, "HoverTrainingResult",

@@ -93,14 +93,30 @@ HeliPolicy.hover(theta, target, trim).)doc")
           "A hover policy file from trained weights (with init.integral_seconds > 0: 38 weights, the "
           "integral "
           "term's integrator stepping integral_dt s per call, the default limits).")
-      .def_property_readonly("class_name", [](const HeliPolicyObject& p) { return p.file.class_name; })
-      .def_property_readonly("names", [](const HeliPolicyObject& p) { return p.file.names; })
-      .def_property_readonly("values", [](const HeliPolicyObject& p) { return vector_array(p.file.values); })
-      .def_property_readonly("target", [](const HeliPolicyObject& p) { return p.file.target; })
-      .def_property_readonly("trim", [](const HeliPolicyObject& p) { return vector_array(p.file.trim); })
-      .def_property_readonly("options", [](const HeliPolicyObject& p) { return to_python(p.file.options); })
-      .def_property_readonly("provenance",
-                             [](const HeliPolicyObject& p) { return to_python(p.file.provenance); })
+      .def_property_readonly(
+          "class_name", [](const HeliPolicyObject& p) { return p.file.class_name; },
+          "The file's policy class: \"hover\", \"maneuver\" or another registered one.")
+      .def_property_readonly(
+          "names", [](const HeliPolicyObject& p) { return p.file.names; },
+          "The parameter names, in the class's order.")
+      .def_property_readonly(
+          "values", [](const HeliPolicyObject& p) { return vector_array(p.file.values); },
+          "The parameter values, in the order of names.")
+      .def_property_readonly(
+          "target", [](const HeliPolicyObject& p) { return p.file.target; },
+          "The file's SetPoint (world NED, m and rad): the hover's set point, or where another class's "
+          "path is anchored.")
+      .def_property_readonly(
+          "trim", [](const HeliPolicyObject& p) { return vector_array(p.file.trim); },
+          "The hover trim estimate of the pilot's logs, a1..a4 in [-1, 1]: the class's starting point and "
+          "the safe output of `heli control`.")
+      .def_property_readonly(
+          "options", [](const HeliPolicyObject& p) { return to_python(p.file.options); },
+          "Class-specific settings, a dict (hover: \"integral\", the integral term's integrator; maneuver: "
+          "which trajectory).")
+      .def_property_readonly(
+          "provenance", [](const HeliPolicyObject& p) { return to_python(p.file.provenance); },
+          "How the policy was made (command, U-hat, ...), a dict; flying ignores it.")
       .def(
           "to_json", [](const HeliPolicyObject& p) { return to_python(heli::policy_file_json(p.file)); },
           "The policy file's contents as a dict (what save writes).")

@@ -99,17 +99,23 @@ gamma, absorbing=..., initial=...) from numpy arrays or scipy.sparse matrices.)d
                   py::arg("probability"), py::arg("reward"), py::arg("state_reward") = py::none(),
                   py::arg("state_action_reward") = py::none(), py::arg("absorbing") = py::none(),
                   py::arg("initial") = py::none())
-      .def_readonly("num_states", &FiniteMdp::num_states)
-      .def_readonly("num_actions", &FiniteMdp::num_actions)
-      .def_readonly("gamma", &FiniteMdp::gamma)
-      .def_property_readonly("absorbing",
-                             [](const FiniteMdp& mdp) {
-                               std::vector<int> out;
-                               for (int s = 0; s < mdp.num_states; ++s)
-                                 if (mdp.is_absorbing(s)) out.push_back(s);
-                               return out;
-                             })
-      .def_property_readonly("initial", [](const FiniteMdp& mdp) { return vector_array(mdp.initial); })
+      .def_readonly("num_states", &FiniteMdp::num_states, "Number of states S.")
+      .def_readonly("num_actions", &FiniteMdp::num_actions, "Number of actions A, the same in every state.")
+      .def_readonly("gamma", &FiniteMdp::gamma,
+                    "Discount factor in [0, 1] (1: the MDP must be proper, thesis §2.1).")
+      .def_property_readonly(
+          "absorbing",
+          [](const FiniteMdp& mdp) {
+            std::vector<int> out;
+            for (int s = 0; s < mdp.num_states; ++s)
+              if (mdp.is_absorbing(s)) out.push_back(s);
+            return out;
+          },
+          "The absorbing states, ascending: an episode ends there (no further reward, value 0).")
+      .def_property_readonly(
+          "initial", [](const FiniteMdp& mdp) { return vector_array(mdp.initial); },
+          "The initial distribution D, one probability per state (uniform over the non-absorbing states "
+          "unless given).")
       .def_property_readonly(
           "expected_reward",
           [](const FiniteMdp& mdp) {
@@ -192,20 +198,29 @@ gamma, absorbing=..., initial=...) from numpy arrays or scipy.sparse matrices.)d
       });
 
   py::class_<SolveSummary>(m, "SolveSummary", "A finite-MDP solver's result: value, policy and bounds.")
-      .def_property_readonly("value", [](const SolveSummary& s) { return vector_array(s.value); })
-      .def_property_readonly("policy",
-                             [](const SolveSummary& s) {
-                               py::array_t<std::int64_t> p(static_cast<py::ssize_t>(s.policy.size()));
-                               std::copy(s.policy.begin(), s.policy.end(), p.mutable_data());
-                               return p;
-                             })
-      .def_readonly("iterations", &SolveSummary::iterations)
-      .def_readonly("polish_iterations", &SolveSummary::polish_iterations)
-      .def_readonly("residual", &SolveSummary::residual)
-      .def_readonly("policy_loss_bound", &SolveSummary::policy_loss_bound)
-      .def_readonly("value_error_bound", &SolveSummary::value_error_bound)
-      .def_property_readonly("converged", &SolveSummary::converged)
-      .def_readonly("message", &SolveSummary::message)
+      .def_property_readonly(
+          "value", [](const SolveSummary& s) { return vector_array(s.value); },
+          "V, one per state: the certified iterate (value iteration) or V^pi exactly (policy iteration).")
+      .def_property_readonly(
+          "policy",
+          [](const SolveSummary& s) {
+            py::array_t<std::int64_t> p(static_cast<py::ssize_t>(s.policy.size()));
+            std::copy(s.policy.begin(), s.policy.end(), p.mutable_data());
+            return p;
+          },
+          "The greedy deterministic policy: one action per state (0 at absorbing states).")
+      .def_readonly("iterations", &SolveSummary::iterations,
+                    "Sweeps (value iteration) or improvement steps (policy iteration).")
+      .def_readonly("polish_iterations", &SolveSummary::polish_iterations,
+                    "Policy-iteration steps after the sweeps (value iteration with gamma = 1).")
+      .def_readonly("residual", &SolveSummary::residual, "max_s |(T V)(s) - V(s)| at the end.")
+      .def_readonly("policy_loss_bound", &SolveSummary::policy_loss_bound,
+                    "Certified max_s V*(s) - V^pi(s) of the returned policy (inf when not certified).")
+      .def_readonly("value_error_bound", &SolveSummary::value_error_bound,
+                    "Certified max_s |V(s) - V*(s)| of the returned value.")
+      .def_property_readonly("converged", &SolveSummary::converged,
+                             "Whether the solver converged (False: it stopped at max_iterations).")
+      .def_readonly("message", &SolveSummary::message, "Why the solver stopped, in words.")
       .def("brief_report", &SolveSummary::BriefReport,
            "One line: termination, iterations, residual, policy-loss bound and time.");
 
@@ -213,27 +228,46 @@ gamma, absorbing=..., initial=...) from numpy arrays or scipy.sparse matrices.)d
 Whether shaping changed what is optimal (ShapingAudit.policy_change): changes (some action optimal in M + F is
 not optimal in M), states (where), loss_under_initial (sum over starts D(s) of V*_M(s) - V_M^pi'(s) for pi'
 optimal in M + F) and max_loss (the largest such loss over states).)doc")
-      .def_readonly("changes", &PolicyChange::changes)
-      .def_readonly("states", &PolicyChange::states)
-      .def_readonly("loss_under_initial", &PolicyChange::loss_under_initial)
-      .def_readonly("max_loss", &PolicyChange::max_loss);
+      .def_readonly("changes", &PolicyChange::changes,
+                    "Whether some action optimal in M + F is not optimal in M.")
+      .def_readonly("states", &PolicyChange::states, "The states where that happens.")
+      .def_readonly("loss_under_initial", &PolicyChange::loss_under_initial,
+                    "sum_s D(s) (V*_M(s) - V_M^pi'(s)) for pi' optimal in M + F: the expected loss from the "
+                    "start.")
+      .def_readonly("max_loss", &PolicyChange::max_loss,
+                    "max_s (V*_M(s) - V_M^pi'(s)): the largest loss over states.");
   py::class_<ShapingAudit>(m, "ShapingAudit", R"doc(
 The shaping audit: is F potential-based (least-squares Phi and residuals), and if not, the evidence of thesis
 §3.A (an action dependence, a cycle with net shaping, a verified counterexample) and whether this MDP's
 optimal policy changes under F.)doc")
-      .def_readonly("potential_based", &ShapingAudit::potential_based)
-      .def_property_readonly("potential", [](const ShapingAudit& a) { return vector_array(a.potential); })
-      .def_readonly("max_residual", &ShapingAudit::max_residual)
-      .def_readonly("rms_residual", &ShapingAudit::rms_residual)
-      .def_readonly("scope_size", &ShapingAudit::scope_size)
-      .def_property_readonly("has_action_dependence",
-                             [](const ShapingAudit& a) { return a.action_dependence.has_value(); })
-      .def_property_readonly("has_cycle", [](const ShapingAudit& a) { return a.cycle.has_value(); })
+      .def_readonly("potential_based", &ShapingAudit::potential_based,
+                    "Whether F(s, a, s') = gamma Phi(s') - Phi(s) on every scope triple, within tolerance * "
+                    "(1 + max |F|) (thesis §3.3, Theorem 1).")
+      .def_property_readonly(
+          "potential", [](const ShapingAudit& a) { return vector_array(a.potential); },
+          "The least-squares Phi over the scope, one per state (0 at absorbing states).")
+      .def_readonly("max_residual", &ShapingAudit::max_residual,
+                    "max over the scope triples of |gamma Phi(s') - Phi(s) - F(s, a, s')|.")
+      .def_readonly("rms_residual", &ShapingAudit::rms_residual,
+                    "Root mean square of that residual over the scope triples.")
+      .def_readonly("scope_size", &ShapingAudit::scope_size,
+                    "Triples (s, a, s') judged: s non-absorbing, and P_sa(s') > 0 or the triple listed in F.")
+      .def_property_readonly(
+          "has_action_dependence", [](const ShapingAudit& a) { return a.action_dependence.has_value(); },
+          "Whether a Lemma 4 witness was found: F(s, a, s') != F(s, a', s').")
+      .def_property_readonly(
+          "has_cycle", [](const ShapingAudit& a) { return a.cycle.has_value(); },
+          "Whether a cycle of scope transitions with nonzero net shaping was found (searched only at "
+          "gamma = 1).")
       .def_property_readonly(
           "counterexample_verified",
-          [](const ShapingAudit& a) { return a.counterexample && a.counterexample->verified; })
-      .def_readonly("counterexample_note", &ShapingAudit::counterexample_note)
-      .def_readonly("policy_change", &ShapingAudit::policy_change)
+          [](const ShapingAudit& a) { return a.counterexample && a.counterexample->verified; },
+          "Whether a counterexample MDP (Appendix 3.A) was built whose optimal action flips under F, checked "
+          "by policy iteration.")
+      .def_readonly("counterexample_note", &ShapingAudit::counterexample_note,
+                    "Why no counterexample was built, when none was; else empty.")
+      .def_readonly("policy_change", &ShapingAudit::policy_change,
+                    "Whether this MDP's own optimal policy changes under F (a PolicyChange).")
       .def("brief_report", &ShapingAudit::BriefReport,
            "One line: potential-based or not, the residuals, why not, and whether the optimal policy "
            "changes.");

@@ -91,16 +91,26 @@ ParameterSpec.from_names(names, initial=0, scale=1).)doc")
             return s[static_cast<std::size_t>(i)];
           },
           py::arg("i"), "The parameter at position i (negative: from the end), read-only.")
-      .def_property_readonly("names",
-                             [](const ParameterSpec& s) {
-                               std::vector<std::string> names;
-                               for (const auto& p : s.all()) names.push_back(p.name);
-                               return names;
-                             })
-      .def_property_readonly("initial", [](const ParameterSpec& s) { return theta_array(s.initial()); })
-      .def_property_readonly("lower", [](const ParameterSpec& s) { return theta_array(s.lower()); })
-      .def_property_readonly("upper", [](const ParameterSpec& s) { return theta_array(s.upper()); })
-      .def_property_readonly("scales", [](const ParameterSpec& s) { return theta_array(s.scales()); })
+      .def_property_readonly(
+          "names",
+          [](const ParameterSpec& s) {
+            std::vector<std::string> names;
+            for (const auto& p : s.all()) names.push_back(p.name);
+            return names;
+          },
+          "Every parameter's name, in theta's order.")
+      .def_property_readonly(
+          "initial", [](const ParameterSpec& s) { return theta_array(s.initial()); },
+          "Every parameter's initial value, in theta's order: where optimizers start.")
+      .def_property_readonly(
+          "lower", [](const ParameterSpec& s) { return theta_array(s.lower()); },
+          "Every parameter's lower bound, in theta's order (-inf: none).")
+      .def_property_readonly(
+          "upper", [](const ParameterSpec& s) { return theta_array(s.upper()); },
+          "Every parameter's upper bound, in theta's order (inf: none).")
+      .def_property_readonly(
+          "scales", [](const ParameterSpec& s) { return theta_array(s.scales()); },
+          "Every parameter's scale, in theta's order: the typical size of a useful change (§5.3).")
       .def(
           "index_of",
           [](const ParameterSpec& s, const std::string& name) {
@@ -113,8 +123,8 @@ ParameterSpec.from_names(names, initial=0, scale=1).)doc")
   py::class_<Objective>(m, "Objective", R"doc(
 A deterministic objective theta -> U-hat(theta) that the optimizers maximise. Built by VectorizedProblem,
 BicycleProblem, FunctionObjective, ...)doc")
-      .def_property_readonly("parameters", &Objective::parameters,
-                             py::return_value_policy::reference_internal)
+      .def_property_readonly("parameters", &Objective::parameters, py::return_value_policy::copy,
+                             "The ParameterSpec of theta: names, initial values, bounds and scales.")
       .def(
           "uhat",
           [](Objective& o, py::object theta) {

@@ -69,24 +69,48 @@ onboard angle-mode controller, disturbances, crash limits, integration, start), 
 and unit.)doc");
   params.def(py::init<>());
   std::vector<const char*> own;  // the fields this aircraft alone has, in order
-#define PEGASUS_PARAM(field) (params.def_readwrite(#field, &QuadrotorParams::field), own.push_back(#field))
-  PEGASUS_PARAM(mass_kg);
-  PEGASUS_PARAM(ixx);
-  PEGASUS_PARAM(iyy);
-  PEGASUS_PARAM(izz);
-  PEGASUS_PARAM(arm_m);
-  PEGASUS_PARAM(gravity);
-  PEGASUS_PARAM(thrust_coeff);
-  PEGASUS_PARAM(torque_per_thrust_m);
-  PEGASUS_PARAM(max_motor_thrust_n);
-  PEGASUS_PARAM(motor_tau);
-  PEGASUS_PARAM(drag_xy);
-  PEGASUS_PARAM(drag_z);
-  PEGASUS_PARAM(max_tilt_command_rad);
-  PEGASUS_PARAM(max_yaw_rate_command);
-  PEGASUS_PARAM(attitude_gain);
-  PEGASUS_PARAM(rate_gain);
-  PEGASUS_PARAM(yaw_rate_gain);
+  // Published values are Förster's ("System Identification of the Crazyflie 2.0 Nano Quadrocopter", 2015), as
+  // heli/quadrotor.hpp cites them.
+#define PEGASUS_PARAM(field, doc) \
+  (params.def_readwrite(#field, &QuadrotorParams::field, doc), own.push_back(#field))
+  PEGASUS_PARAM(mass_kg, "Mass with the battery, kg (Förster: 0.028).");
+  PEGASUS_PARAM(ixx, "Moment of inertia about the body x axis (forward), kg m^2 (Förster: 16.571710e-6).");
+  PEGASUS_PARAM(iyy, "Moment of inertia about the body y axis (right), kg m^2 (Förster: 16.655602e-6).");
+  PEGASUS_PARAM(izz, "Moment of inertia about the body z axis (down), kg m^2 (Förster: 29.261652e-6).");
+  PEGASUS_PARAM(arm_m,
+                "Distance from each motor to the centre of mass, m (Förster: 0.046; X configuration, motors "
+                "45 degrees off the body axes).");
+  PEGASUS_PARAM(gravity, "Gravitational acceleration, m/s^2 (along +z, down, in the NED world frame).");
+  PEGASUS_PARAM(thrust_coeff,
+                "Rotor thrust coefficient k_f: each rotor's thrust is k_f w^2, N per (rad/s)^2 (Förster, as "
+                "gym-pybullet-drones' cf2x: 3.16e-10 N/rpm^2).");
+  PEGASUS_PARAM(torque_per_thrust_m,
+                "Rotor drag torque per newton of thrust, m (Förster; the firmware's THRUST2TORQUE: "
+                "0.005964552).");
+  PEGASUS_PARAM(max_motor_thrust_n,
+                "Thrust of one motor at full PWM, N (Förster's PWM-to-thrust map: 0.1597).");
+  PEGASUS_PARAM(motor_tau,
+                "Time constant of each rotor speed's first-order lag behind its command, s (CrazyS's "
+                "time_constant_up: 0.0125).");
+  PEGASUS_PARAM(drag_xy,
+                "Rotor drag K_aero along the body x and y axes, kg/rad: force against the airspeed per "
+                "(sum of rotor speeds * airspeed) (Förster: 9.1785e-7).");
+  PEGASUS_PARAM(drag_z,
+                "Rotor drag K_aero along the body z axis, kg/rad: force against the airspeed per (sum of "
+                "rotor speeds * airspeed) (Förster: 10.311e-7).");
+  PEGASUS_PARAM(max_tilt_command_rad,
+                "Onboard controller: roll and pitch set point at full stick (a1 or a2 = +-1), rad (cfclient: "
+                "30 degrees).");
+  PEGASUS_PARAM(max_yaw_rate_command,
+                "Onboard controller: yaw-rate set point at full stick (a4 = +-1), rad/s (cfclient: "
+                "200 deg/s).");
+  PEGASUS_PARAM(attitude_gain,
+                "Onboard controller: roll or pitch rate set point per rad of attitude error, 1/s (the "
+                "firmware's Kp: 6).");
+  PEGASUS_PARAM(rate_gain,
+                "Onboard controller: roll or pitch angular acceleration per rad/s of rate error, 1/s.");
+  PEGASUS_PARAM(yaw_rate_gain,
+                "Onboard controller: yaw angular acceleration per rad/s of yaw-rate error, 1/s.");
 #undef PEGASUS_PARAM
   bind_ground_truth_params(params, std::move(own));
 
@@ -104,8 +128,11 @@ the 12 logged states a flight computer sees. The batch methods are Aircraft's.)d
              return Quadrotor(p);
            }),
            py::arg_v("params", QuadrotorParams{}, "QuadrotorParams()"))
-      .def_property_readonly("params", &Quadrotor::params)
-      .def_property_readonly_static("STATE_COLUMNS", [](py::object) { return quadrotor_columns(); })
+      .def_property_readonly("params", &Quadrotor::params, py::return_value_policy::copy,
+                             "The QuadrotorParams it was built with (a copy: a model's settings are fixed).")
+      .def_property_readonly_static(
+          "STATE_COLUMNS", [](py::object) { return quadrotor_columns(); },
+          "The names of a state row's 33 columns, in order (p_W.x .. crash).")
       .def_property_readonly(
           "hover_trim",
           [](const Quadrotor& q) {

@@ -41,12 +41,16 @@ variant: "plain", "antithetic" (scenario 2k+1 uses 1-u), "stratified" (Latin hyp
            }),
            py::arg("seed"), py::arg("count"), py::arg("horizon"), py::arg("noise_dim"),
            py::arg("initial_noise_dim") = 0, py::arg("variant") = "plain")
-      .def_property_readonly("count", &ScenarioSet::size)
-      .def_property_readonly("horizon", &ScenarioSet::horizon)
-      .def_property_readonly("noise_dim", &ScenarioSet::noise_dim)
-      .def_property_readonly("initial_noise_dim", &ScenarioSet::initial_noise_dim)
-      .def_property_readonly("seed", [](const ScenarioSet& s) { return s.options().seed; })
-      .def_property_readonly("variant", [](const ScenarioSet& s) { return to_string(s.options().variant); })
+      .def_property_readonly("count", &ScenarioSet::size, "Number of scenarios m.")
+      .def_property_readonly("horizon", &ScenarioSet::horizon, "Steps H whose noise each scenario holds.")
+      .def_property_readonly("noise_dim", &ScenarioSet::noise_dim, kNoiseDimDoc)
+      .def_property_readonly("initial_noise_dim", &ScenarioSet::initial_noise_dim, kInitialNoiseDimDoc)
+      .def_property_readonly(
+          "seed", [](const ScenarioSet& s) { return s.options().seed; },
+          "The key of the counter-based generator, in [0, 2^64): every number of the set follows from it.")
+      .def_property_readonly(
+          "variant", [](const ScenarioSet& s) { return to_string(s.options().variant); },
+          "\"plain\", \"antithetic\", \"stratified\" or \"sobol\".")
       .def(
           "initial_noise",
           [](const ScenarioSet& s) {

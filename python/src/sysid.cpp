@@ -59,23 +59,31 @@ void bind_sysid(py::module_& m) {
 A helicopter flight log (thesis §5.2): time, the 12 world-frame states (x, y, z, roll, pitch, yaw, xdot, ydot,
 zdot, roll_rate, pitch_rate, yaw_rate) and the controls a1..a4. From read_flight_log(path) or
 flight_log(data, columns).)doc")
-      .def_property_readonly("rows", &FlightLog::rows)
-      .def_property_readonly("dt", &FlightLog::dt)
-      .def_property_readonly("time", [](const FlightLog& log) { return vector_array(log.time); })
-      .def_property_readonly("states",
-                             [](const FlightLog& log) {
-                               Array out = matrix(static_cast<py::ssize_t>(log.rows()), sysid::kLogStates);
-                               for (std::size_t r = 0; r < log.rows(); ++r)
-                                 std::copy(log.states[r].begin(), log.states[r].end(),
-                                           out.mutable_data() + r * sysid::kLogStates);
-                               return out;
-                             })
-      .def_property_readonly("controls", [](const FlightLog& log) {
-        Array out = matrix(static_cast<py::ssize_t>(log.rows()), 4);
-        for (std::size_t r = 0; r < log.rows(); ++r)
-          std::copy(log.controls[r].begin(), log.controls[r].end(), out.mutable_data() + r * 4);
-        return out;
-      });
+      .def_property_readonly("rows", &FlightLog::rows, "Number of samples (rows) in the log.")
+      .def_property_readonly("dt", &FlightLog::dt, "Mean sample interval, s.")
+      .def_property_readonly(
+          "time", [](const FlightLog& log) { return vector_array(log.time); }, "Sample times [rows], s.")
+      .def_property_readonly(
+          "states",
+          [](const FlightLog& log) {
+            Array out = matrix(static_cast<py::ssize_t>(log.rows()), sysid::kLogStates);
+            for (std::size_t r = 0; r < log.rows(); ++r)
+              std::copy(log.states[r].begin(), log.states[r].end(),
+                        out.mutable_data() + r * sysid::kLogStates);
+            return out;
+          },
+          "The 12 logged states [rows, 12]: x, y, z (world NED, m), roll, pitch, yaw (rad), xdot, ydot, zdot "
+          "(in W, m/s), roll_rate, pitch_rate, yaw_rate (Euler-angle rates, rad/s).")
+      .def_property_readonly(
+          "controls",
+          [](const FlightLog& log) {
+            Array out = matrix(static_cast<py::ssize_t>(log.rows()), 4);
+            for (std::size_t r = 0; r < log.rows(); ++r)
+              std::copy(log.controls[r].begin(), log.controls[r].end(), out.mutable_data() + r * 4);
+            return out;
+          },
+          "The controls [rows, 4]: a1, a2 (longitudinal, lateral cyclic), a3 (main collective), a4 (tail "
+          "collective).");
   m.def(
       "read_flight_log",
       [](const std::string& path, std::int64_t min_rows, const std::string& vehicle) {
@@ -92,15 +100,24 @@ flight_log(data, columns).)doc")
   py::class_<IdentifiedModel, std::shared_ptr<IdentifiedModel>>(m, "IdentifiedModel", R"doc(
 An identified helicopter model (thesis §5.2): locally weighted (or global linear) regression of the body
 variables' changes, its bandwidth and noise. Save it as the model.json `pegasus heli hover` loads.)doc")
-      .def_property_readonly("dt", &IdentifiedModel::dt)
-      .def_property_readonly("is_global", &IdentifiedModel::is_global)
+      .def_property_readonly(
+          "dt", &IdentifiedModel::dt,
+          "The model step, s: log rows per step times the log's mean interval (about 1 / rate_hz: "
+          "0.1 at the default 10 Hz).")
+      .def_property_readonly("is_global", &IdentifiedModel::is_global,
+                             "True: one global linear fit (no input has a kernel bandwidth); False: locally "
+                             "weighted regression.")
       .def_property_readonly(
           "sigma2",
           [](const IdentifiedModel& model) {
             return vector_array(std::span<const double>(model.sigma2().data(), sysid::kBodyVars));
-          })
-      .def_property_readonly("inv_bandwidth",
-                             [](const IdentifiedModel& model) { return vector_array(model.inv_bandwidth()); })
+          },
+          "Noise variance of each body variable's change per model step (roll, pitch, xdot_b, ydot_b, "
+          "zdot_b, roll_rate, pitch_rate, yaw_rate; squared units); Eq 5.4 scales it by 1 + leverage.")
+      .def_property_readonly(
+          "inv_bandwidth", [](const IdentifiedModel& model) { return vector_array(model.inv_bandwidth()); },
+          "1 / the kernel bandwidth of each of the 16 regression inputs (roll .. a4, one), per unit of the "
+          "input; 0: the kernel ignores the input (the constant's entry is unused).")
       .def(
           "to_json", [](const IdentifiedModel& model) { return to_python(model.to_json()); },
           "The model file's contents (model.json) as a dict.")

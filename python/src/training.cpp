@@ -58,10 +58,15 @@ void bind_training(py::module_& m) {
   auto report = py::class_<IterationReportCopy>(m, "IterationReport", R"doc(
 What an iteration callback is told after every iteration of every optimizer (run_progress.hpp): the method, the
 iteration's record (iteration, evaluations so far, best U-hat so far, seconds) and the best theta so far.)doc");
-  report.def_readonly("method", &IterationReportCopy::method)
-      .def_readonly("record", &IterationReportCopy::record)
-      .def_property_readonly("best_theta",
-                             [](const IterationReportCopy& r) { return vector_array(r.best_theta); });
+  report
+      .def_readonly("method", &IterationReportCopy::method,
+                    "The method as OptimizerOptions.method spells it (\"gradient\", \"hill-climb\", ...).")
+      .def_readonly("record", &IterationReportCopy::record,
+                    "This iteration's IterationRecord: iteration, evaluations so far, best U-hat so far, "
+                    "seconds.")
+      .def_property_readonly(
+          "best_theta", [](const IterationReportCopy& r) { return vector_array(r.best_theta); },
+          "The best theta so far (a copy), in the parameters' order.");
   set_fields(report, {"method", "record", "best_theta"});
 
   auto seeds = py::class_<SeedDomains>(m, "SeedDomains", R"doc(
@@ -76,10 +81,18 @@ first stage's; REFINE_SEED_DOMAINS those of a refinement stage.)doc");
                }),
            py::arg("hill_climbing") = first_stage.hill_climbing, py::arg("nlopt") = first_stage.nlopt,
            py::arg("cmaes") = first_stage.cmaes, py::arg("ars") = first_stage.ars)
-      .def_readwrite("hill_climbing", &SeedDomains::hill_climbing)
-      .def_readwrite("nlopt", &SeedDomains::nlopt)
-      .def_readwrite("cmaes", &SeedDomains::cmaes)
-      .def_readwrite("ars", &SeedDomains::ars);
+      .def_readwrite("hill_climbing", &SeedDomains::hill_climbing,
+                     "Hill climbing's domain: its seed is mix_seed(run seed, this) (first stage: "
+                     "0x48696c6c, \"Hill\").")
+      .def_readwrite("nlopt", &SeedDomains::nlopt,
+                     "NLopt's domain: its seed is mix_seed(run seed, this) (first stage: 0x4e4c6f70, "
+                     "\"NLop\").")
+      .def_readwrite("cmaes", &SeedDomains::cmaes,
+                     "CMA-ES's domain: its seed is mix_seed(run seed, this) (first stage: 0x434d4145, "
+                     "\"CMAE\").")
+      .def_readwrite("ars", &SeedDomains::ars,
+                     "Augmented random search's domain: its seed is mix_seed(run seed, this) (first stage: "
+                     "0x41525321, \"ARS!\").");
   set_fields(seeds, {"hill_climbing", "nlopt", "cmaes", "ars"});
   m.attr("REFINE_SEED_DOMAINS") = kRefineSeedDomains;
   m.def(

@@ -323,10 +323,13 @@ void bind_vectorized(py::module_& m) {
 Built-in policy class over a batch: a = squash(W o), W the parameters "w.a<k>.x<f>" (action k, observation f),
 squash a clip to [low, high] (LinearPolicy) or low + (high - low) sigmoid (SigmoidPolicy, the bicycle's form,
 thesis §4.6). Computed in C++: no Python call per step.)doc")
-      .def_property_readonly("parameters", &BoxPolicy::parameters,
-                             py::return_value_policy::reference_internal)
-      .def_property_readonly("observation_dim", &BoxPolicy::observation_dim)
-      .def_property_readonly("action_dim", &BoxPolicy::action_dim)
+      .def_property_readonly("parameters", &BoxPolicy::parameters, py::return_value_policy::copy,
+                             "The ParameterSpec of W: action_dim * observation_dim weights \"w.a<k>.x<f>\", "
+                             "row by row.")
+      .def_property_readonly("observation_dim", &BoxPolicy::observation_dim,
+                             "Numbers per observation row (the columns of W).")
+      .def_property_readonly("action_dim", &BoxPolicy::action_dim,
+                             "Numbers per action row, len(low) (the rows of W).")
       .def("act", &BoxPolicy::act_py, py::arg("thetas"), py::arg("observations"),
            "Actions [n, da] of the rows of observations [n, do] under thetas [n, n_params] (or one theta).");
   m.def(
@@ -369,10 +372,16 @@ policy.act receives the same read-only thetas array on consecutive steps while t
            py::arg("model"), py::arg("policy"), py::kw_only(), py::arg("seed"), py::arg("scenarios"),
            py::arg("horizon"), py::arg("gamma") = 1.0, py::arg("variant") = "plain", py::arg("threads") = 1,
            py::keep_alive<1, 2>(), py::keep_alive<1, 3>())
-      .def_property_readonly("threads", &VectorizedProblem::threads)
-      .def_property_readonly("scenarios", &VectorizedProblem::scenarios)
-      .def_property_readonly("gamma", [](const VectorizedProblem& p) { return p.discounting().gamma; })
-      .def_property_readonly("horizon", [](const VectorizedProblem& p) { return p.discounting().horizon; })
+      .def_property_readonly("threads", &VectorizedProblem::threads,
+                             "Worker threads, as --threads (the result never depends on them).")
+      .def_property_readonly("scenarios", &VectorizedProblem::scenarios,
+                             "The ScenarioSet whose numbers every evaluation uses.")
+      .def_property_readonly(
+          "gamma", [](const VectorizedProblem& p) { return p.discounting().gamma; },
+          "Discount per step, in [0, 1].")
+      .def_property_readonly(
+          "horizon", [](const VectorizedProblem& p) { return p.discounting().horizon; },
+          "Rollout length H, steps.")
       .def(
           "returns",
           [](VectorizedProblem& p, py::object thetas) {

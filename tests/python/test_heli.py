@@ -508,3 +508,23 @@ def test_the_set_point_bicycle_and_learned_model_settings_say_what_they_are():
         undocumented = [name for name, value in vars(cls).items()
                         if isinstance(value, property) and len((value.__doc__ or "").strip()) < 5]
         assert undocumented == [], cls.__name__
+
+
+def test_a_built_models_settings_cannot_be_changed_through_its_getters():
+    # The getters give copies: a model's settings are checked and fixed when it is built (gusts, trims), so a
+    # field written through a getter must not change it unchecked.
+    aircraft = pegasus.Aircraft()
+    aircraft.params.gust_sigma = 5.0
+    assert aircraft.params.gust_sigma == pegasus.AircraftParams().gust_sigma
+    quad = pegasus.Quadrotor()
+    quad.params.substeps = 10**9
+    assert quad.params.substeps == pegasus.QuadrotorParams().substeps
+    bicycle = pegasus.Bicycle()
+    bicycle.options.fall_reward = -1e308
+    assert bicycle.options.fall_reward == pegasus.BicycleOptions().fall_reward
+    objective = pegasus.FunctionObjective(pegasus.ParameterSpec([pegasus.Parameter("a")]), lambda t: -t[0] ** 2)
+    objective.parameters.add(pegasus.Parameter("b"))
+    assert len(objective.parameters) == 1
+    policy = pegasus.HoverPolicy()
+    policy.parameters.add(pegasus.Parameter("extra"))
+    assert len(policy.parameters) == len(pegasus.HoverPolicy().parameters)

@@ -218,3 +218,26 @@ def test_every_compiled_name_has_a_stub_and_every_new_class_a_docstring(source_d
         assert len(getattr(pegasus, name).__doc__ or "") > 40, name
     for name in ["train", "TrainingPlan", "TrainingStage", "train_hover", "bicycle_training_problem"]:
         assert len(getattr(pegasus, name).__doc__ or "") > 40, name
+
+
+def test_every_property_of_every_class_says_what_it_is():
+    # Fields, getters and class constants alike: help() shows a property's docstring, so a bare field name is all
+    # a user would see. pybind11's own enum properties (__doc__, __members__, name, value) are pybind11's to word.
+    import inspect
+    enum_internals = {"__doc__", "__members__", "name", "value"}
+    undocumented = []
+    for name in dir(pegasus):
+        cls = getattr(pegasus, name)
+        if not inspect.isclass(cls):
+            continue
+        is_enum = "__members__" in vars(cls)
+        for member, value in vars(cls).items():
+            if not isinstance(value, property) or (is_enum and member in enum_internals):
+                continue
+            if type(value).__name__ == "pybind11_static_property":
+                # pybind11 keeps no docstring on a static property: the class's docstring must explain it.
+                if member not in (cls.__doc__ or ""):
+                    undocumented.append(f"{name}.{member}")
+            elif len((value.__doc__ or "").strip()) < 10:
+                undocumented.append(f"{name}.{member}")
+    assert undocumented == []
