@@ -45,7 +45,7 @@ struct AircraftParams {
   double iyy = 0.34;           // [GMF01] I_yy, kg m^2
   double izz = 0.28;           // [GMF01] I_zz, kg m^2
   double gravity = 9.81;       // m/s^2
-  double air_density = 1.204;  // kg/m^3, ISA sea level at 20 C
+  double air_density = 1.204;  // kg/m^3, sea-level pressure at 20 C (the ISA day, 15 C, gives 1.225)
   // --- Main rotor [GMF01] ---
   double omega_mr = 167.0;         // [GMF01] nominal rotor speed, rad/s (1600 rpm)
   double radius_mr = 0.775;        // [GMF01] R_mr, m

@@ -204,7 +204,7 @@ HoverReward hover_reward_for(const sysid::IdentifiedModel& model, const HoverTra
 struct StartingPolicyCheck {
   int scenarios = 0;
   int crashed = 0;                   // scenarios whose rollout ended in the model's crash state
-  double mean_seconds_to_crash = 0;  // over the crashed ones
+  double mean_seconds_to_crash = 0;  // over the crashed ones; 0 when none crashed
   double uhat = 0;                   // the starting policy's U-hat
 };
 StartingPolicyCheck check_starting_policy(const std::shared_ptr<const sysid::IdentifiedModel>& model,
