@@ -56,19 +56,17 @@ namespace {
 // Every message is one printable line, whatever bytes the paths and values it quotes hold.
 std::string one_line(const std::string& s) { return one_line_message(s); }
 
-// A run's error about one of its fields ("FIELD: ..."; the library names fields so) names it as the user set
-// it, as validation does: the option, the config file's line, or the vehicle file's key it came from.
-std::string naming_origin(const ConfigSchema& schema, const std::string& message) {
-  const std::size_t colon = message.find(": ");
-  if (colon == std::string::npos || !schema.has(message.substr(0, colon))) return message;
-  const std::string field = message.substr(0, colon), rest = message.substr(colon + 2);
-  const std::string& origin = schema.origin(field);
-  if (origin.starts_with("--") || origin.find(": ") != std::string::npos) return origin + ": " + rest;
+// A run's error about one of its fields names it as the user set it, as validation does: the option, the
+// config file's line and key, or the vehicle file's key it came from.
+std::string naming_origin(const ConfigSchema& schema, const ConfigFieldError& e) {
+  if (!schema.has(e.field())) return e.what();
+  const std::string& origin = schema.origin(e.field());
+  if (origin.starts_with("--") || origin.find(": ") != std::string::npos) return origin + ": " + e.detail();
   const std::size_t line = origin.rfind(':');  // FILE:LINE of a config file
   if (line != std::string::npos && line + 1 < origin.size() &&
       origin.find_first_not_of("0123456789", line + 1) == std::string::npos)
-    return fmt::format("{}: key '{}': {}", origin, field, rest);
-  return message;  // the default, or a value another command set (a pipeline's stage says which)
+    return fmt::format("{}: key '{}': {}", origin, e.field(), e.detail());
+  return e.what();  // the default, or a value another command set (a pipeline's stage says which)
 }
 
 // The options of one command, filled by CLI11 while parsing.
@@ -276,9 +274,11 @@ int run_command(const Command& command, const ConfigSchema& schema, const std::s
   RunContext context(schema, quiet, run_dir ? &*run_dir : nullptr, out);
   try {
     command.run(context);
-  } catch (const InputError& e) {
+  } catch (const ConfigFieldError& e) {
     if (run_dir) run_dir->abandon();  // bad input leaves nothing behind (a resumed DIR.partial is kept)
-    if (const std::string named = naming_origin(schema, e.what()); named != e.what()) throw InputError(named);
+    throw InputError(naming_origin(schema, e));
+  } catch (const InputError&) {
+    if (run_dir) run_dir->abandon();
     throw;
   }
   out.flush();

@@ -214,7 +214,7 @@ ControlLoopTiming time_control_loop(const HeliController& controller, const Cont
   if (!in || !out) {
     if (in) std::fclose(in);
     if (out) std::fclose(out);
-    throw std::runtime_error("control loop timing: cannot open the in-memory input or /dev/null");
+    throw std::runtime_error("bench: cannot open the in-memory input or /dev/null");
   }
   const auto start = std::chrono::steady_clock::now();
   const ControlLoopStats stats = run_control_loop(controller, safe, in, out, stderr);

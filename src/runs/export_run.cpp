@@ -1,3 +1,4 @@
+// A policy file as C99 source in a run directory, and `export`'s config section (runs/export_run.hpp).
 #include "pegasus/runs/export_run.hpp"
 
 #include <fmt/format.h>

@@ -394,7 +394,9 @@ void declare_fly_config(ConfigSchema& s) {
   s.add_int("flights", d.flights.flights, "flights from perturbed starts").range(1, 1000000);
   s.add_double("seconds", d.flights.seconds, "flight length, s").greater_than(0).max(36000);
   declare_gust_sigma(s, "turbulence standard deviation per axis, m/s");
-  s.add_double_list("wind", {0, 0, 0}, "steady wind north, east, down (m/s, W), under the gusts")
+  const Vec3& wind = d.settings.mean_wind_W;
+  s.add_double_list("wind", {wind.x(), wind.y(), wind.z()},
+                    "steady wind north, east, down (m/s, W), under the gusts")
       .validate([](const FieldValue& v) {
         const auto& w = std::get<std::vector<double>>(v);
         if (w.size() != 3) return std::string("3 numbers: north, east, down (m/s)");
@@ -434,7 +436,8 @@ FlyRunOptions read_fly_config(const ConfigSchema& c, std::uint64_t seed) {
 void declare_control_config(ConfigSchema& s) {
   declare_vehicle(s);
   s.add_string("policy", "", "policy file (policy.json of pegasus heli hover)");
-  s.add_int("bench_lines", 0, "0: serve stdin; N: time N synthetic lines and print lines/s")
+  s.add_int("bench_lines", ControlRunOptions{}.bench_lines,
+            "0: serve stdin; N: time N synthetic lines and print lines/s")
       .range(0, 100000000);
 }
 

@@ -161,10 +161,10 @@ void run_hover(const HoverRunOptions& options, RunSink& sink, ThreadPool& pool) 
   std::string error;
   if (!o.IsValid(&error)) throw InputError(error);
   if (options.aircraft.vehicle.simulator != "none" && !(o.target.z < 0))
-    throw InputError(
-        fmt::format("target: z = {:g} is at or below the ground of {}'s ground truth (NED: z < 0 "
-                    "is above it)",
-                    o.target.z, options.aircraft.vehicle.name()));
+    throw ConfigFieldError("target",
+                           fmt::format("z = {:g} is at or below the ground of {}'s ground truth (NED: z < 0 "
+                                       "is above it)",
+                                       o.target.z, options.aircraft.vehicle.name()));
   const auto model = options.aircraft.load_model(options.model_file);
   RunDirectory& dir = sink.dir;
   options.aircraft.keep(dir);
@@ -456,7 +456,7 @@ void run_control(const ControlRunOptions& options, std::FILE* in, std::FILE* out
   const PolicyFile file = read_policy_file(path);
   const auto controller = make_controller(file, path);
   if (options.bench_lines > 0) {
-    if (options.aircraft.from_file())
+    if (!options.vehicle_file.empty())
       throw InputError(
           "--bench-lines: the synthetic lines are in the pipeline's own layout; time the loop without "
           "--vehicle");
@@ -471,12 +471,13 @@ void run_control(const ControlRunOptions& options, std::FILE* in, std::FILE* out
     dt = 1 / it->get<double>();
   // A policy trained for another aircraft (than the vehicle file, or the X-Cell without one) still runs: the
   // user may mean it, but not silently.
-  const logs::Vehicle& vehicle = options.aircraft.vehicle;
+  const VehicleChoice aircraft = VehicleChoice::read(options.vehicle_file);
+  const logs::Vehicle& vehicle = aircraft.vehicle;
   if (const std::string w =
           other_vehicle_warning(trained_vehicle(file), path, vehicle.name(), "serving it in the terms of");
       !w.empty())
     std::fprintf(err, "%s\n", w.c_str());
-  if (options.aircraft.from_file())
+  if (aircraft.from_file())
     run_control_loop(*controller, file.trim, in, out, err, dt, logs::control_line_format(vehicle));
   else
     run_control_loop(*controller, file.trim, in, out, err, dt);

@@ -8,7 +8,6 @@
 #include "pegasus/runs/optimizer_config.hpp"
 
 namespace pegasus {
-namespace {}  // namespace
 
 void declare_mujoco_train_config(ConfigSchema& s) {
   const MujocoTrainingRunOptions d;

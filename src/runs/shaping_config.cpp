@@ -24,8 +24,6 @@ std::vector<std::string> split_list(const std::string& text) {
   return out;
 }
 
-// ---- shaping gridworld / shaping flags ----------------------------------------------------------------
-
 }  // namespace
 
 void declare_shaping_learning_config(ConfigSchema& s, ShapingWorld world) {

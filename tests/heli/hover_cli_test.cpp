@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
 #include <thread>
 
@@ -391,10 +392,37 @@ TEST_F(HoverCli, BadPolicyFileExitsTwoNamingFileAndField) {
   const auto training =
       run_pegasus("heli hover --model " + model() + tiny() + " --target 0,0,10,0" + out("h"));
   EXPECT_EQ(training.code, 2) << training.output;
-  EXPECT_NE(training.output.find("target: z = 10 is at or below the ground of xcell60"), std::string::npos)
+  // The run's error names the field as the user set it: the option, the config file's line, the vehicle's
+  // key.
+  EXPECT_NE(training.output.find("pegasus: --target: z = 10 is at or below the ground of xcell60"),
+            std::string::npos)
       << training.output;
   EXPECT_FALSE(fs::exists(dir_ / "h"));
   EXPECT_FALSE(fs::exists(dir_ / "h.partial"));
+  const fs::path config = dir_ / "underground.toml";
+  std::ofstream(config) << "scenarios = 2\ntarget = [0, 0, 10, 0]\n";
+  const auto from_config =
+      run_pegasus("heli hover --model " + model() + " --config " + config.string() + out("h"));
+  EXPECT_EQ(from_config.code, 2) << from_config.output;
+  EXPECT_NE(from_config.output.find(config.string() + ":2: key 'target': z = 10 is at or below the ground"),
+            std::string::npos)
+      << from_config.output;
+  std::ifstream shipped(crazyflie);
+  std::stringstream text;
+  text << shipped.rdbuf();
+  std::string vehicle_text = text.str();
+  const std::string shipped_target = "target = [0, 0, -2, 0]";
+  ASSERT_NE(vehicle_text.find(shipped_target), std::string::npos);
+  vehicle_text.replace(vehicle_text.find(shipped_target), shipped_target.size(), "target = [0, 0, 1, 0]");
+  const fs::path vehicle = dir_ / "underground_vehicle.toml";
+  std::ofstream(vehicle) << vehicle_text;
+  const auto from_vehicle =
+      run_pegasus("hover --vehicle " + vehicle.string() + " --model " + model() + tiny() + out("h"));
+  EXPECT_EQ(from_vehicle.code, 2) << from_vehicle.output;
+  EXPECT_NE(from_vehicle.output.find(vehicle.string() + ": hover.target: z = 1 is at or below the ground"),
+            std::string::npos)
+      << from_vehicle.output;
+  EXPECT_FALSE(fs::exists(dir_ / "h"));
 }
 
 TEST_F(HoverCli, ControlAnswersEveryLineAndMalformedOnesWithTheTrim) {

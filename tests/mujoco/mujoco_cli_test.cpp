@@ -383,7 +383,7 @@ TEST_F(MujocoCli, InitialPolicyContinuesFromTheSavedThetaAndRefusesAnotherShape)
   const std::vector<Case> cases = {
       {" --policy mlp --hidden 5", "this run trains a mlp policy with [5]"},
       {" --policy linear", "holds a mlp policy with hidden widths [4]; this run trains a linear policy"},
-      {" --policy mlp --hidden 4 --normalize=true", "--initial-policy: only with normalize = false"},
+      {" --policy mlp --hidden 4 --normalize=true", "initial_policy: only with normalize = false"},
   };
   for (const auto& c : cases) {
     SCOPED_TRACE(c.args);

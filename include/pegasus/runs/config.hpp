@@ -29,6 +29,7 @@
 #include <variant>
 #include <vector>
 
+#include "pegasus/core/error.hpp"
 #include "pegasus/io/json_csv.hpp"
 
 namespace pegasus {
@@ -37,6 +38,20 @@ enum class FieldType { kInt, kDouble, kBool, kString, kIntList, kDoubleList };
 
 using FieldValue =
     std::variant<std::int64_t, double, bool, std::string, std::vector<std::int64_t>, std::vector<double>>;
+
+// Bad input about one config field that only a run can find (a set point under a vehicle's ground). Its
+// message is "FIELD: what"; the command framework names the field as the user set it, as validation does:
+// "--target: ...", "run.toml:3: key 'target': ...", "V.toml: hover.target: ...".
+class ConfigFieldError : public InputError {
+ public:
+  ConfigFieldError(const std::string& field, const std::string& what)
+      : InputError(field + ": " + what), field_(field), what_(what) {}
+  const std::string& field() const { return field_; }
+  const std::string& detail() const { return what_; }  // the message without the field
+
+ private:
+  std::string field_, what_;
+};
 
 // One declared field. Built through ConfigSchema::add_*; the chainable setters constrain it.
 class ConfigField {

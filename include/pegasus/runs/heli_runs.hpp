@@ -1,7 +1,8 @@
 #pragma once
 // The helicopter experiments of thesis chapter 5 for any aircraft a vehicle file describes, each a function
 // of typed options that writes a run directory through a RunSink (the `pegasus pilot`, `identify`, `hover`
-// and `fly` commands, and their `heli` aliases, map their options onto these and call them):
+// and `fly` commands, and their `heli` aliases, read their config sections (runs/heli_config.hpp) into these
+// options and call them):
 //   run_pilot     the ground truth flown by its scripted pilot (hover, then frequency sweeps), logged;
 //   run_identify  system identification by locally weighted regression (§5.2), with the model-selection
 //                 study of Fig 5.2, the noise check of Fig 5.3, the model as hover training runs it and the
@@ -10,6 +11,8 @@
 //   run_fly       flights of a policy file (or the pilot) on the ground truth with gusts (Figs 5.6-5.7).
 // Each writes summary.json (a function of the options alone), CSV series, chart specifications and SVGs,
 // and the vehicle file's bytes when there is one; bad input throws InputError naming the file or field.
+// Also here: write_pipeline_summary (the pipeline's summary from its stages') and run_control (`control`:
+// a policy served line by line).
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
@@ -117,7 +120,7 @@ void run_fly(const FlyRunOptions& options, RunSink& sink, ThreadPool& pool);
 void write_pipeline_summary(const std::string& vehicle, double flight_seconds, RunSink& sink);
 
 struct ControlRunOptions {
-  VehicleChoice aircraft{};  // the lines' layout: the vehicle file's own, or the pipeline's without a file
+  std::string vehicle_file;  // the lines' layout: this vehicle file's own; empty: the pipeline's (the X-Cell)
   std::string policy_file;   // policy.json of hover or manoeuvre training
   std::int64_t bench_lines = 0;  // 0: serve; N: time N synthetic lines (the pipeline's layout) instead
 };
