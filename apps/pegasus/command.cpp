@@ -56,17 +56,9 @@ namespace {
 // Every message is one printable line, whatever bytes the paths and values it quotes hold.
 std::string one_line(const std::string& s) { return one_line_message(s); }
 
-// A run's error about one of its fields names it as the user set it, as validation does: the option, the
-// config file's line and key, or the vehicle file's key it came from.
+// A run's error about one of its fields names it as the user set it, as the checks of its value do.
 std::string naming_origin(const ConfigSchema& schema, const ConfigFieldError& e) {
-  if (!schema.has(e.field())) return e.what();
-  const std::string& origin = schema.origin(e.field());
-  if (origin.starts_with("--") || origin.find(": ") != std::string::npos) return origin + ": " + e.detail();
-  const std::size_t line = origin.rfind(':');  // FILE:LINE of a config file
-  if (line != std::string::npos && line + 1 < origin.size() &&
-      origin.find_first_not_of("0123456789", line + 1) == std::string::npos)
-    return fmt::format("{}: key '{}': {}", origin, e.field(), e.detail());
-  return e.what();  // the default, or a value another command set (a pipeline's stage says which)
+  return schema.has(e.field()) ? schema.where(e.field()) + ": " + e.detail() : e.what();
 }
 
 // The options of one command, filled by CLI11 while parsing.

@@ -240,6 +240,7 @@ ConfigField& ConfigSchema::add(std::string name, FieldType type, FieldValue defa
   fields_.emplace_back(std::move(name), type, default_value, std::move(help));
   values_.push_back(std::move(default_value));
   origins_.emplace_back("default");
+  wheres_.push_back(fields_.back().name());
   return fields_.back();
 }
 
@@ -282,6 +283,7 @@ std::size_t ConfigSchema::index_of(std::string_view name) const {
 const ConfigField& ConfigSchema::field(std::string_view name) const { return fields_[index_of(name)]; }
 const FieldValue& ConfigSchema::value(std::string_view name) const { return values_[index_of(name)]; }
 const std::string& ConfigSchema::origin(std::string_view name) const { return origins_[index_of(name)]; }
+const std::string& ConfigSchema::where(std::string_view name) const { return wheres_[index_of(name)]; }
 
 void ConfigSchema::assign(std::size_t index, FieldValue value, const std::string& where,
                           const std::string& got) {
@@ -354,6 +356,7 @@ void ConfigSchema::load_toml_string(std::string_view text, const std::string& so
       if (std::find(overridden.begin(), overridden.end(), full) != overridden.end()) continue;
       assign(index, std::move(*value), where, format_value(*value));
       origins_[index] = fmt::format("{}:{}", source_name, line);
+      wheres_[index] = where;
     }
   };
   walk(root, "");
@@ -396,6 +399,7 @@ void ConfigSchema::set_from_cli(std::string_view name, std::string_view text) {
   }
   assign(index, std::move(*value), where, got);
   origins_[index] = where;
+  wheres_[index] = where;
 }
 
 void ConfigSchema::set(std::string_view name, FieldValue value, const std::string& origin) {
@@ -407,6 +411,7 @@ void ConfigSchema::set(std::string_view name, FieldValue value, const std::strin
   const std::string where = origin.empty() ? std::string(name) : origin;
   assign(index, std::move(value), where, got);
   origins_[index] = where;
+  wheres_[index] = where;
 }
 
 void ConfigSchema::validate() const {
@@ -491,6 +496,7 @@ ConfigSchema ConfigSchema::with_defaults() const {
   for (std::size_t i = 0; i < fields_.size(); ++i) {
     copy.values_[i] = fields_[i].default_value();
     copy.origins_[i] = "default";
+    copy.wheres_[i] = fields_[i].name();
   }
   return copy;
 }

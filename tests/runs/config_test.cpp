@@ -61,6 +61,22 @@ TEST(ConfigSchema, FileOverridesDefaultsAndCliOverridesFile) {
   EXPECT_EQ(s.get_int("optimizer.iterations"), 5);
 }
 
+// where() names a field as the checks of its value name it, wherever its value came from.
+TEST(ConfigSchema, WhereNamesAFieldAsItsValuesChecksDo) {
+  ConfigSchema s = example_schema();
+  EXPECT_EQ(s.where("gamma"), "gamma");
+  s.load_toml_string("scenarios = 7\n[optimizer]\nstep = 2\n", "run.toml");
+  EXPECT_EQ(s.where("optimizer.step"), "run.toml:3: key 'optimizer.step'");
+  EXPECT_EQ(
+      input_error_message([&] { s.load_toml_string("scenarios = 7\n[optimizer]\nstep = 0.0", "run.toml"); }),
+      s.where("optimizer.step") + ": expected a number > 0, got 0.0");
+  s.set_from_cli("gamma", "0.25");
+  EXPECT_EQ(s.where("gamma"), "--gamma");
+  s.set("scenarios", std::int64_t{3}, "V.toml: hover.scenarios");
+  EXPECT_EQ(s.where("scenarios"), "V.toml: hover.scenarios");
+  EXPECT_EQ(s.with_defaults().where("scenarios"), "scenarios");
+}
+
 TEST(ConfigSchema, OutOfRangeInFileNamesFileLineKeyExpectationAndValue) {
   ConfigSchema s = example_schema();
   EXPECT_EQ(input_error_message([&] { s.load_toml_string("# comment\n\ngamma = 1.5\n", "config.toml"); }),

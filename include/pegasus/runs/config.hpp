@@ -162,6 +162,9 @@ class ConfigSchema {
   const FieldValue& value(std::string_view name) const;
   // Where the current value came from: "default", "config.toml:3" or "--gamma".
   const std::string& origin(std::string_view name) const;
+  // How an error names the field as the user set it, as the checks of its value do: its name at the
+  // default, "config.toml:3: key 'gamma'", "--gamma", or the origin given to set() ("V.toml: hover.target").
+  const std::string& where(std::string_view name) const;
 
   std::int64_t get_int(std::string_view name) const;
   double get_double(std::string_view name) const;
@@ -184,6 +187,7 @@ class ConfigSchema {
   std::deque<ConfigField> fields_;  // a deque: add_* returns references that stay valid
   std::vector<FieldValue> values_;
   std::vector<std::string> origins_;
+  std::vector<std::string> wheres_;  // where(), beside origins_
   std::vector<Constraint> constraints_;
 };
 
