@@ -187,7 +187,7 @@ IterationCallback = Callable[[IterationReport], Union[None, bool, CallbackReturn
 
 class SeedDomains:
     _fields: Tuple[str, ...]
-    def __init__(self, hill_climbing: int = ..., nlopt: int = ..., cmaes: int = ..., ars: int = ...) -> None: ...
+    def __init__(self, **kwargs: int) -> None: ...  # keywords: the names of _fields
     hill_climbing: int
     nlopt: int
     cmaes: int

@@ -111,10 +111,10 @@ auto is_valid_method() {
 // Gives a bound class the dataclass-like attribute `_fields` (its field names, as the C++ struct's); the
 // package adds __repr__, __eq__ and copy from it (python/pegasus/__init__.py).
 template <class C>
-void set_fields(C& c, const std::vector<const char*>& names) {
+void set_fields(C& c, const std::vector<std::string>& names) {
   py::tuple t(names.size());
   std::size_t k = 0;
-  for (const char* n : names) t[k++] = py::str(n);
+  for (const std::string& n : names) t[k++] = py::str(n);
   c.attr("_fields") = t;
   using T = typename C::type;
   if constexpr (std::is_copy_constructible_v<T>) {
@@ -124,8 +124,12 @@ void set_fields(C& c, const std::vector<const char*>& names) {
   }
 }
 template <class C>
+void set_fields(C& c, const std::vector<const char*>& names) {
+  set_fields(c, std::vector<std::string>(names.begin(), names.end()));
+}
+template <class C>
 void set_fields(C& c, std::initializer_list<const char*> names) {
-  set_fields(c, std::vector<const char*>(names));
+  set_fields(c, std::vector<std::string>(names.begin(), names.end()));
 }
 
 void bind_scenarios(py::module_& m);

@@ -1,9 +1,13 @@
 // Parameter specs, objectives and every optimizer of optimizers/optimizer.hpp: Options and Summary objects
 // with the C++ field names, Solve with the GIL released, checkpoints as Python dicts.
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <memory>
+#include <string>
+#include <type_traits>
+#include <vector>
 
 #include "common.hpp"
 #include "pegasus/optimizers/optimizer.hpp"
@@ -35,6 +39,57 @@ void bind_checkpointing(py::class_<Options>& c) {
           },
           "A checkpoint (dict) to continue from, or None.")
       .def("is_valid", is_valid_method<Options>(), kIsValidDoc);
+}
+
+// Binds one VisitFields field per call, with its help as the docstring, and keeps the names for _fields.
+template <class Options>
+struct FieldBinder {
+  py::class_<Options>& c;
+  std::vector<std::string>& names;
+
+  template <class T>
+  void bind(const char* name, T Options::*member, const char* help) {
+    c.def_readwrite(name, member, help);
+    names.emplace_back(name);
+  }
+  template <class Int>
+  void integer(const char* name, Int Options::*member, const char* help, double, double = 0) {
+    bind(name, member, help);
+  }
+  void real(const char* name, double Options::*member, const char* help, double, double, bool = false) {
+    bind(name, member, help);
+  }
+  template <class T>
+  void internal(const char* name, T Options::*member, const char* help) {
+    bind(name, member, help);
+  }
+};
+
+// A method's Options class: its fields (VisitFields), checkpointing and is_valid.
+template <class Options>
+void bind_method_options(py::module_& m) {
+  const OptimizerMethodInfo& info = Options::kMethod;
+  // type_name is a string literal (kMethod is constexpr): null-terminated, and alive as long as the module.
+  auto c = py::class_<Options>(m, info.type_name.data(), std::string(info.description).c_str());
+  c.def(py::init<>());
+  std::vector<std::string> names;
+  if constexpr (std::is_same_v<Options, NloptOptions>) {
+    c.def_property(
+        "algorithm", [](const NloptOptions& o) { return std::string(NloptAlgorithmName(o.algorithm)); },
+        [](NloptOptions& o, const std::string& name) {
+          const auto a = NloptAlgorithmFromName(name);
+          if (!a)
+            throw py::value_error("algorithm: expected bobyqa, sbplx, crs2 or esch, got '" + name + "'");
+          o.algorithm = *a;
+        },
+        "bobyqa, sbplx, crs2 or esch; solve() sets it from OptimizerOptions.method.");
+    names.emplace_back("algorithm");
+  }
+  FieldBinder<Options> binder{c, names};
+  Options::VisitFields(binder);
+  bind_checkpointing(c);
+  for (const char* name : {"checkpoint_every", "on_checkpoint", "resume_from"}) names.emplace_back(name);
+  set_fields(c, names);
 }
 
 py::array_t<double> theta_array(const Theta& theta) { return vector_array(theta); }
@@ -176,196 +231,54 @@ BicycleProblem, FunctionObjective, ...)doc")
            }),
            py::arg("parameters"), py::arg("f"));
 
-  auto gradient = py::class_<GradientAscentOptions>(
-      m, "GradientAscentOptions", "Bounded-step gradient ascent (thesis §4.6 footnote 14).");
-  gradient.def(py::init<>())
-      .def_readwrite("max_iterations", &GradientAscentOptions::max_iterations,
-                     "Iterations at most (a gradient and its line search each); 0 evaluates the start only.")
-      .def_readwrite("max_evaluations", &GradientAscentOptions::max_evaluations,
-                     "Stop before an iteration that would pass this many evaluations in total (>= 1).")
-      .def_readwrite("relative_step", &GradientAscentOptions::relative_step,
-                     "Central-difference half-width as a fraction of each parameter's scale (> 0).")
-      .def_readwrite("initial_step", &GradientAscentOptions::initial_step,
-                     "Length of the first trial step, scaled units (0 < initial_step <= max_step).")
-      .def_readwrite("max_step", &GradientAscentOptions::max_step,
-                     "Upper bound on any step's length, scaled units (§4.6; > 0).")
-      .def_readwrite("min_step", &GradientAscentOptions::min_step,
-                     "Stop when backtracking shrinks the step below this, scaled units.")
-      .def_readwrite("step_growth", &GradientAscentOptions::step_growth,
-                     "Factor on the step length after an accepted step, capped at max_step (>= 1).")
-      .def_readwrite("max_backtracks", &GradientAscentOptions::max_backtracks,
-                     "Halvings tried in one iteration before giving up on an uphill step (>= 0).")
-      .def_readwrite("function_tolerance", &GradientAscentOptions::function_tolerance,
-                     "Stop when an accepted step improves U-hat by at most this times |U-hat| (>= 0).");
-  bind_checkpointing(gradient);
-  set_fields(gradient, {"max_iterations", "max_evaluations", "relative_step", "initial_step", "max_step",
-                        "min_step", "step_growth", "max_backtracks", "function_tolerance", "checkpoint_every",
-                        "on_checkpoint", "resume_from"});
-
-  auto hill = py::class_<HillClimbingOptions>(m, "HillClimbingOptions", "Random-walk hill climbing.");
-  hill.def(py::init<>())
-      .def_readwrite("seed", &HillClimbingOptions::seed, "Seed of the stream that draws every perturbation.")
-      .def_readwrite("stream", &HillClimbingOptions::stream,
-                     "Stream of that seed (change it, or the seed, for an independent run).")
-      .def_readwrite("max_iterations", &HillClimbingOptions::max_iterations,
-                     "Iterations at most (one batch of proposals each); 0 evaluates the start only.")
-      .def_readwrite("max_evaluations", &HillClimbingOptions::max_evaluations,
-                     "Stop before an iteration that would pass this many evaluations in total (>= 1).")
-      .def_readwrite(
-          "proposals_per_iteration", &HillClimbingOptions::proposals_per_iteration,
-          "Candidates drawn and evaluated in one batch per iteration; the best is kept if it improves.")
-      .def_readwrite("initial_step", &HillClimbingOptions::initial_step,
-                     "Standard deviation of the first perturbations, scaled units.")
-      .def_readwrite("max_step", &HillClimbingOptions::max_step,
-                     "Upper bound on the step, scaled units (> 0).")
-      .def_readwrite("min_step", &HillClimbingOptions::min_step,
-                     "Stop when the step has shrunk below this, scaled units.")
-      .def_readwrite("step_growth", &HillClimbingOptions::step_growth,
-                     "Step factor after an accepted proposal (>= 1).")
-      .def_readwrite("step_shrink", &HillClimbingOptions::step_shrink,
-                     "Step factor after an iteration without improvement, in (0, 1].");
-  bind_checkpointing(hill);
-  set_fields(hill, {"seed", "stream", "max_iterations", "max_evaluations", "proposals_per_iteration",
-                    "initial_step", "max_step", "min_step", "step_growth", "step_shrink", "checkpoint_every",
-                    "on_checkpoint", "resume_from"});
-
-  auto exhaustive = py::class_<ExhaustiveSearchOptions>(m, "ExhaustiveSearchOptions",
-                                                        "Enumerates every policy of integer parameters.");
-  exhaustive.def(py::init<>())
-      .def_readwrite("max_policies", &ExhaustiveSearchOptions::max_policies,
-                     "Refuse a policy class with more members than this (>= 1).")
-      .def_readwrite("block_size", &ExhaustiveSearchOptions::block_size,
-                     "Policies handed to one evaluate_batch call (more parallel work per call).")
-      .def_readwrite("keep_all_values", &ExhaustiveSearchOptions::keep_all_values,
-                     "Keep every policy's U-hat in OptimizerSummary.all_values (8 bytes per policy).");
-  bind_checkpointing(exhaustive);
-  set_fields(exhaustive, {"max_policies", "block_size", "keep_all_values", "checkpoint_every",
-                          "on_checkpoint", "resume_from"});
-
-  auto nlopt = py::class_<NloptOptions>(m, "NloptOptions", "NLopt: bobyqa, sbplx, crs2, esch.");
-  nlopt.def(py::init<>())
-      .def_property(
-          "algorithm", [](const NloptOptions& o) { return std::string(NloptAlgorithmName(o.algorithm)); },
-          [](NloptOptions& o, const std::string& name) {
-            const auto a = NloptAlgorithmFromName(name);
-            if (!a)
-              throw py::value_error("algorithm: expected bobyqa, sbplx, crs2 or esch, got '" + name + "'");
-            o.algorithm = *a;
-          },
-          "bobyqa, sbplx, crs2 or esch; solve() sets it from OptimizerOptions.method.")
-      .def_readwrite("max_evaluations", &NloptOptions::max_evaluations,
-                     "Evaluations allowed, a hard limit (1 .. 2^31 - 1).")
-      .def_readwrite("initial_step", &NloptOptions::initial_step,
-                     "Local methods: the first step or trust radius, scaled units (> 0).")
-      .def_readwrite("x_tolerance", &NloptOptions::x_tolerance,
-                     "Stop when a step changes every parameter by less than this times its scale (0: off).")
-      .def_readwrite("function_tolerance", &NloptOptions::function_tolerance,
-                     "Stop when a step changes U-hat by less than this times |U-hat| (0: off).")
-      .def_readwrite("population", &NloptOptions::population,
-                     "CRS2 and ESCH population size; 0: NLopt's default.")
-      .def_readwrite("seed", &NloptOptions::seed, "Seed of NLopt's random generator, set before every run.");
-  bind_checkpointing(nlopt);
-  set_fields(nlopt, {"algorithm", "max_evaluations", "initial_step", "x_tolerance", "function_tolerance",
-                     "population", "seed", "checkpoint_every", "on_checkpoint", "resume_from"});
-
-  auto cmaes = py::class_<CmaesOptions>(m, "CmaesOptions", R"doc(
-CMA-ES (Hansen's tutorial, arXiv:1604.00772): population_size candidates per generation in one batch; bounds by
-pycma's BoundTransform; deterministic from (seed, stream). Fields as optimizers/cmaes.hpp.)doc");
-  cmaes.def(py::init<>())
-      .def_readwrite("seed", &CmaesOptions::seed, "Seed of the stream that draws every sample.")
-      .def_readwrite("stream", &CmaesOptions::stream,
-                     "Stream of that seed (change it, or the seed, for an independent run).")
-      .def_readwrite("max_iterations", &CmaesOptions::max_iterations,
-                     "Generations at most (0: the start only).")
-      .def_readwrite("max_evaluations", &CmaesOptions::max_evaluations,
-                     "Stop before a generation that would pass this many evaluations in total (>= 1).")
-      .def_readwrite("population_size", &CmaesOptions::population_size,
-                     "Candidates per generation; 0: 4 + floor(3 ln n).")
-      .def_readwrite("initial_step", &CmaesOptions::initial_step, "sigma at the start, scaled units.")
-      .def_readwrite("x_tolerance", &CmaesOptions::x_tolerance,
-                     "Stop when sigma times the largest spread of the search distribution falls below this, "
-                     "scaled units.")
-      .def_readwrite("function_tolerance", &CmaesOptions::function_tolerance,
-                     "Stop when U-hat varies by less than this over the recent generations (0: never).")
-      .def_readwrite("max_condition", &CmaesOptions::max_condition,
-                     "Stop (FAILURE) when the covariance's condition number exceeds this (> 1).")
-      .def_readwrite("stall_generations", &CmaesOptions::stall_generations,
-                     "A run stops when its best U-hat rose by at most stall_tolerance over this many "
-                     "generations (0: never).")
-      .def_readwrite("stall_tolerance", &CmaesOptions::stall_tolerance, "See stall_generations.")
-      .def_readwrite("restarts", &CmaesOptions::restarts,
-                     "Runs after the first (IPOP): each from the first mean with twice the population.");
-  bind_checkpointing(cmaes);
-  set_fields(cmaes, {"seed", "stream", "max_iterations", "max_evaluations", "population_size", "initial_step",
-                     "x_tolerance", "function_tolerance", "max_condition", "stall_generations",
-                     "stall_tolerance", "restarts", "checkpoint_every", "on_checkpoint", "resume_from"});
-
-  auto ars = py::class_<AugmentedRandomSearchOptions>(m, "AugmentedRandomSearchOptions", R"doc(
-Augmented Random Search (Mania, Guy and Recht 2018): N antithetic directions per iteration (2N evaluations in one
-batch), the b best used in the step. Fields as optimizers/augmented_random_search.hpp.)doc");
-  ars.def(py::init<>())
-      .def_readwrite("seed", &AugmentedRandomSearchOptions::seed,
-                     "Seed of the stream that draws every direction.")
-      .def_readwrite("stream", &AugmentedRandomSearchOptions::stream,
-                     "Stream of that seed (change it, or the seed, for an independent run).")
-      .def_readwrite("max_iterations", &AugmentedRandomSearchOptions::max_iterations,
-                     "Iterations at most (>= 0).")
-      .def_readwrite("max_evaluations", &AugmentedRandomSearchOptions::max_evaluations,
-                     "Stop before an iteration that would pass this many evaluations in total (>= 1).")
-      .def_readwrite("directions", &AugmentedRandomSearchOptions::directions, "N: directions per iteration.")
-      .def_readwrite("top_directions", &AugmentedRandomSearchOptions::top_directions,
-                     "b: the best directions used in the step.")
-      .def_readwrite("step_size", &AugmentedRandomSearchOptions::step_size, "alpha, scaled units.")
-      .def_readwrite("exploration_noise", &AugmentedRandomSearchOptions::exploration_noise,
-                     "nu, scaled units.");
-  bind_checkpointing(ars);
-  set_fields(ars, {"seed", "stream", "max_iterations", "max_evaluations", "directions", "top_directions",
-                   "step_size", "exploration_noise", "checkpoint_every", "on_checkpoint", "resume_from"});
+  // Every method's Options class, from its kMethod and VisitFields (optimizer_method.hpp).
+  ForEachOptimizerMethod(
+      [&](auto member) { bind_method_options<OptimizerMethodOptions<decltype(member)>>(m); });
 
   auto optimizer_options =
       py::class_<OptimizerOptions>(m, "OptimizerOptions", R"doc(
-Which optimizer runs (method: "exhaustive", "gradient", "hill-climb", "bobyqa", "sbplx", "crs2", "esch", "cmaes",
-"ars"; optimizer_methods() lists them) and the options of each; only the selected method's are used and validated.)doc")
+Which optimizer runs (method: one of optimizer_methods()) and the options of each method, one attribute per
+options section; only the selected method's are used and validated.)doc")
           .def(py::init<>())
           .def(py::init([](const std::string& method) {
                  const auto names = OptimizerMethodNames();
-                 if (std::find(names.begin(), names.end(), method) == names.end()) {
-                   std::string list;
-                   for (const auto name : names) list += (list.empty() ? "" : ", ") + std::string(name);
-                   throw py::value_error("method: expected one of " + list + ", got '" + method + "'");
-                 }
+                 if (std::find(names.begin(), names.end(), method) == names.end())
+                   throw py::value_error(
+                       fmt::format("method: expected one of {}, got '{}'", fmt::join(names, ", "), method));
                  OptimizerOptions o;
                  o.method = method;
                  return o;
                }),
                py::arg("method"))
           .def_readwrite("method", &OptimizerOptions::method,
-                         "The optimizer that runs: one of optimizer_methods().")
-          .def_readwrite("exhaustive", &OptimizerOptions::exhaustive, "Options of \"exhaustive\".")
-          .def_readwrite("gradient", &OptimizerOptions::gradient, "Options of \"gradient\".")
-          .def_readwrite("hill_climbing", &OptimizerOptions::hill_climbing, "Options of \"hill-climb\".")
-          .def_readwrite(
-              "nlopt", &OptimizerOptions::nlopt,
-              "Options of \"bobyqa\", \"sbplx\", \"crs2\" and \"esch\" (algorithm follows method).")
-          .def_readwrite("cmaes", &OptimizerOptions::cmaes, "Options of \"cmaes\".")
-          .def_readwrite("ars", &OptimizerOptions::ars, "Options of \"ars\".")
-          .def("iteration_limit", &OptimizerOptions::IterationLimit,
-               "The selected method's iteration limit (what a progress bar counts to).")
-          .def(
-              "set_checkpointing",
-              [](OptimizerOptions& o, std::int64_t every, py::object on_checkpoint, py::object resume_from) {
-                std::optional<nlohmann::json> resume;
-                if (!resume_from.is_none()) resume = from_python(resume_from, "resume_from");
-                o.SetCheckpointing(every, checkpoint_callback(std::move(on_checkpoint)), std::move(resume));
-              },
-              py::arg("checkpoint_every"), py::arg("on_checkpoint") = py::none(),
-              py::arg("resume_from") = py::none(),
-              "Checkpointing of every method at once: each checkpoint (a dict) goes to on_checkpoint; "
-              "resume_from "
-              "continues one.")
-          .def("is_valid", is_valid_method<OptimizerOptions>(), kIsValidDoc);
-  set_fields(optimizer_options,
-             {"method", "exhaustive", "gradient", "hill_climbing", "nlopt", "cmaes", "ars"});
+                         "The optimizer that runs: one of optimizer_methods().");
+  std::vector<std::string> optimizer_fields = {"method"};
+  ForEachOptimizerMethod([&](auto member) {
+    const OptimizerMethodInfo& info = OptimizerMethodOptions<decltype(member)>::kMethod;
+    std::vector<std::string_view> names;
+    for (std::string_view name : info.method_names)
+      if (!name.empty()) names.push_back(name);
+    optimizer_options.def_readwrite(std::string(info.section).c_str(), member,
+                                    fmt::format("Options of {}.", fmt::join(names, ", ")).c_str());
+    optimizer_fields.emplace_back(info.section);
+  });
+  optimizer_options
+      .def("iteration_limit", &OptimizerOptions::IterationLimit,
+           "The selected method's iteration limit (what a progress bar counts to).")
+      .def(
+          "set_checkpointing",
+          [](OptimizerOptions& o, std::int64_t every, py::object on_checkpoint, py::object resume_from) {
+            std::optional<nlohmann::json> resume;
+            if (!resume_from.is_none()) resume = from_python(resume_from, "resume_from");
+            o.SetCheckpointing(every, checkpoint_callback(std::move(on_checkpoint)), std::move(resume));
+          },
+          py::arg("checkpoint_every"), py::arg("on_checkpoint") = py::none(),
+          py::arg("resume_from") = py::none(),
+          "Checkpointing of every method at once: each checkpoint (a dict) goes to on_checkpoint; "
+          "resume_from "
+          "continues one.")
+      .def("is_valid", is_valid_method<OptimizerOptions>(), kIsValidDoc);
+  set_fields(optimizer_options, optimizer_fields);
   m.def(
       "optimizer_methods",
       [] {

@@ -4,6 +4,12 @@
 #include "pegasus/optimizers/training.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <limits>
+#include <string_view>
+#include <vector>
 
 #include "common.hpp"
 #include "pegasus/random/seed.hpp"
@@ -73,28 +79,45 @@ iteration's record (iteration, evaluations so far, best U-hat so far, seconds) a
 The seed domains of a stage's optimizers (optimizers/training.hpp): each random method's seed is
 mix_seed(plan seed, its domain), apart from the scenarios' streams and from other stages. The defaults are the
 first stage's; REFINE_SEED_DOMAINS those of a refinement stage.)doc");
-  const SeedDomains first_stage;  // each domain left out keeps the first stage's
-  seeds
-      .def(py::init(
-               [](std::uint32_t hill_climbing, std::uint32_t nlopt, std::uint32_t cmaes, std::uint32_t ars) {
-                 return SeedDomains{hill_climbing, nlopt, cmaes, ars};
-               }),
-           py::arg("hill_climbing") = first_stage.hill_climbing, py::arg("nlopt") = first_stage.nlopt,
-           py::arg("cmaes") = first_stage.cmaes, py::arg("ars") = first_stage.ars)
-      .def_readwrite("hill_climbing", &SeedDomains::hill_climbing,
-                     "Hill climbing's domain: its seed is mix_seed(run seed, this) (first stage: "
-                     "0x48696c6c, \"Hill\").")
-      .def_readwrite("nlopt", &SeedDomains::nlopt,
-                     "NLopt's domain: its seed is mix_seed(run seed, this) (first stage: 0x4e4c6f70, "
-                     "\"NLop\").")
-      .def_readwrite("cmaes", &SeedDomains::cmaes,
-                     "CMA-ES's domain: its seed is mix_seed(run seed, this) (first stage: 0x434d4145, "
-                     "\"CMAE\").")
-      .def_readwrite("ars", &SeedDomains::ars,
-                     "Augmented random search's domain: its seed is mix_seed(run seed, this) (first stage: "
-                     "0x41525321, \"ARS!\").");
-  set_fields(seeds, {"hill_climbing", "nlopt", "cmaes", "ars"});
-  m.attr("REFINE_SEED_DOMAINS") = kRefineSeedDomains;
+  // A domain is a 32-bit number; a Python int beyond it is refused by name, not wrapped.
+  auto domain_of = [](py::handle value, const std::string& name) {
+    const std::uint64_t domain = as_seed(value, name);
+    if (domain > std::numeric_limits<std::uint32_t>::max())
+      throw py::value_error(fmt::format("{}: expected an integer in [0, 2^32), got {}", name, domain));
+    return static_cast<std::uint32_t>(domain);
+  };
+  seeds.def(py::init([domain_of](const py::kwargs& domains) {
+              SeedDomains d;  // each domain left out keeps the first stage's
+              for (const auto& [key, value] : domains) {
+                const auto section = key.cast<std::string>();
+                const auto& all = d.all();
+                if (std::none_of(all.begin(), all.end(), [&](const auto& e) { return e.first == section; })) {
+                  std::vector<std::string_view> sections;
+                  for (const auto& e : all) sections.push_back(e.first);
+                  throw py::value_error(fmt::format("SeedDomains: expected keywords among {}, got '{}'",
+                                                    fmt::join(sections, ", "), section));
+                }
+                d.set(section, domain_of(value, section));
+              }
+              return d;
+            }),
+            "SeedDomains(**domains): each keyword an options section of a random method (as in _fields) and "
+            "its domain; each left out keeps the first stage's.");
+  std::vector<std::string> sections;
+  const SeedDomains first = SeedDomains(), refine = SeedDomains::Refine();
+  for (const auto& [section, domain] : first.all()) {
+    const std::string name(section);
+    sections.push_back(name);
+    seeds.def_property(
+        name.c_str(), [name](const SeedDomains& d) { return d.of(name); },
+        [name, domain_of](SeedDomains& d, py::handle value) { d.set(name, domain_of(value, name)); },
+        fmt::format("The domain of OptimizerOptions.{}'s seed: mix_seed(run seed, this) (first stage: {:#x}, "
+                    "refinement: {:#x}).",
+                    name, domain, refine.of(name))
+            .c_str());
+  }
+  set_fields(seeds, sections);
+  m.attr("REFINE_SEED_DOMAINS") = SeedDomains::Refine();
   m.def(
       "derive_optimizer_seeds",
       [](py::object run_seed, const SeedDomains& domains, OptimizerOptions& options) {

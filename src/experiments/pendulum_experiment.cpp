@@ -224,7 +224,7 @@ PendulumTrainingResult train_pendulum(const PendulumTrainingOptions& options,
     refine_watch.emplace(*refinement, evaluation, shared_pool.get(), options.bar, clock, result);
     plan.stages.push_back({.name = "refine",
                            .optimizer = options.refine_optimizer,
-                           .seeds = kRefineSeedDomains,
+                           .seeds = SeedDomains::Refine(),
                            .objective = &*refine_watch,
                            .start_from = [](const Theta& t) { return pendulum_full_theta(t); }});
   }

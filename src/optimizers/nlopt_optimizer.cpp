@@ -36,6 +36,12 @@ std::optional<NloptAlgorithm> NloptAlgorithmFromName(std::string_view name) {
   return std::nullopt;
 }
 
+NloptOptions NloptOptions::ForMethod(std::string_view method) const {
+  NloptOptions options = *this;
+  if (const auto chosen = NloptAlgorithmFromName(method)) options.algorithm = *chosen;
+  return options;
+}
+
 bool NloptOptions::IsValid(std::string* error) const {
   if (NloptAlgorithmName(algorithm) == "unknown")
     return RejectOption(error, "algorithm", "one of bobyqa, sbplx, crs2, esch", static_cast<int>(algorithm));

@@ -60,13 +60,50 @@ void AppendHistory(const OptimizerSummary& stage, StagesBefore* before,
   before->seconds += stage.wall_seconds;
 }
 
+std::string NoRandomMethod(std::string_view section) {
+  return fmt::format("seed domains: no optimizer that draws random numbers has the options section '{}'",
+                     section);
+}
+
 }  // namespace
 
+SeedDomains::SeedDomains() {
+  ForEachOptimizerMethod([&](auto member) {
+    const OptimizerMethodInfo& info = OptimizerMethodOptions<decltype(member)>::kMethod;
+    if (info.seed_domain != 0) domains_.emplace_back(info.section, info.seed_domain);
+  });
+}
+
+SeedDomains SeedDomains::Refine() {
+  SeedDomains refine;
+  ForEachOptimizerMethod([&](auto member) {
+    const OptimizerMethodInfo& info = OptimizerMethodOptions<decltype(member)>::kMethod;
+    if (info.seed_domain != 0) refine.set(info.section, info.refine_seed_domain);
+  });
+  return refine;
+}
+
+std::uint32_t SeedDomains::of(std::string_view section) const {
+  for (const auto& [name, domain] : domains_)
+    if (name == section) return domain;
+  throw InputError(NoRandomMethod(section));
+}
+
+void SeedDomains::set(std::string_view section, std::uint32_t domain) {
+  for (auto& [name, value] : domains_)
+    if (name == section) {
+      value = domain;
+      return;
+    }
+  throw InputError(NoRandomMethod(section));
+}
+
 void DeriveOptimizerSeeds(std::uint64_t run_seed, const SeedDomains& domains, OptimizerOptions* options) {
-  options->hill_climbing.seed = mix_seed(run_seed, domains.hill_climbing);
-  options->nlopt.seed = mix_seed(run_seed, domains.nlopt);
-  options->cmaes.seed = mix_seed(run_seed, domains.cmaes);
-  options->ars.seed = mix_seed(run_seed, domains.ars);
+  ForEachOptimizerMethod([&](auto member) {
+    using Options = OptimizerMethodOptions<decltype(member)>;
+    if constexpr (Options::kMethod.seed_domain != 0)
+      (options->*member).seed = mix_seed(run_seed, domains.of(Options::kMethod.section));
+  });
 }
 
 bool TrainingPlan::IsValid(std::string* error) const {

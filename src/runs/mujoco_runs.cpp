@@ -196,7 +196,7 @@ void run_mujoco_training(const MujocoTrainingRunOptions& o, RunSink& sink, Threa
   OptimizerOptions options = o.optimizer;
   // Every random method draws from the run's seed itself (the figures of experiments/mujoco/README.md were
   // measured so).
-  options.ars.seed = options.hill_climbing.seed = options.nlopt.seed = options.cmaes.seed = o.seed;
+  options.SetSeeds(o.seed);
   std::string error;
   if (!options.IsValid(&error)) throw InputError(error);
 

@@ -4,6 +4,13 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdint>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
 #include "pegasus/core/error.hpp"
 #include "pegasus/optimizers/test_problems.hpp"
 
@@ -146,6 +153,94 @@ TEST(OptimizerDispatch, OnlyExhaustiveSearchTakesIntegerParameters) {
                       name));
     }
   }
+}
+
+// Records the fields a VisitFields lists, and whether each is set by a config (integer, real) or only by a
+// program (internal).
+struct FieldNames {
+  std::vector<std::string> config, program;
+  template <class M>
+  void integer(const char* name, M, const char* help, double, double = 0) {
+    config.emplace_back(name);
+    EXPECT_NE(std::string_view(help), "") << name;
+  }
+  template <class M>
+  void real(const char* name, M, const char* help, double, double, bool = false) {
+    config.emplace_back(name);
+    EXPECT_NE(std::string_view(help), "") << name;
+  }
+  template <class M>
+  void internal(const char* name, M, const char*) {
+    program.emplace_back(name);
+  }
+};
+
+TEST(OptimizerMethods, TheListDescribesEveryMethodOnceAndConsistently) {
+  std::set<std::string_view> sections, types, names;
+  std::set<std::uint32_t> domains;
+  std::size_t method_names = 0;
+  ForEachOptimizerMethod([&](auto member) {
+    using Options = OptimizerMethodOptions<decltype(member)>;
+    const OptimizerMethodInfo& info = Options::kMethod;
+    SCOPED_TRACE(info.section);
+    EXPECT_TRUE(sections.insert(info.section).second);
+    EXPECT_TRUE(types.insert(info.type_name).second);
+    EXPECT_FALSE(info.description.empty());
+    ASSERT_FALSE(info.method_names.front().empty());
+    for (std::string_view name : info.method_names) {
+      if (name.empty()) continue;
+      ++method_names;
+      EXPECT_TRUE(names.insert(name).second) << name;
+      EXPECT_TRUE(info.runs(name));
+    }
+    for (std::string_view name : info.need_finite_bounds) {
+      if (name.empty()) continue;
+      EXPECT_TRUE(info.runs(name)) << name;
+    }
+    // A method has a seed exactly when it names the domains the training layer derives it from.
+    constexpr bool has_seed = requires(Options o) { o.seed; };
+    EXPECT_EQ(info.seed_domain != 0, has_seed);
+    if (has_seed) {
+      EXPECT_TRUE(domains.insert(info.seed_domain).second);
+      EXPECT_TRUE(domains.insert(info.refine_seed_domain).second);
+    }
+    // Fields: each named once; a seed is the library's to set, never a config's.
+    FieldNames fields;
+    Options::VisitFields(fields);
+    std::set<std::string> all(fields.config.begin(), fields.config.end());
+    all.insert(fields.program.begin(), fields.program.end());
+    EXPECT_EQ(all.size(), fields.config.size() + fields.program.size());
+    EXPECT_FALSE(fields.config.empty());
+    EXPECT_EQ(all.count("seed"), has_seed ? 1u : 0u);
+    EXPECT_EQ(std::count(fields.config.begin(), fields.config.end(), "seed"), 0);
+  });
+  EXPECT_EQ(method_names, OptimizerMethodNames().size());
+  EXPECT_EQ(std::set<std::string_view>(OptimizerMethodNames().begin(), OptimizerMethodNames().end()), names);
+}
+
+TEST(OptimizerMethods, SetSeedsAndIterationLimitFollowTheList) {
+  OptimizerOptions options;
+  options.SetSeeds(77);
+  EXPECT_EQ(options.hill_climbing.seed, 77u);
+  EXPECT_EQ(options.nlopt.seed, 77u);
+  EXPECT_EQ(options.cmaes.seed, 77u);
+  EXPECT_EQ(options.ars.seed, 77u);
+  options.gradient.max_iterations = 11;
+  options.hill_climbing.max_iterations = 12;
+  options.cmaes.max_iterations = 13;
+  options.ars.max_iterations = 14;
+  options.nlopt.max_evaluations = 15;
+  options.exhaustive.max_policies = 100;
+  options.exhaustive.block_size = 30;
+  const std::vector<std::pair<std::string, std::int64_t>> expected = {
+      {"gradient", 11}, {"hill-climb", 12}, {"cmaes", 13},    {"ars", 14},
+      {"bobyqa", 15},   {"esch", 15},       {"exhaustive", 4}};
+  for (const auto& [method, limit] : expected) {
+    options.method = method;
+    EXPECT_EQ(options.IterationLimit(), limit) << method;
+  }
+  options.method = "newton";
+  EXPECT_EQ(options.IterationLimit(), 0);
 }
 
 }  // namespace

@@ -5,6 +5,9 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <string_view>
+#include <vector>
+
 #include "pegasus/core/error.hpp"
 #include "pegasus/evaluators/monte_carlo.hpp"
 #include "pegasus/optimizers/test_problems.hpp"
@@ -35,7 +38,7 @@ TrainingPlan GradientThenHillClimb() {
   h.hill_climbing.max_iterations = 7;
   h.hill_climbing.proposals_per_iteration = 3;
   plan.stages = {{.name = "gradient", .optimizer = g},
-                 {.name = "refine", .optimizer = h, .seeds = kRefineSeedDomains}};
+                 {.name = "refine", .optimizer = h, .seeds = SeedDomains::Refine()}};
   return plan;
 }
 
@@ -95,8 +98,28 @@ TEST(Training, SeedsComeFromTheRunSeedAndTheStagesDomains) {
   EXPECT_EQ(o.hill_climbing.seed, mix_seed(5, 0x48696c6c));
   EXPECT_EQ(o.nlopt.seed, mix_seed(5, 0x4e4c6f70));
   EXPECT_EQ(o.cmaes.seed, mix_seed(5, 0x434d4145));
-  DeriveOptimizerSeeds(5, kRefineSeedDomains, &o);
+  EXPECT_EQ(o.ars.seed, mix_seed(5, 0x41525321));
+  DeriveOptimizerSeeds(5, SeedDomains::Refine(), &o);
   EXPECT_EQ(o.hill_climbing.seed, mix_seed(5, 0x52486c6c));
+  EXPECT_EQ(o.ars.seed, mix_seed(5, 0x52415253));
+  // Domains by options section: one per random method, in the list's order; a stage may choose its own.
+  SeedDomains domains;
+  std::vector<std::string_view> sections;
+  for (const auto& [section, domain] : domains.all()) sections.push_back(section);
+  EXPECT_EQ(sections, (std::vector<std::string_view>{"hill_climbing", "nlopt", "cmaes", "ars"}));
+  domains.set("cmaes", 7);
+  DeriveOptimizerSeeds(5, domains, &o);
+  EXPECT_EQ(o.cmaes.seed, mix_seed(5, 7));
+  EXPECT_EQ(o.nlopt.seed, mix_seed(5, 0x4e4c6f70));
+  EXPECT_NE(domains, SeedDomains{});
+  try {
+    domains.set("gradient", 1);
+    ADD_FAILURE() << "gradient ascent draws no random numbers";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(),
+                 "seed domains: no optimizer that draws random numbers has the options section 'gradient'");
+  }
+  EXPECT_THROW(static_cast<void>(domains.of("hill-climb")), InputError);  // a method name, not a section
   // Another run seed gives another hill-climbing run; the same seed the same bits.
   auto objective = NegatedRastrigin(Box(2));
   auto run = [&](std::uint64_t seed) {

@@ -16,7 +16,8 @@ def stub_signatures():
 
     def parameters(function):
         a = function.args
-        return [x.arg for x in a.posonlyargs + a.args + a.kwonlyargs if x.arg not in ("self", "cls")]
+        names = [x.arg for x in a.posonlyargs + a.args + a.kwonlyargs if x.arg not in ("self", "cls")]
+        return names + ([f"*{a.vararg.arg}"] if a.vararg else []) + ([f"**{a.kwarg.arg}"] if a.kwarg else [])
 
     for node in tree.body:
         if isinstance(node, ast.FunctionDef):

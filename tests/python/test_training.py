@@ -60,6 +60,17 @@ def test_options_and_summaries_have_the_cpp_fields_and_defaults():
     assert pegasus.OptimizerOptions("cmaes").iteration_limit() == 1000
     assert list(pegasus.SeedDomains._fields) == ["hill_climbing", "nlopt", "cmaes", "ars"]
     assert pegasus.REFINE_SEED_DOMAINS.cmaes == 0x52434D41 and pegasus.SeedDomains().cmaes == 0x434D4145
+    mine = pegasus.SeedDomains(cmaes=7)
+    assert mine.cmaes == 7 and mine.ars == pegasus.SeedDomains().ars
+    with pytest.raises(ValueError, match="expected keywords among hill_climbing, nlopt, cmaes, ars, got 'gradient'"):
+        pegasus.SeedDomains(gradient=1)
+    with pytest.raises(ValueError, match=r"cmaes: expected an integer in \[0, 2\^32\)"):
+        pegasus.SeedDomains(cmaes=2**32)
+    # One attribute per options section, one class per method, all from the C++ list of methods.
+    assert list(pegasus.OptimizerOptions._fields) == [
+        "method", "exhaustive", "gradient", "hill_climbing", "nlopt", "cmaes", "ars"]
+    assert type(o.nlopt).__name__ == "NloptOptions" and "Options of bobyqa, sbplx, crs2, esch." in (
+        pegasus.OptimizerOptions.nlopt.__doc__)
     assert [f for f in pegasus.TrainingPlan.__dataclass_fields__] == [
         "stages", "seed", "checkpoint_every", "on_checkpoint", "resume_from", "callbacks"]
     assert [f for f in pegasus.TrainingStage.__dataclass_fields__] == ["name", "optimizer", "seeds", "objective"]

@@ -28,6 +28,7 @@
 #include <string>
 
 #include "pegasus/optimizers/objective.hpp"
+#include "pegasus/optimizers/optimizer_method.hpp"
 #include "pegasus/optimizers/optimizer_summary.hpp"
 #include "pegasus/optimizers/run_progress.hpp"
 
@@ -69,6 +70,31 @@ struct AugmentedRandomSearchOptions {
 
   // False, with "field: expected ..., got ..." in *error, when a field is out of range.
   bool IsValid(std::string* error) const;
+  std::int64_t IterationLimit() const { return max_iterations; }
+
+  static constexpr OptimizerMethodInfo kMethod{
+      .section = "ars",
+      .type_name = "AugmentedRandomSearchOptions",
+      .description =
+          "Augmented Random Search (Mania, Guy and Recht 2018): antithetic directions, the best "
+          "used in the step.",
+      .method_names = {"ars"},
+      .seed_domain = 0x41525321,          // "ARS!"
+      .refine_seed_domain = 0x52415253};  // "RARS"
+  template <class Visitor>
+  static void VisitFields(Visitor& v) {
+    using O = AugmentedRandomSearchOptions;
+    v.internal("seed", &O::seed, "Seed of the stream that draws every direction.");
+    v.internal("stream", &O::stream, "Stream of that seed (change it, or the seed, for an independent run).");
+    v.integer("max_iterations", &O::max_iterations, "ARS: iterations at most", 0);
+    v.integer("max_evaluations", &O::max_evaluations, "ARS: U-hat evaluations at most", 1);
+    v.integer("directions", &O::directions, "ARS: random directions per iteration (each evaluated +-)", 1,
+              kMaxPointsPerIteration);
+    v.integer("top_directions", &O::top_directions, "ARS: best directions that move theta (b)", 1);
+    v.real("step_size", &O::step_size, "ARS: step size alpha, in parameter scales", 0, kNoUpperLimit, true);
+    v.real("exploration_noise", &O::exploration_noise, "ARS: direction size nu, in parameter scales", 0,
+           kNoUpperLimit, true);
+  }
 };
 
 // Maximises objective from *theta (clamped; empty = the spec's initial values). On return *theta is the

@@ -42,6 +42,7 @@
 #include <string>
 
 #include "pegasus/optimizers/objective.hpp"
+#include "pegasus/optimizers/optimizer_method.hpp"
 #include "pegasus/optimizers/optimizer_summary.hpp"
 #include "pegasus/optimizers/run_progress.hpp"
 
@@ -89,6 +90,43 @@ struct CmaesOptions {
 
   // False, with "field: expected ..., got ..." in *error, when a field is out of range.
   bool IsValid(std::string* error) const;
+  std::int64_t IterationLimit() const { return max_iterations; }
+
+  static constexpr OptimizerMethodInfo kMethod{
+      .section = "cmaes",
+      .type_name = "CmaesOptions",
+      .description = "CMA-ES (Hansen's tutorial, arXiv:1604.00772), with IPOP restarts.",
+      .method_names = {"cmaes"},
+      .seed_domain = 0x434d4145,          // "CMAE"
+      .refine_seed_domain = 0x52434d41};  // "RCMA"
+  template <class Visitor>
+  static void VisitFields(Visitor& v) {
+    using O = CmaesOptions;
+    v.internal("seed", &O::seed, "Seed of the stream that draws every sample.");
+    v.internal("stream", &O::stream, "Stream of that seed (change it, or the seed, for an independent run).");
+    v.integer("max_iterations", &O::max_iterations, "CMA-ES: generations at most", 0);
+    v.integer("max_evaluations", &O::max_evaluations, "CMA-ES: U-hat evaluations at most", 1);
+    v.integer("population_size", &O::population_size,
+              "CMA-ES: samples per generation (0: 4 + floor(3 ln n), Hansen's default)", 0,
+              kMaxPointsPerIteration);
+    v.real("initial_step", &O::initial_step, "CMA-ES: first sigma, in parameter scales", 0, kNoUpperLimit,
+           true);
+    v.real("x_tolerance", &O::x_tolerance, "CMA-ES: stop when every step is below this, in scales (0: off)",
+           0, kNoUpperLimit);
+    v.real("function_tolerance", &O::function_tolerance,
+           "CMA-ES: stop when recent best U-hats differ by less than this (0: off)", 0, kNoUpperLimit);
+    v.real("max_condition", &O::max_condition,
+           "CMA-ES: fail when the covariance's condition number passes this", 1, kNoUpperLimit);
+    v.integer("stall_generations", &O::stall_generations,
+              "CMA-ES: a run stops when its best U-hat rose by at most stall_tolerance over this many "
+              "generations (0: off)",
+              0);
+    v.real("stall_tolerance", &O::stall_tolerance, "CMA-ES: see stall_generations", 0, kNoUpperLimit);
+    v.integer(
+        "restarts", &O::restarts,
+        "CMA-ES: runs after the first (IPOP): each starts again from the start with twice the population", 0,
+        kCmaesMaxRestarts);
+  }
 };
 
 // The population size the first run of these options uses on n parameters (resolves population_size = 0);

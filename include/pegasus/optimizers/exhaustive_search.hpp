@@ -16,6 +16,7 @@
 #include <string>
 
 #include "pegasus/optimizers/objective.hpp"
+#include "pegasus/optimizers/optimizer_method.hpp"
 #include "pegasus/optimizers/optimizer_summary.hpp"
 #include "pegasus/optimizers/run_progress.hpp"
 
@@ -43,6 +44,23 @@ struct ExhaustiveSearchOptions {
 
   // False, with "field: expected ..., got ..." in *error, when a field is out of range.
   bool IsValid(std::string* error) const;
+  // One iteration is one block of policies.
+  std::int64_t IterationLimit() const { return (max_policies + block_size - 1) / block_size; }
+
+  static constexpr OptimizerMethodInfo kMethod{
+      .section = "exhaustive",
+      .type_name = "ExhaustiveSearchOptions",
+      .description = "Enumerates every policy of a class of whole-number parameters.",
+      .method_names = {"exhaustive"},
+      .integer_parameters = true};
+  template <class Visitor>
+  static void VisitFields(Visitor& v) {
+    using O = ExhaustiveSearchOptions;
+    v.integer("max_policies", &O::max_policies, "exhaustive search: refuse a larger policy class", 1);
+    v.integer("block_size", &O::block_size, "exhaustive search: policies per parallel batch", 1);
+    v.internal("keep_all_values", &O::keep_all_values,
+               "Keep every policy's U-hat in OptimizerSummary.all_values (8 bytes per policy).");
+  }
 };
 
 // Number of policies in the class described by spec. Throws InputError, naming the parameter, when one

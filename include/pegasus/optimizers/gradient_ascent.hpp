@@ -25,6 +25,7 @@
 #include <string>
 
 #include "pegasus/optimizers/objective.hpp"
+#include "pegasus/optimizers/optimizer_method.hpp"
 #include "pegasus/optimizers/optimizer_summary.hpp"
 #include "pegasus/optimizers/run_progress.hpp"
 
@@ -64,6 +65,33 @@ struct GradientAscentOptions {
 
   // False, with "field: expected ..., got ..." in *error, when a field is out of range.
   bool IsValid(std::string* error) const;
+  std::int64_t IterationLimit() const { return max_iterations; }
+
+  static constexpr OptimizerMethodInfo kMethod{
+      .section = "gradient",
+      .type_name = "GradientAscentOptions",
+      .description = "Bounded-step gradient ascent (thesis 4.6 footnote 14).",
+      .method_names = {"gradient"}};
+  template <class Visitor>
+  static void VisitFields(Visitor& v) {
+    using O = GradientAscentOptions;
+    v.integer("max_iterations", &O::max_iterations, "gradient ascent: iterations at most", 0);
+    v.integer("max_evaluations", &O::max_evaluations, "gradient ascent: U-hat evaluations at most", 1);
+    v.real("relative_step", &O::relative_step,
+           "gradient ascent: central-difference half-width, in parameter scales", 0, kNoUpperLimit, true);
+    v.real("initial_step", &O::initial_step, "gradient ascent: first step length, in parameter scales", 0,
+           kNoUpperLimit, true);
+    v.real("max_step", &O::max_step, "gradient ascent: longest step, in parameter scales (thesis 4.6)", 0,
+           kNoUpperLimit, true);
+    v.real("min_step", &O::min_step, "gradient ascent: stop when backtracking shrinks the step below this", 0,
+           kNoUpperLimit);
+    v.real("step_growth", &O::step_growth, "gradient ascent: step factor after an accepted step", 1,
+           kNoUpperLimit);
+    v.integer("max_backtracks", &O::max_backtracks,
+              "gradient ascent: step halvings tried before an iteration gives up", 0);
+    v.real("function_tolerance", &O::function_tolerance,
+           "gradient ascent: stop when a step improves U-hat by at most this fraction", 0, kNoUpperLimit);
+  }
 };
 
 // Maximises objective from *theta (clamped into the bounds; empty = the spec's initial values). On return

@@ -18,6 +18,7 @@
 #include <string>
 
 #include "pegasus/optimizers/objective.hpp"
+#include "pegasus/optimizers/optimizer_method.hpp"
 #include "pegasus/optimizers/optimizer_summary.hpp"
 #include "pegasus/optimizers/run_progress.hpp"
 #include "pegasus/random/counter_rng.hpp"
@@ -58,6 +59,34 @@ struct HillClimbingOptions {
 
   // False, with "field: expected ..., got ..." in *error, when a field is out of range.
   bool IsValid(std::string* error) const;
+  std::int64_t IterationLimit() const { return max_iterations; }
+
+  static constexpr OptimizerMethodInfo kMethod{.section = "hill_climbing",
+                                               .type_name = "HillClimbingOptions",
+                                               .description = "Random-walk hill climbing (thesis 5.3).",
+                                               .method_names = {"hill-climb"},
+                                               .seed_domain = 0x48696c6c,          // "Hill"
+                                               .refine_seed_domain = 0x52486c6c};  // "RHll"
+  template <class Visitor>
+  static void VisitFields(Visitor& v) {
+    using O = HillClimbingOptions;
+    v.internal("seed", &O::seed, "Seed of the stream that draws every perturbation.");
+    v.internal("stream", &O::stream, "Stream of that seed (change it, or the seed, for an independent run).");
+    v.integer("max_iterations", &O::max_iterations, "hill climbing: iterations at most", 0);
+    v.integer("max_evaluations", &O::max_evaluations, "hill climbing: U-hat evaluations at most", 1);
+    v.integer("proposals_per_iteration", &O::proposals_per_iteration,
+              "hill climbing: proposals per iteration (evaluated in parallel)", 1, kMaxPointsPerIteration);
+    v.real("initial_step", &O::initial_step, "hill climbing: first perturbation size, in parameter scales", 0,
+           kNoUpperLimit, true);
+    v.real("max_step", &O::max_step, "hill climbing: largest perturbation, in parameter scales", 0,
+           kNoUpperLimit, true);
+    v.real("min_step", &O::min_step, "hill climbing: stop when the step shrinks below this", 0,
+           kNoUpperLimit);
+    v.real("step_growth", &O::step_growth, "hill climbing: step factor after an improvement", 1,
+           kNoUpperLimit);
+    v.real("step_shrink", &O::step_shrink, "hill climbing: step factor after an iteration without one", 0, 1,
+           true);
+  }
 };
 
 // Fills `normals` with independent standard normal numbers by the Box-Muller transform: each pair of

@@ -27,6 +27,7 @@
 #include <string_view>
 
 #include "pegasus/optimizers/objective.hpp"
+#include "pegasus/optimizers/optimizer_method.hpp"
 #include "pegasus/optimizers/optimizer_summary.hpp"
 #include "pegasus/optimizers/run_progress.hpp"
 
@@ -70,6 +71,34 @@ struct NloptOptions {
 
   // False, with "field: expected ..., got ..." in *error, when a field is out of range.
   bool IsValid(std::string* error) const;
+  // One iteration is one evaluation.
+  std::int64_t IterationLimit() const { return max_evaluations; }
+
+  static constexpr OptimizerMethodInfo kMethod{.section = "nlopt",
+                                               .type_name = "NloptOptions",
+                                               .description = "NLopt: bobyqa, sbplx, crs2, esch.",
+                                               .method_names = {"bobyqa", "sbplx", "crs2", "esch"},
+                                               .need_finite_bounds = {"crs2", "esch"},
+                                               .seed_domain = 0x4e4c6f70,          // "NLop"
+                                               .refine_seed_domain = 0x524e4c6f};  // "RNLo"
+  // The options with `algorithm` set from OptimizerOptions::method, one of kMethod.method_names.
+  NloptOptions ForMethod(std::string_view method) const;
+  // `algorithm` is not a field: OptimizerOptions::method chooses it.
+  template <class Visitor>
+  static void VisitFields(Visitor& v) {
+    using O = NloptOptions;
+    v.integer("max_evaluations", &O::max_evaluations, "bobyqa, sbplx, crs2, esch: U-hat evaluations at most",
+              1);
+    v.real("initial_step", &O::initial_step, "bobyqa, sbplx: initial step, in parameter scales", 0,
+           kNoUpperLimit, true);
+    v.real("x_tolerance", &O::x_tolerance,
+           "NLopt methods: stop when a step moves every parameter less (0: off)", 0, kNoUpperLimit);
+    v.real("function_tolerance", &O::function_tolerance,
+           "NLopt methods: stop when a step changes U-hat by a smaller fraction (0: off)", 0, kNoUpperLimit);
+    v.integer("population", &O::population, "crs2, esch: population size (0: NLopt's default)", 0,
+              kMaxPointsPerIteration);
+    v.internal("seed", &O::seed, "Seed of NLopt's random generator, set before every run.");
+  }
 };
 
 // Maximises objective from *theta (clamped into the bounds; empty = the spec's initial values). On return

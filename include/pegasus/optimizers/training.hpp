@@ -28,6 +28,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "pegasus/optimizers/optimizer.hpp"
@@ -38,17 +39,28 @@ namespace pegasus {
 inline constexpr std::string_view kTrainingCheckpointFormat = "pegasus.training.checkpoint";
 inline constexpr int kTrainingCheckpointVersion = 1;
 
-// The seed domains of a stage's optimizers: each method that draws random numbers gets
-// mix_seed(run seed, its domain), so a stage's optimizer never shares a stream with the scenarios or with
-// another stage. The defaults are those every trainer has used for its first stage.
-struct SeedDomains {
-  std::uint32_t hill_climbing = 0x48696c6c;  // "Hill"
-  std::uint32_t nlopt = 0x4e4c6f70;          // "NLop"
-  std::uint32_t cmaes = 0x434d4145;          // "CMAE"
-  std::uint32_t ars = 0x41525321;            // "ARS!"
+// The seed domains of a stage's optimizers: each method that draws random numbers (kMethod.seed_domain != 0,
+// optimizer_method.hpp) gets mix_seed(run seed, its domain), so a stage's optimizer never shares a stream
+// with the scenarios or with another stage. Keyed by the method's options section ("hill_climbing", "cmaes").
+class SeedDomains {
+ public:
+  // Each random method's first-stage domain (kMethod.seed_domain): what every trainer uses for its first
+  // stage.
+  SeedDomains();
+  // Each random method's refinement domain (kMethod.refine_seed_domain): apart from the first stage's.
+  static SeedDomains Refine();
+
+  // The domain of the method whose options section is `section`; InputError when no random method has it.
+  std::uint32_t of(std::string_view section) const;
+  void set(std::string_view section, std::uint32_t domain);
+  // (section, domain) of every random method, in kOptimizerMethods' order.
+  const std::vector<std::pair<std::string_view, std::uint32_t>>& all() const { return domains_; }
+
+  bool operator==(const SeedDomains&) const = default;
+
+ private:
+  std::vector<std::pair<std::string_view, std::uint32_t>> domains_;
 };
-// A refinement stage's domains ("RHll", "RNLo", "RCMA", "RARS"): apart from the first stage's.
-inline constexpr SeedDomains kRefineSeedDomains{0x52486c6c, 0x524e4c6f, 0x52434d41, 0x52415253};
 
 // Sets every random method's seed in *options from the run's seed and the stage's domains.
 void DeriveOptimizerSeeds(std::uint64_t run_seed, const SeedDomains& domains, OptimizerOptions* options);
