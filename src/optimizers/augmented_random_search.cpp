@@ -27,7 +27,7 @@ bool AugmentedRandomSearchOptions::IsValid(std::string* error) const {
     return RejectOption(error, "step_size", "a finite value > 0", step_size);
   if (!(exploration_noise > 0.0 && std::isfinite(exploration_noise)))
     return RejectOption(error, "exploration_noise", "a finite value > 0", exploration_noise);
-  return ValidateCheckpointOptions(checkpoint_every, on_checkpoint, resume_from, "ars", error);
+  return IsValidFor("ars", error);
 }
 
 void Solve(const AugmentedRandomSearchOptions& options, Objective& objective, Theta* theta,
@@ -80,17 +80,9 @@ void Solve(const AugmentedRandomSearchOptions& options, Objective& objective, Th
   TerminationType termination = TerminationType::kFailure;
   std::string message;
   for (;;) {
-    if (run.iterations() >= options.max_iterations) {
-      termination = TerminationType::kMaxIterations;
-      message = fmt::format("reached max_iterations = {}", options.max_iterations);
+    if (run.BudgetSpent(options.max_iterations, options.max_evaluations, per_iteration, &termination,
+                        &message))
       break;
-    }
-    if (run.evaluations() + per_iteration > options.max_evaluations) {
-      termination = TerminationType::kMaxEvaluations;
-      message = fmt::format("an iteration needs {} more evaluations; {} of max_evaluations = {} used",
-                            per_iteration, run.evaluations(), options.max_evaluations);
-      break;
-    }
     for (std::size_t k = 0; k < directions; ++k) {
       FillStandardNormals(uniforms, deltas[k]);
       for (std::size_t i = 0; i < n; ++i) {

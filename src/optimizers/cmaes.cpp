@@ -196,7 +196,7 @@ bool CmaesOptions::IsValid(std::string* error) const {
   // 2^restarts times the population must stay an int.
   if (restarts < 0 || restarts > kCmaesMaxRestarts)
     return RejectOption(error, "restarts", fmt::format("in [0, {}]", kCmaesMaxRestarts), restarts);
-  return ValidateCheckpointOptions(checkpoint_every, on_checkpoint, resume_from, "cmaes", error);
+  return IsValidFor("cmaes", error);
 }
 
 int CmaesPopulationSize(const CmaesOptions& options, std::size_t parameter_count) {
@@ -317,17 +317,9 @@ void Solve(const CmaesOptions& options, Objective& objective, Theta* theta, Opti
   TerminationType termination = TerminationType::kFailure;
   std::string message;
   for (;;) {
-    if (run.iterations() >= options.max_iterations) {
-      termination = TerminationType::kMaxIterations;
-      message = fmt::format("reached max_iterations = {}", options.max_iterations);
+    if (run.BudgetSpent(options.max_iterations, options.max_evaluations, static_cast<std::int64_t>(lambda),
+                        &termination, &message, "a generation"))
       break;
-    }
-    if (run.evaluations() + static_cast<std::int64_t>(lambda) > options.max_evaluations) {
-      termination = TerminationType::kMaxEvaluations;
-      message = fmt::format("a generation needs {} more evaluations; {} of max_evaluations = {} used", lambda,
-                            run.evaluations(), options.max_evaluations);
-      break;
-    }
 
     // Sample y_k = B D z_k (Eq 39) and evaluate the candidates, mapped into the bounds, in one batch.
     for (std::size_t k = 0; k < lambda; ++k) {

@@ -15,7 +15,7 @@ using nlohmann::json;
 bool ExhaustiveSearchOptions::IsValid(std::string* error) const {
   if (max_policies < 1) return RejectOption(error, "max_policies", ">= 1", static_cast<double>(max_policies));
   if (block_size < 1) return RejectOption(error, "block_size", ">= 1", static_cast<double>(block_size));
-  return ValidateCheckpointOptions(checkpoint_every, on_checkpoint, resume_from, "exhaustive", error);
+  return IsValidFor("exhaustive", error);
 }
 
 namespace {

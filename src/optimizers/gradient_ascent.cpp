@@ -31,7 +31,7 @@ bool GradientAscentOptions::IsValid(std::string* error) const {
   if (max_backtracks < 0) return RejectOption(error, "max_backtracks", ">= 0", max_backtracks);
   if (!(function_tolerance >= 0.0 && std::isfinite(function_tolerance)))
     return RejectOption(error, "function_tolerance", "a finite value >= 0", function_tolerance);
-  return ValidateCheckpointOptions(checkpoint_every, on_checkpoint, resume_from, "gradient", error);
+  return IsValidFor("gradient", error);
 }
 
 void Solve(const GradientAscentOptions& options, Objective& objective, Theta* theta,
@@ -75,17 +75,9 @@ void Solve(const GradientAscentOptions& options, Objective& objective, Theta* th
   TerminationType termination = TerminationType::kFailure;
   std::string message;
   for (;;) {
-    if (run.iterations() >= options.max_iterations) {
-      termination = TerminationType::kMaxIterations;
-      message = fmt::format("reached max_iterations = {}", options.max_iterations);
+    if (run.BudgetSpent(options.max_iterations, options.max_evaluations,
+                        static_cast<std::int64_t>(probe_count) + 1, &termination, &message))
       break;
-    }
-    if (run.evaluations() + static_cast<std::int64_t>(probe_count) + 1 > options.max_evaluations) {
-      termination = TerminationType::kMaxEvaluations;
-      message = fmt::format("an iteration needs {} more evaluations; {} of max_evaluations = {} used",
-                            probe_count + 1, run.evaluations(), options.max_evaluations);
-      break;
-    }
 
     // §5.3: numerically evaluated derivatives, all 2n probes in one batch so the objective can run them
     // in parallel. Probes are clipped to the bounds; dividing by the clipped width keeps the estimate

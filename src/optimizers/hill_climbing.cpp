@@ -32,7 +32,7 @@ bool HillClimbingOptions::IsValid(std::string* error) const {
     return RejectOption(error, "step_growth", "a finite value >= 1", step_growth);
   if (!(step_shrink > 0.0 && step_shrink <= 1.0))
     return RejectOption(error, "step_shrink", "a value in (0, 1]", step_shrink);
-  return ValidateCheckpointOptions(checkpoint_every, on_checkpoint, resume_from, "hill-climb", error);
+  return IsValidFor("hill-climb", error);
 }
 
 void FillStandardNormals(UniformStream& uniforms, std::span<double> normals) {
@@ -87,17 +87,9 @@ void Solve(const HillClimbingOptions& options, Objective& objective, Theta* thet
   TerminationType termination = TerminationType::kFailure;
   std::string message;
   for (;;) {
-    if (run.iterations() >= options.max_iterations) {
-      termination = TerminationType::kMaxIterations;
-      message = fmt::format("reached max_iterations = {}", options.max_iterations);
+    if (run.BudgetSpent(options.max_iterations, options.max_evaluations,
+                        static_cast<std::int64_t>(proposal_count), &termination, &message))
       break;
-    }
-    if (run.evaluations() + static_cast<std::int64_t>(proposal_count) > options.max_evaluations) {
-      termination = TerminationType::kMaxEvaluations;
-      message = fmt::format("an iteration needs {} more evaluations; {} of max_evaluations = {} used",
-                            proposal_count, run.evaluations(), options.max_evaluations);
-      break;
-    }
 
     // §5.3: random perturbations of the weights, each sized by the parameter's scale.
     for (auto& proposal : proposals) {

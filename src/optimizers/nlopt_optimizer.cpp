@@ -56,8 +56,7 @@ bool NloptOptions::IsValid(std::string* error) const {
   if (population < 0 || population > kMaxPointsPerIteration)
     return RejectOption(error, "population",
                         fmt::format("in [0, {}] (0 = NLopt's default)", kMaxPointsPerIteration), population);
-  return ValidateCheckpointOptions(checkpoint_every, on_checkpoint, resume_from,
-                                   NloptAlgorithmName(algorithm), error);
+  return IsValidFor(NloptAlgorithmName(algorithm), error);
 }
 
 namespace {

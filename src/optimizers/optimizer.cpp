@@ -3,7 +3,10 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <cstddef>
+#include <tuple>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "pegasus/core/error.hpp"
@@ -11,6 +14,29 @@
 namespace pegasus {
 
 namespace {
+
+// The number of members of an aggregate: the most initializers T{...} takes (each an AnyMember, which
+// converts to any member's type; declared only, for the unevaluated check).
+struct AnyMember {
+  template <class T>
+  operator T&() const&&;  // NOLINT(google-explicit-constructor): converting to every member is its purpose
+};
+template <class T, std::size_t... I>
+constexpr bool BraceInitializableWith(std::index_sequence<I...> /*initializers*/) {
+  return requires { T{(static_cast<void>(I), AnyMember{})...}; };
+}
+template <class T, std::size_t N = 0>
+constexpr std::size_t AggregateMemberCount() {
+  if constexpr (BraceInitializableWith<T>(std::make_index_sequence<N + 1>{})) {
+    return AggregateMemberCount<T, N + 1>();
+  } else {
+    return N;
+  }
+}
+// A method's options added to OptimizerOptions but not to kOptimizerMethods would compile and be invisible
+// to the dispatcher, every command's config, the seeds and Python: `method` and one member per entry.
+static_assert(AggregateMemberCount<OptimizerOptions>() == 1 + std::tuple_size_v<decltype(kOptimizerMethods)>,
+              "every method's options member of OptimizerOptions must be listed in kOptimizerMethods");
 
 // The options that run `method`: that method's Options, with what the method name chooses (NLopt's
 // algorithm).

@@ -132,9 +132,7 @@ bool RejectOption(std::string* error, std::string_view field, std::string_view e
   return false;
 }
 
-bool ValidateCheckpointOptions(std::int64_t checkpoint_every, const CheckpointCallback& on_checkpoint,
-                               const std::optional<json>& resume_from, std::string_view method,
-                               std::string* error) {
+bool OptimizerRunOptions::IsValidFor(std::string_view method, std::string* error) const {
   auto fail = [error](std::string message) {
     if (error) *error = std::move(message);
     return false;
@@ -187,6 +185,23 @@ bool RunProgress::EndIteration(double seconds) {
     if ((*callback)(report) == CallbackReturnType::kTerminate) go_on = false;
   }
   return go_on;
+}
+
+bool RunProgress::BudgetSpent(std::int64_t max_iterations, std::int64_t max_evaluations,
+                              std::int64_t next_evaluations, TerminationType* termination,
+                              std::string* message, std::string_view iteration) const {
+  if (iterations_ >= max_iterations) {
+    *termination = TerminationType::kMaxIterations;
+    *message = fmt::format("reached max_iterations = {}", max_iterations);
+    return true;
+  }
+  if (evaluations_ + next_evaluations > max_evaluations) {
+    *termination = TerminationType::kMaxEvaluations;
+    *message = fmt::format("{} needs {} more evaluations; {} of max_evaluations = {} used", iteration,
+                           next_evaluations, evaluations_, max_evaluations);
+    return true;
+  }
+  return false;
 }
 
 double RunProgress::Seconds() const {

@@ -45,7 +45,7 @@ class ObservationNormalizing {
   virtual void RestoreNormalizer(const nlohmann::json& state) = 0;
 };
 
-struct AugmentedRandomSearchOptions {
+struct AugmentedRandomSearchOptions : OptimizerRunOptions {
   // Seed and stream of the UniformStream that draws every direction.
   std::uint64_t seed = 0;
   std::uint32_t stream = 0x41525321;  // "ARS!"
@@ -61,12 +61,6 @@ struct AugmentedRandomSearchOptions {
   double step_size = 0.02;
   // nu: standard deviation of the exploration noise (scaled units). > 0.
   double exploration_noise = 0.03;
-
-  std::int64_t checkpoint_every = 0;
-  CheckpointCallback on_checkpoint;
-  std::optional<nlohmann::json> resume_from;
-  // Told after every iteration; one may stop the run early (run_progress.hpp). Not owned.
-  IterationCallbacks callbacks;
 
   // False, with "field: expected ..., got ..." in *error, when a field is out of range.
   bool IsValid(std::string* error) const;

@@ -50,7 +50,7 @@ namespace pegasus {
 
 inline constexpr int kCmaesMaxRestarts = 20;
 
-struct CmaesOptions {
+struct CmaesOptions : OptimizerRunOptions {
   // Seed and stream of the UniformStream that draws every sample. Change either for an independent run;
   // keep them apart from the scenario seed's streams to avoid correlated noise.
   std::uint64_t seed = 0;
@@ -78,15 +78,6 @@ struct CmaesOptions {
   // Runs after the first (IPOP, see above): each starts again from the first mean with twice the previous
   // population. In [0, kCmaesMaxRestarts], and the last population at most kMaxPointsPerIteration.
   int restarts = 0;
-
-  // Write a checkpoint every this many iterations; 0 = never.
-  std::int64_t checkpoint_every = 0;
-  // Receives each checkpoint; required when checkpoint_every > 0.
-  CheckpointCallback on_checkpoint;
-  // Continue the run that wrote this checkpoint; the starting theta passed to Solve is then ignored.
-  std::optional<nlohmann::json> resume_from;
-  // Told after every generation; one may stop the run early (run_progress.hpp). Not owned.
-  IterationCallbacks callbacks;
 
   // False, with "field: expected ..., got ..." in *error, when a field is out of range.
   bool IsValid(std::string* error) const;

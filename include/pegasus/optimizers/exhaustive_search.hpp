@@ -22,7 +22,7 @@
 
 namespace pegasus {
 
-struct ExhaustiveSearchOptions {
+struct ExhaustiveSearchOptions : OptimizerRunOptions {
   // Refuse a policy class with more members than this. >= 1.
   std::int64_t max_policies = 10'000'000;
   // Policies handed to one evaluate_batch call. Larger blocks give the objective more parallel work;
@@ -32,15 +32,6 @@ struct ExhaustiveSearchOptions {
   // experiments that compare the chosen policy with the whole class. Costs 8 bytes per policy, and the
   // values so far are written into every checkpoint.
   bool keep_all_values = false;
-
-  // Write a checkpoint every this many blocks; 0 = never.
-  std::int64_t checkpoint_every = 0;
-  // Receives each checkpoint; required when checkpoint_every > 0.
-  CheckpointCallback on_checkpoint;
-  // Continue the run that wrote this checkpoint.
-  std::optional<nlohmann::json> resume_from;
-  // Told after every iteration; one may stop the run early (run_progress.hpp). Not owned.
-  IterationCallbacks callbacks;
 
   // False, with "field: expected ..., got ..." in *error, when a field is out of range.
   bool IsValid(std::string* error) const;

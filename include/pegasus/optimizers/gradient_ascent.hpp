@@ -31,7 +31,7 @@
 
 namespace pegasus {
 
-struct GradientAscentOptions {
+struct GradientAscentOptions : OptimizerRunOptions {
   // Stop after this many iterations (one gradient plus its line search). 0 evaluates the start only.
   std::int64_t max_iterations = 1000;
   // Stop before an iteration whose evaluations (2n for the gradient, then one per trial step) would pass
@@ -53,15 +53,6 @@ struct GradientAscentOptions {
   int max_backtracks = 30;
   // Stop when an accepted step improves U-hat by no more than function_tolerance * |U-hat|. >= 0.
   double function_tolerance = 1e-12;
-
-  // Write a checkpoint every this many iterations; 0 = never.
-  std::int64_t checkpoint_every = 0;
-  // Receives each checkpoint; required when checkpoint_every > 0.
-  CheckpointCallback on_checkpoint;
-  // Continue the run that wrote this checkpoint; the starting theta passed to Solve is then ignored.
-  std::optional<nlohmann::json> resume_from;
-  // Told after every iteration; one may stop the run early (run_progress.hpp). Not owned.
-  IterationCallbacks callbacks;
 
   // False, with "field: expected ..., got ..." in *error, when a field is out of range.
   bool IsValid(std::string* error) const;

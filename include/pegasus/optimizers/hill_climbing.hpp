@@ -25,7 +25,7 @@
 
 namespace pegasus {
 
-struct HillClimbingOptions {
+struct HillClimbingOptions : OptimizerRunOptions {
   // Seed and stream of the UniformStream that draws every perturbation. Change either for an independent
   // run; keep them apart from the scenario seed's streams to avoid correlated noise.
   std::uint64_t seed = 0;
@@ -47,15 +47,6 @@ struct HillClimbingOptions {
   double step_growth = 1.5;
   // Step factor after an iteration without improvement. In (0, 1]; 1.5^(-1/4) ~ 0.9 gives the 1/5 rule.
   double step_shrink = 0.9;
-
-  // Write a checkpoint every this many iterations; 0 = never.
-  std::int64_t checkpoint_every = 0;
-  // Receives each checkpoint; required when checkpoint_every > 0.
-  CheckpointCallback on_checkpoint;
-  // Continue the run that wrote this checkpoint; the starting theta passed to Solve is then ignored.
-  std::optional<nlohmann::json> resume_from;
-  // Told after every iteration; one may stop the run early (run_progress.hpp). Not owned.
-  IterationCallbacks callbacks;
 
   // False, with "field: expected ..., got ..." in *error, when a field is out of range.
   bool IsValid(std::string* error) const;

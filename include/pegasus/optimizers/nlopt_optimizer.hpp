@@ -45,7 +45,7 @@ std::string_view NloptAlgorithmName(NloptAlgorithm algorithm);
 // The algorithm with that name, or nullopt.
 std::optional<NloptAlgorithm> NloptAlgorithmFromName(std::string_view name);
 
-struct NloptOptions {
+struct NloptOptions : OptimizerRunOptions {
   NloptAlgorithm algorithm = NloptAlgorithm::kBobyqa;
   // Evaluations allowed, a hard limit (NLopt's own maxeval can overrun by a few in CRS2). 1 .. 2^31 - 1.
   std::int64_t max_evaluations = 10'000;
@@ -59,15 +59,6 @@ struct NloptOptions {
   int population = 0;
   // Seed of NLopt's random generator (nlopt::srand), set before every run.
   std::uint64_t seed = 0;
-
-  // Write a checkpoint every this many evaluations; 0 = never.
-  std::int64_t checkpoint_every = 0;
-  // Receives each checkpoint; required when checkpoint_every > 0.
-  CheckpointCallback on_checkpoint;
-  // Replay the log in this checkpoint, then continue (see above). The starting theta is then ignored.
-  std::optional<nlohmann::json> resume_from;
-  // Told after every iteration; one may stop the run early (run_progress.hpp). Not owned.
-  IterationCallbacks callbacks;
 
   // False, with "field: expected ..., got ..." in *error, when a field is out of range.
   bool IsValid(std::string* error) const;

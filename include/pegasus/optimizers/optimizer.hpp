@@ -14,7 +14,8 @@
 //
 // The methods are listed once, in kOptimizerMethods below; the dispatcher, the config section, the training
 // layer's seeds and the Python module iterate over it through each Options struct's kMethod and VisitFields
-// (optimizer_method.hpp). Adding a method: its header and source, a member here and its line in the list.
+// (optimizer_method.hpp). Adding a method: its header and source, a member here and its line in the list (the
+// build refuses a member missing from the list).
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <optional>

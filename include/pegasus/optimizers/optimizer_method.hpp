@@ -7,7 +7,7 @@
 //   template <class Visitor> static void VisitFields(Visitor& v);
 //   std::int64_t IterationLimit() const;                  // what a progress bar counts to
 //   bool IsValid(std::string* error) const;
-//   (and the fields every method has: checkpoint_every, on_checkpoint, resume_from, callbacks)
+//   (deriving from OptimizerRunOptions, run_progress.hpp: checkpointing and iteration callbacks)
 //
 // and a free `void Solve(const Options&, Objective&, Theta*, OptimizerSummary*)`. VisitFields lists the
 // fields a user sets, each once, with its help and the per-field range of IsValid (IsValid keeps the

@@ -94,10 +94,23 @@ inline constexpr int kMaxPointsPerIteration = 100000;
 // For IsValid: writes "field: expected <expected>, got <got>" to *error (when non-null); returns false.
 bool RejectOption(std::string* error, std::string_view field, std::string_view expected, double got);
 
-// Validates the fields every optimizer's Options share; false with "field: expected ..." in *error.
-bool ValidateCheckpointOptions(std::int64_t checkpoint_every, const CheckpointCallback& on_checkpoint,
-                               const std::optional<nlohmann::json>& resume_from, std::string_view method,
-                               std::string* error);
+// What every optimizer's Options hold besides their own settings: checkpointing and iteration callbacks
+// (OptimizerOptions::SetCheckpointing and SetCallbacks set them for every method at once).
+struct OptimizerRunOptions {
+  // Write a checkpoint every this many iterations (exhaustive search: blocks; NLopt: evaluations); 0 = never.
+  std::int64_t checkpoint_every = 0;
+  // Receives each checkpoint; required when checkpoint_every > 0.
+  CheckpointCallback on_checkpoint;
+  // Continue the run that wrote this checkpoint; the starting theta passed to Solve is then ignored (NLopt
+  // replays the evaluations logged in it: nlopt_optimizer.hpp).
+  std::optional<nlohmann::json> resume_from;
+  // Told after every iteration; one may stop the run early. Not owned.
+  IterationCallbacks callbacks;
+
+  // For a method's IsValid: false with "field: expected ..." in *error when these fields cannot run `method`
+  // (a checkpoint interval without a callback, a checkpoint of another method or of no known format).
+  bool IsValidFor(std::string_view method, std::string* error) const;
+};
 
 class RunProgress {
  public:
@@ -119,6 +132,13 @@ class RunProgress {
   // asked to stop (the optimizer then finishes with TerminationType::kUserRequested).
   bool EndIteration() { return EndIteration(Seconds()); }
   bool EndIteration(double seconds);
+  // Whether the next iteration, which needs `next_evaluations` more evaluations, must not start:
+  // max_iterations are done, or it would pass max_evaluations. Then *termination and *message say which, in
+  // the words every method uses (`iteration` names its iteration in the message: "an iteration", "a
+  // generation").
+  bool BudgetSpent(std::int64_t max_iterations, std::int64_t max_evaluations, std::int64_t next_evaluations,
+                   TerminationType* termination, std::string* message,
+                   std::string_view iteration = "an iteration") const;
   // True when a checkpoint is due after the iteration just ended.
   bool CheckpointDue(std::int64_t checkpoint_every) const {
     return checkpoint_every > 0 && iterations_ > 0 && iterations_ % checkpoint_every == 0;
