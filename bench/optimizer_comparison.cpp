@@ -39,13 +39,13 @@
 #include <string>
 #include <vector>
 
-#include "pegasus/evaluators/monte_carlo.hpp"  // mix_seed
 #include "pegasus/experiments/bicycle_experiment.hpp"
 #include "pegasus/heli/aircraft.hpp"
 #include "pegasus/heli/hover_task.hpp"
 #include "pegasus/heli/pilot.hpp"
 #include "pegasus/io/atomic_file.hpp"
 #include "pegasus/optimizers/optimizer.hpp"
+#include "pegasus/optimizers/training.hpp"
 #include "pegasus/random/seed.hpp"
 #include "pegasus/sysid/identify.hpp"
 
@@ -126,8 +126,7 @@ OptimizerOptions method_options(OptimizerOptions defaults, const std::string& me
   defaults.gradient.max_evaluations = defaults.hill_climbing.max_evaluations =
       defaults.cmaes.max_evaluations = budget;
   // The streams as the trainers derive them from the run's seed (hover_task.cpp, bicycle_experiment.cpp).
-  defaults.hill_climbing.seed = mix_seed(seed, 0x48696c6c);
-  defaults.cmaes.seed = mix_seed(seed, 0x434d4145);
+  DeriveOptimizerSeeds(seed, SeedDomains(), &defaults);
   return defaults;
 }
 

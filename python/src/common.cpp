@@ -79,15 +79,16 @@ std::vector<Theta> as_thetas(py::handle object, const std::string& name, const P
   return thetas;
 }
 
-std::uint64_t as_seed(py::handle object, const std::string& name) {
-  if (!py::isinstance<py::int_>(object) || py::isinstance<py::bool_>(object))
-    throw py::value_error(name + ": expected an integer in [0, 2**64)");
+std::uint64_t as_unsigned(py::handle object, const std::string& name, int bits) {
+  const std::string expected = fmt::format("{}: expected an integer in [0, 2**{})", name, bits);
+  if (!py::isinstance<py::int_>(object) || py::isinstance<py::bool_>(object)) throw py::value_error(expected);
   const py::int_ value = py::reinterpret_borrow<py::int_>(object);
-  if (value < py::int_(0) || value >= py::int_(1).attr("__lshift__")(64))
-    throw py::value_error(name + ": expected an integer in [0, 2**64), got " +
-                          py::repr(object).cast<std::string>());
+  if (value < py::int_(0) || value >= py::int_(1).attr("__lshift__")(bits))
+    throw py::value_error(expected + ", got " + py::repr(object).cast<std::string>());
   return value.cast<std::uint64_t>();
 }
+
+std::uint64_t as_seed(py::handle object, const std::string& name) { return as_unsigned(object, name, 64); }
 
 Array matrix(py::ssize_t rows, py::ssize_t cols) { return Array({rows, cols}); }
 

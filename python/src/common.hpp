@@ -36,6 +36,8 @@ std::vector<Theta> as_thetas(py::handle object, const std::string& name, const P
 
 // A seed: a Python int in [0, 2^64).
 std::uint64_t as_seed(py::handle object, const std::string& name);
+// A Python int in [0, 2**bits) (bits <= 64), else ValueError naming `name` and the range.
+std::uint64_t as_unsigned(py::handle object, const std::string& name, int bits);
 
 Array matrix(py::ssize_t rows, py::ssize_t cols);
 Array vector_array(std::span<const double> values);

@@ -7,7 +7,6 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
-#include <limits>
 #include <string_view>
 #include <vector>
 
@@ -81,10 +80,7 @@ mix_seed(plan seed, its domain), apart from the scenarios' streams and from othe
 first stage's; REFINE_SEED_DOMAINS those of a refinement stage.)doc");
   // A domain is a 32-bit number; a Python int beyond it is refused by name, not wrapped.
   auto domain_of = [](py::handle value, const std::string& name) {
-    const std::uint64_t domain = as_seed(value, name);
-    if (domain > std::numeric_limits<std::uint32_t>::max())
-      throw py::value_error(fmt::format("{}: expected an integer in [0, 2^32), got {}", name, domain));
-    return static_cast<std::uint32_t>(domain);
+    return static_cast<std::uint32_t>(as_unsigned(value, name, 32));
   };
   seeds.def(py::init([domain_of](const py::kwargs& domains) {
               SeedDomains d;  // each domain left out keeps the first stage's

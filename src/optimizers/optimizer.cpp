@@ -38,14 +38,14 @@ constexpr std::size_t AggregateMemberCount() {
 static_assert(AggregateMemberCount<OptimizerOptions>() == 1 + std::tuple_size_v<decltype(kOptimizerMethods)>,
               "every method's options member of OptimizerOptions must be listed in kOptimizerMethods");
 
-// The options that run `method`: that method's Options, with what the method name chooses (NLopt's
-// algorithm).
+// The options that run `method`: that method's Options as they are (no copy: an exhaustive search's
+// checkpoint may hold every policy's value), or a copy with what the method name chooses (NLopt's algorithm).
 template <class Options>
-Options OptionsFor(const Options& options, std::string_view method) {
+decltype(auto) OptionsFor(const Options& options, std::string_view method) {
   if constexpr (requires { options.ForMethod(method); }) {
     return options.ForMethod(method);
   } else {
-    return options;
+    return (options);
   }
 }
 

@@ -180,8 +180,7 @@ void run_hover(const HoverRunOptions& options, RunSink& sink, ThreadPool& pool) 
   hooks.checkpoint_every = 1;
   hooks.resume_from = dir.load_checkpoint();
   const bool two = o.optimizer.method == "gradient" && o.then_hill_climb;
-  const std::int64_t g_iters = o.optimizer.method == "gradient" ? o.optimizer.gradient.max_iterations
-                                                                : o.optimizer.hill_climbing.max_iterations;
+  const std::int64_t g_iters = o.optimizer.IterationLimit();
   auto bar = sink.progress(
       "optimizer iterations",
       static_cast<std::uint64_t>(g_iters + (two ? o.optimizer.hill_climbing.max_iterations : 0)));

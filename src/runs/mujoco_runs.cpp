@@ -21,8 +21,9 @@ namespace pegasus {
 OptimizerOptions mujoco_default_optimizer() {
   OptimizerOptions o;
   o.method = "ars";
-  o.ars.max_iterations = o.hill_climbing.max_iterations = o.gradient.max_iterations = o.cmaes.max_iterations =
-      100;
+  ForEachOptimizerMethod([&](auto member) {
+    if constexpr (requires { (o.*member).max_iterations; }) (o.*member).max_iterations = 100;
+  });
   o.ars.directions = 8;
   o.ars.top_directions = 4;
   o.hill_climbing.proposals_per_iteration = 8;

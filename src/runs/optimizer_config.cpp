@@ -2,7 +2,6 @@
 
 #include <fmt/format.h>
 
-#include <algorithm>
 #include <cstdint>
 #include <limits>
 #include <string_view>
@@ -28,7 +27,8 @@ struct Declarer {
   void integer(const char* field, Int Options::*member, const char* help, double lo,
                double hi = static_cast<double>(std::numeric_limits<Int>::max())) {
     auto& f = schema.add_int(name(field), values.*member, help);
-    if (hi == static_cast<double>(std::numeric_limits<std::int64_t>::max())) {
+    // A 64-bit field's only upper bound is its type's, which the schema's integers already have.
+    if (std::is_same_v<Int, std::int64_t> && hi == static_cast<double>(std::numeric_limits<Int>::max())) {
       f.min(lo);
     } else {
       f.range(lo, hi);
@@ -63,13 +63,12 @@ struct Reader {
   Options& values;
   std::string name(const char* field) const { return field_name(prefix, Options::kMethod.section, field); }
 
-  // A method the command does not offer has no fields in the schema; its options keep their values.
   template <class Int>
   void integer(const char* field, Int Options::*member, const char*, double, double = 0) {
-    if (schema.has(name(field))) values.*member = static_cast<Int>(schema.get_int(name(field)));
+    values.*member = static_cast<Int>(schema.get_int(name(field)));
   }
   void real(const char* field, double Options::*member, const char*, double, double, bool = false) {
-    if (schema.has(name(field))) values.*member = schema.get_double(name(field));
+    values.*member = schema.get_double(name(field));
   }
   template <class T>
   void internal(const char*, T Options::*, const char*) {}
@@ -104,13 +103,10 @@ void declare_optimizer_options(ConfigSchema& schema, const std::string& prefix,
                 return list;
               }())
       .choices(methods);
-  // Only the options of methods the command offers: a section of a method it cannot run would be a setting
-  // that changes nothing.
+  // Every method's options, also those of methods the command does not offer: a resolved config.toml lists
+  // them all, and stays a valid input (and --resume) for every command.
   ForEachOptimizerMethod([&](auto member) {
     using Options = OptimizerMethodOptions<decltype(member)>;
-    if (std::none_of(methods.begin(), methods.end(),
-                     [](const std::string& m) { return Options::kMethod.runs(m); }))
-      return;
     Declarer<Options> declarer{schema, prefix, defaults.*member};
     Options::VisitFields(declarer);
   });

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <limits>
 #include <set>
 #include <string>
 #include <utility>
@@ -214,8 +215,11 @@ TEST(OptimizerMethods, TheListDescribesEveryMethodOnceAndConsistently) {
     EXPECT_EQ(all.count("seed"), has_seed ? 1u : 0u);
     EXPECT_EQ(std::count(fields.config.begin(), fields.config.end(), "seed"), 0);
   });
-  EXPECT_EQ(method_names, OptimizerMethodNames().size());
-  EXPECT_EQ(std::set<std::string_view>(OptimizerMethodNames().begin(), OptimizerMethodNames().end()), names);
+  // The names the dispatcher accepts are the list's, in its order.
+  EXPECT_EQ(method_names, names.size());
+  EXPECT_EQ(std::vector<std::string_view>(OptimizerMethodNames().begin(), OptimizerMethodNames().end()),
+            (std::vector<std::string_view>{"exhaustive", "gradient", "hill-climb", "bobyqa", "sbplx", "crs2",
+                                           "esch", "cmaes", "ars"}));
 }
 
 TEST(OptimizerMethods, SetSeedsAndIterationLimitFollowTheList) {
@@ -239,6 +243,11 @@ TEST(OptimizerMethods, SetSeedsAndIterationLimitFollowTheList) {
     options.method = method;
     EXPECT_EQ(options.IterationLimit(), limit) << method;
   }
+  // Blocks of policies, without overflow at the largest class.
+  options.method = "exhaustive";
+  options.exhaustive.max_policies = std::numeric_limits<std::int64_t>::max();
+  options.exhaustive.block_size = 4096;
+  EXPECT_EQ(options.IterationLimit(), std::numeric_limits<std::int64_t>::max() / 4096 + 1);
   options.method = "newton";
   EXPECT_EQ(options.IterationLimit(), 0);
 }

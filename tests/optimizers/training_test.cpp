@@ -101,6 +101,8 @@ TEST(Training, SeedsComeFromTheRunSeedAndTheStagesDomains) {
   EXPECT_EQ(o.ars.seed, mix_seed(5, 0x41525321));
   DeriveOptimizerSeeds(5, SeedDomains::Refine(), &o);
   EXPECT_EQ(o.hill_climbing.seed, mix_seed(5, 0x52486c6c));
+  EXPECT_EQ(o.nlopt.seed, mix_seed(5, 0x524e4c6f));
+  EXPECT_EQ(o.cmaes.seed, mix_seed(5, 0x52434d41));
   EXPECT_EQ(o.ars.seed, mix_seed(5, 0x52415253));
   // Domains by options section: one per random method, in the list's order; a stage may choose its own.
   SeedDomains domains;

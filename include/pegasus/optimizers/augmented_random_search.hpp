@@ -70,8 +70,8 @@ struct AugmentedRandomSearchOptions : OptimizerRunOptions {
       .section = "ars",
       .type_name = "AugmentedRandomSearchOptions",
       .description =
-          "Augmented Random Search (Mania, Guy and Recht 2018): antithetic directions, the best "
-          "used in the step.",
+          "Augmented Random Search (Mania, Guy and Recht 2018): N antithetic directions per iteration "
+          "(2N evaluations in one batch), the b best used in the step.",
       .method_names = {"ars"},
       .seed_domain = 0x41525321,          // "ARS!"
       .refine_seed_domain = 0x52415253};  // "RARS"
@@ -80,7 +80,7 @@ struct AugmentedRandomSearchOptions : OptimizerRunOptions {
     using O = AugmentedRandomSearchOptions;
     v.internal("seed", &O::seed, "Seed of the stream that draws every direction.");
     v.internal("stream", &O::stream, "Stream of that seed (change it, or the seed, for an independent run).");
-    v.integer("max_iterations", &O::max_iterations, "ARS: iterations at most", 0);
+    v.integer("max_iterations", &O::max_iterations, "ARS: iterations at most (0: the start only)", 0);
     v.integer("max_evaluations", &O::max_evaluations, "ARS: U-hat evaluations at most", 1);
     v.integer("directions", &O::directions, "ARS: random directions per iteration (each evaluated +-)", 1,
               kMaxPointsPerIteration);

@@ -86,7 +86,10 @@ struct CmaesOptions : OptimizerRunOptions {
   static constexpr OptimizerMethodInfo kMethod{
       .section = "cmaes",
       .type_name = "CmaesOptions",
-      .description = "CMA-ES (Hansen's tutorial, arXiv:1604.00772), with IPOP restarts.",
+      .description =
+          "CMA-ES (Hansen's tutorial, arXiv:1604.00772): population_size candidates per generation in "
+          "one batch, bounds by pycma's BoundTransform, IPOP restarts; deterministic from (seed, "
+          "stream).",
       .method_names = {"cmaes"},
       .seed_domain = 0x434d4145,          // "CMAE"
       .refine_seed_domain = 0x52434d41};  // "RCMA"
@@ -95,7 +98,7 @@ struct CmaesOptions : OptimizerRunOptions {
     using O = CmaesOptions;
     v.internal("seed", &O::seed, "Seed of the stream that draws every sample.");
     v.internal("stream", &O::stream, "Stream of that seed (change it, or the seed, for an independent run).");
-    v.integer("max_iterations", &O::max_iterations, "CMA-ES: generations at most", 0);
+    v.integer("max_iterations", &O::max_iterations, "CMA-ES: generations at most (0: the start only)", 0);
     v.integer("max_evaluations", &O::max_evaluations, "CMA-ES: U-hat evaluations at most", 1);
     v.integer("population_size", &O::population_size,
               "CMA-ES: samples per generation (0: 4 + floor(3 ln n), Hansen's default)", 0,

@@ -36,7 +36,10 @@ struct ExhaustiveSearchOptions : OptimizerRunOptions {
   // False, with "field: expected ..., got ..." in *error, when a field is out of range.
   bool IsValid(std::string* error) const;
   // One iteration is one block of policies.
-  std::int64_t IterationLimit() const { return (max_policies + block_size - 1) / block_size; }
+  std::int64_t IterationLimit() const {
+    return max_policies / block_size +
+           (max_policies % block_size != 0 ? 1 : 0);  // no overflow near the limit
+  }
 
   static constexpr OptimizerMethodInfo kMethod{
       .section = "exhaustive",

@@ -66,7 +66,8 @@ struct GradientAscentOptions : OptimizerRunOptions {
   template <class Visitor>
   static void VisitFields(Visitor& v) {
     using O = GradientAscentOptions;
-    v.integer("max_iterations", &O::max_iterations, "gradient ascent: iterations at most", 0);
+    v.integer("max_iterations", &O::max_iterations, "gradient ascent: iterations at most (0: the start only)",
+              0);
     v.integer("max_evaluations", &O::max_evaluations, "gradient ascent: U-hat evaluations at most", 1);
     v.real("relative_step", &O::relative_step,
            "gradient ascent: central-difference half-width, in parameter scales", 0, kNoUpperLimit, true);

@@ -63,7 +63,8 @@ struct HillClimbingOptions : OptimizerRunOptions {
     using O = HillClimbingOptions;
     v.internal("seed", &O::seed, "Seed of the stream that draws every perturbation.");
     v.internal("stream", &O::stream, "Stream of that seed (change it, or the seed, for an independent run).");
-    v.integer("max_iterations", &O::max_iterations, "hill climbing: iterations at most", 0);
+    v.integer("max_iterations", &O::max_iterations, "hill climbing: iterations at most (0: the start only)",
+              0);
     v.integer("max_evaluations", &O::max_evaluations, "hill climbing: U-hat evaluations at most", 1);
     v.integer("proposals_per_iteration", &O::proposals_per_iteration,
               "hill climbing: proposals per iteration (evaluated in parallel)", 1, kMaxPointsPerIteration);

@@ -17,7 +17,8 @@
 //   real(name, &Options::field, help, lo, hi, exclusive_lo = false) // double fields
 //   internal(name, &Options::field, help)  // set by the library or a program, not by a config: seeds
 //
-// Adding a method: its header and source, and its line in optimizer.hpp's kOptimizerMethods.
+// Adding a method: its header and source, and in optimizer.hpp its OptimizerOptions member and its entry in
+// kOptimizerMethods (for Python's type checkers, also its class in python/pegasus/_pegasus.pyi).
 #include <array>
 #include <cstdint>
 #include <limits>

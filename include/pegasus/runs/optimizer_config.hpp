@@ -25,15 +25,14 @@ namespace pegasus {
 // global crs2 and esch either, which need them.
 std::vector<std::string> continuous_class_methods(bool finite_bounds);
 
-// Declares section `prefix` with `defaults`' values. `methods` limits `prefix.method`'s choices (empty: all),
-// and the section holds the options of those methods only. With `allow_none`, `prefix.method` may also be
-// "none" (a stage that does not run).
+// Declares section `prefix` with `defaults`' values. `methods` limits `prefix.method`'s choices (empty: all);
+// every method's options are declared (a resolved config.toml lists them all, and stays a valid input for any
+// command). With `allow_none`, `prefix.method` may also be "none" (a stage that does not run).
 void declare_optimizer_options(ConfigSchema& schema, const std::string& prefix,
                                const OptimizerOptions& defaults, std::vector<std::string> methods = {},
                                bool allow_none = false);
 
-// The section's values over `options` (fields the section does not declare, such as seeds and the options of
-// methods the command does not offer, are kept).
+// The section's values over `options` (fields the section does not declare, such as seeds, are kept).
 void read_optimizer_options(const ConfigSchema& schema, const std::string& prefix, OptimizerOptions* options);
 
 }  // namespace pegasus
