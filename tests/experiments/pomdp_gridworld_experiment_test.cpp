@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <map>
 
 #include "pegasus/core/error.hpp"
@@ -19,6 +20,11 @@ std::map<std::tuple<std::string, std::string, int>, PomdpGridworldSummaryRow> by
 // Fig 4.5b's shape on a small number of trials: PEGASUS approaches the best in class as m grows; naive
 // Monte Carlo picks worse policies and is more optimistic about them; the hashed model is no better.
 TEST(PomdpGridworldExperiment, ReproducesTheShapeOfFigure45b) {
+  // A figure's numbers, not memory safety: the Release pass checks them, and the same code runs under the
+  // sanitizers in ResultIsIdenticalForAnyThreadCountAndAfterResume (67 s of the sanitizer pass, 11 s in
+  // Release).
+  if (std::getenv("PEGASUS_SANITIZED") != nullptr)
+    GTEST_SKIP() << "the figure's shape is the Release pass's check";
   PomdpGridworldOptions o;
   o.scenarios = {1, 4, 64};
   o.trials = 10;
