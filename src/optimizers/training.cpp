@@ -60,9 +60,15 @@ void AppendHistory(const OptimizerSummary& stage, StagesBefore* before,
   before->seconds += stage.wall_seconds;
 }
 
-std::string NoRandomMethod(std::string_view section) {
-  return fmt::format("seed domains: no optimizer that draws random numbers has the options section '{}'",
-                     section);
+// Names the sections a domain may belong to, for a section that is none of them.
+std::string NoRandomMethod(const std::vector<std::pair<std::string_view, std::uint32_t>>& domains,
+                           std::string_view section) {
+  std::string sections;
+  for (const auto& [name, domain] : domains)
+    sections += fmt::format("{}{}", sections.empty() ? "" : ", ", name);
+  return fmt::format(
+      "seed domains: expected the options section of an optimizer that draws random numbers ({}), got '{}'",
+      sections, section);
 }
 
 }  // namespace
@@ -86,7 +92,7 @@ SeedDomains SeedDomains::Refine() {
 std::uint32_t SeedDomains::of(std::string_view section) const {
   for (const auto& [name, domain] : domains_)
     if (name == section) return domain;
-  throw InputError(NoRandomMethod(section));
+  throw InputError(NoRandomMethod(domains_, section));
 }
 
 void SeedDomains::set(std::string_view section, std::uint32_t domain) {
@@ -95,7 +101,7 @@ void SeedDomains::set(std::string_view section, std::uint32_t domain) {
       value = domain;
       return;
     }
-  throw InputError(NoRandomMethod(section));
+  throw InputError(NoRandomMethod(domains_, section));
 }
 
 void DeriveOptimizerSeeds(std::uint64_t run_seed, const SeedDomains& domains, OptimizerOptions* options) {

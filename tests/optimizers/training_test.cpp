@@ -119,7 +119,9 @@ TEST(Training, SeedsComeFromTheRunSeedAndTheStagesDomains) {
     ADD_FAILURE() << "gradient ascent draws no random numbers";
   } catch (const InputError& e) {
     EXPECT_STREQ(e.what(),
-                 "seed domains: no optimizer that draws random numbers has the options section 'gradient'");
+                 "seed domains: expected the options section of an optimizer that draws random numbers "
+                 "(hill_climbing, "
+                 "nlopt, cmaes, ars), got 'gradient'");
   }
   EXPECT_THROW(static_cast<void>(domains.of("hill-climb")), InputError);  // a method name, not a section
   // Another run seed gives another hill-climbing run; the same seed the same bits.
