@@ -354,7 +354,10 @@ void ConfigSchema::load_toml_string(std::string_view text, const std::string& so
       if (!value)
         throw InputError(fmt::format("{}: expected {}, got {}", where, f->expectation(), describe(node)));
       if (std::find(overridden.begin(), overridden.end(), full) != overridden.end()) continue;
-      assign(index, std::move(*value), where, format_value(*value));
+      // Formatted before the move: the order in which a call's arguments are evaluated is unspecified
+      // (GCC happened to format first, clang moves first).
+      const std::string got = format_value(*value);
+      assign(index, std::move(*value), where, got);
       origins_[index] = fmt::format("{}:{}", source_name, line);
       wheres_[index] = where;
     }
