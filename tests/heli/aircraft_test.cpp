@@ -11,12 +11,13 @@
 
 #include "pegasus/heli/frames.hpp"
 #include "pegasus/heli/pilot.hpp"
+#include "support/scenario_noise.hpp"
 
 namespace {
 
 using namespace pegasus::heli;
 
-std::vector<double> half(int n) { return std::vector<double>(static_cast<std::size_t>(n), 0.5); }
+using pegasus::test_support::mid_range_noise;
 
 TEST(HeliFrames, RotationIsOrthonormalAndMatchesHandCases) {
   const Euler e{0.3, -0.2, 2.5};
@@ -111,11 +112,11 @@ TEST(HeliAircraft, HoverTrimIsFoundWithSmallRightRollAndExpectedCollective) {
 // Holds trim for a moment, then pushes one control and checks which states move which way.
 Aircraft::State respond(const Aircraft& heli, int channel, double delta, double seconds) {
   AircraftParams P = heli.params();
-  auto p0 = half(Aircraft::kInitialNoise);
+  auto p0 = mid_range_noise(Aircraft::kInitialNoise);
   Aircraft::State s = heli.initial_state(p0);
   Controls a = heli.hover_trim().controls;
   a[static_cast<std::size_t>(channel)] += delta;
-  const auto p = half(Aircraft::kStepNoise);
+  const auto p = mid_range_noise(Aircraft::kStepNoise);
   for (int t = 0; t < static_cast<int>(seconds / P.dt); ++t) s = heli.step(s, a, p);
   return s;
 }
@@ -172,8 +173,8 @@ TEST(HeliAircraft, CrashesIntoTheGroundWhenCollectiveIsLowered) {
   AircraftParams P;
   P.start_p_W = Vec3(0, 0, -2);
   const Aircraft heli(P);
-  auto s = heli.initial_state(half(Aircraft::kInitialNoise));
-  const auto p = half(Aircraft::kStepNoise);
+  auto s = heli.initial_state(mid_range_noise(Aircraft::kInitialNoise));
+  const auto p = mid_range_noise(Aircraft::kStepNoise);
   Controls a = heli.hover_trim().controls;
   a[2] -= 0.3;
   int t = 0;

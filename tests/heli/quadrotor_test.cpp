@@ -9,12 +9,13 @@
 
 #include "pegasus/heli/pilot.hpp"
 #include "pegasus/heli/simulators.hpp"
+#include "support/scenario_noise.hpp"
 
 namespace {
 
 using namespace pegasus::heli;
 
-std::vector<double> half(int n) { return std::vector<double>(static_cast<std::size_t>(n), 0.5); }
+using pegasus::test_support::mid_range_noise;
 
 // A calm, noise-free quadrotor (uniforms of 0.5 are the Gaussian's median: no draws).
 QuadrotorParams calm() {
@@ -25,8 +26,8 @@ QuadrotorParams calm() {
 }
 
 QuadrotorState fly(const Quadrotor& q, const Controls& a, double seconds) {
-  QuadrotorState s = q.initial_state(half(Quadrotor::kInitialNoise));
-  const auto p = half(Quadrotor::kStepNoise);
+  QuadrotorState s = q.initial_state(mid_range_noise(Quadrotor::kInitialNoise));
+  const auto p = mid_range_noise(Quadrotor::kStepNoise);
   for (int t = 0; t < static_cast<int>(std::lround(seconds / q.params().dt)); ++t) s = q.step(s, a, p);
   return s;
 }
@@ -74,7 +75,7 @@ TEST(Quadrotor, AngleModeSettlesOnTheSetPointsWithThePipelineSigns) {
 
 TEST(Quadrotor, RotorSpeedsLagTheirCommandsByTheMotorTimeConstant) {
   const Quadrotor q(calm());
-  QuadrotorState s = q.initial_state(half(Quadrotor::kInitialNoise));
+  QuadrotorState s = q.initial_state(mid_range_noise(Quadrotor::kInitialNoise));
   std::array<double, 4> command;
   command.fill(1.2 * q.hover_rotor_speed());
   // The rotor equation alone, integrated finely over one time constant: 1 - 1/e of the step.
@@ -89,7 +90,7 @@ TEST(Quadrotor, RotorSpeedsLagTheirCommandsByTheMotorTimeConstant) {
 
 TEST(Quadrotor, RotorDragOpposesTheAirspeedInProportionToTheRotorSpeedSum) {
   const Quadrotor q(calm());
-  QuadrotorState s = q.initial_state(half(Quadrotor::kInitialNoise));
+  QuadrotorState s = q.initial_state(mid_range_noise(Quadrotor::kInitialNoise));
   std::array<double, 4> command = s.rotor_speed;
   const auto still = q.derivative(s, command, Vec3::Zero());
   s.v_B = Vec3(2.0, -1.0, 0.5);

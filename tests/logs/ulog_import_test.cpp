@@ -48,7 +48,7 @@ VehicleLogSpec test_spec() {
 
 // Position at 10 Hz moving at (2, -1, 0.5) m/s; attitude at 100 Hz turning about z at 0.1 rad/s; controls
 // at 40 Hz stepping every record. Time in us from 1 s; `skip_pos` drops position records in (2 s, 2.6 s).
-std::vector<std::uint8_t> synthetic_log(bool skip_pos = false, std::uint8_t pos_instance = 0) {
+std::vector<std::uint8_t> synthetic_ulog(bool skip_pos = false, std::uint8_t pos_instance = 0) {
   UlogBuilder b;
   b.format("pos:uint64_t timestamp;float x;float y;float z;float vx;float vy;float vz;");
   b.format("att:uint64_t timestamp;float p;float q_rate;float r;float[4] q;");
@@ -83,7 +83,7 @@ std::vector<std::uint8_t> synthetic_log(bool skip_pos = false, std::uint8_t pos_
 }
 
 TEST(UlogImport, ResamplesTopicsOntoOneConstantRateGrid) {
-  const UlogFile u = parse_ulog(synthetic_log(), "s.ulg");
+  const UlogFile u = parse_ulog(synthetic_ulog(), "s.ulg");
   ImportProvenance prov;
   const sysid::FlightLog log = import_ulog(u, test_spec(), "s.ulg", {}, &prov);
   ASSERT_EQ(log.rows(), 151u);  // 1 s .. 4 s at 50 Hz
@@ -159,7 +159,7 @@ TEST(UlogImport, BodyFrameInputsAreRotatedIntoTheLogFrames) {
 }
 
 TEST(UlogImport, ErrorsNameTheFileTopicAndWhatWasExpected) {
-  const UlogFile u = parse_ulog(synthetic_log(), "s.ulg");
+  const UlogFile u = parse_ulog(synthetic_ulog(), "s.ulg");
   VehicleLogSpec s = test_spec();
   s.position.topic = "vehicle_gps";
   s.velocity.topic = "vehicle_gps";
@@ -189,7 +189,7 @@ TEST(UlogImport, ErrorsNameTheFileTopicAndWhatWasExpected) {
             std::string::npos)
       << control;
   EXPECT_TRUE(is_record_of(u, "ctl", record_byte(control, "s\\.ulg"))) << control;
-  const UlogFile gap = parse_ulog(synthetic_log(/*skip_pos=*/true), "g.ulg");
+  const UlogFile gap = parse_ulog(synthetic_ulog(/*skip_pos=*/true), "g.ulg");
   const std::string gap_message = input_error_message([&] { import_ulog(gap, test_spec(), "g.ulg"); });
   EXPECT_NE(
       gap_message.find("topic pos: no record for 0.600 s after this one's t = 2.000 s; expected gaps of "
@@ -198,7 +198,7 @@ TEST(UlogImport, ErrorsNameTheFileTopicAndWhatWasExpected) {
       << gap_message;
   EXPECT_TRUE(is_record_of(gap, "pos", record_byte(gap_message, "g\\.ulg"))) << gap_message;
   // A record whose timestamp goes back (a flipped bit): both records are named by their bytes.
-  std::vector<std::uint8_t> back = synthetic_log();
+  std::vector<std::uint8_t> back = synthetic_ulog();
   const std::size_t third = parse_ulog(back, "b.ulg").topic("pos", 0)->offsets[3];
   std::fill_n(back.begin() + static_cast<std::ptrdiff_t>(third + 3 + 2), 8,
               std::uint8_t{0});  // its timestamp
@@ -209,7 +209,7 @@ TEST(UlogImport, ErrorsNameTheFileTopicAndWhatWasExpected) {
       fmt::format("b.ulg: byte {}: topic pos: record 3 has timestamp 0 us, before the previous record's "
                   "{} us (byte {}); expected timestamps that never go back",
                   third, went_back.topic("pos", 0)->timestamps[2], pos_offsets[2]));
-  const UlogFile other = parse_ulog(synthetic_log(false, /*pos_instance=*/1), "i.ulg");
+  const UlogFile other = parse_ulog(synthetic_ulog(false, /*pos_instance=*/1), "i.ulg");
   EXPECT_EQ(input_error_message([&] { import_ulog(other, test_spec(), "i.ulg"); }),
             "i.ulg: topic pos has no records for instance 0 (instances logged: 1)");
   s = test_spec();

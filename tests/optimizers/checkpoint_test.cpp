@@ -20,6 +20,7 @@
 #include "pegasus/core/error.hpp"
 #include "pegasus/optimizers/optimizer.hpp"
 #include "pegasus/optimizers/test_problems.hpp"
+#include "support/bits.hpp"
 
 namespace pegasus {
 namespace {
@@ -27,7 +28,7 @@ namespace {
 using nlohmann::json;
 using ::testing::HasSubstr;
 
-std::uint64_t Bits(double x) { return std::bit_cast<std::uint64_t>(x); }
+using test_support::Bits;
 
 TEST(CheckpointJson, DoublesRoundTripBitForBitThroughJsonText) {
   std::vector<double> values = {0.1,
@@ -65,16 +66,6 @@ struct MethodCase {
   std::function<void(OptimizerOptions&)> configure;
   std::int64_t checkpoint_every;
 };
-
-ParameterSpec RosenbrockSpec() {
-  return ParameterSpec({{.name = "x", .initial = -1.2, .lower = -5.0, .upper = 5.0},
-                        {.name = "y", .initial = 1.0, .lower = -5.0, .upper = 5.0}});
-}
-
-ParameterSpec RastriginSpec() {
-  return ParameterSpec({{.name = "x", .initial = 3.0, .lower = -5.12, .upper = 5.12},
-                        {.name = "y", .initial = 3.0, .lower = -5.12, .upper = 5.12}});
-}
 
 std::vector<MethodCase> EveryMethod() {
   auto rosenbrock = [] { return NegatedRosenbrock(RosenbrockSpec()); };

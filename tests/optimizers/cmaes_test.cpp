@@ -12,6 +12,7 @@
 #include "pegasus/core/error.hpp"
 #include "pegasus/optimizers/optimizer.hpp"
 #include "pegasus/optimizers/test_problems.hpp"
+#include "support/bits.hpp"
 
 namespace pegasus {
 namespace {
@@ -20,26 +21,12 @@ using nlohmann::json;
 using ::testing::HasSubstr;
 using ::testing::StartsWith;
 
-std::uint64_t Bits(double x) { return std::bit_cast<std::uint64_t>(x); }
-
-ParameterSpec ThreeScales() {
-  return ParameterSpec(
-      {{.name = "small", .initial = 0.0, .lower = -1.0, .upper = 1.0, .scale = 0.01},
-       {.name = "unit", .initial = 0.0, .lower = -10.0, .upper = 10.0, .scale = 1.0},
-       {.name = "large", .initial = 0.0, .lower = -1000.0, .upper = 1000.0, .scale = 100.0}});
-}
-
-ParameterSpec Box(std::size_t n, double initial, double bound) {
-  ParameterSpec spec;
-  for (std::size_t i = 0; i < n; ++i)
-    spec.add({.name = "x" + std::to_string(i), .initial = initial, .lower = -bound, .upper = bound});
-  return spec;
-}
+using test_support::Bits;
 
 TEST(Cmaes, FindsTheMaximumOfAnIllConditionedQuadraticWithinItsEvaluationBudget) {
   // Curvatures 1e4 apart in scaled units (widths 0.1 to 10 times each parameter's scale).
   const Theta peak = {0.003, -2.5, 370.0};
-  auto objective = ConcaveQuadratic(ThreeScales(), peak, {0.001, 1.0, 1000.0}, 4.0);
+  auto objective = ConcaveQuadratic(ThreeScaleSpec(), peak, {0.001, 1.0, 1000.0}, 4.0);
   CmaesOptions options;
   options.max_evaluations = 2000;
   Theta theta;
@@ -51,11 +38,11 @@ TEST(Cmaes, FindsTheMaximumOfAnIllConditionedQuadraticWithinItsEvaluationBudget)
   const Theta width = {0.001, 1.0, 1000.0};
   for (std::size_t i = 0; i < peak.size(); ++i) EXPECT_NEAR(theta[i], peak[i], 1e-5 * width[i]) << i;
   EXPECT_EQ(summary.method, "cmaes");
-  EXPECT_EQ(summary.initial_value, objective.evaluate(ThreeScales().initial()));
+  EXPECT_EQ(summary.initial_value, objective.evaluate(ThreeScaleSpec().initial()));
 }
 
 TEST(Cmaes, FindsTheMaximumOfTheRosenbrockValleyInFourDimensions) {
-  auto objective = NegatedRosenbrock(Box(4, -1.0, 5.0));
+  auto objective = NegatedRosenbrock(BoxSpec(4, -1.0, 5.0));
   CmaesOptions options;
   options.max_evaluations = 6000;
   Theta theta;
@@ -72,7 +59,7 @@ TEST(Cmaes, ALargePopulationFindsTheGlobalMaximumOfRastriginFromEverySeed) {
   // first distribution smooths over the ripples (seeds 0 to 19 all find the global maximum; 10 are tested).
   for (std::uint64_t seed = 0; seed < 10; ++seed) {
     SCOPED_TRACE(seed);
-    auto objective = NegatedRastrigin(Box(2, 3.0, 5.12));
+    auto objective = NegatedRastrigin(BoxSpec(2, 3.0, 5.12));
     CmaesOptions options;
     options.seed = seed;
     options.population_size = 100;
@@ -98,7 +85,7 @@ TEST(Cmaes, RestartsWithDoubledPopulationsLeaveTheLocalMaximumOneRunEndsOn) {
     options.initial_step = 2.0;
     options.max_evaluations = 100000;
     options.x_tolerance = 1e-9;
-    auto objective = NegatedRastrigin(Box(4, 3.0, 5.12));
+    auto objective = NegatedRastrigin(BoxSpec(4, 3.0, 5.12));
     Theta theta;
     OptimizerSummary one_run;
     Solve(options, objective, &theta, &one_run);
@@ -121,7 +108,7 @@ TEST(Cmaes, RestartsWithDoubledPopulationsLeaveTheLocalMaximumOneRunEndsOn) {
 // A flat U-hat stalls every run after stall_generations + 1 generations; each restart doubles the population,
 // so the evaluations are 1 + (g + 1) (lambda + 2 lambda + 4 lambda).
 TEST(Cmaes, AStalledRunRestartsWithTwiceThePopulationUntilNoRestartsRemain) {
-  FunctionObjective flat(Box(3, 0.0, 1.0), [](std::span<const double>) { return 1.0; });
+  FunctionObjective flat(BoxSpec(3, 0.0, 1.0), [](std::span<const double>) { return 1.0; });
   CmaesOptions options;
   options.population_size = 6;
   options.stall_generations = 5;
@@ -143,7 +130,7 @@ TEST(Cmaes, AStalledRunRestartsWithTwiceThePopulationUntilNoRestartsRemain) {
 // A checkpoint taken after a restart carries the restart count, the run's first iteration, its best values
 // and the start, so the resumed run ends as the uninterrupted one, bit for bit.
 TEST(Cmaes, ResumedAfterARestartEndsBitIdenticallyToTheUninterruptedRun) {
-  auto make = [] { return NegatedRastrigin(Box(3, 2.0, 5.12)); };
+  auto make = [] { return NegatedRastrigin(BoxSpec(3, 2.0, 5.12)); };
   CmaesOptions options;
   options.seed = 5;
   options.initial_step = 0.5;
@@ -203,7 +190,7 @@ TEST(Cmaes, EvaluatesOnlyInsideTheBoundsAndConvergesToTheCornerBeyondWhichThePea
 }
 
 TEST(Cmaes, EvaluatesTheStartAloneAndThenEachGenerationInOneBatch) {
-  auto inner = NegatedRosenbrock(Box(6, 0.0, 5.0));
+  auto inner = NegatedRosenbrock(BoxSpec(6, 0.0, 5.0));
   CountingObjective counting(inner);
   CmaesOptions options;
   options.max_iterations = 25;
@@ -224,7 +211,7 @@ TEST(Cmaes, EvaluatesTheStartAloneAndThenEachGenerationInOneBatch) {
 
 TEST(Cmaes, GivesBitIdenticalResultsWhenRunTwiceAndOtherResultsForAnotherSeed) {
   auto run = [](std::uint64_t seed) {
-    auto objective = NegatedRosenbrock(Box(3, 0.5, 5.0));
+    auto objective = NegatedRosenbrock(BoxSpec(3, 0.5, 5.0));
     CmaesOptions options;
     options.seed = seed;
     options.max_iterations = 60;
@@ -253,7 +240,7 @@ TEST(Cmaes, ALargeSearchUsesEigensFixedCacheSizesNotTheCpus) {
 #endif
   auto run = [] {
     std::vector<double> candidates;
-    FunctionObjective objective(Box(300, 0.5, 5.0), [&candidates](std::span<const double> theta) {
+    FunctionObjective objective(BoxSpec(300, 0.5, 5.0), [&candidates](std::span<const double> theta) {
       candidates.insert(candidates.end(), theta.begin(), theta.end());
       double sum = 0.0;
       for (std::size_t i = 0; i + 1 < theta.size(); ++i) {
@@ -319,7 +306,7 @@ TEST(Cmaes, PowerOfTwoScalesGiveTheSameRunBitForBit) {
 }
 
 TEST(Cmaes, ResumedFromACheckpointEndsBitIdenticallyToTheUninterruptedRun) {
-  auto make = [] { return NegatedRosenbrock(Box(5, -0.5, 5.0)); };
+  auto make = [] { return NegatedRosenbrock(BoxSpec(5, -0.5, 5.0)); };
   CmaesOptions options;
   options.seed = 3;
   options.max_evaluations = 2500;
@@ -354,7 +341,7 @@ TEST(Cmaes, ResumedFromACheckpointEndsBitIdenticallyToTheUninterruptedRun) {
 
 TEST(Cmaes, ARunEndedByTheFunctionToleranceEndsAtTheSameGenerationWhenResumed) {
   // The function tolerance looks back over recent generations, so the checkpoint must carry them.
-  auto make = [] { return ConcaveQuadratic(Box(3, 2.0, 10.0), {0.5, -1.0, 3.0}, {1.0, 0.3, 2.0}); };
+  auto make = [] { return ConcaveQuadratic(BoxSpec(3, 2.0, 10.0), {0.5, -1.0, 3.0}, {1.0, 0.3, 2.0}); };
   CmaesOptions options;
   options.x_tolerance = 0.0;
   std::vector<json> checkpoints;
@@ -379,7 +366,7 @@ TEST(Cmaes, ARunEndedByTheFunctionToleranceEndsAtTheSameGenerationWhenResumed) {
 }
 
 TEST(Cmaes, RefusesACheckpointOfAnotherPopulationSizeOrAMalformedState) {
-  auto objective = NegatedRosenbrock(Box(3, 0.0, 5.0));
+  auto objective = NegatedRosenbrock(BoxSpec(3, 0.0, 5.0));
   CmaesOptions options;
   options.max_iterations = 4;
   options.checkpoint_every = 2;
@@ -406,7 +393,7 @@ TEST(Cmaes, RefusesACheckpointOfAnotherPopulationSizeOrAMalformedState) {
 }
 
 TEST(Cmaes, StopsAtMaxIterationsAndNeverPassesMaxEvaluations) {
-  auto objective = NegatedRastrigin(Box(4, 2.0, 5.12));
+  auto objective = NegatedRastrigin(BoxSpec(4, 2.0, 5.12));
   CmaesOptions options;
   options.max_iterations = 0;
   Theta theta;
@@ -426,7 +413,7 @@ TEST(Cmaes, StopsAtMaxIterationsAndNeverPassesMaxEvaluations) {
 }
 
 TEST(Cmaes, TheDispatcherRunsItAsMethodCmaesWithPrefixedErrors) {
-  auto objective = ConcaveQuadratic(Box(2, 0.0, 3.0), {1.0, -1.0}, {1.0, 2.0});
+  auto objective = ConcaveQuadratic(BoxSpec(2, 0.0, 3.0), {1.0, -1.0}, {1.0, 2.0});
   OptimizerOptions options;
   options.method = "cmaes";
   options.cmaes.population_size = 1;
@@ -470,7 +457,7 @@ TEST(CmaesOptions, IsValidRejectsEachBadFieldByName) {
     breaks(options);
     EXPECT_FALSE(options.IsValid(&error)) << field;
     EXPECT_THAT(error, StartsWith(field + ":"));
-    auto objective = NegatedRosenbrock(Box(2, 0.0, 1.0));
+    auto objective = NegatedRosenbrock(BoxSpec(2, 0.0, 1.0));
     Theta theta;
     OptimizerSummary summary;
     EXPECT_THROW(Solve(options, objective, &theta, &summary), InputError) << field;

@@ -15,16 +15,9 @@ namespace {
 using ::testing::HasSubstr;
 
 // Three parameters whose useful changes differ by four orders of magnitude.
-ParameterSpec ThreeScales() {
-  return ParameterSpec(
-      {{.name = "small", .initial = 0.0, .lower = -1.0, .upper = 1.0, .scale = 0.01},
-       {.name = "unit", .initial = 0.0, .lower = -10.0, .upper = 10.0, .scale = 1.0},
-       {.name = "large", .initial = 0.0, .lower = -1000.0, .upper = 1000.0, .scale = 100.0}});
-}
-
 TEST(GradientAscent, FindsTheMaximumOfABoundedConcaveQuadratic) {
   const Theta peak = {0.003, -2.5, 370.0};
-  auto objective = ConcaveQuadratic(ThreeScales(), peak, {0.01, 1.0, 100.0}, 4.0);
+  auto objective = ConcaveQuadratic(ThreeScaleSpec(), peak, {0.01, 1.0, 100.0}, 4.0);
   Theta theta;
   OptimizerSummary summary;
   Solve(GradientAscentOptions{}, objective, &theta, &summary);
@@ -72,7 +65,7 @@ TEST(GradientAscent, AcceptedValuesNeverDecreaseEvenOnADiscontinuousObjective) {
 }
 
 TEST(GradientAscent, EvaluatesEachGradientInOneBatchOfTwoNThetas) {
-  auto quadratic = ConcaveQuadratic(ThreeScales(), {0.003, -2.5, 370.0}, {0.01, 1.0, 100.0});
+  auto quadratic = ConcaveQuadratic(ThreeScaleSpec(), {0.003, -2.5, 370.0}, {0.01, 1.0, 100.0});
   CountingObjective counting(quadratic);
   GradientAscentOptions options;
   options.max_iterations = 20;
@@ -88,7 +81,7 @@ TEST(GradientAscent, EvaluatesEachGradientInOneBatchOfTwoNThetas) {
 }
 
 TEST(GradientAscent, NeverStepsFartherThanMaxStepInScaledUnits) {
-  auto objective = ConcaveQuadratic(ThreeScales(), {0.5, 7.0, -800.0}, {0.01, 1.0, 100.0});
+  auto objective = ConcaveQuadratic(ThreeScaleSpec(), {0.5, 7.0, -800.0}, {0.01, 1.0, 100.0});
   const Theta scale = objective.parameters().scales();
   GradientAscentOptions options;
   options.max_step = 0.25;

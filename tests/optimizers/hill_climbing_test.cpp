@@ -14,16 +14,9 @@ namespace {
 
 using ::testing::HasSubstr;
 
-ParameterSpec ThreeScales() {
-  return ParameterSpec(
-      {{.name = "small", .initial = 0.0, .lower = -1.0, .upper = 1.0, .scale = 0.01},
-       {.name = "unit", .initial = 0.0, .lower = -10.0, .upper = 10.0, .scale = 1.0},
-       {.name = "large", .initial = 0.0, .lower = -1000.0, .upper = 1000.0, .scale = 100.0}});
-}
-
 TEST(HillClimbing, FindsTheMaximumOfABoundedConcaveQuadratic) {
   const Theta peak = {0.003, -2.5, 370.0};
-  auto objective = ConcaveQuadratic(ThreeScales(), peak, {0.01, 1.0, 100.0}, 4.0);
+  auto objective = ConcaveQuadratic(ThreeScaleSpec(), peak, {0.01, 1.0, 100.0}, 4.0);
   HillClimbingOptions options;
   options.max_iterations = 5000;
   options.min_step = 1e-6;
@@ -74,7 +67,7 @@ TEST(HillClimbing, AcceptedValuesNeverDecrease) {
 }
 
 TEST(HillClimbing, EvaluatesTheProposalsOfAnIterationInOneBatch) {
-  auto quadratic = ConcaveQuadratic(ThreeScales(), {0.003, -2.5, 370.0}, {0.01, 1.0, 100.0});
+  auto quadratic = ConcaveQuadratic(ThreeScaleSpec(), {0.003, -2.5, 370.0}, {0.01, 1.0, 100.0});
   CountingObjective counting(quadratic);
   HillClimbingOptions options;
   options.proposals_per_iteration = 5;

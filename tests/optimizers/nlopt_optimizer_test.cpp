@@ -20,17 +20,6 @@ constexpr NloptAlgorithm kGlobal[] = {NloptAlgorithm::kCrs2, NloptAlgorithm::kEs
 constexpr NloptAlgorithm kAll[] = {NloptAlgorithm::kBobyqa, NloptAlgorithm::kSbplx, NloptAlgorithm::kCrs2,
                                    NloptAlgorithm::kEsch};
 
-ParameterSpec RosenbrockSpec(double bound = 5.0) {
-  return ParameterSpec({{.name = "x", .initial = -1.2, .lower = -bound, .upper = bound},
-                        {.name = "y", .initial = 1.0, .lower = -bound, .upper = bound}});
-}
-
-ParameterSpec RastriginSpec() {
-  // Starts on the local maximum near (3, 3); the global maximum is at the origin.
-  return ParameterSpec({{.name = "x", .initial = 3.0, .lower = -5.12, .upper = 5.12},
-                        {.name = "y", .initial = 3.0, .lower = -5.12, .upper = 5.12}});
-}
-
 NloptOptions With(NloptAlgorithm algorithm) {
   NloptOptions options;
   options.algorithm = algorithm;

@@ -23,7 +23,7 @@ using ::testing::StartsWith;
 
 // Integer-valued for exhaustive search, which enumerates only integers; real for the others, which refuse
 // integer parameters.
-ParameterSpec Box(std::string_view method = "gradient") {
+ParameterSpec GainBiasBox(std::string_view method = "gradient") {
   const bool integer = method == "exhaustive";
   return ParameterSpec({{.name = "gain", .initial = 1.0, .lower = -3.0, .upper = 3.0, .integer = integer},
                         {.name = "bias", .initial = -2.0, .lower = -3.0, .upper = 3.0, .integer = integer}});
@@ -34,7 +34,7 @@ TEST(OptimizerDispatch, EveryMethodNameRunsThatMethodAndFindsTheMaximum) {
   for (const std::string_view name : OptimizerMethodNames()) {
     SCOPED_TRACE(name);
     // Maximal at (1, -1), a point of the integer grid so exhaustive search can hit it exactly.
-    auto objective = ConcaveQuadratic(Box(name), {1.0, -1.0}, {1.0, 2.0}, 3.0);
+    auto objective = ConcaveQuadratic(GainBiasBox(name), {1.0, -1.0}, {1.0, 2.0}, 3.0);
     OptimizerOptions options;
     options.method = std::string(name);
     options.nlopt.max_evaluations = 3000;
@@ -89,7 +89,7 @@ TEST(OptimizerDispatch, IsValidNamesTheMethodOrThePrefixedFieldOfTheSelectedMeth
   EXPECT_FALSE(options.IsValid(&error));
   EXPECT_THAT(error, StartsWith("nlopt.population:"));
 
-  auto objective = ConcaveQuadratic(Box(), {1.0, -1.0}, {1.0, 2.0});
+  auto objective = ConcaveQuadratic(GainBiasBox(), {1.0, -1.0}, {1.0, 2.0});
   Theta theta;
   OptimizerSummary summary;
   try {
@@ -101,7 +101,7 @@ TEST(OptimizerDispatch, IsValidNamesTheMethodOrThePrefixedFieldOfTheSelectedMeth
 }
 
 TEST(OptimizerDispatch, TheMethodOverridesTheNloptAlgorithm) {
-  auto objective = ConcaveQuadratic(Box(), {1.0, -1.0}, {1.0, 2.0});
+  auto objective = ConcaveQuadratic(GainBiasBox(), {1.0, -1.0}, {1.0, 2.0});
   OptimizerOptions options;
   options.method = "sbplx";
   options.nlopt.algorithm = NloptAlgorithm::kCrs2;
@@ -114,7 +114,7 @@ TEST(OptimizerDispatch, TheMethodOverridesTheNloptAlgorithm) {
 TEST(OptimizerDispatch, SetCheckpointingReachesEveryMethodAndCheckpointsNameTheirMethod) {
   for (const std::string_view name : OptimizerMethodNames()) {
     SCOPED_TRACE(name);
-    auto objective = ConcaveQuadratic(Box(name), {1.0, -1.0}, {1.0, 2.0});
+    auto objective = ConcaveQuadratic(GainBiasBox(name), {1.0, -1.0}, {1.0, 2.0});
     OptimizerOptions options;
     options.method = std::string(name);
     options.exhaustive.block_size = 5;
@@ -138,7 +138,7 @@ TEST(OptimizerDispatch, OnlyExhaustiveSearchTakesIntegerParameters) {
   for (const std::string_view name : OptimizerMethodNames()) {
     if (name == "exhaustive") continue;
     SCOPED_TRACE(name);
-    auto objective = ConcaveQuadratic(Box("exhaustive"), {1.0, -1.0}, {1.0, 2.0});
+    auto objective = ConcaveQuadratic(GainBiasBox("exhaustive"), {1.0, -1.0}, {1.0, 2.0});
     OptimizerOptions options;
     options.method = std::string(name);
     Theta theta;

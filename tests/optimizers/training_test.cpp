@@ -19,13 +19,6 @@ namespace {
 using nlohmann::json;
 using ::testing::HasSubstr;
 
-ParameterSpec Box(std::size_t n) {
-  std::vector<Parameter> p;
-  for (std::size_t i = 0; i < n; ++i)
-    p.push_back({.name = "x" + std::to_string(i), .initial = -1.2, .lower = -3, .upper = 3, .scale = 1});
-  return ParameterSpec(std::move(p));
-}
-
 // Gradient ascent, then hill climbing from its result: the hover's plan (thesis §5.3).
 TrainingPlan GradientThenHillClimb() {
   TrainingPlan plan;
@@ -43,7 +36,7 @@ TrainingPlan GradientThenHillClimb() {
 }
 
 TEST(Training, EachStageStartsFromTheBestOfTheOneBefore) {
-  auto objective = NegatedRosenbrock(Box(3));
+  auto objective = NegatedRosenbrock(BoxSpec(3, -1.2, 3.0));
   TrainingPlan plan = GradientThenHillClimb();
   Theta theta;
   TrainingSummary summary;
@@ -58,7 +51,7 @@ TEST(Training, EachStageStartsFromTheBestOfTheOneBefore) {
 }
 
 TEST(Training, HistoryCountsOnAcrossStages) {
-  auto objective = NegatedRosenbrock(Box(3));
+  auto objective = NegatedRosenbrock(BoxSpec(3, -1.2, 3.0));
   Theta theta;
   TrainingSummary summary;
   Train(GradientThenHillClimb(), objective, &theta, &summary);
@@ -78,7 +71,7 @@ TEST(Training, HistoryCountsOnAcrossStages) {
 // A stage that ends inside an iteration (here the gradient's probes find U-hat flat, so no iteration ends)
 // spent evaluations that no record of its own shows; the next stage counts on from all of them.
 TEST(Training, HistoryCountsTheEvaluationsOfAStageThatEndedInsideAnIteration) {
-  FunctionObjective flat(Box(3), [](std::span<const double>) { return -1.0; });
+  FunctionObjective flat(BoxSpec(3, -1.2, 3.0), [](std::span<const double>) { return -1.0; });
   Theta theta;
   TrainingSummary summary;
   Train(GradientThenHillClimb(), flat, &theta, &summary);
@@ -125,7 +118,7 @@ TEST(Training, SeedsComeFromTheRunSeedAndTheStagesDomains) {
   }
   EXPECT_THROW(static_cast<void>(domains.of("hill-climb")), InputError);  // a method name, not a section
   // Another run seed gives another hill-climbing run; the same seed the same bits.
-  auto objective = NegatedRastrigin(Box(2));
+  auto objective = NegatedRastrigin(BoxSpec(2, -1.2, 3.0));
   auto run = [&](std::uint64_t seed) {
     TrainingPlan plan = GradientThenHillClimb();
     plan.stages.erase(plan.stages.begin());
@@ -140,7 +133,7 @@ TEST(Training, SeedsComeFromTheRunSeedAndTheStagesDomains) {
 }
 
 TEST(Training, ResumingFromAnyCheckpointEndsBitIdentically) {
-  auto objective = NegatedRosenbrock(Box(3));
+  auto objective = NegatedRosenbrock(BoxSpec(3, -1.2, 3.0));
   std::vector<json> checkpoints;
   TrainingPlan plan = GradientThenHillClimb();
   plan.checkpoint_every = 1;
@@ -190,7 +183,7 @@ class StopAfter final : public IterationCallback {
 };
 
 TEST(Training, AnIterationCallbackStopsTheRunEarly) {
-  auto objective = NegatedRosenbrock(Box(3));
+  auto objective = NegatedRosenbrock(BoxSpec(3, -1.2, 3.0));
   TrainingPlan plan = GradientThenHillClimb();
   StopAfter stop(2);
   plan.callbacks = {&stop};
@@ -205,7 +198,7 @@ TEST(Training, AnIterationCallbackStopsTheRunEarly) {
 }
 
 TEST(Training, EveryMethodTellsItsCallbacksEachIteration) {
-  auto objective = ConcaveQuadratic(Box(2), {0.5, -0.5}, {1, 2});
+  auto objective = ConcaveQuadratic(BoxSpec(2, -1.2, 3.0), {0.5, -0.5}, {1, 2});
   for (const char* method : {"gradient", "hill-climb", "bobyqa", "sbplx", "cmaes", "ars"}) {
     OptimizerOptions o;
     o.method = method;
@@ -226,7 +219,7 @@ TEST(Training, EveryMethodTellsItsCallbacksEachIteration) {
 }
 
 TEST(Training, AnInvalidPlanNamesTheStageAndField) {
-  auto objective = NegatedRosenbrock(Box(2));
+  auto objective = NegatedRosenbrock(BoxSpec(2, -1.2, 3.0));
   TrainingPlan plan = GradientThenHillClimb();
   plan.stages[1].optimizer.hill_climbing.initial_step = -1;
   std::string error;
@@ -249,8 +242,8 @@ TEST(Training, AnInvalidPlanNamesTheStageAndField) {
 // the two-parameter stage's best, with a third coordinate appended, is where the three-parameter stage
 // starts, and a resume at the stage boundary maps it the same way.
 TEST(Training, AStageMapsTheThetaItStartsFrom) {
-  auto small = NegatedRosenbrock(Box(2));
-  auto large = NegatedRosenbrock(Box(3));
+  auto small = NegatedRosenbrock(BoxSpec(2, -1.2, 3.0));
+  auto large = NegatedRosenbrock(BoxSpec(3, -1.2, 3.0));
   TrainingPlan plan = GradientThenHillClimb();
   plan.stages[0].objective = &small;
   plan.stages[1].objective = &large;
@@ -285,7 +278,7 @@ TEST(Training, AStageMapsTheThetaItStartsFrom) {
 
 // The caller's state rides in every checkpoint, taken at the moment it is written.
 TEST(Training, CheckpointsCarryTheCallersStateAtThatMoment) {
-  auto objective = NegatedRosenbrock(Box(3));
+  auto objective = NegatedRosenbrock(BoxSpec(3, -1.2, 3.0));
   TrainingPlan plan = GradientThenHillClimb();
   int calls = 0;
   plan.caller_state = [&] { return json{{"calls", ++calls}}; };
@@ -307,7 +300,7 @@ TEST(Training, CheckpointsCarryTheCallersStateAtThatMoment) {
 
 // A checkpoint whose entries have other types is bad input naming the checkpoint, never a JSON type error.
 TEST(Training, ACheckpointOfOtherTypesIsBadInput) {
-  auto objective = NegatedRosenbrock(Box(2));
+  auto objective = NegatedRosenbrock(BoxSpec(2, -1.2, 3.0));
   for (const json& bad : {json(3), json{{"format", 5}}, json{{"format", nullptr}, {"stage", "x"}},
                           json{{"format", "pegasus.training.checkpoint"}, {"version", "1"}},
                           json{{"format", "pegasus.training.checkpoint"}, {"version", 1}, {"stage", -1}}}) {

@@ -15,21 +15,13 @@
 #include "pegasus/runs/flight_charts.hpp"
 #include "pegasus/runs/run_directory.hpp"
 #include "support/input_error.hpp"
+#include "support/scratch_dir.hpp"
 
 namespace pegasus {
 namespace {
 
 namespace fs = std::filesystem;
 using test_support::input_error_message;
-
-fs::path scratch() {
-  const auto* info = testing::UnitTest::GetInstance()->current_test_info();
-  const fs::path dir =
-      fs::temp_directory_path() / ("pegasus_charts_" + std::to_string(::getpid()) + "_" + info->name());
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
 
 std::vector<ChartSection> sample_sections() {
   ChartSection progress =
@@ -95,7 +87,7 @@ TEST(Charts, BadDocumentsNameTheField) {
 }
 
 TEST(Charts, AddChartsReplacesASectionOfTheSameIdAndKeepsTheOthers) {
-  const fs::path root = scratch();
+  const fs::path root = test_support::fresh_test_dir("pegasus_charts_");
   ConfigSchema schema;
   schema.add_int("n", 1, "n");
   RunDirectory dir = RunDirectory::open(root / "run", schema);
@@ -114,7 +106,7 @@ TEST(Charts, AddChartsReplacesASectionOfTheSameIdAndKeepsTheOthers) {
 }
 
 TEST(Charts, SvgIsThePlotOfTheSameColumns) {
-  const fs::path root = scratch();
+  const fs::path root = test_support::fresh_test_dir("pegasus_charts_");
   write_file_atomic(root / "s.csv", "run,x,y,e\na,1,2,0.5\na,2,4,0.25\nb,1,-1,0\nb,3,nan,1\n");
   const Chart chart{.title = "T",
                     .x = {"x axis", AxisScale::kLog2},

@@ -44,10 +44,11 @@ TEST_F(HeliRuns, TheLibraryChainGivesThePipelinesSummaries) {
 
   ThreadPool pool(2);
   for (const auto& [name, seconds, seed] :
-       {std::tuple{"pilot-train", 60.0, 5}, std::tuple{"pilot-test", 25.0, 6}})
-    run(name, [&](RunSink& sink) {
-      run_pilot({.seconds = seconds, .seed = static_cast<std::uint64_t>(seed)}, sink);
-    });
+       {std::tuple{"pilot-train", 60.0, 5}, std::tuple{"pilot-test", 25.0, 6}}) {
+    // Named before the lambda: clang 14 cannot capture a structured binding.
+    const PilotRunOptions pilot{.seconds = seconds, .seed = static_cast<std::uint64_t>(seed)};
+    run(name, [&](RunSink& sink) { run_pilot(pilot, sink); });
+  }
   run("identify", [&](RunSink& sink) {
     IdentifyRunOptions o;
     o.train_log = (dir_ / "pilot-train" / "log.csv").string();

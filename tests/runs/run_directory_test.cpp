@@ -12,6 +12,7 @@
 #include "pegasus/core/error.hpp"
 #include "pegasus/io/atomic_file.hpp"
 #include "support/input_error.hpp"
+#include "support/scratch_dir.hpp"
 
 namespace pegasus {
 
@@ -19,16 +20,6 @@ using test_support::input_error_message;
 namespace {
 
 namespace fs = std::filesystem;
-
-// A fresh empty folder per test.
-fs::path scratch() {
-  const auto* info = testing::UnitTest::GetInstance()->current_test_info();
-  const fs::path dir = fs::temp_directory_path() / ("pegasus_runs_" + std::to_string(::getpid()) + "_" +
-                                                    info->test_suite_name() + "_" + info->name());
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
 
 ConfigSchema schema(double gamma = 0.9, std::int64_t threads = 2) {
   ConfigSchema s;
@@ -40,7 +31,7 @@ ConfigSchema schema(double gamma = 0.9, std::int64_t threads = 2) {
 }
 
 TEST(RunDirectory, WritesIntoStagingAndCommitRenames) {
-  const fs::path root = scratch();
+  const fs::path root = test_support::fresh_test_dir("pegasus_runs_");
   RunDirectory run = RunDirectory::open(root / "out", schema());
   EXPECT_EQ(run.path(), root / "out.partial");
   EXPECT_EQ(run.final_path(), root / "out");
@@ -63,13 +54,13 @@ TEST(RunDirectory, WritesIntoStagingAndCommitRenames) {
 }
 
 TEST(RunDirectory, TrailingSlashNamesTheSameDirectory) {
-  const fs::path root = scratch();
+  const fs::path root = test_support::fresh_test_dir("pegasus_runs_");
   RunDirectory run = RunDirectory::open((root / "out").string() + "/", schema());
   EXPECT_EQ(run.path(), root / "out.partial");
 }
 
 TEST(RunDirectory, RefusesAnExistingDirectoryAndCreatesNothing) {
-  const fs::path root = scratch();
+  const fs::path root = test_support::fresh_test_dir("pegasus_runs_");
   fs::create_directory(root / "out");
   EXPECT_EQ(input_error_message([&] { RunDirectory::open(root / "out", schema()); }),
             "--out: '" + (root / "out").string() + "' already exists (use --force to replace it)");
@@ -82,7 +73,7 @@ TEST(RunDirectory, RefusesAnExistingDirectoryAndCreatesNothing) {
 }
 
 TEST(RunDirectory, ForceReplacesTheOldDirectoryOnlyAtCommit) {
-  const fs::path root = scratch();
+  const fs::path root = test_support::fresh_test_dir("pegasus_runs_");
   fs::create_directory(root / "out");
   write_file_atomic(root / "out" / "old.txt", "old");
   RunDirectory run = RunDirectory::open(root / "out", schema(), {.force = true});
@@ -95,7 +86,7 @@ TEST(RunDirectory, ForceReplacesTheOldDirectoryOnlyAtCommit) {
 }
 
 TEST(RunDirectory, AnInterruptedRunNeedsResumeOrForce) {
-  const fs::path root = scratch();
+  const fs::path root = test_support::fresh_test_dir("pegasus_runs_");
   {
     RunDirectory run = RunDirectory::open(root / "out", schema());
     run.save_checkpoint({{"next", 3}});
@@ -123,7 +114,7 @@ TEST(RunDirectory, AnInterruptedRunNeedsResumeOrForce) {
 }
 
 TEST(RunDirectory, ResumeRefusesADifferentConfigNamingTheKey) {
-  const fs::path root = scratch();
+  const fs::path root = test_support::fresh_test_dir("pegasus_runs_");
   { RunDirectory::open(root / "out", schema(0.9)).save_checkpoint({{"next", 1}}); }
   const std::string message =
       input_error_message([&] { RunDirectory::open(root / "out", schema(0.95), {.resume = true}); });
@@ -137,7 +128,7 @@ TEST(RunDirectory, ResumeRefusesADifferentConfigNamingTheKey) {
 // whose bytes changed since (a log rewritten, a vehicle file edited) is refused by name, as a changed setting
 // is; the same bytes (touched, or copied back) resume.
 TEST(RunDirectory, ResumeRefusesAnInputFileWhoseContentsChanged) {
-  const fs::path root = scratch();
+  const fs::path root = test_support::fresh_test_dir("pegasus_runs_");
   const fs::path log = root / "train.csv";
   write_file_atomic(log, "time,x\n0,1\n");
   const auto with_log = [&] {
@@ -178,14 +169,14 @@ TEST(RunDirectory, ResumeRefusesAnInputFileWhoseContentsChanged) {
 }
 
 TEST(RunDirectory, ResumeWithoutAnInterruptedRunStartsFresh) {
-  const fs::path root = scratch();
+  const fs::path root = test_support::fresh_test_dir("pegasus_runs_");
   RunDirectory run = RunDirectory::open(root / "out", schema(), {.resume = true});
   EXPECT_FALSE(run.resumed());
   EXPECT_FALSE(run.load_checkpoint().has_value());
 }
 
 TEST(RunDirectory, AbandonRemovesOnlyWhatThisProcessCreated) {
-  const fs::path root = scratch();
+  const fs::path root = test_support::fresh_test_dir("pegasus_runs_");
   RunDirectory run = RunDirectory::open(root / "out", schema());
   run.abandon();
   EXPECT_FALSE(fs::exists(root / "out.partial"));
@@ -196,7 +187,7 @@ TEST(RunDirectory, AbandonRemovesOnlyWhatThisProcessCreated) {
 }
 
 TEST(RunDirectory, WritesMustStayInsideTheDirectory) {
-  const fs::path root = scratch();
+  const fs::path root = test_support::fresh_test_dir("pegasus_runs_");
   RunDirectory run = RunDirectory::open(root / "out", schema());
   EXPECT_THROW(run.write_text("../escape.txt", "x"), std::logic_error);
   EXPECT_THROW(run.write_text("/tmp/escape.txt", "x"), std::logic_error);
@@ -204,7 +195,7 @@ TEST(RunDirectory, WritesMustStayInsideTheDirectory) {
 }
 
 TEST(RunDirectory, ResumeRemovesTemporariesOfInterruptedWrites) {
-  const fs::path root = scratch();
+  const fs::path root = test_support::fresh_test_dir("pegasus_runs_");
   { RunDirectory::open(root / "out", schema()); }
   write_file_atomic(root / "out.partial" / ".checkpoint.json.tmp", "half");
   RunDirectory run = RunDirectory::open(root / "out", schema(), {.resume = true});
@@ -214,7 +205,7 @@ TEST(RunDirectory, ResumeRemovesTemporariesOfInterruptedWrites) {
 // A child process rewrites a file in a loop, alternating two large contents, and is killed with SIGKILL at
 // varying moments: the file must always be one of the two contents, never a mix or a truncation.
 TEST(AtomicFile, SigkillNeverLeavesAHalfWrittenFile) {
-  const fs::path root = scratch();
+  const fs::path root = test_support::fresh_test_dir("pegasus_runs_");
   const fs::path file = root / "data.txt";
   const std::string a(1 << 20, 'a'), b(1 << 20, 'b');
   write_file_atomic(file, a);

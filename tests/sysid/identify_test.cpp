@@ -351,8 +351,10 @@ TEST(ClosedLoopBias, WhiteningTheNoiseRecoversTheGroundTruthsControlGains) {
   const std::array<std::tuple<const char*, const char*, int, int>, 2> gains = {
       {{"zdot_b", "a3", 2, 8}, {"yaw_rate", "a4", 3, 11}}};
   for (const auto& [output, control, c, state] : gains) {
+    // The names copied before the lambda: clang 14 cannot capture a structured binding.
+    const std::string output_name = output, control_name = control;
     const auto it = std::find_if(biases.begin(), biases.end(), [&](const ControlGainBias& b) {
-      return b.output == output && b.control == control;
+      return b.output == output_name && b.control == control_name;
     });
     ASSERT_NE(it, biases.end()) << output << "/" << control;
     const double truth = true_gain(c, state);

@@ -5,12 +5,43 @@
 #include <cstdint>
 #include <numbers>
 #include <span>
+#include <string>
 #include <utility>
 #include <vector>
 
 #include "pegasus/optimizers/objective.hpp"
 
 namespace pegasus {
+
+// n parameters x0, x1, ... starting at `initial` inside the box [-bound, bound]^n.
+inline ParameterSpec BoxSpec(std::size_t n, double initial, double bound) {
+  ParameterSpec spec;
+  for (std::size_t i = 0; i < n; ++i)
+    spec.add({.name = "x" + std::to_string(i), .initial = initial, .lower = -bound, .upper = bound});
+  return spec;
+}
+
+// Three parameters whose useful changes (scales) are 0.01, 1 and 100 apart: a test that an optimizer works
+// in scaled units.
+inline ParameterSpec ThreeScaleSpec() {
+  return ParameterSpec(
+      {{.name = "small", .initial = 0.0, .lower = -1.0, .upper = 1.0, .scale = 0.01},
+       {.name = "unit", .initial = 0.0, .lower = -10.0, .upper = 10.0, .scale = 1.0},
+       {.name = "large", .initial = 0.0, .lower = -1000.0, .upper = 1000.0, .scale = 100.0}});
+}
+
+// Rosenbrock's classic start (-1.2, 1) inside [-bound, bound]^2.
+inline ParameterSpec RosenbrockSpec(double bound = 5.0) {
+  return ParameterSpec({{.name = "x", .initial = -1.2, .lower = -bound, .upper = bound},
+                        {.name = "y", .initial = 1.0, .lower = -bound, .upper = bound}});
+}
+
+// Starts Rastrigin's function on its local maximum near (3, 3) inside its usual box [-5.12, 5.12]^2; the
+// global maximum is at the origin.
+inline ParameterSpec RastriginSpec() {
+  return ParameterSpec({{.name = "x", .initial = 3.0, .lower = -5.12, .upper = 5.12},
+                        {.name = "y", .initial = 3.0, .lower = -5.12, .upper = 5.12}});
+}
 
 // U(theta) = top - sum_i ((theta_i - peak_i) / width_i)^2: a concave quadratic whose curvature differs per
 // parameter, maximal (= top) at `peak` when the peak lies inside the bounds.
