@@ -38,8 +38,10 @@ demo: cli
 	@echo "demo: results in $(DEMO_OUT) (summary.json; sub-runs pilot-train, pilot-test, identify, hover, fly)"
 	@echo "demo: report: $(DEMO_OUT)/report.html (flights against the pilot and their 3-D replay: $(DEMO_OUT)/fly/report.html)"
 
-# The whole suite in Release, then again under AddressSanitizer + UndefinedBehaviorSanitizer (-O1 with line
-# tables and the libraries as unity builds: cheap to compile on 2 cores, and enough for readable reports).
+# The whole suite in Release (GCC), then again under AddressSanitizer + UndefinedBehaviorSanitizer built by
+# clang++ (-O1 with line tables and the libraries as unity builds: cheap to compile on 2 cores, and enough for
+# readable reports). Two compilers also keep the code portable; clang compiles this code a quarter faster
+# than GCC under the sanitizers (README "Build times").
 test: test-release test-asan
 
 test-release: build
@@ -56,7 +58,7 @@ install: build
 
 test-asan: deps
 	@cmake -S . -B $(ASAN) -DCMAKE_BUILD_TYPE=Sanitize -DCMAKE_CXX_FLAGS_SANITIZE="-O1 -g1" \
-	  -DPEGASUS_SANITIZE=ON -DPEGASUS_UNITY_BUILD=ON -DPEGASUS_BUILD_BENCH=OFF $(call gen,$(ASAN)) >/dev/null
+	  -DCMAKE_CXX_COMPILER=clang++ -DPEGASUS_SANITIZE=ON -DPEGASUS_BUILD_BENCH=OFF $(call gen,$(ASAN)) >/dev/null
 	@cmake --build $(ASAN) -j $(JOBS)
 	@cd $(ASAN) && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
 	  PEGASUS_SANITIZED=1 ctest --output-on-failure -j $(JOBS)
@@ -65,7 +67,7 @@ test-asan: deps
 # clang++ under -fsanitize=fuzzer,address,undefined in its own build directory (README "Fuzzing").
 fuzz: deps
 	@cmake -S . -B $(FUZZ) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" \
-	  -DCMAKE_CXX_COMPILER=clang++ -DPEGASUS_FUZZ=ON -DPEGASUS_UNITY_BUILD=ON \
+	  -DCMAKE_CXX_COMPILER=clang++ -DPEGASUS_FUZZ=ON \
 	  -DPEGASUS_BUILD_TESTS=OFF -DPEGASUS_BUILD_BENCH=OFF -DPEGASUS_MPI=OFF $(call gen,$(FUZZ)) >/dev/null
 	@cmake --build $(FUZZ) -j $(JOBS) --target pegasus_fuzzers
 	@bash fuzz/run.sh $(FUZZ) $(FUZZ_SECONDS) $(JOBS) $(FUZZ_SEED)

@@ -20,7 +20,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev python3
   # the C compiler that builds exported controllers (pegasus export) in tests/export and the export benchmark
   gcc
-  # make fuzz: clang++ 14 with libFuzzer and the sanitizers' runtimes (-fsanitize=fuzzer,address,undefined)
+  # make test (its sanitizer pass) and make fuzz: clang++ 14 with the sanitizers' runtimes and libFuzzer
   clang libclang-rt-14-dev
   # the HTML report's browser test
   chromium

@@ -57,7 +57,9 @@ void dot4_sse2(const double* p, std::size_t stride, const double* v, int n, doub
 // GCC 12's AVX-512 intrinsics start some results from _mm512_undefined_*() (a variable initialised from
 // itself), which -Wmaybe-uninitialized and -Wuninitialized report at every use.
 #pragma GCC diagnostic push
+#ifndef __clang__  // a GCC warning; clang has none of that name
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 #pragma GCC diagnostic ignored "-Wuninitialized"
 
 __attribute__((target("avx2,fma"))) inline double hsum_avx2(__m256d x) {

@@ -5,8 +5,10 @@
 #ifdef PEGASUS_X86_KERNELS
 #include <immintrin.h>
 // GCC 12's AVX-512 intrinsics start some results from _mm512_undefined_*() (a variable initialised from
-// itself), which -Wmaybe-uninitialized reports at every use.
+// itself), which -Wmaybe-uninitialized reports at every use (a GCC warning; clang has none of that name).
+#ifndef __clang__
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 #endif
 
 namespace pegasus::detail {
