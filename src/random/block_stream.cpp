@@ -6,6 +6,8 @@
 #include <immintrin.h>
 // GCC 12's AVX-512 intrinsics start some results from _mm512_undefined_*() (a variable initialised from
 // itself), which -Wmaybe-uninitialized reports at every use (a GCC warning; clang has none of that name).
+// Pushed, and popped at the end of the file: in a unity build the next file shares this unit.
+#pragma GCC diagnostic push
 #ifndef __clang__
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #endif
@@ -194,3 +196,7 @@ void philox_uniforms(std::uint32_t key0, std::uint32_t key1, std::uint64_t first
 }
 
 }  // namespace pegasus::detail
+
+#ifdef PEGASUS_X86_KERNELS
+#pragma GCC diagnostic pop
+#endif

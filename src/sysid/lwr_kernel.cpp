@@ -3,12 +3,12 @@
 // (core/instruction_set.hpp) and chosen at run time (lwr.cpp).
 //
 // Reproducibility: the three versions run the same IEEE operations in the same order (every multiply-add
-// fused, std::fma in the scalar one; the project compiles without -ffast-math and with -ffp-contract=off, the
-// default of -std=c++20), so a refit gives the same bits whichever runs, on any x86-64 machine, for any
-// thread count. What is not reproducible across machines: the solve's few steps outside Factor (lwr.cpp:
-// scaling, the leverage's substitution; compiled for the build's baseline instruction set) may round
-// differently under another compiler, other flags or another architecture, and fit_exact uses the C library's
-// exp.
+// fused, std::fma in the scalar one; the project compiles without -ffast-math and with -ffp-contract=off, set
+// for every compiler in CMakeLists.txt), so a refit gives the same bits whichever runs, on any x86-64
+// machine, for any thread count. What is not reproducible across machines: the solve's few steps outside
+// Factor (lwr.cpp: scaling, the leverage's substitution; compiled for the build's baseline instruction set)
+// may round differently under another compiler, other flags or another architecture, and fit_exact uses the C
+// library's exp.
 #include "pegasus/sysid/lwr_kernel.hpp"
 
 #include <algorithm>

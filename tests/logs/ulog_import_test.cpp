@@ -425,4 +425,5 @@ TEST_F(LogImportCli, CutFileIsReadToItsLastWholeMessageOrRefusedOnRequest) {
   EXPECT_FALSE(fs::exists(dir_ / "early"));
 }
 
+#undef REQUIRE_SAMPLE  // a unity build compiles the next file in this unit
 }  // namespace

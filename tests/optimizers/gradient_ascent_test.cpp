@@ -14,7 +14,7 @@ namespace {
 
 using ::testing::HasSubstr;
 
-// Three parameters whose useful changes differ by four orders of magnitude.
+// Three parameters whose useful changes differ by four orders of magnitude (ThreeScaleSpec).
 TEST(GradientAscent, FindsTheMaximumOfABoundedConcaveQuadratic) {
   const Theta peak = {0.003, -2.5, 370.0};
   auto objective = ConcaveQuadratic(ThreeScaleSpec(), peak, {0.01, 1.0, 100.0}, 4.0);
