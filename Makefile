@@ -105,14 +105,19 @@ format-check:
 
 # clang-tidy over the library's, the CLI's and the Python bindings' sources (src/, apps/, python/src/, with the
 # public headers they include) by the repo's .clang-tidy (python/.clang-tidy lets pybind11's handles pass by
-# value): any finding fails. Uses the build directory's compile_commands.json (configure writes it); the
-# bindings' -fno-fat-lto-objects is GCC's, which clang-tidy's clang would report.
-tidy: configure
-	@run-clang-tidy -p $(BUILD) -j $(JOBS) -quiet -extra-arg=-Wno-unknown-warning-option \
+# value): any finding fails. Uses the compile_commands.json of a folder configured (not built) without unity
+# builds, whose entries are the source files themselves (a unity build's are its generated units, which the
+# file filters below would not match); the bindings' -fno-fat-lto-objects is GCC's, which clang-tidy's clang
+# would report.
+TIDY ?= build-tidy
+tidy: deps
+	@cmake -S . -B $(TIDY) -DCMAKE_BUILD_TYPE=Release -DPEGASUS_UNITY_BUILD=OFF -DPEGASUS_UNITY_TESTS=OFF \
+	  $(call gen,$(TIDY)) >/dev/null
+	@run-clang-tidy -p $(TIDY) -j $(JOBS) -quiet -extra-arg=-Wno-unknown-warning-option \
 	  -extra-arg=-Wno-ignored-optimization-argument "$(CURDIR)/src/" "$(CURDIR)/apps/" "$(CURDIR)/python/src/" \
-	  > $(BUILD)/tidy.log 2>&1 || { sed 's/\x1b\[[0-9;]*m//g' $(BUILD)/tidy.log | grep -E "(error|warning): " | sort -u; \
-	  echo "tidy: findings above (whole output: $(BUILD)/tidy.log)"; exit 1; }
+	  > $(TIDY)/tidy.log 2>&1 || { sed 's/\x1b\[[0-9;]*m//g' $(TIDY)/tidy.log | grep -E "(error|warning): " | sort -u; \
+	  echo "tidy: findings above (whole output: $(TIDY)/tidy.log)"; exit 1; }
 	@echo "tidy: no findings"
 
 clean:
-	rm -rf $(BUILD) $(ASAN) $(FUZZ)
+	rm -rf $(BUILD) $(ASAN) $(FUZZ) $(TIDY)
