@@ -395,6 +395,7 @@ def identify(log: FlightLog, *, rate_hz: float = 10.0, local: bool = True, extra
              intercept: bool = True, templates: bool = True, window_s: float = 16.0, cv_points: int = 300,
              scale_grid: Sequence[float] = ..., coordinate_passes: int = 1,
              bandwidth_floor: Mapping[str, float] = ..., noise: str = "white", calibrate_noise: bool = False,
+             calibration_leave_out_s: float = 2.0, calibration_spacing_s: float = 0.5,
              threads: int = 1) -> IdentifiedModel: ...
 def horizon_mse(model: IdentifiedModel, test: FlightLog, *, horizon_s: float = 10.0, start_spacing_s: float = 2.0,
                 threads: int = 1) -> dict: ...

@@ -136,10 +136,13 @@ variables' changes, its bandwidth and noise. Save it as the model.json `pegasus 
       [](const FlightLog& log, double rate_hz, bool local, bool extra_states, bool intercept, bool templates,
          double window_s, std::int64_t cv_points, std::vector<double> scale_grid,
          std::int64_t coordinate_passes, const std::map<std::string, double>& bandwidth_floor,
-         const std::string& noise, bool calibrate_noise, std::int64_t threads) {
+         const std::string& noise, bool calibrate_noise, double calibration_leave_out_s,
+         double calibration_spacing_s, std::int64_t threads) {
         sysid::IdentifyOptions o;
         o.noise = sysid::parse_noise_model(noise);  // InputError: a ValueError (module.cpp)
         o.calibrate_noise = calibrate_noise;
+        o.calibration_leave_out_s = calibration_leave_out_s;
+        o.calibration_spacing_s = calibration_spacing_s;
         for (const auto& [key, value] : bandwidth_floor) {
           double* field = key == "angle_rad"      ? &o.min_bandwidth.angle_rad
                           : key == "velocity_mps" ? &o.min_bandwidth.velocity_mps
@@ -175,7 +178,10 @@ variables' changes, its bandwidth and noise. Save it as the model.json `pegasus 
       py::arg("window_s") = 16.0, py::arg("cv_points") = 300,
       py::arg("scale_grid") = std::vector<double>{0.5, 1, 2, 4, 8}, py::arg("coordinate_passes") = 1,
       py::arg("bandwidth_floor") = std::map<std::string, double>{}, py::arg("noise") = "white",
-      py::arg("calibrate_noise") = false, py::arg("threads") = 1,
+      py::arg("calibrate_noise") = false,
+      py::arg("calibration_leave_out_s") = sysid::IdentifyOptions{}.calibration_leave_out_s,
+      py::arg("calibration_spacing_s") = sysid::IdentifyOptions{}.calibration_spacing_s,
+      py::arg("threads") = 1,
       "Identifies a model from a training log as `pegasus heli identify` does (same options, same bits, any "
       "threads). bandwidth_floor overrides the narrowest bandwidths (keys angle_rad, velocity_mps, "
       "rate_radps, "

@@ -173,6 +173,12 @@ void declare_identify_config(ConfigSchema& s) {
       "scale each output's noise, the part the model flies and (ar1+measurement) the log's own error apart, "
       "so that the training log's own noise check (each window predicted without its data) has about 4.55% "
       "of its steps outside +-2 sd in each of three spans of the reset window (to 1/4, 1/2 and all of it)");
+  s.add_double("calibration_leave_out_s", id.calibration_leave_out_s,
+               "calibrate_noise predicts each window without the training rows within half this of it, s")
+      .range(0, 1000);
+  s.add_double("calibration_spacing_s", id.calibration_spacing_s,
+               "calibrate_noise starts a window this often on the training log (overlapping windows), s")
+      .range(0.01, 1000);
   s.add_double("horizon_s", d.horizon_s, "longest prediction horizon of the report, s").range(0.1, 100);
   s.add_double("start_spacing_s", d.start_spacing_s,
                "spacing of the open-loop prediction starts on the test log, s")
@@ -214,6 +220,8 @@ IdentifyRunOptions read_identify_config(const ConfigSchema& c) {
   id.min_bandwidth = read_bandwidth_floor(c);
   id.noise = sysid::parse_noise_model(c.get_string("noise"));
   id.calibrate_noise = c.get_bool("calibrate_noise");
+  id.calibration_leave_out_s = c.get_double("calibration_leave_out_s");
+  id.calibration_spacing_s = c.get_double("calibration_spacing_s");
   return o;
 }
 

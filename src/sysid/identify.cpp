@@ -58,6 +58,8 @@ bool IdentifyOptions::IsValid(std::string* error) const {
   for (double s : scale_grid)
     if (!(s > 0)) return fail("scale_grid values must be positive");
   if (coordinate_passes < 0) return fail("coordinate_passes must be >= 0");
+  if (!(calibration_leave_out_s >= 0)) return fail("calibration_leave_out_s must be >= 0");
+  if (!(calibration_spacing_s > 0)) return fail("calibration_spacing_s must be positive");
   return true;
 }
 
@@ -488,12 +490,14 @@ IdentifiedModel identify(const FlightLog& train, const IdentifyOptions& o, Threa
   if (o.calibrate_noise) {
     // The noise check on the training log with the model as identified, its bands split by noise source, and
     // the scales that put the errors' 95.45th percentiles at 2 sd in each of three spans of the reset window.
-    // Each window is predicted by fits that leave out what cross-validation leaves out around a point
-    // (window_s): on data it was fitted to a locally weighted model's errors are too small.
+    // Each window is predicted by fits that leave out its rows and calibration_leave_out_s / 2 on either side
+    // (on data it was fitted to, a locally weighted model's errors are too small), and the windows overlap
+    // (calibration_spacing_s) so that a short log still gives enough of them (IdentifyOptions).
     constexpr double kReset = 2.0;
     const IdentifiedModel current(structure, data, best_inv, sigma2, correlation);
-    const NoiseScale scale =
-        fit_noise_scale(noise_band_terms(current, train, kReset, o.window_s, pool), current.dt(), kReset);
+    const NoiseScale scale = fit_noise_scale(
+        noise_band_terms(current, train, kReset, o.calibration_leave_out_s, pool, o.calibration_spacing_s),
+        current.dt(), kReset);
     const BodyVec before = sigma2;
     std::tie(sigma2, correlation) = scaled_noise(sigma2, correlation, scale);
     if (report) {

@@ -1,6 +1,7 @@
 // The noise's correlation in time (identify.hpp: NoiseModel): the residuals' autocorrelation, the AR(1) and
 // logged-error fits to it, and the closed-loop bias check that whitens with them.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -246,52 +247,80 @@ NoiseScale fit_noise_scale(const NoiseBandTerms& terms, double dt, double reset_
     return seconds <= reset_s / 4 ? 0 : seconds <= reset_s / 2 ? 1 : 2;
   };
   const int sources = terms.sources;
-  // Sources that reach some band (a variable fixed by nothing has none): only these are searched.
-  std::vector<char> active(static_cast<std::size_t>(sources), 0);
-  for (const auto& b : terms.band)
-    for (int q = 0; q < sources; ++q)
-      if (b.col(q).maxCoeff() > 0) active[static_cast<std::size_t>(q)] = 1;
-  std::array<std::vector<std::size_t>, kBins> steps_in;
-  for (std::size_t i = 0; i < terms.horizon.size(); ++i)
-    steps_in[static_cast<std::size_t>(bin_of(terms.horizon[i]))].push_back(i);
-  std::vector<double> z;
-  auto loss = [&](const Eigen::VectorXd& log_scale) {
-    const Eigen::VectorXd scale = log_scale.array().exp();
-    double total = 0;
-    for (const auto& steps : steps_in) {
-      if (steps.size() < 20) continue;  // too few for a 95th percentile
-      for (int k = 0; k < kBodyVars; ++k) {
-        z.clear();
-        for (std::size_t i : steps) {
-          const double band = terms.band[i].row(k).dot(scale);
-          if (band > 0) z.push_back(terms.error[i][k] / std::sqrt(band));
-        }
-        if (z.size() < 20) continue;
-        const auto at = static_cast<std::size_t>(std::ceil(kCoverage * static_cast<double>(z.size()))) - 1;
-        std::nth_element(z.begin(), z.begin() + static_cast<std::ptrdiff_t>(at), z.end());
-        if (z[at] <= 0) continue;
-        const double miss = std::log(z[at] / 2);
-        total += miss * miss;
-      }
+  // The steps ordered by span, and each variable's bands by source as one column-major matrix over them, so
+  // that a span's bands under any scales are one contiguous matrix-vector product.
+  std::array<Eigen::Index, kBins + 1> first{};
+  std::vector<std::size_t> order;
+  for (int b = 0; b < kBins; ++b) {
+    first[static_cast<std::size_t>(b)] = static_cast<Eigen::Index>(order.size());
+    for (std::size_t i = 0; i < terms.horizon.size(); ++i)
+      if (bin_of(terms.horizon[i]) == b) order.push_back(i);
+  }
+  first[kBins] = static_cast<Eigen::Index>(order.size());
+  const auto n = static_cast<Eigen::Index>(order.size());
+  std::array<Eigen::MatrixXd, kBodyVars> band;
+  std::array<Eigen::VectorXd, kBodyVars> error;
+  for (int k = 0; k < kBodyVars; ++k) {
+    band[static_cast<std::size_t>(k)].resize(n, sources);
+    error[static_cast<std::size_t>(k)].resize(n);
+    for (Eigen::Index r = 0; r < n; ++r) {
+      const std::size_t i = order[static_cast<std::size_t>(r)];
+      band[static_cast<std::size_t>(k)].row(r) = terms.band[i].row(k);
+      error[static_cast<std::size_t>(k)][r] = terms.error[i][k];
     }
-    return total + kPenalty * log_scale.squaredNorm();
+  }
+  // Which variables each source reaches (a variable fixed by nothing is reached by none): a move of one
+  // source changes only those variables' percentiles, and only sources that reach some are searched.
+  std::vector<std::vector<int>> reaches(static_cast<std::size_t>(sources));
+  for (int q = 0; q < sources; ++q)
+    for (int k = 0; k < kBodyVars; ++k)
+      if (band[static_cast<std::size_t>(k)].col(q).maxCoeff() > 0)
+        reaches[static_cast<std::size_t>(q)].push_back(k);
+  // The squared log misses of a variable's percentiles over the spans under the scales.
+  std::vector<double> z;
+  Eigen::VectorXd bands;
+  auto variable_loss = [&](int k, const Eigen::VectorXd& scale) {
+    bands.noalias() = band[static_cast<std::size_t>(k)] * scale;
+    double total = 0;
+    for (int b = 0; b < kBins; ++b) {
+      const Eigen::Index from = first[static_cast<std::size_t>(b)],
+                         to = first[static_cast<std::size_t>(b) + 1];
+      if (to - from < 20) continue;  // too few for a 95th percentile
+      z.clear();
+      for (Eigen::Index r = from; r < to; ++r)
+        if (bands[r] > 0) z.push_back(error[static_cast<std::size_t>(k)][r] / std::sqrt(bands[r]));
+      if (z.size() < 20) continue;
+      const auto at = static_cast<std::size_t>(std::ceil(kCoverage * static_cast<double>(z.size()))) - 1;
+      std::nth_element(z.begin(), z.begin() + static_cast<std::ptrdiff_t>(at), z.end());
+      if (z[at] <= 0) continue;
+      const double miss = std::log(z[at] / 2);
+      total += miss * miss;
+    }
+    return total;
   };
   Eigen::VectorXd log_scale = Eigen::VectorXd::Zero(sources);
-  double best = loss(log_scale);
+  BodyVec misses;
+  for (int k = 0; k < kBodyVars; ++k) misses[k] = variable_loss(k, Eigen::VectorXd::Ones(sources));
+  double best = misses.sum();  // the penalty is 0 at scales 1
   // Coordinate search with steps x2, x2^(1/2), ... x2^(1/16); each step size until no move improves.
   for (double step = std::log(2.0); step > std::log(2.0) / 17; step /= 2) {
     for (bool moved = true; moved;) {
       moved = false;
       for (int q = 0; q < sources; ++q) {
-        if (!active[static_cast<std::size_t>(q)]) continue;
+        const std::vector<int>& touched = reaches[static_cast<std::size_t>(q)];
+        if (touched.empty()) continue;
         for (double direction : {1.0, -1.0}) {
           Eigen::VectorXd trial = log_scale;
           trial[q] = std::clamp(trial[q] + direction * step, -kLimit, kLimit);
           if (trial[q] == log_scale[q]) continue;
-          const double l = loss(trial);
+          const Eigen::VectorXd scale = trial.array().exp();
+          BodyVec trial_misses = misses;
+          for (int k : touched) trial_misses[k] = variable_loss(k, scale);
+          const double l = trial_misses.sum() + kPenalty * trial.squaredNorm();
           if (l < best) {
             best = l;
             log_scale = trial;
+            misses = trial_misses;
             moved = true;
             break;
           }

@@ -277,6 +277,31 @@ EkfVec mean_step(const IdentifiedModel& model, const EkfVec& z, const std::array
 
 namespace {
 
+// pa = ja pa ja' for the augmented filter's Jacobian ja = [[jac, R, 0], [0, R, 0], [0, 0, Rm]] (R = diag(rho)
+// from the AR parts c into the body variables and into c itself, Rm = diag(rho_m) on the logged errors m),
+// without forming ja: most of it is zeros, and the calibration runs this once per noise source at every step
+// of windows that overlap.
+void propagate_augmented(Eigen::MatrixXd& pa, Eigen::MatrixXd& scratch, const EkfMat& jac, const BodyVec& rho,
+                         const BodyVec& rho_m, int c0, int m0, bool ar, bool measured) {
+  scratch.resize(pa.rows(), pa.cols());
+  scratch.topRows<kEkfStates>().noalias() = jac * pa.topRows<kEkfStates>();
+  for (int j = 0; j < kBodyVars; ++j) {
+    if (ar) {
+      scratch.row(j) += rho[j] * pa.row(c0 + j);
+      scratch.row(c0 + j) = rho[j] * pa.row(c0 + j);
+    }
+    if (measured) scratch.row(m0 + j) = rho_m[j] * pa.row(m0 + j);
+  }
+  pa.leftCols<kEkfStates>().noalias() = scratch.leftCols<kEkfStates>() * jac.transpose();
+  for (int j = 0; j < kBodyVars; ++j) {
+    if (ar) {
+      pa.col(j) += rho[j] * scratch.col(c0 + j);
+      pa.col(c0 + j) = rho[j] * scratch.col(c0 + j);
+    }
+    if (measured) pa.col(m0 + j) = rho_m[j] * scratch.col(m0 + j);
+  }
+}
+
 // Runs Fig 5.3's filter over the log once per set of noise scales and calls
 // visit(r0, t, truth, mean, band variances of each set) after every step counted (t: model steps since the
 // reset at log row r0, 0-based). The mean trajectory, its local fits and Jacobians do not depend on the
@@ -285,7 +310,8 @@ namespace {
 // window, as cross-validation leaves out a window around each point.
 template <typename Visit>
 void run_noise_filter(const IdentifiedModel& model, const FlightLog& test, double reset_s, double leave_out_s,
-                      const std::vector<NoiseScale>& scales, ThreadPool& pool, Visit&& visit) {
+                      double start_spacing_s, const std::vector<NoiseScale>& scales, ThreadPool& pool,
+                      Visit&& visit) {
   const LogAtRate lr = log_at_rate(model, test);
   const auto k = lr.step;
   const auto seg = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(reset_s / model.dt())));
@@ -311,7 +337,11 @@ void run_noise_filter(const IdentifiedModel& model, const FlightLog& test, doubl
     std::vector<BodyVec> bands;
   };
   std::vector<std::size_t> starts;
-  for (std::size_t r0 = 0; r0 + k < test.rows(); r0 += seg * k) starts.push_back(r0);
+  const std::size_t stride =
+      start_spacing_s > 0
+          ? std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(start_spacing_s / model.dt())))
+          : seg;
+  for (std::size_t r0 = 0; r0 + k < test.rows(); r0 += stride * k) starts.push_back(r0);
   std::vector<std::vector<Step>> windows(starts.size());
   pool.parallel_for(starts.size(), [&](std::size_t w) {
     const std::size_t r0 = starts[w];
@@ -330,6 +360,7 @@ void run_noise_filter(const IdentifiedModel& model, const FlightLog& test, doubl
     // velocity errors integrate attitude errors: it shrinks the bands of the integrated variables.
     std::vector<EkfMat> p(sets, EkfMat::Zero());
     std::vector<Eigen::MatrixXd> pa(sets);  // the augmented filter's covariance (states x states)
+    Eigen::MatrixXd scratch;
     if (ar || measured) {
       for (std::size_t q = 0; q < sets; ++q) {
         pa[q] = Eigen::MatrixXd::Zero(states, states);
@@ -369,31 +400,27 @@ void run_noise_filter(const IdentifiedModel& model, const FlightLog& test, doubl
           band_var[q] = p[q].diagonal().head<kBodyVars>();
         }
       } else {
-        Eigen::MatrixXd ja = Eigen::MatrixXd::Zero(states, states);
-        ja.topLeftCorner(kEkfStates, kEkfStates) = jac;
-        for (int j = 0; j < kBodyVars; ++j) {
-          if (ar) ja(j, c0 + j) = ja(c0 + j, c0 + j) = nc_model.rho[j];
-          if (measured) ja(m0 + j, m0 + j) = nc_model.measurement_rho[j];
-        }
         for (std::size_t q = 0; q < sets; ++q) {
-          Eigen::MatrixXd noise = Eigen::MatrixXd::Zero(states, states);
+          Eigen::MatrixXd& pq = pa[q];
+          propagate_augmented(pq, scratch, jac, nc_model.rho, nc_model.measurement_rho, c0, m0, ar, measured);
           for (int j = 0; j < kBodyVars; ++j) {
             const double share = nc_model.share[j], process = scales[q].process[j];
-            noise(j, j) = (1 - share - nc_model.measurement_share[j]) * var[j] * process;
+            double body = (1 - share - nc_model.measurement_share[j]) * var[j] * process;
             if (ar) {
               const double rho = nc_model.rho[j];
               const double eta = share * var[j] * (1 - rho * rho) * process;
-              noise(j, j) += eta;
-              noise(j, c0 + j) = noise(c0 + j, j) = eta;
-              noise(c0 + j, c0 + j) = eta;
+              body += eta;
+              pq(j, c0 + j) += eta;
+              pq(c0 + j, j) += eta;
+              pq(c0 + j, c0 + j) += eta;
             }
+            pq(j, j) += body;
             if (measured) {
               const double rho_m = nc_model.measurement_rho[j];
-              noise(m0 + j, m0 + j) = nc_model.measurement_variance(j, model.sigma2()[j]) *
-                                      (1 - rho_m * rho_m) * scales[q].measurement[j];
+              pq(m0 + j, m0 + j) += nc_model.measurement_variance(j, model.sigma2()[j]) *
+                                    (1 - rho_m * rho_m) * scales[q].measurement[j];
             }
           }
-          pa[q] = ja * pa[q] * ja.transpose() + noise;
           band_var[q] = pa[q].diagonal().head<kBodyVars>();
           if (measured)
             for (int j = 0; j < kBodyVars; ++j)
@@ -419,7 +446,7 @@ NoiseCheck noise_check(const IdentifiedModel& model, const FlightLog& test, doub
   out.outside_by_horizon.assign(seg, BodyVec::Zero());
   out.steps_by_horizon.assign(seg, 0);
   BodyVec outside = BodyVec::Zero();
-  run_noise_filter(model, test, reset_s, 0.0, {NoiseScale{}}, pool,
+  run_noise_filter(model, test, reset_s, 0.0, 0.0, {NoiseScale{}}, pool,
                    [&](std::size_t r0, std::size_t t, const BodyVec& truth, const BodyVec& mean,
                        const std::vector<BodyVec>& bands) {
                      const BodyVec& band_var = bands.front();
@@ -451,7 +478,7 @@ NoiseCheck noise_check(const IdentifiedModel& model, const FlightLog& test, doub
 }
 
 NoiseBandTerms noise_band_terms(const IdentifiedModel& model, const FlightLog& test, double reset_s,
-                                double leave_out_s, ThreadPool& pool) {
+                                double leave_out_s, ThreadPool& pool, double start_spacing_s) {
   NoiseBandTerms out;
   const bool measured = model.noise_correlation().has_measurement();
   std::vector<NoiseScale> unit;
@@ -467,7 +494,7 @@ NoiseBandTerms noise_band_terms(const IdentifiedModel& model, const FlightLog& t
       unit.push_back(measurement);
     }
   out.sources = static_cast<int>(unit.size());
-  run_noise_filter(model, test, reset_s, leave_out_s, unit, pool,
+  run_noise_filter(model, test, reset_s, leave_out_s, start_spacing_s, unit, pool,
                    [&](std::size_t, std::size_t t, const BodyVec& truth, const BodyVec& mean,
                        const std::vector<BodyVec>& bands) {
                      out.horizon.push_back(static_cast<int>(t));

@@ -88,12 +88,19 @@ def test_ar1_noise_is_the_clis(logs, cli, tmp_path):
     for key, b in bias.items():
         assert cli_bias["/".join(key)]["whitened"] == b["whitened"]
     result = subprocess.run([cli, "heli", "identify", "--train", train, "--test", test, *IDENTIFY, "--threads", "2",
-                             "--noise", "ar1", "--calibrate-noise", "--out", str(tmp_path / "calibrated")],
+                             "--noise", "ar1", "--calibrate-noise", "--calibration-leave-out-s", "16",
+                             "--calibration-spacing-s", "2", "--out", str(tmp_path / "calibrated")],
                             capture_output=True, text=True)
     assert result.returncode == 0, result.stdout + result.stderr
     calibrated = pegasus.identify(pegasus.read_flight_log(train), noise="ar1", calibrate_noise=True, cv_points=60,
-                                  scale_grid=[1.0, 4.0], coordinate_passes=0)
+                                  scale_grid=[1.0, 4.0], coordinate_passes=0, calibration_leave_out_s=16.0,
+                                  calibration_spacing_s=2.0)
     assert calibrated.to_json() == json.loads((tmp_path / "calibrated" / "model.json").read_text())
+    # The calibration's windows are options of their own: the defaults (1 s either side, every 0.5 s) fit
+    # other scales.
+    assert calibrated.to_json() != pegasus.identify(pegasus.read_flight_log(train), noise="ar1",
+                                                    calibrate_noise=True, cv_points=60, scale_grid=[1.0, 4.0],
+                                                    coordinate_passes=0).to_json()
     summary = json.loads((tmp_path / "calibrated" / "summary.json").read_text())
     # An AR(1) model has no measurement part: its sd factors are the square roots of its process scales.
     assert set(summary["noise_scale"]) == {"process"}

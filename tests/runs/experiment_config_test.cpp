@@ -173,6 +173,8 @@ TEST(ExperimentConfig, HelicopterSectionsReadTheirDefaults) {
   EXPECT_EQ(id.coordinate_passes, id_defaults.coordinate_passes);
   EXPECT_EQ(id.noise, id_defaults.noise);
   EXPECT_EQ(id.calibrate_noise, id_defaults.calibrate_noise);
+  EXPECT_EQ(id.calibration_leave_out_s, id_defaults.calibration_leave_out_s);
+  EXPECT_EQ(id.calibration_spacing_s, id_defaults.calibration_spacing_s);
   EXPECT_EQ(id.min_bandwidth.control, id_defaults.min_bandwidth.control);
   EXPECT_EQ(id.min_bandwidth.angle_rad, id_defaults.min_bandwidth.angle_rad);
   EXPECT_EQ(identify.horizon_s, identify_defaults.horizon_s);
