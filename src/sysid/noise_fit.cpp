@@ -258,6 +258,7 @@ NoiseScale fit_noise_scale(const NoiseBandTerms& terms, double dt, double reset_
   }
   first[kBins] = static_cast<Eigen::Index>(order.size());
   const auto n = static_cast<Eigen::Index>(order.size());
+  if (n == 0) return {};  // no step counted (every window's first fit singular): nothing to scale by
   std::array<Eigen::MatrixXd, kBodyVars> band;
   std::array<Eigen::VectorXd, kBodyVars> error;
   for (int k = 0; k < kBodyVars; ++k) {

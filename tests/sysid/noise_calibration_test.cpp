@@ -136,6 +136,15 @@ TEST(NoiseCalibration, FitGivesBackTheScalesOfErrorsDrawnWithThem) {
   }
 }
 
+// A check that counted no step (every window's first local fit singular) leaves every scale at 1.
+TEST(NoiseCalibration, NoStepsCountedLeavesTheScalesAtOne) {
+  NoiseBandTerms terms;
+  terms.sources = 2 * kBodyVars;
+  const NoiseScale fitted = fit_noise_scale(terms, 0.1, 2.0);
+  EXPECT_EQ(fitted.process, BodyVec::Ones());
+  EXPECT_EQ(fitted.measurement, BodyVec::Ones());
+}
+
 // scaled_noise moves each part of the variance by its own scale: the process part the model flies (white and
 // AR(1)) by the process scale, the logged error's by the measurement scale.
 TEST(NoiseCalibration, ScaledNoiseScalesEachPartByItsOwnScale) {
