@@ -174,7 +174,8 @@ void declare_identify_config(ConfigSchema& s) {
       "so that the training log's own noise check (each window predicted without its data) has about 4.55% "
       "of its steps outside +-2 sd in each of three spans of the reset window (to 1/4, 1/2 and all of it)");
   s.add_double("calibration_leave_out_s", id.calibration_leave_out_s,
-               "calibrate_noise predicts each window without the training rows within half this of it, s")
+               "calibrate_noise predicts each window without the training rows within half this of it (0: in "
+               "sample), s")
       .range(0, 1000);
   s.add_double("calibration_spacing_s", id.calibration_spacing_s,
                "calibrate_noise starts a window this often on the training log (overlapping windows), s")

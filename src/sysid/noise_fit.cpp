@@ -270,13 +270,17 @@ NoiseScale fit_noise_scale(const NoiseBandTerms& terms, double dt, double reset_
       error[static_cast<std::size_t>(k)][r] = terms.error[i][k];
     }
   }
-  // Which variables each source reaches (a variable fixed by nothing is reached by none): a move of one
-  // source changes only those variables' percentiles, and only sources that reach some are searched.
+  // Which variables each source reaches: a move of one source changes only those variables' percentiles
+  // (any nonzero entry, a band's rounding below 0 included). Only sources that widen some band are searched
+  // (a variable fixed by nothing widens none).
   std::vector<std::vector<int>> reaches(static_cast<std::size_t>(sources));
+  std::vector<char> searched(static_cast<std::size_t>(sources), 0);
   for (int q = 0; q < sources; ++q)
-    for (int k = 0; k < kBodyVars; ++k)
-      if (band[static_cast<std::size_t>(k)].col(q).maxCoeff() > 0)
-        reaches[static_cast<std::size_t>(q)].push_back(k);
+    for (int k = 0; k < kBodyVars; ++k) {
+      const auto column = band[static_cast<std::size_t>(k)].col(q).array();
+      if ((column != 0).any()) reaches[static_cast<std::size_t>(q)].push_back(k);
+      if ((column > 0).any()) searched[static_cast<std::size_t>(q)] = 1;
+    }
   // The squared log misses of a variable's percentiles over the spans under the scales.
   std::vector<double> z;
   Eigen::VectorXd bands;
@@ -308,8 +312,8 @@ NoiseScale fit_noise_scale(const NoiseBandTerms& terms, double dt, double reset_
     for (bool moved = true; moved;) {
       moved = false;
       for (int q = 0; q < sources; ++q) {
+        if (!searched[static_cast<std::size_t>(q)]) continue;
         const std::vector<int>& touched = reaches[static_cast<std::size_t>(q)];
-        if (touched.empty()) continue;
         for (double direction : {1.0, -1.0}) {
           Eigen::VectorXd trial = log_scale;
           trial[q] = std::clamp(trial[q] + direction * step, -kLimit, kLimit);

@@ -104,9 +104,9 @@ struct IdentifyOptions {
   // by measurement: over four 339 s training flights of each shipped aircraft against a 1,400 s hold-out
   // flight, the cells (outputs x horizons 0.5, 1, 2 s) outside 3-7% fell from 53 to 28 of 192, and 59 to 35
   // on a second hold-out flight (README, Calibrated noise).
-  double calibration_leave_out_s = 2;
-  double calibration_spacing_s = 0.5;
-  bool local = true;     // locally weighted (else globally linear with the same template)
+  double calibration_leave_out_s = 2;  // 0: in sample (each window's own rows kept)
+  double calibration_spacing_s = 0.5;  // rounded to whole model steps, at least one
+  bool local = true;                   // locally weighted (else globally linear with the same template)
   double window_s = 16;  // cross-validation leaves out this window around each held-out point (fn 5)
   int cv_points = 300;   // held-out points used by cross-validation and the noise estimate
   std::vector<double> scale_grid{0.5, 1, 2, 4, 8};  // bandwidth = scale * input standard deviation
