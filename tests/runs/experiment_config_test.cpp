@@ -93,6 +93,14 @@ TEST(ExperimentConfig, ValuesSetInTheSchemaReachTheOptions) {
   EXPECT_EQ(o.target.yaw, 0.5);
   EXPECT_EQ(o.optimizer.method, "cmaes");
   EXPECT_EQ(o.optimizer.cmaes.max_iterations, 9);
+
+  ConfigSchema id = defaults_of(heli::declare_identify_config);
+  id.set("calibration_leave_out_s", 6.0);
+  id.set("calibration_spacing_s", 0.25);
+  id.validate();
+  const sysid::IdentifyOptions identify = heli::read_identify_config(id).identify;
+  EXPECT_EQ(identify.calibration_leave_out_s, 6.0);
+  EXPECT_EQ(identify.calibration_spacing_s, 0.25);
 }
 
 TEST(ExperimentConfig, AVehicleFileFillsOnlyWhatTheUserLeftAtDefaults) {
@@ -173,8 +181,6 @@ TEST(ExperimentConfig, HelicopterSectionsReadTheirDefaults) {
   EXPECT_EQ(id.coordinate_passes, id_defaults.coordinate_passes);
   EXPECT_EQ(id.noise, id_defaults.noise);
   EXPECT_EQ(id.calibrate_noise, id_defaults.calibrate_noise);
-  EXPECT_EQ(id.calibration_leave_out_s, id_defaults.calibration_leave_out_s);
-  EXPECT_EQ(id.calibration_spacing_s, id_defaults.calibration_spacing_s);
   EXPECT_EQ(id.min_bandwidth.control, id_defaults.min_bandwidth.control);
   EXPECT_EQ(id.min_bandwidth.angle_rad, id_defaults.min_bandwidth.angle_rad);
   EXPECT_EQ(identify.horizon_s, identify_defaults.horizon_s);

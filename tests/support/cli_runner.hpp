@@ -13,6 +13,8 @@
 #include <string>
 #include <thread>
 
+#include "support/scratch_dir.hpp"
+
 namespace pegasus::test_support {
 
 struct CliResult {
@@ -85,13 +87,7 @@ inline std::string read_text(const std::filesystem::path& path) {
 // A fresh temporary directory per test, removed afterwards.
 class TempDirTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = std::filesystem::temp_directory_path() / ("pegasus-" + std::string(info->test_suite_name()) + "-" +
-                                                     info->name() + "-" + std::to_string(::getpid()));
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
-  }
+  void SetUp() override { dir_ = fresh_test_dir("pegasus-"); }
   void TearDown() override { std::filesystem::remove_all(dir_); }
   std::filesystem::path dir_;
 };
