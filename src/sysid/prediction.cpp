@@ -477,6 +477,24 @@ NoiseCheck noise_check(const IdentifiedModel& model, const FlightLog& test, doub
   return out;
 }
 
+std::vector<BandMisses> band_misses(const NoiseCheck& check, double dt, const std::vector<double>& seconds) {
+  std::vector<BandMisses> out;
+  for (double s : seconds) {
+    const long t = std::lround(s / dt) - 1;
+    if (t < 0 || static_cast<std::size_t>(t) >= check.steps_by_horizon.size() ||
+        check.steps_by_horizon[static_cast<std::size_t>(t)] == 0)
+      continue;
+    for (int k = 0; k < kBodyVars; ++k)
+      out.push_back({k, s, check.outside_by_horizon[static_cast<std::size_t>(t)][k]});
+  }
+  return out;
+}
+
+bool honest_misses(double outside) {
+  // A relative tolerance, so that a count exactly at a limit is inside however its quotient rounds.
+  return outside >= kHonestMissLow * (1 - 1e-9) && outside <= kHonestMissHigh * (1 + 1e-9);
+}
+
 NoiseBandTerms noise_band_terms(const IdentifiedModel& model, const FlightLog& test, double reset_s,
                                 double leave_out_s, ThreadPool& pool, double start_spacing_s) {
   NoiseBandTerms out;

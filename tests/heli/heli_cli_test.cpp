@@ -1,11 +1,13 @@
 // End-to-end tests of `pegasus heli pilot` and `pegasus heli identify` through the built CLI.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "pegasus/io/csv_table.hpp"
 #include "support/cli_runner.hpp"
 
 namespace fs = std::filesystem;
@@ -84,13 +86,44 @@ TEST_F(HeliCliWithLogs, IdentifyWritesSummaryKeysAndModel) {
         << k;
   EXPECT_EQ(s.at("noise"), "white");
   EXPECT_FALSE(s.contains("noise_correlation"));
+
+  // Every horizon's misses: one row per body variable and model step since a reset (10 Hz, reset every 2 s),
+  // the summary's three horizons among them with the same values, and a line that counts the summary's
+  // cells outside 3-7%.
+  const auto by_horizon = pegasus::CsvTable::load(dir_ / "id" / "noise_check_by_horizon.csv");
+  ASSERT_TRUE(by_horizon.has_value());
+  ASSERT_EQ(by_horizon->rows(), 20u * 8u);
+  const auto& seconds = by_horizon->numbers("seconds");
+  const auto variables = by_horizon->texts("variable");
+  const auto& outside = by_horizon->numbers("outside_2sigma");
+  const auto& steps = by_horizon->numbers("steps");
+  double counted = 0;
+  int summary_cells = 0, summary_outside = 0;
+  for (std::size_t i = 0; i < by_horizon->rows(); ++i) {
+    if (variables[i] == "roll") counted += steps[i];
+    for (const char* h : {"0.5", "1", "2"})
+      if (std::abs(seconds[i] - std::stod(h)) < 1e-9) {
+        EXPECT_EQ(outside[i], s.at("outside_2sigma_by_horizon").at(h).at(variables[i]).get<double>())
+            << h << " " << variables[i];
+        ++summary_cells;
+        summary_outside += outside[i] < 0.03 || outside[i] > 0.07 ? 1 : 0;
+      }
+  }
+  EXPECT_EQ(summary_cells, 24);
+  EXPECT_EQ(counted, s.at("noise_check_steps").get<double>());
+  EXPECT_NE(r.output.find("noise check on the hold-out log: " + std::to_string(summary_outside) +
+                          " of the 24 cells of outside_2sigma_by_horizon are outside 3-7%"),
+            std::string::npos)
+      << r.output;
+  EXPECT_TRUE(fs::exists(dir_ / "id" / "noise_check_by_horizon.svg"));
 }
 
 TEST_F(HeliCliWithLogs, IdentifyOutputsDoNotDependOnThreads) {
   const std::string args = "heli identify" + logs() + kIdentifySmall + " --variants=false";
   ASSERT_EQ(run(args + " --threads 1 --out " + (dir_ / "t1").string()).code, 0);
   ASSERT_EQ(run(args + " --threads 2 --out " + (dir_ / "t2").string()).code, 0);
-  for (const char* f : {"model.json", "mse_vs_horizon.csv", "noise_check.csv", "cross_validation.csv"})
+  for (const char* f : {"model.json", "mse_vs_horizon.csv", "noise_check.csv", "noise_check_by_horizon.csv",
+                        "cross_validation.csv"})
     EXPECT_EQ(read_text(dir_ / "t1" / f), read_text(dir_ / "t2" / f)) << f;
   auto a = nlohmann::json::parse(read_text(dir_ / "t1" / "summary.json"));
   auto b = nlohmann::json::parse(read_text(dir_ / "t2" / "summary.json"));

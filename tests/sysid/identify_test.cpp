@@ -431,8 +431,8 @@ TEST_F(IdentifyCli, KilledIdentificationResumesToTheSameResult) {
                        .get<std::size_t>());
   const auto resumed = test_support::run_pegasus(args + " --resume --out " + target.string());
   ASSERT_EQ(resumed.code, 0) << resumed.output;
-  for (const char* file :
-       {"summary.json", "model.json", "cross_validation.csv", "mse_vs_horizon.csv", "noise_check.csv"})
+  for (const char* file : {"summary.json", "model.json", "cross_validation.csv", "mse_vs_horizon.csv",
+                           "noise_check.csv", "noise_check_by_horizon.csv"})
     EXPECT_EQ(test_support::read_text(dir_ / "whole" / file), test_support::read_text(target / file)) << file;
 }
 

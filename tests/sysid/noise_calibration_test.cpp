@@ -100,6 +100,35 @@ TEST(NoiseCheck, OverlappingWindowsContainThePlainWindowsBitForBit) {
 // Errors drawn with known scales on split bands shaped as the filter's are (process parts growing with the
 // horizon, some reaching another variable, measurement parts flat): the fit gives the scales back (its small
 // pull towards 1 included).
+TEST(NoiseCheck, BandMissesReadTheCellsAtWholeStepsAndCountTheLimitsInside) {
+  // 10 Hz steps, a reset every 2 s: 20 horizons; cell (t, k) misses (t + 1) / 100 + k / 1000.
+  NoiseCheck check;
+  check.steps_by_horizon.assign(20, 700);
+  check.steps_by_horizon[9] = 0;  // nothing counted at 1 s
+  for (int t = 0; t < 20; ++t) {
+    BodyVec v;
+    for (int k = 0; k < kBodyVars; ++k) v[k] = (t + 1) / 100.0 + k / 1000.0;
+    check.outside_by_horizon.push_back(v);
+  }
+  // 0.5 s is step 5 (index 4) even when given as 0.52 s; 1 s has no steps; 3 s lies beyond the window.
+  const auto cells = band_misses(check, 0.1, {0.52, 1.0, 2.0, 3.0});
+  ASSERT_EQ(cells.size(), 2u * kBodyVars);
+  for (int k = 0; k < kBodyVars; ++k) {
+    EXPECT_EQ(cells[k].variable, k);
+    EXPECT_EQ(cells[k].seconds, 0.52);
+    EXPECT_EQ(cells[k].outside, check.outside_by_horizon[4][k]);
+    EXPECT_EQ(cells[kBodyVars + k].seconds, 2.0);
+    EXPECT_EQ(cells[kBodyVars + k].outside, check.outside_by_horizon[19][k]);
+  }
+  // 21 and 49 of 700 steps are exactly 3% and 7%, inside however the division rounds; a step fewer or more is
+  // outside.
+  EXPECT_TRUE(honest_misses(21.0 / 700));
+  EXPECT_TRUE(honest_misses(49.0 / 700));
+  EXPECT_TRUE(honest_misses(0.0455));
+  EXPECT_FALSE(honest_misses(20.0 / 700));
+  EXPECT_FALSE(honest_misses(50.0 / 700));
+}
+
 TEST(NoiseCalibration, FitGivesBackTheScalesOfErrorsDrawnWithThem) {
   const double dt = 0.1, reset_s = 2.0;
   NoiseScale truth;

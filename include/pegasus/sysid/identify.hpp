@@ -266,6 +266,22 @@ struct NoiseCheck {
 NoiseCheck noise_check(const IdentifiedModel& model, const FlightLog& test, double reset_s,
                        double trace_seconds, ThreadPool& pool);
 
+// An honest noise model leaves about 4.55% of the steps outside +-2 sd at every horizon; the issue's
+// tolerance for a hold-out flight is 3-7%.
+inline constexpr double kHonestMissLow = 0.03, kHonestMissHigh = 0.07;
+// One body variable's misses at one horizon (seconds after a reset).
+struct BandMisses {
+  int variable = 0;
+  double seconds = 0;
+  double outside = 0;  // fraction of the steps outside +-2 sd
+};
+// The check's cells at the given horizons (each rounded to whole model steps; a horizon with no step counted
+// is left out), horizon by horizon in the order given, each with every body variable.
+std::vector<BandMisses> band_misses(const NoiseCheck& check, double dt, const std::vector<double>& seconds);
+// Whether a fraction outside +-2 sd is within [kHonestMissLow, kHonestMissHigh]; a cell exactly at a limit
+// counts as inside, however count / steps rounds.
+bool honest_misses(double outside);
+
 // The noise check's band variances split by noise source. The filter's covariance is linear in the noise
 // covariances (the mean trajectory and its Jacobians do not depend on them), so the bands of the model with
 // its noise scaled are band * (the scales as one vector). Sources (columns of band): the process noise of
