@@ -21,8 +21,9 @@ using namespace pegasus::sysid;
 namespace {
 
 // One line on whether the bands are honest on the hold-out log: the summary's cells outside 3-7%, the widest
-// misses first, then the count at every horizon.
-std::string noise_check_line(const std::vector<BandMisses>& reported, const NoiseCheck& check, double dt) {
+// misses first, then the count at every horizon (model steps at the nominal rate).
+std::string noise_check_line(const std::vector<BandMisses>& reported, const NoiseCheck& check,
+                             double rate_hz) {
   std::vector<BandMisses> wide, narrow;
   for (const BandMisses& m : reported)
     if (!honest_misses(m.outside)) (m.outside < kHonestMissLow ? wide : narrow).push_back(m);
@@ -43,13 +44,16 @@ std::string noise_check_line(const std::vector<BandMisses>& reported, const Nois
   for (std::size_t t = 0; t < check.steps_by_horizon.size(); ++t)
     for (int k = 0; k < kBodyVars && check.steps_by_horizon[t] > 0; ++k, ++every)
       every_honest += honest_misses(check.outside_by_horizon[t][k]) ? 1 : 0;
-  std::string line = fmt::format(
-      "noise check on the hold-out log: {} of the {} cells of outside_2sigma_by_horizon are outside 3-7%",
-      wide.size() + narrow.size(), reported.size());
-  if (!narrow.empty()) line += "; bands too narrow: " + list(narrow, true);
-  if (!wide.empty()) line += "; too wide: " + list(wide, false);
-  return line + fmt::format("; at every horizon to {} s, {} of {} within (noise_check_by_horizon.csv)\n",
-                            format_double(static_cast<double>(check.steps_by_horizon.size()) * dt),
+  std::string line = "noise check on the hold-out log: ";
+  if (!reported.empty()) {
+    line += fmt::format("{} of the {} cells of outside_2sigma_by_horizon are outside 3-7%",
+                        wide.size() + narrow.size(), reported.size());
+    if (!narrow.empty()) line += "; bands too narrow: " + list(narrow, true);
+    if (!wide.empty()) line += "; too wide: " + list(wide, false);
+    line += "; ";
+  }
+  return line + fmt::format("at every horizon to {} s, {} of {} within 3-7% (noise_check_by_horizon.csv)\n",
+                            format_double(static_cast<double>(check.steps_by_horizon.size()) / rate_hz),
                             every_honest, every);
 }
 
@@ -171,10 +175,9 @@ void run_identify(const IdentifyRunOptions& options, RunSink& sink, ThreadPool& 
         .title = "Prediction with 2-sigma bands (Fig 5.3)",
         .intro =
             "The model's prediction from the true state, reset to the truth every few seconds; the band is 2 "
-            "standard deviations of the predicted state (noise_check.csv). Below, each body variable's share "
-            "of "
-            "the hold-out steps outside its band at each time since a reset (noise_check_by_horizon.csv): "
-            "honest bands miss about 4.55%, 3-7% on a flight of some minutes.",
+            "standard deviations of the predicted state (noise_check.csv). Below, each body variable's "
+            "share of the hold-out steps outside its band at each time since a reset "
+            "(noise_check_by_horizon.csv): honest bands miss about 4.55%, 3-7% on a flight of some minutes.",
         .charts = {chart, misses}});
     dir.write_chart_svg("noise_check.svg", chart);
     dir.write_chart_svg("noise_check_by_horizon.svg", misses);
@@ -302,7 +305,7 @@ void run_identify(const IdentifyRunOptions& options, RunSink& sink, ThreadPool& 
   if (m1.contains("1") && g1.contains("1"))
     sink.out << fmt::format("hold-out MSE at 1 s, xdot_b: {:.4g} (chosen) vs {:.4g} (global linear)\n",
                             m1["1"]["xdot_b"].get<double>(), g1["1"]["xdot_b"].get<double>());
-  sink.out << noise_check_line(reported_misses, nc, model.dt());
+  sink.out << noise_check_line(reported_misses, nc, o.structure.rate_hz);
   sink.out << "model: " << (dir.final_path() / "model.json").string() << "\n";
 }
 
