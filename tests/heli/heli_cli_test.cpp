@@ -118,6 +118,25 @@ TEST_F(HeliCliWithLogs, IdentifyWritesSummaryKeysAndModel) {
   EXPECT_TRUE(fs::exists(dir_ / "id" / "noise_check_by_horizon.svg"));
 }
 
+// A reset window shorter than 0.5 s has none of the summary's horizons: the line counts every horizon alone.
+TEST_F(HeliCliWithLogs, IdentifyWithAShortResetWindowCountsEveryHorizonOnly) {
+  const auto r = run("heli identify" + logs() + kIdentifySmall + " --variants=false --reset-s 0.3 --out " +
+                     (dir_ / "short").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto s = nlohmann::json::parse(read_text(dir_ / "short" / "summary.json"));
+  EXPECT_TRUE(s.at("outside_2sigma_by_horizon").empty()) << s.at("outside_2sigma_by_horizon").dump();
+  const auto by_horizon = pegasus::CsvTable::load(dir_ / "short" / "noise_check_by_horizon.csv");
+  ASSERT_TRUE(by_horizon.has_value());
+  ASSERT_EQ(by_horizon->rows(), 3u * 8u);  // 0.1, 0.2 and 0.3 s at 10 Hz
+  int within = 0;
+  for (double f : by_horizon->numbers("outside_2sigma")) within += f >= 0.03 && f <= 0.07 ? 1 : 0;
+  EXPECT_NE(r.output.find("noise check on the hold-out log: at every horizon to 0.3 s, " +
+                          std::to_string(within) + " of 24 within 3-7%"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(r.output.find("cells of outside_2sigma_by_horizon"), std::string::npos) << r.output;
+}
+
 TEST_F(HeliCliWithLogs, IdentifyOutputsDoNotDependOnThreads) {
   const std::string args = "heli identify" + logs() + kIdentifySmall + " --variants=false";
   ASSERT_EQ(run(args + " --threads 1 --out " + (dir_ / "t1").string()).code, 0);
