@@ -247,6 +247,48 @@ variables' changes, its bandwidth and noise. Save it as the model.json `pegasus 
       "horizon_mse as hover training runs the model: the learned model at control_rate_hz, noise off "
       "(`heli identify`'s mse_at_seconds_as_trained).");
   m.def(
+      "noise_check",
+      [](const IdentifiedModel& model, const FlightLog& test, double reset_s, std::int64_t threads) {
+        if (!(reset_s >= 0.1 && reset_s <= 100))
+          throw py::value_error(fmt::format("reset_s: expected a number in [0.1, 100], got {}", reset_s));
+        ThreadPool pool = checked_pool(threads);
+        sysid::NoiseCheck check;
+        {
+          py::gil_scoped_release release;
+          check = sysid::noise_check(model, test, reset_s, 0.0, pool);
+        }
+        // Every horizon with steps counted, in the model rate's nominal steps, as noise_check_by_horizon.csv
+        // has them.
+        std::vector<double> seconds;
+        std::vector<std::int64_t> steps;
+        std::vector<std::size_t> kept;
+        for (std::size_t t = 0; t < check.steps_by_horizon.size(); ++t)
+          if (check.steps_by_horizon[t] > 0) {
+            seconds.push_back(static_cast<double>(t + 1) / model.structure().rate_hz);
+            steps.push_back(check.steps_by_horizon[t]);
+            kept.push_back(t);
+          }
+        Array outside = matrix(static_cast<py::ssize_t>(kept.size()), sysid::kBodyVars);
+        for (std::size_t i = 0; i < kept.size(); ++i)
+          for (int k = 0; k < sysid::kBodyVars; ++k)
+            outside.mutable_data()[i * sysid::kBodyVars + static_cast<std::size_t>(k)] =
+                check.outside_by_horizon[kept[i]][k];
+        const std::vector<double> overall(check.outside_fraction.data(),
+                                          check.outside_fraction.data() + sysid::kBodyVars);
+        py::dict out;
+        out["seconds"] = vector_array(seconds);
+        out["outside"] = outside;
+        out["steps"] = steps;
+        out["outside_fraction"] = vector_array(overall);
+        out["names"] = std::vector<std::string>(sysid::kBodyVarNames.begin(), sysid::kBodyVarNames.end());
+        return out;
+      },
+      py::arg("model"), py::arg("test"), py::kw_only(), py::arg("reset_s") = 2.0, py::arg("threads") = 1,
+      "Fig 5.3's check on a test log, reset to the logged state every reset_s: seconds [H] since a reset, "
+      "outside [H, 8] (each body variable's share of the steps outside +-2 sd; `heli identify`'s "
+      "noise_check_by_horizon.csv), steps [H], outside_fraction [8] over all steps, names. Honest bands miss "
+      "3-7% at every horizon.");
+  m.def(
       "closed_loop_bias",
       [](const IdentifiedModel& model) {
         py::list out;

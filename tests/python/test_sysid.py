@@ -49,6 +49,20 @@ def test_a_model_from_a_csv_path_or_arrays_is_the_cli_model(logs, cli, tmp_path)
     assert mse.shape == (len(errors["seconds"]), 15) and errors["names"][0] == "x"
     assert np.all(np.isfinite(mse)) and mse[-1, 0] > mse[1, 0]  # position error grows with the horizon
 
+    # Fig 5.3's check at every horizon: the CLI's noise_check_by_horizon.csv and summary, value for value.
+    check = pegasus.noise_check(from_path, pegasus.read_flight_log(test), reset_s=2.0, threads=2)
+    rows = np.genfromtxt(tmp_path / "cli" / "noise_check_by_horizon.csv", delimiter=",", names=True, dtype=None,
+                         encoding="utf-8")
+    assert check["outside"].shape == (20, 8) and len(rows) == 20 * 8
+    for row in rows:
+        h, k = int(round(row["seconds"] * 10)) - 1, check["names"].index(row["variable"])
+        assert (check["seconds"][h], check["outside"][h, k], check["steps"][h]) == (
+            row["seconds"], row["outside_2sigma"], row["steps"])
+    summary = json.loads((tmp_path / "cli" / "summary.json").read_text())
+    assert dict(zip(check["names"], check["outside_fraction"])) == summary["outside_2sigma_fraction"]
+    with pytest.raises(ValueError, match=r"reset_s: expected a number in \[0.1, 100\], got 0.05"):
+        pegasus.noise_check(from_path, pegasus.read_flight_log(test), reset_s=0.05)
+
 
 def test_the_bandwidth_floor_is_the_clis(logs, cli, tmp_path):
     train, test = str(logs / "train" / "log.csv"), str(logs / "test" / "log.csv")
