@@ -116,6 +116,16 @@ TEST_F(HeliCliWithLogs, IdentifyWritesSummaryKeysAndModel) {
             std::string::npos)
       << r.output;
   EXPECT_TRUE(fs::exists(dir_ / "id" / "noise_check_by_horizon.svg"));
+  // The report says the same under its chart.
+  const auto from = r.output.find("noise check on the hold-out log: ");
+  ASSERT_NE(from, std::string::npos);
+  const std::string line = r.output.substr(from, r.output.find('\n', from) - from);
+  const auto charts = nlohmann::json::parse(read_text(dir_ / "id" / "charts.json"));
+  bool said = false;
+  for (const auto& section : charts.is_array() ? charts : charts.at("sections"))
+    if (section.at("id") == "noise-check")
+      said = section.at("intro").get<std::string>().find(line) != std::string::npos;
+  EXPECT_TRUE(said) << line;
 }
 
 // A reset window shorter than 0.5 s has none of the summary's horizons: the line counts every horizon alone.
