@@ -257,22 +257,20 @@ variables' changes, its bandwidth and noise. Save it as the model.json `pegasus 
           py::gil_scoped_release release;
           check = sysid::noise_check(model, test, reset_s, 0.0, pool);
         }
-        // Every horizon with steps counted, in the model rate's nominal steps, as noise_check_by_horizon.csv
-        // has them.
+        // Every horizon with steps counted, as noise_check_by_horizon.csv has them.
+        const std::vector<sysid::BandMisses> cells =
+            sysid::band_misses_at_every_step(check, model.structure().rate_hz);
+        const auto horizons = static_cast<py::ssize_t>(cells.size()) / sysid::kBodyVars;
         std::vector<double> seconds;
         std::vector<std::int64_t> steps;
-        std::vector<std::size_t> kept;
-        for (std::size_t t = 0; t < check.steps_by_horizon.size(); ++t)
-          if (check.steps_by_horizon[t] > 0) {
-            seconds.push_back(static_cast<double>(t + 1) / model.structure().rate_hz);
-            steps.push_back(check.steps_by_horizon[t]);
-            kept.push_back(t);
+        Array outside = matrix(horizons, sysid::kBodyVars);
+        for (std::size_t i = 0; i < cells.size(); ++i) {
+          outside.mutable_data()[i] = cells[i].outside;  // horizon-major, every variable in order
+          if (cells[i].variable == 0) {
+            seconds.push_back(cells[i].seconds);
+            steps.push_back(cells[i].steps);
           }
-        Array outside = matrix(static_cast<py::ssize_t>(kept.size()), sysid::kBodyVars);
-        for (std::size_t i = 0; i < kept.size(); ++i)
-          for (int k = 0; k < sysid::kBodyVars; ++k)
-            outside.mutable_data()[i * sysid::kBodyVars + static_cast<std::size_t>(k)] =
-                check.outside_by_horizon[kept[i]][k];
+        }
         const std::vector<double> overall(check.outside_fraction.data(),
                                           check.outside_fraction.data() + sysid::kBodyVars);
         py::dict out;

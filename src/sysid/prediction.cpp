@@ -485,8 +485,18 @@ std::vector<BandMisses> band_misses(const NoiseCheck& check, double dt, const st
         check.steps_by_horizon[static_cast<std::size_t>(t)] == 0)
       continue;
     for (int k = 0; k < kBodyVars; ++k)
-      out.push_back({k, s, check.outside_by_horizon[static_cast<std::size_t>(t)][k]});
+      out.push_back({k, s, check.outside_by_horizon[static_cast<std::size_t>(t)][k],
+                     check.steps_by_horizon[static_cast<std::size_t>(t)]});
   }
+  return out;
+}
+
+std::vector<BandMisses> band_misses_at_every_step(const NoiseCheck& check, double rate_hz) {
+  std::vector<BandMisses> out;
+  for (std::size_t t = 0; t < check.steps_by_horizon.size(); ++t)
+    for (int k = 0; k < kBodyVars && check.steps_by_horizon[t] > 0; ++k)
+      out.push_back({k, static_cast<double>(t + 1) / rate_hz, check.outside_by_horizon[t][k],
+                     check.steps_by_horizon[t]});
   return out;
 }
 

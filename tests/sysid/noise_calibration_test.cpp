@@ -120,6 +120,17 @@ TEST(NoiseCheck, BandMissesReadTheCellsAtWholeStepsAndCountTheLimitsInside) {
     EXPECT_EQ(cells[kBodyVars + k].seconds, 2.0);
     EXPECT_EQ(cells[kBodyVars + k].outside, check.outside_by_horizon[19][k]);
   }
+  // Every horizon with steps: 19 of the 20 (none at 1 s), in nominal steps of a 10 Hz model.
+  const auto every = band_misses_at_every_step(check, 10.0);
+  ASSERT_EQ(every.size(), 19u * kBodyVars);
+  for (std::size_t i = 0; i < every.size(); ++i) {
+    const int t = static_cast<int>(i / kBodyVars) + (i / kBodyVars >= 9 ? 1 : 0);
+    EXPECT_EQ(every[i].variable, static_cast<int>(i % kBodyVars));
+    EXPECT_EQ(every[i].seconds, (t + 1) / 10.0);
+    EXPECT_EQ(every[i].outside, check.outside_by_horizon[static_cast<std::size_t>(t)][every[i].variable]);
+    EXPECT_EQ(every[i].steps, 700);
+  }
+  EXPECT_EQ(every[2 * kBodyVars].seconds, 0.3);  // (2 + 1) / 10.0, not 3 * 0.1
   // 21 and 49 of 700 steps are exactly 3% and 7%, inside however the division rounds; a step fewer or more is
   // outside.
   EXPECT_TRUE(honest_misses(21.0 / 700));

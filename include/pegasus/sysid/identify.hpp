@@ -274,10 +274,14 @@ struct BandMisses {
   int variable = 0;
   double seconds = 0;
   double outside = 0;  // fraction of the steps outside +-2 sd
+  int steps = 0;       // steps counted at this horizon
 };
 // The check's cells at the given horizons (each rounded to whole model steps; a horizon with no step counted
 // is left out), horizon by horizon in the order given, each with every body variable.
 std::vector<BandMisses> band_misses(const NoiseCheck& check, double dt, const std::vector<double>& seconds);
+// The cells at every horizon with steps counted, in the same order, the horizons in the model rate's nominal
+// steps ((t + 1) / rate_hz, so that 0.3 s reads 0.3): what noise_check_by_horizon.csv holds.
+std::vector<BandMisses> band_misses_at_every_step(const NoiseCheck& check, double rate_hz);
 // Whether a fraction outside +-2 sd is within [kHonestMissLow, kHonestMissHigh]; a cell exactly at a limit
 // counts as inside, however count / steps rounds.
 bool honest_misses(double outside);
