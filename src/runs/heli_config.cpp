@@ -172,7 +172,7 @@ void declare_identify_config(ConfigSchema& s) {
       "calibrate_noise", id.calibrate_noise,
       "scale each output's noise, the part the model flies and (ar1+measurement) the log's own error apart, "
       "so that the training log's own noise check (each window predicted without its data) has about 4.55% "
-      "of its steps outside +-2 sd in each of three spans of the reset window (to 1/4, 1/2 and all of it)");
+      "of its steps outside +-2 sd at each model step after a reset");
   s.add_double("calibration_leave_out_s", id.calibration_leave_out_s,
                "calibrate_noise predicts each window without the training rows within half this of it (0: in "
                "sample), s")

@@ -489,7 +489,7 @@ IdentifiedModel identify(const FlightLog& train, const IdentifyOptions& o, Threa
                                              o.noise == NoiseModel::kAr1Measurement);
   if (o.calibrate_noise) {
     // The noise check on the training log with the model as identified, its bands split by noise source, and
-    // the scales that put the errors' 95.45th percentiles at 2 sd in each of three spans of the reset window.
+    // the scales that put the errors' 95.45th percentiles at 2 sd at each model step of the reset window.
     // Each window is predicted by fits that leave out its rows and calibration_leave_out_s / 2 on either side
     // (on data it was fitted to, a locally weighted model's errors are too small), and the windows overlap
     // (calibration_spacing_s) so that a short log still gives enough of them (IdentifyOptions).

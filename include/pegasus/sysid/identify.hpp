@@ -92,9 +92,9 @@ struct IdentifyOptions {
   // Scale each output's noise variances, by source (fit_noise_scale: process, and measurement with
   // kAr1Measurement), so that the noise check on the training log itself (Fig 5.3's filter, reset every 2 s,
   // each window predicted by fits that leave out its rows and calibration_leave_out_s / 2 on either side, a
-  // window starting every calibration_spacing_s) leaves about 4.55% of its steps outside +-2 sd in each of
-  // three spans of the reset window (0-1/4, 1/4-1/2, 1/2-1), as a Gaussian would: the "measured factor" of
-  // issue 15, for errors whose size or growth with the horizon the noise model misstates.
+  // window starting every calibration_spacing_s) leaves about 4.55% of its steps outside +-2 sd at each
+  // model step after a reset, as a Gaussian would: the "measured factor" of issue 15, for errors whose size
+  // or growth with the horizon the noise model misstates.
   bool calibrate_noise = false;
   // Leaving out the window's own rows and 1 s on either side keeps the fits from following the window's own
   // noise (the shipped aircraft's gust and estimator correlation times are 0.1-2 s); leaving out more
@@ -303,12 +303,12 @@ struct NoiseBandTerms {
 // more windows to estimate the errors' percentiles from on a short log.
 NoiseBandTerms noise_band_terms(const IdentifiedModel& model, const FlightLog& test, double reset_s,
                                 double leave_out_s, ThreadPool& pool, double start_spacing_s = 0);
-// The scales that put each body variable's errors at 2 sd at their 95.45th percentile (a Gaussian's) in each
-// of three spans of the time since a reset, (0, 1/4], (1/4, 1/2] and (1/2, 1] of reset_s, as near as the
-// sources allow: least squares of the log of (percentile / 2) over variables and spans plus 0.003 (log
-// scale)^2 per source, by coordinate search on the log of each source's scale within [1/100, 100]. A process
-// scale moves a variable's band at every horizon, more at long ones; a measurement scale the same at every
-// horizon, so with both the bands can follow errors that grow more slowly than the process noise integrates.
+// The scales that put each body variable's errors at 2 sd at their 95.45th percentile (a Gaussian's) at each
+// model step after a reset (horizons 1 to reset_s / dt steps), as near as the sources allow: least squares of
+// the log of (percentile / 2) over variables and horizons plus 0.003 (log scale)^2 per source, by coordinate
+// search on the log of each source's scale within [1/100, 100]. A process scale moves a variable's band at
+// every horizon, more at long ones; a measurement scale the same at every horizon, so with both the bands can
+// follow errors that grow more slowly than the process noise integrates.
 NoiseScale fit_noise_scale(const NoiseBandTerms& terms, double dt, double reset_s);
 // The model's noise with its variances scaled (IdentifiedModel::sigma2 and the shares of its correlation).
 std::pair<BodyVec, NoiseCorrelation> scaled_noise(const BodyVec& sigma2, const NoiseCorrelation& correlation,
