@@ -497,7 +497,7 @@ IdentifiedModel identify(const FlightLog& train, const IdentifyOptions& o, Threa
     const IdentifiedModel current(structure, data, best_inv, sigma2, correlation);
     const NoiseScale scale = fit_noise_scale(
         noise_band_terms(current, train, kReset, o.calibration_leave_out_s, pool, o.calibration_spacing_s),
-        current.dt(), kReset);
+        current.dt(), kReset, &pool);
     const BodyVec before = sigma2;
     std::tie(sigma2, correlation) = scaled_noise(sigma2, correlation, scale);
     if (report) {

@@ -234,7 +234,7 @@ std::vector<ControlGainBias> closed_loop_bias(const Dataset& data,
   return out;
 }
 
-NoiseScale fit_noise_scale(const NoiseBandTerms& terms, double dt, double reset_s) {
+NoiseScale fit_noise_scale(const NoiseBandTerms& terms, double dt, double reset_s, ThreadPool* pool) {
   constexpr double kCoverage = 0.9545;          // of a Gaussian within +-2 sd
   constexpr double kLimit = 4.605170185988091;  // log(100)
   // A source scaled x2 costs what one cell's percentile 4% off does. Without it the scales the errors hardly
@@ -283,10 +283,14 @@ NoiseScale fit_noise_scale(const NoiseBandTerms& terms, double dt, double reset_
       if ((column != 0).any()) reaches[static_cast<std::size_t>(q)].push_back(k);
       if ((column > 0).any()) searched[static_cast<std::size_t>(q)] = 1;
     }
-  // The squared log misses of a variable's percentiles over the horizons under the scales.
-  std::vector<double> z2;
-  Eigen::VectorXd bands;
+  // The squared log misses of a variable's percentiles over the horizons under the scales. Each variable has
+  // its own scratch, so that the variables a move touches are evaluated in parallel (each the same bits on
+  // any thread; their sum is taken in variable order).
+  std::array<std::vector<double>, kBodyVars> scratch;
+  std::array<Eigen::VectorXd, kBodyVars> scratch_bands;
   auto variable_loss = [&](int k, const Eigen::VectorXd& scale) {
+    std::vector<double>& z2 = scratch[static_cast<std::size_t>(k)];
+    Eigen::VectorXd& bands = scratch_bands[static_cast<std::size_t>(k)];
     bands.noalias() = band[static_cast<std::size_t>(k)] * scale;
     double total = 0;
     for (int h = 0; h < steps; ++h) {
@@ -322,7 +326,13 @@ NoiseScale fit_noise_scale(const NoiseBandTerms& terms, double dt, double reset_
           if (trial[q] == log_scale[q]) continue;
           const Eigen::VectorXd scale = trial.array().exp();
           BodyVec trial_misses = misses;
-          for (int k : touched) trial_misses[k] = variable_loss(k, scale);
+          const auto evaluate = [&](std::size_t i) {
+            trial_misses[touched[i]] = variable_loss(touched[i], scale);
+          };
+          if (pool && touched.size() > 1)
+            pool->parallel_for(touched.size(), evaluate, 1);
+          else
+            for (std::size_t i = 0; i < touched.size(); ++i) evaluate(i);
           const double l = trial_misses.sum() + kPenalty * trial.squaredNorm();
           if (l < best) {
             best = l;

@@ -174,6 +174,12 @@ TEST(NoiseCalibration, FitGivesBackTheScalesOfErrorsDrawnWithThem) {
     EXPECT_NEAR(std::log(fitted.process[k] / truth.process[k]), 0, std::log(1.25)) << name;
     EXPECT_NEAR(std::log(fitted.measurement[k] / truth.measurement[k]), 0, std::log(1.25)) << name;
   }
+  // The variables a move touches (here the rates' sources reach the attitudes too) evaluated on two threads
+  // give the same scales to the bit.
+  ThreadPool pool(2);
+  const NoiseScale threaded = fit_noise_scale(terms, dt, reset_s, &pool);
+  EXPECT_EQ(threaded.process, fitted.process);
+  EXPECT_EQ(threaded.measurement, fitted.measurement);
 }
 
 // A check that counted no step (every window's first local fit singular) leaves every scale at 1.

@@ -309,7 +309,10 @@ NoiseBandTerms noise_band_terms(const IdentifiedModel& model, const FlightLog& t
 // search on the log of each source's scale within [1/100, 100]. A process scale moves a variable's band at
 // every horizon, more at long ones; a measurement scale the same at every horizon, so with both the bands can
 // follow errors that grow more slowly than the process noise integrates.
-NoiseScale fit_noise_scale(const NoiseBandTerms& terms, double dt, double reset_s);
+// The variables a move of one scale touches are evaluated on `pool` when given (the same scales on any
+// number of threads).
+NoiseScale fit_noise_scale(const NoiseBandTerms& terms, double dt, double reset_s,
+                           ThreadPool* pool = nullptr);
 // The model's noise with its variances scaled (IdentifiedModel::sigma2 and the shares of its correlation).
 std::pair<BodyVec, NoiseCorrelation> scaled_noise(const BodyVec& sigma2, const NoiseCorrelation& correlation,
                                                   const NoiseScale& scale);
