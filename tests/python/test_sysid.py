@@ -2,6 +2,7 @@
 names is the one `pegasus heli identify` writes, bit for bit; prediction errors grow with the horizon."""
 import json
 import math
+import re
 import subprocess
 
 import numpy as np
@@ -115,6 +116,10 @@ def test_ar1_noise_is_the_clis(logs, cli, tmp_path):
     assert calibrated.to_json() != pegasus.identify(pegasus.read_flight_log(train), noise="ar1",
                                                     calibrate_noise=True, cv_points=60, scale_grid=[1.0, 4.0],
                                                     coordinate_passes=0).to_json()
+    # Calibrated AR(1) with cells outside at some horizon: the line names the option it left unused.
+    within, cells = map(int, re.search(r"at every horizon to [\d.]+ s, (\d+) of (\d+) within", result.stdout).groups())
+    assert ("within 3-7% (noise_check_by_horizon.csv); for more honest bands: --noise ar1+measurement (README"
+            in result.stdout) == (within < cells)
     summary = json.loads((tmp_path / "calibrated" / "summary.json").read_text())
     # An AR(1) model has no measurement part: its sd factors are the square roots of its process scales.
     assert set(summary["noise_scale"]) == {"process"}
@@ -164,6 +169,7 @@ def test_measurement_noise_is_the_clis(logs, cli, tmp_path):
                              "--noise", "ar1+measurement", "--calibrate-noise", "--out", str(tmp_path / "calibrated")],
                             capture_output=True, text=True)
     assert result.returncode == 0, result.stdout + result.stderr
+    assert "for more honest bands" not in result.stdout  # no option left unused
     calibrated = json.loads((tmp_path / "calibrated" / "model.json").read_text())
     scale = json.loads((tmp_path / "calibrated" / "summary.json").read_text())["noise_scale"]
     assert set(scale) == {"process", "measurement"}
