@@ -254,14 +254,20 @@ void run_identify(const IdentifyRunOptions& options, RunSink& sink, ThreadPool& 
     summary["noise_inflation"] = inflation;
     // The variance scales by source (sysid::fit_noise_scale): the measurement ones only where the model has a
     // measurement error.
-    nlohmann::json process, measurement;
+    nlohmann::json process, measurement, white;
     for (int k = 0; k < kBodyVars; ++k) {
       const char* name = kBodyVarNames[static_cast<std::size_t>(k)];
       process[name] = report.noise_scale.process[k];
-      if (model.noise_correlation().has_measurement()) measurement[name] = report.noise_scale.measurement[k];
+      if (model.noise_correlation().has_measurement()) {
+        measurement[name] = report.noise_scale.measurement[k];
+        white[name] = report.noise_scale.measurement_white[k];
+      }
     }
     summary["noise_scale"] = {{"process", process}};
-    if (!measurement.is_null()) summary["noise_scale"]["measurement"] = measurement;
+    if (!measurement.is_null()) {
+      summary["noise_scale"]["measurement"] = measurement;
+      summary["noise_scale"]["measurement_white"] = white;  // added, in units of the one-step variance
+    }
   }
   {
     // The control gains' closed-loop bias, measured against a fit that whitens the residuals' correlation
@@ -293,6 +299,7 @@ void run_identify(const IdentifyRunOptions& options, RunSink& sink, ThreadPool& 
         entry["measurement_share"] = c.measurement_share[k];
         entry["measurement_rho"] = c.measurement_rho[k];
         entry["measurement_persistence"] = c.measurement_persistence[k];
+        entry["measurement_white_share"] = c.measurement_white_share[k];
       }
     }
     summary["noise_correlation"] = correlation;

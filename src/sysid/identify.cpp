@@ -139,6 +139,9 @@ nlohmann::json IdentifiedModel::to_json() const {
       j["noise"]["measurement_share"] = values(correlation_.measurement_share);
       j["noise"]["measurement_rho"] = values(correlation_.measurement_rho);
       j["noise"]["measurement_persistence"] = values(correlation_.measurement_persistence);
+      // Only when the calibration added one: other files stay as they were.
+      if ((correlation_.measurement_white_share.array() > 0).any())
+        j["noise"]["measurement_white_share"] = values(correlation_.measurement_white_share);
     }
   }
   nlohmann::json xs = nlohmann::json::array(), ys = nlohmann::json::array();
@@ -284,6 +287,21 @@ IdentifiedModel model_from_json(const nlohmann::json& j, const std::string& file
               file, fmt::format("noise.measurement_share[{}]", k),
               fmt::format("a number in [0, {}] (1 - noise.share[{}])", 1 - correlation.share[k], k),
               correlation.measurement_share[k]);
+      if (noise.contains("measurement_white_share")) {  // a calibrated model's white logged error
+        const auto white =
+            f.numbers(noise.at("measurement_white_share"), "noise.measurement_white_share", kBodyVars, 0);
+        for (int k = 0; k < kBodyVars; ++k) {
+          const double left = 1 - correlation.share[k] - correlation.measurement_share[k];
+          const auto i = static_cast<std::size_t>(k);
+          if (white[i] > left)
+            json_field_error(
+                file, fmt::format("noise.measurement_white_share[{}]", k),
+                fmt::format("a number in [0, {}] (1 - noise.share[{}] - noise.measurement_share[{}])", left,
+                            k, k),
+                white[i]);
+          correlation.measurement_white_share[k] = white[i];
+        }
+      }
     }
   }
   IdentifiedModel model(m, std::move(d), inv, sigma2, correlation);

@@ -40,8 +40,8 @@ LearnedHeliModel::LearnedHeliModel(std::shared_ptr<const IdentifiedModel> model,
     for (int j = 1; j < static_cast<int>(std::ceil(n)); ++j)
       sum_factor += 2 * (n - j) * std::pow(rho_step_[k], j);
     colored_scale_[k] = c.share[k] / sum_factor;
-    // The logged states' own error (measurement_share) is not the aircraft's motion: not simulated.
-    white_scale_[k] = (1 - c.share[k] - c.measurement_share[k]) * f;
+    // The logged states' own error (its AR(1) and white shares) is not the aircraft's motion: not simulated.
+    white_scale_[k] = c.white_share(k) * f;
   }
 }
 

@@ -322,7 +322,10 @@ void run_noise_filter(const IdentifiedModel& model, const FlightLog& test, doubl
   // With the logged states' own error m (NoiseModel::kAr1Measurement) it carries m as 8 more states,
   // m' = rho_m m + nu: the log shows body + m, and at a reset the filter's body is the logged value, so its
   // error is -m_0 (covariance -sigma_m^2 with m). The band is that of body + m: zero at the reset itself.
-  // A set's process scale multiplies the white and AR parts' variances, its measurement scale m's.
+  // A white logged error w needs no states: the body's error at a reset is also -w_0 (variance sigma_w^2,
+  // independent of all else), and each later logged value adds its own w_t to the band.
+  // A set's process scale multiplies the white and AR parts' variances, its measurement scale the logged
+  // error's (both parts), and its measurement_white adds a white logged error (NoiseScale).
   const NoiseCorrelation& nc_model = model.noise_correlation();
   const bool ar = (nc_model.share.array() > 0).any();
   const bool measured = nc_model.has_measurement();
@@ -360,6 +363,7 @@ void run_noise_filter(const IdentifiedModel& model, const FlightLog& test, doubl
     // velocity errors integrate attitude errors: it shrinks the bands of the integrated variables.
     std::vector<EkfMat> p(sets, EkfMat::Zero());
     std::vector<Eigen::MatrixXd> pa(sets);  // the augmented filter's covariance (states x states)
+    std::vector<BodyVec> white_logged(sets, BodyVec::Zero());  // sigma_w^2 of each set
     Eigen::MatrixXd scratch;
     if (ar || measured) {
       for (std::size_t q = 0; q < sets; ++q) {
@@ -370,6 +374,10 @@ void run_noise_filter(const IdentifiedModel& model, const FlightLog& test, doubl
             const double vm = nc_model.measurement_variance(j, model.sigma2()[j]) * scales[q].measurement[j];
             pa[q](m0 + j, m0 + j) = pa[q](j, j) = vm;
             pa[q](j, m0 + j) = pa[q](m0 + j, j) = -vm;
+            white_logged[q][j] =
+                nc_model.measurement_white_variance(j, model.sigma2()[j]) * scales[q].measurement[j] +
+                scales[q].measurement_white[j] * model.sigma2()[j];
+            pa[q](j, j) += white_logged[q][j];
           }
         }
       }
@@ -405,7 +413,7 @@ void run_noise_filter(const IdentifiedModel& model, const FlightLog& test, doubl
           propagate_augmented(pq, scratch, jac, nc_model.rho, nc_model.measurement_rho, c0, m0, ar, measured);
           for (int j = 0; j < kBodyVars; ++j) {
             const double share = nc_model.share[j], process = scales[q].process[j];
-            double body = (1 - share - nc_model.measurement_share[j]) * var[j] * process;
+            double body = nc_model.white_share(j) * var[j] * process;
             if (ar) {
               const double rho = nc_model.rho[j];
               const double eta = share * var[j] * (1 - rho * rho) * process;
@@ -424,7 +432,7 @@ void run_noise_filter(const IdentifiedModel& model, const FlightLog& test, doubl
           band_var[q] = pa[q].diagonal().head<kBodyVars>();
           if (measured)
             for (int j = 0; j < kBodyVars; ++j)
-              band_var[q][j] += pa[q](m0 + j, m0 + j) + 2 * pa[q](j, m0 + j);
+              band_var[q][j] += pa[q](m0 + j, m0 + j) + 2 * pa[q](j, m0 + j) + white_logged[q][j];
         }
       }
       s = sim_advance(m, s, a, model.mean_change(fit, x), model.dt());
@@ -515,12 +523,19 @@ NoiseBandTerms noise_band_terms(const IdentifiedModel& model, const FlightLog& t
     process.process[j] = 1;
     unit.push_back(process);
   }
-  if (measured)
+  if (measured) {
     for (int j = 0; j < kBodyVars; ++j) {
       NoiseScale measurement{.process = BodyVec::Zero(), .measurement = BodyVec::Zero()};
       measurement.measurement[j] = 1;
       unit.push_back(measurement);
     }
+    // A white logged error of sigma2 each, which the calibration may add (NoiseScale::measurement_white).
+    for (int j = 0; j < kBodyVars; ++j) {
+      NoiseScale white{.process = BodyVec::Zero(), .measurement = BodyVec::Zero()};
+      white.measurement_white[j] = 1;
+      unit.push_back(white);
+    }
+  }
   out.sources = static_cast<int>(unit.size());
   run_noise_filter(model, test, reset_s, leave_out_s, start_spacing_s, unit, pool,
                    [&](std::size_t, std::size_t t, const BodyVec& truth, const BodyVec& mean,

@@ -172,12 +172,19 @@ def test_measurement_noise_is_the_clis(logs, cli, tmp_path):
     assert "for more honest bands" not in result.stdout  # no option left unused
     calibrated = json.loads((tmp_path / "calibrated" / "model.json").read_text())
     scale = json.loads((tmp_path / "calibrated" / "summary.json").read_text())["noise_scale"]
-    assert set(scale) == {"process", "measurement"}
+    assert set(scale) == {"process", "measurement", "measurement_white"}
+    white_share = calibrated["noise"].get("measurement_white_share", [0.0] * 8)
     for k, name in enumerate(cli_model["outputs"]):
         sigma2, logged = cli_model["sigma2"][k], noise["measurement_share"][k]
-        expected = scale["process"][name] * (1 - logged) * sigma2 + scale["measurement"][name] * logged * sigma2
+        phi = noise["measurement_persistence"][k]
+        # The white logged error the calibration adds (measurement_white sigma2) enters the one-step variance as
+        # sigma_w^2 (1 + phi^2).
+        white = scale["measurement_white"][name] * sigma2 * (1 + phi * phi)
+        expected = (scale["process"][name] * (1 - logged) * sigma2 + scale["measurement"][name] * logged * sigma2
+                    + white)
         assert calibrated["sigma2"][k] == pytest.approx(expected, rel=1e-12)
-        assert 1 - calibrated["noise"]["share"][k] - calibrated["noise"]["measurement_share"][k] >= 0
+        assert white_share[k] == pytest.approx(white / calibrated["sigma2"][k], rel=1e-12, abs=1e-15)
+        assert 1 - calibrated["noise"]["share"][k] - calibrated["noise"]["measurement_share"][k] - white_share[k] >= 0
     assert pegasus.identify(pegasus.read_flight_log(train), noise="ar1+measurement", calibrate_noise=True,
                             cv_points=60, scale_grid=[1.0, 4.0], coordinate_passes=0).to_json() == calibrated
 

@@ -67,8 +67,16 @@ struct NoiseCorrelation {
   BodyVec measurement_share = BodyVec::Zero();
   BodyVec measurement_rho = BodyVec::Zero();
   BodyVec measurement_persistence = BodyVec::Ones();
+  // A white error of the logged states beside the AR(1) one: the share of the one-step variance its residual
+  // part w_{t+1} - phi w_t makes (sigma_w^2 (1 + phi^2)). Only the calibration sizes it (fit_noise_scale);
+  // like m_t, it is in the log, not in the motion.
+  BodyVec measurement_white_share = BodyVec::Zero();
   bool any() const { return (share.array() > 0).any() || has_measurement(); }
-  bool has_measurement() const { return (measurement_share.array() > 0).any(); }
+  bool has_measurement() const {
+    return (measurement_share.array() > 0).any() || (measurement_white_share.array() > 0).any();
+  }
+  // The share of output k's one-step variance that is white process noise: what is left of 1.
+  double white_share(int k) const { return 1 - share[k] - measurement_share[k] - measurement_white_share[k]; }
   // The variance of output k's logged error itself (sigma_m^2) when the one-step variance is `step_var`: the
   // residual's part m_{t+1} - phi m_t has the variance sigma_m^2 (1 + phi^2 - 2 phi rho_m) =
   // measurement_share * step_var.
@@ -76,13 +84,21 @@ struct NoiseCorrelation {
     const double phi = measurement_persistence[k], rho_m = measurement_rho[k];
     return measurement_share[k] * step_var / (1 + phi * phi - 2 * phi * rho_m);
   }
+  // The variance of output k's white logged error (sigma_w^2) when the one-step variance is `step_var`.
+  double measurement_white_variance(int k, double step_var) const {
+    const double phi = measurement_persistence[k];
+    return measurement_white_share[k] * step_var / (1 + phi * phi);
+  }
 };
 
 // Multipliers of each output's noise variances: `process` scales the part the model flies (white and AR(1)),
-// `measurement` the logged states' own error (NoiseModel::kAr1Measurement).
+// `measurement` the logged states' own error (NoiseModel::kAr1Measurement: its AR(1) and white parts).
+// `measurement_white` adds a white logged error of that many times the output's one-step variance sigma2: a
+// model's white logged error starts at none, which no multiplier would grow.
 struct NoiseScale {
   BodyVec process = BodyVec::Ones();
   BodyVec measurement = BodyVec::Ones();
+  BodyVec measurement_white = BodyVec::Zero();
 };
 
 struct IdentifyOptions {
@@ -289,7 +305,8 @@ bool honest_misses(double outside);
 // The noise check's band variances split by noise source. The filter's covariance is linear in the noise
 // covariances (the mean trajectory and its Jacobians do not depend on them), so the bands of the model with
 // its noise scaled are band * (the scales as one vector). Sources (columns of band): the process noise of
-// each body variable, then, when the model has it, the measurement error of each. With leave_out_s > 0 the
+// each body variable, then, when the model has it, the measurement error of each, then a white logged error
+// of sigma2 of each (NoiseScale::measurement_white). With leave_out_s > 0 the
 // log is the model's training log, and each reset window is predicted by fits that leave out the training
 // rows within leave_out_s / 2 of it (the model's errors on data it was fitted to are smaller than on new
 // data).
@@ -298,6 +315,9 @@ struct NoiseBandTerms {
   std::vector<int> horizon;    // model steps since the last reset, 0-based, of every step counted
   std::vector<BodyVec> error;  // |truth - mean| of every step counted
   std::vector<Eigen::Matrix<double, kBodyVars, Eigen::Dynamic>> band;  // kBodyVars x sources per step
+  // The scales as one vector in the sources' order: band * scales(s) are the bands of the model scaled by s
+  // (scales(NoiseScale{}): the model's own).
+  Eigen::VectorXd scales(const NoiseScale& scale) const;
 };
 // Windows start every start_spacing_s (0: every reset_s, one after another); closer starts overlap and give
 // more windows to estimate the errors' percentiles from on a short log.
@@ -308,7 +328,9 @@ NoiseBandTerms noise_band_terms(const IdentifiedModel& model, const FlightLog& t
 // the log of (percentile / 2) over variables and horizons plus 0.003 (log scale)^2 per source, by coordinate
 // search on the log of each source's scale within [1/100, 100]. A process scale moves a variable's band at
 // every horizon, more at long ones; a measurement scale the same at every horizon, so with both the bands can
-// follow errors that grow more slowly than the process noise integrates.
+// follow errors that grow more slowly than the process noise integrates. The white logged errors
+// (measurement_white, when the terms have them) start at none, within [1e-4, 100] with 1e-4 read as none,
+// and carry no penalty: they may be added, not kept near 1.
 // The variables a move of one scale touches are evaluated on `pool` when given (the same scales on any
 // number of threads).
 NoiseScale fit_noise_scale(const NoiseBandTerms& terms, double dt, double reset_s,
