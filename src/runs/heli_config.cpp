@@ -171,7 +171,8 @@ void declare_identify_config(ConfigSchema& s) {
   s.add_bool(
       "calibrate_noise", id.calibrate_noise,
       "scale each output's noise, the part the model flies and (ar1+measurement) the log's own error apart, "
-      "so that the training log's own noise check (each window predicted without its data) has about 4.55% "
+      "adding a white error of the log where it fits, so that the training log's own noise check (each "
+      "window predicted without its data) has about 4.55% "
       "of its steps outside +-2 sd at each model step after a reset");
   s.add_double("calibration_leave_out_s", id.calibration_leave_out_s,
                "calibrate_noise predicts each window without the training rows within half this of it (0: in "

@@ -4,8 +4,10 @@
 
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <string>
 #include <vector>
 
 #include "pegasus/core/error.hpp"
@@ -141,26 +143,19 @@ TEST(NoiseCheck, BandMissesReadTheCellsAtWholeStepsAndCountTheLimitsInside) {
   EXPECT_FALSE(honest_misses(50.0 / 700));
 }
 
-TEST(NoiseCalibration, FitGivesBackTheScalesOfErrorsDrawnWithThem) {
-  const double dt = 0.1, reset_s = 2.0;
-  NoiseScale truth;
-  for (int k = 0; k < kBodyVars; ++k) {
-    truth.process[k] = std::pow(2.0, (k % 3) - 1.0);  // 0.5, 1 or 2
-    truth.measurement[k] = std::pow(2.0, 1.0 - ((k + 1) % 3));
-  }
+// Terms of 600 windows of 20 steps (10 Hz, reset every 2 s) whose bands `columns(h, band)` fills per step,
+// and whose errors are drawn as Gaussians with those bands times the true scales.
+template <typename Columns>
+NoiseBandTerms drawn_terms(int sources, const NoiseScale& truth, std::uint64_t seed, Columns&& columns) {
   NoiseBandTerms terms;
-  terms.sources = 2 * kBodyVars;  // a model's own sources only
+  terms.sources = sources;
   const Eigen::VectorXd true_scales = terms.scales(truth);
-  UniformStream rng(7, 0);
+  UniformStream rng(seed, 0);
   for (int window = 0; window < 600; ++window)
     for (int h = 0; h < 20; ++h) {
       Eigen::Matrix<double, kBodyVars, Eigen::Dynamic> band =
           Eigen::Matrix<double, kBodyVars, Eigen::Dynamic>::Zero(kBodyVars, terms.sources);
-      for (int k = 0; k < kBodyVars; ++k) {
-        band(k, k) = 0.01 * (h + 1);                             // a random walk's variance
-        band(k, kBodyVars + k) = 0.05;                           // the log's own error
-        if (k < 2) band(k, 5 + k) = 0.0005 * (h + 1) * (h + 1);  // an attitude integrating a rate
-      }
+      columns(h, band);
       BodyVec error;
       for (int k = 0; k < kBodyVars; ++k)
         error[k] = std::abs(normal_quantile(rng.next())) * std::sqrt(band.row(k).dot(true_scales));
@@ -168,6 +163,24 @@ TEST(NoiseCalibration, FitGivesBackTheScalesOfErrorsDrawnWithThem) {
       terms.error.push_back(error);
       terms.band.push_back(std::move(band));
     }
+  return terms;
+}
+
+TEST(NoiseCalibration, FitGivesBackTheScalesOfErrorsDrawnWithThem) {
+  const double dt = 0.1, reset_s = 2.0;
+  NoiseScale truth;
+  for (int k = 0; k < kBodyVars; ++k) {
+    truth.process[k] = std::pow(2.0, (k % 3) - 1.0);  // 0.5, 1 or 2
+    truth.measurement[k] = std::pow(2.0, 1.0 - ((k + 1) % 3));
+  }
+  // A model's own sources only.
+  const NoiseBandTerms terms = drawn_terms(2 * kBodyVars, truth, 7, [](int h, auto& band) {
+    for (int k = 0; k < kBodyVars; ++k) {
+      band(k, k) = 0.01 * (h + 1);                             // a random walk's variance
+      band(k, kBodyVars + k) = 0.05;                           // the log's own error
+      if (k < 2) band(k, 5 + k) = 0.0005 * (h + 1) * (h + 1);  // an attitude integrating a rate
+    }
+  });
   const NoiseScale fitted = fit_noise_scale(terms, dt, reset_s);
   for (int k = 0; k < kBodyVars; ++k) {
     const char* name = kBodyVarNames[static_cast<std::size_t>(k)];
@@ -190,30 +203,16 @@ TEST(NoiseCalibration, FitAddsTheWhiteLoggedErrorTheErrorsHave) {
   const double dt = 0.1, reset_s = 2.0;
   NoiseScale truth;
   for (int k = 0; k < kBodyVars; ++k) truth.measurement_white[k] = k % 2 == 0 ? 2.0 : 0.0;
-  NoiseBandTerms terms, own;
-  terms.sources = 3 * kBodyVars;
-  own.sources = 2 * kBodyVars;
-  const Eigen::VectorXd true_scales = terms.scales(truth);
-  UniformStream rng(11, 0);
-  for (int window = 0; window < 600; ++window)
-    for (int h = 0; h < 20; ++h) {
-      Eigen::Matrix<double, kBodyVars, Eigen::Dynamic> band =
-          Eigen::Matrix<double, kBodyVars, Eigen::Dynamic>::Zero(kBodyVars, terms.sources);
-      for (int k = 0; k < kBodyVars; ++k) {
-        band(k, k) = 0.01 * (h + 1);                                 // a random walk's variance
-        band(k, kBodyVars + k) = 0.05 * (1 - std::pow(0.9, h + 1));  // the log's own AR(1) error
-        band(k, 2 * kBodyVars + k) = 0.05;                           // a white logged error of 0.05
-      }
-      BodyVec error;
-      for (int k = 0; k < kBodyVars; ++k)
-        error[k] = std::abs(normal_quantile(rng.next())) * std::sqrt(band.row(k).dot(true_scales));
-      terms.horizon.push_back(h);
-      terms.error.push_back(error);
-      own.horizon.push_back(h);
-      own.error.push_back(error);
-      own.band.push_back(band.leftCols(own.sources));
-      terms.band.push_back(std::move(band));
+  const NoiseBandTerms terms = drawn_terms(3 * kBodyVars, truth, 11, [](int h, auto& band) {
+    for (int k = 0; k < kBodyVars; ++k) {
+      band(k, k) = 0.01 * (h + 1);                                 // a random walk's variance
+      band(k, kBodyVars + k) = 0.05 * (1 - std::pow(0.9, h + 1));  // the log's own AR(1) error
+      band(k, 2 * kBodyVars + k) = 0.05;                           // a white logged error of 0.05
     }
+  });
+  NoiseBandTerms own = terms;  // the same errors, without the white sources
+  own.sources = 2 * kBodyVars;
+  for (auto& band : own.band) band = band.leftCols(own.sources).eval();
   const NoiseScale fitted = fit_noise_scale(terms, dt, reset_s), without = fit_noise_scale(own, dt, reset_s);
   const auto rms_miss = [&](const Eigen::VectorXd& scales) {
     double sum = 0;

@@ -105,12 +105,13 @@ struct IdentifyOptions {
   ModelStructure structure{};  // rate, extra states, intercept, templates
   BandwidthFloor min_bandwidth{};
   NoiseModel noise = NoiseModel::kWhite;
-  // Scale each output's noise variances, by source (fit_noise_scale: process, and measurement with
-  // kAr1Measurement), so that the noise check on the training log itself (Fig 5.3's filter, reset every 2 s,
-  // each window predicted by fits that leave out its rows and calibration_leave_out_s / 2 on either side, a
-  // window starting every calibration_spacing_s) leaves about 4.55% of its steps outside +-2 sd at each
-  // model step after a reset, as a Gaussian would: the "measured factor" of issue 15, for errors whose size
-  // or growth with the horizon the noise model misstates.
+  // Scale each output's noise variances, by source (fit_noise_scale: process, and with kAr1Measurement the
+  // logged error, to which it may add a white part), so that the noise check on the training log itself
+  // (Fig 5.3's filter, reset every 2 s, each window predicted by fits that leave out its rows and
+  // calibration_leave_out_s / 2 on either side, a window starting every calibration_spacing_s) leaves
+  // about 4.55% of its steps outside +-2 sd at each model step after a reset, as a Gaussian would: the
+  // "measured factor" of issue 15, for errors whose size or growth with the horizon the noise model
+  // misstates.
   bool calibrate_noise = false;
   // Leaving out the window's own rows and 1 s on either side keeps the fits from following the window's own
   // noise (the shipped aircraft's gust and estimator correlation times are 0.1-2 s); leaving out more
