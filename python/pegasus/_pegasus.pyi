@@ -385,6 +385,7 @@ class IdentifiedModel:
     dt: float
     is_global: bool
     sigma2: Array
+    horizon_sd_factors: Array
     inv_bandwidth: Array
     def to_json(self) -> dict: ...
     def save(self, path: str) -> None: ...
@@ -395,8 +396,8 @@ def identify(log: FlightLog, *, rate_hz: float = 10.0, local: bool = True, extra
              intercept: bool = True, templates: bool = True, window_s: float = 16.0, cv_points: int = 300,
              scale_grid: Sequence[float] = ..., coordinate_passes: int = 1,
              bandwidth_floor: Mapping[str, float] = ..., noise: str = "white", calibrate_noise: bool = False,
-             calibration_leave_out_s: float = 2.0, calibration_spacing_s: float = 0.5,
-             threads: int = 1) -> IdentifiedModel: ...
+             horizon_sd_factors: bool = True, calibration_leave_out_s: float = 2.0,
+             calibration_spacing_s: float = 0.5, threads: int = 1) -> IdentifiedModel: ...
 def horizon_mse(model: IdentifiedModel, test: FlightLog, *, horizon_s: float = 10.0, start_spacing_s: float = 2.0,
                 threads: int = 1) -> dict: ...
 def horizon_mse_as_trained(model: IdentifiedModel, test: FlightLog, *, control_rate_hz: float = 50.0,

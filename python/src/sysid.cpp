@@ -115,6 +115,18 @@ variables' changes, its bandwidth and noise. Save it as the model.json `pegasus 
           "Noise variance of each body variable's change per model step (roll, pitch, xdot_b, ydot_b, "
           "zdot_b, roll_rate, pitch_rate, yaw_rate; squared units); Eq 5.4 scales it by 1 + leverage.")
       .def_property_readonly(
+          "horizon_sd_factors",
+          [](const IdentifiedModel& model) {
+            const auto& factors = model.horizon_sd_factors();
+            Array out = matrix(static_cast<py::ssize_t>(factors.size()), sysid::kBodyVars);
+            for (std::size_t t = 0; t < factors.size(); ++t)
+              std::copy(factors[t].data(), factors[t].data() + sysid::kBodyVars,
+                        out.mutable_data() + t * sysid::kBodyVars);
+            return out;
+          },
+          "The calibration's factor on each body variable's band sd at each model step after a reset "
+          "[steps, 8] (calibrate_noise with horizon_sd_factors; 0 rows: none, every factor 1).")
+      .def_property_readonly(
           "inv_bandwidth", [](const IdentifiedModel& model) { return vector_array(model.inv_bandwidth()); },
           "1 / the kernel bandwidth of each of the 16 regression inputs (roll .. a4, one), per unit of the "
           "input; 0: the kernel ignores the input (the constant's entry is unused).")
@@ -136,11 +148,12 @@ variables' changes, its bandwidth and noise. Save it as the model.json `pegasus 
       [](const FlightLog& log, double rate_hz, bool local, bool extra_states, bool intercept, bool templates,
          double window_s, std::int64_t cv_points, std::vector<double> scale_grid,
          std::int64_t coordinate_passes, const std::map<std::string, double>& bandwidth_floor,
-         const std::string& noise, bool calibrate_noise, double calibration_leave_out_s,
-         double calibration_spacing_s, std::int64_t threads) {
+         const std::string& noise, bool calibrate_noise, bool horizon_sd_factors,
+         double calibration_leave_out_s, double calibration_spacing_s, std::int64_t threads) {
         sysid::IdentifyOptions o;
         o.noise = sysid::parse_noise_model(noise);  // InputError: a ValueError (module.cpp)
         o.calibrate_noise = calibrate_noise;
+        o.horizon_sd_factors = horizon_sd_factors;
         o.calibration_leave_out_s = calibration_leave_out_s;
         o.calibration_spacing_s = calibration_spacing_s;
         for (const auto& [key, value] : bandwidth_floor) {
@@ -179,6 +192,7 @@ variables' changes, its bandwidth and noise. Save it as the model.json `pegasus 
       py::arg("scale_grid") = std::vector<double>{0.5, 1, 2, 4, 8}, py::arg("coordinate_passes") = 1,
       py::arg("bandwidth_floor") = std::map<std::string, double>{}, py::arg("noise") = "white",
       py::arg("calibrate_noise") = false,
+      py::arg("horizon_sd_factors") = sysid::IdentifyOptions{}.horizon_sd_factors,
       py::arg("calibration_leave_out_s") = sysid::IdentifyOptions{}.calibration_leave_out_s,
       py::arg("calibration_spacing_s") = sysid::IdentifyOptions{}.calibration_spacing_s,
       py::arg("threads") = 1,

@@ -174,6 +174,11 @@ void declare_identify_config(ConfigSchema& s) {
       "adding a white error of the log where it fits, so that the training log's own noise check (each "
       "window predicted without its data) has about 4.55% "
       "of its steps outside +-2 sd at each model step after a reset");
+  s.add_bool(
+      "horizon_sd_factors", id.horizon_sd_factors,
+      "with calibrate_noise, also measure a factor on each output's sd at each model step after a reset "
+      "for what the scaled noise still misstates there; the bands the model reports carry it, the noise "
+      "it flies does not");
   s.add_double("calibration_leave_out_s", id.calibration_leave_out_s,
                "calibrate_noise predicts each window without the training rows within half this of it (0: in "
                "sample), s")
@@ -222,6 +227,7 @@ IdentifyRunOptions read_identify_config(const ConfigSchema& c) {
   id.min_bandwidth = read_bandwidth_floor(c);
   id.noise = sysid::parse_noise_model(c.get_string("noise"));
   id.calibrate_noise = c.get_bool("calibrate_noise");
+  id.horizon_sd_factors = c.get_bool("horizon_sd_factors");
   id.calibration_leave_out_s = c.get_double("calibration_leave_out_s");
   id.calibration_spacing_s = c.get_double("calibration_spacing_s");
   return o;

@@ -189,9 +189,13 @@ void run_identify(const IdentifyRunOptions& options, RunSink& sink, ThreadPool& 
             "The model's prediction from the true state, reset to the truth every few seconds; the band is 2 "
             "standard deviations of the predicted state (noise_check.csv). Below, each body variable's "
             "share of the hold-out steps outside its band at each time since a reset "
-            "(noise_check_by_horizon.csv): honest bands miss about 4.55%, 3-7% on a flight of some minutes. "
-            "The " +
-            noise_verdict.substr(0, noise_verdict.size() - 1) + ".",
+            "(noise_check_by_horizon.csv): honest bands miss about 4.55%, 3-7% on a flight of some "
+            "minutes. " +
+            (model.horizon_sd_factors().empty() ? std::string()
+                                                : "The bands carry the calibration's factor on each sd at "
+                                                  "each step after a reset, measured on "
+                                                  "the training log (horizon_sd_factors in summary.json). ") +
+            "The " + noise_verdict.substr(0, noise_verdict.size() - 1) + ".",
         .charts = {chart, misses}});
     dir.write_chart_svg("noise_check.svg", chart);
     dir.write_chart_svg("noise_check_by_horizon.svg", misses);
@@ -267,6 +271,15 @@ void run_identify(const IdentifyRunOptions& options, RunSink& sink, ThreadPool& 
     if (!measurement.is_null()) {
       summary["noise_scale"]["measurement"] = measurement;
       summary["noise_scale"]["measurement_white"] = white;  // added, in units of the one-step variance
+    }
+    // The factors on each output's sd by model step after a reset (sysid::fit_horizon_sd_factors).
+    if (!model.horizon_sd_factors().empty()) {
+      nlohmann::json factors;
+      for (int k = 0; k < kBodyVars; ++k) {
+        auto& series = factors[kBodyVarNames[static_cast<std::size_t>(k)]] = nlohmann::json::array();
+        for (const BodyVec& f : model.horizon_sd_factors()) series.push_back(f[k]);
+      }
+      summary["horizon_sd_factors"] = factors;
     }
   }
   {

@@ -96,6 +96,11 @@ IdentifiedModel::IdentifiedModel(ModelStructure structure, Dataset data,
   lwr_ = std::make_unique<LocalRegression>(data_.get(), templates_, inv_bandwidth);
 }
 
+BodyVec IdentifiedModel::horizon_sd_factor(std::size_t step) const {
+  if (horizon_sd_factors_.empty()) return BodyVec::Ones();
+  return horizon_sd_factors_[std::min(step, horizon_sd_factors_.size() - 1)];
+}
+
 BodyVec IdentifiedModel::predictive_variance(const LocalFit& fit) const {
   BodyVec v;
   for (int k = 0; k < kBodyVars; ++k) v[k] = sigma2_[k] * (1 + fit.leverage[k]);
@@ -143,6 +148,11 @@ nlohmann::json IdentifiedModel::to_json() const {
       if ((correlation_.measurement_white_share.array() > 0).any())
         j["noise"]["measurement_white_share"] = values(correlation_.measurement_white_share);
     }
+  }
+  if (!horizon_sd_factors_.empty()) {  // only then: files without them stay as they were
+    nlohmann::json factors = nlohmann::json::array();
+    for (const BodyVec& f : horizon_sd_factors_) factors.push_back(values(f));
+    j["horizon_sd_factors"] = factors;
   }
   nlohmann::json xs = nlohmann::json::array(), ys = nlohmann::json::array();
   for (Eigen::Index i = 0; i < data_->rows(); ++i) {
@@ -304,8 +314,26 @@ IdentifiedModel model_from_json(const nlohmann::json& j, const std::string& file
       }
     }
   }
+  std::vector<BodyVec> sd_factors;
+  if (const auto it = j.find("horizon_sd_factors"); it != j.end()) {  // a calibrated model's
+    if (!it->is_array() || it->empty())
+      json_field_error(file, "horizon_sd_factors", "a non-empty array of steps", *it);
+    for (std::size_t t = 0; t < it->size(); ++t) {
+      const std::string field = fmt::format("horizon_sd_factors[{}]", t);
+      const auto factors = f.numbers((*it)[t], field, kBodyVars);
+      BodyVec step;
+      for (int k = 0; k < kBodyVars; ++k) {
+        const auto i = static_cast<std::size_t>(k);
+        if (!(factors[i] > 0))
+          json_field_error(file, fmt::format("{}[{}]", field, k), "a number > 0", factors[i]);
+        step[k] = factors[i];
+      }
+      sd_factors.push_back(step);
+    }
+  }
   IdentifiedModel model(m, std::move(d), inv, sigma2, correlation);
   model.set_vehicle(std::move(vehicle));
+  model.set_horizon_sd_factors(std::move(sd_factors));
   return model;
 }
 
@@ -505,6 +533,7 @@ IdentifiedModel identify(const FlightLog& train, const IdentifyOptions& o, Threa
   if (o.noise != NoiseModel::kWhite)
     correlation = estimate_noise_correlation(data, templates, best_inv, o.window_s, pool,
                                              o.noise == NoiseModel::kAr1Measurement);
+  std::vector<BodyVec> sd_factors;
   if (o.calibrate_noise) {
     // The noise check on the training log with the model as identified, its bands split by noise source, and
     // the scales that put the errors' 95.45th percentiles at 2 sd at each model step of the reset window.
@@ -513,9 +542,11 @@ IdentifiedModel identify(const FlightLog& train, const IdentifyOptions& o, Threa
     // (calibration_spacing_s) so that a short log still gives enough of them (IdentifyOptions).
     constexpr double kReset = 2.0;
     const IdentifiedModel current(structure, data, best_inv, sigma2, correlation);
-    const NoiseScale scale = fit_noise_scale(
-        noise_band_terms(current, train, kReset, o.calibration_leave_out_s, pool, o.calibration_spacing_s),
-        current.dt(), kReset, &pool);
+    const NoiseBandTerms terms =
+        noise_band_terms(current, train, kReset, o.calibration_leave_out_s, pool, o.calibration_spacing_s);
+    const NoiseScale scale = fit_noise_scale(terms, current.dt(), kReset, &pool);
+    // What the scaled bands still misstate at each step after a reset, on the same windows.
+    if (o.horizon_sd_factors) sd_factors = fit_horizon_sd_factors(terms, scale, current.dt(), kReset);
     const BodyVec before = sigma2;
     std::tie(sigma2, correlation) = scaled_noise(sigma2, correlation, scale);
     if (report) {
@@ -526,7 +557,9 @@ IdentifiedModel identify(const FlightLog& train, const IdentifyOptions& o, Threa
   }
   if (report)
     report->cv_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return IdentifiedModel(structure, std::move(data), best_inv, sigma2, correlation);
+  IdentifiedModel model(structure, std::move(data), best_inv, sigma2, correlation);
+  model.set_horizon_sd_factors(std::move(sd_factors));
+  return model;
 }
 
 }  // namespace pegasus::sysid

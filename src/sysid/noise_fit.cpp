@@ -234,6 +234,16 @@ std::vector<ControlGainBias> closed_loop_bias(const Dataset& data,
   return out;
 }
 
+namespace {
+
+constexpr double kCoverage = 0.9545;  // of a Gaussian within +-2 sd
+// The rank (0-based) of the kCoverage percentile among n values.
+std::size_t coverage_rank(std::size_t n) {
+  return static_cast<std::size_t>(std::ceil(kCoverage * static_cast<double>(n))) - 1;
+}
+
+}  // namespace
+
 Eigen::VectorXd NoiseBandTerms::scales(const NoiseScale& scale) const {
   Eigen::VectorXd out(sources);
   for (int q = 0; q < sources; ++q) {
@@ -246,7 +256,6 @@ Eigen::VectorXd NoiseBandTerms::scales(const NoiseScale& scale) const {
 }
 
 NoiseScale fit_noise_scale(const NoiseBandTerms& terms, double dt, double reset_s, ThreadPool* pool) {
-  constexpr double kCoverage = 0.9545;          // of a Gaussian within +-2 sd
   constexpr double kLimit = 4.605170185988091;  // log(100)
   // A source scaled x2 costs what one cell's percentile 4% off does. Without it the scales the errors hardly
   // constrain drifted to the bounds (the Crazyflie's pitch process noise x16 beside roll's x0.03); with it
@@ -309,7 +318,7 @@ NoiseScale fit_noise_scale(const NoiseBandTerms& terms, double dt, double reset_
       for (Eigen::Index r = from; r < to; ++r)
         if (bands[r] > 0) z2.push_back(error[static_cast<std::size_t>(k)][r] / bands[r]);
       if (z2.size() < 20) continue;
-      const auto at = static_cast<std::size_t>(std::ceil(kCoverage * static_cast<double>(z2.size()))) - 1;
+      const std::size_t at = coverage_rank(z2.size());
       std::nth_element(z2.begin(), z2.begin() + static_cast<std::ptrdiff_t>(at), z2.end());
       if (z2[at] <= 0) continue;
       const double miss = 0.5 * std::log(z2[at] / 4);
@@ -386,6 +395,44 @@ NoiseScale fit_noise_scale(const NoiseBandTerms& terms, double dt, double reset_
     if (sources > 2 * kBodyVars) {
       const double white = log_scale[2 * kBodyVars + j];
       out.measurement_white[j] = white > kOff ? std::exp(white) : 0.0;
+    }
+  }
+  return out;
+}
+
+std::vector<BodyVec> fit_horizon_sd_factors(const NoiseBandTerms& terms, const NoiseScale& scale, double dt,
+                                            double reset_s) {
+  const int steps = std::max(1, static_cast<int>(std::lround(reset_s / dt)));
+  const Eigen::VectorXd scales = terms.scales(scale);
+  // Each counted step's errors over its scaled sd, by horizon.
+  std::vector<std::vector<BodyVec>> z(static_cast<std::size_t>(steps));
+  for (std::size_t i = 0; i < terms.horizon.size(); ++i) {
+    if (terms.horizon[i] < 0 || terms.horizon[i] >= steps) continue;
+    const BodyVec band = terms.band[i] * scales;
+    BodyVec zi;
+    for (int k = 0; k < kBodyVars; ++k)
+      zi[k] = band[k] > 0 ? terms.error[i][k] / std::sqrt(band[k]) : -1;  // -1: no band to measure
+    z[static_cast<std::size_t>(terms.horizon[i])].push_back(zi);
+  }
+  std::vector<BodyVec> out(static_cast<std::size_t>(steps), BodyVec::Ones());
+  std::vector<double> pooled;
+  for (int h = 0; h < steps; ++h) {
+    const int from = h == 0 ? 0 : std::max(1, h - 1), to = h == 0 ? 0 : std::min(steps - 1, h + 1);
+    for (int k = 0; k < kBodyVars; ++k) {
+      pooled.clear();
+      for (int g = from; g <= to; ++g)
+        for (const BodyVec& zi : z[static_cast<std::size_t>(g)])
+          if (zi[k] >= 0) pooled.push_back(zi[k]);
+      if (pooled.size() < 20) continue;  // too few for a 95th percentile
+      std::sort(pooled.begin(), pooled.end());
+      const std::size_t n = pooled.size(), at = coverage_rank(n);
+      const auto spread = static_cast<std::size_t>(std::ceil(std::sqrt(n * kCoverage * (1 - kCoverage))));
+      const double low = pooled[at >= spread ? at - spread : 0], high = pooled[std::min(n - 1, at + spread)];
+      if (!(low > 0)) continue;  // errors of exactly 0 (a band no error reaches): nothing to measure
+      double log_factor = std::log(pooled[at] / 2);
+      const double se = std::log(high / low) / 2;
+      log_factor *= log_factor * log_factor > se * se ? 1 - se * se / (log_factor * log_factor) : 0.0;
+      out[static_cast<std::size_t>(h)][k] = std::exp(log_factor);
     }
   }
   return out;

@@ -454,31 +454,32 @@ NoiseCheck noise_check(const IdentifiedModel& model, const FlightLog& test, doub
   out.outside_by_horizon.assign(seg, BodyVec::Zero());
   out.steps_by_horizon.assign(seg, 0);
   BodyVec outside = BodyVec::Zero();
-  run_noise_filter(model, test, reset_s, 0.0, 0.0, {NoiseScale{}}, pool,
-                   [&](std::size_t r0, std::size_t t, const BodyVec& truth, const BodyVec& mean,
-                       const std::vector<BodyVec>& bands) {
-                     const BodyVec& band_var = bands.front();
-                     BodyVec normalized;
-                     for (int j = 0; j < kBodyVars; ++j)
-                       normalized[j] =
-                           band_var[j] > 0 ? std::abs(truth[j] - mean[j]) / std::sqrt(band_var[j]) : 0.0;
-                     out.normalized_errors.push_back(normalized);
-                     for (int j = 0; j < kBodyVars; ++j) {
-                       if (std::abs(truth[j] - mean[j]) > 2 * std::sqrt(band_var[j])) {
-                         outside[j] += 1;
-                         out.outside_by_horizon[t][j] += 1;
-                       }
-                     }
-                     ++out.steps;
-                     ++out.steps_by_horizon[t];
-                     const double time = test.time[r0 + (t + 1) * k] - test.time[0];
-                     if (time <= trace_seconds) {
-                       out.time.push_back(time);
-                       out.truth.push_back(truth[kV]);
-                       out.mean.push_back(mean[kV]);
-                       out.sd.push_back(std::sqrt(band_var[kV]));
-                     }
-                   });
+  run_noise_filter(
+      model, test, reset_s, 0.0, 0.0, {NoiseScale{}}, pool,
+      [&](std::size_t r0, std::size_t t, const BodyVec& truth, const BodyVec& mean,
+          const std::vector<BodyVec>& bands) {
+        // The filter's band with the calibration's sd factor at this step after the reset.
+        const BodyVec band_var = bands.front().cwiseProduct(model.horizon_sd_factor(t).cwiseAbs2());
+        BodyVec normalized;
+        for (int j = 0; j < kBodyVars; ++j)
+          normalized[j] = band_var[j] > 0 ? std::abs(truth[j] - mean[j]) / std::sqrt(band_var[j]) : 0.0;
+        out.normalized_errors.push_back(normalized);
+        for (int j = 0; j < kBodyVars; ++j) {
+          if (std::abs(truth[j] - mean[j]) > 2 * std::sqrt(band_var[j])) {
+            outside[j] += 1;
+            out.outside_by_horizon[t][j] += 1;
+          }
+        }
+        ++out.steps;
+        ++out.steps_by_horizon[t];
+        const double time = test.time[r0 + (t + 1) * k] - test.time[0];
+        if (time <= trace_seconds) {
+          out.time.push_back(time);
+          out.truth.push_back(truth[kV]);
+          out.mean.push_back(mean[kV]);
+          out.sd.push_back(std::sqrt(band_var[kV]));
+        }
+      });
   if (out.steps > 0) out.outside_fraction = outside / out.steps;
   for (std::size_t t = 0; t < seg; ++t)
     if (out.steps_by_horizon[t] > 0) out.outside_by_horizon[t] /= out.steps_by_horizon[t];

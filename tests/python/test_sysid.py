@@ -185,8 +185,21 @@ def test_measurement_noise_is_the_clis(logs, cli, tmp_path):
         assert calibrated["sigma2"][k] == pytest.approx(expected, rel=1e-12)
         assert white_share[k] == pytest.approx(white / calibrated["sigma2"][k], rel=1e-12, abs=1e-15)
         assert 1 - calibrated["noise"]["share"][k] - calibrated["noise"]["measurement_share"][k] - white_share[k] >= 0
-    assert pegasus.identify(pegasus.read_flight_log(train), noise="ar1+measurement", calibrate_noise=True,
-                            cv_points=60, scale_grid=[1.0, 4.0], coordinate_passes=0).to_json() == calibrated
+    python_model = pegasus.identify(pegasus.read_flight_log(train), noise="ar1+measurement", calibrate_noise=True,
+                                    cv_points=60, scale_grid=[1.0, 4.0], coordinate_passes=0)
+    assert python_model.to_json() == calibrated
+    # The sd factors by step after a reset: the summary's, by output, are the model file's, and Python's
+    # property gives the same table. Without them the model is the same but for that key.
+    factors = calibrated["horizon_sd_factors"]
+    assert len(factors) == 20  # 2 s at 10 Hz
+    summary_factors = json.loads((tmp_path / "calibrated" / "summary.json").read_text())["horizon_sd_factors"]
+    for k, name in enumerate(cli_model["outputs"]):
+        assert summary_factors[name] == [step[k] for step in factors]
+    assert python_model.horizon_sd_factors.tolist() == factors
+    plain = pegasus.identify(pegasus.read_flight_log(train), noise="ar1+measurement", calibrate_noise=True,
+                             horizon_sd_factors=False, cv_points=60, scale_grid=[1.0, 4.0], coordinate_passes=0)
+    assert plain.horizon_sd_factors.shape == (0, 8)
+    assert plain.to_json() == {key: value for key, value in calibrated.items() if key != "horizon_sd_factors"}
 
 
 def test_the_model_from_logs_example_runs(logs, source_dir):

@@ -97,10 +97,12 @@ TEST(ExperimentConfig, ValuesSetInTheSchemaReachTheOptions) {
   ConfigSchema id = defaults_of(heli::declare_identify_config);
   id.set("calibration_leave_out_s", 6.0);
   id.set("calibration_spacing_s", 0.25);
+  id.set("horizon_sd_factors", false);
   id.validate();
   const sysid::IdentifyOptions identify = heli::read_identify_config(id).identify;
   EXPECT_EQ(identify.calibration_leave_out_s, 6.0);
   EXPECT_EQ(identify.calibration_spacing_s, 0.25);
+  EXPECT_FALSE(identify.horizon_sd_factors);
 }
 
 TEST(ExperimentConfig, AVehicleFileFillsOnlyWhatTheUserLeftAtDefaults) {
@@ -181,6 +183,7 @@ TEST(ExperimentConfig, HelicopterSectionsReadTheirDefaults) {
   EXPECT_EQ(id.coordinate_passes, id_defaults.coordinate_passes);
   EXPECT_EQ(id.noise, id_defaults.noise);
   EXPECT_EQ(id.calibrate_noise, id_defaults.calibrate_noise);
+  EXPECT_EQ(id.horizon_sd_factors, id_defaults.horizon_sd_factors);
   EXPECT_EQ(id.min_bandwidth.control, id_defaults.min_bandwidth.control);
   EXPECT_EQ(id.min_bandwidth.angle_rad, id_defaults.min_bandwidth.angle_rad);
   EXPECT_EQ(identify.horizon_s, identify_defaults.horizon_s);
