@@ -191,10 +191,10 @@ void run_identify(const IdentifyRunOptions& options, RunSink& sink, ThreadPool& 
             "share of the hold-out steps outside its band at each time since a reset "
             "(noise_check_by_horizon.csv): honest bands miss about 4.55%, 3-7% on a flight of some "
             "minutes. " +
-            (model.horizon_sd_factors().empty() ? std::string()
-                                                : "The bands carry the calibration's factor on each sd at "
-                                                  "each step after a reset, measured on "
-                                                  "the training log (horizon_sd_factors in summary.json). ") +
+            (model.horizon_sd_factors().empty()
+                 ? std::string()
+                 : "The bands carry the calibration's factor on each sd at each step after a reset, measured "
+                   "on the training log (horizon_sd_factors in summary.json). ") +
             "The " + noise_verdict.substr(0, noise_verdict.size() - 1) + ".",
         .charts = {chart, misses}});
     dir.write_chart_svg("noise_check.svg", chart);

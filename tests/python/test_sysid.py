@@ -196,6 +196,9 @@ def test_measurement_noise_is_the_clis(logs, cli, tmp_path):
     for k, name in enumerate(cli_model["outputs"]):
         assert summary_factors[name] == [step[k] for step in factors]
     assert python_model.horizon_sd_factors.tolist() == factors
+    # The report says the bands carry them, only where they do.
+    assert "(horizon_sd_factors in summary.json)" in (tmp_path / "calibrated" / "report.html").read_text()
+    assert "(horizon_sd_factors in summary.json)" not in (tmp_path / "cli" / "report.html").read_text()
     plain = pegasus.identify(pegasus.read_flight_log(train), noise="ar1+measurement", calibrate_noise=True,
                              horizon_sd_factors=False, cv_points=60, scale_grid=[1.0, 4.0], coordinate_passes=0)
     assert plain.horizon_sd_factors.shape == (0, 8)
