@@ -18,6 +18,7 @@ pegasus::ConfigSchema make_schema() {
   s.add_string("method", "gradient", "method").choices({"gradient", "hill-climb"});
   s.add_int_list("sizes", {1, 2, 4}, "sizes").min(1).min_size(1);
   s.add_double_list("target", {0, 0, -10, 0}, "set point");
+  s.add_string_list("logs", {}, "paths");
   s.add_double("reward.position_m", 0.5, "scale").min(1e-150);
   s.add_int("optimizer.iterations", 20, "iterations").min(0);
   s.add_constraint([](const pegasus::ConfigSchema& c) -> std::string {

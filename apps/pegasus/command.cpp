@@ -94,6 +94,8 @@ std::string type_name(FieldType t) {
       return "INT,...";
     case FieldType::kDoubleList:
       return "NUMBER,...";
+    case FieldType::kStringList:
+      return "TEXT,...";
   }
   return "VALUE";
 }
@@ -402,6 +404,9 @@ std::vector<std::string> command_line_of(const Command& command, const ConfigSch
       std::string text;
       for (double x : xs) text += (text.empty() ? "" : ",") + format_double(x);
       return text;
+    }
+    std::string operator()(const std::vector<std::string>& xs) const {
+      return fmt::format("{}", fmt::join(xs, ","));
     }
   };
   for (const ConfigField& f : config.fields()) {

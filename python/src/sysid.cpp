@@ -262,14 +262,31 @@ variables' changes, its bandwidth and noise. Save it as the model.json `pegasus 
       "(`heli identify`'s mse_at_seconds_as_trained).");
   m.def(
       "noise_check",
-      [](const IdentifiedModel& model, const FlightLog& test, double reset_s, std::int64_t threads) {
+      [](const IdentifiedModel& model, const py::object& test, double reset_s, std::int64_t threads) {
         if (!(reset_s >= 0.1 && reset_s <= 100))
           throw py::value_error(fmt::format("reset_s: expected a number in [0.1, 100], got {}", reset_s));
+        // One log, or several whose steps are pooled (sysid::pooled_noise_check).
+        std::vector<const FlightLog*> logs;
+        if (py::isinstance<FlightLog>(test)) {
+          logs.push_back(&test.cast<const FlightLog&>());
+        } else if (py::isinstance<py::sequence>(test) && !py::isinstance<py::str>(test)) {
+          for (const py::handle item : test.cast<py::sequence>()) {
+            if (!py::isinstance<FlightLog>(item))
+              throw py::type_error("test: expected a FlightLog or a sequence of FlightLog");
+            logs.push_back(&item.cast<const FlightLog&>());
+          }
+          if (logs.empty()) throw py::value_error("test: expected at least one FlightLog");
+        } else {
+          throw py::type_error("test: expected a FlightLog or a sequence of FlightLog");
+        }
         ThreadPool pool = checked_pool(threads);
         sysid::NoiseCheck check;
         {
           py::gil_scoped_release release;
-          check = sysid::noise_check(model, test, reset_s, 0.0, pool);
+          std::vector<sysid::NoiseCheck> checks;
+          for (const FlightLog* log : logs)
+            checks.push_back(sysid::noise_check(model, *log, reset_s, 0.0, pool));
+          check = checks.size() > 1 ? sysid::pooled_noise_check(checks) : std::move(checks.front());
         }
         // Every horizon with steps counted, as noise_check_by_horizon.csv has them.
         const std::vector<sysid::BandMisses> cells =
@@ -296,7 +313,9 @@ variables' changes, its bandwidth and noise. Save it as the model.json `pegasus 
         return out;
       },
       py::arg("model"), py::arg("test"), py::kw_only(), py::arg("reset_s") = 2.0, py::arg("threads") = 1,
-      "Fig 5.3's check on a test log, reset to the logged state every reset_s: seconds [H] since a reset, "
+      "Fig 5.3's check on a test log (or on several, their steps pooled: `heli identify "
+      "--noise-check-logs`), "
+      "reset to the logged state every reset_s: seconds [H] since a reset, "
       "outside [H, 8] (each body variable's share of the steps outside +-2 sd; `heli identify`'s "
       "noise_check_by_horizon.csv), steps [H], outside_fraction [8] over all steps, names. Honest bands miss "
       "3-7% at every horizon.");

@@ -111,6 +111,13 @@ bool same_value(const FieldValue& a, const FieldValue& b) {
   if (const auto* x = std::get_if<std::string>(&a)) {
     return with_invalid_bytes_escaped(*x) == with_invalid_bytes_escaped(std::get<std::string>(b));
   }
+  if (const auto* xs = std::get_if<std::vector<std::string>>(&a)) {
+    const auto& ys = std::get<std::vector<std::string>>(b);
+    return std::equal(xs->begin(), xs->end(), ys.begin(), ys.end(),
+                      [](const std::string& x, const std::string& y) {
+                        return with_invalid_bytes_escaped(x) == with_invalid_bytes_escaped(y);
+                      });
+  }
   return a == b;
 }
 
@@ -128,6 +135,8 @@ const char* type_name(FieldType t) {
       return "int list";
     case FieldType::kDoubleList:
       return "double list";
+    case FieldType::kStringList:
+      return "string list";
   }
   return "?";
 }
@@ -148,6 +157,20 @@ std::string describe(const toml::node& node) {
   return "a date/time";
 }
 
+// A TOML array as a list of T, each element converted by `element`; nullopt when any does not fit.
+template <class T, class Element>
+std::optional<FieldValue> list_from_toml(const toml::node& node, Element element) {
+  const auto* array = node.as_array();
+  if (array == nullptr) return std::nullopt;
+  std::vector<T> out;
+  for (const auto& e : *array) {
+    std::optional<T> x = element(e);
+    if (!x) return std::nullopt;
+    out.push_back(std::move(*x));
+  }
+  return FieldValue{std::move(out)};
+}
+
 // Converts a TOML node to a value of type `t`; nullopt when the TOML type does not fit.
 std::optional<FieldValue> from_toml(const toml::node& node, FieldType t) {
   switch (t) {
@@ -164,32 +187,22 @@ std::optional<FieldValue> from_toml(const toml::node& node, FieldType t) {
     case FieldType::kString:
       if (const auto* s = node.as_string()) return FieldValue{s->get()};
       return std::nullopt;
-    case FieldType::kIntList: {
-      const auto* array = node.as_array();
-      if (array == nullptr) return std::nullopt;
-      std::vector<std::int64_t> out;
-      for (const auto& element : *array) {
-        const auto* i = element.as_integer();
-        if (i == nullptr) return std::nullopt;
-        out.push_back(i->get());
-      }
-      return FieldValue{std::move(out)};
-    }
-    case FieldType::kDoubleList: {
-      const auto* array = node.as_array();
-      if (array == nullptr) return std::nullopt;
-      std::vector<double> out;
-      for (const auto& element : *array) {
-        if (const auto* d = element.as_floating_point()) {
-          out.push_back(d->get());
-        } else if (const auto* i = element.as_integer()) {
-          out.push_back(static_cast<double>(i->get()));
-        } else {
-          return std::nullopt;
-        }
-      }
-      return FieldValue{std::move(out)};
-    }
+    case FieldType::kIntList:
+      return list_from_toml<std::int64_t>(node, [](const toml::node& e) -> std::optional<std::int64_t> {
+        if (const auto* i = e.as_integer()) return i->get();
+        return std::nullopt;
+      });
+    case FieldType::kDoubleList:
+      return list_from_toml<double>(node, [](const toml::node& e) -> std::optional<double> {
+        if (const auto* d = e.as_floating_point()) return d->get();
+        if (const auto* i = e.as_integer()) return static_cast<double>(i->get());
+        return std::nullopt;
+      });
+    case FieldType::kStringList:
+      return list_from_toml<std::string>(node, [](const toml::node& e) -> std::optional<std::string> {
+        if (const auto* s = e.as_string()) return s->get();
+        return std::nullopt;
+      });
   }
   return std::nullopt;
 }
@@ -263,6 +276,10 @@ ConfigField& ConfigSchema::add_int_list(std::string name, std::vector<std::int64
 ConfigField& ConfigSchema::add_double_list(std::string name, std::vector<double> default_value,
                                            std::string help) {
   return add(std::move(name), FieldType::kDoubleList, std::move(default_value), std::move(help));
+}
+ConfigField& ConfigSchema::add_string_list(std::string name, std::vector<std::string> default_value,
+                                           std::string help) {
+  return add(std::move(name), FieldType::kStringList, std::move(default_value), std::move(help));
 }
 void ConfigSchema::add_constraint(Constraint constraint) { constraints_.push_back(std::move(constraint)); }
 
@@ -390,6 +407,16 @@ void ConfigSchema::set_from_cli(std::string_view name, std::string_view text) {
     case FieldType::kDoubleList:
       if (auto x = parse_list<double>(text, parse_double)) value = std::move(*x);
       break;
+    case FieldType::kStringList: {
+      // "a.csv, b.csv" means two files, the second without its space; an empty string is refused.
+      const auto element = [](std::string_view s) -> std::optional<std::string> {
+        s = trim(s);
+        if (s.empty()) return std::nullopt;
+        return std::string(s);
+      };
+      if (auto x = parse_list<std::string>(text, element)) value = std::move(*x);
+      break;
+    }
   }
   if (!value) {
     std::string expected = f.expectation();
@@ -438,6 +465,11 @@ std::string ConfigSchema::format_value(const FieldValue& value) {
     std::string operator()(const std::vector<double>& xs) const {
       std::string out = "[";
       for (std::size_t i = 0; i < xs.size(); ++i) out += (i ? ", " : "") + toml_double(xs[i]);
+      return out + "]";
+    }
+    std::string operator()(const std::vector<std::string>& xs) const {
+      std::string out = "[";
+      for (std::size_t i = 0; i < xs.size(); ++i) out += (i ? ", " : "") + toml_quoted(xs[i]);
       return out + "]";
     }
   };
@@ -545,6 +577,9 @@ const std::vector<std::int64_t>& ConfigSchema::get_int_list(std::string_view nam
 }
 const std::vector<double>& ConfigSchema::get_double_list(std::string_view name) const {
   return get_as<std::vector<double>>(values_, fields_, index_of(name));
+}
+const std::vector<std::string>& ConfigSchema::get_string_list(std::string_view name) const {
+  return get_as<std::vector<std::string>>(values_, fields_, index_of(name));
 }
 
 }  // namespace pegasus

@@ -45,7 +45,7 @@ ConfigField& ConfigField::choices(std::vector<std::string> allowed) {
   return *this;
 }
 ConfigField& ConfigField::min_size(std::size_t n) {
-  if (type_ != FieldType::kIntList && type_ != FieldType::kDoubleList) {
+  if (type_ != FieldType::kIntList && type_ != FieldType::kDoubleList && type_ != FieldType::kStringList) {
     throw std::logic_error("min_size() on non-list field " + name_);
   }
   min_size_ = n;
@@ -56,8 +56,8 @@ ConfigField& ConfigField::validate(Validator check) {
   return *this;
 }
 ConfigField& ConfigField::input_file(Digest digest) {
-  if (type_ != FieldType::kString)
-    throw std::logic_error("ConfigField::input_file: " + name_ + " is no string");
+  if (type_ != FieldType::kString && type_ != FieldType::kStringList)
+    throw std::logic_error("ConfigField::input_file: " + name_ + " is no string or list of strings");
   input_file_ = true;
   input_digest_ = std::move(digest);
   return *this;
@@ -112,6 +112,8 @@ std::string ConfigField::expectation() const {
       if (!bounds.empty()) out += ", each " + bounds;
       return out;
     }
+    case FieldType::kStringList:
+      return min_size_ > 0 ? fmt::format("a list of strings (at least {})", min_size_) : "a list of strings";
   }
   return "?";
 }
@@ -144,6 +146,9 @@ std::string ConfigField::check(const FieldValue& value) const {
           xs.size() >= min_size_ && std::all_of(xs.begin(), xs.end(), [&](double x) { return in_bounds(x); });
       break;
     }
+    case FieldType::kStringList:
+      ok = std::get<std::vector<std::string>>(value).size() >= min_size_;
+      break;
   }
   if (!ok) return expectation();
   // Every number read from a user is finite: an `inf` that passed a one-sided bound would be refused later

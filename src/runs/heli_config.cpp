@@ -145,6 +145,12 @@ void declare_identify_config(ConfigSchema& s) {
   declare_vehicle(s, fills_help(identify_fills()));
   s.add_string("train", "", "training flight log (CSV in the vehicle's layout, see README)").input_file();
   s.add_string("test", "", "hold-out flight log (CSV)").input_file();
+  s.add_string_list(
+       "noise_check_logs", {},
+       "more hold-out flight logs (CSV, the test log's layout) whose steps the noise check pools "
+       "with the test log's: one flight of some minutes puts an honest band outside 3-7% by chance "
+       "in a few cells of every hundred (README, Calibrated noise)")
+      .input_file();
   s.add_double("rate_hz", id.structure.rate_hz, "identification rate, Hz (the log is downsampled)")
       .range(1, 50);
   s.add_bool("local", id.local, "locally weighted regression (false: globally linear)");
@@ -209,6 +215,7 @@ IdentifyRunOptions read_identify_config(const ConfigSchema& c) {
   o.aircraft = vehicle_of(c);
   o.train_log = c.get_string("train");
   o.test_log = c.get_string("test");
+  o.noise_check_logs = c.get_string_list("noise_check_logs");
   o.horizon_s = c.get_double("horizon_s");
   o.start_spacing_s = c.get_double("start_spacing_s");
   o.reset_s = c.get_double("reset_s");

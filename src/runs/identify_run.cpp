@@ -24,7 +24,7 @@ namespace {
 // misses first, then the count at every horizon (model steps at the nominal rate), and where some horizon
 // misses and the options left a remedy unused, the options that narrow the misses.
 std::string noise_check_line(const std::vector<BandMisses>& reported, const NoiseCheck& check, double rate_hz,
-                             const IdentifyOptions& options) {
+                             const IdentifyOptions& options, std::size_t logs) {
   std::vector<BandMisses> wide, narrow;
   for (const BandMisses& m : reported)
     if (!honest_misses(m.outside)) (m.outside < kHonestMissLow ? wide : narrow).push_back(m);
@@ -44,7 +44,8 @@ std::string noise_check_line(const std::vector<BandMisses>& reported, const Nois
   const std::vector<BandMisses> every = band_misses_at_every_step(check, rate_hz);
   const auto every_honest =
       std::count_if(every.begin(), every.end(), [](const BandMisses& m) { return honest_misses(m.outside); });
-  std::string line = "noise check on the hold-out log: ";
+  std::string line = logs > 1 ? fmt::format("noise check on the {} hold-out logs, pooled: ", logs)
+                              : "noise check on the hold-out log: ";
   if (!reported.empty()) {
     line += fmt::format("{} of the {} cells of outside_2sigma_by_horizon are outside 3-7%",
                         wide.size() + narrow.size(), reported.size());
@@ -78,8 +79,12 @@ void run_identify(const IdentifyRunOptions& options, RunSink& sink, ThreadPool& 
   const logs::Vehicle& vehicle = options.aircraft.vehicle;
   const FlightLog train =
       own_layout ? read_flight_log(options.train_log) : logs::read_vehicle_log(options.train_log, vehicle);
-  const FlightLog test =
-      own_layout ? read_flight_log(options.test_log) : logs::read_vehicle_log(options.test_log, vehicle);
+  const auto read_log = [&](const std::string& file) {
+    return own_layout ? read_flight_log(file) : logs::read_vehicle_log(file, vehicle);
+  };
+  const FlightLog test = read_log(options.test_log);
+  std::vector<FlightLog> more_tests;  // read before the identification: a bad file stops the run at once
+  for (const std::string& file : options.noise_check_logs) more_tests.push_back(read_log(file));
   const IdentifyOptions& o = options.identify;
   std::string error;
   if (!o.IsValid(&error)) throw InputError(error);
@@ -145,10 +150,16 @@ void run_identify(const IdentifyRunOptions& options, RunSink& sink, ThreadPool& 
     }
   }
 
-  const NoiseCheck nc = noise_check(model, test, options.reset_s, 10.0, pool);
-  // The summary's cells (0.5, 1 and 2 s after a reset) and the verdict the terminal and the report give.
-  const std::vector<BandMisses> reported_misses = band_misses(nc, model.dt(), {0.5, 1.0, 2.0});
-  const std::string noise_verdict = noise_check_line(reported_misses, nc, o.structure.rate_hz, o);
+  // The summary's cells are 0.5, 1 and 2 s after a reset.
+  const std::vector<double> reported_seconds = {0.5, 1.0, 2.0};
+  std::vector<NoiseCheck> checks = {noise_check(model, test, options.reset_s, 10.0, pool)};
+  for (const FlightLog& log : more_tests)
+    checks.push_back(noise_check(model, log, options.reset_s, 0.0, pool));
+  const NoiseCheck nc = checks.size() > 1 ? pooled_noise_check(checks) : checks.front();
+  // The verdict the terminal and the report give.
+  const std::vector<BandMisses> reported_misses = band_misses(nc, model.dt(), reported_seconds);
+  const std::string noise_verdict =
+      noise_check_line(reported_misses, nc, o.structure.rate_hz, o, checks.size());
   CsvWriter nc_csv({"time", "ydot_b_true", "ydot_b_predicted", "sd"});
   for (std::size_t i = 0; i < nc.time.size(); ++i)
     nc_csv.add_row({nc.time[i], nc.truth[i], nc.mean[i], nc.sd[i]});
@@ -191,6 +202,11 @@ void run_identify(const IdentifyRunOptions& options, RunSink& sink, ThreadPool& 
             "share of the hold-out steps outside its band at each time since a reset "
             "(noise_check_by_horizon.csv): honest bands miss about 4.55%, 3-7% on a flight of some "
             "minutes. " +
+            (checks.size() > 1
+                 ? fmt::format("The steps of the {} hold-out logs are pooled (noise_check_by_log in "
+                               "summary.json gives each alone); the band above is the test log's. ",
+                               checks.size())
+                 : std::string()) +
             (model.horizon_sd_factors().empty()
                  ? std::string()
                  : "The bands carry the calibration's factor on each sd at each step after a reset, measured "
@@ -250,6 +266,30 @@ void run_identify(const IdentifyRunOptions& options, RunSink& sink, ThreadPool& 
   }
   if (!horizons_skipped.empty()) summary["mse_seconds_skipped"] = horizons_skipped;
   if (!own_layout) summary["vehicle"] = vehicle.name();  // likewise
+  if (checks.size() > 1) {  // likewise: each hold-out log's check alone, the test log's first
+    nlohmann::json by_log = nlohmann::json::array();
+    std::vector<std::string> files = {options.test_log};
+    files.insert(files.end(), options.noise_check_logs.begin(), options.noise_check_logs.end());
+    for (std::size_t i = 0; i < checks.size(); ++i) {
+      const std::vector<BandMisses> cells = band_misses(checks[i], model.dt(), reported_seconds);
+      const std::vector<BandMisses> every = band_misses_at_every_step(checks[i], o.structure.rate_hz);
+      nlohmann::json by_horizon = nlohmann::json::object();
+      for (const BandMisses& m : cells)
+        by_horizon[format_double(m.seconds)][kBodyVarNames[static_cast<std::size_t>(m.variable)]] = m.outside;
+      const auto honest = [](const std::vector<BandMisses>& ms) {
+        return std::count_if(ms.begin(), ms.end(),
+                             [](const BandMisses& m) { return honest_misses(m.outside); });
+      };
+      by_log.push_back({{"log", files[i]},
+                        {"steps", checks[i].steps},
+                        {"outside_2sigma_by_horizon", by_horizon},
+                        {"cells_within_3_7", honest(cells)},
+                        {"cells", cells.size()},
+                        {"every_step_cells_within_3_7", honest(every)},
+                        {"every_step_cells", every.size()}});
+    }
+    summary["noise_check_by_log"] = by_log;
+  }
   if (!report.floored_inputs.empty()) summary["bandwidth_at_floor"] = report.floored_inputs;
   if (o.calibrate_noise) {
     nlohmann::json inflation;

@@ -57,15 +57,25 @@ nlohmann::json input_digests(const ConfigSchema& config) {
   nlohmann::json digests = nlohmann::json::object();
   for (const ConfigField& field : config.fields()) {
     if (!field.is_input_file()) continue;
-    const std::string& file = config.get_string(field.name());
-    std::error_code ec;
-    if (file.empty() || !fs::is_regular_file(file, ec)) continue;
-    try {
-      const ConfigField::Digest& digest = field.input_digest();
-      digests[field.name()] = {{"file", file}, {"sha256", digest ? digest(file) : file_sha256(file)}};
-      if (digest) digests[field.name()]["of"] = "the file and what it includes";
-    } catch (const InputError&) {
-      // unreadable: the command says so
+    // A list's files by "name[i]".
+    std::vector<std::pair<std::string, std::string>> files;
+    if (field.type() == FieldType::kStringList) {
+      const auto& list = config.get_string_list(field.name());
+      for (std::size_t i = 0; i < list.size(); ++i)
+        files.emplace_back(fmt::format("{}[{}]", field.name(), i), list[i]);
+    } else {
+      files.emplace_back(field.name(), config.get_string(field.name()));
+    }
+    for (const auto& [key, file] : files) {
+      std::error_code ec;
+      if (file.empty() || !fs::is_regular_file(file, ec)) continue;
+      try {
+        const ConfigField::Digest& digest = field.input_digest();
+        digests[key] = {{"file", file}, {"sha256", digest ? digest(file) : file_sha256(file)}};
+        if (digest) digests[key]["of"] = "the file and what it includes";
+      } catch (const InputError&) {
+        // unreadable: the command says so
+      }
     }
   }
   return digests;
@@ -92,7 +102,8 @@ void check_inputs_unchanged(const fs::path& stored_file, const ConfigSchema& con
     throw InputError(fmt::format(
         "--resume: {} ({}){} {} since the interrupted run began; use the same inputs, or --force to start "
         "over",
-        printable(recorded.value("file", std::string("?"))), ConfigSchema::option_name(field),
+        printable(recorded.value("file", std::string("?"))),
+        ConfigSchema::option_name(field.substr(0, field.find('['))),  // a list's file: "name[i]"
         recorded.contains("of") ? " or a file it includes" : "",
         now.contains(field) ? "changed" : "cannot be read"));
   }

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <string>
 
 #include "pegasus/core/error.hpp"
@@ -483,6 +484,39 @@ NoiseCheck noise_check(const IdentifiedModel& model, const FlightLog& test, doub
   if (out.steps > 0) out.outside_fraction = outside / out.steps;
   for (std::size_t t = 0; t < seg; ++t)
     if (out.steps_by_horizon[t] > 0) out.outside_by_horizon[t] /= out.steps_by_horizon[t];
+  return out;
+}
+
+NoiseCheck pooled_noise_check(const std::vector<NoiseCheck>& checks) {
+  if (checks.empty()) throw std::invalid_argument("pooled_noise_check: no checks");
+  NoiseCheck out = checks.front();  // its traces
+  const std::size_t seg = out.steps_by_horizon.size();
+  // Counts back from the fractions (each a count over the steps, so the rounding is exact).
+  auto counts = [](const BodyVec& fraction, int steps) {
+    return (fraction * steps).array().round().matrix().eval();
+  };
+  BodyVec outside = counts(out.outside_fraction, out.steps);
+  std::vector<BodyVec> outside_by_horizon(seg);
+  for (std::size_t t = 0; t < seg; ++t)
+    outside_by_horizon[t] = counts(out.outside_by_horizon[t], out.steps_by_horizon[t]);
+  for (std::size_t c = 1; c < checks.size(); ++c) {
+    const NoiseCheck& more = checks[c];
+    if (more.steps_by_horizon.size() != seg)
+      throw std::invalid_argument("pooled_noise_check: the checks differ in their steps per reset");
+    outside += counts(more.outside_fraction, more.steps);
+    out.steps += more.steps;
+    for (std::size_t t = 0; t < seg; ++t) {
+      outside_by_horizon[t] += counts(more.outside_by_horizon[t], more.steps_by_horizon[t]);
+      out.steps_by_horizon[t] += more.steps_by_horizon[t];
+    }
+    out.normalized_errors.insert(out.normalized_errors.end(), more.normalized_errors.begin(),
+                                 more.normalized_errors.end());
+  }
+  out.outside_fraction = out.steps > 0 ? BodyVec(outside / out.steps) : BodyVec::Zero();
+  for (std::size_t t = 0; t < seg; ++t)
+    out.outside_by_horizon[t] = out.steps_by_horizon[t] > 0
+                                    ? BodyVec(outside_by_horizon[t] / out.steps_by_horizon[t])
+                                    : BodyVec::Zero();
   return out;
 }
 

@@ -158,6 +158,54 @@ TEST_F(HeliCliWithLogs, IdentifyWithAShortResetWindowCountsEveryHorizonOnly) {
   EXPECT_EQ(r.output.find("cells of outside_2sigma_by_horizon"), std::string::npos) << r.output;
 }
 
+// More hold-out flights for the noise check: their steps pooled with the test log's, each flight's cells in
+// noise_check_by_log. The test log counted twice changes no fraction; a log that cannot be read stops the
+// run before anything is written.
+TEST_F(HeliCliWithLogs, IdentifyPoolsTheNoiseCheckOverMoreHoldOutLogs) {
+  const std::string args = "heli identify" + logs() + kIdentifySmall + " --variants=false";
+  const std::string test_log = (dir_ / "test" / "log.csv").string();
+  const auto one = run(args + " --out " + (dir_ / "one").string());
+  ASSERT_EQ(one.code, 0) << one.output;
+  const auto two = run(args + " --noise-check-logs " + test_log + " --out " + (dir_ / "two").string());
+  ASSERT_EQ(two.code, 0) << two.output;
+  EXPECT_NE(two.output.find("noise check on the 2 hold-out logs, pooled: "), std::string::npos) << two.output;
+  const auto a = nlohmann::json::parse(read_text(dir_ / "one" / "summary.json"));
+  const auto b = nlohmann::json::parse(read_text(dir_ / "two" / "summary.json"));
+  EXPECT_FALSE(a.contains("noise_check_by_log"));  // summaries without the option stay as they were
+  EXPECT_EQ(b.at("outside_2sigma_by_horizon"), a.at("outside_2sigma_by_horizon"));
+  EXPECT_EQ(b.at("outside_2sigma_fraction"), a.at("outside_2sigma_fraction"));
+  EXPECT_EQ(b.at("noise_check_steps"), 2 * a.at("noise_check_steps").get<int>());
+  const auto& by_log = b.at("noise_check_by_log");
+  ASSERT_EQ(by_log.size(), 2u);
+  for (const auto& flight : by_log) {
+    EXPECT_EQ(flight.at("log"), test_log);
+    EXPECT_EQ(flight.at("steps"), a.at("noise_check_steps"));
+    EXPECT_EQ(flight.at("outside_2sigma_by_horizon"), a.at("outside_2sigma_by_horizon"));
+    EXPECT_EQ(flight.at("cells"), 24);
+    EXPECT_EQ(flight.at("every_step_cells"), 160);
+  }
+  for (const char* f : {"model.json", "noise_check.csv"})
+    EXPECT_EQ(read_text(dir_ / "one" / f), read_text(dir_ / "two" / f)) << f;
+  const auto cells_one = pegasus::CsvTable::load(dir_ / "one" / "noise_check_by_horizon.csv");
+  const auto cells_two = pegasus::CsvTable::load(dir_ / "two" / "noise_check_by_horizon.csv");
+  ASSERT_TRUE(cells_one.has_value() && cells_two.has_value());
+  EXPECT_EQ(cells_two->numbers("outside_2sigma"), cells_one->numbers("outside_2sigma"));
+  std::vector<double> doubled = cells_one->numbers("steps");
+  for (double& n : doubled) n *= 2;
+  EXPECT_EQ(cells_two->numbers("steps"), doubled);
+  EXPECT_NE(read_text(dir_ / "two" / "config.toml").find("noise_check_logs = [\"" + test_log + "\"]"),
+            std::string::npos);
+
+  const std::string missing = (dir_ / "missing.csv").string();
+  const auto bad =
+      run(args + " --noise-check-logs " + test_log + "," + missing + " --out " + (dir_ / "bad").string());
+  EXPECT_EQ(bad.code, 2) << bad.output;
+  EXPECT_NE(bad.output.find(missing), std::string::npos) << bad.output;
+  EXPECT_EQ(std::count(bad.output.begin(), bad.output.end(), '\n'), 1) << bad.output;
+  EXPECT_FALSE(fs::exists(dir_ / "bad"));
+  EXPECT_FALSE(fs::exists(dir_ / "bad.partial"));
+}
+
 TEST_F(HeliCliWithLogs, IdentifyOutputsDoNotDependOnThreads) {
   const std::string args = "heli identify" + logs() + kIdentifySmall + " --variants=false";
   ASSERT_EQ(run(args + " --threads 1 --out " + (dir_ / "t1").string()).code, 0);

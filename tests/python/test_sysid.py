@@ -64,6 +64,28 @@ def test_a_model_from_a_csv_path_or_arrays_is_the_cli_model(logs, cli, tmp_path)
     with pytest.raises(ValueError, match=r"reset_s: expected a number in \[0.1, 100\], got 0.05"):
         pegasus.noise_check(from_path, pegasus.read_flight_log(test), reset_s=0.05)
 
+    # Several hold-out flights pooled, as `heli identify --noise-check-logs` pools them: each cell is the
+    # fraction over both flights' steps.
+    result = subprocess.run([cli, "heli", "identify", "--train", train, "--test", test, *IDENTIFY, "--threads", "2",
+                             "--noise-check-logs", train, "--out", str(tmp_path / "pooled")],
+                            capture_output=True, text=True)
+    assert result.returncode == 0, result.stdout + result.stderr
+    on_train = pegasus.noise_check(from_path, pegasus.read_flight_log(train), reset_s=2.0)
+    pooled = pegasus.noise_check(from_path, [pegasus.read_flight_log(test), pegasus.read_flight_log(train)])
+    steps = {name: np.asarray(c["steps"])[:, None] for name, c in [("test", check), ("train", on_train),
+                                                                   ("pooled", pooled)]}
+    assert np.array_equal(steps["pooled"], steps["test"] + steps["train"])
+    counts = check["outside"] * steps["test"] + on_train["outside"] * steps["train"]
+    assert np.allclose(pooled["outside"] * steps["pooled"], counts, rtol=0, atol=1e-9)
+    assert not np.array_equal(check["outside"], on_train["outside"])
+    summary = json.loads((tmp_path / "pooled" / "summary.json").read_text())
+    assert dict(zip(pooled["names"], pooled["outside_fraction"])) == summary["outside_2sigma_fraction"]
+    assert [flight["log"] for flight in summary["noise_check_by_log"]] == [test, train]
+    with pytest.raises(TypeError, match="test: expected a FlightLog or a sequence of FlightLog"):
+        pegasus.noise_check(from_path, [pegasus.read_flight_log(test), "log.csv"])
+    with pytest.raises(ValueError, match="test: expected at least one FlightLog"):
+        pegasus.noise_check(from_path, [])
+
 
 def test_the_bandwidth_floor_is_the_clis(logs, cli, tmp_path):
     train, test = str(logs / "train" / "log.csv"), str(logs / "test" / "log.csv")

@@ -237,6 +237,40 @@ TEST(ConfigSchema, ResolvedTomlLoadsBackToTheSameValues) {
   EXPECT_NE(toml.find("[optimizer]\n"), std::string::npos);
 }
 
+// Lists of files (heli identify --noise-check-logs): TOML arrays of strings, commas on the command line.
+TEST(ConfigSchema, StringListsReadFromTomlAndCliAndLoadBack) {
+  ConfigSchema s = example_schema();
+  s.add_string_list("logs", {}, "more logs").min_size(0);
+  s.add_string_list("two", {"a", "b"}, "at least two").min_size(2);
+  EXPECT_TRUE(s.get_string_list("logs").empty());
+  s.load_toml_string("logs = [\"x.csv\", \"dir with space/y.csv\"]\n", "run.toml");
+  EXPECT_EQ(s.get_string_list("logs"), (std::vector<std::string>{"x.csv", "dir with space/y.csv"}));
+  EXPECT_EQ(s.origin("logs"), "run.toml:1");
+  // A space after a comma is not part of the next file's name.
+  s.set_from_cli("logs", "a.csv, b.csv,c.csv");
+  EXPECT_EQ(s.get_string_list("logs"), (std::vector<std::string>{"a.csv", "b.csv", "c.csv"}));
+  s.set_from_cli("logs", "");
+  EXPECT_TRUE(s.get_string_list("logs").empty());
+  EXPECT_EQ(input_error_message([&] { s.set_from_cli("logs", "a.csv,,b.csv"); }),
+            "--logs: expected a list of strings, got 'a.csv,,b.csv'");
+  EXPECT_EQ(input_error_message([&] { s.set_from_cli("two", "one.csv"); }),
+            "--two: expected a list of strings (at least 2), got 'one.csv'");
+  EXPECT_EQ(input_error_message([&] { s.load_toml_string("logs = [\"x.csv\", 3]\n", "run.toml"); }),
+            "run.toml:1: key 'logs': expected a list of strings, got an array");
+  EXPECT_EQ(input_error_message([&] { s.load_toml_string("logs = \"x.csv\"\n", "run.toml"); }),
+            "run.toml:1: key 'logs': expected a list of strings, got the string \"x.csv\"");
+
+  s.set("logs", std::vector<std::string>{"q\"uote.csv", "back\\slash.csv"});
+  const std::string toml = s.to_toml();
+  EXPECT_NE(toml.find("logs = [\"q\\\"uote.csv\", \"back\\\\slash.csv\"]\n"), std::string::npos) << toml;
+  ConfigSchema back = s.with_defaults();
+  EXPECT_EQ(back.first_difference(s), "logs");
+  back.load_toml_string(toml, "resolved.toml");
+  EXPECT_EQ(back.first_difference(s), std::nullopt) << toml;
+  EXPECT_EQ(back.get_string_list("logs"), s.get_string_list("logs"));
+  EXPECT_EQ(s.to_json().at("logs"), nlohmann::json::parse(R"(["q\"uote.csv", "back\\slash.csv"])"));
+}
+
 TEST(ConfigSchema, RandomDoublesRoundTripBitForBit) {
   std::mt19937_64 bits(12345);  // a fixed seed: the test is deterministic
   for (int trial = 0; trial < 2000; ++trial) {

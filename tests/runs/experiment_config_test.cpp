@@ -98,8 +98,11 @@ TEST(ExperimentConfig, ValuesSetInTheSchemaReachTheOptions) {
   id.set("calibration_leave_out_s", 6.0);
   id.set("calibration_spacing_s", 0.25);
   id.set("horizon_sd_factors", false);
+  id.set("noise_check_logs", std::vector<std::string>{"a.csv", "b.csv"});
   id.validate();
-  const sysid::IdentifyOptions identify = heli::read_identify_config(id).identify;
+  const heli::IdentifyRunOptions run = heli::read_identify_config(id);
+  EXPECT_EQ(run.noise_check_logs, (std::vector<std::string>{"a.csv", "b.csv"}));
+  const sysid::IdentifyOptions& identify = run.identify;
   EXPECT_EQ(identify.calibration_leave_out_s, 6.0);
   EXPECT_EQ(identify.calibration_spacing_s, 0.25);
   EXPECT_FALSE(identify.horizon_sd_factors);

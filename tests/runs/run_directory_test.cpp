@@ -168,6 +168,31 @@ TEST(RunDirectory, ResumeRefusesAnInputFileWhoseContentsChanged) {
   EXPECT_FALSE(fs::exists(root / "plain.partial" / "inputs.json"));
 }
 
+// Each file of a list of input files (heli identify --noise-check-logs) is recorded and checked alike.
+TEST(RunDirectory, ResumeRefusesAChangedFileOfAListOfInputFiles) {
+  const fs::path root = test_support::fresh_test_dir("pegasus_runs_");
+  const fs::path first = root / "a.csv", second = root / "b.csv";
+  write_file_atomic(first, "time,x\n0,1\n");
+  write_file_atomic(second, "time,x\n0,2\n");
+  const auto with_logs = [&] {
+    ConfigSchema s = schema();
+    s.add_string_list("logs", {}, "more logs").input_file();
+    s.set("logs", std::vector<std::string>{first.string(), second.string()});
+    return s;
+  };
+  { RunDirectory::open(root / "out", with_logs()).save_checkpoint({{"next", 1}}); }
+  const auto recorded = read_json_file(root / "out.partial" / "inputs.json");
+  EXPECT_EQ(recorded.at("logs[1]").at("file"), second.string());
+  EXPECT_EQ(recorded.at("logs[1]").at("sha256"), file_sha256(second));
+  write_file_atomic(second, "time,x\n0,3\n");
+  EXPECT_EQ(input_error_message([&] { RunDirectory::open(root / "out", with_logs(), {.resume = true}); }),
+            "--resume: " + second.string() +
+                " (--logs) changed since the interrupted run began; use the same inputs, or --force to start "
+                "over");
+  write_file_atomic(second, "time,x\n0,2\n");
+  EXPECT_TRUE(RunDirectory::open(root / "out", with_logs(), {.resume = true}).resumed());
+}
+
 TEST(RunDirectory, ResumeWithoutAnInterruptedRunStartsFresh) {
   const fs::path root = test_support::fresh_test_dir("pegasus_runs_");
   RunDirectory run = RunDirectory::open(root / "out", schema(), {.resume = true});

@@ -300,6 +300,55 @@ TEST(NoiseCalibration, HorizonSdFactorsGiveBackTheShapeTheSourcesMissed) {
 // The noise check multiplies each sd by the model's factor at its step after the reset, and the steps past
 // the factors' last keep the last: with factors of 1 the check is the plain one, bit for bit; with a huge
 // factor from the fourth step on no error there is outside, and the first three steps are as before.
+// Several hold-out flights as one check (heli identify --noise-check-logs): every cell is the fraction over
+// all the flights' steps, so a flight counted twice changes no fraction, and two flights give the mean of
+// their fractions weighted by their steps.
+TEST(NoiseCheck, PooledChecksWeighEachFlightByItsSteps) {
+  ThreadPool pool(2);
+  const IdentifiedModel model = identify(logs().train, small_search(), pool);
+  const NoiseCheck test = noise_check(model, logs().test, 2.0, 10.0, pool);
+  const NoiseCheck train = noise_check(model, logs().train, 2.0, 0.0, pool);
+  ASSERT_GT(test.steps, 0);
+  ASSERT_NE(test.steps, train.steps);
+
+  const NoiseCheck alone = pooled_noise_check({test});
+  EXPECT_EQ(alone.outside_by_horizon, test.outside_by_horizon);
+  EXPECT_EQ(alone.outside_fraction, test.outside_fraction);
+
+  const NoiseCheck twice = pooled_noise_check({test, test});
+  EXPECT_EQ(twice.steps, 2 * test.steps);
+  EXPECT_EQ(twice.outside_by_horizon, test.outside_by_horizon);  // bit for bit: the same quotients
+  EXPECT_EQ(twice.outside_fraction, test.outside_fraction);
+  EXPECT_EQ(twice.normalized_errors.size(), 2 * test.normalized_errors.size());
+  EXPECT_EQ(twice.time, test.time);  // the first flight's trace, once
+
+  const NoiseCheck both = pooled_noise_check({test, train});
+  ASSERT_EQ(both.steps_by_horizon.size(), test.steps_by_horizon.size());
+  int differ = 0;
+  for (std::size_t t = 0; t < both.steps_by_horizon.size(); ++t) {
+    const int n_test = test.steps_by_horizon[t], n_train = train.steps_by_horizon[t];
+    EXPECT_EQ(both.steps_by_horizon[t], n_test + n_train);
+    for (int k = 0; k < kBodyVars; ++k) {
+      // Counts are whole numbers of steps.
+      const double weighted =
+          test.outside_by_horizon[t][k] * n_test + train.outside_by_horizon[t][k] * n_train;
+      EXPECT_NEAR(both.outside_by_horizon[t][k] * (n_test + n_train), weighted, 1e-9) << t << " " << k;
+      EXPECT_NEAR(weighted, std::round(weighted), 1e-9);
+      differ += test.outside_by_horizon[t][k] != train.outside_by_horizon[t][k];
+    }
+  }
+  EXPECT_GT(differ, 40);  // of 160 cells: the flights' fractions differ, so the weights are tested
+  EXPECT_EQ(both.steps, test.steps + train.steps);
+  for (int k = 0; k < kBodyVars; ++k)
+    EXPECT_NEAR(both.outside_fraction[k] * both.steps,
+                test.outside_fraction[k] * test.steps + train.outside_fraction[k] * train.steps, 1e-9);
+
+  // A check with another reset has other cells: refused, not mixed.
+  const NoiseCheck other_reset = noise_check(model, logs().test, 1.0, 0.0, pool);
+  EXPECT_THROW(pooled_noise_check({test, other_reset}), std::invalid_argument);
+  EXPECT_THROW(pooled_noise_check({}), std::invalid_argument);
+}
+
 TEST(NoiseCheck, BandsCarryTheModelsHorizonSdFactors) {
   ThreadPool pool(2);
   IdentifyOptions o = small_search();

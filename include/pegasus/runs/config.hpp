@@ -34,10 +34,10 @@
 
 namespace pegasus {
 
-enum class FieldType { kInt, kDouble, kBool, kString, kIntList, kDoubleList };
+enum class FieldType { kInt, kDouble, kBool, kString, kIntList, kDoubleList, kStringList };
 
-using FieldValue =
-    std::variant<std::int64_t, double, bool, std::string, std::vector<std::int64_t>, std::vector<double>>;
+using FieldValue = std::variant<std::int64_t, double, bool, std::string, std::vector<std::int64_t>,
+                                std::vector<double>, std::vector<std::string>>;
 
 // Bad input about one config field that only a run can find (a set point under a vehicle's ground). Its
 // message is "FIELD: what"; the command framework names the field as the user set it, as validation does:
@@ -76,10 +76,11 @@ class ConfigField {
   ConfigField& validate(Validator check);
   // Fields that cannot change a result (e.g. `threads`) may differ when a run is resumed.
   ConfigField& affects_results(bool yes);
-  // A string field naming a file whose bytes shape the results (a log, a model, a vehicle file): --resume
-  // refuses to continue when the file's contents changed since the run began (RunDirectory: inputs.json).
-  // `digest` stands for the file's SHA-256 where more than its own bytes shape the results (an MJCF model
-  // and the files it includes); it may throw InputError for a file the command will refuse anyway.
+  // A string field (or each string of a list) naming a file whose bytes shape the results (a log, a model, a
+  // vehicle file): --resume refuses to continue when the file's contents changed since the run began
+  // (RunDirectory: inputs.json). `digest` stands for the file's SHA-256 where more than its own bytes shape
+  // the results (an MJCF model and the files it includes); it may throw InputError for a file the command
+  // will refuse anyway.
   using Digest = std::function<std::string(const std::string& file)>;
   ConfigField& input_file(Digest digest = {});
 
@@ -129,6 +130,8 @@ class ConfigSchema {
   ConfigField& add_string(std::string name, std::string default_value, std::string help);
   ConfigField& add_int_list(std::string name, std::vector<std::int64_t> default_value, std::string help);
   ConfigField& add_double_list(std::string name, std::vector<double> default_value, std::string help);
+  // On the command line its strings are separated by commas ("a.csv,b.csv"); in TOML, an array of strings.
+  ConfigField& add_string_list(std::string name, std::vector<std::string> default_value, std::string help);
   void add_constraint(Constraint constraint);
 
   // Reads a TOML file over the current values. Unknown keys, wrong types and out-of-range values are
@@ -172,6 +175,7 @@ class ConfigSchema {
   const std::string& get_string(std::string_view name) const;
   const std::vector<std::int64_t>& get_int_list(std::string_view name) const;
   const std::vector<double>& get_double_list(std::string_view name) const;
+  const std::vector<std::string>& get_string_list(std::string_view name) const;
 
   // `section.some_key` -> `--section.some-key`.
   static std::string option_name(std::string_view field_name);

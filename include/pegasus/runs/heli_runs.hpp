@@ -19,6 +19,7 @@
 #include <iosfwd>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "pegasus/heli/flights.hpp"
 #include "pegasus/heli/hover_task.hpp"
@@ -79,6 +80,8 @@ void run_pilot(const PilotRunOptions& options, RunSink& sink);
 struct IdentifyRunOptions {
   VehicleChoice aircraft{};
   std::string train_log, test_log;  // CSV in the vehicle's layout (the project's own without a file)
+  // More hold-out flights, in the same layout, whose steps the noise check pools with the test log's.
+  std::vector<std::string> noise_check_logs;
   sysid::IdentifyOptions identify{};
   double horizon_s = 10;       // longest prediction horizon of the report, s
   double start_spacing_s = 2;  // spacing of the open-loop prediction starts on the test log, s

@@ -297,6 +297,11 @@ struct NoiseCheck {
 };
 NoiseCheck noise_check(const IdentifiedModel& model, const FlightLog& test, double reset_s,
                        double trace_seconds, ThreadPool& pool);
+// Several hold-out flights' checks of one model as one: each fraction over all their steps, the traces of the
+// first. One flight of some minutes puts a calibrated band's fraction outside 3-7% by chance in a few cells
+// of every hundred; more flights tell that apart from a band that is too wide or narrow (README, Calibrated
+// noise). The checks must share the reset (the same steps per reset).
+NoiseCheck pooled_noise_check(const std::vector<NoiseCheck>& checks);
 
 // An honest noise model leaves about 4.55% of the steps outside +-2 sd at every horizon; the issue's
 // tolerance for a hold-out flight is 3-7%.
