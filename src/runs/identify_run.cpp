@@ -20,11 +20,12 @@ using namespace pegasus::sysid;
 
 namespace {
 
-// One line on whether the bands are honest on the hold-out log: the summary's cells outside 3-7%, the widest
-// misses first, then the count at every horizon (model steps at the nominal rate), and where some horizon
-// misses and the options left a remedy unused, the options that narrow the misses.
+// One line on whether the bands are honest on the hold-out log (or `flights` of them, pooled): the summary's
+// cells outside 3-7%, the widest misses first, then the count at every horizon (model steps at the nominal
+// rate), and where some horizon misses and the options left a remedy unused, the options that narrow the
+// misses.
 std::string noise_check_line(const std::vector<BandMisses>& reported, const NoiseCheck& check, double rate_hz,
-                             const IdentifyOptions& options, std::size_t logs) {
+                             const IdentifyOptions& options, std::size_t flights) {
   std::vector<BandMisses> wide, narrow;
   for (const BandMisses& m : reported)
     if (!honest_misses(m.outside)) (m.outside < kHonestMissLow ? wide : narrow).push_back(m);
@@ -44,8 +45,8 @@ std::string noise_check_line(const std::vector<BandMisses>& reported, const Nois
   const std::vector<BandMisses> every = band_misses_at_every_step(check, rate_hz);
   const auto every_honest =
       std::count_if(every.begin(), every.end(), [](const BandMisses& m) { return honest_misses(m.outside); });
-  std::string line = logs > 1 ? fmt::format("noise check on the {} hold-out logs, pooled: ", logs)
-                              : "noise check on the hold-out log: ";
+  std::string line = flights > 1 ? fmt::format("noise check on the {} hold-out logs, pooled: ", flights)
+                                 : "noise check on the hold-out log: ";
   if (!reported.empty()) {
     line += fmt::format("{} of the {} cells of outside_2sigma_by_horizon are outside 3-7%",
                         wide.size() + narrow.size(), reported.size());
