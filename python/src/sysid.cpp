@@ -267,13 +267,17 @@ variables' changes, its bandwidth and noise. Save it as the model.json `pegasus 
           throw py::value_error(fmt::format("reset_s: expected a number in [0.1, 100], got {}", reset_s));
         // One log, or several whose steps are pooled (sysid::pooled_noise_check).
         std::vector<const FlightLog*> logs;
+        std::vector<py::object> held;  // a sequence's items alive while the GIL is released
         if (py::isinstance<FlightLog>(test)) {
           logs.push_back(&test.cast<const FlightLog&>());
         } else if (py::isinstance<py::sequence>(test) && !py::isinstance<py::str>(test)) {
-          for (const py::handle item : test.cast<py::sequence>()) {
+          const auto items = test.cast<py::sequence>();
+          for (std::size_t i = 0; i < items.size(); ++i) {
+            py::object item = items[i];  // owned: a sequence may make its items when asked
             if (!py::isinstance<FlightLog>(item))
               throw py::type_error("test: expected a FlightLog or a sequence of FlightLog");
             logs.push_back(&item.cast<const FlightLog&>());
+            held.push_back(std::move(item));
           }
           if (logs.empty()) throw py::value_error("test: expected at least one FlightLog");
         } else {

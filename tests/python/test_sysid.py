@@ -81,6 +81,18 @@ def test_a_model_from_a_csv_path_or_arrays_is_the_cli_model(logs, cli, tmp_path)
     summary = json.loads((tmp_path / "pooled" / "summary.json").read_text())
     assert dict(zip(pooled["names"], pooled["outside_fraction"])) == summary["outside_2sigma_fraction"]
     assert [flight["log"] for flight in summary["noise_check_by_log"]] == [test, train]
+    class Flights:  # a sequence whose items exist only while asked for
+        def __len__(self):
+            return 2
+
+        def __getitem__(self, i):
+            if i >= 2:
+                raise IndexError(i)
+            return pegasus.read_flight_log([test, train][i])
+
+    for flights in [(pegasus.read_flight_log(test), pegasus.read_flight_log(train)), Flights()]:
+        again = pegasus.noise_check(from_path, flights)
+        assert np.array_equal(again["outside"], pooled["outside"]) and again["steps"] == pooled["steps"]
     with pytest.raises(TypeError, match="test: expected a FlightLog or a sequence of FlightLog"):
         pegasus.noise_check(from_path, [pegasus.read_flight_log(test), "log.csv"])
     with pytest.raises(ValueError, match="test: expected at least one FlightLog"):
