@@ -290,7 +290,7 @@ variables' changes, its bandwidth and noise. Save it as the model.json `pegasus 
           std::vector<sysid::NoiseCheck> checks;
           for (const FlightLog* log : logs)
             checks.push_back(sysid::noise_check(model, *log, reset_s, 0.0, pool));
-          check = checks.size() > 1 ? sysid::pooled_noise_check(checks) : std::move(checks.front());
+          check = sysid::pooled_noise_check(checks);  // one log's: its own check
         }
         // Every horizon with steps counted, as noise_check_by_horizon.csv has them.
         const std::vector<sysid::BandMisses> cells =

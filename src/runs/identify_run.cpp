@@ -20,6 +20,20 @@ using namespace pegasus::sysid;
 
 namespace {
 
+// How many of the cells miss 3-7% no more than honest bands do.
+std::size_t honest_cells(const std::vector<BandMisses>& cells) {
+  return static_cast<std::size_t>(std::count_if(
+      cells.begin(), cells.end(), [](const BandMisses& m) { return honest_misses(m.outside); }));
+}
+
+// The cells as summary.json gives them: {seconds: {variable: fraction outside}}.
+nlohmann::json outside_by_horizon_json(const std::vector<BandMisses>& cells) {
+  nlohmann::json out = nlohmann::json::object();
+  for (const BandMisses& m : cells)
+    out[format_double(m.seconds)][kBodyVarNames[static_cast<std::size_t>(m.variable)]] = m.outside;
+  return out;
+}
+
 // One line on whether the bands are honest on the hold-out log (or `flights` of them, pooled): the summary's
 // cells outside 3-7%, the widest misses first, then the count at every horizon (model steps at the nominal
 // rate), and where some horizon misses and the options left a remedy unused, the options that narrow the
@@ -43,8 +57,7 @@ std::string noise_check_line(const std::vector<BandMisses>& reported, const Nois
     return fmt::format("{}", fmt::join(parts, ", "));
   };
   const std::vector<BandMisses> every = band_misses_at_every_step(check, rate_hz);
-  const auto every_honest =
-      std::count_if(every.begin(), every.end(), [](const BandMisses& m) { return honest_misses(m.outside); });
+  const std::size_t every_honest = honest_cells(every);
   std::string line = flights > 1 ? fmt::format("noise check on the {} hold-out logs, pooled: ", flights)
                                  : "noise check on the hold-out log: ";
   if (!reported.empty()) {
@@ -61,7 +74,7 @@ std::string noise_check_line(const std::vector<BandMisses>& reported, const Nois
   // parts keep the sizes fitted to one-step residuals: on both shipped aircraft ar1+measurement calibrated
   // left the fewest cells outside (README, Calibrated noise).
   const bool measured = options.noise == NoiseModel::kAr1Measurement;
-  if (static_cast<std::size_t>(every_honest) < every.size() && !(measured && options.calibrate_noise)) {
+  if (every_honest < every.size() && !(measured && options.calibrate_noise)) {
     line += "; for more honest bands: ";
     line += !measured && !options.calibrate_noise ? "--noise ar1+measurement --calibrate-noise"
             : !measured                           ? "--noise ar1+measurement"
@@ -156,7 +169,7 @@ void run_identify(const IdentifyRunOptions& options, RunSink& sink, ThreadPool& 
   std::vector<NoiseCheck> checks = {noise_check(model, test, options.reset_s, 10.0, pool)};
   for (const FlightLog& log : more_tests)
     checks.push_back(noise_check(model, log, options.reset_s, 0.0, pool));
-  const NoiseCheck nc = checks.size() > 1 ? pooled_noise_check(checks) : checks.front();
+  const NoiseCheck nc = pooled_noise_check(checks);  // one flight's: its own check
   // The verdict the terminal and the report give.
   const std::vector<BandMisses> reported_misses = band_misses(nc, model.dt(), reported_seconds);
   const std::string noise_verdict =
@@ -231,10 +244,7 @@ void run_identify(const IdentifyRunOptions& options, RunSink& sink, ThreadPool& 
   }
   // The bands' misses at 0.5, 1 and 2 s after a reset: an honest noise model misses about 5% at every
   // horizon.
-  nlohmann::json outside_by_horizon = nlohmann::json::object();
-  for (const BandMisses& m : reported_misses)
-    outside_by_horizon[format_double(m.seconds)][kBodyVarNames[static_cast<std::size_t>(m.variable)]] =
-        m.outside;
+  const nlohmann::json outside_by_horizon = outside_by_horizon_json(reported_misses);
   nlohmann::json variant_json = nlohmann::json::array();
   for (const auto& v : study.variants)
     variant_json.push_back({{"model", v.name}, {"mse_at_seconds", mse_at_seconds_json(v.mse)}});
@@ -274,19 +284,12 @@ void run_identify(const IdentifyRunOptions& options, RunSink& sink, ThreadPool& 
     for (std::size_t i = 0; i < checks.size(); ++i) {
       const std::vector<BandMisses> cells = band_misses(checks[i], model.dt(), reported_seconds);
       const std::vector<BandMisses> every = band_misses_at_every_step(checks[i], o.structure.rate_hz);
-      nlohmann::json by_horizon = nlohmann::json::object();
-      for (const BandMisses& m : cells)
-        by_horizon[format_double(m.seconds)][kBodyVarNames[static_cast<std::size_t>(m.variable)]] = m.outside;
-      const auto honest = [](const std::vector<BandMisses>& ms) {
-        return std::count_if(ms.begin(), ms.end(),
-                             [](const BandMisses& m) { return honest_misses(m.outside); });
-      };
       by_log.push_back({{"log", files[i]},
                         {"steps", checks[i].steps},
-                        {"outside_2sigma_by_horizon", by_horizon},
-                        {"cells_within_3_7", honest(cells)},
+                        {"outside_2sigma_by_horizon", outside_by_horizon_json(cells)},
+                        {"cells_within_3_7", honest_cells(cells)},
                         {"cells", cells.size()},
-                        {"every_step_cells_within_3_7", honest(every)},
+                        {"every_step_cells_within_3_7", honest_cells(every)},
                         {"every_step_cells", every.size()}});
     }
     summary["noise_check_by_log"] = by_log;
