@@ -1,7 +1,10 @@
 // libFuzzer harness: TOML configuration files (runs/config: ConfigSchema::load_toml_string).
 // Beyond the error contract: a configuration that loads is written back (to_toml, as config.toml of every
 // run) and must load again to the same values (issue 16: a stored config.toml could not be reloaded).
+#include <string>
+
 #include "fuzz_contract.hpp"
+#include "pegasus/io/atomic_file.hpp"
 #include "pegasus/runs/config.hpp"
 
 namespace {
@@ -32,6 +35,12 @@ pegasus::ConfigSchema make_schema() {
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  pegasus::fuzz::refuses_input_past_its_limit(
+      [](const std::string& file) {
+        pegasus::ConfigSchema schema;
+        schema.load_toml_file(file);
+      },
+      pegasus::kMaxSettingsFileBytes);
   const std::string_view text = pegasus::fuzz::as_text(data, size);
   pegasus::ConfigSchema schema = make_schema();
   const bool loaded = pegasus::fuzz::keeps_error_contract("fuzz.toml", [&] {

@@ -5,11 +5,19 @@
 
 #include <filesystem>
 #include <fstream>
+#include <string>
 
 #include "fuzz_contract.hpp"
+#include "pegasus/core/error.hpp"
+#include "pegasus/io/atomic_file.hpp"
 #include "pegasus/io/csv_table.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  pegasus::fuzz::refuses_input_past_its_limit(
+      [](const std::string& file) {
+        if (!pegasus::CsvTable::load(file)) throw pegasus::InputError(file + ": not a regular file");
+      },
+      pegasus::kMaxDataFileBytes);
   static const std::filesystem::path file =
       std::filesystem::temp_directory_path() / ("pegasus-csv-fuzz-" + std::to_string(::getpid()) + ".csv");
   {

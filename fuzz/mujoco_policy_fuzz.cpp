@@ -4,8 +4,10 @@
 // and is written back (mujoco_policy_file_json) into a file that reads as the same policy. Built only where
 // MuJoCo is.
 #include <cmath>
+#include <string>
 
 #include "fuzz_contract.hpp"
+#include "pegasus/io/atomic_file.hpp"
 #include "pegasus/io/json_input.hpp"
 #include "pegasus/mujoco/mujoco_policy.hpp"
 
@@ -18,6 +20,9 @@ bool same(const pegasus::MujocoPolicyFile& a, const pegasus::MujocoPolicyFile& b
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  pegasus::fuzz::refuses_input_past_its_limit(
+      [](const std::string& file) { (void)pegasus::read_mujoco_policy_file(file); },
+      pegasus::kMaxDataFileBytes);
   const std::string_view text = pegasus::fuzz::as_text(data, size);
   pegasus::fuzz::keeps_error_contract("policy.json", [&] {
     const pegasus::MujocoPolicyFile f = pegasus::parse_mujoco_policy_file(

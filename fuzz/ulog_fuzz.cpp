@@ -10,7 +10,9 @@
 #include <span>
 #include <string>
 
+#include "fuzz_contract.hpp"
 #include "pegasus/core/error.hpp"
+#include "pegasus/io/atomic_file.hpp"
 #include "pegasus/logs/ulog.hpp"
 
 namespace {
@@ -50,6 +52,8 @@ void parse(std::span<const std::uint8_t> bytes, pegasus::logs::UlogReadOptions::
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  pegasus::fuzz::refuses_input_past_its_limit(
+      [](const std::string& file) { (void)pegasus::logs::read_ulog(file); }, pegasus::kMaxDataFileBytes);
   const std::span<const std::uint8_t> bytes(data, size);
   parse(bytes, pegasus::logs::UlogReadOptions::TruncatedTail::kDiscard);
   parse(bytes, pegasus::logs::UlogReadOptions::TruncatedTail::kError);

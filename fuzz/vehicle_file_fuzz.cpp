@@ -4,11 +4,16 @@
 // rate divides the log rate), drives each control axis with exactly one channel, and maps controls both ways.
 #include <array>
 #include <cmath>
+#include <string>
 
 #include "fuzz_contract.hpp"
+#include "pegasus/io/atomic_file.hpp"
 #include "pegasus/logs/vehicle.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  pegasus::fuzz::refuses_input_past_its_limit(
+      [](const std::string& file) { (void)pegasus::logs::read_vehicle(file); },
+      pegasus::kMaxSettingsFileBytes);
   const std::string_view text = pegasus::fuzz::as_text(data, size);
   pegasus::fuzz::keeps_error_contract("vehicle.toml", [&] {
     const pegasus::logs::Vehicle vehicle = pegasus::logs::parse_vehicle(text, "vehicle.toml");

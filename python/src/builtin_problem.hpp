@@ -65,7 +65,7 @@ void bind_returns(py::class_<Problem, Objective>& c) {
         const Theta t = as_theta(theta, "theta", p.parameters());
         std::vector<double> r;
         {
-          py::gil_scoped_release release;
+          ReleaseGilInterruptibly release;
           r = p.returns(t);
         }
         return vector_array(r);

@@ -3,8 +3,44 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <mutex>
+
+#include "pegasus/parallel/interrupt.hpp"
 
 namespace pegasus::python {
+
+namespace {
+
+std::mutex g_interruptible_mutex;
+int g_interruptible_depth = 0;  // calls inside a ReleaseGilInterruptibly, on any thread
+
+extern "C" void request_interrupt_on_signal(int) { request_interrupt(); }
+
+}  // namespace
+
+ReleaseGilInterruptibly::ReleaseGilInterruptibly() {
+  const std::lock_guard lock(g_interruptible_mutex);
+  if (g_interruptible_depth++ > 0) return;
+  clear_interrupt();
+  struct sigaction ours {};
+  ours.sa_handler = request_interrupt_on_signal;
+  sigemptyset(&ours.sa_mask);
+  if (::sigaction(SIGINT, nullptr, &previous_) != 0 || previous_.sa_handler == SIG_IGN) return;
+  installed_ = ::sigaction(SIGINT, &ours, nullptr) == 0;
+}
+
+ReleaseGilInterruptibly::~ReleaseGilInterruptibly() {
+  const std::lock_guard lock(g_interruptible_mutex);
+  --g_interruptible_depth;
+  if (!installed_) return;
+  ::sigaction(SIGINT, &previous_, nullptr);
+  // A Ctrl-C during the call goes to the interpreter's handler now, as if it had come after: the
+  // KeyboardInterrupt of an Interrupted call, or of a call that ended before a pool looked.
+  if (interrupt_requested()) {
+    clear_interrupt();
+    ::raise(SIGINT);
+  }
+}
 
 namespace {
 std::string shape_of(const py::array& a) {

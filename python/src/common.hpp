@@ -5,6 +5,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
+#include <signal.h>
 
 #include <nlohmann/json.hpp>
 #include <string>
@@ -17,6 +18,24 @@
 namespace pegasus::python {
 
 namespace py = pybind11;
+
+// Releases the GIL for a long call into the library and lets Ctrl-C stop it (issue 51): while it lives,
+// SIGINT requests an interrupt (parallel/interrupt.hpp) instead of waiting for the interpreter, which cannot
+// run its handler until the call returns; the pools then stop within one work item and throw Interrupted,
+// which the module raises as KeyboardInterrupt. The interpreter's handler is back when it ends. Use it in
+// place of py::gil_scoped_release around library work.
+class ReleaseGilInterruptibly {
+ public:
+  ReleaseGilInterruptibly();
+  ~ReleaseGilInterruptibly();
+  ReleaseGilInterruptibly(const ReleaseGilInterruptibly&) = delete;
+  ReleaseGilInterruptibly& operator=(const ReleaseGilInterruptibly&) = delete;
+
+ private:
+  bool installed_ = false;  // only the outermost of nested ones, on the main thread, takes SIGINT
+  struct sigaction previous_ {};
+  py::gil_scoped_release release_;
+};
 
 // A C-contiguous float64 array (a copy when the argument was another dtype or not contiguous).
 using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;

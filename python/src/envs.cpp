@@ -357,7 +357,7 @@ gridworld of thesis §4.6 (width x height, open grid, start (0, 0), goal at the 
         if (!options.IsValid(&error)) throw py::value_error("options." + error);
         BicycleTrainingResult result;
         {
-          py::gil_scoped_release release;
+          ReleaseGilInterruptibly release;
           result = train_bicycle(options, hooks);
         }
         return py::make_tuple(vector_array(result.theta), result.summary);
@@ -405,7 +405,7 @@ uhat_batch the C++ side of the numpy-bicycle benchmark (bench/bicycle_bench.cpp 
       "bicycle_uhat",
       [](const BicycleTrainingOptions& options, py::object theta) {
         const Theta t = as_theta(theta, "theta", make_bicycle_policy().parameters());
-        py::gil_scoped_release release;
+        ReleaseGilInterruptibly release;
         return bicycle_uhat(options, t);
       },
       py::arg("options"), py::arg("theta"),

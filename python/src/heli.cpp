@@ -441,7 +441,7 @@ servos, gusts, estimate errors, time, crash code); observe() gives the 12 logged
         if (!options.IsValid(&error)) throw py::value_error(error);
         heli::PilotFlight f;
         {
-          py::gil_scoped_release release;
+          ReleaseGilInterruptibly release;
           f = heli::fly_pilot(*ground_truth, options, seconds, seed);
         }
         Array truth = matrix(static_cast<py::ssize_t>(f.truth.size()), heli::kLoggedStates);

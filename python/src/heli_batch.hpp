@@ -106,7 +106,7 @@ struct HeliBatch {
     const double* pp = p.data();
     double* o = out.mutable_data();
     {
-      py::gil_scoped_release release;
+      ReleaseGilInterruptibly release;
       pool->parallel_for(static_cast<std::size_t>(p.shape(0)), [&](std::size_t r) {
         StateRows<M>::write(model.initial_state(std::span<const double>(pp + r * d, d)), o + r * columns());
       });
@@ -128,7 +128,7 @@ struct HeliBatch {
     const double *ap = a.data(), *pp = p.data();
     double* o = out.mutable_data();
     {
-      py::gil_scoped_release release;
+      ReleaseGilInterruptibly release;
       pool->parallel_for(in.size(), [&](std::size_t r) {
         StateRows<M>::write(
             model.step(in[r], controls_row(ap + 4 * r), std::span<const double>(pp + r * d, d)),
@@ -189,7 +189,7 @@ struct HeliBatch {
     std::int64_t* crashed = crash_step.mutable_data();
     const double dt = 0.02;
     {
-      py::gil_scoped_release release;
+      ReleaseGilInterruptibly release;
       pool->parallel_for(static_cast<std::size_t>(n), [&](std::size_t i) {
         typename M::State s = model.initial_state(std::span<const double>(p0p + i * d0, d0));
         crashed[i] = -1;

@@ -272,7 +272,7 @@ stops when more than options.max_start_crash_fraction of them crash (heli/hover_
         hooks.callbacks = list.pointers();
         const auto shared = identified_model(model);
         const auto pool = make_pool(threads);
-        py::gil_scoped_release release;
+        ReleaseGilInterruptibly release;
         return heli::train_hover(shared, o, hooks, *pool);
       },
       py::arg("model"), py::arg_v("options", heli::HoverTrainingOptions{}, "HoverTrainingOptions()"),

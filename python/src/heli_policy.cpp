@@ -36,7 +36,7 @@ Array HeliPolicyObject::controls(py::object states, py::object time, std::int64_
     std::copy(u.begin(), u.end(), o + r * 4);
   };
   {
-    py::gil_scoped_release release;
+    ReleaseGilInterruptibly release;
     if (one_flight) {  // one control period after another: the controller's memory runs through the rows
       heli::ControllerMemory memory;
       for (std::size_t r = 0; r < static_cast<std::size_t>(n); ++r) row(r, memory);

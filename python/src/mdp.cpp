@@ -131,7 +131,7 @@ gamma, absorbing=..., initial=...) from numpy arrays or scipy.sparse matrices.)d
             o.epsilon = epsilon, o.gauss_seidel = gauss_seidel, o.max_iterations = max_iterations;
             std::string error;
             if (!o.IsValid(mdp, &error)) throw py::value_error(error);
-            py::gil_scoped_release release;
+            ReleaseGilInterruptibly release;
             return value_iteration(mdp, o);
           },
           py::arg("epsilon") = 1e-8, py::arg("gauss_seidel") = false, py::arg("max_iterations") = 1'000'000,
@@ -143,7 +143,7 @@ gamma, absorbing=..., initial=...) from numpy arrays or scipy.sparse matrices.)d
             o.max_iterations = max_iterations;
             std::string error;
             if (!o.IsValid(mdp, &error)) throw py::value_error(error);
-            py::gil_scoped_release release;
+            ReleaseGilInterruptibly release;
             return policy_iteration(mdp, o);
           },
           py::arg("max_iterations") = 10'000,
@@ -159,7 +159,7 @@ gamma, absorbing=..., initial=...) from numpy arrays or scipy.sparse matrices.)d
                                   std::vector<double>(probs.data(), probs.data() + probs.size())};
               std::vector<double> v;
               {
-                py::gil_scoped_release release;
+                ReleaseGilInterruptibly release;
                 v = evaluate_policy(mdp, pi);
               }
               return vector_array(v);
@@ -167,7 +167,7 @@ gamma, absorbing=..., initial=...) from numpy arrays or scipy.sparse matrices.)d
             const std::vector<int> pi = as_indices(a, "policy", mdp.num_states, mdp.num_actions);
             std::vector<double> v;
             {
-              py::gil_scoped_release release;
+              ReleaseGilInterruptibly release;
               v = evaluate_policy(mdp, std::span<const int>(pi));
             }
             return vector_array(v);
@@ -193,7 +193,7 @@ gamma, absorbing=..., initial=...) from numpy arrays or scipy.sparse matrices.)d
         std::string error;
         if (!o.IsValid(&error)) throw py::value_error(error);
         const ShapingTable f = shaping_table(mdp, s, a, n, v);
-        py::gil_scoped_release release;
+        ReleaseGilInterruptibly release;
         return audit_shaping(mdp, f, o);
       });
 

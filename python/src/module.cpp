@@ -5,6 +5,7 @@
 #include "common.hpp"
 #include "pegasus/core/environment_error.hpp"
 #include "pegasus/core/error.hpp"
+#include "pegasus/parallel/interrupt.hpp"
 
 PYBIND11_MODULE(_pegasus, m) {
   namespace py = pybind11;
@@ -14,6 +15,10 @@ PYBIND11_MODULE(_pegasus, m) {
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
+    } catch (const pegasus::Interrupted&) {
+      // Ctrl-C stopped the call (ReleaseGilInterruptibly re-raised the signal for the interpreter): its own
+      // handler raises KeyboardInterrupt, or whatever the program set it to do.
+      if (PyErr_CheckSignals() == 0) PyErr_SetNone(PyExc_KeyboardInterrupt);
     } catch (const pegasus::InputError& e) {
       PyErr_SetString(PyExc_ValueError, e.what());
     } catch (const nlohmann::json::exception& e) {

@@ -184,7 +184,7 @@ BicycleProblem, FunctionObjective, ...)doc")
           "uhat",
           [](Objective& o, py::object theta) {
             const Theta t = as_theta(theta, "theta", o.parameters());
-            py::gil_scoped_release release;
+            ReleaseGilInterruptibly release;
             return o.evaluate(t);
           },
           py::arg("theta"), "U-hat of one theta (the same bits every call).")
@@ -194,7 +194,7 @@ BicycleProblem, FunctionObjective, ...)doc")
             const std::vector<Theta> ts = as_thetas(thetas, "thetas", o.parameters());
             std::vector<double> values(ts.size());
             {
-              py::gil_scoped_release release;
+              ReleaseGilInterruptibly release;
               o.evaluate_batch(ts, values);
             }
             return vector_array(values);
@@ -366,7 +366,7 @@ options section; only the selected method's are used and validated.)doc")
         o.SetCallbacks(list.pointers());
         OptimizerSummary result;
         {
-          py::gil_scoped_release release;
+          ReleaseGilInterruptibly release;
           Solve(o, objective, &t, &result);
         }
         return py::make_tuple(theta_array(t), result);

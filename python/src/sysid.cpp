@@ -183,7 +183,7 @@ variables' changes, its bandwidth and noise. Save it as the model.json `pegasus 
         std::string error;
         if (!o.IsValid(&error)) throw py::value_error(error);
         ThreadPool pool = checked_pool(threads);
-        py::gil_scoped_release release;
+        ReleaseGilInterruptibly release;
         return std::make_shared<IdentifiedModel>(sysid::identify(log, o, pool));
       },
       py::arg("log"), py::kw_only(), py::arg("rate_hz") = 10.0, py::arg("local") = true,
@@ -230,7 +230,7 @@ variables' changes, its bandwidth and noise. Save it as the model.json `pegasus 
         ThreadPool pool = checked_pool(threads);
         sysid::HorizonMse h;
         {
-          py::gil_scoped_release release;
+          ReleaseGilInterruptibly release;
           h = sysid::horizon_mse(model, test, horizon_s, start_spacing_s, pool);
         }
         return horizon_dict(h);
@@ -251,7 +251,7 @@ variables' changes, its bandwidth and noise. Save it as the model.json `pegasus 
         ThreadPool pool = checked_pool(threads);
         sysid::HorizonMse h;
         {
-          py::gil_scoped_release release;
+          ReleaseGilInterruptibly release;
           h = sysid::horizon_mse_as_trained(model, test, control_rate_hz, horizon_s, start_spacing_s, pool);
         }
         return horizon_dict(h);
@@ -286,7 +286,7 @@ variables' changes, its bandwidth and noise. Save it as the model.json `pegasus 
         ThreadPool pool = checked_pool(threads);
         sysid::NoiseCheck check;
         {
-          py::gil_scoped_release release;
+          ReleaseGilInterruptibly release;
           std::vector<sysid::NoiseCheck> checks;
           for (const FlightLog* log : logs)
             checks.push_back(sysid::noise_check(model, *log, reset_s, 0.0, pool));

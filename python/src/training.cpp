@@ -200,7 +200,7 @@ stage's initial U-hat, the last stage's best U-hat and theta, and whether a call
         TrainingSummary s;
         std::string json_error;  // a checkpoint field of the wrong JSON type, found deep in the library
         {
-          py::gil_scoped_release release;
+          ReleaseGilInterruptibly release;
           try {
             Train(p, objective, &t, &s);
           } catch (const nlohmann::json::exception& e) {

@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "pegasus/core/untrusted_text.hpp"
 
@@ -23,18 +24,30 @@ std::string_view trim(std::string_view s) {
   return s;
 }
 
-// The first line is a header when one of its fields names the time or a state field.
-bool is_header(std::string_view line, const ControlLineFormat& format) {
+// The fields of a line, trimmed.
+std::vector<std::string_view> split_fields(std::string_view line) {
+  std::vector<std::string_view> fields;
   std::string_view rest = line;
   while (true) {
     const std::size_t comma = rest.find(',');
-    const std::string_view field = trim(rest.substr(0, comma));
-    if (field == format.time_field) return true;
-    for (const auto& f : format.state_fields)
-      if (field == f) return true;
-    if (comma == std::string_view::npos) return false;
+    fields.push_back(trim(rest.substr(0, comma)));
+    if (comma == std::string_view::npos) return fields;
     rest.remove_prefix(comma + 1);
   }
+}
+
+bool is_number(std::string_view field) {
+  double x = 0;
+  const auto [end, ec] = std::from_chars(field.data(), field.data() + field.size(), x);
+  return !field.empty() && ec == std::errc() && end == field.data() + field.size();
+}
+
+// The first line is a header when one of its fields is not a number: a header is what it means to be, and
+// is checked as one (a misspelt name must not leave the lines read by position).
+bool is_header(std::string_view line) {
+  for (const std::string_view field : split_fields(line))
+    if (!is_number(field)) return true;
+  return false;
 }
 
 void write_values(std::FILE* out, std::span<const double> a) {
@@ -55,16 +68,31 @@ void write_controls(std::FILE* out, const Controls& a, const ControlLineFormat& 
   }
 }
 
-// Each field's position from a header naming them (time first, -1 when absent); empty when a state field is
-// not named.
-std::vector<int> header_columns(std::string_view header, const ControlLineFormat& format) {
-  std::vector<std::string_view> names;
-  std::string_view rest = header;
-  while (true) {
-    const std::size_t comma = rest.find(',');
-    names.push_back(trim(rest.substr(0, comma)));
-    if (comma == std::string_view::npos) break;
-    rest.remove_prefix(comma + 1);
+// Each field's position from a header (the time's first, -1 when absent, then the state fields'). Every
+// state field must be named, and no known name twice: otherwise *why says what is wrong and the result is
+// empty. Other columns (a log's battery voltage) are ignored, each named in *ignored.
+std::vector<int> header_columns(std::string_view header, const ControlLineFormat& format, std::string* why,
+                                std::string* ignored) {
+  const std::vector<std::string_view> names = split_fields(header);
+  auto known = [&](std::string_view name) {
+    if (name == format.time_field) return true;
+    for (const auto& f : format.state_fields)
+      if (name == f) return true;
+    for (const auto& c : format.control_names)
+      if (name == c) return true;
+    return false;
+  };
+  ignored->clear();
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    if (!known(names[i])) {
+      *ignored += fmt::format("{}{} '{}'", ignored->empty() ? "" : ", ", i + 1, names[i].substr(0, 40));
+      continue;
+    }
+    for (std::size_t j = 0; j < i; ++j)
+      if (names[j] == names[i]) {
+        *why = fmt::format("header: column '{}' is named twice (columns {} and {})", names[i], j + 1, i + 1);
+        return {};
+      }
   }
   auto find = [&](const std::string& name) {
     for (std::size_t i = 0; i < names.size(); ++i)
@@ -72,11 +100,41 @@ std::vector<int> header_columns(std::string_view header, const ControlLineFormat
     return -1;
   };
   std::vector<int> columns{find(format.time_field)};
+  std::string missing;
   for (const auto& f : format.state_fields) {
     columns.push_back(find(f));
-    if (columns.back() < 0) return {};
+    if (columns.back() < 0) missing += (missing.empty() ? "" : ", ") + f;
+  }
+  if (!missing.empty()) {
+    std::string expected = format.time_field;
+    for (const auto& f : format.state_fields) expected += "," + f;
+    *why = fmt::format("header: no column for the state field(s) {} (expected the columns {}{})", missing,
+                       expected, ignored->empty() ? "" : "; not fields of this layout: " + *ignored);
+    return {};
   }
   return columns;
+}
+
+// One input line of at most kMaxLineBytes into *line (without its newline); false at the end of the input.
+// A longer line is cut there (*too_long) and the rest of it is read and dropped, so no input, however long
+// its lines, makes memory grow.
+constexpr std::size_t kMaxLineBytes = 64 * 1024;
+
+bool read_line(std::FILE* in, std::string* line, bool* too_long) {
+  line->clear();
+  *too_long = false;
+  int c = 0;
+  bool any = false;
+  while ((c = getc_unlocked(in)) != EOF) {  // the loop's only reader of `in`
+    any = true;
+    if (c == '\n') return true;
+    if (line->size() < kMaxLineBytes) {
+      line->push_back(static_cast<char>(c));
+    } else {
+      *too_long = true;
+    }
+  }
+  return any;
 }
 
 constexpr std::size_t kMaxFields = 256;
@@ -154,8 +212,7 @@ ControlLoopStats run_control_loop(const HeliController& controller, const Contro
                                   std::FILE* out, std::FILE* err, double dt,
                                   const ControlLineFormat& format) {
   ControlLoopStats stats;
-  char* buffer = nullptr;
-  std::size_t capacity = 0;
+  std::string buffer;
   std::int64_t data_lines = 0;
   LoggedState s{};
   ControllerMemory memory;  // the flight's (the input is one flight)
@@ -166,37 +223,54 @@ ControlLoopStats run_control_loop(const HeliController& controller, const Contro
     std::fwrite(msg.data(), 1, msg.size(), err);
     std::fflush(err);
   };
-  while (true) {
-    const ssize_t len = getline(&buffer, &capacity, in);
-    if (len < 0) break;
+  bool too_long = false;
+  while (read_line(in, &buffer, &too_long)) {
     ++stats.lines;
-    std::string_view line = trim(std::string_view(buffer, static_cast<std::size_t>(len)));
+    std::string_view line = trim(buffer);
     if (stats.lines == 1 && line.starts_with(kUtf8ByteOrderMark))
       line.remove_prefix(kUtf8ByteOrderMark.size());
-    if (stats.lines == 1 && is_header(line, format)) {
+    if (stats.lines == 1 && !too_long && is_header(line)) {
       std::string header;
       for (const auto& name : format.control_names) header += (header.empty() ? "" : ",") + name;
       header += '\n';
       std::fputs(header.c_str(), out);
       std::fflush(out);
-      // A header that does not name every state field leaves the lines read by position.
-      columns = header_columns(line, format);
+      std::string ignored;
+      columns = header_columns(line, format, &why, &ignored);
+      if (columns.empty()) {
+        stats.header_refused = why;
+        say(why + "; every line is answered with the trim controls");
+      } else if (!ignored.empty()) {
+        say("header: columns not of this layout, ignored: " + ignored);
+      }
+      continue;
+    }
+    if (!too_long && line == kResetLine) {  // a new flight: no memory, and the clock from 0
+      memory = ControllerMemory{};
+      data_lines = 0;
+      ++stats.resets;
+      std::fputs("reset\n", out);
+      std::fflush(out);
       continue;
     }
     bool has_time = false;
     double time = 0;
-    if (parse_state_line(line, format, columns, &s, &has_time, &time, &why)) {
+    if (!stats.header_refused.empty()) {
+      ++stats.malformed;
+      write_controls(out, safe, format);
+      say("the header (line 1) was refused; answered the trim controls");
+    } else if (!too_long && parse_state_line(line, format, columns, &s, &has_time, &time, &why)) {
       write_controls(out, controller.act(s, has_time ? time : static_cast<double>(data_lines) * dt, memory),
                      format);
     } else {
       ++stats.malformed;
       write_controls(out, safe, format);
+      if (too_long) why = fmt::format("expected a line of at most {} bytes", kMaxLineBytes);
       // One line per malformed input line, whatever bytes it held (NUL, CR, invalid UTF-8).
       say(why + "; answered the trim controls");
     }
     ++data_lines;
   }
-  std::free(buffer);
   return stats;
 }
 

@@ -352,10 +352,13 @@ bool HoverTrainingOptions::IsValid(std::string* error) const {
   if (!(max_start_crash_fraction >= 0 && max_start_crash_fraction <= 1))
     return fail(error, fmt::format("max_start_crash_fraction: expected a number in [0, 1], got {}",
                                    max_start_crash_fraction));
-  if (!(nonnegative_finite(integral_seconds) && integral_seconds <= 3600))
-    return fail(error, fmt::format("integral_seconds: expected a number in [0, 3600] (0: no integral term), "
-                                   "got {}",
-                                   integral_seconds));
+  // The int weights start at gain / integral_seconds: a time below one control step is no integral term a
+  // controller can run (1e-320 made them infinite).
+  if (!(nonnegative_finite(integral_seconds) && integral_seconds <= 3600 &&
+        (integral_seconds == 0 || integral_seconds * control_rate_hz >= 1)))
+    return fail(error, fmt::format("integral_seconds: expected 0 (no integral term) or a number in [{:g}, "
+                                   "3600] (at least one control step, 1 / control_rate_hz), got {}",
+                                   1 / control_rate_hz, integral_seconds));
   if (!integrator().IsValid(&inner)) return fail(error, "integral_" + inner);
   if (!(nonnegative_finite(start_pos_sigma) && nonnegative_finite(start_vel_sigma)))
     return fail(error, "start_pos_sigma, start_vel_sigma: expected finite numbers >= 0");

@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <fmt/format.h>
 #include <openssl/evp.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <array>
@@ -75,24 +76,51 @@ void write_file_atomic(const std::filesystem::path& file, std::string_view conte
   }
 }
 
-std::string read_file(const std::filesystem::path& file) {
+std::string size_limit_reason(std::uint64_t max_bytes) {
+  return max_bytes % (std::uint64_t{1} << 30) == 0
+             ? fmt::format("larger than the {} GiB limit of an input file", max_bytes >> 30)
+             : fmt::format("larger than the {} MiB limit of an input file", max_bytes >> 20);
+}
+
+std::string read_file(const std::filesystem::path& file, std::uint64_t max_bytes) {
   // Callers decide whose fault a read failure is (a user's input file, or the run's own), so this one stays
-  // a plain runtime_error; a directory is refused by name before the stream library reports it as
-  // "basic_filebuf::underflow".
-  auto fail_read = [&](int err) {
-    throw std::runtime_error("cannot read " + file.string() + ": " + std::strerror(err));
+  // a plain runtime_error whose reason follows the last ": ".
+  auto fail_read = [&](const std::string& reason) -> void {
+    throw std::runtime_error("cannot read " + file.string() + ": " + reason);
   };
-  std::error_code ec;
-  if (std::filesystem::is_directory(file, ec)) fail_read(EISDIR);
-  std::ifstream in(file, std::ios::binary);
-  if (!in) fail_read(errno != 0 ? errno : ENOENT);
-  std::ostringstream text;
-  try {
-    text << in.rdbuf();
-  } catch (const std::exception&) {
-    fail_read(errno != 0 ? errno : EIO);
+  // What is not a file's bytes is refused before it is opened: a device reads forever or blocks.
+  auto check_kind = [&](const struct stat& st) {
+    if (S_ISDIR(st.st_mode)) fail_read(std::strerror(EISDIR));
+    if (S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode)) fail_read("expected a regular file, got a device");
+    if (S_ISSOCK(st.st_mode)) fail_read("expected a regular file, got a socket");
+    if (S_ISREG(st.st_mode) && static_cast<std::uint64_t>(st.st_size) > max_bytes)
+      fail_read(size_limit_reason(max_bytes));
+  };
+  struct stat st {};
+  if (::stat(file.c_str(), &st) != 0) fail_read(std::strerror(errno));
+  check_kind(st);
+  const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) fail_read(std::strerror(errno));
+  struct Closer {
+    int fd;
+    ~Closer() { ::close(fd); }
+  } closer{fd};
+  if (::fstat(fd, &st) != 0) fail_read(std::strerror(errno));
+  check_kind(st);  // what was opened, which a rename may have changed since the stat
+  std::string text;
+  if (S_ISREG(st.st_mode)) text.reserve(static_cast<std::size_t>(st.st_size));
+  std::vector<char> buffer(1 << 16);
+  for (;;) {
+    const ssize_t n = ::read(fd, buffer.data(), buffer.size());
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      fail_read(std::strerror(errno));
+    }
+    if (n == 0) break;
+    if (text.size() + static_cast<std::uint64_t>(n) > max_bytes) fail_read(size_limit_reason(max_bytes));
+    text.append(buffer.data(), static_cast<std::size_t>(n));
   }
-  return text.str();
+  return text;
 }
 
 std::string file_sha256(const std::filesystem::path& file) {

@@ -11,6 +11,7 @@
 
 #include "pegasus/core/error.hpp"
 #include "pegasus/core/untrusted_text.hpp"
+#include "pegasus/io/atomic_file.hpp"
 
 namespace pegasus {
 
@@ -39,19 +40,17 @@ toml::table parse_toml_input(std::string_view text, std::string_view name) {
 }
 
 toml::table read_toml_input(const std::filesystem::path& file, std::string_view what) {
-  std::error_code ec;
-  errno = 0;
-  std::ifstream in(file, std::ios::binary);
-  if (!in || std::filesystem::is_directory(file, ec)) {
-    throw InputError(fmt::format("{}: expected a readable {} file, got {}", printable(file.string()), what,
-                                 std::filesystem::is_directory(file, ec) ? std::strerror(EISDIR)
-                                 : errno != 0                            ? std::strerror(errno)
-                                                                         : "nothing readable"));
+  std::string text;
+  try {
+    text = read_file(file, kMaxSettingsFileBytes);
+  } catch (const std::exception& e) {
+    // read_file's message names the file and the system's reason; keep only the reason.
+    std::string reason = e.what();
+    if (const auto colon = reason.rfind(": "); colon != std::string::npos) reason.erase(0, colon + 2);
+    throw InputError(
+        fmt::format("{}: expected a readable {} file, got {}", printable(file.string()), what, reason));
   }
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw InputError(fmt::format("{}: cannot read the {} file", printable(file.string()), what));
-  return parse_toml_input(text.str(), file.string());
+  return parse_toml_input(text, file.string());
 }
 
 }  // namespace pegasus

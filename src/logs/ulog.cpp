@@ -9,6 +9,7 @@
 #include <fstream>
 
 #include "pegasus/core/error.hpp"
+#include "pegasus/io/atomic_file.hpp"
 #include "ulog_bytes.hpp"
 
 namespace pegasus::logs {
@@ -494,15 +495,17 @@ UlogFile parse_ulog(std::span<const std::uint8_t> bytes, std::string_view name,
 }
 
 UlogFile read_ulog(const std::filesystem::path& file, const UlogReadOptions& options) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw InputError(fmt::format("{}: cannot open the ULog file", file.string()));
-  in.seekg(0, std::ios::end);
-  const auto size = static_cast<std::size_t>(in.tellg());
-  in.seekg(0);
-  std::vector<std::uint8_t> bytes(size);
-  in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(size));
-  if (!in) throw InputError(fmt::format("{}: read failed", file.string()));
-  return parse_ulog(bytes, file.string(), options);
+  std::string bytes;
+  try {
+    bytes = read_file(file);
+  } catch (const std::exception& e) {
+    std::string reason = e.what();  // "cannot read FILE: REASON"
+    if (const auto colon = reason.rfind(": "); colon != std::string::npos) reason.erase(0, colon + 2);
+    throw InputError(fmt::format("{}: cannot read the ULog file ({})", file.string(), reason));
+  }
+  return parse_ulog(
+      std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()),
+      file.string(), options);
 }
 
 }  // namespace pegasus::logs

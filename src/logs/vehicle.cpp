@@ -12,9 +12,11 @@
 #include "pegasus/core/error.hpp"
 #include "pegasus/core/untrusted_text.hpp"
 #include "pegasus/heli/frames.hpp"
+#include "pegasus/heli/hover_task.hpp"
 #include "pegasus/heli/policy_file.hpp"
 #include "pegasus/heli/simulators.hpp"
 #include "pegasus/io/json_csv.hpp"
+#include "pegasus/sysid/body_model.hpp"
 
 namespace pegasus::logs {
 namespace {
@@ -211,6 +213,17 @@ VehicleLogSpec vehicle_log_spec(const toml::table& root, const SpecReader& r,
     for (const std::string& field : quantity->fields) used.emplace_back(key, quantity->topic + "\n" + field);
   for (std::size_t c = 0; c < 4; ++c)
     used.emplace_back(fmt::format("log.controls[{}]", c), s.controls[c].topic + "\n" + s.controls[c].field);
+  for (std::size_t i = 0; i < used.size(); ++i) {
+    // A ULog topic's `timestamp` is its records' time (the import's clock), never a measured quantity.
+    const auto [topic, field] = std::pair{used[i].second.substr(0, used[i].second.find('\n')),
+                                          used[i].second.substr(used[i].second.find('\n') + 1)};
+    if (!topic.empty() && field == "timestamp")
+      r.fail(
+          r.at(used[i].first), used[i].first,
+          fmt::format("topic {}: 'timestamp' is the records' time, not a measured quantity; expected a data "
+                      "field of the topic",
+                      printable(topic)));
+  }
   for (std::size_t i = 0; i < used.size(); ++i)
     for (std::size_t j = 0; j < i; ++j)
       if (used[i].second == used[j].second) {
@@ -243,12 +256,24 @@ Vehicle vehicle(const toml::table& root, const std::filesystem::path& file) {
   v.simulator = r.string("vehicle.simulator", v.simulator, heli::simulator_names());
   v.kinematic_templates = r.string("model.templates", "kinematic", {"kinematic", "none"}) == "kinematic";
   v.control_rate_hz = r.number("control.rate_hz", v.control_rate_hz, 0.1, 1000);
+  // The controller is compared with the log step by step: one rate must be a whole multiple of the other.
+  if (r.at("control.rate_hz") && sysid::log_rows_per_model_step(1 / v.log.rate_hz, v.control_rate_hz) == 0 &&
+      sysid::log_rows_per_model_step(1 / v.control_rate_hz, v.log.rate_hz) == 0)
+    r.fail(r.at("control.rate_hz"), "control.rate_hz",
+           fmt::format("expected a rate that log.rate_hz = {} Hz is a whole multiple of, or a whole multiple "
+                       "of it, got {}",
+                       v.log.rate_hz, v.control_rate_hz));
   if (r.at("hover.target")) {
     const auto t = r.numbers("hover.target", 4);
     std::copy(t.begin(), t.end(), v.target.begin());
   }
   v.starting_gains = r.string("hover.starting_gains", v.starting_gains, {"lqr", "constant"});
   v.integral_seconds = r.number("hover.integral_seconds", v.integral_seconds, 0, 3600);
+  // Checked here, not only by the commands that train (a vehicle file is valid or not as a whole).
+  if (v.integral_seconds > 0 && v.integral_seconds * v.control_rate_hz < 1)
+    r.fail(r.at("hover.integral_seconds"), "hover.integral_seconds",
+           fmt::format("expected 0 (no integral term) or at least one control step ({:g} s), got {}",
+                       1 / v.control_rate_hz, v.integral_seconds));
   for (const char* key : {"position_m", "velocity_mps", "yaw_rad", "action", "attitude_rad", "rate_radps"}) {
     const std::string path = std::string("hover.reward.") + key;
     if (!r.at(path)) continue;
@@ -256,7 +281,12 @@ Vehicle vehicle(const toml::table& root, const std::filesystem::path& file) {
     const bool optional = std::string(key) == "action" || std::string(key) == "attitude_rad" ||
                           std::string(key) == "rate_radps";
     const double size = r.number(path, 0, 0, 1e150);
-    if (!optional && !(size > 0)) r.fail(r.at(path), path, "expected a typical size > 0");
+    const double least = heli::HoverReward::kMinTypicalSize;  // smaller makes a weight past the largest
+    if (!(size >= least || (optional && size == 0)))
+      r.fail(r.at(path), path,
+             optional
+                 ? fmt::format("expected 0 (no term) or a typical size of at least {}, got {}", least, size)
+                 : fmt::format("expected a typical size of at least {}, got {}", least, size));
     v.reward.emplace_back(key, size);
   }
   v.max_tilt_rad = r.number("envelope.max_tilt_rad", v.max_tilt_rad, 0.01, 1.5);

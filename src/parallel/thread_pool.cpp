@@ -59,6 +59,7 @@ void ThreadPool::run_chunks(const Job& job) {
     if (begin >= job.n || failed_.load(std::memory_order_relaxed)) return;
     const std::size_t end = std::min(job.n, begin + job.grain);
     try {
+      throw_if_interrupted();
       (*job.body)(begin, end);
     } catch (...) {
       std::lock_guard lock(mutex_);
@@ -98,7 +99,10 @@ void ThreadPool::parallel_for_chunks(std::size_t n, std::size_t grain,
   const ParallelRegion region;
   if (grain == 0) grain = std::max<std::size_t>(1, n / (8 * static_cast<std::size_t>(size())));
   if (workers_.empty() || n <= grain) {
-    for (std::size_t b = 0; b < n; b += grain) body(b, std::min(n, b + grain));
+    for (std::size_t b = 0; b < n; b += grain) {
+      throw_if_interrupted();
+      body(b, std::min(n, b + grain));
+    }
     return;
   }
   const Job job{.body = &body, .n = n, .grain = grain};

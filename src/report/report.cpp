@@ -12,6 +12,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "pegasus/core/environment_error.hpp"
 #include "pegasus/core/error.hpp"
 #include "pegasus/io/atomic_file.hpp"
 #include "pegasus/io/csv_table.hpp"
@@ -129,6 +130,8 @@ details summary { cursor: pointer; color: var(--accent); margin: 6px 0; }
 .replay-view canvas { display: block; width: 100%; border-radius: 4px; }
 img.svg { max-width: 100%; border: 1px solid var(--line); border-radius: 6px; }
 footer { padding: 12px 32px; color: var(--muted); font-size: 12px; border-top: 1px solid var(--line); }
+pre.result { font-size: 14px; max-height: none; white-space: pre-wrap; }
+ul.warnings { margin: 6px 0; padding: 8px 12px 8px 28px; background: #fff6e0; border: 1px solid #e7c766; border-radius: 4px; }
 )";
 
 }  // namespace
@@ -162,6 +165,29 @@ fs::path find_bundle() {
       kBundleEnv));
 }
 
+namespace {
+
+// The lines a run printed (run.json "printed"), warnings first and marked; empty when it printed none.
+std::string printed_result_html(const json& run) {
+  if (!run.is_object()) return {};
+  std::string html;
+  if (const auto w = run.find("warnings"); w != run.end() && w->is_array() && !w->empty()) {
+    html += "<ul class=\"warnings\">\n";
+    for (const auto& line : *w)
+      if (line.is_string()) html += "<li>" + escape_markup(line.get<std::string>()) + "</li>\n";
+    html += "</ul>\n";
+  }
+  std::string text;
+  if (const auto p = run.find("printed"); p != run.end() && p->is_array())
+    for (const auto& line : *p)
+      if (line.is_string() && !line.get<std::string>().starts_with("warning:"))
+        text += escape_markup(line.get<std::string>()) + "\n";
+  if (!text.empty()) html += "<pre class=\"result\">" + text + "</pre>\n";
+  return html;
+}
+
+}  // namespace
+
 json report_data(const fs::path& run_dir, const ReportOptions& options) {
   std::error_code ec;
   if (!fs::exists(run_dir, ec)) {
@@ -191,6 +217,9 @@ json report_data(const fs::path& run_dir, const ReportOptions& options) {
   }
   fs::path name = run_dir.lexically_normal();
   if (!name.has_filename()) name = name.parent_path();
+  // A report written at the end of a run is written in DIR.partial: it names the run by its final name.
+  if (const std::string staged = name.filename().string(); staged.ends_with(".partial"))
+    name.replace_filename(staged.substr(0, staged.size() - std::string_view(".partial").size()));
   std::string title = name.filename().string();
   if (run.is_object() && run.contains("command") && run["command"].is_string()) {
     title = "pegasus " + run["command"].get<std::string>();
@@ -200,6 +229,10 @@ json report_data(const fs::path& run_dir, const ReportOptions& options) {
 
   Page page;
   page.consumed("report.html");
+  // The answer first: what the run printed as its result, its warnings above it (run.json, written by the
+  // command framework from the run's printed lines).
+  if (const std::string result = printed_result_html(run); !result.empty())
+    page.section("result", "Result", "What the run printed when it finished.", result);
   // Headline figures and configuration.
   std::vector<std::pair<std::string, std::string>> headline;
   flatten(summary, "", 0, headline);
@@ -246,12 +279,18 @@ json report_data(const fs::path& run_dir, const ReportOptions& options) {
           command = "pegasus " + r["command"].get<std::string>();
       } catch (const std::exception&) {
       }
+      std::string verdict;  // the stage's own result lines
+      try {
+        verdict = printed_result_html(read_json_file(part / "run.json"));
+      } catch (const std::exception&) {
+      }
       std::error_code e2;
-      list += fs::is_regular_file(part / "report.html", e2)
-                  ? fmt::format("<li><a href=\"{0}/report.html\">{0}</a> {1}</li>\n", escape_markup(n),
-                                escape_markup(command))
-                  : fmt::format("<li>{} {} (no report.html yet: pegasus report {})</li>\n", escape_markup(n),
-                                escape_markup(command), escape_markup(part.string()));
+      list +=
+          fs::is_regular_file(part / "report.html", e2)
+              ? fmt::format("<li><a href=\"{0}/report.html\">{0}</a> {1}{2}</li>\n", escape_markup(n),
+                            escape_markup(command), verdict)
+              : fmt::format("<li>{} {} (no report.html yet: pegasus report {}){}</li>\n", escape_markup(n),
+                            escape_markup(command), escape_markup(part.string()), verdict);
     }
     page.section("parts", "Parts of this run",
                  "Each stage is a run directory of its own, with its own report.", list + "</ul>\n");
@@ -386,6 +425,10 @@ bool write_report_or_note(const fs::path& run_dir, std::ostream& err, const Repo
   try {
     write_report(run_dir, options);
     return true;
+  } catch (const EnvironmentError&) {
+    throw;  // a full disk is the run's failure (exit 3, DIR.partial kept), not the report's alone
+  } catch (const std::bad_alloc&) {
+    throw;
   } catch (const std::exception& e) {
     std::string line = e.what();
     std::replace(line.begin(), line.end(), '\n', ' ');

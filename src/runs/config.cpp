@@ -17,6 +17,7 @@
 #include "config_values.hpp"
 #include "pegasus/core/error.hpp"
 #include "pegasus/core/untrusted_text.hpp"
+#include "pegasus/io/atomic_file.hpp"
 
 namespace pegasus {
 
@@ -311,17 +312,15 @@ void ConfigSchema::assign(std::size_t index, FieldValue value, const std::string
 
 void ConfigSchema::load_toml_file(const std::filesystem::path& file,
                                   const std::vector<std::string>& overridden) {
-  errno = 0;
-  std::ifstream in(file, std::ios::binary);
-  std::error_code ec;
-  if (!in || std::filesystem::is_directory(file, ec)) {
-    throw InputError(fmt::format("{}: cannot read config file: {}", file.string(),
-                                 errno != 0 ? std::strerror(errno) : "not a regular file"));
+  std::string text;
+  try {
+    text = read_file(file, kMaxSettingsFileBytes);
+  } catch (const std::exception& e) {
+    std::string reason = e.what();  // "cannot read FILE: REASON"
+    if (const auto colon = reason.rfind(": "); colon != std::string::npos) reason.erase(0, colon + 2);
+    throw InputError(fmt::format("{}: cannot read config file: {}", file.string(), reason));
   }
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw InputError(fmt::format("{}: cannot read config file", file.string()));
-  load_toml_string(text.str(), file.string(), overridden);
+  load_toml_string(text, file.string(), overridden);
 }
 
 void ConfigSchema::load_toml_string(std::string_view text, const std::string& source_name,

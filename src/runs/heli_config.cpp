@@ -332,7 +332,7 @@ void declare_hover_config(ConfigSchema& s) {
       });
   // Each weight is 1 / this^2 (Eq 5.9, 5.10): below kMinTypicalScale it would exceed kMaxRewardWeight, and
   // the reward's own check would then blame alpha_pos instead of the option given.
-  static constexpr double kMinTypicalScale = 1e-6;  // 1 / sqrt(kMaxRewardWeight)
+  static constexpr double kMinTypicalScale = HoverReward::kMinTypicalSize;  // 1 / sqrt(kMaxRewardWeight)
   s.add_double("reward.position_m", HoverReward::kTypicalPosition,
                "typical position error: alpha_x,y,z = 1 / this^2 (Eq 5.9)")
       .min(kMinTypicalScale);

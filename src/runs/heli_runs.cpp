@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "pegasus/core/error.hpp"
+#include "pegasus/core/untrusted_text.hpp"
 #include "pegasus/heli/aircraft.hpp"
 #include "pegasus/heli/control_loop.hpp"
 #include "pegasus/heli/flights.hpp"
@@ -159,7 +160,12 @@ void run_pilot(const PilotRunOptions& options, RunSink& sink) {
 void run_hover(const HoverRunOptions& options, RunSink& sink, ThreadPool& pool) {
   const HoverTrainingOptions& o = options.training;
   std::string error;
-  if (!o.IsValid(&error)) throw InputError(error);
+  // "field: what": named as the user gave the field (--integral-seconds, or the config file's key).
+  if (!o.IsValid(&error)) {
+    const std::size_t colon = error.find(": ");
+    if (colon == std::string::npos) throw InputError(error);
+    throw ConfigFieldError(error.substr(0, colon), error.substr(colon + 2));
+  }
   if (options.aircraft.vehicle.simulator != "none" && !(o.target.z < 0))
     throw ConfigFieldError("target",
                            fmt::format("z = {:g} is at or below the ground of {}'s ground truth (NED: z < 0 "
@@ -476,10 +482,14 @@ void run_control(const ControlRunOptions& options, std::FILE* in, std::FILE* out
           other_vehicle_warning(trained_vehicle(file), path, vehicle.name(), "serving it in the terms of");
       !w.empty())
     std::fprintf(err, "%s\n", w.c_str());
-  if (aircraft.from_file())
-    run_control_loop(*controller, file.trim, in, out, err, dt, logs::control_line_format(vehicle));
-  else
-    run_control_loop(*controller, file.trim, in, out, err, dt);
+  const ControlLoopStats stats =
+      aircraft.from_file()
+          ? run_control_loop(*controller, file.trim, in, out, err, dt, logs::control_line_format(vehicle))
+          : run_control_loop(*controller, file.trim, in, out, err, dt);
+  // Every line was answered (the trim controls); the exit code says that none was served from the input.
+  if (!stats.header_refused.empty())
+    throw InputError(fmt::format("stdin:1: {}; all {} lines after it were answered with the trim controls",
+                                 printable(stats.header_refused), stats.lines - 1));
 }
 
 void write_pipeline_summary(const std::string& vehicle, double flight_seconds, RunSink& sink) {

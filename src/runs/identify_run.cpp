@@ -99,9 +99,28 @@ void run_identify(const IdentifyRunOptions& options, RunSink& sink, ThreadPool& 
   const FlightLog test = read_log(options.test_log);
   std::vector<FlightLog> more_tests;  // read before the identification: a bad file stops the run at once
   for (const std::string& file : options.noise_check_logs) more_tests.push_back(read_log(file));
+  // A flight given twice would count its steps twice in the pooled check, as if it were two.
+  for (std::size_t i = 0; i < more_tests.size(); ++i) {
+    auto refuse = [&](const std::string& other, const std::string& option) {
+      throw InputError(fmt::format(
+          "--noise-check-logs: {} is the same flight as {} ({}); each hold-out flight counts once",
+          options.noise_check_logs[i], other, option));
+    };
+    if (more_tests[i] == test) refuse(options.test_log, "--test");
+    if (more_tests[i] == train) refuse(options.train_log, "--train");
+    for (std::size_t j = 0; j < i; ++j)
+      if (more_tests[i] == more_tests[j]) refuse(options.noise_check_logs[j], "--noise-check-logs");
+  }
   const IdentifyOptions& o = options.identify;
   std::string error;
   if (!o.IsValid(&error)) throw InputError(error);
+  if (const std::size_t need = sysid::min_training_log_rows(train.dt(), o.structure);
+      train.rows() >= 2 && need > 1 && train.rows() < need)
+    throw InputError(
+        fmt::format("--train: {} has {} rows ({:.1f} s); identification at {} Hz needs at least "
+                    "{} rows ({:.1f} s)",
+                    options.train_log, train.rows(), train.seconds(), o.structure.rate_hz, need,
+                    static_cast<double>(need) * train.dt()));
   RunDirectory& dir = sink.dir;
   options.aircraft.keep(dir);
 

@@ -134,6 +134,17 @@ void run_log_import(const LogImportRunOptions& o, RunSink& sink, ThreadPool& poo
     const auto [train, test] = split_log(log, split);
     sysid::IdentifyOptions io = o.identification;
     io.structure.rate_hz = spec.model_rate_hz;
+    // A range too short to identify from is the range's fault, or the import's wish: say which options.
+    const double log_dt = 1 / spec.rate_hz;
+    if (const std::size_t need = sysid::min_training_log_rows(log_dt, io.structure);
+        train.rows() < need || test.rows() < 2)
+      throw InputError(fmt::format(
+          "{}: the imported range gives {} rows ({:.1f} s at {} Hz), {} of them for training; identification "
+          "at {} Hz needs at least {} training rows ({:.1f} s): choose a longer range (--start-s, --end-s), "
+          "a "
+          "larger --train-fraction, or --identify=false to import only",
+          file.string(), log.rows(), static_cast<double>(log.rows()) * log_dt, spec.rate_hz, train.rows(),
+          io.structure.rate_hz, need, static_cast<double>(need) * log_dt));
     io.structure.extra_states = false;  // the X-Cell's rotor and gyro lags are no part of this vehicle
     io.structure.templates = vehicle.kinematic_templates;
     sysid::IdentifyReport report;

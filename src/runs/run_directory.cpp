@@ -81,9 +81,20 @@ nlohmann::json input_digests(const ConfigSchema& config) {
   return digests;
 }
 
-// What --resume continues was computed from the input files as they were: refuse when one changed since.
+// What --resume continues was computed from the input files as they were: refuse when one changed since,
+// and when the interrupted run left no record of them (a kill before inputs.json was written, or a
+// DIR.partial made by hand), since nothing then shows the inputs are the same.
 void check_inputs_unchanged(const fs::path& stored_file, const ConfigSchema& config) {
-  if (!exists_no_follow(stored_file)) return;  // a run without input files, or of an older version
+  if (!exists_no_follow(stored_file)) {
+    const nlohmann::json now = input_digests(config);
+    if (now.empty()) return;  // a run without input files
+    const std::string field = now.begin().key();
+    throw InputError(fmt::format(
+        "--resume: {} holds no record of the input files (such as {}, {}), so the interrupted run cannot be "
+        "checked against them; use --force to start over",
+        stored_file.parent_path().string(), printable(now.begin().value().value("file", std::string("?"))),
+        ConfigSchema::option_name(field.substr(0, field.find('[')))));
+  }
   nlohmann::json stored;
   try {
     stored = read_json_file(stored_file);
@@ -107,6 +118,19 @@ void check_inputs_unchanged(const fs::path& stored_file, const ConfigSchema& con
         recorded.contains("of") ? " or a file it includes" : "",
         now.contains(field) ? "changed" : "cannot be read"));
   }
+}
+
+// A DIR.partial whose run was killed while starting: a folder holding at most inputs.json and temporaries.
+bool holds_nothing_but_a_start(const fs::path& staging) {
+  std::error_code ec;
+  if (!fs::is_directory(fs::symlink_status(staging, ec))) return false;
+  for (auto it = fs::directory_iterator(staging, ec); !ec && it != fs::directory_iterator();
+       it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    const bool temporary = name.size() > 5 && name.front() == '.' && name.ends_with(".tmp");
+    if (name != kInputsFile && !temporary) return false;
+  }
+  return !ec;
 }
 
 // A private folder for a shadow's direct writes, removed when the last copy of the pointer goes.
@@ -278,13 +302,22 @@ RunDirectory RunDirectory::open_here(const fs::path& dir, const ConfigSchema& co
         "--out: '{}' holds an interrupted run (use --resume to continue it or --force to start over)",
         staging.string()));
   }
-  if (partial_exists && options.resume) {
+  // A run killed before it wrote config.toml (written last when a run starts) left nothing to continue:
+  // --resume starts it over. Anything else there without config.toml cannot be checked, and is refused.
+  const bool resume = partial_exists && options.resume && !holds_nothing_but_a_start(staging);
+  if (resume) {
     std::error_code ec;
     if (!fs::is_directory(staging, ec)) {
       throw InputError(fmt::format("--resume: '{}' is not a directory", staging.string()));
     }
     const fs::path stored_file = staging / kConfigFile;
-    if (exists_no_follow(stored_file)) {
+    if (!exists_no_follow(stored_file)) {
+      throw InputError(fmt::format(
+          "--resume: '{}' holds no {}: it is not an interrupted run this program can check; use --force to "
+          "start over",
+          staging.string(), kConfigFile));
+    }
+    {
       ConfigSchema stored = config.with_defaults();
       try {
         stored.load_toml_file(stored_file);
@@ -304,7 +337,7 @@ RunDirectory RunDirectory::open_here(const fs::path& dir, const ConfigSchema& co
     remove_stale_temporaries(staging);
     run.resumed_ = true;
   } else {
-    if (partial_exists) {  // --force without --resume: start over
+    if (partial_exists) {  // --force without --resume, or a start that wrote nothing yet: start over
       std::error_code ec;
       fs::remove_all(staging, ec);
       if (ec) throw EnvironmentError(fmt::format("cannot remove {}: {}", staging.string(), ec.message()));
@@ -317,10 +350,12 @@ RunDirectory RunDirectory::open_here(const fs::path& dir, const ConfigSchema& co
     run.created_ = true;
   }
   try {
-    run.write_text(kConfigFile, config.to_toml());
+    // inputs.json before config.toml: a DIR.partial with a config.toml always has the record of its inputs
+    // (--resume refuses one without it).
     if (run.created_)
       if (const nlohmann::json digests = input_digests(config); !digests.empty())
         run.write_json(kInputsFile, digests);
+    run.write_text(kConfigFile, config.to_toml());
   } catch (...) {
     // A fresh DIR.partial without its config.toml (a full disk) is no interrupted run: remove it.
     run.abandon();

@@ -402,6 +402,10 @@ double cv_error(const Dataset& data, const std::array<OutputTemplate, kBodyVars>
   return total;
 }
 
+std::size_t min_training_log_rows(double log_dt, const ModelStructure& structure) {
+  return 4 * kInputs * log_rows_per_model_step(log_dt, structure.rate_hz) + 1;
+}
+
 IdentifiedModel identify(const FlightLog& train, const IdentifyOptions& o, ThreadPool& pool,
                          IdentifyReport* report, const IdentifyHooks& hooks) {
   std::string error;

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <tuple>
 
 #include "pegasus/io/csv_table.hpp"
 #include "support/cli_runner.hpp"
@@ -164,41 +165,68 @@ TEST_F(HeliCliWithLogs, IdentifyWithAShortResetWindowCountsEveryHorizonOnly) {
 TEST_F(HeliCliWithLogs, IdentifyPoolsTheNoiseCheckOverMoreHoldOutLogs) {
   const std::string args = "heli identify" + logs() + kIdentifySmall + " --variants=false";
   const std::string test_log = (dir_ / "test" / "log.csv").string();
+  // A second hold-out flight, and the same model checked on it alone.
+  ASSERT_EQ(
+      run("heli pilot --seconds 25 --hover-seconds 4 --seed 5 --quiet --out " + (dir_ / "test2").string())
+          .code,
+      0);
+  const std::string other_log = (dir_ / "test2" / "log.csv").string();
   const auto one = run(args + " --out " + (dir_ / "one").string());
   ASSERT_EQ(one.code, 0) << one.output;
-  const auto two = run(args + " --noise-check-logs " + test_log + " --out " + (dir_ / "two").string());
+  const auto alone = run("heli identify --train " + (dir_ / "train" / "log.csv").string() + " --test " +
+                         other_log + kIdentifySmall + " --variants=false --out " + (dir_ / "alone").string());
+  ASSERT_EQ(alone.code, 0) << alone.output;
+  const auto two = run(args + " --noise-check-logs " + other_log + " --out " + (dir_ / "two").string());
   ASSERT_EQ(two.code, 0) << two.output;
   EXPECT_NE(two.output.find("noise check on the 2 hold-out logs, pooled: "), std::string::npos) << two.output;
   const auto a = nlohmann::json::parse(read_text(dir_ / "one" / "summary.json"));
   const auto b = nlohmann::json::parse(read_text(dir_ / "two" / "summary.json"));
+  const auto c = nlohmann::json::parse(read_text(dir_ / "alone" / "summary.json"));
   EXPECT_FALSE(a.contains("noise_check_by_log"));  // summaries without the option stay as they were
-  EXPECT_EQ(b.at("outside_2sigma_by_horizon"), a.at("outside_2sigma_by_horizon"));
-  EXPECT_EQ(b.at("outside_2sigma_fraction"), a.at("outside_2sigma_fraction"));
-  EXPECT_EQ(b.at("noise_check_steps"), 2 * a.at("noise_check_steps").get<int>());
+  EXPECT_EQ(b.at("noise_check_steps"),
+            a.at("noise_check_steps").get<int>() + c.at("noise_check_steps").get<int>());
   const auto& by_log = b.at("noise_check_by_log");
   ASSERT_EQ(by_log.size(), 2u);
-  for (const auto& flight : by_log) {
-    EXPECT_EQ(flight.at("log"), test_log);
-    EXPECT_EQ(flight.at("steps"), a.at("noise_check_steps"));
-    EXPECT_EQ(flight.at("outside_2sigma_by_horizon"), a.at("outside_2sigma_by_horizon"));
+  // Each flight's own check is the check of that flight alone, the test log first.
+  for (const auto& [flight, single, log] : {std::tuple{by_log[0], a, test_log}, {by_log[1], c, other_log}}) {
+    EXPECT_EQ(flight.at("log"), log);
+    EXPECT_EQ(flight.at("steps"), single.at("noise_check_steps"));
+    EXPECT_EQ(flight.at("outside_2sigma_by_horizon"), single.at("outside_2sigma_by_horizon"));
     EXPECT_EQ(flight.at("cells"), 24);
     EXPECT_EQ(flight.at("every_step_cells"), 160);
   }
+  // The pooled fractions weigh each flight by its steps, cell by cell.
+  const auto cells_one = pegasus::CsvTable::load(dir_ / "one" / "noise_check_by_horizon.csv");
+  const auto cells_alone = pegasus::CsvTable::load(dir_ / "alone" / "noise_check_by_horizon.csv");
+  const auto cells_two = pegasus::CsvTable::load(dir_ / "two" / "noise_check_by_horizon.csv");
+  ASSERT_TRUE(cells_one.has_value() && cells_alone.has_value() && cells_two.has_value());
+  const auto n1 = cells_one->numbers("steps"), n2 = cells_alone->numbers("steps"),
+             f1 = cells_one->numbers("outside_2sigma"), f2 = cells_alone->numbers("outside_2sigma");
+  const auto pooled_steps = cells_two->numbers("steps"), pooled = cells_two->numbers("outside_2sigma");
+  ASSERT_EQ(pooled.size(), f1.size());
+  ASSERT_EQ(pooled.size(), f2.size());
+  int differ = 0;
+  for (std::size_t i = 0; i < pooled.size(); ++i) {
+    EXPECT_EQ(pooled_steps[i], n1[i] + n2[i]) << i;
+    EXPECT_NEAR(pooled[i], (f1[i] * n1[i] + f2[i] * n2[i]) / (n1[i] + n2[i]), 1e-12) << i;
+    differ += f1[i] != f2[i];
+  }
+  EXPECT_GE(differ, 20) << "the two flights must differ for the weights to be tested";
   for (const char* f : {"model.json", "noise_check.csv"})
     EXPECT_EQ(read_text(dir_ / "one" / f), read_text(dir_ / "two" / f)) << f;
-  const auto cells_one = pegasus::CsvTable::load(dir_ / "one" / "noise_check_by_horizon.csv");
-  const auto cells_two = pegasus::CsvTable::load(dir_ / "two" / "noise_check_by_horizon.csv");
-  ASSERT_TRUE(cells_one.has_value() && cells_two.has_value());
-  EXPECT_EQ(cells_two->numbers("outside_2sigma"), cells_one->numbers("outside_2sigma"));
-  std::vector<double> doubled = cells_one->numbers("steps");
-  for (double& n : doubled) n *= 2;
-  EXPECT_EQ(cells_two->numbers("steps"), doubled);
-  EXPECT_NE(read_text(dir_ / "two" / "config.toml").find("noise_check_logs = [\"" + test_log + "\"]"),
+  EXPECT_NE(read_text(dir_ / "two" / "config.toml").find("noise_check_logs = [\"" + other_log + "\"]"),
             std::string::npos);
+
+  // The same flight twice would count its steps twice: refused (issue 51).
+  const auto twice = run(args + " --noise-check-logs " + test_log + " --out " + (dir_ / "twice").string());
+  EXPECT_EQ(twice.code, 2) << twice.output;
+  EXPECT_NE(twice.output.find("is the same flight as " + test_log + " (--test)"), std::string::npos)
+      << twice.output;
+  EXPECT_FALSE(fs::exists(dir_ / "twice.partial"));
 
   const std::string missing = (dir_ / "missing.csv").string();
   const auto bad =
-      run(args + " --noise-check-logs " + test_log + "," + missing + " --out " + (dir_ / "bad").string());
+      run(args + " --noise-check-logs " + other_log + "," + missing + " --out " + (dir_ / "bad").string());
   EXPECT_EQ(bad.code, 2) << bad.output;
   EXPECT_NE(bad.output.find(missing), std::string::npos) << bad.output;
   EXPECT_EQ(std::count(bad.output.begin(), bad.output.end(), '\n'), 1) << bad.output;

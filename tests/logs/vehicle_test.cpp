@@ -119,7 +119,8 @@ TEST(Vehicles, TheHoverRewardMatchesTheCostTheAircraftIsJudgedBy) {
     (void)parse_vehicle(std::string(test_support::kOutsideVehicle) + "\n[hover.reward]\nyaw_rad = 0\n",
                         "v.toml");
   });
-  EXPECT_NE(bad.find("v.toml:51: hover.reward.yaw_rad: expected a typical size > 0"), std::string::npos)
+  EXPECT_NE(bad.find("v.toml:51: hover.reward.yaw_rad: expected a typical size of at least 1e-06, got 0"),
+            std::string::npos)
       << bad;
   const std::string unknown = input_error_message([] {
     (void)parse_vehicle(std::string(test_support::kOutsideVehicle) + "\n[hover.reward]\nroll_rad = 1\n",

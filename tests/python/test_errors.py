@@ -265,3 +265,26 @@ def test_a_file_the_machine_refuses_is_an_os_error(tmp_path):
     blocker.write_text("")
     with pytest.raises(OSError, match="cannot"):
         policy.save(str(blocker / "policy.json"))  # a directory that is a file
+
+
+def test_ctrl_c_stops_a_long_uhat_call_within_seconds_and_the_next_call_runs():
+    """Issue 51: one large uhat call ignored Ctrl-C for over 60 s. Uninterrupted, this call runs for minutes."""
+    import os
+    import signal
+    import threading
+    import time
+
+    problem = pegasus.BicycleProblem(seed=1, scenarios=200000, horizon=5000, gamma=0.998, threads=2)
+    theta = pegasus.bicycle_balancing_theta()
+    timer = threading.Timer(1.0, lambda: os.kill(os.getpid(), signal.SIGINT))
+    start = time.monotonic()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        problem.uhat(theta)
+    elapsed = time.monotonic() - start
+    timer.join()
+    assert 0.9 < elapsed < 4.0
+    # The interrupt is spent: the same problem evaluates again, to the same bits as a fresh one.
+    small = pegasus.BicycleProblem(seed=1, scenarios=4, horizon=50, gamma=0.998, threads=2)
+    assert small.uhat(theta) == pegasus.BicycleProblem(seed=1, scenarios=4, horizon=50, gamma=0.998,
+                                                       threads=1).uhat(theta)

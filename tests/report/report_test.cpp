@@ -469,6 +469,17 @@ TEST_F(Report, EveryRunEndsWithItsReportAndTheCommandRemakesIt) {
   EXPECT_EQ(r.output, "{\"horizon\":51}\n");  // no note about the report
   const std::string html = read_text(dir_ / "h" / "report.html");
   EXPECT_NE(html.find("pegasus horizon"), std::string::npos);
+  // Written in h.partial, it names the run by its final name (issue 50: the demo's said demo-heli.partial).
+  EXPECT_NE(html.find("<title>pegasus horizon &middot; h</title>"), std::string::npos);
+  EXPECT_EQ(html.substr(0, html.find("<script")).find(".partial"),
+            std::string::npos);  // the bundle's own text aside
+  // It opens with the answer: what the run printed, before the headline table.
+  const auto result = html.find("<pre class=\"result\">{&quot;horizon&quot;:51}\n</pre>");
+  ASSERT_NE(result, std::string::npos) << html.substr(0, 4000);
+  EXPECT_LT(result, html.find("id=\"headline\""));
+  const json run = json::parse(read_text(dir_ / "h" / "run.json"));
+  EXPECT_EQ(run.at("printed"), json::array({"{\"horizon\":51}"}));
+  EXPECT_EQ(run.at("warnings"), json::array());
   EXPECT_NE(html.find("plotly.js-dist-min"),
             std::string::npos);  // the real bundle
   EXPECT_NE(html.find("three"), std::string::npos);

@@ -175,16 +175,24 @@ TEST_F(CliRobustness, AFullDiskAtTheStartLeavesNothingAndExitsWithTheEnvironment
   EXPECT_EQ(run("dev count --steps 3 --quiet --out run").code, 0) << "the next plain run must not be refused";
 }
 
-// Case 8: a report that cannot be written costs the report only, and leaves no temporary in the committed
-// run directory.
-TEST_F(CliRobustness, AReportThatCannotBeWrittenLeavesNoTemporaryInTheRunDirectory) {
+// Issue 51, item 6: a full disk at the report step (here: a file-size limit, which fails writes as a full
+// disk does) is the machine's refusal like any other: exit 3, one line, nothing committed, DIR.partial kept
+// with no temporary, and --resume on a disk with room finishes the run with its report. A committed DIR
+// always holds report.html.
+TEST_F(CliRobustness, AFullDiskAtTheReportExitsWithTheEnvironmentCodeAndResumes) {
   // report.html embeds its script and data: far above 64 KiB, while the results are a few hundred bytes.
   const Run r = run_with_file_limit("dev count --steps 3 --quiet --out run", 64);
-  EXPECT_EQ(r.code, 0) << r.err;
-  EXPECT_NE(r.err.find("no report.html"), std::string::npos) << r.err;
-  EXPECT_TRUE(fs::exists(dir_ / "run" / "summary.json"));
-  EXPECT_FALSE(fs::exists(dir_ / "run" / "report.html"));
+  EXPECT_EQ(r.code, 3) << r.err;
+  EXPECT_NE(r.err.find("report.html"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("rerun with --resume"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << "not one line: " << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "run"));
+  EXPECT_TRUE(fs::exists(dir_ / "run.partial" / "summary.json"));
   EXPECT_TRUE(no_temporaries());
+  const Run resumed = run("dev count --steps 3 --quiet --resume --out run");
+  EXPECT_EQ(resumed.code, 0) << resumed.err;
+  EXPECT_TRUE(fs::exists(dir_ / "run" / "report.html"));
+  EXPECT_FALSE(fs::exists(dir_ / "run.partial"));
 }
 
 // Case 1, the loser's side: "partial results kept in DIR.partial" only when DIR.partial holds them.

@@ -285,14 +285,14 @@ TEST(FastRefit, KernelExpIsWithinOneUlpOfStdExp) {
   double worst = 0;
   for (int t = 0; t < 200000; ++t) {
     const double x = t < 1000 ? -1e-3 * t : u(rng);
-    const double e = std::exp(x), k = detail::kernel_exp(x);
+    const double e = std::exp(x), k = sysid::detail::kernel_exp(x);
     worst = std::max(worst, std::abs(k - e) / (std::nextafter(e, INFINITY) - e));
   }
   EXPECT_LE(worst, 1.0);
-  EXPECT_EQ(detail::kernel_exp(0.0), 1.0);
-  EXPECT_EQ(detail::kernel_exp(-709.0), 0.0);
-  EXPECT_EQ(detail::kernel_exp(-INFINITY), 0.0);
-  EXPECT_EQ(detail::kernel_exp(NAN), 0.0);
+  EXPECT_EQ(sysid::detail::kernel_exp(0.0), 1.0);
+  EXPECT_EQ(sysid::detail::kernel_exp(-709.0), 0.0);
+  EXPECT_EQ(sysid::detail::kernel_exp(-INFINITY), 0.0);
+  EXPECT_EQ(sysid::detail::kernel_exp(NAN), 0.0);
 }
 
 }  // namespace

@@ -9,16 +9,23 @@
 // Units and frames as in the flight logs (sysid/flight_log.hpp). The controller's time is the line's time
 // when it has one, else the data line's index times dt (0, 0.02, 0.04, ... for a 50 Hz policy).
 // Output: exactly one line per input line, "a1,a2,a3,a4" (shortest round-trip decimals), flushed at once.
-// A first line that names "time" or a state column is a header, answered with the header "a1,a2,a3,a4"; when
-// it names the 12 state columns (and "time"), later lines are read by those names, so rows of a CSV log in
-// any column order work as they are (a header that does not name them all leaves the lines read by position).
+// A first line with a field that is not a number is a header, answered with the header "a1,a2,a3,a4". It
+// must name every state column (and "time", and the controls, at most once each): then later lines are read
+// by those names, so rows of a CSV log in any column order work as they are; any other column (a log's
+// battery voltage) is ignored and named once on the error stream. A header that lacks a state column (a
+// misspelling: "yawrate") or names one twice is REFUSED: "stdin:1: header: <what>; every line is answered
+// with the trim controls" goes to the error stream, every later line is answered with the safe output below
+// (and one error line each), and the command ends with exit code 2 at the end of the input. A state is never
+// read by position under a header that does not say where it is. A line longer than 64 KiB is malformed
+// (memory stays bounded whatever the input).
 // Another aircraft's layout (a vehicle file, logs/vehicle.hpp: `pegasus control --vehicle`) replaces the 12
 // state fields, their conversion, and the controls' names, order and scaling: ControlLineFormat. A malformed
 // line (wrong field count, a field that is not a finite number) is answered with the SAFE OUTPUT, the hover
 // trim controls stored in the policy file, and one line "stdin:LINE: <what was wrong>; answered the trim
 // controls" goes to the error stream. Nothing stops the loop but the end of the input. The input is one
-// flight: a controller with memory (the hover class's integral term) starts it at the first well-formed line
-// and advances it once per well-formed line (a malformed line leaves it as it was).
+// flight, or several separated by the line "reset" (kResetLine, answered "reset"): a controller with memory
+// (the hover class's integral term) starts a flight at its first well-formed line and advances it once per
+// well-formed line (a malformed line leaves it as it was); "reset" clears it and the clock.
 #include <array>
 #include <cstdint>
 #include <cstdio>
@@ -35,7 +42,14 @@ namespace pegasus::heli {
 struct ControlLoopStats {
   std::int64_t lines = 0;      // input lines answered
   std::int64_t malformed = 0;  // of which answered with the safe output
+  std::string header_refused;  // why the first line, a header, was refused (empty: it was not)
+  std::int64_t resets = 0;     // reset lines (new flights)
 };
+
+// The line that starts a new flight in the same process (a test harness, a flight computer between
+// landings): answered with the line "reset", it clears the controller's memory (the hover class's integral
+// term) and its clock (the next line without a time is t = 0 again).
+inline constexpr std::string_view kResetLine = "reset";
 
 // What a line holds and what the answer says. A line has the state fields (S of them), or the time and
 // them, or the time, them and four controls (ignored): S, S + 1 or S + 5 fields.

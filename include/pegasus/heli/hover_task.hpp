@@ -42,6 +42,8 @@ struct HoverReward {
   static constexpr double kPosition = 1 / (kTypicalPosition * kTypicalPosition);
   static constexpr double kVelocity = 1 / (kTypicalVelocity * kTypicalVelocity);
   static constexpr double kAction = 1 / (kTypicalAction * kTypicalAction);
+  // The smallest typical size a weight is made from: below it, 1 / size^2 exceeds kMaxRewardWeight.
+  static constexpr double kMinTypicalSize = 1e-6;
 
   std::array<double, 3> alpha_pos{kPosition, kPosition, kPosition};        // per m^2
   std::array<double, 3> alpha_vel{kVelocity, kVelocity, kVelocity};        // per (m/s)^2

@@ -2,6 +2,7 @@
 // Files that are either absent, the old version or the complete new version, even if the process is killed
 // (SIGKILL, power loss) in the middle of writing: the text goes to a hidden temporary file next to the
 // target, is flushed to disk, and is renamed over the target (rename is atomic on POSIX file systems).
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <string_view>
@@ -11,8 +12,18 @@ namespace pegasus {
 // Creates missing parent folders. Throws std::runtime_error naming the file on failure.
 void write_file_atomic(const std::filesystem::path& file, std::string_view content);
 
-// The whole file; std::runtime_error naming the file if it cannot be read.
-std::string read_file(const std::filesystem::path& file);
+// The largest input file a reader takes: past it, it refuses at once (a regular file, by its size) or as
+// soon as that many bytes came (a pipe), so endless input (/dev/zero, `yes |`) ends in one line, not in
+// memory growing until the machine stops it. Settings (TOML: configs, vehicle, task and manoeuvre files) are
+// small; data (flight logs, ULogs, models, policies, summaries) may be long flights.
+inline constexpr std::uint64_t kMaxSettingsFileBytes = std::uint64_t{16} << 20;  // 16 MiB
+inline constexpr std::uint64_t kMaxDataFileBytes = std::uint64_t{2} << 30;       // 2 GiB
+
+// The whole file: a regular file or a pipe of at most max_bytes; std::runtime_error "cannot read FILE:
+// REASON" otherwise (a directory, a device such as /dev/zero, a socket, a larger file, a read error).
+std::string read_file(const std::filesystem::path& file, std::uint64_t max_bytes = kMaxDataFileBytes);
+// The same limit said as a reason ("larger than the 16 MiB limit of an input file").
+std::string size_limit_reason(std::uint64_t max_bytes);
 
 // SHA-256 of a file's bytes as 64 hex digits (OpenSSL); InputError naming the file when it cannot be read.
 std::string file_sha256(const std::filesystem::path& file);

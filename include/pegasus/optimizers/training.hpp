@@ -26,6 +26,7 @@
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -121,8 +122,16 @@ struct TrainingSummary {
 // where a progress bar of a resumed run starts. InputError when it is not a training checkpoint.
 std::int64_t TrainingCheckpointIterations(const nlohmann::json& checkpoint);
 
+// A training whose best U-hat is not finite (NaN, or infinite): the objective gave no result a run may end
+// with. The CLI exits 1 on it (a failure, never a success).
+class NonFiniteObjective : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 // Runs the plan from *theta (empty: the spec's initial values); *theta becomes the last stage's best.
-// InputError for an invalid plan or a checkpoint that does not belong to it.
+// InputError for an invalid plan or a checkpoint that does not belong to it; NonFiniteObjective when the best
+// U-hat found is not finite.
 void Train(const TrainingPlan& plan, Objective& objective, Theta* theta, TrainingSummary* summary);
 
 }  // namespace pegasus

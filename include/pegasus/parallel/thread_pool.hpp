@@ -12,6 +12,8 @@
 #include <thread>
 #include <vector>
 
+#include "pegasus/parallel/interrupt.hpp"
+
 namespace pegasus {
 
 class ThreadPool {
@@ -30,15 +32,19 @@ class ThreadPool {
 
   // Runs body(begin, end) over [0, n) in chunks of at most `grain` indices, on all threads; returns when
   // every chunk has run. grain = 0 picks about 8 chunks per thread. The first exception thrown by a chunk
-  // is rethrown here.
+  // is rethrown here; Interrupted when an interrupt was requested before a chunk.
   void parallel_for_chunks(std::size_t n, std::size_t grain,
                            const std::function<void(std::size_t, std::size_t)>& body);
 
-  // Runs body(i) for every i in [0, n).
+  // Runs body(i) for every i in [0, n). Throws Interrupted (parallel/interrupt.hpp) before an item when an
+  // interrupt was requested.
   template <class Body>
   void parallel_for(std::size_t n, Body&& body, std::size_t grain = 0) {
     parallel_for_chunks(n, grain, [&body](std::size_t begin, std::size_t end) {
-      for (std::size_t i = begin; i < end; ++i) body(i);
+      for (std::size_t i = begin; i < end; ++i) {
+        throw_if_interrupted();
+        body(i);
+      }
     });
   }
 

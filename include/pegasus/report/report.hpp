@@ -64,8 +64,10 @@ std::filesystem::path write_report(const std::filesystem::path& run_dir, const s
 std::filesystem::path write_report(const std::filesystem::path& run_dir, const ReportOptions& options = {});
 
 // For the end of every run (the command runner calls it before committing the run directory): writes the
-// report like write_report, but a failure costs only the report: one line "pegasus: note: no report.html:
-// ..." on `err`, and false.
+// report like write_report, but a failure of the report itself (a missing bundle, a chart it cannot draw)
+// costs only the report: one line "pegasus: note: no report.html: ..." on `err`, and false. A refusal of
+// the machine (EnvironmentError: a full disk; no memory) is thrown on: the run then fails with exit code 3
+// and keeps DIR.partial for --resume, so a committed DIR always holds its report.
 bool write_report_or_note(const std::filesystem::path& run_dir, std::ostream& err,
                           const ReportOptions& options = {});
 

@@ -5,11 +5,15 @@
 //   open(DIR):  DIR exists          -> InputError unless options.force (then DIR is replaced at commit)
 //               DIR.partial exists  -> InputError unless options.resume (continue it: its config.toml must
 //                                      equal `config` on every field that affects results, else InputError
-//                                      naming the key) or options.force (discard it, start over)
+//                                      naming the key; its inputs.json must give the input files' present
+//                                      SHA-256, and a run with input files but no inputs.json is refused)
+//                                      or options.force (discard it, start over). A DIR.partial holding
+//                                      nothing but inputs.json (killed while starting) is started over.
 //               otherwise           -> a fresh DIR.partial (also with --resume: nothing to resume)
 // open() first takes an advisory lock (flock) on DIR.lock, held until the RunDirectory is destroyed: a second
 // run on the same DIR (plain, --force or --resume, in any mix) gets an InputError naming the holder's pid and
-// touches nothing. open() writes the resolved config to config.toml. It creates nothing when it throws. If
+// touches nothing. open() writes the input files' digests (inputs.json), then the resolved config
+// (config.toml, the mark of a run that can be resumed). It creates nothing when it throws. If
 // the process dies later, DIR.partial stays behind for --resume. Every write is atomic (atomic_file.hpp).
 //
 //   RunDirectory run = RunDirectory::open(out, schema, {.force = f, .resume = r});

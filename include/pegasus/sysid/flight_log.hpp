@@ -31,6 +31,8 @@ struct FlightLog {
   std::size_t rows() const { return time.size(); }
   double dt() const;       // mean sample interval, s
   double seconds() const;  // rows * dt
+  // The same flight: every time, state and control equal.
+  friend bool operator==(const FlightLog&, const FlightLog&) = default;
 };
 
 // The CSV text (header plus rows; doubles in shortest round-trip form).

@@ -205,6 +205,10 @@ struct IdentifyHooks {
   std::function<void(int done, int total, bool replayed)> progress;
 };
 
+// The fewest rows a training log logged every `log_dt` seconds needs for identify() at the model's rate
+// (4 x kInputs model steps, and one row to start them); 0 when the log's rate is not a multiple of it.
+std::size_t min_training_log_rows(double log_dt, const ModelStructure& structure);
+
 // Identifies a model from a training log. Deterministic for any number of threads. InputError when
 // hooks.resume_from does not come from the same search.
 IdentifiedModel identify(const FlightLog& train, const IdentifyOptions& options, ThreadPool& pool,
