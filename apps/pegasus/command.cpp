@@ -14,9 +14,12 @@
 #include <map>
 #include <optional>
 #include <stdexcept>
+#include <streambuf>
+#include <string>
 #include <system_error>
 #include <thread>
 #include <variant>
+#include <vector>
 
 #include "pegasus/core/environment_error.hpp"
 #include "pegasus/core/error.hpp"
@@ -52,6 +55,46 @@ ThreadPool& RunContext::pool() {
 }
 
 namespace {
+
+// What a command prints as its result, passed on to stdout and kept (its first kMaxKept bytes) for run.json,
+// whose "printed" lines open the run's report (issue 50: a report leads with the answer).
+class KeptOutput : public std::streambuf {
+ public:
+  static constexpr std::size_t kMaxKept = 64 * 1024;
+  explicit KeptOutput(std::streambuf* to) : to_(to) {}
+  // The kept text's lines, and those of them that are warnings ("warning: ...").
+  std::vector<std::string> lines() const {
+    std::vector<std::string> out;
+    for (std::size_t start = 0; start < kept_.size();) {
+      const std::size_t end = std::min(kept_.find('\n', start), kept_.size());
+      if (end > start) out.push_back(kept_.substr(start, end - start));
+      start = end + 1;
+    }
+    return out;
+  }
+
+ protected:
+  int overflow(int c) override {
+    if (c == traits_type::eof()) return traits_type::not_eof(c);
+    keep(static_cast<char>(c), 1);
+    return to_->sputc(static_cast<char>(c));
+  }
+  std::streamsize xsputn(const char* s, std::streamsize n) override {
+    keep_text(s, static_cast<std::size_t>(n));
+    return to_->sputn(s, n);
+  }
+  int sync() override { return to_->pubsync(); }
+
+ private:
+  void keep(char c, std::size_t n) {
+    if (kept_.size() < kMaxKept) kept_.append(n, c);
+  }
+  void keep_text(const char* s, std::size_t n) {
+    if (kept_.size() < kMaxKept) kept_.append(s, std::min(n, kMaxKept - kept_.size()));
+  }
+  std::streambuf* to_;
+  std::string kept_;
+};
 
 // Every message is one printable line, whatever bytes the paths and values it quotes hold.
 std::string one_line(const std::string& s) { return one_line_message(s); }
@@ -100,6 +143,29 @@ std::string type_name(FieldType t) {
   return "VALUE";
 }
 
+// --help shows a command's own settings and the common options, so that it fits a screen; --help-all adds
+// the settings of its parts (dotted names: optimizer.gradient.*, reward.*), listed under this group.
+constexpr const char* kAdvancedGroup = "Settings of the parts (tuning)";
+
+bool is_advanced(const ConfigField& f) { return f.name().find('.') != std::string::npos; }
+
+// Before --help prints: the parts' settings are left out, and a footer says how to see them.
+void hide_advanced_options(std::deque<Leaf>& leaves) {
+  for (Leaf& leaf : leaves) {
+    std::size_t hidden = 0;
+    for (CLI::Option* option : leaf.options)
+      if (option->get_group() == kAdvancedGroup) {
+        option->group("");
+        ++hidden;
+      }
+    if (hidden > 0)
+      leaf.app->footer(
+          fmt::format("{} more settings of its parts (optimizer, reward, ...): pegasus {} "
+                      "--help-all. Every option is also a TOML key of --config (docs/reference).",
+                      hidden, leaf.command->path));
+  }
+}
+
 void declare_options(Leaf& leaf) {
   CLI::App* app = leaf.app;
   const auto& fields = leaf.schema.fields();
@@ -128,6 +194,8 @@ void declare_options(Leaf& leaf) {
       option = app->add_option(names, leaf.texts[i], help)->type_name(type_name(f.type()));
     }
     option->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+    // The settings of a part (optimizer.*, reward.*, ...) are for tuning: --help-all lists them.
+    if (is_advanced(f)) option->group(kAdvancedGroup);
     leaf.options.push_back(option);
   }
   app->add_option("--config", leaf.config_file, "TOML file of settings; command-line options override it")
@@ -265,7 +333,9 @@ int run_command(const Command& command, const ConfigSchema& schema, const std::s
     throw InputError("--out: expected a directory name, got an empty value");
   }
   running = true;
-  RunContext context(schema, quiet, run_dir ? &*run_dir : nullptr, out);
+  KeptOutput kept(out.rdbuf());
+  std::ostream printed(&kept);
+  RunContext context(schema, quiet, run_dir ? &*run_dir : nullptr, printed);
   try {
     command.run(context);
   } catch (const ConfigFieldError& e) {
@@ -275,6 +345,7 @@ int run_command(const Command& command, const ConfigSchema& schema, const std::s
     if (run_dir) run_dir->abandon();
     throw;
   }
+  printed.flush();
   out.flush();
   if (run_dir) {
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -283,6 +354,13 @@ int run_command(const Command& command, const ConfigSchema& schema, const std::s
         {"command", command.path},       {"version", kVersion},        {"argv", argv},
         {"resumed", run_dir->resumed()}, {"threads", context.threads}, {"ranks", mpi::size()},
         {"wall_time_s", wall},           {"timings", context.timings}};
+    // What the run printed (its result lines and warnings), which the report opens with.
+    const std::vector<std::string> lines = kept.lines();
+    std::vector<std::string> warnings;
+    for (const std::string& line : lines)
+      if (line.starts_with("warning:")) warnings.push_back(line);
+    provenance["printed"] = lines;
+    provenance["warnings"] = warnings;
     if (mpi::size() > 1) {
       const mpi::CommStats comm = mpi::comm_stats();  // rank 0's
       provenance["allgathers"] = comm.calls;
@@ -443,6 +521,7 @@ int run_cli(int argc, const char* const* argv, const std::vector<CommandGroup>& 
     app.set_version_flag("--version", kVersion);
     app.require_subcommand(1);
     app.get_formatter()->column_width(36);
+    app.set_help_all_flag("--help-all", "Print every option, the settings of the parts included, and exit");
 
     // Nested commands: every word of a path is a subcommand of the previous one.
     std::map<std::string, CLI::App*> apps{{"", &app}};
@@ -480,6 +559,7 @@ int run_cli(int argc, const char* const* argv, const std::vector<CommandGroup>& 
     try {
       app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
+      hide_advanced_options(leaves);
       return app.exit(e, out, err);
     } catch (const CLI::CallForAllHelp& e) {
       return app.exit(e, out, err);

@@ -68,7 +68,7 @@ class RunContext {
   bool has_run_directory() const { return run_dir_ != nullptr; }
   // The run directory; std::logic_error without --out (only for OutDir::kOptional commands).
   RunDirectory& run_directory() const;
-  // A progress bar on stderr, drawn only on a terminal and without --quiet.
+  // A progress bar on stderr without --quiet (plain lines every 10 s where stderr is no terminal).
   Progress progress(std::string label, std::uint64_t total) const;
   // A pool of `threads` threads, made on first use.
   ThreadPool& pool();

@@ -19,19 +19,25 @@ std::string clock_text(double seconds) {
 }  // namespace
 
 Progress::Progress(std::string label, std::uint64_t total, bool enabled, std::FILE* out,
-                   Clock::duration min_interval)
+                   Clock::duration min_interval, Style style)
     : label_(std::move(label)),
       total_(total),
       enabled_(enabled && out != nullptr),
       out_(out),
       min_interval_(min_interval),
       start_(Clock::now()),
-      last_draw_(start_.time_since_epoch().count() - min_interval.count()) {}
+      last_draw_(start_.time_since_epoch().count() - min_interval.count()) {
+  // A log file or a pipe gets lines it can keep, not a redrawn bar; the first one interval after the start.
+  const bool auto_lines = style == Style::kAuto && out_ == stderr && ::isatty(STDERR_FILENO) != 1;
+  lines_ = enabled_ && (style == Style::kLines || auto_lines);
+  if (auto_lines) min_interval_ = std::max(min_interval_, kLineInterval);
+  if (lines_) last_draw_ = start_.time_since_epoch().count();
+}
 
 Progress::~Progress() { finish(); }
 
 bool Progress::default_enabled(bool quiet, const mpi::Communicator& ranks) {
-  return !quiet && ranks.rank() == 0 && ::isatty(STDERR_FILENO) == 1;
+  return !quiet && ranks.rank() == 0;
 }
 
 void Progress::advance(std::uint64_t k) {
@@ -57,7 +63,7 @@ void Progress::finish() {
   std::lock_guard lock(draw_mutex_);
   if (finished_) return;
   finished_ = true;
-  if (enabled_) draw(true);
+  if (enabled_ && (!lines_ || drew_line_)) draw(true);
 }
 
 void Progress::draw(bool final_line) {
@@ -65,8 +71,13 @@ void Progress::draw(bool final_line) {
   const std::uint64_t done = done_.load(std::memory_order_relaxed);
   const std::string line =
       render(label_, done, total_, elapsed, done - std::min(done, skipped_.load(std::memory_order_relaxed)));
-  // \r returns to the line start, \x1b[K clears what a longer previous line left.
-  std::fprintf(out_, "\r%s\x1b[K%s", line.c_str(), final_line ? "\n" : "");
+  if (lines_) {
+    std::fprintf(out_, "%s\n", line.c_str());
+    drew_line_ = true;
+  } else {
+    // \r returns to the line start, \x1b[K clears what a longer previous line left.
+    std::fprintf(out_, "\r%s\x1b[K%s", line.c_str(), final_line ? "\n" : "");
+  }
   std::fflush(out_);
 }
 

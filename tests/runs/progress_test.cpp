@@ -67,6 +67,33 @@ TEST(Progress, RedrawsAreRateLimited) {
   std::fclose(f);
 }
 
+// Issue 48/53: where stderr is no terminal (a log, CI), long work prints plain lines a log keeps, and work
+// shorter than the interval prints nothing.
+TEST(Progress, PlainLinesComeOnePerIntervalAndOnlyForLongWork) {
+  std::FILE* f = std::tmpfile();
+  {
+    Progress bar("work", 4, true, f, std::chrono::milliseconds(20), Progress::Style::kLines);
+    bar.advance();  // before the first interval: nothing
+    std::this_thread::sleep_for(std::chrono::milliseconds(40));
+    bar.advance();
+    bar.advance(2);  // within the interval of the line before
+  }
+  const std::string out = contents(f);
+  EXPECT_EQ(out.find('\r'), std::string::npos) << out;
+  EXPECT_EQ(out.find('\x1b'), std::string::npos) << out;
+  EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 2) << out;
+  EXPECT_EQ(out.substr(0, out.find('\n')).find("work [############............] 50% 2/4 ETA"), 0u) << out;
+  EXPECT_NE(out.find("100% 4/4 in 0:00\n"), std::string::npos) << out;
+  std::fclose(f);
+  std::FILE* g = std::tmpfile();
+  {
+    Progress quick("work", 4, true, g, std::chrono::hours(1), Progress::Style::kLines);
+    quick.advance(4);
+  }
+  EXPECT_EQ(contents(g), "");
+  std::fclose(g);
+}
+
 TEST(Progress, AdvanceFromManyThreadsCountsEveryUnit) {
   std::FILE* f = std::tmpfile();
   Progress bar("work", 8 * 20000, true, f, std::chrono::microseconds(10));

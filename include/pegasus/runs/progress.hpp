@@ -1,9 +1,11 @@
 #pragma once
 // A one-line progress bar with ETA on stderr, for long work:
 //   label [##########..........] 45% 12/30 ETA 0:03
-// It draws only when enabled (by default: stderr is a terminal and not --quiet), at most ~10 times a
-// second; otherwise every call is a cheap atomic add. advance() may be called from any thread. Time is
-// used for the display only, never in results.
+// It draws only when enabled (by default: not --quiet), at most ~10 times a second; otherwise every call is
+// a cheap atomic add. On stderr that is not a terminal (a log file, CI, a pipe) it prints plain lines
+// instead of redrawing one: the first after kLineInterval, then one per kLineInterval, and the final state
+// when any was printed, so work shorter than that prints nothing. advance() may be called from any thread.
+// Time is used for the display only, never in results.
 //
 //   Progress bar("scenarios", m, Progress::default_enabled(quiet));
 //   pool.parallel_for(m, [&](std::size_t i) { work(i); bar.advance(); });
@@ -23,14 +25,22 @@ class Progress {
  public:
   using Clock = std::chrono::steady_clock;
 
+  enum class Style {
+    kAuto,   // plain lines on stderr that is not a terminal (at least kLineInterval apart), else the bar
+    kBar,    // one line redrawn in place
+    kLines,  // plain lines at least min_interval apart, the first one min_interval after the start
+  };
   // `out` is where the bar is drawn (stderr by default); `min_interval` the least time between redraws.
   Progress(std::string label, std::uint64_t total, bool enabled, std::FILE* out = stderr,
-           Clock::duration min_interval = std::chrono::milliseconds(100));
+           Clock::duration min_interval = std::chrono::milliseconds(100), Style style = Style::kAuto);
   ~Progress();
   Progress(const Progress&) = delete;
   Progress& operator=(const Progress&) = delete;
 
-  // True when stderr is a terminal and not quiet, on the first of `ranks` (parallel/mpi.hpp: every rank of a
+  // Between two plain lines (stderr not a terminal).
+  static constexpr Clock::duration kLineInterval = std::chrono::seconds(10);
+
+  // True when not quiet, on the first of `ranks` (parallel/mpi.hpp: every rank of a
   // job runs the same work, so one draws; a run that only this process makes draws here).
   static bool default_enabled(bool quiet, const mpi::Communicator& ranks = mpi::Communicator::job());
 
@@ -64,6 +74,8 @@ class Progress {
   std::atomic<Clock::rep> last_draw_;
   std::mutex draw_mutex_;
   bool finished_ = false;
+  bool lines_ = false;      // plain lines: stderr that is not a terminal
+  bool drew_line_ = false;  // a plain line was printed
 };
 
 }  // namespace pegasus

@@ -24,7 +24,8 @@ struct RunSink {
   nlohmann::json& timings;  // wall-clock figures (run.json), never in summary.json
   bool quiet = false;       // no progress bars
 
-  // A progress bar on stderr, drawn only on a terminal, unless quiet, on the first of the directory's ranks.
+  // A progress bar on stderr (plain lines every 10 s where it is no terminal), unless quiet, on the first of
+  // the directory's ranks.
   Progress progress(std::string label, std::uint64_t total) const {
     return Progress(std::move(label), total, Progress::default_enabled(quiet, dir.ranks()));
   }
