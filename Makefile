@@ -11,7 +11,8 @@ NINJA     := $(shell command -v ninja >/dev/null 2>&1 && echo "-G Ninja")
 # The generator is chosen only when a build directory is first configured.
 gen = $(if $(wildcard $(1)/CMakeCache.txt),,$(NINJA))
 
-.PHONY: all deps configure cli build demo test test-fast test-release test-asan asan-dir install fuzz bench benchmarks-md \
+.PHONY: all deps configure cli build demo test test-fast test-release test-asan asan-dir install package fuzz bench \
+        benchmarks-md \
         figures format format-check tidy clean
 
 all: build
@@ -50,6 +51,10 @@ test-release: build
 # The inner loop: the unit tests only (label `unit`; the CLI, MPI, browser and install tests are left out).
 test-fast: build
 	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS) -L unit
+
+# The Debian package pegasus_<version>_<arch>.deb (cmake/package.cmake says what it holds) in $(BUILD).
+package: build
+	@cd $(BUILD) && cpack -G DEB >/dev/null && ls $(CURDIR)/$(BUILD)/pegasus_*.deb
 
 # Installs the libraries, headers, CLI, report bundle and CMake package (PREFIX=/usr/local by default).
 PREFIX ?= /usr/local

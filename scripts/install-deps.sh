@@ -18,6 +18,8 @@ packages=(
   libmujoco-dev libmujoco-samples
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev python3
+  # `make package`: dpkg-shlibdeps gives the Debian package its Depends
+  dpkg-dev
   # the C compiler that builds exported controllers (pegasus export) in tests/export and the export benchmark
   gcc
   # make test (its sanitizer pass) and make fuzz: clang++ 14 with the sanitizers' runtimes and libFuzzer
