@@ -75,8 +75,9 @@ def _load_stub_extension():
         code = compile(f.read(), path, "exec", flags=__future__.annotations.compiler_flag, dont_inherit=True)
     sys.modules[name] = module
     exec(code, module.__dict__)
+    # The extension's classes and functions are documented where users meet them, as pegasus.X.
     for value in list(module.__dict__.values()):
-        if isinstance(value, type) and value.__module__ == name:
+        if isinstance(value, (type, types.FunctionType)) and value.__module__ == name:
             value.__module__ = "pegasus"
 
 
