@@ -4,7 +4,9 @@
 #   - any Sphinx warning (the build runs -W --keep-going, so every warning is listed before it fails; a broken
 #     internal link or a missing anchor is one), and on any line Sphinx or Doxygen's XML step printed as WARNING/ERROR;
 #   - a README.md of 400 lines or more (the README is the front door; the manual holds the rest);
-#   - a page named in a toctree of docs/ that does not exist.
+#   - a page named in a toctree of docs/ that does not exist;
+#   - a relative link of README.md to a file that does not exist, or to a heading anchor its Markdown page lacks
+#     (the README is read on a Git host, outside Sphinx, so Sphinx does not check its links).
 # Usage: docs/check.sh [BUILD_DIR]   (default build-docs; the site goes to BUILD_DIR/check-html)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -39,6 +41,32 @@ print("\n".join(bad))
 PY
 )
 if [ -n "$missing" ]; then echo "$missing"; status=1; else echo "docs/check: every toctree entry exists"; fi
+
+# README.md's relative links: the file exists, and an anchor is one of the target page's headings (slugs as MyST
+# and Git hosts make them: lower case, punctuation dropped, spaces to hyphens).
+broken=$("$python" - <<'PY'
+import pathlib, re
+readme = pathlib.Path("README.md").read_text(encoding="utf-8")
+def slug(title):
+    title = re.sub(r"[`*]", "", title).strip().lower()
+    title = re.sub(r"[^\w\- ]", "", title)
+    return title.replace(" ", "-")
+bad = []
+for target in re.findall(r"\]\(([^)\s]+)\)", readme):
+    if re.match(r"^[a-z]+:", target):
+        continue
+    path, _, anchor = target.partition("#")
+    page = pathlib.Path(path)
+    if not page.exists():
+        bad.append(f"README.md: link to {target}: no such file")
+    elif anchor:
+        headings = re.findall(r"^#{1,6} (.*)$", page.read_text(encoding="utf-8"), re.M)
+        if anchor not in {slug(h) for h in headings}:
+            bad.append(f"README.md: link to {target}: {path} has no heading with that anchor")
+print("\n".join(bad))
+PY
+)
+if [ -n "$broken" ]; then echo "$broken"; status=1; else echo "docs/check: every relative link of README.md resolves"; fi
 
 log="$build/check-sphinx.log"
 mkdir -p "$build"
