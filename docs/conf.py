@@ -25,7 +25,7 @@ extensions = [
 
 source_suffix = {".md": "markdown", ".rst": "restructuredtext"}
 root_doc = "index"
-# Files whose names start with "_" are fragments included by other pages (docs/reference/_exit-codes.md).
+# Files whose names start with "_" are fragments included by other pages (docs/reference/_exit-codes-table.md).
 exclude_patterns = ["_*", "**/_*", "Doxyfile", "check.sh"]
 
 # MyST: headings get anchors down to level 3, so that pages can link to sections as
@@ -40,7 +40,6 @@ myst_heading_anchors = 3
 html_theme = "furo"
 html_title = "Pegasus manual"
 html_static_path = []
-pygments_style = "sphinx"
 
 # ---- C++ API: Doxygen XML of include/pegasus, generated into the build folder on every build ----------------------
 # The XML goes to PEGASUS_DOXYGEN_OUT (the Makefile sets build-docs/doxygen). Doxygen's warnings on the headers go
