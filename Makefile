@@ -12,8 +12,7 @@ NINJA     := $(shell command -v ninja >/dev/null 2>&1 && echo "-G Ninja")
 gen = $(if $(wildcard $(1)/CMakeCache.txt),,$(NINJA))
 
 .PHONY: all deps configure cli build demo test test-fast test-release test-asan asan-dir install package fuzz bench \
-        benchmarks-md \
-        figures format format-check tidy clean
+        benchmarks-md figures format format-check tidy docs docs-check clean
 
 all: build
 
@@ -42,7 +41,7 @@ demo: cli
 # The whole suite in Release (GCC), then again under AddressSanitizer + UndefinedBehaviorSanitizer built by
 # clang++ (-O1 with line tables: cheap to compile on 2 cores, and enough for readable reports). Both builds are
 # unity builds. Two compilers also keep the code portable; clang compiles this code a quarter faster than GCC
-# under the sanitizers, and runs the instrumented tests faster (README "Build times").
+# under the sanitizers, and runs the instrumented tests faster (docs/getting-started/install.md, "Build times").
 test: test-release test-asan
 
 test-release: build
@@ -75,7 +74,7 @@ test-asan: deps asan-dir
 	  PEGASUS_SANITIZED=1 ctest --output-on-failure -j $(JOBS)
 
 # Every libFuzzer harness (fuzz/*_fuzz.cpp: the readers of every input) for FUZZ_SECONDS each, built with
-# clang++ under -fsanitize=fuzzer,address,undefined in its own build directory (README "Fuzzing").
+# clang++ under -fsanitize=fuzzer,address,undefined in its own build directory (docs/development/fuzzing.md).
 fuzz: deps
 	@cmake -S . -B $(FUZZ) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" \
 	  -DCMAKE_CXX_COMPILER=clang++ -DPEGASUS_FUZZ=ON \
@@ -94,10 +93,25 @@ bench: build
 benchmarks-md:
 	@python3 scripts/benchmarks_md.py $(BUILD)/bench-results/bench.json --out BENCHMARKS.md
 
-# The README's images (docs/images/*.png): runs the shipped experiment configs into runs/figures, writes their
-# reports and photographs the key charts in headless chromium (web/figures.mjs).
+# The images of the README and the manual (docs/images/*.png): runs the shipped experiment configs into
+# runs/figures, writes their reports and photographs the key charts in headless chromium (web/figures.mjs).
 figures: build
 	@node web/figures.mjs --cli $(BUILD)/pegasus --node-modules $(BUILD)/web/node_modules --out docs/images
+
+# The manual (docs/, Sphinx with MyST Markdown, furo, breathe over Doxygen XML of include/pegasus, autodoc from the
+# Python stubs) into $(DOCS_BUILD)/html, offline, with Debian's own Python. Any Sphinx warning fails the build,
+# a broken internal link or a missing anchor included (-W --keep-going: every warning is listed before it fails;
+# -E rereads every page, so that no warning hides behind an earlier build). docs-check also checks the README's
+# length and the toctrees (docs/check.sh).
+DOCS_BUILD ?= build-docs
+SPHINX_PYTHON ?= /usr/bin/python3
+docs: deps
+	@PEGASUS_DOXYGEN_OUT=$(CURDIR)/$(DOCS_BUILD)/doxygen $(SPHINX_PYTHON) -m sphinx -b html -W --keep-going -q -E \
+	  -d $(DOCS_BUILD)/doctrees docs $(DOCS_BUILD)/html
+	@echo "docs: $(DOCS_BUILD)/html/index.html"
+
+docs-check: deps
+	@bash docs/check.sh $(DOCS_BUILD)
 
 # Every C++ file git tracks, formatted by the repo's .clang-format (`format` rewrites, `format-check` fails on a
 # difference; CI runs the check).
@@ -125,4 +139,4 @@ tidy: deps
 	@echo "tidy: no findings"
 
 clean:
-	rm -rf $(BUILD) $(ASAN) $(FUZZ) $(TIDY)
+	rm -rf $(BUILD) $(ASAN) $(FUZZ) $(TIDY) $(DOCS_BUILD)

@@ -7,7 +7,7 @@ set -euo pipefail
 packages=(
   # toolchain
   g++ make cmake ninja-build ccache pkg-config git clang-format clang-tidy
-  # libraries (README "Dependencies" says why each is here)
+  # libraries (the manual's "Install and build", docs/getting-started/install.md, says why each is here)
   libeigen3-dev libnlopt-cxx-dev librandom123-dev libboost-dev
   libcli11-dev libtomlplusplus-dev nlohmann-json3-dev libfmt-dev
   # SHA-256 of imported flight logs (their provenance)
@@ -29,6 +29,9 @@ packages=(
   # the Python package (python/, `import pegasus`): pybind11 bindings for Debian's /usr/bin/python3, numpy
   # arrays, scipy.sparse MDPs, and the pytest suite in tests/python
   python3-dev python3-numpy python3-scipy python3-pytest pybind11-dev
+  # the manual (make docs): Sphinx with Markdown pages, its theme and copy buttons, and the C++ API from the public
+  # headers through Doxygen's XML and breathe; run by Debian's /usr/bin/python3, nothing fetched at build time
+  python3-sphinx python3-myst-parser furo python3-sphinx-copybutton doxygen python3-breathe
 )
 # the report's JavaScript comes from npm; a node/npm installed some other way (e.g. NodeSource) is kept
 command -v node >/dev/null 2>&1 || packages+=(nodejs)
