@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Checks the manual (make docs-check; not yet a ctest): builds it as `make docs` does, into a scratch folder, and
+# Checks the manual (make docs-check, and the ctest docs.Manual): builds it as `make docs` does, into a scratch folder, and
 # fails on
 #   - any Sphinx warning (the build runs -W --keep-going, so every warning is listed before it fails; a broken
 #     internal link or a missing anchor is one), and on any line Sphinx or Doxygen's XML step printed as WARNING/ERROR;
@@ -11,6 +11,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build="${1:-build-docs}"
+case "$build" in /*) ;; *) build="$PWD/$build" ;; esac   # absolute: ctest passes its own folder
 python=/usr/bin/python3   # Debian's own, with the Debian Sphinx packages (the first python3 on PATH may be another)
 status=0
 
@@ -70,7 +71,7 @@ if [ -n "$broken" ]; then echo "$broken"; status=1; else echo "docs/check: every
 
 log="$build/check-sphinx.log"
 mkdir -p "$build"
-if ! PEGASUS_DOXYGEN_OUT="$PWD/$build/doxygen" "$python" -m sphinx -b html -W --keep-going -q -E \
+if ! PEGASUS_DOXYGEN_OUT="$build/doxygen" "$python" -m sphinx -b html -W --keep-going -q -E \
      -d "$build/check-doctrees" docs "$build/check-html" > "$log" 2>&1; then
   cat "$log"; echo "docs/check: the Sphinx build failed (above)"; status=1
 elif grep -E "WARNING|ERROR|CRITICAL" "$log"; then

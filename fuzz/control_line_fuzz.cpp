@@ -1,6 +1,7 @@
 // libFuzzer harness: the `heli control` line protocol (heli/control_loop: run_control_loop). The contract
 // of a line server: one answer line per input line, and for each malformed line exactly one stderr line that
-// names it (issue 16: a NUL byte cut a message and merged two of them into one line).
+// names it (issue 16: a NUL byte cut a message and merged two of them into one line); under a refused header
+// (issue 51) no line is served from the input.
 #include <cstdio>
 #include <string>
 
@@ -56,8 +57,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     pegasus::fuzz::violation("lines read", std::to_string(served.lines));
   if (count(answers, '\n') != lines || answers.back() != '\n')
     pegasus::fuzz::violation("not one answer line per input line", answers);
-  if (count(errors, '\n') != static_cast<std::size_t>(served.malformed))
+  // One stderr line per malformed line, and one about a header that was refused or had columns ignored.
+  if (count(errors, '\n') != static_cast<std::size_t>(served.malformed + served.header_notes))
     pegasus::fuzz::violation("not one stderr line per malformed line", errors);
+  if (!served.header_refused.empty() && served.malformed != served.lines - 1 - served.resets)
+    pegasus::fuzz::violation("a line served under a refused header", answers);
   for (std::size_t start = 0; start < errors.size(); start = errors.find('\n', start) + 1) {
     if (errors.compare(start, 6, "stdin:") != 0)
       pegasus::fuzz::violation("a stderr line that names no line", errors);

@@ -229,6 +229,14 @@ ControlLoopStats run_control_loop(const HeliController& controller, const Contro
     std::string_view line = trim(buffer);
     if (stats.lines == 1 && line.starts_with(kUtf8ByteOrderMark))
       line.remove_prefix(kUtf8ByteOrderMark.size());
+    if (!too_long && line == kResetLine) {  // a new flight: no memory, and the clock from 0
+      memory = ControllerMemory{};
+      data_lines = 0;
+      ++stats.resets;
+      std::fputs("reset\n", out);
+      std::fflush(out);
+      continue;
+    }
     if (stats.lines == 1 && !too_long && is_header(line)) {
       std::string header;
       for (const auto& name : format.control_names) header += (header.empty() ? "" : ",") + name;
@@ -239,18 +247,12 @@ ControlLoopStats run_control_loop(const HeliController& controller, const Contro
       columns = header_columns(line, format, &why, &ignored);
       if (columns.empty()) {
         stats.header_refused = why;
+        ++stats.header_notes;
         say(why + "; every line is answered with the trim controls");
       } else if (!ignored.empty()) {
+        ++stats.header_notes;
         say("header: columns not of this layout, ignored: " + ignored);
       }
-      continue;
-    }
-    if (!too_long && line == kResetLine) {  // a new flight: no memory, and the clock from 0
-      memory = ControllerMemory{};
-      data_lines = 0;
-      ++stats.resets;
-      std::fputs("reset\n", out);
-      std::fflush(out);
       continue;
     }
     bool has_time = false;

@@ -40,10 +40,11 @@
 namespace pegasus::heli {
 
 struct ControlLoopStats {
-  std::int64_t lines = 0;      // input lines answered
-  std::int64_t malformed = 0;  // of which answered with the safe output
-  std::string header_refused;  // why the first line, a header, was refused (empty: it was not)
-  std::int64_t resets = 0;     // reset lines (new flights)
+  std::int64_t lines = 0;         // input lines answered
+  std::int64_t malformed = 0;     // of which answered with the safe output
+  std::string header_refused;     // why the first line, a header, was refused (empty: it was not)
+  std::int64_t resets = 0;        // reset lines (new flights)
+  std::int64_t header_notes = 0;  // stderr lines about the header (refused, or columns ignored)
 };
 
 // The line that starts a new flight in the same process (a test harness, a flight computer between
