@@ -78,7 +78,7 @@ void MujocoObjective::evaluate_batch(std::span<const Theta> thetas, std::span<do
     const MujocoRolloutResult r =
         env_->rollout(*policy_, thetas[k / m], normalizer_, scenarios_, static_cast<int>(k % m), *slot);
     release(std::move(slot));
-    returns_[k] = r.discounted_return;
+    returns_[k] = r.training_return;  // U-hat of the reward the search maximises
     steps_[k] = r.steps;
     crashed_[k] = r.crashed ? 1.0 : 0.0;
     success_[k] = r.success ? 1.0 : 0.0;
@@ -118,7 +118,7 @@ std::vector<MujocoRolloutResult> MujocoObjective::rollout_all(std::span<const do
 }
 
 double MujocoObjective::EvaluateAndUpdateNormalizer(std::span<const double> theta) {
-  if (!normalize_) return evaluate(theta);
+  if (!normalize_) return central_value_ = evaluate(theta);
   const auto m = static_cast<std::size_t>(scenarios_.size());
   returns_.assign(m, 0.0);
   steps_.assign(m, 0.0);
@@ -131,7 +131,7 @@ double MujocoObjective::EvaluateAndUpdateNormalizer(std::span<const double> thet
     const MujocoRolloutResult r =
         env_->rollout(*policy_, theta, normalizer_, scenarios_, static_cast<int>(i), *slot, &moments);
     release(std::move(slot));
-    returns_[i] = r.discounted_return;
+    returns_[i] = r.training_return;
     steps_[i] = r.steps;
     crashed_[i] = r.crashed ? 1.0 : 0.0;
     success_[i] = r.success ? 1.0 : 0.0;
@@ -148,7 +148,7 @@ double MujocoObjective::EvaluateAndUpdateNormalizer(std::span<const double> thet
   }
   count_batch(1);
   moments_.freeze_into(&normalizer_);
-  return sum / static_cast<double>(m);
+  return central_value_ = sum / static_cast<double>(m);
 }
 
 nlohmann::json MujocoObjective::NormalizerState() const {

@@ -80,8 +80,9 @@ TEST_F(MujocoTaskFile, EveryMissingNameIsReportedWithItsFieldAndKind) {
   EXPECT_THAT(task_error("[observation]\nqpos = [\"slider\", \"elbow\"]\n[[reward]]\nterm = \"healthy\"\n"),
               AllOf(HasSubstr("task.toml: observation.qpos[1]: the model has no joint \"elbow\""),
                     HasSubstr("joints: slider, hinge")));
-  EXPECT_THAT(task_error(minimal("[[reward]]\nterm = \"body_velocity\"\nbody = \"torso\"\n")),
-              HasSubstr("reward[1].body: the model has no body \"torso\""));
+  EXPECT_THAT(
+      task_error(minimal("[[reward]]\nterm = \"body_velocity\"\nbody = \"torso\"\n")),
+      AllOf(HasSubstr("reward[1].body: the model has no body \"torso\""), HasSubstr("(bodies: world, ")));
   EXPECT_THAT(
       task_error(minimal("[[reward]]\nterm = \"site_distance\"\nsite = \"hand\"\ntarget = [0, 0, 1]\n")),
       HasSubstr("reward[1].site: the model has no site \"hand\""));
@@ -144,11 +145,11 @@ TEST_F(MujocoTaskFile, WrongFieldsTermsRangesAndSyntaxAreNamed) {
   EXPECT_THAT(
       task_error(minimal("[[reward]]\nterm = \"healthy\"\nweight = 2\nbody = \"pole\"\n")),
       HasSubstr("task.toml:8: reward[1].body: the healthy term does not read this key (it takes term, "
-                "weight, cap)"));
+                "weight, cap, training_only)"));
   EXPECT_THAT(
       task_error(minimal("[[reward]]\nterm = \"joint_speed\"\njoint = \"hinge\"\ntarget = 1\n")),
       HasSubstr("reward[1].target: the joint_speed term does not read this key (it takes term, weight, "
-                "cap, joint)"));
+                "cap, training_only, joint)"));
   EXPECT_THAT(
       task_error(minimal("[[termination]]\nquantity = \"qpos\"\nname = \"slider\"\nmin = 1\nmax = 0\n")),
       HasSubstr("termination[0].max: expected max > min"));
