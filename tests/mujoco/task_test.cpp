@@ -271,6 +271,20 @@ TEST_F(MujocoTaskFile, TheTerminationPenaltyIsPaidOnceOnTheStepThatLeavesARange)
               HasSubstr("task.toml:1: termination_penalty: expected a finite number, got 'big'"));
 }
 
+// The rollout's "task changed" warning compares this: comments, spacing and key order are no change.
+TEST_F(MujocoTaskFile, TheContentDigestIgnoresCommentsSpacingAndKeyOrderButNotValues) {
+  const auto digest = [&](const std::string& text) {
+    return mujoco_task_content_digest(test_support::write_file(dir_ / "d.toml", text));
+  };
+  const std::string base = digest("horizon = 10\ndiscount = 0.9\n[observation]\nqpos = [\"slider\"]\n");
+  EXPECT_EQ(base.size(), 64u);
+  EXPECT_EQ(
+      digest("# a comment\ndiscount   = 0.9 # why\nhorizon = 10\n\n[observation]\nqpos = [ \"slider\" ]\n"),
+      base);
+  EXPECT_NE(digest("horizon = 11\ndiscount = 0.9\n[observation]\nqpos = [\"slider\"]\n"), base);
+  EXPECT_NE(digest("horizon = 10\ndiscount = 0.9\n[observation]\nqpos = [\"hinge\"]\n"), base);
+}
+
 TEST_F(MujocoTaskFile, TheShippedTaskResolvesToTheModelsAddresses) {
   const MujocoTask task =
       load_mujoco_task(test_support::mujoco_experiments() / "cartpole_swingup.toml", *model_);
