@@ -21,7 +21,8 @@
 //   [noise]     actuator = 0.05     half-width of uniform noise on each ctrl, as a fraction of its half-range
 //               push_bodies = ["torso"], push_force = 20.0, push_probability = 0.02   random pushes
 //   [observation] qpos = [...], qpos_sincos = [...], qvel = [...], sensors = [...], site_pos = [...],
-//                 body_linvel = [...], clip = 10.0 (normalised), raw_clip = { qvel = 10.0 } (raw, per kind)
+//                 body_linvel = [...] (of the centre of mass), clip = 10.0 (normalised),
+//                 raw_clip = { qvel = 10.0 } (raw, per kind)
 //   [[reward]]  term = "body_velocity" | "displacement" | "healthy" | "site_distance" | "joint_target" |
 //               "joint_speed" | "joint_velocity" | "in_range" | "energy" | "control_cost" | "contact_cost",
 //               weight = ..., cap = ..., training_only = false, and the term's fields (body/axis/point,
