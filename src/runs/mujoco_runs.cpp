@@ -18,6 +18,7 @@
 #include "pegasus/io/atomic_file.hpp"
 #include "pegasus/io/json_csv.hpp"
 #include "pegasus/optimizers/training.hpp"
+#include "pegasus/parallel/mpi.hpp"
 #include "pegasus/runs/charts.hpp"
 
 namespace pegasus {
@@ -128,12 +129,15 @@ CsvWriter progress_csv(const std::vector<IterationRecord>& history, const std::v
   return csv;
 }
 
-// Stops the search at the end of the first iteration that ends past the budget.
+// Stops the search at the end of the first iteration that ends past the budget. Under mpirun rank 0's clock
+// decides for every rank (the ranks' clocks differ, and a rank that stopped alone would leave the others
+// waiting in a collective).
 class TimeBudget final : public IterationCallback {
  public:
   explicit TimeBudget(double seconds) : seconds_(seconds), start_(std::chrono::steady_clock::now()) {}
   CallbackReturnType operator()(const IterationReport&) override {
     reached_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count() >= seconds_;
+    if (mpi::size() > 1) reached_ = mpi::broadcast_from_root(reached_ ? "1" : "0") == "1";
     return reached_ ? CallbackReturnType::kTerminate : CallbackReturnType::kContinue;
   }
   bool reached() const { return reached_; }
