@@ -203,7 +203,7 @@ MujocoStepOutcome MujocoEnvironment::step(MujocoSlot& slot, std::span<const doub
     // step) and the ctrl is set, so mj_step2 finishes the first mj_step; then frame_skip - 1 whole mj_step
     // calls; then mj_step1 computes the position- and velocity-dependent quantities of the new state for the
     // observation and the reward, which the next mj_step2 uses. The states are bit for bit those of
-    // frame_skip mj_step calls (tests/mujoco/environment_test.cpp) at the cost of frame_skip of them.
+    // frame_skip mj_step calls (tests/mujoco/integrator_test.cpp) at the cost of frame_skip of them.
     mj_step2(m, d);
     for (int k = 1; k < task_.frame_skip; ++k) mj_step(m, d);
     // Contact forces of the step just integrated, before mj_step1 rebuilds the contacts of the new state.

@@ -8,6 +8,7 @@
 
 #include <chrono>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <thread>
 
 #include "mujoco_test_support.hpp"
@@ -334,6 +335,20 @@ void expect_resume_gives_the_uninterrupted_summary(const std::filesystem::path& 
   }
   EXPECT_EQ(nlohmann::json::parse(read_text(dir / "cut" / "summary.json")).at("iterations"), iterations);
   EXPECT_EQ(read_text(dir / "cut" / "summary.json"), read_text(dir / "whole" / "summary.json"));
+  // progress.csv but its wall seconds: the central U-hat of the iterations before the kill rode in the
+  // checkpoint.
+  const auto without_seconds = [](const std::string& csv) {
+    std::string out;
+    std::istringstream lines(csv);
+    for (std::string line; std::getline(lines, line);) {
+      const std::size_t second = line.find(',', line.find(',') + 1), third = line.find(',', second + 1);
+      out += line.substr(0, second) + line.substr(third) + "\n";
+    }
+    return out;
+  };
+  const std::string whole = without_seconds(read_text(dir / "whole" / "progress.csv"));
+  EXPECT_EQ(without_seconds(read_text(dir / "cut" / "progress.csv")), whole);
+  EXPECT_EQ(std::count(whole.begin(), whole.end(), '\n'), iterations + 1);
 }
 
 TEST_F(MujocoCli, ResumingAfterAKillGivesTheUninterruptedSummary) {
