@@ -29,6 +29,9 @@ void MujocoObjective::count_batch(std::size_t thetas) {
   rollouts_ += static_cast<std::int64_t>(thetas * m);
   for (std::size_t t = 0; t < thetas; ++t) {
     ++evaluations_;
+    double sum = 0.0;
+    for (std::size_t i = 0; i < m; ++i) sum += returns_[t * m + i];
+    if (!std::isfinite(sum) && nonfinite_evaluations_++ == 0) first_nonfinite_evaluation_ = evaluations_;
     if (first_success_.has_value()) continue;
     bool all = true;
     for (std::size_t i = 0; i < m; ++i) all = all && success_[t * m + i] != 0.0;
@@ -155,7 +158,9 @@ nlohmann::json MujocoObjective::NormalizerState() const {
   nlohmann::json counters = {{"control_steps", control_steps_},
                              {"rollouts", rollouts_},
                              {"crashes", crashes_},
-                             {"evaluations", evaluations_}};
+                             {"evaluations", evaluations_},
+                             {"nonfinite_evaluations", nonfinite_evaluations_},
+                             {"first_nonfinite_evaluation", first_nonfinite_evaluation_}};
   if (first_success_)
     counters["first_success"] = {{"evaluation", first_success_->evaluation},
                                  {"control_steps", first_success_->control_steps},
@@ -171,6 +176,12 @@ void MujocoObjective::RestoreNormalizer(const nlohmann::json& state) {
   rollouts_ = StateInteger(counters, "rollouts");
   crashes_ = StateInteger(counters, "crashes");
   evaluations_ = StateInteger(counters, "evaluations");
+  // Absent from checkpoints written before they were counted.
+  nonfinite_evaluations_ =
+      counters.contains("nonfinite_evaluations") ? StateInteger(counters, "nonfinite_evaluations") : 0;
+  first_nonfinite_evaluation_ = counters.contains("first_nonfinite_evaluation")
+                                    ? StateInteger(counters, "first_nonfinite_evaluation")
+                                    : 0;
   first_success_.reset();
   if (counters.contains("first_success")) {
     const nlohmann::json& f = counters.at("first_success");

@@ -379,6 +379,7 @@ int run_mujoco_training(const MujocoTrainingRunOptions& o, RunSink& sink, Thread
                   {"initial_uhat", number_or_null(summary.initial_value)},
                   {"final_uhat", number_or_null(summary.best_value)},
                   {"uhat_finite", std::isfinite(summary.best_value)},
+                  {"nonfinite_uhat_evaluations", objective.nonfinite_evaluations()},
                   {"training_rollouts", objective.rollouts()},
                   {"training_control_steps", objective.control_steps()},
                   {"training_physics_steps", objective.control_steps() * frame_skip},
@@ -404,6 +405,16 @@ int run_mujoco_training(const MujocoTrainingRunOptions& o, RunSink& sink, Thread
         "error: U-hat of the policy found is not finite ({}): no result; summary.json has uhat_finite = "
         "false\n",
         summary.best_value);
+    return 1;
+  }
+  // A finite result of a search that met a non-finite U-hat on the way (ARS and CMA-ES then stop with
+  // FAILURE) is not trusted either.
+  if (objective.nonfinite_evaluations() > 0) {
+    sink.out << fmt::format(
+        "error: {} evaluations of U-hat were not finite (the first: evaluation {}); the search's result is "
+        "not "
+        "trusted; summary.json has nonfinite_uhat_evaluations\n",
+        objective.nonfinite_evaluations(), objective.first_nonfinite_evaluation());
     return 1;
   }
   return 0;

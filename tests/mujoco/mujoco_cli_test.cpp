@@ -416,6 +416,8 @@ TEST_F(MujocoCli, ARunWhoseUhatIsNotFiniteEndsWithExitOneAndSaysSo) {
   const auto s = nlohmann::json::parse(read_text(dir_ / "run" / "summary.json"));
   EXPECT_EQ(s.at("uhat_finite"), false);
   EXPECT_TRUE(s.at("final_uhat").is_null());
+  EXPECT_EQ(s.at("nonfinite_uhat_evaluations"), s.at("evaluations"));
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 3) << r.output;  // the brief reports + 1
 }
 
 // A term marked training_only shifts U-hat and nothing else; the run says which reward each figure is of and

@@ -56,6 +56,10 @@ class MujocoObjective final : public Objective, public ObservationNormalizing {
   std::int64_t control_steps() const { return control_steps_; }
   std::int64_t rollouts() const { return rollouts_; }
   std::int64_t crashes() const { return crashes_; }
+  // Evaluations whose U-hat was not finite (NaN or infinite), and the number of the first (0: none): a search
+  // that met one is no success (issue 51).
+  std::int64_t nonfinite_evaluations() const { return nonfinite_evaluations_; }
+  std::int64_t first_nonfinite_evaluation() const { return first_nonfinite_evaluation_; }
   // The first evaluated theta whose rollouts all met the task's success criterion on the training
   // scenarios: its evaluation number (1-based, in the optimizer's order), the control steps run up to and
   // including its batch, and the wall seconds since this objective was made (or carried by a checkpoint).
@@ -87,6 +91,7 @@ class MujocoObjective final : public Objective, public ObservationNormalizing {
   std::vector<ObservationMoments> scenario_moments_;         // one per scenario, merged in order
   std::vector<double> returns_, steps_, crashed_, success_;  // per (theta, scenario) pair
   std::int64_t control_steps_ = 0, rollouts_ = 0, crashes_ = 0, evaluations_ = 0;
+  std::int64_t nonfinite_evaluations_ = 0, first_nonfinite_evaluation_ = 0;
   double central_value_ = std::numeric_limits<double>::quiet_NaN();
   std::optional<FirstSuccess> first_success_;
   std::chrono::steady_clock::time_point start_;
