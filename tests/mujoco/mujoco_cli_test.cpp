@@ -420,6 +420,29 @@ TEST_F(MujocoCli, ARunWhoseUhatIsNotFiniteEndsWithExitOneAndSaysSo) {
   EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 3) << r.output;  // the brief reports + 1
 }
 
+// The same when only the search met a non-finite U-hat: at theta = 0 the cart-pole stands exactly still (a
+// reward of 0), every perturbed policy moves the cart and 1e308 per m/s overflows; ARS stops with FAILURE and
+// its result, the start, is finite.
+TEST_F(MujocoCli, ASearchThatMetANonFiniteUhatIsNoSuccessThoughItsResultIsFinite) {
+  const auto exp = test_support::mujoco_experiments();
+  const auto task =
+      test_support::write_file(dir_ / "overflow.toml",
+                               "horizon = 200\n[observation]\nqpos = [\"slider\"]\n[[reward]]\n"
+                               "term = \"joint_velocity\"\njoint = \"slider\"\nweight = 1e308\n");
+  const auto r =
+      run_pegasus("mujoco train --model " + (exp / "cartpole.xml").string() + " --task " + task.string() +
+                  " --scenarios 1 --optimizer.ars.max-iterations 3 --optimizer.ars.directions 1 "
+                  "--optimizer.ars.top-directions 1 --evaluation-episodes 1 --quiet --out " +
+                  (dir_ / "run").string());
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("evaluations of U-hat were not finite (the first: evaluation 2)"));
+  const auto s = nlohmann::json::parse(read_text(dir_ / "run" / "summary.json"));
+  EXPECT_EQ(s.at("uhat_finite"), true);
+  EXPECT_EQ(s.at("termination"), "FAILURE");
+  EXPECT_EQ(s.at("final_uhat"), 0.0);
+  EXPECT_GT(s.at("nonfinite_uhat_evaluations").get<int>(), 0);
+}
+
 // A term marked training_only shifts U-hat and nothing else; the run says which reward each figure is of and
 // that such a shift is not potential-based (thesis ch. 3). --time-budget stops the search with the best so
 // far.
