@@ -193,9 +193,10 @@ MujocoStepOutcome MujocoEnvironment::step(MujocoSlot& slot, std::span<const doub
 
   // The positions displacement terms start from: those of the current state (reset and every step end with
   // mj_step1).
-  for (const auto& term : task_.reward)
-    if (term.kind == RewardKind::kDisplacement)
-      slot.displacement_before[static_cast<std::size_t>(term.slot)] = point_position(d, term);
+  if (task_.displacement_terms > 0)
+    for (const auto& term : task_.reward)
+      if (term.kind == RewardKind::kDisplacement)
+        slot.displacement_before[static_cast<std::size_t>(term.slot)] = point_position(d, term);
 
   double contact_cost = 0.0;
   if (split_step_) {
