@@ -7,6 +7,8 @@
 // by the thread's CPU clock; the counters keep the fastest block of each kind, which filters out the
 // interruptions of a shared machine (both kinds are equally exposed to them, and the minimum is the cost
 // of the work itself). `ratio` = plain time / Pegasus time per physics step (the issue asks >= 0.95).
+// Both step with the model's integrator (issue 52): BM_MujocoOverhead_Hopper_RK4 and _Implicit run the hopper
+// with its MJCF's <option> given integrator="RK4" or "implicit" (a copy written to the temporary folder).
 #ifdef PEGASUS_HAVE_MUJOCO
 #include <benchmark/benchmark.h>
 #include <mujoco/mujoco.h>
@@ -15,7 +17,10 @@
 #include <algorithm>
 #include <array>
 #include <filesystem>
+#include <fstream>
 #include <limits>
+#include <sstream>
+#include <string>
 
 #include "pegasus/mujoco/mujoco_objective.hpp"
 
@@ -45,6 +50,22 @@ std::shared_ptr<const MujocoEnvironment> hopper() {
 }
 std::shared_ptr<const MujocoEnvironment> arm26() {
   return environment("/usr/share/mujoco/model/tendon_arm/arm26.xml", "arm26_posture.toml");
+}
+
+// The hopper with another integrator: its MJCF copied into the temporary folder (its <option> gains the
+// attribute; it includes no other file).
+std::shared_ptr<const MujocoEnvironment> hopper_with(const std::string& integrator) {
+  std::ifstream in(experiments() / "hopper.xml");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string xml = text.str();
+  const std::string option = "<option ";
+  xml.insert(xml.find(option) + option.size(), "integrator=\"" + integrator + "\" ");
+  const auto path = std::filesystem::temp_directory_path() / ("pegasus-bench-hopper-" + integrator + ".xml");
+  std::ofstream(path) << xml;
+  auto env = environment(path, "hopper_forward.toml");
+  std::filesystem::remove(path);
+  return env;
 }
 
 double thread_cpu_seconds() {
@@ -97,7 +118,7 @@ void Overhead(benchmark::State& state, const MujocoEnvironment& env) {
         const double hi = limited ? m->actuator_ctrlrange[2 * k + 1] : 1.0;
         d->ctrl[k] = 0.5 * (lo + hi) + 0.05 * (hi - lo);
       }
-      for (int s = 0; s < physics_steps[static_cast<std::size_t>(i)]; ++s) mj_step(m, d);
+      for (int s = 0; s < physics_steps[static_cast<std::size_t>(i)]; ++s) mj_step(m, d);  // its integrator
       benchmark::DoNotOptimize(d->qpos[0]);
     }
     const double t2 = thread_cpu_seconds();
@@ -118,6 +139,10 @@ BENCHMARK(BM_MujocoOverhead_Cartpole)->Unit(benchmark::kMillisecond)->MinTime(2.
 BENCHMARK(BM_MujocoOverhead_Acrobot)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 BENCHMARK(BM_MujocoOverhead_Hopper)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 BENCHMARK(BM_MujocoOverhead_Arm26)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+void BM_MujocoOverhead_Hopper_RK4(benchmark::State& state) { Overhead(state, *hopper_with("RK4")); }
+void BM_MujocoOverhead_Hopper_Implicit(benchmark::State& state) { Overhead(state, *hopper_with("implicit")); }
+BENCHMARK(BM_MujocoOverhead_Hopper_RK4)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+BENCHMARK(BM_MujocoOverhead_Hopper_Implicit)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 
 // U-hat of a batch of 8 thetas on 16 scenarios (128 rollouts) on `threads` threads, wall time: the
 // speed-up of 2 threads over 1 is the ratio of the two rates (meaningful only on idle cores).

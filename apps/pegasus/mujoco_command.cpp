@@ -15,15 +15,17 @@ std::vector<Command> mujoco_commands() {
               .run =
                   [](RunContext& ctx) {
                     RunSink sink = ctx.sink();
-                    run_mujoco_training(read_mujoco_train_config(ctx.config, ctx.seed), sink, ctx.pool());
+                    ctx.exit_code =
+                        run_mujoco_training(read_mujoco_train_config(ctx.config, ctx.seed), sink, ctx.pool());
                   }},
       Command{.path = "mujoco rollout",
-              .description = "Roll out a trained MuJoCo policy: returns and a per-step CSV of positions",
+              .description = "Roll out a trained MuJoCo policy: returns and a per-step CSV of positions "
+                             "(--seed S with the training's seed S replays its held-out episodes)",
               .declare = declare_mujoco_rollout_config,
               .run =
                   [](RunContext& ctx) {
                     RunSink sink = ctx.sink();
-                    run_mujoco_rollout(read_mujoco_rollout_config(ctx.config, ctx.seed), sink);
+                    run_mujoco_rollout(read_mujoco_rollout_config(ctx.config, ctx.seed), sink, ctx.pool());
                   }},
   };
 }

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "pegasus/core/error.hpp"
 
@@ -15,7 +16,9 @@ MujocoSlot::MujocoSlot(const MujocoEnvironment& env)
       normalized(static_cast<std::size_t>(env.observation_dim())),
       action(static_cast<std::size_t>(env.action_dim())),
       initial_noise(static_cast<std::size_t>(env.initial_noise_dim())),
-      step_noise(static_cast<std::size_t>(env.noise_dim())) {
+      step_noise(static_cast<std::size_t>(env.noise_dim())),
+      displacement_before(static_cast<std::size_t>(env.task().displacement_terms)),
+      warmstart(static_cast<std::size_t>(env.model().get()->nv)) {
   if (!data) throw std::runtime_error("mujoco: mj_makeData failed");
 }
 
@@ -30,6 +33,8 @@ MujocoEnvironment::MujocoEnvironment(MujocoModel model, MujocoTask task, RewardH
   noise_dim_ = (task_.actuator_noise > 0.0 ? m->nu : 0) + 4 * static_cast<int>(task_.push_bodies.size());
   for (const auto& term : task_.reward)
     contact_cost_ = contact_cost_ || term.kind == RewardKind::kContactCost;
+  // mj_step2 integrates as mj_step does for Euler and implicit, but RK4 by Euler (MuJoCo's engine_forward.c).
+  split_step_ = m->opt.integrator != mjINT_RK4;
   for (int k = 0; k < m->nu; ++k) {
     // An unlimited actuator takes a in [-1, 1] as its ctrl directly.
     const bool limited = m->actuator_ctrllimited[k] != 0;
@@ -38,9 +43,25 @@ MujocoEnvironment::MujocoEnvironment(MujocoModel model, MujocoTask task, RewardH
     ctrl_mid_.push_back(0.5 * (lo + hi));
     ctrl_half_.push_back(0.5 * (hi - lo));
   }
+  control_dt_ = task_.frame_skip * m->opt.timestep;
 }
 
 int MujocoEnvironment::action_dim() const { return model_.get()->nu; }
+
+const char* MujocoEnvironment::integrator() const { return integrator_name(model_.get()->opt.integrator); }
+
+const char* integrator_name(int integrator) {
+  switch (integrator) {
+    case mjINT_EULER:
+      return "Euler";
+    case mjINT_RK4:
+      return "RK4";
+    case mjINT_IMPLICIT:
+      return "implicit";
+    default:
+      return "unknown";
+  }
+}
 
 ScenarioSet MujocoEnvironment::scenarios(std::uint64_t seed, int count, ScenarioVariant variant) const {
   return ScenarioSet(ScenarioOptions{.seed = seed,
@@ -84,7 +105,7 @@ bool MujocoEnvironment::inside(std::span<const TerminationRange> ranges, const m
         x = d->site_xpos[3 * range.id + 2];
         break;
     }
-    if (!(x >= range.lower && x <= range.upper)) return false;
+    if (!range.contains(x)) return false;
   }
   return true;
 }
@@ -102,10 +123,41 @@ bool unstable(const mjModel* m, const mjData* d) {
   return false;
 }
 
+// The world-frame linear velocity of the body's centre of mass (mjOBJ_BODY is the inertial frame, xipos).
 double body_linear_velocity(const mjModel* m, const mjData* d, int body, int axis) {
-  mjtNum velocity[6];  // (angular, linear), world orientation, at the body frame's origin
+  mjtNum velocity[6];  // (angular, linear), world orientation, at the body's centre of mass
   mj_objectVelocity(m, d, mjOBJ_BODY, body, velocity, 0);
   return velocity[3 + axis];
+}
+
+// The velocity of the term's point of its body (BodyPoint), world frame, along its axis.
+double point_velocity(const mjModel* m, const mjData* d, const RewardTerm& term) {
+  mjtNum velocity[6];  // (angular, linear), world orientation, at the point
+  switch (term.point) {
+    case BodyPoint::kCom:
+      mj_objectVelocity(m, d, mjOBJ_BODY, term.id, velocity, 0);
+      break;
+    case BodyPoint::kOrigin:
+      mj_objectVelocity(m, d, mjOBJ_XBODY, term.id, velocity, 0);
+      break;
+    case BodyPoint::kSite:
+      mj_objectVelocity(m, d, mjOBJ_SITE, term.site, velocity, 0);
+      break;
+  }
+  return velocity[3 + term.axis];
+}
+
+// The world-frame position of the term's point along its axis.
+double point_position(const mjData* d, const RewardTerm& term) {
+  switch (term.point) {
+    case BodyPoint::kCom:
+      return d->xipos[3 * term.id + term.axis];
+    case BodyPoint::kOrigin:
+      return d->xpos[3 * term.id + term.axis];
+    case BodyPoint::kSite:
+      return d->site_xpos[3 * term.site + term.axis];
+  }
+  return 0.0;
 }
 
 double contact_force_squared(const mjModel* m, const mjData* d) {
@@ -139,37 +191,61 @@ MujocoStepOutcome MujocoEnvironment::step(MujocoSlot& slot, std::span<const doub
     next += 4;
   }
 
+  // The positions displacement terms start from: those of the current state (reset and every step end with
+  // mj_step1).
+  if (task_.displacement_terms > 0)
+    for (const auto& term : task_.reward)
+      if (term.kind == RewardKind::kDisplacement)
+        slot.displacement_before[static_cast<std::size_t>(term.slot)] = point_position(d, term);
+
   double contact_cost = 0.0;
-  // mj_step2, then frame_skip - 1 whole mj_step calls (each is mj_step1 + mj_step2), then mj_step1: the same
-  // computations as frame_skip x (mj_step2, mj_step1), with the split paid once per control step (it costs
-  // a few per cent of a small model's step).
-  // mj_step integrates RK4 models by RK4, mj_step2 by Euler: those keep the split for every step.
-  mj_step2(m, d);
-  for (int k = 1; k < task_.frame_skip; ++k) {
-    if (m->opt.integrator == mjINT_RK4) {
-      mj_step1(m, d);
-      mj_step2(m, d);
-    } else {
-      mj_step(m, d);
+  if (split_step_) {
+    // Euler and implicit: the state already went through mj_step1 (the reset, or the end of the last control
+    // step) and the ctrl is set, so mj_step2 finishes the first mj_step; then frame_skip - 1 whole mj_step
+    // calls; then mj_step1 computes the position- and velocity-dependent quantities of the new state for the
+    // observation and the reward, which the next mj_step2 uses. The states are bit for bit those of
+    // frame_skip mj_step calls (tests/mujoco/integrator_test.cpp) at the cost of frame_skip of them.
+    mj_step2(m, d);
+    for (int k = 1; k < task_.frame_skip; ++k) mj_step(m, d);
+    // Contact forces of the step just integrated, before mj_step1 rebuilds the contacts of the new state.
+    if (contact_cost_) contact_cost = contact_force_squared(m, d);
+    mj_step1(m, d);
+  } else {
+    // RK4: mj_step2 would integrate by Euler, so whole mj_step calls; RK4 leaves its last stage's
+    // quantities in mjData, so mj_step1 computes the new state's (it changes no state: the next mj_step
+    // recomputes them from it). Contact forces: those of the new state under this step's ctrl.
+    for (int k = 0; k < task_.frame_skip; ++k) mj_step(m, d);
+    mj_step1(m, d);
+    if (contact_cost_) {
+      // The constraint solver leaves its result as the next solve's warm start: the next mj_step must
+      // start from RK4's, as in a plain mj_step loop.
+      mju_copy(slot.warmstart.data(), d->qacc_warmstart, m->nv);
+      mj_forwardSkip(m, d, mjSTAGE_VEL, 0);
+      contact_cost = contact_force_squared(m, d);
+      mju_copy(d->qacc_warmstart, slot.warmstart.data(), m->nv);
     }
   }
-  // Contact forces of the step just integrated, before mj_step1 rebuilds the contacts of the new state.
-  if (contact_cost_) contact_cost = contact_force_squared(m, d);
-  mj_step1(m, d);
 
   MujocoStepOutcome out;
   if (unstable(m, d)) {
-    out.reward = task_.crash_penalty;
+    out.reward = out.training_reward = task_.crash_penalty;
     out.terminal = out.crashed = true;
     return out;
   }
   const bool is_healthy = healthy(d);
-  double reward = 0.0;
+  double reward = 0.0, training_only = 0.0;
   for (const auto& term : task_.reward) {
     double value = 0.0;
     switch (term.kind) {
       case RewardKind::kBodyVelocity:
-        value = body_linear_velocity(m, d, term.id, term.axis);
+        value = point_velocity(m, d, term);
+        break;
+      case RewardKind::kDisplacement:
+        value = (point_position(d, term) - slot.displacement_before[static_cast<std::size_t>(term.slot)]) /
+                control_dt_;
+        break;
+      case RewardKind::kJointVelocity:
+        value = d->qvel[term.adr];
         break;
       case RewardKind::kHealthy:
         value = is_healthy ? 1.0 : 0.0;
@@ -202,10 +278,11 @@ MujocoStepOutcome MujocoEnvironment::step(MujocoSlot& slot, std::span<const doub
         value = contact_cost;
         break;
     }
-    reward += term.weight * std::min(value, term.cap);
+    (term.training_only ? training_only : reward) += term.weight * std::min(value, term.cap);
   }
   if (hook_) reward += hook_(m, d, action);
   out.reward = is_healthy ? reward : reward + task_.termination_penalty;
+  out.training_reward = out.reward + training_only;
   out.terminal = !is_healthy;
   return out;
 }
@@ -241,6 +318,9 @@ void MujocoEnvironment::observe(const MujocoSlot& slot, std::span<double> out) c
         for (int j = 0; j < 3; ++j) out[k++] = body_linear_velocity(m, d, item.id, j);
         break;
     }
+    if (item.raw_clip < std::numeric_limits<double>::infinity())
+      for (std::size_t j = k - static_cast<std::size_t>(item.dim); j < k; ++j)
+        out[j] = std::clamp(out[j], -item.raw_clip, item.raw_clip);
   }
 }
 
@@ -266,6 +346,7 @@ MujocoRolloutResult MujocoEnvironment::rollout(const MujocoPolicy& policy, std::
     scenarios.step_noise(i, t, slot.step_noise);
     const MujocoStepOutcome outcome = step(slot, slot.action, slot.step_noise);
     result.discounted_return += weight * outcome.reward;
+    result.training_return += weight * outcome.training_reward;
     weight *= task_.discount;
     ++result.steps;
     if (observer) (*observer)(t + 1, slot.data, slot.action, outcome.reward);
@@ -286,8 +367,11 @@ MujocoRolloutResult MujocoEnvironment::rollout(const MujocoPolicy& policy, std::
         (task_.success_anywhere ? reached
                                 : result.steps == task_.horizon && held >= task_.success_hold_steps);
   // The bonus joins the last step's reward after the bar on the return was checked without it.
-  if (result.success && task_.success_bonus != 0.0)
-    result.discounted_return += std::pow(task_.discount, result.steps - 1) * task_.success_bonus;
+  if (result.success && task_.success_bonus != 0.0) {
+    const double bonus = std::pow(task_.discount, result.steps - 1) * task_.success_bonus;
+    result.discounted_return += bonus;
+    result.training_return += bonus;
+  }
   return result;
 }
 

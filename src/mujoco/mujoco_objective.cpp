@@ -29,6 +29,9 @@ void MujocoObjective::count_batch(std::size_t thetas) {
   rollouts_ += static_cast<std::int64_t>(thetas * m);
   for (std::size_t t = 0; t < thetas; ++t) {
     ++evaluations_;
+    double sum = 0.0;
+    for (std::size_t i = 0; i < m; ++i) sum += returns_[t * m + i];
+    if (!std::isfinite(sum) && nonfinite_evaluations_++ == 0) first_nonfinite_evaluation_ = evaluations_;
     if (first_success_.has_value()) continue;
     bool all = true;
     for (std::size_t i = 0; i < m; ++i) all = all && success_[t * m + i] != 0.0;
@@ -78,7 +81,7 @@ void MujocoObjective::evaluate_batch(std::span<const Theta> thetas, std::span<do
     const MujocoRolloutResult r =
         env_->rollout(*policy_, thetas[k / m], normalizer_, scenarios_, static_cast<int>(k % m), *slot);
     release(std::move(slot));
-    returns_[k] = r.discounted_return;
+    returns_[k] = r.training_return;  // U-hat of the reward the search maximises
     steps_[k] = r.steps;
     crashed_[k] = r.crashed ? 1.0 : 0.0;
     success_[k] = r.success ? 1.0 : 0.0;
@@ -118,7 +121,7 @@ std::vector<MujocoRolloutResult> MujocoObjective::rollout_all(std::span<const do
 }
 
 double MujocoObjective::EvaluateAndUpdateNormalizer(std::span<const double> theta) {
-  if (!normalize_) return evaluate(theta);
+  if (!normalize_) return central_value_ = evaluate(theta);
   const auto m = static_cast<std::size_t>(scenarios_.size());
   returns_.assign(m, 0.0);
   steps_.assign(m, 0.0);
@@ -131,7 +134,7 @@ double MujocoObjective::EvaluateAndUpdateNormalizer(std::span<const double> thet
     const MujocoRolloutResult r =
         env_->rollout(*policy_, theta, normalizer_, scenarios_, static_cast<int>(i), *slot, &moments);
     release(std::move(slot));
-    returns_[i] = r.discounted_return;
+    returns_[i] = r.training_return;
     steps_[i] = r.steps;
     crashed_[i] = r.crashed ? 1.0 : 0.0;
     success_[i] = r.success ? 1.0 : 0.0;
@@ -148,14 +151,16 @@ double MujocoObjective::EvaluateAndUpdateNormalizer(std::span<const double> thet
   }
   count_batch(1);
   moments_.freeze_into(&normalizer_);
-  return sum / static_cast<double>(m);
+  return central_value_ = sum / static_cast<double>(m);
 }
 
 nlohmann::json MujocoObjective::NormalizerState() const {
   nlohmann::json counters = {{"control_steps", control_steps_},
                              {"rollouts", rollouts_},
                              {"crashes", crashes_},
-                             {"evaluations", evaluations_}};
+                             {"evaluations", evaluations_},
+                             {"nonfinite_evaluations", nonfinite_evaluations_},
+                             {"first_nonfinite_evaluation", first_nonfinite_evaluation_}};
   if (first_success_)
     counters["first_success"] = {{"evaluation", first_success_->evaluation},
                                  {"control_steps", first_success_->control_steps},
@@ -171,6 +176,12 @@ void MujocoObjective::RestoreNormalizer(const nlohmann::json& state) {
   rollouts_ = StateInteger(counters, "rollouts");
   crashes_ = StateInteger(counters, "crashes");
   evaluations_ = StateInteger(counters, "evaluations");
+  // Absent from checkpoints written before they were counted.
+  nonfinite_evaluations_ =
+      counters.contains("nonfinite_evaluations") ? StateInteger(counters, "nonfinite_evaluations") : 0;
+  first_nonfinite_evaluation_ = counters.contains("first_nonfinite_evaluation")
+                                    ? StateInteger(counters, "first_nonfinite_evaluation")
+                                    : 0;
   first_success_.reset();
   if (counters.contains("first_success")) {
     const nlohmann::json& f = counters.at("first_success");

@@ -227,6 +227,7 @@ nlohmann::json mujoco_policy_file_json(const MujocoPolicyFile& f) {
                         {"clip", f.normalizer.clip}}}};
   if (!f.model_digest.empty()) j["model_digest"] = f.model_digest;
   if (!f.task_digest.empty()) j["task_digest"] = f.task_digest;
+  if (!f.task_content_digest.empty()) j["task_content_digest"] = f.task_content_digest;
   return j;
 }
 
@@ -235,8 +236,9 @@ MujocoPolicyFile parse_mujoco_policy_file(const nlohmann::json& j, const std::st
   MujocoPolicyFile f;
   f.model = json_nonempty_string(json_member(j, "model", file, "model"), file, "model");
   f.task = json_nonempty_string(json_member(j, "task", file, "task"), file, "task");
-  for (const auto& [key, digest] :
-       {std::pair{"model_digest", &f.model_digest}, {"task_digest", &f.task_digest}})
+  for (const auto& [key, digest] : {std::pair{"model_digest", &f.model_digest},
+                                    {"task_digest", &f.task_digest},
+                                    {"task_content_digest", &f.task_content_digest}})
     if (j.contains(key)) *digest = json_nonempty_string(j.at(key), file, key);
   const nlohmann::json& policy_class = json_member(j, "class", file, "class");
   if (policy_class != "linear" && policy_class != "mlp")

@@ -8,6 +8,7 @@
 #include <map>
 #include <mutex>
 #include <set>
+#include <sstream>
 
 #include "../io/toml_fields.hpp"
 #include "pegasus/core/error.hpp"
@@ -78,8 +79,10 @@ class TaskReader {
     const int n = object_count(model_.get(), type);
     for (int i = 0; i < n && i < 12; ++i) known += (i ? ", " : "") + model_.name_of(type, i);
     if (n > 12) known += ", ...";
-    fail(field, fmt::format("the model has no {} \"{}\" ({}s: {})", object_kind(type), name,
-                            object_kind(type), known.empty() ? "none" : known));
+    const std::string kind = object_kind(type);
+    const std::string kinds = kind == "body" ? "bodies" : kind + "s";
+    fail(field, fmt::format("the model has no {} \"{}\" ({}: {})", kind, name, kinds,
+                            known.empty() ? "none" : known));
   }
 
   // A scalar (hinge or slide) joint: its qpos address.
@@ -124,13 +127,25 @@ class TaskReader {
   const MujocoModel& model_;
 };
 
+// A range's bound: a finite number, or an infinite one (TOML's inf, -inf) for no bound on that side; NaN
+// is refused (every comparison with it is false: a range no value is inside).
+double bound(const TaskReader& r, const toml::node_view<const toml::node>& node, const std::string& field,
+             double fallback) {
+  if (const toml::node* n = node.node(); n && n->is_floating_point()) {
+    const double x = *n->value<double>();
+    if (std::isinf(x)) return x;
+    if (std::isnan(x)) r.fields().fail(n, field, "expected a number, -inf or inf, got nan");
+  }
+  return r.number(node, field, fallback);
+}
+
 // A named quantity's range: [[termination]] and [[success.range]] tables.
 // `prefix` names the table in messages; its other keys are the caller's to check when check_keys is false.
 TerminationRange read_range(const TaskReader& r, const mjModel* m, const toml::node& node,
                             const std::string& prefix, bool check_keys = true) {
   const toml::table* t = node.as_table();
   if (!t) r.fail(prefix, "expected a table");
-  if (check_keys) r.check_keys(*t, prefix, {"quantity", "name", "min", "max"});
+  if (check_keys) r.check_keys(*t, prefix, {"quantity", "name", "min", "max", "bounds"});
   const toml::node_view<const toml::node> v{*t};
   const std::string quantity = r.string(v["quantity"], prefix + ".quantity");
   TerminationRange out{};
@@ -153,9 +168,14 @@ TerminationRange read_range(const TaskReader& r, const mjModel* m, const toml::n
   // bonus that always holds.
   if (!v["min"] && !v["max"])
     r.fail(prefix, "expected min, max or both (without them every value is in range)");
-  out.lower = r.number(v["min"], prefix + ".min", -INFINITY);
-  out.upper = r.number(v["max"], prefix + ".max", INFINITY);
+  out.lower = bound(r, v["min"], prefix + ".min", -INFINITY);
+  out.upper = bound(r, v["max"], prefix + ".max", INFINITY);
   if (!(out.lower < out.upper)) r.fail(prefix + ".max", "expected max > min");
+  // Closed by default, as before `bounds` existed; Gymnasium's healthy ranges are open: "()".
+  const std::string bounds =
+      r.fields().choice(v["bounds"].node(), prefix + ".bounds", "[]", {"[]", "()", "[)", "(]"});
+  out.lower_open = bounds[0] == '(';
+  out.upper_open = bounds[1] == ')';
   return out;
 }
 
@@ -177,6 +197,13 @@ MujocoModel MujocoModel::load(const std::filesystem::path& path) {
       if (c == '\n') c = ' ';
     throw InputError(fmt::format("{}: not a valid MJCF model: {}", path.string(), message));
   }
+  // A step of zero, negative or NaN seconds would integrate nothing, backwards or into NaN; MuJoCo's compiler
+  // takes any of them.
+  if (const double h = m->opt.timestep; !(h > 0.0) || !std::isfinite(h)) {
+    mj_deleteModel(m);
+    throw InputError(fmt::format("{}: option.timestep: expected a positive finite number of seconds, got {}",
+                                 path.string(), h));
+  }
   MujocoModel out;
   out.model_ =
       std::shared_ptr<const mjModel>(m, [](const mjModel* p) { mj_deleteModel(const_cast<mjModel*>(p)); });
@@ -197,6 +224,12 @@ int MujocoModel::id_of(int type, const std::string& name) const {
 std::string MujocoModel::name_of(int type, int id) const {
   const char* name = mj_id2name(get(), type, id);
   return name ? name : "";
+}
+
+bool MujocoTask::has_training_only_terms() const {
+  for (const auto& term : reward)
+    if (term.training_only) return true;
+  return false;
 }
 
 int MujocoTask::observation_dim() const {
@@ -233,6 +266,12 @@ int observation_position(const MujocoTask& task, std::string_view reference, std
                         known.size());
   throw InputError(fmt::format("{}: the task's observation has no number \"{}\" (expected one of {})", field,
                                printable(reference), listed));
+}
+
+std::string mujoco_task_content_digest(const std::filesystem::path& path) {
+  std::ostringstream text;
+  text << toml::json_formatter{read_toml_input(path, "task")};
+  return sha256_hex(text.str());
 }
 
 MujocoTask load_mujoco_task(const std::filesystem::path& path, const MujocoModel& model) {
@@ -298,7 +337,7 @@ MujocoTask mujoco_task_from_toml(const toml::table& root, const std::filesystem:
   const toml::table* observation = root["observation"].as_table();
   if (!observation) r.fail("observation", "missing (expected a table naming what the policy sees)");
   r.check_keys(*observation, "observation",
-               {"qpos", "qpos_sincos", "qvel", "sensors", "site_pos", "body_linvel", "clip"});
+               {"qpos", "qpos_sincos", "qvel", "sensors", "site_pos", "body_linvel", "clip", "raw_clip"});
   const toml::node_view<const toml::node> obs{*observation};
   task.observation_clip = r.number(obs["clip"], "observation.clip", 10.0, 1e-6, 1e9);
   auto add_items = [&](const char* key, ObservationKind kind) {
@@ -354,6 +393,27 @@ MujocoTask mujoco_task_from_toml(const toml::table& root, const std::filesystem:
   add_items("site_pos", ObservationKind::kSitePos);
   add_items("body_linvel", ObservationKind::kBodyLinearVelocity);
   if (task.observation.empty()) r.fail("observation", "names nothing (expected at least one quantity)");
+  // raw_clip = { qvel = 10.0 }: each named kind's raw numbers are clipped before anything else sees them.
+  if (const toml::node* raw = (*observation).get("raw_clip")) {
+    const toml::table* clips = raw->as_table();
+    if (!clips)
+      r.fields().fail(raw, "observation.raw_clip", "expected a table of kind = clip, e.g. { qvel = 10.0 }");
+    r.check_keys(*clips, "observation.raw_clip",
+                 std::set<std::string>(std::begin(kObservationKeys), std::end(kObservationKeys)));
+    for (const auto& [key, value] : *clips) {
+      const std::string kind(key.str());
+      const double clip = r.fields().number(&value, "observation.raw_clip." + kind, 0.0, 1e-12, INFINITY);
+      bool observed = false;
+      for (auto& item : task.observation)
+        if (kObservationKeys[static_cast<int>(item.kind)] == kind) {
+          item.raw_clip = clip;
+          observed = true;
+        }
+      if (!observed)
+        r.fields().fail(&value, "observation.raw_clip." + kind,
+                        fmt::format("the observation has no {} items to clip", kind));
+    }
+  }
 
   const toml::array* reward = root["reward"].as_array();
   if (!reward || reward->empty()) r.fail("reward", "missing (expected [[reward]] terms)");
@@ -362,18 +422,40 @@ MujocoTask mujoco_task_from_toml(const toml::table& root, const std::filesystem:
     const toml::table* t = (*reward)[i].as_table();
     if (!t) r.fail(prefix, "expected a table");
     r.check_keys(*t, prefix,
-                 {"term", "weight", "cap", "body", "axis", "site", "joint", "target", "quantity", "name",
-                  "min", "max"});
+                 {"term", "weight", "cap", "training_only", "body", "axis", "point", "site", "joint",
+                  "target", "quantity", "name", "min", "max", "bounds"});
     const toml::node_view<const toml::node> v{*t};
     const std::string term = r.string(v["term"], prefix + ".term");
     RewardTerm out{};
     out.weight = r.number(v["weight"], prefix + ".weight", 1.0);
     out.cap = r.number(v["cap"], prefix + ".cap", out.cap);
-    if (term == "body_velocity") {
-      out.kind = RewardKind::kBodyVelocity;
+    if (const toml::node* only = t->get("training_only")) {
+      const auto flag = only->value_exact<bool>();
+      if (!flag) r.fields().fail(only, prefix + ".training_only", "expected true or false");
+      out.training_only = *flag;
+    }
+    if (term == "body_velocity" || term == "displacement") {
+      out.kind = term == "displacement" ? RewardKind::kDisplacement : RewardKind::kBodyVelocity;
       out.name = r.string(v["body"], prefix + ".body");
       out.id = r.resolve(mjOBJ_BODY, out.name, prefix + ".body");
       out.axis = r.integer(v["axis"], prefix + ".axis", 0, 0, 2);
+      const std::string point = r.fields().string(v["point"].node(), prefix + ".point", "com");
+      if (point == "com") {
+        out.point = BodyPoint::kCom;
+      } else if (point == "origin") {
+        out.point = BodyPoint::kOrigin;
+      } else if (point.starts_with("site:")) {
+        out.point = BodyPoint::kSite;
+        out.site = r.resolve(mjOBJ_SITE, point.substr(5), prefix + ".point");
+        if (const int owner = m->site_bodyid[out.site]; owner != out.id)
+          r.fail(prefix + ".point",
+                 fmt::format("site \"{}\" is fixed in body \"{}\", not in \"{}\"", printable(point.substr(5)),
+                             printable(model.name_of(mjOBJ_BODY, owner)), printable(out.name)));
+      } else {
+        r.fail(prefix + ".point",
+               fmt::format("expected \"com\", \"origin\" or \"site:NAME\"; got \"{}\"", printable(point)));
+      }
+      if (out.kind == RewardKind::kDisplacement) out.slot = task.displacement_terms++;
     } else if (term == "healthy") {
       out.kind = RewardKind::kHealthy;
     } else if (term == "site_distance") {
@@ -382,11 +464,10 @@ MujocoTask mujoco_task_from_toml(const toml::table& root, const std::filesystem:
       out.id = r.resolve(mjOBJ_SITE, out.name, prefix + ".site");
       const toml::array* target = v["target"].as_array();
       if (!target || target->size() != 3) r.fail(prefix + ".target", "expected [x, y, z] in metres");
-      for (int k = 0; k < 3; ++k) {
-        const auto x = (*target)[static_cast<std::size_t>(k)].value<double>();
-        if (!x) r.fail(prefix + ".target", "expected [x, y, z] in metres");
-        out.target[static_cast<std::size_t>(k)] = *x;
-      }
+      // Finite numbers: a NaN target would make every distance NaN, and so every return.
+      for (int k = 0; k < 3; ++k)
+        out.target[static_cast<std::size_t>(k)] = r.fields().number(
+            &(*target)[static_cast<std::size_t>(k)], fmt::format("{}.target[{}]", prefix, k), 0.0);
     } else if (term == "joint_target") {
       out.kind = RewardKind::kJointTarget;
       out.name = r.string(v["joint"], prefix + ".joint");
@@ -394,8 +475,8 @@ MujocoTask mujoco_task_from_toml(const toml::table& root, const std::filesystem:
       out.adr = m->jnt_qposadr[out.id];
       if (!v["target"]) r.fail(prefix + ".target", "missing (expected the joint's target position)");
       out.target[0] = r.number(v["target"], prefix + ".target", 0.0);
-    } else if (term == "joint_speed") {
-      out.kind = RewardKind::kJointSpeed;
+    } else if (term == "joint_speed" || term == "joint_velocity") {
+      out.kind = term == "joint_speed" ? RewardKind::kJointSpeed : RewardKind::kJointVelocity;
       out.name = r.string(v["joint"], prefix + ".joint");
       out.id = r.scalar_joint(out.name, prefix + ".joint");
       out.adr = m->jnt_dofadr[out.id];
@@ -412,26 +493,31 @@ MujocoTask mujoco_task_from_toml(const toml::table& root, const std::filesystem:
     } else if (term == "contact_cost") {
       out.kind = RewardKind::kContactCost;
     } else {
-      r.fail(prefix + ".term",
-             fmt::format("expected one of body_velocity, healthy, site_distance, joint_target, joint_speed, "
-                         "energy, in_range, control_cost, contact_cost; got \"{}\"",
-                         term));
+      r.fail(
+          prefix + ".term",
+          fmt::format("expected one of body_velocity, displacement, healthy, site_distance, joint_target, "
+                      "joint_speed, joint_velocity, energy, in_range, control_cost, contact_cost; got \"{}\"",
+                      printable(term)));
     }
     // A key another term reads (a body on a healthy term, say) would be ignored without a word.
     const std::map<RewardKind, std::set<std::string>> own_keys = {
-        {RewardKind::kBodyVelocity, {"body", "axis"}},
+        {RewardKind::kBodyVelocity, {"body", "axis", "point"}},
+        {RewardKind::kDisplacement, {"body", "axis", "point"}},
+        {RewardKind::kJointVelocity, {"joint"}},
         {RewardKind::kSiteDistance, {"site", "target"}},
         {RewardKind::kJointTarget, {"joint", "target"}},
         {RewardKind::kJointSpeed, {"joint"}},
         {RewardKind::kEnergy, {"target"}},
-        {RewardKind::kInRange, {"quantity", "name", "min", "max"}}};
+        {RewardKind::kInRange, {"quantity", "name", "min", "max", "bounds"}}};
     const auto it = own_keys.find(out.kind);
     const std::set<std::string> none;
     const std::set<std::string>& own = it == own_keys.end() ? none : it->second;
     for (const auto& [key, node] : *t) {
       const std::string name(key.str());
-      if (name == "term" || name == "weight" || name == "cap" || own.contains(name)) continue;
-      std::string takes = "term, weight, cap";
+      if (name == "term" || name == "weight" || name == "cap" || name == "training_only" ||
+          own.contains(name))
+        continue;
+      std::string takes = "term, weight, cap, training_only";
       for (const auto& k : own) takes += ", " + k;
       r.fields().fail(&node, prefix + "." + name,
                       fmt::format("the {} term does not read this key (it takes {})", term, takes));

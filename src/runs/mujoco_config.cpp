@@ -42,6 +42,12 @@ void declare_mujoco_train_config(ConfigSchema& s) {
                "and hidden widths, normalize = false): to continue a search on a longer horizon or another "
                "task")
       .input_file();
+  s.add_double(
+       "time_budget", d.time_budget_seconds,
+       "stop the search after this many wall seconds, at the end of an iteration, with the best policy "
+       "so far (0: no budget; the result then depends on the machine's speed)")
+      .min(0.0)
+      .max(1e9);
 }
 
 namespace {
@@ -67,6 +73,7 @@ MujocoTrainingRunOptions read_mujoco_train_config(const ConfigSchema& c, std::ui
                              .evaluation_episodes = static_cast<int>(c.get_int("evaluation_episodes")),
                              .checkpoint_every = c.get_int("checkpoint_every"),
                              .initial_policy_file = c.get_string("initial_policy"),
+                             .time_budget_seconds = c.get_double("time_budget"),
                              .seed = seed};
   read_optimizer_options(c, "optimizer", &o.optimizer);
   return o;
@@ -74,6 +81,10 @@ MujocoTrainingRunOptions read_mujoco_train_config(const ConfigSchema& c, std::ui
 
 void declare_mujoco_rollout_config(ConfigSchema& s) {
   s.add_string("policy", "", "policy.json written by `pegasus mujoco train`").input_file();
+  s.add_string("task", "",
+               "roll out under this task file for the policy's model instead of the one it was trained on "
+               "(same observation)")
+      .input_file();
   s.add_int("episodes", MujocoRolloutRunOptions{}.episodes,
             "scenarios rolled out (the first is recorded step by step)")
       .min(1)
@@ -82,6 +93,7 @@ void declare_mujoco_rollout_config(ConfigSchema& s) {
 
 MujocoRolloutRunOptions read_mujoco_rollout_config(const ConfigSchema& c, std::uint64_t seed) {
   return {.policy_file = c.get_string("policy"),
+          .task_file = c.get_string("task"),
           .episodes = static_cast<int>(c.get_int("episodes")),
           .seed = seed};
 }

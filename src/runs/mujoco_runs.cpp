@@ -5,14 +5,20 @@
 #include <fmt/ranges.h>
 #include <mujoco/mujoco.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <limits>
+#include <tuple>
+#include <vector>
 
 #include "pegasus/core/error.hpp"
 #include "pegasus/core/untrusted_text.hpp"
 #include "pegasus/io/atomic_file.hpp"
 #include "pegasus/io/json_csv.hpp"
 #include "pegasus/optimizers/training.hpp"
+#include "pegasus/parallel/mpi.hpp"
 #include "pegasus/runs/charts.hpp"
 
 namespace pegasus {
@@ -57,24 +63,90 @@ Problem load_problem(const std::string& model_path, const std::string& task_path
   return {env, policy, phase};
 }
 
-// success_rate is null when the task has no success criterion.
+// success_rate is null when the task has no success criterion; mean_training_return (the return of the
+// reward with its training-only terms) only when the task has such terms.
 nlohmann::json evaluation_json(const std::vector<MujocoRolloutResult>& results, const MujocoTask& task) {
-  double sum = 0.0;
+  double sum = 0.0, training_sum = 0.0;
   int successes = 0, crashes = 0;
   std::int64_t steps = 0;
   for (const auto& r : results) {
     sum += r.discounted_return;
+    training_sum += r.training_return;
     successes += r.success ? 1 : 0;
     crashes += r.crashed ? 1 : 0;
     steps += r.steps;
   }
   const double n = static_cast<double>(results.size());
-  return {{"episodes", results.size()},
-          {"mean_return", sum / n},
-          {"success_rate", task.has_success_criterion() ? nlohmann::json(successes / n) : nullptr},
-          {"crashes", crashes},
-          {"control_steps", steps}};
+  nlohmann::json out = {
+      {"episodes", results.size()},
+      {"mean_return", sum / n},
+      {"success_rate", task.has_success_criterion() ? nlohmann::json(successes / n) : nullptr},
+      {"crashes", crashes},
+      {"control_steps", steps}};
+  if (task.has_training_only_terms()) out["mean_training_return"] = number_or_null(training_sum / n);
+  return out;
 }
+
+// The reward the search maximised and the one the results are of, as the summary records them.
+nlohmann::json reward_json(const MujocoTask& task) {
+  static constexpr const char* kKinds[] = {"body_velocity", "healthy",        "site_distance", "joint_target",
+                                           "joint_speed",   "in_range",       "energy",        "control_cost",
+                                           "contact_cost",  "joint_velocity", "displacement"};
+  nlohmann::json training_only = nlohmann::json::array();
+  for (std::size_t i = 0; i < task.reward.size(); ++i)
+    if (task.reward[i].training_only)
+      training_only.push_back(fmt::format("reward[{}] {}", i, kKinds[static_cast<int>(task.reward[i].kind)]));
+  return {{"terms", task.reward.size()},
+          {"training_only_terms", training_only},
+          {"uhat_of",
+           training_only.empty() ? "task reward" : "training reward (task reward and training-only terms)"},
+          {"evaluation_of", "task reward"}};
+}
+
+// The U-hat of every iteration's central policy (ARS: the policy the iteration moved to), beside the best
+// so far that the optimizer's history holds: progress.csv's central_uhat. NaN for methods without one.
+class CentralRecorder final : public IterationCallback {
+ public:
+  explicit CentralRecorder(MujocoObjective& objective) : objective_(objective) {}
+  CallbackReturnType operator()(const IterationReport&) override {
+    values.push_back(objective_.TakeCentralValue());
+    return CallbackReturnType::kContinue;
+  }
+  std::vector<double> values;
+
+ private:
+  MujocoObjective& objective_;
+};
+
+CsvWriter progress_csv(const std::vector<IterationRecord>& history, const std::vector<double>& central) {
+  CsvWriter csv({"iteration", "evaluations", "seconds", "objective", "central_uhat"});
+  for (std::size_t i = 0; i < history.size(); ++i) {
+    const IterationRecord& h = history[i];
+    const double c = i < central.size() ? central[i] : std::numeric_limits<double>::quiet_NaN();
+    csv.add_row({h.iteration, h.evaluations, h.seconds, h.value,
+                 std::isfinite(c) ? CsvCell(c) : CsvCell(std::string())});
+  }
+  return csv;
+}
+
+// Stops the search at the end of the first iteration that ends past the budget. Under mpirun rank 0's clock
+// decides for every rank (the ranks' clocks differ, and a rank that stopped alone would leave the others
+// waiting in a collective).
+class TimeBudget final : public IterationCallback {
+ public:
+  explicit TimeBudget(double seconds) : seconds_(seconds), start_(std::chrono::steady_clock::now()) {}
+  CallbackReturnType operator()(const IterationReport&) override {
+    reached_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count() >= seconds_;
+    if (mpi::size() > 1) reached_ = mpi::broadcast_from_root(reached_ ? "1" : "0") == "1";
+    return reached_ ? CallbackReturnType::kTerminate : CallbackReturnType::kContinue;
+  }
+  bool reached() const { return reached_; }
+
+ private:
+  double seconds_;
+  std::chrono::steady_clock::time_point start_;
+  bool reached_ = false;
+};
 
 // The task's success criterion, as the summary records it.
 nlohmann::json success_json(const MujocoEnvironment& env) {
@@ -189,7 +261,7 @@ Theta initial_theta(const MujocoTrainingRunOptions& o, const Problem& problem) {
 
 }  // namespace
 
-void run_mujoco_training(const MujocoTrainingRunOptions& o, RunSink& sink, ThreadPool& pool) {
+int run_mujoco_training(const MujocoTrainingRunOptions& o, RunSink& sink, ThreadPool& pool) {
   const Problem problem =
       load_problem(o.model_file, o.task_file, o.policy_class, o.hidden,
                    {.observation = o.phase_observation, .above = o.phase_above}, "--phase-observation");
@@ -222,9 +294,29 @@ void run_mujoco_training(const MujocoTrainingRunOptions& o, RunSink& sink, Threa
   // The objective's counters (steps, rollouts, crashes, first success) and observation statistics ride in
   // every checkpoint, whatever the method: ARS also keeps them in its own state, but CMA-ES and the others do
   // not, and a resumed run must end with the uninterrupted run's summary.
-  plan.caller_state = [&objective] { return objective.NormalizerState(); };
-  if (plan.resume_from && plan.resume_from->contains("caller") && !plan.resume_from->at("caller").is_null())
-    objective.RestoreNormalizer(plan.resume_from->at("caller"));
+  // progress.csv's central U-hat of the iterations before a resume rides there too.
+  CentralRecorder central(objective);
+  plan.caller_state = [&objective, &central] {
+    nlohmann::json state = objective.NormalizerState();
+    nlohmann::json values = nlohmann::json::array();
+    for (const double v : central.values) values.push_back(number_or_null(v));
+    state["central_uhat"] = values;
+    return state;
+  };
+  if (plan.resume_from && plan.resume_from->contains("caller") && !plan.resume_from->at("caller").is_null()) {
+    const nlohmann::json& caller = plan.resume_from->at("caller");
+    objective.RestoreNormalizer(caller);
+    if (caller.contains("central_uhat") && caller.at("central_uhat").is_array())
+      for (const auto& v : caller.at("central_uhat"))
+        central.values.push_back(v.is_number() ? v.get<double>() : std::numeric_limits<double>::quiet_NaN());
+  }
+  plan.callbacks.push_back(&central);
+  TimeBudget budget(o.time_budget_seconds);
+  if (o.time_budget_seconds > 0.0) plan.callbacks.push_back(&budget);
+  if (env.task().has_training_only_terms())
+    sink.out << "note: training_only reward terms count in U-hat only, held-out returns are of the full task "
+                "reward; a constant shift in a task with termination is not potential-based (thesis ch. 3), "
+                "so the policy found can differ from the full reward's optimum\n";
   TrainingSummary training;
   Train(plan, objective, &theta, &training);
   const OptimizerSummary& summary = training.stages.front();
@@ -236,17 +328,19 @@ void run_mujoco_training(const MujocoTrainingRunOptions& o, RunSink& sink, Threa
   const nlohmann::json evaluation = evaluation_json(results, env.task());
   dir.write_json("replay.json", replay_json(env, *problem.policy, theta, objective.normalizer(), held_out));
 
-  dir.write_csv("progress.csv", optimizer_progress_csv(summary.history));
+  dir.write_csv("progress.csv", progress_csv(summary.history, central.values));
   dir.write_csv("evaluation.csv", evaluation_csv(results));
   dir.add_charts({optimizer_progress_section({{"", "progress.csv"}},
                                              "U-hat of the best policy so far against "
-                                             "optimizer iterations, evaluations and time."),
+                                             "optimizer iterations, evaluations and time (progress.csv's "
+                                             "central_uhat column holds each iteration's central policy)."),
                   replay_section("Held-out episode 0 of the final policy")});
   const nlohmann::json shape = problem.policy->describe();
   const MujocoPolicyFile policy{.model = std::filesystem::absolute(o.model_file).string(),
                                 .task = std::filesystem::absolute(o.task_file).string(),
                                 .model_digest = env.model().digest(),
                                 .task_digest = file_sha256(o.task_file),
+                                .task_content_digest = mujoco_task_content_digest(o.task_file),
                                 .policy_class = shape.at("class").get<std::string>(),
                                 .hidden = shape.at("hidden").get<std::vector<int>>(),
                                 .phase = problem.phase,
@@ -262,30 +356,38 @@ void run_mujoco_training(const MujocoTrainingRunOptions& o, RunSink& sink, Threa
                      {"physics_steps", f->control_steps * frame_skip}};
     sink.timings["seconds_to_first_success"] = f->seconds;
   }
-  dir.write_json("summary.json", {{"experiment", "mujoco train"},
-                                  {"method", summary.method},
-                                  {"policy_class", shape.at("class")},
-                                  {"phase", policy_phase_json(problem.phase)},
-                                  {"parameters", problem.policy->parameters().size()},
-                                  {"observation_dim", env.observation_dim()},
-                                  {"action_dim", env.action_dim()},
-                                  {"scenarios", m},
-                                  {"horizon", env.task().horizon},
-                                  {"frame_skip", frame_skip},
-                                  {"termination", std::string(TerminationTypeName(summary.termination_type))},
-                                  {"message", summary.message},
-                                  {"iterations", summary.iterations},
-                                  {"evaluations", summary.evaluations},
-                                  {"initial_uhat", number_or_null(summary.initial_value)},
-                                  {"final_uhat", summary.best_value},
-                                  {"training_rollouts", objective.rollouts()},
-                                  {"training_control_steps", objective.control_steps()},
-                                  {"training_physics_steps", objective.control_steps() * frame_skip},
-                                  {"training_crashes", objective.crashes()},
-                                  {"first_success", first_success},
-                                  {"success_return", number_or_null(env.task().success_return)},
-                                  {"success", success_json(env)},
-                                  {"evaluation", evaluation}});
+  dir.write_json("summary.json",
+                 {{"experiment", "mujoco train"},
+                  {"method", summary.method},
+                  {"policy_class", shape.at("class")},
+                  {"phase", policy_phase_json(problem.phase)},
+                  {"parameters", problem.policy->parameters().size()},
+                  {"observation_dim", env.observation_dim()},
+                  {"action_dim", env.action_dim()},
+                  {"scenarios", m},
+                  {"horizon", env.task().horizon},
+                  {"frame_skip", frame_skip},
+                  {"integrator", env.integrator()},
+                  {"reward", reward_json(env.task())},
+                  {"time_budget_seconds", o.time_budget_seconds > 0.0 ? nlohmann::json(o.time_budget_seconds)
+                                                                      : nlohmann::json(nullptr)},
+                  {"stopped_by_time_budget", budget.reached()},
+                  {"termination", std::string(TerminationTypeName(summary.termination_type))},
+                  {"message", summary.message},
+                  {"iterations", summary.iterations},
+                  {"evaluations", summary.evaluations},
+                  {"initial_uhat", number_or_null(summary.initial_value)},
+                  {"final_uhat", number_or_null(summary.best_value)},
+                  {"uhat_finite", std::isfinite(summary.best_value)},
+                  {"nonfinite_uhat_evaluations", objective.nonfinite_evaluations()},
+                  {"training_rollouts", objective.rollouts()},
+                  {"training_control_steps", objective.control_steps()},
+                  {"training_physics_steps", objective.control_steps() * frame_skip},
+                  {"training_crashes", objective.crashes()},
+                  {"first_success", first_success},
+                  {"success_return", number_or_null(env.task().success_return)},
+                  {"success", success_json(env)},
+                  {"evaluation", evaluation}});
   // Wall-clock measurements go to run.json ("timings"): summary.json is identical for any threads and ranks.
   sink.out << summary.BriefReport() << "\n";
   const nlohmann::json& rate = evaluation.at("success_rate");
@@ -295,24 +397,55 @@ void run_mujoco_training(const MujocoTrainingRunOptions& o, RunSink& sink, Threa
       rate.is_null() ? "" : fmt::format(", success rate {:.3f}", rate.get<double>()), episodes,
       evaluation.at("crashes").get<int>(), rate.is_null() ? ", no success criterion in the task" : "",
       objective.control_steps());
+  if (budget.reached())
+    sink.out << fmt::format("stopped by the time budget of {} s after {} iterations\n", o.time_budget_seconds,
+                            summary.iterations);
+  if (!std::isfinite(summary.best_value)) {
+    sink.out << fmt::format(
+        "error: U-hat of the policy found is not finite ({}): no result; summary.json has uhat_finite = "
+        "false\n",
+        summary.best_value);
+    return 1;
+  }
+  // A finite result of a search that met a non-finite U-hat on the way (ARS and CMA-ES then stop with
+  // FAILURE) is not trusted either.
+  if (objective.nonfinite_evaluations() > 0) {
+    sink.out << fmt::format(
+        "error: {} evaluations of U-hat were not finite (the first: evaluation {}); the search's result is "
+        "not "
+        "trusted; summary.json has nonfinite_uhat_evaluations\n",
+        objective.nonfinite_evaluations(), objective.first_nonfinite_evaluation());
+    return 1;
+  }
+  return 0;
 }
 
-void run_mujoco_rollout(const MujocoRolloutRunOptions& o, RunSink& sink) {
+void run_mujoco_rollout(const MujocoRolloutRunOptions& o, RunSink& sink, ThreadPool& pool) {
   if (o.policy_file.empty()) throw InputError("policy: expected a policy file (--policy FILE)");
   const MujocoPolicyFile file = read_mujoco_policy_file(o.policy_file);
-  const Problem problem = load_problem(file.model, file.task, file.policy_class, file.hidden, file.phase,
+  const bool other_task = !o.task_file.empty();
+  const std::string task_file = other_task ? o.task_file : file.task;
+  const Problem problem = load_problem(file.model, task_file, file.policy_class, file.hidden, file.phase,
                                        fmt::format("{}: phase.observation", o.policy_file));
   const MujocoEnvironment& env = *problem.env;
   check_mujoco_policy_file(file, *problem.policy, env.observation_dim(), o.policy_file);
-  // The files as they are now, which may not be what the policy was trained on: allowed, but not unsaid.
-  for (const auto& [what, path, then, now] :
-       {std::tuple{"model", file.model, file.model_digest, env.model().digest()},
-        std::tuple{"task", file.task, file.task_digest, file_sha256(file.task)}})
+  // The files as they are now, which may not be what the policy was trained on: allowed, but not unsaid. The
+  // task is compared by its parsed content where the policy file has it (an edited comment is no change).
+  const bool by_content = !file.task_content_digest.empty();
+  std::vector<std::tuple<std::string, std::string, std::string, std::string>> inputs = {
+      {"model", file.model, file.model_digest, env.model().digest()}};
+  if (!other_task)
+    inputs.emplace_back("task", file.task, by_content ? file.task_content_digest : file.task_digest,
+                        by_content ? mujoco_task_content_digest(file.task) : file_sha256(file.task));
+  for (const auto& [what, path, then, now] : inputs)
     if (!then.empty() && then != now)
       sink.out << fmt::format(
           "warning: the {} {} has changed since {} was trained on it; the rollout uses it as it "
           "is now\n",
           what, printable(path), printable(o.policy_file));
+  if (other_task)
+    sink.out << fmt::format("rollout under the task {} (the policy was trained on {})\n",
+                            printable(task_file), printable(file.task));
   const std::vector<double>& theta = file.theta;
   const ObservationNormalizer& normalizer = file.normalizer;
 
@@ -335,10 +468,22 @@ void run_mujoco_rollout(const MujocoRolloutRunOptions& o, RunSink& sink) {
     trajectory.add_row(std::move(row));
   };
   std::vector<MujocoRolloutResult> results(static_cast<std::size_t>(episodes));
-  MujocoSlot slot(env);
-  for (int i = 0; i < episodes; ++i)
-    results[static_cast<std::size_t>(i)] = env.rollout(*problem.policy, theta, normalizer, scenarios, i, slot,
-                                                       nullptr, i == 0 ? &record : nullptr);
+  {
+    MujocoSlot slot(env);
+    results[0] = env.rollout(*problem.policy, theta, normalizer, scenarios, 0, slot, nullptr, &record);
+  }
+  // The other episodes on every thread, each worker with one slot of its own; every episode's result is a
+  // function of its scenario alone, so they do not depend on the threads.
+  const std::size_t rest = results.size() - 1;
+  const std::size_t workers = std::min<std::size_t>(static_cast<std::size_t>(pool.size()), rest);
+  pool.parallel_for(
+      workers,
+      [&](std::size_t w) {
+        MujocoSlot slot(env);
+        for (std::size_t i = 1 + w; i < results.size(); i += workers)
+          results[i] = env.rollout(*problem.policy, theta, normalizer, scenarios, static_cast<int>(i), slot);
+      },
+      1);
 
   RunDirectory& dir = sink.dir;
   const nlohmann::json evaluation = evaluation_json(results, env.task());
@@ -347,6 +492,8 @@ void run_mujoco_rollout(const MujocoRolloutRunOptions& o, RunSink& sink) {
   dir.write_json("replay.json", replay_json(env, *problem.policy, theta, normalizer, scenarios));
   dir.add_charts(replay_section("Episode 0 of the rollout"));
   dir.write_json("summary.json", {{"experiment", "mujoco rollout"},
+                                  {"task", other_task ? nlohmann::json(task_file) : nlohmann::json(nullptr)},
+                                  {"integrator", env.integrator()},
                                   {"success_return", number_or_null(env.task().success_return)},
                                   {"success", success_json(env)},
                                   {"evaluation", evaluation}});

@@ -3,10 +3,13 @@
 #ifdef PEGASUS_HAVE_MUJOCO
 #include <gtest/gtest.h>
 #include <mujoco/mujoco.h>
+#include <unistd.h>
 
 #include <atomic>
 #include <cstdlib>
+#include <filesystem>
 #include <new>
+#include <string>
 
 #include "mujoco_test_support.hpp"
 
@@ -52,6 +55,70 @@ TEST(MujocoAllocation, RolloutsAllocateNothingAfterTheSlotIsMade) {
     EXPECT_EQ(g_allocations.load(), before);
     EXPECT_GT(steps, 3 * 10);  // the rollouts ran
   }
+  mju_user_malloc = nullptr;
+  mju_user_free = nullptr;
+}
+
+TEST(MujocoAllocation, AnRk4RolloutWithEveryNewKindOfTermAllocatesNothing) {
+  // issue 52's paths: whole mj_step calls and mj_step1 (RK4), the contact forces of the new state with the
+  // warm start kept aside, displacement and point velocities, raw clips, a training-only term, open ranges.
+  const auto dir = std::filesystem::temp_directory_path() / ("pegasus-alloc-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const auto xml = test_support::write_file(dir / "sled.xml", R"(
+<mujoco><option timestep="0.004" integrator="RK4"/>
+  <worldbody><geom type="plane" size="5 5 0.1"/>
+    <body name="sled" pos="0 0 0.15"><joint name="slide" type="slide" axis="1 0 0"/>
+      <joint name="lift" type="slide" axis="0 0 1"/><geom type="box" size="0.1 0.1 0.1" mass="1"/>
+      <site name="nose" pos="0.1 0 0"/></body></worldbody>
+  <actuator><motor joint="slide" ctrllimited="true" ctrlrange="-5 5"/></actuator></mujoco>)");
+  const auto toml = test_support::write_file(dir / "task.toml", R"toml(
+horizon = 50
+frame_skip = 2
+[observation]
+qpos = ["slide", "lift"]
+qvel = ["slide", "lift"]
+raw_clip = { qvel = 0.5 }
+[[reward]]
+term = "displacement"
+body = "sled"
+point = "origin"
+[[reward]]
+term = "body_velocity"
+body = "sled"
+point = "site:nose"
+[[reward]]
+term = "joint_velocity"
+joint = "slide"
+[[reward]]
+term = "contact_cost"
+weight = -1e-4
+[[reward]]
+term = "healthy"
+weight = -1.0
+training_only = true
+[[termination]]
+quantity = "qpos"
+name = "lift"
+min = -1.0
+max = inf
+bounds = "()"
+)toml");
+  const auto env = test_support::environment_of(xml, toml);
+  std::filesystem::remove_all(dir);
+  mju_user_malloc = counting_mujoco_malloc;
+  mju_user_free = mujoco_free;
+  const auto policy = make_mujoco_policy("linear", env->observation_dim(), env->action_dim(), {});
+  const ScenarioSet scenarios = env->scenarios(5, 3, ScenarioVariant::kPlain);
+  const Theta theta(policy->parameters().size(), 0.3);
+  const ObservationNormalizer normalizer(env->observation_dim());
+  MujocoSlot slot(*env);
+  env->rollout(*policy, theta, normalizer, scenarios, 0, slot);
+  const long before = g_allocations.load();
+  int steps = 0;
+  for (int i = 0; i < scenarios.size(); ++i)
+    steps += env->rollout(*policy, theta, normalizer, scenarios, i, slot).steps;
+  EXPECT_EQ(g_allocations.load(), before);
+  EXPECT_EQ(steps, 3 * 50);
   mju_user_malloc = nullptr;
   mju_user_free = nullptr;
 }

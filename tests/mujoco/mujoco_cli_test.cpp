@@ -2,8 +2,14 @@
 #ifdef PEGASUS_HAVE_MUJOCO
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
+#include <chrono>
 #include <nlohmann/json.hpp>
+#include <sstream>
+#include <thread>
 
 #include "mujoco_test_support.hpp"
 #include "pegasus/mujoco/mujoco_policy.hpp"
@@ -42,13 +48,22 @@ TEST_F(MujocoCli, TrainGivesTheSameSummaryOnOneAndTwoThreadsAndRolloutReplaysThe
   EXPECT_EQ(summary, read_text(dir / "two" / "summary.json"));
   const auto s = nlohmann::json::parse(summary);
   EXPECT_EQ(s.at("method"), "ars");
+  EXPECT_EQ(s.at("integrator"), "Euler");  // the cart-pole's MJCF says so
+  EXPECT_EQ(s.at("reward").at("uhat_of"), "task reward");
+  EXPECT_EQ(s.at("evaluation").count("mean_training_return"), 0u);
   EXPECT_EQ(s.at("iterations"), 3);
   EXPECT_EQ(s.at("evaluations"), 1 + 3 * (2 * 2 + 1));
   // Every evaluation is 3 rollouts; the control steps are counted exactly.
   EXPECT_EQ(s.at("training_rollouts"), 3 * s.at("evaluations").get<int>());
   EXPECT_EQ(s.at("training_physics_steps").get<std::int64_t>(),
             2 * s.at("training_control_steps").get<std::int64_t>());
-  EXPECT_TRUE(std::filesystem::exists(dir / "one" / "progress.csv"));
+  // progress.csv: the best U-hat so far (objective) and each iteration's central policy's; ARS's result is
+  // its last central policy.
+  const std::string progress = read_text(dir / "one" / "progress.csv");
+  EXPECT_EQ(progress.substr(0, progress.find('\n')), "iteration,evaluations,seconds,objective,central_uhat");
+  const std::string last = progress.substr(progress.rfind('\n', progress.size() - 2) + 1);
+  EXPECT_EQ(std::stod(last.substr(last.rfind(',') + 1)), s.at("final_uhat").get<double>()) << progress;
+  EXPECT_EQ(std::count(progress.begin(), progress.end(), '\n'), 4);
   EXPECT_GT(nlohmann::json::parse(read_text(dir / "one" / "run.json"))
                 .at("timings")
                 .at("training_seconds")
@@ -67,12 +82,23 @@ TEST_F(MujocoCli, TrainGivesTheSameSummaryOnOneAndTwoThreadsAndRolloutReplaysThe
   EXPECT_GT(std::count(trajectory.begin(), trajectory.end(), '\n'), 2);
   EXPECT_EQ(rollout.output.find("warning"), std::string::npos) << rollout.output;
 
-  // The policy records what its model and task were; a task file edited since (here a comment) is used as it
-  // is now, with a warning that names it.
+  // The policy records what its model and task were. A task file whose comments alone were edited since is
+  // the same task: no warning. One whose content changed is used as it is now, with a warning that names it.
   auto policy = nlohmann::json::parse(read_text(dir / "one" / "policy.json"));
   EXPECT_EQ(policy.at("model_digest").get<std::string>().size(), 64u);
+  const std::string task_text = read_text(policy.at("task").get<std::string>());
+  const auto commented_task = dir / "commented.toml";
+  test_support::write_file(commented_task, "# a new first line\n" + task_text + "# edited\n");
+  policy["task"] = commented_task.string();
+  test_support::write_file(dir / "commented.json", policy.dump());
+  const auto commented = run_pegasus("mujoco rollout --policy " + (dir / "commented.json").string() +
+                                     " --episodes 4 --seed 7 --quiet --out " + (dir / "commented").string());
+  ASSERT_EQ(commented.code, 0) << commented.output;
+  EXPECT_EQ(commented.output.find("warning"), std::string::npos) << commented.output;
   const auto edited_task = dir / "edited.toml";
-  test_support::write_file(edited_task, read_text(policy.at("task").get<std::string>()) + "# edited\n");
+  std::string changed = task_text;
+  changed.replace(changed.find("crash_penalty = -100.0"), 22, "crash_penalty = -101.0");
+  test_support::write_file(edited_task, changed);
   policy["task"] = edited_task.string();
   test_support::write_file(dir / "edited.json", policy.dump());
   const auto edited = run_pegasus("mujoco rollout --policy " + (dir / "edited.json").string() +
@@ -82,6 +108,27 @@ TEST_F(MujocoCli, TrainGivesTheSameSummaryOnOneAndTwoThreadsAndRolloutReplaysThe
                                        (dir / "edited.json").string() + " was trained on it"));
   EXPECT_EQ(nlohmann::json::parse(read_text(dir / "edited" / "summary.json")).at("evaluation"),
             s.at("evaluation"));
+
+  // --task rolls the policy out under another task for its model; --threads changes nothing in the results.
+  const auto longer = dir / "longer.toml";
+  std::string longer_text = task_text;
+  longer_text.replace(longer_text.find("horizon = 400"), 13, "horizon = 450");
+  test_support::write_file(longer, longer_text);
+  std::string returns;
+  for (const int threads : {1, 2}) {
+    const auto out = dir / ("other-task-" + std::to_string(threads));
+    const auto other = run_pegasus(
+        "mujoco rollout --policy " + (dir / "one" / "policy.json").string() + " --task " + longer.string() +
+        " --episodes 5 --seed 7 --quiet --threads " + std::to_string(threads) + " --out " + out.string());
+    ASSERT_EQ(other.code, 0) << other.output;
+    EXPECT_THAT(other.output, HasSubstr("rollout under the task " + longer.string()));
+    const auto o = nlohmann::json::parse(read_text(out / "summary.json"));
+    EXPECT_EQ(o.at("task"), longer.string());
+    EXPECT_EQ(o.at("integrator"), "Euler");
+    EXPECT_NE(o.at("evaluation"), s.at("evaluation"));
+    if (threads == 1) returns = read_text(out / "returns.csv");
+    EXPECT_EQ(read_text(out / "returns.csv"), returns);
+  }
 }
 
 // policy.json is checked where it is read (mujoco/mujoco_policy: parse_mujoco_policy_file): each broken field
@@ -92,6 +139,7 @@ TEST_F(MujocoCli, RolloutRefusesABrokenPolicyFileNamingTheField) {
                               .task = (exp / "cartpole_swingup.toml").string(),
                               .model_digest = {},
                               .task_digest = {},
+                              .task_content_digest = {},
                               .policy_class = "linear",
                               .hidden = {},
                               .phase = {},
@@ -287,6 +335,20 @@ void expect_resume_gives_the_uninterrupted_summary(const std::filesystem::path& 
   }
   EXPECT_EQ(nlohmann::json::parse(read_text(dir / "cut" / "summary.json")).at("iterations"), iterations);
   EXPECT_EQ(read_text(dir / "cut" / "summary.json"), read_text(dir / "whole" / "summary.json"));
+  // progress.csv but its wall seconds: the central U-hat of the iterations before the kill rode in the
+  // checkpoint.
+  const auto without_seconds = [](const std::string& csv) {
+    std::string out;
+    std::istringstream lines(csv);
+    for (std::string line; std::getline(lines, line);) {
+      const std::size_t second = line.find(',', line.find(',') + 1), third = line.find(',', second + 1);
+      out += line.substr(0, second) + line.substr(third) + "\n";
+    }
+    return out;
+  };
+  const std::string whole = without_seconds(read_text(dir / "whole" / "progress.csv"));
+  EXPECT_EQ(without_seconds(read_text(dir / "cut" / "progress.csv")), whole);
+  EXPECT_EQ(std::count(whole.begin(), whole.end(), '\n'), iterations + 1);
 }
 
 TEST_F(MujocoCli, ResumingAfterAKillGivesTheUninterruptedSummary) {
@@ -304,6 +366,151 @@ TEST_F(MujocoCli, ResumingCmaesAfterAKillGivesTheUninterruptedSummaryWithItsStep
       args.find(" --out "),
       " --optimizer.method cmaes --optimizer.cmaes.max-iterations 40 --optimizer.cmaes.population-size 4");
   expect_resume_gives_the_uninterrupted_summary(dir_, args, 40);
+}
+
+// issue 51: numbers that would make every return NaN are bad input, named where they are written.
+TEST_F(MujocoCli, ANanTargetOrABadTimestepIsOneLineExitTwoAndLeavesNothingBehind) {
+  const auto exp = test_support::mujoco_experiments();
+  const std::string model = read_text(exp / "cartpole.xml");
+  std::string task = read_text(exp / "cartpole_swingup.toml");
+  task.replace(task.find("target = [0.0, 0.0, 1.0]"), 24, "target = [0.0, nan, 1.0]");
+  const auto nan_task = test_support::write_file(dir_ / "nan.toml", task);
+  struct Case {
+    std::string args, expected;
+  };
+  std::vector<Case> cases = {{"--model " + (exp / "cartpole.xml").string() + " --task " + nan_task.string(),
+                              "nan.toml:30: reward[1].target[1]: expected a finite number, got nan"}};
+  for (const std::string h : {"0", "-0.01", "nan"}) {
+    std::string xml = model;
+    xml.replace(xml.find("timestep=\"0.01\""), 15, "timestep=\"" + h + "\"");
+    const auto bad = test_support::write_file(dir_ / ("h" + std::to_string(cases.size()) + ".xml"), xml);
+    cases.push_back({"--model " + bad.string() + " --task " + (exp / "cartpole_swingup.toml").string(),
+                     bad.filename().string() + ": option.timestep: expected a positive finite number"});
+  }
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.args);
+    const auto out = dir_ / "run";
+    const auto r = run_pegasus("mujoco train " + c.args + " --optimizer.ars.max-iterations 1 --quiet --out " +
+                               out.string());
+    EXPECT_EQ(r.code, 2);
+    EXPECT_THAT(r.output, HasSubstr(c.expected));
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+    for (const char* left : {"", ".partial", ".lock"})
+      EXPECT_FALSE(std::filesystem::exists(out.string() + left)) << left;
+  }
+}
+
+// issue 51: a search whose U-hat is not finite (here a reward of 1e308 per step sums to inf) is no success.
+TEST_F(MujocoCli, ARunWhoseUhatIsNotFiniteEndsWithExitOneAndSaysSo) {
+  const auto exp = test_support::mujoco_experiments();
+  const auto task = test_support::write_file(
+      dir_ / "huge.toml",
+      "horizon = 5\n[observation]\nqpos = [\"slider\"]\n[[reward]]\nterm = \"healthy\"\nweight = 1e308\n");
+  const auto r =
+      run_pegasus("mujoco train --model " + (exp / "cartpole.xml").string() + " --task " + task.string() +
+                  " --scenarios 2 --optimizer.ars.max-iterations 2 --evaluation-episodes 2 --quiet "
+                  "--out " +
+                  (dir_ / "run").string());
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("error: U-hat of the policy found is not finite (inf)"));
+  const auto s = nlohmann::json::parse(read_text(dir_ / "run" / "summary.json"));
+  EXPECT_EQ(s.at("uhat_finite"), false);
+  EXPECT_TRUE(s.at("final_uhat").is_null());
+  EXPECT_EQ(s.at("nonfinite_uhat_evaluations"), s.at("evaluations"));
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 3) << r.output;  // the brief reports + 1
+}
+
+// The same when only the search met a non-finite U-hat: at theta = 0 the cart-pole stands exactly still (a
+// reward of 0), every perturbed policy moves the cart and 1e308 per m/s overflows; ARS stops with FAILURE and
+// its result, the start, is finite.
+TEST_F(MujocoCli, ASearchThatMetANonFiniteUhatIsNoSuccessThoughItsResultIsFinite) {
+  const auto exp = test_support::mujoco_experiments();
+  const auto task =
+      test_support::write_file(dir_ / "overflow.toml",
+                               "horizon = 200\n[observation]\nqpos = [\"slider\"]\n[[reward]]\n"
+                               "term = \"joint_velocity\"\njoint = \"slider\"\nweight = 1e308\n");
+  const auto r =
+      run_pegasus("mujoco train --model " + (exp / "cartpole.xml").string() + " --task " + task.string() +
+                  " --scenarios 1 --optimizer.ars.max-iterations 3 --optimizer.ars.directions 1 "
+                  "--optimizer.ars.top-directions 1 --evaluation-episodes 1 --quiet --out " +
+                  (dir_ / "run").string());
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("evaluations of U-hat were not finite (the first: evaluation 2)"));
+  const auto s = nlohmann::json::parse(read_text(dir_ / "run" / "summary.json"));
+  EXPECT_EQ(s.at("uhat_finite"), true);
+  EXPECT_EQ(s.at("termination"), "FAILURE");
+  EXPECT_EQ(s.at("final_uhat"), 0.0);
+  EXPECT_GT(s.at("nonfinite_uhat_evaluations").get<int>(), 0);
+}
+
+// A term marked training_only shifts U-hat and nothing else; the run says which reward each figure is of and
+// that such a shift is not potential-based (thesis ch. 3). --time-budget stops the search with the best so
+// far.
+TEST_F(MujocoCli, ATrainingOnlyShiftIsReportedApartAndATimeBudgetStopsTheSearch) {
+  const auto exp = test_support::mujoco_experiments();
+  const auto task = test_support::write_file(
+      dir_ / "shifted.toml", read_text(exp / "cartpole_swingup.toml") +
+                                 "\n[[reward]]\nterm = \"healthy\"\nweight = -3.0\ntraining_only = true\n");
+  const auto r =
+      run_pegasus("mujoco train --model " + (exp / "cartpole.xml").string() + " --task " + task.string() +
+                  " --scenarios 2 --optimizer.ars.max-iterations 1000000 --optimizer.ars.directions 2 "
+                  "--optimizer.ars.top-directions 1 --evaluation-episodes 2 --time-budget 1 --quiet "
+                  "--out " +
+                  (dir_ / "run").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("a constant shift in a task with termination is not potential-based"));
+  EXPECT_THAT(r.output, HasSubstr("stopped by the time budget of 1 s"));
+  const auto s = nlohmann::json::parse(read_text(dir_ / "run" / "summary.json"));
+  EXPECT_EQ(s.at("reward").at("training_only_terms"), nlohmann::json::array({"reward[4] healthy"}));
+  EXPECT_EQ(s.at("stopped_by_time_budget"), true);
+  EXPECT_EQ(s.at("termination"), "USER_REQUESTED");
+  EXPECT_LT(s.at("iterations").get<int>(), 1000000);
+  // Every held-out step that ends on the track pays the healthy 3 in the task's reward and not in the
+  // training reward (a step that leaves the track pays neither).
+  const auto& e = s.at("evaluation");
+  const double shift = e.at("mean_return").get<double>() - e.at("mean_training_return").get<double>();
+  const double steps = e.at("control_steps").get<double>(), episodes = e.at("episodes").get<double>();
+  EXPECT_LE(shift, 3.0 * steps / episodes + 1e-9);
+  EXPECT_GE(shift, 3.0 * (steps - episodes) / episodes - 1e-9);
+  EXPECT_GT(shift, 0.0);
+}
+
+// issue 51: Ctrl-C ends `mujoco train` at once, even in the middle of a long iteration on a large model
+// (the command's handler says where the partial run is and lets SIGINT take its default course).
+TEST_F(MujocoCli, SigintStopsTrainingOnALargeModelWithinASecond) {
+  constexpr int kLinks = 60;
+  std::string bodies, closing, motors;
+  for (int k = 0; k < kLinks; ++k) {
+    bodies += "<body pos=\"0 0 -0.1\"><joint name=\"j" + std::to_string(k) +
+              "\" type=\"hinge\" axis=\"0 1 0\" damping=\"0.1\"/><geom type=\"capsule\" fromto=\"0 0 0 0 0 "
+              "-0.1\" size=\"0.02\" mass=\"0.1\"/>";
+    closing += "</body>";
+    motors += "<motor joint=\"j" + std::to_string(k) + "\" ctrllimited=\"true\" ctrlrange=\"-1 1\"/>";
+  }
+  const auto xml = test_support::write_file(
+      dir_ / "chain.xml", "<mujoco><option timestep=\"0.001\"/><worldbody>" + bodies + closing +
+                              "</worldbody><actuator>" + motors + "</actuator></mujoco>");
+  const auto task = test_support::write_file(
+      dir_ / "chain.toml",
+      "horizon = 100000\n[observation]\nqpos = [\"j0\", \"j59\"]\n[[reward]]\nterm = \"healthy\"\n");
+  const std::string command = std::string(PEGASUS_CLI_PATH) + " mujoco train --model " + xml.string() +
+                              " --task " + task.string() + " --scenarios 4 --quiet --out " +
+                              (dir_ / "run").string() + " >/dev/null 2>&1";
+  const pid_t child = fork();
+  if (child == 0) {
+    execl("/bin/sh", "sh", "-c", ("exec " + command).c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  // Well inside the first evaluation (100,000 control steps per rollout).
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  const auto sent = std::chrono::steady_clock::now();
+  kill(child, SIGINT);
+  int status = 0;
+  waitpid(child, &status, 0);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - sent).count();
+  EXPECT_LT(seconds, 1.0);
+  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGINT) << status;
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "run"));  // never a finished run
 }
 
 TEST_F(MujocoCli, BadInputIsOneLineExitTwoAndNoRunDirectory) {

@@ -72,6 +72,7 @@ TEST(MujocoPolicyFile, ThePhaseRoundTripsAndAFileWithoutOneIsUnphased) {
                      .task = "t.toml",
                      .model_digest = "model sha",
                      .task_digest = "task sha",
+                     .task_content_digest = "content sha",
                      .policy_class = "linear",
                      .hidden = {},
                      .phase = {.observation = "sensors.foot_touch", .above = 0.5},
@@ -82,10 +83,13 @@ TEST(MujocoPolicyFile, ThePhaseRoundTripsAndAFileWithoutOneIsUnphased) {
   // The digests round-trip, and a file written before them reads without them.
   EXPECT_EQ(parse_mujoco_policy_file(j, "p.json").model_digest, "model sha");
   EXPECT_EQ(parse_mujoco_policy_file(j, "p.json").task_digest, "task sha");
+  EXPECT_EQ(parse_mujoco_policy_file(j, "p.json").task_content_digest, "content sha");
   nlohmann::json older = j;
   older.erase("model_digest");
   older.erase("task_digest");
+  older.erase("task_content_digest");
   EXPECT_EQ(parse_mujoco_policy_file(older, "p.json").model_digest, "");
+  EXPECT_EQ(parse_mujoco_policy_file(older, "p.json").task_content_digest, "");
   j.erase("phase");  // as written before phased policies
   EXPECT_FALSE(parse_mujoco_policy_file(j, "p.json").phase.phased());
   j["phase"] = nullptr;

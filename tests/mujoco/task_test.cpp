@@ -80,8 +80,9 @@ TEST_F(MujocoTaskFile, EveryMissingNameIsReportedWithItsFieldAndKind) {
   EXPECT_THAT(task_error("[observation]\nqpos = [\"slider\", \"elbow\"]\n[[reward]]\nterm = \"healthy\"\n"),
               AllOf(HasSubstr("task.toml: observation.qpos[1]: the model has no joint \"elbow\""),
                     HasSubstr("joints: slider, hinge")));
-  EXPECT_THAT(task_error(minimal("[[reward]]\nterm = \"body_velocity\"\nbody = \"torso\"\n")),
-              HasSubstr("reward[1].body: the model has no body \"torso\""));
+  EXPECT_THAT(
+      task_error(minimal("[[reward]]\nterm = \"body_velocity\"\nbody = \"torso\"\n")),
+      AllOf(HasSubstr("reward[1].body: the model has no body \"torso\""), HasSubstr("(bodies: world, ")));
   EXPECT_THAT(
       task_error(minimal("[[reward]]\nterm = \"site_distance\"\nsite = \"hand\"\ntarget = [0, 0, 1]\n")),
       HasSubstr("reward[1].site: the model has no site \"hand\""));
@@ -144,11 +145,11 @@ TEST_F(MujocoTaskFile, WrongFieldsTermsRangesAndSyntaxAreNamed) {
   EXPECT_THAT(
       task_error(minimal("[[reward]]\nterm = \"healthy\"\nweight = 2\nbody = \"pole\"\n")),
       HasSubstr("task.toml:8: reward[1].body: the healthy term does not read this key (it takes term, "
-                "weight, cap)"));
+                "weight, cap, training_only)"));
   EXPECT_THAT(
       task_error(minimal("[[reward]]\nterm = \"joint_speed\"\njoint = \"hinge\"\ntarget = 1\n")),
       HasSubstr("reward[1].target: the joint_speed term does not read this key (it takes term, weight, "
-                "cap, joint)"));
+                "cap, training_only, joint)"));
   EXPECT_THAT(
       task_error(minimal("[[termination]]\nquantity = \"qpos\"\nname = \"slider\"\nmin = 1\nmax = 0\n")),
       HasSubstr("termination[0].max: expected max > min"));
@@ -268,6 +269,20 @@ TEST_F(MujocoTaskFile, TheTerminationPenaltyIsPaidOnceOnTheStepThatLeavesARange)
   EXPECT_EQ(inside.reward, 1.0);
   EXPECT_THAT(task_error("termination_penalty = \"big\"\n" + minimal("")),
               HasSubstr("task.toml:1: termination_penalty: expected a finite number, got 'big'"));
+}
+
+// The rollout's "task changed" warning compares this: comments, spacing and key order are no change.
+TEST_F(MujocoTaskFile, TheContentDigestIgnoresCommentsSpacingAndKeyOrderButNotValues) {
+  const auto digest = [&](const std::string& text) {
+    return mujoco_task_content_digest(test_support::write_file(dir_ / "d.toml", text));
+  };
+  const std::string base = digest("horizon = 10\ndiscount = 0.9\n[observation]\nqpos = [\"slider\"]\n");
+  EXPECT_EQ(base.size(), 64u);
+  EXPECT_EQ(
+      digest("# a comment\ndiscount   = 0.9 # why\nhorizon = 10\n\n[observation]\nqpos = [ \"slider\" ]\n"),
+      base);
+  EXPECT_NE(digest("horizon = 11\ndiscount = 0.9\n[observation]\nqpos = [\"slider\"]\n"), base);
+  EXPECT_NE(digest("horizon = 10\ndiscount = 0.9\n[observation]\nqpos = [\"hinge\"]\n"), base);
 }
 
 TEST_F(MujocoTaskFile, TheShippedTaskResolvesToTheModelsAddresses) {

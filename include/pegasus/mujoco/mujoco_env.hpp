@@ -6,11 +6,14 @@
 // MujocoSlot that one thread owns and steps in place: made once (the only allocation), reset fully at the
 // start of every rollout (mj_resetData), so a rollout's result depends on nothing but (theta, scenario).
 //
-// A control step is `frame_skip` physics steps at the MJCF's timestep: mj_step2, frame_skip - 1 mj_step
-// calls, then mj_step1 (after reset, mj_step1 once), so that at every observation the position- and
-// velocity-dependent quantities (site positions, body velocities, sensors) belong to the current state at the
-// cost of exactly frame_skip mj_step calls; acceleration sensors lag one physics step. The mj_step2/mj_step1
-// split integrates with Euler (the MJCF default), whatever the MJCF's integrator option says.
+// A control step sets the ctrl and then takes `frame_skip` physics steps at the MJCF's timestep with the
+// MJCF's integrator, its states bit for bit those of as many mj_step calls (issue 52). Every observation and
+// reward sees the position- and velocity-dependent quantities (site positions, body velocities, sensors) of
+// the current state: the reset and every control step end with mj_step1. Euler and implicit models pay no
+// more than frame_skip mj_step calls for it (mj_step2, frame_skip - 1 mj_step calls, mj_step1: mj_step2
+// integrates these two as mj_step does), and acceleration sensors lag one physics step. RK4 models (mj_step2
+// would integrate them by Euler) take frame_skip mj_step calls and one mj_step1 more; their acceleration
+// sensors hold RK4's last stage.
 //
 // Scenario numbers (§4.4: a scenario is the whole of a rollout's randomness):
 //   start  (initial_noise_dim = nq + nv when the task perturbs the start, else 0): qpos_j += h_q (2u - 1),
@@ -47,17 +50,21 @@ class MujocoSlot {
 
   mjData_* data;
   std::vector<double> observation, normalized, action, scratch, initial_noise, step_noise;
+  std::vector<double> displacement_before;  // the displacement terms' positions at the step's start
+  std::vector<double> warmstart;            // RK4 with a contact cost: the solver's warm start kept aside
 };
 
 struct MujocoStepOutcome {
-  double reward = 0.0;
-  bool terminal = false;  // a termination range was left, or the step crashed
+  double reward = 0.0;           // the task's reward
+  double training_reward = 0.0;  // the same with its training-only terms (RewardTerm::training_only)
+  bool terminal = false;         // a termination range was left, or the step crashed
   bool crashed = false;
 };
 
 struct MujocoRolloutResult {
-  double discounted_return = 0.0;
-  int steps = 0;  // control steps taken
+  double discounted_return = 0.0;  // of the task's reward
+  double training_return = 0.0;    // of the training reward (the same without training-only terms)
+  int steps = 0;                   // control steps taken
   bool crashed = false;
   bool success = false;  // the task's success criterion (MujocoTask::success_return, success_ranges)
 };
@@ -81,6 +88,8 @@ class MujocoEnvironment {
   int action_dim() const;
   int noise_dim() const { return noise_dim_; }
   int initial_noise_dim() const { return initial_noise_dim_; }
+  // The MJCF's integrator as MJCF writes it: "Euler", "RK4", "implicit".
+  const char* integrator() const;
 
   void reset(MujocoSlot& slot, std::span<const double> p0) const;
   // One control step from `action` (size nu, entries in [-1, 1]) with step noise p.
@@ -108,6 +117,11 @@ class MujocoEnvironment {
   int observation_dim_ = 0, noise_dim_ = 0, initial_noise_dim_ = 0;
   std::vector<double> ctrl_mid_, ctrl_half_;  // ctrl = mid + half * a
   bool contact_cost_ = false;                 // a reward term needs the contact forces
+  bool split_step_ = true;                    // mj_step2 integrates as mj_step does (not RK4)
+  double control_dt_ = 0.0;                   // frame_skip * timestep, s
 };
+
+// MuJoCo's mjtIntegrator as MJCF writes it.
+const char* integrator_name(int integrator);
 
 }  // namespace pegasus

@@ -1,6 +1,8 @@
 #pragma once
 // theta -> U-hat(theta) on a MuJoCo environment (thesis §4.4.2, Eq 4.22): the mean discounted return of
-// the policy over m fixed scenarios, each a full rollout's randomness.
+// the policy over m fixed scenarios, each a full rollout's randomness. The return is of the training reward:
+// the task's reward with its training-only terms (MujocoRolloutResult::training_return), which is the task's
+// reward itself when it has none.
 //
 // Work is parallel over (theta, scenario) pairs on the context's thread pool and split across its ranks
 // (ExecutionContext, parallel/mpi.hpp); every pair writes its own slot and sums run in scenario order, so
@@ -14,9 +16,11 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "pegasus/mujoco/mujoco_env.hpp"
@@ -37,6 +41,11 @@ class MujocoObjective final : public Objective, public ObservationNormalizing {
   void evaluate_batch(std::span<const Theta> thetas, std::span<double> values) override;
 
   double EvaluateAndUpdateNormalizer(std::span<const double> theta) override;
+  // U-hat of the last EvaluateAndUpdateNormalizer call (ARS's central policy of an iteration), handed out
+  // once: NaN when there was none since the last take (the other methods have no central policy).
+  double TakeCentralValue() {
+    return std::exchange(central_value_, std::numeric_limits<double>::quiet_NaN());
+  }
   nlohmann::json NormalizerState() const override;
   void RestoreNormalizer(const nlohmann::json& state) override;
 
@@ -47,6 +56,10 @@ class MujocoObjective final : public Objective, public ObservationNormalizing {
   std::int64_t control_steps() const { return control_steps_; }
   std::int64_t rollouts() const { return rollouts_; }
   std::int64_t crashes() const { return crashes_; }
+  // Evaluations whose U-hat was not finite (NaN or infinite), and the number of the first (0: none): a search
+  // that met one is no success (issue 51).
+  std::int64_t nonfinite_evaluations() const { return nonfinite_evaluations_; }
+  std::int64_t first_nonfinite_evaluation() const { return first_nonfinite_evaluation_; }
   // The first evaluated theta whose rollouts all met the task's success criterion on the training
   // scenarios: its evaluation number (1-based, in the optimizer's order), the control steps run up to and
   // including its batch, and the wall seconds since this objective was made (or carried by a checkpoint).
@@ -78,6 +91,8 @@ class MujocoObjective final : public Objective, public ObservationNormalizing {
   std::vector<ObservationMoments> scenario_moments_;         // one per scenario, merged in order
   std::vector<double> returns_, steps_, crashed_, success_;  // per (theta, scenario) pair
   std::int64_t control_steps_ = 0, rollouts_ = 0, crashes_ = 0, evaluations_ = 0;
+  std::int64_t nonfinite_evaluations_ = 0, first_nonfinite_evaluation_ = 0;
+  double central_value_ = std::numeric_limits<double>::quiet_NaN();
   std::optional<FirstSuccess> first_success_;
   std::chrono::steady_clock::time_point start_;
   std::mutex slots_mutex_;

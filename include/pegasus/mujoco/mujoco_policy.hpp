@@ -105,6 +105,9 @@ struct MujocoPolicyFile {
   // What they were then (MujocoModel::digest(), the task file's SHA-256): a rollout says when either changed.
   // Empty in files written before they were recorded.
   std::string model_digest, task_digest;
+  // The task's parsed content (mujoco_task_content_digest): what a rollout compares when the file has it, so
+  // that an edit of comments or spacing alone is no change. Empty in files written before it was recorded.
+  std::string task_content_digest;
   std::string policy_class;
   std::vector<int> hidden;
   PolicyPhase phase;  // position unresolved (-1): the task resolves the name

@@ -34,16 +34,24 @@ struct MujocoTrainingRunOptions {
   int evaluation_episodes = 100;       // held-out scenarios for the final return and success rate
   std::int64_t checkpoint_every = 10;  // iterations
   std::string initial_policy_file;     // start from this policy.json's theta (normalize = false)
+  // Wall seconds after which the search stops at the end of its iteration with the best policy so far
+  // (termination USER_REQUESTED); 0: no budget. Counted from this call (a resumed run gets it afresh). A run
+  // stopped by it depends on the machine's speed: its summary says so.
+  double time_budget_seconds = 0.0;
   std::uint64_t seed = 1;
 };
-void run_mujoco_training(const MujocoTrainingRunOptions& options, RunSink& sink, ThreadPool& pool);
+// Returns the exit status: 0, or 1 when U-hat of the result is not finite (the run is written, its summary
+// says so, one line is printed: such a run is never a success).
+int run_mujoco_training(const MujocoTrainingRunOptions& options, RunSink& sink, ThreadPool& pool);
 
 struct MujocoRolloutRunOptions {
   std::string policy_file;  // policy.json of run_mujoco_training
+  std::string task_file;    // another task file for the policy's model ("" the one it was trained on)
   int episodes = 10;        // the first is recorded step by step
-  std::uint64_t seed = 1;
+  std::uint64_t seed = 1;   // the training's seed replays its held-out episodes
 };
-void run_mujoco_rollout(const MujocoRolloutRunOptions& options, RunSink& sink);
+// Episodes run in parallel on `pool`; the results do not depend on its size.
+void run_mujoco_rollout(const MujocoRolloutRunOptions& options, RunSink& sink, ThreadPool& pool);
 
 }  // namespace pegasus
 #endif
