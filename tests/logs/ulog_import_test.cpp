@@ -14,7 +14,9 @@
 #include <regex>
 
 #include "pegasus/core/error.hpp"
+#include "pegasus/heli/frames.hpp"
 #include "pegasus/logs/ulog.hpp"
+#include "pegasus/logs/vehicle.hpp"
 #include "pegasus/sysid/flight_log.hpp"
 #include "support/cli_runner.hpp"
 #include "support/input_error.hpp"
@@ -113,6 +115,39 @@ TEST(UlogImport, ResamplesTopicsOntoOneConstantRateGrid) {
   const sysid::FlightLog back = sysid::parse_flight_log(sysid::flight_log_csv(log), "log.csv",
                                                         {.min_rows = 10, .rate_tolerance = 0.01});
   EXPECT_EQ(back.rows(), log.rows());
+}
+
+// The import reads a vehicle file's conventions (issue 53) as the CSV reader does (Vehicle::state_of): the
+// same topics described as a ROS aircraft's (ENU, FLU, quaternion x, y, z, w, rates in deg/s) give the states
+// that state_of gives of the same fields.
+TEST(UlogImport, TopicsInAnotherConventionReadAsTheCsvReaderReadsThem) {
+  const UlogFile u = parse_ulog(synthetic_ulog(), "s.ulg");
+  const sysid::FlightLog own = import_ulog(u, test_spec(), "s.ulg", {});
+  Vehicle ros;
+  ros.log = test_spec();
+  ros.log.world_frame = "ENU";
+  ros.log.body_frame = "FLU";
+  ros.log.quaternion_order = "xyzw";
+  ros.log.rates_unit = "deg/s";
+  const sysid::FlightLog read = import_ulog(u, ros.log, "s.ulg", {});
+  ASSERT_EQ(read.rows(), own.rows());
+  for (std::size_t k = 0; k < own.rows(); ++k) {
+    // The topics' fields at this row, from the import in the pipeline's conventions.
+    const auto& s = own.states[k];
+    const heli::Euler e{s[3], s[4], s[5]};
+    const auto q = heli::quaternion_from_euler(e);
+    const heli::Vec3 w = heli::body_rates_from_euler_rates(e, heli::Vec3(s[9], s[10], s[11]));
+    const std::vector<double> fields{s[0], s[1], s[2], s[6],  s[7],  s[8], q[0],
+                                     q[1], q[2], q[3], w.x(), w.y(), w.z()};
+    const heli::LoggedState expected = ros.state_of(fields);
+    for (std::size_t j = 0; j < 12; ++j) {
+      const double d = read.states[k][j] - expected[j];
+      EXPECT_LE(std::abs(j >= 3 && j < 6 ? heli::wrap_angle(d) : d), 1e-9) << k << " " << j;
+    }
+    EXPECT_EQ(read.controls[k], own.controls[k]);
+  }
+  // Not the same states: the conventions were read.
+  EXPECT_NE(read.states[10][0], own.states[10][0]);
 }
 
 TEST(UlogImport, BodyFrameInputsAreRotatedIntoTheLogFrames) {
@@ -254,7 +289,7 @@ TEST_F(VehicleFile, BadEntriesNameTheLineAndKey) {
   };
   EXPECT_NE(input_error_message([&] {
               read_vehicle_log_spec(replaced("fields = [\"x\", \"y\", \"z\"]", "fields = [\"x\"]"));
-            }).find(":17: log.position.fields: expected a list of 3 field (or CSV column) names"),
+            }).find(":19: log.position.fields: expected a list of 3 field (or CSV column) names"),
             std::string::npos);
   EXPECT_NE(input_error_message([&] {
               read_vehicle_log_spec(replaced("model_rate_hz = 10", "model_rate_hz = 15"));
