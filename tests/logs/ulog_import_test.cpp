@@ -193,6 +193,58 @@ TEST(UlogImport, BodyFrameInputsAreRotatedIntoTheLogFrames) {
   EXPECT_NEAR(log.states[5][10], 0.2, 1e-6);
 }
 
+// Euler angles in degrees are interpolated in radians across the wrap (175 to -175 deg is 10 deg, not 350),
+// then turned from ENU/FLU into the pipeline's: yaw = pi/2 - yaw', Euler rates in deg/s.
+TEST(UlogImport, EulerAnglesInDegreesInterpolateAcrossTheWrapInAnyConvention) {
+  UlogBuilder b;
+  b.format(
+      "s:uint64_t timestamp;float x;float y;float z;float r0;float p0;float y0;float dr;float dp;float dy;");
+  b.format("c:uint64_t timestamp;float[4] c;");
+  b.subscribe(0, 0, "s").subscribe(0, 1, "c");
+  for (int k = 0; k <= 10; ++k) {  // 5 Hz: yaw' = 175 + 25 t deg, written in (-180, 180]
+    const double t = 0.2 * k, yaw = 175 + 25 * t;
+    const std::uint64_t t_us = 200000 * static_cast<std::uint64_t>(k);
+    b.data(0, Bytes()
+                  .put(t_us)
+                  .put(1.0f)
+                  .put(2.0f)
+                  .put(3.0f)
+                  .put(0.0f)
+                  .put(0.0f)
+                  .put(float(yaw > 180 ? yaw - 360 : yaw))
+                  .put(0.0f)
+                  .put(0.0f)
+                  .put(25.0f));
+    b.data(1, Bytes().put(t_us).put(0.0f).put(0.0f).put(0.0f).put(0.0f));
+  }
+  VehicleLogSpec s;
+  s.rate_hz = 10;
+  s.attitude_form = "euler";
+  s.rates_form = "euler";
+  s.world_frame = "ENU";
+  s.body_frame = "FLU";
+  s.attitude_unit = "deg";
+  s.rates_unit = "deg/s";
+  s.position = {"s", {"x", "y", "z"}};
+  s.velocity = {"s", {"x", "y", "z"}};  // any three fields: only the attitude is checked
+  s.attitude = {"s", {"r0", "p0", "y0"}};
+  s.rates = {"s", {"dr", "dp", "dy"}};
+  s.controls = {ControlChannel{"c", "c[0]"}, ControlChannel{"c", "c[1]"}, ControlChannel{"c", "c[2]"},
+                ControlChannel{"c", "c[3]"}};
+  const sysid::FlightLog log = import_ulog(parse_ulog(b.bytes(), "e.ulg"), s, "e.ulg");
+  ASSERT_EQ(log.rows(), 21u);
+  constexpr double kDeg = std::numbers::pi / 180;
+  for (std::size_t k = 0; k < log.rows(); ++k) {
+    const double t = 0.1 * static_cast<double>(k);
+    EXPECT_NEAR(log.states[k][0], 2, 1e-6);  // ENU (1, 2, 3) is NED (2, 1, -3)
+    EXPECT_NEAR(log.states[k][2], -3, 1e-6);
+    EXPECT_NEAR(std::abs(heli::wrap_angle(log.states[k][5] - (std::numbers::pi / 2 - (175 + 25 * t) * kDeg))),
+                0, 1e-6)
+        << k;
+    EXPECT_NEAR(log.states[k][11], -25 * kDeg, 1e-9);
+  }
+}
+
 TEST(UlogImport, ErrorsNameTheFileTopicAndWhatWasExpected) {
   const UlogFile u = parse_ulog(synthetic_ulog(), "s.ulg");
   VehicleLogSpec s = test_spec();
