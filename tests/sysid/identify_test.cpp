@@ -381,7 +381,8 @@ TEST(ClosedLoopBias, TheWarningNamesTheLargestBiasAmongThePhysicallyLargeGains) 
       {"zdot_b", "a2", 0.002, 0.02, -0.9, 0.04},  // roll to vertical speed: physically about 0
       {"zdot_b", "a3", -0.9, -1.2, -0.25, 1.0},   // collective: the output's own control
       {"xdot_b", "a1", 1.1, 1.0, 0.1, 1.0},
-      {"pitch_rate", "a4", 0.3, 0.4, -0.3, 0.45},  // below half of pitch_rate's own control
+      {"pitch_rate", "a4", 0.3, 0.4, -0.3, 0.14},  // tail on pitch rate: a seventh of the cyclic's effect
+      {"yaw_rate", "a3", 0.8, 1.0, -0.2, 0.4},     // collective on yaw rate (rotor torque): large
   };
   const ControlGainBias* warned = largest_large_gain_bias(biases);
   ASSERT_NE(warned, nullptr);
@@ -391,6 +392,7 @@ TEST(ClosedLoopBias, TheWarningNamesTheLargestBiasAmongThePhysicallyLargeGains) 
   const std::vector<ControlGainBias> reversed(biases.rbegin(), biases.rend());
   EXPECT_EQ(largest_large_gain_bias(reversed)->control, "a3");
   EXPECT_EQ(largest_large_gain_bias({biases[0], biases[3]}), nullptr);
+  EXPECT_EQ(largest_large_gain_bias({biases[0], biases[3], biases[4]})->output, "yaw_rate");
 }
 
 TEST(IdentifyCheckpoint, ResumedSearchEqualsAnUninterruptedOne) {

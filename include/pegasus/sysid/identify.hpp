@@ -254,8 +254,10 @@ std::vector<ControlGainBias> closed_loop_bias(const Dataset& data,
                                               const std::array<OutputTemplate, kBodyVars>& templates,
                                               const NoiseCorrelation& correlation);
 // The gain `identify` warns about: the largest |relative| among the physically large gains (effect_share at
-// least kLargeGainShare: an output's own controls); nullptr when there is none.
-inline constexpr double kLargeGainShare = 0.5;
+// least kLargeGainShare: an output's own control and the couplings of its size, such as a helicopter's
+// collective on yaw rate through the rotor torque, about 0.4 on the X-Cell's logs, but not its tail on pitch
+// rate, about 0.14); nullptr when there is none.
+inline constexpr double kLargeGainShare = 0.25;
 const ControlGainBias* largest_large_gain_bias(const std::vector<ControlGainBias>& biases);
 
 // Open-loop simulation on a log (Fig 5.2): from log row `start`, simulate `horizon_steps` model steps with
