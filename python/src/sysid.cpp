@@ -335,6 +335,7 @@ variables' changes, its bandwidth and noise. Save it as the model.json `pegasus 
           d["least_squares"] = b.least_squares;
           d["whitened"] = b.whitened;
           d["relative"] = b.relative;
+          d["effect_share"] = b.effect_share;
           out.append(d);
         }
         return out;

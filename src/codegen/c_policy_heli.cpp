@@ -250,10 +250,7 @@ static const int kChannelAxis[4] = {@AXES@}; /* the action a1..a4 each channel d
 /* logs/vehicle.cpp Vehicle::state_of: the 12 states of the observation above from the vehicle's fields. */
 static void vehicle_state(const double* v, double* s) {
   double roll, pitch, yaw;
-@ATTITUDE@  s[0] = v[0];
-  s[1] = v[1];
-  s[2] = v[2];
-  s[3] = roll;
+@ATTITUDE@@POSITION@  s[3] = roll;
   s[4] = pitch;
   s[5] = yaw;
 @VELOCITY@@RATES@}
@@ -272,7 +269,7 @@ int @NAME@_act_vehicle(@ACT_PARAMETERS@) {
 // heli::euler_from_any_quaternion, operation for operation: scaled by the largest component (no overflow of
 // the norm), then normalised.
 constexpr const char* kQuaternionAttitude = R"(  {
-    double w = v[6], x = v[7], y = v[8], z = v[9], largest = fabs(w), norm;
+    double w = @QW@, x = @QX@, y = @QY@, z = @QZ@, largest = fabs(w), norm;
     if (fabs(x) > largest) largest = fabs(x);
     if (fabs(y) > largest) largest = fabs(y);
     if (fabs(z) > largest) largest = fabs(z);
@@ -291,17 +288,17 @@ constexpr const char* kQuaternionAttitude = R"(  {
 
 constexpr const char* kBodyVelocity = R"(  {
     const double cf = cos(roll), sf = sin(roll), ct = cos(pitch), st = sin(pitch), cp = cos(yaw), sp = sin(yaw);
-    s[6] = ct * cp * v[3] + (sf * st * cp - cf * sp) * v[4] + (cf * st * cp + sf * sp) * v[5];
-    s[7] = ct * sp * v[3] + (sf * st * sp + cf * cp) * v[4] + (cf * st * sp - sf * cp) * v[5];
-    s[8] = -st * v[3] + (sf * ct * v[4] + cf * ct * v[5]); /* Eigen's order for the third row */
+    s[6] = ct * cp * @V0@ + (sf * st * cp - cf * sp) * @V1@ + (cf * st * cp + sf * sp) * @V2@;
+    s[7] = ct * sp * @V0@ + (sf * st * sp + cf * cp) * @V1@ + (cf * st * sp - sf * cp) * @V2@;
+    s[8] = -st * @V0@ + (sf * ct * @V1@ + cf * ct * @V2@); /* Eigen's order for the third row */
   }
 )";
 
 constexpr const char* kBodyRates = R"(  {
     const double cf = cos(roll), sf = sin(roll), ct = cos(pitch), tt = tan(pitch);
-    const double qr = v[@R1@] * sf + v[@R2@] * cf;
-    s[9] = v[@R0@] + qr * tt;
-    s[10] = v[@R1@] * cf - v[@R2@] * sf;
+    const double qr = @R1@ * sf + @R2@ * cf;
+    s[9] = @R0@ + qr * tt;
+    s[10] = @R1@ * cf - @R2@ * sf;
     s[11] = qr / ct;
   }
 )";
@@ -321,16 +318,58 @@ void add_vehicle(ClassText& t, const logs::Vehicle& vehicle, CPolicyCode* names)
     labels.push_back(log.controls[c].label());
     axes += fmt::format("{}{}", c ? ", " : "", log.controls[c].column(c));
   }
-  std::string attitude =
-      quaternion ? kQuaternionAttitude : "  roll = v[6];\n  pitch = v[7];\n  yaw = v[8];\n";
-  std::string velocity =
-      log.velocity_frame == "body" ? kBodyVelocity : "  s[6] = v[3];\n  s[7] = v[4];\n  s[8] = v[5];\n";
-  std::string rate_code =
+  // The log's conventions (logs/vehicle.cpp: the ENU/FLU, quaternion order and direction, and unit steps of
+  // Vehicle::state_of), each written only where the file leaves the pipeline's own: the C of a vehicle in
+  // the pipeline's conventions is what it always was.
+  const bool enu = log.world_frame == "ENU", flu = log.body_frame == "FLU";
+  const auto field = [](std::size_t i) { return fmt::format("v[{}]", i); };
+  const auto negated = [](const std::string& e) { return "(-" + e + ")"; };
+  std::string attitude;
+  if (quaternion) {
+    const bool xyzw = log.quaternion_order == "xyzw", conjugate = log.quaternion_direction == "world_to_body";
+    std::array<std::string, 4> q;  // w, x, y, z
+    for (std::size_t c = 0; c < 4; ++c) q[c] = field(6 + (xyzw ? (c + 3) % 4 : c));
+    if (conjugate)
+      for (std::size_t c = 1; c < 4; ++c) q[c] = "-" + q[c];
+    attitude = fill(kQuaternionAttitude, {{"QW", q[0]}, {"QX", q[1]}, {"QY", q[2]}, {"QZ", q[3]}});
+  } else if (log.attitude_unit != "rad") {
+    const std::string k = c_double(logs::radians_per_attitude_unit(log));
+    attitude = fmt::format("  roll = v[6] * {0};\n  pitch = v[7] * {0};\n  yaw = v[8] * {0};\n", k);
+  } else {
+    attitude = "  roll = v[6];\n  pitch = v[7];\n  yaw = v[8];\n";
+  }
+  if (enu != flu) attitude += fmt::format("  roll = wrap_angle(roll + {});\n", c_double(std::numbers::pi));
+  if (enu)
+    attitude +=
+        fmt::format("  pitch = -pitch;\n  yaw = wrap_angle({} - yaw);\n", c_double(std::numbers::pi / 2));
+  // A world vector of fields i, i + 1, i + 2 in the pipeline's NED.
+  const auto world = [&](std::size_t i, std::size_t to) {
+    if (!enu)
+      return fmt::format("  s[{}] = v[{}];\n  s[{}] = v[{}];\n  s[{}] = v[{}];\n", to, i, to + 1, i + 1,
+                         to + 2, i + 2);
+    return fmt::format("  s[{}] = v[{}];\n  s[{}] = v[{}];\n  s[{}] = -v[{}];\n", to, i + 1, to + 1, i,
+                       to + 2, i + 2);
+  };
+  const std::string position = world(0, 0);
+  std::string velocity;
+  if (log.velocity_frame == "body")
+    velocity = fill(kBodyVelocity, {{"V0", field(3)},
+                                    {"V1", flu ? negated(field(4)) : field(4)},
+                                    {"V2", flu ? negated(field(5)) : field(5)}});
+  else
+    velocity = world(3, 6);
+  // The rates' fields in rad/s, then in FRD (body rates) or in the NED Euler angles' rates.
+  std::array<std::string, 3> w;
+  for (std::size_t c = 0; c < 3; ++c) {
+    w[c] = field(rates + c);
+    if (log.rates_unit != "rad/s")
+      w[c] = fmt::format("({} * {})", w[c], c_double(logs::radians_per_rates_unit(log)));
+    if (c > 0 && (log.rates_form == "body" ? flu : enu)) w[c] = negated(w[c]);
+  }
+  const std::string rate_code =
       log.rates_form == "body"
-          ? fill(kBodyRates, {{"R0", std::to_string(rates)},
-                              {"R1", std::to_string(rates + 1)},
-                              {"R2", std::to_string(rates + 2)}})
-          : fmt::format("  s[9] = v[{}];\n  s[10] = v[{}];\n  s[11] = v[{}];\n", rates, rates + 1, rates + 2);
+          ? fill(kBodyRates, {{"R0", w[0]}, {"R1", w[1]}, {"R2", w[2]}})
+          : fmt::format("  s[9] = {};\n  s[10] = {};\n  s[11] = {};\n", w[0], w[1], w[2]);
   const std::string vehicle_file = comment_text(log.file.empty() ? std::string("(built in)") : log.file);
   t.body += fill(kVehicleCode, {{"VEHICLE_FILE", vehicle_file},
                                 {"VEHICLE", comment_text(vehicle.name())},
@@ -338,6 +377,7 @@ void add_vehicle(ClassText& t, const logs::Vehicle& vehicle, CPolicyCode* names)
                                 {"CHANNEL_TABLES", c_table("kChannelScale", scale, labels) +
                                                        c_table("kChannelOffset", offset, labels)},
                                 {"ATTITUDE", attitude},
+                                {"POSITION", position},
                                 {"VELOCITY", velocity},
                                 {"RATES", rate_code},
                                 {"ACT_PARAMETERS", act_parameters(t)},
@@ -354,8 +394,8 @@ void add_vehicle(ClassText& t, const logs::Vehicle& vehicle, CPolicyCode* names)
       "{};\n"
       " * action (4 doubles) its channels {}, in its ranges and signs. As `pegasus control --vehicle` "
       "converts a\n"
-      " * line: quaternion or Euler attitude, body or world velocity, body or Euler rates, as the file "
-      "says.\n"
+      " * line: quaternion or Euler attitude, body or world velocity, body or Euler rates, in the frames, "
+      "order\n * and units the file says.\n"
       " * Returns what @NAME@_act returns (1 and the trim in the channels' terms for a non-finite value). "
       "*/\n"
       "#define @MACRO@_VEHICLE_OBSERVATION_SIZE {}\n"

@@ -84,9 +84,11 @@ Vec3 interpolate3(const Series& s, std::size_t i, double w) {
   return v;
 }
 
-Euler attitude_at(const Series& s, std::size_t i, double w, bool quaternion) {
+// The attitude at a time, in the log's own frames (rad): Euler angles or a quaternion in the log's order and
+// direction.
+Euler attitude_at(const Series& s, std::size_t i, double w, const VehicleLogSpec& spec) {
   const std::size_t j = std::min(i + 1, s.time.size() - 1);
-  if (quaternion) {
+  if (spec.attitude_form == "quaternion") {
     // Normalised linear interpolation, on the same hemisphere (q and -q are one rotation).
     std::array<double, 4> a{}, b{};
     for (std::size_t c = 0; c < 4; ++c) {
@@ -97,11 +99,15 @@ Euler attitude_at(const Series& s, std::size_t i, double w, bool quaternion) {
     const double sign = dot < 0 ? -1 : 1;
     std::array<double, 4> q{};
     for (std::size_t c = 0; c < 4; ++c) q[c] = (1 - w) * a[c] + w * sign * b[c];
-    return heli::euler_from_any_quaternion(q[0], q[1], q[2], q[3]);
+    return native_euler_of_quaternion(spec, q.data());
   }
+  // Interpolated in radians: the wrap is at +-pi.
+  const bool rad = spec.attitude_unit == "rad";
+  const double k = radians_per_attitude_unit(spec);
   const auto lerp_angle = [&](std::size_t c) {
-    const double a = s.fields[c][i];
-    return heli::wrap_angle(a + w * heli::wrap_angle(s.fields[c][j] - a));
+    const double a = rad ? s.fields[c][i] : s.fields[c][i] * k;
+    const double b = rad ? s.fields[c][j] : s.fields[c][j] * k;
+    return heli::wrap_angle(a + w * heli::wrap_angle(b - a));
   };
   return Euler{lerp_angle(0), lerp_angle(1), lerp_angle(2)};
 }
@@ -183,7 +189,6 @@ sysid::FlightLog import_ulog(const UlogFile& ulog, const VehicleLogSpec& spec, c
   log.controls.resize(rows);
   std::size_t ip = 0, iv = 0, ia = 0, ir = 0;
   std::array<std::size_t, 4> ic{};
-  const bool quaternion = spec.attitude_form == "quaternion";
   for (std::size_t k = 0; k < rows; ++k) {
     const double t = t0 + static_cast<double>(k) * dt;
     log.time[k] = static_cast<double>(k) * dt;
@@ -191,12 +196,16 @@ sysid::FlightLog import_ulog(const UlogFile& ulog, const VehicleLogSpec& spec, c
     iv = record_at(velocity, t, iv);
     ia = record_at(attitude, t, ia);
     ir = record_at(rates, t, ir);
-    const Vec3 p_W = interpolate3(position, ip, weight_at(position, ip, t));
-    const Euler e = attitude_at(attitude, ia, weight_at(attitude, ia, t), quaternion);
+    // In the log's conventions, then the pipeline's (logs/vehicle.hpp; no arithmetic under the defaults).
+    const Vec3 p_W = world_vector_of(spec, interpolate3(position, ip, weight_at(position, ip, t)));
+    const Euler e = euler_of(spec, attitude_at(attitude, ia, weight_at(attitude, ia, t), spec));
     Vec3 v = interpolate3(velocity, iv, weight_at(velocity, iv, t));
-    if (spec.velocity_frame == "body") v = heli::world_from_body(e, v);
+    v = spec.velocity_frame == "body" ? heli::world_from_body(e, body_vector_of(spec, v))
+                                      : world_vector_of(spec, v);
     Vec3 w = interpolate3(rates, ir, weight_at(rates, ir, t));
-    if (spec.rates_form == "body") w = heli::euler_rates_from_body_rates(e, w);
+    if (spec.rates_unit != "rad/s") w *= radians_per_rates_unit(spec);
+    w = spec.rates_form == "body" ? heli::euler_rates_from_body_rates(e, body_vector_of(spec, w))
+                                  : euler_rates_of(spec, w);
     auto& s = log.states[k];
     s = {p_W.x(), p_W.y(), p_W.z(), e.roll, e.pitch, e.yaw, v.x(), v.y(), v.z(), w.x(), w.y(), w.z()};
     for (std::size_t j = 0; j < s.size(); ++j)

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <initializer_list>
 #include <map>
+#include <numbers>
 #include <set>
 
 #include "../io/toml_fields.hpp"
@@ -104,6 +105,24 @@ int axis_index(const SpecReader& r, const std::string& key) {
   return -1;
 }
 
+// The [log] section's conventions (issue 53): the defaults are the pipeline's own.
+void read_conventions(const SpecReader& r, VehicleLogSpec& s) {
+  s.world_frame = r.string("log.world_frame", s.world_frame, {"NED", "ENU"});
+  s.body_frame = r.string("log.body_frame", s.body_frame, {"FRD", "FLU"});
+  // Position and velocity have one unit each; a file may say it.
+  (void)r.string("log.position.unit", "m", {"m"});
+  (void)r.string("log.velocity.unit", "m/s", {"m/s"});
+  const bool quaternion = s.attitude_form == "quaternion";
+  for (const char* key : {"log.attitude.order", "log.attitude.direction"})
+    if (!quaternion && r.at(key))
+      r.fail(r.at(key), key, "applies to a quaternion; expected it only with form = \"quaternion\"");
+  s.quaternion_order = r.string("log.attitude.order", s.quaternion_order, {"wxyz", "xyzw"});
+  s.quaternion_direction =
+      r.string("log.attitude.direction", s.quaternion_direction, {"body_to_world", "world_to_body"});
+  s.attitude_unit = r.string("log.attitude.unit", s.attitude_unit, {"rad", "deg"});
+  s.rates_unit = r.string("log.rates.unit", s.rates_unit, {"rad/s", "deg/s"});
+}
+
 VehicleLogSpec vehicle_log_spec(const toml::table& root, const SpecReader& r,
                                 const std::filesystem::path& file) {
   if (!root.get("log") || !root.get("log")->is_table())
@@ -134,6 +153,7 @@ VehicleLogSpec vehicle_log_spec(const toml::table& root, const SpecReader& r,
   s.velocity = r.fields("log.velocity", 3);
   s.attitude = r.fields("log.attitude", s.attitude_form == "quaternion" ? 4 : 3);
   s.rates = r.fields("log.rates", 3);
+  read_conventions(r, s);
   const toml::node* controls = r.at("log.controls");
   const toml::array* list = controls ? controls->as_array() : nullptr;
   if (!list || list->size() != 4 || !list->is_array_of_tables())
@@ -145,11 +165,14 @@ VehicleLogSpec vehicle_log_spec(const toml::table& root, const SpecReader& r,
   for (std::size_t c = 0; c < 4; ++c) {
     const std::string key = fmt::format("log.controls[{}]", c);
     r.only_keys(key, *(*list)[c].as_table(),
-                {"topic", "field", "scale", "offset", "axis", "name", "range", "sign"});
+                {"topic", "field", "scale", "offset", "axis", "name", "range", "sign", "unit"});
     ControlChannel& ch = s.controls[c];
     ch.topic = r.string(key + ".topic", "");
     ch.field = r.required_string(key + ".field");
     ch.name = r.string(key + ".name", "");
+    if (r.at(key + ".unit"))
+      ch.unit =
+          r.string(key + ".unit", "", std::vector<std::string>(kChannelUnits.begin(), kChannelUnits.end()));
     const bool by_range = r.at(key + ".range") || r.at(key + ".sign");
     if (by_range && (r.at(key + ".scale") || r.at(key + ".offset")))
       r.fail(r.at(key + ".scale") ? r.at(key + ".scale") : r.at(key + ".offset"), key,
@@ -197,6 +220,17 @@ VehicleLogSpec vehicle_log_spec(const toml::table& root, const SpecReader& r,
   if (with_axis != 0 && with_axis != 4)
     r.fail(controls, "log.controls",
            "expected an axis on every channel or on none (none: the channels are a1..a4 in order)");
+  for (std::size_t c = 0; c < 4; ++c) {
+    const ControlChannel& ch = s.controls[c];
+    const bool angular = ch.unit == "rad" || ch.unit == "deg" || ch.unit == "rad/s" || ch.unit == "deg/s";
+    if (angular && ch.column(c) == 2) {
+      const std::string key = fmt::format("log.controls[{}].unit", c);
+      r.fail(r.at(key), key,
+             fmt::format("'{}' is an angle or angular rate, but the channel drives the thrust axis; expected "
+                         "one of m/s, N, 1, %, us (or no unit)",
+                         ch.unit));
+    }
+  }
   for (std::size_t c = 0; c < 4; ++c)
     for (std::size_t d = 0; d < c; ++d)
       if (s.controls[c].label() == s.controls[d].label())
@@ -235,21 +269,39 @@ VehicleLogSpec vehicle_log_spec(const toml::table& root, const SpecReader& r,
   return s;
 }
 
+// [hover] target x, y, z, yaw in the log's world frame and attitude unit -> the pipeline's.
+std::array<double, 4> target_of(const VehicleLogSpec& spec, const std::array<double, 4>& native) {
+  const heli::Vec3 p_W = world_vector_of(spec, heli::Vec3(native[0], native[1], native[2]));
+  double yaw = native[3];
+  if (spec.attitude_unit != "rad") yaw *= radians_per_attitude_unit(spec);
+  return {p_W.x(), p_W.y(), p_W.z(), euler_of(spec, heli::Euler{0, 0, yaw}).yaw};
+}
+
+// [envelope] max_tilt: the tilt in the log's attitude unit (exclusive with max_tilt_rad).
+double max_tilt_of(const SpecReader& r, const VehicleLogSpec& spec) {
+  if (r.at("envelope.max_tilt_rad"))
+    r.fail(r.at("envelope.max_tilt"), "envelope.max_tilt",
+           "expected either max_tilt (in the attitude unit) or max_tilt_rad, not both");
+  const double per = radians_per_attitude_unit(spec);
+  return r.number("envelope.max_tilt", 1, 0.01 / per, 1.5 / per) * per;
+}
+
 Vehicle vehicle(const toml::table& root, const std::filesystem::path& file) {
   const SpecReader r(root, file.string());
   r.only_keys("", {"vehicle", "log", "model", "control", "hover", "envelope"});
   r.only_keys("vehicle", {"name", "latent_states", "simulator"});
   r.only_keys("log", {"rate_hz", "model_rate_hz", "instance", "max_gap_s", "time", "position", "velocity",
-                      "attitude", "rates", "controls"});
-  r.only_keys("log.position", {"topic", "fields"});
-  for (const char* q : {"log.velocity", "log.attitude", "log.rates"})
-    r.only_keys(q, {"topic", "fields", std::string(q) == "log.velocity" ? "frame" : "form"});
+                      "attitude", "rates", "controls", "world_frame", "body_frame"});
+  r.only_keys("log.position", {"topic", "fields", "unit"});
+  r.only_keys("log.velocity", {"topic", "fields", "frame", "unit"});
+  r.only_keys("log.attitude", {"topic", "fields", "form", "order", "direction", "unit"});
+  r.only_keys("log.rates", {"topic", "fields", "form", "unit"});
   r.only_keys("model", {"templates"});
   r.only_keys("control", {"rate_hz"});
   r.only_keys("hover", {"target", "starting_gains", "integral_seconds", "reward"});
   r.only_keys("hover.reward",
               {"position_m", "velocity_mps", "yaw_rad", "action", "attitude_rad", "rate_radps"});
-  r.only_keys("envelope", {"max_tilt_rad"});
+  r.only_keys("envelope", {"max_tilt_rad", "max_tilt"});
   Vehicle v;
   v.log = vehicle_log_spec(root, r, file);
   v.xcell_latent_states = r.string("vehicle.latent_states", "none", {"none", "xcell"}) == "xcell";
@@ -266,6 +318,7 @@ Vehicle vehicle(const toml::table& root, const std::filesystem::path& file) {
   if (r.at("hover.target")) {
     const auto t = r.numbers("hover.target", 4);
     std::copy(t.begin(), t.end(), v.target.begin());
+    v.target = target_of(v.log, v.target);
   }
   v.starting_gains = r.string("hover.starting_gains", v.starting_gains, {"lqr", "constant"});
   v.integral_seconds = r.number("hover.integral_seconds", v.integral_seconds, 0, 3600);
@@ -290,6 +343,7 @@ Vehicle vehicle(const toml::table& root, const std::filesystem::path& file) {
     v.reward.emplace_back(key, size);
   }
   v.max_tilt_rad = r.number("envelope.max_tilt_rad", v.max_tilt_rad, 0.01, 1.5);
+  if (r.at("envelope.max_tilt")) v.max_tilt_rad = max_tilt_of(r, v.log);
   return v;
 }
 
@@ -303,6 +357,82 @@ std::vector<std::string> VehicleLogSpec::topic_names() const {
   for (const auto* t : {&position, &velocity, &attitude, &rates}) add(t->topic);
   for (const auto& c : controls) add(c.topic);
   return out;
+}
+
+bool VehicleLogSpec::pipeline_conventions() const {
+  return world_frame == "NED" && body_frame == "FRD" && quaternion_order == "wxyz" &&
+         quaternion_direction == "body_to_world" && attitude_unit == "rad" && rates_unit == "rad/s";
+}
+
+namespace {
+constexpr double kPi = std::numbers::pi;
+constexpr double kHalfPi = std::numbers::pi / 2;
+constexpr double kRadiansPerDegree = std::numbers::pi / 180;
+bool enu(const VehicleLogSpec& s) { return s.world_frame == "ENU"; }
+bool flu(const VehicleLogSpec& s) { return s.body_frame == "FLU"; }
+}  // namespace
+
+// ENU (e, n, u) and NED (n, e, d) are one swap and one sign apart, each way.
+heli::Vec3 world_vector_of(const VehicleLogSpec& spec, const heli::Vec3& native) {
+  return enu(spec) ? heli::Vec3(native.y(), native.x(), -native.z()) : native;
+}
+heli::Vec3 native_world_vector(const VehicleLogSpec& spec, const heli::Vec3& v_W) {
+  return enu(spec) ? heli::Vec3(v_W.y(), v_W.x(), -v_W.z()) : v_W;
+}
+// FLU and FRD differ by a half turn about x: R_x(pi) = diag(1, -1, -1), its own inverse.
+heli::Vec3 body_vector_of(const VehicleLogSpec& spec, const heli::Vec3& native) {
+  return flu(spec) ? heli::Vec3(native.x(), -native.y(), -native.z()) : native;
+}
+heli::Vec3 native_body_vector(const VehicleLogSpec& spec, const heli::Vec3& v_B) {
+  return body_vector_of(spec, v_B);
+}
+
+heli::Euler euler_of(const VehicleLogSpec& spec, const heli::Euler& n) {
+  heli::Euler e = n;
+  if (enu(spec) != flu(spec)) e.roll = heli::wrap_angle(n.roll + kPi);
+  if (enu(spec)) {
+    e.pitch = -n.pitch;
+    e.yaw = heli::wrap_angle(kHalfPi - n.yaw);
+  }
+  return e;
+}
+heli::Euler native_euler(const VehicleLogSpec& spec, const heli::Euler& e) {
+  heli::Euler n = e;
+  if (enu(spec) != flu(spec)) n.roll = heli::wrap_angle(e.roll - kPi);
+  if (enu(spec)) {
+    n.pitch = -e.pitch;
+    n.yaw = heli::wrap_angle(kHalfPi - e.yaw);
+  }
+  return n;
+}
+heli::Vec3 euler_rates_of(const VehicleLogSpec& spec, const heli::Vec3& n) {
+  return enu(spec) ? heli::Vec3(n.x(), -n.y(), -n.z()) : n;
+}
+heli::Vec3 native_euler_rates(const VehicleLogSpec& spec, const heli::Vec3& rates) {
+  return euler_rates_of(spec, rates);
+}
+
+heli::Euler native_euler_of_quaternion(const VehicleLogSpec& spec, const double* q) {
+  const bool xyzw = spec.quaternion_order == "xyzw";
+  const double w = q[xyzw ? 3 : 0];
+  double x = q[xyzw ? 0 : 1], y = q[xyzw ? 1 : 2], z = q[xyzw ? 2 : 3];
+  // World to body is the conjugate (the inverse rotation).
+  if (spec.quaternion_direction == "world_to_body") x = -x, y = -y, z = -z;
+  return heli::euler_from_any_quaternion(w, x, y, z);
+}
+
+std::array<double, 4> native_quaternion(const VehicleLogSpec& spec, const heli::Euler& native_rad) {
+  std::array<double, 4> q = heli::quaternion_from_euler(native_rad);  // w, x, y, z; body to world
+  if (spec.quaternion_direction == "world_to_body") q[1] = -q[1], q[2] = -q[2], q[3] = -q[3];
+  if (spec.quaternion_order == "xyzw") q = {q[1], q[2], q[3], q[0]};
+  return q;
+}
+
+double radians_per_attitude_unit(const VehicleLogSpec& spec) {
+  return spec.attitude_unit == "deg" ? kRadiansPerDegree : 1.0;
+}
+double radians_per_rates_unit(const VehicleLogSpec& spec) {
+  return spec.rates_unit == "deg/s" ? kRadiansPerDegree : 1.0;
 }
 
 Vehicle read_vehicle(const std::filesystem::path& file) {
@@ -370,18 +500,59 @@ std::vector<std::string> Vehicle::state_fields() const {
 heli::LoggedState Vehicle::state_of(std::span<const double> v) const {
   const bool quaternion = log.attitude_form == "quaternion";
   const std::size_t rates_at = quaternion ? 10 : 9;
+  // Each step below is skipped under the pipeline's own conventions: their logs read bit for bit as before.
   heli::Euler e{v[6], v[7], v[8]};
-  if (quaternion) e = heli::euler_from_any_quaternion(v[6], v[7], v[8], v[9]);
+  if (quaternion) {
+    e = native_euler_of_quaternion(log, v.data() + 6);
+  } else if (log.attitude_unit != "rad") {
+    const double k = radians_per_attitude_unit(log);
+    e = heli::Euler{e.roll * k, e.pitch * k, e.yaw * k};
+  }
+  e = euler_of(log, e);
+  const heli::Vec3 p = world_vector_of(log, heli::Vec3(v[0], v[1], v[2]));
   heli::Vec3 vel(v[3], v[4], v[5]);
-  if (log.velocity_frame == "body") vel = heli::world_from_body(e, vel);
+  if (log.velocity_frame == "body")
+    vel = heli::world_from_body(e, body_vector_of(log, vel));
+  else
+    vel = world_vector_of(log, vel);
   heli::Vec3 w(v[rates_at], v[rates_at + 1], v[rates_at + 2]);
-  if (log.rates_form == "body") w = heli::euler_rates_from_body_rates(e, w);
+  if (log.rates_unit != "rad/s") w *= radians_per_rates_unit(log);
+  if (log.rates_form == "body")
+    w = heli::euler_rates_from_body_rates(e, body_vector_of(log, w));
+  else
+    w = euler_rates_of(log, w);
   heli::LoggedState s{};
-  s[heli::logged::x] = v[0], s[heli::logged::y] = v[1], s[heli::logged::z] = v[2];
+  s[heli::logged::x] = p.x(), s[heli::logged::y] = p.y(), s[heli::logged::z] = p.z();
   s[heli::logged::roll] = e.roll, s[heli::logged::pitch] = e.pitch, s[heli::logged::yaw] = e.yaw;
   s[heli::logged::xdot] = vel.x(), s[heli::logged::ydot] = vel.y(), s[heli::logged::zdot] = vel.z();
   s[heli::logged::roll_rate] = w.x(), s[heli::logged::pitch_rate] = w.y(), s[heli::logged::yaw_rate] = w.z();
   return s;
+}
+
+std::vector<double> Vehicle::native_state(const heli::LoggedState& s) const {
+  namespace logged = heli::logged;
+  const heli::Euler e{s[logged::roll], s[logged::pitch], s[logged::yaw]};
+  const heli::Vec3 p = native_world_vector(log, heli::Vec3(s[logged::x], s[logged::y], s[logged::z]));
+  heli::Vec3 velocity(s[logged::xdot], s[logged::ydot], s[logged::zdot]);
+  velocity = log.velocity_frame == "body" ? native_body_vector(log, heli::body_from_world(e, velocity))
+                                          : native_world_vector(log, velocity);
+  heli::Vec3 rates(s[logged::roll_rate], s[logged::pitch_rate], s[logged::yaw_rate]);
+  rates = log.rates_form == "body" ? native_body_vector(log, heli::body_rates_from_euler_rates(e, rates))
+                                   : native_euler_rates(log, rates);
+  if (log.rates_unit != "rad/s") rates /= radians_per_rates_unit(log);
+  std::vector<double> out{p.x(), p.y(), p.z(), velocity.x(), velocity.y(), velocity.z()};
+  const heli::Euler n = native_euler(log, e);
+  if (log.attitude_form == "quaternion") {
+    for (const double q : native_quaternion(log, n)) out.push_back(q);
+  } else {
+    const double k = radians_per_attitude_unit(log);
+    if (log.attitude_unit != "rad")
+      out.insert(out.end(), {n.roll / k, n.pitch / k, n.yaw / k});
+    else
+      out.insert(out.end(), {n.roll, n.pitch, n.yaw});
+  }
+  out.insert(out.end(), {rates.x(), rates.y(), rates.z()});
+  return out;
 }
 
 bool logs_in_pipeline_layout(const Vehicle& v) {
@@ -389,8 +560,8 @@ bool logs_in_pipeline_layout(const Vehicle& v) {
   const auto named = [](const TopicFields& q, std::initializer_list<const char*> names) {
     return q.topic.empty() && std::equal(q.fields.begin(), q.fields.end(), names.begin(), names.end());
   };
-  if (!(l.time == "time" && l.attitude_form == "euler" && l.velocity_frame == "world" &&
-        l.rates_form == "euler" && named(l.position, {"x", "y", "z"}) &&
+  if (!(l.time == "time" && l.pipeline_conventions() && l.attitude_form == "euler" &&
+        l.velocity_frame == "world" && l.rates_form == "euler" && named(l.position, {"x", "y", "z"}) &&
         named(l.velocity, {"xdot", "ydot", "zdot"}) && named(l.attitude, {"roll", "pitch", "yaw"}) &&
         named(l.rates, {"roll_rate", "pitch_rate", "yaw_rate"})))
     return false;
@@ -420,25 +591,10 @@ std::vector<std::string> vehicle_log_columns(const Vehicle& vehicle) {
 }
 
 std::string vehicle_log_csv(const sysid::FlightLog& log, const Vehicle& vehicle, std::size_t every) {
-  const VehicleLogSpec& spec = vehicle.log;
-  const bool quaternion = spec.attitude_form == "quaternion";
   CsvWriter csv(vehicle_log_columns(vehicle));
   for (std::size_t i = 0; i < log.rows(); i += std::max<std::size_t>(every, 1)) {
-    const heli::LoggedState& s = log.states[i];
-    namespace logged = heli::logged;
-    const heli::Euler e{s[logged::roll], s[logged::pitch], s[logged::yaw]};
-    heli::Vec3 velocity(s[logged::xdot], s[logged::ydot], s[logged::zdot]);
-    if (spec.velocity_frame == "body") velocity = heli::body_from_world(e, velocity);
-    heli::Vec3 rates(s[logged::roll_rate], s[logged::pitch_rate], s[logged::yaw_rate]);
-    if (spec.rates_form == "body") rates = heli::body_rates_from_euler_rates(e, rates);
-    std::vector<CsvCell> row{log.time[i],  s[logged::x], s[logged::y], s[logged::z],
-                             velocity.x(), velocity.y(), velocity.z()};
-    if (quaternion) {
-      for (const double q : heli::quaternion_from_euler(e)) row.emplace_back(q);
-    } else {
-      row.insert(row.end(), {e.roll, e.pitch, e.yaw});
-    }
-    row.insert(row.end(), {rates.x(), rates.y(), rates.z()});
+    std::vector<CsvCell> row{log.time[i]};
+    for (const double x : vehicle.native_state(log.states[i])) row.emplace_back(x);
     for (const double a : vehicle.native_of(log.controls[i])) row.emplace_back(a);
     csv.add_row(std::move(row));
   }

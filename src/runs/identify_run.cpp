@@ -349,22 +349,24 @@ void run_identify(const IdentifyRunOptions& options, RunSink& sink, ThreadPool& 
     // The control gains' closed-loop bias, measured against a fit that whitens the residuals' correlation
     // (the model's AR(1) noise, or, for a white-noise model, the same fit made for this check alone): the
     // warning comes whatever noise model was asked for.
+    // The warning names the largest bias among the physically large gains (an output's own controls), not a
+    // coupling near 0 whose relative bias is large only because the gain is small (issue 53).
     nlohmann::json bias = nlohmann::json::object();
-    const ControlGainBias* worst = nullptr;
     const auto biases = model_closed_loop_bias(model, o.window_s, pool);
-    for (const auto& b : biases) {
+    for (const auto& b : biases)
       bias[b.output + "/" + b.control] = {
           {"least_squares", b.least_squares}, {"whitened", b.whitened}, {"relative", b.relative}};
-      if (!worst || std::abs(b.relative) > std::abs(worst->relative)) worst = &b;
-    }
     summary["closed_loop_bias"] = bias;
+    const ControlGainBias* worst = largest_large_gain_bias(biases);
     if (worst && std::abs(worst->relative) > 0.2)
       sink.out << fmt::format(
           "warning: the control gains look biased by closed-loop data: {} per {} is {:.0f}% {} in the "
-          "least-squares fit than in one that whitens the correlated noise ({:.4g} against {:.4g}; "
-          "closed_loop_bias in summary.json)\n",
+          "least-squares fit than in one that whitens the correlated noise ({:.4g} against {:.4g}; the "
+          "largest among the gains that move their output at least {:.0f}% as much as its strongest control "
+          "does; closed_loop_bias in summary.json)\n",
           worst->output, worst->control, 100 * std::abs(worst->relative),
-          worst->relative < 0 ? "smaller" : "larger", worst->least_squares, worst->whitened);
+          worst->relative < 0 ? "smaller" : "larger", worst->least_squares, worst->whitened,
+          100 * kLargeGainShare);
   }
   if (const NoiseCorrelation& c = model.noise_correlation(); c.any()) {
     nlohmann::json correlation;

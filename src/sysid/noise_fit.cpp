@@ -221,17 +221,34 @@ std::vector<ControlGainBias> closed_loop_bias(const Dataset& data,
     const LocalFit gls = whitened.fit(any);
     if (gls.singular) continue;
     const double y_sd = std::sqrt((data.y.col(k).array() - data.y.col(k).mean()).square().mean());
+    // Each free control's effect, |whitened gain| x its spread: the largest is the output's own control.
+    std::array<double, kInputs> effect{};
+    double largest = 0;
+    for (int c = kA1; c <= kA4; ++c) {
+      if (!templates[static_cast<std::size_t>(k)].free[static_cast<std::size_t>(c)]) continue;
+      const double x_sd = std::sqrt((data.x.col(c).array() - data.x.col(c).mean()).square().mean());
+      effect[static_cast<std::size_t>(c)] = std::abs(gls.beta[static_cast<std::size_t>(k)][c]) * x_sd;
+      largest = std::max(largest, effect[static_cast<std::size_t>(c)]);
+    }
     for (int c = kA1; c <= kA4; ++c) {
       if (!templates[static_cast<std::size_t>(k)].free[static_cast<std::size_t>(c)]) continue;
       const double b_ls = ls.beta[static_cast<std::size_t>(k)][c],
                    b_w = gls.beta[static_cast<std::size_t>(k)][c];
-      const double x_sd = std::sqrt((data.x.col(c).array() - data.x.col(c).mean()).square().mean());
-      if (!(std::abs(b_w) * x_sd >= 0.1 * y_sd) || b_w == 0) continue;
+      const double e = effect[static_cast<std::size_t>(c)];
+      if (!(e >= 0.1 * y_sd) || b_w == 0) continue;
       out.push_back({kBodyVarNames[static_cast<std::size_t>(k)], kInputNames[static_cast<std::size_t>(c)],
-                     b_ls, b_w, b_ls / b_w - 1});
+                     b_ls, b_w, b_ls / b_w - 1, e / largest});
     }
   }
   return out;
+}
+
+const ControlGainBias* largest_large_gain_bias(const std::vector<ControlGainBias>& biases) {
+  const ControlGainBias* worst = nullptr;
+  for (const auto& b : biases)
+    if (b.effect_share >= kLargeGainShare && (!worst || std::abs(b.relative) > std::abs(worst->relative)))
+      worst = &b;
+  return worst;
 }
 
 namespace {

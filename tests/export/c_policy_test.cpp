@@ -262,6 +262,63 @@ TEST_F(CPolicyExport, InAVehiclesOwnTermsItIsBitIdenticalToTheCppConversionAndPo
   EXPECT_NE(message.find("p.json: --vehicle: only the helicopter classes"), std::string::npos) << message;
 }
 
+// In other conventions too (issue 53): a ROS aircraft (ENU, FLU, quaternion x, y, z, w, body velocity, body
+// rates in deg/s), Euler angles in degrees in an ENU world with an FRD body and Euler rates in deg/s, and a
+// world-to-body quaternion in NED with an FLU body: the exported controller reads each as `pegasus control
+// --vehicle` does, bit for bit, including the quaternion's and the frames' edge cases.
+TEST_F(CPolicyExport, InEveryConventionItIsBitIdenticalToTheCppConversion) {
+  using test_support::replaced;
+  const std::string outside = test_support::kOutsideVehicle;
+  const auto with = [&](const std::string& log_keys, const std::string& attitude_keys,
+                        const std::string& rates_keys) {
+    return replaced(replaced(replaced(outside, "time = \"t\"", "time = \"t\"\n" + log_keys),
+                             "form = \"quaternion\"", attitude_keys),
+                    "form = \"body\"", rates_keys);
+  };
+  const std::vector<std::string> texts = {
+      with("world_frame = \"ENU\"\nbody_frame = \"FLU\"",
+           "form = \"quaternion\"\norder = \"xyzw\"\nunit = \"deg\"", "form = \"body\"\nunit = \"deg/s\""),
+      replaced(
+          replaced(with("world_frame = \"ENU\"", "form = \"euler\"\nunit = \"deg\"",
+                        "form = \"euler\"\nunit = \"deg/s\""),
+                   "fields = [\"qw\", \"qx\", \"qy\", \"qz\"]", "fields = [\"roll\", \"pitch\", \"yaw\"]"),
+          "frame = \"body\"", "frame = \"world\""),
+      replaced(with("body_frame = \"FLU\"", "form = \"quaternion\"\ndirection = \"world_to_body\"",
+                    "form = \"euler\""),
+               "frame = \"body\"", "frame = \"world\""),
+  };
+  const heli::PolicyFile file = hover_file(3, 1.0, {1.0, 2.0, -8.0, 0.3});
+  const auto cpp = heli::make_controller(file, "p.json");
+  for (std::size_t v = 0; v < texts.size(); ++v) {
+    const logs::Vehicle vehicle = logs::parse_vehicle(texts[v], "conventions.toml");
+    ASSERT_FALSE(vehicle.log.pipeline_conventions()) << v;
+    const CPolicyCode code = export_c_policy(heli::policy_file_json(file), "p.json",
+                                             {.prefix = fmt::format("conv{}", v), .vehicle = &vehicle});
+    const LoadedCPolicy c(code, dir_ / fmt::format("conv{}", v));
+    ASSERT_NE(c.act_vehicle(), nullptr);
+    const std::size_t size = code.vehicle_observation_names.size();
+    std::mt19937_64 rng(11 + v);
+    std::uniform_real_distribution<double> time(0.0, 10.0);
+    Mismatches actions;
+    for (int i = 0; i < kInputs / 10; ++i) {
+      const double t = time(rng);
+      const std::vector<double> native_state = vehicle.native_state(random_state(rng, cpp->target(t)));
+      ASSERT_EQ(native_state.size() + 1, size);
+      std::vector<double> observation{t};
+      observation.insert(observation.end(), native_state.begin(), native_state.end());
+      double action[4];
+      EXPECT_EQ(c.act_vehicle()(observation.data(), action), 0);
+      actions.check(vehicle.native_of(cpp->act(vehicle.state_of(native_state), t)), action,
+                    fmt::format("vehicle {} input {}", v, i));
+    }
+    EXPECT_EQ(actions.count, 0) << actions.first;
+    std::vector<double> zero(size, 0.0);
+    double action[4];
+    EXPECT_EQ(c.act_vehicle()(zero.data(), action), v == 1 ? 0 : 1)
+        << v;  // all-zero Euler angles are an attitude
+  }
+}
+
 // Names from the user's files stand in the generated comments: none may end a comment or open one.
 TEST_F(CPolicyExport, NamesThatLookLikeCommentMarkersStayInsideTheComments) {
   using test_support::replaced;

@@ -14,7 +14,9 @@
 #include <regex>
 
 #include "pegasus/core/error.hpp"
+#include "pegasus/heli/frames.hpp"
 #include "pegasus/logs/ulog.hpp"
+#include "pegasus/logs/vehicle.hpp"
 #include "pegasus/sysid/flight_log.hpp"
 #include "support/cli_runner.hpp"
 #include "support/input_error.hpp"
@@ -115,6 +117,39 @@ TEST(UlogImport, ResamplesTopicsOntoOneConstantRateGrid) {
   EXPECT_EQ(back.rows(), log.rows());
 }
 
+// The import reads a vehicle file's conventions (issue 53) as the CSV reader does (Vehicle::state_of): the
+// same topics described as a ROS aircraft's (ENU, FLU, quaternion x, y, z, w, rates in deg/s) give the states
+// that state_of gives of the same fields.
+TEST(UlogImport, TopicsInAnotherConventionReadAsTheCsvReaderReadsThem) {
+  const UlogFile u = parse_ulog(synthetic_ulog(), "s.ulg");
+  const sysid::FlightLog own = import_ulog(u, test_spec(), "s.ulg", {});
+  Vehicle ros;
+  ros.log = test_spec();
+  ros.log.world_frame = "ENU";
+  ros.log.body_frame = "FLU";
+  ros.log.quaternion_order = "xyzw";
+  ros.log.rates_unit = "deg/s";
+  const sysid::FlightLog read = import_ulog(u, ros.log, "s.ulg", {});
+  ASSERT_EQ(read.rows(), own.rows());
+  for (std::size_t k = 0; k < own.rows(); ++k) {
+    // The topics' fields at this row, from the import in the pipeline's conventions.
+    const auto& s = own.states[k];
+    const heli::Euler e{s[3], s[4], s[5]};
+    const auto q = heli::quaternion_from_euler(e);
+    const heli::Vec3 w = heli::body_rates_from_euler_rates(e, heli::Vec3(s[9], s[10], s[11]));
+    const std::vector<double> fields{s[0], s[1], s[2], s[6],  s[7],  s[8], q[0],
+                                     q[1], q[2], q[3], w.x(), w.y(), w.z()};
+    const heli::LoggedState expected = ros.state_of(fields);
+    for (std::size_t j = 0; j < 12; ++j) {
+      const double d = read.states[k][j] - expected[j];
+      EXPECT_LE(std::abs(j >= 3 && j < 6 ? heli::wrap_angle(d) : d), 1e-9) << k << " " << j;
+    }
+    EXPECT_EQ(read.controls[k], own.controls[k]);
+  }
+  // Not the same states: the conventions were read.
+  EXPECT_NE(read.states[10][0], own.states[10][0]);
+}
+
 TEST(UlogImport, BodyFrameInputsAreRotatedIntoTheLogFrames) {
   // Turned 90 degrees in yaw: body forward is world east; body rates (p, q, r) = (0, 0.2, 0) while rolled 0.
   UlogBuilder b;
@@ -156,6 +191,58 @@ TEST(UlogImport, BodyFrameInputsAreRotatedIntoTheLogFrames) {
   EXPECT_NEAR(log.states[5][6], 0, 1e-6);  // xdot (north)
   EXPECT_NEAR(log.states[5][7], 3, 1e-6);  // ydot (east)
   EXPECT_NEAR(log.states[5][10], 0.2, 1e-6);
+}
+
+// Euler angles in degrees are interpolated in radians across the wrap (175 to -175 deg is 10 deg, not 350),
+// then turned from ENU/FLU into the pipeline's: yaw = pi/2 - yaw', Euler rates in deg/s.
+TEST(UlogImport, EulerAnglesInDegreesInterpolateAcrossTheWrapInAnyConvention) {
+  UlogBuilder b;
+  b.format(
+      "s:uint64_t timestamp;float x;float y;float z;float r0;float p0;float y0;float dr;float dp;float dy;");
+  b.format("c:uint64_t timestamp;float[4] c;");
+  b.subscribe(0, 0, "s").subscribe(0, 1, "c");
+  for (int k = 0; k <= 10; ++k) {  // 5 Hz: yaw' = 175 + 25 t deg, written in (-180, 180]
+    const double t = 0.2 * k, yaw = 175 + 25 * t;
+    const std::uint64_t t_us = 200000 * static_cast<std::uint64_t>(k);
+    b.data(0, Bytes()
+                  .put(t_us)
+                  .put(1.0f)
+                  .put(2.0f)
+                  .put(3.0f)
+                  .put(0.0f)
+                  .put(0.0f)
+                  .put(float(yaw > 180 ? yaw - 360 : yaw))
+                  .put(0.0f)
+                  .put(0.0f)
+                  .put(25.0f));
+    b.data(1, Bytes().put(t_us).put(0.0f).put(0.0f).put(0.0f).put(0.0f));
+  }
+  VehicleLogSpec s;
+  s.rate_hz = 10;
+  s.attitude_form = "euler";
+  s.rates_form = "euler";
+  s.world_frame = "ENU";
+  s.body_frame = "FLU";
+  s.attitude_unit = "deg";
+  s.rates_unit = "deg/s";
+  s.position = {"s", {"x", "y", "z"}};
+  s.velocity = {"s", {"x", "y", "z"}};  // any three fields: only the attitude is checked
+  s.attitude = {"s", {"r0", "p0", "y0"}};
+  s.rates = {"s", {"dr", "dp", "dy"}};
+  s.controls = {ControlChannel{"c", "c[0]"}, ControlChannel{"c", "c[1]"}, ControlChannel{"c", "c[2]"},
+                ControlChannel{"c", "c[3]"}};
+  const sysid::FlightLog log = import_ulog(parse_ulog(b.bytes(), "e.ulg"), s, "e.ulg");
+  ASSERT_EQ(log.rows(), 21u);
+  constexpr double kDeg = std::numbers::pi / 180;
+  for (std::size_t k = 0; k < log.rows(); ++k) {
+    const double t = 0.1 * static_cast<double>(k);
+    EXPECT_NEAR(log.states[k][0], 2, 1e-6);  // ENU (1, 2, 3) is NED (2, 1, -3)
+    EXPECT_NEAR(log.states[k][2], -3, 1e-6);
+    EXPECT_NEAR(std::abs(heli::wrap_angle(log.states[k][5] - (std::numbers::pi / 2 - (175 + 25 * t) * kDeg))),
+                0, 1e-6)
+        << k;
+    EXPECT_NEAR(log.states[k][11], -25 * kDeg, 1e-9);
+  }
 }
 
 TEST(UlogImport, ErrorsNameTheFileTopicAndWhatWasExpected) {
@@ -254,7 +341,7 @@ TEST_F(VehicleFile, BadEntriesNameTheLineAndKey) {
   };
   EXPECT_NE(input_error_message([&] {
               read_vehicle_log_spec(replaced("fields = [\"x\", \"y\", \"z\"]", "fields = [\"x\"]"));
-            }).find(":17: log.position.fields: expected a list of 3 field (or CSV column) names"),
+            }).find(":19: log.position.fields: expected a list of 3 field (or CSV column) names"),
             std::string::npos);
   EXPECT_NE(input_error_message([&] {
               read_vehicle_log_spec(replaced("model_rate_hz = 10", "model_rate_hz = 15"));

@@ -229,6 +229,37 @@ TEST_F(VehicleCli, ThePilotLogsInTheVehiclesOwnLayoutAndRate) {
   EXPECT_FALSE(std::filesystem::exists(dir_ / "pilot30.partial"));
 }
 
+// A ROS-convention multirotor (ros-quadrotor.toml: ENU, FLU, quaternion x, y, z, w, degrees) flown on the
+// Crazyflie's ground truth: the pilot writes its log in ROS terms (z up, facing north as a quarter turn about
+// up), the same flight as the Crazyflie file's byte for byte in the pipeline's layout, and the log reads back
+// through the file to the Crazyflie's own rows (issue 53).
+TEST_F(VehicleCli, ARosConventionVehicleLogsInRosTermsTheSameFlight) {
+  const std::filesystem::path vehicles =
+      std::filesystem::path(PEGASUS_SOURCE_DIR) / "experiments" / "vehicles";
+  write("ros.toml", test_support::replaced(test_support::read_text(vehicles / "ros-quadrotor.toml"),
+                                           "name = \"ros-quadrotor\"",
+                                           "name = \"ros-quadrotor\"\nsimulator = \"crazyflie2\""));
+  auto r = run_pegasus(
+      fmt::format("pilot --vehicle {} --seconds 20 --quiet --out {}", path("ros.toml"), path("ros")));
+  ASSERT_EQ(r.code, 0) << r.output;
+  r = run_pegasus(fmt::format("pilot --vehicle {} --seconds 20 --quiet --out {}",
+                              (vehicles / "crazyflie2.toml").string(), path("cf")));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_EQ(test_support::read_text(dir_ / "ros" / "pipeline_log.csv"),
+            test_support::read_text(dir_ / "cf" / "log.csv"));
+  const logs::Vehicle ros = logs::read_vehicle(path("ros.toml"));
+  const sysid::FlightLog own = sysid::read_flight_log(dir_ / "cf" / "log.csv");
+  EXPECT_EQ(test_support::log_difference(logs::read_vehicle_log(dir_ / "ros" / "log.csv", ros), own), "");
+  // The first row in ROS terms: about 2 m up (z up), facing north (x, y, z, w near 0, 0, 0.707, 0.707).
+  const auto table = parse_csv(test_support::read_text(dir_ / "ros" / "log.csv"));
+  ASSERT_GE(table.size(), 2u);
+  EXPECT_EQ(table[0][1], "px");
+  EXPECT_EQ(table[0][10], "qw");
+  EXPECT_NEAR(std::stod(table[1][3]), 2, 0.1);        // pz
+  EXPECT_NEAR(std::stod(table[1][9]), 0.707, 0.01);   // qz
+  EXPECT_NEAR(std::stod(table[1][10]), 0.707, 0.01);  // qw
+}
+
 TEST_F(VehicleCli, ABadVehicleFileStopsEveryCommandWithOneLineAndNoRunDirectory) {
   write("bad.toml", std::string(test_support::kOutsideVehicle) + "\n[hover]\nstarting_gain = \"lqr\"\n");
   write("log.csv", "t\n");

@@ -362,7 +362,37 @@ TEST(ClosedLoopBias, WhiteningTheNoiseRecoversTheGroundTruthsControlGains) {
     EXPECT_LT(std::abs(it->whitened - truth), 0.5 * std::abs(it->least_squares - truth))
         << output << "/" << control;
     EXPECT_LT(it->relative, -0.1) << output << "/" << control;
+    EXPECT_GE(it->effect_share, kLargeGainShare) << output << "/" << control;  // the output's own control
   }
+  for (const auto& b : biases) {
+    EXPECT_GT(b.effect_share, 0) << b.output << "/" << b.control;
+    EXPECT_LE(b.effect_share, 1) << b.output << "/" << b.control;
+  }
+  const ControlGainBias* warned = largest_large_gain_bias(biases);
+  ASSERT_NE(warned, nullptr);
+  EXPECT_GE(warned->effect_share, kLargeGainShare);
+}
+
+// The identify warning names the largest relative bias among the physically large gains (issue 53): a
+// coupling near 0 (roll to vertical speed) with a large relative bias is passed over for the output's own
+// control, whatever the order; none when every gain is a small coupling.
+TEST(ClosedLoopBias, TheWarningNamesTheLargestBiasAmongThePhysicallyLargeGains) {
+  const std::vector<ControlGainBias> biases = {
+      {"zdot_b", "a2", 0.002, 0.02, -0.9, 0.04},  // roll to vertical speed: physically about 0
+      {"zdot_b", "a3", -0.9, -1.2, -0.25, 1.0},   // collective: the output's own control
+      {"xdot_b", "a1", 1.1, 1.0, 0.1, 1.0},
+      {"pitch_rate", "a4", 0.3, 0.4, -0.3, 0.14},  // tail on pitch rate: a seventh of the cyclic's effect
+      {"yaw_rate", "a3", 0.8, 1.0, -0.2, 0.4},     // collective on yaw rate (rotor torque): large
+  };
+  const ControlGainBias* warned = largest_large_gain_bias(biases);
+  ASSERT_NE(warned, nullptr);
+  EXPECT_EQ(warned->output, "zdot_b");
+  EXPECT_EQ(warned->control, "a3");
+  EXPECT_EQ(warned->relative, -0.25);
+  const std::vector<ControlGainBias> reversed(biases.rbegin(), biases.rend());
+  EXPECT_EQ(largest_large_gain_bias(reversed)->control, "a3");
+  EXPECT_EQ(largest_large_gain_bias({biases[0], biases[3]}), nullptr);
+  EXPECT_EQ(largest_large_gain_bias({biases[0], biases[3], biases[4]})->output, "yaw_rate");
 }
 
 TEST(IdentifyCheckpoint, ResumedSearchEqualsAnUninterruptedOne) {

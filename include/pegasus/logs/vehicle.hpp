@@ -23,6 +23,7 @@
 
 #include "pegasus/heli/aircraft.hpp"
 #include "pegasus/heli/control_loop.hpp"
+#include "pegasus/heli/frames.hpp"
 #include "pegasus/sysid/flight_log.hpp"
 
 namespace pegasus::logs {
@@ -35,6 +36,10 @@ struct TopicFields {
 
 using heli::kControlAxisNames;
 
+// The units a control channel may say: angles, angular rates, speed, force, fraction, servo pulse.
+inline constexpr std::array<const char*, 9> kChannelUnits = {"rad", "deg", "rad/s", "deg/s", "m/s",
+                                                             "N",   "1",   "%",     "us"};
+
 // One control channel of the aircraft: the axis it drives is a_axis = scale * value + offset, in [-1, 1].
 struct ControlChannel {
   std::string topic;  // ULog topic; empty for a CSV log
@@ -43,6 +48,11 @@ struct ControlChannel {
   double offset = 0;
   int axis = -1;       // 0..3 for a1..a4; -1: the channel's position in the list (files without `axis` keys)
   std::string name{};  // the aircraft's name for it (`pegasus control`'s output header); empty: the field
+  // The unit of the channel's values (in its logs and in `pegasus control`'s answer) and of its range or
+  // offset: "" (none said) or one of kChannelUnits. A channel maps linearly onto its axis, so the unit
+  // changes no number: it documents the range, and an angle or angular-rate unit is refused on the thrust
+  // axis (a set point of attitude or rate drives pitch, roll or yaw).
+  std::string unit{};
 
   int column(std::size_t position) const { return axis >= 0 ? axis : static_cast<int>(position); }
   const std::string& label() const { return name.empty() ? field : name; }
@@ -58,15 +68,61 @@ struct VehicleLogSpec {
   double max_gap_s = 0.5;     // a longer gap between records of a topic inside the range is an error
   std::string time = "time";  // a CSV log's time column, s
   // How the log gives each quantity.
-  std::string attitude_form = "quaternion";  // "quaternion" (w, x, y, z; body to world NED) or "euler"
-  std::string velocity_frame = "world";      // "world" (NED) or "body"
+  std::string attitude_form = "quaternion";  // "quaternion" (see quaternion_order, _direction) or "euler"
+  std::string velocity_frame = "world";      // "world" (world_frame) or "body" (body_frame)
   std::string rates_form = "body";           // "body" (p, q, r) or "euler" (roll, pitch, yaw rates)
+  // The log's conventions (issue 53); each default is the pipeline's own, and under the defaults a value
+  // goes through no arithmetic at all (logs in the pipeline's conventions read bit for bit as before).
+  std::string world_frame = "NED";  // [log] world_frame: "NED" (x north, y east, z down) or "ENU" (x east,
+                                    // y north, z up: ROS REP 103)
+  std::string body_frame = "FRD";   // [log] body_frame: "FRD" (x forward, y right, z down) or "FLU" (x
+                                    // forward, y left, z up: REP 103)
+  // [log.attitude] order: a quaternion's components "wxyz" or "xyzw" (ROS, Eigen's coeffs()); direction:
+  // "body_to_world" (it rotates body vectors into the world frame) or "world_to_body".
+  std::string quaternion_order = "wxyz";
+  std::string quaternion_direction = "body_to_world";
+  // [log.attitude] unit: the aircraft's angles in "rad" or "deg": its Euler angles (form = "euler"), and in
+  // any form the [hover] target's yaw and the [envelope] max_tilt.
+  std::string attitude_unit = "rad";
+  std::string rates_unit = "rad/s";  // [log.rates] unit: "rad/s" or "deg/s"
   TopicFields position, velocity, attitude, rates;
   // The aircraft's control channels in its own order; each axis driven by exactly one.
   std::array<ControlChannel, 4> controls;
   // Names of the topics used (each once), for UlogReadOptions::topics.
   std::vector<std::string> topic_names() const;
+  // Whether every convention is the pipeline's own (NED, FRD, w x y z body to world, rad, rad/s).
+  bool pipeline_conventions() const;
 };
+
+// The one place where a log's conventions become the pipeline's and back (monogram names of heli/frames.hpp:
+// W is the pipeline's world NED, B its body FRD; "native" is the log's own frame, order, direction and unit).
+// Each is the identity, without arithmetic, under the default conventions.
+//   world vectors:  ENU (e, n, u) <-> NED (n, e, -u)
+//   body vectors:   FLU (f, l, u) <-> FRD (f, -l, -u)
+//   Z-Y-X Euler angles of the body-to-world rotation R' = R_z(yaw') R_y(pitch') R_x(roll') in the log's
+//   frames, R_WB = R_W,world' R' R_body',B: with an ENU world, pitch = -pitch' and yaw = pi/2 - yaw'; with
+//   exactly one of world ENU and body FLU, roll = roll' + pi (wrapped to (-pi, pi]); otherwise unchanged.
+//   (R_NED,ENU = R_z(pi/2) R_x(pi), R_FLU,FRD = R_x(pi), and R_x(pi) R_z(a) R_y(b) R_x(c) R_x(pi) =
+//   R_z(-a) R_y(-b) R_x(c).) Euler-angle rates follow by differentiation; body rates are body vectors.
+heli::Vec3 world_vector_of(const VehicleLogSpec& spec, const heli::Vec3& native);
+heli::Vec3 native_world_vector(const VehicleLogSpec& spec, const heli::Vec3& v_W);
+heli::Vec3 body_vector_of(const VehicleLogSpec& spec, const heli::Vec3& native);
+heli::Vec3 native_body_vector(const VehicleLogSpec& spec, const heli::Vec3& v_B);
+// Euler angles (rad) in the log's frames to the pipeline's, and back.
+heli::Euler euler_of(const VehicleLogSpec& spec, const heli::Euler& native_rad);
+heli::Euler native_euler(const VehicleLogSpec& spec, const heli::Euler& e);
+// Euler-angle rates (rad/s) in the log's frames to the pipeline's, and back.
+heli::Vec3 euler_rates_of(const VehicleLogSpec& spec, const heli::Vec3& native_rad_s);
+heli::Vec3 native_euler_rates(const VehicleLogSpec& spec, const heli::Vec3& rates);
+// A log's quaternion (4 values in its order and direction, any length) as the Euler angles (rad) of its
+// body-to-world rotation in the log's own frames; NaN when it has no direction.
+heli::Euler native_euler_of_quaternion(const VehicleLogSpec& spec, const double* q);
+// The log's quaternion (its order and direction, unit length, scalar part >= 0) of Euler angles (rad) in
+// its own frames.
+std::array<double, 4> native_quaternion(const VehicleLogSpec& spec, const heli::Euler& native_rad);
+// Radians per unit of the log's Euler angles ([log.attitude] unit) and of its rates ([log.rates] unit).
+double radians_per_attitude_unit(const VehicleLogSpec& spec);
+double radians_per_rates_unit(const VehicleLogSpec& spec);
 
 // Reads a vehicle file's [vehicle] name and [log] section; InputError "FILE:LINE: key: expected ..." on a
 // missing or bad entry.
@@ -91,8 +147,9 @@ struct Vehicle {
   std::string simulator = "none";
   // [control] rate_hz: the flight computer's controller rate; training steps the learned model at it.
   double control_rate_hz = 50;
-  // [hover] target: set point x, y, z (m, NED) and yaw (rad); starting_gains: "lqr" (from the identified
-  // model, the default) or "constant" (the X-Cell's tuned constants).
+  // [hover] target: set point x, y, z (m, NED) and yaw (rad) in the pipeline's terms; the file writes them
+  // in the log's world frame and attitude unit. starting_gains: "lqr" (from the identified model, the
+  // default) or "constant" (the X-Cell's tuned constants).
   std::array<double, 4> target{0, 0, -10, 0};
   std::string starting_gains = "lqr";
   // [hover] integral_seconds: the hover class's integral term (heli/hover_policy.hpp), its int weights
@@ -102,7 +159,8 @@ struct Vehicle {
   // [hover.reward]: the typical sizes the hover reward's weights stand for (alpha = 1 / typical^2; `hover
   // --reward.*`), set to match the cost the aircraft is judged by. Only the keys the file gives.
   std::vector<std::pair<std::string, double>> reward;
-  // [envelope] max_tilt_rad: |roll| or |pitch| beyond this crashes the learned model.
+  // [envelope] max_tilt_rad (rad), or max_tilt (in the log's attitude unit): |roll| or |pitch| of the
+  // pipeline's attitude beyond this crashes the learned model.
   double max_tilt_rad = 1.0;
 
   const std::string& name() const { return log.vehicle; }
@@ -112,8 +170,10 @@ struct Vehicle {
   // Field names of a state line in the aircraft's terms, in the order `pegasus control` reads a line
   // without a header: position, velocity, attitude (3 or 4), rates.
   std::vector<std::string> state_fields() const;
-  // The pipeline's 12 states from values in state_fields() order.
+  // The pipeline's 12 states from values in state_fields() order, in the log's conventions and units.
   heli::LoggedState state_of(std::span<const double> native) const;
+  // And back: the values in state_fields() order (12 or 13) of the pipeline's 12 states.
+  std::vector<double> native_state(const heli::LoggedState& s) const;
 };
 
 // The X-Cell 60 as the `heli` commands have always assumed it: logs in the pipeline's own layout at 50 Hz,

@@ -249,10 +249,20 @@ struct ControlGainBias {
   std::string output, control;
   double least_squares = 0, whitened = 0;
   double relative = 0;  // least_squares / whitened - 1: -0.26 is a gain 26% too small
+  // |whitened| x the control's spread over the largest such among the same output's free control gains: 1
+  // for the control that moves the output most (collective for zdot_b), near 0 for a coupling that physics
+  // makes small (roll for zdot_b), whose relative bias is large only because the gain is near 0.
+  double effect_share = 1;
 };
 std::vector<ControlGainBias> closed_loop_bias(const Dataset& data,
                                               const std::array<OutputTemplate, kBodyVars>& templates,
                                               const NoiseCorrelation& correlation);
+// The gain `identify` warns about: the largest |relative| among the physically large gains (effect_share at
+// least kLargeGainShare: an output's own control and the couplings of its size, such as a helicopter's
+// collective on yaw rate through the rotor torque, about 0.4 on the X-Cell's logs, but not its tail on pitch
+// rate, about 0.14); nullptr when there is none.
+inline constexpr double kLargeGainShare = 0.25;
+const ControlGainBias* largest_large_gain_bias(const std::vector<ControlGainBias>& biases);
 
 // Open-loop simulation on a log (Fig 5.2): from log row `start`, simulate `horizon_steps` model steps with
 // the recorded controls and the model noise off; returns predicted 12 log states + 3 body velocities per step
