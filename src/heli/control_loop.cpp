@@ -80,6 +80,8 @@ std::vector<int> header_columns(std::string_view header, const ControlLineFormat
       if (name == f) return true;
     for (const auto& c : format.control_names)
       if (name == c) return true;
+    for (const auto& c : format.control_columns)
+      if (name == c) return true;
     return false;
   };
   ignored->clear();

@@ -652,7 +652,10 @@ sysid::FlightLog read_vehicle_log(const std::filesystem::path& file, const Vehic
 heli::ControlLineFormat control_line_format(const Vehicle& vehicle) {
   heli::ControlLineFormat f;
   f.control_names.clear();
-  for (const auto& c : vehicle.log.controls) f.control_names.push_back(c.label());
+  for (const auto& c : vehicle.log.controls) {
+    f.control_names.push_back(c.label());
+    f.control_columns.push_back(c.field);  // a log row's own column, where the answer names it otherwise
+  }
   f.controls_of = [vehicle](const heli::Controls& a) { return vehicle.native_of(a); };
   // A vehicle logged in the pipeline's own layout (the X-Cell's file) is read as `heli control` reads it: a
   // line without a header in the order of its own log (x..yaw_rate), not position, velocity, attitude, rates.

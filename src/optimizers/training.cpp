@@ -228,7 +228,7 @@ void Train(const TrainingPlan& plan, Objective& objective, Theta* theta, Trainin
   summary->best_theta = summary->stages.back().best_theta;
   // A NaN or infinite U-hat is no result: a run on it must not end as a success (issue 51: a NaN target or
   // time step trained to "U-hat NaN" with exit 0).
-  if (!std::isfinite(summary->best_value))
+  if (plan.refuse_nonfinite_result && !std::isfinite(summary->best_value))
     throw NonFiniteObjective(fmt::format(
         "training: the best U-hat found is {} (not a finite number): the objective's returns are not finite "
         "(a NaN or infinite reward, state or time step in the task or model)",

@@ -283,6 +283,7 @@ int run_mujoco_training(const MujocoTrainingRunOptions& o, RunSink& sink, Thread
   TrainingPlan plan;
   plan.seed = o.seed;
   plan.stages = {{.name = options.method, .optimizer = options, .derive_seeds = false}};
+  plan.refuse_nonfinite_result = false;  // said below as the run's verdict, with its summary
   plan.checkpoint_every = o.checkpoint_every;
   plan.on_checkpoint = [&](const nlohmann::json& checkpoint) {
     dir.save_checkpoint(checkpoint);

@@ -4,6 +4,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
@@ -84,10 +85,24 @@ TEST_F(Cli, HelpListsCommandsAndExitsZero) {
                              "--quiet", "--force", "--resume"}) {
     EXPECT_NE(sub.out.find(option), std::string::npos) << option;
   }
+  // --help fits a screen: a command's own settings; its parts' (dotted names) are behind --help-all, which a
+  // footer names (issue 50).
   const Result nested = run("dev count --help");
   EXPECT_EQ(nested.rc, 0);
-  EXPECT_NE(nested.out.find("--weights.values"), std::string::npos) << nested.out;
+  EXPECT_EQ(nested.out.find("--weights.values"), std::string::npos) << nested.out;
   EXPECT_NE(nested.out.find("--step-ms"), std::string::npos) << nested.out;
+  EXPECT_NE(
+      nested.out.find("1 more settings of its parts (optimizer, reward, ...): pegasus dev count --help-all"),
+      std::string::npos)
+      << nested.out;
+  const Result all = run("dev count --help-all");
+  EXPECT_EQ(all.rc, 0);
+  EXPECT_NE(all.out.find("--weights.values"), std::string::npos) << all.out;
+  EXPECT_NE(all.out.find("--step-ms"), std::string::npos) << all.out;
+  // The longest command's --help stays about a screen; --help-all lists everything.
+  const Result hover = run("heli hover --help"), hover_all = run("heli hover --help-all");
+  EXPECT_LE(std::count(hover.out.begin(), hover.out.end(), '\n'), 40) << hover.out;
+  EXPECT_GT(std::count(hover_all.out.begin(), hover_all.out.end(), '\n'), 80);
 }
 
 TEST_F(Cli, VersionPrintsTheVersion) {

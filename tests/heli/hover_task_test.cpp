@@ -536,7 +536,9 @@ TEST(HoverTraining, IntegralTermTrainsThirtyEightWeightsAndItsLqrStartHoldsTheLi
   std::string why;
   o.integral_seconds = -1;
   EXPECT_FALSE(o.IsValid(&why));
-  EXPECT_EQ(why, "integral_seconds: expected a number in [0, 3600] (0: no integral term), got -1");
+  EXPECT_EQ(why,
+            "integral_seconds: expected 0 (no integral term) or a number in [0.02, 3600] (at least one "
+            "control step, 1 / control_rate_hz), got -1");
   o.integral_seconds = 5;
   o.integral_limit_yaw = 0;
   EXPECT_FALSE(o.IsValid(&why));

@@ -17,7 +17,7 @@ IDENTIFY = ["--cv-points", "60", "--scale-grid", "1,4", "--coordinate-passes", "
 @pytest.fixture(scope="module")
 def logs(tmp_path_factory, cli):
     root = tmp_path_factory.mktemp("logs")
-    for name, seconds, seed in [("train", "40", "3"), ("test", "20", "4")]:
+    for name, seconds, seed in [("train", "40", "3"), ("test", "20", "4"), ("test2", "20", "5")]:
         result = subprocess.run([cli, "heli", "pilot", "--hover-seconds", "4", "--quiet", "--seconds", seconds,
                                  "--seed", seed, "--out", str(root / name)], capture_output=True, text=True)
         assert result.returncode == 0, result.stdout + result.stderr
@@ -66,21 +66,23 @@ def test_a_model_from_a_csv_path_or_arrays_is_the_cli_model(logs, cli, tmp_path)
 
     # Several hold-out flights pooled, as `heli identify --noise-check-logs` pools them: each cell is the
     # fraction over both flights' steps.
+    # (Another flight: the training log given as a hold-out flight is refused, issue 51.)
+    other = str(logs / "test2" / "log.csv")
     result = subprocess.run([cli, "heli", "identify", "--train", train, "--test", test, *IDENTIFY, "--threads", "2",
-                             "--noise-check-logs", train, "--out", str(tmp_path / "pooled")],
+                             "--noise-check-logs", other, "--out", str(tmp_path / "pooled")],
                             capture_output=True, text=True)
     assert result.returncode == 0, result.stdout + result.stderr
-    on_train = pegasus.noise_check(from_path, pegasus.read_flight_log(train), reset_s=2.0)
-    pooled = pegasus.noise_check(from_path, [pegasus.read_flight_log(test), pegasus.read_flight_log(train)])
-    steps = {name: np.asarray(c["steps"])[:, None] for name, c in [("test", check), ("train", on_train),
+    on_other = pegasus.noise_check(from_path, pegasus.read_flight_log(other), reset_s=2.0)
+    pooled = pegasus.noise_check(from_path, [pegasus.read_flight_log(test), pegasus.read_flight_log(other)])
+    steps = {name: np.asarray(c["steps"])[:, None] for name, c in [("test", check), ("other", on_other),
                                                                    ("pooled", pooled)]}
-    assert np.array_equal(steps["pooled"], steps["test"] + steps["train"])
-    counts = check["outside"] * steps["test"] + on_train["outside"] * steps["train"]
+    assert np.array_equal(steps["pooled"], steps["test"] + steps["other"])
+    counts = check["outside"] * steps["test"] + on_other["outside"] * steps["other"]
     assert np.allclose(pooled["outside"] * steps["pooled"], counts, rtol=0, atol=1e-9)
-    assert not np.array_equal(check["outside"], on_train["outside"])
+    assert not np.array_equal(check["outside"], on_other["outside"])
     summary = json.loads((tmp_path / "pooled" / "summary.json").read_text())
     assert dict(zip(pooled["names"], pooled["outside_fraction"])) == summary["outside_2sigma_fraction"]
-    assert [flight["log"] for flight in summary["noise_check_by_log"]] == [test, train]
+    assert [flight["log"] for flight in summary["noise_check_by_log"]] == [test, other]
     class Flights:  # a sequence whose items exist only while asked for
         def __len__(self):
             return 2
@@ -88,9 +90,9 @@ def test_a_model_from_a_csv_path_or_arrays_is_the_cli_model(logs, cli, tmp_path)
         def __getitem__(self, i):
             if i >= 2:
                 raise IndexError(i)
-            return pegasus.read_flight_log([test, train][i])
+            return pegasus.read_flight_log([test, other][i])
 
-    for flights in [(pegasus.read_flight_log(test), pegasus.read_flight_log(train)), Flights()]:
+    for flights in [(pegasus.read_flight_log(test), pegasus.read_flight_log(other)), Flights()]:
         again = pegasus.noise_check(from_path, flights)
         assert np.array_equal(again["outside"], pooled["outside"]) and again["steps"] == pooled["steps"]
     with pytest.raises(TypeError, match="test: expected a FlightLog or a sequence of FlightLog"):

@@ -58,6 +58,9 @@ struct ControlLineFormat {
   std::string time_field = "time";
   std::vector<std::string> state_fields{kLoggedStateNames.begin(), kLoggedStateNames.end()};
   std::vector<std::string> control_names{kControlNames.begin(), kControlNames.end()};
+  // Columns a header may name besides the time, the state fields and control_names: a log row's control
+  // columns where their names differ from the answer's (a vehicle's channel fields). Read past, not ignored.
+  std::vector<std::string> control_columns;
   // The 12 states from the state fields' values; empty: they are the 12 states.
   std::function<LoggedState(std::span<const double>)> state_of;
   // The answer's values, in control_names order, from a1..a4; empty: a1..a4 as they are.

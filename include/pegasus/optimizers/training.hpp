@@ -84,6 +84,10 @@ struct TrainingStage {
 
 struct TrainingPlan {
   std::vector<TrainingStage> stages;
+  // A best U-hat that is not finite throws NonFiniteObjective (a run on it must never end as a success);
+  // false: Train returns it, for a caller that reports it as its own verdict (mujoco train: summary.json's
+  // uhat_finite and exit code 1).
+  bool refuse_nonfinite_result = true;
   // The run's seed: the root of every stage's optimizer seeds.
   std::uint64_t seed = 1;
   // Optimizer iterations between checkpoints (0: none); every checkpoint goes to on_checkpoint.
