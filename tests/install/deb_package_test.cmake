@@ -4,15 +4,7 @@
 # Python package from where Debian's python3 would find it. Run by ctest with
 #   -DBUILD_DIR=... -DSOURCE_DIR=... -DWORK_DIR=...
 # (the Python part where the build has the Python package).
-file(REMOVE_RECURSE ${WORK_DIR})
-file(MAKE_DIRECTORY ${WORK_DIR})
-function(step)
-  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  if(NOT rc EQUAL 0)
-    message(FATAL_ERROR "failed (${rc}): ${ARGN}\n${out}\n${err}")
-  endif()
-  set(last_output "${out}" PARENT_SCOPE)
-endfunction()
+include(${CMAKE_CURRENT_LIST_DIR}/steps.cmake)
 step(cpack -G DEB --config ${BUILD_DIR}/CPackConfig.cmake -B ${WORK_DIR}/package)
 file(GLOB debs ${WORK_DIR}/package/pegasus_*.deb)
 list(LENGTH debs count)

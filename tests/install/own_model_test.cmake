@@ -1,15 +1,7 @@
 # examples.OwnModel: installs this build tree into a fresh prefix, then configures, builds and runs
 # examples/own-model against it as an outside project would (find_package(pegasus)). Run by ctest with
 #   -DBUILD_DIR=... -DSOURCE_DIR=... -DWORK_DIR=...
-file(REMOVE_RECURSE ${WORK_DIR})
-file(MAKE_DIRECTORY ${WORK_DIR})
-function(step)
-  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  if(NOT rc EQUAL 0)
-    message(FATAL_ERROR "failed (${rc}): ${ARGN}\n${out}\n${err}")
-  endif()
-  set(last_output "${out}" PARENT_SCOPE)
-endfunction()
+include(${CMAKE_CURRENT_LIST_DIR}/steps.cmake)
 step(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${WORK_DIR}/prefix)
 foreach(installed include/pegasus/version.hpp include/pegasus/models/model.hpp bin/pegasus
         lib/cmake/pegasus/pegasusConfig.cmake)
