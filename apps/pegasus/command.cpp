@@ -62,7 +62,7 @@ class KeptOutput : public std::streambuf {
  public:
   static constexpr std::size_t kMaxKept = 64 * 1024;
   explicit KeptOutput(std::streambuf* to) : to_(to) {}
-  // The kept text's lines, and those of them that are warnings ("warning: ...").
+  // The kept text's non-empty lines.
   std::vector<std::string> lines() const {
     std::vector<std::string> out;
     for (std::size_t start = 0; start < kept_.size();) {
@@ -76,20 +76,18 @@ class KeptOutput : public std::streambuf {
  protected:
   int overflow(int c) override {
     if (c == traits_type::eof()) return traits_type::not_eof(c);
-    keep(static_cast<char>(c), 1);
-    return to_->sputc(static_cast<char>(c));
+    const char ch = static_cast<char>(c);
+    keep(&ch, 1);
+    return to_->sputc(ch);
   }
   std::streamsize xsputn(const char* s, std::streamsize n) override {
-    keep_text(s, static_cast<std::size_t>(n));
+    keep(s, static_cast<std::size_t>(n));
     return to_->sputn(s, n);
   }
   int sync() override { return to_->pubsync(); }
 
  private:
-  void keep(char c, std::size_t n) {
-    if (kept_.size() < kMaxKept) kept_.append(n, c);
-  }
-  void keep_text(const char* s, std::size_t n) {
+  void keep(const char* s, std::size_t n) {
     if (kept_.size() < kMaxKept) kept_.append(s, std::min(n, kMaxKept - kept_.size()));
   }
   std::streambuf* to_;

@@ -82,6 +82,12 @@ std::string size_limit_reason(std::uint64_t max_bytes) {
              : fmt::format("larger than the {} MiB limit of an input file", max_bytes >> 20);
 }
 
+std::string read_failure_reason(const std::exception& e) {
+  std::string reason = e.what();
+  if (const auto colon = reason.rfind(": "); colon != std::string::npos) reason.erase(0, colon + 2);
+  return reason;
+}
+
 std::string read_file(const std::filesystem::path& file, std::uint64_t max_bytes) {
   // Callers decide whose fault a read failure is (a user's input file, or the run's own), so this one stays
   // a plain runtime_error whose reason follows the last ": ".

@@ -35,8 +35,7 @@ nlohmann::json read_json_input(const std::filesystem::path& file, std::string_vi
     text = read_file(file);
   } catch (const std::exception& e) {
     // read_file's message names the file and the system's reason; keep only the reason.
-    std::string reason = e.what();
-    if (const auto colon = reason.rfind(": "); colon != std::string::npos) reason.erase(0, colon + 2);
+    const std::string reason = read_failure_reason(e);
     throw InputError(fmt::format("{}: expected a readable {} file, got '{}'", name, what, reason));
   }
   return parse_json_input(text, file.string(), what);

@@ -499,8 +499,7 @@ UlogFile read_ulog(const std::filesystem::path& file, const UlogReadOptions& opt
   try {
     bytes = read_file(file);
   } catch (const std::exception& e) {
-    std::string reason = e.what();  // "cannot read FILE: REASON"
-    if (const auto colon = reason.rfind(": "); colon != std::string::npos) reason.erase(0, colon + 2);
+    const std::string reason = read_failure_reason(e);
     throw InputError(fmt::format("{}: cannot read the ULog file ({})", file.string(), reason));
   }
   return parse_ulog(

@@ -316,8 +316,7 @@ void ConfigSchema::load_toml_file(const std::filesystem::path& file,
   try {
     text = read_file(file, kMaxSettingsFileBytes);
   } catch (const std::exception& e) {
-    std::string reason = e.what();  // "cannot read FILE: REASON"
-    if (const auto colon = reason.rfind(": "); colon != std::string::npos) reason.erase(0, colon + 2);
+    const std::string reason = read_failure_reason(e);
     throw InputError(fmt::format("{}: cannot read config file: {}", file.string(), reason));
   }
   load_toml_string(text, file.string(), overridden);

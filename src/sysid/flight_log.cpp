@@ -169,8 +169,7 @@ std::string read_log_text(const std::filesystem::path& file) {
   try {
     return read_file(file);  // refuses a directory by name, where a stream would throw from underflow
   } catch (const std::exception& e) {
-    std::string reason = e.what();
-    if (const auto colon = reason.rfind(": "); colon != std::string::npos) reason.erase(0, colon + 2);
+    const std::string reason = read_failure_reason(e);
     throw InputError(fmt::format("{}: cannot read the flight log ({})", file.string(), reason));
   }
 }

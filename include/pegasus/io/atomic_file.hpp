@@ -3,6 +3,7 @@
 // (SIGKILL, power loss) in the middle of writing: the text goes to a hidden temporary file next to the
 // target, is flushed to disk, and is renamed over the target (rename is atomic on POSIX file systems).
 #include <cstdint>
+#include <exception>
 #include <filesystem>
 #include <string>
 #include <string_view>
@@ -24,6 +25,9 @@ inline constexpr std::uint64_t kMaxDataFileBytes = std::uint64_t{2} << 30;      
 std::string read_file(const std::filesystem::path& file, std::uint64_t max_bytes = kMaxDataFileBytes);
 // The same limit said as a reason ("larger than the 16 MiB limit of an input file").
 std::string size_limit_reason(std::uint64_t max_bytes);
+// The reason of a read_file failure without its "cannot read FILE: " (what a reader that names the file
+// itself quotes).
+std::string read_failure_reason(const std::exception& e);
 
 // SHA-256 of a file's bytes as 64 hex digits (OpenSSL); InputError naming the file when it cannot be read.
 std::string file_sha256(const std::filesystem::path& file);
