@@ -40,6 +40,7 @@
 #include "pegasus/io/atomic_file.hpp"
 #include "pegasus/io/json_csv.hpp"
 #include "pegasus/optimizers/optimizer.hpp"
+#include "pegasus/parallel/job_transport.hpp"
 #include "pegasus/parallel/mpi.hpp"
 #include "pegasus/sysid/identify.hpp"
 
@@ -298,7 +299,7 @@ int run(const Args& a) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const mpi::Session session(&argc, &argv);
+  const mpi::Session session(&argc, &argv, mpi::linked_transport());
   try {
     return run(parse(argc, argv));
   } catch (const std::exception& e) {

@@ -3,9 +3,7 @@
 #include <array>
 #include <cstdio>
 #include <memory>
-#include <pegasus/evaluators/pegasus_evaluator.hpp>
-#include <pegasus/optimizers/optimizer.hpp>
-#include <pegasus/policies/policies.hpp>
+#include <pegasus/pegasus.hpp>
 
 struct Cart {  // state (x, v); the wind is uniform in [-1, 1] N per 0.1 s step
   using State = std::array<double, 2>;

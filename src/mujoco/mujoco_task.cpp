@@ -14,6 +14,7 @@
 #include "pegasus/core/error.hpp"
 #include "pegasus/core/untrusted_text.hpp"
 #include "pegasus/io/atomic_file.hpp"
+#include "pegasus/io/sha256.hpp"
 
 namespace pegasus {
 

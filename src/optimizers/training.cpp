@@ -8,7 +8,6 @@
 
 #include "../core/validation.hpp"
 #include "pegasus/core/error.hpp"
-#include "pegasus/evaluators/monte_carlo.hpp"
 #include "pegasus/random/seed.hpp"
 
 namespace pegasus {

@@ -13,6 +13,7 @@
 #include "pegasus/core/error.hpp"
 #include "pegasus/io/atomic_file.hpp"
 #include "pegasus/io/json_csv.hpp"
+#include "pegasus/io/sha256.hpp"
 #include "pegasus/logs/ulog.hpp"
 #include "pegasus/runs/flight_charts.hpp"
 #include "pegasus/runs/heli_config.hpp"

@@ -19,6 +19,7 @@
 #include "pegasus/core/untrusted_text.hpp"
 #include "pegasus/io/atomic_file.hpp"
 #include "pegasus/io/json_csv.hpp"
+#include "pegasus/io/sha256.hpp"
 #include "pegasus/parallel/mpi.hpp"
 
 namespace pegasus {

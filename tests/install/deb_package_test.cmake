@@ -37,6 +37,7 @@ step(${CMAKE_COMMAND} -S ${SOURCE_DIR}/examples/own-model -B ${WORK_DIR}/build -
 step(${CMAKE_COMMAND} --build ${WORK_DIR}/build)
 step(${WORK_DIR}/build/own_model)
 message(STATUS "own_model: ${last_output}")
+check_core_only_links(${WORK_DIR}/build/own_model)
 if(EXISTS ${BUILD_DIR}/python/pegasus/__init__.py)
   if(NOT EXISTS ${root}/usr/lib/python3/dist-packages/pegasus/__init__.py)
     message(FATAL_ERROR "the package lacks /usr/lib/python3/dist-packages/pegasus")

@@ -14,5 +14,6 @@ step(${CMAKE_COMMAND} -S ${SOURCE_DIR}/examples/own-model -B ${WORK_DIR}/build -
 step(${CMAKE_COMMAND} --build ${WORK_DIR}/build)
 step(${WORK_DIR}/build/own_model)
 message(STATUS "own_model: ${last_output}")
+check_core_only_links(${WORK_DIR}/build/own_model)
 # The installed CLI runs from its prefix and finds nothing of the build tree's.
 step(${WORK_DIR}/prefix/bin/pegasus --version)

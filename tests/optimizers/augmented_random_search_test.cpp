@@ -7,7 +7,7 @@
 
 #include "pegasus/core/error.hpp"
 #include "pegasus/optimizers/hill_climbing.hpp"
-#include "pegasus/optimizers/test_problems.hpp"
+#include "support/test_problems.hpp"
 
 namespace pegasus {
 namespace {

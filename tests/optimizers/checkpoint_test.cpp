@@ -19,8 +19,8 @@
 
 #include "pegasus/core/error.hpp"
 #include "pegasus/optimizers/optimizer.hpp"
-#include "pegasus/optimizers/test_problems.hpp"
 #include "support/bits.hpp"
+#include "support/test_problems.hpp"
 
 namespace pegasus {
 namespace {

@@ -8,7 +8,7 @@
 #include <limits>
 
 #include "pegasus/core/error.hpp"
-#include "pegasus/optimizers/test_problems.hpp"
+#include "support/test_problems.hpp"
 
 namespace pegasus {
 namespace {

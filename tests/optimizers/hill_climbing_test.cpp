@@ -7,7 +7,7 @@
 #include <functional>
 
 #include "pegasus/core/error.hpp"
-#include "pegasus/optimizers/test_problems.hpp"
+#include "support/test_problems.hpp"
 
 namespace pegasus {
 namespace {

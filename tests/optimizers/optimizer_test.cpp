@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "pegasus/core/error.hpp"
-#include "pegasus/optimizers/test_problems.hpp"
+#include "support/test_problems.hpp"
 
 namespace pegasus {
 namespace {

@@ -10,8 +10,8 @@
 
 #include "pegasus/core/error.hpp"
 #include "pegasus/evaluators/monte_carlo.hpp"
-#include "pegasus/optimizers/test_problems.hpp"
 #include "pegasus/random/seed.hpp"
+#include "support/test_problems.hpp"
 
 namespace pegasus {
 namespace {

@@ -11,6 +11,7 @@
 
 #include "pegasus/core/error.hpp"
 #include "pegasus/io/atomic_file.hpp"
+#include "pegasus/io/sha256.hpp"
 #include "support/input_error.hpp"
 #include "support/scratch_dir.hpp"
 

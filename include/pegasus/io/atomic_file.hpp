@@ -29,11 +29,6 @@ std::string size_limit_reason(std::uint64_t max_bytes);
 // itself quotes).
 std::string read_failure_reason(const std::exception& e);
 
-// SHA-256 of a file's bytes as 64 hex digits (OpenSSL); InputError naming the file when it cannot be read.
-std::string file_sha256(const std::filesystem::path& file);
-// The same of bytes in memory.
-std::string sha256_hex(std::string_view bytes);
-
 // The temporary name write_file_atomic uses for `file` (".NAME.tmp" in the same folder).
 std::filesystem::path atomic_temp_path(const std::filesystem::path& file);
 

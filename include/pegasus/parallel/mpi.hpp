@@ -23,10 +23,13 @@
 // called on the main thread outside any ThreadPool::parallel_for body; elsewhere (a worker thread, a nested
 // call) it computes every item locally, which gives the same numbers.
 //
-// Without MPI (PEGASUS_MPI=OFF, or a process not started by mpirun) there is one rank and nothing here
+// The ranks talk through a Transport: Open MPI's comes in the pegasus::mpi component
+// (pegasus/parallel/open_mpi.hpp), which a program hands to its Session. Without one (pegasus::core alone, a
+// build with PEGASUS_MPI=OFF, or a process not started by mpirun) there is one rank and nothing here
 // communicates; the same code paths run.
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -36,16 +39,38 @@
 
 namespace pegasus::mpi {
 
-// True when this build can run on several ranks (configured with PEGASUS_MPI=ON).
-bool compiled_with_mpi();
+// How the ranks of a job exchange data. The collectives below call it only when the job has several ranks, on
+// the main thread; every rank makes the same calls in the same order.
+class Transport {
+ public:
+  virtual ~Transport() = default;
+  virtual int rank() const = 0;
+  virtual int size() const = 0;
+  // Every rank's `mine`, concatenated in rank order into `all`; counts[r] values of rank r start at
+  // displacements[r].
+  virtual void allgatherv(std::span<const double> mine, std::span<double> all, std::span<const int> counts,
+                          std::span<const int> displacements) = 0;
+  // Rank 0's bytes on every rank (`bytes` is sized alike on every rank).
+  virtual void broadcast(std::span<char> bytes) = 0;
+  virtual void broadcast(std::uint64_t& value) = 0;
+  // Every rank's value, indexed by rank.
+  virtual void allgather(int value, std::span<int> all) = 0;
+  virtual void barrier() = 0;
+  // Stops every rank of the job with exit status `code`.
+  [[noreturn]] virtual void abort(int code) = 0;
+};
 
-// Starts MPI when the process was launched by mpirun (or srun), and finalizes it when destroyed. Make one, at
-// the top of main. Without a launcher MPI is not started at all (no singleton start-up cost). A build
-// without MPI started by `mpirun -np N` with N > 1 prints one line on the first rank and exits(2): N
-// independent copies would each run the whole job into the same run directory.
+// Joins the job a launcher started this process in (open_mpi::join, from the pegasus::mpi component).
+using TransportStart = std::unique_ptr<Transport> (*)(int* argc, char*** argv);
+
+// Joins the job when the process was launched by mpirun (or srun), through `join`, and leaves it when
+// destroyed. Make one, at the top of main. Without a launcher nothing is started (no start-up cost). Without
+// a way to join (join == nullptr: pegasus::core alone, or a build without MPI), a process started by `mpirun
+// -np N` with N > 1 prints one line on the first rank and exits(2): N independent copies would each run the
+// whole job into the same run directory.
 class Session {
  public:
-  Session(int* argc, char*** argv);
+  Session(int* argc, char*** argv, TransportStart join);
   ~Session();
   Session(const Session&) = delete;
   Session& operator=(const Session&) = delete;
@@ -113,6 +138,9 @@ void barrier();
 void set_stop_message(const std::string& line);
 // Rank 0 has said why the job ends: when mpirun then stops it (another rank exited first), no second line.
 void stop_message_said();
+// For a Transport whose collective failed (a peer died before the launcher's SIGTERM arrived): rank 0 writes
+// the stop line, and the process ends; the launcher ends the rest.
+[[noreturn]] void stop_after_failed_collective();
 
 // Time and volume of the allgathers of this process, for benchmarks.
 struct CommStats {
