@@ -24,6 +24,12 @@
 // the scenario set and every optimizer stream derive from it, so each seed is another sample of the
 // problem and all three methods of one seed maximise the same U-hat.
 //
+// The suite of issue 48 (--problems cartpole,integrator,mountaincar): the user-style problems of
+// bench/optimizer_suite.py written in C++ (the same equations, scenario seeds and linear policy a = clip(W
+// o)), run with every method that takes unbounded continuous parameters (gradient, hill-climb, cmaes, ars,
+// bobyqa, sbplx) at its default options. A seed's problem is the Python suite's, so the two paths can be
+// compared.
+//
 // Prints a Markdown table (mean over the seeds of U-hat at each budget, best seed in brackets) and writes
 // every run's history to --out.
 #include <fmt/format.h>
@@ -31,14 +37,19 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cmath>
 #include <iostream>
 #include <limits>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <numbers>
+#include <span>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
+#include "pegasus/evaluators/pegasus_evaluator.hpp"
 #include "pegasus/experiments/bicycle_experiment.hpp"
 #include "pegasus/heli/aircraft.hpp"
 #include "pegasus/heli/hover_task.hpp"
@@ -46,6 +57,7 @@
 #include "pegasus/io/atomic_file.hpp"
 #include "pegasus/optimizers/optimizer.hpp"
 #include "pegasus/optimizers/training.hpp"
+#include "pegasus/policies/policies.hpp"
 #include "pegasus/random/seed.hpp"
 #include "pegasus/sysid/identify.hpp"
 
@@ -107,7 +119,9 @@ Args parse(int argc, char** argv) {
       throw std::runtime_error("unknown option " + k + " (see the comment at the top of the source)");
   }
   for (const auto& p : a.problems)
-    if (p != "hover" && p != "bicycle") throw std::runtime_error("--problems: expected hover and/or bicycle");
+    if (p != "hover" && p != "bicycle" && p != "cartpole" && p != "integrator" && p != "mountaincar")
+      throw std::runtime_error(
+          "--problems: expected some of hover, bicycle, cartpole, integrator, mountaincar");
   if (a.seeds < 1 || a.threads < 1 || a.budgets.empty())
     throw std::runtime_error("--seeds, --threads: expected >= 1; --budgets: expected a list");
   std::sort(a.budgets.begin(), a.budgets.end());
@@ -116,18 +130,117 @@ Args parse(int argc, char** argv) {
 }
 
 constexpr std::array<const char*, 3> kMethods = {"gradient", "hill-climb", "cmaes"};
+// The suite's: every method for unbounded continuous parameters (crs2 and esch need bounds, exhaustive a
+// table).
+constexpr std::array<const char*, 6> kSuiteMethods = {"gradient", "hill-climb", "cmaes",
+                                                      "ars",      "bobyqa",     "sbplx"};
+
+// The suite's problems (bench/optimizer_suite.py has the same in numpy; its docstring says what each is).
+struct CartPole {
+  using State = std::array<double, 4>;
+  using Action = std::array<double, 1>;
+  using Observation = State;
+  static constexpr double kGravity = 9.8, kCartMass = 1.0, kPoleMass = 0.1, kHalfLength = 0.5, kDt = 0.02;
+  int state_dim() const { return 4; }
+  int noise_dim() const { return 1; }
+  int initial_noise_dim() const { return 4; }
+  ActionSpace action_space() const { return ActionSpace::box({-10}, {10}); }
+  State initial_state(std::span<const double> p0) const {
+    return {0.1 * (p0[0] - 0.5), 0.1 * (p0[1] - 0.5), 0.1 * (p0[2] - 0.5), 0.1 * (p0[3] - 0.5)};
+  }
+  State step(const State& s, const Action& a, std::span<const double> p) const {
+    const double force = std::clamp(a[0], -10.0, 10.0) + 4.0 * (p[0] - 0.5);
+    const double total = kCartMass + kPoleMass, c = std::cos(s[2]), sn = std::sin(s[2]);
+    const double temp = (force + kPoleMass * kHalfLength * s[3] * s[3] * sn) / total;
+    const double alpha = (kGravity * sn - c * temp) / (kHalfLength * (4.0 / 3.0 - kPoleMass * c * c / total));
+    const double acc = temp - kPoleMass * kHalfLength * alpha * c / total;
+    return {s[0] + kDt * s[1], s[1] + kDt * acc, s[2] + kDt * s[3], s[3] + kDt * alpha};
+  }
+  bool terminal(const State& s) const {
+    return std::abs(s[0]) > 2.4 || std::abs(s[2]) > 12.0 * std::numbers::pi / 180.0;
+  }
+  Observation observe(const State& s) const { return s; }
+  double reward(const State& s, const Action&, const State& next) const {
+    (void)s;
+    return terminal(next) ? 0.0 : 1.0;
+  }
+};
+
+struct WindyIntegrator {
+  using State = std::array<double, 4>;  // x, x', the integral of x, the steady wind (not observed)
+  using Action = std::array<double, 1>;
+  using Observation = std::array<double, 3>;
+  static constexpr double kDt = 0.1;
+  int state_dim() const { return 4; }
+  int noise_dim() const { return 1; }
+  int initial_noise_dim() const { return 3; }
+  ActionSpace action_space() const { return ActionSpace::box({-5}, {5}); }
+  State initial_state(std::span<const double> p0) const {
+    return {2.0 * p0[0] - 1.0, p0[1] - 0.5, 0.0, 2.0 * p0[2] - 1.0};
+  }
+  State step(const State& s, const Action& a, std::span<const double> p) const {
+    const double v = s[1] + kDt * (std::clamp(a[0], -5.0, 5.0) + s[3] + (p[0] - 0.5));
+    const double x = s[0] + kDt * v;
+    return {x, v, s[2] + kDt * x, s[3]};
+  }
+  bool terminal(const State&) const { return false; }
+  Observation observe(const State& s) const { return {s[0], s[1], s[2]}; }
+  double reward(const State&, const Action& a, const State& next) const {
+    return -next[0] * next[0] - 0.01 * a[0] * a[0];
+  }
+};
+
+struct NoisyMountainCar {
+  using State = std::array<double, 2>;
+  using Action = std::array<double, 1>;
+  using Observation = State;
+  int state_dim() const { return 2; }
+  int noise_dim() const { return 1; }
+  int initial_noise_dim() const { return 1; }
+  ActionSpace action_space() const { return ActionSpace::box({-1}, {1}); }
+  State initial_state(std::span<const double> p0) const { return {-0.6 + 0.2 * p0[0], 0.0}; }
+  State step(const State& s, const Action& a, std::span<const double> p) const {
+    const double u = std::clamp(a[0], -1.0, 1.0);
+    double v =
+        std::clamp(s[1] + 0.0015 * u - 0.0025 * std::cos(3.0 * s[0]) + 0.001 * (p[0] - 0.5), -0.07, 0.07);
+    const double x = std::clamp(s[0] + v, -1.2, 0.6);
+    if (x <= -1.2 && v < 0) v = 0.0;
+    return {x, v};
+  }
+  bool terminal(const State& s) const { return s[0] >= 0.45; }
+  Observation observe(const State& s) const { return {s[0] + 0.5, 100.0 * s[1]}; }
+  double reward(const State&, const Action& a, const State& next) const {
+    const double u = std::clamp(a[0], -1.0, 1.0);
+    return -0.1 * u * u + (terminal(next) ? 100.0 : 0.0);
+  }
+};
+
+// The observation itself as the linear policy's features (Python's LinearPolicy: a = clip(W o)).
+template <std::size_t N>
+struct Identity {
+  int size() const { return static_cast<int>(N); }
+  void operator()(const std::array<double, N>& o, std::span<double> phi) const {
+    std::copy(o.begin(), o.end(), phi.begin());
+  }
+};
+
+// `options` running `method` with at most `budget` evaluations (and as many iterations).
+OptimizerOptions with_budget(OptimizerOptions options, const std::string& method, std::int64_t budget) {
+  options.method = method;
+  options.gradient.max_iterations = options.hill_climbing.max_iterations = options.cmaes.max_iterations =
+      options.ars.max_iterations = budget;
+  options.gradient.max_evaluations = options.hill_climbing.max_evaluations = options.cmaes.max_evaluations =
+      options.ars.max_evaluations = options.nlopt.max_evaluations = budget;
+  return options;
+}
 
 // The options of `method` for a problem whose trainer uses `defaults`, allowed `budget` evaluations.
 OptimizerOptions method_options(OptimizerOptions defaults, const std::string& method, std::int64_t budget,
                                 std::uint64_t seed) {
-  defaults.method = method;
-  defaults.gradient.max_iterations = defaults.hill_climbing.max_iterations = defaults.cmaes.max_iterations =
-      budget;
-  defaults.gradient.max_evaluations = defaults.hill_climbing.max_evaluations =
-      defaults.cmaes.max_evaluations = budget;
+  OptimizerOptions options = with_budget(std::move(defaults), method, budget);
   // The streams as the trainers derive them from the run's seed (hover_task.cpp, bicycle_experiment.cpp).
-  DeriveOptimizerSeeds(seed, SeedDomains(), &defaults);
-  return defaults;
+  DeriveOptimizerSeeds(seed, SeedDomains(), &options);
+  return options;
 }
 
 // U-hat of the best policy found within `budget` evaluations: the last history row within it, else the
@@ -207,6 +320,45 @@ std::vector<Run> run_bicycle(const Args& a, ThreadPool& pool) {
   return runs;
 }
 
+// One suite problem: scenarios 20, the horizon and gamma 1 of bench/optimizer_suite.py, every suite method
+// from W = 0 at its default options (OptimizerOptions{}'s) within the largest budget.
+template <class Model>
+std::vector<Run> run_suite_problem(const Args& a, const std::string& name, int horizon,
+                                   std::shared_ptr<ThreadPool> pool) {
+  const Model model;
+  constexpr std::size_t kObservations = std::tuple_size_v<typename Model::Observation>;
+  const LinearPolicy<1, Identity<kObservations>> policy(Identity<kObservations>{}, model.action_space());
+  std::vector<Run> runs;
+  for (int s = 1; s <= a.seeds; ++s) {
+    const ScenarioSet scenarios({.seed = static_cast<std::uint64_t>(s),
+                                 .count = 20,
+                                 .horizon = horizon,
+                                 .noise_dim = model.noise_dim(),
+                                 .initial_noise_dim = model.initial_noise_dim()});
+    PegasusObjective objective(PegasusEvaluator(model, policy, scenarios, {.gamma = 1.0, .horizon = horizon}),
+                               pool);
+    for (const char* method : kSuiteMethods) {
+      const OptimizerOptions options = with_budget(OptimizerOptions{}, method, a.budgets.back());
+      Theta theta;
+      Run run{name, method, static_cast<std::uint64_t>(s), {}, 0};
+      const auto t = Clock::now();
+      Solve(options, objective, &theta, &run.summary);
+      run.seconds = std::chrono::duration<double>(Clock::now() - t).count();
+      std::cerr << name << " seed " << s << ": " << run.summary.BriefReport() << "\n";
+      runs.push_back(std::move(run));
+    }
+  }
+  return runs;
+}
+
+std::vector<Run> run_problem(const Args& a, const std::string& problem, std::shared_ptr<ThreadPool> pool) {
+  if (problem == "hover") return run_hover(a, pool);
+  if (problem == "bicycle") return run_bicycle(a, *pool);
+  if (problem == "cartpole") return run_suite_problem<CartPole>(a, problem, 500, pool);
+  if (problem == "integrator") return run_suite_problem<WindyIntegrator>(a, problem, 200, pool);
+  return run_suite_problem<NoisyMountainCar>(a, problem, 400, pool);
+}
+
 std::string table(const Args& a, const std::vector<Run>& runs) {
   std::string out = "| problem | method |";
   std::string rule = "|---|---|";
@@ -216,7 +368,7 @@ std::string table(const Args& a, const std::vector<Run>& runs) {
   }
   out += " evaluations used | seconds per run |\n" + rule + "---:|---:|\n";
   for (const auto& problem : a.problems) {
-    for (const char* method : kMethods) {
+    for (const char* method : kSuiteMethods) {
       std::vector<const Run*> mine;
       for (const auto& r : runs)
         if (r.problem == problem && r.method == method) mine.push_back(&r);
@@ -270,7 +422,7 @@ int main(int argc, char** argv) {
     auto pool = std::make_shared<ThreadPool>(a.threads);
     std::vector<Run> runs;
     for (const auto& problem : a.problems) {
-      auto more = problem == "hover" ? run_hover(a, pool) : run_bicycle(a, *pool);
+      auto more = run_problem(a, problem, pool);
       runs.insert(runs.end(), std::make_move_iterator(more.begin()), std::make_move_iterator(more.end()));
     }
     std::cout << table(a, runs);

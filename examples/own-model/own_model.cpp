@@ -35,8 +35,8 @@ int main() {
   pegasus::PegasusObjective objective(
       pegasus::PegasusEvaluator(Cart{}, pd, scenarios, {.gamma = 0.99, .horizon = 100}),
       std::make_shared<pegasus::ThreadPool>(2));
-  pegasus::OptimizerOptions options;  // gradient ascent; "hill-climb", "bobyqa", ... work the same way
-  options.gradient.max_iterations = 50;
+  pegasus::OptimizerOptions options;  // CMA-ES; "gradient", "hill-climb", "bobyqa", ... work the same way
+  options.cmaes.max_iterations = 50;
   pegasus::Theta theta;  // empty: start from the spec's initial values
   pegasus::OptimizerSummary summary;
   pegasus::Solve(options, objective, &theta, &summary);

@@ -128,7 +128,7 @@ class AugmentedRandomSearchOptions(_Checkpointing):
 
 class OptimizerOptions:
     _fields: Tuple[str, ...]
-    def __init__(self, method: str = "gradient") -> None: ...
+    def __init__(self, method: str = "cmaes") -> None: ...
     method: str
     exhaustive: ExhaustiveSearchOptions
     gradient: GradientAscentOptions

@@ -237,8 +237,9 @@ BicycleProblem, FunctionObjective, ...)doc")
 
   auto optimizer_options =
       py::class_<OptimizerOptions>(m, "OptimizerOptions", R"doc(
-Which optimizer runs (method: one of optimizer_methods()) and the options of each method, one attribute per
-options section; only the selected method's are used and validated.)doc")
+Which optimizer runs (method: one of optimizer_methods(); "cmaes" by default, the method of the optimizer suite's
+table in the manual's "Choosing an optimizer") and the options of each method, one attribute per options section;
+only the selected method's are used and validated.)doc")
           .def(py::init<>())
           .def(py::init([](const std::string& method) {
                  const auto names = OptimizerMethodNames();
