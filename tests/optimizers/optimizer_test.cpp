@@ -68,7 +68,10 @@ TEST(OptimizerDispatch, IsValidNamesTheMethodOrThePrefixedFieldOfTheSelectedMeth
   EXPECT_THAT(error, StartsWith("method: expected one of exhaustive, gradient, hill-climb, bobyqa"));
 
   options = {};
+  EXPECT_EQ(options.method, "cmaes");  // the default (the optimizer suite's choice)
   options.gradient.max_step = -1.0;
+  EXPECT_TRUE(options.IsValid(&error)) << error;  // not the selected method's
+  options.method = "gradient";
   EXPECT_FALSE(options.IsValid(&error));
   EXPECT_THAT(error, StartsWith("gradient.max_step:"));
   options.method = "hill-climb";  // only the selected method's options are checked
