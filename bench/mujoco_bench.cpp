@@ -9,6 +9,9 @@
 // of the work itself). `ratio` = plain time / Pegasus time per physics step (the issue asks >= 0.95).
 // Both step with the model's integrator (issue 52): BM_MujocoOverhead_Hopper_RK4 and _Implicit run the hopper
 // with its MJCF's <option> given integrator="RK4" or "implicit" (a copy written to the temporary folder).
+// The _GymSwimmer and _GymHopper benchmarks run experiments/mujoco/gymnasium/'s tasks on the user's copies of
+// Gymnasium's swimmer.xml and hopper.xml (RK4) in the folder PEGASUS_GYMNASIUM_ASSETS names (skipped
+// without).
 #ifdef PEGASUS_HAVE_MUJOCO
 #include <benchmark/benchmark.h>
 #include <mujoco/mujoco.h>
@@ -16,6 +19,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -50,6 +54,14 @@ std::shared_ptr<const MujocoEnvironment> hopper() {
 }
 std::shared_ptr<const MujocoEnvironment> arm26() {
   return environment("/usr/share/mujoco/model/tendon_arm/arm26.xml", "arm26_posture.toml");
+}
+
+// A Gymnasium task of experiments/mujoco/gymnasium/ on the user's copy of Gymnasium's model, or null when
+// PEGASUS_GYMNASIUM_ASSETS (the folder of Gymnasium's assets/*.xml) is not set.
+std::shared_ptr<const MujocoEnvironment> gymnasium(const std::string& name) {
+  const char* assets = std::getenv("PEGASUS_GYMNASIUM_ASSETS");
+  if (assets == nullptr) return nullptr;
+  return environment(std::filesystem::path(assets) / (name + ".xml"), "gymnasium/" + name + ".toml");
 }
 
 // The hopper with another integrator: its MJCF copied into the temporary folder (its <option> gains the
@@ -143,6 +155,19 @@ void BM_MujocoOverhead_Hopper_RK4(benchmark::State& state) { Overhead(state, *ho
 void BM_MujocoOverhead_Hopper_Implicit(benchmark::State& state) { Overhead(state, *hopper_with("implicit")); }
 BENCHMARK(BM_MujocoOverhead_Hopper_RK4)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 BENCHMARK(BM_MujocoOverhead_Hopper_Implicit)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+// The Gymnasium task `name`, or null (the benchmark skipped) when PEGASUS_GYMNASIUM_ASSETS is unset.
+std::shared_ptr<const MujocoEnvironment> gymnasium_or_skip(benchmark::State& state, const std::string& name) {
+  auto env = gymnasium(name);
+  if (env == nullptr) state.SkipWithError("PEGASUS_GYMNASIUM_ASSETS is not set");
+  return env;
+}
+void GymOverhead(benchmark::State& state, const std::string& name) {
+  if (const auto env = gymnasium_or_skip(state, name)) Overhead(state, *env);
+}
+void BM_MujocoOverhead_GymSwimmer(benchmark::State& state) { GymOverhead(state, "swimmer"); }
+void BM_MujocoOverhead_GymHopper(benchmark::State& state) { GymOverhead(state, "hopper"); }
+BENCHMARK(BM_MujocoOverhead_GymSwimmer)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+BENCHMARK(BM_MujocoOverhead_GymHopper)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 
 // U-hat of a batch of 8 thetas on 16 scenarios (128 rollouts) on `threads` threads, wall time: the
 // speed-up of 2 threads over 1 is the ratio of the two rates (meaningful only on idle cores).
@@ -162,6 +187,13 @@ void BM_MujocoUhatBatch_Cartpole_8x16(benchmark::State& state) { UhatBatch(state
 void BM_MujocoUhatBatch_Arm26_8x16(benchmark::State& state) { UhatBatch(state, arm26()); }
 BENCHMARK(BM_MujocoUhatBatch_Cartpole_8x16)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_MujocoUhatBatch_Arm26_8x16)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+void GymUhatBatch(benchmark::State& state, const std::string& name) {
+  if (const auto env = gymnasium_or_skip(state, name)) UhatBatch(state, env);
+}
+void BM_MujocoUhatBatch_GymSwimmer_8x16(benchmark::State& state) { GymUhatBatch(state, "swimmer"); }
+void BM_MujocoUhatBatch_GymHopper_8x16(benchmark::State& state) { GymUhatBatch(state, "hopper"); }
+BENCHMARK(BM_MujocoUhatBatch_GymSwimmer_8x16)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_MujocoUhatBatch_GymHopper_8x16)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 #endif
