@@ -19,18 +19,12 @@ namespace {
 
 using json = nlohmann::json;
 
-// The number at a '/'-separated path of `j` (e.g. "pilot/rms_position_m"), or nothing.
+// The number at a '/'-separated path of `j` (e.g. "pilot/rms_position_m", a JSON pointer without its first
+// '/'), or nothing.
 std::optional<double> number(const json& j, std::string_view path) {
-  const json* at = &j;
-  for (std::size_t start = 0; start <= path.size();) {
-    const std::size_t end = std::min(path.find('/', start), path.size());
-    const std::string key(path.substr(start, end - start));
-    if (!at->is_object() || !at->contains(key)) return std::nullopt;
-    at = &(*at)[key];
-    start = end + 1;
-  }
-  if (!at->is_number()) return std::nullopt;
-  return at->get<double>();
+  const json::json_pointer pointer("/" + std::string(path));
+  if (!j.contains(pointer) || !j.at(pointer).is_number()) return std::nullopt;
+  return j.at(pointer).get<double>();
 }
 
 std::string crashes_text(double crashes) {
@@ -170,12 +164,132 @@ std::string mujoco_rollout_verdict(const json& s) {
   return text;
 }
 
+// bicycle ride (and train's "rides", experiment's policies): how many rides reached the goal, how far.
+std::string rides_verdict(const json& s) {
+  const auto rides = number(s, "rides"), reached = number(s, "reached"), falls = number(s, "falls");
+  if (!rides || !reached || !falls) return {};
+  std::string text = fmt::format("{:g} of {:g} rides reached the goal, {:g} fell", *reached, *rides, *falls);
+  if (const auto median = number(s, "median_distance_km"))
+    text += fmt::format("; median distance to it {:.3g} km", *median);
+  return text;
+}
+
+std::string bicycle_train_verdict(const json& s) {
+  std::string text = uhat_text(s, "initial_uhat", "final_uhat");
+  if (text.empty()) return {};
+  if (const auto rides = s.find("rides"); rides != s.end() && rides->is_object()) {
+    if (const std::string after = rides_verdict(*rides); !after.empty()) text += "; " + after;
+  }
+  return text;
+}
+
+std::string bicycle_experiment_verdict(const json& s) {
+  const auto policies = s.find("policies");
+  if (policies == s.end() || !policies->is_array() || policies->empty()) return {};
+  double reached = 0, falls = 0;
+  for (const json& p : *policies) {
+    reached += number(p, "reached").value_or(0);
+    falls += number(p, "falls").value_or(0);
+  }
+  const double rides = number(s, "rides").value_or(0) * static_cast<double>(policies->size());
+  std::string text = fmt::format("{} policies: {:g} of {:g} rides reached the goal, {:g} fell",
+                                 policies->size(), reached, rides, falls);
+  if (const auto median = number(s, "median_of_medians_km"))
+    text += fmt::format("; median of the policies' median distances {:.3g} km", *median);
+  return text;
+}
+
+std::string bicycle_variance_verdict(const json& s) {
+  const auto sd = s.find("uhat_std");
+  if (sd == s.end() || !sd->is_object() || sd->empty()) return {};
+  std::string parts;
+  for (const auto& [variant, value] : sd->items())
+    if (value.is_number())
+      parts += fmt::format("{}{} {:.3g}", parts.empty() ? "" : ", ", variant, value.get<double>());
+  return parts.empty() ? std::string() : "sd of U-hat over scenario sets: " + parts;
+}
+
+std::string shaping_audit_verdict(const json& s) {
+  if (!s.contains("potential_based") || !s["potential_based"].is_boolean()) return {};
+  if (s["potential_based"].get<bool>())
+    return fmt::format("F is potential-based (largest residual {:.3g}): it keeps the optimal policy",
+                       number(s, "max_residual").value_or(0));
+  return s.contains("counterexample")
+             ? "F is not potential-based: a counterexample MDP whose optimal policy it "
+               "changes is in the report"
+             : "F is not potential-based";
+}
+
+std::string progress_bonus_verdict(const json& s) {
+  const auto bonus = s.find("progress_bonus"), potential = s.find("potential");
+  if (bonus == s.end() || potential == s.end() || !bonus->is_object() || !potential->is_object()) return {};
+  const auto reaches = [](const json& o) { return o.value("reaches_goal", false); };
+  return fmt::format(
+      "the greedy policy learned with the progress bonus {}; with its potential-based version it {}",
+      reaches(*bonus) ? "reaches the goal" : "cycles and never reaches the goal",
+      reaches(*potential) ? "reaches the goal" : "does not reach it either");
+}
+
+std::string maneuver_verdict(const json& s) {
+  const auto flights = number(s, "flights"), crashes = number(s, "crashes");
+  const auto rms = number(s, "rms_path_deviation_m");
+  if (!flights || !crashes || !rms) return {};
+  return fmt::format("{}: {:g} flights, {}; RMS deviation from the path {:.3g} m",
+                     s.value("maneuver", "manoeuvre"), *flights, crashes_text(*crashes), *rms);
+}
+
+std::string pendulum_verdict(const json& s) {
+  const auto mean = number(s, "mean_return_100"), bar = number(s, "bar");
+  if (!mean || !bar) return {};
+  std::string text = fmt::format("mean return over 100 episodes {:.4g}, {} the bar of {:.4g}", *mean,
+                                 *mean >= *bar ? "at or above" : "below", *bar);
+  if (const auto evaluations = number(s, "evaluations_to_bar"))
+    text += fmt::format(" (reached after {:g} U-hat evaluations)", *evaluations);
+  return text;
+}
+
+// shaping gridworld / flags: for each potential, the trials until the learner's steps come within 25% of the
+// optimum.
+std::string shaping_learning_verdict(const json& s) {
+  const auto curves = s.find("curves");
+  if (curves == s.end() || !curves->is_array() || curves->empty()) return {};
+  std::string parts;
+  for (const json& c : *curves) {
+    if (!c.is_object() || !c.contains("potential")) continue;
+    const json& t = c.value("trials_to_within_25pct", json());
+    parts += fmt::format("{}{} {}", parts.empty() ? "" : ", ", c["potential"].get<std::string>(),
+                         t.is_number() ? fmt::format("{}", t.get<double>()) : std::string("never"));
+  }
+  return parts.empty() ? std::string() : "trials until within 25% of the optimal steps: " + parts;
+}
+
 const std::map<std::string, std::function<std::string(const json&)>, std::less<>>& verdicts() {
   static const std::map<std::string, std::function<std::string(const json&)>, std::less<>> table = {
-      {"heli fly", flights_verdict},          {"heli hover", hover_verdict},
-      {"heli identify", identify_verdict},    {"heli pilot", pilot_verdict},
-      {"heli pipeline", pipeline_verdict},    {"horizon", horizon_verdict},
-      {"mujoco train", mujoco_train_verdict}, {"mujoco rollout", mujoco_rollout_verdict},
+      {"bicycle experiment", bicycle_experiment_verdict},
+      {"bicycle ride", rides_verdict},
+      {"bicycle train", bicycle_train_verdict},
+      {"bicycle variance", bicycle_variance_verdict},
+      {"heli fly", flights_verdict},
+      {"heli hover", hover_verdict},
+      {"heli identify", identify_verdict},
+      {"heli maneuver", maneuver_verdict},
+      {"heli pilot", pilot_verdict},
+      {"heli pipeline", pipeline_verdict},
+      // The vehicle commands without the heli prefix (pegasus fly --vehicle V.toml, ...) say the same.
+      {"fly", flights_verdict},
+      {"hover", hover_verdict},
+      {"identify", identify_verdict},
+      {"maneuver", maneuver_verdict},
+      {"pilot", pilot_verdict},
+      {"pipeline", pipeline_verdict},
+      {"horizon", horizon_verdict},
+      {"mujoco rollout", mujoco_rollout_verdict},
+      {"mujoco train", mujoco_train_verdict},
+      {"pendulum train", pendulum_verdict},
+      {"shaping audit", shaping_audit_verdict},
+      {"shaping flags", shaping_learning_verdict},
+      {"shaping gridworld", shaping_learning_verdict},
+      {"shaping progress-bonus", progress_bonus_verdict},
   };
   return table;
 }

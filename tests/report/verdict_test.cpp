@@ -88,6 +88,47 @@ TEST(Verdict, TrainingAndOtherCommands) {
             "8 episodes, mean return 12.5");
 }
 
+TEST(Verdict, BicycleShapingAndManoeuvres) {
+  EXPECT_EQ(
+      verdict("bicycle ride", {{"rides", 50}, {"reached", 47}, {"falls", 3}, {"median_distance_km", 1.0712}}),
+      "47 of 50 rides reached the goal, 3 fell; median distance to it 1.07 km");
+  EXPECT_EQ(verdict("bicycle train", {{"initial_uhat", -80.5},
+                                      {"final_uhat", -12.25},
+                                      {"rides", {{"rides", 2}, {"reached", 1}, {"falls", 1}}}}),
+            "U-hat -80.5 -> -12.25; 1 of 2 rides reached the goal, 1 fell");
+  EXPECT_EQ(verdict("bicycle experiment", {{"rides", 50},
+                                           {"median_of_medians_km", 1.2},
+                                           {"policies", json::array({{{"reached", 50}, {"falls", 0}},
+                                                                     {{"reached", 40}, {"falls", 10}}})}}),
+            "2 policies: 90 of 100 rides reached the goal, 10 fell; median of the policies' median distances "
+            "1.2 km");
+  EXPECT_EQ(verdict("bicycle variance", {{"uhat_std", {{"plain", 2.5}, {"sobol", 0.75}}}}),
+            "sd of U-hat over scenario sets: plain 2.5, sobol 0.75");
+  EXPECT_EQ(verdict("shaping audit", {{"potential_based", true}, {"max_residual", 2e-12}}),
+            "F is potential-based (largest residual 2e-12): it keeps the optimal policy");
+  EXPECT_EQ(
+      verdict("shaping audit", {{"potential_based", false}, {"counterexample", json::object()}}),
+      "F is not potential-based: a counterexample MDP whose optimal policy it changes is in the report");
+  EXPECT_EQ(verdict("shaping progress-bonus",
+                    {{"progress_bonus", {{"reaches_goal", false}}}, {"potential", {{"reaches_goal", true}}}}),
+            "the greedy policy learned with the progress bonus cycles and never reaches the goal; with its "
+            "potential-based version it reaches the goal");
+  EXPECT_EQ(
+      verdict("heli maneuver",
+              {{"maneuver", "III.1"}, {"flights", 20}, {"crashes", 0}, {"rms_path_deviation_m", 0.512}}),
+      "III.1: 20 flights, no crash; RMS deviation from the path 0.512 m");
+  EXPECT_EQ(verdict("shaping gridworld",
+                    {{"curves", json::array({{{"potential", "none"}, {"trials_to_within_25pct", nullptr}},
+                                             {{"potential", "phi0"}, {"trials_to_within_25pct", 12}}})}}),
+            "trials until within 25% of the optimal steps: none never, phi0 12");
+  EXPECT_EQ(
+      verdict("pendulum train", {{"mean_return_100", -150.5}, {"bar", -200}, {"evaluations_to_bar", 840}}),
+      "mean return over 100 episodes -150.5, at or above the bar of -200 (reached after 840 U-hat "
+      "evaluations)");
+  // The vehicle commands without the heli prefix say the same.
+  EXPECT_EQ(verdict("fly", fly_summary()), verdict("heli fly", fly_summary()));
+}
+
 TEST(Verdict, NoneWithoutTheFiguresOrForAnotherCommand) {
   EXPECT_EQ(verdict("heli fly", {{"flights", 30}}), "");
   EXPECT_EQ(verdict("dev count", {{"steps", 3}}), "");
