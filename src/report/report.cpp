@@ -201,6 +201,42 @@ std::string printed_result_html(const json& run) {
   return html;
 }
 
+// The runs inside `run_dir` (the stages of a pipeline): its folders with a summary.json, in the order the
+// summary's "stages" lists them, the others after them by name.
+std::vector<fs::path> parts_of(const fs::path& run_dir, const json& summary) {
+  std::vector<fs::path> parts;
+  for (const auto& e : fs::directory_iterator(run_dir)) {
+    std::error_code ec;
+    if (e.is_directory(ec) && fs::is_regular_file(e.path() / "summary.json", ec)) parts.push_back(e.path());
+  }
+  std::sort(parts.begin(), parts.end());
+  const json stages = summary.is_object() ? summary.value("stages", json::array()) : json::array();
+  const auto rank = [&](const fs::path& p) {
+    for (std::size_t i = 0; i < stages.size(); ++i)
+      if (stages[i].is_string() && stages[i].get<std::string>() == p.filename().string()) return i;
+    return stages.size();
+  };
+  std::stable_sort(parts.begin(), parts.end(),
+                   [&](const auto& a, const auto& b) { return rank(a) < rank(b); });
+  return parts;
+}
+
+// The verdicts of the parts, one item each ("identify: the noise bands are ..."); empty when none has one.
+std::string part_verdicts_html(const std::vector<fs::path>& parts) {
+  std::string items;
+  for (const auto& part : parts) {
+    try {
+      const std::string said =
+          verdict(command_of(read_json_file(part / "run.json")), read_json_file(part / "summary.json"));
+      if (!said.empty())
+        items +=
+            "<li><b>" + escape_markup(part.filename().string()) + "</b>: " + escape_markup(said) + "</li>\n";
+    } catch (const std::exception&) {  // a part without a readable run.json has no verdict
+    }
+  }
+  return items.empty() ? std::string() : "<ul class=\"stage-verdicts\">\n" + items + "</ul>\n";
+}
+
 }  // namespace
 
 json report_data(const fs::path& run_dir, const ReportOptions& options) {
@@ -246,7 +282,11 @@ json report_data(const fs::path& run_dir, const ReportOptions& options) {
   page.consumed("report.html");
   // The answer first: the verdict made from the summary, the run's warnings, and what it printed as its
   // result (run.json, written by the command framework from the run's printed lines).
-  if (const std::string result = verdict_html(run, summary) + printed_result_html(run); !result.empty())
+  // A pipeline's stages say theirs below its own.
+  const std::vector<fs::path> parts = parts_of(run_dir, summary);
+  if (const std::string result =
+          verdict_html(run, summary) + part_verdicts_html(parts) + printed_result_html(run);
+      !result.empty())
     page.section("result", "Result", "The verdict, then what the run printed when it finished.", result);
   // Headline figures and configuration.
   std::vector<std::pair<std::string, std::string>> headline;
@@ -276,13 +316,7 @@ json report_data(const fs::path& run_dir, const ReportOptions& options) {
   add_policy(page, run_dir);
   add_other_series(page, run_dir, options);
 
-  // Runs inside this one (the stages of a pipeline): links to their own reports.
-  std::vector<fs::path> parts;
-  for (const auto& e : fs::directory_iterator(run_dir)) {
-    std::error_code e2;
-    if (e.is_directory(e2) && fs::is_regular_file(e.path() / "summary.json", e2)) parts.push_back(e.path());
-  }
-  std::sort(parts.begin(), parts.end());
+  // Runs inside this one (the stages of a pipeline): links to their own reports, with what each printed.
   if (!parts.empty()) {
     std::string list = "<ul class=\"parts\">\n";
     for (const auto& part : parts) {
