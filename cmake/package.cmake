@@ -15,7 +15,7 @@ set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)  # pegasus_<version>_<arch>.deb
 set(CPACK_DEBIAN_PACKAGE_SECTION science)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
-set(pegasus_deb_depends "libeigen3-dev, nlohmann-json3-dev, libfmt-dev, libnlopt-cxx-dev, libssl-dev")
+set(pegasus_deb_depends "libeigen3-dev, nlohmann-json3-dev, libfmt-dev, libnlopt-cxx-dev, libssl-dev, zlib1g-dev")
 if(PEGASUS_MPI)
   string(APPEND pegasus_deb_depends ", libopenmpi-dev")
 endif()

@@ -6,8 +6,12 @@
 #   - a README.md of 400 lines or more (the README is the front door; the manual holds the rest);
 #   - a page named in a toctree of docs/ that does not exist;
 #   - a relative link of README.md to a file that does not exist, or to a heading anchor its Markdown page lacks
-#     (the README is read on a Git host, outside Sphinx, so Sphinx does not check its links).
-# Usage: docs/check.sh [BUILD_DIR]   (default build-docs; the site goes to BUILD_DIR/check-html)
+#     (the README is read on a Git host, outside Sphinx, so Sphinx does not check its links);
+#   - a page of the built site that headless chromium shows with a console error, or without its text
+#     (tests/browser/manual_test.mjs: home, a tutorial, the command reference, the C++ and Python APIs), where
+#     node, playwright-core (NODE_MODULES) and chromium are installed; skipped with a line otherwise.
+# Usage: docs/check.sh [BUILD_DIR [NODE_MODULES]]   (default build-docs and build/web/node_modules; the site goes
+# to BUILD_DIR/check-html)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build="${1:-build-docs}"
@@ -78,5 +82,15 @@ elif grep -E "WARNING|ERROR|CRITICAL" "$log"; then
   echo "docs/check: the Sphinx build printed warnings (above)"; status=1
 else
   echo "docs/check: the manual builds with no warnings ($build/check-html/index.html)"
+  node_modules="${2:-build/web/node_modules}"
+  if ! command -v node > /dev/null; then
+    echo "docs/check: no node: the manual's browser test is skipped"
+  else
+    browser=0
+    node tests/browser/manual_test.mjs --site "$build/check-html" --node-modules "$node_modules" || browser=$?
+    if [ "$browser" -ne 0 ] && [ "$browser" -ne 77 ]; then
+      echo "docs/check: the manual's browser test failed (above)"; status=1
+    fi
+  fi
 fi
 exit $status

@@ -3,6 +3,7 @@
 # python3-breathe. Nothing is fetched from the network at build time. Run with Debian's /usr/bin/python3.
 import __future__
 import os
+import pathlib
 import subprocess
 import sys
 import types
@@ -107,6 +108,27 @@ def _module_docstring_verbatim(app, what, name, obj, options, lines):
         lines[:] = ["::", ""] + ["   " + line for line in lines] + [""]
 
 
+def _furo_offline(app, exception):
+    # Debian's furo (2022) loads its page script, an ES module ("import Gumshoe from ..."), by a classic <script>,
+    # and its stylesheet imports /javascript/normalize.css/normalize.css, a path only Debian's web-server alias
+    # serves: opened from disk, every page logged two errors and ran none of furo's script (the manual's browser
+    # test, tests/browser/manual_test.mjs, found both). The built site gets them whole: the scrollspy (a UMD script
+    # that sets window.Gumshoe) ahead of furo.js without the import, and normalize.css inlined.
+    if exception is not None or app.builder.format != "html":
+        return
+    static = pathlib.Path(app.outdir) / "_static"
+    script, gumshoe = static / "scripts" / "furo.js", static / "scripts" / "gumshoe-patched.js"
+    module_import = 'import Gumshoe from "./gumshoe-patched.js";\n'
+    if script.exists() and gumshoe.exists() and script.read_text().startswith(module_import):
+        script.write_text(gumshoe.read_text() + "\n" + script.read_text()[len(module_import):])
+    css = static / "styles" / "furo.css"
+    normalize = pathlib.Path("/usr/share/javascript/normalize.css/normalize.css")
+    css_import = "@import url(/javascript/normalize.css/normalize.css);"
+    if css.exists() and normalize.exists() and css_import in css.read_text():
+        css.write_text(css.read_text().replace(css_import, normalize.read_text()))
+
+
 def setup(app):
     app.connect("builder-inited", _run_doxygen)
+    app.connect("build-finished", _furo_offline)
     app.connect("autodoc-process-docstring", _module_docstring_verbatim)

@@ -12,6 +12,8 @@ packages=(
   libcli11-dev libtomlplusplus-dev nlohmann-json3-dev libfmt-dev
   # SHA-256 of imported flight logs (their provenance)
   libssl-dev
+  # the report's embedded chart data is gzip-compressed
+  zlib1g-dev
   # distributed evaluation (optional at configure time; mpirun runs the MPI tests)
   libopenmpi-dev openmpi-bin
   # MuJoCo physics (optional at configure time: PEGASUS_MUJOCO) and its sample models (a shipped task loads one)

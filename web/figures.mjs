@@ -134,7 +134,7 @@ for (const f of chosen) {
       target = page.locator('.chart[data-kind="replay"]').first();
     } else {
       const id = await page.evaluate((title) => {
-        const data = JSON.parse(document.getElementById('pegasus-data').textContent);
+        const data = window.pegasusReport.data;
         const c = data.charts.find((x) => x.title === title) || data.charts.find((x) => (x.title || '').includes(title));
         return c ? c.id : null;
       }, shot.chart);

@@ -21,6 +21,7 @@
 #include <variant>
 #include <vector>
 
+#include "help_markdown.hpp"
 #include "pegasus/core/environment_error.hpp"
 #include "pegasus/core/error.hpp"
 #include "pegasus/core/untrusted_text.hpp"
@@ -550,6 +551,10 @@ int run_cli(int argc, const char* const* argv, const std::vector<CommandGroup>& 
       apps[command.path] = leaf.app;
     }
 
+    if (argc == 2 && std::string_view(argv[1]) == kHelpMarkdownFlag) {  // the manual's generated reference
+      out << help_markdown(app);
+      return 0;
+    }
     if (const std::string problem = precheck(app, argc, argv); !problem.empty()) {
       err << "pegasus: " << problem << " (see pegasus --help)" << std::endl;
       return 2;

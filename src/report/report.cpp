@@ -17,6 +17,7 @@
 #include "pegasus/io/atomic_file.hpp"
 #include "pegasus/io/csv_table.hpp"
 #include "pegasus/io/json_csv.hpp"
+#include "pegasus/report/verdict.hpp"
 #include "pegasus/runs/charts.hpp"
 #include "pegasus/runs/config.hpp"
 #include "report_page.hpp"
@@ -130,6 +131,7 @@ details summary { cursor: pointer; color: var(--accent); margin: 6px 0; }
 .replay-view canvas { display: block; width: 100%; border-radius: 4px; }
 img.svg { max-width: 100%; border: 1px solid var(--line); border-radius: 6px; }
 footer { padding: 12px 32px; color: var(--muted); font-size: 12px; border-top: 1px solid var(--line); }
+p.verdict { font-size: 17px; font-weight: 600; margin: 6px 0 10px; }
 pre.result { font-size: 14px; max-height: none; white-space: pre-wrap; }
 ul.warnings { margin: 6px 0; padding: 8px 12px 8px 28px; background: #fff6e0; border: 1px solid #e7c766; border-radius: 4px; }
 )";
@@ -167,6 +169,19 @@ fs::path find_bundle() {
 
 namespace {
 
+// The command of a run (run.json "command"), or "".
+std::string command_of(const json& run) {
+  return run.is_object() && run.contains("command") && run["command"].is_string()
+             ? run["command"].get<std::string>()
+             : std::string();
+}
+
+// The verdict of a run (verdict.hpp), as a paragraph; empty when its command has none.
+std::string verdict_html(const json& run, const json& summary) {
+  const std::string said = verdict(command_of(run), summary);
+  return said.empty() ? std::string() : "<p class=\"verdict\">" + escape_markup(said) + "</p>\n";
+}
+
 // The lines a run printed (run.json "printed"), warnings first and marked; empty when it printed none.
 std::string printed_result_html(const json& run) {
   if (!run.is_object()) return {};
@@ -184,6 +199,42 @@ std::string printed_result_html(const json& run) {
         text += escape_markup(line.get<std::string>()) + "\n";
   if (!text.empty()) html += "<pre class=\"result\">" + text + "</pre>\n";
   return html;
+}
+
+// The runs inside `run_dir` (the stages of a pipeline): its folders with a summary.json, in the order the
+// summary's "stages" lists them, the others after them by name.
+std::vector<fs::path> parts_of(const fs::path& run_dir, const json& summary) {
+  std::vector<fs::path> parts;
+  for (const auto& e : fs::directory_iterator(run_dir)) {
+    std::error_code ec;
+    if (e.is_directory(ec) && fs::is_regular_file(e.path() / "summary.json", ec)) parts.push_back(e.path());
+  }
+  std::sort(parts.begin(), parts.end());
+  const json stages = summary.is_object() ? summary.value("stages", json::array()) : json::array();
+  const auto rank = [&](const fs::path& p) {
+    for (std::size_t i = 0; i < stages.size(); ++i)
+      if (stages[i].is_string() && stages[i].get<std::string>() == p.filename().string()) return i;
+    return stages.size();
+  };
+  std::stable_sort(parts.begin(), parts.end(),
+                   [&](const auto& a, const auto& b) { return rank(a) < rank(b); });
+  return parts;
+}
+
+// The verdicts of the parts, one item each ("identify: the noise bands are ..."); empty when none has one.
+std::string part_verdicts_html(const std::vector<fs::path>& parts) {
+  std::string items;
+  for (const auto& part : parts) {
+    try {
+      const std::string said =
+          verdict(command_of(read_json_file(part / "run.json")), read_json_file(part / "summary.json"));
+      if (!said.empty())
+        items +=
+            "<li><b>" + escape_markup(part.filename().string()) + "</b>: " + escape_markup(said) + "</li>\n";
+    } catch (const std::exception&) {  // a part without a readable run.json has no verdict
+    }
+  }
+  return items.empty() ? std::string() : "<ul class=\"stage-verdicts\">\n" + items + "</ul>\n";
 }
 
 }  // namespace
@@ -229,10 +280,14 @@ json report_data(const fs::path& run_dir, const ReportOptions& options) {
 
   Page page;
   page.consumed("report.html");
-  // The answer first: what the run printed as its result, its warnings above it (run.json, written by the
-  // command framework from the run's printed lines).
-  if (const std::string result = printed_result_html(run); !result.empty())
-    page.section("result", "Result", "What the run printed when it finished.", result);
+  // The answer first: the verdict made from the summary, the run's warnings, and what it printed as its
+  // result (run.json, written by the command framework from the run's printed lines).
+  // A pipeline's stages say theirs below its own.
+  const std::vector<fs::path> parts = parts_of(run_dir, summary);
+  if (const std::string result =
+          verdict_html(run, summary) + part_verdicts_html(parts) + printed_result_html(run);
+      !result.empty())
+    page.section("result", "Result", "The verdict, then what the run printed when it finished.", result);
   // Headline figures and configuration.
   std::vector<std::pair<std::string, std::string>> headline;
   flatten(summary, "", 0, headline);
@@ -261,13 +316,7 @@ json report_data(const fs::path& run_dir, const ReportOptions& options) {
   add_policy(page, run_dir);
   add_other_series(page, run_dir, options);
 
-  // Runs inside this one (the stages of a pipeline): links to their own reports.
-  std::vector<fs::path> parts;
-  for (const auto& e : fs::directory_iterator(run_dir)) {
-    std::error_code e2;
-    if (e.is_directory(e2) && fs::is_regular_file(e.path() / "summary.json", e2)) parts.push_back(e.path());
-  }
-  std::sort(parts.begin(), parts.end());
+  // Runs inside this one (the stages of a pipeline): links to their own reports, with what each printed.
   if (!parts.empty()) {
     std::string list = "<ul class=\"parts\">\n";
     for (const auto& part : parts) {
@@ -279,9 +328,11 @@ json report_data(const fs::path& run_dir, const ReportOptions& options) {
           command = "pegasus " + r["command"].get<std::string>();
       } catch (const std::exception&) {
       }
-      std::string verdict;  // the stage's own result lines
+      std::string verdict;  // the stage's verdict and its own result lines
       try {
-        verdict = printed_result_html(read_json_file(part / "run.json"));
+        const json part_run = read_json_file(part / "run.json");
+        verdict =
+            verdict_html(part_run, read_json_file(part / "summary.json")) + printed_result_html(part_run);
       } catch (const std::exception&) {
       }
       std::error_code e2;
@@ -343,7 +394,15 @@ std::string script_safe(std::string_view js) {
   return out;
 }
 
-std::string render_data(json data, std::string_view bundle_js) {
+// The JSON of the charts as the page embeds it: gzip-compressed and base64-encoded (the bundle's loader gives
+// the page code pegasusInflate to unpack it). Base64 has no "<", so it cannot end its <script> early.
+std::string embedded_block(const json& data) {
+  const json embedded = {{"title", data["title"]}, {"charts", data["charts"]}};
+  return detail::base64(detail::gzip(embedded.dump()));
+}
+
+// The page of `data`, the charts as embedded_block made them.
+std::string render_data(const json& data, const std::string& block, std::string_view bundle_js) {
   const std::string title = data["title"];
   std::string meta = escape_markup(data["run_dir"].get<std::string>());
   const json& run = data["run"];
@@ -361,20 +420,8 @@ std::string render_data(json data, std::string_view bundle_js) {
     nav += fmt::format("<a href=\"#{}\">{}</a>", s["id"].get<std::string>(),
                        escape_markup(s["title"].get<std::string>()));
   }
-  const json embedded = {{"title", title}, {"charts", data["charts"]}};
-  std::string data_text = embedded.dump();
-  // Inside <script> no "</" may appear: in JSON "<" occurs only in strings, where \u003c means the same.
-  std::string safe_data;
-  safe_data.reserve(data_text.size());
-  for (char c : data_text) {
-    if (c == '<') {
-      safe_data += "\\u003c";
-    } else {
-      safe_data += c;
-    }
-  }
   std::string html;
-  html.reserve(bundle_js.size() + safe_data.size() + data["body"].get<std::string>().size() + 8192);
+  html.reserve(bundle_js.size() + block.size() + data["body"].get<std::string>().size() + 8192);
   html += "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n";
   html += "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n";
   html += "<meta name=\"generator\" content=\"pegasus report\">\n";
@@ -387,14 +434,45 @@ std::string render_data(json data, std::string_view bundle_js) {
       "<footer>Written by <code>pegasus report</code>. Charts drawn with plotly.js, the 3-D replay with "
       "three.js, "
       "both inlined: this file works offline.</footer>\n";
-  html += "<script type=\"application/json\" id=\"pegasus-data\">" + safe_data + "</script>\n";
+  html += "<script type=\"application/gzip\" id=\"pegasus-data\" data-encoding=\"gzip+base64\">" + block +
+          "</script>\n";
   html += "<script>\n";
   html += script_safe(bundle_js);
   html += "\n</script>\n</body>\n</html>\n";
   return html;
 }
 
-fs::path write_data(const fs::path& run_dir, json data, const fs::path& bundle) {
+// The page at most options.max_bytes long. Where the series as the options allow them make it longer, every
+// series and replay keeps fewer rows (a larger stride, recorded with it) until it fits, or until they keep
+// kFewestPoints rows. `data` is report_data(run_dir, options), read already.
+std::string fitted_page(const fs::path& run_dir, json data, std::string_view bundle_js,
+                        ReportOptions options) {
+  constexpr std::size_t kFewestPoints = 20;
+  constexpr std::size_t kUnlimited = 1'000'000;  // where an option sets no limit, shrinking starts here
+  std::string block = embedded_block(data);
+  std::string html = render_data(data, block, bundle_js);
+  while (options.max_bytes > 0 && html.size() > options.max_bytes) {
+    const auto size = [](std::size_t n) { return static_cast<double>(n); };
+    const double room = size(options.max_bytes) - size(html.size() - block.size());
+    const bool fewest = options.max_points != 0 && options.max_points <= kFewestPoints &&
+                        options.max_replay_points != 0 && options.max_replay_points <= kFewestPoints;
+    if (room <= 0 || fewest) break;  // the page without its charts is too long already, or nothing to thin
+    // The compressed data shrinks about in proportion to the rows kept; 0.9 leaves room for the rest.
+    const double share = std::min(0.9 * room / size(block.size()), 0.9);
+    for (std::size_t* most : {&options.max_points, &options.max_replay_points}) {
+      const double from = size(*most == 0 ? kUnlimited : *most);
+      *most = std::min(*most == 0 ? kUnlimited : *most,
+                       std::max(kFewestPoints, static_cast<std::size_t>(from * share)));
+    }
+    data = report_data(run_dir, options);
+    block = embedded_block(data);
+    html = render_data(data, block, bundle_js);
+  }
+  return html;
+}
+
+fs::path write_data(const fs::path& run_dir, json data, const fs::path& bundle,
+                    const ReportOptions& options) {
   std::string bundle_js;
   try {
     bundle_js = read_file(bundle);
@@ -402,23 +480,23 @@ fs::path write_data(const fs::path& run_dir, json data, const fs::path& bundle) 
     throw std::runtime_error(fmt::format("report JavaScript bundle: {}", e.what()));
   }
   fs::path out = run_dir / "report.html";
-  write_file_atomic(out, render_data(std::move(data), bundle_js));
+  write_file_atomic(out, fitted_page(run_dir, std::move(data), bundle_js, options));
   return out;
 }
 
 }  // namespace
 
 std::string render_report(const fs::path& run_dir, std::string_view bundle_js, const ReportOptions& options) {
-  return render_data(report_data(run_dir, options), bundle_js);
+  return fitted_page(run_dir, report_data(run_dir, options), bundle_js, options);
 }
 
 fs::path write_report(const fs::path& run_dir, const fs::path& bundle, const ReportOptions& options) {
-  return write_data(run_dir, report_data(run_dir, options), bundle);
+  return write_data(run_dir, report_data(run_dir, options), bundle, options);
 }
 
 fs::path write_report(const fs::path& run_dir, const ReportOptions& options) {
   json data = report_data(run_dir, options);  // bad input first: exit 2 even where the bundle is missing
-  return write_data(run_dir, std::move(data), find_bundle());
+  return write_data(run_dir, std::move(data), find_bundle(), options);
 }
 
 bool write_report_or_note(const fs::path& run_dir, std::ostream& err, const ReportOptions& options) {

@@ -143,7 +143,7 @@ json replay_spec(const Chart& c, ChartFiles& tables, const ReportOptions& option
   return spec;
 }
 
-json mujoco_replay_spec(const Chart& c, const fs::path& dir) {
+json mujoco_replay_spec(const Chart& c, const fs::path& dir, const ReportOptions& options) {
   if (c.traces.size() != 1)
     throw InputError(fmt::format("charts.json: replay '{}': expected one trace naming replay.json", c.title));
   const fs::path file = dir / c.traces.front().file;
@@ -176,8 +176,20 @@ json mujoco_replay_spec(const Chart& c, const fs::path& dir) {
     for (const json& x : frame)
       if (!x.is_number()) throw field_error(fmt::format("frames[{}]", k), "numbers only");
   }
-  return {{"kind", "mujoco_replay"}, {"title", c.title}, {"source", c.traces.front().file},
-          {"geoms", geoms},          {"t", t},           {"frames", frames}};
+  // Every k-th frame (and the last), as chart numbers, like a flight's replay.
+  std::vector<std::size_t> rows = all_rows(frames.size());
+  const std::size_t stride = rows.empty() ? 1 : thin(rows, options.max_replay_points);
+  json kept_t = json::array(), kept_frames = json::array();
+  for (std::size_t k : rows) {
+    kept_t.push_back(chart_number(t[k].get<double>()));
+    json frame = json::array();
+    for (const json& x : frames[k]) frame.push_back(chart_number(x.get<double>()));
+    kept_frames.push_back(std::move(frame));
+  }
+  json spec = {{"kind", "mujoco_replay"}, {"title", c.title}, {"source", c.traces.front().file},
+               {"geoms", geoms},          {"t", kept_t},      {"frames", kept_frames}};
+  if (stride > 1) spec["stride"] = stride;
+  return spec;
 }
 
 }  // namespace
@@ -216,7 +228,7 @@ void add_chart_sections(Page& page, const fs::path& dir, const ReportOptions& op
           content += page.chart(replay_spec(c, tables, options), "wide");
           break;
         case ChartKind::kMujocoReplay:
-          content += page.chart(mujoco_replay_spec(c, dir), "wide");
+          content += page.chart(mujoco_replay_spec(c, dir, options), "wide");
           break;
         case ChartKind::kTable:
           for (const auto& t : c.traces) {

@@ -1,6 +1,9 @@
 #include "report_page.hpp"
 
+#include <zlib.h>
+
 #include <cmath>
+#include <stdexcept>
 
 #include "pegasus/core/error.hpp"
 #include "pegasus/io/atomic_file.hpp"
@@ -32,12 +35,19 @@ std::size_t thin(std::vector<std::size_t>& rows, std::size_t max_points) {
   return k;
 }
 
+double chart_number(double x) {
+  if (!std::isfinite(x) || x == 0) return x;
+  // Six significant digits, as their shortest decimal text: the chart draws the same to the pixel, and the
+  // page carries "0.123457" where the CSV's double printed 17 digits.
+  return std::stod(fmt::format("{:.6g}", x));
+}
+
 json pick(const std::vector<double>& values, const std::vector<std::size_t>& rows) {
   json out = json::array();
   for (std::size_t r : rows) {
     const double v = r == kGapRow ? std::nan("") : values[r];
     if (std::isfinite(v)) {
-      out.push_back(v);
+      out.push_back(chart_number(v));
     } else {
       out.push_back(nullptr);
     }
@@ -84,26 +94,48 @@ std::string table_html(const std::vector<std::string>& header,
   return out + "</tbody>\n</table>\n";
 }
 
-std::string svg_image(const fs::path& file) {
+std::string base64(std::string_view bytes) {
   static constexpr char kBase64[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  const std::string text = read_file(file);
   std::string out;
-  out.reserve(text.size() * 4 / 3 + 4);
+  out.reserve(bytes.size() * 4 / 3 + 4);
   std::size_t i = 0;
-  for (; i + 2 < text.size(); i += 3) {
-    const unsigned v = (static_cast<unsigned char>(text[i]) << 16) |
-                       (static_cast<unsigned char>(text[i + 1]) << 8) |
-                       static_cast<unsigned char>(text[i + 2]);
+  for (; i + 2 < bytes.size(); i += 3) {
+    const unsigned v = (static_cast<unsigned char>(bytes[i]) << 16) |
+                       (static_cast<unsigned char>(bytes[i + 1]) << 8) |
+                       static_cast<unsigned char>(bytes[i + 2]);
     out += {kBase64[(v >> 18) & 63], kBase64[(v >> 12) & 63], kBase64[(v >> 6) & 63], kBase64[v & 63]};
   }
-  if (i < text.size()) {
-    unsigned v = static_cast<unsigned char>(text[i]) << 16;
-    if (i + 1 < text.size()) v |= static_cast<unsigned char>(text[i + 1]) << 8;
+  if (i < bytes.size()) {
+    unsigned v = static_cast<unsigned char>(bytes[i]) << 16;
+    if (i + 1 < bytes.size()) v |= static_cast<unsigned char>(bytes[i + 1]) << 8;
     out += {kBase64[(v >> 18) & 63], kBase64[(v >> 12) & 63],
-            i + 1 < text.size() ? kBase64[(v >> 6) & 63] : '=', '='};
+            i + 1 < bytes.size() ? kBase64[(v >> 6) & 63] : '=', '='};
   }
+  return out;
+}
+
+std::string gzip(std::string_view text) {
+  z_stream z{};
+  // windowBits 15 + 16: the gzip format (header and CRC), which the browser's DecompressionStream("gzip")
+  // reads.
+  if (deflateInit2(&z, Z_BEST_COMPRESSION, Z_DEFLATED, 15 + 16, 9, Z_DEFAULT_STRATEGY) != Z_OK)
+    throw std::runtime_error("zlib: deflateInit2 failed");
+  std::string out(deflateBound(&z, static_cast<uLong>(text.size())) + 32, '\0');
+  z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(text.data()));
+  z.avail_in = static_cast<uInt>(text.size());
+  z.next_out = reinterpret_cast<Bytef*>(out.data());
+  z.avail_out = static_cast<uInt>(out.size());
+  const int status = deflate(&z, Z_FINISH);
+  const std::size_t written = z.total_out;
+  deflateEnd(&z);
+  if (status != Z_STREAM_END) throw std::runtime_error("zlib: deflate did not finish");
+  out.resize(written);
+  return out;
+}
+
+std::string svg_image(const fs::path& file) {
   return fmt::format("<img class=\"svg\" alt=\"{}\" src=\"data:image/svg+xml;base64,{}\">\n",
-                     escape_markup(file.filename().string()), out);
+                     escape_markup(file.filename().string()), base64(read_file(file)));
 }
 
 }  // namespace pegasus::report::detail

@@ -23,7 +23,9 @@ std::vector<std::size_t> all_rows(std::size_t n);
 // Every k-th of `rows` (and the last one) so that at most about `max_points` remain; k is returned.
 // Gaps (kGapRow) are always kept, so that thinning never joins two groups of a one_trace line.
 std::size_t thin(std::vector<std::size_t>& rows, std::size_t max_points);
-// values at `rows` as a JSON array, null for a gap or a value that is not finite.
+// A number as the page carries it: rounded to six significant digits (what a chart can show).
+double chart_number(double x);
+// values at `rows` as a JSON array of chart numbers, null for a gap or a value that is not finite.
 json pick(const std::vector<double>& values, const std::vector<std::size_t>& rows);
 std::string format_number(double x);
 
@@ -59,6 +61,10 @@ json trace(const std::string& name, json x, json y);
 std::string grid(const std::string& content);
 std::string table_html(const std::vector<std::string>& header,
                        const std::vector<std::vector<std::string>>& rows, const std::string& css_class = "");
+// RFC 4648 base64 of `bytes`.
+std::string base64(std::string_view bytes);
+// `text` compressed in the gzip format (zlib at its best compression). std::runtime_error if zlib fails.
+std::string gzip(std::string_view text);
 // An SVG file inlined as an <img> (base64 data URL).
 std::string svg_image(const std::filesystem::path& file);
 

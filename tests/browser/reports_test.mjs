@@ -187,6 +187,15 @@ writeRun('heli-maneuver-synthetic', {
   'ideal_path.csv': idealLines.join('\n') + '\n',
   'charts.json': chartsJson({ ideal: true }),
 }, { replay: 1 });
+// As large as the demo's flights (10 policy and 10 pilot flights of 60 s at 50 Hz): the page keeps fewer rows
+// per series so that it stays within 1.5 MB, and still draws every chart and the replay.
+writeRun('heli-fly-large-synthetic', {
+  'summary.json': JSON.stringify({ experiment: 'heli fly', flights: 10 }),
+  'progress.csv': progressCsv(400),
+  'flights.csv': [FLIGHT_HEADER, ...[...Array(10).keys()].flatMap((f) => flightRows(f, 60, { wobble: 0.3, phase: f }))].join('\n') + '\n',
+  'pilot_flights.csv': [FLIGHT_HEADER, ...[...Array(10).keys()].flatMap((f) => flightRows(f, 60, { wobble: 0.7, phase: 1 + f }))].join('\n') + '\n',
+  'charts.json': chartsJson({ pilot: true }),
+}, { replay: 1 });
 console.log(`made ${runs.length} run directories in ${((Date.now() - started) / 1000).toFixed(1)} s`);
 
 // --- the browser ----------------------------------------------------------------------------------------
@@ -224,6 +233,9 @@ async function canvasPixels(page, id) {
 for (const [name, dir, expect] of runs) {
   const file = path.join(dir, 'report.html');
   if (!fs.existsSync(file)) { fail(`${name}: no report.html`); continue; }
+  // Every report at most 1.5 MB (include/pegasus/report/report.hpp, kMaxReportBytes).
+  const bytes = fs.statSync(file).size;
+  if (bytes > 1500000) fail(`${name}: report.html is ${bytes} bytes, more than 1.5 MB`);
   const page = await context.newPage();
   const errors = [];
   page.on('console', (m) => { if (m.type() === 'error') errors.push(`console: ${m.text()}`); });

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 #include <stdlib.h>
+#include <zlib.h>
 
 #include <cmath>
 #include <filesystem>
@@ -36,14 +37,53 @@ void write(const fs::path& file, const std::string& text) {
   std::ofstream(file) << text;
 }
 
-// The JSON block of a report page.
+// The bytes of base64 text.
+std::string from_base64(const std::string& text) {
+  const std::string alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  unsigned bits = 0;
+  int count = 0;
+  for (char c : text) {
+    const auto v = alphabet.find(c);
+    if (v == std::string::npos) continue;  // '=' padding
+    bits = (bits << 6) | static_cast<unsigned>(v);
+    if ((count += 6) >= 8) {
+      count -= 8;
+      out += static_cast<char>((bits >> count) & 0xff);
+    }
+  }
+  return out;
+}
+
+// The text of gzip-compressed bytes.
+std::string gunzip(const std::string& bytes) {
+  z_stream z{};
+  EXPECT_EQ(inflateInit2(&z, 15 + 16), Z_OK);
+  z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(bytes.data()));
+  z.avail_in = static_cast<uInt>(bytes.size());
+  std::string out;
+  char buffer[65536];
+  int status = Z_OK;
+  while (status == Z_OK) {
+    z.next_out = reinterpret_cast<Bytef*>(buffer);
+    z.avail_out = sizeof buffer;
+    status = inflate(&z, Z_NO_FLUSH);
+    out.append(buffer, sizeof buffer - z.avail_out);
+  }
+  inflateEnd(&z);
+  EXPECT_EQ(status, Z_STREAM_END);
+  return out;
+}
+
+// The JSON block of a report page (gzip-compressed, base64-encoded).
 json embedded_data(const std::string& html) {
-  const std::string open = "<script type=\"application/json\" id=\"pegasus-data\">";
+  const std::string open =
+      "<script type=\"application/gzip\" id=\"pegasus-data\" data-encoding=\"gzip+base64\">";
   const auto begin = html.find(open);
   EXPECT_NE(begin, std::string::npos);
   const auto start = begin + open.size();
   const auto end = html.find("</script>", start);
-  return json::parse(html.substr(start, end - start));
+  return json::parse(gunzip(from_base64(html.substr(start, end - start))));
 }
 
 const json& chart_from(const json& data, const std::string& source, const std::string& title_part = "") {
@@ -284,8 +324,10 @@ TEST_F(Report, LongSeriesKeepEveryKthRowAndTheLast) {
   EXPECT_EQ(x.back(), 1000);
   const auto y = doubles(c["traces"][0]["y"]);
   const auto objective = column(run_ / "progress.csv", 3);
-  EXPECT_EQ(y[5], objective[55]);
-  EXPECT_EQ(y.back(), objective[1000]);
+  // Six significant digits: the page's numbers are rounded (chart_number).
+  EXPECT_NEAR(y[5], objective[55], 1e-6 * objective[55]);
+  EXPECT_NE(y[5], objective[55]);  // sqrt(55) has 17 digits in the CSV
+  EXPECT_NEAR(y.back(), objective[1000], 1e-6 * objective[1000]);
   // Against evaluations and time as well.
   EXPECT_EQ(doubles(chart_from(data, "progress.csv", "evaluations")["traces"][0]["x"])[1], 110);
   EXPECT_EQ(doubles(chart_from(data, "progress.csv", "seconds")["traces"][0]["x"])[1], 5.5);
@@ -446,6 +488,60 @@ TEST_F(Report, CliRefusesABadRunDirectoryWithExit2AndWritesNothing) {
   EXPECT_NE(none.output.find("RUN_DIR"), std::string::npos) << none.output;
 }
 
+TEST_F(Report, APipelineOpensWithItsVerdictAndItsStagesVerdictsInOrder) {
+  const json fly = {
+      {"flights", 4}, {"crashes", 0}, {"rms_position_m", 0.5}, {"pilot", {{"rms_position_m", 1.0}}}};
+  json top = fly;
+  top["stages"] = {"pilot-train", "fly"};
+  write(run_ / "summary.json", top.dump());
+  write(run_ / "run.json", R"({"command": "heli pipeline", "printed": [], "warnings": []})");
+  write(run_ / "fly" / "summary.json", fly.dump());
+  write(run_ / "fly" / "run.json", R"({"command": "heli fly"})");
+  write(run_ / "pilot-train" / "summary.json", R"({"seconds": 200.0, "crashed": false})");
+  write(run_ / "pilot-train" / "run.json", R"({"command": "heli pilot"})");
+  const std::string html = render();
+  const auto result = html.find("id=\"result\"");
+  ASSERT_NE(result, std::string::npos);
+  const auto own = html.find("<p class=\"verdict\">4 flights, no crash; 50% closer to the set point", result);
+  const auto pilot = html.find("<li><b>pilot-train</b>: the pilot flew 200 s without a crash</li>", result);
+  const auto flights = html.find("<li><b>fly</b>: 4 flights, no crash; 50% closer", result);
+  EXPECT_NE(own, std::string::npos) << html.substr(result, 2000);
+  EXPECT_LT(own, pilot);      // its own verdict first
+  EXPECT_LT(pilot, flights);  // then the stages in the order the summary lists them
+  EXPECT_LT(flights, html.find("id=\"headline\""));
+}
+
+TEST_F(Report, APageLongerThanItsLimitThinsItsSeriesUntilItFits) {
+  // 60,000 rows of a noisy series: 4,000 of them (the default) compress to far more than the room left
+  // beside a bundle of 1.48 MB.
+  std::string text = "iteration,evaluations,seconds,objective\n";
+  for (int i = 0; i < 60000; ++i)
+    text += fmt::format("{},{},{},{}\n", i, 10 * i, 0.5 * i, std::sin(0.37 * i) * std::sqrt(i + 1.0));
+  write(run_ / "progress.csv", text);
+  describe(run_, {pegasus::optimizer_progress_section({{"", "progress.csv"}}, "intro")});
+  const std::string bundle(1'480'000, ' ');
+  pegasus::report::ReportOptions unlimited;
+  unlimited.max_bytes = 0;
+  const std::string full = pegasus::report::render_report(run_, bundle, unlimited);
+  EXPECT_GT(full.size(), pegasus::report::kMaxReportBytes);
+  EXPECT_EQ(chart_from(embedded_data(full), "progress.csv", "iteration")["traces"][0]["stride"], 15);
+
+  const std::string html = pegasus::report::render_report(run_, bundle);
+  EXPECT_LE(html.size(), pegasus::report::kMaxReportBytes);
+  const json data = embedded_data(html);
+  const json& c = chart_from(data, "progress.csv", "iteration");
+  const std::size_t stride = c["traces"][0]["stride"];
+  EXPECT_GT(stride, 15u);
+  // Still every stride-th row, to six digits.
+  const auto y = doubles(c["traces"][0]["y"]);
+  const auto objective = column(run_ / "progress.csv", 3);
+  ASSERT_GE(y.size(), 8u);
+  EXPECT_NEAR(y[7], objective[7 * stride], 1e-6 * std::abs(objective[7 * stride]));
+  // A bundle that leaves no room at all: the page is written anyway, as the options allow.
+  EXPECT_GT(pegasus::report::render_report(run_, std::string(1'600'000, ' ')).size(),
+            pegasus::report::kMaxReportBytes);
+}
+
 TEST_F(Report, CliNamesAMissingBundleInOneLine) {
   ::setenv(pegasus::report::kBundleEnv, (dir_ / "none.js").c_str(), 1);
   const auto r = run_pegasus("report " + quoted(run_));
@@ -480,9 +576,12 @@ TEST_F(Report, EveryRunEndsWithItsReportAndTheCommandRemakesIt) {
   const json run = json::parse(read_text(dir_ / "h" / "run.json"));
   EXPECT_EQ(run.at("printed"), json::array({"{\"horizon\":51}"}));
   EXPECT_EQ(run.at("warnings"), json::array());
-  EXPECT_NE(html.find("plotly.js-dist-min"),
+  EXPECT_NE(html.find("plotly.js-cartesian-dist-min"),
             std::string::npos);  // the real bundle
   EXPECT_NE(html.find("three"), std::string::npos);
+  // Self-contained and at most 1.5 MB (issue 50; 5.4 MB with the whole of plotly.js).
+  EXPECT_LE(html.size(), pegasus::report::kMaxReportBytes);
+  EXPECT_EQ(html.find("src=\"http"), std::string::npos);
 
   write(run_ / "progress.csv", "iteration,evaluations,seconds,objective\n1,10,0.1,-3\n2,20,0.2,-2\n");
   describe(run_, {pegasus::optimizer_progress_section({{"", "progress.csv"}}, "intro")});

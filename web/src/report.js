@@ -1,15 +1,17 @@
 // The page code of a Pegasus run report. `pegasus report` writes the HTML skeleton (headline figures,
 // configuration, one empty <div class="chart"> per chart) and a JSON block with the data of every chart
-// (<script type="application/json" id="pegasus-data">); this code draws each chart with plotly.js, and the
-// helicopter flight replay with three.js. Chart kinds:
+// (<script type="application/gzip" id="pegasus-data" data-encoding="gzip+base64">: the JSON, gzip-compressed and
+// base64-encoded, which window.pegasusInflate of the bundle's loader unpacks; web/build.mjs); this code draws
+// each chart with plotly.js, and the helicopter flight replay with three.js. Chart kinds:
 //   xy     lines/markers; optional error bars (error), shaded bands (lower/upper), horizontal reference lines
 //   box    box plots of groups of values
 //   bar    a bar chart
 //   replay 3-D replay of flights (NED positions and Euler angles) against an ideal path, with play/pause
 //          and a time slider
 //   mujoco_replay  3-D replay of a MuJoCo rollout (replay.json): every geom as a three.js primitive
-// window.pegasusReport exposes what the browser test checks (charts drawn, replay aircraft position).
-import Plotly from 'plotly.js-dist-min';
+// window.pegasusReport exposes what the browser test checks (charts drawn, replay aircraft position) and the
+// page's data.
+import Plotly from 'plotly.js-cartesian-dist-min';
 import * as THREE from 'three';
 import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
 
@@ -498,8 +500,11 @@ function drawMujocoReplay(div, spec) {
 const drawers = { xy: drawXY, box: drawBox, bar: drawBar };
 
 async function main() {
-  const data = JSON.parse(document.getElementById('pegasus-data').textContent);
-  const report = { charts: {}, replays: [], ready: false, errors: [] };
+  const block = document.getElementById('pegasus-data');
+  const text = block.dataset.encoding === 'gzip+base64' ? await window.pegasusInflate(block.textContent.trim())
+    : block.textContent;
+  const data = JSON.parse(text);
+  const report = { data, charts: {}, replays: [], ready: false, errors: [] };
   window.pegasusReport = report;
   for (const spec of data.charts) {
     const div = document.getElementById(spec.id);

@@ -1,9 +1,10 @@
 #pragma once
 // The HTML report of a run directory (the last step of the data flow: run directory -> report).
 //
-// report.html is one self-contained file that works offline: the page skeleton (title, headline figures of
-// summary.json, the resolved config.toml, run.json provenance) is plain HTML; the data of every chart is a
-// JSON block in the page, built from the run's CSV series; and the JavaScript that draws the charts
+// report.html is one self-contained file that works offline, at most 1.5 MB: the page skeleton (title,
+// headline figures of summary.json, the resolved config.toml, run.json provenance) is plain HTML; the data of
+// every chart is a JSON block in the page (gzip-compressed, base64-encoded), built from the run's CSV series;
+// and the JavaScript that draws the charts
 // (plotly.js), the 3-D flight replay (three.js) and the page code (web/src/report.js) is inlined from one
 // bundle file, pegasus-report.js, that the build makes with `npm ci` from web/package-lock.json.
 //
@@ -29,14 +30,20 @@ inline constexpr const char* kBundleName = "pegasus-report.js";
 // The environment variable that names the bundle file explicitly.
 inline constexpr const char* kBundleEnv = "PEGASUS_REPORT_BUNDLE";
 
+// A report's largest size: 1.5 MB, the bundle (about 0.86 MB) included.
+inline constexpr std::size_t kMaxReportBytes = 1'500'000;
+
 struct ReportOptions {
-  // Most rows of one series embedded in the page; longer series keep every k-th row (and the last) so that
-  // a report stays a few MB. The stride is recorded with the series.
+  // Most rows of one series embedded in the page; longer series keep every k-th row (and the last). The
+  // stride is recorded with the series. Numbers keep six significant digits.
   std::size_t max_points = 4000;
   // Most samples of one flight in the 3-D replay (1500: 25 Hz over a minute).
   std::size_t max_replay_points = 1500;
   // Most flights of flights.csv / pilot_flights.csv drawn (the first ones).
   std::size_t max_flights = 10;
+  // The page's largest size in bytes (0: no limit). render_report and write_report thin every series and
+  // replay further (fewer rows, down to 20) where the rows above would make the page longer.
+  std::size_t max_bytes = kMaxReportBytes;
 };
 
 // Where the JavaScript bundle is, in this order: $PEGASUS_REPORT_BUNDLE; pegasus-report.js next to the
@@ -50,7 +57,9 @@ std::filesystem::path find_bundle();
 // malformed CSV series.
 nlohmann::json report_data(const std::filesystem::path& run_dir, const ReportOptions& options = {});
 
-// The whole report.html text; `bundle_js` is the text of pegasus-report.js. Errors as report_data.
+// The whole report.html text, at most options.max_bytes long; `bundle_js` is the text of pegasus-report.js.
+// The charts' data is embedded as gzip-compressed, base64-encoded JSON (the bundle unpacks it). Errors as
+// report_data.
 std::string render_report(const std::filesystem::path& run_dir, std::string_view bundle_js,
                           const ReportOptions& options = {});
 
