@@ -421,13 +421,7 @@ void declare_fly_config(ConfigSchema& s) {
   const Vec3& wind = d.settings.mean_wind_W;
   s.add_double_list("wind", {wind.x(), wind.y(), wind.z()},
                     "steady wind north, east, down (m/s, W), under the gusts")
-      .validate([](const FieldValue& v) {
-        const auto& w = std::get<std::vector<double>>(v);
-        if (w.size() != 3) return std::string("3 numbers: north, east, down (m/s)");
-        for (const double x : w)
-          if (!(std::abs(x) <= 30)) return std::string("3 numbers in [-30, 30] m/s");
-        return std::string();
-      });
+      .validate(check_wind_ned);
   s.add_bool("estimate_noise", d.settings.estimate_noise,
              "the controller sees Kalman-filter-like state-estimate errors");
   s.add_double("start_pos_sigma", hover.start_pos_sigma, "start position perturbation per axis, m")

@@ -48,6 +48,14 @@ double limit_of(const ConfigSchema& c, const char* field) {
 
 }  // namespace
 
+std::string check_wind_ned(const FieldValue& v) {
+  const auto& w = std::get<std::vector<double>>(v);
+  if (w.size() != 3) return "3 numbers: north, east, down (m/s)";
+  for (const double x : w)
+    if (!(std::abs(x) <= 30)) return "3 numbers in [-30, 30] m/s";
+  return {};
+}
+
 void declare_hover_cost_and_wind(ConfigSchema& s) {
   const HoverTrainingOptions defaults;
   s.add_bool(
@@ -73,13 +81,7 @@ void declare_hover_cost_and_wind(ConfigSchema& s) {
        "wind.steady", {0, 0, 0},
        "steady wind in the scenarios, north, east, down (m/s, NED): the learned model's forces act "
        "on the airspeed")
-      .validate([](const FieldValue& v) {
-        const auto& w = std::get<std::vector<double>>(v);
-        if (w.size() != 3) return std::string("3 numbers: north, east, down (m/s)");
-        for (const double x : w)
-          if (!(std::abs(x) <= 30)) return std::string("3 numbers in [-30, 30] m/s");
-        return std::string();
-      });
+      .validate(check_wind_ned);
   s.add_double("wind.sigma", 0,
                "each scenario's steady wind drawn about wind.steady, per horizontal axis, m/s")
       .range(0, 30);
