@@ -4,6 +4,11 @@
 //   BM_HeliHoverUhat/threads       U-hat of the starting hover policy on the learned model at the thesis's
 //                                  settings (§5.3: 30 scenarios x 35 s at 50 Hz, a refit every 5 steps) on 1
 //                                  or 2 threads; the model is identified from the shipped 339 s pilot log
+//   BM_HeliHoverUhat25Hz/refit   issue 53: U-hat of the starting policy with a 25 Hz model and a 25 Hz
+//                                  controller identified from 10 minutes of logs (600 s, 15,000 rows at 25
+//                                  Hz), 30 scenarios x 35 s (26,250 steps), a refit every 1 (the default at
+//                                  the model's rate), 2 or 5 steps, 1 thread: us_per_step and the
+//                                  evaluation's time
 //   BM_HeliHoverPolicyAct          one action of the hover policy (body-frame errors, four channel networks)
 //   BM_HeliControlLoop             heli control's loop: 10,000 state lines parsed, answered and flushed
 //                                  (to /dev/null) per iteration; lines_per_s is per CPU second of the
@@ -75,6 +80,36 @@ void BM_HeliHoverUhat(benchmark::State& state) {
   state.counters["steps"] = static_cast<double>(options.scenarios * options.horizon());
 }
 BENCHMARK(BM_HeliHoverUhat)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+std::shared_ptr<const sysid::IdentifiedModel> ten_minutes_at_25_hz() {
+  static const auto model = [] {
+    const heli::Aircraft heli;
+    const auto log = heli::fly_pilot(heli, heli::PilotOptions{}, 600, 3).log;
+    sysid::IdentifyOptions o;
+    o.structure.rate_hz = 25;
+    ThreadPool pool(2);
+    return std::make_shared<const sysid::IdentifiedModel>(sysid::identify(log, o, pool));
+  }();
+  return model;
+}
+
+void BM_HeliHoverUhat25Hz(benchmark::State& state) {
+  const auto model = ten_minutes_at_25_hz();
+  heli::HoverTrainingOptions options;
+  options.control_rate_hz = 25;
+  options.refit_every = static_cast<int>(state.range(0));
+  auto objective = heli::hover_objective(model, options, std::make_shared<ThreadPool>(1));
+  const Theta theta = objective->parameters().initial();
+  double uhat = 0;
+  for (auto _ : state) benchmark::DoNotOptimize(uhat = objective->evaluate(theta));
+  const double steps = static_cast<double>(options.scenarios * options.horizon());
+  state.counters["uhat"] = uhat;
+  state.counters["steps"] = steps;
+  state.counters["us_per_step"] = benchmark::Counter(
+      steps * 1e-6, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  state.counters["rows"] = static_cast<double>(model->data().x.rows());
+}
+BENCHMARK(BM_HeliHoverUhat25Hz)->Arg(1)->Arg(2)->Arg(5)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_HeliHoverPolicyAct(benchmark::State& state) {
   const heli::HoverPolicy pi;

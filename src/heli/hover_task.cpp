@@ -1,9 +1,11 @@
 #include "pegasus/heli/hover_task.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <optional>
 
@@ -33,6 +35,11 @@ sysid::LearnedModelOptions learned_options(const HoverTrainingOptions& o,
   m.start_pos_sigma = o.start_pos_sigma;
   m.start_vel_sigma = o.start_vel_sigma;
   m.max_tilt_rad = o.max_tilt_rad;
+  m.max_position_error_m = o.max_position_error_m;
+  m.max_speed_mps = o.max_speed_mps;
+  m.max_rate_radps = o.max_rate_radps;
+  m.crash_reward = -o.crash_penalty;
+  m.disturbance = o.disturbance;
   return m;
 }
 
@@ -64,6 +71,10 @@ bool HoverReward::IsValid(std::string* error) const {
     if (!reward_weight(a)) return weight_error("alpha_attitude", a);
   for (const double a : alpha_rate)
     if (!reward_weight(a)) return weight_error("alpha_rate", a);
+  for (const double a : alpha_body_rate)
+    if (!reward_weight(a)) return weight_error("alpha_body_rate", a);
+  for (const double a : alpha_quaternion)
+    if (!reward_weight(a)) return weight_error("alpha_quaternion", a);
   for (std::size_t c = 0; c < 4; ++c) {
     if (!reward_weight(alpha_action[c])) return weight_error("alpha_action", alpha_action[c]);
     if (!(std::abs(centre[c]) <= 1)) return fail(error, "centre: expected controls in [-1, 1]");
@@ -86,6 +97,15 @@ double HoverReward::state_cost(const LoggedState& s, const SetPoint& t) const {
     cost += alpha_rate[0] * s[logged::roll_rate] * s[logged::roll_rate] +
             alpha_rate[1] * s[logged::pitch_rate] * s[logged::pitch_rate] +
             alpha_rate[2] * s[logged::yaw_rate] * s[logged::yaw_rate];
+  const auto any = [](const std::array<double, 3>& w) { return w[0] > 0 || w[1] > 0 || w[2] > 0; };
+  if (any(alpha_body_rate)) {
+    const Vec3 w_B = body_rates_from_euler_rates(attitude_of(s), euler_rates_of(s));
+    for (int i = 0; i < 3; ++i) cost += alpha_body_rate[static_cast<std::size_t>(i)] * w_B[i] * w_B[i];
+  }
+  if (any(alpha_quaternion)) {
+    const auto q = quaternion_from_euler({s[logged::roll], s[logged::pitch], eyaw});
+    for (std::size_t i = 0; i < 3; ++i) cost += alpha_quaternion[i] * q[i + 1] * q[i + 1];
+  }
   return cost;
 }
 
@@ -93,6 +113,24 @@ double HoverReward::action_cost(const Controls& a) const {
   double c = 0;
   for (std::size_t k = 0; k < 4; ++k) c += alpha_action[k] * (a[k] - centre[k]) * (a[k] - centre[k]);
   return c;
+}
+
+std::string HoverReward::terms(double crash_penalty) const {
+  std::string out;
+  const auto add = [&](const char* name, std::span<const double> w, const char* unit) {
+    if (std::all_of(w.begin(), w.end(), [](double x) { return x == 0; })) return;
+    out += fmt::format("{}{} {:.4g} {}", out.empty() ? "" : "; ", name, fmt::join(w, " "), unit);
+  };
+  add("position x y z", alpha_pos, "/m^2");
+  add("velocity x y z", alpha_vel, "/(m/s)^2");
+  add("yaw", std::span<const double>(&alpha_yaw, 1), "/rad^2");
+  add("roll pitch", alpha_attitude, "/rad^2");
+  add("Euler-angle rates", alpha_rate, "/(rad/s)^2");
+  add("body rates p q r", alpha_body_rate, "/(rad/s)^2");
+  add("attitude quaternion x y z", alpha_quaternion, "");
+  add("actions a1..a4", alpha_action, fmt::format("about [{:.4g}]", fmt::join(centre, ", ")).c_str());
+  return fmt::format("{}; crash {:.6g} (NED, FRD, rad, per control step)", out.empty() ? "nothing" : out,
+                     crash_penalty);
 }
 
 // ---- Training -----------------------------------------------------------------------------------------
@@ -194,11 +232,13 @@ LqrStart lqr_hover_init(const sysid::IdentifiedModel& model, const HoverTraining
                rate = static_cast<Eigen::Index>(logged::roll_rate + i);
     q(pos, pos) = r.alpha_pos[i];
     q(vel, vel) = r.alpha_vel[i];
-    q(rate, rate) = r.alpha_rate[i];
+    // At the level hover body rates are the Euler-angle rates, and the quaternion's vector part half the
+    // Euler angles: a judged cost's terms enter Q as their linearisation there.
+    q(rate, rate) = r.alpha_rate[i] + r.alpha_body_rate[i];
   }
-  q(kRollAt, kRollAt) = r.alpha_attitude[0];
-  q(kPitchAt, kPitchAt) = r.alpha_attitude[1];
-  q(kYawAt, kYawAt) = r.alpha_yaw;
+  q(kRollAt, kRollAt) = r.alpha_attitude[0] + r.alpha_quaternion[0] / 4;
+  q(kPitchAt, kPitchAt) = r.alpha_attitude[1] + r.alpha_quaternion[1] / 4;
+  q(kYawAt, kYawAt) = r.alpha_yaw + r.alpha_quaternion[2] / 4;
   for (int c = 0; c < nu; ++c)
     rr(c, c) =
         o.lqr_action_factor *
@@ -337,6 +377,12 @@ bool HoverTrainingOptions::IsValid(std::string* error) const {
                 fmt::format("lqr_action_factor: expected a number in (0, 1e12], got {}", lqr_action_factor));
   if (!(max_tilt_rad > 0 && max_tilt_rad < 1.5708))
     return fail(error, fmt::format("max_tilt_rad: expected a number in (0, pi/2), got {}", max_tilt_rad));
+  if (!(max_position_error_m > 0 && max_speed_mps > 0 && max_rate_radps > 0))
+    return fail(error, "max_position_error_m, max_speed_mps, max_rate_radps: expected positive numbers");
+  if (!(crash_penalty >= 0 && crash_penalty <= kMaxRewardWeight))
+    return fail(error, fmt::format("crash_penalty: expected a number in [0, {}], got {}", kMaxRewardWeight,
+                                   crash_penalty));
+  if (!disturbance.IsValid(&inner)) return fail(error, inner);
   if (refit_every < 0)
     return fail(error, fmt::format("refit_every: expected an integer >= 0 (0: at the model's rate), got {}",
                                    refit_every));

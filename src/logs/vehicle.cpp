@@ -17,6 +17,7 @@
 #include "pegasus/heli/simulators.hpp"
 #include "pegasus/io/json_csv.hpp"
 #include "pegasus/sysid/body_model.hpp"
+#include "vehicle_cost.hpp"
 
 namespace pegasus::logs {
 namespace {
@@ -287,7 +288,7 @@ double max_tilt_of(const SpecReader& r, const VehicleLogSpec& spec) {
 
 Vehicle vehicle(const toml::table& root, const std::filesystem::path& file) {
   const SpecReader r(root, file.string());
-  r.only_keys("", {"vehicle", "log", "model", "control", "hover", "envelope"});
+  r.only_keys("", {"vehicle", "log", "model", "control", "hover", "envelope", "cost"});
   r.only_keys("vehicle", {"name", "latent_states", "simulator"});
   r.only_keys("log", {"rate_hz", "model_rate_hz", "instance", "max_gap_s", "time", "position", "velocity",
                       "attitude", "rates", "controls", "world_frame", "body_frame"});
@@ -297,10 +298,10 @@ Vehicle vehicle(const toml::table& root, const std::filesystem::path& file) {
   r.only_keys("log.rates", {"topic", "fields", "form", "unit"});
   r.only_keys("model", {"templates"});
   r.only_keys("control", {"rate_hz"});
-  r.only_keys("hover", {"target", "starting_gains", "integral_seconds", "reward"});
+  r.only_keys("hover", {"target", "starting_gains", "integral_seconds", "reward", "wind"});
   r.only_keys("hover.reward",
               {"position_m", "velocity_mps", "yaw_rad", "action", "attitude_rad", "rate_radps"});
-  r.only_keys("envelope", {"max_tilt_rad", "max_tilt"});
+  r.only_keys("envelope", {"max_tilt_rad", "max_tilt", "max_position_error", "max_speed", "max_rate"});
   Vehicle v;
   v.log = vehicle_log_spec(root, r, file);
   v.xcell_latent_states = r.string("vehicle.latent_states", "none", {"none", "xcell"}) == "xcell";
@@ -343,6 +344,10 @@ Vehicle vehicle(const toml::table& root, const std::filesystem::path& file) {
   }
   v.max_tilt_rad = r.number("envelope.max_tilt_rad", v.max_tilt_rad, 0.01, 1.5);
   if (r.at("envelope.max_tilt")) v.max_tilt_rad = max_tilt_of(r, v.log);
+  const TomlFields fields(file.string());
+  read_envelope_limits(root, fields, v);
+  v.cost = read_judged_cost(root, fields);
+  v.wind = read_hover_wind(root, fields, v.log);
   return v;
 }
 

@@ -4,14 +4,17 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "pegasus/core/error.hpp"
 #include "pegasus/core/reward_limits.hpp"
 #include "pegasus/heli/hover_task.hpp"
 #include "pegasus/heli/simulators.hpp"
 #include "pegasus/runs/optimizer_config.hpp"
+#include "vehicle_cost_config.hpp"
 
 namespace pegasus::heli {
 
@@ -360,6 +363,7 @@ void declare_hover_config(ConfigSchema& s) {
                "typical roll, pitch and yaw rate: alpha = 1 / this^2; 0: no rate term (as Eq 5.9)")
       .min(0)
       .validate(zero_or_typical);
+  declare_hover_cost_and_wind(s);
   s.add_string("reward.action_centre", defaults.centre_at_trim ? "trim" : "zero",
                "controls the action cost is taken about: the logs' mean (trim) or 0 (Eq 5.10 as printed)")
       .choices({"trim", "zero"});
@@ -375,6 +379,7 @@ void resolve_hover_config(ConfigSchema& s) {
   apply_fills(s, *v, hover_fills());
   for (const auto& [key, size] : v->reward)
     set_from_vehicle(s, *v, "reward." + key, size, "hover.reward." + key);
+  resolve_hover_cost_and_wind(s, *v);
 }
 
 HoverRunOptions read_hover_config(const ConfigSchema& c, std::uint64_t seed) {
@@ -394,11 +399,7 @@ HoverRunOptions read_hover_config(const ConfigSchema& c, std::uint64_t seed) {
   o.max_tilt_rad = c.get_double("max_tilt_rad");
   const auto& t = c.get_double_list("target");
   o.target = {t[0], t[1], t[2], t[3]};
-  o.reward = HoverReward::from_typical(c.get_double("reward.position_m"), c.get_double("reward.velocity_mps"),
-                                       c.get_double("reward.yaw_rad"), c.get_double("reward.action"), {});
-  o.reward.alpha_attitude.fill(HoverReward::weight_of_typical(c.get_double("reward.attitude_rad")));
-  o.reward.alpha_rate.fill(HoverReward::weight_of_typical(c.get_double("reward.rate_radps")));
-  o.centre_at_trim = c.get_string("reward.action_centre") == "trim";
+  run.judged_cost = read_hover_cost_and_wind(c, run.aircraft.vehicle, o);
   read_optimizer_options(c, "optimizer", &o.optimizer);
   o.then_hill_climb = c.get_bool("then_hill_climb");
   o.max_start_crash_fraction = c.get_double("max_start_crash_fraction");
@@ -420,13 +421,7 @@ void declare_fly_config(ConfigSchema& s) {
   const Vec3& wind = d.settings.mean_wind_W;
   s.add_double_list("wind", {wind.x(), wind.y(), wind.z()},
                     "steady wind north, east, down (m/s, W), under the gusts")
-      .validate([](const FieldValue& v) {
-        const auto& w = std::get<std::vector<double>>(v);
-        if (w.size() != 3) return std::string("3 numbers: north, east, down (m/s)");
-        for (const double x : w)
-          if (!(std::abs(x) <= 30)) return std::string("3 numbers in [-30, 30] m/s");
-        return std::string();
-      });
+      .validate(check_wind_ned);
   s.add_bool("estimate_noise", d.settings.estimate_noise,
              "the controller sees Kalman-filter-like state-estimate errors");
   s.add_double("start_pos_sigma", hover.start_pos_sigma, "start position perturbation per axis, m")

@@ -174,6 +174,17 @@ void run_hover(const HoverRunOptions& options, RunSink& sink, ThreadPool& pool) 
   const auto model = options.aircraft.load_model(options.model_file);
   RunDirectory& dir = sink.dir;
   options.aircraft.keep(dir);
+  // Which terms are in the reward (issue 53): with a judged cost, only the file's.
+  sink.out << fmt::format("reward ({}): {}\n",
+                          options.judged_cost ? "the vehicle file's [cost], whole" : "the reward.* options",
+                          hover_reward_for(*model, o).terms(o.crash_penalty));
+  if (!o.disturbance.calm())
+    sink.out << fmt::format(
+        "wind in the scenarios: steady [{:g}, {:g}, {:g}] m/s NED, drawn +- {:g} per horizontal axis per "
+        "scenario, "
+        "AR(1) gusts of {:g} m/s with a correlation time of {:g} s\n",
+        o.disturbance.wind[0], o.disturbance.wind[1], o.disturbance.wind[2], o.disturbance.wind_sigma,
+        o.disturbance.gust_sigma, o.disturbance.gust_tau_s);
   // A control step longer than the model's is one model step's change stretched (learned_model.hpp): allowed,
   // and `identify` reports it as training runs it, but not without a word.
   if (const double ratio = model->dt() * o.control_rate_hz; ratio < 1 - 1e-9)
@@ -292,6 +303,20 @@ void run_hover(const HoverRunOptions& options, RunSink& sink, ThreadPool& pool) 
     summary["integral"] = integral;
   }
   if (o.max_tilt_rad != HoverTrainingOptions{}.max_tilt_rad) summary["max_tilt_rad"] = o.max_tilt_rad;
+  if (options.judged_cost)  // likewise: the judged cost's terms as trained
+    summary["judged_cost"] = {{"reward", hover_reward_for(*model, o).terms(o.crash_penalty)},
+                              {"crash_penalty", o.crash_penalty}};
+  if (!o.disturbance.calm())  // likewise
+    summary["wind"] = {{"steady_ned_mps", o.disturbance.wind},
+                       {"sigma_mps", o.disturbance.wind_sigma},
+                       {"gust_sigma_mps", o.disturbance.gust_sigma},
+                       {"gust_tau_s", o.disturbance.gust_tau_s}};
+  const HoverTrainingOptions calm_defaults;
+  for (const auto& [key, value, fallback] :
+       {std::tuple{"max_position_error_m", o.max_position_error_m, calm_defaults.max_position_error_m},
+        std::tuple{"max_speed_mps", o.max_speed_mps, calm_defaults.max_speed_mps},
+        std::tuple{"max_rate_radps", o.max_rate_radps, calm_defaults.max_rate_radps}})
+    if (value != fallback) summary[key] = value;
   if (o.control_rate_hz != 50) {  // likewise
     summary["control_rate_hz"] = o.control_rate_hz;
     summary["refit_every"] = o.refit_steps(*model);

@@ -1,5 +1,7 @@
 #include "pegasus/sysid/learned_model.hpp"
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <stdexcept>
 
@@ -10,6 +12,22 @@ namespace pegasus::sysid {
 
 namespace logged = heli::logged;
 
+bool Disturbance::IsValid(std::string* error) const {
+  auto fail = [&](const std::string& what) {
+    if (error) *error = what;
+    return false;
+  };
+  for (const double w : wind)
+    if (!(std::abs(w) <= 30)) return fail(fmt::format("wind: expected numbers in [-30, 30] m/s, got {}", w));
+  if (!(wind_sigma >= 0 && wind_sigma <= 30))
+    return fail(fmt::format("wind_sigma: expected a number in [0, 30] m/s, got {}", wind_sigma));
+  if (!(gust_sigma >= 0 && gust_sigma <= 30))
+    return fail(fmt::format("gust_sigma: expected a number in [0, 30] m/s, got {}", gust_sigma));
+  if (!(gust_tau_s > 0 && gust_tau_s <= 3600))
+    return fail(fmt::format("gust_tau_s: expected a number in (0, 3600] s, got {}", gust_tau_s));
+  return true;
+}
+
 bool LearnedModelOptions::IsValid(std::string* error) const {
   auto fail = [&](const char* what) {
     if (error) *error = std::string("learned model: ") + what;
@@ -19,6 +37,13 @@ bool LearnedModelOptions::IsValid(std::string* error) const {
   if (refit_every < 1) return fail("refit_every must be >= 1");
   if (!(support_bandwidths > 0)) return fail("support_bandwidths must be positive");
   if (!(start_pos_sigma >= 0 && start_vel_sigma >= 0)) return fail("start sigmas must be >= 0");
+  if (!(max_position_error_m > 0 && max_speed_mps > 0 && max_rate_radps > 0))
+    return fail("the envelope's limits must be positive");
+  std::string inner;
+  if (!disturbance.IsValid(&inner)) {
+    if (error) *error = "learned model: " + inner;
+    return false;
+  }
   return true;
 }
 
@@ -60,7 +85,37 @@ LearnedHeliModel::State LearnedHeliModel::initial_state(std::span<const double> 
     for (int k = 0; k < kBodyVars; ++k)
       s.colored[k] = std::sqrt(model_->sigma2()[k] * colored_scale_[k]) *
                      normal_quantile(p0[static_cast<std::size_t>(6 + k)]);
+  // The wind's draws come after the model's own (see the header).
+  const Disturbance& d = options_.disturbance;
+  auto next = static_cast<std::size_t>(own_initial_noise_dim());
+  s.wind = d.wind;
+  if (d.wind_sigma > 0)
+    for (std::size_t i = 0; i < 2; ++i) s.wind[i] += d.wind_sigma * normal_quantile(p0[next++]);
+  if (gusty())
+    for (std::size_t i = 0; i < 3; ++i) s.gust[i] = d.gust_sigma * normal_quantile(p0[next++]);
   return s;
+}
+
+std::array<double, 3> LearnedHeliModel::air_of(const State& s) const {
+  return {s.wind[0] + s.gust[0], s.wind[1] + s.gust[1], s.wind[2] + s.gust[2]};
+}
+
+bool LearnedHeliModel::outside_envelope(const SimState& s) const {
+  const auto& w = s.world;
+  bool bad =
+      std::abs(w[logged::roll]) > options_.max_tilt_rad || std::abs(w[logged::pitch]) > options_.max_tilt_rad;
+  for (double v : w) bad = bad || !std::isfinite(v);
+  if (bad) return true;
+  const auto norm3 = [&](std::size_t at, const std::array<double, 3>& about) {
+    return std::hypot(w[at] - about[0], w[at + 1] - about[1], w[at + 2] - about[2]);
+  };
+  const std::array<double, 3> set_point{options_.start[logged::x], options_.start[logged::y],
+                                        options_.start[logged::z]};
+  if (norm3(logged::x, set_point) > options_.max_position_error_m) return true;
+  if (norm3(logged::xdot, {0, 0, 0}) > options_.max_speed_mps) return true;
+  for (std::size_t i = 0; i < 3; ++i)
+    if (std::abs(w[logged::roll_rate + i]) > options_.max_rate_radps) return true;
+  return false;
 }
 
 LearnedHeliModel::State LearnedHeliModel::step(const State& s, const Action& a_in,
@@ -69,7 +124,14 @@ LearnedHeliModel::State LearnedHeliModel::step(const State& s, const Action& a_i
   State n = s;
   Action a;
   for (std::size_t c = 0; c < 4; ++c) a[c] = std::clamp(a_in[c], -1.0, 1.0);
-  const InputVec x = sim_input(s.sim, a);
+  // In wind the calm model steps the motion relative to the air, and the air frame moves on at the wind's
+  // velocity: the regression sees the airspeed, position and velocity come back to the ground.
+  const bool calm = options_.disturbance.calm();
+  SimState relative = s.sim;
+  const std::array<double, 3> air = calm ? std::array<double, 3>{0, 0, 0} : air_of(s);
+  if (!calm)
+    for (std::size_t i = 0; i < 3; ++i) relative.world[logged::xdot + i] -= air[i];
+  const InputVec x = sim_input(relative, a);
   if (s.step % options_.refit_every == 0) {
     const LocalFit fit = model_->regression().fit(x);
     if (fit.singular || fit.max_weight < min_weight_) {
@@ -94,12 +156,21 @@ LearnedHeliModel::State LearnedHeliModel::step(const State& s, const Action& a_i
       delta[k] += std::sqrt(n.variance[k] * f) * normal_quantile(p[static_cast<std::size_t>(k)]);
     }
   }
-  n.sim = sim_advance(model_->structure(), s.sim, a, delta, options_.dt);
+  n.sim = sim_advance(model_->structure(), relative, a, delta, options_.dt);
+  if (!calm)
+    for (std::size_t i = 0; i < 3; ++i) {
+      n.sim.world[logged::xdot + i] += air[i];
+      n.sim.world[logged::x + i] += options_.dt * air[i];
+    }
   n.step = s.step + 1;
-  bool bad = std::abs(n.sim.world[logged::roll]) > options_.max_tilt_rad ||
-             std::abs(n.sim.world[logged::pitch]) > options_.max_tilt_rad;
-  for (double v : n.sim.world) bad = bad || !std::isfinite(v);
-  if (bad) n.crashed = true;
+  if (gusty()) {
+    const Disturbance& d = options_.disturbance;
+    const double rho = std::exp(-options_.dt / d.gust_tau_s),
+                 innovation = d.gust_sigma * std::sqrt(1 - rho * rho);
+    const auto at = static_cast<std::size_t>(own_noise_dim());
+    for (std::size_t i = 0; i < 3; ++i) n.gust[i] = rho * s.gust[i] + innovation * normal_quantile(p[at + i]);
+  }
+  if (outside_envelope(n.sim)) n.crashed = true;
   return n;
 }
 

@@ -285,7 +285,7 @@ TEST(Vehicles, EveryMalformedFileIsRefusedNamingItsLineAndKey) {
       {replaced(good, "[log.rates]\nfields = [\"p\", \"q\", \"r\"]", "[log.rates]"),
        "log.rates.fields: missing; expected a list of 3 field (or CSV column) names"},
       {good + "\n[wind]\nspeed = 3\n",
-       "wind: unknown key; expected one of control, envelope, hover, log, model, vehicle"},
+       "wind: unknown key; expected one of control, cost, envelope, hover, log, model, vehicle"},
       {good + "\n[model]\ntemplates = \"thesis\"\n",
        "model.templates: expected 'kinematic' or 'none', got 'thesis'"},
       {replaced(good, "name = \"outside-heli\"", "name = \"\""),

@@ -18,6 +18,7 @@
 // reward match a cost that judges them too; a zero typical size leaves a term out (the action cost too).
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -52,6 +53,13 @@ struct HoverReward {
   Controls centre{0, 0, 0, 0};
   std::array<double, 2> alpha_attitude{0, 0};  // per rad^2 of roll and pitch (about level)
   std::array<double, 3> alpha_rate{0, 0, 0};   // per (rad/s)^2 of the roll, pitch and yaw rates
+  // A judged cost's terms (logs/vehicle.hpp's [cost]; 0 by default): per (rad/s)^2 of the body rates p, q, r
+  // (FRD), and per unit^2 of the vector part of the attitude's rotation from the set point's attitude (level,
+  // at the set point's yaw) in body axes: (x, y, z) of the quaternion of R_z(yaw*)^T R, which is
+  // quaternion_from_euler(roll, pitch, wrap(yaw - yaw*)) (the sign of a quaternion does not change its
+  // squares).
+  std::array<double, 3> alpha_body_rate{0, 0, 0};
+  std::array<double, 3> alpha_quaternion{0, 0, 0};
 
   // alpha = 1 / typical^2 for each term; a typical size of 0 gives alpha = 0 (no term).
   static double weight_of_typical(double typical) { return typical > 0 ? 1 / (typical * typical) : 0.0; }
@@ -62,6 +70,8 @@ struct HoverReward {
   double state_cost(const LoggedState& s, const SetPoint& target) const;
   // Eq 5.10 without the sign: >= 0.
   double action_cost(const Controls& a) const;
+  // One line naming the terms in the reward and their weights (those of 0 left out), and the crash penalty.
+  std::string terms(double crash_penalty) const;
 };
 
 // A helicopter model M (LearnedHeliModel for training; Observation = the 12 logged states) with a fixed set
@@ -152,8 +162,17 @@ struct HoverTrainingOptions {
   double start_pos_sigma = 1.0;   // start position perturbation per axis, m
   double start_vel_sigma = 0.3;   // start velocity perturbation per axis, m/s
   double max_tilt_rad = 1.0;      // |roll| or |pitch| beyond this crashes the learned model (the envelope)
-  HoverReward reward{};           // with centre = the trim estimate unless set
-  bool centre_at_trim = true;     // replace reward.centre by the trim estimate of the logs
+  // The rest of the envelope (a judged cost's; off by default): the distance from the set point (m), the
+  // speed (m/s) and any Euler-angle rate (rad/s) beyond which the learned model crashes.
+  double max_position_error_m = std::numeric_limits<double>::infinity();
+  double max_speed_mps = std::numeric_limits<double>::infinity();
+  double max_rate_radps = std::numeric_limits<double>::infinity();
+  double crash_penalty = 50000;  // what a crash costs (footnote 13: 50000; the learned model's crash_reward)
+  // Wind in the scenarios (sysid::Disturbance: a steady wind, its per-scenario spread and an AR(1) gust
+  // process, acting on the learned model through the airspeed); calm by default, as the thesis trains.
+  sysid::Disturbance disturbance{};
+  HoverReward reward{};        // with centre = the trim estimate unless set
+  bool centre_at_trim = true;  // replace reward.centre by the trim estimate of the logs
   OptimizerOptions optimizer = default_optimizer();
   // Run hill climbing after gradient ascent from its result (the thesis tried both; §5.3). Used when
   // optimizer.method is "gradient".

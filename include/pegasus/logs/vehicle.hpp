@@ -16,6 +16,8 @@
 // hover task's set point and starting gains; the tilt that counts as a crash.
 #include <array>
 #include <filesystem>
+#include <limits>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -24,6 +26,7 @@
 #include "pegasus/heli/aircraft.hpp"
 #include "pegasus/heli/control_loop.hpp"
 #include "pegasus/heli/frames.hpp"
+#include "pegasus/heli/hover_task.hpp"
 #include "pegasus/sysid/flight_log.hpp"
 
 namespace pegasus::logs {
@@ -130,6 +133,24 @@ VehicleLogSpec read_vehicle_log_spec(const std::filesystem::path& file);
 // The same for text already read; `name` stands for the file in messages.
 VehicleLogSpec parse_vehicle_log_spec(std::string_view text, const std::filesystem::path& name);
 
+// [cost]: the cost the aircraft's controller is judged by, per control step, in the file's own frames and
+// units (docs/reference/vehicle-file.md has the mapping with a worked example). When a file states it, it is
+// the hover reward, whole: judged_reward() maps it exactly, and no default term stays.
+struct JudgedCost {
+  std::array<double, 3> position{0, 0, 0};  // per m^2 of the set-point error, the file's world axes
+  std::array<double, 3> velocity{0, 0, 0};  // per (m/s)^2 of the world velocity, the file's world axes
+  // "none", "euler" (roll and pitch about level and the yaw error, per (attitude unit)^2) or "quaternion"
+  // (x, y, z of the vector part of the rotation from the set point's attitude, level at its yaw, to the
+  // body's, in the file's body axes, per unit^2).
+  std::string attitude = "none";
+  std::array<double, 3> attitude_weights{0, 0, 0};
+  std::array<double, 3> body_rates{0, 0, 0};         // per (rates unit)^2, the file's body axes
+  std::array<double, 4> controls{0, 0, 0, 0};        // per (channel unit)^2, the aircraft's channel order
+  bool controls_about_trim = true;                   // about the logs' mean controls, or about controls_about
+  std::array<double, 4> controls_about{0, 0, 0, 0};  // the channels' own values, the aircraft's order
+  double crash = 50000;                              // one crash's cost
+};
+
 // A whole vehicle file.
 struct Vehicle {
   VehicleLogSpec log;  // log.vehicle is the name, log.file the file ("" for the built-in X-Cell)
@@ -162,6 +183,15 @@ struct Vehicle {
   // [envelope] max_tilt_rad (rad), or max_tilt (in the log's attitude unit): |roll| or |pitch| of the
   // pipeline's attitude beyond this crashes the learned model.
   double max_tilt_rad = 1.0;
+  // The rest of [envelope] (each off unless said): max_position_error (m, the distance from the set point),
+  // max_speed (m/s), max_rate (any Euler-angle rate, in the file's rates unit); here in m, m/s, rad/s.
+  double max_position_error_m = std::numeric_limits<double>::infinity();
+  double max_speed_mps = std::numeric_limits<double>::infinity();
+  double max_rate_radps = std::numeric_limits<double>::infinity();
+  std::optional<JudgedCost> cost;  // [cost]
+  // [hover.wind]: the wind in the hover scenarios (sysid::Disturbance): steady = [x, y, z] in the file's
+  // world frame (m/s), sigma, gust_sigma (m/s) and gust_tau_s (s); here in NED. Calm unless said.
+  sysid::Disturbance wind{};
 
   const std::string& name() const { return log.vehicle; }
   // The log's channels in the aircraft's order: axis values a1..a4 of native values, and back.
@@ -175,6 +205,11 @@ struct Vehicle {
   // And back: the values in state_fields() order (12 or 13) of the pipeline's 12 states.
   std::vector<double> native_state(const heli::LoggedState& s) const;
 };
+
+// The hover reward that is the vehicle's judged cost, exactly (vehicle.cost must be set): every weight
+// converted to the pipeline's frames and units (NED, FRD, rad, rad/s, the axes a1..a4), every other term 0.
+// Its centre is the file's controls_about when not about the trim.
+heli::HoverReward judged_reward(const Vehicle& vehicle);
 
 // The X-Cell 60 as the `heli` commands have always assumed it: logs in the pipeline's own layout at 50 Hz,
 // a 10 Hz model with the flapping and gyro states, a 50 Hz controller, the tuned constant starting gains.

@@ -99,6 +99,7 @@ struct HoverRunOptions {
   VehicleChoice aircraft{};
   std::string model_file;  // model.json of run_identify
   HoverTrainingOptions training{};
+  bool judged_cost = false;  // training.reward is the vehicle file's [cost] (logs::judged_reward), whole
 };
 // progress.csv, policy.json, summary.json; checkpoints every optimizer iteration and resumes from the run
 // directory's checkpoint.

@@ -17,15 +17,41 @@
 // Crash (footnote 13): when X'WX is singular to numerical precision at a refit, or when the query leaves the
 // data's support: no training point within `support_bandwidths` bandwidths in the kernel's metric (largest
 // weight below exp(-support_bandwidths^2 / 2)); also when |roll| or |pitch| exceeds max_tilt_rad or the state
-// is not finite. The crashing transition pays crash_reward (-50000) and the state is absorbing.
+// is not finite, and (each off by default) when the position leaves the start's set point by more than
+// max_position_error_m, the speed exceeds max_speed_mps or any Euler-angle rate max_rate_radps (a judged
+// cost's envelope, logs/vehicle.hpp's [envelope]). The crashing transition pays crash_reward (-50000) and the
+// state is absorbing.
+//
+// Wind (issue 53; off by default, and then no arithmetic and no draw changes): the air moves at
+//   w_W = wind + wind_sigma * (n0, n1, 0) + gust
+// with (n0, n1) standard normal draws of the scenario's start (one steady wind per scenario, horizontal) and
+// `gust` an AR(1) process per world axis of standard deviation gust_sigma and correlation time gust_tau_s
+// (g' = rho g + sigma sqrt(1 - rho^2) n, rho = exp(-dt / tau); it starts from its stationary distribution).
+// The identified model steps the motion relative to the air (its regression queried at the airspeed), and the
+// air frame moves on at w through the step: the model's velocity-dependent forces (drag, flapping) act on the
+// airspeed, and the ground velocity is the air-relative one plus w. Draws: wind_sigma > 0 adds 2 start
+// uniforms, gust_sigma > 0 adds 3 start and 3 per-step uniforms after the model's own, so every other draw
+// keeps its place.
 #include <array>
+#include <limits>
 #include <memory>
 #include <span>
+#include <string>
 
 #include "pegasus/models/action_space.hpp"
 #include "pegasus/sysid/identify.hpp"
 
 namespace pegasus::sysid {
+
+// The wind the learned model flies in (see above); all zero: calm, as identified.
+struct Disturbance {
+  std::array<double, 3> wind{0, 0, 0};  // steady wind north, east, down, m/s (W)
+  double wind_sigma = 0;                // per-scenario steady wind draw per horizontal axis, m/s
+  double gust_sigma = 0;                // AR(1) gust's standard deviation per axis, m/s
+  double gust_tau_s = 2;                // its correlation time, s
+  bool calm() const { return wind == std::array<double, 3>{0, 0, 0} && wind_sigma == 0 && gust_sigma == 0; }
+  bool IsValid(std::string* error) const;
+};
 
 struct LearnedModelOptions {
   double dt = 0.02;               // s, 50 Hz (§5.1)
@@ -33,6 +59,10 @@ struct LearnedModelOptions {
   double support_bandwidths = 4;  // support margin (see above)
   double crash_reward = -50000;   // footnote 13
   double max_tilt_rad = 1.0;
+  double max_position_error_m = std::numeric_limits<double>::infinity();  // from start's x, y, z
+  double max_speed_mps = std::numeric_limits<double>::infinity();
+  double max_rate_radps = std::numeric_limits<double>::infinity();
+  Disturbance disturbance{};
   bool noise = true;  // false: the mean model (p ignored)
   std::array<double, kLogStates> start{0, 0, -10, 0, 0, 0, 0, 0, 0, 0, 0, 0};  // s0 before perturbation
   double start_pos_sigma = 0, start_vel_sigma = 0;  // s0 perturbation from p0 (initial_noise_dim 6)
@@ -46,6 +76,8 @@ class LearnedHeliModel {
     std::array<InputVec, kBodyVars> beta{};  // held coefficients of the last refit
     BodyVec variance = BodyVec::Zero();      // predictive variance at the last refit, per model step
     BodyVec colored = BodyVec::Zero();       // the AR part of the noise of the last step (AR(1) models)
+    std::array<double, 3> wind{0, 0, 0};     // the scenario's steady wind, m/s (W)
+    std::array<double, 3> gust{0, 0, 0};     // the gust process's value, m/s (W)
     int step = 0;
     bool crashed = false;
   };
@@ -55,8 +87,10 @@ class LearnedHeliModel {
   LearnedHeliModel(std::shared_ptr<const IdentifiedModel> model, LearnedModelOptions options = {});
 
   int state_dim() const { return kLogStates; }
-  int noise_dim() const { return colored_ ? 2 * kBodyVars : kBodyVars; }
-  int initial_noise_dim() const { return colored_ ? 6 + kBodyVars : 6; }
+  int noise_dim() const { return own_noise_dim() + (gusty() ? 3 : 0); }
+  int initial_noise_dim() const {
+    return own_initial_noise_dim() + (options_.disturbance.wind_sigma > 0 ? 2 : 0) + (gusty() ? 3 : 0);
+  }
   ActionSpace action_space() const;
   State initial_state(std::span<const double> p0) const;
   State step(const State& s, const Action& a, std::span<const double> p) const;
@@ -73,6 +107,11 @@ class LearnedHeliModel {
   std::shared_ptr<const IdentifiedModel> model_;
   LearnedModelOptions options_;
   double min_weight_;
+  int own_noise_dim() const { return colored_ ? 2 * kBodyVars : kBodyVars; }
+  int own_initial_noise_dim() const { return colored_ ? 6 + kBodyVars : 6; }
+  bool gusty() const { return options_.noise && options_.disturbance.gust_sigma > 0; }
+  std::array<double, 3> air_of(const State& s) const;  // the air's velocity, W
+  bool outside_envelope(const SimState& s) const;
   bool colored_ = false;  // the identified model has AR(1) noise (and options_.noise is on)
   // Per body variable: the AR part's correlation per step, its stationary variance per step as a fraction of
   // the model step's variance, and the white part's variance per step as that fraction.

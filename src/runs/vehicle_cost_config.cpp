@@ -1,0 +1,131 @@
+// The hover config's judged cost, envelope limits and wind (issue 53): the fields, their values from a
+// vehicle file's [cost], [envelope] and [hover.wind], and the training options they give.
+#include "vehicle_cost_config.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "pegasus/core/error.hpp"
+
+namespace pegasus::heli {
+
+namespace {
+
+// The reward `hover` trains on: the vehicle file's judged cost, whole, or the typical sizes' reward.
+// Whether it is the judged cost.
+bool read_reward(const ConfigSchema& c, const logs::Vehicle& v, HoverTrainingOptions& o) {
+  if (c.get_bool("reward.judged_cost")) {
+    if (!v.cost)
+      throw InputError(fmt::format("reward.judged_cost ({}): expected a vehicle file with a [cost] section",
+                                   c.origin("reward.judged_cost")));
+    for (const char* field : {"reward.position_m", "reward.velocity_mps", "reward.yaw_rad", "reward.action",
+                              "reward.attitude_rad", "reward.rate_radps", "reward.action_centre"})
+      if (c.origin(field) != "default")
+        throw InputError(
+            fmt::format("{} ({}): the vehicle file's [cost] is the whole reward; expected no "
+                        "reward.* option with it (or reward.judged_cost = false)",
+                        field, c.origin(field)));
+    o.reward = logs::judged_reward(v);
+    o.centre_at_trim = v.cost->controls_about_trim;
+    return true;
+  }
+  o.reward = HoverReward::from_typical(c.get_double("reward.position_m"), c.get_double("reward.velocity_mps"),
+                                       c.get_double("reward.yaw_rad"), c.get_double("reward.action"), {});
+  o.reward.alpha_attitude.fill(HoverReward::weight_of_typical(c.get_double("reward.attitude_rad")));
+  o.reward.alpha_rate.fill(HoverReward::weight_of_typical(c.get_double("reward.rate_radps")));
+  o.centre_at_trim = c.get_string("reward.action_centre") == "trim";
+  return false;
+}
+
+double limit_of(const ConfigSchema& c, const char* field) {
+  const double x = c.get_double(field);
+  return x > 0 ? x : std::numeric_limits<double>::infinity();
+}
+
+}  // namespace
+
+std::string check_wind_ned(const FieldValue& v) {
+  const auto& w = std::get<std::vector<double>>(v);
+  if (w.size() != 3) return "3 numbers: north, east, down (m/s)";
+  for (const double x : w)
+    if (!(std::abs(x) <= 30)) return "3 numbers in [-30, 30] m/s";
+  return {};
+}
+
+void declare_hover_cost_and_wind(ConfigSchema& s) {
+  const HoverTrainingOptions defaults;
+  s.add_bool(
+      "reward.judged_cost", false,
+      "the vehicle file's [cost] is the whole reward (every other reward.* term left out); on when the "
+      "file has a [cost] section");
+  s.add_double(
+       "crash_penalty", defaults.crash_penalty,
+       "what a crash of the learned model costs (thesis footnote 13: 50000); with a vehicle file, its "
+       "[cost] crash")
+      .range(0, 1e12);
+  s.add_double(
+       "max_position_error_m", 0,
+       "the envelope: a distance from the set point beyond this crashes the learned model, m; 0: none")
+      .range(0, 1e12);
+  s.add_double("max_speed_mps", 0,
+               "the envelope: a speed beyond this crashes the learned model, m/s; 0: none")
+      .range(0, 1e12);
+  s.add_double("max_rate_radps", 0,
+               "the envelope: any Euler-angle rate beyond this crashes the learned model, rad/s; 0: none")
+      .range(0, 1e12);
+  s.add_double_list(
+       "wind.steady", {0, 0, 0},
+       "steady wind in the scenarios, north, east, down (m/s, NED): the learned model's forces act "
+       "on the airspeed")
+      .validate(check_wind_ned);
+  s.add_double("wind.sigma", 0,
+               "each scenario's steady wind drawn about wind.steady, per horizontal axis, m/s")
+      .range(0, 30);
+  s.add_double("wind.gust_sigma", 0, "AR(1) gusts in the scenarios: standard deviation per axis, m/s")
+      .range(0, 30);
+  s.add_double("wind.gust_tau_s", defaults.disturbance.gust_tau_s, "AR(1) gusts: correlation time, s")
+      .greater_than(0)
+      .max(3600);
+}
+
+void resolve_hover_cost_and_wind(ConfigSchema& s, const logs::Vehicle& vehicle) {
+  const logs::Vehicle* v = &vehicle;
+  if (v->cost) {
+    set_from_vehicle(s, *v, "reward.judged_cost", true, "cost");
+    set_from_vehicle(s, *v, "crash_penalty", v->cost->crash, "cost.crash");
+  }
+  const auto limit = [&](const char* field, double value, const char* key) {
+    if (std::isfinite(value)) set_from_vehicle(s, *v, field, value, key);
+  };
+  limit("max_position_error_m", v->max_position_error_m, "envelope.max_position_error");
+  limit("max_speed_mps", v->max_speed_mps, "envelope.max_speed");
+  limit("max_rate_radps", v->max_rate_radps, "envelope.max_rate");
+  const sysid::Disturbance& w = v->wind;
+  if (!w.calm() || w.gust_tau_s != sysid::Disturbance{}.gust_tau_s) {
+    set_from_vehicle(s, *v, "wind.steady", std::vector<double>(w.wind.begin(), w.wind.end()),
+                     "hover.wind.steady");
+    set_from_vehicle(s, *v, "wind.sigma", w.wind_sigma, "hover.wind.sigma");
+    set_from_vehicle(s, *v, "wind.gust_sigma", w.gust_sigma, "hover.wind.gust_sigma");
+    set_from_vehicle(s, *v, "wind.gust_tau_s", w.gust_tau_s, "hover.wind.gust_tau_s");
+  }
+}
+
+bool read_hover_cost_and_wind(const ConfigSchema& c, const logs::Vehicle& v, HoverTrainingOptions& o) {
+  const bool judged = read_reward(c, v, o);
+  o.crash_penalty = c.get_double("crash_penalty");
+  o.max_position_error_m = limit_of(c, "max_position_error_m");
+  o.max_speed_mps = limit_of(c, "max_speed_mps");
+  o.max_rate_radps = limit_of(c, "max_rate_radps");
+  const auto& wind = c.get_double_list("wind.steady");
+  o.disturbance = {.wind = {wind[0], wind[1], wind[2]},
+                   .wind_sigma = c.get_double("wind.sigma"),
+                   .gust_sigma = c.get_double("wind.gust_sigma"),
+                   .gust_tau_s = c.get_double("wind.gust_tau_s")};
+  return judged;
+}
+
+}  // namespace pegasus::heli

@@ -1,0 +1,19 @@
+#pragma once
+// The hover config's judged cost, envelope limits and wind (issue 53), beside heli_config.cpp's other fields.
+#include "pegasus/heli/hover_task.hpp"
+#include "pegasus/logs/vehicle.hpp"
+#include "pegasus/runs/heli_config.hpp"
+
+namespace pegasus::heli {
+
+// A steady wind's field: "" for 3 numbers in [-30, 30] m/s (north, east, down), else what is expected.
+std::string check_wind_ned(const FieldValue& v);
+// reward.judged_cost, crash_penalty, max_position_error_m, max_speed_mps, max_rate_radps and wind.*.
+void declare_hover_cost_and_wind(ConfigSchema& s);
+// Their values from the vehicle file's [cost], [envelope] and [hover.wind] unless set.
+void resolve_hover_cost_and_wind(ConfigSchema& s, const logs::Vehicle& v);
+// The reward (the judged cost, whole, or the reward.* typical sizes), crash penalty, envelope and wind into
+// o; whether the reward is the judged cost. InputError for reward.* options beside a judged cost.
+bool read_hover_cost_and_wind(const ConfigSchema& c, const logs::Vehicle& v, HoverTrainingOptions& o);
+
+}  // namespace pegasus::heli
