@@ -10,6 +10,9 @@
 //   BM_IdentifyTenMinutes/threads/calibrated   identification of a 600 s pilot log (30,000 rows at 50 Hz,
 //                          identified at 10 Hz) with white noise, or calibrated ar1+measurement noise
 //                          (issue 15's budget: 10 minutes of logs in under 10 s)
+//   BM_ModelClassChoice/threads   the model class from the data (issue 48): the global regression of the
+//                          600 s log and both classes flown over the test flight at 50 Hz
+//                          (choose_model_class)
 //   BM_LearnedModelStep    one 50 Hz step of the learned simulative model (a refit every 5 steps)
 #include <benchmark/benchmark.h>
 
@@ -23,6 +26,7 @@
 #include "pegasus/heli/pilot.hpp"
 #include "pegasus/sysid/identify.hpp"
 #include "pegasus/sysid/learned_model.hpp"
+#include "pegasus/sysid/model_selection.hpp"
 
 namespace pegasus {
 namespace {
@@ -121,8 +125,13 @@ void BM_NoiseCheck(benchmark::State& state) {
 }
 BENCHMARK(BM_NoiseCheck)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
 
-void BM_IdentifyTenMinutes(benchmark::State& state) {
+const sysid::FlightLog& ten_minutes() {
   static const sysid::FlightLog log = heli::fly_pilot(heli::Aircraft{}, heli::PilotOptions{}, 600, 3).log;
+  return log;
+}
+
+void BM_IdentifyTenMinutes(benchmark::State& state) {
+  const sysid::FlightLog& log = ten_minutes();
   ThreadPool pool(static_cast<int>(state.range(0)));
   sysid::IdentifyOptions o;
   if (state.range(1) != 0) {
@@ -137,6 +146,26 @@ BENCHMARK(BM_IdentifyTenMinutes)
     ->ArgNames({"threads", "calibrated"})
     ->Unit(benchmark::kSecond)
     ->Iterations(1);
+
+// What `heli identify`'s model class from the data adds at the defaults (issue 48): the global linear
+// regression beside the locally weighted one (identified once, outside the timing) on the 600 s log, and both
+// flown over the 140 s test flight at 50 Hz as training runs them (choose_model_class).
+void BM_ModelClassChoice(benchmark::State& state) {
+  ThreadPool pool(static_cast<int>(state.range(0)));
+  const sysid::IdentifyOptions o;
+  static const sysid::IdentifiedModel local = [&] {
+    ThreadPool two(2);
+    return sysid::identify_mean(ten_minutes(), o, two);
+  }();
+  for (auto _ : state) {
+    sysid::IdentifyOptions as_global = o;
+    as_global.local = false;
+    const sysid::IdentifiedModel global = sysid::identify_mean(ten_minutes(), as_global, pool);
+    benchmark::DoNotOptimize(sysid::choose_model_class(
+        {{"global linear", &global}, {"locally weighted", &local}}, workload().test, 50, 2, pool));
+  }
+}
+BENCHMARK(BM_ModelClassChoice)->Arg(1)->Arg(2)->ArgName("threads")->Unit(benchmark::kSecond)->Iterations(1);
 
 void BM_LearnedModelStep(benchmark::State& state) {
   const Workload& w = workload();

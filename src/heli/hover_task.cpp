@@ -158,7 +158,10 @@ HoverPolicy hover_policy_for(const sysid::IdentifiedModel& model, const HoverTra
   return HoverPolicy(init);
 }
 
-LqrStart lqr_hover_init(const sysid::IdentifiedModel& model, const HoverTrainingOptions& o) {
+namespace {
+
+// lqr_hover_init on `model` itself.
+LqrStart lqr_hover_init_on(const sysid::IdentifiedModel& model, const HoverTrainingOptions& o) {
   using Matrix = Eigen::MatrixXd;
   LqrStart out;
   out.init = hover_init_from_model(model);
@@ -222,8 +225,8 @@ LqrStart lqr_hover_init(const sysid::IdentifiedModel& model, const HoverTraining
     out.reason = "the linearised model is not finite";
     return out;
   }
-  // The reward's weights (Eqs 5.9-5.10 and the attitude and rate terms), a small weight where a term is off
-  // so that the Riccati iteration has a positive definite R.
+  // The reward's weights (Eqs 5.9-5.10 and the attitude and rate terms), each action weight at least
+  // kLqrMinActionWeight so that the Riccati iteration has a positive definite R.
   const HoverReward r = hover_reward_for(model, o);
   Matrix q = Matrix::Zero(n, n), rr = Matrix::Zero(nu, nu);
   for (std::size_t i = 0; i < 3; ++i) {  // x, y, z; their velocities; roll, pitch and yaw rates
@@ -240,9 +243,8 @@ LqrStart lqr_hover_init(const sysid::IdentifiedModel& model, const HoverTraining
   q(kPitchAt, kPitchAt) = r.alpha_attitude[1] + r.alpha_quaternion[1] / 4;
   q(kYawAt, kYawAt) = r.alpha_yaw + r.alpha_quaternion[2] / 4;
   for (int c = 0; c < nu; ++c)
-    rr(c, c) =
-        o.lqr_action_factor *
-        (r.alpha_action[static_cast<std::size_t>(c)] > 0 ? r.alpha_action[static_cast<std::size_t>(c)] : 1.0);
+    rr(c, c) = o.lqr_action_factor * std::max(r.alpha_action[static_cast<std::size_t>(c)],
+                                              HoverTrainingOptions::kLqrMinActionWeight);
   const double gamma = std::pow(o.gamma, 50 * model.dt());  // per model step
   // Discounted Riccati recursion to its fixed point: P = Q + g A'PA - g^2 A'PB (R + g B'PB)^-1 B'PA.
   Matrix p = q, k(nu, n);
@@ -317,6 +319,18 @@ LqrStart lqr_hover_init(const sysid::IdentifiedModel& model, const HoverTraining
   out.init = g;
   out.used = true;
   return out;
+}
+
+}  // namespace
+
+LqrStart lqr_hover_init(const sysid::IdentifiedModel& model, const HoverTrainingOptions& o) {
+  if (!o.lqr_gains_from_alternative) return lqr_hover_init_on(model, o);
+  // The other class's linearisation, with the same trim (the same data).
+  if (const auto other = model.alternative()) return lqr_hover_init_on(*other, o);
+  LqrStart none;
+  none.init = hover_init_from_model(model);
+  none.reason = "the model records no other model class (identify chose none)";
+  return none;
 }
 
 HoverReward hover_reward_for(const sysid::IdentifiedModel& model, const HoverTrainingOptions& o) {
@@ -474,6 +488,45 @@ StartingPolicyCheck check_starting_policy(const PegasusEvaluator<HoverTaskOnMode
   return check;
 }
 
+// The LQR starts train_hover tries, in order until one crashes the learned model in no more than
+// max_start_crash_fraction of the scenarios (issue 48): the chosen model's gains, then the other model
+// class's (when identify recorded one), each with the action weights of the options and then 10, 100 and 1000
+// times them. The first that survives is the strongest that does; `settled` gets its options. None taken:
+// `settled` keeps the options' start, and the caller refuses or trains from it.
+std::vector<StartTry> try_lqr_starts(const std::shared_ptr<const sysid::IdentifiedModel>& model,
+                                     const HoverTrainingOptions& o, ThreadPool& pool,
+                                     HoverTrainingOptions* settled) {
+  std::vector<StartTry> tries;
+  std::string other;  // the class not chosen, by its name in model_choice
+  if (model->alternative_inv_bandwidth()) other = model->is_global() ? "locally weighted" : "global linear";
+  for (double factor = o.lqr_action_factor;
+       factor <= HoverTrainingOptions::kMaxLqrActionFactor * o.lqr_action_factor; factor *= 10) {
+    for (const bool alternative : {false, true}) {
+      if (alternative && other.empty()) continue;
+      HoverTrainingOptions t = o;
+      t.lqr_action_factor = factor;
+      t.lqr_gains_from_alternative = alternative;
+      const LqrStart lqr = lqr_hover_init(*model, t);
+      StartTry attempt{.gains = alternative ? other : "chosen model",
+                       .action_factor = factor / o.lqr_action_factor,
+                       .lqr_used = lqr.used,
+                       .reason = lqr.reason,
+                       .check = {},
+                       .taken = false};
+      if (lqr.used) {
+        attempt.check = check_starting_policy(hover_evaluator(model, t), 1 / o.control_rate_hz, pool);
+        attempt.taken = attempt.check.crashed <= o.max_start_crash_fraction * attempt.check.scenarios;
+      }
+      tries.push_back(attempt);
+      if (attempt.taken) {
+        *settled = t;
+        return tries;
+      }
+    }
+  }
+  return tries;
+}
+
 }  // namespace
 
 StartingPolicyCheck check_starting_policy(const std::shared_ptr<const sysid::IdentifiedModel>& model,
@@ -486,26 +539,30 @@ HoverTrainingResult train_hover(const std::shared_ptr<const sysid::IdentifiedMod
                                 ThreadPool& pool) {
   std::string error;
   if (!o.IsValid(&error)) throw InputError("hover training: " + error);
-  // One evaluator: the check flies the starting weights on the scenarios training then uses. An LQR start
-  // that crashes too often is made gentler (its action weights raised tenfold) until it does not.
-  const auto too_many = [&](const StartingPolicyCheck& c) {
-    return c.crashed > o.max_start_crash_fraction * c.scenarios;
-  };
+  // One evaluator: the check flies the starting weights on the scenarios training then uses.
   HoverTrainingOptions settled = o;
-  std::optional<PegasusEvaluator<HoverTaskOnModel, HoverPolicy>> evaluator(hover_evaluator(model, settled));
-  StartingPolicyCheck start = check_starting_policy(*evaluator, 1 / o.control_rate_hz, pool);
-  for (double factor = 10 * o.lqr_action_factor;
-       o.lqr_start && too_many(start) &&
-       factor <= HoverTrainingOptions::kMaxLqrActionFactor * o.lqr_action_factor;
-       factor *= 10) {
-    HoverTrainingOptions gentler = o;
-    gentler.lqr_action_factor = factor;
-    PegasusEvaluator<HoverTaskOnModel, HoverPolicy> candidate = hover_evaluator(model, gentler);
-    const StartingPolicyCheck check = check_starting_policy(candidate, 1 / o.control_rate_hz, pool);
-    if (too_many(check)) continue;
-    settled = gentler;
-    evaluator.emplace(std::move(candidate));
-    start = check;
+  std::optional<PegasusEvaluator<HoverTaskOnModel, HoverPolicy>> evaluator;
+  StartingPolicyCheck start;
+  std::vector<StartTry> tries;
+  if (o.lqr_start) {
+    tries = try_lqr_starts(model, o, pool, &settled);
+    const auto taken = std::find_if(tries.begin(), tries.end(), [](const StartTry& t) { return t.taken; });
+    const bool any_gains =
+        std::any_of(tries.begin(), tries.end(), [](const StartTry& t) { return t.lqr_used; });
+    // The X-Cell's constants are no start for another vehicle (issue 48): its signs and strengths differ.
+    if (!any_gains && !model->vehicle().empty())
+      throw InputError(fmt::format(
+          "hover training: the LQR gave no starting gains on the model of vehicle '{}' ({}), and the "
+          "X-Cell's "
+          "constant gains are not this aircraft's: check the vehicle file's control signs and the logs' "
+          "excitation, or identify with --local=false",
+          model->vehicle(), tries.front().reason));
+    if (taken != tries.end()) start = taken->check;
+    evaluator.emplace(hover_evaluator(model, settled));
+    if (taken == tries.end()) start = check_starting_policy(*evaluator, 1 / o.control_rate_hz, pool);
+  } else {
+    evaluator.emplace(hover_evaluator(model, settled));
+    start = check_starting_policy(*evaluator, 1 / o.control_rate_hz, pool);
   }
   if (start.crashed > o.max_start_crash_fraction * start.scenarios)
     throw InputError(fmt::format(
@@ -514,7 +571,8 @@ HoverTrainingResult train_hover(const std::shared_ptr<const sysid::IdentifiedMod
         "these starts ({}heli identify --local=false, smaller start_pos_sigma and start_vel_sigma, or "
         "max_start_crash_fraction = 1 to train anyway)",
         start.crashed, start.scenarios, start.mean_seconds_to_crash, o.max_start_crash_fraction,
-        o.lqr_start ? fmt::format("the LQR start crashed as often with its action weights up to {}x; try ",
+        o.lqr_start ? fmt::format("every LQR start tried crashed as often, the other model class's gains and "
+                                  "action weights up to {}x included; try ",
                                   HoverTrainingOptions::kMaxLqrActionFactor)
                     : "try starting_gains = \"lqr\", "));
   auto objective = std::make_unique<PegasusObjective<HoverTaskOnModel, HoverPolicy>>(std::move(*evaluator),
@@ -548,6 +606,8 @@ HoverTrainingResult train_hover(const std::shared_ptr<const sysid::IdentifiedMod
   result.final_uhat = summary.best_value;
   result.start = start;
   result.lqr_action_factor = settled.lqr_action_factor;
+  result.lqr_gains_from_alternative = settled.lqr_gains_from_alternative;
+  result.start_tries = std::move(tries);
   return result;
 }
 

@@ -288,6 +288,16 @@ json report_data(const fs::path& run_dir, const ReportOptions& options) {
           verdict_html(run, summary) + part_verdicts_html(parts) + printed_result_html(run);
       !result.empty())
     page.section("result", "Result", "The verdict, then what the run printed when it finished.", result);
+  // The choices the run made from the data (summary.json's `choices`: model class, noise, control gains,
+  // start, optimizer), each with what it was chosen by.
+  if (summary.is_object() && summary.contains("choices") && summary["choices"].is_object()) {
+    std::vector<std::vector<std::string>> rows;
+    for (const auto& [what, choice] : summary["choices"].items())
+      rows.push_back({what, choice.is_string() ? choice.get<std::string>() : choice.dump()});
+    page.section("choices", "Choices",
+                 "What the run chose from the data, and by what (summary.json: choices).",
+                 table_html({"choice", "value"}, rows, "choices"));
+  }
   // Headline figures and configuration.
   std::vector<std::pair<std::string, std::string>> headline;
   flatten(summary, "", 0, headline);

@@ -156,7 +156,9 @@ void declare_identify_config(ConfigSchema& s) {
       .input_file();
   s.add_double("rate_hz", id.structure.rate_hz, "identification rate, Hz (the log is downsampled)")
       .range(1, 50);
-  s.add_bool("local", id.local, "locally weighted regression (false: globally linear)");
+  s.add_bool("local", id.local,
+             "locally weighted regression (false: globally linear); unset: the class that predicts the test "
+             "log better as hover training runs it (model_choice in summary.json)");
   s.add_bool("extra_states", id.structure.extra_states,
              "use the flapping and yaw-gyro states of the published model");
   s.add_bool("intercept", id.structure.intercept, "regress on a constant");
@@ -175,7 +177,10 @@ void declare_identify_config(ConfigSchema& s) {
        "noise", sysid::to_string(id.noise),
        "the model's noise: white per model step (Eqs 5.5-5.6) or ar1 (each output's noise a white part "
        "plus a first-order autoregressive part fitted to the residuals' autocorrelation up to 2 s) or "
-       "ar1+measurement (ar1 plus an error of the logged states themselves, which the model does not fly)")
+       "ar1+measurement (ar1 plus an error of the logged states themselves, which the model does not fly); "
+       "with neither noise nor calibrate_noise set: ar1+measurement calibrated when the training log holds "
+       "at "
+       "least 120 s, white otherwise")
       .choices({"white", "ar1", "ar1+measurement"});
   s.add_bool(
       "calibrate_noise", id.calibrate_noise,
@@ -201,6 +206,10 @@ void declare_identify_config(ConfigSchema& s) {
       .range(0.02, 1000);
   s.add_double("reset_s", d.reset_s, "the noise check's EKF is reset to the true state this often, s")
       .range(0.1, 100);
+  s.add_bool("whitened_gains", d.whitened_gains,
+             "move the control gains closed-loop data biases to the fit that whitens the correlated noise "
+             "(closed_loop_bias in summary.json); unset: whichever predicts the test log better as hover "
+             "training runs it");
   s.add_bool("variants", d.variants, "also report the model-selection variants of Fig 5.2");
   s.add_double("control_rate_hz", d.control_rate_hz,
                "the rate hover training will step the model at (heli hover --control-rate-hz): the chosen "
@@ -223,6 +232,8 @@ IdentifyRunOptions read_identify_config(const ConfigSchema& c) {
   o.start_spacing_s = c.get_double("start_spacing_s");
   o.reset_s = c.get_double("reset_s");
   o.variants = c.get_bool("variants");
+  o.whitened_gains = c.get_bool("whitened_gains");
+  o.choose_gains = c.origin("whitened_gains") == "default";
   o.control_rate_hz = c.get_double("control_rate_hz");
   IdentifyOptions& id = o.identify;
   id.structure.rate_hz = c.get_double("rate_hz");
@@ -230,6 +241,7 @@ IdentifyRunOptions read_identify_config(const ConfigSchema& c) {
   id.structure.intercept = c.get_bool("intercept");
   id.structure.templates = c.get_bool("templates");
   id.local = c.get_bool("local");
+  o.choose_class = c.origin("local") == "default";
   id.window_s = c.get_double("window_s");
   id.cv_points = static_cast<int>(c.get_int("cv_points"));
   id.scale_grid = c.get_double_list("scale_grid");
@@ -237,6 +249,7 @@ IdentifyRunOptions read_identify_config(const ConfigSchema& c) {
   id.min_bandwidth = read_bandwidth_floor(c);
   id.noise = sysid::parse_noise_model(c.get_string("noise"));
   id.calibrate_noise = c.get_bool("calibrate_noise");
+  o.choose_noise = c.origin("noise") == "default" && c.origin("calibrate_noise") == "default";
   id.horizon_sd_factors = c.get_bool("horizon_sd_factors");
   id.calibration_leave_out_s = c.get_double("calibration_leave_out_s");
   id.calibration_spacing_s = c.get_double("calibration_spacing_s");

@@ -157,6 +157,62 @@ void run_pilot(const PilotRunOptions& options, RunSink& sink) {
 
 // ------------------------------------------------------------------ hover
 
+namespace {
+
+nlohmann::json start_tries_json(const std::vector<StartTry>& tries) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const StartTry& t : tries) {
+    nlohmann::json entry = {
+        {"gains", t.gains}, {"action_weight_factor", t.action_factor}, {"taken", t.taken}};
+    if (t.lqr_used)
+      entry.update({{"crashed_scenarios", t.check.crashed}, {"scenarios", t.check.scenarios}});
+    else
+      entry["reason"] = t.reason;
+    list.push_back(entry);
+  }
+  return list;
+}
+
+// One line: every start tried, its crash count, and the one taken.
+std::string start_tries_line(const std::vector<StartTry>& tries, double max_fraction) {
+  std::vector<std::string> parts;
+  for (const StartTry& t : tries) {
+    const std::string weights =
+        t.action_factor == 1 ? "" : fmt::format(", action weights x{:g}", t.action_factor);
+    parts.push_back(t.lqr_used ? fmt::format("{}{}: {} of {} crashed{}", t.gains, weights, t.check.crashed,
+                                             t.check.scenarios, t.taken ? " (taken)" : "")
+                               : fmt::format("{}{}: no gains ({})", t.gains, weights, t.reason));
+  }
+  return fmt::format("LQR starts tried (at most {:g}% of the scenarios may crash): {}\n", 100 * max_fraction,
+                     fmt::join(parts, "; "));
+}
+
+// What was chosen from the data, or by the options, in one place (issue 48): the model's class and noise as
+// identify chose them, the start, the optimizer.
+nlohmann::json hover_choices(const sysid::IdentifiedModel& model, const HoverTrainingOptions& o,
+                             const HoverTrainingResult& r) {
+  nlohmann::json choices = {{"optimizer", o.optimizer.method}};
+  if (model.model_choice().is_object() && model.model_choice().contains("chosen"))
+    choices["model_class"] = model.model_choice().at("chosen");
+  else
+    choices["model_class"] = model.is_global() ? "global linear" : "locally weighted";
+  const sysid::NoiseCorrelation& c = model.noise_correlation();
+  choices["noise"] = c.has_measurement() ? "ar1+measurement" : c.any() ? "ar1" : "white";
+  const auto taken =
+      std::find_if(r.start_tries.begin(), r.start_tries.end(), [](const StartTry& t) { return t.taken; });
+  if (!o.lqr_start)
+    choices["start"] = {{"gains", "constant"}};
+  else if (taken == r.start_tries.end())
+    choices["start"] = {{"gains", "none survived"}, {"tries", r.start_tries.size()}};
+  else
+    choices["start"] = {{"gains", taken->gains},
+                        {"action_weight_factor", taken->action_factor},
+                        {"tries", r.start_tries.size()}};
+  return choices;
+}
+
+}  // namespace
+
 void run_hover(const HoverRunOptions& options, RunSink& sink, ThreadPool& pool) {
   const HoverTrainingOptions& o = options.training;
   std::string error;
@@ -223,6 +279,7 @@ void run_hover(const HoverRunOptions& options, RunSink& sink, ThreadPool& pool) 
   dir.write_chart_svg("progress.svg", progress.charts.front());
   HoverTrainingOptions used = o;  // with the LQR start's action weights as training settled them
   used.lqr_action_factor = r.lqr_action_factor;
+  used.lqr_gains_from_alternative = r.lqr_gains_from_alternative;
   const HoverPolicy policy = hover_policy_for(*model, used);
   PolicyFile file =
       hover_policy_file(policy, r.theta, o.target, hover_init_from_model(*model).trim, o.integrator());
@@ -286,12 +343,10 @@ void run_hover(const HoverRunOptions& options, RunSink& sink, ThreadPool& pool) 
     if (!lqr.used)
       sink.out << "warning: LQR starting gains not used: " << lqr.reason
                << "; training starts from the constant gains instead\n";
-    if (used.lqr_action_factor != o.lqr_action_factor)
-      sink.out << fmt::format(
-          "LQR starting gains made gentler: its action weights x{} (with the reward's, the starting policy "
-          "crashed the learned model in more than max_start_crash_fraction of the scenarios)\n",
-          used.lqr_action_factor / o.lqr_action_factor);
+    summary["start_tries"] = start_tries_json(r.start_tries);
+    if (!r.start_tries.empty()) sink.out << start_tries_line(r.start_tries, o.max_start_crash_fraction);
   }
+  summary["choices"] = hover_choices(*model, o, r);
   if (options.aircraft.from_file()) summary["vehicle"] = options.aircraft.vehicle.name();  // likewise
   if (o.integral_seconds > 0) {                                                            // likewise
     nlohmann::json integral = {{"integral_seconds", o.integral_seconds},
@@ -530,11 +585,19 @@ void write_pipeline_summary(const std::string& vehicle, double flight_seconds, R
       {"pilot", fly.at("pilot")},
       {"stages", {"pilot-train", "pilot-test", "identify", "hover", "fly"}}};
   if (!vehicle.empty()) summary["vehicle"] = vehicle;  // only then: the X-Cell's summaries stay as they were
+  // The choices made from the data: identify's (model class, noise, control gains), then hover's start and
+  // optimizer.
+  nlohmann::json choices = read_json_file(sink.dir.path() / "identify" / "summary.json")
+                               .value("choices", nlohmann::json::object());
+  for (const char* key : {"start", "optimizer"})
+    if (hover.contains("choices") && hover["choices"].contains(key)) choices[key] = hover["choices"][key];
+  summary["choices"] = choices;
   sink.dir.write_json("summary.json", summary);
   const auto& pl = fly.at("pilot");
   const std::filesystem::path final_fly = sink.dir.final_path() / "fly";
   sink.out << fmt::format("\n== {} pipeline: headline figures ==\n",
                           vehicle.empty() ? std::string("helicopter") : vehicle);
+  sink.out << "choices: " << choices.dump() << "\n";
   sink.out << fmt::format("hover training U-hat: {:.6g} -> {:.6g}\n", hover.at("initial_uhat").get<double>(),
                           hover.at("final_uhat").get<double>());
   sink.out << fmt::format(

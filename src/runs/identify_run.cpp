@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -84,6 +85,90 @@ std::string noise_check_line(const std::vector<BandMisses>& reported, const Nois
   return line + "\n";
 }
 
+// What identify chose from the data, or the options set: summary.json's `choices`, and the lines that say so.
+struct Choices {
+  nlohmann::json json = nlohmann::json::object();
+  std::vector<std::string> lines;
+};
+
+// The identification options with the noise model from the data (IdentifyRunOptions::choose_noise).
+IdentifyOptions noise_from_data(const IdentifyRunOptions& options, const FlightLog& train, Choices& choices) {
+  IdentifyOptions o = options.identify;
+  if (!options.choose_noise) {
+    choices.json["noise"] = {{"model", to_string(o.noise) + (o.calibrate_noise ? ", calibrated" : "")},
+                             {"by", "option"}};
+    return o;
+  }
+  const bool honest = train.seconds() >= IdentifyRunOptions::kHonestNoiseMinSeconds;
+  o.noise = honest ? NoiseModel::kAr1Measurement : NoiseModel::kWhite;
+  o.calibrate_noise = honest;
+  choices.json["noise"] = {{"model", honest ? "ar1+measurement, calibrated" : "white"},
+                           {"by", honest ? "default" : "training log too short"}};
+  if (!honest)
+    choices.lines.push_back(
+        fmt::format("noise: white, as the training log's {:.0f} s are fewer than the {:.0f} s the calibrated "
+                    "ar1+measurement noise needs (--noise and --calibrate-noise set it)\n",
+                    train.seconds(), IdentifyRunOptions::kHonestNoiseMinSeconds));
+  return o;
+}
+
+// The model of the class the options set, or (IdentifyRunOptions::choose_class) both classes' regressions,
+// the one that predicts the test log better as training runs it, and then its noise; `o.local` the class.
+IdentifiedModel model_from_data(const IdentifyRunOptions& options, const FlightLog& train,
+                                const FlightLog& test, ThreadPool& pool, IdentifyReport& report,
+                                const IdentifyHooks& hooks, IdentifyOptions& o, Choices& choices,
+                                std::optional<ModelClassChoice>& class_choice) {
+  if (!options.choose_class) {
+    choices.json["model_class"] = {{"class", o.local ? "locally weighted" : "global linear"},
+                                   {"by", "option"}};
+    return identify(train, o, pool, &report, hooks);
+  }
+  IdentifyOptions as_local = o, as_global = o;
+  as_local.local = true;
+  as_global.local = false;
+  const IdentifiedModel local = identify_mean(train, as_local, pool, &report, hooks);
+  const IdentifiedModel global = identify_mean(train, as_global, pool);
+  class_choice = choose_model_class({{"global linear", &global}, {"locally weighted", &local}}, test,
+                                    options.control_rate_hz, options.start_spacing_s, pool);
+  o.local = class_choice->chosen == 1;
+  if (!o.local) report.floored_inputs.clear();  // the global model has no bandwidths
+  IdentifiedModel chosen = with_noise_model(o.local ? local : global, train, o, pool, &report);
+  chosen.set_model_choice(class_choice->to_json(), (o.local ? global : local).inv_bandwidth());
+  choices.lines.push_back(class_choice->line());
+  choices.json["model_class"] = {{"class", class_choice->candidates[class_choice->chosen].name},
+                                 {"by", "hold-out prediction"}};
+  return chosen;
+}
+
+// Whether the model takes the whitened control gains: when asked (whitened_gains), or by default
+// (choose_gains) when they predict the test log better as training runs the model. `model` gets them.
+bool gains_from_data(const IdentifyRunOptions& options, const std::vector<ControlGainBias>& biases,
+                     const FlightLog& test, ThreadPool& pool, IdentifiedModel& model, Choices& choices) {
+  bool whitened = false;
+  nlohmann::json gain_choice = {{"by", options.choose_gains ? "hold-out prediction" : "option"}};
+  if (!biases.empty() && (options.choose_gains || options.whitened_gains)) {
+    IdentifiedModel corrected = with_whitened_gains(model, biases);
+    whitened = options.whitened_gains;
+    if (options.choose_gains) {
+      const auto score = [&](const IdentifiedModel& m, const char* name) {
+        return model_class_candidate(
+            name,
+            horizon_mse_as_trained(m, test, options.control_rate_hz, kModelChoiceSeconds.back(),
+                                   options.start_spacing_s, pool),
+            test);
+      };
+      const ModelClassCandidate plain = score(model, "least squares"), fixed = score(corrected, "whitened");
+      whitened = fixed.score < plain.score && fixed.reached >= plain.reached;
+      gain_choice["score_least_squares"] = plain.score;
+      gain_choice["score_whitened"] = fixed.score;
+    }
+    if (whitened) model = std::move(corrected);
+  }
+  gain_choice["gains"] = whitened ? "whitened" : "least squares";
+  choices.json["control_gains"] = gain_choice;
+  return whitened;
+}
+
 }  // namespace
 
 void run_identify(const IdentifyRunOptions& options, RunSink& sink, ThreadPool& pool) {
@@ -111,7 +196,8 @@ void run_identify(const IdentifyRunOptions& options, RunSink& sink, ThreadPool& 
     for (std::size_t j = 0; j < i; ++j)
       if (more_tests[i] == more_tests[j]) refuse(options.noise_check_logs[j], "--noise-check-logs");
   }
-  const IdentifyOptions& o = options.identify;
+  Choices choices;
+  IdentifyOptions o = noise_from_data(options, train, choices);  // with the classes chosen from the data
   std::string error;
   if (!o.IsValid(&error)) throw InputError(error);
   if (const std::size_t need = sysid::min_training_log_rows(train.dt(), o.structure);
@@ -138,9 +224,14 @@ void run_identify(const IdentifyRunOptions& options, RunSink& sink, ThreadPool& 
     const auto k = static_cast<std::uint64_t>(done) - bar->done();
     replayed ? bar->skip(k) : bar->advance(k);
   };
-  IdentifiedModel model = identify(train, o, pool, &report, hooks);
+  std::optional<ModelClassChoice> class_choice;
+  IdentifiedModel model =
+      model_from_data(options, train, test, pool, report, hooks, o, choices, class_choice);
   if (!own_layout) model.set_vehicle(vehicle.name());
   if (bar) bar->finish();
+  // The control gains' closed-loop bias, measured on the least-squares model.
+  const std::vector<ControlGainBias> biases = model_closed_loop_bias(model, o.window_s, pool);
+  const bool whitened = gains_from_data(options, biases, test, pool, model, choices);
   model.save(dir.path() / "model.json");
   CsvWriter cv({"setting", "cv_error"});
   for (const auto& [what, e] : report.cv_trace) cv.add_row({what, e});
@@ -352,7 +443,6 @@ void run_identify(const IdentifyRunOptions& options, RunSink& sink, ThreadPool& 
     // The warning names the largest bias among the physically large gains (an output's own controls), not a
     // coupling near 0 whose relative bias is large only because the gain is small (issue 53).
     nlohmann::json bias = nlohmann::json::object();
-    const auto biases = model_closed_loop_bias(model, o.window_s, pool);
     for (const auto& b : biases)
       bias[b.output + "/" + b.control] = {
           {"least_squares", b.least_squares}, {"whitened", b.whitened}, {"relative", b.relative}};
@@ -363,10 +453,16 @@ void run_identify(const IdentifyRunOptions& options, RunSink& sink, ThreadPool& 
           "warning: the control gains look biased by closed-loop data: {} per {} is {:.0f}% {} in the "
           "least-squares fit than in one that whitens the correlated noise ({:.4g} against {:.4g}; the "
           "largest among the gains that move their output at least {:.0f}% as much as its strongest control "
-          "does; closed_loop_bias in summary.json)\n",
+          "does; closed_loop_bias in summary.json); {}\n",
           worst->output, worst->control, 100 * std::abs(worst->relative),
           worst->relative < 0 ? "smaller" : "larger", worst->least_squares, worst->whitened,
-          100 * kLargeGainShare);
+          100 * kLargeGainShare,
+          whitened ? (options.choose_gains ? "the model uses the whitened gains, which predict the test log "
+                                             "better (--whitened-gains=false keeps least squares)"
+                                           : "the model uses the whitened gains (--whitened-gains)")
+                   : (options.choose_gains ? "the model keeps least squares, which predicts the test log "
+                                             "better; --whitened-gains uses the whitened ones"
+                                           : "--whitened-gains uses the whitened ones"));
   }
   if (const NoiseCorrelation& c = model.noise_correlation(); c.any()) {
     nlohmann::json correlation;
@@ -382,7 +478,10 @@ void run_identify(const IdentifyRunOptions& options, RunSink& sink, ThreadPool& 
     }
     summary["noise_correlation"] = correlation;
   }
+  if (class_choice) summary["model_choice"] = class_choice->to_json();
+  summary["choices"] = choices.json;
   dir.write_json("summary.json", summary);
+  for (const std::string& line : choices.lines) sink.out << line;
   if (!report.floored_inputs.empty())
     sink.out << fmt::format(
         "bandwidth held at its floor (the logs move these inputs too little for a narrower one): {}\n",

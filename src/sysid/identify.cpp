@@ -101,6 +101,13 @@ BodyVec IdentifiedModel::horizon_sd_factor(std::size_t step) const {
   return horizon_sd_factors_[std::min(step, horizon_sd_factors_.size() - 1)];
 }
 
+std::optional<IdentifiedModel> IdentifiedModel::alternative() const {
+  if (!alternative_inv_bandwidth_) return std::nullopt;
+  IdentifiedModel other(structure_, *data_, *alternative_inv_bandwidth_, sigma2_, correlation_);
+  other.set_vehicle(vehicle_);
+  return other;
+}
+
 BodyVec IdentifiedModel::predictive_variance(const LocalFit& fit) const {
   BodyVec v;
   for (int k = 0; k < kBodyVars; ++k) v[k] = sigma2_[k] * (1 + fit.leverage[k]);
@@ -153,6 +160,11 @@ nlohmann::json IdentifiedModel::to_json() const {
     nlohmann::json factors = nlohmann::json::array();
     for (const BodyVec& f : horizon_sd_factors_) factors.push_back(values(f));
     j["horizon_sd_factors"] = factors;
+  }
+  if (!model_choice_.is_null()) {  // only when identify chose the class: other files stay as they were
+    j["model_choice"] = model_choice_;
+    if (alternative_inv_bandwidth_)
+      j["model_choice"]["alternative_inv_bandwidth"] = *alternative_inv_bandwidth_;
   }
   nlohmann::json xs = nlohmann::json::array(), ys = nlohmann::json::array();
   for (Eigen::Index i = 0; i < data_->rows(); ++i) {
@@ -331,7 +343,20 @@ IdentifiedModel model_from_json(const nlohmann::json& j, const std::string& file
       sd_factors.push_back(step);
     }
   }
+  nlohmann::json choice;
+  std::optional<std::array<double, kInputs>> alternative;
+  if (const auto it = j.find("model_choice"); it != j.end()) {
+    if (!it->is_object()) json_field_error(file, "model_choice", "an object", *it);
+    choice = *it;
+    if (const auto alt = it->find("alternative_inv_bandwidth"); alt != it->end()) {
+      const auto values = f.numbers(*alt, "model_choice.alternative_inv_bandwidth", kInputs, 0);
+      alternative.emplace();
+      std::copy(values.begin(), values.end(), alternative->begin());
+      choice.erase("alternative_inv_bandwidth");
+    }
+  }
   IdentifiedModel model(m, std::move(d), inv, sigma2, correlation);
+  model.set_model_choice(std::move(choice), alternative);
   model.set_vehicle(std::move(vehicle));
   model.set_horizon_sd_factors(std::move(sd_factors));
   return model;
@@ -406,8 +431,8 @@ std::size_t min_training_log_rows(double log_dt, const ModelStructure& structure
   return 4 * kInputs * log_rows_per_model_step(log_dt, structure.rate_hz) + 1;
 }
 
-IdentifiedModel identify(const FlightLog& train, const IdentifyOptions& o, ThreadPool& pool,
-                         IdentifyReport* report, const IdentifyHooks& hooks) {
+IdentifiedModel identify_mean(const FlightLog& train, const IdentifyOptions& o, ThreadPool& pool,
+                              IdentifyReport* report, const IdentifyHooks& hooks) {
   std::string error;
   if (!o.IsValid(&error)) throw InputError(error);
   const auto start = std::chrono::steady_clock::now();
@@ -533,6 +558,19 @@ IdentifiedModel identify(const FlightLog& train, const IdentifyOptions& o, Threa
   for (int k = 0; k < kBodyVars; ++k)
     if (templates[static_cast<std::size_t>(k)].free_count() == 0)
       sigma2[k] = data.y.col(k).squaredNorm() / data.rows();
+  if (report)
+    report->cv_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return IdentifiedModel(structure, std::move(data), best_inv, sigma2);
+}
+
+IdentifiedModel with_noise_model(const IdentifiedModel& mean, const FlightLog& train,
+                                 const IdentifyOptions& o, ThreadPool& pool, IdentifyReport* report) {
+  const auto start = std::chrono::steady_clock::now();
+  const ModelStructure& structure = mean.structure();
+  const Dataset& data = mean.data();
+  const auto& templates = mean.regression().templates();
+  const std::array<double, kInputs>& best_inv = mean.inv_bandwidth();
+  BodyVec sigma2 = mean.sigma2();
   NoiseCorrelation correlation;
   if (o.noise != NoiseModel::kWhite)
     correlation = estimate_noise_correlation(data, templates, best_inv, o.window_s, pool,
@@ -560,10 +598,15 @@ IdentifiedModel identify(const FlightLog& train, const IdentifyOptions& o, Threa
     }
   }
   if (report)
-    report->cv_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  IdentifiedModel model(structure, std::move(data), best_inv, sigma2, correlation);
+    report->cv_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  IdentifiedModel model(structure, data, best_inv, sigma2, correlation);
   model.set_horizon_sd_factors(std::move(sd_factors));
   return model;
+}
+
+IdentifiedModel identify(const FlightLog& train, const IdentifyOptions& o, ThreadPool& pool,
+                         IdentifyReport* report, const IdentifyHooks& hooks) {
+  return with_noise_model(identify_mean(train, o, pool, report, hooks), train, o, pool, report);
 }
 
 }  // namespace pegasus::sysid

@@ -2,7 +2,10 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
+
+#include "pegasus/io/json_csv.hpp"
 
 namespace pegasus::sysid {
 
@@ -55,6 +58,124 @@ ModelSelectionStudy model_selection_study(const IdentifiedModel& model, const Fl
   // model's (the variants above step at their own identification rate).
   out.as_trained = {fmt::format("chosen, as training runs it ({} Hz)", study.control_rate_hz),
                     horizon_mse_as_trained(model, test, study.control_rate_hz, horizon, spacing, pool)};
+  return out;
+}
+
+ModelClassCandidate model_class_candidate(const std::string& name, const HorizonMse& h,
+                                          const FlightLog& test) {
+  // Each report variable's variance on the hold-out log, about its first value (so that a variable the log
+  // holds constant has exactly none, and is left out): the errors of every variable count alike.
+  std::array<double, kReportVars> mean{}, var{};
+  const ReportState first = test.rows() > 0 ? report_state(test.states.front()) : ReportState{};
+  const auto n = static_cast<double>(test.rows());
+  for (const auto& row : test.states) {
+    const ReportState r = report_state(row);
+    for (std::size_t v = 0; v < kReportVars; ++v) {
+      mean[v] += (r[v] - first[v]) / n;
+      var[v] += (r[v] - first[v]) * (r[v] - first[v]) / n;
+    }
+  }
+  for (std::size_t v = 0; v < kReportVars; ++v) var[v] -= mean[v] * mean[v];
+  ModelClassCandidate c;
+  c.name = name;
+  if (h.seconds.empty()) return c;
+  c.starts = h.count.front();
+  int cells = 0;
+  for (std::size_t i = 0; i < kModelChoiceSeconds.size(); ++i) {
+    std::size_t t = 0;  // the row nearest the horizon
+    for (std::size_t r = 0; r < h.seconds.size(); ++r)
+      if (std::abs(h.seconds[r] - kModelChoiceSeconds[i]) < std::abs(h.seconds[t] - kModelChoiceSeconds[i]))
+        t = r;
+    if (i + 1 == kModelChoiceSeconds.size()) c.reached = h.count[t];
+    int vars = 0;
+    for (std::size_t v = 0; v < kReportVars; ++v) {
+      if (!(var[v] > 0)) continue;  // a variable the log never moves
+      c.score_at[i] += h.mse[t][v] / var[v];
+      ++vars;
+    }
+    c.score += c.score_at[i];
+    cells += vars;
+    if (vars > 0) c.score_at[i] /= vars;
+  }
+  if (cells > 0) c.score /= cells;
+  return c;
+}
+
+ModelClassChoice choose_model_class(const std::vector<std::pair<std::string, const IdentifiedModel*>>& models,
+                                    const FlightLog& test, double control_rate_hz, double start_spacing_s,
+                                    ThreadPool& pool) {
+  ModelClassChoice out;
+  out.control_rate_hz = control_rate_hz;
+  for (const auto& [name, model] : models)
+    out.candidates.push_back(
+        model_class_candidate(name,
+                              horizon_mse_as_trained(*model, test, control_rate_hz,
+                                                     kModelChoiceSeconds.back(), start_spacing_s, pool),
+                              test));
+  int most = 0;
+  for (const auto& c : out.candidates) most = std::max(most, c.reached);
+  std::vector<std::string> set_aside;
+  bool found = false;
+  for (std::size_t i = 0; i < out.candidates.size(); ++i) {
+    const ModelClassCandidate& c = out.candidates[i];
+    if (c.reached < most) {
+      set_aside.push_back(fmt::format("{} left its data's support in {} of {} rollouts before {} s", c.name,
+                                      c.starts - c.reached, c.starts, kModelChoiceSeconds.back()));
+      continue;
+    }
+    if (!found || c.score < kModelChoiceMargin * out.candidates[out.chosen].score) out.chosen = i;
+    found = true;
+  }
+  out.reason = set_aside.empty()
+                   ? fmt::format("the lowest hold-out error (a more flexible class must be {:.0f}% lower)",
+                                 100 * (1 - kModelChoiceMargin))
+                   : fmt::format("{}", fmt::join(set_aside, "; "));
+  return out;
+}
+
+std::string ModelClassChoice::line() const {
+  std::vector<std::string> figures;
+  for (const auto& c : candidates)
+    figures.push_back(fmt::format("{} {:.4g} ({} of {} rollouts to {} s)", c.name, c.score, c.reached,
+                                  c.starts, kModelChoiceSeconds.back()));
+  return fmt::format(
+      "model class: {}, by {}: hold-out error {} (squared errors over each variable's hold-out variance, "
+      "mean "
+      "over the 15 variables at 0.5, 1 and 2 s, stepped at {} Hz as hover training runs it; model_choice in "
+      "summary.json; --local to set the class)\n",
+      candidates[chosen].name, reason, fmt::join(figures, " vs "), control_rate_hz);
+}
+
+nlohmann::json ModelClassChoice::to_json() const {
+  nlohmann::json list = nlohmann::json::array();
+  for (const auto& c : candidates) {
+    nlohmann::json at;
+    for (std::size_t i = 0; i < kModelChoiceSeconds.size(); ++i)
+      at[format_double(kModelChoiceSeconds[i])] = c.score_at[i];
+    list.push_back({{"class", c.name},
+                    {"score", c.score},
+                    {"score_at_seconds", at},
+                    {"rollouts", c.starts},
+                    {"rollouts_reaching_last", c.reached}});
+  }
+  return {{"chosen", candidates[chosen].name},  {"by", "hold-out prediction"},    {"reason", reason},
+          {"control_rate_hz", control_rate_hz}, {"seconds", kModelChoiceSeconds}, {"candidates", list}};
+}
+
+IdentifiedModel with_whitened_gains(const IdentifiedModel& model,
+                                    const std::vector<ControlGainBias>& biases) {
+  Dataset d = model.data();
+  const auto index = [](const auto& names, const std::string& name) {
+    return static_cast<Eigen::Index>(std::find(names.begin(), names.end(), name) - names.begin());
+  };
+  for (const ControlGainBias& b : biases)
+    d.y.col(index(kBodyVarNames, b.output)) +=
+        (b.whitened - b.least_squares) * d.x.col(index(kInputNames, b.control));
+  IdentifiedModel out(model.structure(), std::move(d), model.inv_bandwidth(), model.sigma2(),
+                      model.noise_correlation());
+  out.set_horizon_sd_factors(model.horizon_sd_factors());
+  out.set_model_choice(model.model_choice(), model.alternative_inv_bandwidth());
+  out.set_vehicle(model.vehicle());
   return out;
 }
 

@@ -22,8 +22,13 @@ pegasus::test_support::CliResult run(const std::string& args) {
   return pegasus::test_support::run_pegasus(args);
 }
 
+// The locally weighted class and the least-squares gains set: these tests read the local model's bandwidths
+// and variants, and compare models identified against different test logs, from which the defaults would
+// choose (the choices from the data are tests/logs/vehicle_cli_test.cpp's and
+// tests/sysid/model_choice_test.cpp's).
 const char* kIdentifySmall =
-    " --cv-points 40 --scale-grid 2,4 --coordinate-passes 0 --horizon-s 10 --start-spacing-s 5 --quiet";
+    " --local --whitened-gains=false --cv-points 40 --scale-grid 2,4 --coordinate-passes 0 --horizon-s 10 "
+    "--start-spacing-s 5 --quiet";
 
 class HeliCliWithLogs : public HeliCli {
  protected:

@@ -197,10 +197,74 @@ TEST(LqrStart, TrainingMakesACrashingLqrStartGentlerUntilItHolds) {
   EXPECT_LE(crashes(r.lqr_action_factor), allowed);       // the factor chosen holds
   EXPECT_GT(crashes(r.lqr_action_factor / 10), allowed);  // and is the first that does
   EXPECT_EQ(r.start.crashed, crashes(r.lqr_action_factor));
+  // Every try is recorded with its crash count, the last the one taken (a model with no other class: the
+  // chosen model's gains at each factor).
+  ASSERT_FALSE(r.start_tries.empty());
+  for (std::size_t i = 0; i < r.start_tries.size(); ++i) {
+    const StartTry& t = r.start_tries[i];
+    EXPECT_EQ(t.gains, "chosen model");
+    EXPECT_EQ(t.action_factor, std::pow(10.0, static_cast<double>(i)));
+    EXPECT_EQ(t.check.crashed, crashes(t.action_factor)) << i;
+    EXPECT_EQ(t.taken, i + 1 == r.start_tries.size()) << i;
+  }
   // Not made gentler when the reward's weights already hold, or for the constants.
   o.start_pos_sigma = 0.5;
   o.start_vel_sigma = 0.1;
   EXPECT_EQ(train_hover(small_model(), o, {}, pool).lqr_action_factor, 1.0);
+}
+
+// A model that records the class identify did not choose (here the global linear fit on the same data): when
+// the chosen model's LQR start crashes too often, the other class's gains are tried at the same action
+// weights before any are raised, and flown on the chosen model (issue 48).
+TEST(LqrStart, TheOtherModelClassIsTriedBeforeTheActionWeightsAreRaised) {
+  const auto chosen = small_model();
+  sysid::IdentifiedModel copy(chosen->structure(), chosen->data(), chosen->inv_bandwidth(), chosen->sigma2());
+  copy.set_model_choice({{"chosen", "locally weighted"}}, std::array<double, sysid::kInputs>{});
+  const auto model = std::make_shared<const sysid::IdentifiedModel>(std::move(copy));
+  HoverTrainingOptions o = tiny_options();
+  o.scenarios = 10;
+  o.seconds = 5;
+  o.start_pos_sigma = 4;
+  o.start_vel_sigma = 1;
+  o.lqr_start = true;
+  o.optimizer.gradient.max_iterations = 1;
+  o.then_hill_climb = false;
+  ThreadPool pool(2);
+  const HoverTrainingResult r = train_hover(model, o, {}, pool);
+  ASSERT_GE(r.start_tries.size(), 2u);
+  EXPECT_EQ(r.start_tries[0].gains, "chosen model");
+  EXPECT_EQ(r.start_tries[1].gains, "global linear");
+  EXPECT_EQ(r.start_tries[1].action_factor, 1.0);
+  HoverTrainingOptions other = o;
+  other.lqr_gains_from_alternative = true;
+  // The other class's gains are the LQR on the global fit of the same data, flown on the chosen model.
+  const auto alternative = model->alternative();
+  ASSERT_TRUE(alternative.has_value());
+  ASSERT_TRUE(alternative->is_global());
+  EXPECT_EQ(lqr_hover_init(*model, other).init.k_pos, lqr_hover_init(*alternative, o).init.k_pos);
+  if (r.start_tries[1].lqr_used) {
+    EXPECT_EQ(r.start_tries[1].check.crashed, check_starting_policy(model, other, pool).crashed);
+  }
+  const auto taken =
+      std::find_if(r.start_tries.begin(), r.start_tries.end(), [](const StartTry& t) { return t.taken; });
+  ASSERT_NE(taken, r.start_tries.end());
+  EXPECT_EQ(r.lqr_gains_from_alternative, taken->gains == "global linear");
+  EXPECT_EQ(r.lqr_action_factor, taken->action_factor);
+  EXPECT_EQ(r.start.crashed, taken->check.crashed);
+}
+
+// With no action cost (a judged cost may have none) the gains use the documented floor on the action weight,
+// and the reward keeps its zero.
+TEST(LqrStart, AZeroActionCostUsesTheFloorForTheGainsOnly) {
+  HoverTrainingOptions zero = tiny_options(), floor = tiny_options();
+  zero.reward.alpha_action.fill(0);
+  floor.reward.alpha_action.fill(HoverTrainingOptions::kLqrMinActionWeight);
+  const LqrStart a = lqr_hover_init(*small_model(), zero), b = lqr_hover_init(*small_model(), floor);
+  ASSERT_TRUE(a.used) << a.reason;
+  EXPECT_EQ(a.init.k_pos, b.init.k_pos);
+  EXPECT_EQ(a.init.k_alt, b.init.k_alt);
+  EXPECT_EQ(a.spectral_radius, b.spectral_radius);
+  EXPECT_EQ(hover_reward_for(*small_model(), zero).alpha_action[0], 0.0);
 }
 
 TEST(HoverTraining, ImprovesUhatAndIsTheSameForAnyThreadCount) {

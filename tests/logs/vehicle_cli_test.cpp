@@ -79,6 +79,23 @@ TEST_F(VehicleCli, AnOutsideAircraftIdentifiesHoversAndIsServedInItsOwnTerms) {
       EXPECT_NEAR(outside["mse_at_seconds"][seconds][var].get<double>(), mse.get<double>(),
                   1e-6 * mse.get<double>())
           << seconds << " s " << var;
+  // At the defaults the class and the noise come from the data, the same from either layout, and say so.
+  EXPECT_EQ(outside["model_choice"]["chosen"], own["model_choice"]["chosen"]);
+  ASSERT_EQ(outside["model_choice"]["candidates"].size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {  // the same up to the layouts' rounding (quaternions, body frames)
+    const double a = outside["model_choice"]["candidates"][i]["score"].get<double>(),
+                 b = own["model_choice"]["candidates"][i]["score"].get<double>();
+    EXPECT_NEAR(a, b, 1e-9 * b) << i;
+  }
+  EXPECT_EQ(outside["choices"]["model_class"]["by"], "hold-out prediction") << outside["choices"];
+  EXPECT_EQ(outside["choices"]["model_class"]["class"], outside["model_choice"]["chosen"]);
+  EXPECT_EQ(outside["local"], outside["model_choice"]["chosen"] == "locally weighted");
+  EXPECT_EQ(outside["noise"], "white");  // 90 s of training log: too short for the calibrated noise
+  EXPECT_EQ(outside["choices"]["noise"]["by"], "training log too short");
+  EXPECT_NE(r.output.find("model class: "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("noise: white, as the training log's 90 s are fewer than the 120 s"),
+            std::string::npos)
+      << r.output;
   EXPECT_TRUE(std::filesystem::exists(dir_ / "id-outside" / "vehicle.toml"));
   // The resolved config says where each value came from: the vehicle file.
   const std::string config = test_support::read_text(dir_ / "id-outside" / "config.toml");
@@ -95,6 +112,13 @@ TEST_F(VehicleCli, AnOutsideAircraftIdentifiesHoversAndIsServedInItsOwnTerms) {
   EXPECT_EQ(hover["vehicle"], "outside-heli");
   EXPECT_EQ(hover["control_rate_hz"], 10.0);
   EXPECT_EQ(hover["starting_gains"]["method"], "lqr") << hover["starting_gains"];
+  // Every start tried, with its crash count; the last taken, and the choices name it.
+  ASSERT_TRUE(hover["start_tries"].is_array() && !hover["start_tries"].empty()) << hover;
+  EXPECT_EQ(hover["start_tries"].back()["taken"], true) << hover["start_tries"];
+  EXPECT_EQ(hover["start_tries"].back()["crashed_scenarios"], hover["starting_policy"]["crashed_scenarios"]);
+  EXPECT_EQ(hover["choices"]["start"]["gains"], hover["start_tries"].back()["gains"]) << hover["choices"];
+  EXPECT_EQ(hover["choices"]["model_class"], outside["model_choice"]["chosen"]);
+  EXPECT_EQ(hover["choices"]["optimizer"], "gradient");
   const auto policy = nlohmann::json::parse(test_support::read_text(dir_ / "hover" / "policy.json"));
   EXPECT_EQ(policy["provenance"]["vehicle"], "outside-heli");
   // An option given wins over the vehicle file.

@@ -10,8 +10,10 @@ import pytest
 
 import pegasus
 
-IDENTIFY = ["--cv-points", "60", "--scale-grid", "1,4", "--coordinate-passes", "0", "--horizon-s", "2",
-            "--start-spacing-s", "5", "--variants=false", "--quiet"]
+# The class and the gains set, as pegasus.identify's options set them (the CLI's defaults choose them from the test
+# log).
+IDENTIFY = ["--local", "--whitened-gains=false", "--cv-points", "60", "--scale-grid", "1,4", "--coordinate-passes",
+            "0", "--horizon-s", "2", "--start-spacing-s", "5", "--variants=false", "--quiet"]
 
 
 @pytest.fixture(scope="module")

@@ -106,6 +106,15 @@ TEST(ExperimentConfig, ValuesSetInTheSchemaReachTheOptions) {
   EXPECT_EQ(identify.calibration_leave_out_s, 6.0);
   EXPECT_EQ(identify.calibration_spacing_s, 0.25);
   EXPECT_FALSE(identify.horizon_sd_factors);
+  // Left unset, the class, the noise and the gains come from the data; set, the option decides (issue 48).
+  EXPECT_TRUE(run.choose_class && run.choose_noise && run.choose_gains);
+  id.set("local", false, "--local");
+  id.set("calibrate_noise", true, "--calibrate-noise");
+  id.set("whitened_gains", true, "--whitened-gains");
+  const heli::IdentifyRunOptions set = heli::read_identify_config(id);
+  EXPECT_FALSE(set.choose_class || set.choose_noise || set.choose_gains);
+  EXPECT_FALSE(set.identify.local);
+  EXPECT_TRUE(set.identify.calibrate_noise && set.whitened_gains);
 }
 
 TEST(ExperimentConfig, AVehicleFileFillsOnlyWhatTheUserLeftAtDefaults) {

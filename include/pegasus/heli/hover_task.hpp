@@ -193,6 +193,17 @@ struct HoverTrainingOptions {
   // the data, and crashed 22 of 30 starts), and says so in HoverTrainingResult::lqr_action_factor.
   double lqr_action_factor = 1;
   static constexpr double kMaxLqrActionFactor = 1000;
+  // The LQR's action weight per control is at least this, for the gains only (the reward keeps its own): the
+  // default reward's (typical departure HoverReward::kTypicalAction, 0.1). With no action cost (reward.action
+  // 0, as a judged cost may have) the Riccati equation still has a positive definite R, and gains of the size
+  // the default gives: with a weight of 1 the X-Cell's hover class did not hold its linear model (spectral
+  // radius 1.33, tests/heli/hover_task_test.cpp), and the start fell back to the constants.
+  static constexpr double kLqrMinActionWeight =
+      1 / (HoverReward::kTypicalAction * HoverReward::kTypicalAction);
+  // Compute the LQR gains on the class identify did not choose (sysid::IdentifiedModel::alternative, on the
+  // same data) while training runs on the chosen model: train_hover's second try when the chosen model's
+  // gains crash too often (issue 48).
+  bool lqr_gains_from_alternative = false;
   // The integral term (HoverPolicy, ErrorIntegrator; not in the thesis): 0 leaves it out (the thesis's
   // class); else the policy gets a1.int .. a4.int, each starting at its channel's error gain /
   // integral_seconds (with the LQR start: doubled until the gains with the integral hold the linear model),
@@ -240,6 +251,17 @@ struct HoverTrainingHooks {
   IterationCallbacks callbacks;               // told after every optimizer iteration (progress, early stops)
 };
 
+// One starting policy train_hover tried: where its LQR gains came from, their action weight factor, and how
+// often it crashed the learned model (not flown when the LQR gave no gains: `reason` says why).
+struct StartTry {
+  std::string gains;  // "chosen model" or the other class's name ("global linear", "locally weighted")
+  double action_factor = 1;
+  bool lqr_used = false;
+  std::string reason;  // why the LQR gave no gains (empty when it did)
+  StartingPolicyCheck check;
+  bool taken = false;  // the start training ran from
+};
+
 struct HoverTrainingResult {
   Theta theta;  // the best weights
   double initial_uhat = 0, final_uhat = 0;
@@ -247,6 +269,8 @@ struct HoverTrainingResult {
   std::vector<IterationRecord> progress;  // both phases, iterations and evaluations counted on
   StartingPolicyCheck start;              // of the starting weights, before training
   double lqr_action_factor = 1;           // the LQR start's, after train_hover raised it (options' otherwise)
+  bool lqr_gains_from_alternative = false;  // the start's gains come from the class identify did not choose
+  std::vector<StartTry> start_tries;        // with the LQR start, every start tried, in order
 };
 
 HoverTrainingResult train_hover(const std::shared_ptr<const sysid::IdentifiedModel>& model,

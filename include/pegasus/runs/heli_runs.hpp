@@ -89,6 +89,20 @@ struct IdentifyRunOptions {
   bool variants = true;        // the model-selection variants of Fig 5.2
   double control_rate_hz =
       HoverTrainingOptions{}.control_rate_hz;  // the rate hover training steps the model at
+  // Choose the model class from the data (sysid::choose_model_class between the locally weighted and the
+  // global linear fit, on the test log as training runs them) instead of identify.local: the default, unless
+  // the config or an option sets `local` (issue 48).
+  bool choose_class = true;
+  // Choose the noise model from the data: ar1+measurement with calibrate_noise, the most honest on both
+  // shipped aircraft, when the training log holds at least kHonestNoiseMinSeconds; white noise otherwise
+  // (a line says so). The default, unless the config or an option sets `noise` or `calibrate_noise`.
+  bool choose_noise = true;
+  static constexpr double kHonestNoiseMinSeconds = 120;
+  // Move the control gains that closed-loop data biases to their whitened values
+  // (sysid::with_whitened_gains). With choose_gains (the default unless the config or an option sets
+  // `whitened_gains`), whichever predicts the test log better as training runs it.
+  bool whitened_gains = false;
+  bool choose_gains = true;
 };
 // model.json, cross_validation.csv, mse_vs_horizon.csv, noise_check.csv, their charts, summary.json. The
 // bandwidth search checkpoints after each cross-validation step and resumes from the run directory's

@@ -7,6 +7,7 @@
 #include <functional>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -162,6 +163,21 @@ class IdentifiedModel {
   const std::vector<BodyVec>& horizon_sd_factors() const { return horizon_sd_factors_; }
   void set_horizon_sd_factors(std::vector<BodyVec> factors) { horizon_sd_factors_ = std::move(factors); }
   BodyVec horizon_sd_factor(std::size_t step) const;
+  // What `heli identify` compared to choose the model class (sysid::choose_model_class; model.json's
+  // `model_choice`, null when the class was given), and the inverse bandwidths of the class not chosen (all
+  // 0: global linear): hover's start tries that candidate's gains when the chosen model's crash. Set before
+  // the model is shared.
+  const nlohmann::json& model_choice() const { return model_choice_; }
+  const std::optional<std::array<double, kInputs>>& alternative_inv_bandwidth() const {
+    return alternative_inv_bandwidth_;
+  }
+  void set_model_choice(nlohmann::json record, std::optional<std::array<double, kInputs>> alternative) {
+    model_choice_ = std::move(record);
+    alternative_inv_bandwidth_ = alternative;
+  }
+  // The class not chosen, on the same data with the same noise (for its mean: the LQR start's gains); none
+  // when model_choice recorded no alternative.
+  std::optional<IdentifiedModel> alternative() const;
 
   // Predictive variance of each output at x under a fit (Eq 5.4); template-only outputs get sigma2.
   BodyVec predictive_variance(const LocalFit& fit) const;
@@ -181,6 +197,8 @@ class IdentifiedModel {
   NoiseCorrelation correlation_;
   std::string vehicle_;
   std::vector<BodyVec> horizon_sd_factors_;
+  nlohmann::json model_choice_;
+  std::optional<std::array<double, kInputs>> alternative_inv_bandwidth_;
   std::array<OutputTemplate, kBodyVars> templates_;
 };
 
@@ -213,6 +231,15 @@ std::size_t min_training_log_rows(double log_dt, const ModelStructure& structure
 // hooks.resume_from does not come from the same search.
 IdentifiedModel identify(const FlightLog& train, const IdentifyOptions& options, ThreadPool& pool,
                          IdentifyReport* report = nullptr, const IdentifyHooks& hooks = {});
+// identify() in its two stages: the regression alone (bandwidths by cross-validation, or none when
+// options.local is false; white noise of the cross-validated size), and then the noise model the options ask
+// for on that regression (options.noise, options.calibrate_noise). `heli identify` compares model classes
+// between the two, so that the noise is fitted once, to the class chosen.
+IdentifiedModel identify_mean(const FlightLog& train, const IdentifyOptions& options, ThreadPool& pool,
+                              IdentifyReport* report = nullptr, const IdentifyHooks& hooks = {});
+IdentifiedModel with_noise_model(const IdentifiedModel& mean, const FlightLog& train,
+                                 const IdentifyOptions& options, ThreadPool& pool,
+                                 IdentifyReport* report = nullptr);
 
 // The windowed leave-one-out error of a bandwidth, normalised per output by the target variance, summed over
 // outputs; and the noise estimate at it.
