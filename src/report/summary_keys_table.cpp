@@ -1,6 +1,6 @@
 // The summary.json key table: every command's keys, each with its unit and meaning in one line
-// (include/pegasus/report/summary_keys.hpp). A command's keys are listed here when it gains one: the digest test
-// fails on a shipped config's summary key that this table lacks.
+// (include/pegasus/report/summary_keys.hpp). A command's keys are listed here when it gains one: the digest
+// test fails on a shipped config's summary key that this table lacks.
 #include "pegasus/report/summary_keys.hpp"
 
 namespace pegasus::report {
@@ -26,8 +26,9 @@ const std::vector<SummaryKey> kRideKeys = {
     {"rides", "", "rides from the initial-state distribution with fresh noise"},
     {"falls", "", "rides that fell over"},
     {"reached", "", "rides that entered the goal circle"},
-    {"median_distance_km", "km", "median length of the front tyre's path to the goal over the rides that reached "
-                                 "it (null: none did)"},
+    {"median_distance_km", "km",
+     "median length of the front tyre's path to the goal over the rides that reached "
+     "it (null: none did)"},
     {"worst_distance_km", "km", "longest such path (null: none reached the goal)"},
 };
 
@@ -43,18 +44,19 @@ const std::vector<SummaryKey> kMujocoSuccessKeys = {
     {"evaluation.mean_return", "", "mean discounted return of the task reward over those episodes"},
     {"evaluation.mean_training_return", "",
      "mean return of the training reward (task reward and training-only terms); only with such terms"},
-    {"evaluation.success_rate", "", "fraction of held-out episodes that succeeded (null: the task has no success "
-                                    "criterion)"},
+    {"evaluation.success_rate", "",
+     "fraction of held-out episodes that succeeded (null: the task has no success "
+     "criterion)"},
     {"evaluation.crashes", "", "held-out episodes ended by a non-finite state or a termination condition"},
     {"evaluation.control_steps", "steps", "control steps of all held-out episodes"},
 };
 
-
 const std::vector<SummaryKey> kFlightKeys = {
     {"flights", "", "flights flown on the ground truth, each from its own start with its own gusts"},
     {"crashes", "", "flights that crashed (a crashed flight counts up to its crash)"},
-    {"rms_position_m", "m", "root mean square, over all 50 Hz steps of all flights, of the distance to the set "
-                            "point (true state)"},
+    {"rms_position_m", "m",
+     "root mean square, over all 50 Hz steps of all flights, of the distance to the set "
+     "point (true state)"},
     {"rms_velocity_mps", "m/s", "root mean square of the velocity over the same steps"},
     {"rms_yaw_rad", "rad", "root mean square of the yaw error (wrapped) over the same steps"},
     {"pilot.flights", "", "the scripted pilot's flights on the same starts and gusts (--compare-pilot)"},
@@ -103,9 +105,11 @@ const std::vector<SummaryKeyGroup> kGroups = {
          {"policies", "", "table policies searched exhaustively (65536)"},
          {"best_in_class_policy", "", "index of the best table policy (exact value)"},
          {"best_in_class_value", "",
-          "exact H-step discounted value from the start of that policy (backward induction over the 25 cells)"},
+          "exact H-step discounted value from the start of that policy (backward induction over the 25 "
+          "cells)"},
          {"results", "",
-          "{model, estimator, m, trials, mean_true_value, stderr_true_value, mean_estimate, mean_sup_deviation} "
+          "{model, estimator, m, trials, mean_true_value, stderr_true_value, mean_estimate, "
+          "mean_sup_deviation} "
           "per model (normal, hashed), estimator (pegasus, montecarlo) and number of scenarios m: the exact "
           "value of the policy chosen by argmax U-hat, and the mean over trials of max over all policies of "
           "|U-hat - U| (Theorem 10, Proposition 8)"},
@@ -135,13 +139,16 @@ const std::vector<SummaryKeyGroup> kGroups = {
          {"<shaping>.reaches_goal", "",
           "the learned greedy policy, followed along its most likely moves, reaches the goal"},
          {"<shaping>.path", "cells", "the cells [x, y] of that walk"},
-         {"<shaping>.cycle", "cells", "the cells [x, y] of the cycle it goes round instead ([] when it reaches the "
-                                      "goal)"},
+         {"<shaping>.cycle", "cells",
+          "the cells [x, y] of the cycle it goes round instead ([] when it reaches the "
+          "goal)"},
          {"<shaping>.cycle_shaping", "", "shaping reward collected once around the cycle"},
          {"<shaping>.cycle_reward", "", "reward plus shaping collected once around the cycle"},
-         {"<shaping>.proper", "", "the greedy policy reaches the goal with probability 1 in the unshaped gridworld"},
+         {"<shaping>.proper", "",
+          "the greedy policy reaches the goal with probability 1 in the unshaped gridworld"},
          {"<shaping>.expected_steps", "steps",
-          "exact expected steps to the goal of the greedy policy in the unshaped gridworld (null: not proper)"},
+          "exact expected steps to the goal of the greedy policy in the unshaped gridworld (null: not "
+          "proper)"},
          {"<shaping>.truncated_episodes", "", "learning episodes cut off at the step limit"},
      }},
     {{"shaping audit"},
@@ -151,8 +158,9 @@ const std::vector<SummaryKeyGroup> kGroups = {
          {"num_states", "", "states of the MDP"},
          {"num_actions", "", "actions of the MDP"},
          {"gamma", "", "discount factor of the MDP"},
-         {"potential_based", "", "F(s, a, s') = gamma Phi(s') - Phi(s) on every triple of the scope, within "
-                                 "tolerance"},
+         {"potential_based", "",
+          "F(s, a, s') = gamma Phi(s') - Phi(s) on every triple of the scope, within "
+          "tolerance"},
          {"max_residual", "", "max over the scope of |gamma Phi(s') - Phi(s) - F| for the least-squares Phi"},
          {"rms_residual", "", "root mean square of those residuals"},
          {"tolerance", "", "the absolute tolerance used: tolerance * (1 + max |F|)"},
@@ -173,12 +181,15 @@ const std::vector<SummaryKeyGroup> kGroups = {
          {"counterexample.optimal_actions", "", "optimal actions there in the counterexample MDP M"},
          {"counterexample.shaped_optimal_actions", "", "optimal actions there in M + F"},
          {"counterexample.delta", "", "the Delta of Appendix 3.A (shaping advantage of one option)"},
-         {"counterexample.verified", "", "the two action sets are disjoint: no optimal policy of M + F is optimal in M"},
-         {"counterexample.uses_only_scope", "", "every transition of the counterexample lies in the audit's scope"},
+         {"counterexample.verified", "",
+          "the two action sets are disjoint: no optimal policy of M + F is optimal in M"},
+         {"counterexample.uses_only_scope", "",
+          "every transition of the counterexample lies in the audit's scope"},
          {"counterexample.description", "", "the counterexample in words"},
          {"counterexample.mdp_file", "", "file of the counterexample MDP M in the run directory"},
          {"counterexample.shaped_mdp_file", "", "file of M + F in the run directory"},
-         {"policy_change.changes", "", "some optimal action of the shaped MDP is not optimal in the audited one"},
+         {"policy_change.changes", "",
+          "some optimal action of the shaped MDP is not optimal in the audited one"},
          {"policy_change.states", "", "the states where that happens"},
          {"policy_change.loss_under_initial", "",
           "sum over the initial distribution of V*(s) - V(s) of a policy optimal under the shaping"},
@@ -202,7 +213,8 @@ const std::vector<SummaryKeyGroup> kGroups = {
               {"rides.rides", "", "rides of the trained policy from the initial-state distribution"},
               {"rides.falls", "", "of those, rides that fell over"},
               {"rides.reached", "", "of those, rides that entered the goal circle"},
-              {"rides.median_distance_km", "km", "median path length to the goal over the rides that reached it"},
+              {"rides.median_distance_km", "km",
+               "median path length to the goal over the rides that reached it"},
               {"rides.worst_distance_km", "km", "longest such path (null: none reached the goal)"},
           })},
     {{"bicycle ride"}, kRideKeys},
@@ -210,29 +222,34 @@ const std::vector<SummaryKeyGroup> kGroups = {
      {
          {"sets", "", "independent scenario sets per method"},
          {"scenarios", "", "scenarios m of each set"},
-         {"uhat_mean.<method>", "", "mean U-hat of the policy over the sets (plain, antithetic, stratified, sobol)"},
+         {"uhat_mean.<method>", "",
+          "mean U-hat of the policy over the sets (plain, antithetic, stratified, sobol)"},
          {"uhat_std.<method>", "", "standard deviation of U-hat over the sets: the spread the method leaves"},
      }},
     {{"pendulum train"},
-     with(kOptimizerKeys,
-          {
-              {"experiment", "", "\"pendulum train\""},
-              {"mean_return_100", "", "mean return (200 steps) of the final policy on 100 fresh starts"},
-              {"race_mean_return_100", "", "the same for the race's policy, before refinement"},
-              {"mean_return_5000", "", "mean return of the final policy on 5000 other starts (less sampling noise)"},
-              {"evaluation_episodes", "", "fresh starts of each bar check"},
-              {"bar", "", "the mean return the race must reach (RLtools' bar)"},
-              {"evaluations_to_bar", "", "U-hat evaluations until the policy first met the bar (null: never)"},
-              {"scenarios", "", "PEGASUS scenarios of the race"},
-              {"refine_scenarios", "", "scenarios of the refinement (0: none)"},
-              {"refine_initial_uhat", "", "U-hat on the refinement scenarios at its start (null: no refinement)"},
-              {"refine_final_uhat", "", "U-hat on the refinement scenarios at its end"},
-              {"refine_iterations", "", "optimizer iterations of the refinement"},
-              {"refine_evaluations", "", "U-hat evaluations of the refinement"},
-          })},
+     with(
+         kOptimizerKeys,
+         {
+             {"experiment", "", "\"pendulum train\""},
+             {"mean_return_100", "", "mean return (200 steps) of the final policy on 100 fresh starts"},
+             {"race_mean_return_100", "", "the same for the race's policy, before refinement"},
+             {"mean_return_5000", "",
+              "mean return of the final policy on 5000 other starts (less sampling noise)"},
+             {"evaluation_episodes", "", "fresh starts of each bar check"},
+             {"bar", "", "the mean return the race must reach (RLtools' bar)"},
+             {"evaluations_to_bar", "", "U-hat evaluations until the policy first met the bar (null: never)"},
+             {"scenarios", "", "PEGASUS scenarios of the race"},
+             {"refine_scenarios", "", "scenarios of the refinement (0: none)"},
+             {"refine_initial_uhat", "",
+              "U-hat on the refinement scenarios at its start (null: no refinement)"},
+             {"refine_final_uhat", "", "U-hat on the refinement scenarios at its end"},
+             {"refine_iterations", "", "optimizer iterations of the refinement"},
+             {"refine_evaluations", "", "U-hat evaluations of the refinement"},
+         })},
     {{"horizon"},
      {
-         {"horizon", "steps", "H_eps: the rollout length that truncates discounted returns by at most epsilon/2"},
+         {"horizon", "steps",
+          "H_eps: the rollout length that truncates discounted returns by at most epsilon/2"},
      }},
     {{"export"},
      {
@@ -249,7 +266,8 @@ const std::vector<SummaryKeyGroup> kGroups = {
          {"action_size", "", "how many"},
          {"memory_type", "", "the C type of the controller's state"},
          {"vehicle", "", "with --vehicle: the vehicle's name"},
-         {"vehicle_act_function", "", "with --vehicle: the function in that aircraft's own fields and channels"},
+         {"vehicle_act_function", "",
+          "with --vehicle: the function in that aircraft's own fields and channels"},
          {"vehicle_observation_names", "", "with --vehicle: its inputs, the aircraft's state fields"},
          {"vehicle_action_names", "", "with --vehicle: its outputs, the aircraft's channels"},
      }},
@@ -270,17 +288,22 @@ const std::vector<SummaryKeyGroup> kGroups = {
          {"bandwidth_at_floor", "", "inputs whose bandwidth was held at its floor"},
          {"sigma2.<output>", "output's unit squared", "one-step noise variance of that output"},
          {"mse_at_seconds.<seconds>", "",
-          "{variable: mean squared error} of the chosen model's hold-out predictions that far ahead, over the 12 "
+          "{variable: mean squared error} of the chosen model's hold-out predictions that far ahead, over "
+          "the 12 "
           "log states and xdot_b, ydot_b, zdot_b (the variable's unit squared)"},
          {"mse_at_seconds_as_trained.<seconds>", "",
           "the same with the model run as it was trained (noise off, the log's controls)"},
-         {"mse_seconds_skipped", "s", "horizons (of 1, 5, 10 s) that are no whole number of model steps: absent "
-                                      "from mse_at_seconds"},
-         {"global_linear.mse_at_seconds", "", "the same errors of one global linear fit of the same template"},
-         {"variants", "", "{model, mse_at_seconds} of the Fig 5.2 variants (without a1s/b1s/gyro, without "
-                          "intercept, other rates)"},
-         {"variant_rates_skipped_hz", "Hz", "rates whose variants were not identified (the logs' rates are not "
-                                            "multiples)"},
+         {"mse_seconds_skipped", "s",
+          "horizons (of 1, 5, 10 s) that are no whole number of model steps: absent "
+          "from mse_at_seconds"},
+         {"global_linear.mse_at_seconds", "",
+          "the same errors of one global linear fit of the same template"},
+         {"variants", "",
+          "{model, mse_at_seconds} of the Fig 5.2 variants (without a1s/b1s/gyro, without "
+          "intercept, other rates)"},
+         {"variant_rates_skipped_hz", "Hz",
+          "rates whose variants were not identified (the logs' rates are not "
+          "multiples)"},
          {"outside_2sigma_fraction.<output>", "",
           "fraction of hold-out one-step errors outside the predicted 2 sd band (about 0.05 when honest)"},
          {"outside_2sigma_by_horizon.<seconds>", "",
@@ -296,8 +319,9 @@ const std::vector<SummaryKeyGroup> kGroups = {
          {"noise_scale.process", "", "with --calibrate-noise: the process noise's variance scale per output"},
          {"noise_scale.measurement", "", "the same for the measurement error (ar1+measurement models)"},
          {"noise_scale.measurement_white", "", "the white part added, in units of the one-step variance"},
-         {"horizon_sd_factors.<output>", "", "with --calibrate-noise: that output's sd factor at each model step "
-                                             "after a reset"},
+         {"horizon_sd_factors.<output>", "",
+          "with --calibrate-noise: that output's sd factor at each model step "
+          "after a reset"},
          {"noise_correlation.<output>", "",
           "the AR(1) noise of that output: share, rho, and the measurement error's share, rho, persistence"},
      }},
@@ -313,8 +337,10 @@ const std::vector<SummaryKeyGroup> kGroups = {
               {"gamma", "", "discount per 50 Hz step"},
               {"policy", "", "the trained policy file in the run directory"},
               {"starting_policy.scenarios", "", "training scenarios the starting weights were flown on"},
-              {"starting_policy.crashed_scenarios", "", "of those, scenarios where they crashed the learned model"},
-              {"starting_policy.mean_seconds_to_crash", "s", "mean time to crash over those (0: none crashed)"},
+              {"starting_policy.crashed_scenarios", "",
+               "of those, scenarios where they crashed the learned model"},
+              {"starting_policy.mean_seconds_to_crash", "s",
+               "mean time to crash over those (0: none crashed)"},
               {"model_noise", "", "the learned model's noise when correlated: ar1 or ar1+measurement"},
               {"starting_gains.method", "", "with --lqr-start: lqr, or constant when LQR was refused"},
               {"starting_gains.reason", "", "why LQR was or was not used"},
@@ -322,8 +348,9 @@ const std::vector<SummaryKeyGroup> kGroups = {
               {"starting_gains.spectral_radius", "", "spectral radius of the closed loop with the LQR gains"},
               {"starting_gains.open_loop_radius", "", "spectral radius of the open loop"},
               {"starting_gains.gains", "", "the starting gains per control (err, vel, att)"},
-              {"integral.<setting>", "", "the integral action: integral_seconds, limit_position, limit_yaw, "
-                                         "lqr_integral_seconds and the trained gains a1..a4"},
+              {"integral.<setting>", "",
+               "the integral action: integral_seconds, limit_position, limit_yaw, "
+               "lqr_integral_seconds and the trained gains a1..a4"},
               {"max_tilt_rad", "rad", "largest tilt the training allowed (when not the default)"},
               {"control_rate_hz", "Hz", "rate of the controls (when not 50 Hz)"},
               {"refit_every", "steps", "model steps between refits of the local model (when not 50 Hz)"},
@@ -365,13 +392,49 @@ const std::vector<SummaryKeyGroup> kGroups = {
               {"policy", "", "the trained policy file in the run directory"},
               {"rms_path_deviation_untrained_m", "m", "the same for the untrained starting policy"},
               {"crashes_untrained", "", "crashes of the untrained starting policy"},
-              {"rms_path_deviation_<ablation>_m", "m", "with --ablations: the policy trained without the delay "
-                                                       "(no_delay) or without shaping (no_shaping)"},
+              {"rms_path_deviation_<ablation>_m", "m",
+               "with --ablations: the policy trained without the delay "
+               "(no_delay) or without shaping (no_shaping)"},
               {"crashes_<ablation>", "", "with --ablations: its crashes"},
               {"final_uhat_<ablation>", "", "with --ablations: its U-hat"},
-              {"pilot.<figure>", "", "the scripted pilot on the same manoeuvre: crashes, completed, "
-                                     "rms_path_deviation_m, max_path_deviation_m (m)"},
+              {"pilot.<figure>", "",
+               "the scripted pilot on the same manoeuvre: crashes, completed, "
+               "rms_path_deviation_m, max_path_deviation_m (m)"},
           })},
+    {{"log import"},
+     {
+         {"source.file", "", "the ULog file's name"},
+         {"source.sha256", "", "its SHA-256"},
+         {"source.bytes", "bytes", "its size"},
+         {"vehicle", "", "the vehicle's name ([vehicle] name of the vehicle file)"},
+         {"rows", "", "rows of log.csv"},
+         {"rate_hz", "Hz", "rate of log.csv's rows"},
+         {"seconds", "s", "length of log.csv"},
+         {"time_range_s", "s", "[start, end] of the imported range in the log's own clock"},
+         {"topics", "", "each topic read: its fields, records, records in range, rate and largest gap"},
+         {"instance", "", "the multi-instance topics' instance read"},
+         {"dropouts", "", "dropouts in the whole file (provenance.json gives each one's time)"},
+         {"dropout_total_ms", "ms", "their total length"},
+         {"truncated_at_byte", "bytes", "where a truncated file ends (null: complete)"},
+         {"control_range.<control>", "", "[min, max] of that control column"},
+         {"constant_controls", "", "control columns that never move"},
+         {"log", "", "the flight log in the run directory"},
+         {"provenance", "", "the provenance file in the run directory"},
+         {"prediction.train_seconds", "s", "length of the log's first part, that the model is identified on"},
+         {"prediction.test_seconds", "s", "length of the hold-out part"},
+         {"prediction.model_rate_hz", "Hz", "rate of the identified model's steps"},
+         {"prediction.structure", "", "the model's structure in words"},
+         {"prediction.local", "", "locally weighted regression (false: one global linear fit)"},
+         {"prediction.training_rows", "", "rows of the training data at the model's rate"},
+         {"prediction.horizons_s", "s", "the horizons of the hold-out errors"},
+         {"prediction.rmse", "",
+          "{identified|global_linear|constant_velocity: {horizon: {variable: RMSE}}} over "
+          "the 12 log states and xdot_b, ydot_b, zdot_b (the variable's unit); a horizon is "
+          "missing where the model's fit turned singular before it"},
+         {"prediction.rollouts", "", "hold-out rollouts behind each RMSE, per model and horizon"},
+         {"prediction.model", "", "the model file in the run directory"},
+         {"prediction.bandwidth_at_floor", "", "inputs whose bandwidth was held at its floor"},
+     }},
     {{"mujoco train"},
      with(with(kOptimizerKeys, kMujocoSuccessKeys),
           {
@@ -400,7 +463,8 @@ const std::vector<SummaryKeyGroup> kGroups = {
               {"training_physics_steps", "steps", "physics steps of all of them"},
               {"training_crashes", "", "training episodes ended by a crash"},
               {"first_success", "", "null: no training episode succeeded"},
-              {"first_success.evaluation", "", "the U-hat evaluation of the first successful training episode"},
+              {"first_success.evaluation", "",
+               "the U-hat evaluation of the first successful training episode"},
               {"first_success.control_steps", "steps", "training control steps until then"},
               {"first_success.physics_steps", "steps", "training physics steps until then"},
           })},

@@ -1,6 +1,6 @@
-// The summary.json key table (include/pegasus/report/summary_keys.hpp): keys are listed as the report flattens
-// a summary, patterns with placeholders match per-output and per-horizon keys, and a key the table lacks is
-// reported.
+// The summary.json key table (include/pegasus/report/summary_keys.hpp): keys are listed as the report
+// flattens a summary, patterns with placeholders match per-output and per-horizon keys, and a key the table
+// lacks is reported.
 #include "pegasus/report/summary_keys.hpp"
 
 #include <gtest/gtest.h>
@@ -18,11 +18,12 @@ using pegasus::report::undescribed_summary_keys;
 
 std::vector<std::string> listed(const json& summary) {
   std::vector<std::string> keys;
-  pegasus::report::visit_summary_keys(summary, [&](const std::vector<std::string>& path, const json&, bool scalar) {
-    std::string key;
-    for (const auto& p : path) key += (key.empty() ? "" : ".") + p;
-    keys.push_back(key + (scalar ? "" : " (structure)"));
-  });
+  pegasus::report::visit_summary_keys(summary,
+                                      [&](const std::vector<std::string>& path, const json&, bool scalar) {
+                                        std::string key;
+                                        for (const auto& p : path) key += (key.empty() ? "" : ".") + p;
+                                        keys.push_back(key + (scalar ? "" : " (structure)"));
+                                      });
   return keys;
 }
 
@@ -32,8 +33,8 @@ TEST(SummaryKeys, KeysAreListedAsTheReportFlattensThem) {
                         {"long", {1, 2, 3, 4, 5, 6, 7}},
                         {"rows", json::array({json{{"x", 1}}})},
                         {"none", nullptr}};
-  EXPECT_EQ(listed(summary), (std::vector<std::string>{"a", "b.c", "b.d (structure)", "b.short", "long (structure)",
-                                                       "none", "rows (structure)"}));
+  EXPECT_EQ(listed(summary), (std::vector<std::string>{"a", "b.c", "b.d (structure)", "b.short",
+                                                       "long (structure)", "none", "rows (structure)"}));
 }
 
 TEST(SummaryKeys, PlaceholdersStandForOneComponentOrPartOfOne) {
@@ -56,12 +57,9 @@ TEST(SummaryKeys, PlaceholdersStandForOneComponentOrPartOfOne) {
 }
 
 TEST(SummaryKeys, AKeyTheTableLacksIsReported) {
-  const json fly = {{"flights", 30},
-                    {"crashes", 0},
-                    {"rms_position_m", 0.4},
-                    {"pilot", {{"flights", 30}, {"rms_position_m", 0.7}}},
-                    {"new_figure", 1},
-                    {"better_than_pilot", {{"position", true}, {"altitude", true}}}};
+  const json fly = {{"flights", 30},         {"crashes", 0},
+                    {"rms_position_m", 0.4}, {"pilot", {{"flights", 30}, {"rms_position_m", 0.7}}},
+                    {"new_figure", 1},       {"better_than_pilot", {{"position", true}, {"altitude", true}}}};
   EXPECT_EQ(undescribed_summary_keys("heli fly", fly),
             (std::vector<std::string>{"better_than_pilot.altitude", "new_figure"}));
   EXPECT_EQ(undescribed_summary_keys("horizon", json{{"horizon", 51}}), std::vector<std::string>{});
