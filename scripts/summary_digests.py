@@ -5,8 +5,9 @@ A refactoring must not change a result: every summary.json depends only on its i
 dropping keys that hold wall-clock time) is a fingerprint of the code's behaviour. Usage:
   summary_digests.py --cli build/pegasus [--record] [--only NAME ...] [--work DIR]
 --record rewrites tests/digests/summary-digests.json from this build (do it only when a change of result is
-intended, and say why in the commit). Exit 0 when every digest matches, 1 when one differs (the differing
-summary is printed), 2 on bad usage.
+intended, and say why in the commit). Every summary's keys must also be described in the key table
+(`pegasus --undescribed-summary-keys`). Exit 0 when every digest matches and every key is described, 1 when not
+(the differing summary or the undescribed keys are printed), 2 on bad usage.
 """
 import argparse
 import hashlib
@@ -115,6 +116,13 @@ def main():
             continue
         digests = summary_digests(name, out, work)
         measured[name] = digests
+        # Every key these summaries hold has its unit and meaning in the key table (report/summary_keys.hpp),
+        # which the report and the manual's summary.json page show.
+        keys = subprocess.run([args.cli, "--undescribed-summary-keys", out], capture_output=True, text=True)
+        if keys.returncode != 0:
+            failures += 1
+            print(f"{name}: summary keys without a description in src/report/summary_keys_table.cpp:\n"
+                  f"{keys.stdout}{keys.stderr}", file=sys.stderr)
         if args.record:
             print(f"{name}: recorded {len(digests)} summaries")
         elif recorded.get(name) != digests:

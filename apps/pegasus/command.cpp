@@ -29,6 +29,7 @@
 #include "pegasus/parallel/mpi.hpp"
 #include "pegasus/parallel/thread_limits.hpp"
 #include "pegasus/report/report.hpp"
+#include "pegasus/report/summary_keys.hpp"
 
 namespace pegasus::cli {
 
@@ -555,6 +556,12 @@ int run_cli(int argc, const char* const* argv, const std::vector<CommandGroup>& 
       out << help_markdown(app);
       return 0;
     }
+    if (argc == 2 && std::string_view(argv[1]) == kSummaryKeysMarkdownFlag) {  // the summary.json reference
+      out << report::summary_keys_markdown();
+      return 0;
+    }
+    if (argc >= 2 && std::string_view(argv[1]) == kUndescribedSummaryKeysFlag)  // the key table's check
+      return undescribed_summary_keys_main(std::vector<std::string>(argv + 2, argv + argc), out, err);
     if (const std::string problem = precheck(app, argc, argv); !problem.empty()) {
       err << "pegasus: " << problem << " (see pegasus --help)" << std::endl;
       return 2;

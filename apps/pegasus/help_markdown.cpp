@@ -2,7 +2,13 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <filesystem>
+#include <ostream>
 #include <string_view>
+
+#include "pegasus/io/json_csv.hpp"
+#include "pegasus/report/summary_keys.hpp"
 
 namespace pegasus::cli {
 
@@ -61,6 +67,39 @@ std::string help_markdown(CLI::App& app) {
       "keys](options.md)).\n\n";
   add_command(app, "", page);
   return page;
+}
+
+int undescribed_summary_keys_main(const std::vector<std::string>& run_dirs, std::ostream& out,
+                                  std::ostream& err) {
+  namespace fs = std::filesystem;
+  if (run_dirs.empty()) {
+    err << "pegasus: " << kUndescribedSummaryKeysFlag << ": expected one or more run directories"
+        << std::endl;
+    return 2;
+  }
+  std::vector<fs::path> summaries;
+  for (const std::string& dir : run_dirs) {
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec)) {
+      err << "pegasus: " << kUndescribedSummaryKeysFlag << ": " << dir << ": not a directory" << std::endl;
+      return 2;
+    }
+    for (const auto& e : fs::recursive_directory_iterator(dir))
+      if (e.path().filename() == "summary.json" && fs::is_regular_file(e.path().parent_path() / "run.json"))
+        summaries.push_back(e.path());
+  }
+  std::sort(summaries.begin(), summaries.end());
+  std::size_t missing = 0;
+  for (const fs::path& summary : summaries) {
+    const nlohmann::json run = read_json_file(summary.parent_path() / "run.json");
+    const std::string command = run.value("command", std::string());
+    for (const std::string& key : report::undescribed_summary_keys(command, read_json_file(summary))) {
+      out << summary.string() << ": " << key << " (" << command << ")\n";
+      ++missing;
+    }
+  }
+  out << fmt::format("{} summaries, {} undescribed keys\n", summaries.size(), missing);
+  return missing == 0 ? 0 : 1;
 }
 
 }  // namespace pegasus::cli

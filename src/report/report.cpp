@@ -1,6 +1,7 @@
 #include "pegasus/report/report.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cmath>
@@ -17,6 +18,7 @@
 #include "pegasus/io/atomic_file.hpp"
 #include "pegasus/io/csv_table.hpp"
 #include "pegasus/io/json_csv.hpp"
+#include "pegasus/report/summary_keys.hpp"
 #include "pegasus/report/verdict.hpp"
 #include "pegasus/runs/charts.hpp"
 #include "pegasus/runs/config.hpp"
@@ -32,31 +34,31 @@ namespace {
 
 // --- headline, configuration, provenance ------------------------------------------------------------------
 
-void flatten(const json& value, const std::string& prefix, int depth,
-             std::vector<std::pair<std::string, std::string>>& out) {
-  if (out.size() >= 60) return;
-  if (value.is_object()) {
-    if (depth >= 2) return;
-    for (const auto& [k, v] : value.items())
-      flatten(v, prefix.empty() ? k : prefix + "." + k, depth + 1, out);
-  } else if (value.is_array()) {
-    if (value.size() > 6 ||
-        std::any_of(value.begin(), value.end(), [](const json& v) { return v.is_structured(); }))
-      return;
+// The summary's keys as the report lists them (summary_keys.hpp), its first 60 scalars, each with its value,
+// unit and meaning (empty where the key table has none).
+std::vector<std::vector<std::string>> headline_rows(const std::string& command, const json& summary) {
+  std::vector<std::vector<std::string>> rows;
+  visit_summary_keys(summary, [&](const std::vector<std::string>& path, const json& value, bool scalar) {
+    if (!scalar || rows.size() >= 60) return;
     std::string text;
-    for (const auto& v : value) {
-      text += (text.empty() ? "" : ", ") + (v.is_number_float() ? format_number(v.get<double>())
-                                            : v.is_string()     ? v.get<std::string>()
-                                                                : v.dump());
+    if (value.is_array()) {
+      for (const auto& v : value) {
+        text += (text.empty() ? "" : ", ") + (v.is_number_float() ? format_number(v.get<double>())
+                                              : v.is_string()     ? v.get<std::string>()
+                                                                  : v.dump());
+      }
+      text = "[" + text + "]";
+    } else {
+      text = value.is_number_float() ? format_number(value.get<double>())
+             : value.is_string()     ? value.get<std::string>()
+                                     : value.dump();
     }
-    out.push_back({prefix, "[" + text + "]"});
-  } else if (value.is_number_float()) {
-    out.push_back({prefix, format_number(value.get<double>())});
-  } else if (value.is_string()) {
-    out.push_back({prefix, value.get<std::string>()});
-  } else {
-    out.push_back({prefix, value.dump()});
-  }
+    const SummaryKey* key = describe_summary_key(command, path);
+    rows.push_back({fmt::format("{}", fmt::join(path, ".")), text,
+                    key ? std::string(key->unit) : std::string(),
+                    key ? std::string(key->meaning) : std::string()});
+  });
+  return rows;
 }
 
 void add_policy(Page& page, const fs::path& dir) {
@@ -299,15 +301,14 @@ json report_data(const fs::path& run_dir, const ReportOptions& options) {
                  table_html({"choice", "value"}, rows, "choices"));
   }
   // Headline figures and configuration.
-  std::vector<std::pair<std::string, std::string>> headline;
-  flatten(summary, "", 0, headline);
-  std::vector<std::vector<std::string>> rows;
-  for (auto& [k, v] : headline) rows.push_back({k, v});
+  const auto rows = headline_rows(command_of(run), summary);
   std::string head = rows.empty() ? std::string("<p>(no scalar figures)</p>\n")
-                                  : table_html({"figure", "value"}, rows, "headline");
+                                  : table_html({"figure", "value", "unit", "meaning"}, rows, "headline");
   head += "<details><summary>summary.json</summary>\n<pre>" + escape_markup(summary.dump(2)) +
           "</pre></details>\n";
-  page.section("headline", "Headline figures", "From summary.json.", head);
+  page.section("headline", "Headline figures",
+               "From summary.json, each key with its unit and meaning (the manual: summary.json keys).",
+               head);
   const std::string config = read_text_or_empty(run_dir / "config.toml");
   std::string config_html =
       "<details open><summary>config.toml</summary>\n<pre>" + escape_markup(config) + "</pre></details>\n";

@@ -573,6 +573,12 @@ TEST_F(Report, EveryRunEndsWithItsReportAndTheCommandRemakesIt) {
   const auto result = html.find("<pre class=\"result\">{&quot;horizon&quot;:51}\n</pre>");
   ASSERT_NE(result, std::string::npos) << html.substr(0, 4000);
   EXPECT_LT(result, html.find("id=\"headline\""));
+  // The raw keys below carry their unit and meaning from the key table (summary_keys.hpp).
+  EXPECT_NE(html.find("<th>figure</th><th>value</th><th>unit</th><th>meaning</th>"), std::string::npos);
+  EXPECT_NE(
+      html.find("<tr><td>horizon</td><td class=\"num\">51</td><td>steps</td><td>H_eps: the rollout length "
+                "that truncates discounted returns by at most epsilon/2</td></tr>"),
+      std::string::npos);
   const json run = json::parse(read_text(dir_ / "h" / "run.json"));
   EXPECT_EQ(run.at("printed"), json::array({"{\"horizon\":51}"}));
   EXPECT_EQ(run.at("warnings"), json::array());
