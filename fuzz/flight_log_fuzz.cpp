@@ -3,7 +3,7 @@
 
 #include "fuzz_contract.hpp"
 #include "pegasus/io/atomic_file.hpp"
-#include "pegasus/sysid/flight_log.hpp"
+#include "pegasus/vehicle/flight_log.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   pegasus::fuzz::refuses_input_past_its_limit(

@@ -11,9 +11,9 @@
 #include "builtin_problem.hpp"
 #include "common.hpp"
 #include "heli_policy.hpp"
-#include "pegasus/heli/frames.hpp"
+#include "pegasus/vehicle/frames.hpp"
 #include "pegasus/heli/policy_file.hpp"
-#include "pegasus/heli/state.hpp"
+#include "pegasus/vehicle/state.hpp"
 
 namespace pegasus::python {
 

@@ -9,7 +9,7 @@
 #include "common.hpp"
 #include "pegasus/logs/vehicle.hpp"
 #include "pegasus/parallel/thread_pool.hpp"
-#include "pegasus/sysid/flight_log.hpp"
+#include "pegasus/vehicle/flight_log.hpp"
 #include "pegasus/sysid/identify.hpp"
 
 namespace pegasus::python {

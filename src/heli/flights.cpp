@@ -6,7 +6,7 @@
 
 #include "pegasus/core/error.hpp"
 #include "pegasus/evaluators/monte_carlo.hpp"
-#include "pegasus/heli/frames.hpp"
+#include "pegasus/vehicle/frames.hpp"
 #include "pegasus/random/seed.hpp"
 
 namespace pegasus::heli {

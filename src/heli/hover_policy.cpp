@@ -5,7 +5,7 @@
 #include <limits>
 
 #include "pegasus/core/error.hpp"
-#include "pegasus/heli/frames.hpp"
+#include "pegasus/vehicle/frames.hpp"
 
 namespace pegasus::heli {
 namespace {

@@ -13,7 +13,7 @@
 #include "pegasus/core/error.hpp"
 #include "pegasus/evaluators/monte_carlo.hpp"
 #include "pegasus/evaluators/pegasus_evaluator.hpp"
-#include "pegasus/heli/frames.hpp"
+#include "pegasus/vehicle/frames.hpp"
 #include "pegasus/optimizers/training.hpp"
 
 namespace pegasus::heli {

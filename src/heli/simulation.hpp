@@ -5,7 +5,7 @@
 #include <memory>
 #include <span>
 
-#include "pegasus/heli/frames.hpp"
+#include "pegasus/vehicle/frames.hpp"
 #include "pegasus/heli/ground_truth.hpp"
 
 namespace pegasus::heli {

@@ -11,7 +11,7 @@
 
 #include "../io/toml_input.hpp"
 #include "pegasus/core/error.hpp"
-#include "pegasus/heli/frames.hpp"
+#include "pegasus/vehicle/frames.hpp"
 
 namespace pegasus::logs {
 

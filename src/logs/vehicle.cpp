@@ -11,7 +11,7 @@
 #include "../io/toml_fields.hpp"
 #include "pegasus/core/error.hpp"
 #include "pegasus/core/untrusted_text.hpp"
-#include "pegasus/heli/frames.hpp"
+#include "pegasus/vehicle/frames.hpp"
 #include "pegasus/heli/hover_task.hpp"
 #include "pegasus/heli/policy_file.hpp"
 #include "pegasus/heli/simulators.hpp"

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "pegasus/heli/frames.hpp"
+#include "pegasus/vehicle/frames.hpp"
 #include "pegasus/logs/vehicle.hpp"
 
 namespace pegasus::logs {

@@ -2,8 +2,8 @@
 
 #include <algorithm>
 
-#include "pegasus/heli/frames.hpp"
-#include "pegasus/heli/state.hpp"
+#include "pegasus/vehicle/frames.hpp"
+#include "pegasus/vehicle/state.hpp"
 
 namespace pegasus {
 

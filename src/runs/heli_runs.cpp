@@ -15,7 +15,7 @@
 #include "pegasus/heli/aircraft.hpp"
 #include "pegasus/heli/control_loop.hpp"
 #include "pegasus/heli/flights.hpp"
-#include "pegasus/heli/frames.hpp"
+#include "pegasus/vehicle/frames.hpp"
 #include "pegasus/heli/pilot.hpp"
 #include "pegasus/heli/policy_file.hpp"
 #include "pegasus/io/atomic_file.hpp"
@@ -23,7 +23,7 @@
 #include "pegasus/optimizers/training.hpp"
 #include "pegasus/runs/charts.hpp"
 #include "pegasus/runs/flight_charts.hpp"
-#include "pegasus/sysid/flight_log.hpp"
+#include "pegasus/vehicle/flight_log.hpp"
 
 namespace pegasus::heli {
 

@@ -12,7 +12,7 @@
 #include "pegasus/runs/charts.hpp"
 #include "pegasus/runs/flight_charts.hpp"
 #include "pegasus/runs/heli_runs.hpp"
-#include "pegasus/sysid/flight_log.hpp"
+#include "pegasus/vehicle/flight_log.hpp"
 #include "pegasus/sysid/model_selection.hpp"
 
 namespace pegasus::heli {

@@ -17,7 +17,7 @@
 #include "pegasus/logs/ulog.hpp"
 #include "pegasus/runs/flight_charts.hpp"
 #include "pegasus/runs/heli_config.hpp"
-#include "pegasus/sysid/flight_log.hpp"
+#include "pegasus/vehicle/flight_log.hpp"
 
 namespace pegasus {
 

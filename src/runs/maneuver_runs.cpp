@@ -21,7 +21,7 @@
 #include "pegasus/random/seed.hpp"
 #include "pegasus/runs/charts.hpp"
 #include "pegasus/runs/flight_charts.hpp"
-#include "pegasus/sysid/flight_log.hpp"
+#include "pegasus/vehicle/flight_log.hpp"
 
 namespace pegasus::heli {
 

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "pegasus/heli/frames.hpp"
+#include "pegasus/vehicle/frames.hpp"
 #include "pegasus/random/normal_quantile.hpp"
 
 namespace pegasus::sysid {

@@ -9,7 +9,7 @@
 #include <string>
 
 #include "pegasus/core/error.hpp"
-#include "pegasus/heli/frames.hpp"
+#include "pegasus/vehicle/frames.hpp"
 #include "pegasus/sysid/identify.hpp"
 #include "pegasus/sysid/learned_model.hpp"
 

@@ -9,7 +9,7 @@
 #include <numbers>
 #include <vector>
 
-#include "pegasus/heli/frames.hpp"
+#include "pegasus/vehicle/frames.hpp"
 #include "pegasus/heli/pilot.hpp"
 #include "support/scenario_noise.hpp"
 

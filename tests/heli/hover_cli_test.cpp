@@ -16,7 +16,7 @@
 #include <string>
 #include <thread>
 
-#include "pegasus/heli/frames.hpp"
+#include "pegasus/vehicle/frames.hpp"
 #include "pegasus/io/json_csv.hpp"
 #include "support/cli_runner.hpp"
 

@@ -14,7 +14,7 @@
 #include "outside_aircraft.hpp"
 #include "pegasus/io/json_csv.hpp"
 #include "pegasus/logs/vehicle.hpp"
-#include "pegasus/sysid/flight_log.hpp"
+#include "pegasus/vehicle/flight_log.hpp"
 #include "support/cli_runner.hpp"
 
 namespace {

@@ -13,7 +13,7 @@
 
 #include "outside_aircraft.hpp"
 #include "pegasus/heli/control_loop.hpp"
-#include "pegasus/heli/frames.hpp"
+#include "pegasus/vehicle/frames.hpp"
 #include "pegasus/logs/vehicle.hpp"
 #include "support/input_error.hpp"
 

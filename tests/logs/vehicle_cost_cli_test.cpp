@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "outside_aircraft.hpp"
-#include "pegasus/sysid/flight_log.hpp"
+#include "pegasus/vehicle/flight_log.hpp"
 #include "support/cli_runner.hpp"
 
 namespace {

@@ -7,7 +7,7 @@
 #include <numeric>
 #include <vector>
 
-#include "pegasus/heli/frames.hpp"
+#include "pegasus/vehicle/frames.hpp"
 #include "pegasus/random/counter_rng.hpp"
 #include "pegasus/sysid/learned_model.hpp"
 #include "pilot_logs.hpp"

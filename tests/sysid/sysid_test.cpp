@@ -16,7 +16,7 @@
 #include "pegasus/heli/pilot.hpp"
 #include "pegasus/models/model.hpp"
 #include "pegasus/random/counter_rng.hpp"
-#include "pegasus/sysid/flight_log.hpp"
+#include "pegasus/vehicle/flight_log.hpp"
 #include "pegasus/sysid/identify.hpp"
 #include "pegasus/sysid/learned_model.hpp"
 #include "pegasus/sysid/lwr.hpp"

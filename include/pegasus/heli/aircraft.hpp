@@ -29,9 +29,9 @@
 #include <span>
 #include <string>
 
-#include "pegasus/heli/frames.hpp"
+#include "pegasus/vehicle/frames.hpp"
 #include "pegasus/heli/ground_truth.hpp"
-#include "pegasus/heli/state.hpp"
+#include "pegasus/vehicle/state.hpp"
 #include "pegasus/models/action_space.hpp"
 
 namespace pegasus::heli {

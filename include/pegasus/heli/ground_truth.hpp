@@ -15,8 +15,8 @@
 #include <span>
 #include <string>
 
-#include "pegasus/heli/frames.hpp"
-#include "pegasus/heli/state.hpp"
+#include "pegasus/vehicle/frames.hpp"
+#include "pegasus/vehicle/state.hpp"
 
 namespace pegasus::heli {
 

@@ -15,7 +15,7 @@
 // Yaw distances wrap (the measured yaw is in (-pi, pi], the path's yaw is unwrapped).
 #include <vector>
 
-#include "pegasus/heli/frames.hpp"
+#include "pegasus/vehicle/frames.hpp"
 #include "pegasus/heli/trajectory.hpp"
 
 namespace pegasus::heli {

@@ -10,7 +10,7 @@
 
 #include "pegasus/heli/ground_truth.hpp"
 #include "pegasus/random/counter_rng.hpp"
-#include "pegasus/sysid/flight_log.hpp"
+#include "pegasus/vehicle/flight_log.hpp"
 
 namespace pegasus::heli {
 

@@ -23,7 +23,7 @@
 #include <span>
 #include <string>
 
-#include "pegasus/heli/frames.hpp"
+#include "pegasus/vehicle/frames.hpp"
 #include "pegasus/heli/ground_truth.hpp"
 #include "pegasus/models/action_space.hpp"
 

@@ -49,7 +49,7 @@
 #include <string_view>
 #include <vector>
 
-#include "pegasus/heli/frames.hpp"
+#include "pegasus/vehicle/frames.hpp"
 
 namespace pegasus::heli {
 

@@ -17,7 +17,7 @@
 
 #include "pegasus/logs/ulog.hpp"
 #include "pegasus/logs/vehicle.hpp"
-#include "pegasus/sysid/flight_log.hpp"
+#include "pegasus/vehicle/flight_log.hpp"
 
 namespace pegasus::logs {
 

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "pegasus/sysid/flight_log.hpp"
+#include "pegasus/vehicle/flight_log.hpp"
 
 namespace pegasus::sysid {
 

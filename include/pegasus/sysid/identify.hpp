@@ -14,7 +14,7 @@
 
 #include "pegasus/parallel/thread_pool.hpp"
 #include "pegasus/sysid/body_model.hpp"
-#include "pegasus/sysid/flight_log.hpp"
+#include "pegasus/vehicle/flight_log.hpp"
 #include "pegasus/sysid/lwr.hpp"
 
 namespace pegasus::sysid {

@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "pegasus/heli/state.hpp"
+#include "pegasus/vehicle/state.hpp"
 
 namespace pegasus::sysid {
 

@@ -1,4 +1,4 @@
-#include "pegasus/heli/frames.hpp"
+#include "pegasus/vehicle/frames.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -11,7 +11,7 @@
 #include <array>
 #include <cstddef>
 
-#include "pegasus/heli/frames.hpp"
+#include "pegasus/vehicle/frames.hpp"
 
 namespace pegasus::heli {
 

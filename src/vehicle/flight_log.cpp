@@ -1,4 +1,4 @@
-#include "pegasus/sysid/flight_log.hpp"
+#include "pegasus/vehicle/flight_log.hpp"
 
 #include <fmt/format.h>
 
