@@ -11,8 +11,8 @@
 #include "builtin_problem.hpp"
 #include "common.hpp"
 #include "heli_policy.hpp"
-#include "pegasus/vehicle/frames.hpp"
 #include "pegasus/heli/policy_file.hpp"
+#include "pegasus/vehicle/frames.hpp"
 #include "pegasus/vehicle/state.hpp"
 
 namespace pegasus::python {

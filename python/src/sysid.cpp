@@ -9,8 +9,8 @@
 #include "common.hpp"
 #include "pegasus/logs/vehicle.hpp"
 #include "pegasus/parallel/thread_pool.hpp"
-#include "pegasus/vehicle/flight_log.hpp"
 #include "pegasus/sysid/identify.hpp"
+#include "pegasus/vehicle/flight_log.hpp"
 
 namespace pegasus::python {
 

@@ -6,8 +6,8 @@
 
 #include "pegasus/core/error.hpp"
 #include "pegasus/evaluators/monte_carlo.hpp"
-#include "pegasus/vehicle/frames.hpp"
 #include "pegasus/random/seed.hpp"
+#include "pegasus/vehicle/frames.hpp"
 
 namespace pegasus::heli {
 namespace {

@@ -13,8 +13,8 @@
 #include "pegasus/core/error.hpp"
 #include "pegasus/evaluators/monte_carlo.hpp"
 #include "pegasus/evaluators/pegasus_evaluator.hpp"
-#include "pegasus/vehicle/frames.hpp"
 #include "pegasus/optimizers/training.hpp"
+#include "pegasus/vehicle/frames.hpp"
 
 namespace pegasus::heli {
 namespace {

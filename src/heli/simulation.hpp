@@ -5,8 +5,8 @@
 #include <memory>
 #include <span>
 
-#include "pegasus/vehicle/frames.hpp"
 #include "pegasus/heli/ground_truth.hpp"
+#include "pegasus/vehicle/frames.hpp"
 
 namespace pegasus::heli {
 

@@ -11,12 +11,12 @@
 #include "../io/toml_fields.hpp"
 #include "pegasus/core/error.hpp"
 #include "pegasus/core/untrusted_text.hpp"
-#include "pegasus/vehicle/frames.hpp"
 #include "pegasus/heli/hover_task.hpp"
 #include "pegasus/heli/policy_file.hpp"
 #include "pegasus/heli/simulators.hpp"
 #include "pegasus/io/json_csv.hpp"
 #include "pegasus/sysid/body_model.hpp"
+#include "pegasus/vehicle/frames.hpp"
 #include "vehicle_cost.hpp"
 
 namespace pegasus::logs {

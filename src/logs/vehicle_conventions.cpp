@@ -5,8 +5,8 @@
 #include <cmath>
 #include <numbers>
 
-#include "pegasus/vehicle/frames.hpp"
 #include "pegasus/logs/vehicle.hpp"
+#include "pegasus/vehicle/frames.hpp"
 
 namespace pegasus::logs {
 

@@ -15,7 +15,6 @@
 #include "pegasus/heli/aircraft.hpp"
 #include "pegasus/heli/control_loop.hpp"
 #include "pegasus/heli/flights.hpp"
-#include "pegasus/vehicle/frames.hpp"
 #include "pegasus/heli/pilot.hpp"
 #include "pegasus/heli/policy_file.hpp"
 #include "pegasus/io/atomic_file.hpp"
@@ -24,6 +23,7 @@
 #include "pegasus/runs/charts.hpp"
 #include "pegasus/runs/flight_charts.hpp"
 #include "pegasus/vehicle/flight_log.hpp"
+#include "pegasus/vehicle/frames.hpp"
 
 namespace pegasus::heli {
 

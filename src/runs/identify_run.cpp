@@ -12,8 +12,8 @@
 #include "pegasus/runs/charts.hpp"
 #include "pegasus/runs/flight_charts.hpp"
 #include "pegasus/runs/heli_runs.hpp"
-#include "pegasus/vehicle/flight_log.hpp"
 #include "pegasus/sysid/model_selection.hpp"
+#include "pegasus/vehicle/flight_log.hpp"
 
 namespace pegasus::heli {
 

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "pegasus/vehicle/frames.hpp"
 #include "pegasus/random/normal_quantile.hpp"
+#include "pegasus/vehicle/frames.hpp"
 
 namespace pegasus::sysid {
 

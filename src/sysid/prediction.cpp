@@ -9,9 +9,9 @@
 #include <string>
 
 #include "pegasus/core/error.hpp"
-#include "pegasus/vehicle/frames.hpp"
 #include "pegasus/sysid/identify.hpp"
 #include "pegasus/sysid/learned_model.hpp"
+#include "pegasus/vehicle/frames.hpp"
 
 namespace pegasus::sysid {
 

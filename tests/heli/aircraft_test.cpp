@@ -9,8 +9,8 @@
 #include <numbers>
 #include <vector>
 
-#include "pegasus/vehicle/frames.hpp"
 #include "pegasus/heli/pilot.hpp"
+#include "pegasus/vehicle/frames.hpp"
 #include "support/scenario_noise.hpp"
 
 namespace {

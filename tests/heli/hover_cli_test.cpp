@@ -16,8 +16,8 @@
 #include <string>
 #include <thread>
 
-#include "pegasus/vehicle/frames.hpp"
 #include "pegasus/io/json_csv.hpp"
+#include "pegasus/vehicle/frames.hpp"
 #include "support/cli_runner.hpp"
 
 namespace fs = std::filesystem;

@@ -10,9 +10,9 @@
 #include <string>
 
 #include "pegasus/heli/aircraft.hpp"
-#include "pegasus/vehicle/frames.hpp"
 #include "pegasus/io/json_csv.hpp"
 #include "pegasus/vehicle/flight_log.hpp"
+#include "pegasus/vehicle/frames.hpp"
 
 namespace pegasus::test_support {
 

@@ -14,10 +14,10 @@
 #include <regex>
 
 #include "pegasus/core/error.hpp"
-#include "pegasus/vehicle/frames.hpp"
 #include "pegasus/logs/ulog.hpp"
 #include "pegasus/logs/vehicle.hpp"
 #include "pegasus/vehicle/flight_log.hpp"
+#include "pegasus/vehicle/frames.hpp"
 #include "support/cli_runner.hpp"
 #include "support/input_error.hpp"
 #include "ulog_builder.hpp"

@@ -13,8 +13,8 @@
 
 #include "outside_aircraft.hpp"
 #include "pegasus/heli/control_loop.hpp"
-#include "pegasus/vehicle/frames.hpp"
 #include "pegasus/logs/vehicle.hpp"
+#include "pegasus/vehicle/frames.hpp"
 #include "support/input_error.hpp"
 
 namespace pegasus::logs::conventions_test {

@@ -16,8 +16,8 @@
 #include "pegasus/mdp/mdp_json.hpp"
 #include "pegasus/runs/config.hpp"
 #include "pegasus/shaping/shaping_table.hpp"
-#include "pegasus/vehicle/flight_log.hpp"
 #include "pegasus/sysid/identify.hpp"
+#include "pegasus/vehicle/flight_log.hpp"
 #include "support/cli_runner.hpp"
 #include "support/input_error.hpp"
 

@@ -7,9 +7,9 @@
 #include <numeric>
 #include <vector>
 
-#include "pegasus/vehicle/frames.hpp"
 #include "pegasus/random/counter_rng.hpp"
 #include "pegasus/sysid/learned_model.hpp"
+#include "pegasus/vehicle/frames.hpp"
 #include "pilot_logs.hpp"
 
 namespace pegasus::sysid::wind_test {

@@ -16,10 +16,10 @@
 #include "pegasus/heli/pilot.hpp"
 #include "pegasus/models/model.hpp"
 #include "pegasus/random/counter_rng.hpp"
-#include "pegasus/vehicle/flight_log.hpp"
 #include "pegasus/sysid/identify.hpp"
 #include "pegasus/sysid/learned_model.hpp"
 #include "pegasus/sysid/lwr.hpp"
+#include "pegasus/vehicle/flight_log.hpp"
 
 long pegasus_test_allocation_count();  // allocation_counter_test.cpp
 

@@ -29,10 +29,10 @@
 #include <span>
 #include <string>
 
-#include "pegasus/vehicle/frames.hpp"
 #include "pegasus/heli/ground_truth.hpp"
-#include "pegasus/vehicle/state.hpp"
 #include "pegasus/models/action_space.hpp"
+#include "pegasus/vehicle/frames.hpp"
+#include "pegasus/vehicle/state.hpp"
 
 namespace pegasus::heli {
 

@@ -15,8 +15,8 @@
 // Yaw distances wrap (the measured yaw is in (-pi, pi], the path's yaw is unwrapped).
 #include <vector>
 
-#include "pegasus/vehicle/frames.hpp"
 #include "pegasus/heli/trajectory.hpp"
+#include "pegasus/vehicle/frames.hpp"
 
 namespace pegasus::heli {
 

@@ -23,9 +23,9 @@
 #include <span>
 #include <string>
 
-#include "pegasus/vehicle/frames.hpp"
 #include "pegasus/heli/ground_truth.hpp"
 #include "pegasus/models/action_space.hpp"
+#include "pegasus/vehicle/frames.hpp"
 
 namespace pegasus::heli {
 

@@ -25,9 +25,9 @@
 
 #include "pegasus/heli/aircraft.hpp"
 #include "pegasus/heli/control_loop.hpp"
-#include "pegasus/vehicle/frames.hpp"
 #include "pegasus/heli/hover_task.hpp"
 #include "pegasus/vehicle/flight_log.hpp"
+#include "pegasus/vehicle/frames.hpp"
 
 namespace pegasus::logs {
 

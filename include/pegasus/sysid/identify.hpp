@@ -14,8 +14,8 @@
 
 #include "pegasus/parallel/thread_pool.hpp"
 #include "pegasus/sysid/body_model.hpp"
-#include "pegasus/vehicle/flight_log.hpp"
 #include "pegasus/sysid/lwr.hpp"
+#include "pegasus/vehicle/flight_log.hpp"
 
 namespace pegasus::sysid {
 
