@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The ctest report.SummaryKeysOfFastRuns: the commands the digest test (scripts/summary_digests.py) does not run,
-# and a vehicle file's chain, at small settings (about 6 s), and every key of their summaries must have its unit and meaning in the
-# key table (`pegasus --undescribed-summary-keys`, src/report/summary_keys_table.cpp).
+# and a vehicle file's chain, at small settings (about 6 s); every key of their summaries must have its unit and
+# meaning in the key table (`pegasus --undescribed-summary-keys`, src/report/summary_keys_table.cpp).
 # Usage: summary_keys_runs.sh CLI SOURCE_DIR WORK_DIR MUJOCO(0|1)
 set -euo pipefail
 cli="$1"; root="$2"; work="$3"; mujoco="$4"
