@@ -557,7 +557,7 @@ int run_cli(int argc, const char* const* argv, const std::vector<CommandGroup>& 
       return 0;
     }
     if (argc == 2 && std::string_view(argv[1]) == kSummaryKeysMarkdownFlag) {  // the summary.json reference
-      out << report::summary_keys_markdown();
+      out << summary_keys_markdown();
       return 0;
     }
     if (argc >= 2 && std::string_view(argv[1]) == kUndescribedSummaryKeysFlag)  // the key table's check

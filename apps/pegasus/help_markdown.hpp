@@ -18,6 +18,7 @@ std::string help_markdown(CLI::App& app);
 // `pegasus --help-summary-keys-markdown` (hidden): the key table of summary.json (report/summary_keys.hpp) as
 // Markdown; docs/reference/_summary-keys-table.md is its output, checked by the ctest docs.SummaryKeys.
 inline constexpr const char* kSummaryKeysMarkdownFlag = "--help-summary-keys-markdown";
+std::string summary_keys_markdown();
 
 // `pegasus --undescribed-summary-keys RUN_DIR...` (hidden): every summary.json under the run directories,
 // with the command of the run.json beside it, checked against the key table. Prints one line per key the

@@ -202,7 +202,9 @@ const std::vector<SummaryKeyGroup> kGroups = {
          {"rides", "", "rides of each policy"},
          {"policies", "", "{median_distance_km, worst_distance_km, falls, reached} per trained policy"},
          {"median_of_medians_km", "km", "median over the policies of their median distance to the goal"},
-         {"lessons", "", "the same figures for each curriculum lesson's policies ([] without lessons)"},
+         {"lessons", "",
+          "the trainings by a method other than PEGASUS: {method, trial, pegasus_uhat, the same ride "
+          "figures} each ([] when none ran)"},
      }},
     {{"bicycle train"},
      with(with(kOptimizerKeys,

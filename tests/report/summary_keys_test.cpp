@@ -65,8 +65,7 @@ TEST(SummaryKeys, AKeyTheTableLacksIsReported) {
   EXPECT_EQ(undescribed_summary_keys("horizon", json{{"horizon", 51}}), std::vector<std::string>{});
 }
 
-TEST(SummaryKeys, EveryEntryHasAMeaningAndTheManualListsEachOnce) {
-  const std::string page = pegasus::report::summary_keys_markdown();
+TEST(SummaryKeys, EveryEntryHasAMeaningAndEachCommandOneGroup) {
   std::set<std::string> commands;
   for (const auto& group : pegasus::report::summary_key_groups()) {
     for (const auto command : group.commands)
@@ -75,10 +74,8 @@ TEST(SummaryKeys, EveryEntryHasAMeaningAndTheManualListsEachOnce) {
     for (const auto& key : group.keys) {
       EXPECT_FALSE(key.meaning.empty()) << key.pattern;
       EXPECT_TRUE(patterns.insert(key.pattern).second) << key.pattern << " twice";
-      EXPECT_NE(page.find("| `" + std::string(key.pattern) + "` |"), std::string::npos) << key.pattern;
     }
   }
-  EXPECT_NE(page.find("| `horizon` | steps | H_eps:"), std::string::npos);
 }
 
 }  // namespace

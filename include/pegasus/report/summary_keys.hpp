@@ -48,7 +48,4 @@ void visit_summary_keys(const nlohmann::json& summary,
 // The keys of a summary written by `command` that the table does not describe, '.'-joined.
 std::vector<std::string> undescribed_summary_keys(std::string_view command, const nlohmann::json& summary);
 
-// The table as the manual's Markdown page.
-std::string summary_keys_markdown();
-
 }  // namespace pegasus::report
