@@ -115,7 +115,10 @@ TEST_F(HoverCli, AStartingPolicyThatCrashesTheModelStopsTrainingWithOneLine) {
       r.output.find("hover training: the starting policy crashes the learned model in 2 of 2 scenarios"),
       std::string::npos)
       << r.output;
-  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+  // One error line; before it only the line that names the reward's terms (said before training starts).
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 2) << r.output;
+  EXPECT_NE(r.output.find("reward ("), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("pegasus:"), r.output.rfind("pegasus:")) << r.output;
   EXPECT_FALSE(fs::exists(dir_ / "refused"));
   EXPECT_FALSE(fs::exists(dir_ / "refused.partial"));
   // Asked to go on, it trains and says what it saw.
