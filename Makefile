@@ -35,7 +35,7 @@ build: configure
 # It builds the CLI only, not the test suite.
 demo: cli
 	@$(BUILD)/pegasus heli pipeline --config experiments/heli-demo.toml --out $(DEMO_OUT) --force
-	@echo "demo: results in $(DEMO_OUT) (summary.json; sub-runs pilot-train, pilot-test, identify, hover, fly)"
+	@echo "demo: results in $(DEMO_OUT) (summary.json; sub-runs pilot-train, pilot-test, pilot-check-1..4, identify, hover, fly)"
 	@echo "demo: report: $(DEMO_OUT)/report.html (flights against the pilot and their 3-D replay: $(DEMO_OUT)/fly/report.html)"
 
 # The whole suite in Release (GCC), then again under AddressSanitizer + UndefinedBehaviorSanitizer built by

@@ -69,13 +69,15 @@ void run_pipeline(RunContext& ctx) {
           vehicle_file));
   }
   const std::uint64_t seed = ctx.seed;
-  // The stages take seed, seed + 1 and seed + 2: all must be valid seeds before the first stage runs.
-  constexpr std::uint64_t kLargestSeed = std::numeric_limits<std::int64_t>::max() - 2;
-  if (seed > kLargestSeed) {
+  // The stages take seed to seed + 2, and the noise-check flights seed + 3 on: all must be valid seeds before
+  // the first stage runs.
+  const auto check_flights = static_cast<std::uint64_t>(c.get_int("noise_check_flights"));
+  const std::uint64_t largest_seed = std::numeric_limits<std::int64_t>::max() - 2 - check_flights;
+  if (seed > largest_seed) {
     throw InputError(
-        fmt::format("--seed: expected an integer in [0, {}] (heli pipeline gives its stages seed + 1 and "
-                    "seed + 2), got {}",
-                    kLargestSeed, seed));
+        fmt::format("--seed: expected an integer in [0, {}] (heli pipeline gives its stages seeds up to "
+                    "seed + {}), got {}",
+                    largest_seed, 2 + check_flights, seed));
   }
   RunDirectory& dir = ctx.run_directory();
   const std::filesystem::path root = std::filesystem::absolute(dir.path());
@@ -127,9 +129,18 @@ void run_pipeline(RunContext& ctx) {
     pilot.set("seconds", c.get_double(seconds), seconds);
     run(name, pilot);
   }
+  std::vector<std::string> check_logs;
+  for (std::uint64_t i = 0; i < check_flights; ++i) {
+    const std::string name = fmt::format("pilot-check-{}", i + 1);
+    Stage pilot = stage_of("pilot", seed + 3 + i);
+    pilot.set("seconds", c.get_double("noise_check_seconds"), "noise_check_seconds");
+    run(name, pilot);
+    check_logs.push_back(name + "/log.csv");
+  }
   Stage identify_stage = stage_of("identify", seed);
   identify_stage.set("train", std::string("pilot-train/log.csv"));
   identify_stage.set("test", std::string("pilot-test/log.csv"));
+  if (!check_logs.empty()) identify_stage.set("noise_check_logs", check_logs);
   for (const char* field : {"cv_points", "coordinate_passes"})
     identify_stage.set(field, c.get_int(field), field);
   identify_stage.set("scale_grid", c.get_double_list("scale_grid"), "scale_grid");

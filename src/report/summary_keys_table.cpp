@@ -312,6 +312,12 @@ const std::vector<SummaryKeyGroup> kGroups = {
           "{output: fraction} outside the 2 sd band that long after a reset (0.03-0.07 when honest)"},
          {"noise", "", "the noise model: white, ar1 or ar1+measurement"},
          {"noise_check_steps", "", "hold-out steps of the noise check"},
+         {"noise_check_cells_beyond_chance", "",
+          "cells of outside_2sigma_by_horizon whose misses an honest band (3-7%) would not give on their "
+          "steps (binomial test, 5% family-wise)"},
+         {"noise_check_passes", "",
+          "true when no cell is beyond chance: the bands are honest as far as "
+          "the hold-out steps can tell"},
          {"noise_check_by_log", "", "with several hold-out logs: each log's noise check alone"},
          {"cross_validation_steps", "", "steps of the bandwidth search"},
          {"closed_loop_bias.<output/control>", "",
@@ -400,6 +406,9 @@ const std::vector<SummaryKeyGroup> kGroups = {
               {"hover.initial_uhat", "", "the hover stage's U-hat of the starting policy"},
               {"hover.final_uhat", "", "the hover stage's U-hat of the trained policy"},
               {"stages", "", "the stages, in order: each has its own run directory and summary"},
+              {"noise_check_passes", "",
+               "identify's noise check: true when the bands are honest as far as "
+               "the hold-out steps can tell"},
               {"choices.<choice>", "", "the identify and hover stages' choices from the data, together"},
           })},
     {{"heli maneuver", "maneuver"},

@@ -97,6 +97,20 @@ std::string identify_verdict(const json& s) {
     }
   }
   if (cells == 0) return {};
+  // The binomial test of each cell against 3-7% (sysid::cells_beyond_chance), where the summary has it.
+  if (const auto passes = s.find("noise_check_passes"); passes != s.end() && passes->is_boolean()) {
+    if (passes->get<bool>())
+      return fmt::format(
+          "the noise bands pass the hold-out check: {} of {} cells within 3-7% outside 2 sd, and the "
+          "others within what chance gives on the hold-out steps",
+          honest, cells);
+    const auto beyond = number(s, "noise_check_cells_beyond_chance");
+    if (narrow.empty() && beyond)
+      return fmt::format(
+          "the noise bands are too wide: {:g} of {} cells miss fewer than 3% of the hold-out steps beyond "
+          "what chance gives (the learned model's noise is larger than the aircraft's)",
+          *beyond, cells);
+  }
   if (narrow.empty())
     return fmt::format(
         "the noise bands hold or are wide: {} of {} cells of the hold-out check within 3-7% "

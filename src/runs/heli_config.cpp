@@ -480,6 +480,11 @@ void declare_pipeline_config(ConfigSchema& s) {
   s.add_double("train_seconds", PilotRunOptions{}.seconds, "pilot training flight, s (thesis 5.2: 339)")
       .range(30, 36000);
   s.add_double("test_seconds", 140, "pilot hold-out flight, s (thesis 5.2: 140)").range(20, 36000);
+  s.add_int("noise_check_flights", 0,
+            "more pilot hold-out flights, pooled with the test flight in identification's noise check "
+            "(identify --noise-check-logs): more steps a cell make the check sharper")
+      .range(0, 100);
+  s.add_double("noise_check_seconds", 140, "each noise-check flight, s").range(20, 36000);
   s.add_int("cv_points", identify_defaults.cv_points,
             "identification: held-out points per cross-validation evaluation")
       .range(10, 100000);

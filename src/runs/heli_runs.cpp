@@ -582,13 +582,19 @@ void write_pipeline_summary(const std::string& vehicle, double flight_seconds, R
       {"rms_position_m", fly.at("rms_position_m")},
       {"rms_velocity_mps", fly.at("rms_velocity_mps")},
       {"rms_yaw_rad", fly.at("rms_yaw_rad")},
-      {"pilot", fly.at("pilot")},
-      {"stages", {"pilot-train", "pilot-test", "identify", "hover", "fly"}}};
+      {"pilot", fly.at("pilot")}};
+  // The noise-check flights (heli pipeline's noise_check_flights) sit between the test flight and identify.
+  std::vector<std::string> stages = {"pilot-train", "pilot-test"};
+  for (int i = 1; std::filesystem::exists(sink.dir.path() / fmt::format("pilot-check-{}", i)); ++i)
+    stages.push_back(fmt::format("pilot-check-{}", i));
+  stages.insert(stages.end(), {"identify", "hover", "fly"});
+  summary["stages"] = stages;
+  const nlohmann::json identify = read_json_file(sink.dir.path() / "identify" / "summary.json");
+  if (identify.contains("noise_check_passes")) summary["noise_check_passes"] = identify["noise_check_passes"];
   if (!vehicle.empty()) summary["vehicle"] = vehicle;  // only then: the X-Cell's summaries stay as they were
   // The choices made from the data: identify's (model class, noise, control gains), then hover's start and
   // optimizer.
-  nlohmann::json choices = read_json_file(sink.dir.path() / "identify" / "summary.json")
-                               .value("choices", nlohmann::json::object());
+  nlohmann::json choices = identify.value("choices", nlohmann::json::object());
   for (const char* key : {"start", "optimizer"})
     if (hover.contains("choices") && hover["choices"].contains(key)) choices[key] = hover["choices"][key];
   summary["choices"] = choices;
@@ -598,6 +604,10 @@ void write_pipeline_summary(const std::string& vehicle, double flight_seconds, R
   sink.out << fmt::format("\n== {} pipeline: headline figures ==\n",
                           vehicle.empty() ? std::string("helicopter") : vehicle);
   sink.out << "choices: " << choices.dump() << "\n";
+  if (identify.contains("noise_check_passes"))
+    sink.out << fmt::format("noise check: the learned model's 2 sd bands {} on {} hold-out steps\n",
+                            identify["noise_check_passes"].get<bool>() ? "pass" : "fail",
+                            identify.value("noise_check_steps", 0));
   sink.out << fmt::format("hover training U-hat: {:.6g} -> {:.6g}\n", hover.at("initial_uhat").get<double>(),
                           hover.at("final_uhat").get<double>());
   sink.out << fmt::format(

@@ -62,8 +62,17 @@ std::string noise_check_line(const std::vector<BandMisses>& reported, const Nois
   std::string line = flights > 1 ? fmt::format("noise check on the {} hold-out logs, pooled: ", flights)
                                  : "noise check on the hold-out log: ";
   if (!reported.empty()) {
-    line += fmt::format("{} of the {} cells of outside_2sigma_by_horizon are outside 3-7%",
-                        wide.size() + narrow.size(), reported.size());
+    // The answer first: whether any cell misses more or less than chance explains on its steps.
+    const auto fewest = std::min_element(reported.begin(), reported.end(),
+                                         [](const auto& a, const auto& b) { return a.steps < b.steps; });
+    const std::size_t beyond = cells_beyond_chance(reported).size();
+    line += fmt::format(
+        "the bands {} ({} of the {} cells of outside_2sigma_by_horizon beyond what chance gives with {} "
+        "steps "
+        "a cell; binomial test, 5% over the cells; noise_check_passes); ",
+        beyond == 0 ? "pass" : "fail", beyond == 0 ? std::string("none") : fmt::format("{}", beyond),
+        reported.size(), fewest->steps);
+    line += fmt::format("{} of the {} cells are outside 3-7%", wide.size() + narrow.size(), reported.size());
     if (!narrow.empty()) line += "; bands too narrow: " + list(narrow, true);
     if (!wide.empty()) line += "; too wide: " + list(wide, false);
     line += "; ";
@@ -375,6 +384,8 @@ void run_identify(const IdentifyRunOptions& options, RunSink& sink, ThreadPool& 
                             {"outside_2sigma_by_horizon", outside_by_horizon},
                             {"noise", to_string(o.noise)},
                             {"noise_check_steps", nc.steps},
+                            {"noise_check_cells_beyond_chance", cells_beyond_chance(reported_misses).size()},
+                            {"noise_check_passes", cells_beyond_chance(reported_misses).empty()},
                             {"cross_validation_steps", report.cv_trace.size()},
                             {"model", "model.json"}};
   // Only when some were skipped, so that the summaries of 50 Hz logs stay as they were (digests).

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <boost/math/distributions/binomial.hpp>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -546,6 +547,27 @@ std::vector<BandMisses> band_misses_at_every_step(const NoiseCheck& check, doubl
 bool honest_misses(double outside) {
   // A relative tolerance, so that a count exactly at a limit is inside however its quotient rounds.
   return outside >= kHonestMissLow * (1 - 1e-9) && outside <= kHonestMissHigh * (1 + 1e-9);
+}
+
+bool misses_consistent_with_honest(int outside, int steps, double alpha) {
+  if (steps <= 0) return true;  // nothing counted: no evidence either way
+  using boost::math::binomial_distribution;
+  const auto trials = static_cast<double>(steps), successes = static_cast<double>(outside);
+  const double lower =
+      outside == 0 ? 0.0 : binomial_distribution<>::find_lower_bound_on_p(trials, successes, alpha / 2);
+  const double upper =
+      outside == steps ? 1.0 : binomial_distribution<>::find_upper_bound_on_p(trials, successes, alpha / 2);
+  return upper >= kHonestMissLow && lower <= kHonestMissHigh;
+}
+
+std::vector<BandMisses> cells_beyond_chance(const std::vector<BandMisses>& cells) {
+  std::vector<BandMisses> out;
+  const double alpha = kNoiseCheckAlpha / static_cast<double>(std::max<std::size_t>(cells.size(), 1));
+  for (const BandMisses& m : cells) {
+    const auto outside = static_cast<int>(std::lround(m.outside * m.steps));
+    if (!misses_consistent_with_honest(outside, m.steps, alpha)) out.push_back(m);
+  }
+  return out;
 }
 
 NoiseBandTerms noise_band_terms(const IdentifiedModel& model, const FlightLog& test, double reset_s,

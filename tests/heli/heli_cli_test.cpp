@@ -119,8 +119,14 @@ TEST_F(HeliCliWithLogs, IdentifyWritesSummaryKeysAndModel) {
   }
   EXPECT_EQ(summary_cells, 24);
   EXPECT_EQ(counted, s.at("noise_check_steps").get<double>());
-  EXPECT_NE(r.output.find("noise check on the hold-out log: " + std::to_string(summary_outside) +
-                          " of the 24 cells of outside_2sigma_by_horizon are outside 3-7%"),
+  // The answer first (the binomial test of each cell: summary.json's noise_check_passes), then the count.
+  const bool passes = s.at("noise_check_passes").get<bool>();
+  EXPECT_EQ(passes, s.at("noise_check_cells_beyond_chance").get<int>() == 0);
+  EXPECT_NE(r.output.find(std::string("noise check on the hold-out log: the bands ") +
+                          (passes ? "pass (none" : "fail (")),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("; " + std::to_string(summary_outside) + " of the 24 cells are outside 3-7%"),
             std::string::npos)
       << r.output;
   // White noise, uncalibrated, with cells outside at some horizon: the line names the options that narrow

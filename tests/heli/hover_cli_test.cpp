@@ -518,4 +518,31 @@ TEST_F(HoverCli, PipelineRunsEveryStageAndPrintsTheHeadline) {
   EXPECT_EQ(json_file(dir_ / "killed" / "summary.json"), s);
 }
 
+// noise_check_flights: more pilot hold-out flights on their own seeds, pooled in identify's noise check,
+// listed as stages, and the check's pass or fail carried to the pipeline's summary.
+TEST_F(HoverCli, PipelinePoolsItsNoiseCheckFlightsInIdentify) {
+  const auto r = run_pegasus(
+      "heli pipeline --quiet --train-seconds 60 --test-seconds 25 --noise-check-flights 2 "
+      "--noise-check-seconds 30 --cv-points 40 --scale-grid 2,4 --coordinate-passes 0 --scenarios 2 "
+      "--scenario-seconds 2 --gradient-iterations 0 --hill-climbing-iterations 1 --flights 2 "
+      "--flight-seconds 3" +
+      out("pooled"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  const fs::path run = dir_ / "pooled";
+  EXPECT_EQ(json_file(run / "pilot-check-1" / "summary.json").at("seconds"), 30.0);
+  EXPECT_NE(read_text(run / "pilot-check-1" / "log.csv"), read_text(run / "pilot-check-2" / "log.csv"));
+  EXPECT_NE(read_text(run / "pilot-check-1" / "log.csv"), read_text(run / "pilot-test" / "log.csv"));
+  const auto identify = json_file(run / "identify" / "summary.json");
+  ASSERT_EQ(identify.at("noise_check_by_log").size(), 3u);
+  int steps = 0;
+  for (const auto& log : identify.at("noise_check_by_log")) steps += log.at("steps").get<int>();
+  EXPECT_EQ(identify.at("noise_check_steps").get<int>(), steps);
+  EXPECT_EQ(identify.at("noise_check_by_log")[2].at("log"), "pilot-check-2/log.csv");
+  const auto s = json_file(run / "summary.json");
+  EXPECT_EQ(s.at("stages"), nlohmann::json({"pilot-train", "pilot-test", "pilot-check-1", "pilot-check-2",
+                                            "identify", "hover", "fly"}));
+  EXPECT_EQ(s.at("noise_check_passes"), identify.at("noise_check_passes"));
+  EXPECT_NE(r.output.find("noise check: the learned model's 2 sd bands"), std::string::npos) << r.output;
+}
+
 }  // namespace

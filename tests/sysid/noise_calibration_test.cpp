@@ -143,6 +143,42 @@ TEST(NoiseCheck, BandMissesReadTheCellsAtWholeStepsAndCountTheLimitsInside) {
   EXPECT_FALSE(honest_misses(50.0 / 700));
 }
 
+// A cell's misses are a binomial count: a few dozen steps cannot tell an honest band from a 0% or 10% one, a
+// thousand can. Honest bands (4.55%) pass the family-wise test in at least 95% of checks of 24 cells, bands
+// that miss 15% or 0.5% fail every one.
+TEST(NoiseCheck, ACellIsJudgedAgainstWhatChanceGivesOnItsSteps) {
+  constexpr double kAlpha = 0.01;
+  EXPECT_TRUE(
+      misses_consistent_with_honest(0, 30, kAlpha));  // 0% of 30: an honest band does that 25% of flights
+  EXPECT_TRUE(misses_consistent_with_honest(3, 30, kAlpha));  // 10% of 30
+  EXPECT_TRUE(misses_consistent_with_honest(45, 1000, kAlpha));
+  EXPECT_FALSE(misses_consistent_with_honest(5, 1000, kAlpha));    // 0.5% of 1000
+  EXPECT_FALSE(misses_consistent_with_honest(120, 1000, kAlpha));  // 12% of 1000
+  EXPECT_FALSE(misses_consistent_with_honest(30, 30, kAlpha));
+  EXPECT_TRUE(misses_consistent_with_honest(0, 0, kAlpha));  // nothing counted
+
+  const auto checks_passed = [](double miss_rate, int steps, int checks) {
+    UniformStream u(7, 0);
+    int passed = 0;
+    for (int c = 0; c < checks; ++c) {
+      std::vector<BandMisses> cells;
+      for (int cell = 0; cell < 24; ++cell) {
+        int outside = 0;
+        for (int i = 0; i < steps; ++i) outside += u.next() < miss_rate;
+        cells.push_back({.variable = cell % kBodyVars,
+                         .seconds = 0.5,
+                         .outside = static_cast<double>(outside) / steps,
+                         .steps = steps});
+      }
+      passed += cells_beyond_chance(cells).empty();
+    }
+    return passed;
+  };
+  EXPECT_GE(checks_passed(0.0455, 300, 200), 190);
+  EXPECT_EQ(checks_passed(0.15, 300, 50), 0);
+  EXPECT_EQ(checks_passed(0.005, 1000, 50), 0);
+}
+
 // Terms of 600 windows of 20 steps (10 Hz, reset every 2 s) whose bands `columns(h, band)` fills per step,
 // and whose errors are drawn as Gaussians with those bands times the true scales.
 template <typename Columns>

@@ -363,6 +363,18 @@ std::vector<BandMisses> band_misses_at_every_step(const NoiseCheck& check, doubl
 // Whether a fraction outside +-2 sd is within [kHonestMissLow, kHonestMissHigh]; a cell exactly at a limit
 // counts as inside, however count / steps rounds.
 bool honest_misses(double outside);
+// Whether the misses of a cell could come from a band that is honest: `outside` of `steps` is a binomial
+// count, and a band whose true miss rate lies in [kHonestMissLow, kHonestMissHigh] gives a count in the
+// cell's two-sided Clopper-Pearson interval at level 1 - alpha. A few dozen steps cannot tell a 4.55% band
+// from a 0% or 10% one, so a short hold-out log's cells outside 3-7% are not evidence against the noise
+// model; thousands of steps make the test sharp.
+bool misses_consistent_with_honest(int outside, int steps, double alpha);
+// The family-wise level of the noise check: each of n cells is tested at kNoiseCheckAlpha / n (Bonferroni),
+// so that an honest model fails the check in at most 5% of hold-out flights.
+inline constexpr double kNoiseCheckAlpha = 0.05;
+// The cells whose misses an honest band would not give (misses_consistent_with_honest at the family-wise
+// level over the cells given).
+std::vector<BandMisses> cells_beyond_chance(const std::vector<BandMisses>& cells);
 
 // The noise check's band variances split by noise source. The filter's covariance is linear in the noise
 // covariances (the mean trajectory and its Jacobians do not depend on them), so the bands of the model with
