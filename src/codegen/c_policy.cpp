@@ -265,8 +265,75 @@ bool CPolicyOptions::IsValid(std::string* error) const {
   return true;
 }
 
+namespace {
+
+// The classes export knows, each once: its name, the file it comes in (a helicopter policy file, whose
+// `class` names it, or a parameter policy file, whose `policy` does), and its C text. c_policy_class_names,
+// the dispatch below and its error message all read this table.
+struct ExportedClass {
+  const char* name;
+  bool helicopter_file;
+  ClassText (*from_helicopter_file)(const heli::PolicyFile&, const std::string&);
+  ClassText (*from_parameter_file)(const nlohmann::json&, const std::string&);
+};
+
+const std::vector<ExportedClass>& exported_classes() {
+  static const std::vector<ExportedClass> classes = {
+      {"hover", true, &hover_class, nullptr},
+      {"maneuver", true, &maneuver_class, nullptr},
+      {"bicycle-sigmoid-15", false, nullptr, &bicycle_class},
+      {"pendulum-swing-up", false, nullptr, &pendulum_class},
+  };
+  return classes;
+}
+
+// "a, b or c" of the classes in one kind of file, each quoted or not.
+std::string class_list(bool helicopter_file, bool quoted) {
+  std::vector<std::string> names;
+  for (const ExportedClass& c : exported_classes())
+    if (c.helicopter_file == helicopter_file)
+      names.push_back(quoted ? fmt::format("\"{}\"", c.name) : c.name);
+  std::string list;
+  for (std::size_t i = 0; i < names.size(); ++i)
+    list += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i];
+  return list;
+}
+
+// The C text of the policy file `j`, by its class in the table.
+ClassText class_text(const nlohmann::json& j, const std::string& source, std::string* trained_for) {
+  const auto& classes = exported_classes();
+  if (j.contains("format") && j.at("format") == heli::kPolicyFormat) {
+    const heli::PolicyFile file = heli::parse_policy_file(j, source);
+    *trained_for = heli::trained_vehicle(file);
+    const auto it = std::find_if(classes.begin(), classes.end(), [&](const ExportedClass& c) {
+      return c.helicopter_file && file.class_name == c.name;
+    });
+    if (it == classes.end())
+      throw InputError(fmt::format("{}: class: expected {} (the helicopter classes export knows), got \"{}\"",
+                                   source, class_list(true, true), file.class_name));
+    return it->from_helicopter_file(file, source);
+  }
+  if (j.contains("policy")) {
+    const auto it = std::find_if(classes.begin(), classes.end(), [&](const ExportedClass& c) {
+      return !c.helicopter_file && j.at("policy") == c.name;
+    });
+    if (it != classes.end()) return it->from_parameter_file(j, source);
+  }
+  const std::string got = j.contains("policy")   ? j.at("policy").dump()
+                          : j.contains("format") ? j.at("format").dump()
+                                                 : "neither \"format\" nor \"policy\"";
+  throw InputError(fmt::format(
+      "{}: policy: expected a policy file of class {} (\"format\": \"{}\"), {} (\"policy\": ...), got {}",
+      source, class_list(true, false), heli::kPolicyFormat, class_list(false, false),
+      got.size() > 40 ? got.substr(0, 37) + "..." : got));
+}
+
+}  // namespace
+
 std::vector<std::string> c_policy_class_names() {
-  return {"hover", "maneuver", "bicycle-sigmoid-15", "pendulum-swing-up"};
+  std::vector<std::string> names;
+  for (const ExportedClass& c : exported_classes()) names.emplace_back(c.name);
+  return names;
 }
 
 CPolicyCode export_c_policy(const nlohmann::json& j, const std::string& source,
@@ -274,34 +341,8 @@ CPolicyCode export_c_policy(const nlohmann::json& j, const std::string& source,
   std::string error;
   if (!options.IsValid(&error)) throw InputError(error);
   if (!j.is_object()) throw InputError(fmt::format("{}: (top level): expected a JSON object", source));
-  ClassText text;
   std::string trained_for;
-  if (j.contains("format")) {  // a helicopter policy file (heli/policy_file.hpp)
-    const heli::PolicyFile file = heli::parse_policy_file(j, source);
-    trained_for = heli::trained_vehicle(file);
-    if (file.class_name == "hover") {
-      text = hover_class(file, source);
-    } else if (file.class_name == "maneuver") {
-      text = maneuver_class(file, source);
-    } else {
-      throw InputError(
-          fmt::format("{}: class: expected \"hover\" or \"maneuver\" (the helicopter classes "
-                      "export knows), got \"{}\"",
-                      source, file.class_name));
-    }
-  } else if (j.contains("policy") && j.at("policy") == "bicycle-sigmoid-15") {
-    text = bicycle_class(j, source);
-  } else if (j.contains("policy") && j.at("policy") == "pendulum-swing-up") {
-    text = pendulum_class(j, source);
-  } else {
-    const std::string got = j.contains("policy")   ? j.at("policy").dump()
-                            : j.contains("format") ? j.at("format").dump()
-                                                   : "neither \"format\" nor \"policy\"";
-    throw InputError(
-        fmt::format("{}: policy: expected a policy file of class hover, maneuver (\"format\": \"{}\"), "
-                    "bicycle-sigmoid-15 or pendulum-swing-up (\"policy\": ...), got {}",
-                    source, heli::kPolicyFormat, got.size() > 40 ? got.substr(0, 37) + "..." : got));
-  }
+  ClassText text = class_text(j, source, &trained_for);
   CPolicyCode names;
   if (options.vehicle) {
     if (!text.has_target)

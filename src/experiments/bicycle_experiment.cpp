@@ -8,6 +8,7 @@
 #include <limits>
 #include <memory>
 #include <sstream>
+#include <utility>
 
 #include "../core/validation.hpp"
 #include "pegasus/core/error.hpp"
@@ -425,7 +426,7 @@ nlohmann::json bicycle_policy_json(const Theta& theta) {
   nlohmann::json parameters = nlohmann::json::object();
   for (std::size_t k = 0; k < policy.parameters().size(); ++k)
     parameters[policy.parameters()[k].name] = theta.at(k);
-  return {{"policy", "bicycle-sigmoid-15"}, {"parameters", parameters}};
+  return parameter_policy_json("bicycle-sigmoid-15", std::move(parameters));
 }
 
 Theta bicycle_policy_from_json(const nlohmann::json& j, const std::string& source) {

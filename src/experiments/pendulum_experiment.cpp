@@ -9,6 +9,7 @@
 #include <limits>
 #include <memory>
 #include <optional>
+#include <utility>
 
 #include "../core/validation.hpp"
 #include "pegasus/core/error.hpp"
@@ -268,7 +269,7 @@ nlohmann::json pendulum_policy_json(const Theta& theta) {
   nlohmann::json parameters = nlohmann::json::object();
   for (std::size_t k = 0; k < theta.size() && k < policy.parameters().size(); ++k)
     parameters[policy.parameters()[k].name] = theta[k];
-  return {{"policy", "pendulum-swing-up"}, {"parameters", parameters}};
+  return parameter_policy_json("pendulum-swing-up", std::move(parameters));
 }
 
 Theta pendulum_policy_from_json(const nlohmann::json& j, const std::string& source) {

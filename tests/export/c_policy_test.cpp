@@ -26,6 +26,7 @@
 #include "pegasus/heli/flights.hpp"
 #include "pegasus/heli/maneuver_file.hpp"
 #include "pegasus/heli/policy_file.hpp"
+#include "pegasus/policies/policy_json.hpp"
 #include "support/cli_runner.hpp"
 #include "support/input_error.hpp"
 
@@ -495,7 +496,7 @@ TEST_F(CPolicyExport, BadPolicyFilesAreOneLineNamingTheFieldOrByte) {
       input_error_message([] {
         export_c_policy({{"policy", "mystery"}}, "p.json");
       }),
-      "p.json: policy: expected a policy file of class hover, maneuver (\"format\": "
+      "p.json: policy: expected a policy file of class hover or maneuver (\"format\": "
       "\"pegasus-heli-policy\"), bicycle-sigmoid-15 or pendulum-swing-up (\"policy\": ...), got \"mystery\"");
   nlohmann::json unknown = heli::policy_file_json(hover_file(1, 0, {0, 0, -10, 0}));
   unknown["class"] = "spline";
@@ -519,6 +520,33 @@ TEST_F(CPolicyExport, BadPolicyFilesAreOneLineNamingTheFieldOrByte) {
       input_error_message([&] {
         export_c_policy_file(dir_ / "broken.json");
       }).starts_with((dir_ / "broken.json").string() + ": byte 12: expected a JSON policy file, got "));
+}
+
+// Parameter policy files carry their format and version; a file from before (neither) is version 0 and
+// exports to the same code, and a version this build does not know is one line naming the field.
+TEST_F(CPolicyExport, ParameterPolicyFilesAreVersionedAndOldOnesStillLoad) {
+  using test_support::input_error_message;
+  const nlohmann::json current = pendulum_policy_json({1, 2, 3, 4, 5});
+  EXPECT_EQ(current.at("format"), kParameterPolicyFormat);
+  EXPECT_EQ(current.at("version"), kParameterPolicyVersion);
+  nlohmann::json old = current;
+  old.erase("format");
+  old.erase("version");
+  EXPECT_EQ(export_c_policy(old, "p.json").source, export_c_policy(current, "p.json").source);
+  EXPECT_EQ(pendulum_policy_from_json(old, "p.json"), pendulum_policy_from_json(current, "p.json"));
+  nlohmann::json later = current;
+  later["version"] = kParameterPolicyVersion + 1;
+  EXPECT_EQ(input_error_message([&] { export_c_policy(later, "p.json"); }),
+            fmt::format("p.json: version: expected an integer in [1, {0}] (the versions this build reads), "
+                        "got {1}",
+                        kParameterPolicyVersion, kParameterPolicyVersion + 1));
+  nlohmann::json other = current;
+  other["format"] = "pegasus-mujoco-policy";
+  EXPECT_EQ(input_error_message([&] { (void)pendulum_policy_from_json(other, "p.json"); }),
+            "p.json: format: expected \"pegasus-parameter-policy\", got \"pegasus-mujoco-policy\"");
+  // Every class export knows is in the registry's list, once.
+  EXPECT_EQ(c_policy_class_names(),
+            (std::vector<std::string>{"hover", "maneuver", "bicycle-sigmoid-15", "pendulum-swing-up"}));
 }
 
 // ---- The command, end to end ----------------------------------------------------------------------------
