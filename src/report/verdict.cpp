@@ -425,4 +425,6 @@ std::string verdict(std::string_view command, const json& summary) {
   return it->second(summary);
 }
 
+bool has_verdict(std::string_view command) { return verdicts().contains(command); }
+
 }  // namespace pegasus::report
