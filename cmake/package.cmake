@@ -3,7 +3,8 @@
 # (find_package(pegasus)), the report bundle, and the Python package where Debian's python3 finds it
 # (/usr/lib/python3/dist-packages: python/CMakeLists.txt installs it there as the component python_deb). Its
 # Depends: the shared libraries the binaries link (dpkg-shlibdeps), and the development packages that
-# find_package(pegasus) and the public headers need. The `packaging.DebianPackage` test unpacks it into a
+# find_package(pegasus) and the public headers need (Random123: the scenarios' generator, header-only, included by
+# <pegasus/pegasus.hpp>). The `packaging.DebianPackage` test unpacks it into a
 # temporary root and builds and runs examples/own-model and `import pegasus` against it.
 set(CPACK_GENERATOR DEB)
 set(CPACK_PACKAGE_NAME pegasus)
@@ -15,7 +16,8 @@ set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)  # pegasus_<version>_<arch>.deb
 set(CPACK_DEBIAN_PACKAGE_SECTION science)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
-set(pegasus_deb_depends "libeigen3-dev, nlohmann-json3-dev, libfmt-dev, libnlopt-cxx-dev, libssl-dev, zlib1g-dev")
+set(pegasus_deb_depends
+    "libeigen3-dev, nlohmann-json3-dev, libfmt-dev, libnlopt-cxx-dev, librandom123-dev, libssl-dev, zlib1g-dev")
 if(PEGASUS_MPI)
   string(APPEND pegasus_deb_depends ", libopenmpi-dev")
 endif()

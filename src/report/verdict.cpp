@@ -277,6 +277,123 @@ std::string shaping_learning_verdict(const json& s) {
   return parts.empty() ? std::string() : "trials until within 25% of the optimal steps: " + parts;
 }
 
+// heli maneuver-pilot: the pilot's log is identification data for the manoeuvres; it is only that when it
+// flew them all (a crash ends the log, and the run, there).
+std::string maneuver_pilot_verdict(const json& s) {
+  const auto seconds = number(s, "seconds"), rows = number(s, "rows");
+  if (!seconds || !rows) return {};
+  if (s.value("crashed", false))
+    return fmt::format(
+        "the pilot crashed after {:.3g} s ({}): the log stops before the manoeuvres it did not fly; "
+        "try a smaller --sweep-scale or --gust-sigma",
+        number(s, "crash_time").value_or(0), s.value("crash_reason", "unknown reason"));
+  return fmt::format(
+      "the pilot flew {:.4g} s of hover, sweeps and manoeuvres without a crash: {:g} rows of identification "
+      "data that cover the manoeuvres",
+      *seconds, *rows);
+}
+
+// pomdp-gridworld (Fig 4.5b): how close the policy PEGASUS picks comes to the best in the class as m grows,
+// and how it compares with naive Monte Carlo's pick at the largest m both ran.
+std::string pomdp_gridworld_verdict(const json& s) {
+  const auto best = number(s, "best_in_class_value");
+  const auto results = s.find("results");
+  if (!best || results == s.end() || !results->is_array()) return {};
+  // m -> exact value of the chosen policy, for one (model, estimator), in increasing m.
+  const auto curve = [&](std::string_view estimator) {
+    std::map<double, double> values;
+    for (const json& r : *results)
+      if (r.value("model", "") == "normal" && r.value("estimator", "") == estimator)
+        if (const auto m = number(r, "m"), v = number(r, "mean_true_value"); m && v) values[*m] = *v;
+    return values;
+  };
+  const std::map<double, double> pegasus = curve("pegasus"), montecarlo = curve("montecarlo");
+  if (pegasus.empty()) return {};
+  const auto& [m_first, v_first] = *pegasus.begin();
+  const auto& [m_last, v_last] = *pegasus.rbegin();
+  std::string text = fmt::format(
+      "the policy PEGASUS picks with m = {:g} scenarios is worth {:.4g} (exact), {:.3g} below the best in "
+      "the class ({:.4g})",
+      m_last, v_last, *best - v_last, *best);
+  if (m_first != m_last) text += fmt::format("; with m = {:g}, {:.3g} below", m_first, *best - v_first);
+  for (auto it = montecarlo.rbegin(); it != montecarlo.rend(); ++it) {
+    const auto p = pegasus.find(it->first);
+    if (p == pegasus.end()) continue;
+    const double difference = p->second - it->second;
+    text += fmt::format("; at m = {:g} naive Monte Carlo's pick is worth {:.4g}, {:.3g} {} PEGASUS's",
+                        it->first, it->second, std::abs(difference), difference >= 0 ? "below" : "above");
+    break;
+  }
+  return text;
+}
+
+// log import: what was imported, what is wrong with the file, and whether the model identified on its first
+// part predicts the rest better than holding the velocity (the baseline any useful model must beat).
+std::string log_import_verdict(const json& s) {
+  const auto seconds = number(s, "seconds"), rate = number(s, "rate_hz"), dropouts = number(s, "dropouts");
+  if (!seconds || !rate || !dropouts) return {};
+  std::string text = fmt::format("imported {:.3g} s at {:g} Hz", *seconds, *rate);
+  if (s.contains("vehicle") && s["vehicle"].is_string()) text += " for " + s["vehicle"].get<std::string>();
+  text += *dropouts == 0 ? ", no dropout"
+                         : fmt::format(", {:g} dropout{} ({:.3g} ms)", *dropouts, *dropouts == 1 ? "" : "s",
+                                       number(s, "dropout_total_ms").value_or(0));
+  if (const auto at = number(s, "truncated_at_byte")) text += fmt::format(", the file cut at byte {:g}", *at);
+  if (const auto constant = s.find("constant_controls");
+      constant != s.end() && constant->is_array() && !constant->empty())
+    text += fmt::format(", {} control{} never moved", constant->size(), constant->size() == 1 ? "" : "s");
+  const json::json_pointer rmse_at("/prediction/rmse");
+  if (!s.contains(rmse_at)) return text;
+  const json& rmse = s.at(rmse_at);
+  const json identified = rmse.value("identified", json::object());
+  const json baseline = rmse.value("constant_velocity", json::object());
+  // The longest horizon the identified model reached, compared variable by variable with the baseline.
+  std::string horizon;
+  std::size_t better = 0, variables = 0;
+  for (const auto& [h, by_variable] : identified.items()) {
+    if (!baseline.contains(h) || !by_variable.is_object()) continue;
+    if (!horizon.empty() && std::stod(h) < std::stod(horizon)) continue;
+    horizon = h;
+    better = variables = 0;
+    for (const auto& [variable, value] : by_variable.items()) {
+      if (!value.is_number() || !baseline[h].contains(variable) || !baseline[h][variable].is_number())
+        continue;
+      ++variables;
+      if (value.get<double>() < baseline[h][variable].get<double>()) ++better;
+    }
+  }
+  if (variables == 0) return text + "; the identified model's fit turned singular before the first horizon";
+  text += fmt::format(
+      "; {} s ahead on the hold-out part the identified model beats a constant-velocity guess on {} of {} "
+      "variables",
+      horizon, better, variables);
+  if (2 * better < variables) text += ": this log does not identify the aircraft's dynamics";
+  if (const auto horizons = s.at("prediction").value("horizons_s", json::array());
+      horizons.is_array() && identified.size() < horizons.size())
+    text +=
+        fmt::format(" (its fit turned singular before the {} longer horizon{})",
+                    horizons.size() - identified.size(), horizons.size() - identified.size() == 1 ? "" : "s");
+  return text;
+}
+
+// export: the C function written, its size, and the state a flight computer must keep for it.
+std::string export_verdict(const json& s) {
+  const auto observations = number(s, "observation_size"), actions = number(s, "action_size");
+  if (!observations || !actions || !s.contains("act_function") || !s.contains("class")) return {};
+  std::string text = fmt::format(
+      "C99 code of the {} policy: {} maps {:g} observations to {:g} actions ({}, {}); compiled with "
+      "-ffp-contract=off it gives the C++ policy's bits",
+      s.value("class", ""), s.value("act_function", ""), *observations, *actions, s.value("header_file", ""),
+      s.value("source_file", ""));
+  text += s.contains("memory_type") ? fmt::format("; it keeps state in {}: call {} before each flight",
+                                                  s.value("memory_type", ""), s.value("reset_function", ""))
+                                    : "; it keeps no state";
+  if (s.contains("vehicle_act_function") && s.contains("vehicle_observation_names"))
+    text += fmt::format("; {} takes the time and {}'s own state fields ({} numbers)",
+                        s.value("vehicle_act_function", ""), s.value("vehicle", "the vehicle"),
+                        s["vehicle_observation_names"].size());
+  return text;
+}
+
 const std::map<std::string, std::function<std::string(const json&)>, std::less<>>& verdicts() {
   static const std::map<std::string, std::function<std::string(const json&)>, std::less<>> table = {
       {"bicycle experiment", bicycle_experiment_verdict},
@@ -287,6 +404,7 @@ const std::map<std::string, std::function<std::string(const json&)>, std::less<>
       {"heli hover", hover_verdict},
       {"heli identify", identify_verdict},
       {"heli maneuver", maneuver_verdict},
+      {"heli maneuver-pilot", maneuver_pilot_verdict},
       {"heli pilot", pilot_verdict},
       {"heli pipeline", pipeline_verdict},
       // The vehicle commands without the heli prefix (pegasus fly --vehicle V.toml, ...) say the same.
@@ -294,12 +412,16 @@ const std::map<std::string, std::function<std::string(const json&)>, std::less<>
       {"hover", hover_verdict},
       {"identify", identify_verdict},
       {"maneuver", maneuver_verdict},
+      {"maneuver-pilot", maneuver_pilot_verdict},
       {"pilot", pilot_verdict},
       {"pipeline", pipeline_verdict},
+      {"export", export_verdict},
       {"horizon", horizon_verdict},
+      {"log import", log_import_verdict},
       {"mujoco rollout", mujoco_rollout_verdict},
       {"mujoco train", mujoco_train_verdict},
       {"pendulum train", pendulum_verdict},
+      {"pomdp-gridworld", pomdp_gridworld_verdict},
       {"shaping audit", shaping_audit_verdict},
       {"shaping flags", shaping_learning_verdict},
       {"shaping gridworld", shaping_learning_verdict},
@@ -316,5 +438,7 @@ std::string verdict(std::string_view command, const json& summary) {
   if (it == table.end() || !summary.is_object()) return {};
   return it->second(summary);
 }
+
+bool has_verdict(std::string_view command) { return verdicts().contains(command); }
 
 }  // namespace pegasus::report

@@ -129,6 +129,108 @@ TEST(Verdict, BicycleShapingAndManoeuvres) {
   EXPECT_EQ(verdict("fly", fly_summary()), verdict("heli fly", fly_summary()));
 }
 
+TEST(Verdict, PomdpGridworldSaysHowCloseToTheBestInClassAndAgainstMonteCarlo) {
+  const auto row = [](const char* model, const char* estimator, int m, double value) {
+    return json{{"model", model}, {"estimator", estimator}, {"m", m}, {"mean_true_value", value}};
+  };
+  // The figures of docs/results/thesis.md (Fig 4.5b), in the order the command writes them.
+  const json s = {
+      {"best_in_class_value", -9.409},
+      {"results",
+       json::array({row("normal", "pegasus", 1, -18.24), row("normal", "pegasus", 16, -9.685),
+                    row("normal", "pegasus", 64, -9.45), row("hashed", "pegasus", 64, -9.5),
+                    row("normal", "montecarlo", 1, -25.3), row("normal", "montecarlo", 16, -10.37)})}};
+  EXPECT_EQ(
+      verdict("pomdp-gridworld", s),
+      "the policy PEGASUS picks with m = 64 scenarios is worth -9.45 (exact), 0.041 below the best in the "
+      "class (-9.409); with m = 1, 8.83 below; at m = 16 naive Monte Carlo's pick is worth -10.37, 0.685 "
+      "below PEGASUS's");
+  json better = s;  // Monte Carlo's pick better at the largest common m (as at m = 4 in the thesis run)
+  better["results"][5]["mean_true_value"] = -9.5;
+  const std::string text = verdict("pomdp-gridworld", better);
+  EXPECT_NE(text.find("worth -9.5, 0.185 above PEGASUS's"), std::string::npos) << text;
+  json alone = s;
+  alone["results"] = json::array({row("normal", "pegasus", 8, -10.18)});
+  EXPECT_EQ(
+      verdict("pomdp-gridworld", alone),
+      "the policy PEGASUS picks with m = 8 scenarios is worth -10.18 (exact), 0.771 below the best in the "
+      "class (-9.409)");
+}
+
+json imported_summary() {
+  return {{"vehicle", "auav-x2"},
+          {"seconds", 68.84},
+          {"rate_hz", 50},
+          {"dropouts", 4},
+          {"dropout_total_ms", 119.0},
+          {"truncated_at_byte", nullptr},
+          {"constant_controls", json::array({"a3"})},
+          {"prediction",
+           {{"horizons_s", json::array({0.5, 1, 2})},
+            {"rmse",
+             {{"identified", {{"0.5", {{"z", 0.035}, {"roll", 0.034}, {"roll_rate", 1.9}}}}},
+              {"constant_velocity",
+               {{"0.5", {{"z", 0.032}, {"roll", 5.4e-5}, {"roll_rate", 5.4e-4}}},
+                {"1", {{"z", 0.065}, {"roll", 9e-5}, {"roll_rate", 5e-4}}}}}}}}}};
+}
+
+TEST(Verdict, LogImportComparesTheIdentifiedModelWithHoldingTheVelocity) {
+  EXPECT_EQ(
+      verdict("log import", imported_summary()),
+      "imported 68.8 s at 50 Hz for auav-x2, 4 dropouts (119 ms), 1 control never moved; 0.5 s ahead on "
+      "the hold-out part the identified model beats a constant-velocity guess on 0 of 3 variables: this "
+      "log does not identify the aircraft's dynamics (its fit turned singular before the 2 longer "
+      "horizons)");
+  json good = imported_summary();
+  good["constant_controls"] = json::array();
+  good["dropouts"] = 0;
+  good["truncated_at_byte"] = 4096;
+  good["prediction"]["rmse"]["identified"]["1"] = {{"z", 0.01}, {"roll", 1e-5}, {"roll_rate", 0.1}};
+  EXPECT_EQ(verdict("log import", good),
+            "imported 68.8 s at 50 Hz for auav-x2, no dropout, the file cut at byte 4096; 1 s ahead on the "
+            "hold-out part the identified model beats a constant-velocity guess on 2 of 3 variables (its fit "
+            "turned singular before the 1 longer horizon)");
+  json only = imported_summary();
+  only.erase("prediction");  // --identify=false
+  EXPECT_EQ(verdict("log import", only),
+            "imported 68.8 s at 50 Hz for auav-x2, 4 dropouts (119 ms), 1 control never moved");
+}
+
+TEST(Verdict, ExportAndTheManoeuvrePilot) {
+  json c = {{"class", "hover"}, {"act_function", "pegasus_policy_act"}, {"observation_size", 13},
+            {"action_size", 4}, {"header_file", "pegasus_policy.h"},    {"source_file", "pegasus_policy.c"}};
+  EXPECT_EQ(verdict("export", c),
+            "C99 code of the hover policy: pegasus_policy_act maps 13 observations to 4 actions "
+            "(pegasus_policy.h, pegasus_policy.c); compiled with -ffp-contract=off it gives the C++ policy's "
+            "bits; it keeps no state");
+  c["memory_type"] = "pegasus_policy_memory";
+  c["reset_function"] = "pegasus_policy_reset";
+  c["vehicle"] = "outside";
+  c["vehicle_act_function"] = "pegasus_policy_act_vehicle";
+  c["vehicle_observation_names"] = json::array({"n", "e", "d"});
+  const std::string text = verdict("export", c);
+  EXPECT_NE(
+      text.find("; it keeps state in pegasus_policy_memory: call pegasus_policy_reset before each flight; "
+                "pegasus_policy_act_vehicle takes the time and outside's own state fields (3 numbers)"),
+      std::string::npos)
+      << text;
+  const json flown = {{"seconds", 123.46}, {"rows", 6173}, {"crashed", false}};
+  EXPECT_EQ(verdict("heli maneuver-pilot", flown),
+            "the pilot flew 123.5 s of hover, sweeps and manoeuvres without a crash: 6173 rows of "
+            "identification data that cover the manoeuvres");
+  EXPECT_EQ(verdict("maneuver-pilot", flown), verdict("heli maneuver-pilot", flown));
+  EXPECT_EQ(
+      verdict("maneuver-pilot", {{"seconds", 40.0},
+                                 {"rows", 2000},
+                                 {"crashed", true},
+                                 {"crash_time", 38.5},
+                                 {"crash_reason", "tilt"}}),
+      "the pilot crashed after 38.5 s (tilt): the log stops before the manoeuvres it did not fly; try a "
+      "smaller --sweep-scale or --gust-sigma");
+  // heli control serves a policy on stdin/stdout and writes no run directory: no report, no verdict.
+  EXPECT_EQ(verdict("heli control", flown), "");
+}
+
 TEST(Verdict, NoneWithoutTheFiguresOrForAnotherCommand) {
   EXPECT_EQ(verdict("heli fly", {{"flights", 30}}), "");
   EXPECT_EQ(verdict("dev count", {{"steps", 3}}), "");

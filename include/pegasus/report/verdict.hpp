@@ -15,4 +15,7 @@ namespace pegasus::report {
 // command that has none, or a summary without the figures its sentence needs.
 std::string verdict(std::string_view command, const nlohmann::json& summary);
 
+// Whether `command` has a verdict sentence at all (every command that writes a run directory should).
+bool has_verdict(std::string_view command);
+
 }  // namespace pegasus::report
