@@ -168,9 +168,13 @@ nlohmann::json MujocoObjective::NormalizerState() const {
   return {{"moments", moments_.to_json()}, {"counters", counters}};
 }
 
-void MujocoObjective::RestoreNormalizer(const nlohmann::json& state) {
-  moments_ = ObservationMoments::from_json(StateField(state, "moments"), env_->observation_dim());
+void MujocoObjective::RestoreFrozenNormalizer(const nlohmann::json& frozen) {
+  moments_ = ObservationMoments::from_json(frozen, env_->observation_dim());
   if (normalize_) moments_.freeze_into(&normalizer_);
+}
+
+void MujocoObjective::RestoreNormalizer(const nlohmann::json& state) {
+  RestoreFrozenNormalizer(StateField(state, "moments"));
   const nlohmann::json& counters = StateField(state, "counters");
   control_steps_ = StateInteger(counters, "control_steps");
   rollouts_ = StateInteger(counters, "rollouts");

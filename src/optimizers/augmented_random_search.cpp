@@ -36,15 +36,25 @@ void Solve(const AugmentedRandomSearchOptions& options, Objective& objective, Th
   if (!options.IsValid(&error)) throw InputError("ars options: " + error);
   if (theta == nullptr || summary == nullptr) throw InputError("ars: theta and summary must be non-null");
 
-  auto* normalizing = dynamic_cast<ObservationNormalizing*>(&objective);
-  auto evaluate_center = [&](std::span<const double> x) {
-    return normalizing ? normalizing->EvaluateAndUpdateNormalizer(x) : objective.evaluate(x);
-  };
-
   const ParameterSpec& spec = objective.parameters();
   const std::size_t n = spec.size();
   const Theta lower = spec.lower(), upper = spec.upper(), scale = spec.scales();
   RunProgress run("ars", spec, options.callbacks);
+  auto* normalizing = dynamic_cast<ObservationNormalizing*>(&objective);
+  // U-hat of a central theta, offered as the best so far; with normalisation, the statistics it was
+  // measured under are kept when it is the best (null without normalisation).
+  json best_normalizer = nullptr;
+  auto evaluate_center = [&](std::span<const double> x) {
+    if (!normalizing) {
+      const double value = objective.evaluate(x);
+      run.Offer(x, value);
+      return value;
+    }
+    json frozen = normalizing->FrozenNormalizer();
+    const double value = normalizing->EvaluateAndUpdateNormalizer(x);
+    if (run.Offer(x, value)) best_normalizer = std::move(frozen);
+    return value;
+  };
 
   Theta x;
   double value;
@@ -58,13 +68,17 @@ void Solve(const AugmentedRandomSearchOptions& options, Objective& objective, Th
     const json& normalizer = StateField(state, "normalizer");
     if (normalizing != nullptr && normalizer.is_null())
       throw InputError("checkpoint state.normalizer: expected the statistics of a normalising objective");
-    if (normalizing) normalizing->RestoreNormalizer(normalizer);
+    if (normalizing) {
+      normalizing->RestoreNormalizer(normalizer);
+      best_normalizer = StateField(state, "best_normalizer");
+      if (best_normalizer.is_null())
+        throw InputError("checkpoint state.best_normalizer: expected the statistics of the best theta");
+    }
   } else {
     x = StartingTheta(spec, *theta);
     value = evaluate_center(x);
     run.AddEvaluations(1);
     run.set_initial_value(value);
-    run.Offer(x, value);
   }
   UniformStream uniforms(options.seed, options.stream, stream_position);
 
@@ -122,7 +136,6 @@ void Solve(const AugmentedRandomSearchOptions& options, Objective& objective, Th
     spec.clamp(x);
     value = evaluate_center(x);
     run.AddEvaluations(1);
-    run.Offer(x, value);
     if (!run.EndIteration()) {
       termination = TerminationType::kUserRequested;
       message = "an iteration callback asked to stop";
@@ -133,16 +146,14 @@ void Solve(const AugmentedRandomSearchOptions& options, Objective& objective, Th
           run.Checkpoint(json{{"theta", VectorToJson(x)},
                               {"value", DoubleToJson(value)},
                               {"stream_position", uniforms.position()},
-                              {"normalizer", normalizing ? normalizing->NormalizerState() : json(nullptr)}}));
+                              {"normalizer", normalizing ? normalizing->NormalizerState() : json(nullptr)},
+                              {"best_normalizer", best_normalizer}}));
     }
   }
 
   run.Finish(termination, std::move(message), summary);
-  if (normalizing) {
-    // The statistics moved under every earlier value: the final theta is the result (header).
-    summary->best_theta = x;
-    summary->best_value = value;
-  }
+  // The best central theta is the result, under the statistics its U-hat was measured with (header).
+  if (normalizing) normalizing->RestoreFrozenNormalizer(best_normalizer);
   *theta = summary->best_theta;
 }
 

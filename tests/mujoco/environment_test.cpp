@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <mujoco/mujoco.h>
 
+#include <algorithm>
 #include <utility>
 
 #include "mujoco_test_support.hpp"
@@ -106,6 +107,52 @@ TEST(MujocoObjective, UhatAndCountsAreBitIdenticalForOneAndThreeThreads) {
   EXPECT_LT(a.normalizer().mean[1], -0.5);
   // evaluate is the batch's first value.
   EXPECT_EQ(a.evaluate(theta), b.evaluate(theta));
+}
+
+// Records each iteration's central U-hat (measured under the statistics frozen before it) and the statistics
+// in force after it.
+class CentralValues final : public IterationCallback {
+ public:
+  explicit CentralValues(MujocoObjective& objective) : objective_(objective) {}
+  CallbackReturnType operator()(const IterationReport&) override {
+    values.push_back(objective_.TakeCentralValue());
+    last_mean = objective_.normalizer().mean;
+    return CallbackReturnType::kContinue;
+  }
+  std::vector<double> values, last_mean;
+
+ private:
+  MujocoObjective& objective_;
+};
+
+TEST(MujocoObjective, ArsReturnsItsBestCentralPolicyWithTheStatisticsThatMeasuredIt) {
+  // V2 ARS on the cart-pole: the statistics move every iteration, and the result is the best central policy
+  // with the statistics it was measured under, so that measuring it again (as policy.json's normaliser and
+  // theta do) gives the U-hat that was seen, bit for bit.
+  const auto env = test_support::cartpole_environment();
+  std::shared_ptr<const MujocoPolicy> policy = make_mujoco_policy("linear", env->observation_dim(), 1, {});
+  ThreadPool two(2);
+  MujocoObjective objective(env, policy, env->scenarios(3, 2, ScenarioVariant::kPlain), &two);
+  AugmentedRandomSearchOptions options;
+  options.max_iterations = 12;
+  options.directions = 2;
+  options.top_directions = 1;
+  options.step_size = 0.1;
+  options.exploration_noise = 0.1;
+  options.seed = 3;
+  CentralValues central(objective);
+  options.callbacks = {&central};
+  Theta theta;
+  OptimizerSummary summary;
+  Solve(options, objective, &theta, &summary);
+  ASSERT_EQ(central.values.size(), 12u);
+  const double best = *std::max_element(central.values.begin(), central.values.end());
+  EXPECT_GT(best, summary.initial_value);  // the search improved on the start
+  EXPECT_EQ(summary.best_value, best);
+  EXPECT_EQ(objective.evaluate(theta), summary.best_value);
+  // The statistics handed back are not those in force when the run ended (they include the best's own
+  // rollouts and any after it).
+  EXPECT_NE(objective.normalizer().mean, central.last_mean);
 }
 
 class MujocoFloatingBody : public test_support::TempDirTest {};

@@ -48,6 +48,9 @@ class MujocoObjective final : public Objective, public ObservationNormalizing {
   }
   nlohmann::json NormalizerState() const override;
   void RestoreNormalizer(const nlohmann::json& state) override;
+  // The running moments the frozen normaliser was made from (the normaliser is a function of them).
+  nlohmann::json FrozenNormalizer() const override { return moments_.to_json(); }
+  void RestoreFrozenNormalizer(const nlohmann::json& frozen) override;
 
   const ObservationNormalizer& normalizer() const { return normalizer_; }
   const MujocoEnvironment& environment() const { return *env_; }

@@ -14,14 +14,17 @@
 // When the objective also implements ObservationNormalizing (ARS's "V2"), that last evaluation is made by
 // EvaluateAndUpdateNormalizer: the observations of theta's rollouts join the running statistics, which are
 // frozen for the next iteration's 2N evaluations. The values of different iterations were then measured
-// under different normalisations, so the result is the final theta (with the final statistics), not the
-// best one seen: best_theta is the final theta and best_value its last U-hat.
+// under different normalisations, so the result is the best central theta together with the statistics it
+// was measured under (FrozenNormalizer before its evaluation): on return the objective holds them again, and
+// U-hat(best_theta) under them is best_value, bit for bit. The run goes on from the last iterate and its
+// statistics, as the paper's ARS does; only the result is the best one seen.
 //
 // Evaluations per iteration: 2N + 1; in environment steps, each evaluation is m rollouts of at most H
 // control steps (the objective counts them exactly: MujocoObjective::environment_steps).
 //
 // Randomness comes only from UniformStream(seed, stream). Checkpoint state: {"theta", "value",
-// "stream_position", "normalizer" (null without normalisation)}; a resumed run continues bit for bit.
+// "stream_position", "normalizer" and "best_normalizer" (null without normalisation)}; a resumed run
+// continues bit for bit.
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -41,8 +44,13 @@ class ObservationNormalizing {
   // U-hat(theta) under the current frozen statistics; then the observations of these rollouts join the
   // running statistics, which become the frozen ones.
   virtual double EvaluateAndUpdateNormalizer(std::span<const double> theta) = 0;
+  // Everything that rides in a checkpoint: the running statistics and the objective's own counters.
   virtual nlohmann::json NormalizerState() const = 0;
   virtual void RestoreNormalizer(const nlohmann::json& state) = 0;
+  // The statistics alone that the next evaluation uses (no counters), and a return to them: ARS hands back
+  // its best central theta with the statistics it was measured under.
+  virtual nlohmann::json FrozenNormalizer() const = 0;
+  virtual void RestoreFrozenNormalizer(const nlohmann::json& frozen) = 0;
 };
 
 struct AugmentedRandomSearchOptions : OptimizerRunOptions {
@@ -92,7 +100,8 @@ struct AugmentedRandomSearchOptions : OptimizerRunOptions {
 };
 
 // Maximises objective from *theta (clamped; empty = the spec's initial values). On return *theta is the
-// final theta. Throws InputError for invalid options or a foreign checkpoint.
+// best central theta (with a normalising objective, its statistics restored: header). Throws InputError for
+// invalid options or a foreign checkpoint.
 void Solve(const AugmentedRandomSearchOptions& options, Objective& objective, Theta* theta,
            OptimizerSummary* summary);
 
