@@ -6,9 +6,9 @@
 //                                  or 2 threads; the model is identified from the shipped 339 s pilot log
 //   BM_HeliHoverUhat25Hz/refit   issue 53: U-hat of the starting policy with a 25 Hz model and a 25 Hz
 //                                  controller identified from 10 minutes of logs (600 s, 15,000 rows at 25
-//                                  Hz), 30 scenarios x 35 s (26,250 steps), a refit every 1 (the default at
-//                                  the model's rate), 2 or 5 steps, 1 thread: us_per_step and the
-//                                  evaluation's time
+//                                  Hz), 30 scenarios x 35 s (26,250 steps), a refit every 1 (the old default
+//                                  at the model's rate), 2, 3 (the default: every 0.1 s) or 5 steps, 1
+//                                  thread: us_per_step and the evaluation's time
 //   BM_HeliHoverPolicyAct          one action of the hover policy (body-frame errors, four channel networks)
 //   BM_HeliControlLoop             heli control's loop: 10,000 state lines parsed, answered and flushed
 //                                  (to /dev/null) per iteration; lines_per_s is per CPU second of the
@@ -109,7 +109,7 @@ void BM_HeliHoverUhat25Hz(benchmark::State& state) {
       steps * 1e-6, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
   state.counters["rows"] = static_cast<double>(model->data().x.rows());
 }
-BENCHMARK(BM_HeliHoverUhat25Hz)->Arg(1)->Arg(2)->Arg(5)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_HeliHoverUhat25Hz)->Arg(1)->Arg(2)->Arg(3)->Arg(5)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_HeliHoverPolicyAct(benchmark::State& state) {
   const heli::HoverPolicy pi;

@@ -590,6 +590,7 @@ class HoverTrainingOptions:
     seconds: float
     gamma: float
     refit_every: int
+    cpu_budget_s: float
     control_rate_hz: float
     lqr_start: bool
     lqr_action_factor: float

@@ -75,8 +75,13 @@ climbing, on the identified model (heli/hover_task.hpp).)doc");
       .def_readwrite("seconds", &heli::HoverTrainingOptions::seconds, "Flight per scenario, s (§5.3: 35).")
       .def_readwrite("gamma", &heli::HoverTrainingOptions::gamma,
                      "Discount per 1/50 s (§5.3); per control step it is gamma^(50 / control_rate_hz).")
-      .def_readwrite("refit_every", &heli::HoverTrainingOptions::refit_every,
-                     "Learned model: steps between local-regression refits; 0: at the model's own rate.")
+      .def_readwrite(
+          "refit_every", &heli::HoverTrainingOptions::refit_every,
+          "Learned model: steps between local-regression refits; 0: every 0.1 s (the thesis's 10 Hz).")
+      .def_readwrite(
+          "cpu_budget_s", &heli::HoverTrainingOptions::cpu_budget_s,
+          "On a locally weighted model, gradient ascent and hill climbing stop after the evaluations "
+          "whose refits take about this many nominal CPU seconds (6 ns per row per refit); 0: none.")
       .def_readwrite(
           "control_rate_hz", &heli::HoverTrainingOptions::control_rate_hz,
           "The controller's rate, Hz: the learned model steps at it and the policy is trained for it.")
@@ -120,12 +125,13 @@ climbing, on the identified model (heli/hover_task.hpp).)doc");
           [](const heli::HoverTrainingOptions& o, py::object model) {
             return o.refit_steps(*identified_model(model));
           },
-          py::arg("model"), "refit_every, or the identified model's rate in steps when 0.")
+          py::arg("model"), "refit_every, or the steps of 0.1 s when 0.")
       .def("is_valid", is_valid_method<heli::HoverTrainingOptions>(), kIsValidDoc);
   set_fields(options, {"scenarios",
                        "seconds",
                        "gamma",
                        "refit_every",
+                       "cpu_budget_s",
                        "control_rate_hz",
                        "lqr_start",
                        "lqr_action_factor",

@@ -367,15 +367,28 @@ double HoverTrainingOptions::gamma_per_step() const {
   return control_rate_hz == 50 ? gamma : std::pow(gamma, 50 / control_rate_hz);
 }
 
+std::int64_t HoverTrainingOptions::evaluation_budget(const sysid::IdentifiedModel& model,
+                                                     int parameters) const {
+  if (!(cpu_budget_s > 0) || model.regression().is_global()) return 0;
+  const double refits = std::ceil(static_cast<double>(horizon()) / refit_steps(model)) * scenarios;
+  const double per_evaluation = refits * static_cast<double>(model.data().x.rows()) * kRefitSecondsPerRow;
+  const auto budget = std::max<std::int64_t>(1, static_cast<std::int64_t>(cpu_budget_s / per_evaluation));
+  if (optimizer.method != "gradient") return 0;  // the default method's budget; another's is the user's
+  std::int64_t planned = optimizer.gradient.max_iterations * (2 * std::int64_t{parameters} + 2);
+  if (then_hill_climb)
+    planned += optimizer.hill_climbing.max_iterations * optimizer.hill_climbing.proposals_per_iteration;
+  return budget < planned ? budget : 0;
+}
+
 ErrorIntegrator HoverTrainingOptions::integrator() const {
   return {.dt = integral_seconds > 0 ? 1 / control_rate_hz : 0.0,
           .limit_position = integral_limit_position,
           .limit_yaw = integral_limit_yaw};
 }
 
-int HoverTrainingOptions::refit_steps(const sysid::IdentifiedModel& model) const {
+int HoverTrainingOptions::refit_steps([[maybe_unused]] const sysid::IdentifiedModel& model) const {
   if (refit_every > 0) return refit_every;
-  return std::max(1, static_cast<int>(std::lround(model.dt() * control_rate_hz)));
+  return sysid::refit_steps_at(control_rate_hz);
 }
 
 bool HoverTrainingOptions::IsValid(std::string* error) const {
@@ -397,9 +410,11 @@ bool HoverTrainingOptions::IsValid(std::string* error) const {
     return fail(error, fmt::format("crash_penalty: expected a number in [0, {}], got {}", kMaxRewardWeight,
                                    crash_penalty));
   if (!disturbance.IsValid(&inner)) return fail(error, inner);
+  if (!(nonnegative_finite(cpu_budget_s) && cpu_budget_s <= 1e9))
+    return fail(error, fmt::format("cpu_budget_s: expected a number in [0, 1e9], got {}", cpu_budget_s));
   if (refit_every < 0)
-    return fail(error, fmt::format("refit_every: expected an integer >= 0 (0: at the model's rate), got {}",
-                                   refit_every));
+    return fail(error,
+                fmt::format("refit_every: expected an integer >= 0 (0: every 0.1 s), got {}", refit_every));
   if (!(control_rate_hz >= 0.1 && control_rate_hz <= 1000))
     return fail(error,
                 fmt::format("control_rate_hz: expected a number in [0.1, 1000], got {}", control_rate_hz));
@@ -534,6 +549,25 @@ StartingPolicyCheck check_starting_policy(const std::shared_ptr<const sysid::Ide
   return check_starting_policy(hover_evaluator(model, o), 1 / o.control_rate_hz, pool);
 }
 
+namespace {
+
+// At most `budget` evaluations in all (HoverTrainingOptions::evaluation_budget): hill climbing (the second
+// stage) gets up to a quarter, its own plan at most, and gradient ascent the rest.
+void limit_evaluations(TrainingPlan& plan, std::int64_t budget) {
+  std::int64_t first = budget;
+  if (plan.stages.size() > 1) {
+    auto& hill = plan.stages[1].optimizer.hill_climbing;
+    const std::int64_t share = std::max<std::int64_t>(
+        1, std::min<std::int64_t>(budget / 4, hill.max_iterations * hill.proposals_per_iteration));
+    hill.max_evaluations = std::min(hill.max_evaluations, share);
+    first = std::max<std::int64_t>(1, budget - share);
+  }
+  auto& gradient = plan.stages[0].optimizer.gradient;
+  gradient.max_evaluations = std::min(gradient.max_evaluations, first);
+}
+
+}  // namespace
+
 HoverTrainingResult train_hover(const std::shared_ptr<const sysid::IdentifiedModel>& model,
                                 const HoverTrainingOptions& o, const HoverTrainingHooks& hooks,
                                 ThreadPool& pool) {
@@ -587,6 +621,8 @@ HoverTrainingResult train_hover(const std::shared_ptr<const sysid::IdentifiedMod
     refine.method = "hill-climb";
     plan.stages.push_back({.name = "hill-climb", .optimizer = refine});
   }
+  const std::int64_t budget = o.evaluation_budget(*model, static_cast<int>(objective->parameters().size()));
+  if (budget > 0) limit_evaluations(plan, budget);
   if (hooks.on_checkpoint && hooks.checkpoint_every > 0) {
     plan.checkpoint_every = hooks.checkpoint_every;
     plan.on_checkpoint = hooks.on_checkpoint;
@@ -595,7 +631,8 @@ HoverTrainingResult train_hover(const std::shared_ptr<const sysid::IdentifiedMod
   plan.callbacks = hooks.callbacks;
   Theta theta;  // the spec's initial values
   TrainingSummary summary;
-  Train(plan, *objective, &theta, &summary);
+  ObservedObjective observed(*objective, hooks.on_evaluations);
+  Train(plan, observed, &theta, &summary);
 
   HoverTrainingResult result;
   result.gradient = summary.stages[0];

@@ -372,7 +372,9 @@ const std::vector<SummaryKeyGroup> kGroups = {
                "lqr_integral_seconds and the trained gains a1..a4"},
               {"max_tilt_rad", "rad", "largest tilt the training allowed (when not the default)"},
               {"control_rate_hz", "Hz", "rate of the controls (when not 50 Hz)"},
-              {"refit_every", "steps", "model steps between refits of the local model (when not 50 Hz)"},
+              {"refit_every", "steps", "control steps between refits of the local model (when not 50 Hz)"},
+              {"evaluation_budget", "",
+               "U-hat evaluations training was allowed by cpu_budget_s (only where that budget bound)"},
               {"vehicle", "", "the vehicle's name (a vehicle file's runs only)"},
               {"start_tries", "",
                "every start tried, in order: {gains (whose LQR), action_weight_factor, crashed_scenarios, "

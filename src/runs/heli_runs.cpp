@@ -249,6 +249,14 @@ void run_hover(const HoverRunOptions& options, RunSink& sink, ThreadPool& pool) 
         "step's change times {:g}; a model identified at the control rate (log.model_rate_hz) steps it "
         "faithfully\n",
         1 / o.control_rate_hz, 1 / ratio, 1 / model->dt(), 1 / ratio);
+  // The default budget on a locally weighted model (issues 48, 53): said where it binds.
+  const std::int64_t budget =
+      o.evaluation_budget(*model, static_cast<int>(hover_policy_for(*model, o).parameters().size()));
+  if (budget > 0)
+    sink.out << fmt::format(
+        "budget: at most {} U-hat evaluations, about {:g} CPU s of refits of the locally weighted model ({} "
+        "rows, refitted every {} control steps; --cpu-budget-s sets it, 0 lifts it)\n",
+        budget, o.cpu_budget_s, model->data().x.rows(), o.refit_steps(*model));
   HoverTrainingHooks hooks;
   hooks.checkpoint_every = 1;
   hooks.resume_from = dir.load_checkpoint();
@@ -268,7 +276,15 @@ void run_hover(const HoverRunOptions& options, RunSink& sink, ThreadPool& pool) 
     if (done > last) bar.advance(done - last);
     last = done;
   };
-  const HoverTrainingResult r = train_hover(model, o, hooks, pool);
+  // Where stderr is no terminal an iteration's line can be minutes apart: a line on the clock between them.
+  EvaluationTally tally;
+  hooks.on_evaluations = [&tally](std::span<const double> values) { tally.add(values); };
+  const HoverTrainingResult r = [&] {
+    const ProgressTicker ticker(
+        "hover training", [&] { return tally.text(bar.done(), bar.total()); },
+        Progress::default_enabled(sink.quiet, dir.ranks()));
+    return train_hover(model, o, hooks, pool);
+  }();
   bar.finish();
 
   dir.write_csv("progress.csv", optimizer_progress_csv(r.progress));
@@ -376,6 +392,8 @@ void run_hover(const HoverRunOptions& options, RunSink& sink, ThreadPool& pool) 
     summary["control_rate_hz"] = o.control_rate_hz;
     summary["refit_every"] = o.refit_steps(*model);
   }
+  if (budget > 0)
+    summary["evaluation_budget"] = budget;  // only where it binds, so other runs stay as they were
   dir.write_json("summary.json", summary);
   sink.timings = {{"train_seconds", seconds},
                   {"gradient_seconds", r.gradient.method.empty() ? 0.0 : r.gradient.wall_seconds},

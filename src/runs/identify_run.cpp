@@ -126,7 +126,7 @@ IdentifyOptions noise_from_data(const IdentifyRunOptions& options, const FlightL
 IdentifiedModel model_from_data(const IdentifyRunOptions& options, const FlightLog& train,
                                 const FlightLog& test, ThreadPool& pool, IdentifyReport& report,
                                 const IdentifyHooks& hooks, IdentifyOptions& o, Choices& choices,
-                                std::optional<ModelClassChoice>& class_choice) {
+                                std::optional<ModelClassChoice>& class_choice, ProgressStatus& phase) {
   if (!options.choose_class) {
     choices.json["model_class"] = {{"class", o.local ? "locally weighted" : "global linear"},
                                    {"by", "option"}};
@@ -136,11 +136,15 @@ IdentifiedModel model_from_data(const IdentifyRunOptions& options, const FlightL
   as_local.local = true;
   as_global.local = false;
   const IdentifiedModel local = identify_mean(train, as_local, pool, &report, hooks);
+  phase.set("the global linear fit");
   const IdentifiedModel global = identify_mean(train, as_global, pool);
+  phase.set("the model classes' hold-out prediction errors");
   class_choice = choose_model_class({{"global linear", &global}, {"locally weighted", &local}}, test,
                                     options.control_rate_hz, options.start_spacing_s, pool);
   o.local = class_choice->chosen == 1;
   if (!o.local) report.floored_inputs.clear();  // the global model has no bandwidths
+  phase.set(
+      fmt::format("the {} noise model{}", to_string(o.noise), o.calibrate_noise ? " (calibration)" : ""));
   IdentifiedModel chosen = with_noise_model(o.local ? local : global, train, o, pool, &report);
   chosen.set_model_choice(class_choice->to_json(), (o.local ? global : local).inv_bandwidth());
   choices.lines.push_back(class_choice->line());
@@ -225,8 +229,13 @@ void run_identify(const IdentifyRunOptions& options, RunSink& sink, ThreadPool& 
   if (const auto saved = dir.load_checkpoint(); saved && saved->contains("identify"))
     hooks.resume_from = saved->at("identify");
   hooks.checkpoint = [&dir](const nlohmann::json& state) { dir.save_checkpoint({{"identify", state}}); };
+  // Where stderr is no terminal, a line on the clock says which part of the identification runs.
+  ProgressStatus phase("the bandwidth cross-validation");
+  const ProgressTicker ticker(
+      "identify", [&] { return phase.text(); }, Progress::default_enabled(sink.quiet, sink.dir.ranks()));
   std::unique_ptr<Progress> bar;
   hooks.progress = [&](int done, int total, bool replayed) {
+    phase.set(fmt::format("the bandwidth cross-validation, {} of {} steps", done, total));
     if (!bar)
       bar = std::make_unique<Progress>("bandwidth cross-validation", total,
                                        Progress::default_enabled(sink.quiet, sink.dir.ranks()));
@@ -235,9 +244,10 @@ void run_identify(const IdentifyRunOptions& options, RunSink& sink, ThreadPool& 
   };
   std::optional<ModelClassChoice> class_choice;
   IdentifiedModel model =
-      model_from_data(options, train, test, pool, report, hooks, o, choices, class_choice);
+      model_from_data(options, train, test, pool, report, hooks, o, choices, class_choice, phase);
   if (!own_layout) model.set_vehicle(vehicle.name());
   if (bar) bar->finish();
+  phase.set("the control gains' closed-loop bias");
   // The control gains' closed-loop bias, measured on the least-squares model.
   const std::vector<ControlGainBias> biases = model_closed_loop_bias(model, o.window_s, pool);
   const bool whitened = gains_from_data(options, biases, test, pool, model, choices);
@@ -256,6 +266,7 @@ void run_identify(const IdentifyRunOptions& options, RunSink& sink, ThreadPool& 
                                .traces = {{.file = "cross_validation.csv", .x = "setting", .y = "cv_error"}},
                                .categorical = true}}});
 
+  phase.set("prediction errors by horizon (the model selection study)");
   const ModelSelectionStudy study = model_selection_study(model, train, test, o,
                                                           {.horizon_s = options.horizon_s,
                                                            .start_spacing_s = options.start_spacing_s,
@@ -285,6 +296,7 @@ void run_identify(const IdentifyRunOptions& options, RunSink& sink, ThreadPool& 
 
   // The summary's cells are 0.5, 1 and 2 s after a reset.
   const std::vector<double> reported_seconds = {0.5, 1.0, 2.0};
+  phase.set("the noise check");
   std::vector<NoiseCheck> checks = {noise_check(model, test, options.reset_s, 10.0, pool)};
   for (const FlightLog& log : more_tests)
     checks.push_back(noise_check(model, log, options.reset_s, 0.0, pool));

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 
 namespace pegasus {
 
@@ -95,6 +96,60 @@ std::string Progress::render(const std::string& label, std::uint64_t done, std::
   }
   return fmt::format("{} [{}{}] {}% {}/{} {}", label, std::string(filled, '#'),
                      std::string(width - filled, '.'), static_cast<int>(fraction * 100), done, total, eta);
+}
+
+void EvaluationTally::add(std::span<const double> values) {
+  std::lock_guard lock(mutex_);
+  evaluations_ += values.size();
+  for (const double v : values)
+    if (v > best_) best_ = v;
+}
+
+std::string EvaluationTally::text(std::uint64_t iterations, std::uint64_t total_iterations) const {
+  std::lock_guard lock(mutex_);
+  return fmt::format("{} of {} optimizer iterations done, {} U-hat evaluations, best U-hat evaluated {}",
+                     iterations, total_iterations, evaluations_,
+                     evaluations_ == 0 ? std::string("(none yet)") : fmt::format("{:.6g}", best_));
+}
+
+ProgressTicker::ProgressTicker(std::string label, std::function<std::string()> status, bool enabled,
+                               std::FILE* out, Clock::duration interval)
+    : label_(std::move(label)),
+      status_(std::move(status)),
+      out_(out),
+      interval_(interval),
+      start_(Clock::now()) {
+  if (enabled && out_ != nullptr && ::isatty(::fileno(out_)) != 1) thread_ = std::thread([this] { run(); });
+}
+
+ProgressTicker::~ProgressTicker() {
+  {
+    std::lock_guard lock(mutex_);
+    stop_ = true;
+  }
+  stop_signal_.notify_all();
+  if (thread_.joinable()) thread_.join();
+}
+
+ProgressTicker::Clock::duration ProgressTicker::default_interval() {
+  if (const char* v = std::getenv("PEGASUS_PROGRESS_INTERVAL_S"); v != nullptr) {
+    char* end = nullptr;
+    const double s = std::strtod(v, &end);
+    if (end != v && s > 0 && s <= 3600)
+      return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s));
+  }
+  return std::chrono::seconds(15);
+}
+
+void ProgressTicker::run() {
+  std::unique_lock lock(mutex_);
+  for (auto next = start_ + interval_;; next += interval_) {
+    if (stop_signal_.wait_until(lock, next, [this] { return stop_; })) return;
+    const double elapsed = std::chrono::duration<double>(Clock::now() - start_).count();
+    std::fprintf(out_, "%s: %s, %s elapsed\n", label_.c_str(), status_().c_str(),
+                 clock_text(elapsed).c_str());
+    std::fflush(out_);
+  }
 }
 
 }  // namespace pegasus

@@ -12,6 +12,10 @@ namespace pegasus::sysid {
 
 namespace logged = heli::logged;
 
+int refit_steps_at(double step_rate_hz) {
+  return std::max(1, static_cast<int>(std::lround(kRefitSeconds * step_rate_hz)));
+}
+
 bool Disturbance::IsValid(std::string* error) const {
   auto fail = [&](const std::string& what) {
     if (error) *error = what;

@@ -178,7 +178,7 @@ HorizonMse horizon_mse(const IdentifiedModel& model, const FlightLog& test, doub
   const LogAtRate lr = log_at_rate(model, test);
   const auto k = lr.step;
   const auto steps = static_cast<std::size_t>(std::lround(horizon_s / model.dt()));
-  const auto refit_every = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(0.1 / model.dt())));
+  const auto refit_every = static_cast<std::size_t>(refit_steps_at(1 / model.dt()));
   const std::vector<std::size_t> starts = prediction_starts(test, k, steps, start_spacing_s);
   std::vector<Errors> per_start(starts.size());
   pool.parallel_for(starts.size(), [&](std::size_t si) {
@@ -224,7 +224,7 @@ HorizonMse horizon_mse_as_trained(const IdentifiedModel& model, const FlightLog&
     const std::size_t r0 = starts[si];
     LearnedModelOptions lo;
     lo.dt = 1 / control_rate_hz;
-    lo.refit_every = std::max(1, static_cast<int>(std::lround(model.dt() * control_rate_hz)));
+    lo.refit_every = refit_steps_at(control_rate_hz);  // as hover training refits it
     lo.noise = false;
     lo.start = test.states[r0];
     const LearnedHeliModel sim(view, lo);

@@ -94,6 +94,45 @@ TEST_F(HoverCli, HoverWritesPolicyProgressAndSummary) {
   EXPECT_TRUE(p.at("trim").contains("a4"));
 }
 
+// Issues 48/53: where stderr is no terminal (here a pipe), hover prints a line on the clock between optimizer
+// iterations (an iteration at 25 Hz took minutes): the count of evaluations and the best U-hat so far. The
+// interval is forced short; --quiet prints none, and the lines change nothing in summary.json.
+TEST_F(HoverCli, ANonTerminalRunPrintsProgressLinesOnTheClock) {
+  const std::string budget =
+      " --scenarios 2 --seconds 3 --optimizer.gradient.max-iterations 1 "
+      "--optimizer.hill-climbing.max-iterations 2 "
+      "--optimizer.hill-climbing.proposals-per-iteration 2";
+  const auto r =
+      pegasus::test_support::run_shell("PEGASUS_PROGRESS_INTERVAL_S=0.01 " + std::string(PEGASUS_CLI_PATH) +
+                                       " heli hover --model " + model() + budget + out("ticked"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  const std::string line = "hover training: ";
+  EXPECT_NE(r.output.find(line + "0 of 3 optimizer iterations done, "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(" U-hat evaluations, best U-hat evaluated -"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(" elapsed\n"), std::string::npos) << r.output;
+  const auto quiet =
+      pegasus::test_support::run_shell("PEGASUS_PROGRESS_INTERVAL_S=0.01 " + std::string(PEGASUS_CLI_PATH) +
+                                       " heli hover --model " + model() + budget + " --quiet" + out("quiet"));
+  ASSERT_EQ(quiet.code, 0) << quiet.output;
+  EXPECT_EQ(quiet.output.find(" optimizer iterations done, "), std::string::npos) << quiet.output;
+  EXPECT_EQ(read_text(dir_ / "ticked" / "summary.json"), read_text(dir_ / "quiet" / "summary.json"));
+}
+
+// The same for identify: which part of the identification runs.
+TEST_F(HoverCli, ANonTerminalIdentifyPrintsWhatItIsDoingOnTheClock) {
+  const std::string log = (shared_ / "train" / "log.csv").string();
+  const auto r = pegasus::test_support::run_shell(
+      "PEGASUS_PROGRESS_INTERVAL_S=0.01 " + std::string(PEGASUS_CLI_PATH) + " heli identify --train " + log +
+      " --test " + log +
+      " --cv-points 40 --scale-grid 2,4 --coordinate-passes 0 --horizon-s 2 --variants=false" +
+      out("identify"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  // Which parts a line catches depends on the clock; that one names what runs and the time does not.
+  const auto at = r.output.find("identify: the ");
+  ASSERT_NE(at, std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(" elapsed\n", at), std::string::npos) << r.output;
+}
+
 TEST_F(HoverCli, APhaseIsReportedUnderItsOwnMethod) {
   const auto r =
       run_pegasus("heli hover --model " + model() + tiny() + " --optimizer.method hill-climb" + out("climb"));

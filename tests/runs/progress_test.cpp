@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <thread>
 #include <vector>
 
@@ -92,6 +93,53 @@ TEST(Progress, PlainLinesComeOnePerIntervalAndOnlyForLongWork) {
   }
   EXPECT_EQ(contents(g), "");
   std::fclose(g);
+}
+
+// Issues 48/53: a ticker prints a status line on the clock where its stream is no terminal, however seldom
+// the work moves, and nothing when disabled or when the work ends within the first interval.
+TEST(ProgressTicker, PrintsStatusLinesOnTheClockUntilDestroyed) {
+  std::FILE* f = std::tmpfile();
+  EvaluationTally tally;
+  {
+    const ProgressTicker ticker(
+        "training", [&] { return tally.text(1, 4); }, true, f, std::chrono::milliseconds(20));
+    EXPECT_TRUE(ticker.ticking());
+    std::this_thread::sleep_for(std::chrono::milliseconds(70));
+    const std::vector<double> values = {-3.5, -1.25, -2};
+    tally.add(values);
+    std::this_thread::sleep_for(std::chrono::milliseconds(70));
+  }
+  const std::string out = contents(f);
+  EXPECT_GE(std::count(out.begin(), out.end(), '\n'), 4) << out;
+  EXPECT_EQ(out.find("training: 1 of 4 optimizer iterations done, 0 U-hat evaluations, best U-hat evaluated "
+                     "(none yet), 0:00 elapsed\n"),
+            0u)
+      << out;
+  EXPECT_NE(out.find("training: 1 of 4 optimizer iterations done, 3 U-hat evaluations, best U-hat evaluated "
+                     "-1.25, 0:00 elapsed\n"),
+            std::string::npos)
+      << out;
+  std::fclose(f);
+  std::FILE* g = std::tmpfile();
+  {
+    const ProgressTicker off(
+        "training", [] { return std::string("x"); }, false, g, std::chrono::milliseconds(1));
+    EXPECT_FALSE(off.ticking());
+    const ProgressTicker quick(
+        "training", [] { return std::string("x"); }, true, g, std::chrono::hours(1));
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  EXPECT_EQ(contents(g), "");
+  std::fclose(g);
+}
+
+TEST(ProgressTicker, IntervalComesFromTheEnvironmentWhenSet) {
+  ::setenv("PEGASUS_PROGRESS_INTERVAL_S", "0.25", 1);
+  EXPECT_EQ(ProgressTicker::default_interval(), std::chrono::milliseconds(250));
+  ::setenv("PEGASUS_PROGRESS_INTERVAL_S", "nonsense", 1);
+  EXPECT_EQ(ProgressTicker::default_interval(), std::chrono::seconds(15));
+  ::unsetenv("PEGASUS_PROGRESS_INTERVAL_S");
+  EXPECT_EQ(ProgressTicker::default_interval(), std::chrono::seconds(15));
 }
 
 TEST(Progress, AdvanceFromManyThreadsCountsEveryUnit) {

@@ -35,4 +35,26 @@ class FunctionObjective final : public Objective {
   std::function<double(std::span<const double>)> f_;
 };
 
+// Another objective's values passed through unchanged, each evaluation or batch told to `observer` after it
+// ran (a progress display's count and best U-hat): the search is the same with or without it.
+class ObservedObjective final : public Objective {
+ public:
+  using Observer = std::function<void(std::span<const double> values)>;
+  ObservedObjective(Objective& inner, Observer observer) : inner_(inner), observer_(std::move(observer)) {}
+  const ParameterSpec& parameters() const override { return inner_.parameters(); }
+  double evaluate(std::span<const double> theta) override {
+    const double v = inner_.evaluate(theta);
+    if (observer_) observer_(std::span<const double>(&v, 1));
+    return v;
+  }
+  void evaluate_batch(std::span<const Theta> thetas, std::span<double> values) override {
+    inner_.evaluate_batch(thetas, values);
+    if (observer_) observer_(values.first(thetas.size()));
+  }
+
+ private:
+  Objective& inner_;
+  Observer observer_;
+};
+
 }  // namespace pegasus

@@ -12,10 +12,15 @@
 //   bar.finish();
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <cstdint>
 #include <cstdio>
+#include <functional>
+#include <limits>
 #include <mutex>
+#include <span>
 #include <string>
+#include <thread>
 
 #include "pegasus/parallel/execution_context.hpp"
 
@@ -76,6 +81,74 @@ class Progress {
   bool finished_ = false;
   bool lines_ = false;      // plain lines: stderr that is not a terminal
   bool drew_line_ = false;  // a plain line was printed
+};
+
+// The U-hat evaluations an optimizer has run and the best value among them, counted from any thread, for a
+// ticker's line.
+class EvaluationTally {
+ public:
+  void add(std::span<const double> values);
+  // "3 of 40 optimizer iterations done, 212 U-hat evaluations, best U-hat evaluated -981.2"
+  std::string text(std::uint64_t iterations, std::uint64_t total_iterations) const;
+
+ private:
+  mutable std::mutex mutex_;
+  std::uint64_t evaluations_ = 0;
+  double best_ = -std::numeric_limits<double>::infinity();
+};
+
+// What a long command is doing now ("calibrating the noise"), set by the work and read by a ticker's thread.
+class ProgressStatus {
+ public:
+  explicit ProgressStatus(std::string text = {}) : text_(std::move(text)) {}
+  void set(std::string text) {
+    std::lock_guard lock(mutex_);
+    text_ = std::move(text);
+  }
+  std::string text() const {
+    std::lock_guard lock(mutex_);
+    return text_;
+  }
+
+ private:
+  mutable std::mutex mutex_;
+  std::string text_;
+};
+
+// Plain status lines on a clock, for work whose units come too seldom for a bar to move (one optimizer
+// iteration of hover training on a 25 Hz model took minutes; issues 48 and 53): where `out` is no terminal
+// (a log file, CI, a pipe), a thread prints "label: status(), m:ss elapsed" every `interval`, the first one
+// interval after the start, until the ticker is destroyed. Nothing on a terminal (the bars draw there) or
+// when disabled (--quiet). status() is called from that thread: it must be safe against the work's own.
+// Display only: nothing it reads or prints reaches a result.
+//
+//   ProgressTicker ticker("hover", [&] { return state.text(); }, Progress::default_enabled(quiet));
+class ProgressTicker {
+ public:
+  using Clock = std::chrono::steady_clock;
+  ProgressTicker(std::string label, std::function<std::string()> status, bool enabled,
+                 std::FILE* out = stderr, Clock::duration interval = default_interval());
+  ~ProgressTicker();
+  ProgressTicker(const ProgressTicker&) = delete;
+  ProgressTicker& operator=(const ProgressTicker&) = delete;
+
+  // 15 s, or PEGASUS_PROGRESS_INTERVAL_S seconds when that is set to a positive number (tests use a short
+  // one).
+  static Clock::duration default_interval();
+  bool ticking() const { return thread_.joinable(); }
+
+ private:
+  void run();
+
+  std::string label_;
+  std::function<std::string()> status_;
+  std::FILE* out_;
+  Clock::duration interval_;
+  Clock::time_point start_;
+  std::mutex mutex_;
+  std::condition_variable stop_signal_;
+  bool stop_ = false;
+  std::thread thread_;
 };
 
 }  // namespace pegasus

@@ -53,6 +53,17 @@ struct Disturbance {
   bool IsValid(std::string* error) const;
 };
 
+// How often the local regression is refitted by default, wherever the model is stepped (hover and
+// manoeuvre training, the as-trained errors identify reports, horizon_mse): every kRefitSeconds, the thesis's
+// 10 Hz (§5.2.2: "refit the linearity at 10 Hz"), whatever the model's own rate. A refit costs about a
+// microsecond per training row per refit on one core (15,000 rows at 25 Hz from 10 minutes of logs: ~100 us),
+// and refitting at every step of a 25 Hz model made one hover evaluation cost 3.1 CPU s against 1.1 s at
+// 0.1 s, for a starting policy's U-hat within 0.3% (bench/heli_bench.cpp BM_HeliHoverUhat25Hz; issue 53).
+inline constexpr double kRefitSeconds = 0.1;
+// Steps of 1 / step_rate_hz between refits: kRefitSeconds rounded to the nearest step, at least 1 (50 Hz: 5,
+// 25 Hz: 3, 10 Hz and slower: 1).
+int refit_steps_at(double step_rate_hz);
+
 struct LearnedModelOptions {
   double dt = 0.02;               // s, 50 Hz (§5.1)
   int refit_every = 5;            // steps between refits (§5.2.2)
