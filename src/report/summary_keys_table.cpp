@@ -399,7 +399,8 @@ const std::vector<SummaryKeyGroup> kGroups = {
               {"baseline.controller", "",
                "the hand-tuned baseline flown beside (--compare-baseline): baseline:linear (xcell), "
                "baseline:cascaded-pd (crazyflie2)"},
-              {"baseline.flights", "", "the baseline's flights, on the same starts and gusts, at the same rate"},
+              {"baseline.flights", "",
+               "the baseline's flights, on the same starts and gusts, at the same rate"},
               {"baseline.crashes", "", "the baseline's flights that crashed"},
               {"baseline.rms_position_m", "m", "the baseline's RMS distance to the set point"},
               {"baseline.rms_velocity_mps", "m/s", "the baseline's RMS velocity"},
