@@ -47,8 +47,11 @@ CsvWriter per_flight_csv(bool with_cost) {
   return CsvWriter(columns);
 }
 
+// The judged_cost cell of per_flight.csv: none (no [cost]), the flight's, or empty (the pilot, unjudged).
+enum class CostCell { kNone, kValue, kEmpty };
+
 void add_per_flight(CsvWriter& csv, const std::string& who, const std::vector<FlightRecord>& flights,
-                    bool with_cost) {
+                    CostCell cost) {
   for (std::size_t i = 0; i < flights.size(); ++i) {
     const auto& f = flights[i];
     const double n = std::max(1, f.steps);
@@ -60,7 +63,8 @@ void add_per_flight(CsvWriter& csv, const std::string& who, const std::vector<Fl
                                 std::sqrt(f.sum_sq_position / n),
                                 std::sqrt(f.sum_sq_velocity / n),
                                 std::sqrt(f.sum_sq_yaw / n)};
-    if (with_cost) row.emplace_back(f.judged_cost);
+    if (cost == CostCell::kValue) row.emplace_back(f.judged_cost);
+    if (cost == CostCell::kEmpty) row.emplace_back(std::string());
     csv.add_row(row);
   }
 }
@@ -226,7 +230,8 @@ void run_fly(const FlyRunOptions& options, RunSink& sink, ThreadPool& pool) {
     summary["wind"] = std::vector<double>{wind.x(), wind.y(), wind.z()};
   options.aircraft.keep(dir);
   CsvWriter per_flight = per_flight_csv(with_cost);
-  add_per_flight(per_flight, main_who, main, with_cost);
+  const CostCell judged = with_cost ? CostCell::kValue : CostCell::kNone;
+  add_per_flight(per_flight, main_who, main, judged);
   dir.write_csv("flights.csv", flights_csv(main));
   const bool pilot_beside = with_pilot && !pilot_only;
   if (pilot_beside) {
@@ -234,7 +239,7 @@ void run_fly(const FlyRunOptions& options, RunSink& sink, ThreadPool& pool) {
     summary["pilot"] = flight_summary_json(ps, false);
     summary["better_than_pilot"] = {{"position", s.rms_position_m < ps.rms_position_m},
                                     {"velocity", s.rms_velocity_mps < ps.rms_velocity_mps}};
-    add_per_flight(per_flight, "pilot", pilot, false);
+    add_per_flight(per_flight, "pilot", pilot, with_cost ? CostCell::kEmpty : CostCell::kNone);
     dir.write_csv("pilot_flights.csv", flights_csv(pilot));
   }
   std::optional<FlightSummary> bs;
@@ -244,7 +249,7 @@ void run_fly(const FlyRunOptions& options, RunSink& sink, ThreadPool& pool) {
     summary["baseline"] = flight_summary_json(*bs, with_cost);
     summary["baseline"]["controller"] = baseline_label;
     comparison = compare_with_baseline(s, *bs, with_cost, summary);
-    add_per_flight(per_flight, "baseline", baseline, with_cost);
+    add_per_flight(per_flight, "baseline", baseline, judged);
     dir.write_csv("baseline_flights.csv", flights_csv(baseline));
   }
   dir.write_csv("per_flight.csv", per_flight);
