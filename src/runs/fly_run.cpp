@@ -136,6 +136,42 @@ int control_every(double dt, double rate_hz, const std::string& where) {
   return static_cast<int>(std::round(ratio));
 }
 
+// One controller at a time, and a baseline only for a ground truth that has one: bad input otherwise.
+void check_controllers(const FlyRunOptions& options) {
+  if (options.pilot_only && options.baseline_only)
+    throw InputError("--pilot, --baseline: expected one of them, not both");
+  if (!options.pilot_only && !options.baseline_only && options.policy_file.empty())
+    throw InputError(
+        "--policy: expected a policy file (policy.json of pegasus heli hover), --pilot or --baseline");
+  if (options.baseline_only || options.compare_baseline) {
+    const std::string& simulator = options.aircraft.simulator();
+    if (simulator != "xcell" && simulator != "crazyflie2")
+      throw InputError(
+          fmt::format("--baseline: the ground truth {} has no baseline (xcell, crazyflie2 have)", simulator));
+  }
+}
+
+// The flights of the policy and the baseline: at the policy's rate (the vehicle's controller rate without a
+// policy), judged per control step by the vehicle's [cost] when it states one (not with --pilot: the pilot
+// flies at the aircraft's rate, unjudged).
+FlightOptions controller_flights(const FlyRunOptions& options, const FlownPolicy* policy,
+                                 const GroundTruth& aircraft) {
+  const logs::Vehicle& vehicle = options.aircraft.vehicle;
+  const double dt = aircraft.step_seconds();
+  FlightOptions o = options.flights;
+  o.control_every =
+      policy ? control_every(dt, policy->control_rate_hz, options.policy_file + ": options.control_rate_hz")
+             : control_every(dt, options.aircraft.from_file() ? vehicle.control_rate_hz : 0,
+                             "vehicle: control.rate_hz");
+  if (vehicle.cost && !options.pilot_only) {
+    FlightCost cost{.reward = logs::judged_reward(vehicle), .crash = vehicle.cost->crash};
+    if (vehicle.cost->controls_about_trim)  // the logs' mean controls: the policy's trim, or the aircraft's
+      cost.reward.centre = policy ? policy->trim : aircraft.hover_point().controls;
+    o.cost = cost;
+  }
+  return o;
+}
+
 std::string flights_line(const std::string& who, const FlightSummary& f, bool with_cost) {
   return fmt::format(
       "{}: {} flights, {} crashes, RMS position {:.3f} m, velocity {:.3f} m/s, yaw {:.4f} rad{}\n", who,
@@ -168,17 +204,8 @@ void run_fly(const FlyRunOptions& options, RunSink& sink, ThreadPool& pool) {
   const logs::Vehicle& vehicle = options.aircraft.vehicle;
   const bool pilot_only = options.pilot_only, baseline_only = options.baseline_only;
   const std::string& policy_path = options.policy_file;
-  if (pilot_only && baseline_only) throw InputError("--pilot, --baseline: expected one of them, not both");
-  if (!pilot_only && !baseline_only && policy_path.empty())
-    throw InputError(
-        "--policy: expected a policy file (policy.json of pegasus heli hover), --pilot or --baseline");
+  check_controllers(options);
   const bool with_baseline = baseline_only || options.compare_baseline;
-  if (with_baseline) {  // a ground truth with a baseline, or bad input
-    options.aircraft.simulator();
-    if (vehicle.simulator != "xcell" && vehicle.simulator != "crazyflie2")
-      throw InputError(fmt::format("--baseline: the ground truth {} has no baseline (xcell, crazyflie2 have)",
-                                   vehicle.simulator));
-  }
   std::optional<FlownPolicy> policy;
   SetPoint target;
   if (!policy_path.empty()) {
@@ -194,20 +221,9 @@ void run_fly(const FlyRunOptions& options, RunSink& sink, ThreadPool& pool) {
   const std::unique_ptr<GroundTruth> aircraft = options.aircraft.ground_truth(settings);
   const double dt = aircraft->step_seconds();
   const FlightOptions& fo = options.flights;
-  // The policy and the baseline run at the policy's rate (the vehicle's controller rate without a policy),
-  // judged per control step by the vehicle's [cost]; the pilot at the aircraft's, unjudged.
-  FlightOptions controller_options = fo;
-  controller_options.control_every =
-      policy ? control_every(dt, policy->control_rate_hz, policy_path + ": options.control_rate_hz")
-             : control_every(dt, options.aircraft.from_file() ? vehicle.control_rate_hz : 0,
-                             "vehicle: control.rate_hz");
-  const bool with_cost = vehicle.cost.has_value() && !pilot_only;
-  if (with_cost) {
-    FlightCost cost{.reward = logs::judged_reward(vehicle), .crash = vehicle.cost->crash};
-    if (vehicle.cost->controls_about_trim)  // the logs' mean controls: the policy's trim, or the aircraft's
-      cost.reward.centre = policy ? policy->trim : aircraft->hover_point().controls;
-    controller_options.cost = cost;
-  }
+  const FlightOptions controller_options =
+      controller_flights(options, policy ? &*policy : nullptr, *aircraft);
+  const bool with_cost = controller_options.cost.has_value();
   RunDirectory& dir = sink.dir;
 
   const bool with_pilot = pilot_only || options.compare_pilot;
