@@ -45,7 +45,7 @@ struct FlightOptions {
   // Aircraft steps per controller call: the controls are held in between (a zero-order hold), as on a flight
   // computer that runs its controller slower than the aircraft's 50 Hz (a policy trained at 10 Hz: 5).
   int control_every = 1;
-  std::optional<FlightCost> cost;  // none: no judged cost
+  std::optional<FlightCost> cost{};  // none: no judged cost
   bool IsValid(std::string* error) const;
 };
 
