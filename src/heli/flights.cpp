@@ -31,8 +31,11 @@ FlightRecord fly_one(const GroundTruth& aircraft, const FlightOptions& o, int fl
   for (int t = 0; t < steps; ++t) {
     const double time = t * dt;
     const LoggedState truth = s->truth();
-    if (t % o.control_every == 0) a = act(s->observe(), time);
+    const bool control_step = t % o.control_every == 0;
+    if (control_step) a = act(s->observe(), time);
     const SetPoint sp = target(time);
+    if (o.cost && control_step)
+      r.judged_cost += o.cost->reward.state_cost(truth, sp) + o.cost->reward.action_cost(a);
     // The set point's velocity by central differences (exactly 0 for a fixed set point).
     const SetPoint before = target(time - dt), after = target(time + dt);
     const double vx = (after.x - before.x) / (2 * dt), vy = (after.y - before.y) / (2 * dt),
@@ -51,6 +54,7 @@ FlightRecord fly_one(const GroundTruth& aircraft, const FlightOptions& o, int fl
       r.crashed = true;
       r.crash = s->crash();
       r.crash_time = time + dt;
+      if (o.cost) r.judged_cost += o.cost->crash;
       break;
     }
   }
@@ -90,7 +94,7 @@ bool FlightOptions::IsValid(std::string* error) const {
 
 FlightSummary summarize_flights(const std::vector<FlightRecord>& flights) {
   FlightSummary s;
-  double pos = 0, vel = 0, yaw = 0;
+  double pos = 0, vel = 0, yaw = 0, cost = 0;
   long long steps = 0;
   for (const auto& f : flights) {
     ++s.flights;
@@ -98,8 +102,10 @@ FlightSummary summarize_flights(const std::vector<FlightRecord>& flights) {
     pos += f.sum_sq_position;
     vel += f.sum_sq_velocity;
     yaw += f.sum_sq_yaw;
+    cost += f.judged_cost;
     steps += f.steps;
   }
+  if (s.flights > 0) s.judged_cost = cost / s.flights;
   if (steps > 0) {
     const auto n = static_cast<double>(steps);
     s.rms_position_m = std::sqrt(pos / n);

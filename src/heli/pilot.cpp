@@ -22,6 +22,41 @@ bool PilotOptions::IsValid(std::string* error) const {
   return true;
 }
 
+Controls hover_feedback(const HoverPoint& trim, double gravity, const PilotOptions& o, const LoggedState& s,
+                        const LoggedState& hold, const std::array<double, 4>& integral,
+                        const std::array<double, 4>& k_int) {
+  const double yaw = s[logged::yaw];
+  const double cy = std::cos(yaw), sy = std::sin(yaw);
+  // Errors, velocities and the error's integral in the heading frame (x forward, y right, level).
+  const double ex_W = s[logged::x] - hold[logged::x], ey_W = s[logged::y] - hold[logged::y];
+  const double ex = cy * ex_W + sy * ey_W, ey = -sy * ex_W + cy * ey_W;
+  const double vx = cy * s[logged::xdot] + sy * s[logged::ydot],
+               vy = -sy * s[logged::xdot] + cy * s[logged::ydot];
+  const double ix = cy * integral[0] + sy * integral[1], iy = -sy * integral[0] + cy * integral[1];
+  const double g = gravity;
+  const double tilt = o.max_tilt_command;
+  // Nose up to brake forward motion; roll left to brake rightward motion. (A zero integral adds exactly 0.)
+  const double pitch_cmd =
+      trim.pitch + std::clamp((o.k_pos * ex + o.k_vel * vx + k_int[0] * ix) / g, -tilt, tilt);
+  const double roll_cmd =
+      trim.roll - std::clamp((o.k_pos * ey + o.k_vel * vy + k_int[1] * iy) / g, -tilt, tilt);
+  Controls fb;
+  namespace axis = control_axis;
+  fb[axis::pitch] = trim.controls[axis::pitch] + o.k_att * (s[logged::pitch] - pitch_cmd) +
+                    o.k_att_rate * s[logged::pitch_rate];
+  fb[axis::roll] = trim.controls[axis::roll] + o.k_att * (roll_cmd - s[logged::roll]) -
+                   o.k_att_rate * s[logged::roll_rate];
+  fb[axis::thrust] = trim.controls[axis::thrust] + o.k_alt * (s[logged::z] - hold[logged::z]) +
+                     o.k_climb * s[logged::zdot] + k_int[2] * integral[2];
+  fb[axis::yaw] = trim.controls[axis::yaw] + o.k_yaw * wrap_angle(hold[logged::yaw] - yaw) -
+                  o.k_yaw_rate * s[logged::yaw_rate] - k_int[3] * integral[3];
+  if (o.attitude_command_gain != 0) {
+    fb[axis::pitch] -= o.attitude_command_gain * (pitch_cmd - trim.pitch);
+    fb[axis::roll] += o.attitude_command_gain * (roll_cmd - trim.roll);
+  }
+  return fb;
+}
+
 ScriptedPilot::ScriptedPilot(const GroundTruth& aircraft, PilotOptions options, std::uint64_t seed,
                              std::uint32_t stream)
     : aircraft_(aircraft), o_(options), rng_(seed, stream) {
@@ -69,33 +104,7 @@ Controls ScriptedPilot::act(const LoggedState& estimate, double time) {
   filled_ = std::min(filled_ + 1, delay_.size());
   // The oldest entry is the estimate reaction_delay_s ago (or the first one, early in the flight).
   const LoggedState& s = filled_ < delay_.size() ? delay_[0] : delay_[head_];
-  const HoverPoint trim = aircraft_.hover_point();
-  const double yaw = s[logged::yaw];
-  const double cy = std::cos(yaw), sy = std::sin(yaw);
-  // Errors and velocities in the heading frame (x forward, y right, level).
-  const double ex_W = s[logged::x] - hold_[logged::x], ey_W = s[logged::y] - hold_[logged::y];
-  const double ex = cy * ex_W + sy * ey_W, ey = -sy * ex_W + cy * ey_W;
-  const double vx = cy * s[logged::xdot] + sy * s[logged::ydot],
-               vy = -sy * s[logged::xdot] + cy * s[logged::ydot];
-  const double g = aircraft_.gravity();
-  const double tilt = o_.max_tilt_command;
-  // Nose up to brake forward motion; roll left to brake rightward motion.
-  const double pitch_cmd = trim.pitch + std::clamp((o_.k_pos * ex + o_.k_vel * vx) / g, -tilt, tilt);
-  const double roll_cmd = trim.roll - std::clamp((o_.k_pos * ey + o_.k_vel * vy) / g, -tilt, tilt);
-  Controls fb;
-  namespace axis = control_axis;
-  fb[axis::pitch] = trim.controls[axis::pitch] + o_.k_att * (s[logged::pitch] - pitch_cmd) +
-                    o_.k_att_rate * s[logged::pitch_rate];
-  fb[axis::roll] = trim.controls[axis::roll] + o_.k_att * (roll_cmd - s[logged::roll]) -
-                   o_.k_att_rate * s[logged::roll_rate];
-  fb[axis::thrust] = trim.controls[axis::thrust] + o_.k_alt * (s[logged::z] - hold_[logged::z]) +
-                     o_.k_climb * s[logged::zdot];
-  fb[axis::yaw] = trim.controls[axis::yaw] + o_.k_yaw * wrap_angle(hold_[logged::yaw] - yaw) -
-                  o_.k_yaw_rate * s[logged::yaw_rate];
-  if (o_.attitude_command_gain != 0) {
-    fb[axis::pitch] -= o_.attitude_command_gain * (pitch_cmd - trim.pitch);
-    fb[axis::roll] += o_.attitude_command_gain * (roll_cmd - trim.roll);
-  }
+  const Controls fb = hover_feedback(aircraft_.hover_point(), aircraft_.gravity(), o_, s, hold_);
   const double lag = 1 - std::exp(-dt / o_.bandwidth_tau_s);
   const double rho = std::exp(-dt / o_.noise_tau_s);
   const double kn = o_.noise_sigma * std::sqrt(1 - rho * rho);

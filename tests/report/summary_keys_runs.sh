@@ -29,6 +29,9 @@ run hover hover --config experiments/quadrotor-hover-fast.toml --model "$work/id
   --seconds 2 --optimizer.hill-climbing.max-iterations 1
 run fly fly --config experiments/quadrotor-fly.toml --policy "$work/hover/policy.json" --flights 2 --seconds 3 \
   --wind 1,0,0
+# The hand-tuned baseline beside the policy, judged by a vehicle file's [cost] (the same ground truth in ROS terms).
+run fly-baseline fly --config experiments/quadrotor-fly.toml --vehicle experiments/vehicles/ros-crazyflie.toml \
+  --policy "$work/hover/policy.json" --compare-baseline --flights 2 --seconds 3
 run maneuver-pilot maneuver-pilot --config experiments/quadrotor-maneuver-pilot.toml
 if [ "$mujoco" = 1 ]; then
   run mujoco-train mujoco train --config experiments/mujoco/cartpole-train.toml --scenarios 2 \

@@ -14,16 +14,28 @@
 //   differences
 //                     of target(t) otherwise)
 //   rms_yaw_rad       sqrt(mean wrap(yaw - yaw*)^2)
+//   judged_cost       with FlightOptions::cost (a vehicle file's [cost]): per flight, the sum over its
+//   control
+//                     steps of the reward's state cost of the true state and its action cost of the controls
+//                     sent, plus the crash cost once for a crash; the mean over the flights
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "pegasus/heli/ground_truth.hpp"
+#include "pegasus/heli/hover_task.hpp"
 #include "pegasus/heli/pilot.hpp"
 #include "pegasus/heli/policy_file.hpp"
 #include "pegasus/parallel/thread_pool.hpp"
 #include "pegasus/random/seed.hpp"
 
 namespace pegasus::heli {
+
+// The cost a flight is judged by (logs::judged_reward of a vehicle file's [cost], and its crash cost).
+struct FlightCost {
+  HoverReward reward{};
+  double crash = 0;
+};
 
 struct FlightOptions {
   int flights = 100;
@@ -33,6 +45,7 @@ struct FlightOptions {
   // Aircraft steps per controller call: the controls are held in between (a zero-order hold), as on a flight
   // computer that runs its controller slower than the aircraft's 50 Hz (a policy trained at 10 Hz: 5).
   int control_every = 1;
+  std::optional<FlightCost> cost{};  // none: no judged cost
   bool IsValid(std::string* error) const;
 };
 
@@ -49,12 +62,14 @@ struct FlightRecord {
   double crash_time = -1;
   int steps = 0;                                                    // 50 Hz steps flown
   double sum_sq_position = 0, sum_sq_velocity = 0, sum_sq_yaw = 0;  // over the steps
+  double judged_cost = 0;                                           // with FlightOptions::cost
   std::vector<FlightRow> trace;  // every step, for the first trace_flights flights
 };
 
 struct FlightSummary {
   int flights = 0, crashes = 0;
   double rms_position_m = 0, rms_velocity_mps = 0, rms_yaw_rad = 0;
+  double judged_cost = 0;  // mean per flight (FlightRecord::judged_cost)
 };
 FlightSummary summarize_flights(const std::vector<FlightRecord>& flights);
 

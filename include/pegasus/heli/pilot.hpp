@@ -35,6 +35,16 @@ struct PilotOptions {
   bool IsValid(std::string* error) const;
 };
 
+// The pilot's stabilising law (heading frame, no delay, lag or noise): position and velocity to the desired
+// attitude (clamped to max_tilt_command), attitude and rate feedback to the cyclic (or, with
+// attitude_command_gain, the desired attitude as the command), altitude and climb rate to the collective,
+// heading and yaw rate to the tail. `integral`: the W-frame position error's integral (m s) and the yaw
+// error's (rad s), as ErrorIntegrator keeps them (hover_policy.hpp); `k_int` weighs them beside k_pos, k_alt
+// and k_yaw (per s; 0: none). The scripted pilot and the hand-tuned baselines (baselines.hpp) share it.
+Controls hover_feedback(const HoverPoint& trim, double gravity, const PilotOptions& gains,
+                        const LoggedState& s, const LoggedState& hold,
+                        const std::array<double, 4>& integral = {}, const std::array<double, 4>& k_int = {});
+
 // The pilot's controller; one per flight (it keeps its delay line and noise state).
 class ScriptedPilot {
  public:

@@ -124,12 +124,15 @@ struct FlyRunOptions {
   std::string policy_file;         // policy.json of hover or manoeuvre training; empty with pilot_only
   bool pilot_only = false;         // fly the scripted pilot's hover instead of a policy
   bool compare_pilot = false;      // also fly the pilot from the same starts and gusts
+  bool baseline_only = false;      // fly the ground truth's hand-tuned baseline (heli/baselines.hpp) instead
+  bool compare_baseline = false;   // also fly the baseline from the same starts and gusts, at the same rate
   GroundTruthSettings settings{};  // gusts, estimate errors, start perturbations, steady wind (the start
                                    // position and yaw are the policy's set point)
   FlightOptions flights{};
 };
-// flights.csv (traced flights), per_flight.csv, pilot_flights.csv, the flight charts and the 3-D replay,
-// summary.json.
+// flights.csv (traced flights), per_flight.csv, pilot_flights.csv, baseline_flights.csv, the flight charts
+// and the 3-D replay, summary.json; judged by the vehicle file's [cost] when it states one (judged_cost). In
+// src/runs/fly_run.cpp.
 void run_fly(const FlyRunOptions& options, RunSink& sink, ThreadPool& pool);
 
 // The pipeline's summary.json and headline lines, from the summaries of its `hover` and `fly` stages in the
