@@ -3,8 +3,9 @@
 //
 // BM_MujocoOverhead_<model> interleaves, in every benchmark iteration, 16 Pegasus rollouts (scenario noise,
 // observation, normalisation, the linear policy at theta = 0, reward, termination and success checks) with a
-// plain loop of exactly as many mj_step calls per rollout from the same reset state, and times each block
-// by the thread's CPU clock; the counters keep the fastest block of each kind, which filters out the
+// plain loop of exactly as many mj_step calls per rollout from the same reset state, replaying the controls
+// that rollout applied (recorded once before the timing, so that both do the same physics), and times each
+// block by the thread's CPU clock; the counters keep the fastest block of each kind, which filters out the
 // interruptions of a shared machine (both kinds are equally exposed to them, and the minimum is the cost
 // of the work itself). `ratio` = plain time / Pegasus time per physics step (the issue asks >= 0.95).
 // Both step with the model's integrator (issue 52): BM_MujocoOverhead_Hopper_RK4 and _Implicit run the hopper
@@ -19,12 +20,15 @@
 
 #include <algorithm>
 #include <array>
+#include <cstddef>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <span>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "pegasus/mujoco/mujoco_objective.hpp"
 
@@ -107,30 +111,42 @@ void Overhead(benchmark::State& state, const MujocoEnvironment& env) {
     x.assign(slot.data->qpos, slot.data->qpos + m->nq);
     x.insert(x.end(), slot.data->qvel, slot.data->qvel + m->nv);
   }
+  // The controls each rollout applies (its policy's actions plus the task's actuator noise, as data->ctrl
+  // holds them during each control step), recorded once outside the timing: the reference replays them, so
+  // both halves step the same states under the same controls and do the same physics work (a fixed control
+  // drives some models into their joint limits, whose constraints cost MuJoCo more, or less, than the
+  // rollouts' own states do).
+  std::vector<std::vector<double>> controls(kRollouts);
+  for (int i = 0; i < kRollouts; ++i) {
+    auto& c = controls[static_cast<std::size_t>(i)];
+    const MujocoStepObserver record = [&](int, const mjData* data, std::span<const double>, double) {
+      c.insert(c.end(), data->ctrl, data->ctrl + m->nu);
+    };
+    env.rollout(*policy, theta, normalizer, scenarios, i, slot, nullptr, &record);
+  }
+  const int frame_skip = env.task().frame_skip;
   double best_pegasus = std::numeric_limits<double>::infinity(), best_plain = best_pegasus;
   for (auto _ : state) {
     std::int64_t total = 0;
     const double t0 = thread_cpu_seconds();
     for (int i = 0; i < kRollouts; ++i) {
       const auto r = env.rollout(*policy, theta, normalizer, scenarios, i, slot);
-      physics_steps[static_cast<std::size_t>(i)] = r.steps * env.task().frame_skip;
+      physics_steps[static_cast<std::size_t>(i)] = r.steps * frame_skip;
       total += physics_steps[static_cast<std::size_t>(i)];
     }
     const double t1 = thread_cpu_seconds();
-    // The reference: as many mj_step calls from the same start, with a fixed ctrl (0.1 of each range's
-    // half-width from its middle: a = 0.1; the rollouts' a = 0 plus the task's actuator noise).
+    // The reference: the same number of mj_step calls from the same start, replaying the rollout's controls.
     for (int i = 0; i < kRollouts; ++i) {
       mj_resetData(m, d);
       const auto& x = start[static_cast<std::size_t>(i)];
       std::copy(x.begin(), x.begin() + m->nq, d->qpos);
       std::copy(x.begin() + m->nq, x.end(), d->qvel);
-      for (int k = 0; k < m->nu; ++k) {
-        const bool limited = m->actuator_ctrllimited[k] != 0;
-        const double lo = limited ? m->actuator_ctrlrange[2 * k] : -1.0;
-        const double hi = limited ? m->actuator_ctrlrange[2 * k + 1] : 1.0;
-        d->ctrl[k] = 0.5 * (lo + hi) + 0.05 * (hi - lo);
+      const auto& c = controls[static_cast<std::size_t>(i)];
+      const int control_steps = physics_steps[static_cast<std::size_t>(i)] / frame_skip;
+      for (int t = 0; t < control_steps; ++t) {
+        std::copy_n(c.begin() + static_cast<std::ptrdiff_t>(t) * m->nu, m->nu, d->ctrl);
+        for (int s = 0; s < frame_skip; ++s) mj_step(m, d);  // its integrator
       }
-      for (int s = 0; s < physics_steps[static_cast<std::size_t>(i)]; ++s) mj_step(m, d);  // its integrator
       benchmark::DoNotOptimize(d->qpos[0]);
     }
     const double t2 = thread_cpu_seconds();
