@@ -81,6 +81,9 @@ NOT_RUN = {
     ("docs/tutorials/gymnasium.md", "pegasus mujoco train --config experiments/mujoco/gymnasium/swimmer-train"):
         "needs the reader's copy of Gymnasium's swimmer.xml (not shipped); the tested block below runs the same "
         "commands on the tests' stand-in model",
+    ("docs/how-to/performance.md", "/usr/bin/python3 bench/pipeline_cpu.py --rates 10,25"):
+        "a Release benchmark of identify + hover at the defaults on 10-minute logs (CPU-minutes; bench/, run by "
+        "hand, not a test)",
     ("docs/how-to/choose-optimizer.md", "./build/bench/pegasus_optimizer_comparison --problems cartpole"):
         "a Release benchmark of minutes (bench/, run by hand, not a test)",
     ("docs/how-to/choose-optimizer.md", "./build/bench/pegasus_optimizer_comparison --problems hover"):

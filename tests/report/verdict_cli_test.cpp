@@ -1,5 +1,6 @@
-// Every command that writes a run directory (its --help-markdown section lists --out) has a verdict sentence for
-// its report (include/pegasus/report/verdict.hpp): a new command cannot ship a report that leads with nothing.
+// Every command that writes a run directory (its --help-markdown section lists --out) has a verdict sentence
+// for its report (include/pegasus/report/verdict.hpp): a new command cannot ship a report that leads with
+// nothing.
 #include <gtest/gtest.h>
 
 #include <map>
@@ -32,7 +33,8 @@ std::map<std::string, bool> commands_and_out() {
 
 TEST(VerdictCli, EveryCommandThatWritesARunDirectoryHasAVerdict) {
   const auto commands = commands_and_out();
-  // The parse found the commands: ones with a run directory, and heli control, which serves stdin and has none.
+  // The parse found the commands: ones with a run directory, and heli control, which serves stdin and has
+  // none.
   ASSERT_TRUE(commands.contains("log import") && commands.at("log import"));
   ASSERT_TRUE(commands.contains("heli control"));
   EXPECT_FALSE(commands.at("heli control")) << "heli control now writes a run directory: give it a verdict";
