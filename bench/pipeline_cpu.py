@@ -32,56 +32,12 @@ import time
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 
-# tests/logs/outside_aircraft.hpp's kOutsideVehicle, flown on the X-Cell's ground truth.
-OUTSIDE_HELI = """[vehicle]
-name = "outside-heli"
-simulator = "xcell"
-
-[log]
-rate_hz = {rate}
-model_rate_hz = {rate}
-time = "t"
-
-[log.position]
-fields = ["n", "e", "d"]
-
-[log.velocity]
-fields = ["u", "v", "w"]
-frame = "body"
-
-[log.attitude]
-fields = ["qw", "qx", "qy", "qz"]
-form = "quaternion"
-
-[log.rates]
-fields = ["p", "q", "r"]
-form = "body"
-
-[[log.controls]]
-field = "thr"
-axis = "thrust"
-range = [0, 1]
-
-[[log.controls]]
-field = "ail"
-axis = "roll"
-range = [-0.5, 0.5]
-
-[[log.controls]]
-field = "ele"
-axis = "pitch"
-sign = -1
-
-[[log.controls]]
-field = "rud"
-name = "rudder_us"
-axis = "yaw"
-range = [1000, 2000]
-sign = -1
-
-[control]
-rate_hz = {rate}
-"""
+def outside_heli(rate):
+    """experiments/vehicles/outside-heli.toml (tests/logs/outside_aircraft.hpp's aircraft, flown on the X-Cell's
+    ground truth, with its judged cost) at `rate`."""
+    text = (ROOT / "experiments/vehicles/outside-heli.toml").read_text()
+    text = re.sub(r"(?m)^(rate_hz|model_rate_hz) = 10\b", lambda m: f"{m.group(1)} = {rate}", text)
+    return text
 
 
 def ros_quadrotor(rate):
@@ -92,7 +48,7 @@ def ros_quadrotor(rate):
     return text
 
 
-VEHICLES = {"outside-heli": lambda rate: OUTSIDE_HELI.format(rate=rate), "ros-quadrotor": ros_quadrotor}
+VEHICLES = {"outside-heli": outside_heli, "ros-quadrotor": ros_quadrotor}
 
 
 def timed(cmd):
