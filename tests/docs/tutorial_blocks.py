@@ -182,6 +182,7 @@ def main():
         for page in pages:
             page_name = str(page.relative_to(source)) if page.is_relative_to(source) else str(page)
             last = None  # what the previous tested block printed
+            last_skipped = False  # the previous tested block was skipped (its output cannot be checked)
             for line, kind, language, text, code in blocks(page):
                 where = f"{page_name}:{line}"
                 if kind == "unmarked":
@@ -193,6 +194,8 @@ def main():
                                         f"(tests/docs/tutorial_blocks.py) with the reason it cannot run")
                     continue
                 if kind == "output":
+                    if last_skipped:
+                        continue  # the block that prints it was skipped, saying why
                     if last is None:
                         failures.append(f"{where}: output shown, but the block before it did not run")
                         continue
@@ -206,7 +209,9 @@ def main():
                     print(f"skip {where}: {lacking}")
                     skipped += 1
                     last = None
+                    last_skipped = True
                     continue
+                last_skipped = False
                 if language == "python":
                     argv = ["/usr/bin/python3", "-c", text]
                 elif language in ("sh", "bash", "console"):
