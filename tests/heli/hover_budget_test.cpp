@@ -57,8 +57,10 @@ TEST(HoverBudget, BindsAtTheDocumentedCountAndTrainingKeepsToIt) {
   const auto model = pilot_model(true);
   HoverTrainingOptions o = small_options();
   const int n = static_cast<int>(hover_policy_for(*model, o).parameters().size());
-  // One evaluation: 3 scenarios x 40 refits (4 s at 50 Hz, every 5 steps) x the model's rows x 6 ns.
-  const double per_evaluation = 3.0 * 40 * static_cast<double>(model->data().x.rows()) * 6e-9;
+  // One evaluation: 3 scenarios x seconds * 50 Hz / 5 refits (every 5 steps: 40 for 4 s, 20 for the sanitizer
+  // build's 2 s) x the model's rows x 6 ns.
+  const double refits = 3.0 * o.seconds * 50 / 5;
+  const double per_evaluation = refits * static_cast<double>(model->data().x.rows()) * 6e-9;
   o.cpu_budget_s = 12.5 * per_evaluation;
   EXPECT_EQ(o.evaluation_budget(*model, n), 12);
   ThreadPool pool(2);
