@@ -24,6 +24,64 @@ MujocoSlot::MujocoSlot(const MujocoEnvironment& env)
 
 MujocoSlot::~MujocoSlot() { mj_deleteData(data); }
 
+namespace {
+
+bool reads_positions(const TerminationRange& range) {
+  return range.kind == QuantityKind::kBodyHeight || range.kind == QuantityKind::kSiteHeight;
+}
+
+}  // namespace
+
+// After an RK4 step mjData holds the last stage's quantities, not the new state's, and the next mj_step
+// computes the new state's itself: a rollout needs only what the task reads of them. Body and site
+// positions (displacement, site distance, heights, site observations) need the kinematics; velocities of
+// bodies, energy, contacts, sensors and a hook (which may read anything) the whole mj_step1; qpos and qvel
+// nothing. Gymnasium's RK4 models read only qpos, qvel and the torso's position: the mj_step1 their steps
+// skip was 3-5% of a control step (bench/mujoco_bench.cpp, BM_MujocoOverhead_Gym*).
+MujocoEnvironment::AfterRk4Step MujocoEnvironment::after_rk4_step_needs(const MujocoTask& task,
+                                                                        bool has_hook) {
+  if (has_hook) return AfterRk4Step::kStep1;
+  bool kinematics = false;
+  for (const auto& term : task.reward) {
+    switch (term.kind) {
+      case RewardKind::kBodyVelocity:
+      case RewardKind::kEnergy:
+      case RewardKind::kContactCost:
+        return AfterRk4Step::kStep1;
+      case RewardKind::kDisplacement:
+      case RewardKind::kSiteDistance:
+        kinematics = true;
+        break;
+      case RewardKind::kInRange:
+        kinematics = kinematics || reads_positions(term.range);
+        break;
+      case RewardKind::kHealthy:
+      case RewardKind::kJointTarget:
+      case RewardKind::kJointSpeed:
+      case RewardKind::kJointVelocity:
+      case RewardKind::kControlCost:
+        break;
+    }
+  }
+  for (const auto& item : task.observation) {
+    switch (item.kind) {
+      case ObservationKind::kSensor:
+      case ObservationKind::kBodyLinearVelocity:
+        return AfterRk4Step::kStep1;
+      case ObservationKind::kSitePos:
+        kinematics = true;
+        break;
+      case ObservationKind::kQpos:
+      case ObservationKind::kQposSinCos:
+      case ObservationKind::kQvel:
+        break;
+    }
+  }
+  for (const auto& range : task.termination) kinematics = kinematics || reads_positions(range);
+  for (const auto& range : task.success_ranges) kinematics = kinematics || reads_positions(range);
+  return kinematics ? AfterRk4Step::kKinematics : AfterRk4Step::kNothing;
+}
+
 MujocoEnvironment::MujocoEnvironment(MujocoModel model, MujocoTask task, RewardHook hook)
     : model_(std::move(model)), task_(std::move(task)), hook_(std::move(hook)) {
   const mjModel* m = model_.get();
@@ -44,6 +102,7 @@ MujocoEnvironment::MujocoEnvironment(MujocoModel model, MujocoTask task, RewardH
     ctrl_half_.push_back(0.5 * (hi - lo));
   }
   control_dt_ = task_.frame_skip * m->opt.timestep;
+  after_rk4_step_ = after_rk4_step_needs(task_, static_cast<bool>(hook_));
 }
 
 int MujocoEnvironment::action_dim() const { return model_.get()->nu; }
@@ -174,6 +233,11 @@ double contact_force_squared(const mjModel* m, const mjData* d) {
 
 MujocoStepOutcome MujocoEnvironment::step(MujocoSlot& slot, std::span<const double> action,
                                           std::span<const double> p) const {
+  return step_to(slot, action, p, true);
+}
+
+MujocoStepOutcome MujocoEnvironment::step_to(MujocoSlot& slot, std::span<const double> action,
+                                             std::span<const double> p, bool complete) const {
   const mjModel* m = model_.get();
   mjData* d = slot.data;
   std::size_t next = 0;
@@ -215,7 +279,10 @@ MujocoStepOutcome MujocoEnvironment::step(MujocoSlot& slot, std::span<const doub
     // quantities in mjData, so mj_step1 computes the new state's (it changes no state: the next mj_step
     // recomputes them from it). Contact forces: those of the new state under this step's ctrl.
     for (int k = 0; k < task_.frame_skip; ++k) mj_step(m, d);
-    mj_step1(m, d);
+    if (complete || after_rk4_step_ == AfterRk4Step::kStep1)
+      mj_step1(m, d);
+    else if (after_rk4_step_ == AfterRk4Step::kKinematics)
+      mj_kinematics(m, d);
     if (contact_cost_) {
       // The constraint solver leaves its result as the next solve's warm start: the next mj_step must
       // start from RK4's, as in a plain mj_step loop.
@@ -344,7 +411,7 @@ MujocoRolloutResult MujocoEnvironment::rollout(const MujocoPolicy& policy, std::
     normalizer.apply(slot.observation, slot.normalized);
     policy.act(theta, slot.observation, slot.normalized, slot.action, slot.scratch);
     scenarios.step_noise(i, t, slot.step_noise);
-    const MujocoStepOutcome outcome = step(slot, slot.action, slot.step_noise);
+    const MujocoStepOutcome outcome = step_to(slot, slot.action, slot.step_noise, observer != nullptr);
     result.discounted_return += weight * outcome.reward;
     result.training_return += weight * outcome.training_reward;
     weight *= task_.discount;

@@ -192,6 +192,74 @@ point = "site:tip"
   mj_deleteData(check);
 }
 
+// A rollout without an observer lets an RK4 step skip what the task does not read of the new state (all of
+// mj_step1 when the task reads qpos and qvel only, all but the kinematics when it reads positions): its
+// returns, steps and success are bit for bit those of a rollout that computes everything (with an observer).
+TEST_F(MujocoIntegrator, AnRk4RolloutThatSkipsWhatTheTaskDoesNotReadReturnsWhatOneComputingItReturns) {
+  const auto xml = test_support::write_file(dir_ / "sled.xml", sled_xml("RK4"));
+  const std::vector<std::string> tasks = {
+      // qpos and qvel only, with a termination on a qpos (the hopper's kind)
+      R"(horizon = 80
+frame_skip = 3
+[observation]
+qpos = ["slide", "hinge"]
+qvel = ["slide", "lift", "hinge"]
+[[reward]]
+term = "joint_speed"
+joint = "hinge"
+weight = -0.5
+[[reward]]
+term = "healthy"
+[[termination]]
+quantity = "qpos"
+name = "hinge"
+min = -0.6
+max = 0.6
+)",
+      // positions: Gymnasium's displacement of a body's origin, a site in the observation, a site's height
+      R"(horizon = 80
+frame_skip = 3
+[observation]
+qpos = ["slide"]
+site_pos = ["tip"]
+[[reward]]
+term = "displacement"
+body = "sled"
+point = "origin"
+axis = 0
+[[reward]]
+term = "site_distance"
+site = "tip"
+target = [0.5, 0.0, 0.4]
+weight = -1.0
+[[termination]]
+quantity = "site_height"
+name = "tip"
+min = 0.3
+max = inf
+)",
+      kSledTask};
+  for (std::size_t k = 0; k < tasks.size(); ++k) {
+    SCOPED_TRACE(tasks[k]);
+    const auto toml = test_support::write_file(dir_ / fmt::format("task{}.toml", k), tasks[k]);
+    const auto env = test_support::environment_of(xml, toml);
+    const auto policy = make_mujoco_policy("linear", env->observation_dim(), env->action_dim(), {});
+    Theta theta(policy->parameters().size());
+    for (std::size_t j = 0; j < theta.size(); ++j)
+      theta[j] = 0.9 * std::sin(0.7 * static_cast<double>(j) + 1.1);
+    const ObservationNormalizer normalizer(env->observation_dim());
+    const ScenarioSet scenarios = env->scenarios(3, 1, ScenarioVariant::kPlain);
+    MujocoSlot slot(*env);
+    const MujocoStepObserver watch = [](int, const mjData*, std::span<const double>, double) {};
+    const auto computed = env->rollout(*policy, theta, normalizer, scenarios, 0, slot, nullptr, &watch);
+    const auto skipped = env->rollout(*policy, theta, normalizer, scenarios, 0, slot);
+    EXPECT_EQ(skipped.discounted_return, computed.discounted_return);
+    EXPECT_EQ(skipped.training_return, computed.training_return);
+    EXPECT_EQ(skipped.steps, computed.steps);
+    EXPECT_EQ(skipped.crashed, computed.crashed);
+  }
+}
+
 }  // namespace
 }  // namespace pegasus
 #endif

@@ -111,6 +111,15 @@ class MujocoEnvironment {
   ScenarioSet scenarios(std::uint64_t seed, int count, ScenarioVariant variant) const;
 
  private:
+  // What a rollout's RK4 step computes of the new state beyond qpos and qvel: nothing, the kinematics
+  // (body and site positions), or all of mj_step1; what the task's terms, observation and ranges read.
+  enum class AfterRk4Step { kNothing, kKinematics, kStep1 };
+  static AfterRk4Step after_rk4_step_needs(const MujocoTask& task, bool has_hook);
+  // step, with `complete` false letting an RK4 model skip the position and velocity stages of the new state
+  // that nothing of the task reads (a rollout without an observer).
+  MujocoStepOutcome step_to(MujocoSlot& slot, std::span<const double> action, std::span<const double> p,
+                            bool complete) const;
+
   MujocoModel model_;
   MujocoTask task_;
   RewardHook hook_;
@@ -118,7 +127,8 @@ class MujocoEnvironment {
   std::vector<double> ctrl_mid_, ctrl_half_;  // ctrl = mid + half * a
   bool contact_cost_ = false;                 // a reward term needs the contact forces
   bool split_step_ = true;                    // mj_step2 integrates as mj_step does (not RK4)
-  double control_dt_ = 0.0;                   // frame_skip * timestep, s
+  AfterRk4Step after_rk4_step_ = AfterRk4Step::kStep1;
+  double control_dt_ = 0.0;  // frame_skip * timestep, s
 };
 
 // MuJoCo's mjtIntegrator as MJCF writes it.
