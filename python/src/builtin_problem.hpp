@@ -11,9 +11,9 @@
 
 namespace pegasus::python {
 
-ScenarioSet make_scenario_set(py::object seed, std::int64_t count, std::int64_t horizon,
-                              std::int64_t noise_dim, std::int64_t initial_noise_dim,
-                              const std::string& variant, const char* count_name = "count");
+ScenarioSet make_scenario_set(SeedArg seed, std::int64_t count, std::int64_t horizon, std::int64_t noise_dim,
+                              std::int64_t initial_noise_dim, const std::string& variant,
+                              const char* count_name = "count");
 
 // A pool of `threads` (ValueError naming `threads` outside [1, 1024], as --threads).
 inline std::shared_ptr<ThreadPool> make_pool(std::int64_t threads) {
@@ -25,8 +25,8 @@ inline std::shared_ptr<ThreadPool> make_pool(std::int64_t threads) {
 template <SimulativeModel M, class P>
 class BuiltinProblem final : public Objective {
  public:
-  BuiltinProblem(M model, P policy, py::object seed, std::int64_t scenarios, std::int64_t horizon,
-                 double gamma, const std::string& variant, std::int64_t threads)
+  BuiltinProblem(M model, P policy, SeedArg seed, std::int64_t scenarios, std::int64_t horizon, double gamma,
+                 const std::string& variant, std::int64_t threads)
       : pool_(make_pool(threads)),
         evaluator_(model, std::move(policy),
                    make_scenario_set(seed, scenarios, horizon, model.noise_dim(), model.initial_noise_dim(),
@@ -61,7 +61,7 @@ template <class Problem>
 void bind_returns(py::class_<Problem, Objective>& c) {
   c.def(
       "returns",
-      [](const Problem& p, py::object theta) {
+      [](const Problem& p, ArrayLikeArg theta) {
         const Theta t = as_theta(theta, "theta", p.parameters());
         std::vector<double> r;
         {

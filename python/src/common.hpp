@@ -14,6 +14,7 @@
 
 #include "pegasus/optimizers/run_progress.hpp"
 #include "pegasus/policies/parameter_spec.hpp"
+#include "typed_objects.hpp"
 
 namespace pegasus::python {
 
@@ -125,7 +126,7 @@ auto is_valid_method() {
   return [](const T& o) {
     std::string error;
     const bool ok = o.IsValid(&error);
-    return py::make_tuple(ok, error);
+    return std::pair<bool, std::string>(ok, error);  // typed: the signature says Tuple[bool, str]
   };
 }
 

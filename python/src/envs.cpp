@@ -94,7 +94,7 @@ Randlov and Alstrom's bicycle (thesis §4.6) as a batch model. A state row is
       .def_property_readonly("initial_noise_dim", &Bicycle::initial_noise_dim, kInitialNoiseDimDoc)
       .def(
           "initial_state",
-          [](const Bicycle& b, py::object noise) {
+          [](const Bicycle& b, ArrayLikeArg noise) {
             const Array p = as_matrix(noise, "noise", -1, 5);
             require_finite(p, "noise");
             Array out = matrix(p.shape(0), kBicycleStateColumns);
@@ -108,7 +108,7 @@ Randlov and Alstrom's bicycle (thesis §4.6) as a batch model. A state row is
           "uniforms.")
       .def(
           "step",
-          [](const Bicycle& b, py::object states, py::object actions, py::object noise) {
+          [](const Bicycle& b, ArrayLikeArg states, ArrayLikeArg actions, ArrayLikeArg noise) {
             const Array s = as_matrix(states, "states", -1, kBicycleStateColumns);
             const Array a = as_matrix(actions, "actions", s.shape(0), 2);
             const Array p = as_matrix(noise, "noise", s.shape(0), 1);
@@ -127,7 +127,7 @@ Randlov and Alstrom's bicycle (thesis §4.6) as a batch model. A state row is
           "one noise uniform per row.")
       .def(
           "observe",
-          [](const Bicycle& b, py::object states) {
+          [](const Bicycle& b, ArrayLikeArg states) {
             const Array s = as_matrix(states, "states", -1, kBicycleStateColumns);
             Array out = matrix(s.shape(0), 5);
             for (py::ssize_t r = 0; r < s.shape(0); ++r) {
@@ -141,7 +141,7 @@ Randlov and Alstrom's bicycle (thesis §4.6) as a batch model. A state row is
 
   m.def(
       "bicycle_features",
-      [](py::object observations) {
+      [](ArrayLikeArg observations) {
         const Array o = as_matrix(observations, "observations", -1, 5);
         Array out = matrix(o.shape(0), BicycleFeatures::kCount);
         const BicycleFeatures f;
@@ -164,7 +164,7 @@ Randlov and Alstrom's bicycle (thesis §4.6) as a batch model. A state row is
       "field when it is not one.");
   m.def(
       "bicycle_controls",
-      [](py::object theta, py::object observations) {
+      [](ArrayLikeArg theta, ArrayLikeArg observations) {
         const BicyclePolicy policy = make_bicycle_policy();
         const Theta w = as_theta(theta, "theta", policy.parameters());
         const Array o = as_matrix(observations, "observations", -1, 5);
@@ -189,8 +189,8 @@ Randlov and Alstrom's bicycle (thesis §4.6) as a batch model. A state row is
 PEGASUS U-hat of the bicycle policy class on the (unshaped) C++ bicycle: m scenarios of the given seed and
 variant, horizon H, discount gamma, evaluated on `threads` threads (the result never depends on them).)doc");
   bicycle_problem.def(
-      py::init([](const BicycleOptions& bicycle, py::object seed, std::int64_t scenarios,
-                  std::int64_t horizon, double gamma, const std::string& variant, std::int64_t threads) {
+      py::init([](const BicycleOptions& bicycle, SeedArg seed, std::int64_t scenarios, std::int64_t horizon,
+                  double gamma, const std::string& variant, std::int64_t threads) {
         return std::make_unique<BicycleProblem>(Bicycle(bicycle), make_bicycle_policy(), seed, scenarios,
                                                 horizon, gamma, variant, threads);
       }),
@@ -207,7 +207,7 @@ Gymnasium's Pendulum-v1 (envs/pendulum.hpp) as a batch model: a state row is [th
       .def_property_readonly("initial_noise_dim", &Pendulum::initial_noise_dim, kInitialNoiseDimDoc)
       .def(
           "initial_state",
-          [](const Pendulum& pendulum, py::object noise) {
+          [](const Pendulum& pendulum, ArrayLikeArg noise) {
             const Array p = as_matrix(noise, "noise", -1, 2);
             require_finite(p, "noise");
             Array out = matrix(p.shape(0), 2);
@@ -220,7 +220,7 @@ Gymnasium's Pendulum-v1 (envs/pendulum.hpp) as a batch model: a state row is [th
           py::arg("noise"), "States (rows of theta, theta_dot) drawn from rows of 2 uniforms.")
       .def(
           "step",
-          [](const Pendulum& pendulum, py::object states, py::object actions) {
+          [](const Pendulum& pendulum, ArrayLikeArg states, ArrayLikeArg actions) {
             const Array s = as_matrix(states, "states", -1, 2);
             const Array a = as_matrix(actions, "actions", s.shape(0), 1);
             require_finite(s, "states");
@@ -237,7 +237,7 @@ Gymnasium's Pendulum-v1 (envs/pendulum.hpp) as a batch model: a state row is [th
           "The next states (rows of theta, theta_dot) from states and actions (one torque per row).")
       .def(
           "reward",
-          [](const Pendulum& pendulum, py::object states, py::object actions) {
+          [](const Pendulum& pendulum, ArrayLikeArg states, ArrayLikeArg actions) {
             const Array s = as_matrix(states, "states", -1, 2);
             const Array a = as_matrix(actions, "actions", s.shape(0), 1);
             Array out(s.shape(0));
@@ -255,7 +255,7 @@ Gymnasium's Pendulum-v1 (envs/pendulum.hpp) as a batch model: a state row is [th
 PEGASUS U-hat of the swing-up policy class (refinements: the full seven-number class, else the five-number one)
 on Pendulum-v1: m scenarios, horizon H, discount gamma, on `threads` threads.)doc");
   pendulum_problem.def(
-      py::init([](py::object seed, std::int64_t scenarios, std::int64_t horizon, double gamma,
+      py::init([](SeedArg seed, std::int64_t scenarios, std::int64_t horizon, double gamma,
                   const std::string& variant, std::int64_t threads, bool refinements) {
         return std::make_unique<PendulumProblem>(Pendulum(), PendulumSwingUpPolicy(refinements), seed,
                                                  scenarios, horizon, gamma, variant, threads);
@@ -284,8 +284,8 @@ on Pendulum-v1: m scenarios, horizon H, discount gamma, on `threads` threads.)do
 PEGASUS U-hat of table policies (one integer action per cell, TablePolicy) on the §3.4 corner gridworld,
 m scenarios of the given seed, horizon H, discount gamma, on `threads` threads.)doc");
   gridworld_problem.def(
-      py::init([](std::int64_t n, double intended, py::object seed, std::int64_t scenarios,
-                  std::int64_t horizon, double gamma, const std::string& variant, std::int64_t threads) {
+      py::init([](std::int64_t n, double intended, SeedArg seed, std::int64_t scenarios, std::int64_t horizon,
+                  double gamma, const std::string& variant, std::int64_t threads) {
         GridWorld world = checked_corner_gridworld(n, intended);
         TablePolicy policy(world.num_states(), world.num_actions());
         return std::make_unique<GridworldProblem>(std::move(world), std::move(policy), seed, scenarios,
@@ -298,7 +298,7 @@ m scenarios of the given seed, horizon H, discount gamma, on `threads` threads.)
 PEGASUS U-hat of memoryless table policies (one integer action per wall-pattern observation) on the POMDP
 gridworld of thesis §4.6 (width x height, open grid, start (0, 0), goal at the far corner).)doc");
   pomdp_problem.def(
-      py::init([](std::int64_t width, std::int64_t height, py::object seed, std::int64_t scenarios,
+      py::init([](std::int64_t width, std::int64_t height, SeedArg seed, std::int64_t scenarios,
                   std::int64_t horizon, double gamma, const std::string& variant, std::int64_t threads) {
         if (width < 2 || width > 1000 || height < 2 || height > 1000)
           throw py::value_error(
@@ -342,8 +342,9 @@ gridworld of thesis §4.6 (width x height, open grid, start (0, 0), goal at the 
       .def("is_valid", is_valid_method<BicycleTrainingOptions>(), kIsValidDoc);
   m.def(
       "train_bicycle",
-      [](const BicycleTrainingOptions& options, std::int64_t checkpoint_every, py::object on_checkpoint,
-         py::object resume_from, py::object callbacks) {
+      [](const BicycleTrainingOptions& options, std::int64_t checkpoint_every,
+         CheckpointCallbackArg on_checkpoint, OptionalCheckpointArg resume_from,
+         IterationCallbacksArg callbacks) {
         const IterationCallbackList list(callbacks);
         BicycleTrainingHooks hooks;
         hooks.callbacks = list.pointers();
@@ -403,7 +404,7 @@ by the C++ PegasusEvaluator on options.threads threads: the same U-hat as bicycl
 uhat_batch the C++ side of the numpy-bicycle benchmark (bench/bicycle_bench.cpp BM_BicycleUhatBatch_31x30_H500).)doc");
   m.def(
       "bicycle_uhat",
-      [](const BicycleTrainingOptions& options, py::object theta) {
+      [](const BicycleTrainingOptions& options, ArrayLikeArg theta) {
         const Theta t = as_theta(theta, "theta", make_bicycle_policy().parameters());
         ReleaseGilInterruptibly release;
         return bicycle_uhat(options, t);

@@ -22,7 +22,7 @@
 
 namespace pegasus::python {
 
-std::shared_ptr<const sysid::IdentifiedModel> identified_model(py::object model) {
+std::shared_ptr<const sysid::IdentifiedModel> identified_model(IdentifiedModelArg model) {
   if (py::isinstance<py::str>(model))
     return std::make_shared<const sysid::IdentifiedModel>(
         sysid::IdentifiedModel::load(model.cast<std::string>()));
@@ -177,7 +177,7 @@ template <class T, std::size_t N>
 void def_array(py::class_<T>& c, const char* name, std::array<double, N> T::*field, const char* doc) {
   c.def_property(
       name, [field](const T& t) { return vector_array(t.*field); },
-      [field, name](T& t, py::object v) {
+      [field, name](T& t, ArrayLikeArg v) {
         const Array a = as_vector(v, name, static_cast<py::ssize_t>(N));
         require_finite(a, name);
         std::copy(a.data(), a.data() + N, (t.*field).begin());
@@ -215,7 +215,7 @@ errors, minus the weighted squared controls about `centre` (heli/hover_task.hpp)
   reward
       .def_static(
           "from_typical",
-          [](double position_m, double velocity_mps, double yaw_rad, double action, py::object centre) {
+          [](double position_m, double velocity_mps, double yaw_rad, double action, ArrayLikeArg centre) {
             const Array c = as_vector(centre, "centre", 4);
             require_finite(c, "centre");
             return HoverReward::from_typical(position_m, velocity_mps, yaw_rad, action,
@@ -275,7 +275,7 @@ fed by the body-frame errors, velocities and attitude.)doc")
                              "\"a1.int\" .. \"a4.int\" with the integral term (38).")
       .def(
           "act",
-          [](const HoverPolicy& policy, py::object theta, py::object states, const SetPoint& target) {
+          [](const HoverPolicy& policy, ArrayLikeArg theta, ArrayLikeArg states, const SetPoint& target) {
             const Theta w = as_theta(theta, "theta", policy.parameters());
             const Array s = as_matrix(states, "states", -1, kLogged);
             require_finite(s, "states");
@@ -395,7 +395,7 @@ servos, gusts, estimate errors, time, crash code); observe() gives the 12 logged
           "The hover trim (Newton's method): controls, roll, pitch, residual acceleration.")
       .def(
           "true_state",
-          [](const Aircraft&, py::object states) {
+          [](const Aircraft&, ArrayLikeArg states) {
             const Array s = as_matrix(states, "states", -1, kAircraftColumns);
             Array out = matrix(s.shape(0), kLogged);
             for (py::ssize_t r = 0; r < s.shape(0); ++r) {
@@ -408,7 +408,7 @@ servos, gusts, estimate errors, time, crash code); observe() gives the 12 logged
           py::arg("states"), "The true 12 logged states (no estimate error), [n, 12].")
       .def(
           "crash_reason",
-          [](const Aircraft&, py::object states) {
+          [](const Aircraft&, ArrayLikeArg states) {
             const Array s = as_matrix(states, "states", -1, kAircraftColumns);
             std::vector<std::string> out;
             for (py::ssize_t r = 0; r < s.shape(0); ++r)
@@ -495,7 +495,7 @@ row has 161 columns (STATE_COLUMNS: the 12 logged states first, then the extra s
 the predictive variance, the AR part of the noise, the step and the crash flag); reward() is the crash
 penalty.)doc");
   learned
-      .def(py::init([](py::object model, const LearnedModelOptions& o) {
+      .def(py::init([](IdentifiedModelArg model, const LearnedModelOptions& o) {
              std::string error;
              if (!o.IsValid(&error)) throw py::value_error("options." + error);
              return LearnedHeliModel(identified_model(model), o);
@@ -508,7 +508,7 @@ penalty.)doc");
           "The names of a state row's 161 columns, in order (x .. yaw_rate first, crashed last).")
       .def(
           "reward",
-          [](const LearnedHeliModel& model, py::object states, py::object actions, py::object next) {
+          [](const LearnedHeliModel& model, ArrayLikeArg states, ArrayLikeArg actions, ArrayLikeArg next) {
             const Array s = as_matrix(states, "states", -1, kLearnedColumns);
             const Array a = as_matrix(actions, "actions", s.shape(0), 4);
             const Array n = as_matrix(next, "next_states", s.shape(0), kLearnedColumns);

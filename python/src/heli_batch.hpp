@@ -29,7 +29,7 @@ template <class T>
 void def_vec3(py::class_<T>& c, const char* name, heli::Vec3 T::*field, const char* doc) {
   c.def_property(
       name, [field](const T& t) { return vector_array(std::span<const double>((t.*field).data(), 3)); },
-      [field, name](T& t, py::object v) {
+      [field, name](T& t, ArrayLikeArg v) {
         const Array a = as_vector(v, name, 3);
         require_finite(a, name);
         t.*field = heli::Vec3(a.data()[0], a.data()[1], a.data()[2]);
@@ -97,7 +97,7 @@ struct HeliBatch {
     return out;
   }
 
-  static Array initial_state(const M& model, py::object noise, std::int64_t threads) {
+  static Array initial_state(const M& model, ArrayLikeArg noise, std::int64_t threads) {
     const Array p = as_matrix(noise, "noise", -1, model.initial_noise_dim());
     require_uniform(p, "noise");
     const auto pool = make_pool(threads);
@@ -114,7 +114,7 @@ struct HeliBatch {
     return out;
   }
 
-  static Array step(const M& model, py::object states, py::object actions, py::object noise,
+  static Array step(const M& model, ArrayLikeArg states, ArrayLikeArg actions, ArrayLikeArg noise,
                     std::int64_t threads) {
     const Array s = as_matrix(states, "states", -1, columns());
     const Array a = as_matrix(actions, "actions", s.shape(0), 4);
@@ -138,7 +138,7 @@ struct HeliBatch {
     return out;
   }
 
-  static Array observe(const M& model, py::object states) {
+  static Array observe(const M& model, ArrayLikeArg states) {
     const Array s = as_matrix(states, "states", -1, columns());
     Array out = matrix(s.shape(0), kLogged);
     for (py::ssize_t r = 0; r < s.shape(0); ++r) {
@@ -148,7 +148,7 @@ struct HeliBatch {
     return out;
   }
 
-  static py::array_t<bool> terminal(const M& model, py::object states) {
+  static py::array_t<bool> terminal(const M& model, ArrayLikeArg states) {
     const Array s = as_matrix(states, "states", -1, columns());
     py::array_t<bool> out(s.shape(0));
     for (py::ssize_t r = 0; r < s.shape(0); ++r)
@@ -157,8 +157,9 @@ struct HeliBatch {
   }
 
   // Open loop (actions [n, T, 4]) or closed loop under a policy file's controller; see the docstring.
-  static py::dict simulate(const M& model, py::object initial_noise, py::object noise, py::object actions,
-                           const heli::HeliController* controller, std::int64_t threads) {
+  static py::dict simulate(const M& model, ArrayLikeArg initial_noise, ArrayLikeArg noise,
+                           ArrayLikeArg actions, const heli::HeliController* controller,
+                           std::int64_t threads) {
     const Array p0 = as_matrix(initial_noise, "initial_noise", -1, model.initial_noise_dim());
     require_uniform(p0, "initial_noise");
     const py::ssize_t n = p0.shape(0);
@@ -236,8 +237,8 @@ struct HeliBatch {
         .def("terminal", &HeliBatch::terminal, py::arg("states"), "Whether each row has crashed (absorbing).")
         .def(
             "simulate",
-            [](const M& model, py::object initial_noise, py::object noise, py::object actions,
-               py::object policy, std::int64_t threads) {
+            [](const M& model, ArrayLikeArg initial_noise, ArrayLikeArg noise, ArrayLikeArg actions,
+               HeliPolicyArg policy, std::int64_t threads) {
               const heli::HeliController* controller = nullptr;
               if (!policy.is_none()) {
                 if (!py::isinstance<HeliPolicyObject>(policy))

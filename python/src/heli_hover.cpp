@@ -49,7 +49,7 @@ class HoverProblemObject final : public Objective {
 template <class M>
 std::unique_ptr<HoverProblemObject> hover_problem(const M& model, const SetPoint& target,
                                                   const HoverReward& reward,
-                                                  const heli::HoverPolicyInit& init, py::object seed,
+                                                  const heli::HoverPolicyInit& init, SeedArg seed,
                                                   std::int64_t scenarios, std::int64_t horizon, double gamma,
                                                   const std::string& variant, std::int64_t threads) {
   std::string error;
@@ -122,7 +122,7 @@ climbing, on the identified model (heli/hover_task.hpp).)doc");
       .def("gamma_per_step", &heli::HoverTrainingOptions::gamma_per_step, "gamma^(50 / control_rate_hz).")
       .def(
           "refit_steps",
-          [](const heli::HoverTrainingOptions& o, py::object model) {
+          [](const heli::HoverTrainingOptions& o, IdentifiedModelArg model) {
             return o.refit_steps(*identified_model(model));
           },
           py::arg("model"), "refit_every, or the steps of 0.1 s when 0.")
@@ -156,8 +156,8 @@ the reward (Eqs 5.9-5.10) to the model's own; m scenarios of the given seed and 
 discount gamma, evaluated on `threads` threads (the result never depends on them).
 HoverProblem.from_training_options(model, options) is the objective `pegasus heli hover` maximises.)doc");
   problem
-      .def(py::init([](py::object model, const SetPoint& target, const HoverReward& reward,
-                       const heli::HoverPolicyInit& init, py::object seed, std::int64_t scenarios,
+      .def(py::init([](HeliModelArg model, const SetPoint& target, const HoverReward& reward,
+                       const heli::HoverPolicyInit& init, SeedArg seed, std::int64_t scenarios,
                        std::int64_t horizon, double gamma, const std::string& variant, std::int64_t threads) {
              if (py::isinstance<Aircraft>(model))
                return hover_problem(model.cast<const Aircraft&>(), target, reward, init, seed, scenarios,
@@ -178,7 +178,7 @@ HoverProblem.from_training_options(model, options) is the objective `pegasus hel
            py::arg("threads") = 1)
       .def_static(
           "from_training_options",
-          [](py::object model, const heli::HoverTrainingOptions& o, std::int64_t threads) {
+          [](IdentifiedModelArg model, const heli::HoverTrainingOptions& o, std::int64_t threads) {
             std::string error;
             if (!o.IsValid(&error)) throw py::value_error("options." + error);
             auto inner = heli::hover_objective(identified_model(model), o, make_pool(threads));
@@ -199,11 +199,11 @@ HoverProblem.from_training_options(model, options) is the objective `pegasus hel
 
   m.def(
       "hover_init_from_model",
-      [](py::object model) { return heli::hover_init_from_model(*identified_model(model)); },
+      [](IdentifiedModelArg model) { return heli::hover_init_from_model(*identified_model(model)); },
       py::arg("model"), "The hover policy's starting weights around the trim estimate of the model's logs.");
   m.def(
       "lqr_hover_init",
-      [](py::object model, const heli::HoverTrainingOptions& o) {
+      [](IdentifiedModelArg model, const heli::HoverTrainingOptions& o) {
         const heli::LqrStart r = heli::lqr_hover_init(*identified_model(model), o);
         py::dict out;
         out["init"] = r.init;
@@ -222,7 +222,7 @@ HoverProblem.from_training_options(model, options) is the objective `pegasus hel
       "open_loop_radius.");
   m.def(
       "hover_reward_for",
-      [](py::object model, const heli::HoverTrainingOptions& o) {
+      [](IdentifiedModelArg model, const heli::HoverTrainingOptions& o) {
         return heli::hover_reward_for(*identified_model(model), o);
       },
       py::arg("model"), py::arg_v("options", heli::HoverTrainingOptions{}, "HoverTrainingOptions()"),
@@ -263,8 +263,9 @@ stops when more than options.max_start_crash_fraction of them crash (heli/hover_
                       "lqr_action_factor"});
   m.def(
       "train_hover",
-      [](py::object model, const heli::HoverTrainingOptions& o, std::int64_t checkpoint_every,
-         py::object on_checkpoint, py::object resume_from, py::object callbacks, std::int64_t threads) {
+      [](IdentifiedModelArg model, const heli::HoverTrainingOptions& o, std::int64_t checkpoint_every,
+         CheckpointCallbackArg on_checkpoint, OptionalCheckpointArg resume_from,
+         IterationCallbacksArg callbacks, std::int64_t threads) {
         std::string error;
         if (!o.IsValid(&error)) throw py::value_error("options." + error);
         if (checkpoint_every < 0)

@@ -9,7 +9,7 @@
 namespace pegasus::python {
 
 // A pegasus.IdentifiedModel, or the one a model.json path names (a ValueError otherwise).
-std::shared_ptr<const sysid::IdentifiedModel> identified_model(py::object model);
+std::shared_ptr<const sysid::IdentifiedModel> identified_model(IdentifiedModelArg model);
 // HoverTrainingOptions, HoverProblem and the hover functions (thesis §5.3).
 void bind_hover(py::module_& m);
 

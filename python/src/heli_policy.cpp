@@ -15,7 +15,7 @@ HeliPolicyObject::HeliPolicyObject(heli::PolicyFile f, std::string from)
   controller = heli::make_controller(file, source);
 }
 
-Array HeliPolicyObject::controls(py::object states, py::object time, std::int64_t threads,
+Array HeliPolicyObject::controls(ArrayLikeArg states, TimeArg time, std::int64_t threads,
                                  bool one_flight) const {
   const Array s = as_matrix(states, "states", -1, kLogged);
   require_finite(s, "states");
@@ -62,13 +62,13 @@ HeliPolicy.hover(theta, target, trim).)doc")
           py::arg("path"), "Reads and checks a policy file; ValueError 'FILE: FIELD: expected ...'.")
       .def_static(
           "from_json",
-          [](py::object j, const std::string& source) {
+          [](JsonObject j, const std::string& source) {
             return HeliPolicyObject(heli::parse_policy_file(from_python(j, "policy"), source), source);
           },
           py::arg("policy"), py::arg("source") = "policy", "A policy from the file's JSON object (a dict).")
       .def_static(
           "hover",
-          [](py::object theta, const heli::SetPoint& target, py::object trim,
+          [](ArrayLikeArg theta, const heli::SetPoint& target, ArrayLikeArg trim,
              const heli::HoverPolicyInit& init, double integral_dt) {
             const heli::HoverPolicy policy(init);
             const Theta w = as_theta(theta, "theta", policy.parameters());
@@ -111,14 +111,15 @@ HeliPolicy.hover(theta, target, trim).)doc")
           "The hover trim estimate of the pilot's logs, a1..a4 in [-1, 1]: the class's starting point and "
           "the safe output of `heli control`.")
       .def_property_readonly(
-          "options", [](const HeliPolicyObject& p) { return to_python(p.file.options); },
+          "options", [](const HeliPolicyObject& p) { return JsonObject(to_python(p.file.options)); },
           "Class-specific settings, a dict (hover: \"integral\", the integral term's integrator; maneuver: "
           "which trajectory).")
       .def_property_readonly(
-          "provenance", [](const HeliPolicyObject& p) { return to_python(p.file.provenance); },
+          "provenance", [](const HeliPolicyObject& p) { return JsonObject(to_python(p.file.provenance)); },
           "How the policy was made (command, U-hat, ...), a dict; flying ignores it.")
       .def(
-          "to_json", [](const HeliPolicyObject& p) { return to_python(heli::policy_file_json(p.file)); },
+          "to_json",
+          [](const HeliPolicyObject& p) { return JsonObject(to_python(heli::policy_file_json(p.file))); },
           "The policy file's contents as a dict (what save writes).")
       .def(
           "save",

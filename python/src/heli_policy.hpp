@@ -19,7 +19,7 @@ struct HeliPolicyObject {
 
   // The controls [n, 4] for logged states [n, 12] at `time` (one number or one per row), on `threads`
   // threads; with one_flight the rows are one flight's control periods (the controller's memory carried).
-  Array controls(py::object states, py::object time, std::int64_t threads, bool one_flight) const;
+  Array controls(ArrayLikeArg states, TimeArg time, std::int64_t threads, bool one_flight) const;
 };
 
 // pegasus.HeliPolicy and heli_policy_classes (needs pegasus.SetPoint and pegasus.HoverPolicyInit bound

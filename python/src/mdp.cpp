@@ -26,10 +26,10 @@ std::vector<int> as_indices(py::handle object, const std::string& name, py::ssiz
   return out;
 }
 
-FiniteMdp from_triplets(std::int64_t num_states, std::int64_t num_actions, double gamma, py::object state,
-                        py::object action, py::object next, py::object probability, py::object reward,
-                        py::object state_reward, py::object state_action_reward, py::object absorbing,
-                        py::object initial) {
+FiniteMdp from_triplets(std::int64_t num_states, std::int64_t num_actions, double gamma, ArrayLikeArg state,
+                        ArrayLikeArg action, ArrayLikeArg next, ArrayLikeArg probability, ArrayLikeArg reward,
+                        ArrayLikeArg state_reward, ArrayLikeArg state_action_reward, ArrayLikeArg absorbing,
+                        ArrayLikeArg initial) {
   if (num_states < 1 || num_states > (1 << 30))
     throw py::value_error(fmt::format("num_states: expected an integer in [1, 2^30], got {}", num_states));
   if (num_actions < 1 || num_actions > 64)
@@ -74,8 +74,8 @@ FiniteMdp from_triplets(std::int64_t num_states, std::int64_t num_actions, doubl
   return builder.build();
 }
 
-ShapingTable shaping_table(const FiniteMdp& mdp, py::object state, py::object action, py::object next,
-                           py::object value) {
+ShapingTable shaping_table(const FiniteMdp& mdp, ArrayLikeArg state, ArrayLikeArg action, ArrayLikeArg next,
+                           ArrayLikeArg value) {
   const Array v = as_vector(value, "F", -1);
   require_finite(v, "F");
   const auto nnz = v.shape(0);
@@ -150,7 +150,7 @@ gamma, absorbing=..., initial=...) from numpy arrays or scipy.sparse matrices.)d
           "Policy iteration with exact evaluation; returns a SolveSummary.")
       .def(
           "evaluate_policy",
-          [](const FiniteMdp& mdp, py::object policy) {
+          [](const FiniteMdp& mdp, ArrayLikeArg policy) {
             const Array a = as_array(policy, "policy");
             if (a.ndim() == 2) {
               const Array probs = as_matrix(a, "policy", mdp.num_states, mdp.num_actions);
@@ -177,17 +177,17 @@ gamma, absorbing=..., initial=...) from numpy arrays or scipy.sparse matrices.)d
           "probabilities).")
       .def(
           "shape_with_potential",
-          [](const FiniteMdp& mdp, py::object phi) {
+          [](const FiniteMdp& mdp, ArrayLikeArg phi) {
             const Array p = as_vector(phi, "phi", mdp.num_states);
             require_finite(p, "phi");
             return shape_with_potential(
                 mdp, std::span<const double>(p.data(), static_cast<std::size_t>(p.size())));
           },
           py::arg("phi"), "M' = M + F with F = gamma Phi(s') - Phi(s) (Eq 3.1; Phi of absorbing states 0).")
-      .def("_add_shaping", [](const FiniteMdp& mdp, py::object s, py::object a, py::object n,
-                              py::object v) { return add_shaping(mdp, shaping_table(mdp, s, a, n, v)); })
-      .def("_audit_shaping", [](const FiniteMdp& mdp, py::object s, py::object a, py::object n, py::object v,
-                                double tolerance) {
+      .def("_add_shaping", [](const FiniteMdp& mdp, ArrayLikeArg s, ArrayLikeArg a, ArrayLikeArg n,
+                              ArrayLikeArg v) { return add_shaping(mdp, shaping_table(mdp, s, a, n, v)); })
+      .def("_audit_shaping", [](const FiniteMdp& mdp, ArrayLikeArg s, ArrayLikeArg a, ArrayLikeArg n,
+                                ArrayLikeArg v, double tolerance) {
         AuditOptions o;
         o.tolerance = tolerance;
         std::string error;

@@ -24,14 +24,14 @@ void bind_checkpointing(py::class_<Options>& c) {
                   "Iterations between checkpoints (0: none); each is passed to on_checkpoint as a dict.")
       .def_property(
           "on_checkpoint", [](const Options& o) { return static_cast<bool>(o.on_checkpoint); },
-          [](Options& o, py::object f) { o.on_checkpoint = checkpoint_callback(std::move(f)); },
+          [](Options& o, CheckpointCallbackArg f) { o.on_checkpoint = checkpoint_callback(std::move(f)); },
           "Set: a callable receiving each checkpoint (a dict); get: whether one is set.")
       .def_property(
           "resume_from",
           [](const Options& o) -> py::object {
             return o.resume_from ? to_python(*o.resume_from) : py::none();
           },
-          [](Options& o, py::object state) {
+          [](Options& o, OptionalCheckpointArg state) {
             if (state.is_none())
               o.resume_from.reset();
             else
@@ -182,7 +182,7 @@ BicycleProblem, FunctionObjective, ...)doc")
                              "The ParameterSpec of theta: names, initial values, bounds and scales.")
       .def(
           "uhat",
-          [](Objective& o, py::object theta) {
+          [](Objective& o, ArrayLikeArg theta) {
             const Theta t = as_theta(theta, "theta", o.parameters());
             ReleaseGilInterruptibly release;
             return o.evaluate(t);
@@ -190,7 +190,7 @@ BicycleProblem, FunctionObjective, ...)doc")
           py::arg("theta"), "U-hat of one theta (the same bits every call).")
       .def(
           "uhat_batch",
-          [](Objective& o, py::object thetas) {
+          [](Objective& o, ArrayLikeArg thetas) {
             const std::vector<Theta> ts = as_thetas(thetas, "thetas", o.parameters());
             std::vector<double> values(ts.size());
             {
@@ -203,7 +203,7 @@ BicycleProblem, FunctionObjective, ...)doc")
 
   class PythonFunctionObjective final : public Objective {
    public:
-    PythonFunctionObjective(ParameterSpec spec, py::object f)
+    PythonFunctionObjective(ParameterSpec spec, ObjectiveFunctionArg f)
         : spec_(std::move(spec)), f_(hold(std::move(f))) {}
     const ParameterSpec& parameters() const override { return spec_; }
     double evaluate(std::span<const double> theta) override {
@@ -224,7 +224,7 @@ BicycleProblem, FunctionObjective, ...)doc")
   };
   py::class_<PythonFunctionObjective, Objective>(m, "FunctionObjective",
                                                  "An Objective from a Python function f(theta) -> float.")
-      .def(py::init([](ParameterSpec spec, py::object f) {
+      .def(py::init([](ParameterSpec spec, ObjectiveFunctionArg f) {
              if (!PyCallable_Check(f.ptr())) throw py::value_error("f: expected a callable");
              if (spec.size() == 0) throw py::value_error("parameters: expected at least one parameter");
              return std::make_unique<PythonFunctionObjective>(std::move(spec), std::move(f));
@@ -268,7 +268,8 @@ only the selected method's are used and validated.)doc")
            "The selected method's iteration limit (what a progress bar counts to).")
       .def(
           "set_checkpointing",
-          [](OptimizerOptions& o, std::int64_t every, py::object on_checkpoint, py::object resume_from) {
+          [](OptimizerOptions& o, std::int64_t every, CheckpointCallbackArg on_checkpoint,
+             OptionalCheckpointArg resume_from) {
             std::optional<nlohmann::json> resume;
             if (!resume_from.is_none()) resume = from_python(resume_from, "resume_from");
             o.SetCheckpointing(every, checkpoint_callback(std::move(on_checkpoint)), std::move(resume));
@@ -357,7 +358,8 @@ only the selected method's are used and validated.)doc")
 
   m.def(
       "solve",
-      [](Objective& objective, const OptimizerOptions& options, py::object theta, py::object callbacks) {
+      [](Objective& objective, const OptimizerOptions& options, ArrayLikeArg theta,
+         IterationCallbacksArg callbacks) {
         Theta t;
         if (!theta.is_none()) t = as_theta(theta, "theta", objective.parameters());
         std::string error;

@@ -148,7 +148,7 @@ the 12 logged states a flight computer sees. The batch methods are Aircraft's.)d
                              "The rotor speed that holds it at rest, rad/s.")
       .def(
           "true_state",
-          [](const Quadrotor&, py::object states) {
+          [](const Quadrotor&, ArrayLikeArg states) {
             const Array s = as_matrix(states, "states", -1, kQuadrotorColumns);
             Array out = matrix(s.shape(0), kLogged);
             for (py::ssize_t r = 0; r < s.shape(0); ++r) {
@@ -161,7 +161,7 @@ the 12 logged states a flight computer sees. The batch methods are Aircraft's.)d
           py::arg("states"), "The true 12 logged states (no estimate error), [n, 12].")
       .def(
           "crash_reason",
-          [](const Quadrotor&, py::object states) {
+          [](const Quadrotor&, ArrayLikeArg states) {
             const Array s = as_matrix(states, "states", -1, kQuadrotorColumns);
             std::vector<std::string> out;
             for (py::ssize_t r = 0; r < s.shape(0); ++r)

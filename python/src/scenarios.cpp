@@ -15,9 +15,9 @@ int checked_int(std::int64_t value, const char* name, std::int64_t lowest) {
 }
 }  // namespace
 
-ScenarioSet make_scenario_set(py::object seed, std::int64_t count, std::int64_t horizon,
-                              std::int64_t noise_dim, std::int64_t initial_noise_dim,
-                              const std::string& variant, const char* count_name) {
+ScenarioSet make_scenario_set(SeedArg seed, std::int64_t count, std::int64_t horizon, std::int64_t noise_dim,
+                              std::int64_t initial_noise_dim, const std::string& variant,
+                              const char* count_name) {
   ScenarioOptions o;
   o.seed = as_seed(seed, "seed");
   o.count = checked_int(count, count_name, 1);
@@ -34,7 +34,7 @@ m PEGASUS scenarios (thesis §4.4.2): scenario i is (s0 noise, p_1, ..., p_H), c
 counter-based generator keyed by `seed`, so Python sees exactly the numbers the C++ evaluators use.
 variant: "plain", "antithetic" (scenario 2k+1 uses 1-u), "stratified" (Latin hypercube initial noise) or
 "sobol" (randomised quasi-Monte Carlo); all uniforms lie in the open interval (0, 1).)doc")
-      .def(py::init([](py::object seed, std::int64_t count, std::int64_t horizon, std::int64_t noise_dim,
+      .def(py::init([](SeedArg seed, std::int64_t count, std::int64_t horizon, std::int64_t noise_dim,
                        std::int64_t initial_noise_dim, const std::string& variant) {
              return make_scenario_set(std::move(seed), count, horizon, noise_dim, initial_noise_dim, variant,
                                       "count");

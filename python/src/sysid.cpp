@@ -34,7 +34,7 @@ sysid::LogReadOptions read_options(std::int64_t min_rows) {
 }
 
 // A log from numpy data [rows, columns] and the columns' names, through the CSV reader's checks.
-FlightLog log_from_arrays(py::object data, const std::vector<std::string>& columns, std::int64_t min_rows) {
+FlightLog log_from_arrays(ArrayLikeArg data, const std::vector<std::string>& columns, std::int64_t min_rows) {
   const Array a = as_matrix(data, "data", -1, static_cast<py::ssize_t>(columns.size()));
   std::ostringstream text;
   for (std::size_t c = 0; c < columns.size(); ++c) {
@@ -131,7 +131,7 @@ variables' changes, its bandwidth and noise. Save it as the model.json `pegasus 
           "1 / the kernel bandwidth of each of the 16 regression inputs (roll .. a4, one), per unit of the "
           "input; 0: the kernel ignores the input (the constant's entry is unused).")
       .def(
-          "to_json", [](const IdentifiedModel& model) { return to_python(model.to_json()); },
+          "to_json", [](const IdentifiedModel& model) { return JsonObject(to_python(model.to_json())); },
           "The model file's contents (model.json) as a dict.")
       .def(
           "save", [](const IdentifiedModel& model, const std::string& path) { model.save(path); },
@@ -262,7 +262,7 @@ variables' changes, its bandwidth and noise. Save it as the model.json `pegasus 
       "(`heli identify`'s mse_at_seconds_as_trained).");
   m.def(
       "noise_check",
-      [](const IdentifiedModel& model, const py::object& test, double reset_s, std::int64_t threads) {
+      [](const IdentifiedModel& model, const FlightLogsArg& test, double reset_s, std::int64_t threads) {
         if (!(reset_s >= 0.1 && reset_s <= 100))
           throw py::value_error(fmt::format("reset_s: expected a number in [0.1, 100], got {}", reset_s));
         // One log, or several whose steps are pooled (sysid::pooled_noise_check).

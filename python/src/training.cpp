@@ -107,7 +107,7 @@ first stage's; REFINE_SEED_DOMAINS those of a refinement stage.)doc");
   m.attr("REFINE_SEED_DOMAINS") = SeedDomains::Refine();
   m.def(
       "derive_optimizer_seeds",
-      [](py::object run_seed, const SeedDomains& domains, OptimizerOptions& options) {
+      [](SeedArg run_seed, const SeedDomains& domains, OptimizerOptions& options) {
         DeriveOptimizerSeeds(as_seed(run_seed, "run_seed"), domains, &options);
       },
       py::arg("run_seed"), py::arg("domains"), py::arg("options"),
@@ -153,7 +153,7 @@ stage's initial U-hat, the last stage's best U-hat and theta, and whether a call
 
   m.def(
       "training_checkpoint_iterations",
-      [](py::object checkpoint) {
+      [](CheckpointArg checkpoint) {
         try {
           return TrainingCheckpointIterations(from_python(checkpoint, "checkpoint"));
         } catch (const nlohmann::json::exception& e) {
@@ -167,7 +167,7 @@ stage's initial U-hat, the last stage's best U-hat and theta, and whether a call
 
   m.def(
       "_train",
-      [](py::object plan, Objective& objective, py::object theta) {
+      [](UserObjectArg plan, Objective& objective, ArrayLikeArg theta) {
         for (const char* field :
              {"stages", "seed", "checkpoint_every", "on_checkpoint", "resume_from", "callbacks"})
           if (!py::hasattr(plan, field))

@@ -58,7 +58,7 @@ class BoxPolicy {
     }
   }
 
-  Array act_py(py::object thetas, py::object observations) const {
+  Array act_py(ArrayLikeArg thetas, ArrayLikeArg observations) const {
     const Array o = as_matrix(observations, "observations", -1, observation_dim_);
     const auto rows = o.shape(0);
     Array th = as_array(thetas, "thetas");
@@ -90,7 +90,7 @@ py::object read_only(const Array& a) {
   return view;
 }
 
-int int_attribute(const py::object& model, const char* name) {
+int int_attribute(const UserObjectArg& model, const char* name) {
   if (!py::hasattr(model, name)) throw py::value_error(fmt::format("model: expected an attribute {}", name));
   const py::object value = model.attr(name);
   if (!py::isinstance<py::int_>(value))
@@ -114,7 +114,7 @@ py::object method(const py::object& object, const char* owner, const char* name,
 // The PEGASUS objective of a Python model and a Python or built-in policy (see the module docstring).
 class VectorizedProblem final : public Objective {
  public:
-  VectorizedProblem(py::object model, py::object policy, py::object seed, std::int64_t scenarios,
+  VectorizedProblem(UserObjectArg model, UserObjectArg policy, SeedArg seed, std::int64_t scenarios,
                     std::int64_t horizon, double gamma, const std::string& variant, std::int64_t threads)
       : pool_(make_pool(threads)),
         model_(std::move(model)),
@@ -367,7 +367,7 @@ threads share what C++ does per step over the rows: the scenario noise, a built-
 (BoxPolicy) and the theta rows handed to policy.act. Every row is computed alone and the returns are
 accumulated per row in time order and summed in scenario order, so no result depends on the thread count.
 policy.act receives the same read-only thetas array on consecutive steps while the live rows do not change.)doc")
-      .def(py::init<py::object, py::object, py::object, std::int64_t, std::int64_t, double,
+      .def(py::init<UserObjectArg, UserObjectArg, SeedArg, std::int64_t, std::int64_t, double,
                     const std::string&, std::int64_t>(),
            py::arg("model"), py::arg("policy"), py::kw_only(), py::arg("seed"), py::arg("scenarios"),
            py::arg("horizon"), py::arg("gamma") = 1.0, py::arg("variant") = "plain", py::arg("threads") = 1,
@@ -384,7 +384,7 @@ policy.act receives the same read-only thetas array on consecutive steps while t
           "Rollout length H, steps.")
       .def(
           "returns",
-          [](VectorizedProblem& p, py::object thetas) {
+          [](VectorizedProblem& p, ArrayLikeArg thetas) {
             const std::vector<Theta> ts = as_thetas(thetas, "thetas", p.parameters());
             const std::vector<double> r = p.rollouts(ts);
             Array out = matrix(static_cast<py::ssize_t>(ts.size()), p.scenarios().size());
