@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "incumbent.hpp"
 #include "pegasus/core/error.hpp"
 
 namespace pegasus {
@@ -38,29 +39,13 @@ namespace {
 
 // One gradient ascent: where it stands (theta, its U-hat, the step length) and the scratch of the whole
 // run, so an iteration allocates nothing (STYLE.md). Its members are the steps of one iteration.
-struct Ascent {
+struct Ascent : Incumbent {
   Ascent(const GradientAscentOptions& run_options, const ParameterSpec& parameters)
       : options(run_options),
         spec(parameters),
         lower(parameters.lower()),
         upper(parameters.upper()),
         scale(parameters.scales()) {}
-
-  void Start(const Theta& first, Objective& objective, RunProgress& run) {
-    x = first;
-    value = objective.evaluate(x);
-    run.AddEvaluations(1);
-    run.set_initial_value(value);
-    run.Offer(x, value);
-    step = options.initial_step;
-  }
-
-  void Resume(const json& state) {
-    x = VectorFromJson(StateField(state, "theta"), "state.theta");
-    if (!spec.contains(x)) throw InputError("checkpoint state.theta: expected a theta inside the bounds");
-    value = DoubleFromJson(StateField(state, "value"), "state.value");
-    step = DoubleFromJson(StateField(state, "step"), "state.step");
-  }
 
   void AllocateScratch() {
     const std::size_t n = spec.size();
@@ -153,16 +138,9 @@ struct Ascent {
     }
   }
 
-  json State() const {
-    return json{{"theta", VectorToJson(x)}, {"value", DoubleToJson(value)}, {"step", DoubleToJson(step)}};
-  }
-
   const GradientAscentOptions& options;
   const ParameterSpec& spec;
   const Theta lower, upper, scale;
-  Theta x;
-  double value = 0.0;
-  double step = 0.0;
   std::vector<Theta> probes;  // theta +h and -h in each parameter in turn
   std::vector<double> probe_values;
   Theta plus, minus, direction, trial;
@@ -181,9 +159,9 @@ void Solve(const GradientAscentOptions& options, Objective& objective, Theta* th
   Ascent ascent(options, spec);
   RunProgress run("gradient", spec, options.callbacks);
   if (options.resume_from)
-    ascent.Resume(run.Resume(*options.resume_from));
+    ascent.Resume(run.Resume(*options.resume_from), spec);
   else
-    ascent.Start(StartingTheta(spec, *theta), objective, run);
+    ascent.Start(StartingTheta(spec, *theta), options.initial_step, objective, run);
   ascent.AllocateScratch();
 
   TerminationType termination = TerminationType::kFailure;

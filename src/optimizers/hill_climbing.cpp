@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "incumbent.hpp"
 #include "pegasus/core/error.hpp"
 
 namespace pegasus {
@@ -47,7 +48,7 @@ void FillStandardNormals(UniformStream& uniforms, std::span<double> normals) {
 namespace {
 
 // One hill climb: where it stands (theta, its U-hat, the step length) and an iteration's proposals.
-struct Climber {
+struct Climber : Incumbent {
   Climber(const HillClimbingOptions& run_options, const ParameterSpec& parameters)
       : options(run_options),
         spec(parameters),
@@ -55,21 +56,9 @@ struct Climber {
         upper(parameters.upper()),
         scale(parameters.scales()) {}
 
-  void Start(const Theta& first, Objective& objective, RunProgress& run) {
-    x = first;
-    value = objective.evaluate(x);
-    run.AddEvaluations(1);
-    run.set_initial_value(value);
-    run.Offer(x, value);
-    step = options.initial_step;
-  }
-
   // Continues from a checkpoint's state; returns the position of its uniform stream.
   std::uint64_t Resume(const json& state) {
-    x = VectorFromJson(StateField(state, "theta"), "state.theta");
-    if (!spec.contains(x)) throw InputError("checkpoint state.theta: expected a theta inside the bounds");
-    value = DoubleFromJson(StateField(state, "value"), "state.value");
-    step = DoubleFromJson(StateField(state, "step"), "state.step");
+    Incumbent::Resume(state, spec);
     return StateUnsigned(state, "stream_position");
   }
 
@@ -107,18 +96,14 @@ struct Climber {
   }
 
   json State(std::uint64_t stream_position) const {
-    return json{{"theta", VectorToJson(x)},
-                {"value", DoubleToJson(value)},
-                {"step", DoubleToJson(step)},
-                {"stream_position", stream_position}};
+    json state = Incumbent::State();
+    state["stream_position"] = stream_position;
+    return state;
   }
 
   const HillClimbingOptions& options;
   const ParameterSpec& spec;
   const Theta lower, upper, scale;
-  Theta x;
-  double value = 0.0;
-  double step = 0.0;
   std::vector<Theta> proposals;
   std::vector<double> proposal_values;
   Theta normals;
@@ -140,7 +125,7 @@ void Solve(const HillClimbingOptions& options, Objective& objective, Theta* thet
   if (options.resume_from)
     stream_position = climber.Resume(run.Resume(*options.resume_from));
   else
-    climber.Start(StartingTheta(spec, *theta), objective, run);
+    climber.Start(StartingTheta(spec, *theta), options.initial_step, objective, run);
   UniformStream uniforms(options.seed, options.stream, stream_position);
   climber.AllocateScratch();
 
