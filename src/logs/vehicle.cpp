@@ -123,37 +123,46 @@ void read_conventions(const SpecReader& r, VehicleLogSpec& s) {
   s.rates_unit = r.string("log.rates.unit", s.rates_unit, {"rad/s", "deg/s"});
 }
 
-VehicleLogSpec vehicle_log_spec(const toml::table& root, const SpecReader& r,
-                                const std::filesystem::path& file) {
-  if (!root.get("log") || !root.get("log")->is_table())
-    throw InputError(
-        fmt::format("{}: expected a [log] section (see the README's vehicle files)", file.string()));
-  VehicleLogSpec s;
-  s.file = file.string();
-  s.vehicle = r.string("vehicle.name", file.stem().string());
-  // An empty name would make a model or policy of this aircraft look like the X-Cell's (which has none).
-  if (s.vehicle.empty()) r.fail(r.at("vehicle.name"), "vehicle.name", "expected a non-empty name");
-  s.rate_hz = r.number("log.rate_hz", s.rate_hz, 1, 10000);
-  s.model_rate_hz = r.number("log.model_rate_hz", s.model_rate_hz, 0.1, s.rate_hz);
-  const double ratio = s.rate_hz / s.model_rate_hz;
-  if (std::abs(ratio - std::round(ratio)) > 1e-9)
-    r.fail(r.at("log.model_rate_hz"), "log.model_rate_hz",
-           fmt::format("expected a rate that divides log.rate_hz = {} Hz, got {} Hz", s.rate_hz,
-                       s.model_rate_hz));
-  s.instance = static_cast<int>(r.number("log.instance", 0, 0, 255));
-  if (s.instance != r.number("log.instance", 0, 0, 255))
-    r.fail(r.at("log.instance"), "log.instance", "expected an integer multi_id");
-  s.max_gap_s = r.number("log.max_gap_s", s.max_gap_s, 0, 1e6);
-  s.time = r.string("log.time", s.time);
-  if (s.time.empty()) r.fail(r.at("log.time"), "log.time", "expected a non-empty column name");
-  s.attitude_form = r.string("log.attitude.form", s.attitude_form, {"quaternion", "euler"});
-  s.velocity_frame = r.string("log.velocity.frame", s.velocity_frame, {"world", "body"});
-  s.rates_form = r.string("log.rates.form", s.rates_form, {"body", "euler"});
-  s.position = r.fields("log.position", 3);
-  s.velocity = r.fields("log.velocity", 3);
-  s.attitude = r.fields("log.attitude", s.attitude_form == "quaternion" ? 4 : 3);
-  s.rates = r.fields("log.rates", 3);
-  read_conventions(r, s);
+// A channel's mapping onto its axis, a = scale * value + offset: given as the channel's range and sign, or
+// as scale and offset.
+void read_channel_mapping(const SpecReader& r, const std::string& key, ControlChannel& ch) {
+  const bool by_range = r.at(key + ".range") || r.at(key + ".sign");
+  if (by_range && (r.at(key + ".scale") || r.at(key + ".offset")))
+    r.fail(r.at(key + ".scale") ? r.at(key + ".scale") : r.at(key + ".offset"), key,
+           "expected either range and sign, or scale and offset, not both");
+  if (by_range) {
+    // The channel's range maps onto [-1, 1]; sign -1: the channel's + drives the axis's -.
+    const double sign = r.number(key + ".sign", 1, -INFINITY, INFINITY);
+    if (sign != 1 && sign != -1)
+      r.fail(r.at(key + ".sign"), key + ".sign", fmt::format("expected 1 or -1, got {}", sign));
+    double lo = -1, hi = 1;
+    if (r.at(key + ".range")) {
+      const auto range = r.numbers(key + ".range", 2);
+      lo = range[0];
+      hi = range[1];
+      if (!(hi > lo))
+        r.fail(r.at(key + ".range"), key + ".range", fmt::format("expected [low, high] with low < high"));
+    }
+    ch.scale = sign * 2 / (hi - lo);
+    ch.offset = -sign * (hi + lo) / (hi - lo);
+    if (!(std::abs(ch.scale) >= kSmallestScale && std::abs(ch.scale) <= kLargestScale &&
+          std::abs(ch.offset) <= kLargestOffset))
+      r.fail(r.at(key + ".range"), key + ".range",
+             fmt::format("expected a width in [{}, {}] and a centre within {} widths of 0", 2 / kLargestScale,
+                         2 / kSmallestScale, kLargestOffset / 2));
+  } else {
+    ch.scale = r.number(key + ".scale", 1, -kLargestScale, kLargestScale);
+    if (!(std::abs(ch.scale) >= kSmallestScale))
+      r.fail(r.at(key + ".scale"), key + ".scale",
+             fmt::format("expected a number of size at least {} (the channel must move its axis)",
+                         kSmallestScale));
+    ch.offset = r.number(key + ".offset", 0, -kLargestOffset, kLargestOffset);
+  }
+}
+
+// The four [[log.controls]] channels: where each is logged, how it maps onto [-1, 1], and which axis it
+// drives (each axis once, or no `axis` keys at all: a1..a4 in order).
+void read_controls(const toml::table& root, const SpecReader& r, VehicleLogSpec& s) {
   const toml::node* controls = r.at("log.controls");
   const toml::array* list = controls ? controls->as_array() : nullptr;
   if (!list || list->size() != 4 || !list->is_array_of_tables())
@@ -173,38 +182,7 @@ VehicleLogSpec vehicle_log_spec(const toml::table& root, const SpecReader& r,
     if (r.at(key + ".unit"))
       ch.unit =
           r.string(key + ".unit", "", std::vector<std::string>(kChannelUnits.begin(), kChannelUnits.end()));
-    const bool by_range = r.at(key + ".range") || r.at(key + ".sign");
-    if (by_range && (r.at(key + ".scale") || r.at(key + ".offset")))
-      r.fail(r.at(key + ".scale") ? r.at(key + ".scale") : r.at(key + ".offset"), key,
-             "expected either range and sign, or scale and offset, not both");
-    if (by_range) {
-      // The channel's range maps onto [-1, 1]; sign -1: the channel's + drives the axis's -.
-      const double sign = r.number(key + ".sign", 1, -INFINITY, INFINITY);
-      if (sign != 1 && sign != -1)
-        r.fail(r.at(key + ".sign"), key + ".sign", fmt::format("expected 1 or -1, got {}", sign));
-      double lo = -1, hi = 1;
-      if (r.at(key + ".range")) {
-        const auto range = r.numbers(key + ".range", 2);
-        lo = range[0];
-        hi = range[1];
-        if (!(hi > lo))
-          r.fail(r.at(key + ".range"), key + ".range", fmt::format("expected [low, high] with low < high"));
-      }
-      ch.scale = sign * 2 / (hi - lo);
-      ch.offset = -sign * (hi + lo) / (hi - lo);
-      if (!(std::abs(ch.scale) >= kSmallestScale && std::abs(ch.scale) <= kLargestScale &&
-            std::abs(ch.offset) <= kLargestOffset))
-        r.fail(r.at(key + ".range"), key + ".range",
-               fmt::format("expected a width in [{}, {}] and a centre within {} widths of 0",
-                           2 / kLargestScale, 2 / kSmallestScale, kLargestOffset / 2));
-    } else {
-      ch.scale = r.number(key + ".scale", 1, -kLargestScale, kLargestScale);
-      if (!(std::abs(ch.scale) >= kSmallestScale))
-        r.fail(r.at(key + ".scale"), key + ".scale",
-               fmt::format("expected a number of size at least {} (the channel must move its axis)",
-                           kSmallestScale));
-      ch.offset = r.number(key + ".offset", 0, -kLargestOffset, kLargestOffset);
-    }
+    read_channel_mapping(r, key, ch);
     if (r.at(key + ".axis")) {
       ++with_axis;
       ch.axis = axis_index(r, key + ".axis");
@@ -220,6 +198,10 @@ VehicleLogSpec vehicle_log_spec(const toml::table& root, const SpecReader& r,
   if (with_axis != 0 && with_axis != 4)
     r.fail(controls, "log.controls",
            "expected an axis on every channel or on none (none: the channels are a1..a4 in order)");
+}
+
+// A channel's unit must suit its axis, and its name (or label) be its own.
+void check_channels(const SpecReader& r, const VehicleLogSpec& s) {
   for (std::size_t c = 0; c < 4; ++c) {
     const ControlChannel& ch = s.controls[c];
     const bool angular = ch.unit == "rad" || ch.unit == "deg" || ch.unit == "rad/s" || ch.unit == "deg/s";
@@ -234,10 +216,13 @@ VehicleLogSpec vehicle_log_spec(const toml::table& root, const SpecReader& r,
   for (std::size_t c = 0; c < 4; ++c)
     for (std::size_t d = 0; d < c; ++d)
       if (s.controls[c].label() == s.controls[d].label())
-        r.fail(controls, "log.controls",
+        r.fail(r.at("log.controls"), "log.controls",
                fmt::format("channels {} and {} have the same name '{}'; expected distinct names", d, c,
                            printable(s.controls[c].label())));
-  // Each log column (or topic field) means one thing: a second use would silently read the first.
+}
+
+// Each log column (or topic field) means one thing: a second use would silently read the first.
+void check_fields_used_once(const SpecReader& r, const VehicleLogSpec& s) {
   std::vector<std::pair<std::string, std::string>> used;  // (key, topic + field)
   used.emplace_back("log.time", "\n" + s.time);
   for (const auto& [key, quantity] : {std::pair{"log.position", &s.position},
@@ -266,6 +251,47 @@ VehicleLogSpec vehicle_log_spec(const toml::table& root, const SpecReader& r,
                fmt::format("the field '{}' is also in {}; expected each field once", printable(field),
                            used[j].first));
       }
+}
+
+// The aircraft's name, the log's rates and the quantities' fields, in the log's conventions.
+void read_log_quantities(const SpecReader& r, const std::filesystem::path& file, VehicleLogSpec& s) {
+  s.file = file.string();
+  s.vehicle = r.string("vehicle.name", file.stem().string());
+  // An empty name would make a model or policy of this aircraft look like the X-Cell's (which has none).
+  if (s.vehicle.empty()) r.fail(r.at("vehicle.name"), "vehicle.name", "expected a non-empty name");
+  s.rate_hz = r.number("log.rate_hz", s.rate_hz, 1, 10000);
+  s.model_rate_hz = r.number("log.model_rate_hz", s.model_rate_hz, 0.1, s.rate_hz);
+  const double ratio = s.rate_hz / s.model_rate_hz;
+  if (std::abs(ratio - std::round(ratio)) > 1e-9)
+    r.fail(r.at("log.model_rate_hz"), "log.model_rate_hz",
+           fmt::format("expected a rate that divides log.rate_hz = {} Hz, got {} Hz", s.rate_hz,
+                       s.model_rate_hz));
+  s.instance = static_cast<int>(r.number("log.instance", 0, 0, 255));
+  if (s.instance != r.number("log.instance", 0, 0, 255))
+    r.fail(r.at("log.instance"), "log.instance", "expected an integer multi_id");
+  s.max_gap_s = r.number("log.max_gap_s", s.max_gap_s, 0, 1e6);
+  s.time = r.string("log.time", s.time);
+  if (s.time.empty()) r.fail(r.at("log.time"), "log.time", "expected a non-empty column name");
+  s.attitude_form = r.string("log.attitude.form", s.attitude_form, {"quaternion", "euler"});
+  s.velocity_frame = r.string("log.velocity.frame", s.velocity_frame, {"world", "body"});
+  s.rates_form = r.string("log.rates.form", s.rates_form, {"body", "euler"});
+  s.position = r.fields("log.position", 3);
+  s.velocity = r.fields("log.velocity", 3);
+  s.attitude = r.fields("log.attitude", s.attitude_form == "quaternion" ? 4 : 3);
+  s.rates = r.fields("log.rates", 3);
+}
+
+VehicleLogSpec vehicle_log_spec(const toml::table& root, const SpecReader& r,
+                                const std::filesystem::path& file) {
+  if (!root.get("log") || !root.get("log")->is_table())
+    throw InputError(
+        fmt::format("{}: expected a [log] section (see the README's vehicle files)", file.string()));
+  VehicleLogSpec s;
+  read_log_quantities(r, file, s);
+  read_conventions(r, s);
+  read_controls(root, r, s);
+  check_channels(r, s);
+  check_fields_used_once(r, s);
   return s;
 }
 
@@ -481,117 +507,6 @@ std::vector<double> Vehicle::native_state(const heli::LoggedState& s) const {
   }
   out.insert(out.end(), {rates.x(), rates.y(), rates.z()});
   return out;
-}
-
-bool logs_in_pipeline_layout(const Vehicle& v) {
-  const VehicleLogSpec& l = v.log;
-  const auto named = [](const TopicFields& q, std::initializer_list<const char*> names) {
-    return q.topic.empty() && std::equal(q.fields.begin(), q.fields.end(), names.begin(), names.end());
-  };
-  if (!(l.time == "time" && l.pipeline_conventions() && l.attitude_form == "euler" &&
-        l.velocity_frame == "world" && l.rates_form == "euler" && named(l.position, {"x", "y", "z"}) &&
-        named(l.velocity, {"xdot", "ydot", "zdot"}) && named(l.attitude, {"roll", "pitch", "yaw"}) &&
-        named(l.rates, {"roll_rate", "pitch_rate", "yaw_rate"})))
-    return false;
-  for (std::size_t c = 0; c < 4; ++c) {
-    const ControlChannel& ch = l.controls[c];
-    if (!(ch.topic.empty() && ch.scale == 1 && ch.offset == 0 &&
-          ch.field == sysid::kLogControlColumns[static_cast<std::size_t>(ch.column(c))]))
-      return false;
-  }
-  return true;
-}
-
-std::vector<std::string> vehicle_log_columns(const Vehicle& vehicle) {
-  const VehicleLogSpec& spec = vehicle.log;
-  std::vector<std::string> header{spec.time};
-  const std::vector<std::string> state = vehicle.state_fields();
-  header.insert(header.end(), state.begin(), state.end());
-  for (const auto& c : spec.controls) header.push_back(c.field);
-  for (std::size_t i = 0; i < header.size(); ++i)
-    for (std::size_t j = 0; j < i; ++j)
-      if (header[i] == header[j])
-        throw InputError(
-            fmt::format("{}: the column '{}' stands for two quantities (of different topics); "
-                        "expected distinct field names for a CSV log",
-                        spec.file, printable(header[i])));
-  return header;
-}
-
-std::string vehicle_log_csv(const sysid::FlightLog& log, const Vehicle& vehicle, std::size_t every) {
-  CsvWriter csv(vehicle_log_columns(vehicle));
-  for (std::size_t i = 0; i < log.rows(); i += std::max<std::size_t>(every, 1)) {
-    std::vector<CsvCell> row{log.time[i]};
-    for (const double x : vehicle.native_state(log.states[i])) row.emplace_back(x);
-    for (const double a : vehicle.native_of(log.controls[i])) row.emplace_back(a);
-    csv.add_row(std::move(row));
-  }
-  return csv.str();
-}
-
-sysid::FlightLog parse_vehicle_log(const std::string& text, const std::string& name, const Vehicle& vehicle,
-                                   const sysid::LogReadOptions& options) {
-  const VehicleLogSpec& spec = vehicle.log;
-  std::vector<std::string> columns{spec.time};
-  const std::vector<std::string> state = vehicle.state_fields();
-  columns.insert(columns.end(), state.begin(), state.end());
-  for (const auto& c : spec.controls) columns.push_back(c.field);
-  const sysid::CsvColumns table = sysid::read_csv_columns(text, name, columns);
-  sysid::FlightLog log;
-  const std::size_t first_control = 1 + state.size();
-  for (std::size_t i = 0; i < table.rows.size(); ++i) {
-    const std::vector<double>& row = table.rows[i];
-    log.time.push_back(row[0]);
-    const heli::LoggedState s = vehicle.state_of(std::span<const double>(row).subspan(1, state.size()));
-    for (std::size_t j = 3; j < 6; ++j)
-      if (!std::isfinite(s[j]))
-        throw InputError(fmt::format("{}:{}:{}: the attitude quaternion has no direction (all zero)", name,
-                                     table.lines[i], printable(spec.attitude.fields[0])));
-    log.states.push_back(s);
-    heli::Controls a = vehicle.axes_of(std::span<const double>(row).subspan(first_control, 4));
-    for (std::size_t c = 0; c < 4; ++c) {
-      const ControlChannel& ch = spec.controls[c];
-      double& axis = a[static_cast<std::size_t>(ch.column(c))];
-      if (!(std::abs(axis) <= 1 + 1e-6))
-        throw InputError(
-            fmt::format("{}:{}:{}: {} gives {} (a{}) = {}; expected [-1, 1] after the channel's range or "
-                        "scale and offset "
-                        "in {}",
-                        name, table.lines[i], printable(ch.field), row[first_control + c],
-                        kControlAxisNames[static_cast<std::size_t>(ch.column(c))], ch.column(c) + 1, axis,
-                        spec.file.empty() ? std::string("the vehicle") : spec.file));
-      axis = std::clamp(axis, -1.0, 1.0);
-    }
-    log.controls.push_back(a);
-  }
-  sysid::check_log_rows(log, table.lines, table.last_line, name, options, spec.time);
-  const double rate = 1 / log.dt();
-  if (std::abs(rate / spec.rate_hz - 1) > options.rate_tolerance)
-    throw InputError(fmt::format("{}: rows come at {:.6g} Hz; expected log.rate_hz = {} Hz of {}", name, rate,
-                                 spec.rate_hz, spec.file.empty() ? std::string("the vehicle") : spec.file));
-  return log;
-}
-
-sysid::FlightLog read_vehicle_log(const std::filesystem::path& file, const Vehicle& vehicle,
-                                  const sysid::LogReadOptions& options) {
-  return parse_vehicle_log(sysid::read_log_text(file), file.string(), vehicle, options);
-}
-
-heli::ControlLineFormat control_line_format(const Vehicle& vehicle) {
-  heli::ControlLineFormat f;
-  f.control_names.clear();
-  for (const auto& c : vehicle.log.controls) {
-    f.control_names.push_back(c.label());
-    f.control_columns.push_back(c.field);  // a log row's own column, where the answer names it otherwise
-  }
-  f.controls_of = [vehicle](const heli::Controls& a) { return vehicle.native_of(a); };
-  // A vehicle logged in the pipeline's own layout (the X-Cell's file) is read as `heli control` reads it: a
-  // line without a header in the order of its own log (x..yaw_rate), not position, velocity, attitude, rates.
-  if (logs_in_pipeline_layout(vehicle)) return f;
-  f.time_field = vehicle.log.time;
-  f.state_fields = vehicle.state_fields();
-  f.state_of = [vehicle](std::span<const double> v) { return vehicle.state_of(v); };
-  return f;
 }
 
 }  // namespace pegasus::logs

@@ -8,6 +8,7 @@
 #include <deque>
 #include <limits>
 #include <numeric>
+#include <optional>
 
 #include "pegasus/core/error.hpp"
 #include "pegasus/optimizers/hill_climbing.hpp"  // FillStandardNormals
@@ -205,276 +206,388 @@ int CmaesPopulationSize(const CmaesOptions& options, std::size_t parameter_count
                  std::floor(3.0 * std::log(static_cast<double>(std::max<std::size_t>(parameter_count, 1)))));
 }
 
-void Solve(const CmaesOptions& options, Objective& objective, Theta* theta, OptimizerSummary* summary) {
-  std::string error;
-  if (!options.IsValid(&error)) throw InputError("cmaes options: " + error);
-  if (theta == nullptr || summary == nullptr) throw InputError("cmaes: theta and summary must be non-null");
+namespace {
 
-  const ParameterSpec& spec = objective.parameters();
-  const std::size_t n = spec.size();
-  if (n == 0) throw InputError("cmaes: the policy class has no parameters");
-  const Theta lower = spec.lower();
-  const Theta upper = spec.upper();
-  const Theta scale = spec.scales();
+// Why a generation ends the search. A convergence stop (x_tolerance, function_tolerance, a stall) starts
+// the next run instead while restarts remain.
+struct Stop {
+  TerminationType termination = TerminationType::kFailure;
+  std::string message;
+  bool restartable = false;
+};
+
+// One CMA-ES search: the strategy and distribution of the current run, what the stopping rules remember,
+// and the buffers a generation fills (allocated when a run starts, so a generation allocates nothing). Its
+// members are the steps of one generation, in the order Solve calls them.
+class Search {
+ public:
+  Search(const CmaesOptions& options, const ParameterSpec& spec, int first_population)
+      : options_(options),
+        n_(spec.size()),
+        scale_(spec.scales()),
+        first_population_(first_population),
+        strategy_(MakeStrategy(n_, first_population)),
+        normals_(n_),
+        scaled_normals_(n_),
+        weighted_step_(n_),
+        whitened_(n_),
+        rank_mu_(n_, n_),
+        eigen_(static_cast<Eigen::Index>(n_)) {
+    const Theta lower = spec.lower();
+    const Theta upper = spec.upper();
+    for (std::size_t i = 0; i < n_; ++i) box_.emplace_back(lower[i], upper[i], scale_[i]);
+  }
+
+  // The first run from *theta, evaluated first: the mean starts at the point the box maps onto it.
+  void Start(const Theta& first, Objective& objective, RunProgress& run) {
+    const double value = objective.evaluate(first);
+    run.AddEvaluations(1);
+    run.set_initial_value(value);
+    run.Offer(first, value);
+    d_.mean.resize(n_);
+    for (std::size_t i = 0; i < n_; ++i) d_.mean[i] = box_[i].Inverse(first[i]);
+    start_ = d_.mean;
+    StartDistribution(options_.initial_step, &d_);
+    Prepare();
+  }
+
+  // Continues the run a checkpoint's state describes; returns the position of its uniform stream.
+  std::uint64_t Resume(const json& state) {
+    if (state.contains("restarts")) {
+      ResumeRestarts(state);
+    } else if (options_.restarts > 0) {
+      throw InputError("checkpoint state.restarts: missing (the checkpoint was written without restarts)");
+    }
+    strategy_ = MakeStrategy(n_, PopulationOfRun(restarts_));
+    if (StateInteger(state, "population") != strategy_.lambda)
+      throw InputError(
+          fmt::format("checkpoint state.population: expected {} (the options' population), got {}",
+                      strategy_.lambda, StateInteger(state, "population")));
+    ResumeDistribution(state);
+    for (const double v : VectorFromJson(StateField(state, "recent_best"), "state.recent_best"))
+      recent_best_.push_back(v);
+    Prepare();
+    return StateUnsigned(state, "stream_position");
+  }
+
+  std::int64_t population() const { return strategy_.lambda; }
+  double sigma() const { return d_.sigma; }
+  std::int64_t restarts() const { return restarts_; }
+
+  // Samples y_k = B D z_k (Eq 39) and evaluates the candidates, mapped into the bounds, in one batch.
+  void SampleAndEvaluate(UniformStream& uniforms, Objective& objective, RunProgress& run) {
+    const std::size_t lambda = candidates_.size();
+    for (std::size_t k = 0; k < lambda; ++k) {
+      FillStandardNormals(uniforms, normals_);
+      for (std::size_t i = 0; i < n_; ++i) scaled_normals_[i] = d_.D[i] * normals_[i];
+      steps_[k].noalias() = d_.B * scaled_normals_;
+      for (std::size_t i = 0; i < n_; ++i)
+        candidates_[k][i] = box_[i](d_.mean[i] + d_.sigma * scale_[i] * steps_[k][i]);
+    }
+    objective.evaluate_batch(candidates_, values_);
+    run.AddEvaluations(static_cast<std::int64_t>(lambda));
+    for (std::size_t k = 0; k < lambda; ++k) run.Offer(candidates_[k], values_[k]);
+  }
+
+  // Ranks best first; ties keep index order, NaN last.
+  void Rank() {
+    std::iota(order_.begin(), order_.end(), std::size_t{0});
+    std::stable_sort(order_.begin(), order_.end(),
+                     [&](std::size_t a, std::size_t b) { return IsImprovement(values_[a], values_[b]); });
+  }
+
+  // The update of Eqs 41-47 from the ranked generation; `iteration` is the count before it ends.
+  void Update(std::int64_t iteration) {
+    MoveMean();
+    const bool h_sigma = AdaptStepSize(iteration);
+    AdaptCovariance(h_sigma);
+  }
+
+  // What the function tolerance and the stall rule remember of the generation just ended.
+  void RecordBest() {
+    const double generation_best = values_[order_[0]];
+    recent_best_.push_back(generation_best);
+    if (recent_best_.size() > strategy_.tolfun_window) recent_best_.pop_front();
+    if (options_.stall_generations > 0) {
+      // NaN never raises the run's best (IsImprovement ranks it last).
+      const double best = run_best_.empty() || IsImprovement(generation_best, run_best_.back())
+                              ? generation_best
+                              : run_best_.back();
+      run_best_.push_back(best);
+      if (run_best_.size() > static_cast<std::size_t>(options_.stall_generations) + 1) run_best_.pop_front();
+    }
+  }
+
+  // A distribution that can no longer be sampled: non-finite, no longer positive definite, or
+  // ill-conditioned. Refreshes B and D first when they are due, so the condition is C's current one.
+  std::optional<Stop> Degenerated(std::int64_t iteration) {
+    if (!std::isfinite(d_.sigma) || !d_.C.allFinite())
+      return Stop{TerminationType::kFailure,
+                  fmt::format("sigma ({}) or the covariance matrix became non-finite", d_.sigma), false};
+    if (iteration - d_.eigen_iteration >= strategy_.eigen_interval && !Decompose(iteration))
+      return Stop{TerminationType::kFailure, "the covariance matrix lost positive definiteness", false};
+    const double condition = (d_.D.maxCoeff() / d_.D.minCoeff()) * (d_.D.maxCoeff() / d_.D.minCoeff());
+    if (condition > options_.max_condition)
+      return Stop{TerminationType::kFailure,
+                  fmt::format("the condition number of C, {:.3g}, passed max_condition = {:.3g}", condition,
+                              options_.max_condition),
+                  false};
+    return std::nullopt;
+  }
+
+  // The convergence rules, in order: x_tolerance, function_tolerance, a stall.
+  std::optional<Stop> Converged() const {
+    double spread = 0.0;
+    for (std::size_t i = 0; i < n_; ++i)
+      spread = std::max({spread, std::abs(d_.p_c[i]), std::sqrt(d_.C(i, i))});
+    if (d_.sigma * spread < options_.x_tolerance)
+      return Stop{TerminationType::kConvergence,
+                  fmt::format("sigma * max(|p_c|, sqrt(diag C)) = {:.3g} fell below x_tolerance = {:.3g}",
+                              d_.sigma * spread, options_.x_tolerance),
+                  true};
+    if (std::optional<Stop> flat = FunctionFlat()) return flat;
+    if (run_best_.size() == static_cast<std::size_t>(options_.stall_generations) + 1 &&
+        !(run_best_.back() - run_best_.front() > options_.stall_tolerance))
+      return Stop{TerminationType::kConvergence,
+                  fmt::format("the best U-hat rose by {:.3g} <= stall_tolerance = {:.3g} over {} generations",
+                              run_best_.back() - run_best_.front(), options_.stall_tolerance,
+                              options_.stall_generations),
+                  true};
+    return std::nullopt;
+  }
+
+  // IPOP: when restarts remain, the next run from the first mean, with twice the population; false when
+  // none remain. `iteration` is the count the new run starts at.
+  bool Restart(std::int64_t iteration) {
+    if (restarts_ >= options_.restarts) return false;
+    ++restarts_;
+    strategy_ = MakeStrategy(n_, PopulationOfRun(restarts_));
+    d_.mean = start_;
+    StartDistribution(options_.initial_step, &d_);
+    d_.eigen_iteration = iteration;
+    recent_best_.clear();
+    run_best_.clear();
+    run_first_iteration_ = iteration;
+    Prepare();
+    return true;
+  }
+
+  // Everything the next generation reads (the header lists it).
+  json State(std::uint64_t stream_position) const {
+    return json{{"population", strategy_.lambda},
+                {"mean", VectorToJson(d_.mean)},
+                {"sigma", DoubleToJson(d_.sigma)},
+                {"C", MatrixToJson(d_.C)},
+                {"B", MatrixToJson(d_.B)},
+                {"D", VectorToJson(std::span<const double>(d_.D.data(), n_))},
+                {"p_sigma", VectorToJson(std::span<const double>(d_.p_sigma.data(), n_))},
+                {"p_c", VectorToJson(std::span<const double>(d_.p_c.data(), n_))},
+                {"eigen_iteration", d_.eigen_iteration},
+                {"recent_best", VectorToJson(std::vector<double>(recent_best_.begin(), recent_best_.end()))},
+                {"stream_position", stream_position},
+                {"restarts", restarts_},
+                {"run_first_iteration", run_first_iteration_},
+                {"run_best", VectorToJson(std::vector<double>(run_best_.begin(), run_best_.end()))},
+                {"start", VectorToJson(start_)}};
+  }
+
+ private:
+  int PopulationOfRun(std::int64_t restart) const {
+    return static_cast<int>(static_cast<std::int64_t>(first_population_) << restart);
+  }
+
+  // The restart state a checkpoint written with restarts carries.
+  void ResumeRestarts(const json& state) {
+    restarts_ = StateInteger(state, "restarts");
+    if (restarts_ < 0 || restarts_ > options_.restarts)
+      throw InputError(
+          fmt::format("checkpoint state.restarts: expected 0 to {} (the options' restarts), got {}",
+                      options_.restarts, restarts_));
+    run_first_iteration_ = StateInteger(state, "run_first_iteration");
+    for (const double v : VectorFromJson(StateField(state, "run_best"), "state.run_best"))
+      run_best_.push_back(v);
+    start_ = VectorFromJson(StateField(state, "start"), "state.start");
+    if (start_.size() != n_) throw InputError(fmt::format("checkpoint state.start: expected {} numbers", n_));
+  }
+
+  void ResumeDistribution(const json& state) {
+    d_.mean = VectorFromJson(StateField(state, "mean"), "state.mean");
+    if (d_.mean.size() != n_ ||
+        !std::all_of(d_.mean.begin(), d_.mean.end(), [](double v) { return std::isfinite(v); }))
+      throw InputError(fmt::format("checkpoint state.mean: expected {} finite numbers", n_));
+    d_.sigma = DoubleFromJson(StateField(state, "sigma"), "state.sigma");
+    d_.C = MatrixFromJson(StateField(state, "C"), "C", n_);
+    d_.B = MatrixFromJson(StateField(state, "B"), "B", n_);
+    d_.D = EigenFromJson(StateField(state, "D"), "D", n_);
+    d_.p_sigma = EigenFromJson(StateField(state, "p_sigma"), "p_sigma", n_);
+    d_.p_c = EigenFromJson(StateField(state, "p_c"), "p_c", n_);
+    d_.eigen_iteration = StateInteger(state, "eigen_iteration");
+  }
+
+  // C^-1/2 from the run's B and D, and the generation's buffers sized for its population.
+  void Prepare() {
+    d_.RefreshInverseSquareRoot();
+    const auto lambda = static_cast<std::size_t>(strategy_.lambda);
+    candidates_.assign(lambda, Theta(n_));
+    values_.assign(lambda, 0.0);
+    steps_.assign(lambda, Eigen::VectorXd(n_));
+    order_.assign(lambda, 0);
+  }
+
+  // Recombination (Eq 41, c_m = 1): the mean moves by the weighted steps of the mu best.
+  void MoveMean() {
+    weighted_step_.setZero();
+    for (int r = 0; r < strategy_.mu; ++r) weighted_step_ += strategy_.weights[r] * steps_[order_[r]];
+    for (std::size_t i = 0; i < n_; ++i) d_.mean[i] += d_.sigma * scale_[i] * weighted_step_[i];
+  }
+
+  // Cumulative step-size adaptation (Eqs 43-44); returns h_sigma, whether p_c takes this step.
+  bool AdaptStepSize(std::int64_t iteration) {
+    const Strategy& s = strategy_;
+    whitened_.noalias() = d_.inv_sqrt_C * weighted_step_;
+    d_.p_sigma =
+        (1.0 - s.c_sigma) * d_.p_sigma + std::sqrt(s.c_sigma * (2.0 - s.c_sigma) * s.mueff) * whitened_;
+    const double p_sigma_norm = d_.p_sigma.norm();
+    const auto generation = static_cast<double>(iteration + 1 - run_first_iteration_);
+    const bool h_sigma = p_sigma_norm / std::sqrt(1.0 - std::pow(1.0 - s.c_sigma, 2.0 * generation)) <
+                         (1.4 + 2.0 / (static_cast<double>(n_) + 1.0)) * s.chi_n;
+    d_.sigma *= std::exp(s.c_sigma / s.d_sigma * (p_sigma_norm / s.chi_n - 1.0));
+    return h_sigma;
+  }
+
+  // Covariance matrix adaptation (Eqs 45-47): rank-one update from the path, rank-mu from all
+  // candidates, the negative weights rescaled by n / ||C^-1/2 y||^2 (Eq 46).
+  void AdaptCovariance(bool h_sigma) {
+    const Strategy& s = strategy_;
+    d_.p_c = (1.0 - s.c_c) * d_.p_c;
+    if (h_sigma) d_.p_c += std::sqrt(s.c_c * (2.0 - s.c_c) * s.mueff) * weighted_step_;
+    rank_mu_.setZero();
+    for (std::size_t r = 0; r < order_.size(); ++r) {
+      const Eigen::VectorXd& y = steps_[order_[r]];
+      double w = s.weights[static_cast<Eigen::Index>(r)];
+      if (w < 0.0) {
+        whitened_.noalias() = d_.inv_sqrt_C * y;
+        const double squared = whitened_.squaredNorm();
+        w = squared > 0.0 ? w * static_cast<double>(n_) / squared : 0.0;
+      }
+      if (w != 0.0) rank_mu_.noalias() += w * y * y.transpose();
+    }
+    const double delta_h = h_sigma ? 0.0 : s.c_c * (2.0 - s.c_c);
+    d_.C = (1.0 + s.c_1 * delta_h - s.c_1 - s.c_mu * s.weight_sum) * d_.C +
+           s.c_1 * d_.p_c * d_.p_c.transpose() + s.c_mu * rank_mu_;
+  }
+
+  // B and D from the symmetrised C; false when C is no longer positive definite.
+  bool Decompose(std::int64_t iteration) {
+    d_.C = (0.5 * (d_.C + d_.C.transpose())).eval();
+    eigen_.compute(d_.C);
+    if (eigen_.info() != Eigen::Success || !(eigen_.eigenvalues().minCoeff() > 0.0)) return false;
+    d_.B = eigen_.eigenvectors();
+    d_.D = eigen_.eigenvalues().cwiseSqrt();
+    d_.eigen_iteration = iteration;
+    d_.RefreshInverseSquareRoot();
+    return true;
+  }
+
+  // U-hat ranged by less than function_tolerance over the recent best values and this generation's
+  // values; a non-finite one never stops the run.
+  std::optional<Stop> FunctionFlat() const {
+    if (recent_best_.size() != strategy_.tolfun_window) return std::nullopt;
+    double lo = values_[0], hi = values_[0];
+    for (const double v : recent_best_) lo = std::min(lo, v), hi = std::max(hi, v);
+    for (const double v : values_) lo = std::min(lo, v), hi = std::max(hi, v);
+    bool finite = std::isfinite(hi - lo);
+    for (const double v : values_) finite = finite && std::isfinite(v);
+    for (const double v : recent_best_) finite = finite && std::isfinite(v);
+    if (!(finite && hi - lo < options_.function_tolerance)) return std::nullopt;
+    return Stop{TerminationType::kConvergence,
+                fmt::format("U-hat ranged by {:.3g} < function_tolerance = {:.3g} over {} generations",
+                            hi - lo, options_.function_tolerance, strategy_.tolfun_window),
+                true};
+  }
+
+  const CmaesOptions& options_;
+  const std::size_t n_;
+  const Theta scale_;
+  const int first_population_;
+  std::vector<BoxTransform> box_;
+  Strategy strategy_;
+  Distribution d_;
+  std::deque<double> recent_best_;        // best U-hat of each of the last tolfun_window generations
+  std::int64_t restarts_ = 0;             // runs started after the first
+  std::int64_t run_first_iteration_ = 0;  // the iteration count when this run started
+  std::deque<double> run_best_;           // this run's best U-hat after each of its last generations
+  Theta start_;                           // the first mean (search space), where every run starts
+
+  // The generation's buffers and scratch.
+  std::vector<Theta> candidates_;
+  std::vector<double> values_;
+  std::vector<Eigen::VectorXd> steps_;  // y_k, scaled units
+  std::vector<std::size_t> order_;      // candidate indices, best first
+  Theta normals_;
+  Eigen::VectorXd scaled_normals_, weighted_step_, whitened_;
+  Eigen::MatrixXd rank_mu_;
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen_;
+};
+
+// The first run's population; throws when the restarts would double it past kMaxPointsPerIteration.
+int FirstPopulation(const CmaesOptions& options, std::size_t n) {
   const int first_population = CmaesPopulationSize(options, n);
   if ((static_cast<std::int64_t>(first_population) << options.restarts) > kMaxPointsPerIteration)
     throw InputError(
         fmt::format("cmaes options: restarts: {} restarts would double the population of {} past {}",
                     options.restarts, first_population, kMaxPointsPerIteration));
-  const auto population_of_run = [&](std::int64_t restart) {
-    return static_cast<int>(static_cast<std::int64_t>(first_population) << restart);
-  };
-  Strategy strategy = MakeStrategy(n, first_population);
-  std::vector<BoxTransform> box;
-  for (std::size_t i = 0; i < n; ++i) box.emplace_back(lower[i], upper[i], scale[i]);
+  return first_population;
+}
+
+}  // namespace
+
+void Solve(const CmaesOptions& options, Objective& objective, Theta* theta, OptimizerSummary* summary) {
+  std::string error;
+  if (!options.IsValid(&error)) throw InputError("cmaes options: " + error);
+  if (theta == nullptr || summary == nullptr) throw InputError("cmaes: theta and summary must be non-null");
+  const ParameterSpec& spec = objective.parameters();
+  if (spec.size() == 0) throw InputError("cmaes: the policy class has no parameters");
+
+  Search search(options, spec, FirstPopulation(options, spec.size()));
   RunProgress run("cmaes", spec, options.callbacks);
-
-  Distribution d;
-  std::deque<double> recent_best;  // best U-hat of each of the last tolfun_window generations
   std::uint64_t stream_position = 0;
-  std::int64_t restarts = 0;             // runs started after the first
-  std::int64_t run_first_iteration = 0;  // the iteration count when this run started
-  std::deque<double> run_best;           // this run's best U-hat after each of its last generations
-  Theta start;                           // the first mean (search space), where every run starts
-  if (options.resume_from) {
-    const json& state = run.Resume(*options.resume_from);
-    if (state.contains("restarts")) {
-      restarts = StateInteger(state, "restarts");
-      if (restarts < 0 || restarts > options.restarts)
-        throw InputError(
-            fmt::format("checkpoint state.restarts: expected 0 to {} (the options' restarts), got {}",
-                        options.restarts, restarts));
-      run_first_iteration = StateInteger(state, "run_first_iteration");
-      for (const double v : VectorFromJson(StateField(state, "run_best"), "state.run_best"))
-        run_best.push_back(v);
-      start = VectorFromJson(StateField(state, "start"), "state.start");
-      if (start.size() != n) throw InputError(fmt::format("checkpoint state.start: expected {} numbers", n));
-    } else if (options.restarts > 0) {
-      throw InputError("checkpoint state.restarts: missing (the checkpoint was written without restarts)");
-    }
-    strategy = MakeStrategy(n, population_of_run(restarts));
-    if (StateInteger(state, "population") != strategy.lambda)
-      throw InputError(
-          fmt::format("checkpoint state.population: expected {} (the options' population), got {}",
-                      strategy.lambda, StateInteger(state, "population")));
-    d.mean = VectorFromJson(StateField(state, "mean"), "state.mean");
-    if (d.mean.size() != n ||
-        !std::all_of(d.mean.begin(), d.mean.end(), [](double v) { return std::isfinite(v); }))
-      throw InputError(fmt::format("checkpoint state.mean: expected {} finite numbers", n));
-    d.sigma = DoubleFromJson(StateField(state, "sigma"), "state.sigma");
-    d.C = MatrixFromJson(StateField(state, "C"), "C", n);
-    d.B = MatrixFromJson(StateField(state, "B"), "B", n);
-    d.D = EigenFromJson(StateField(state, "D"), "D", n);
-    d.p_sigma = EigenFromJson(StateField(state, "p_sigma"), "p_sigma", n);
-    d.p_c = EigenFromJson(StateField(state, "p_c"), "p_c", n);
-    d.eigen_iteration = StateInteger(state, "eigen_iteration");
-    for (const double v : VectorFromJson(StateField(state, "recent_best"), "state.recent_best"))
-      recent_best.push_back(v);
-    stream_position = StateUnsigned(state, "stream_position");
-  } else {
-    const Theta first = StartingTheta(spec, *theta);
-    const double value = objective.evaluate(first);
-    run.AddEvaluations(1);
-    run.set_initial_value(value);
-    run.Offer(first, value);
-    d.mean.resize(n);
-    for (std::size_t i = 0; i < n; ++i) d.mean[i] = box[i].Inverse(first[i]);
-    start = d.mean;
-    StartDistribution(options.initial_step, &d);
-  }
-  d.RefreshInverseSquareRoot();
+  if (options.resume_from)
+    stream_position = search.Resume(run.Resume(*options.resume_from));
+  else
+    search.Start(StartingTheta(spec, *theta), objective, run);
   UniformStream uniforms(options.seed, options.stream, stream_position);
-
-  auto lambda = static_cast<std::size_t>(strategy.lambda);
-  std::vector<Theta> candidates(lambda, Theta(n));
-  std::vector<double> values(lambda);
-  std::vector<Eigen::VectorXd> steps(lambda, Eigen::VectorXd(n));  // y_k, scaled units
-  std::vector<std::size_t> order(lambda);
-  // A stop that restarts (IPOP) when restarts remain: the next run from the first mean, twice the population.
-  auto restart = [&]() {
-    if (restarts >= options.restarts) return false;
-    ++restarts;
-    strategy = MakeStrategy(n, population_of_run(restarts));
-    lambda = static_cast<std::size_t>(strategy.lambda);
-    candidates.assign(lambda, Theta(n));
-    values.assign(lambda, 0.0);
-    steps.assign(lambda, Eigen::VectorXd(n));
-    order.assign(lambda, 0);
-    d.mean = start;
-    StartDistribution(options.initial_step, &d);
-    d.eigen_iteration = run.iterations();
-    d.RefreshInverseSquareRoot();
-    recent_best.clear();
-    run_best.clear();
-    run_first_iteration = run.iterations();
-    return true;
-  };
-  Theta normals(n);
-  Eigen::VectorXd scaled_normals(n), weighted_step(n), whitened(n);
-  Eigen::MatrixXd rank_mu(n, n);
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(static_cast<Eigen::Index>(n));
 
   TerminationType termination = TerminationType::kFailure;
   std::string message;
   for (;;) {
-    if (run.BudgetSpent(options.max_iterations, options.max_evaluations, static_cast<std::int64_t>(lambda),
-                        &termination, &message, "a generation"))
+    if (run.BudgetSpent(options.max_iterations, options.max_evaluations, search.population(), &termination,
+                        &message, "a generation"))
       break;
-
-    // Sample y_k = B D z_k (Eq 39) and evaluate the candidates, mapped into the bounds, in one batch.
-    for (std::size_t k = 0; k < lambda; ++k) {
-      FillStandardNormals(uniforms, normals);
-      for (std::size_t i = 0; i < n; ++i) scaled_normals[i] = d.D[i] * normals[i];
-      steps[k].noalias() = d.B * scaled_normals;
-      for (std::size_t i = 0; i < n; ++i)
-        candidates[k][i] = box[i](d.mean[i] + d.sigma * scale[i] * steps[k][i]);
-    }
-    objective.evaluate_batch(candidates, values);
-    run.AddEvaluations(static_cast<std::int64_t>(lambda));
-    for (std::size_t k = 0; k < lambda; ++k) run.Offer(candidates[k], values[k]);
-
-    // Rank best first; ties keep index order, NaN last.
-    std::iota(order.begin(), order.end(), std::size_t{0});
-    std::stable_sort(order.begin(), order.end(),
-                     [&](std::size_t a, std::size_t b) { return IsImprovement(values[a], values[b]); });
-
-    // Recombination (Eq 41, c_m = 1): the mean moves by the weighted steps of the mu best.
-    weighted_step.setZero();
-    for (int r = 0; r < strategy.mu; ++r) weighted_step += strategy.weights[r] * steps[order[r]];
-    for (std::size_t i = 0; i < n; ++i) d.mean[i] += d.sigma * scale[i] * weighted_step[i];
-
-    // Cumulative step-size adaptation (Eqs 43-44).
-    whitened.noalias() = d.inv_sqrt_C * weighted_step;
-    d.p_sigma = (1.0 - strategy.c_sigma) * d.p_sigma +
-                std::sqrt(strategy.c_sigma * (2.0 - strategy.c_sigma) * strategy.mueff) * whitened;
-    const double p_sigma_norm = d.p_sigma.norm();
-    const auto generation = static_cast<double>(run.iterations() + 1 - run_first_iteration);
-    const bool h_sigma = p_sigma_norm / std::sqrt(1.0 - std::pow(1.0 - strategy.c_sigma, 2.0 * generation)) <
-                         (1.4 + 2.0 / (static_cast<double>(n) + 1.0)) * strategy.chi_n;
-    d.sigma *= std::exp(strategy.c_sigma / strategy.d_sigma * (p_sigma_norm / strategy.chi_n - 1.0));
-
-    // Covariance matrix adaptation (Eqs 45-47): rank-one update from the path, rank-mu from all
-    // candidates, the negative weights rescaled by n / ||C^-1/2 y||^2 (Eq 46).
-    d.p_c = (1.0 - strategy.c_c) * d.p_c;
-    if (h_sigma) d.p_c += std::sqrt(strategy.c_c * (2.0 - strategy.c_c) * strategy.mueff) * weighted_step;
-    rank_mu.setZero();
-    for (std::size_t r = 0; r < lambda; ++r) {
-      const Eigen::VectorXd& y = steps[order[r]];
-      double w = strategy.weights[static_cast<Eigen::Index>(r)];
-      if (w < 0.0) {
-        whitened.noalias() = d.inv_sqrt_C * y;
-        const double squared = whitened.squaredNorm();
-        w = squared > 0.0 ? w * static_cast<double>(n) / squared : 0.0;
-      }
-      if (w != 0.0) rank_mu.noalias() += w * y * y.transpose();
-    }
-    const double delta_h = h_sigma ? 0.0 : strategy.c_c * (2.0 - strategy.c_c);
-    d.C = (1.0 + strategy.c_1 * delta_h - strategy.c_1 - strategy.c_mu * strategy.weight_sum) * d.C +
-          strategy.c_1 * d.p_c * d.p_c.transpose() + strategy.c_mu * rank_mu;
-
+    search.SampleAndEvaluate(uniforms, objective, run);
+    search.Rank();
+    search.Update(run.iterations());
     const bool go_on = run.EndIteration();
-
-    recent_best.push_back(values[order[0]]);
-    if (recent_best.size() > strategy.tolfun_window) recent_best.pop_front();
-    if (options.stall_generations > 0) {
-      // NaN never raises the run's best (IsImprovement ranks it last).
-      const double best = run_best.empty() || IsImprovement(values[order[0]], run_best.back())
-                              ? values[order[0]]
-                              : run_best.back();
-      run_best.push_back(best);
-      if (run_best.size() > static_cast<std::size_t>(options.stall_generations) + 1) run_best.pop_front();
-    }
-    if (!go_on) {
-      termination = TerminationType::kUserRequested;
-      message = "an iteration callback asked to stop";
+    search.RecordBest();
+    std::optional<Stop> stop;
+    if (!go_on) stop = Stop{TerminationType::kUserRequested, "an iteration callback asked to stop", false};
+    if (!stop) stop = search.Degenerated(run.iterations());
+    if (!stop) stop = search.Converged();
+    if (stop) {
+      if (stop->restartable && search.Restart(run.iterations())) continue;
+      termination = stop->termination;
+      message = std::move(stop->message);
       break;
     }
-
-    if (!std::isfinite(d.sigma) || !d.C.allFinite()) {
-      termination = TerminationType::kFailure;
-      message = fmt::format("sigma ({}) or the covariance matrix became non-finite", d.sigma);
-      break;
-    }
-    if (run.iterations() - d.eigen_iteration >= strategy.eigen_interval) {
-      d.C = (0.5 * (d.C + d.C.transpose())).eval();
-      eigen.compute(d.C);
-      if (eigen.info() != Eigen::Success || !(eigen.eigenvalues().minCoeff() > 0.0)) {
-        termination = TerminationType::kFailure;
-        message = "the covariance matrix lost positive definiteness";
-        break;
-      }
-      d.B = eigen.eigenvectors();
-      d.D = eigen.eigenvalues().cwiseSqrt();
-      d.eigen_iteration = run.iterations();
-      d.RefreshInverseSquareRoot();
-    }
-
-    const double condition = (d.D.maxCoeff() / d.D.minCoeff()) * (d.D.maxCoeff() / d.D.minCoeff());
-    if (condition > options.max_condition) {
-      termination = TerminationType::kFailure;
-      message = fmt::format("the condition number of C, {:.3g}, passed max_condition = {:.3g}", condition,
-                            options.max_condition);
-      break;
-    }
-    double spread = 0.0;
-    for (std::size_t i = 0; i < n; ++i) spread = std::max({spread, std::abs(d.p_c[i]), std::sqrt(d.C(i, i))});
-    if (d.sigma * spread < options.x_tolerance) {
-      if (restart()) continue;
-      termination = TerminationType::kConvergence;
-      message = fmt::format("sigma * max(|p_c|, sqrt(diag C)) = {:.3g} fell below x_tolerance = {:.3g}",
-                            d.sigma * spread, options.x_tolerance);
-      break;
-    }
-    if (recent_best.size() == strategy.tolfun_window) {
-      // Over the recent best values and this generation's values; a non-finite one never stops the run.
-      double lo = values[0], hi = values[0];
-      for (const double v : recent_best) lo = std::min(lo, v), hi = std::max(hi, v);
-      for (const double v : values) lo = std::min(lo, v), hi = std::max(hi, v);
-      bool finite = std::isfinite(hi - lo);
-      for (const double v : values) finite = finite && std::isfinite(v);
-      for (const double v : recent_best) finite = finite && std::isfinite(v);
-      if (finite && hi - lo < options.function_tolerance) {
-        if (restart()) continue;
-        termination = TerminationType::kConvergence;
-        message = fmt::format("U-hat ranged by {:.3g} < function_tolerance = {:.3g} over {} generations",
-                              hi - lo, options.function_tolerance, strategy.tolfun_window);
-        break;
-      }
-    }
-    if (run_best.size() == static_cast<std::size_t>(options.stall_generations) + 1 &&
-        !(run_best.back() - run_best.front() > options.stall_tolerance)) {
-      if (restart()) continue;
-      termination = TerminationType::kConvergence;
-      message =
-          fmt::format("the best U-hat rose by {:.3g} <= stall_tolerance = {:.3g} over {} generations",
-                      run_best.back() - run_best.front(), options.stall_tolerance, options.stall_generations);
-      break;
-    }
-    if (run.CheckpointDue(options.checkpoint_every)) {
-      options.on_checkpoint(run.Checkpoint(
-          json{{"population", strategy.lambda},
-               {"mean", VectorToJson(d.mean)},
-               {"sigma", DoubleToJson(d.sigma)},
-               {"C", MatrixToJson(d.C)},
-               {"B", MatrixToJson(d.B)},
-               {"D", VectorToJson(std::span<const double>(d.D.data(), n))},
-               {"p_sigma", VectorToJson(std::span<const double>(d.p_sigma.data(), n))},
-               {"p_c", VectorToJson(std::span<const double>(d.p_c.data(), n))},
-               {"eigen_iteration", d.eigen_iteration},
-               {"recent_best", VectorToJson(std::vector<double>(recent_best.begin(), recent_best.end()))},
-               {"stream_position", uniforms.position()},
-               {"restarts", restarts},
-               {"run_first_iteration", run_first_iteration},
-               {"run_best", VectorToJson(std::vector<double>(run_best.begin(), run_best.end()))},
-               {"start", VectorToJson(start)}}));
-    }
+    if (run.CheckpointDue(options.checkpoint_every))
+      options.on_checkpoint(run.Checkpoint(search.State(uniforms.position())));
   }
 
-  if (restarts > 0)
-    message += fmt::format(" (after {} restart{}, population {})", restarts, restarts == 1 ? "" : "s",
-                           strategy.lambda);
+  if (search.restarts() > 0)
+    message += fmt::format(" (after {} restart{}, population {})", search.restarts(),
+                           search.restarts() == 1 ? "" : "s", search.population());
   run.Finish(termination, std::move(message), summary);
-  summary->final_step = d.sigma;
+  summary->final_step = search.sigma();
   *theta = summary->best_theta;
 }
 

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "incumbent.hpp"
 #include "pegasus/core/error.hpp"
 
 namespace pegasus {
@@ -44,66 +45,46 @@ void FillStandardNormals(UniformStream& uniforms, std::span<double> normals) {
   }
 }
 
-void Solve(const HillClimbingOptions& options, Objective& objective, Theta* theta,
-           OptimizerSummary* summary) {
-  std::string error;
-  if (!options.IsValid(&error)) throw InputError("hill climbing options: " + error);
-  if (theta == nullptr || summary == nullptr)
-    throw InputError("hill climbing: theta and summary must be non-null");
+namespace {
 
-  const ParameterSpec& spec = objective.parameters();
-  const std::size_t n = spec.size();
-  const Theta lower = spec.lower();
-  const Theta upper = spec.upper();
-  const Theta scale = spec.scales();
-  RunProgress run("hill-climb", spec, options.callbacks);
+// One hill climb: where it stands (theta, its U-hat, the step length) and an iteration's proposals.
+struct Climber : Incumbent {
+  Climber(const HillClimbingOptions& run_options, const ParameterSpec& parameters)
+      : options(run_options),
+        spec(parameters),
+        lower(parameters.lower()),
+        upper(parameters.upper()),
+        scale(parameters.scales()) {}
 
-  Theta x;
-  double value;
-  double step;
-  std::uint64_t stream_position = 0;
-  if (options.resume_from) {
-    const json& state = run.Resume(*options.resume_from);
-    x = VectorFromJson(StateField(state, "theta"), "state.theta");
-    if (!spec.contains(x)) throw InputError("checkpoint state.theta: expected a theta inside the bounds");
-    value = DoubleFromJson(StateField(state, "value"), "state.value");
-    step = DoubleFromJson(StateField(state, "step"), "state.step");
-    stream_position = StateUnsigned(state, "stream_position");
-  } else {
-    x = StartingTheta(spec, *theta);
-    value = objective.evaluate(x);
-    run.AddEvaluations(1);
-    run.set_initial_value(value);
-    run.Offer(x, value);
-    step = options.initial_step;
+  // Continues from a checkpoint's state; returns the position of its uniform stream.
+  std::uint64_t Resume(const json& state) {
+    Incumbent::Resume(state, spec);
+    return StateUnsigned(state, "stream_position");
   }
-  UniformStream uniforms(options.seed, options.stream, stream_position);
 
-  const auto proposal_count = static_cast<std::size_t>(options.proposals_per_iteration);
-  std::vector<Theta> proposals(proposal_count, x);
-  std::vector<double> proposal_values(proposal_count);
-  Theta normals(n);
+  void AllocateScratch() {
+    proposals.assign(static_cast<std::size_t>(options.proposals_per_iteration), x);
+    proposal_values.assign(proposals.size(), 0.0);
+    normals.resize(spec.size());
+  }
 
-  TerminationType termination = TerminationType::kFailure;
-  std::string message;
-  for (;;) {
-    if (run.BudgetSpent(options.max_iterations, options.max_evaluations,
-                        static_cast<std::int64_t>(proposal_count), &termination, &message))
-      break;
-
-    // §5.3: random perturbations of the weights, each sized by the parameter's scale.
+  // §5.3: random perturbations of the weights, each sized by the parameter's scale, evaluated in one batch.
+  void ProposeAndEvaluate(UniformStream& uniforms, Objective& objective, RunProgress& run) {
     for (auto& proposal : proposals) {
       FillStandardNormals(uniforms, normals);
-      for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t i = 0; i < spec.size(); ++i)
         proposal[i] = std::clamp(x[i] + step * scale[i] * normals[i], lower[i], upper[i]);
     }
     objective.evaluate_batch(proposals, proposal_values);
-    run.AddEvaluations(static_cast<std::int64_t>(proposal_count));
+    run.AddEvaluations(static_cast<std::int64_t>(proposals.size()));
+  }
 
+  // Moves to the best proposal only when U-hat increases (§5.3), so accepted values never decrease; the
+  // step grows after a move and shrinks otherwise.
+  void MoveToBest(RunProgress& run) {
     std::size_t best = 0;
-    for (std::size_t k = 1; k < proposal_count; ++k)
+    for (std::size_t k = 1; k < proposals.size(); ++k)
       if (IsImprovement(proposal_values[k], proposal_values[best])) best = k;
-    // Move only when U-hat increases (§5.3), so accepted values never decrease.
     if (IsImprovement(proposal_values[best], value)) {
       std::copy(proposals[best].begin(), proposals[best].end(), x.begin());
       value = proposal_values[best];
@@ -112,26 +93,66 @@ void Solve(const HillClimbingOptions& options, Objective& objective, Theta* thet
     } else {
       step *= options.step_shrink;
     }
+  }
+
+  json State(std::uint64_t stream_position) const {
+    json state = Incumbent::State();
+    state["stream_position"] = stream_position;
+    return state;
+  }
+
+  const HillClimbingOptions& options;
+  const ParameterSpec& spec;
+  const Theta lower, upper, scale;
+  std::vector<Theta> proposals;
+  std::vector<double> proposal_values;
+  Theta normals;
+};
+
+}  // namespace
+
+void Solve(const HillClimbingOptions& options, Objective& objective, Theta* theta,
+           OptimizerSummary* summary) {
+  std::string error;
+  if (!options.IsValid(&error)) throw InputError("hill climbing options: " + error);
+  if (theta == nullptr || summary == nullptr)
+    throw InputError("hill climbing: theta and summary must be non-null");
+
+  const ParameterSpec& spec = objective.parameters();
+  Climber climber(options, spec);
+  RunProgress run("hill-climb", spec, options.callbacks);
+  std::uint64_t stream_position = 0;
+  if (options.resume_from)
+    stream_position = climber.Resume(run.Resume(*options.resume_from));
+  else
+    climber.Start(StartingTheta(spec, *theta), options.initial_step, objective, run);
+  UniformStream uniforms(options.seed, options.stream, stream_position);
+  climber.AllocateScratch();
+
+  TerminationType termination = TerminationType::kFailure;
+  std::string message;
+  for (;;) {
+    if (run.BudgetSpent(options.max_iterations, options.max_evaluations,
+                        static_cast<std::int64_t>(climber.proposals.size()), &termination, &message))
+      break;
+    climber.ProposeAndEvaluate(uniforms, objective, run);
+    climber.MoveToBest(run);
     if (!run.EndIteration()) {
       termination = TerminationType::kUserRequested;
       message = "an iteration callback asked to stop";
       break;
     }
-    if (step < options.min_step) {
+    if (climber.step < options.min_step) {
       termination = TerminationType::kConvergence;
-      message = fmt::format("step {:.3g} fell below min_step = {:.3g}", step, options.min_step);
+      message = fmt::format("step {:.3g} fell below min_step = {:.3g}", climber.step, options.min_step);
       break;
     }
-    if (run.CheckpointDue(options.checkpoint_every)) {
-      options.on_checkpoint(run.Checkpoint(json{{"theta", VectorToJson(x)},
-                                                {"value", DoubleToJson(value)},
-                                                {"step", DoubleToJson(step)},
-                                                {"stream_position", uniforms.position()}}));
-    }
+    if (run.CheckpointDue(options.checkpoint_every))
+      options.on_checkpoint(run.Checkpoint(climber.State(uniforms.position())));
   }
 
   run.Finish(termination, std::move(message), summary);
-  summary->final_step = step;
+  summary->final_step = climber.step;
   *theta = summary->best_theta;
 }
 

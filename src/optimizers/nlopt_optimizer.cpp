@@ -188,6 +188,124 @@ std::vector<LoggedEvaluation> ParseLog(const json& log, std::size_t n) {
   return entries;
 }
 
+// The global methods sample the whole box, so every bound must be finite.
+void CheckGlobalBounds(const NloptOptions& options, const ParameterSpec& spec) {
+  if (!IsGlobal(options.algorithm)) return;
+  const Theta lower = spec.lower();
+  const Theta upper = spec.upper();
+  for (std::size_t i = 0; i < spec.size(); ++i)
+    if (!std::isfinite(lower[i]) || !std::isfinite(upper[i]))
+      throw InputError(fmt::format("parameter {}: the global method {} needs finite bounds, got [{}, {}]",
+                                   spec[i].name, NloptAlgorithmName(options.algorithm), lower[i], upper[i]));
+}
+
+// The start and the evaluations to replay from a checkpoint's state, which must be this algorithm's and
+// this seed's.
+void ResumeRun(const json& state, const ParameterSpec& spec, NloptRun* run) {
+  const std::string_view name = NloptAlgorithmName(run->options.algorithm);
+  const json& algorithm = StateField(state, "algorithm");
+  if (!algorithm.is_string() || algorithm.get<std::string>() != name)
+    throw InputError(fmt::format("checkpoint state.algorithm: expected \"{}\"", name));
+  const auto seed = StateUnsigned(state, "seed");
+  if (seed != run->options.seed)
+    throw InputError(
+        fmt::format("checkpoint state.seed: expected this run's seed {}, got {}", run->options.seed, seed));
+  run->start = VectorFromJson(StateField(state, "start"), "state.start");
+  if (!spec.contains(run->start))
+    throw InputError("checkpoint state.start: expected a theta inside the bounds");
+  run->replay = ParseLog(StateField(state, "log"), spec.size());
+  run->progress.set_replayed_evaluations(static_cast<std::int64_t>(run->replay.size()));
+}
+
+// Bounds, the local methods' first steps, the tolerances (scaled units), the budget and the population.
+void Configure(const NloptOptions& options, const ParameterSpec& spec, nlopt::opt* optimizer) {
+  const std::size_t n = spec.size();
+  const Theta lower = spec.lower();
+  const Theta upper = spec.upper();
+  const Theta scale = spec.scales();
+  optimizer->set_lower_bounds(lower);
+  optimizer->set_upper_bounds(upper);
+  if (!IsGlobal(options.algorithm)) {
+    Theta steps(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      steps[i] = options.initial_step * scale[i];
+      // BOBYQA refuses a trust region wider than half the gap between the bounds. A fixed parameter
+      // (lower == upper) is removed by NLopt, and any positive step will do for it.
+      if (upper[i] > lower[i]) steps[i] = std::min(steps[i], 0.5 * (upper[i] - lower[i]));
+    }
+    optimizer->set_initial_step(steps);
+  }
+  if (options.x_tolerance > 0.0) {
+    Theta tolerances(n);
+    for (std::size_t i = 0; i < n; ++i) tolerances[i] = options.x_tolerance * scale[i];
+    optimizer->set_xtol_abs(tolerances);
+  }
+  if (options.function_tolerance > 0.0) optimizer->set_ftol_rel(options.function_tolerance);
+  optimizer->set_maxeval(static_cast<int>(options.max_evaluations));
+  if (options.population > 0 && IsGlobal(options.algorithm))
+    optimizer->set_population(static_cast<unsigned>(options.population));
+}
+
+// Runs NLopt from the start and says why it stopped, in NLopt's own terms; a stop the callback forced is
+// told by the run's flags, read afterwards.
+void Optimize(const NloptOptions& options, NloptRun& run, nlopt::opt& optimizer, TerminationType* termination,
+              std::string* message) {
+  Theta x = run.start;
+  double minimum = 0.0;
+  nlopt::srand(static_cast<unsigned long>(options.seed));
+  try {
+    switch (optimizer.optimize(x, minimum)) {
+      case nlopt::MAXEVAL_REACHED:
+        *termination = TerminationType::kMaxEvaluations;
+        *message = fmt::format("used max_evaluations = {}", options.max_evaluations);
+        break;
+      case nlopt::FTOL_REACHED:
+        *termination = TerminationType::kConvergence;
+        *message = fmt::format("NLopt: relative change of U-hat below function_tolerance = {:.3g}",
+                               options.function_tolerance);
+        break;
+      case nlopt::XTOL_REACHED:
+        *termination = TerminationType::kConvergence;
+        *message = fmt::format("NLopt: step below x_tolerance = {:.3g} (scaled units)", options.x_tolerance);
+        break;
+      default:
+        *termination = TerminationType::kConvergence;
+        *message = "NLopt reported success";
+        break;
+    }
+  } catch (const nlopt::forced_stop&) {
+    if (!run.error && !run.hit_max_evaluations && !run.stopped_by_callback)
+      *message = "NLopt was stopped for an unknown reason";
+  } catch (const nlopt::roundoff_limited&) {
+    *termination = TerminationType::kConvergence;
+    *message = "NLopt: progress limited by roundoff";
+  } catch (const std::invalid_argument& e) {
+    throw InputError(
+        fmt::format("{}: NLopt rejected the problem: {}", NloptAlgorithmName(options.algorithm), e.what()));
+  } catch (const std::runtime_error& e) {
+    *message = fmt::format("NLopt failed: {}", e.what());
+  }
+}
+
+// What the callback recorded overrides NLopt's reason: its error is rethrown, a callback's stop and the
+// evaluation budget are named, and a replay NLopt did not finish means a foreign checkpoint.
+void SettleStop(const NloptOptions& options, const NloptRun& run, TerminationType* termination,
+                std::string* message) {
+  if (run.error) std::rethrow_exception(run.error);
+  if (run.stopped_by_callback) {
+    *termination = TerminationType::kUserRequested;
+    *message = "an iteration callback asked to stop";
+  } else if (run.hit_max_evaluations) {
+    *termination = TerminationType::kMaxEvaluations;
+    *message = fmt::format("used max_evaluations = {}", options.max_evaluations);
+  }
+  if (run.replay_next < run.replay.size())
+    throw InputError(
+        fmt::format("checkpoint state.log: NLopt stopped after {} evaluations but the log holds {}; "
+                    "the checkpoint was written with other options",
+                    run.replay_next, run.replay.size()));
+}
+
 }  // namespace
 
 void Solve(const NloptOptions& options, Objective& objective, Theta* theta, OptimizerSummary* summary) {
@@ -200,112 +318,25 @@ void Solve(const NloptOptions& options, Objective& objective, Theta* theta, Opti
   const ParameterSpec& spec = objective.parameters();
   const std::size_t n = spec.size();
   if (n == 0) throw InputError(fmt::format("{}: NLopt needs at least one parameter", name));
-  const Theta lower = spec.lower();
-  const Theta upper = spec.upper();
-  const Theta scale = spec.scales();
-  if (IsGlobal(options.algorithm)) {
-    for (std::size_t i = 0; i < n; ++i)
-      if (!std::isfinite(lower[i]) || !std::isfinite(upper[i]))
-        throw InputError(fmt::format("parameter {}: the global method {} needs finite bounds, got [{}, {}]",
-                                     spec[i].name, name, lower[i], upper[i]));
-  }
+  CheckGlobalBounds(options, spec);
 
   RunProgress progress(std::string(name), spec, options.callbacks);
   NloptRun run{options, objective, progress, {}, {}, 0, {}, Theta(n), &spec, nullptr, nullptr, false};
-  if (options.resume_from) {
-    const json& state = progress.Resume(*options.resume_from, /*restore_counters=*/false);
-    const json& algorithm = StateField(state, "algorithm");
-    if (!algorithm.is_string() || algorithm.get<std::string>() != name)
-      throw InputError(fmt::format("checkpoint state.algorithm: expected \"{}\"", name));
-    const auto seed = StateUnsigned(state, "seed");
-    if (seed != options.seed)
-      throw InputError(
-          fmt::format("checkpoint state.seed: expected this run's seed {}, got {}", options.seed, seed));
-    run.start = VectorFromJson(StateField(state, "start"), "state.start");
-    if (!spec.contains(run.start))
-      throw InputError("checkpoint state.start: expected a theta inside the bounds");
-    run.replay = ParseLog(StateField(state, "log"), n);
-    progress.set_replayed_evaluations(static_cast<std::int64_t>(run.replay.size()));
-  } else {
+  if (options.resume_from)
+    ResumeRun(progress.Resume(*options.resume_from, /*restore_counters=*/false), spec, &run);
+  else
     run.start = StartingTheta(spec, *theta);
-  }
   run.log.reserve(std::max<std::size_t>(run.replay.size(), 1024));
 
   nlopt::opt optimizer(ToNlopt(options.algorithm), static_cast<unsigned>(n));
   run.optimizer = &optimizer;
-  optimizer.set_lower_bounds(lower);
-  optimizer.set_upper_bounds(upper);
-  if (!IsGlobal(options.algorithm)) {
-    Theta steps(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      steps[i] = options.initial_step * scale[i];
-      // BOBYQA refuses a trust region wider than half the gap between the bounds. A fixed parameter
-      // (lower == upper) is removed by NLopt, and any positive step will do for it.
-      if (upper[i] > lower[i]) steps[i] = std::min(steps[i], 0.5 * (upper[i] - lower[i]));
-    }
-    optimizer.set_initial_step(steps);
-  }
-  if (options.x_tolerance > 0.0) {
-    Theta tolerances(n);
-    for (std::size_t i = 0; i < n; ++i) tolerances[i] = options.x_tolerance * scale[i];
-    optimizer.set_xtol_abs(tolerances);
-  }
-  if (options.function_tolerance > 0.0) optimizer.set_ftol_rel(options.function_tolerance);
-  optimizer.set_maxeval(static_cast<int>(options.max_evaluations));
-  if (options.population > 0 && IsGlobal(options.algorithm))
-    optimizer.set_population(static_cast<unsigned>(options.population));
+  Configure(options, spec, &optimizer);
   optimizer.set_min_objective(NloptCallback, &run);
 
   TerminationType termination = TerminationType::kFailure;
   std::string message;
-  Theta x = run.start;
-  double minimum = 0.0;
-  nlopt::srand(static_cast<unsigned long>(options.seed));
-  try {
-    switch (optimizer.optimize(x, minimum)) {
-      case nlopt::MAXEVAL_REACHED:
-        termination = TerminationType::kMaxEvaluations;
-        message = fmt::format("used max_evaluations = {}", options.max_evaluations);
-        break;
-      case nlopt::FTOL_REACHED:
-        termination = TerminationType::kConvergence;
-        message = fmt::format("NLopt: relative change of U-hat below function_tolerance = {:.3g}",
-                              options.function_tolerance);
-        break;
-      case nlopt::XTOL_REACHED:
-        termination = TerminationType::kConvergence;
-        message = fmt::format("NLopt: step below x_tolerance = {:.3g} (scaled units)", options.x_tolerance);
-        break;
-      default:
-        termination = TerminationType::kConvergence;
-        message = "NLopt reported success";
-        break;
-    }
-  } catch (const nlopt::forced_stop&) {
-    if (!run.error && !run.hit_max_evaluations && !run.stopped_by_callback)
-      message = "NLopt was stopped for an unknown reason";
-  } catch (const nlopt::roundoff_limited&) {
-    termination = TerminationType::kConvergence;
-    message = "NLopt: progress limited by roundoff";
-  } catch (const std::invalid_argument& e) {
-    throw InputError(fmt::format("{}: NLopt rejected the problem: {}", name, e.what()));
-  } catch (const std::runtime_error& e) {
-    message = fmt::format("NLopt failed: {}", e.what());
-  }
-  if (run.error) std::rethrow_exception(run.error);
-  if (run.stopped_by_callback) {
-    termination = TerminationType::kUserRequested;
-    message = "an iteration callback asked to stop";
-  } else if (run.hit_max_evaluations) {
-    termination = TerminationType::kMaxEvaluations;
-    message = fmt::format("used max_evaluations = {}", options.max_evaluations);
-  }
-  if (run.replay_next < run.replay.size())
-    throw InputError(
-        fmt::format("checkpoint state.log: NLopt stopped after {} evaluations but the log holds {}; "
-                    "the checkpoint was written with other options",
-                    run.replay_next, run.replay.size()));
-
+  Optimize(options, run, optimizer, &termination, &message);
+  SettleStop(options, run, &termination, &message);
   progress.Finish(termination, std::move(message), summary);
   *theta = summary->best_theta;
 }

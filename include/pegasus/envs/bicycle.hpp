@@ -258,6 +258,82 @@ inline double heading(double xf, double yf, double xb, double yb) {
   if (dy > 0.0) return atan_rational((xb - xf) / dy);
   return sgn(xb - xf) * (std::numbers::pi / 2) - atan_rational(dy / (xb - xf));
 }
+
+// The steps of Bicycle::step (see the header comment), inlined into it: one step is a few hundred
+// instructions and runs billions of times in training (bench/bicycle_bench.cpp).
+
+// 1 / r of the front tyre, the back tyre and the centre of mass for the handlebar angle of s (bike.c:
+// r = 9999999 m for theta = 0).
+struct InverseRadii {
+  double front, back, cm;
+};
+[[gnu::always_inline]] inline InverseRadii inverse_radii(const BicycleState& s) {
+  using K = BicycleConstants;
+  double inv_rf = 1.0 / K::straight_radius, inv_rb = inv_rf, inv_rcm = inv_rf;
+  if (s.theta != 0.0) {
+    double sin_t = s.sin_theta, cos_t = s.cos_theta;
+    if (s.trig_of != s.theta) handlebar_sincos(s.theta, sin_t, cos_t);
+    const double tan_t = std::abs(sin_t / cos_t);
+    inv_rf = std::abs(sin_t) * (1.0 / K::l);
+    inv_rb = tan_t * (1.0 / K::l);
+    inv_rcm = tan_t / std::sqrt((K::l - K::c) * (K::l - K::c) * tan_t * tan_t + K::l * K::l);
+  }
+  return {inv_rf, inv_rb, inv_rcm};
+}
+
+// The tilt's angular acceleration (omega''), the centre of mass displaced sideways by d.
+[[gnu::always_inline]] inline double tilt_acceleration(const BicycleState& s, double d,
+                                                       const InverseRadii& r) {
+  using K = BicycleConstants;
+  const double phi = s.omega + small_atan(d * (1.0 / K::h));
+  double sin_phi, cos_phi;
+  small_sincos(phi, sin_phi, cos_phi);
+  return (K::h * K::M * K::g * sin_phi -
+          cos_phi * (K::I_dc * K::sigma_dot * s.theta_dot +
+                     sgn(s.theta) * K::v * K::v * (K::Md * K::R * (r.front + r.back) + K::M * K::h * r.cm))) *
+         (1.0 / K::I_bike);
+}
+
+// The tyres' contact points after one step with the new handlebar angle theta, and its sine and cosine.
+struct Tyres {
+  double xf, yf, xb, yb;
+  double sin_theta, cos_theta;
+};
+[[gnu::always_inline]] inline Tyres move_tyres(const BicycleState& s, double theta, const InverseRadii& r) {
+  using K = BicycleConstants;
+  // The frame direction is (-sin psi, cos psi) = (f - b) / |f - b|.
+  constexpr double step_length = K::v * K::dt;
+  const double fx = s.xf - s.xb, fy = s.yf - s.yb;
+  const double inv_len = 1.0 / std::sqrt(fx * fx + fy * fy);
+  const double sin_psi = -fx * inv_len, cos_psi = fy * inv_len;
+  Tyres t;
+  // Front: angle psi + theta + turn, turn = sgn(psi + theta) asin(v dt / (2 r_f)).
+  handlebar_sincos(theta, t.sin_theta, t.cos_theta);
+  double sin_turn, cos_turn;
+  arc_turn(sgn(s.psi + theta), step_length * 0.5 * r.front, sin_turn, cos_turn);
+  const double sin_f = t.sin_theta * cos_turn + t.cos_theta * sin_turn;  // of theta + turn
+  const double cos_f = t.cos_theta * cos_turn - t.sin_theta * sin_turn;
+  t.xf = s.xf - step_length * (sin_psi * cos_f + cos_psi * sin_f);
+  t.yf = s.yf + step_length * (cos_psi * cos_f - sin_psi * sin_f);
+  // Back: angle psi + turn, turn = sgn(psi) asin(v dt / (2 r_b)).
+  arc_turn(sgn(s.psi), step_length * 0.5 * r.back, sin_turn, cos_turn);
+  t.xb = s.xb - step_length * (sin_psi * cos_turn + cos_psi * sin_turn);
+  t.yb = s.yb + step_length * (cos_psi * cos_turn - sin_psi * sin_turn);
+  return t;
+}
+
+// The wheelbase kept at l: the back tyre moved along the frame when the length drifted by more than 1 cm
+// (the squared length is compared, the square root only taken to correct it).
+[[gnu::always_inline]] inline void keep_wheelbase(Tyres& t) {
+  using K = BicycleConstants;
+  const double ex = t.xf - t.xb, ey = t.yf - t.yb, length2 = ex * ex + ey * ey;
+  constexpr double lo2 = (K::l - 0.01) * (K::l - 0.01), hi2 = (K::l + 0.01) * (K::l + 0.01);
+  if (length2 < lo2 || length2 > hi2) {
+    const double length = std::sqrt(length2);
+    t.xb += (t.xb - t.xf) * (K::l - length) / length;
+    t.yb += (t.yb - t.yf) * (K::l - length) / length;
+  }
+}
 }  // namespace bicycle_detail
 
 class Bicycle {
@@ -294,26 +370,11 @@ class Bicycle {
     const double d =
         std::clamp(a[1], -K::max_displacement, K::max_displacement) + options_.noise * (2.0 * p[0] - 1.0);
 
-    // 1. Inverse turning radii (bike.c: r = 9999999 m for theta = 0).
-    double inv_rf = 1.0 / K::straight_radius, inv_rb = inv_rf, inv_rcm = inv_rf;
-    if (s.theta != 0.0) {
-      double sin_t = s.sin_theta, cos_t = s.cos_theta;
-      if (s.trig_of != s.theta) handlebar_sincos(s.theta, sin_t, cos_t);
-      const double tan_t = std::abs(sin_t / cos_t);
-      inv_rf = std::abs(sin_t) * (1.0 / K::l);
-      inv_rb = tan_t * (1.0 / K::l);
-      inv_rcm = tan_t / std::sqrt((K::l - K::c) * (K::l - K::c) * tan_t * tan_t + K::l * K::l);
-    }
+    // 1. Inverse turning radii.
+    const InverseRadii r = inverse_radii(s);
 
     // 2. Accelerations.
-    const double phi = s.omega + small_atan(d * (1.0 / K::h));
-    double sin_phi, cos_phi;
-    small_sincos(phi, sin_phi, cos_phi);
-    const double omega_dd = (K::h * K::M * K::g * sin_phi -
-                             cos_phi * (K::I_dc * K::sigma_dot * s.theta_dot +
-                                        sgn(s.theta) * K::v * K::v *
-                                            (K::Md * K::R * (inv_rf + inv_rb) + K::M * K::h * inv_rcm))) *
-                            (1.0 / K::I_bike);
+    const double omega_dd = tilt_acceleration(s, d, r);
     const double theta_dd = (T - K::I_dv * s.omega_dot * K::sigma_dot) * (1.0 / K::I_dl);
 
     // 3. Semi-implicit Euler, handlebar clipped. (The new state is kept in locals and written once at the
@@ -325,33 +386,9 @@ class Bicycle {
     double theta = s.theta + theta_dot * K::dt;
     if (std::abs(theta) > K::max_handlebar) theta = sgn(theta) * K::max_handlebar;
 
-    // 4. Tyres. The frame direction is (-sin psi, cos psi) = (f - b) / |f - b|.
-    constexpr double step_length = K::v * K::dt;
-    const double fx = s.xf - s.xb, fy = s.yf - s.yb;
-    const double inv_len = 1.0 / std::sqrt(fx * fx + fy * fy);
-    const double sin_psi = -fx * inv_len, cos_psi = fy * inv_len;
-    // Front: angle psi + theta + turn, turn = sgn(psi + theta) asin(v dt / (2 r_f)).
-    double sin_theta, cos_theta;
-    handlebar_sincos(theta, sin_theta, cos_theta);
-    double sin_turn, cos_turn;
-    arc_turn(sgn(s.psi + theta), step_length * 0.5 * inv_rf, sin_turn, cos_turn);
-    const double sin_f = sin_theta * cos_turn + cos_theta * sin_turn;  // of theta + turn
-    const double cos_f = cos_theta * cos_turn - sin_theta * sin_turn;
-    const double xf = s.xf - step_length * (sin_psi * cos_f + cos_psi * sin_f);
-    const double yf = s.yf + step_length * (cos_psi * cos_f - sin_psi * sin_f);
-    // Back: angle psi + turn, turn = sgn(psi) asin(v dt / (2 r_b)).
-    arc_turn(sgn(s.psi), step_length * 0.5 * inv_rb, sin_turn, cos_turn);
-    double xb = s.xb - step_length * (sin_psi * cos_turn + cos_psi * sin_turn);
-    double yb = s.yb + step_length * (cos_psi * cos_turn - sin_psi * sin_turn);
-
-    // 5. Wheelbase kept at l (the squared length is compared, the square root only taken to correct it).
-    const double ex = xf - xb, ey = yf - yb, length2 = ex * ex + ey * ey;
-    constexpr double lo2 = (K::l - 0.01) * (K::l - 0.01), hi2 = (K::l + 0.01) * (K::l + 0.01);
-    if (length2 < lo2 || length2 > hi2) {
-      const double length = std::sqrt(length2);
-      xb += (xb - xf) * (K::l - length) / length;
-      yb += (yb - yf) * (K::l - length) / length;
-    }
+    // 4. Tyres, 5. wheelbase kept at l.
+    Tyres t = move_tyres(s, theta, r);
+    keep_wheelbase(t);
 
     // 6. Heading, and the new state.
     State n;
@@ -359,16 +396,16 @@ class Bicycle {
     n.omega_dot = omega_dot;
     n.theta = theta;
     n.theta_dot = theta_dot;
-    n.xf = xf;
-    n.yf = yf;
-    n.xb = xb;
-    n.yb = yb;
-    n.psi = heading(xf, yf, xb, yb);
-    n.sin_theta = sin_theta;
-    n.cos_theta = cos_theta;
+    n.xf = t.xf;
+    n.yf = t.yf;
+    n.xb = t.xb;
+    n.yb = t.yb;
+    n.psi = heading(t.xf, t.yf, t.xb, t.yb);
+    n.sin_theta = t.sin_theta;
+    n.cos_theta = t.cos_theta;
     n.trig_of = theta;
     n.status = std::abs(omega) > K::fall_angle ? State::kFallen
-               : inside_goal(xf, yf)           ? State::kAtGoal
+               : inside_goal(t.xf, t.yf)       ? State::kAtGoal
                                                : State::kRiding;
     return n;
   }
