@@ -171,6 +171,160 @@ std::size_t min_training_log_rows(double log_dt, const ModelStructure& structure
   return 4 * kInputs * log_rows_per_model_step(log_dt, structure.rate_hz) + 1;
 }
 
+namespace {
+
+// The kernel's inputs: everything the model regresses on except the constant, each by its inverse standard
+// deviation over the data (0 where it does not vary).
+struct KernelScales {
+  std::array<double, kInputs> inv_std{};
+  int inputs = 0;  // the inputs that vary
+};
+
+KernelScales kernel_scales(const Dataset& data, const ModelStructure& structure, bool extra_states) {
+  KernelScales out;
+  for (int j = 0; j < kInputs; ++j) {
+    if (j == kOne) continue;
+    if (!extra_states && (j == kFlapLon || j == kFlapLat || j == kGyro)) continue;
+    if (structure.constant_inputs[static_cast<std::size_t>(j)]) continue;
+    const double sd = std::sqrt((data.x.col(j).array() - data.x.col(j).mean()).square().mean());
+    out.inv_std[static_cast<std::size_t>(j)] = sd > 0 ? 1 / sd : 0;
+    out.inputs += sd > 0 ? 1 : 0;
+  }
+  return out;
+}
+
+// The floor as a ceiling on inverse bandwidths (infinity where there is none).
+std::array<double, kInputs> inverse_bandwidth_ceiling(const BandwidthFloor& floor) {
+  std::array<double, kInputs> max_inv{};
+  const auto floors = floor.per_input();
+  for (std::size_t j = 0; j < kInputs; ++j)
+    max_inv[j] = floors[j] > 0 ? 1 / floors[j] : std::numeric_limits<double>::infinity();
+  return max_inv;
+}
+
+// The bandwidth search's cross-validation errors in order: each computed, or replayed from the checkpoint it
+// resumes (which must be the same search); each counted as a step for the progress hook and traced in the
+// report, and the search's state (every evaluation so far) handed to the checkpoint hook.
+class CvEvaluations {
+ public:
+  CvEvaluations(const Dataset& data, const std::array<OutputTemplate, kBodyVars>& templates,
+                const IdentifyOptions& o, ThreadPool& pool, IdentifyReport* report,
+                const IdentifyHooks& hooks, int total_steps)
+      : data_(data),
+        templates_(templates),
+        o_(o),
+        pool_(pool),
+        report_(report),
+        hooks_(hooks),
+        total_steps_(total_steps) {
+    if (hooks.resume_from.is_null()) return;
+    try {
+      for (const auto& e : hooks.resume_from.at("evaluations"))
+        evaluated_.emplace_back(e.at("setting").get<std::string>(), e.at("cv_error").get<double>());
+    } catch (const nlohmann::json::exception& e) {
+      throw InputError(fmt::format("identify: unreadable checkpoint: {}", e.what()));
+    }
+  }
+
+  double evaluate(const std::string& what, const std::array<double, kInputs>& inv) {
+    double e = 0;
+    const bool replayed = next_ < evaluated_.size();
+    if (replayed) {
+      if (evaluated_[next_].first != what)
+        throw InputError(
+            fmt::format("identify: the checkpoint's step {} is '{}', this search's is '{}': not the same "
+                        "search (start afresh with --force)",
+                        next_ + 1, evaluated_[next_].first, what));
+      e = evaluated_[next_].second;
+    } else {
+      e = cv_error(data_, templates_, inv, o_, pool_);
+      evaluated_.emplace_back(what, e);
+      if (hooks_.checkpoint) {
+        nlohmann::json list = nlohmann::json::array();
+        for (const auto& [setting, value] : evaluated_)
+          list.push_back({{"setting", setting}, {"cv_error", value}});
+        hooks_.checkpoint({{"evaluations", list}});
+      }
+    }
+    ++next_;
+    if (report_) report_->cv_trace.emplace_back(what, e);
+    ++steps_;
+    if (hooks_.progress) hooks_.progress(steps_, total_steps_, replayed);
+    return e;
+  }
+
+  // Counts k steps the search had no need to evaluate.
+  void skip(int k) {
+    steps_ += k;
+    if (hooks_.progress && k > 0) hooks_.progress(steps_, total_steps_, true);
+  }
+
+ private:
+  const Dataset& data_;
+  const std::array<OutputTemplate, kBodyVars>& templates_;
+  const IdentifyOptions& o_;
+  ThreadPool& pool_;
+  IdentifyReport* report_;
+  const IdentifyHooks& hooks_;
+  int total_steps_;
+  int steps_ = 0;
+  std::vector<std::pair<std::string, double>> evaluated_;
+  std::size_t next_ = 0;  // evaluations consumed
+};
+
+// The inverse bandwidths of least cross-validation error, each at most max_inv: the scale grid over the
+// inputs' inverse standard deviations, then coordinate passes that try each input's x2, x0.5 and x0 in turn
+// and keep the first that improves.
+std::array<double, kInputs> search_inverse_bandwidths(const std::array<double, kInputs>& inv_std,
+                                                      const std::array<double, kInputs>& max_inv,
+                                                      const IdentifyOptions& o, CvEvaluations& evaluations) {
+  auto floored = [&](std::array<double, kInputs> inv) {
+    for (std::size_t j = 0; j < kInputs; ++j) inv[j] = std::min(inv[j], max_inv[j]);
+    return inv;
+  };
+  std::array<double, kInputs> best_inv{};
+  double best = INFINITY;
+  for (double c : o.scale_grid) {
+    std::array<double, kInputs> inv{};
+    for (int j = 0; j < kInputs; ++j)
+      inv[static_cast<std::size_t>(j)] = inv_std[static_cast<std::size_t>(j)] / c;
+    inv = floored(inv);
+    const double e = evaluations.evaluate(fmt::format("scale {}", c), inv);
+    if (e < best) {
+      best = e;
+      best_inv = inv;
+    }
+  }
+  for (int pass = 0; pass < o.coordinate_passes; ++pass) {
+    for (int j = 0; j < kInputs; ++j) {
+      if (inv_std[static_cast<std::size_t>(j)] == 0) continue;
+      if (best_inv[static_cast<std::size_t>(j)] == 0) {
+        evaluations.skip(3);
+        continue;
+      }
+      int tried = 0;
+      for (double f : {2.0, 0.5, 0.0}) {
+        auto inv = best_inv;
+        inv[static_cast<std::size_t>(j)] *= f;
+        inv = floored(inv);
+        ++tried;
+        if (inv == best_inv) continue;  // narrower than the floor allows: nothing new to evaluate
+        const double e =
+            evaluations.evaluate(fmt::format("{} x{}", kInputNames[static_cast<std::size_t>(j)], f), inv);
+        if (e < best) {
+          best = e;
+          best_inv = inv;
+          break;
+        }
+      }
+      evaluations.skip(3 - tried);
+    }
+  }
+  return best_inv;
+}
+
+}  // namespace
+
 IdentifiedModel identify_mean(const FlightLog& train, const IdentifyOptions& o, ThreadPool& pool,
                               IdentifyReport* report, const IdentifyHooks& hooks) {
   std::string error;
@@ -184,111 +338,17 @@ IdentifiedModel identify_mean(const FlightLog& train, const IdentifyOptions& o, 
   ModelStructure structure = o.structure;
   structure.constant_inputs = constant_inputs(data);
   const auto templates = output_templates(structure);
-  // Kernel inputs: everything the model regresses on except the constant.
-  std::array<double, kInputs> inv_std{};
-  int kernel_inputs = 0;
-  for (int j = 0; j < kInputs; ++j) {
-    if (j == kOne) continue;
-    if (!o.structure.extra_states && (j == kFlapLon || j == kFlapLat || j == kGyro)) continue;
-    if (structure.constant_inputs[static_cast<std::size_t>(j)]) continue;
-    const double sd = std::sqrt((data.x.col(j).array() - data.x.col(j).mean()).square().mean());
-    inv_std[static_cast<std::size_t>(j)] = sd > 0 ? 1 / sd : 0;
-    kernel_inputs += sd > 0 ? 1 : 0;
-  }
-  // The search's state for checkpoints: every evaluation so far, in order.
-  std::vector<std::pair<std::string, double>> evaluated;
-  if (!hooks.resume_from.is_null()) {
-    try {
-      for (const auto& e : hooks.resume_from.at("evaluations"))
-        evaluated.emplace_back(e.at("setting").get<std::string>(), e.at("cv_error").get<double>());
-    } catch (const nlohmann::json::exception& e) {
-      throw InputError(fmt::format("identify: unreadable checkpoint: {}", e.what()));
-    }
-  }
-  const int total_steps = static_cast<int>(o.scale_grid.size()) + 3 * kernel_inputs * o.coordinate_passes;
-  int steps = 0;
-  std::size_t next = 0;  // evaluations consumed
-  auto evaluate = [&](const std::string& what, const std::array<double, kInputs>& inv) {
-    double e = 0;
-    const bool replayed = next < evaluated.size();
-    if (replayed) {
-      if (evaluated[next].first != what)
-        throw InputError(
-            fmt::format("identify: the checkpoint's step {} is '{}', this search's is '{}': not the same "
-                        "search (start afresh with --force)",
-                        next + 1, evaluated[next].first, what));
-      e = evaluated[next].second;
-    } else {
-      e = cv_error(data, templates, inv, o, pool);
-      evaluated.emplace_back(what, e);
-      if (hooks.checkpoint) {
-        nlohmann::json list = nlohmann::json::array();
-        for (const auto& [setting, value] : evaluated)
-          list.push_back({{"setting", setting}, {"cv_error", value}});
-        hooks.checkpoint({{"evaluations", list}});
-      }
-    }
-    ++next;
-    if (report) report->cv_trace.emplace_back(what, e);
-    ++steps;
-    if (hooks.progress) hooks.progress(steps, total_steps, replayed);
-    return e;
-  };
-  auto skip_steps = [&](int k) {
-    steps += k;
-    if (hooks.progress && k > 0) hooks.progress(steps, total_steps, true);
-  };
-  // The floor as a ceiling on inverse bandwidths (infinity where there is none).
-  std::array<double, kInputs> max_inv{};
-  const auto floors = o.min_bandwidth.per_input();
-  for (std::size_t j = 0; j < kInputs; ++j)
-    max_inv[j] = floors[j] > 0 ? 1 / floors[j] : std::numeric_limits<double>::infinity();
-  auto floored = [&](std::array<double, kInputs> inv) {
-    for (std::size_t j = 0; j < kInputs; ++j) inv[j] = std::min(inv[j], max_inv[j]);
-    return inv;
-  };
+  const KernelScales kernel = kernel_scales(data, structure, o.structure.extra_states);
+  CvEvaluations evaluations(data, templates, o, pool, report, hooks,
+                            static_cast<int>(o.scale_grid.size()) + 3 * kernel.inputs * o.coordinate_passes);
+  const std::array<double, kInputs> max_inv = inverse_bandwidth_ceiling(o.min_bandwidth);
   std::array<double, kInputs> best_inv{};
   BodyVec sigma2;
   if (!o.local) {
     const double e = cv_error(data, templates, best_inv, o, pool, &sigma2);
     if (report) report->cv_trace.emplace_back("global", e);
   } else {
-    double best = INFINITY;
-    for (double c : o.scale_grid) {
-      std::array<double, kInputs> inv{};
-      for (int j = 0; j < kInputs; ++j)
-        inv[static_cast<std::size_t>(j)] = inv_std[static_cast<std::size_t>(j)] / c;
-      inv = floored(inv);
-      const double e = evaluate(fmt::format("scale {}", c), inv);
-      if (e < best) {
-        best = e;
-        best_inv = inv;
-      }
-    }
-    for (int pass = 0; pass < o.coordinate_passes; ++pass) {
-      for (int j = 0; j < kInputs; ++j) {
-        if (inv_std[static_cast<std::size_t>(j)] == 0) continue;
-        if (best_inv[static_cast<std::size_t>(j)] == 0) {
-          skip_steps(3);
-          continue;
-        }
-        int tried = 0;
-        for (double f : {2.0, 0.5, 0.0}) {
-          auto inv = best_inv;
-          inv[static_cast<std::size_t>(j)] *= f;
-          inv = floored(inv);
-          ++tried;
-          if (inv == best_inv) continue;  // narrower than the floor allows: nothing new to evaluate
-          const double e = evaluate(fmt::format("{} x{}", kInputNames[static_cast<std::size_t>(j)], f), inv);
-          if (e < best) {
-            best = e;
-            best_inv = inv;
-            break;
-          }
-        }
-        skip_steps(3 - tried);
-      }
-    }
+    best_inv = search_inverse_bandwidths(kernel.inv_std, max_inv, o, evaluations);
     cv_error(data, templates, best_inv, o, pool, &sigma2);
     if (report)
       for (std::size_t j = 0; j < kInputs; ++j)
