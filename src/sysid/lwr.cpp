@@ -131,8 +131,20 @@ LocalRegression::LocalRegression(const Dataset* data, const std::array<OutputTem
   const auto n = static_cast<int>(data_->rows());
   perm_.resize(static_cast<std::size_t>(n));
   std::iota(perm_.begin(), perm_.end(), 0);
-  // Gram rows: the inputs some output regresses on; columns: those, then the outputs that regress on
-  // something.
+  lay_out_gram();
+  if (is_global()) {
+    add_global_sums(0, data_->rows(), 1.0, &global_g_, &global_b_);
+    return;
+  }
+  const std::vector<double> z = kernel_coordinates();
+  build(0, n, 0, z);
+  leaf_begin_.push_back(n);
+  store_blocked(z);
+}
+
+// Gram rows: the inputs some output regresses on; columns: those, then the outputs that regress on
+// something. Outputs with the same free inputs form one group.
+void LocalRegression::lay_out_gram() {
   row_of_input_.fill(-1);
   for (int j = 0; j < kInputs; ++j) {
     bool used = false;
@@ -163,21 +175,25 @@ LocalRegression::LocalRegression(const Dataset* data, const std::array<OutputTem
     grp.columns[static_cast<std::size_t>(grp.count)] = gram_m_ + gram_outputs_count_ - 1;
     grp.outputs[static_cast<std::size_t>(grp.count++)] = k;
   }
-  if (is_global()) {
-    add_global_sums(0, data_->rows(), 1.0, &global_g_, &global_b_);
-    return;
-  }
-  const int nd = static_cast<int>(dims_.size());
-  const auto und = static_cast<std::size_t>(nd);
-  std::vector<double> z(static_cast<std::size_t>(n) * und);  // row-major, data order
-  for (int i = 0; i < n; ++i)
+}
+
+// Each row's kernel coordinates (the inputs over their bandwidths), row-major in data order.
+std::vector<double> LocalRegression::kernel_coordinates() const {
+  const auto n = static_cast<std::size_t>(data_->rows());
+  const std::size_t und = dims_.size();
+  std::vector<double> z(n * und);
+  for (std::size_t i = 0; i < n; ++i)
     for (std::size_t d = 0; d < und; ++d)
-      z[static_cast<std::size_t>(i) * und + d] =
-          data_->x(i, dims_[d]) * inv_h_[static_cast<std::size_t>(dims_[d])];
-  build(0, n, 0, z);
-  leaf_begin_.push_back(n);
-  // Blocked copies in tree order (lwr_kernel.hpp): the Gram columns, then the kernel-only inputs; the kernel
-  // coordinates divided by their bandwidths (stored_scale).
+      z[i * und + d] =
+          data_->x(static_cast<Eigen::Index>(i), dims_[d]) * inv_h_[static_cast<std::size_t>(dims_[d])];
+  return z;
+}
+
+// Blocked copies in tree order (lwr_kernel.hpp): the Gram columns, then the kernel-only inputs; the kernel
+// coordinates divided by their bandwidths (stored_scale). Then each leaf's bounding box, and the kernel's
+// view of them with its tile shapes.
+void LocalRegression::store_blocked(const std::vector<double>& z) {
+  const int n = static_cast<int>(data_->rows());
   const int n_pad = (n + detail::kLanes - 1) / detail::kLanes * detail::kLanes;
   const int leaves = static_cast<int>(leaf_begin_.size()) - 1;
   const int leaves_pad = (leaves + detail::kLanes - 1) / detail::kLanes * detail::kLanes;
@@ -187,26 +203,11 @@ LocalRegression::LocalRegression(const Dataset* data, const std::array<OutputTem
   static_assert(kOne == kInputs - 1, "the constant input is the last Gram row (KernelData::weight_row)");
   kd_.weight_row = gram_m_ > 0 && gram_inputs_[static_cast<std::size_t>(gram_m_ - 1)] == kOne;
   const int kernel_cols = ncols - (kd_.weight_row ? 1 : 0);
-  std::vector<int> source;  // input (>= 0) or ~output of each stored column
-  for (int c = 0; c < gram_m_; ++c)
-    if (gram_inputs_[static_cast<std::size_t>(c)] != kOne)
-      source.push_back(gram_inputs_[static_cast<std::size_t>(c)]);
-  for (int c = 0; c < gram_outputs_count_; ++c) source.push_back(~gram_outputs_[static_cast<std::size_t>(c)]);
-  for (std::size_t d = 0; d < und; ++d) {
-    const int j = dims_[d];
-    if (row_of_input_[static_cast<std::size_t>(j)] >= 0) {
-      kd_.kernel_col[d] = row_of_input_[static_cast<std::size_t>(j)];
-    } else {
-      kd_.kernel_col[d] = static_cast<int>(source.size());
-      source.push_back(j);
-    }
-  }
+  const std::vector<int> source = stored_columns();
   const auto np = static_cast<std::size_t>(n_pad);
   const auto lp = static_cast<std::size_t>(leaves_pad);
   a_ = aligned_columns(source.size() * np);
   row_ = aligned_columns(np);
-  box_lo_ = aligned_columns(und * lp);
-  box_hi_ = aligned_columns(und * lp);
   const std::size_t stride = source.size() * detail::kLanes;
   for (std::size_t i = 0; i < np; ++i) {
     const bool real = i < static_cast<std::size_t>(n);
@@ -218,25 +219,11 @@ LocalRegression::LocalRegression(const Dataset* data, const std::array<OutputTem
           : source[c] >= 0 ? data_->x(r, source[c]) * stored_scale(source[c])
                            : data_->y(r, ~source[c]);
   }
-  for (std::size_t l = 0; l < lp; ++l)
-    for (std::size_t d = 0; d < und; ++d) {
-      double lo = kFar, hi = kFar;
-      if (l < static_cast<std::size_t>(leaves)) {
-        lo = INFINITY;
-        hi = -INFINITY;
-        for (int i = leaf_begin_[l]; i < leaf_begin_[l + 1]; ++i) {
-          const double v = z[static_cast<std::size_t>(perm_[static_cast<std::size_t>(i)]) * und + d];
-          lo = std::min(lo, v);
-          hi = std::max(hi, v);
-        }
-      }
-      box_lo_[d * lp + l] = lo;
-      box_hi_[d * lp + l] = hi;
-    }
+  store_leaf_boxes(z, leaves, lp);
   kd_.n = n;
   kd_.n_pad = n_pad;
   kd_.stride = static_cast<int>(stride);
-  kd_.nd = nd;
+  kd_.nd = static_cast<int>(dims_.size());
   kd_.m = gram_m_;
   kd_.ncols = ncols;
   kd_.leaves = leaves;
@@ -253,6 +240,50 @@ LocalRegression::LocalRegression(const Dataset* data, const std::array<OutputTem
       detail::tile_plan(gram_m_, kernel_cols, 2, 2, kd_.weight_row);
   plans_[static_cast<std::size_t>(InstructionSet::kAvx512)] =
       detail::tile_plan(gram_m_, kernel_cols, 4, 12, kd_.weight_row);
+}
+
+// The source of each stored column, an input (>= 0) or ~output: the Gram rows but the constant, the Gram's
+// outputs, then the kernel coordinates no output regresses on; kd_.kernel_col gets each kernel coordinate's
+// column.
+std::vector<int> LocalRegression::stored_columns() {
+  std::vector<int> source;
+  for (int c = 0; c < gram_m_; ++c)
+    if (gram_inputs_[static_cast<std::size_t>(c)] != kOne)
+      source.push_back(gram_inputs_[static_cast<std::size_t>(c)]);
+  for (int c = 0; c < gram_outputs_count_; ++c) source.push_back(~gram_outputs_[static_cast<std::size_t>(c)]);
+  for (std::size_t d = 0; d < dims_.size(); ++d) {
+    const int j = dims_[d];
+    if (row_of_input_[static_cast<std::size_t>(j)] >= 0) {
+      kd_.kernel_col[d] = row_of_input_[static_cast<std::size_t>(j)];
+    } else {
+      kd_.kernel_col[d] = static_cast<int>(source.size());
+      source.push_back(j);
+    }
+  }
+  return source;
+}
+
+// Each leaf's bounding box in the kernel coordinates z, blocked by kernel coordinate (lp leaves each, the
+// padding far away).
+void LocalRegression::store_leaf_boxes(const std::vector<double>& z, int leaves, std::size_t lp) {
+  const std::size_t und = dims_.size();
+  box_lo_ = aligned_columns(und * lp);
+  box_hi_ = aligned_columns(und * lp);
+  for (std::size_t l = 0; l < lp; ++l)
+    for (std::size_t d = 0; d < und; ++d) {
+      double lo = kFar, hi = kFar;
+      if (l < static_cast<std::size_t>(leaves)) {
+        lo = INFINITY;
+        hi = -INFINITY;
+        for (int i = leaf_begin_[l]; i < leaf_begin_[l + 1]; ++i) {
+          const double v = z[static_cast<std::size_t>(perm_[static_cast<std::size_t>(i)]) * und + d];
+          lo = std::min(lo, v);
+          hi = std::max(hi, v);
+        }
+      }
+      box_lo_[d * lp + l] = lo;
+      box_hi_[d * lp + l] = hi;
+    }
 }
 
 // Splits [begin, end) of perm_ at a multiple of 8 (leaves start on whole vectors) along the widest kernel

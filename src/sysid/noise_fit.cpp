@@ -272,68 +272,97 @@ Eigen::VectorXd NoiseBandTerms::scales(const NoiseScale& scale) const {
   return out;
 }
 
-NoiseScale fit_noise_scale(const NoiseBandTerms& terms, double dt, double reset_s, ThreadPool* pool) {
-  constexpr double kLimit = 4.605170185988091;  // log(100)
-  // A source scaled x2 costs what one cell's percentile 4% off does. Without it the scales the errors hardly
-  // constrain drifted to the bounds (the Crazyflie's pitch process noise x16 beside roll's x0.03); with it
-  // they stay near 1, and the hold-out cells within 3-7% moved by at most 2 of 24 (README, Calibrated noise).
-  // Chosen against three spans' 24 terms; against every step's 160 it weighs less, and scaling it with them
-  // (0.02) left more hold-out cells outside (611 against 553, README, The fit at every step).
-  constexpr double kPenalty = 0.003;
-  // One percentile per model step since the reset: the bands are to hold at every horizon. Fitting three
-  // spans of the reset window instead let the rates' bands be too wide at a span's first steps and too narrow
-  // at its last; over seven training flights, 724 hold-out cells outside 3-7% against 553 (README, The fit at
-  // every step).
-  const int steps = std::max(1, static_cast<int>(std::lround(reset_s / dt)));
-  const int sources = terms.sources;
-  // The steps ordered by horizon, and each variable's bands by source as one column-major matrix over them,
-  // so that a horizon's bands under any scales are one contiguous matrix-vector product.
-  std::vector<Eigen::Index> first(static_cast<std::size_t>(steps) + 1, 0);
+namespace {
+
+constexpr double kLogScaleLimit = 4.605170185988091;  // log(100)
+// A source scaled x2 costs what one cell's percentile 4% off does. Without it the scales the errors hardly
+// constrain drifted to the bounds (the Crazyflie's pitch process noise x16 beside roll's x0.03); with it
+// they stay near 1, and the hold-out cells within 3-7% moved by at most 2 of 24 (README, Calibrated noise).
+// Chosen against three spans' 24 terms; against every step's 160 it weighs less, and scaling it with them
+// (0.02) left more hold-out cells outside (611 against 553, README, The fit at every step).
+constexpr double kLogScalePenalty = 0.003;
+// The scales of the model's own sources start at 1 and are kept near it; the white logged errors the terms
+// may add start at none (their lower bound) and are free. Over the seven training flights of README's The
+// fit at every step, the X-Cell left 324 hold-out cells outside 3-7% with them, 410 without (README, A
+// white logged error).
+constexpr double kLogScaleOff = 2 * -kLogScaleLimit;  // 1e-4: read as none
+// Each step size of the coordinate search is tried until no move improves, or for at most this many passes
+// over the sources: with the white logged errors the finest steps crept along the valleys where two sources
+// trade off (185 of the fit's 290 passes, at x2^(1/16), in BM_IdentifyTenMinutes).
+constexpr int kScalePassesPerStep = 20;
+
+// The terms' steps ordered by horizon, and each variable's bands by source as one column-major matrix over
+// them, so that a horizon's bands under any scales are one contiguous matrix-vector product.
+struct HorizonOrderedTerms {
+  int steps = 0, sources = 0;
+  std::vector<Eigen::Index> first;  // the first row of each horizon, then the number of rows
+  std::array<Eigen::MatrixXd, kBodyVars> band;
+  std::array<Eigen::VectorXd, kBodyVars> error;  // squared: percentiles of error^2 / band need no root
+  Eigen::Index rows() const { return first.back(); }
+};
+
+HorizonOrderedTerms horizon_ordered_terms(const NoiseBandTerms& terms, int steps) {
+  HorizonOrderedTerms out;
+  out.steps = steps;
+  out.sources = terms.sources;
+  out.first.assign(static_cast<std::size_t>(steps) + 1, 0);
   std::vector<std::size_t> order;
   for (int h = 0; h < steps; ++h) {
-    first[static_cast<std::size_t>(h)] = static_cast<Eigen::Index>(order.size());
+    out.first[static_cast<std::size_t>(h)] = static_cast<Eigen::Index>(order.size());
     for (std::size_t i = 0; i < terms.horizon.size(); ++i)
       if (terms.horizon[i] == h) order.push_back(i);
   }
-  first[static_cast<std::size_t>(steps)] = static_cast<Eigen::Index>(order.size());
+  out.first[static_cast<std::size_t>(steps)] = static_cast<Eigen::Index>(order.size());
   const auto n = static_cast<Eigen::Index>(order.size());
-  if (n == 0) return {};  // no step counted (every window's first fit singular): nothing to scale by
-  std::array<Eigen::MatrixXd, kBodyVars> band;
-  std::array<Eigen::VectorXd, kBodyVars> error;  // squared: percentiles of error^2 / band need no root
   for (int k = 0; k < kBodyVars; ++k) {
-    band[static_cast<std::size_t>(k)].resize(n, sources);
-    error[static_cast<std::size_t>(k)].resize(n);
+    out.band[static_cast<std::size_t>(k)].resize(n, out.sources);
+    out.error[static_cast<std::size_t>(k)].resize(n);
     for (Eigen::Index r = 0; r < n; ++r) {
       const std::size_t i = order[static_cast<std::size_t>(r)];
-      band[static_cast<std::size_t>(k)].row(r) = terms.band[i].row(k);
-      error[static_cast<std::size_t>(k)][r] = terms.error[i][k] * terms.error[i][k];
+      out.band[static_cast<std::size_t>(k)].row(r) = terms.band[i].row(k);
+      out.error[static_cast<std::size_t>(k)][r] = terms.error[i][k] * terms.error[i][k];
     }
   }
-  // Which variables each source reaches: a move of one source changes only those variables' percentiles
-  // (any nonzero entry, a band's rounding below 0 included). Only sources that widen some band are searched
-  // (a variable fixed by nothing widens none).
-  std::vector<std::vector<int>> reaches(static_cast<std::size_t>(sources));
-  std::vector<char> searched(static_cast<std::size_t>(sources), 0);
-  for (int q = 0; q < sources; ++q)
+  return out;
+}
+
+// Which variables each source reaches: a move of one source changes only those variables' percentiles
+// (any nonzero entry, a band's rounding below 0 included). Only sources that widen some band are searched
+// (a variable fixed by nothing widens none).
+struct SourceReach {
+  std::vector<std::vector<int>> reaches;
+  std::vector<char> searched;
+};
+
+SourceReach source_reach(const HorizonOrderedTerms& h) {
+  SourceReach out{std::vector<std::vector<int>>(static_cast<std::size_t>(h.sources)),
+                  std::vector<char>(static_cast<std::size_t>(h.sources), 0)};
+  for (int q = 0; q < h.sources; ++q)
     for (int k = 0; k < kBodyVars; ++k) {
-      const auto column = band[static_cast<std::size_t>(k)].col(q).array();
-      if ((column != 0).any()) reaches[static_cast<std::size_t>(q)].push_back(k);
-      if ((column > 0).any()) searched[static_cast<std::size_t>(q)] = 1;
+      const auto column = h.band[static_cast<std::size_t>(k)].col(q).array();
+      if ((column != 0).any()) out.reaches[static_cast<std::size_t>(q)].push_back(k);
+      if ((column > 0).any()) out.searched[static_cast<std::size_t>(q)] = 1;
     }
-  // The squared log misses of a variable's percentiles over the horizons with its bands under some scales.
-  // Each variable has its own scratch, so that the variables a move touches are evaluated in parallel (each
-  // the same bits on any thread; their sum is taken in variable order).
-  std::array<std::vector<double>, kBodyVars> scratch;
-  auto variable_loss = [&](int k, const Eigen::VectorXd& bands) {
-    std::vector<double>& z2 = scratch[static_cast<std::size_t>(k)];
+  return out;
+}
+
+// The squared log misses of a variable's percentiles over the horizons with its bands under some scales.
+// Each variable has its own scratch, so that the variables a move touches are evaluated in parallel (each
+// the same bits on any thread; their sum is taken in variable order).
+class PercentileMisses {
+ public:
+  explicit PercentileMisses(const HorizonOrderedTerms& h) : h_(h) {}
+
+  double operator()(int k, const Eigen::VectorXd& bands) {
+    std::vector<double>& z2 = scratch_[static_cast<std::size_t>(k)];
     double total = 0;
-    for (int h = 0; h < steps; ++h) {
-      const Eigen::Index from = first[static_cast<std::size_t>(h)],
-                         to = first[static_cast<std::size_t>(h) + 1];
+    for (int hz = 0; hz < h_.steps; ++hz) {
+      const Eigen::Index from = h_.first[static_cast<std::size_t>(hz)],
+                         to = h_.first[static_cast<std::size_t>(hz) + 1];
       if (to - from < 20) continue;  // too few for a 95th percentile
       z2.clear();
       for (Eigen::Index r = from; r < to; ++r)
-        if (bands[r] > 0) z2.push_back(error[static_cast<std::size_t>(k)][r] / bands[r]);
+        if (bands[r] > 0) z2.push_back(h_.error[static_cast<std::size_t>(k)][r] / bands[r]);
       if (z2.size() < 20) continue;
       const std::size_t at = coverage_rank(z2.size());
       std::nth_element(z2.begin(), z2.begin() + static_cast<std::ptrdiff_t>(at), z2.end());
@@ -342,56 +371,54 @@ NoiseScale fit_noise_scale(const NoiseBandTerms& terms, double dt, double reset_
       total += miss * miss;
     }
     return total;
-  };
-  // The scales of the model's own sources start at 1 and are kept near it; the white logged errors the terms
-  // may add start at none (their lower bound) and are free. Over the seven training flights of README's The
-  // fit at every step, the X-Cell left 324 hold-out cells outside 3-7% with them, 410 without (README, A
-  // white logged error).
-  constexpr double kOff = 2 * -kLimit;  // 1e-4: read as none
-  const int penalized = std::min(sources, 2 * kBodyVars);
-  Eigen::VectorXd log_scale = Eigen::VectorXd::Zero(sources);
-  log_scale.tail(sources - penalized).setConstant(kOff);
-  // Each variable's bands under the scales accepted so far; a move of one source changes them by its column
-  // times the change of its scale (one column, not the whole matrix-vector product: the fit's most frequent
-  // operation).
+  }
+
+ private:
+  const HorizonOrderedTerms& h_;
+  std::array<std::vector<double>, kBodyVars> scratch_;
+};
+
+// Coordinate search on the log scales from log_scale with steps x2, x2^(1/2), ... x2^(1/16), the first
+// `penalized` sources kept near 1 by kLogScalePenalty. Each variable's bands are kept under the scales
+// accepted so far; a move of one source changes them by its column times the change of its scale (one
+// column, not the whole matrix-vector product: the fit's most frequent operation).
+Eigen::VectorXd search_log_scales(const HorizonOrderedTerms& h, const SourceReach& reach,
+                                  Eigen::VectorXd log_scale, int penalized, ThreadPool* pool) {
+  PercentileMisses variable_loss(h);
   std::array<Eigen::VectorXd, kBodyVars> bands, trial_bands;
   BodyVec misses;
   {
     const Eigen::VectorXd scale = log_scale.array().exp();
     for (int k = 0; k < kBodyVars; ++k) {
-      bands[static_cast<std::size_t>(k)].noalias() = band[static_cast<std::size_t>(k)] * scale;
+      bands[static_cast<std::size_t>(k)].noalias() = h.band[static_cast<std::size_t>(k)] * scale;
       misses[k] = variable_loss(k, bands[static_cast<std::size_t>(k)]);
     }
   }
   double best = misses.sum();  // the penalty is 0 at the start
-  // Coordinate search with steps x2, x2^(1/2), ... x2^(1/16); each step size until no move improves, or for
-  // at most kPassesPerStep passes over the sources: with the white logged errors the finest steps crept along
-  // the valleys where two sources trade off (185 of the fit's 290 passes, at x2^(1/16), in
-  // BM_IdentifyTenMinutes).
-  constexpr int kPassesPerStep = 20;
   for (double step = std::log(2.0); step > std::log(2.0) / 17; step /= 2) {
     int passes = 0;
-    for (bool moved = true; moved && passes < kPassesPerStep; ++passes) {
+    for (bool moved = true; moved && passes < kScalePassesPerStep; ++passes) {
       moved = false;
-      for (int q = 0; q < sources; ++q) {
-        if (!searched[static_cast<std::size_t>(q)]) continue;
-        const std::vector<int>& touched = reaches[static_cast<std::size_t>(q)];
+      for (int q = 0; q < h.sources; ++q) {
+        if (!reach.searched[static_cast<std::size_t>(q)]) continue;
+        const std::vector<int>& touched = reach.reaches[static_cast<std::size_t>(q)];
         for (double direction : {1.0, -1.0}) {
           Eigen::VectorXd trial = log_scale;
-          trial[q] = std::clamp(trial[q] + direction * step, q < penalized ? -kLimit : kOff, kLimit);
+          trial[q] = std::clamp(trial[q] + direction * step, q < penalized ? -kLogScaleLimit : kLogScaleOff,
+                                kLogScaleLimit);
           if (trial[q] == log_scale[q]) continue;
           const double change = std::exp(trial[q]) - std::exp(log_scale[q]);
           BodyVec trial_misses = misses;
           const auto evaluate = [&](std::size_t i) {
             const auto k = static_cast<std::size_t>(touched[i]);
-            trial_bands[k].noalias() = bands[k] + change * band[k].col(q);
+            trial_bands[k].noalias() = bands[k] + change * h.band[k].col(q);
             trial_misses[touched[i]] = variable_loss(touched[i], trial_bands[k]);
           };
           if (pool && touched.size() > 1)
             pool->parallel_for(touched.size(), evaluate, 1);
           else
             for (std::size_t i = 0; i < touched.size(); ++i) evaluate(i);
-          const double l = trial_misses.sum() + kPenalty * trial.head(penalized).squaredNorm();
+          const double l = trial_misses.sum() + kLogScalePenalty * trial.head(penalized).squaredNorm();
           if (l < best) {
             best = l;
             log_scale = trial;
@@ -405,13 +432,32 @@ NoiseScale fit_noise_scale(const NoiseBandTerms& terms, double dt, double reset_
       }
     }
   }
+  return log_scale;
+}
+
+}  // namespace
+
+NoiseScale fit_noise_scale(const NoiseBandTerms& terms, double dt, double reset_s, ThreadPool* pool) {
+  // One percentile per model step since the reset: the bands are to hold at every horizon. Fitting three
+  // spans of the reset window instead let the rates' bands be too wide at a span's first steps and too narrow
+  // at its last; over seven training flights, 724 hold-out cells outside 3-7% against 553 (README, The fit at
+  // every step).
+  const int steps = std::max(1, static_cast<int>(std::lround(reset_s / dt)));
+  const int sources = terms.sources;
+  const HorizonOrderedTerms ordered = horizon_ordered_terms(terms, steps);
+  if (ordered.rows() == 0)
+    return {};  // no step counted (every window's first fit singular): nothing to scale by
+  const int penalized = std::min(sources, 2 * kBodyVars);
+  Eigen::VectorXd log_scale = Eigen::VectorXd::Zero(sources);
+  log_scale.tail(sources - penalized).setConstant(kLogScaleOff);
+  log_scale = search_log_scales(ordered, source_reach(ordered), log_scale, penalized, pool);
   NoiseScale out;
   for (int j = 0; j < kBodyVars; ++j) {
     out.process[j] = std::exp(log_scale[j]);
     out.measurement[j] = sources > kBodyVars ? std::exp(log_scale[kBodyVars + j]) : 1.0;
     if (sources > 2 * kBodyVars) {
       const double white = log_scale[2 * kBodyVars + j];
-      out.measurement_white[j] = white > kOff ? std::exp(white) : 0.0;
+      out.measurement_white[j] = white > kLogScaleOff ? std::exp(white) : 0.0;
     }
   }
   return out;

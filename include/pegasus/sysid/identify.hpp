@@ -324,7 +324,7 @@ HorizonMse constant_velocity_mse(const FlightLog& test, double dt, double horizo
 
 // Fig 5.3: +-2 sigma bands from an extended Kalman filter over the body variables and the extra states, reset
 // to the logged state every reset_s, with the model's noise covariance diagonal (Eq 5.4 per output,
-// independent across outputs as in Eqs 5.5-5.6) and the state covariance propagated in full (identify.cpp
+// independent across outputs as in Eqs 5.5-5.6) and the state covariance propagated in full (noise_filter.cpp
 // says why), each sd times the model's factor at its step after the reset (horizon_sd_factors); the fraction
 // of steps where each body variable falls outside. Also the traces of one variable for a plot.
 struct NoiseCheck {

@@ -101,6 +101,13 @@ class LocalRegression {
   // Adds sign * (x' x, x' y) over the rows [begin, end) to *g and *b, in a summation order that is the same
   // on every machine.
   void add_global_sums(Eigen::Index begin, Eigen::Index end, double sign, Gram* g, Cross* b) const;
+  // The constructor's steps: the Gram's layout and groups, the kernel coordinates, the tree's blocked copies
+  // and their bounding boxes (lwr_kernel.hpp).
+  void lay_out_gram();
+  std::vector<double> kernel_coordinates() const;
+  void store_blocked(const std::vector<double>& z);
+  std::vector<int> stored_columns();
+  void store_leaf_boxes(const std::vector<double>& z, int leaves, std::size_t lp);
   int build(int begin, int end, int depth, const std::vector<double>& z);
   void solve(const Gram& g, const Cross& b, const InputVec& q, LocalFit* fit) const;
   void solve_groups(const detail::KernelResult& k, const InputVec& q, LocalFit* fit) const;
