@@ -30,13 +30,14 @@ double logs_horizontal_airspeed_rms(const sysid::IdentifiedModel& model) {
 TrainingWind default_training_wind(const sysid::IdentifiedModel& model) {
   const double rms = logs_horizontal_airspeed_rms(model);
   if (!model.is_global())
-    return {.disturbance = {},
-            .by = "default for a locally weighted model",
-            .reason = fmt::format(
-                "calm: the locally weighted model crashes where the airspeed leaves the logs' (horizontal RMS "
-                "{:.2g} m/s), so wind in its scenarios would train on crashes; state one with [hover.wind] or "
-                "--wind.* within the logs' airspeeds",
-                rms)};
+    return {
+        .disturbance = {},
+        .by = "default for a locally weighted model",
+        .reason = fmt::format(
+            "calm: the locally weighted model crashes where the airspeed leaves the logs' (horizontal RMS "
+            "{:.2g} m/s), so wind in its scenarios would train on crashes; state one with [hover.wind] or "
+            "--wind.* within the logs' airspeeds",
+            rms)};
   const sysid::Disturbance d = kDefaultTrainingWind;
   return {.disturbance = d,
           .by = "default for a global linear model",
@@ -56,7 +57,9 @@ TrainingWind training_wind(WindSource source, const sysid::Disturbance& stated,
     case WindSource::kOptions:
       return {.disturbance = stated, .by = "options", .reason = "as the wind.* options state it"};
     case WindSource::kVehicleFile:
-      return {.disturbance = stated, .by = "vehicle file", .reason = "as the vehicle file's [hover.wind] states it"};
+      return {.disturbance = stated,
+              .by = "vehicle file",
+              .reason = "as the vehicle file's [hover.wind] states it"};
     case WindSource::kNoVehicleFile:
       break;
   }
