@@ -94,10 +94,11 @@ void read_envelope_limits(const toml::table& root, const TomlFields& f, Vehicle&
   v.max_rate_radps = limit("envelope.max_rate", radians_per_rates_unit(v.log));
 }
 
-sysid::Disturbance read_hover_wind(const toml::table& root, const TomlFields& f, const VehicleLogSpec& spec) {
+std::optional<sysid::Disturbance> read_hover_wind(const toml::table& root, const TomlFields& f,
+                                                  const VehicleLogSpec& spec) {
   sysid::Disturbance d;
   const toml::node* section = root.at_path("hover.wind").node();
-  if (!section) return d;
+  if (!section) return std::nullopt;
   if (!section->as_table()) f.fail(section, "hover.wind", "expected a table");
   f.only_keys(*section->as_table(), "hover.wind", {"steady", "sigma", "gust_sigma", "gust_tau_s"});
   if (const toml::node* n = root.at_path("hover.wind.steady").node()) {

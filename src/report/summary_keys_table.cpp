@@ -380,8 +380,9 @@ const std::vector<SummaryKeyGroup> kGroups = {
                "every start tried, in order: {gains (whose LQR), action_weight_factor, crashed_scenarios, "
                "scenarios, taken} (reason instead of the counts when the LQR gave no gains)"},
               {"choices.<choice>", "",
-               "what hover chose from the data (model_class, noise, start, optimizer), each with what it was "
-               "chosen by"},
+               "what hover chose from the data (model_class, noise, start, optimizer; wind with a vehicle "
+               "file: "
+               "the scenarios' wind, by what and why), each with what it was chosen by"},
               {"judged_cost.reward", "", "the vehicle file's [cost] terms as the reward trained them"},
               {"judged_cost.crash_penalty", "", "the crash penalty of the judged cost"},
               {"wind.steady_ned_mps", "m/s", "the steady wind of the training scenarios [north, east, down]"},

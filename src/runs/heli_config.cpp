@@ -421,6 +421,7 @@ HoverRunOptions read_hover_config(const ConfigSchema& c, std::uint64_t seed) {
   const auto& t = c.get_double_list("target");
   o.target = {t[0], t[1], t[2], t[3]};
   run.judged_cost = read_hover_cost_and_wind(c, run.aircraft.vehicle, o);
+  run.wind_source = hover_wind_source(c, run.aircraft);
   read_optimizer_options(c, "optimizer", &o.optimizer);
   o.then_hill_climb = c.get_bool("then_hill_climb");
   o.max_start_crash_fraction = c.get_double("max_start_crash_fraction");

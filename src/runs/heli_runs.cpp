@@ -214,7 +214,7 @@ nlohmann::json hover_choices(const sysid::IdentifiedModel& model, const HoverTra
 }  // namespace
 
 void run_hover(const HoverRunOptions& options, RunSink& sink, ThreadPool& pool) {
-  const HoverTrainingOptions& o = options.training;
+  HoverTrainingOptions o = options.training;  // its disturbance the training wind, once the model is read
   std::string error;
   // "field: what": named as the user gave the field (--integral-seconds, or the config file's key).
   if (!o.IsValid(&error)) {
@@ -234,13 +234,11 @@ void run_hover(const HoverRunOptions& options, RunSink& sink, ThreadPool& pool) 
   sink.out << fmt::format("reward ({}): {}\n",
                           options.judged_cost ? "the vehicle file's [cost], whole" : "the reward.* options",
                           hover_reward_for(*model, o).terms(o.crash_penalty));
-  if (!o.disturbance.calm())
-    sink.out << fmt::format(
-        "wind in the scenarios: steady [{:g}, {:g}, {:g}] m/s NED, drawn +- {:g} per horizontal axis per "
-        "scenario, "
-        "AR(1) gusts of {:g} m/s with a correlation time of {:g} s\n",
-        o.disturbance.wind[0], o.disturbance.wind[1], o.disturbance.wind[2], o.disturbance.wind_sigma,
-        o.disturbance.gust_sigma, o.disturbance.gust_tau_s);
+  // The wind in the scenarios, stated or a vehicle file's default (issue 53): one line, where not the
+  // X-Cell's calm.
+  const TrainingWind wind = training_wind(options.wind_source, o.disturbance, *model);
+  o.disturbance = wind.disturbance;
+  if (options.aircraft.from_file() || !o.disturbance.calm()) sink.out << training_wind_line(wind) << "\n";
   // A control step longer than the model's is one model step's change stretched (learned_model.hpp): allowed,
   // and `identify` reports it as training runs it, but not without a word.
   if (const double ratio = model->dt() * o.control_rate_hz; ratio < 1 - 1e-9)
@@ -363,6 +361,7 @@ void run_hover(const HoverRunOptions& options, RunSink& sink, ThreadPool& pool) 
     if (!r.start_tries.empty()) sink.out << start_tries_line(r.start_tries, o.max_start_crash_fraction);
   }
   summary["choices"] = hover_choices(*model, o, r);
+  if (options.aircraft.from_file()) summary["choices"]["wind"] = {{"by", wind.by}, {"reason", wind.reason}};
   if (options.aircraft.from_file()) summary["vehicle"] = options.aircraft.vehicle.name();  // likewise
   if (o.integral_seconds > 0) {                                                            // likewise
     nlohmann::json integral = {{"integral_seconds", o.integral_seconds},
@@ -470,7 +469,7 @@ void write_pipeline_summary(const std::string& vehicle, double flight_seconds, R
   // The choices made from the data: identify's (model class, noise, control gains), then hover's start and
   // optimizer.
   nlohmann::json choices = identify.value("choices", nlohmann::json::object());
-  for (const char* key : {"start", "optimizer"})
+  for (const char* key : {"start", "optimizer", "wind"})
     if (hover.contains("choices") && hover["choices"].contains(key)) choices[key] = hover["choices"][key];
   summary["choices"] = choices;
   sink.dir.write_json("summary.json", summary);

@@ -82,8 +82,11 @@ void declare_hover_cost_and_wind(ConfigSchema& s) {
        "steady wind in the scenarios, north, east, down (m/s, NED): the learned model's forces act "
        "on the airspeed")
       .validate(check_wind_ned);
-  s.add_double("wind.sigma", 0,
-               "each scenario's steady wind drawn about wind.steady, per horizontal axis, m/s")
+  s.add_double(
+       "wind.sigma", 0,
+       "each scenario's steady wind drawn about wind.steady, per horizontal axis, m/s; with a vehicle "
+       "file and no wind.* or [hover.wind] stated, the default by the model class (1.5 m/s and 0.5 m/s "
+       "gusts for a global linear model, calm for a locally weighted one)")
       .range(0, 30);
   s.add_double("wind.gust_sigma", 0, "AR(1) gusts in the scenarios: standard deviation per axis, m/s")
       .range(0, 30);
@@ -104,8 +107,9 @@ void resolve_hover_cost_and_wind(ConfigSchema& s, const logs::Vehicle& vehicle) 
   limit("max_position_error_m", v->max_position_error_m, "envelope.max_position_error");
   limit("max_speed_mps", v->max_speed_mps, "envelope.max_speed");
   limit("max_rate_radps", v->max_rate_radps, "envelope.max_rate");
-  const sysid::Disturbance& w = v->wind;
-  if (!w.calm() || w.gust_tau_s != sysid::Disturbance{}.gust_tau_s) {
+  // Each of [hover.wind]'s fields, also where calm: a stated calm is no default (heli/training_wind.hpp).
+  if (v->wind) {
+    const sysid::Disturbance& w = *v->wind;
     set_from_vehicle(s, *v, "wind.steady", std::vector<double>(w.wind.begin(), w.wind.end()),
                      "hover.wind.steady");
     set_from_vehicle(s, *v, "wind.sigma", w.wind_sigma, "hover.wind.sigma");
@@ -126,6 +130,16 @@ bool read_hover_cost_and_wind(const ConfigSchema& c, const logs::Vehicle& v, Hov
                    .gust_sigma = c.get_double("wind.gust_sigma"),
                    .gust_tau_s = c.get_double("wind.gust_tau_s")};
   return judged;
+}
+
+WindSource hover_wind_source(const ConfigSchema& c, const VehicleChoice& aircraft) {
+  const logs::Vehicle& v = aircraft.vehicle;
+  const std::string from_file = v.log.file + ": hover.wind.";
+  for (const char* field : {"wind.steady", "wind.sigma", "wind.gust_sigma", "wind.gust_tau_s"})
+    if (const std::string& origin = c.origin(field); origin != "default" && !origin.starts_with(from_file))
+      return WindSource::kOptions;
+  if (v.wind) return WindSource::kVehicleFile;
+  return aircraft.from_file() ? WindSource::kDefault : WindSource::kNoVehicleFile;
 }
 
 }  // namespace pegasus::heli

@@ -49,6 +49,32 @@ TEST_F(JudgedCostCli, TheVehiclesJudgedCostIsTheWholeReward) {
       << r.output;
   const auto summary = nlohmann::json::parse(test_support::read_text(dir_ / "hover" / "summary.json"));
   EXPECT_EQ(summary["judged_cost"]["crash_penalty"], 1000.0) << summary.dump();
+  // No wind stated: the default by the model class identify chose (heli/training_wind.hpp), in one line and
+  // in the summary's choices; wind in the scenarios only for a global linear model.
+  const bool global = summary["choices"]["model_class"] == "global linear";
+  const std::string by =
+      global ? "default for a global linear model" : "default for a locally weighted model";
+  EXPECT_EQ(summary["choices"]["wind"]["by"], by) << summary.dump();
+  EXPECT_NE(r.output.find("wind in the scenarios (" + by + "): " + (global ? "steady" : "calm")),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(summary.contains("wind"), global) << summary.dump();
+  // Stated, by an option (a calm one) or by the file's [hover.wind]: taken as stated.
+  r = run_pegasus(hover + " --wind.sigma 0 --out " + path("calm"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto calm = nlohmann::json::parse(test_support::read_text(dir_ / "calm" / "summary.json"));
+  EXPECT_EQ(calm["choices"]["wind"]["by"], "options") << calm.dump();
+  EXPECT_FALSE(calm.contains("wind")) << calm.dump();
+  write("wind.toml", test_support::read_text(dir_ / "cost.toml") + "\n[hover.wind]\nsteady = [0, 1, 0]\n");
+  r = run_pegasus(fmt::format(
+      "hover --vehicle {} --model {} --scenarios 3 --seconds 2 --optimizer.gradient.max-iterations 1 "
+      "--then-hill-climb=false --max-start-crash-fraction 1 --quiet --out {}",
+      path("wind.toml"), path("id/model.json"), path("stated")));
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto stated = nlohmann::json::parse(test_support::read_text(dir_ / "stated" / "summary.json"));
+  EXPECT_EQ(stated["choices"]["wind"]["by"], "vehicle file") << stated.dump();
+  EXPECT_EQ(stated["wind"]["sigma_mps"], 0.0) << stated.dump();
+  EXPECT_EQ(stated["wind"]["gust_sigma_mps"], 0.0) << stated.dump();
   // The default reward's options beside it: refused, naming the option.
   r = run_pegasus(hover + " --reward.action 0.1 --out " + path("refused"));
   EXPECT_EQ(r.code, 2) << r.output;

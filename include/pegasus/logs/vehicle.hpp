@@ -190,8 +190,9 @@ struct Vehicle {
   double max_rate_radps = std::numeric_limits<double>::infinity();
   std::optional<JudgedCost> cost;  // [cost]
   // [hover.wind]: the wind in the hover scenarios (sysid::Disturbance): steady = [x, y, z] in the file's
-  // world frame (m/s), sigma, gust_sigma (m/s) and gust_tau_s (s); here in NED. Calm unless said.
-  sysid::Disturbance wind{};
+  // world frame (m/s), sigma, gust_sigma (m/s) and gust_tau_s (s); here in NED. nullopt without the section
+  // (hover then trains in heli::default_training_wind); a section's keys left out are calm.
+  std::optional<sysid::Disturbance> wind;
 
   const std::string& name() const { return log.vehicle; }
   // The log's channels in the aircraft's order: axis values a1..a4 of native values, and back.

@@ -24,6 +24,7 @@
 #include "pegasus/heli/flights.hpp"
 #include "pegasus/heli/hover_task.hpp"
 #include "pegasus/heli/simulators.hpp"
+#include "pegasus/heli/training_wind.hpp"
 #include "pegasus/logs/vehicle.hpp"
 #include "pegasus/parallel/thread_pool.hpp"
 #include "pegasus/runs/run_sink.hpp"
@@ -114,6 +115,9 @@ struct HoverRunOptions {
   std::string model_file;  // model.json of run_identify
   HoverTrainingOptions training{};
   bool judged_cost = false;  // training.reward is the vehicle file's [cost] (logs::judged_reward), whole
+  // Where training.disturbance came from; kDefault: run_hover trains in heli::default_training_wind of the
+  // model instead (heli/training_wind.hpp).
+  WindSource wind_source = WindSource::kNoVehicleFile;
 };
 // progress.csv, policy.json, summary.json; checkpoints every optimizer iteration and resumes from the run
 // directory's checkpoint.
