@@ -117,7 +117,8 @@ std::string noise_check_intro(const HoldOutNoiseCheck& noise, const IdentifiedMo
          "The " + noise.verdict.substr(0, noise.verdict.size() - 1) + ".";
 }
 
-void write_noise_check_charts(RunDirectory& dir, const HoldOutNoiseCheck& noise, const IdentifiedModel& model) {
+void write_noise_check_charts(RunDirectory& dir, const HoldOutNoiseCheck& noise,
+                              const IdentifiedModel& model) {
   const Chart chart{.title = "ydot_b on hold-out data with +-2 sd bands, EKF reset every 2 s (Fig 5.3)",
                     .x = {"time (s)"},
                     .y = {"ydot_b (m/s)"},
