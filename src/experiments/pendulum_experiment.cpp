@@ -111,6 +111,33 @@ nlohmann::json checks_json(const std::vector<PendulumBarCheck>& checks) {
   return j;
 }
 
+// The bar watch's state as the training checkpoint's "caller" entry keeps it ("bar"), and back.
+nlohmann::json bar_clock_json(const BarClock& clock, const PendulumTrainingResult& result) {
+  const bool reached = result.evaluations_to_bar >= 0;
+  return {
+      {"seconds", clock.seconds()},
+      {"cpu_seconds", clock.cpu_seconds()},
+      {"evaluations", clock.evaluations},
+      {"checks", checks_json(result.checks)},
+      {"seconds_to_bar", reached ? nlohmann::json(result.seconds_to_bar) : nlohmann::json(nullptr)},
+      {"cpu_seconds_to_bar", reached ? nlohmann::json(result.cpu_seconds_to_bar) : nlohmann::json(nullptr)},
+      {"evaluations_to_bar", result.evaluations_to_bar}};
+}
+
+void restore_bar_clock(const nlohmann::json& bar, BarClock& clock, PendulumTrainingResult& result) {
+  clock.seconds_before = bar.at("seconds").get<double>();
+  clock.cpu_seconds_before = bar.at("cpu_seconds").get<double>();
+  clock.evaluations = bar.at("evaluations").get<std::int64_t>();
+  for (const auto& c : bar.at("checks"))
+    result.checks.push_back(
+        {c.at(0).get<double>(), c.at(1).get<std::int64_t>(), c.at(2).get<double>(), c.at(3).get<double>()});
+  if (!bar.at("seconds_to_bar").is_null()) {
+    result.seconds_to_bar = bar.at("seconds_to_bar").get<double>();
+    result.cpu_seconds_to_bar = bar.at("cpu_seconds_to_bar").get<double>();
+    result.evaluations_to_bar = bar.at("evaluations_to_bar").get<std::int64_t>();
+  }
+}
+
 }  // namespace
 
 Theta pendulum_full_theta(std::span<const double> theta) {
@@ -191,20 +218,7 @@ PendulumTrainingResult train_pendulum(const PendulumTrainingOptions& options,
   result.cpu_seconds_to_bar = std::numeric_limits<double>::quiet_NaN();
   BarClock clock;
   // The watch's state travels in the training checkpoint's "caller" entry.
-  if (hooks.resume_from) {
-    const nlohmann::json& bar = hooks.resume_from->at("caller").at("bar");
-    clock.seconds_before = bar.at("seconds").get<double>();
-    clock.cpu_seconds_before = bar.at("cpu_seconds").get<double>();
-    clock.evaluations = bar.at("evaluations").get<std::int64_t>();
-    for (const auto& c : bar.at("checks"))
-      result.checks.push_back(
-          {c.at(0).get<double>(), c.at(1).get<std::int64_t>(), c.at(2).get<double>(), c.at(3).get<double>()});
-    if (!bar.at("seconds_to_bar").is_null()) {
-      result.seconds_to_bar = bar.at("seconds_to_bar").get<double>();
-      result.cpu_seconds_to_bar = bar.at("cpu_seconds_to_bar").get<double>();
-      result.evaluations_to_bar = bar.at("evaluations_to_bar").get<std::int64_t>();
-    }
-  }
+  if (hooks.resume_from) restore_bar_clock(hooks.resume_from->at("caller").at("bar"), clock, result);
 
   // The race searches the five-number class; the refinement frees the lead and the skew, starting from the
   // race's best padded with zeros, on its own, larger scenario set.
@@ -232,19 +246,7 @@ PendulumTrainingResult train_pendulum(const PendulumTrainingOptions& options,
   if (hooks.on_checkpoint && hooks.checkpoint_every > 0) {
     plan.checkpoint_every = hooks.checkpoint_every;
     plan.on_checkpoint = hooks.on_checkpoint;
-    plan.caller_state = [&] {
-      const bool reached = result.evaluations_to_bar >= 0;
-      return nlohmann::json{
-          {"bar",
-           {{"seconds", clock.seconds()},
-            {"cpu_seconds", clock.cpu_seconds()},
-            {"evaluations", clock.evaluations},
-            {"checks", checks_json(result.checks)},
-            {"seconds_to_bar", reached ? nlohmann::json(result.seconds_to_bar) : nlohmann::json(nullptr)},
-            {"cpu_seconds_to_bar",
-             reached ? nlohmann::json(result.cpu_seconds_to_bar) : nlohmann::json(nullptr)},
-            {"evaluations_to_bar", result.evaluations_to_bar}}}};
-    };
+    plan.caller_state = [&] { return nlohmann::json{{"bar", bar_clock_json(clock, result)}}; };
   }
   plan.resume_from = hooks.resume_from;
   Theta theta = race.parameters().initial();

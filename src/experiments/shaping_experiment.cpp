@@ -83,6 +83,45 @@ ShapingCurve summarize_curve(const std::string& name, std::span<const ShapingRun
   return c;
 }
 
+// Where run r of potential p sits among the records.
+std::size_t run_slot(const ShapingExperimentOptions& o, int p, int r) {
+  return static_cast<std::size_t>(p) * static_cast<std::size_t>(o.runs) + static_cast<std::size_t>(r);
+}
+
+// -V*(start): every step costs 1 and the goal ends the episode.
+double optimal_expected_steps(const ShapingExperimentOptions& o) {
+  const FiniteMdp mdp = o.world == ShapingWorld::kGridworld
+                            ? to_finite_mdp(corner_gridworld(o.size, o.intended))
+                            : to_finite_mdp(flag_world(o.size, o.intended));
+  const SolveSummary vi = value_iteration(mdp);
+  return -expected_under_initial(mdp, vi.value);
+}
+
+// A work item: up to kRunsPerItem unfinished runs of one potential.
+struct WorkItem {
+  int potential;
+  std::vector<int> runs;
+};
+
+// The runs not `done`, as work items. The unshaped curve (usually listed first) is by far the slowest, so
+// items are claimed in list order and the long ones start first.
+std::vector<WorkItem> work_items(const ShapingExperimentOptions& o, const std::vector<std::uint8_t>& done) {
+  std::vector<WorkItem> items;
+  for (int p = 0; p < static_cast<int>(o.potentials.size()); ++p) {
+    WorkItem item{.potential = p, .runs = {}};
+    for (int r = 0; r < o.runs; ++r) {
+      if (done[run_slot(o, p, r)]) continue;
+      item.runs.push_back(r);
+      if (item.runs.size() == kRunsPerItem) {
+        items.push_back(item);
+        item.runs.clear();
+      }
+    }
+    if (!item.runs.empty()) items.push_back(item);
+  }
+  return items;
+}
+
 }  // namespace
 
 bool ShapingExperimentOptions::IsValid(std::string* error) const {
@@ -174,19 +213,10 @@ ShapingExperimentResult run_shaping_experiment(const ShapingExperimentOptions& o
   std::string error;
   if (!o.IsValid(&error)) throw InputError(error);
   const int P = static_cast<int>(o.potentials.size());
-  const auto slot = [&](int p, int r) {
-    return static_cast<std::size_t>(p) * static_cast<std::size_t>(o.runs) + static_cast<std::size_t>(r);
-  };
+  const auto slot = [&](int p, int r) { return run_slot(o, p, r); };
 
   ShapingExperimentResult result;
-  {
-    // -V*(start): every step costs 1 and the goal ends the episode.
-    const FiniteMdp mdp = o.world == ShapingWorld::kGridworld
-                              ? to_finite_mdp(corner_gridworld(o.size, o.intended))
-                              : to_finite_mdp(flag_world(o.size, o.intended));
-    const SolveSummary vi = value_iteration(mdp);
-    result.optimal_expected_steps = -expected_under_initial(mdp, vi.value);
-  }
+  result.optimal_expected_steps = optimal_expected_steps(o);
 
   std::vector<ShapingRunRecord> records(static_cast<std::size_t>(P) * static_cast<std::size_t>(o.runs));
   std::vector<std::uint8_t> done(records.size(), 0);
@@ -201,25 +231,7 @@ ShapingExperimentResult run_shaping_experiment(const ShapingExperimentOptions& o
     done[slot(r.potential, r.run)] = 1;
   }
 
-  // Work items: up to kRunsPerItem unfinished runs of one potential. The unshaped curve (usually listed
-  // first) is by far the slowest, so items are claimed in list order and the long ones start first.
-  struct Item {
-    int potential;
-    std::vector<int> runs;
-  };
-  std::vector<Item> items;
-  for (int p = 0; p < P; ++p) {
-    Item item{.potential = p, .runs = {}};
-    for (int r = 0; r < o.runs; ++r) {
-      if (done[slot(p, r)]) continue;
-      item.runs.push_back(r);
-      if (item.runs.size() == kRunsPerItem) {
-        items.push_back(item);
-        item.runs.clear();
-      }
-    }
-    if (!item.runs.empty()) items.push_back(item);
-  }
+  const std::vector<WorkItem> items = work_items(o, done);
   std::vector<std::vector<double>> phis;
   for (const auto& name : o.potentials) phis.push_back(shaping_experiment_potential(o, name));
 
@@ -233,7 +245,7 @@ ShapingExperimentResult run_shaping_experiment(const ShapingExperimentOptions& o
   pool.parallel_for(
       items.size(),
       [&](std::size_t i) {
-        const Item& item = items[i];
+        const WorkItem& item = items[i];
         const auto learned = with_model(
             o, phis[static_cast<std::size_t>(item.potential)],
             [&](const auto& model) { return learn(model, td, o.seed, item.potential, item.runs); });

@@ -239,9 +239,12 @@ std::string part_verdicts_html(const std::vector<fs::path>& parts) {
   return items.empty() ? std::string() : "<ul class=\"stage-verdicts\">\n" + items + "</ul>\n";
 }
 
-}  // namespace
+// A run directory's summary.json (required) and run.json (an empty object without one).
+struct RunFiles {
+  json summary, run = json::object();
+};
 
-json report_data(const fs::path& run_dir, const ReportOptions& options) {
+RunFiles read_run_files(const fs::path& run_dir) {
   std::error_code ec;
   if (!fs::exists(run_dir, ec)) {
     throw InputError(fmt::format("RUN_DIR '{}': no such directory", run_dir.string()));
@@ -254,44 +257,53 @@ json report_data(const fs::path& run_dir, const ReportOptions& options) {
     throw InputError(fmt::format("{}: not found (expected a run directory written by a pegasus command)",
                                  summary_file.string()));
   }
-  json summary;
+  RunFiles files;
   try {
-    summary = read_json_file(summary_file);
+    files.summary = read_json_file(summary_file);
   } catch (const std::exception& e) {
     throw InputError(e.what());
   }
-  json run = json::object();
   if (fs::is_regular_file(run_dir / "run.json", ec)) {
     try {
-      run = read_json_file(run_dir / "run.json");
+      files.run = read_json_file(run_dir / "run.json");
     } catch (const std::exception& e) {
       throw InputError(e.what());
     }
   }
+  return files;
+}
+
+// The run directory's name: a report written at the end of a run is written in DIR.partial, and names the
+// run by its final name.
+fs::path run_name(const fs::path& run_dir) {
   fs::path name = run_dir.lexically_normal();
   if (!name.has_filename()) name = name.parent_path();
-  // A report written at the end of a run is written in DIR.partial: it names the run by its final name.
   if (const std::string staged = name.filename().string(); staged.ends_with(".partial"))
     name.replace_filename(staged.substr(0, staged.size() - std::string_view(".partial").size()));
+  return name;
+}
+
+// The page's title: the command, else the summary's experiment, else the directory's name.
+std::string run_title(const fs::path& name, const json& run, const json& summary) {
   std::string title = name.filename().string();
   if (run.is_object() && run.contains("command") && run["command"].is_string()) {
     title = "pegasus " + run["command"].get<std::string>();
   } else if (summary.is_object() && summary.contains("experiment") && summary["experiment"].is_string()) {
     title = summary["experiment"].get<std::string>();
   }
+  return title;
+}
 
-  Page page;
-  page.consumed("report.html");
-  // The answer first: the verdict made from the summary, the run's warnings, and what it printed as its
-  // result (run.json, written by the command framework from the run's printed lines).
-  // A pipeline's stages say theirs below its own.
-  const std::vector<fs::path> parts = parts_of(run_dir, summary);
+// The answer first: the verdict made from the summary, the run's warnings, and what it printed as its
+// result (run.json, written by the command framework from the run's printed lines). A pipeline's stages say
+// theirs below its own. Then the choices the run made from the data (summary.json's `choices`: model class,
+// noise, control gains, start, optimizer), each with what it was chosen by.
+void add_result_and_choices(Page& page, const json& run, const json& summary,
+                            const std::vector<fs::path>& parts) {
   if (const std::string result =
           verdict_html(run, summary) + part_verdicts_html(parts) + printed_result_html(run);
       !result.empty())
     page.section("result", "Result", "The verdict, then what the run printed when it finished.", result);
-  // The choices the run made from the data (summary.json's `choices`: model class, noise, control gains,
-  // start, optimizer), each with what it was chosen by.
   if (summary.is_object() && summary.contains("choices") && summary["choices"].is_object()) {
     std::vector<std::vector<std::string>> rows;
     for (const auto& [what, choice] : summary["choices"].items())
@@ -300,7 +312,10 @@ json report_data(const fs::path& run_dir, const ReportOptions& options) {
                  "What the run chose from the data, and by what (summary.json: choices).",
                  table_html({"choice", "value"}, rows, "choices"));
   }
-  // Headline figures and configuration.
+}
+
+// Headline figures and configuration.
+void add_headline_and_config(Page& page, const fs::path& run_dir, const json& run, const json& summary) {
   const auto rows = headline_rows(command_of(run), summary);
   std::string head = rows.empty() ? std::string("<p>(no scalar figures)</p>\n")
                                   : table_html({"figure", "value", "unit", "meaning"}, rows, "headline");
@@ -321,44 +336,34 @@ json report_data(const fs::path& run_dir, const ReportOptions& options) {
                    ? "No config.toml in the run directory."
                    : "The resolved configuration (defaults, then the config file, then the command line).",
                config_html);
+}
 
-  // The charts the run describes (charts.json), then whatever else it holds.
-  add_chart_sections(page, run_dir, options);
-  add_policy(page, run_dir);
-  add_other_series(page, run_dir, options);
-
-  // Runs inside this one (the stages of a pipeline): links to their own reports, with what each printed.
-  if (!parts.empty()) {
-    std::string list = "<ul class=\"parts\">\n";
-    for (const auto& part : parts) {
-      const std::string n = part.filename().string();
-      std::string command;
-      try {
-        const json r = read_json_file(part / "run.json");
-        if (r.contains("command") && r["command"].is_string())
-          command = "pegasus " + r["command"].get<std::string>();
-      } catch (const std::exception&) {
-      }
-      std::string verdict;  // the stage's verdict and its own result lines
-      try {
-        const json part_run = read_json_file(part / "run.json");
-        verdict =
-            verdict_html(part_run, read_json_file(part / "summary.json")) + printed_result_html(part_run);
-      } catch (const std::exception&) {
-      }
-      std::error_code e2;
-      list +=
-          fs::is_regular_file(part / "report.html", e2)
-              ? fmt::format("<li><a href=\"{0}/report.html\">{0}</a> {1}{2}</li>\n", escape_markup(n),
-                            escape_markup(command), verdict)
-              : fmt::format("<li>{} {} (no report.html yet: pegasus report {}){}</li>\n", escape_markup(n),
-                            escape_markup(command), escape_markup(part.string()), verdict);
-    }
-    page.section("parts", "Parts of this run",
-                 "Each stage is a run directory of its own, with its own report.", list + "</ul>\n");
+// One stage's item: a link to its own report, its command, and what it printed.
+std::string part_item_html(const fs::path& part) {
+  const std::string n = part.filename().string();
+  std::string command;
+  try {
+    const json r = read_json_file(part / "run.json");
+    if (r.contains("command") && r["command"].is_string())
+      command = "pegasus " + r["command"].get<std::string>();
+  } catch (const std::exception&) {
   }
+  std::string verdict;  // the stage's verdict and its own result lines
+  try {
+    const json part_run = read_json_file(part / "run.json");
+    verdict = verdict_html(part_run, read_json_file(part / "summary.json")) + printed_result_html(part_run);
+  } catch (const std::exception&) {
+  }
+  std::error_code e2;
+  return fs::is_regular_file(part / "report.html", e2)
+             ? fmt::format("<li><a href=\"{0}/report.html\">{0}</a> {1}{2}</li>\n", escape_markup(n),
+                           escape_markup(command), verdict)
+             : fmt::format("<li>{} {} (no report.html yet: pegasus report {}){}</li>\n", escape_markup(n),
+                           escape_markup(command), escape_markup(part.string()), verdict);
+}
 
-  // The files of the run directory.
+// The files of the run directory.
+void add_files(Page& page, const fs::path& run_dir) {
   std::vector<std::vector<std::string>> files;
   std::vector<fs::directory_entry> entries;
   for (const auto& e : fs::directory_iterator(run_dir)) entries.push_back(e);
@@ -372,6 +377,34 @@ json report_data(const fs::path& run_dir, const ReportOptions& options) {
   }
   page.section("files", "Files", "The run directory this report was made from.",
                table_html({"file", "bytes"}, files));
+}
+
+}  // namespace
+
+json report_data(const fs::path& run_dir, const ReportOptions& options) {
+  const auto [summary, run] = read_run_files(run_dir);
+  const fs::path name = run_name(run_dir);
+  const std::string title = run_title(name, run, summary);
+
+  Page page;
+  page.consumed("report.html");
+  const std::vector<fs::path> parts = parts_of(run_dir, summary);
+  add_result_and_choices(page, run, summary, parts);
+  add_headline_and_config(page, run_dir, run, summary);
+
+  // The charts the run describes (charts.json), then whatever else it holds.
+  add_chart_sections(page, run_dir, options);
+  add_policy(page, run_dir);
+  add_other_series(page, run_dir, options);
+
+  // Runs inside this one (the stages of a pipeline): links to their own reports, with what each printed.
+  if (!parts.empty()) {
+    std::string list = "<ul class=\"parts\">\n";
+    for (const auto& part : parts) list += part_item_html(part);
+    page.section("parts", "Parts of this run",
+                 "Each stage is a run directory of its own, with its own report.", list + "</ul>\n");
+  }
+  add_files(page, run_dir);
 
   return {{"title", title},    {"run_dir", name.filename().string()}, {"summary", summary},   {"run", run},
           {"body", page.body}, {"sections", page.sections},           {"charts", page.charts}};

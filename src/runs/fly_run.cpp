@@ -198,6 +198,15 @@ std::string compare_with_baseline(const FlightSummary& s, const FlightSummary& b
                      position, cost);
 }
 
+// The ground truth of the run's settings, started at the set point.
+std::unique_ptr<GroundTruth> ground_truth_at(const FlyRunOptions& options, const SetPoint& target) {
+  GroundTruthSettings settings = options.settings;
+  settings.set_start = true;
+  settings.start_p_W = Vec3(target.x, target.y, target.z);
+  settings.start_yaw = target.yaw;
+  return options.aircraft.ground_truth(settings);
+}
+
 }  // namespace
 
 void run_fly(const FlyRunOptions& options, RunSink& sink, ThreadPool& pool) {
@@ -214,11 +223,7 @@ void run_fly(const FlyRunOptions& options, RunSink& sink, ThreadPool& pool) {
   } else if (baseline_only) {
     target = {vehicle.target[0], vehicle.target[1], vehicle.target[2], vehicle.target[3]};
   }
-  GroundTruthSettings settings = options.settings;
-  settings.set_start = true;
-  settings.start_p_W = Vec3(target.x, target.y, target.z);
-  settings.start_yaw = target.yaw;
-  const std::unique_ptr<GroundTruth> aircraft = options.aircraft.ground_truth(settings);
+  const std::unique_ptr<GroundTruth> aircraft = ground_truth_at(options, target);
   const double dt = aircraft->step_seconds();
   const FlightOptions& fo = options.flights;
   const FlightOptions controller_options =

@@ -285,10 +285,10 @@ PilotRunOptions read_pilot_config(const ConfigSchema& c, std::uint64_t seed) {
   return o;
 }
 
-void declare_hover_config(ConfigSchema& s) {
-  declare_vehicle(s, fills_help(hover_fills(), kHoverRewardKeys));
-  s.add_string("model", "", "identified model (model.json of pegasus heli identify)").input_file();
-  const HoverTrainingOptions defaults;
+namespace {
+
+// The scenarios: how many, how long, at which control rate.
+void declare_hover_scenarios(ConfigSchema& s, const HoverTrainingOptions& defaults) {
   s.add_int("scenarios", defaults.scenarios, "PEGASUS scenarios m (thesis 5.3: 30)").range(1, 100000);
   s.add_double("seconds", defaults.seconds, "flight per scenario, s (thesis 5.3: 35)")
       .greater_than(0)
@@ -298,6 +298,10 @@ void declare_hover_config(ConfigSchema& s) {
        "the controller's rate, Hz: the learned model steps at it and the policy is trained for it (thesis "
        "5.1: 50; a flight computer that runs its controller at 10 Hz: 10)")
       .range(0.1, 1000);
+}
+
+// The policy's start: its gains and its integral term.
+void declare_hover_start(ConfigSchema& s, const HoverTrainingOptions& defaults) {
   s.add_string(
        "starting_gains", defaults.lqr_start ? "lqr" : "constant",
        "the policy's starting gains: the X-Cell's constants, or LQR on the identified model at the hover "
@@ -318,6 +322,10 @@ void declare_hover_config(ConfigSchema& s) {
                "anti-windup: the yaw error integral's limit, rad s")
       .greater_than(0)
       .max(1e6);
+}
+
+// The objective's discount, the model's refits and budget, the start states, the envelope and the set point.
+void declare_hover_objective(ConfigSchema& s, const HoverTrainingOptions& defaults) {
   s.add_double(
        "gamma", defaults.gamma,
        "discount per 1/50 s (thesis 5.3: 0.9995 per 50 Hz step); per step it is gamma^(50 / control_rate_hz)")
@@ -353,6 +361,10 @@ void declare_hover_config(ConfigSchema& s) {
         return std::get<std::vector<double>>(v).size() == 4 ? std::string()
                                                             : std::string("4 numbers: x, y, z, yaw");
       });
+}
+
+// The reward: the typical sizes of its terms (Eq 5.9, 5.10), the judged cost and wind, and the action centre.
+void declare_hover_reward(ConfigSchema& s, const HoverTrainingOptions& defaults) {
   // Each weight is 1 / this^2 (Eq 5.9, 5.10): below kMinTypicalScale it would exceed kMaxRewardWeight, and
   // the reward's own check would then blame alpha_pos instead of the option given.
   static constexpr double kMinTypicalScale = HoverReward::kMinTypicalSize;  // 1 / sqrt(kMaxRewardWeight)
@@ -387,6 +399,18 @@ void declare_hover_config(ConfigSchema& s) {
   s.add_string("reward.action_centre", defaults.centre_at_trim ? "trim" : "zero",
                "controls the action cost is taken about: the logs' mean (trim) or 0 (Eq 5.10 as printed)")
       .choices({"trim", "zero"});
+}
+
+}  // namespace
+
+void declare_hover_config(ConfigSchema& s) {
+  declare_vehicle(s, fills_help(hover_fills(), kHoverRewardKeys));
+  s.add_string("model", "", "identified model (model.json of pegasus heli identify)").input_file();
+  const HoverTrainingOptions defaults;
+  declare_hover_scenarios(s, defaults);
+  declare_hover_start(s, defaults);
+  declare_hover_objective(s, defaults);
+  declare_hover_reward(s, defaults);
   // Gradient ascent by default (thesis 5.3), then hill climbing from its result (then_hill_climb).
   declare_optimizer_options(s, "optimizer", defaults.optimizer, continuous_class_methods(false));
   s.add_bool("then_hill_climb", defaults.then_hill_climb,

@@ -211,10 +211,9 @@ nlohmann::json hover_choices(const sysid::IdentifiedModel& model, const HoverTra
   return choices;
 }
 
-}  // namespace
-
-void run_hover(const HoverRunOptions& options, RunSink& sink, ThreadPool& pool) {
-  HoverTrainingOptions o = options.training;  // its disturbance the training wind, once the model is read
+// The options valid, and the hover target above the ground truth's ground.
+void check_hover_options(const HoverRunOptions& options) {
+  const HoverTrainingOptions& o = options.training;
   std::string error;
   // "field: what": named as the user gave the field (--integral-seconds, or the config file's key).
   if (!o.IsValid(&error)) {
@@ -227,34 +226,44 @@ void run_hover(const HoverRunOptions& options, RunSink& sink, ThreadPool& pool) 
                            fmt::format("z = {:g} is at or below the ground of {}'s ground truth (NED: z < 0 "
                                        "is above it)",
                                        o.target.z, options.aircraft.vehicle.name()));
-  const auto model = options.aircraft.load_model(options.model_file);
-  RunDirectory& dir = sink.dir;
-  options.aircraft.keep(dir);
+}
+
+// The lines that say what training will do before it starts: the reward's terms, the wind, a control step
+// the model stretches, and the evaluation budget where it binds (returned; 0 where none).
+std::int64_t say_hover_setup(std::ostream& out, const HoverRunOptions& options,
+                             const sysid::IdentifiedModel& model, const TrainingWind& wind) {
+  const HoverTrainingOptions& o = options.training;
   // Which terms are in the reward (issue 53): with a judged cost, only the file's.
-  sink.out << fmt::format("reward ({}): {}\n",
-                          options.judged_cost ? "the vehicle file's [cost], whole" : "the reward.* options",
-                          hover_reward_for(*model, o).terms(o.crash_penalty));
+  out << fmt::format("reward ({}): {}\n",
+                     options.judged_cost ? "the vehicle file's [cost], whole" : "the reward.* options",
+                     hover_reward_for(model, o).terms(o.crash_penalty));
   // The wind in the scenarios, stated or a vehicle file's default (issue 53): one line, where not the
   // X-Cell's calm.
-  const TrainingWind wind = training_wind(options.wind_source, o.disturbance, *model);
-  o.disturbance = wind.disturbance;
-  if (options.aircraft.from_file() || !o.disturbance.calm()) sink.out << training_wind_line(wind) << "\n";
+  if (options.aircraft.from_file() || !o.disturbance.calm()) out << training_wind_line(wind) << "\n";
   // A control step longer than the model's is one model step's change stretched (learned_model.hpp): allowed,
   // and `identify` reports it as training runs it, but not without a word.
-  if (const double ratio = model->dt() * o.control_rate_hz; ratio < 1 - 1e-9)
-    sink.out << fmt::format(
+  if (const double ratio = model.dt() * o.control_rate_hz; ratio < 1 - 1e-9)
+    out << fmt::format(
         "warning: the controller's step ({:g} s) is {:g} steps of the {:g} Hz model, which takes it as one "
         "step's change times {:g}; a model identified at the control rate (log.model_rate_hz) steps it "
         "faithfully\n",
-        1 / o.control_rate_hz, 1 / ratio, 1 / model->dt(), 1 / ratio);
+        1 / o.control_rate_hz, 1 / ratio, 1 / model.dt(), 1 / ratio);
   // The default budget on a locally weighted model (issues 48, 53): said where it binds.
   const std::int64_t budget =
-      o.evaluation_budget(*model, static_cast<int>(hover_policy_for(*model, o).parameters().size()));
+      o.evaluation_budget(model, static_cast<int>(hover_policy_for(model, o).parameters().size()));
   if (budget > 0)
-    sink.out << fmt::format(
+    out << fmt::format(
         "budget: at most {} U-hat evaluations, about {:g} CPU s of refits of the locally weighted model ({} "
         "rows, refitted every {} control steps; --cpu-budget-s sets it, 0 lifts it)\n",
-        budget, o.cpu_budget_s, model->data().x.rows(), o.refit_steps(*model));
+        budget, o.cpu_budget_s, model.data().x.rows(), o.refit_steps(model));
+  return budget;
+}
+
+// Training, checkpointed after every iteration and resumed from the run directory's checkpoint, with a bar
+// over the iterations.
+HoverTrainingResult train_hover_in(RunSink& sink, std::shared_ptr<const sysid::IdentifiedModel> model,
+                                   const HoverTrainingOptions& o, ThreadPool& pool) {
+  RunDirectory& dir = sink.dir;
   HoverTrainingHooks hooks;
   hooks.checkpoint_every = 1;
   hooks.resume_from = dir.load_checkpoint();
@@ -284,19 +293,23 @@ void run_hover(const HoverRunOptions& options, RunSink& sink, ThreadPool& pool) 
     return train_hover(model, o, hooks, pool);
   }();
   bar.finish();
+  return r;
+}
 
+// progress.csv with its chart, and policy.json of the policy class as training settled it (`used`).
+void write_hover_policy(RunDirectory& dir, const HoverRunOptions& options,
+                        const sysid::IdentifiedModel& model, const HoverTrainingOptions& used,
+                        const HoverTrainingResult& r) {
+  const HoverTrainingOptions& o = options.training;
   dir.write_csv("progress.csv", optimizer_progress_csv(r.progress));
   const ChartSection progress = optimizer_progress_section(
       {{"", "progress.csv"}},
       "U-hat of the best policy so far against optimizer iterations, evaluations and time.");
   dir.add_charts(progress);
   dir.write_chart_svg("progress.svg", progress.charts.front());
-  HoverTrainingOptions used = o;  // with the LQR start's action weights as training settled them
-  used.lqr_action_factor = r.lqr_action_factor;
-  used.lqr_gains_from_alternative = r.lqr_gains_from_alternative;
-  const HoverPolicy policy = hover_policy_for(*model, used);
+  const HoverPolicy policy = hover_policy_for(model, used);
   PolicyFile file =
-      hover_policy_file(policy, r.theta, o.target, hover_init_from_model(*model).trim, o.integrator());
+      hover_policy_file(policy, r.theta, o.target, hover_init_from_model(model).trim, o.integrator());
   file.provenance = {{"command", "pegasus heli hover"}, {"model", options.model_file}, {"uhat", r.final_uhat},
                      {"scenarios", o.scenarios},        {"seconds", o.seconds},        {"seed", o.seed}};
   // Only with a vehicle file, so that the X-Cell's policy files stay as they were.
@@ -304,15 +317,19 @@ void run_hover(const HoverRunOptions& options, RunSink& sink, ThreadPool& pool) 
   // Only when not 50 Hz, so that policy files trained at the thesis's rate stay as they were.
   if (o.control_rate_hz != 50) file.options["control_rate_hz"] = o.control_rate_hz;
   dir.write_json("policy.json", policy_file_json(file));
-  auto phase = [](const OptimizerSummary& s) -> nlohmann::json {
-    if (s.method.empty()) return nullptr;
-    return {
-        {"method", s.method},           {"iterations", s.iterations},
-        {"evaluations", s.evaluations}, {"initial_uhat", s.initial_value},
-        {"best_uhat", s.best_value},    {"termination", std::string(TerminationTypeName(s.termination_type))},
-        {"message", s.message}};
-  };
-  const double seconds = r.progress.empty() ? 0.0 : r.progress.back().seconds;
+}
+
+nlohmann::json optimizer_phase_json(const OptimizerSummary& s) {
+  if (s.method.empty()) return nullptr;
+  return {
+      {"method", s.method},           {"iterations", s.iterations},
+      {"evaluations", s.evaluations}, {"initial_uhat", s.initial_value},
+      {"best_uhat", s.best_value},    {"termination", std::string(TerminationTypeName(s.termination_type))},
+      {"message", s.message}};
+}
+
+// summary.json's figures every hover training gives.
+nlohmann::json hover_summary_core(const HoverTrainingOptions& o, const HoverTrainingResult& r) {
   const std::int64_t evaluations = r.progress.empty() ? 0 : r.progress.back().evaluations;
   nlohmann::json summary = {{"initial_uhat", r.initial_uhat},
                             {"final_uhat", r.final_uhat},
@@ -322,7 +339,7 @@ void run_hover(const HoverRunOptions& options, RunSink& sink, ThreadPool& pool) 
                             {"scenario_seconds", o.seconds},
                             {"gamma", o.gamma},
                             {"gradient", nullptr},
-                            {"hill_climb", phase(r.hill_climb)},
+                            {"hill_climb", optimizer_phase_json(r.hill_climb)},
                             {"starting_policy",
                              {{"scenarios", r.start.scenarios},
                               {"crashed_scenarios", r.start.crashed},
@@ -333,37 +350,39 @@ void run_hover(const HoverRunOptions& options, RunSink& sink, ThreadPool& pool) 
   {
     std::string first = o.optimizer.method;
     std::replace(first.begin(), first.end(), '-', '_');
-    summary[first] = phase(r.gradient);
+    summary[first] = optimizer_phase_json(r.gradient);
   }
-  // Only for AR(1) models, so that the summaries of white-noise models stay as they were (digests).
-  if (model->noise_correlation().any())
-    summary["model_noise"] = model->noise_correlation().has_measurement() ? "ar1+measurement" : "ar1";
-  // The LQR start as training settled it, for the summary's starting_gains and integral.
-  const std::optional<LqrStart> settled_lqr =
-      o.lqr_start ? std::optional(lqr_hover_init(*model, used)) : std::nullopt;
-  if (settled_lqr) {  // only when asked: summaries with the constants stay as they were
-    const LqrStart& lqr = *settled_lqr;
-    const HoverPolicyInit& g = lqr.init;
-    summary["starting_gains"] = {{"method", lqr.used ? "lqr" : "constant"},
-                                 {"reason", lqr.reason},
-                                 {"action_weight_factor", used.lqr_action_factor},
-                                 {"spectral_radius", lqr.spectral_radius},
-                                 {"open_loop_radius", lqr.open_loop_radius},
-                                 {"gains",
-                                  {{"a1", {{"err", g.k_pos}, {"vel", g.k_vel}, {"att", g.k_att}}},
-                                   {"a2", {{"err", g.k_pos_lat}, {"vel", g.k_vel_lat}, {"att", g.k_roll}}},
-                                   {"a3", {{"err", g.k_alt}, {"vel", g.k_climb}}},
-                                   {"a4", {{"err", g.k_yaw}, {"vel", g.k_yaw_rate}}}}}};
-    if (!lqr.used)
-      sink.out << "warning: LQR starting gains not used: " << lqr.reason
-               << "; training starts from the constant gains instead\n";
-    summary["start_tries"] = start_tries_json(r.start_tries);
-    if (!r.start_tries.empty()) sink.out << start_tries_line(r.start_tries, o.max_start_crash_fraction);
-  }
-  summary["choices"] = hover_choices(*model, o, r);
-  if (options.aircraft.from_file()) summary["choices"]["wind"] = {{"by", wind.by}, {"reason", wind.reason}};
-  if (options.aircraft.from_file()) summary["vehicle"] = options.aircraft.vehicle.name();  // likewise
-  if (o.integral_seconds > 0) {                                                            // likewise
+  return summary;
+}
+
+// The LQR start as training settled it: starting_gains and start_tries, and the lines that warn of it.
+void add_starting_gains(nlohmann::json& summary, std::ostream& out, const LqrStart& lqr,
+                        const HoverTrainingOptions& used, const HoverTrainingResult& r) {
+  const HoverPolicyInit& g = lqr.init;
+  summary["starting_gains"] = {{"method", lqr.used ? "lqr" : "constant"},
+                               {"reason", lqr.reason},
+                               {"action_weight_factor", used.lqr_action_factor},
+                               {"spectral_radius", lqr.spectral_radius},
+                               {"open_loop_radius", lqr.open_loop_radius},
+                               {"gains",
+                                {{"a1", {{"err", g.k_pos}, {"vel", g.k_vel}, {"att", g.k_att}}},
+                                 {"a2", {{"err", g.k_pos_lat}, {"vel", g.k_vel_lat}, {"att", g.k_roll}}},
+                                 {"a3", {{"err", g.k_alt}, {"vel", g.k_climb}}},
+                                 {"a4", {{"err", g.k_yaw}, {"vel", g.k_yaw_rate}}}}}};
+  if (!lqr.used)
+    out << "warning: LQR starting gains not used: " << lqr.reason
+        << "; training starts from the constant gains instead\n";
+  summary["start_tries"] = start_tries_json(r.start_tries);
+  if (!r.start_tries.empty()) out << start_tries_line(r.start_tries, used.max_start_crash_fraction);
+}
+
+// The settings away from their defaults, each only when it is, so that other runs' summaries stay as they
+// were (digests): the integral term, the tilt limit, the judged cost, the wind, the envelope, the rate.
+void add_hover_settings(nlohmann::json& summary, const HoverRunOptions& options,
+                        const sysid::IdentifiedModel& model, const HoverTrainingResult& r,
+                        const std::optional<LqrStart>& settled_lqr) {
+  const HoverTrainingOptions& o = options.training;
+  if (o.integral_seconds > 0) {
     nlohmann::json integral = {{"integral_seconds", o.integral_seconds},
                                {"limit_position", o.integral_limit_position},
                                {"limit_yaw", o.integral_limit_yaw}};
@@ -374,7 +393,7 @@ void run_hover(const HoverRunOptions& options, RunSink& sink, ThreadPool& pool) 
   }
   if (o.max_tilt_rad != HoverTrainingOptions{}.max_tilt_rad) summary["max_tilt_rad"] = o.max_tilt_rad;
   if (options.judged_cost)  // likewise: the judged cost's terms as trained
-    summary["judged_cost"] = {{"reward", hover_reward_for(*model, o).terms(o.crash_penalty)},
+    summary["judged_cost"] = {{"reward", hover_reward_for(model, o).terms(o.crash_penalty)},
                               {"crash_penalty", o.crash_penalty}};
   if (!o.disturbance.calm())  // likewise
     summary["wind"] = {{"steady_ned_mps", o.disturbance.wind},
@@ -389,8 +408,44 @@ void run_hover(const HoverRunOptions& options, RunSink& sink, ThreadPool& pool) 
     if (value != fallback) summary[key] = value;
   if (o.control_rate_hz != 50) {  // likewise
     summary["control_rate_hz"] = o.control_rate_hz;
-    summary["refit_every"] = o.refit_steps(*model);
+    summary["refit_every"] = o.refit_steps(model);
   }
+}
+
+}  // namespace
+
+void run_hover(const HoverRunOptions& stated, RunSink& sink, ThreadPool& pool) {
+  check_hover_options(stated);
+  const auto model = stated.aircraft.load_model(stated.model_file);
+  // The wind in the scenarios, stated or a vehicle file's default (issue 53), once the model is read.
+  const TrainingWind wind = training_wind(stated.wind_source, stated.training.disturbance, *model);
+  HoverRunOptions options = stated;
+  options.training.disturbance = wind.disturbance;
+  const HoverTrainingOptions& o = options.training;
+  RunDirectory& dir = sink.dir;
+  options.aircraft.keep(dir);
+  const std::int64_t budget = say_hover_setup(sink.out, options, *model, wind);
+  const HoverTrainingResult r = train_hover_in(sink, model, o, pool);
+
+  HoverTrainingOptions used = o;  // with the LQR start's action weights as training settled them
+  used.lqr_action_factor = r.lqr_action_factor;
+  used.lqr_gains_from_alternative = r.lqr_gains_from_alternative;
+  write_hover_policy(dir, options, *model, used, r);
+  const double seconds = r.progress.empty() ? 0.0 : r.progress.back().seconds;
+  const std::int64_t evaluations = r.progress.empty() ? 0 : r.progress.back().evaluations;
+  nlohmann::json summary = hover_summary_core(o, r);
+  // Only for AR(1) models, so that the summaries of white-noise models stay as they were (digests).
+  if (model->noise_correlation().any())
+    summary["model_noise"] = model->noise_correlation().has_measurement() ? "ar1+measurement" : "ar1";
+  // The LQR start as training settled it, for the summary's starting_gains and integral.
+  const std::optional<LqrStart> settled_lqr =
+      o.lqr_start ? std::optional(lqr_hover_init(*model, used)) : std::nullopt;
+  // only when asked: summaries with the constants stay as they were
+  if (settled_lqr) add_starting_gains(summary, sink.out, *settled_lqr, used, r);
+  summary["choices"] = hover_choices(*model, o, r);
+  if (options.aircraft.from_file()) summary["choices"]["wind"] = {{"by", wind.by}, {"reason", wind.reason}};
+  if (options.aircraft.from_file()) summary["vehicle"] = options.aircraft.vehicle.name();  // likewise
+  add_hover_settings(summary, options, *model, r, settled_lqr);
   if (budget > 0)
     summary["evaluation_budget"] = budget;  // only where it binds, so other runs stay as they were
   dir.write_json("summary.json", summary);

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "identify_noise_check.hpp"
 #include "pegasus/core/error.hpp"
 #include "pegasus/io/json_csv.hpp"
 #include "pegasus/runs/charts.hpp"
@@ -20,79 +21,6 @@ namespace pegasus::heli {
 using namespace pegasus::sysid;
 
 namespace {
-
-// How many of the cells miss 3-7% no more than honest bands do.
-std::size_t honest_cells(const std::vector<BandMisses>& cells) {
-  return static_cast<std::size_t>(std::count_if(
-      cells.begin(), cells.end(), [](const BandMisses& m) { return honest_misses(m.outside); }));
-}
-
-// The cells as summary.json gives them: {seconds: {variable: fraction outside}}.
-nlohmann::json outside_by_horizon_json(const std::vector<BandMisses>& cells) {
-  nlohmann::json out = nlohmann::json::object();
-  for (const BandMisses& m : cells)
-    out[format_double(m.seconds)][kBodyVarNames[static_cast<std::size_t>(m.variable)]] = m.outside;
-  return out;
-}
-
-// One line on whether the bands are honest on the hold-out log (or `flights` of them, pooled): the summary's
-// cells outside 3-7%, the widest misses first, then the count at every horizon (model steps at the nominal
-// rate), and where some horizon misses and the options left a remedy unused, the options that narrow the
-// misses.
-std::string noise_check_line(const std::vector<BandMisses>& reported, const NoiseCheck& check, double rate_hz,
-                             const IdentifyOptions& options, std::size_t flights) {
-  std::vector<BandMisses> wide, narrow;
-  for (const BandMisses& m : reported)
-    if (!honest_misses(m.outside)) (m.outside < kHonestMissLow ? wide : narrow).push_back(m);
-  auto list = [](std::vector<BandMisses> cells, bool most_first) {
-    std::stable_sort(cells.begin(), cells.end(), [&](const BandMisses& a, const BandMisses& b) {
-      return most_first ? a.outside > b.outside : a.outside < b.outside;
-    });
-    constexpr std::size_t kShown = 4;
-    std::vector<std::string> parts;
-    for (std::size_t i = 0; i < std::min(cells.size(), kShown); ++i)
-      parts.push_back(fmt::format("{} at {} s {:.1f}%",
-                                  kBodyVarNames[static_cast<std::size_t>(cells[i].variable)],
-                                  format_double(cells[i].seconds), 100 * cells[i].outside));
-    if (cells.size() > kShown) parts.push_back(fmt::format("{} more", cells.size() - kShown));
-    return fmt::format("{}", fmt::join(parts, ", "));
-  };
-  const std::vector<BandMisses> every = band_misses_at_every_step(check, rate_hz);
-  const std::size_t every_honest = honest_cells(every);
-  std::string line = flights > 1 ? fmt::format("noise check on the {} hold-out logs, pooled: ", flights)
-                                 : "noise check on the hold-out log: ";
-  if (!reported.empty()) {
-    // The answer first: whether any cell misses more or less than chance explains on its steps.
-    const auto fewest = std::min_element(reported.begin(), reported.end(),
-                                         [](const auto& a, const auto& b) { return a.steps < b.steps; });
-    const std::size_t beyond = cells_beyond_chance(reported).size();
-    line += fmt::format(
-        "the bands {} ({} of the {} cells of outside_2sigma_by_horizon beyond what chance gives with {} "
-        "steps "
-        "a cell; binomial test, 5% over the cells; noise_check_passes); ",
-        beyond == 0 ? "pass" : "fail", beyond == 0 ? std::string("none") : fmt::format("{}", beyond),
-        reported.size(), fewest->steps);
-    line += fmt::format("{} of the {} cells are outside 3-7%", wide.size() + narrow.size(), reported.size());
-    if (!narrow.empty()) line += "; bands too narrow: " + list(narrow, true);
-    if (!wide.empty()) line += "; too wide: " + list(wide, false);
-    line += "; ";
-  }
-  line += fmt::format("at every horizon to {} s, {} of {} within 3-7% (noise_check_by_horizon.csv)",
-                      format_double(static_cast<double>(check.steps_by_horizon.size()) / rate_hz),
-                      every_honest, every.size());
-  // White noise misses where gusts or an estimator correlate the errors in time, and an uncalibrated model's
-  // parts keep the sizes fitted to one-step residuals: on both shipped aircraft ar1+measurement calibrated
-  // left the fewest cells outside (README, Calibrated noise).
-  const bool measured = options.noise == NoiseModel::kAr1Measurement;
-  if (every_honest < every.size() && !(measured && options.calibrate_noise)) {
-    line += "; for more honest bands: ";
-    line += !measured && !options.calibrate_noise ? "--noise ar1+measurement --calibrate-noise"
-            : !measured                           ? "--noise ar1+measurement"
-                                                  : "--calibrate-noise";
-    line += " (README, Calibrated noise)";
-  }
-  return line + "\n";
-}
 
 // What identify chose from the data, or the options set: summary.json's `choices`, and the lines that say so.
 struct Choices {
@@ -182,35 +110,39 @@ bool gains_from_data(const IdentifyRunOptions& options, const std::vector<Contro
   return whitened;
 }
 
-}  // namespace
+// The logs identify reads, all before the identification: a bad file stops the run at once.
+struct IdentifyLogs {
+  FlightLog train, test;
+  std::vector<FlightLog> more_tests;  // --noise-check-logs
+};
 
-void run_identify(const IdentifyRunOptions& options, RunSink& sink, ThreadPool& pool) {
-  if (options.train_log.empty()) throw InputError("--train: a training flight log is required");
-  if (options.test_log.empty()) throw InputError("--test: a hold-out flight log is required");
+IdentifyLogs read_logs(const IdentifyRunOptions& options) {
   const bool own_layout = !options.aircraft.from_file();
   const logs::Vehicle& vehicle = options.aircraft.vehicle;
-  const FlightLog train =
-      own_layout ? read_flight_log(options.train_log) : logs::read_vehicle_log(options.train_log, vehicle);
   const auto read_log = [&](const std::string& file) {
     return own_layout ? read_flight_log(file) : logs::read_vehicle_log(file, vehicle);
   };
-  const FlightLog test = read_log(options.test_log);
-  std::vector<FlightLog> more_tests;  // read before the identification: a bad file stops the run at once
-  for (const std::string& file : options.noise_check_logs) more_tests.push_back(read_log(file));
+  IdentifyLogs logs{
+      .train = read_log(options.train_log), .test = read_log(options.test_log), .more_tests = {}};
+  for (const std::string& file : options.noise_check_logs) logs.more_tests.push_back(read_log(file));
   // A flight given twice would count its steps twice in the pooled check, as if it were two.
-  for (std::size_t i = 0; i < more_tests.size(); ++i) {
+  for (std::size_t i = 0; i < logs.more_tests.size(); ++i) {
     auto refuse = [&](const std::string& other, const std::string& option) {
       throw InputError(fmt::format(
           "--noise-check-logs: {} is the same flight as {} ({}); each hold-out flight counts once",
           options.noise_check_logs[i], other, option));
     };
-    if (more_tests[i] == test) refuse(options.test_log, "--test");
-    if (more_tests[i] == train) refuse(options.train_log, "--train");
+    if (logs.more_tests[i] == logs.test) refuse(options.test_log, "--test");
+    if (logs.more_tests[i] == logs.train) refuse(options.train_log, "--train");
     for (std::size_t j = 0; j < i; ++j)
-      if (more_tests[i] == more_tests[j]) refuse(options.noise_check_logs[j], "--noise-check-logs");
+      if (logs.more_tests[i] == logs.more_tests[j]) refuse(options.noise_check_logs[j], "--noise-check-logs");
   }
-  Choices choices;
-  IdentifyOptions o = noise_from_data(options, train, choices);  // with the classes chosen from the data
+  return logs;
+}
+
+// The identification options valid, and the training log long enough for them.
+void check_identify_options(const IdentifyRunOptions& options, const FlightLog& train,
+                            const IdentifyOptions& o) {
   std::string error;
   if (!o.IsValid(&error)) throw InputError(error);
   if (const std::size_t need = sysid::min_training_log_rows(train.dt(), o.structure);
@@ -220,38 +152,40 @@ void run_identify(const IdentifyRunOptions& options, RunSink& sink, ThreadPool& 
                     "{} rows ({:.1f} s)",
                     options.train_log, train.rows(), train.seconds(), o.structure.rate_hz, need,
                     static_cast<double>(need) * train.dt()));
-  RunDirectory& dir = sink.dir;
-  options.aircraft.keep(dir);
+}
 
-  IdentifyReport report;
-  // The bandwidth search checkpoints after each cross-validation step; --resume replays the saved steps.
+// Where stderr is no terminal, a line on the clock says which part of the identification runs; a bar
+// counts the bandwidth cross-validation's steps.
+struct IdentifyProgress {
+  ProgressStatus phase{"the bandwidth cross-validation"};
+  bool enabled;
+  ProgressTicker ticker;
+  std::unique_ptr<Progress> bar;
+
+  explicit IdentifyProgress(const RunSink& sink)
+      : enabled(Progress::default_enabled(sink.quiet, sink.dir.ranks())),
+        ticker(
+            "identify", [this] { return phase.text(); }, enabled) {}
+
+  void step(int done, int total, bool replayed) {
+    phase.set(fmt::format("the bandwidth cross-validation, {} of {} steps", done, total));
+    if (!bar) bar = std::make_unique<Progress>("bandwidth cross-validation", total, enabled);
+    const auto k = static_cast<std::uint64_t>(done) - bar->done();
+    replayed ? bar->skip(k) : bar->advance(k);
+  }
+};
+
+// The bandwidth search checkpoints after each cross-validation step; --resume replays the saved steps.
+IdentifyHooks identify_hooks(RunDirectory& dir, IdentifyProgress& progress) {
   IdentifyHooks hooks;
   if (const auto saved = dir.load_checkpoint(); saved && saved->contains("identify"))
     hooks.resume_from = saved->at("identify");
   hooks.checkpoint = [&dir](const nlohmann::json& state) { dir.save_checkpoint({{"identify", state}}); };
-  // Where stderr is no terminal, a line on the clock says which part of the identification runs.
-  ProgressStatus phase("the bandwidth cross-validation");
-  const ProgressTicker ticker(
-      "identify", [&] { return phase.text(); }, Progress::default_enabled(sink.quiet, sink.dir.ranks()));
-  std::unique_ptr<Progress> bar;
-  hooks.progress = [&](int done, int total, bool replayed) {
-    phase.set(fmt::format("the bandwidth cross-validation, {} of {} steps", done, total));
-    if (!bar)
-      bar = std::make_unique<Progress>("bandwidth cross-validation", total,
-                                       Progress::default_enabled(sink.quiet, sink.dir.ranks()));
-    const auto k = static_cast<std::uint64_t>(done) - bar->done();
-    replayed ? bar->skip(k) : bar->advance(k);
-  };
-  std::optional<ModelClassChoice> class_choice;
-  IdentifiedModel model =
-      model_from_data(options, train, test, pool, report, hooks, o, choices, class_choice, phase);
-  if (!own_layout) model.set_vehicle(vehicle.name());
-  if (bar) bar->finish();
-  phase.set("the control gains' closed-loop bias");
-  // The control gains' closed-loop bias, measured on the least-squares model.
-  const std::vector<ControlGainBias> biases = model_closed_loop_bias(model, o.window_s, pool);
-  const bool whitened = gains_from_data(options, biases, test, pool, model, choices);
-  model.save(dir.path() / "model.json");
+  hooks.progress = [&progress](int done, int total, bool replayed) { progress.step(done, total, replayed); };
+  return hooks;
+}
+
+void write_cross_validation(RunDirectory& dir, const IdentifyReport& report) {
   CsvWriter cv({"setting", "cv_error"});
   for (const auto& [what, e] : report.cv_trace) cv.add_row({what, e});
   dir.write_csv("cross_validation.csv", cv);
@@ -265,14 +199,10 @@ void run_identify(const IdentifyRunOptions& options, RunSink& sink, ThreadPool& 
                                .y = {"cross-validation error", AxisScale::kLog10},
                                .traces = {{.file = "cross_validation.csv", .x = "setting", .y = "cv_error"}},
                                .categorical = true}}});
+}
 
-  phase.set("prediction errors by horizon (the model selection study)");
-  const ModelSelectionStudy study = model_selection_study(model, train, test, o,
-                                                          {.horizon_s = options.horizon_s,
-                                                           .start_spacing_s = options.start_spacing_s,
-                                                           .variants = options.variants,
-                                                           .control_rate_hz = options.control_rate_hz},
-                                                          pool);
+// The model selection study's prediction errors by horizon: the csv, its charts, and the svgs of four.
+void write_mse_vs_horizon(RunDirectory& dir, const ModelSelectionStudy& study) {
   CsvWriter mse_csv({"model", "seconds", "variable", "mse", "rollouts"});
   std::vector<NamedHorizonMse> drawn_models = study.variants;
   drawn_models.push_back(study.as_trained);
@@ -282,86 +212,32 @@ void run_identify(const IdentifyRunOptions& options, RunSink& sink, ThreadPool& 
         mse_csv.add_row({v.name, v.mse.seconds[t], std::string(kReportVarNames[static_cast<std::size_t>(k)]),
                          v.mse.mse[t][static_cast<std::size_t>(k)], std::int64_t{v.mse.count[t]}});
   dir.write_csv("mse_vs_horizon.csv", mse_csv);
-  {
-    const std::vector<std::string> drawn = {"xdot_b", "pitch_rate", "ydot_b", "z"};
-    std::vector<std::string> all(kReportVarNames.begin(), kReportVarNames.end());
-    const ChartSection mse = mse_vs_horizon_section("mse_vs_horizon.csv", all);
-    dir.add_charts(mse);
-    for (const auto& chart : mse.charts) {
-      const std::string& var = chart.traces.front().where.at("variable");
-      if (std::find(drawn.begin(), drawn.end(), var) != drawn.end())
-        dir.write_chart_svg(fmt::format("mse_{}.svg", var), chart);
-    }
+  const std::vector<std::string> drawn = {"xdot_b", "pitch_rate", "ydot_b", "z"};
+  std::vector<std::string> all(kReportVarNames.begin(), kReportVarNames.end());
+  const ChartSection mse = mse_vs_horizon_section("mse_vs_horizon.csv", all);
+  dir.add_charts(mse);
+  for (const auto& chart : mse.charts) {
+    const std::string& var = chart.traces.front().where.at("variable");
+    if (std::find(drawn.begin(), drawn.end(), var) != drawn.end())
+      dir.write_chart_svg(fmt::format("mse_{}.svg", var), chart);
   }
+}
 
-  // The summary's cells are 0.5, 1 and 2 s after a reset.
-  const std::vector<double> reported_seconds = {0.5, 1.0, 2.0};
-  phase.set("the noise check");
-  std::vector<NoiseCheck> checks = {noise_check(model, test, options.reset_s, 10.0, pool)};
-  for (const FlightLog& log : more_tests)
-    checks.push_back(noise_check(model, log, options.reset_s, 0.0, pool));
-  const NoiseCheck nc = pooled_noise_check(checks);  // one flight's: its own check
-  // The verdict the terminal and the report give.
-  const std::vector<BandMisses> reported_misses = band_misses(nc, model.dt(), reported_seconds);
-  const std::string noise_verdict =
-      noise_check_line(reported_misses, nc, o.structure.rate_hz, o, checks.size());
-  CsvWriter nc_csv({"time", "ydot_b_true", "ydot_b_predicted", "sd"});
-  for (std::size_t i = 0; i < nc.time.size(); ++i)
-    nc_csv.add_row({nc.time[i], nc.truth[i], nc.mean[i], nc.sd[i]});
-  dir.write_csv("noise_check.csv", nc_csv);
-  // The misses at every horizon: honest bands miss 3-7% at each, not only at the summary's three.
-  CsvWriter by_horizon_csv({"seconds", "variable", "outside_2sigma", "steps"});
-  for (const BandMisses& m : band_misses_at_every_step(nc, o.structure.rate_hz))
-    by_horizon_csv.add_row({m.seconds, std::string(kBodyVarNames[static_cast<std::size_t>(m.variable)]),
-                            m.outside, std::int64_t{m.steps}});
-  dir.write_csv("noise_check_by_horizon.csv", by_horizon_csv);
-  {
-    const Chart chart{.title = "ydot_b on hold-out data with +-2 sd bands, EKF reset every 2 s (Fig 5.3)",
-                      .x = {"time (s)"},
-                      .y = {"ydot_b (m/s)"},
-                      .traces = {{.file = "noise_check.csv", .x = "time", .y = "ydot_b_true", .name = "true"},
-                                 {.file = "noise_check.csv",
-                                  .x = "time",
-                                  .y = "ydot_b_predicted",
-                                  .name = "predicted",
-                                  .band = "sd",
-                                  .band_factor = 2,
-                                  .band_name = "+-2 standard deviations",
-                                  .dash = "dashdot"}}};
-    const Chart misses{.title = "Hold-out steps outside +-2 sd by the time since the reset",
-                       .x = {"time since the reset (s)"},
-                       .y = {"fraction outside +-2 sd"},
-                       .traces = {{.file = "noise_check_by_horizon.csv",
-                                   .x = "seconds",
-                                   .y = "outside_2sigma",
-                                   .group_by = {"variable"},
-                                   .mode = "lines+markers"}},
-                       .references = {{.y = kHonestMissLow, .name = "3%", .dash = "dash"},
-                                      {.y = kHonestMissHigh, .name = "7%", .dash = "dash"}}};
-    dir.add_charts(ChartSection{
-        .id = "noise-check",
-        .title = "Prediction with 2-sigma bands (Fig 5.3)",
-        .intro =
-            "The model's prediction from the true state, reset to the truth every few seconds; the band is 2 "
-            "standard deviations of the predicted state (noise_check.csv). Below, each body variable's "
-            "share of the hold-out steps outside its band at each time since a reset "
-            "(noise_check_by_horizon.csv): honest bands miss about 4.55%, 3-7% on a flight of some "
-            "minutes. " +
-            (checks.size() > 1
-                 ? fmt::format("The steps of the {} hold-out logs are pooled (noise_check_by_log in "
-                               "summary.json gives each alone); the band above is the test log's. ",
-                               checks.size())
-                 : std::string()) +
-            (model.horizon_sd_factors().empty()
-                 ? std::string()
-                 : "The bands carry the calibration's factor on each sd at each step after a reset, measured "
-                   "on the training log (horizon_sd_factors in summary.json). ") +
-            "The " + noise_verdict.substr(0, noise_verdict.size() - 1) + ".",
-        .charts = {chart, misses}});
-    dir.write_chart_svg("noise_check.svg", chart);
-    dir.write_chart_svg("noise_check_by_horizon.svg", misses);
+// mse_at_seconds reports whole model steps: at 12.5 Hz there is no 1 s or 5 s.
+std::vector<int> horizons_skipped(double rate_hz) {
+  std::vector<int> skipped;
+  for (const int seconds : sysid::kMseReportSeconds) {
+    const double steps = seconds * rate_hz;
+    if (std::abs(steps - std::round(steps)) > 1e-9) skipped.push_back(seconds);
   }
+  return skipped;
+}
 
+// summary.json's figures every identification gives.
+nlohmann::json core_summary(const IdentifyLogs& logs, const IdentifyRunOptions& options,
+                            const IdentifyOptions& o, const IdentifiedModel& model,
+                            const ModelSelectionStudy& study, const HoldOutNoiseCheck& noise,
+                            const IdentifyReport& report) {
   nlohmann::json bandwidth, sigma2, outside;
   for (int j = 0; j < kInputs; ++j) {
     if (j == kOne) continue;
@@ -371,161 +247,205 @@ void run_identify(const IdentifyRunOptions& options, RunSink& sink, ThreadPool& 
   }
   for (int k = 0; k < kBodyVars; ++k) {
     sigma2[kBodyVarNames[static_cast<std::size_t>(k)]] = model.sigma2()[k];
-    outside[kBodyVarNames[static_cast<std::size_t>(k)]] = nc.outside_fraction[k];
+    outside[kBodyVarNames[static_cast<std::size_t>(k)]] = noise.pooled.outside_fraction[k];
   }
   // The bands' misses at 0.5, 1 and 2 s after a reset: an honest noise model misses about 5% at every
   // horizon.
-  const nlohmann::json outside_by_horizon = outside_by_horizon_json(reported_misses);
+  const nlohmann::json outside_by_horizon = outside_by_horizon_json(noise.reported);
   nlohmann::json variant_json = nlohmann::json::array();
   for (const auto& v : study.variants)
     variant_json.push_back({{"model", v.name}, {"mse_at_seconds", mse_at_seconds_json(v.mse)}});
-  nlohmann::json summary = {{"train_seconds", train.seconds()},
-                            {"test_seconds", test.seconds()},
-                            {"rate_hz", o.structure.rate_hz},
-                            {"structure", o.structure.describe()},
-                            {"local", o.local},
-                            {"training_rows", model.data().rows()},
-                            {"bandwidth", bandwidth},
-                            {"sigma2", sigma2},
-                            {"mse_at_seconds", mse_at_seconds_json(study.variants.front().mse)},
-                            {"mse_at_seconds_as_trained", mse_at_seconds_json(study.as_trained.mse)},
-                            {"control_rate_hz", options.control_rate_hz},
-                            {"global_linear", {{"mse_at_seconds", mse_at_seconds_json(study.global_linear)}}},
-                            {"variants", variant_json},
-                            {"outside_2sigma_fraction", outside},
-                            {"outside_2sigma_by_horizon", outside_by_horizon},
-                            {"noise", to_string(o.noise)},
-                            {"noise_check_steps", nc.steps},
-                            {"noise_check_cells_beyond_chance", cells_beyond_chance(reported_misses).size()},
-                            {"noise_check_passes", cells_beyond_chance(reported_misses).empty()},
-                            {"cross_validation_steps", report.cv_trace.size()},
-                            {"model", "model.json"}};
-  // Only when some were skipped, so that the summaries of 50 Hz logs stay as they were (digests).
-  if (!study.skipped_rates_hz.empty()) summary["variant_rates_skipped_hz"] = study.skipped_rates_hz;
-  // mse_at_seconds reports whole model steps: at 12.5 Hz there is no 1 s or 5 s. Only then (digests).
-  std::vector<int> horizons_skipped;
-  for (const int seconds : sysid::kMseReportSeconds) {
-    const double steps = seconds * o.structure.rate_hz;
-    if (std::abs(steps - std::round(steps)) > 1e-9) horizons_skipped.push_back(seconds);
-  }
-  if (!horizons_skipped.empty()) summary["mse_seconds_skipped"] = horizons_skipped;
-  if (!own_layout) summary["vehicle"] = vehicle.name();  // likewise
-  if (checks.size() > 1) {  // likewise: each hold-out log's check alone, the test log's first
-    nlohmann::json by_log = nlohmann::json::array();
-    std::vector<std::string> files = {options.test_log};
-    files.insert(files.end(), options.noise_check_logs.begin(), options.noise_check_logs.end());
-    for (std::size_t i = 0; i < checks.size(); ++i) {
-      const std::vector<BandMisses> cells = band_misses(checks[i], model.dt(), reported_seconds);
-      const std::vector<BandMisses> every = band_misses_at_every_step(checks[i], o.structure.rate_hz);
-      by_log.push_back({{"log", files[i]},
-                        {"steps", checks[i].steps},
-                        {"outside_2sigma_by_horizon", outside_by_horizon_json(cells)},
-                        {"cells_within_3_7", honest_cells(cells)},
-                        {"cells", cells.size()},
-                        {"every_step_cells_within_3_7", honest_cells(every)},
-                        {"every_step_cells", every.size()}});
+  return {{"train_seconds", logs.train.seconds()},
+          {"test_seconds", logs.test.seconds()},
+          {"rate_hz", o.structure.rate_hz},
+          {"structure", o.structure.describe()},
+          {"local", o.local},
+          {"training_rows", model.data().rows()},
+          {"bandwidth", bandwidth},
+          {"sigma2", sigma2},
+          {"mse_at_seconds", mse_at_seconds_json(study.variants.front().mse)},
+          {"mse_at_seconds_as_trained", mse_at_seconds_json(study.as_trained.mse)},
+          {"control_rate_hz", options.control_rate_hz},
+          {"global_linear", {{"mse_at_seconds", mse_at_seconds_json(study.global_linear)}}},
+          {"variants", variant_json},
+          {"outside_2sigma_fraction", outside},
+          {"outside_2sigma_by_horizon", outside_by_horizon},
+          {"noise", to_string(o.noise)},
+          {"noise_check_steps", noise.pooled.steps},
+          {"noise_check_cells_beyond_chance", cells_beyond_chance(noise.reported).size()},
+          {"noise_check_passes", cells_beyond_chance(noise.reported).empty()},
+          {"cross_validation_steps", report.cv_trace.size()},
+          {"model", "model.json"}};
+}
+
+// The calibration's figures: noise_inflation, noise_scale and horizon_sd_factors.
+void add_calibration(nlohmann::json& summary, const IdentifyReport& report, const IdentifiedModel& model) {
+  nlohmann::json inflation;
+  for (int k = 0; k < kBodyVars; ++k)
+    inflation[kBodyVarNames[static_cast<std::size_t>(k)]] = report.noise_inflation[k];
+  summary["noise_inflation"] = inflation;
+  // The variance scales by source (sysid::fit_noise_scale): the measurement ones only where the model has a
+  // measurement error.
+  nlohmann::json process, measurement, white;
+  for (int k = 0; k < kBodyVars; ++k) {
+    const char* name = kBodyVarNames[static_cast<std::size_t>(k)];
+    process[name] = report.noise_scale.process[k];
+    if (model.noise_correlation().has_measurement()) {
+      measurement[name] = report.noise_scale.measurement[k];
+      white[name] = report.noise_scale.measurement_white[k];
     }
-    summary["noise_check_by_log"] = by_log;
   }
-  if (!report.floored_inputs.empty()) summary["bandwidth_at_floor"] = report.floored_inputs;
-  if (o.calibrate_noise) {
-    nlohmann::json inflation;
-    for (int k = 0; k < kBodyVars; ++k)
-      inflation[kBodyVarNames[static_cast<std::size_t>(k)]] = report.noise_inflation[k];
-    summary["noise_inflation"] = inflation;
-    // The variance scales by source (sysid::fit_noise_scale): the measurement ones only where the model has a
-    // measurement error.
-    nlohmann::json process, measurement, white;
+  summary["noise_scale"] = {{"process", process}};
+  if (!measurement.is_null()) {
+    summary["noise_scale"]["measurement"] = measurement;
+    summary["noise_scale"]["measurement_white"] = white;  // added, in units of the one-step variance
+  }
+  // The factors on each output's sd by model step after a reset (sysid::fit_horizon_sd_factors).
+  if (!model.horizon_sd_factors().empty()) {
+    nlohmann::json factors;
     for (int k = 0; k < kBodyVars; ++k) {
-      const char* name = kBodyVarNames[static_cast<std::size_t>(k)];
-      process[name] = report.noise_scale.process[k];
-      if (model.noise_correlation().has_measurement()) {
-        measurement[name] = report.noise_scale.measurement[k];
-        white[name] = report.noise_scale.measurement_white[k];
-      }
+      auto& series = factors[kBodyVarNames[static_cast<std::size_t>(k)]] = nlohmann::json::array();
+      for (const BodyVec& f : model.horizon_sd_factors()) series.push_back(f[k]);
     }
-    summary["noise_scale"] = {{"process", process}};
-    if (!measurement.is_null()) {
-      summary["noise_scale"]["measurement"] = measurement;
-      summary["noise_scale"]["measurement_white"] = white;  // added, in units of the one-step variance
-    }
-    // The factors on each output's sd by model step after a reset (sysid::fit_horizon_sd_factors).
-    if (!model.horizon_sd_factors().empty()) {
-      nlohmann::json factors;
-      for (int k = 0; k < kBodyVars; ++k) {
-        auto& series = factors[kBodyVarNames[static_cast<std::size_t>(k)]] = nlohmann::json::array();
-        for (const BodyVec& f : model.horizon_sd_factors()) series.push_back(f[k]);
-      }
-      summary["horizon_sd_factors"] = factors;
+    summary["horizon_sd_factors"] = factors;
+  }
+}
+
+// The control gains' closed-loop bias, measured against a fit that whitens the residuals' correlation
+// (the model's AR(1) noise, or, for a white-noise model, the same fit made for this check alone): the
+// warning comes whatever noise model was asked for.
+nlohmann::json closed_loop_bias_json(const std::vector<ControlGainBias>& biases) {
+  nlohmann::json bias = nlohmann::json::object();
+  for (const auto& b : biases)
+    bias[b.output + "/" + b.control] = {
+        {"least_squares", b.least_squares}, {"whitened", b.whitened}, {"relative", b.relative}};
+  return bias;
+}
+
+// The warning names the largest bias among the physically large gains (an output's own controls), not a
+// coupling near 0 whose relative bias is large only because the gain is small (issue 53).
+void warn_of_gain_bias(std::ostream& out, const std::vector<ControlGainBias>& biases, bool whitened,
+                       const IdentifyRunOptions& options) {
+  const ControlGainBias* worst = largest_large_gain_bias(biases);
+  if (worst && std::abs(worst->relative) > 0.2)
+    out << fmt::format(
+        "warning: the control gains look biased by closed-loop data: {} per {} is {:.0f}% {} in the "
+        "least-squares fit than in one that whitens the correlated noise ({:.4g} against {:.4g}; the "
+        "largest among the gains that move their output at least {:.0f}% as much as its strongest control "
+        "does; closed_loop_bias in summary.json); {}\n",
+        worst->output, worst->control, 100 * std::abs(worst->relative),
+        worst->relative < 0 ? "smaller" : "larger", worst->least_squares, worst->whitened,
+        100 * kLargeGainShare,
+        whitened ? (options.choose_gains ? "the model uses the whitened gains, which predict the test log "
+                                           "better (--whitened-gains=false keeps least squares)"
+                                         : "the model uses the whitened gains (--whitened-gains)")
+                 : (options.choose_gains ? "the model keeps least squares, which predicts the test log "
+                                           "better; --whitened-gains uses the whitened ones"
+                                         : "--whitened-gains uses the whitened ones"));
+}
+
+nlohmann::json noise_correlation_json(const NoiseCorrelation& c) {
+  nlohmann::json correlation;
+  for (int k = 0; k < kBodyVars; ++k) {
+    auto& entry = correlation[kBodyVarNames[static_cast<std::size_t>(k)]];
+    entry = {{"share", c.share[k]}, {"rho", c.rho[k]}};
+    if (c.has_measurement()) {
+      entry["measurement_share"] = c.measurement_share[k];
+      entry["measurement_rho"] = c.measurement_rho[k];
+      entry["measurement_persistence"] = c.measurement_persistence[k];
+      entry["measurement_white_share"] = c.measurement_white_share[k];
     }
   }
-  {
-    // The control gains' closed-loop bias, measured against a fit that whitens the residuals' correlation
-    // (the model's AR(1) noise, or, for a white-noise model, the same fit made for this check alone): the
-    // warning comes whatever noise model was asked for.
-    // The warning names the largest bias among the physically large gains (an output's own controls), not a
-    // coupling near 0 whose relative bias is large only because the gain is small (issue 53).
-    nlohmann::json bias = nlohmann::json::object();
-    for (const auto& b : biases)
-      bias[b.output + "/" + b.control] = {
-          {"least_squares", b.least_squares}, {"whitened", b.whitened}, {"relative", b.relative}};
-    summary["closed_loop_bias"] = bias;
-    const ControlGainBias* worst = largest_large_gain_bias(biases);
-    if (worst && std::abs(worst->relative) > 0.2)
-      sink.out << fmt::format(
-          "warning: the control gains look biased by closed-loop data: {} per {} is {:.0f}% {} in the "
-          "least-squares fit than in one that whitens the correlated noise ({:.4g} against {:.4g}; the "
-          "largest among the gains that move their output at least {:.0f}% as much as its strongest control "
-          "does; closed_loop_bias in summary.json); {}\n",
-          worst->output, worst->control, 100 * std::abs(worst->relative),
-          worst->relative < 0 ? "smaller" : "larger", worst->least_squares, worst->whitened,
-          100 * kLargeGainShare,
-          whitened ? (options.choose_gains ? "the model uses the whitened gains, which predict the test log "
-                                             "better (--whitened-gains=false keeps least squares)"
-                                           : "the model uses the whitened gains (--whitened-gains)")
-                   : (options.choose_gains ? "the model keeps least squares, which predicts the test log "
-                                             "better; --whitened-gains uses the whitened ones"
-                                           : "--whitened-gains uses the whitened ones"));
-  }
-  if (const NoiseCorrelation& c = model.noise_correlation(); c.any()) {
-    nlohmann::json correlation;
-    for (int k = 0; k < kBodyVars; ++k) {
-      auto& entry = correlation[kBodyVarNames[static_cast<std::size_t>(k)]];
-      entry = {{"share", c.share[k]}, {"rho", c.rho[k]}};
-      if (c.has_measurement()) {
-        entry["measurement_share"] = c.measurement_share[k];
-        entry["measurement_rho"] = c.measurement_rho[k];
-        entry["measurement_persistence"] = c.measurement_persistence[k];
-        entry["measurement_white_share"] = c.measurement_white_share[k];
-      }
-    }
-    summary["noise_correlation"] = correlation;
-  }
-  if (class_choice) summary["model_choice"] = class_choice->to_json();
-  summary["choices"] = choices.json;
-  dir.write_json("summary.json", summary);
-  for (const std::string& line : choices.lines) sink.out << line;
+  return correlation;
+}
+
+// The lines the terminal gets after summary.json: the choices, what was skipped, and the figures.
+void print_identify_lines(std::ostream& out, const nlohmann::json& summary, const Choices& choices,
+                          const IdentifyReport& report, const ModelSelectionStudy& study,
+                          const IdentifyLogs& logs, const IdentifyOptions& o, const IdentifiedModel& model) {
+  for (const std::string& line : choices.lines) out << line;
   if (!report.floored_inputs.empty())
-    sink.out << fmt::format(
+    out << fmt::format(
         "bandwidth held at its floor (the logs move these inputs too little for a narrower one): {}\n",
         fmt::join(report.floored_inputs, ", "));
   if (!study.skipped_rates_hz.empty())
-    sink.out << fmt::format(
+    out << fmt::format(
         "variants not identified at {} Hz: the logs' rates ({:.4g} and {:.4g} Hz) are not "
         "multiples\n",
-        fmt::join(study.skipped_rates_hz, ", "), 1 / train.dt(), 1 / test.dt());
-  if (!horizons_skipped.empty())
-    sink.out << fmt::format(
+        fmt::join(study.skipped_rates_hz, ", "), 1 / logs.train.dt(), 1 / logs.test.dt());
+  if (const std::vector<int> skipped = horizons_skipped(o.structure.rate_hz); !skipped.empty())
+    out << fmt::format(
         "no hold-out MSE at {} s: a {} Hz model's steps do not end there (mse_seconds_skipped)\n",
-        fmt::join(horizons_skipped, ", "), o.structure.rate_hz);
+        fmt::join(skipped, ", "), o.structure.rate_hz);
   const auto& m1 = summary["mse_at_seconds"];
   const auto& g1 = summary["global_linear"]["mse_at_seconds"];
-  sink.out << fmt::format("identified on {:.0f} s ({} rows at {} Hz), cross-validation {:.1f} s\n",
-                          train.seconds(), model.data().rows(), o.structure.rate_hz, report.cv_seconds);
+  out << fmt::format("identified on {:.0f} s ({} rows at {} Hz), cross-validation {:.1f} s\n",
+                     logs.train.seconds(), model.data().rows(), o.structure.rate_hz, report.cv_seconds);
   if (m1.contains("1") && g1.contains("1"))
-    sink.out << fmt::format("hold-out MSE at 1 s, xdot_b: {:.4g} (chosen) vs {:.4g} (global linear)\n",
-                            m1["1"]["xdot_b"].get<double>(), g1["1"]["xdot_b"].get<double>());
-  sink.out << noise_verdict;
+    out << fmt::format("hold-out MSE at 1 s, xdot_b: {:.4g} (chosen) vs {:.4g} (global linear)\n",
+                       m1["1"]["xdot_b"].get<double>(), g1["1"]["xdot_b"].get<double>());
+}
+
+}  // namespace
+
+void run_identify(const IdentifyRunOptions& options, RunSink& sink, ThreadPool& pool) {
+  if (options.train_log.empty()) throw InputError("--train: a training flight log is required");
+  if (options.test_log.empty()) throw InputError("--test: a hold-out flight log is required");
+  const bool own_layout = !options.aircraft.from_file();
+  const IdentifyLogs logs = read_logs(options);
+  Choices choices;
+  IdentifyOptions o = noise_from_data(options, logs.train, choices);  // with the classes chosen from the data
+  check_identify_options(options, logs.train, o);
+  RunDirectory& dir = sink.dir;
+  options.aircraft.keep(dir);
+
+  IdentifyReport report;
+  IdentifyProgress progress(sink);
+  const IdentifyHooks hooks = identify_hooks(dir, progress);
+  std::optional<ModelClassChoice> class_choice;
+  IdentifiedModel model = model_from_data(options, logs.train, logs.test, pool, report, hooks, o, choices,
+                                          class_choice, progress.phase);
+  if (!own_layout) model.set_vehicle(options.aircraft.vehicle.name());
+  if (progress.bar) progress.bar->finish();
+  progress.phase.set("the control gains' closed-loop bias");
+  // The control gains' closed-loop bias, measured on the least-squares model.
+  const std::vector<ControlGainBias> biases = model_closed_loop_bias(model, o.window_s, pool);
+  const bool whitened = gains_from_data(options, biases, logs.test, pool, model, choices);
+  model.save(dir.path() / "model.json");
+  write_cross_validation(dir, report);
+
+  progress.phase.set("prediction errors by horizon (the model selection study)");
+  const ModelSelectionStudy study = model_selection_study(model, logs.train, logs.test, o,
+                                                          {.horizon_s = options.horizon_s,
+                                                           .start_spacing_s = options.start_spacing_s,
+                                                           .variants = options.variants,
+                                                           .control_rate_hz = options.control_rate_hz},
+                                                          pool);
+  write_mse_vs_horizon(dir, study);
+  progress.phase.set("the noise check");
+  const HoldOutNoiseCheck noise = hold_out_noise_check(model, logs.test, logs.more_tests, options, o, pool);
+  write_noise_check(dir, noise, model, o.structure.rate_hz);
+
+  nlohmann::json summary = core_summary(logs, options, o, model, study, noise, report);
+  // Only when some were skipped, so that the summaries of 50 Hz logs stay as they were (digests).
+  if (!study.skipped_rates_hz.empty()) summary["variant_rates_skipped_hz"] = study.skipped_rates_hz;
+  // Only at a rate whose steps miss some of the horizons (digests).
+  if (const std::vector<int> skipped = horizons_skipped(o.structure.rate_hz); !skipped.empty())
+    summary["mse_seconds_skipped"] = skipped;
+  if (!own_layout) summary["vehicle"] = options.aircraft.vehicle.name();  // likewise
+  if (noise.checks.size() > 1)                                            // likewise
+    summary["noise_check_by_log"] = noise_check_by_log_json(noise, options, model, o.structure.rate_hz);
+  if (!report.floored_inputs.empty()) summary["bandwidth_at_floor"] = report.floored_inputs;
+  if (o.calibrate_noise) add_calibration(summary, report, model);
+  summary["closed_loop_bias"] = closed_loop_bias_json(biases);
+  warn_of_gain_bias(sink.out, biases, whitened, options);
+  if (const NoiseCorrelation& c = model.noise_correlation(); c.any())
+    summary["noise_correlation"] = noise_correlation_json(c);
+  if (class_choice) summary["model_choice"] = class_choice->to_json();
+  summary["choices"] = choices.json;
+  dir.write_json("summary.json", summary);
+  print_identify_lines(sink.out, summary, choices, report, study, logs, o, model);
+  sink.out << noise.verdict;
   sink.out << "model: " << (dir.final_path() / "model.json").string() << "\n";
 }
 

@@ -61,6 +61,162 @@ nlohmann::json rmse_at_horizons(const HorizonMse& h, nlohmann::json* rollouts) {
   return out;
 }
 
+// What moved: each control's range, and the controls that never change (they carry nothing an
+// identification can learn from).
+struct ControlRanges {
+  nlohmann::json range, constant = nlohmann::json::array();
+};
+
+ControlRanges control_ranges(const FlightLog& log) {
+  ControlRanges out;
+  for (std::size_t k = 0; k < 4; ++k) {
+    double lo = INFINITY, hi = -INFINITY;
+    for (const auto& a : log.controls) {
+      lo = std::min(lo, a[k]);
+      hi = std::max(hi, a[k]);
+    }
+    const std::string name = sysid::kLogControlColumns[k];
+    out.range[name] = {lo, hi};
+    if (lo == hi) out.constant.push_back(name);
+  }
+  return out;
+}
+
+// The lines that say what was imported, and warn of a truncated file and of constant controls.
+std::string imported_lines(const FlightLog& log, const logs::VehicleLogSpec& spec, const logs::UlogFile& ulog,
+                           const nlohmann::json& prov, const std::filesystem::path& file,
+                           const nlohmann::json& constant_controls) {
+  std::string topics;
+  for (const auto& t : prov["topics"]) topics += (topics.empty() ? "" : ", ") + t["topic"].get<std::string>();
+  std::ostringstream imported;
+  imported << fmt::format(
+      "imported {:.1f} s ({} rows at {} Hz) of {} from {}; {} dropouts in the file ({} ms)\n", log.seconds(),
+      log.rows(), spec.rate_hz, topics, file.filename().string(), ulog.dropouts.size(),
+      prov["dropout_total_ms"].get<double>());
+  if (ulog.truncated_at)
+    imported << fmt::format("warning: the file ends inside the message at byte {}; read up to it\n",
+                            *ulog.truncated_at);
+  for (const auto& name : constant_controls)
+    imported << fmt::format(
+        "warning: {} is constant over the log: nothing about its effect can be identified\n",
+        name.get<std::string>());
+  return imported.str();
+}
+
+// The hold-out prediction study of the imported log (LogImportRunOptions::identify): summary.json's
+// `prediction`, and the root-mean-square errors the terminal gets.
+struct ImportPrediction {
+  nlohmann::json summary, rmse;
+};
+
+constexpr std::array<const char*, 3> kPredictionKeys = {"identified", "global_linear", "constant_velocity"};
+
+// The identification options for the imported log, its training part long enough for them.
+sysid::IdentifyOptions import_identify_options(const LogImportRunOptions& o, const logs::Vehicle& vehicle,
+                                               const FlightLog& log, const FlightLog& train,
+                                               const FlightLog& test, const std::filesystem::path& file) {
+  const logs::VehicleLogSpec& spec = vehicle.log;
+  sysid::IdentifyOptions io = o.identification;
+  io.structure.rate_hz = spec.model_rate_hz;
+  // A range too short to identify from is the range's fault, or the import's wish: say which options.
+  const double log_dt = 1 / spec.rate_hz;
+  if (const std::size_t need = sysid::min_training_log_rows(log_dt, io.structure);
+      train.rows() < need || test.rows() < 2)
+    throw InputError(fmt::format(
+        "{}: the imported range gives {} rows ({:.1f} s at {} Hz), {} of them for training; identification "
+        "at {} Hz needs at least {} training rows ({:.1f} s): choose a longer range (--start-s, --end-s), "
+        "a "
+        "larger --train-fraction, or --identify=false to import only",
+        file.string(), log.rows(), static_cast<double>(log.rows()) * log_dt, spec.rate_hz, train.rows(),
+        io.structure.rate_hz, need, static_cast<double>(need) * log_dt));
+  io.structure.extra_states = false;  // the X-Cell's rotor and gyro lags are no part of this vehicle
+  io.structure.templates = vehicle.kinematic_templates;
+  return io;
+}
+
+// mse_vs_horizon.csv of the models, with its charts, and their RMSE at kHorizons (the rollouts behind each
+// into `rollouts`).
+nlohmann::json write_prediction_errors(RunDirectory& dir,
+                                       const std::vector<std::pair<std::string, HorizonMse>>& models,
+                                       nlohmann::json& rollouts) {
+  CsvWriter mse_csv({"model", "seconds", "variable", "mse", "rollouts"});
+  nlohmann::json rmse;
+  for (std::size_t m = 0; m < models.size(); ++m) {
+    const HorizonMse& h = models[m].second;
+    for (std::size_t t = 0; t < h.seconds.size(); ++t)
+      for (std::size_t v = 0; v < sysid::kReportVars; ++v)
+        mse_csv.add_row({models[m].first, h.seconds[t], std::string(sysid::kReportVarNames[v]), h.mse[t][v],
+                         std::int64_t{h.count[t]}});
+    nlohmann::json n;
+    rmse[kPredictionKeys[m]] = rmse_at_horizons(h, &n);
+    rollouts[kPredictionKeys[m]] = n;
+  }
+  dir.write_csv("mse_vs_horizon.csv", mse_csv);
+  dir.add_charts(mse_vs_horizon_section("mse_vs_horizon.csv",
+                                        {sysid::kReportVarNames.begin(), sysid::kReportVarNames.end()}));
+  return rmse;
+}
+
+// The identified model (model.json) against a global linear one and constant velocity on the hold-out part.
+ImportPrediction predict_imported(const LogImportRunOptions& o, const logs::Vehicle& vehicle,
+                                  const FlightLog& log, const std::filesystem::path& file, RunDirectory& dir,
+                                  ThreadPool& pool) {
+  const auto split =
+      static_cast<std::size_t>(std::lround(o.train_fraction * static_cast<double>(log.rows())));
+  const auto [train, test] = split_log(log, split);
+  const sysid::IdentifyOptions io = import_identify_options(o, vehicle, log, train, test, file);
+  sysid::IdentifyReport report;
+  const sysid::IdentifiedModel model = sysid::identify(train, io, pool, &report);
+  sysid::IdentifyOptions global_options = io;
+  global_options.local = false;
+  const sysid::IdentifiedModel global = sysid::identify(train, global_options, pool);
+  model.save(dir.path() / "model.json");
+
+  const double spacing = o.start_spacing_s, longest = kHorizons.back();
+  const std::vector<std::pair<std::string, HorizonMse>> models = {
+      {io.local ? "identified (locally weighted)" : "identified (global linear)",
+       sysid::horizon_mse(model, test, longest, spacing, pool)},
+      {"global linear", sysid::horizon_mse(global, test, longest, spacing, pool)},
+      {"constant velocity", sysid::constant_velocity_mse(test, model.dt(), longest, spacing)}};
+  if (models.back().second.count.back() == 0)
+    throw InputError(
+        fmt::format("--train-fraction: the hold-out part ({:.1f} s) is shorter than the {} s horizon",
+                    test.seconds(), longest));
+  nlohmann::json rollouts;
+  ImportPrediction out;
+  out.rmse = write_prediction_errors(dir, models, rollouts);
+  out.summary = {{"train_seconds", train.seconds()},
+                 {"test_seconds", test.seconds()},
+                 {"model_rate_hz", vehicle.log.model_rate_hz},
+                 {"structure", model.structure().describe()},
+                 {"local", io.local},
+                 {"training_rows", model.data().rows()},
+                 {"horizons_s", kHorizons},
+                 {"rmse", out.rmse},
+                 {"rollouts", rollouts},
+                 {"model", "model.json"}};
+  if (!report.floored_inputs.empty()) out.summary["bandwidth_at_floor"] = report.floored_inputs;
+  return out;
+}
+
+void say_prediction_rmse(std::ostream& out, const nlohmann::json& rmse) {
+  out << "hold-out RMSE (identified | global linear | constant velocity; - where the model's fit turned "
+         "singular before that horizon):\n";
+  for (double horizon : kHorizons) {
+    const std::string key = fmt::format("{}", horizon);
+    std::string line = fmt::format("  at {} s", horizon);
+    for (const char* var : {"z", "zdot_b", "roll", "roll_rate"}) {
+      line += fmt::format("  {}", var);
+      for (std::size_t m = 0; m < kPredictionKeys.size(); ++m)
+        line += (m == 0 ? " " : " | ") +
+                (rmse[kPredictionKeys[m]].contains(key)
+                     ? fmt::format("{:.3g}", rmse[kPredictionKeys[m]][key][var].get<double>())
+                     : std::string("-"));
+    }
+    out << line << "\n";
+  }
+}
+
 }  // namespace
 
 void run_log_import(const LogImportRunOptions& o, RunSink& sink, ThreadPool& pool) {
@@ -75,19 +231,7 @@ void run_log_import(const LogImportRunOptions& o, RunSink& sink, ThreadPool& poo
   const FlightLog log = logs::import_ulog(ulog, spec, file.string(), o.window, &provenance);
   const std::string sha256 = file_sha256(file);
   const auto bytes = std::filesystem::file_size(file);
-
-  // What moved: a control that never changes carries nothing an identification can learn from.
-  nlohmann::json control_range, constant_controls = nlohmann::json::array();
-  for (std::size_t k = 0; k < 4; ++k) {
-    double lo = INFINITY, hi = -INFINITY;
-    for (const auto& a : log.controls) {
-      lo = std::min(lo, a[k]);
-      hi = std::max(hi, a[k]);
-    }
-    const std::string name = sysid::kLogControlColumns[k];
-    control_range[name] = {lo, hi};
-    if (lo == hi) constant_controls.push_back(name);
-  }
+  const ControlRanges controls = control_ranges(log);
 
   RunDirectory& dir = sink.dir;
   dir.write_text("log.csv", sysid::flight_log_csv(log));
@@ -109,109 +253,21 @@ void run_log_import(const LogImportRunOptions& o, RunSink& sink, ThreadPool& poo
       {"dropouts", ulog.dropouts.size()},
       {"dropout_total_ms", prov["dropout_total_ms"]},
       {"truncated_at_byte", prov["ulog"]["truncated_at_byte"]},
-      {"control_range", control_range},
-      {"constant_controls", constant_controls},
+      {"control_range", controls.range},
+      {"constant_controls", controls.constant},
       {"log", "log.csv"},
       {"provenance", "provenance.json"}};
-  std::string topics;
-  for (const auto& t : prov["topics"]) topics += (topics.empty() ? "" : ", ") + t["topic"].get<std::string>();
   // Printed once the identification below has worked too: bad input there is the one line the run prints.
-  std::ostringstream imported;
-  imported << fmt::format(
-      "imported {:.1f} s ({} rows at {} Hz) of {} from {}; {} dropouts in the file ({} ms)\n", log.seconds(),
-      log.rows(), spec.rate_hz, topics, file.filename().string(), ulog.dropouts.size(),
-      prov["dropout_total_ms"].get<double>());
-  if (ulog.truncated_at)
-    imported << fmt::format("warning: the file ends inside the message at byte {}; read up to it\n",
-                            *ulog.truncated_at);
-  for (const auto& name : constant_controls)
-    imported << fmt::format(
-        "warning: {} is constant over the log: nothing about its effect can be identified\n",
-        name.get<std::string>());
-
+  std::string imported = imported_lines(log, spec, ulog, prov, file, controls.constant);
   if (o.identify) {
-    const auto split =
-        static_cast<std::size_t>(std::lround(o.train_fraction * static_cast<double>(log.rows())));
-    const auto [train, test] = split_log(log, split);
-    sysid::IdentifyOptions io = o.identification;
-    io.structure.rate_hz = spec.model_rate_hz;
-    // A range too short to identify from is the range's fault, or the import's wish: say which options.
-    const double log_dt = 1 / spec.rate_hz;
-    if (const std::size_t need = sysid::min_training_log_rows(log_dt, io.structure);
-        train.rows() < need || test.rows() < 2)
-      throw InputError(fmt::format(
-          "{}: the imported range gives {} rows ({:.1f} s at {} Hz), {} of them for training; identification "
-          "at {} Hz needs at least {} training rows ({:.1f} s): choose a longer range (--start-s, --end-s), "
-          "a "
-          "larger --train-fraction, or --identify=false to import only",
-          file.string(), log.rows(), static_cast<double>(log.rows()) * log_dt, spec.rate_hz, train.rows(),
-          io.structure.rate_hz, need, static_cast<double>(need) * log_dt));
-    io.structure.extra_states = false;  // the X-Cell's rotor and gyro lags are no part of this vehicle
-    io.structure.templates = vehicle.kinematic_templates;
-    sysid::IdentifyReport report;
-    const sysid::IdentifiedModel model = sysid::identify(train, io, pool, &report);
-    sysid::IdentifyOptions global_options = io;
-    global_options.local = false;
-    const sysid::IdentifiedModel global = sysid::identify(train, global_options, pool);
-    model.save(dir.path() / "model.json");
-
-    const double spacing = o.start_spacing_s, longest = kHorizons.back();
-    const std::vector<std::pair<std::string, HorizonMse>> models = {
-        {io.local ? "identified (locally weighted)" : "identified (global linear)",
-         sysid::horizon_mse(model, test, longest, spacing, pool)},
-        {"global linear", sysid::horizon_mse(global, test, longest, spacing, pool)},
-        {"constant velocity", sysid::constant_velocity_mse(test, model.dt(), longest, spacing)}};
-    if (models.back().second.count.back() == 0)
-      throw InputError(
-          fmt::format("--train-fraction: the hold-out part ({:.1f} s) is shorter than the {} s horizon",
-                      test.seconds(), longest));
-    CsvWriter mse_csv({"model", "seconds", "variable", "mse", "rollouts"});
-    nlohmann::json rmse, rollouts;
-    const std::array<const char*, 3> keys = {"identified", "global_linear", "constant_velocity"};
-    for (std::size_t m = 0; m < models.size(); ++m) {
-      const HorizonMse& h = models[m].second;
-      for (std::size_t t = 0; t < h.seconds.size(); ++t)
-        for (std::size_t v = 0; v < sysid::kReportVars; ++v)
-          mse_csv.add_row({models[m].first, h.seconds[t], std::string(sysid::kReportVarNames[v]), h.mse[t][v],
-                           std::int64_t{h.count[t]}});
-      nlohmann::json n;
-      rmse[keys[m]] = rmse_at_horizons(h, &n);
-      rollouts[keys[m]] = n;
-    }
-    dir.write_csv("mse_vs_horizon.csv", mse_csv);
-    dir.add_charts(mse_vs_horizon_section("mse_vs_horizon.csv",
-                                          {sysid::kReportVarNames.begin(), sysid::kReportVarNames.end()}));
-    summary["prediction"] = {{"train_seconds", train.seconds()},
-                             {"test_seconds", test.seconds()},
-                             {"model_rate_hz", spec.model_rate_hz},
-                             {"structure", model.structure().describe()},
-                             {"local", io.local},
-                             {"training_rows", model.data().rows()},
-                             {"horizons_s", kHorizons},
-                             {"rmse", rmse},
-                             {"rollouts", rollouts},
-                             {"model", "model.json"}};
-    if (!report.floored_inputs.empty()) summary["prediction"]["bandwidth_at_floor"] = report.floored_inputs;
-    sink.out << imported.str();
-    imported.str("");
-    sink.out
-        << "hold-out RMSE (identified | global linear | constant velocity; - where the model's fit turned "
-           "singular before that horizon):\n";
-    for (double horizon : kHorizons) {
-      const std::string key = fmt::format("{}", horizon);
-      std::string line = fmt::format("  at {} s", horizon);
-      for (const char* var : {"z", "zdot_b", "roll", "roll_rate"}) {
-        line += fmt::format("  {}", var);
-        for (std::size_t m = 0; m < keys.size(); ++m)
-          line += (m == 0 ? " " : " | ") + (rmse[keys[m]].contains(key)
-                                                ? fmt::format("{:.3g}", rmse[keys[m]][key][var].get<double>())
-                                                : std::string("-"));
-      }
-      sink.out << line << "\n";
-    }
+    const ImportPrediction prediction = predict_imported(o, vehicle, log, file, dir, pool);
+    summary["prediction"] = prediction.summary;
+    sink.out << imported;
+    imported.clear();
+    say_prediction_rmse(sink.out, prediction.rmse);
   }
   dir.write_json("summary.json", summary);
-  sink.out << imported.str() << "log: " << (dir.final_path() / "log.csv").string() << "\n";
+  sink.out << imported << "log: " << (dir.final_path() / "log.csv").string() << "\n";
 }
 
 void declare_log_import_config(ConfigSchema& s) {

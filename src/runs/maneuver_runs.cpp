@@ -91,48 +91,52 @@ struct Variant {
   ManeuverTrainingOptions options;
 };
 
-}  // namespace
+// Starting point: the hover weights (a trained hover policy, or the model's trim with default gains).
+struct HoverStart {
+  HoverPolicyInit init;
+  Theta theta;  // empty without a hover policy
+};
 
-void run_maneuver(const ManeuverRunOptions& options, RunSink& sink, ThreadPool& pool) {
-  const ManeuverTrainingOptions& base = options.training;
-  std::string error;
-  if (!base.IsValid(&error)) throw InputError(error);
-  if (options.model_file.empty())
-    throw InputError("--model: an identified model file is required (heli identify)");
-  const VehicleChoice& aircraft = options.aircraft;
-  const logs::Vehicle& vehicle = aircraft.vehicle;
-  const std::string simulator = aircraft.simulator();  // before training: the flights need a ground truth
-  const auto model = aircraft.load_model(options.model_file);
-
-  // Starting point: the hover weights (a trained hover policy, or the model's trim with default gains).
-  HoverPolicyInit init = hover_init_from_model(*model);
-  Theta hover_theta;
-  if (!options.hover_policy_file.empty()) {
-    const std::string& file = options.hover_policy_file;
-    const PolicyFile hover = read_policy_file(file);
-    if (hover.class_name != "hover")
-      throw InputError(file + ": class: expected \"hover\", got \"" + hover.class_name + "\"");
-    // Its networks and trim start the manoeuvre's: another aircraft's would start it from the wrong trim.
-    if (const std::string trained_for = trained_vehicle(hover); trained_for != vehicle.name())
-      throw InputError(
-          fmt::format("{}: vehicle: the hover policy was trained for '{}', and this manoeuvre is for "
-                      "'{}'; give a hover policy trained with its vehicle file",
-                      printable(file), printable(trained_for), printable(vehicle.name())));
-    // The manoeuvre class has no integral term: a hover policy with one starts it from its networks.
-    hover_theta = checked_hover_parameters(hover, file);
-    if (hover_theta.size() > HoverPolicy::kParameters) {
-      hover_theta.resize(HoverPolicy::kParameters);
-      sink.out << "note: " << file
-               << " has the integral term; the manoeuvre class has none and starts from its networks\n";
-    }
-    init.trim = hover.trim;
+HoverStart hover_start(const ManeuverRunOptions& options, const sysid::IdentifiedModel& model,
+                       std::ostream& out) {
+  HoverStart start{.init = hover_init_from_model(model), .theta = {}};
+  if (options.hover_policy_file.empty()) return start;
+  const std::string& file = options.hover_policy_file;
+  const logs::Vehicle& vehicle = options.aircraft.vehicle;
+  const PolicyFile hover = read_policy_file(file);
+  if (hover.class_name != "hover")
+    throw InputError(file + ": class: expected \"hover\", got \"" + hover.class_name + "\"");
+  // Its networks and trim start the manoeuvre's: another aircraft's would start it from the wrong trim.
+  if (const std::string trained_for = trained_vehicle(hover); trained_for != vehicle.name())
+    throw InputError(
+        fmt::format("{}: vehicle: the hover policy was trained for '{}', and this manoeuvre is for "
+                    "'{}'; give a hover policy trained with its vehicle file",
+                    printable(file), printable(trained_for), printable(vehicle.name())));
+  // The manoeuvre class has no integral term: a hover policy with one starts it from its networks.
+  start.theta = checked_hover_parameters(hover, file);
+  if (start.theta.size() > HoverPolicy::kParameters) {
+    start.theta.resize(HoverPolicy::kParameters);
+    out << "note: " << file
+        << " has the integral term; the manoeuvre class has none and starts from its networks\n";
   }
+  start.init.trim = hover.trim;
+  return start;
+}
 
-  // The delay acts only on angled climbs and descents (III.1's upper edges); without such legs the parameter
-  // would do nothing, so the class leaves it out and the no-delay ablation is the trained policy itself.
+// Whether the manoeuvre has angled climbs or descents: the delay acts only on those (III.1's upper edges).
+bool has_angled_legs(const ManeuverTrainingOptions& base) {
   bool angled = false;
   const auto base_trajectory = maneuver_trajectory_for(base);  // kept alive while its legs are read
   for (const auto& leg : base_trajectory->legs()) angled = angled || leg.angled();
+  return angled;
+}
+
+// The variants trained: the full class, and with ablations the one without the delay and the one without
+// shaping. Without angled legs the delay parameter would do nothing, so the class leaves it out and the
+// no-delay ablation is the trained policy itself.
+std::vector<Variant> maneuver_variants(const ManeuverRunOptions& options, bool angled,
+                                       const HoverPolicyInit& init) {
+  const ManeuverTrainingOptions& base = options.training;
   ManeuverTrainingOptions full_options = base;
   full_options.policy.learn_delay = base.policy.learn_delay && angled;
   std::vector<Variant> variants{{"full", "learned delay, shaping", full_options}};
@@ -146,37 +150,65 @@ void run_maneuver(const ManeuverRunOptions& options, RunSink& sink, ThreadPool& 
   }
   for (auto& v : variants)
     if (v.options.centre_at_trim) v.options.reward.centre = init.trim;
+  return variants;
+}
 
+struct Trained {
+  Theta theta;
+  OptimizerSummary summary;
+  std::shared_ptr<const Trajectory> trajectory;
+  std::unique_ptr<ManeuverPolicy> policy;
+};
+
+// A variant's weights and optimizer summary as the checkpoint's `done` keeps them.
+nlohmann::json trained_json(const Trained& t) {
+  nlohmann::json history = nlohmann::json::array();
+  for (const auto& h : t.summary.history)
+    history.push_back({h.iteration, h.evaluations, DoubleToJson(h.value), h.seconds});
+  return {{"theta", VectorToJson(t.theta)},
+          {"initial_uhat", DoubleToJson(t.summary.initial_value)},
+          {"final_uhat", DoubleToJson(t.summary.best_value)},
+          {"iterations", t.summary.iterations},
+          {"evaluations", t.summary.evaluations},
+          {"history", history}};
+}
+
+void read_trained_json(const nlohmann::json& done, Trained& t) {
+  t.theta = VectorFromJson(done.at("theta"), "checkpoint theta");
+  t.summary.initial_value = DoubleFromJson(done.at("initial_uhat"), "initial_uhat");
+  t.summary.best_value = DoubleFromJson(done.at("final_uhat"), "final_uhat");
+  t.summary.iterations = done.at("iterations").get<std::int64_t>();
+  t.summary.evaluations = done.at("evaluations").get<std::int64_t>();
+  for (const auto& r : done.at("history"))
+    t.summary.history.push_back({.iteration = r.at(0).get<std::int64_t>(),
+                                 .evaluations = r.at(1).get<std::int64_t>(),
+                                 .value = DoubleFromJson(r.at(2), "history"),
+                                 .seconds = r.at(3).get<double>()});
+}
+
+// The starting weights of a variant's policy: the hover policy's, or the class's own.
+Theta start_weights(const ManeuverPolicy& policy, const Theta& hover_theta) {
+  return hover_theta.empty() ? policy.parameters().initial() : policy.from_hover(hover_theta);
+}
+
+// Each variant trained in turn, checkpointing after every optimizer iteration; a variant the checkpoint
+// holds as done is read back, the one it was training resumes.
+std::map<std::string, Trained> train_variants(const std::vector<Variant>& variants,
+                                              std::shared_ptr<const sysid::IdentifiedModel> model,
+                                              const HoverStart& hover, RunSink& sink, ThreadPool& pool) {
   RunDirectory& dir = sink.dir;
   std::optional<nlohmann::json> state = dir.load_checkpoint();
   nlohmann::json done = state ? state->value("done", nlohmann::json::object()) : nlohmann::json::object();
   auto bar = sink.progress("trainings", variants.size());
   bar.skip(done.size());
-
-  struct Trained {
-    Theta theta;
-    OptimizerSummary summary;
-    std::shared_ptr<const Trajectory> trajectory;
-    std::unique_ptr<ManeuverPolicy> policy;
-  };
   std::map<std::string, Trained> trained;
   for (const auto& v : variants) {
     Trained t;
     t.trajectory = maneuver_trajectory_for(v.options);
-    t.policy = std::make_unique<ManeuverPolicy>(t.trajectory, init, v.options.policy);
-    const Theta start =
-        hover_theta.empty() ? t.policy->parameters().initial() : t.policy->from_hover(hover_theta);
+    t.policy = std::make_unique<ManeuverPolicy>(t.trajectory, hover.init, v.options.policy);
+    const Theta start = start_weights(*t.policy, hover.theta);
     if (done.contains(v.key)) {
-      t.theta = VectorFromJson(done[v.key].at("theta"), "checkpoint theta");
-      t.summary.initial_value = DoubleFromJson(done[v.key].at("initial_uhat"), "initial_uhat");
-      t.summary.best_value = DoubleFromJson(done[v.key].at("final_uhat"), "final_uhat");
-      t.summary.iterations = done[v.key].at("iterations").get<std::int64_t>();
-      t.summary.evaluations = done[v.key].at("evaluations").get<std::int64_t>();
-      for (const auto& r : done[v.key].at("history"))
-        t.summary.history.push_back({.iteration = r.at(0).get<std::int64_t>(),
-                                     .evaluations = r.at(1).get<std::int64_t>(),
-                                     .value = DoubleFromJson(r.at(2), "history"),
-                                     .seconds = r.at(3).get<double>()});
+      read_trained_json(done[v.key], t);
     } else {
       ManeuverTrainingHooks hooks;
       hooks.checkpoint_every = 1;
@@ -188,15 +220,7 @@ void run_maneuver(const ManeuverRunOptions& options, RunSink& sink, ThreadPool& 
       ManeuverTrainingResult r = train_maneuver(model, v.options, *t.policy, start, hooks, pool);
       t.theta = r.theta;
       t.summary = std::move(r.summary);
-      nlohmann::json history = nlohmann::json::array();
-      for (const auto& h : t.summary.history)
-        history.push_back({h.iteration, h.evaluations, DoubleToJson(h.value), h.seconds});
-      done[v.key] = {{"theta", VectorToJson(t.theta)},
-                     {"initial_uhat", DoubleToJson(t.summary.initial_value)},
-                     {"final_uhat", DoubleToJson(t.summary.best_value)},
-                     {"iterations", t.summary.iterations},
-                     {"evaluations", t.summary.evaluations},
-                     {"history", history}};
+      done[v.key] = trained_json(t);
       dir.save_checkpoint({{"done", done}});
       state.reset();
     }
@@ -204,72 +228,64 @@ void run_maneuver(const ManeuverRunOptions& options, RunSink& sink, ThreadPool& 
     trained.emplace(v.key, std::move(t));
   }
   bar.finish();
+  return trained;
+}
 
-  // ---- Flights on the ground truth, the ideal path, the policy files.
-  ManeuverFlightOptions fo = options.flights;
-  fo.seed = mix_seed(base.seed, 0x666c79);  // apart from the training scenarios
-  fo.simulator = simulator;
-  nlohmann::json summary = {{"maneuver", base.name}};
-  if (aircraft.from_file()) summary["vehicle"] = vehicle.name();
-  aircraft.keep(dir);
-  std::map<std::string, ManeuverFlightSummary> scores;
-  std::vector<ManeuverFlight> main_flights;
-  for (const auto& v : variants) {
-    const Trained& t = trained.at(v.key);
-    const PathObserver observer(*t.trajectory, v.options.observer);
-    std::vector<ManeuverFlight> flights = fly_maneuver(*t.policy, t.theta, observer, fo, &pool);
-    scores[v.key] = summarize_maneuver_flights(flights, observer.length());
-    PolicyFile file = maneuver_policy_file(file_options(v.options), *t.policy, t.theta, init.trim);
-    file.provenance = {{"command", "pegasus heli maneuver"},
-                       {"variant", v.key},
-                       {"uhat", DoubleToJson(t.summary.best_value)},
-                       {"seed", base.seed}};
-    // Only with a vehicle file, so that the X-Cell's policy files stay as they were.
-    if (aircraft.from_file()) file.provenance["vehicle"] = vehicle.name();
-    write_policy_file(
-        dir.path() / (v.key == "full" ? std::string("policy.json") : "policy_" + v.key + ".json"), file);
+// policy.json, or policy_<variant>.json for an ablation.
+void write_variant_policy(RunDirectory& dir, const ManeuverRunOptions& options, const Variant& v,
+                          const Trained& t, const HoverPolicyInit& init) {
+  PolicyFile file = maneuver_policy_file(file_options(v.options), *t.policy, t.theta, init.trim);
+  file.provenance = {{"command", "pegasus heli maneuver"},
+                     {"variant", v.key},
+                     {"uhat", DoubleToJson(t.summary.best_value)},
+                     {"seed", options.training.seed}};
+  // Only with a vehicle file, so that the X-Cell's policy files stay as they were.
+  if (options.aircraft.from_file()) file.provenance["vehicle"] = options.aircraft.vehicle.name();
+  write_policy_file(dir.path() / (v.key == "full" ? std::string("policy.json") : "policy_" + v.key + ".json"),
+                    file);
+}
 
-    dir.write_csv(progress_file(v.key), optimizer_progress_csv(t.summary.history));
-    if (v.key == "full") {
-      // Untrained yardstick: the starting weights on the same flights.
-      const Theta start =
-          hover_theta.empty() ? t.policy->parameters().initial() : t.policy->from_hover(hover_theta);
-      const auto untrained =
-          summarize_maneuver_flights(fly_maneuver(*t.policy, start, observer, fo, &pool), observer.length());
-      summary["rms_path_deviation_untrained_m"] = untrained.rms_path_deviation_m;
-      summary["crashes_untrained"] = untrained.crashes;
-      if (options.compare_pilot) {
-        // The vehicle's scripted pilot on the same set points, starts and gusts.
-        const auto pilot = summarize_maneuver_flights(
-            fly_pilot_maneuver(*t.trajectory, pilot_options_for(fo.simulator), observer, fo, &pool),
-            observer.length());
-        summary["pilot"] = {{"crashes", pilot.crashes},
-                            {"completed", pilot.completed},
-                            {"rms_path_deviation_m", pilot.rms_path_deviation_m},
-                            {"max_path_deviation_m", pilot.max_path_deviation_m}};
-      }
-      summary["initial_uhat"] = DoubleToJson(t.summary.initial_value);
-      summary["final_uhat"] = DoubleToJson(t.summary.best_value);
-      summary["iterations"] = t.summary.iterations;
-      summary["evaluations"] = t.summary.evaluations;
-      summary["z_delay_s"] = t.policy->z_delay(t.theta);
-      summary["feedforward"] = t.policy->feedforward(t.theta);
-      summary["trajectory_seconds"] = t.trajectory->duration();
-      summary["path_length_m"] = observer.length();
-      main_flights = std::move(flights);
-    }
+// The full variant's figures: the untrained yardstick, the pilot on request, and the training's.
+void add_full_variant_summary(nlohmann::json& summary, const ManeuverRunOptions& options, const Trained& t,
+                              const Theta& hover_theta, const PathObserver& observer,
+                              const ManeuverFlightOptions& fo, ThreadPool& pool) {
+  // Untrained yardstick: the starting weights on the same flights.
+  const Theta start = start_weights(*t.policy, hover_theta);
+  const auto untrained =
+      summarize_maneuver_flights(fly_maneuver(*t.policy, start, observer, fo, &pool), observer.length());
+  summary["rms_path_deviation_untrained_m"] = untrained.rms_path_deviation_m;
+  summary["crashes_untrained"] = untrained.crashes;
+  if (options.compare_pilot) {
+    // The vehicle's scripted pilot on the same set points, starts and gusts.
+    const auto pilot = summarize_maneuver_flights(
+        fly_pilot_maneuver(*t.trajectory, pilot_options_for(fo.simulator), observer, fo, &pool),
+        observer.length());
+    summary["pilot"] = {{"crashes", pilot.crashes},
+                        {"completed", pilot.completed},
+                        {"rms_path_deviation_m", pilot.rms_path_deviation_m},
+                        {"max_path_deviation_m", pilot.max_path_deviation_m}};
   }
-  const Trained& full = trained.at("full");
-  const auto ideal = full.trajectory->sample(0.02);
+  summary["initial_uhat"] = DoubleToJson(t.summary.initial_value);
+  summary["final_uhat"] = DoubleToJson(t.summary.best_value);
+  summary["iterations"] = t.summary.iterations;
+  summary["evaluations"] = t.summary.evaluations;
+  summary["z_delay_s"] = t.policy->z_delay(t.theta);
+  summary["feedforward"] = t.policy->feedforward(t.theta);
+  summary["trajectory_seconds"] = t.trajectory->duration();
+  summary["path_length_m"] = observer.length();
+}
+
+// ideal_path.csv, and the first `trace` flights in flights.csv and path_deviation.csv: the distance to the
+// path per step, apart from flights.csv (whose columns are shared by every heli command).
+void write_flight_csvs(RunDirectory& dir, const Trajectory& trajectory,
+                       const std::vector<ManeuverFlight>& main_flights, std::size_t trace) {
+  const auto ideal = trajectory.sample(0.02);
   CsvWriter ideal_csv({"t", "x", "y", "z", "yaw"});
   for (const auto& r : ideal) ideal_csv.add_row({r[0], r[1], r[2], r[3], r[4]});
   dir.write_csv("ideal_path.csv", ideal_csv);
 
   FlightsCsv flights_csv;
-  // The distance to the path per step, apart from flights.csv (whose columns are shared by every heli
-  // command).
   CsvWriter deviation_csv({"flight", "t", "path_deviation_m", "progress_m"});
-  const auto trace = static_cast<std::size_t>(options.trace_flights);
   for (std::size_t i = 0; i < main_flights.size() && i < trace; ++i) {
     const auto& f = main_flights[i];
     for (std::size_t k = 0; k < f.truth.size(); ++k) {
@@ -283,19 +299,22 @@ void run_maneuver(const ManeuverRunOptions& options, RunSink& sink, ThreadPool& 
   }
   dir.write_csv("flights.csv", flights_csv.csv());
   dir.write_csv("path_deviation.csv", deviation_csv);
-  {
-    std::vector<std::pair<std::string, std::string>> files;
-    for (const auto& v : variants) files.emplace_back(v.label, progress_file(v.key));
-    const ChartSection progress = optimizer_progress_section(
-        files,
-        "U-hat of the best policy so far against optimizer iterations, evaluations and time, for each "
-        "variant trained.");
-    dir.add_charts(progress);
-    dir.write_chart_svg("progress.svg", progress.charts.front());
-  }
+}
 
-  add_path_charts(dir, base.name);
+void add_variant_progress_charts(RunDirectory& dir, const std::vector<Variant>& variants) {
+  std::vector<std::pair<std::string, std::string>> files;
+  for (const auto& v : variants) files.emplace_back(v.label, progress_file(v.key));
+  const ChartSection progress = optimizer_progress_section(
+      files,
+      "U-hat of the best policy so far against optimizer iterations, evaluations and time, for each "
+      "variant trained.");
+  dir.add_charts(progress);
+  dir.write_chart_svg("progress.svg", progress.charts.front());
+}
 
+// The flights' scores in summary.json: the full variant's, and each ablation's beside it.
+void add_scores(nlohmann::json& summary, std::map<std::string, ManeuverFlightSummary>& scores,
+                const std::map<std::string, Trained>& trained, bool ablations, bool angled) {
   const auto& m = scores.at("full");
   summary["flights"] = m.flights;
   summary["crashes"] = m.crashes;
@@ -304,7 +323,7 @@ void run_maneuver(const ManeuverRunOptions& options, RunSink& sink, ThreadPool& 
   summary["max_path_deviation_m"] = m.max_path_deviation_m;
   summary["target_met"] = m.crashes == 0 && m.rms_path_deviation_m < 1.0;
   summary["z_delay_acts"] = angled;
-  if (options.ablations && !scores.contains("no_delay")) {
+  if (ablations && !scores.contains("no_delay")) {
     // No angled legs: the policy without the delay is the trained one.
     scores["no_delay"] = m;
   }
@@ -315,9 +334,56 @@ void run_maneuver(const ManeuverRunOptions& options, RunSink& sink, ThreadPool& 
     const std::string trained_key = trained.contains(key) ? key : "full";
     summary[fmt::format("final_uhat_{}", key)] = DoubleToJson(trained.at(trained_key).summary.best_value);
   }
+}
+
+}  // namespace
+
+void run_maneuver(const ManeuverRunOptions& options, RunSink& sink, ThreadPool& pool) {
+  const ManeuverTrainingOptions& base = options.training;
+  std::string error;
+  if (!base.IsValid(&error)) throw InputError(error);
+  if (options.model_file.empty())
+    throw InputError("--model: an identified model file is required (heli identify)");
+  const VehicleChoice& aircraft = options.aircraft;
+  const std::string simulator = aircraft.simulator();  // before training: the flights need a ground truth
+  const auto model = aircraft.load_model(options.model_file);
+  const HoverStart hover = hover_start(options, *model, sink.out);
+  const bool angled = has_angled_legs(base);
+  const std::vector<Variant> variants = maneuver_variants(options, angled, hover.init);
+  const std::map<std::string, Trained> trained = train_variants(variants, model, hover, sink, pool);
+
+  // ---- Flights on the ground truth, the ideal path, the policy files.
+  RunDirectory& dir = sink.dir;
+  ManeuverFlightOptions fo = options.flights;
+  fo.seed = mix_seed(base.seed, 0x666c79);  // apart from the training scenarios
+  fo.simulator = simulator;
+  nlohmann::json summary = {{"maneuver", base.name}};
+  if (aircraft.from_file()) summary["vehicle"] = aircraft.vehicle.name();
+  aircraft.keep(dir);
+  std::map<std::string, ManeuverFlightSummary> scores;
+  std::vector<ManeuverFlight> main_flights;
+  for (const auto& v : variants) {
+    const Trained& t = trained.at(v.key);
+    const PathObserver observer(*t.trajectory, v.options.observer);
+    std::vector<ManeuverFlight> flights = fly_maneuver(*t.policy, t.theta, observer, fo, &pool);
+    scores[v.key] = summarize_maneuver_flights(flights, observer.length());
+    write_variant_policy(dir, options, v, t, hover.init);
+    dir.write_csv(progress_file(v.key), optimizer_progress_csv(t.summary.history));
+    if (v.key == "full") {
+      add_full_variant_summary(summary, options, t, hover.theta, observer, fo, pool);
+      main_flights = std::move(flights);
+    }
+  }
+  write_flight_csvs(dir, *trained.at("full").trajectory, main_flights,
+                    static_cast<std::size_t>(options.trace_flights));
+  add_variant_progress_charts(dir, variants);
+  add_path_charts(dir, base.name);
+
+  add_scores(summary, scores, trained, options.ablations, angled);
   summary["gust_sigma"] = fo.gust_sigma;
   summary["policy"] = "policy.json";
   dir.write_json("summary.json", summary);
+  const auto& m = scores.at("full");
   sink.out << fmt::format(
       "{}: {} flights on the ground truth, {} crashes, RMS deviation from the path {:.3f} m (max {:.2f} m)\n",
       base.name, m.flights, m.crashes, m.rms_path_deviation_m, m.max_path_deviation_m);

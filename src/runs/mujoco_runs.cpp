@@ -260,6 +260,125 @@ Theta initial_theta(const MujocoTrainingRunOptions& o, const Problem& problem) {
   return start.theta;
 }
 
+// The objective's counters (steps, rollouts, crashes, first success) and observation statistics ride in
+// every checkpoint, whatever the method: ARS also keeps them in its own state, but CMA-ES and the others do
+// not, and a resumed run must end with the uninterrupted run's summary.
+// progress.csv's central U-hat of the iterations before a resume rides there too.
+void carry_objective_state(TrainingPlan& plan, MujocoObjective& objective, CentralRecorder& central) {
+  plan.caller_state = [&objective, &central] {
+    nlohmann::json state = objective.NormalizerState();
+    nlohmann::json values = nlohmann::json::array();
+    for (const double v : central.values) values.push_back(number_or_null(v));
+    state["central_uhat"] = values;
+    return state;
+  };
+  if (plan.resume_from && plan.resume_from->contains("caller") && !plan.resume_from->at("caller").is_null()) {
+    const nlohmann::json& caller = plan.resume_from->at("caller");
+    objective.RestoreNormalizer(caller);
+    if (caller.contains("central_uhat") && caller.at("central_uhat").is_array())
+      for (const auto& v : caller.at("central_uhat"))
+        central.values.push_back(v.is_number() ? v.get<double>() : std::numeric_limits<double>::quiet_NaN());
+  }
+}
+
+// policy.json: the policy with the model's and task's files and digests it was trained on.
+void write_mujoco_policy(RunDirectory& dir, const MujocoTrainingRunOptions& o, const Problem& problem,
+                         const Theta& theta, const MujocoObjective& objective) {
+  const MujocoEnvironment& env = *problem.env;
+  const nlohmann::json shape = problem.policy->describe();
+  const MujocoPolicyFile policy{.model = std::filesystem::absolute(o.model_file).string(),
+                                .task = std::filesystem::absolute(o.task_file).string(),
+                                .model_digest = env.model().digest(),
+                                .task_digest = file_sha256(o.task_file),
+                                .task_content_digest = mujoco_task_content_digest(o.task_file),
+                                .policy_class = shape.at("class").get<std::string>(),
+                                .hidden = shape.at("hidden").get<std::vector<int>>(),
+                                .phase = problem.phase,
+                                .theta = theta,
+                                .normalizer = objective.normalizer()};
+  dir.write_json("policy.json", mujoco_policy_file_json(policy));
+}
+
+// summary.json of a training run: identical for any threads and ranks (wall-clock figures go to run.json).
+nlohmann::json training_summary_json(const MujocoTrainingRunOptions& o, const Problem& problem,
+                                     const OptimizerSummary& summary, const MujocoObjective& objective,
+                                     bool stopped_by_budget, const nlohmann::json& evaluation) {
+  const MujocoEnvironment& env = *problem.env;
+  const std::int64_t frame_skip = env.task().frame_skip;
+  nlohmann::json first_success = nullptr;
+  if (const auto& f = objective.first_success())
+    first_success = {{"evaluation", f->evaluation},
+                     {"control_steps", f->control_steps},
+                     {"physics_steps", f->control_steps * frame_skip}};
+  return {{"experiment", "mujoco train"},
+          {"method", summary.method},
+          {"policy_class", problem.policy->describe().at("class")},
+          {"phase", policy_phase_json(problem.phase)},
+          {"parameters", problem.policy->parameters().size()},
+          {"observation_dim", env.observation_dim()},
+          {"action_dim", env.action_dim()},
+          {"scenarios", o.scenarios},
+          {"horizon", env.task().horizon},
+          {"frame_skip", frame_skip},
+          {"integrator", env.integrator()},
+          {"reward", reward_json(env.task())},
+          {"time_budget_seconds",
+           o.time_budget_seconds > 0.0 ? nlohmann::json(o.time_budget_seconds) : nlohmann::json(nullptr)},
+          {"stopped_by_time_budget", stopped_by_budget},
+          {"termination", std::string(TerminationTypeName(summary.termination_type))},
+          {"message", summary.message},
+          {"iterations", summary.iterations},
+          {"evaluations", summary.evaluations},
+          {"initial_uhat", number_or_null(summary.initial_value)},
+          {"final_uhat", number_or_null(summary.best_value)},
+          {"uhat_finite", std::isfinite(summary.best_value)},
+          {"nonfinite_uhat_evaluations", objective.nonfinite_evaluations()},
+          {"training_rollouts", objective.rollouts()},
+          {"training_control_steps", objective.control_steps()},
+          {"training_physics_steps", objective.control_steps() * frame_skip},
+          {"training_crashes", objective.crashes()},
+          {"first_success", first_success},
+          {"success_return", number_or_null(env.task().success_return)},
+          {"success", success_json(env)},
+          {"evaluation", evaluation}};
+}
+
+// The printed result, and the exit code: 1 where U-hat of the result, or of any evaluation on the way, was
+// not finite.
+int say_training_result(std::ostream& out, const MujocoTrainingRunOptions& o, const OptimizerSummary& summary,
+                        const MujocoObjective& objective, bool stopped_by_budget,
+                        const nlohmann::json& evaluation) {
+  out << summary.BriefReport() << "\n";
+  const nlohmann::json& rate = evaluation.at("success_rate");
+  out << fmt::format(
+      "held-out: mean return {:.3f}{} over {} episodes ({} crashes){}; {} training control steps\n",
+      evaluation.at("mean_return").get<double>(),
+      rate.is_null() ? "" : fmt::format(", success rate {:.3f}", rate.get<double>()), o.evaluation_episodes,
+      evaluation.at("crashes").get<int>(), rate.is_null() ? ", no success criterion in the task" : "",
+      objective.control_steps());
+  if (stopped_by_budget)
+    out << fmt::format("stopped by the time budget of {} s after {} iterations\n", o.time_budget_seconds,
+                       summary.iterations);
+  if (!std::isfinite(summary.best_value)) {
+    out << fmt::format(
+        "error: U-hat of the policy found is not finite ({}): no result; summary.json has uhat_finite = "
+        "false\n",
+        summary.best_value);
+    return 1;
+  }
+  // A finite result of a search that met a non-finite U-hat on the way (ARS and CMA-ES then stop with
+  // FAILURE) is not trusted either.
+  if (objective.nonfinite_evaluations() > 0) {
+    out << fmt::format(
+        "error: {} evaluations of U-hat were not finite (the first: evaluation {}); the search's result is "
+        "not "
+        "trusted; summary.json has nonfinite_uhat_evaluations\n",
+        objective.nonfinite_evaluations(), objective.first_nonfinite_evaluation());
+    return 1;
+  }
+  return 0;
+}
+
 }  // namespace
 
 int run_mujoco_training(const MujocoTrainingRunOptions& o, RunSink& sink, ThreadPool& pool) {
@@ -276,8 +395,7 @@ int run_mujoco_training(const MujocoTrainingRunOptions& o, RunSink& sink, Thread
 
   Theta theta = initial_theta(o, problem);  // checked before the run directory is made
   RunDirectory& dir = sink.dir;
-  const int m = o.scenarios;
-  MujocoObjective objective(problem.env, problem.policy, env.scenarios(o.seed, m, o.variant), &pool,
+  MujocoObjective objective(problem.env, problem.policy, env.scenarios(o.seed, o.scenarios, o.variant), &pool,
                             o.normalize);
   auto bar = sink.progress("iterations", static_cast<std::uint64_t>(options.IterationLimit()));
   std::int64_t shown = 0;
@@ -293,25 +411,8 @@ int run_mujoco_training(const MujocoTrainingRunOptions& o, RunSink& sink, Thread
     shown = done;
   };
   plan.resume_from = dir.load_checkpoint();
-  // The objective's counters (steps, rollouts, crashes, first success) and observation statistics ride in
-  // every checkpoint, whatever the method: ARS also keeps them in its own state, but CMA-ES and the others do
-  // not, and a resumed run must end with the uninterrupted run's summary.
-  // progress.csv's central U-hat of the iterations before a resume rides there too.
   CentralRecorder central(objective);
-  plan.caller_state = [&objective, &central] {
-    nlohmann::json state = objective.NormalizerState();
-    nlohmann::json values = nlohmann::json::array();
-    for (const double v : central.values) values.push_back(number_or_null(v));
-    state["central_uhat"] = values;
-    return state;
-  };
-  if (plan.resume_from && plan.resume_from->contains("caller") && !plan.resume_from->at("caller").is_null()) {
-    const nlohmann::json& caller = plan.resume_from->at("caller");
-    objective.RestoreNormalizer(caller);
-    if (caller.contains("central_uhat") && caller.at("central_uhat").is_array())
-      for (const auto& v : caller.at("central_uhat"))
-        central.values.push_back(v.is_number() ? v.get<double>() : std::numeric_limits<double>::quiet_NaN());
-  }
+  carry_objective_state(plan, objective, central);
   plan.callbacks.push_back(&central);
   TimeBudget budget(o.time_budget_seconds);
   if (o.time_budget_seconds > 0.0) plan.callbacks.push_back(&budget);
@@ -324,8 +425,8 @@ int run_mujoco_training(const MujocoTrainingRunOptions& o, RunSink& sink, Thread
   const OptimizerSummary& summary = training.stages.front();
   bar.finish();
 
-  const int episodes = o.evaluation_episodes;
-  const ScenarioSet held_out = env.scenarios(evaluation_seed(o.seed), episodes, ScenarioVariant::kPlain);
+  const ScenarioSet held_out =
+      env.scenarios(evaluation_seed(o.seed), o.evaluation_episodes, ScenarioVariant::kPlain);
   const auto results = objective.rollout_all(theta, held_out);
   const nlohmann::json evaluation = evaluation_json(results, env.task());
   dir.write_json("replay.json", replay_json(env, *problem.policy, theta, objective.normalizer(), held_out));
@@ -337,89 +438,13 @@ int run_mujoco_training(const MujocoTrainingRunOptions& o, RunSink& sink, Thread
                                              "optimizer iterations, evaluations and time (progress.csv's "
                                              "central_uhat column holds each iteration's central policy)."),
                   replay_section("Held-out episode 0 of the final policy")});
-  const nlohmann::json shape = problem.policy->describe();
-  const MujocoPolicyFile policy{.model = std::filesystem::absolute(o.model_file).string(),
-                                .task = std::filesystem::absolute(o.task_file).string(),
-                                .model_digest = env.model().digest(),
-                                .task_digest = file_sha256(o.task_file),
-                                .task_content_digest = mujoco_task_content_digest(o.task_file),
-                                .policy_class = shape.at("class").get<std::string>(),
-                                .hidden = shape.at("hidden").get<std::vector<int>>(),
-                                .phase = problem.phase,
-                                .theta = theta,
-                                .normalizer = objective.normalizer()};
-  dir.write_json("policy.json", mujoco_policy_file_json(policy));
-  const std::int64_t frame_skip = env.task().frame_skip;
-  nlohmann::json first_success = nullptr;
+  write_mujoco_policy(dir, o, problem, theta, objective);
   sink.timings = {{"training_seconds", summary.wall_seconds}, {"seconds_to_first_success", nullptr}};
-  if (const auto& f = objective.first_success()) {
-    first_success = {{"evaluation", f->evaluation},
-                     {"control_steps", f->control_steps},
-                     {"physics_steps", f->control_steps * frame_skip}};
-    sink.timings["seconds_to_first_success"] = f->seconds;
-  }
+  if (const auto& f = objective.first_success()) sink.timings["seconds_to_first_success"] = f->seconds;
   dir.write_json("summary.json",
-                 {{"experiment", "mujoco train"},
-                  {"method", summary.method},
-                  {"policy_class", shape.at("class")},
-                  {"phase", policy_phase_json(problem.phase)},
-                  {"parameters", problem.policy->parameters().size()},
-                  {"observation_dim", env.observation_dim()},
-                  {"action_dim", env.action_dim()},
-                  {"scenarios", m},
-                  {"horizon", env.task().horizon},
-                  {"frame_skip", frame_skip},
-                  {"integrator", env.integrator()},
-                  {"reward", reward_json(env.task())},
-                  {"time_budget_seconds", o.time_budget_seconds > 0.0 ? nlohmann::json(o.time_budget_seconds)
-                                                                      : nlohmann::json(nullptr)},
-                  {"stopped_by_time_budget", budget.reached()},
-                  {"termination", std::string(TerminationTypeName(summary.termination_type))},
-                  {"message", summary.message},
-                  {"iterations", summary.iterations},
-                  {"evaluations", summary.evaluations},
-                  {"initial_uhat", number_or_null(summary.initial_value)},
-                  {"final_uhat", number_or_null(summary.best_value)},
-                  {"uhat_finite", std::isfinite(summary.best_value)},
-                  {"nonfinite_uhat_evaluations", objective.nonfinite_evaluations()},
-                  {"training_rollouts", objective.rollouts()},
-                  {"training_control_steps", objective.control_steps()},
-                  {"training_physics_steps", objective.control_steps() * frame_skip},
-                  {"training_crashes", objective.crashes()},
-                  {"first_success", first_success},
-                  {"success_return", number_or_null(env.task().success_return)},
-                  {"success", success_json(env)},
-                  {"evaluation", evaluation}});
+                 training_summary_json(o, problem, summary, objective, budget.reached(), evaluation));
   // Wall-clock measurements go to run.json ("timings"): summary.json is identical for any threads and ranks.
-  sink.out << summary.BriefReport() << "\n";
-  const nlohmann::json& rate = evaluation.at("success_rate");
-  sink.out << fmt::format(
-      "held-out: mean return {:.3f}{} over {} episodes ({} crashes){}; {} training control steps\n",
-      evaluation.at("mean_return").get<double>(),
-      rate.is_null() ? "" : fmt::format(", success rate {:.3f}", rate.get<double>()), episodes,
-      evaluation.at("crashes").get<int>(), rate.is_null() ? ", no success criterion in the task" : "",
-      objective.control_steps());
-  if (budget.reached())
-    sink.out << fmt::format("stopped by the time budget of {} s after {} iterations\n", o.time_budget_seconds,
-                            summary.iterations);
-  if (!std::isfinite(summary.best_value)) {
-    sink.out << fmt::format(
-        "error: U-hat of the policy found is not finite ({}): no result; summary.json has uhat_finite = "
-        "false\n",
-        summary.best_value);
-    return 1;
-  }
-  // A finite result of a search that met a non-finite U-hat on the way (ARS and CMA-ES then stop with
-  // FAILURE) is not trusted either.
-  if (objective.nonfinite_evaluations() > 0) {
-    sink.out << fmt::format(
-        "error: {} evaluations of U-hat were not finite (the first: evaluation {}); the search's result is "
-        "not "
-        "trusted; summary.json has nonfinite_uhat_evaluations\n",
-        objective.nonfinite_evaluations(), objective.first_nonfinite_evaluation());
-    return 1;
-  }
-  return 0;
+  return say_training_result(sink.out, o, summary, objective, budget.reached(), evaluation);
 }
 
 void run_mujoco_rollout(const MujocoRolloutRunOptions& o, RunSink& sink, ThreadPool& pool) {

@@ -18,30 +18,16 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-}  // namespace
-
-void run_pendulum_training(const PendulumTrainingOptions& o, RunSink& sink, ThreadPool& pool) {
-  std::string error;
-  if (!o.IsValid(&error)) throw InputError(error);
-  RunDirectory& dir = sink.dir;
-  PendulumTrainingHooks hooks;
-  hooks.checkpoint_every = 10;
-  hooks.on_checkpoint = [&](const nlohmann::json& state) { dir.save_checkpoint(state); };
-  hooks.resume_from = dir.load_checkpoint();
-  auto bar = sink.progress("training", 1);
-  const PendulumTrainingResult r = train_pendulum(o, hooks, &pool);
-  bar.advance();
-  bar.finish();
+// learning_curve.csv (one curve over both stages: the refinement's iterations and evaluations continue the
+// race's count), bar_checks.csv and episode_returns.csv.
+void write_pendulum_csvs(RunDirectory& dir, const PendulumTrainingOptions& o, const PendulumTrainingResult& r,
+                         ThreadPool& pool) {
   const OptimizerSummary& s = r.summary;
-  const OptimizerSummary& refined = r.refine_summary;
-  const bool refine = !refined.method.empty();
-
-  // One curve over both stages: the refinement's iterations and evaluations continue the race's count.
   CsvWriter curve({"stage", "iteration", "evaluations", "seconds", "uhat"});
   for (const auto& h : s.history) {
     curve.add_row({std::string("race"), h.iteration, h.evaluations, h.seconds, h.value});
   }
-  for (const auto& h : refined.history) {
+  for (const auto& h : r.refine_summary.history) {
     curve.add_row({std::string("refine"), s.iterations + h.iteration, s.evaluations + h.evaluations,
                    s.wall_seconds + h.seconds, h.value});
   }
@@ -55,6 +41,9 @@ void run_pendulum_training(const PendulumTrainingOptions& o, RunSink& sink, Thre
   dir.write_csv("learning_curve.csv", curve);
   dir.write_csv("bar_checks.csv", checks);
   dir.write_csv("episode_returns.csv", episodes);
+}
+
+void add_pendulum_chart(RunDirectory& dir, const PendulumTrainingOptions& o) {
   const Chart search{.title = "Pendulum-v1: PEGASUS swing-up search",
                      .x = {"U-hat evaluations"},
                      .y = {"return (200 steps)"},
@@ -77,36 +66,64 @@ void run_pendulum_training(const PendulumTrainingOptions& o, RunSink& sink, Thre
                                   "refinement) and the mean return on fresh starts at the bar checks.",
                               .charts = {search}});
   dir.write_chart_svg("learning_curve.svg", search);
+}
+
+nlohmann::json pendulum_summary(const PendulumTrainingOptions& o, const PendulumTrainingResult& r,
+                                double mean_return_5000) {
+  const OptimizerSummary& s = r.summary;
+  const OptimizerSummary& refined = r.refine_summary;
+  const bool refine = !refined.method.empty();
+  return {{"experiment", "pendulum train"},
+          {"mean_return_100", r.mean_return_100},
+          {"race_mean_return_100", r.race_mean_return_100},
+          {"mean_return_5000", mean_return_5000},
+          {"evaluation_episodes", o.evaluation_episodes},
+          {"bar", o.bar},
+          {"evaluations_to_bar", r.evaluations_to_bar},
+          {"initial_uhat", number_or_null(s.initial_value)},
+          {"final_uhat", s.best_value},
+          {"iterations", s.iterations},
+          {"evaluations", s.evaluations},
+          {"scenarios", o.scenarios},
+          {"termination", std::string(TerminationTypeName(s.termination_type))},
+          {"message", s.message},
+          {"refine_scenarios", refine ? o.refine_scenarios : 0},
+          {"refine_initial_uhat", number_or_null(refine ? refined.initial_value : kNaN)},
+          {"refine_final_uhat", number_or_null(refine ? refined.best_value : kNaN)},
+          {"refine_iterations", refined.iterations},
+          {"refine_evaluations", refined.evaluations}};
+}
+
+}  // namespace
+
+void run_pendulum_training(const PendulumTrainingOptions& o, RunSink& sink, ThreadPool& pool) {
+  std::string error;
+  if (!o.IsValid(&error)) throw InputError(error);
+  RunDirectory& dir = sink.dir;
+  PendulumTrainingHooks hooks;
+  hooks.checkpoint_every = 10;
+  hooks.on_checkpoint = [&](const nlohmann::json& state) { dir.save_checkpoint(state); };
+  hooks.resume_from = dir.load_checkpoint();
+  auto bar = sink.progress("training", 1);
+  const PendulumTrainingResult r = train_pendulum(o, hooks, &pool);
+  bar.advance();
+  bar.finish();
+  const OptimizerSummary& s = r.summary;
+  const OptimizerSummary& refined = r.refine_summary;
+
+  write_pendulum_csvs(dir, o, r, pool);
+  add_pendulum_chart(dir, o);
   dir.write_json("policy.json", pendulum_policy_json(r.theta));
   // The final policy on many other starts: a 100-start mean carries about +-8 of sampling noise.
   const double mean_return_5000 =
       ordered_mean(pendulum_episode_returns(r.theta, 5000, pendulum_large_evaluation_seed(o.seed), &pool));
-  dir.write_json("summary.json",
-                 {{"experiment", "pendulum train"},
-                  {"mean_return_100", r.mean_return_100},
-                  {"race_mean_return_100", r.race_mean_return_100},
-                  {"mean_return_5000", mean_return_5000},
-                  {"evaluation_episodes", o.evaluation_episodes},
-                  {"bar", o.bar},
-                  {"evaluations_to_bar", r.evaluations_to_bar},
-                  {"initial_uhat", number_or_null(s.initial_value)},
-                  {"final_uhat", s.best_value},
-                  {"iterations", s.iterations},
-                  {"evaluations", s.evaluations},
-                  {"scenarios", o.scenarios},
-                  {"termination", std::string(TerminationTypeName(s.termination_type))},
-                  {"message", s.message},
-                  {"refine_scenarios", refine ? o.refine_scenarios : 0},
-                  {"refine_initial_uhat", number_or_null(refine ? refined.initial_value : kNaN)},
-                  {"refine_final_uhat", number_or_null(refine ? refined.best_value : kNaN)},
-                  {"refine_iterations", refined.iterations},
-                  {"refine_evaluations", refined.evaluations}});
+  dir.write_json("summary.json", pendulum_summary(o, r, mean_return_5000));
   sink.timings = {{"seconds_to_bar", number_or_null(r.seconds_to_bar)},
                   {"cpu_seconds_to_bar", number_or_null(r.cpu_seconds_to_bar)},
                   {"training_seconds", s.wall_seconds + refined.wall_seconds},
                   {"refine_seconds", refined.wall_seconds}};
   sink.out << "race: " << s.BriefReport() << "\n";
-  if (refine) sink.out << "refinement: " << refined.BriefReport() << "\n";
+  if (!refined.method.empty()) sink.out << "refinement: " << refined.BriefReport() << "\n";
   sink.out << fmt::format(
       "mean return over {} fresh starts: {:.2f} (race {:.2f}), over 5000 others {:.2f}; bar {} "
       "reached after {} s ({} evaluations)\n",

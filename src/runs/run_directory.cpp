@@ -264,17 +264,16 @@ RunDirectory RunDirectory::open(const fs::path& dir, const ConfigSchema& config,
   return run;
 }
 
-RunDirectory RunDirectory::open_here(const fs::path& dir, const ConfigSchema& config,
-                                     RunDirectoryOptions options) {
+namespace {
+
+// DIR as the final directory's path; InputError for a path that names no directory.
+fs::path final_directory(const fs::path& dir) {
   fs::path final_dir = dir.lexically_normal();
   if (!final_dir.has_filename()) final_dir = final_dir.parent_path();
   const std::string name = final_dir.filename().string();
   if (name.empty() || name == "." || name == "..") {
     throw InputError(fmt::format("--out: expected a directory name, got '{}'", dir.string()));
   }
-  fs::path staging = final_dir;
-  staging += ".partial";
-
   if (final_dir.has_parent_path()) {
     std::error_code ec;
     fs::create_directories(final_dir.parent_path(), ec);
@@ -283,6 +282,64 @@ RunDirectory RunDirectory::open_here(const fs::path& dir, const ConfigSchema& co
           fmt::format("cannot create {}: {}", final_dir.parent_path().string(), ec.message()));
     }
   }
+  return final_dir;
+}
+
+// An interrupted run that --resume may continue: its stored configuration and inputs the same as now. Its
+// stale temporaries are removed.
+void check_resumable(const fs::path& staging, const ConfigSchema& config) {
+  std::error_code ec;
+  if (!fs::is_directory(staging, ec)) {
+    throw InputError(fmt::format("--resume: '{}' is not a directory", staging.string()));
+  }
+  const fs::path stored_file = staging / kConfigFile;
+  if (!exists_no_follow(stored_file)) {
+    throw InputError(fmt::format(
+        "--resume: '{}' holds no {}: it is not an interrupted run this program can check; use --force to "
+        "start over",
+        staging.string(), kConfigFile));
+  }
+  {
+    ConfigSchema stored = config.with_defaults();
+    try {
+      stored.load_toml_file(stored_file);
+    } catch (const InputError& e) {
+      throw InputError(fmt::format("--resume: cannot use the stored configuration: {}", e.what()));
+    }
+    if (auto key = config.first_difference(stored)) {
+      throw InputError(
+          fmt::format("--resume: key '{}' is {} in the interrupted run ({}) but {} now; use the same "
+                      "settings, or --force "
+                      "to start over",
+                      *key, ConfigSchema::format_value(stored.value(*key)), stored_file.string(),
+                      ConfigSchema::format_value(config.value(*key))));
+    }
+  }
+  check_inputs_unchanged(staging / kInputsFile, config);
+  remove_stale_temporaries(staging);
+}
+
+// A fresh DIR.partial: an old one (--force without --resume, or a start that wrote nothing yet) removed.
+void create_staging(const fs::path& staging, bool partial_exists) {
+  if (partial_exists) {
+    std::error_code ec;
+    fs::remove_all(staging, ec);
+    if (ec) throw EnvironmentError(fmt::format("cannot remove {}: {}", staging.string(), ec.message()));
+  }
+  std::error_code ec;
+  if (!fs::create_directory(staging, ec) || ec) {
+    throw EnvironmentError(fmt::format("cannot create {}: {}", staging.string(),
+                                       ec ? ec.message() : std::string("it appeared meanwhile")));
+  }
+}
+
+}  // namespace
+
+RunDirectory RunDirectory::open_here(const fs::path& dir, const ConfigSchema& config,
+                                     RunDirectoryOptions options) {
+  const fs::path final_dir = final_directory(dir);
+  fs::path staging = final_dir;
+  staging += ".partial";
   // Everything below (the checks, the removal of an old DIR.partial, the commit) happens under the lock.
   std::shared_ptr<const Lock> lock = Lock::acquire(final_dir);
 
@@ -307,47 +364,10 @@ RunDirectory RunDirectory::open_here(const fs::path& dir, const ConfigSchema& co
   // --resume starts it over. Anything else there without config.toml cannot be checked, and is refused.
   const bool resume = partial_exists && options.resume && !holds_nothing_but_a_start(staging);
   if (resume) {
-    std::error_code ec;
-    if (!fs::is_directory(staging, ec)) {
-      throw InputError(fmt::format("--resume: '{}' is not a directory", staging.string()));
-    }
-    const fs::path stored_file = staging / kConfigFile;
-    if (!exists_no_follow(stored_file)) {
-      throw InputError(fmt::format(
-          "--resume: '{}' holds no {}: it is not an interrupted run this program can check; use --force to "
-          "start over",
-          staging.string(), kConfigFile));
-    }
-    {
-      ConfigSchema stored = config.with_defaults();
-      try {
-        stored.load_toml_file(stored_file);
-      } catch (const InputError& e) {
-        throw InputError(fmt::format("--resume: cannot use the stored configuration: {}", e.what()));
-      }
-      if (auto key = config.first_difference(stored)) {
-        throw InputError(
-            fmt::format("--resume: key '{}' is {} in the interrupted run ({}) but {} now; use the same "
-                        "settings, or --force "
-                        "to start over",
-                        *key, ConfigSchema::format_value(stored.value(*key)), stored_file.string(),
-                        ConfigSchema::format_value(config.value(*key))));
-      }
-    }
-    check_inputs_unchanged(staging / kInputsFile, config);
-    remove_stale_temporaries(staging);
+    check_resumable(staging, config);
     run.resumed_ = true;
   } else {
-    if (partial_exists) {  // --force without --resume, or a start that wrote nothing yet: start over
-      std::error_code ec;
-      fs::remove_all(staging, ec);
-      if (ec) throw EnvironmentError(fmt::format("cannot remove {}: {}", staging.string(), ec.message()));
-    }
-    std::error_code ec;
-    if (!fs::create_directory(staging, ec) || ec) {
-      throw EnvironmentError(fmt::format("cannot create {}: {}", staging.string(),
-                                         ec ? ec.message() : std::string("it appeared meanwhile")));
-    }
+    create_staging(staging, partial_exists);
     run.created_ = true;
   }
   try {

@@ -87,6 +87,133 @@ struct Axis {
   }
 };
 
+// The data's range in axis coordinates; error bands and reference lines count for y.
+struct DataRange {
+  double x0 = std::numeric_limits<double>::infinity(), x1 = -x0, y0 = x0, y1 = -x0;
+  void take_y(const Axis& ay, double v) {
+    if (ay.usable(v)) y0 = std::min(y0, ay.t(v)), y1 = std::max(y1, ay.t(v));
+  }
+};
+
+DataRange series_range(const std::vector<PlotSeries>& series, const Axis& ax, const Axis& ay) {
+  DataRange r;
+  for (const auto& s : series) {
+    for (std::size_t i = 0; i < s.x.size(); ++i) {
+      if (!ax.usable(s.x[i]) || !ay.usable(s.y[i])) continue;
+      r.x0 = std::min(r.x0, ax.t(s.x[i]));
+      r.x1 = std::max(r.x1, ax.t(s.x[i]));
+      r.take_y(ay, s.y[i]);
+      if (!s.error.empty() && std::isfinite(s.error[i]))
+        r.take_y(ay, s.y[i] - s.error[i]), r.take_y(ay, s.y[i] + s.error[i]);
+    }
+  }
+  return r;
+}
+
+// The plot area in pixels, and the maps from data (px, py) and axis coordinates (tx, ty) into it.
+struct Frame {
+  const Axis& ax;
+  const Axis& ay;
+  double left, top, pw, ph;
+  double px(double x) const { return left + ax.unit(x) * pw; }
+  double py(double y) const { return top + ph - ay.unit(y) * ph; }
+  double tx(double t) const { return left + (t - ax.lo) / (ax.hi - ax.lo) * pw; }
+  double ty(double t) const { return top + ph - (t - ay.lo) / (ay.hi - ay.lo) * ph; }
+};
+
+// The document's head, the title, the grid with its tick labels, the frame and the axis labels.
+std::string frame_svg(const Frame& f, int width, int height, const std::string& title,
+                      const std::string& x_label, const std::string& y_label) {
+  const double left = f.left, top = f.top, pw = f.pw, ph = f.ph;
+  std::string svg = fmt::format(
+      "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{0}\" height=\"{1}\" viewBox=\"0 0 {0} {1}\" "
+      "font-family=\"sans-serif\" font-size=\"12\">\n"
+      "<rect width=\"{0}\" height=\"{1}\" fill=\"white\"/>\n"
+      "<defs><clipPath id=\"plot-clip\"><rect x=\"{2:.2f}\" y=\"{3:.2f}\" width=\"{4:.2f}\" "
+      "height=\"{5:.2f}\"/>"
+      "</clipPath></defs>\n",
+      width, height, left, top, pw, ph);
+  if (!title.empty()) {
+    svg += fmt::format("<text x=\"{:.2f}\" y=\"25\" text-anchor=\"middle\" font-size=\"15\">{}</text>\n",
+                       left + pw / 2, escape_markup(title));
+  }
+  // Grid and tick labels.
+  for (double t : f.ax.ticks) {
+    svg += fmt::format(
+        "<line x1=\"{0:.2f}\" y1=\"{1:.2f}\" x2=\"{0:.2f}\" y2=\"{2:.2f}\" stroke=\"#e0e0e0\"/>\n"
+        "<text x=\"{0:.2f}\" y=\"{3:.2f}\" text-anchor=\"middle\">{4}</text>\n",
+        f.tx(t), top, top + ph, top + ph + 16, escape_markup(f.ax.label(t)));
+  }
+  for (double t : f.ay.ticks) {
+    svg += fmt::format(
+        "<line x1=\"{0:.2f}\" y1=\"{1:.2f}\" x2=\"{2:.2f}\" y2=\"{1:.2f}\" stroke=\"#e0e0e0\"/>\n"
+        "<text x=\"{3:.2f}\" y=\"{4:.2f}\" text-anchor=\"end\">{5}</text>\n",
+        left, f.ty(t), left + pw, left - 6, f.ty(t) + 4, escape_markup(f.ay.label(t)));
+  }
+  svg += fmt::format(
+      "<rect id=\"plot-area\" x=\"{:.2f}\" y=\"{:.2f}\" width=\"{:.2f}\" height=\"{:.2f}\" "
+      "fill=\"none\" stroke=\"#333\"/>\n",
+      left, top, pw, ph);
+  svg += fmt::format("<text x=\"{:.2f}\" y=\"{:.2f}\" text-anchor=\"middle\">{}</text>\n", left + pw / 2,
+                     height - 15.0, escape_markup(x_label));
+  svg +=
+      fmt::format("<text transform=\"translate(18 {:.2f}) rotate(-90)\" text-anchor=\"middle\">{}</text>\n",
+                  top + ph / 2, escape_markup(y_label));
+  return svg;
+}
+
+// One series's band, line and markers: unusable points split it into runs, each drawn apart.
+std::string series_svg(const Frame& f, const PlotSeries& s) {
+  std::vector<std::vector<std::size_t>> runs(1);
+  for (std::size_t i = 0; i < s.x.size(); ++i) {
+    const bool ok = f.ax.usable(s.x[i]) && f.ay.usable(s.y[i]) &&
+                    (s.error.empty() || (std::isfinite(s.error[i]) && f.ay.usable(s.y[i] - s.error[i])));
+    if (ok) {
+      runs.back().push_back(i);
+    } else if (!runs.back().empty()) {
+      runs.emplace_back();
+    }
+  }
+  std::string svg;
+  for (const auto& run : runs) {
+    if (run.empty()) continue;
+    if (!s.error.empty()) {
+      std::string d;
+      for (std::size_t i : run)
+        d += fmt::format("{}{:.2f},{:.2f}", d.empty() ? "M" : " L", f.px(s.x[i]), f.py(s.y[i] + s.error[i]));
+      for (auto it = run.rbegin(); it != run.rend(); ++it) {
+        d += fmt::format(" L{:.2f},{:.2f}", f.px(s.x[*it]), f.py(s.y[*it] - s.error[*it]));
+      }
+      svg += fmt::format("<path d=\"{} Z\" fill=\"{}\" fill-opacity=\"0.2\" stroke=\"none\"/>\n", d, s.color);
+    }
+    if (s.line && run.size() > 1) {
+      std::string points;
+      for (std::size_t i : run)
+        points += fmt::format("{}{:.2f},{:.2f}", points.empty() ? "" : " ", f.px(s.x[i]), f.py(s.y[i]));
+      svg += fmt::format("<polyline points=\"{}\" fill=\"none\" stroke=\"{}\" stroke-width=\"2\"/>\n", points,
+                         s.color);
+    }
+    if (s.markers) {
+      for (std::size_t i : run) {
+        svg += fmt::format("<circle class=\"marker\" cx=\"{:.2f}\" cy=\"{:.2f}\" r=\"3\" fill=\"{}\"/>\n",
+                           f.px(s.x[i]), f.py(s.y[i]), s.color);
+      }
+    }
+  }
+  return svg;
+}
+
+std::string reference_svg(const Frame& f, double y, const std::string& label) {
+  if (!f.ay.usable(y)) return {};
+  return fmt::format(
+      "<line class=\"reference\" x1=\"{0:.2f}\" y1=\"{1:.2f}\" x2=\"{2:.2f}\" y2=\"{1:.2f}\" "
+      "stroke=\"#555\" "
+      "stroke-dasharray=\"6 4\"/>\n<text x=\"{3:.2f}\" y=\"{4:.2f}\" text-anchor=\"end\" "
+      "fill=\"#555\">{5}</text>\n",
+      f.left, f.py(y), f.left + f.pw, f.left + f.pw - 4, f.py(y) - 4, escape_markup(label));
+}
+
 }  // namespace
 
 std::vector<double> nice_ticks(double lo, double hi, int target) {
@@ -143,24 +270,10 @@ SvgPlot& SvgPlot::add_reference_line(double y, std::string label) {
 
 std::string SvgPlot::render() const {
   Axis ax(x_scale_), ay(y_scale_);
-  // Data ranges in axis coordinates; error bands and reference lines count for y.
-  double x0 = std::numeric_limits<double>::infinity(), x1 = -x0, y0 = x0, y1 = -x0;
-  auto take_y = [&](double v) {
-    if (ay.usable(v)) y0 = std::min(y0, ay.t(v)), y1 = std::max(y1, ay.t(v));
-  };
-  for (const auto& s : series_) {
-    for (std::size_t i = 0; i < s.x.size(); ++i) {
-      if (!ax.usable(s.x[i]) || !ay.usable(s.y[i])) continue;
-      x0 = std::min(x0, ax.t(s.x[i]));
-      x1 = std::max(x1, ax.t(s.x[i]));
-      take_y(s.y[i]);
-      if (!s.error.empty() && std::isfinite(s.error[i]))
-        take_y(s.y[i] - s.error[i]), take_y(s.y[i] + s.error[i]);
-    }
-  }
-  for (const auto& r : references_) take_y(r.y);
-  ax.fit(x0, x1);
-  ay.fit(y0, y1);
+  DataRange range = series_range(series_, ax, ay);
+  for (const auto& r : references_) range.take_y(ay, r.y);
+  ax.fit(range.x0, range.x1);
+  ay.fit(range.y0, range.y1);
 
   const double left = 75, top = title_.empty() ? 20 : 45, bottom = 55;
   // The legend is as wide as its longest entry (about 7 px per character at the legend's font size).
@@ -169,102 +282,23 @@ std::string SvgPlot::render() const {
   for (const auto& reference : references_) longest = std::max(longest, reference.label.size());
   const double legend_width =
       series_.empty() && references_.empty() ? 20 : 50 + 7.0 * static_cast<double>(longest);
-  const double pw = width_ - left - legend_width, ph = height_ - top - bottom;
-  auto px = [&](double x) { return left + ax.unit(x) * pw; };
-  auto py = [&](double y) { return top + ph - ay.unit(y) * ph; };
-  auto tx = [&](double t) { return left + (t - ax.lo) / (ax.hi - ax.lo) * pw; };
-  auto ty = [&](double t) { return top + ph - (t - ay.lo) / (ay.hi - ay.lo) * ph; };
+  const Frame frame{.ax = ax,
+                    .ay = ay,
+                    .left = left,
+                    .top = top,
+                    .pw = width_ - left - legend_width,
+                    .ph = height_ - top - bottom};
+  std::string svg = frame_svg(frame, width_, height_, title_, x_label_, y_label_);
 
-  std::string svg = fmt::format(
-      "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
-      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{0}\" height=\"{1}\" viewBox=\"0 0 {0} {1}\" "
-      "font-family=\"sans-serif\" font-size=\"12\">\n"
-      "<rect width=\"{0}\" height=\"{1}\" fill=\"white\"/>\n"
-      "<defs><clipPath id=\"plot-clip\"><rect x=\"{2:.2f}\" y=\"{3:.2f}\" width=\"{4:.2f}\" "
-      "height=\"{5:.2f}\"/>"
-      "</clipPath></defs>\n",
-      width_, height_, left, top, pw, ph);
-  if (!title_.empty()) {
-    svg += fmt::format("<text x=\"{:.2f}\" y=\"25\" text-anchor=\"middle\" font-size=\"15\">{}</text>\n",
-                       left + pw / 2, escape_markup(title_));
-  }
-  // Grid and tick labels.
-  for (double t : ax.ticks) {
-    svg += fmt::format(
-        "<line x1=\"{0:.2f}\" y1=\"{1:.2f}\" x2=\"{0:.2f}\" y2=\"{2:.2f}\" stroke=\"#e0e0e0\"/>\n"
-        "<text x=\"{0:.2f}\" y=\"{3:.2f}\" text-anchor=\"middle\">{4}</text>\n",
-        tx(t), top, top + ph, top + ph + 16, escape_markup(ax.label(t)));
-  }
-  for (double t : ay.ticks) {
-    svg += fmt::format(
-        "<line x1=\"{0:.2f}\" y1=\"{1:.2f}\" x2=\"{2:.2f}\" y2=\"{1:.2f}\" stroke=\"#e0e0e0\"/>\n"
-        "<text x=\"{3:.2f}\" y=\"{4:.2f}\" text-anchor=\"end\">{5}</text>\n",
-        left, ty(t), left + pw, left - 6, ty(t) + 4, escape_markup(ay.label(t)));
-  }
-  svg += fmt::format(
-      "<rect id=\"plot-area\" x=\"{:.2f}\" y=\"{:.2f}\" width=\"{:.2f}\" height=\"{:.2f}\" "
-      "fill=\"none\" stroke=\"#333\"/>\n",
-      left, top, pw, ph);
-  svg += fmt::format("<text x=\"{:.2f}\" y=\"{:.2f}\" text-anchor=\"middle\">{}</text>\n", left + pw / 2,
-                     height_ - 15.0, escape_markup(x_label_));
-  svg +=
-      fmt::format("<text transform=\"translate(18 {:.2f}) rotate(-90)\" text-anchor=\"middle\">{}</text>\n",
-                  top + ph / 2, escape_markup(y_label_));
-
-  // Series: bands first, so lines and markers stay on top. Unusable points split a series into runs.
+  // Series: bands first, so lines and markers stay on top.
   svg += "<g clip-path=\"url(#plot-clip)\">\n";
-  for (const auto& s : series_) {
-    std::vector<std::vector<std::size_t>> runs(1);
-    for (std::size_t i = 0; i < s.x.size(); ++i) {
-      const bool ok = ax.usable(s.x[i]) && ay.usable(s.y[i]) &&
-                      (s.error.empty() || (std::isfinite(s.error[i]) && ay.usable(s.y[i] - s.error[i])));
-      if (ok) {
-        runs.back().push_back(i);
-      } else if (!runs.back().empty()) {
-        runs.emplace_back();
-      }
-    }
-    for (const auto& run : runs) {
-      if (run.empty()) continue;
-      if (!s.error.empty()) {
-        std::string d;
-        for (std::size_t i : run)
-          d += fmt::format("{}{:.2f},{:.2f}", d.empty() ? "M" : " L", px(s.x[i]), py(s.y[i] + s.error[i]));
-        for (auto it = run.rbegin(); it != run.rend(); ++it) {
-          d += fmt::format(" L{:.2f},{:.2f}", px(s.x[*it]), py(s.y[*it] - s.error[*it]));
-        }
-        svg +=
-            fmt::format("<path d=\"{} Z\" fill=\"{}\" fill-opacity=\"0.2\" stroke=\"none\"/>\n", d, s.color);
-      }
-      if (s.line && run.size() > 1) {
-        std::string points;
-        for (std::size_t i : run)
-          points += fmt::format("{}{:.2f},{:.2f}", points.empty() ? "" : " ", px(s.x[i]), py(s.y[i]));
-        svg += fmt::format("<polyline points=\"{}\" fill=\"none\" stroke=\"{}\" stroke-width=\"2\"/>\n",
-                           points, s.color);
-      }
-      if (s.markers) {
-        for (std::size_t i : run) {
-          svg += fmt::format("<circle class=\"marker\" cx=\"{:.2f}\" cy=\"{:.2f}\" r=\"3\" fill=\"{}\"/>\n",
-                             px(s.x[i]), py(s.y[i]), s.color);
-        }
-      }
-    }
-  }
-  for (const auto& r : references_) {
-    if (!ay.usable(r.y)) continue;
-    svg += fmt::format(
-        "<line class=\"reference\" x1=\"{0:.2f}\" y1=\"{1:.2f}\" x2=\"{2:.2f}\" y2=\"{1:.2f}\" "
-        "stroke=\"#555\" "
-        "stroke-dasharray=\"6 4\"/>\n<text x=\"{3:.2f}\" y=\"{4:.2f}\" text-anchor=\"end\" "
-        "fill=\"#555\">{5}</text>\n",
-        left, py(r.y), left + pw, left + pw - 4, py(r.y) - 4, escape_markup(r.label));
-  }
+  for (const auto& s : series_) svg += series_svg(frame, s);
+  for (const auto& r : references_) svg += reference_svg(frame, r.y, r.label);
   svg += "</g>\n";
 
   // Legend, to the right of the plot area.
   double ly = top + 10;
-  const double lx = left + pw + 15;
+  const double lx = left + frame.pw + 15;
   for (const auto& s : series_) {
     svg += fmt::format(
         "<line x1=\"{0:.2f}\" y1=\"{1:.2f}\" x2=\"{2:.2f}\" y2=\"{1:.2f}\" stroke=\"{3}\" "
