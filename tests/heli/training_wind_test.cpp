@@ -10,6 +10,7 @@
 #include <array>
 #include <cmath>
 
+#include "pegasus/heli/aircraft.hpp"
 #include "pegasus/heli/pilot.hpp"
 #include "pegasus/sysid/identify.hpp"
 
