@@ -236,8 +236,8 @@ MujocoStepOutcome MujocoEnvironment::step(MujocoSlot& slot, std::span<const doub
   return step_to(slot, action, p, true);
 }
 
-MujocoStepOutcome MujocoEnvironment::step_to(MujocoSlot& slot, std::span<const double> action,
-                                             std::span<const double> p, bool complete) const {
+void MujocoEnvironment::apply_controls(MujocoSlot& slot, std::span<const double> action,
+                                       std::span<const double> p) const {
   const mjModel* m = model_.get();
   mjData* d = slot.data;
   std::size_t next = 0;
@@ -254,14 +254,12 @@ MujocoStepOutcome MujocoEnvironment::step_to(MujocoSlot& slot, std::span<const d
           push ? task_.push_force * (2.0 * p[next + 1 + static_cast<std::size_t>(axis)] - 1.0) : 0.0;
     next += 4;
   }
+}
 
-  // The positions displacement terms start from: those of the current state (reset and every step end with
-  // mj_step1).
-  if (task_.displacement_terms > 0)
-    for (const auto& term : task_.reward)
-      if (term.kind == RewardKind::kDisplacement)
-        slot.displacement_before[static_cast<std::size_t>(term.slot)] = point_position(d, term);
-
+// frame_skip physics steps by the model's integrator; the contact cost of the step when a term needs it.
+double MujocoEnvironment::integrate(MujocoSlot& slot, bool complete) const {
+  const mjModel* m = model_.get();
+  mjData* d = slot.data;
   double contact_cost = 0.0;
   if (split_step_) {
     // Euler and implicit: the state already went through mj_step1 (the reset, or the end of the last control
@@ -292,6 +290,75 @@ MujocoStepOutcome MujocoEnvironment::step_to(MujocoSlot& slot, std::span<const d
       mju_copy(d->qacc_warmstart, slot.warmstart.data(), m->nv);
     }
   }
+  return contact_cost;
+}
+
+// One reward term's value at the new state (before its weight and cap).
+double MujocoEnvironment::term_value(const RewardTerm& term, const MujocoSlot& slot,
+                                     std::span<const double> action, double contact_cost,
+                                     bool is_healthy) const {
+  const mjModel* m = model_.get();
+  mjData* d = slot.data;  // mj_energyPos and mj_energyVel write d->energy
+  double value = 0.0;
+  switch (term.kind) {
+    case RewardKind::kBodyVelocity:
+      value = point_velocity(m, d, term);
+      break;
+    case RewardKind::kDisplacement:
+      value = (point_position(d, term) - slot.displacement_before[static_cast<std::size_t>(term.slot)]) /
+              control_dt_;
+      break;
+    case RewardKind::kJointVelocity:
+      value = d->qvel[term.adr];
+      break;
+    case RewardKind::kHealthy:
+      value = is_healthy ? 1.0 : 0.0;
+      break;
+    case RewardKind::kSiteDistance: {
+      const double* x = d->site_xpos + 3 * term.id;
+      const double dx = x[0] - term.target[0], dy = x[1] - term.target[1], dz = x[2] - term.target[2];
+      value = std::sqrt(dx * dx + dy * dy + dz * dz);
+      break;
+    }
+    case RewardKind::kJointTarget:
+      value = std::abs(d->qpos[term.adr] - term.target[0]);
+      break;
+    case RewardKind::kJointSpeed:
+      value = std::abs(d->qvel[term.adr]);
+      break;
+    case RewardKind::kInRange:
+      value = inside(std::span<const TerminationRange>(&term.range, 1), d) ? 1.0 : 0.0;
+      break;
+    case RewardKind::kEnergy:
+      // mj_step1 left the mass matrix and positions of this state in d.
+      mj_energyPos(m, d);
+      mj_energyVel(m, d);
+      value = std::abs(d->energy[0] + d->energy[1] - term.target[0]);
+      break;
+    case RewardKind::kControlCost:
+      for (const double a : action) value += std::clamp(a, -1.0, 1.0) * std::clamp(a, -1.0, 1.0);
+      break;
+    case RewardKind::kContactCost:
+      value = contact_cost;
+      break;
+  }
+  return value;
+}
+
+MujocoStepOutcome MujocoEnvironment::step_to(MujocoSlot& slot, std::span<const double> action,
+                                             std::span<const double> p, bool complete) const {
+  const mjModel* m = model_.get();
+  mjData* d = slot.data;
+  apply_controls(slot, action, p);
+
+  // The positions displacement terms start from: those of the current state (the reset's mj_step1, or what
+  // the last step computed of its new state, which includes the kinematics wherever a displacement is read).
+  if (task_.displacement_terms > 0)
+    for (const auto& term : task_.reward)
+      if (term.kind == RewardKind::kDisplacement)
+        slot.displacement_before[static_cast<std::size_t>(term.slot)] = point_position(d, term);
+
+  const double contact_cost = integrate(slot, complete);
 
   MujocoStepOutcome out;
   if (unstable(m, d)) {
@@ -302,49 +369,7 @@ MujocoStepOutcome MujocoEnvironment::step_to(MujocoSlot& slot, std::span<const d
   const bool is_healthy = healthy(d);
   double reward = 0.0, training_only = 0.0;
   for (const auto& term : task_.reward) {
-    double value = 0.0;
-    switch (term.kind) {
-      case RewardKind::kBodyVelocity:
-        value = point_velocity(m, d, term);
-        break;
-      case RewardKind::kDisplacement:
-        value = (point_position(d, term) - slot.displacement_before[static_cast<std::size_t>(term.slot)]) /
-                control_dt_;
-        break;
-      case RewardKind::kJointVelocity:
-        value = d->qvel[term.adr];
-        break;
-      case RewardKind::kHealthy:
-        value = is_healthy ? 1.0 : 0.0;
-        break;
-      case RewardKind::kSiteDistance: {
-        const double* x = d->site_xpos + 3 * term.id;
-        const double dx = x[0] - term.target[0], dy = x[1] - term.target[1], dz = x[2] - term.target[2];
-        value = std::sqrt(dx * dx + dy * dy + dz * dz);
-        break;
-      }
-      case RewardKind::kJointTarget:
-        value = std::abs(d->qpos[term.adr] - term.target[0]);
-        break;
-      case RewardKind::kJointSpeed:
-        value = std::abs(d->qvel[term.adr]);
-        break;
-      case RewardKind::kInRange:
-        value = inside(std::span<const TerminationRange>(&term.range, 1), d) ? 1.0 : 0.0;
-        break;
-      case RewardKind::kEnergy:
-        // mj_step1 left the mass matrix and positions of this state in d.
-        mj_energyPos(m, d);
-        mj_energyVel(m, d);
-        value = std::abs(d->energy[0] + d->energy[1] - term.target[0]);
-        break;
-      case RewardKind::kControlCost:
-        for (const double a : action) value += std::clamp(a, -1.0, 1.0) * std::clamp(a, -1.0, 1.0);
-        break;
-      case RewardKind::kContactCost:
-        value = contact_cost;
-        break;
-    }
+    const double value = term_value(term, slot, action, contact_cost, is_healthy);
     (term.training_only ? training_only : reward) += term.weight * std::min(value, term.cap);
   }
   if (hook_) reward += hook_(m, d, action);

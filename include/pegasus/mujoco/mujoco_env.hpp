@@ -117,6 +117,11 @@ class MujocoEnvironment {
   static AfterRk4Step after_rk4_step_needs(const MujocoTask& task, bool has_hook);
   // step, with `complete` false letting an RK4 model skip the position and velocity stages of the new state
   // that nothing of the task reads (a rollout without an observer).
+  // The parts of a step: the controls and pushes set, the physics stepped, one reward term's value.
+  void apply_controls(MujocoSlot& slot, std::span<const double> action, std::span<const double> p) const;
+  double integrate(MujocoSlot& slot, bool complete) const;
+  double term_value(const RewardTerm& term, const MujocoSlot& slot, std::span<const double> action,
+                    double contact_cost, bool is_healthy) const;
   MujocoStepOutcome step_to(MujocoSlot& slot, std::span<const double> action, std::span<const double> p,
                             bool complete) const;
 
