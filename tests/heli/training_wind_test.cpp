@@ -3,9 +3,8 @@
 // locally weighted one (whose query crashes beyond the logs' airspeeds); a stated wind is taken as it is.
 #include "pegasus/heli/training_wind.hpp"
 
-#include <gtest/gtest.h>
-
 #include <fmt/format.h>
+#include <gtest/gtest.h>
 
 #include <array>
 #include <cmath>
@@ -50,14 +49,16 @@ TEST(TrainingWind, DefaultIsTheDocumentedWindForAGlobalLinearModelAndCalmForALoc
   // The logs' horizontal airspeed RMS, by hand over the training rows; in the line.
   double sum = 0;
   const auto& x = local->data().x;
-  for (Eigen::Index i = 0; i < x.rows(); ++i) sum += x(i, sysid::kU) * x(i, sysid::kU) + x(i, sysid::kV) * x(i, sysid::kV);
+  for (Eigen::Index i = 0; i < x.rows(); ++i)
+    sum += x(i, sysid::kU) * x(i, sysid::kU) + x(i, sysid::kV) * x(i, sysid::kV);
   const double rms = std::sqrt(sum / static_cast<double>(x.rows()));
   EXPECT_GT(rms, 0.0);
   EXPECT_NEAR(logs_horizontal_airspeed_rms(*local), rms, 1e-12 * rms);
   EXPECT_NE(training_wind_line(l).find(fmt::format("(horizontal RMS {:.2g} m/s)", rms)), std::string::npos)
       << training_wind_line(l);
-  EXPECT_NE(training_wind_line(g).find("drawn +- 1.5 m/s per horizontal axis per scenario, AR(1) gusts of 0.5 m/s"),
-            std::string::npos)
+  EXPECT_NE(
+      training_wind_line(g).find("drawn +- 1.5 m/s per horizontal axis per scenario, AR(1) gusts of 0.5 m/s"),
+      std::string::npos)
       << training_wind_line(g);
 }
 
