@@ -286,7 +286,7 @@ HoverTrainingResult train_hover_in(RunSink& sink, std::shared_ptr<const sysid::I
   // Where stderr is no terminal an iteration's line can be minutes apart: a line on the clock between them.
   EvaluationTally tally;
   hooks.on_evaluations = [&tally](std::span<const double> values) { tally.add(values); };
-  const HoverTrainingResult r = [&] {
+  HoverTrainingResult r = [&] {  // not const: returned by move
     const ProgressTicker ticker(
         "hover training", [&] { return tally.text(bar.done(), bar.total()); },
         Progress::default_enabled(sink.quiet, dir.ranks()));
