@@ -194,7 +194,7 @@ Theta start_weights(const ManeuverPolicy& policy, const Theta& hover_theta) {
 // Each variant trained in turn, checkpointing after every optimizer iteration; a variant the checkpoint
 // holds as done is read back, the one it was training resumes.
 std::map<std::string, Trained> train_variants(const std::vector<Variant>& variants,
-                                              std::shared_ptr<const sysid::IdentifiedModel> model,
+                                              const std::shared_ptr<const sysid::IdentifiedModel>& model,
                                               const HoverStart& hover, RunSink& sink, ThreadPool& pool) {
   RunDirectory& dir = sink.dir;
   std::optional<nlohmann::json> state = dir.load_checkpoint();
