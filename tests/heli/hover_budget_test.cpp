@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <memory>
 
+#include "heli/hover_fixtures.hpp"
 #include "pegasus/heli/hover_task.hpp"
 #include "pegasus/heli/pilot.hpp"
 #include "pegasus/sysid/identify.hpp"
@@ -14,20 +15,6 @@
 
 namespace pegasus::heli {
 namespace {
-
-std::shared_ptr<const sysid::IdentifiedModel> pilot_model(bool local) {
-  const Aircraft heli;
-  PilotOptions p;
-  p.hover_seconds = 4;
-  const auto log = fly_pilot(heli, p, 60, 3).log;
-  sysid::IdentifyOptions io;
-  io.cv_points = 40;
-  io.scale_grid = {2, 4};
-  io.coordinate_passes = 0;
-  io.local = local;
-  ThreadPool pool(2);
-  return std::make_shared<const sysid::IdentifiedModel>(sysid::identify(log, io, pool));
-}
 
 HoverTrainingOptions small_options() {
   HoverTrainingOptions o;
@@ -47,14 +34,15 @@ TEST(RefitInterval, IsATenthOfASecondAtEveryRate) {
   EXPECT_EQ(sysid::refit_steps_at(2), 1);  // never less than every step
   HoverTrainingOptions o;
   o.control_rate_hz = 25;
-  const auto model = pilot_model(true);  // a 10 Hz model: the interval no longer follows its rate
+  const auto model = test_fixtures::identify_pilot_flight(
+      false, true);  // a 10 Hz model: the interval no longer follows its rate
   EXPECT_EQ(o.refit_steps(*model), 3);
   o.refit_every = 7;
   EXPECT_EQ(o.refit_steps(*model), 7);
 }
 
 TEST(HoverBudget, BindsAtTheDocumentedCountAndTrainingKeepsToIt) {
-  const auto model = pilot_model(true);
+  const auto model = test_fixtures::identify_pilot_flight(false, true);
   HoverTrainingOptions o = small_options();
   const int n = static_cast<int>(hover_policy_for(*model, o).parameters().size());
   // One evaluation: 3 scenarios x seconds * 50 Hz / 5 refits (every 5 steps: 40 for 4 s, 20 for the sanitizer
@@ -79,7 +67,7 @@ TEST(HoverBudget, BindsAtTheDocumentedCountAndTrainingKeepsToIt) {
   EXPECT_EQ(train_hover(model, o, {}, pool).theta, unbounded.theta);
   // No refits, no budget: the global linear model; nor for a method the user chose.
   o.cpu_budget_s = 1e-9;
-  EXPECT_EQ(o.evaluation_budget(*pilot_model(false), n), 0);
+  EXPECT_EQ(o.evaluation_budget(*test_fixtures::identify_pilot_flight(false, false), n), 0);
   o.optimizer.method = "cmaes";
   EXPECT_EQ(o.evaluation_budget(*model, n), 0);
 }

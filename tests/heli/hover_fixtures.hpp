@@ -11,8 +11,9 @@
 namespace pegasus::heli::test_fixtures {
 
 // A model identified from a short pilot flight (a few tenths of a second); `reversed` negates a1 and a4 in
-// the logs first, as an aircraft whose longitudinal cyclic and tail act with the opposite signs.
-inline std::shared_ptr<const sysid::IdentifiedModel> identify_pilot_flight(bool reversed) {
+// the logs first, as an aircraft whose longitudinal cyclic and tail act with the opposite signs; `local`
+// false fits the global linear class.
+inline std::shared_ptr<const sysid::IdentifiedModel> identify_pilot_flight(bool reversed, bool local = true) {
   const Aircraft heli;
   PilotOptions o;
   o.hover_seconds = 4;
@@ -23,6 +24,7 @@ inline std::shared_ptr<const sysid::IdentifiedModel> identify_pilot_flight(bool 
   io.cv_points = 40;
   io.scale_grid = {2, 4};
   io.coordinate_passes = 0;
+  io.local = local;
   ThreadPool pool(2);
   return std::make_shared<const sysid::IdentifiedModel>(sysid::identify(log, io, pool));
 }

@@ -9,6 +9,7 @@
 #include <array>
 #include <cmath>
 
+#include "heli/hover_fixtures.hpp"
 #include "pegasus/heli/aircraft.hpp"
 #include "pegasus/heli/pilot.hpp"
 #include "pegasus/sysid/identify.hpp"
@@ -16,23 +17,9 @@
 namespace pegasus::heli::training_wind_test {
 namespace {
 
-// A short pilot flight's model of either class.
-std::shared_ptr<const sysid::IdentifiedModel> short_flight_model(bool local) {
-  const Aircraft heli;
-  PilotOptions o;
-  o.hover_seconds = 4;
-  const auto log = fly_pilot(heli, o, 60, 3).log;
-  sysid::IdentifyOptions io;
-  io.cv_points = 40;
-  io.scale_grid = {2, 4};
-  io.coordinate_passes = 0;
-  io.local = local;
-  ThreadPool pool(2);
-  return std::make_shared<const sysid::IdentifiedModel>(sysid::identify_mean(log, io, pool));
-}
-
 TEST(TrainingWind, DefaultIsTheDocumentedWindForAGlobalLinearModelAndCalmForALocallyWeightedOne) {
-  const auto global = short_flight_model(false), local = short_flight_model(true);
+  const auto global = test_fixtures::identify_pilot_flight(false, false),
+             local = test_fixtures::identify_pilot_flight(false, true);
   ASSERT_TRUE(global->is_global());
   ASSERT_FALSE(local->is_global());
   // Global linear: a steady wind from every direction (drawn per scenario, none stated) and light gusts.
@@ -63,7 +50,7 @@ TEST(TrainingWind, DefaultIsTheDocumentedWindForAGlobalLinearModelAndCalmForALoc
 }
 
 TEST(TrainingWind, AStatedWindIsTakenAsItIsAndTheXCellWithoutAVehicleFileStaysCalm) {
-  const auto global = short_flight_model(false);
+  const auto global = test_fixtures::identify_pilot_flight(false, false);
   const sysid::Disturbance stated{.wind = {0, 1, 0}, .wind_sigma = 0, .gust_sigma = 0, .gust_tau_s = 2};
   for (const WindSource source : {WindSource::kOptions, WindSource::kVehicleFile}) {
     const TrainingWind w = training_wind(source, stated, *global);
