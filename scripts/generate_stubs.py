@@ -12,7 +12,6 @@ checked-in file differs from what this script writes.
     PYTHONPATH=build/python /usr/bin/python3 scripts/generate_stubs.py --check    # exit 1 if it differs
 """
 import ast
-import inspect
 import pathlib
 import re
 import sys
@@ -107,25 +106,23 @@ def parameter_text(parameter):
         return f"{name}: {python_type(annotation, True)}" if annotation else name
     name_and_type, has_default, default = parameter.partition(" = ")
     name, _, annotation = name_and_type.partition(": ")
-    text = name if name in ("self", "cls") else f"{name}: {python_type(annotation, True)}"
-    if has_default:
-        value = literal_default(default)
-        if value == "None" and not text.endswith("Any") and "Optional[" not in text.split(": ", 1)[-1][:9]:
-            text = f"{name}: Optional[{python_type(annotation, True)}]"
-        text += f" = {value}"
-    return text
+    if name in ("self", "cls"):
+        return name
+    kind = python_type(annotation, True)
+    if not has_default:
+        return f"{name}: {kind}"
+    value = literal_default(default)
+    if value == "None" and kind != "Any" and not kind.startswith("Optional["):
+        kind = f"Optional[{kind}]"  # pybind11 writes the C++ parameter's type; None is accepted too
+    return f"{name}: {kind} = {value}"
 
 
-def function_lines(name, function, indent, static):
+def function_lines(name, function, indent, static=False):
+    """The stub's def (one per overload) of a module function or a method; pybind11 names a method's `self`."""
     lines = []
     found = signatures(function)
     for parameters, returns in found:
-        params = [p for p in split_top_level(parameters)]
-        if static is False and params and params[0].startswith("self"):
-            params[0] = "self"
-        if static is False and (not params or params[0] != "self"):
-            params.insert(0, "self")
-        text = ", ".join(parameter_text(p) for p in params)
+        text = ", ".join(parameter_text(p) for p in split_top_level(parameters))
         if len(found) > 1:
             lines.append(f"{indent}@overload")
         if static:
@@ -178,7 +175,7 @@ def class_lines(name, cls):
         elif isinstance(value, property):
             body += property_lines(key, value)
         elif callable(value) and hasattr(value, "__doc__") and signatures(value):
-            body += function_lines(key, value, "    ", False)
+            body += function_lines(key, value, "    ")
     return lines + (body or ["    ..."])
 
 
@@ -190,9 +187,9 @@ def generate(module):
         if isinstance(value, type):
             out.append("\n".join(class_lines(name, value)) + "\n")
         elif callable(value):
-            out.append("\n".join(function_lines(name, value, "", None)))
-        else:
-            out.append(f"{name}: {type(value).__name__ if type(value).__module__ == MODULE else python_type(type(value).__name__, False)}")
+            out.append("\n".join(function_lines(name, value, "")))
+        else:  # a constant: an instance of one of the module's classes
+            out.append(f"{name}: {python_type(type(value).__name__, False)}")
     return "\n".join(out).rstrip() + "\n" + TRAILER
 
 
