@@ -3,8 +3,8 @@
 //
 // The parameters (mjModel, the resolved task) are immutable and shared by every thread. The state is an
 // mjData, far too large to copy per step as the value-typed models of models/model.hpp do, so it lives in a
-// MujocoSlot that one thread owns and steps in place: made once (the only allocation), reset fully at the
-// start of every rollout (mj_resetData), so a rollout's result depends on nothing but (theta, scenario).
+// MujocoSlot that one thread owns and steps in place: made once (the only allocation), reset at the start of
+// every rollout to mj_resetData's state, so a rollout's result depends on nothing but (theta, scenario).
 //
 // A control step sets the ctrl and then takes `frame_skip` physics steps at the MJCF's timestep with the
 // MJCF's integrator, its states bit for bit those of as many mj_step calls (issue 52). Every observation and
@@ -124,6 +124,9 @@ class MujocoEnvironment {
                     double contact_cost, bool is_healthy) const;
   MujocoStepOutcome step_to(MujocoSlot& slot, std::span<const double> action, std::span<const double> p,
                             bool complete) const;
+  // reset, by mj_resetData when `complete`, else by restoring only what a rollout's steps read of it (the
+  // same rollout bit for bit; an observer may read anything, so a rollout with one resets completely).
+  void reset_to(MujocoSlot& slot, std::span<const double> p0, bool complete) const;
 
   MujocoModel model_;
   MujocoTask task_;
