@@ -32,6 +32,7 @@ sysid::LearnedModelOptions learned_options(const ManeuverTrainingOptions& o, con
   m.start = {p.x(), p.y(), p.z(), 0, 0, wrap_angle(t.start_yaw()), 0, 0, 0, 0, 0, 0};
   m.start_pos_sigma = o.start_pos_sigma;
   m.start_vel_sigma = o.start_vel_sigma;
+  m.disturbance = o.disturbance;
   return m;
 }
 
@@ -105,6 +106,7 @@ bool ManeuverTrainingOptions::IsValid(std::string* error) const {
   if (!nonnegative_finite(start_vel_sigma))
     return fail(error, fmt::format("start_vel_sigma: expected a number >= 0, got {}", start_vel_sigma));
   if (!reward.IsValid(&inner)) return fail(error, "reward." + inner);
+  if (!disturbance.IsValid(&inner)) return fail(error, inner);
   if (!reward_weight(shaping_per_metre))
     return fail(error, fmt::format("shaping_per_metre: expected a number in [0, {}], got {}",
                                    kMaxRewardWeight, shaping_per_metre));

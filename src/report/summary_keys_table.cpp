@@ -451,6 +451,13 @@ const std::vector<SummaryKeyGroup> kGroups = {
               {"trajectory_seconds", "s", "length of the ideal trajectory"},
               {"path_length_m", "m", "length of the ideal path"},
               {"gust_sigma", "m/s", "sd of the gusts flown in"},
+              {"choices.wind", "",
+               "with a vehicle file: the training scenarios' wind (stated, or calm: none stated), by what "
+               "and why"},
+              {"wind.steady_ned_mps", "m/s", "the steady wind of the training scenarios [north, east, down]"},
+              {"wind.sigma_mps", "m/s", "sd of each scenario's drawn horizontal wind"},
+              {"wind.gust_sigma_mps", "m/s", "sd of the AR(1) gusts"},
+              {"wind.gust_tau_s", "s", "time constant of the gusts"},
               {"policy", "", "the trained policy file in the run directory"},
               {"rms_path_deviation_untrained_m", "m", "the same for the untrained starting policy"},
               {"crashes_untrained", "", "crashes of the untrained starting policy"},

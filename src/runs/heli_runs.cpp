@@ -395,11 +395,7 @@ void add_hover_settings(nlohmann::json& summary, const HoverRunOptions& options,
   if (options.judged_cost)  // likewise: the judged cost's terms as trained
     summary["judged_cost"] = {{"reward", hover_reward_for(model, o).terms(o.crash_penalty)},
                               {"crash_penalty", o.crash_penalty}};
-  if (!o.disturbance.calm())  // likewise
-    summary["wind"] = {{"steady_ned_mps", o.disturbance.wind},
-                       {"sigma_mps", o.disturbance.wind_sigma},
-                       {"gust_sigma_mps", o.disturbance.gust_sigma},
-                       {"gust_tau_s", o.disturbance.gust_tau_s}};
+  if (!o.disturbance.calm()) summary["wind"] = wind_summary(o.disturbance);  // likewise
   const HoverTrainingOptions calm_defaults;
   for (const auto& [key, value, fallback] :
        {std::tuple{"max_position_error_m", o.max_position_error_m, calm_defaults.max_position_error_m},
@@ -413,6 +409,13 @@ void add_hover_settings(nlohmann::json& summary, const HoverRunOptions& options,
 }
 
 }  // namespace
+
+nlohmann::json wind_summary(const sysid::Disturbance& d) {
+  return {{"steady_ned_mps", d.wind},
+          {"sigma_mps", d.wind_sigma},
+          {"gust_sigma_mps", d.gust_sigma},
+          {"gust_tau_s", d.gust_tau_s}};
+}
 
 void run_hover(const HoverRunOptions& stated, RunSink& sink, ThreadPool& pool) {
   check_hover_options(stated);

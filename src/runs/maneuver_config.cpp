@@ -12,6 +12,7 @@
 #include "pegasus/heli/maneuver_task.hpp"
 #include "pegasus/runs/heli_config.hpp"
 #include "pegasus/runs/optimizer_config.hpp"
+#include "vehicle_cost_config.hpp"
 
 namespace pegasus::heli {
 namespace {
@@ -93,6 +94,7 @@ void declare_maneuver_config(ConfigSchema& s) {
       .range(0, kMaxRewardWeight);
   s.add_double("reward.alpha_action", d.reward.alpha_action[0], "per unit^2 of each control about the trim")
       .range(0, kMaxRewardWeight);
+  declare_training_wind(s);
   s.add_bool("shaping", d.shaping, "potential-based shaping reward growing along the path");
   s.add_double("shaping_per_metre", d.shaping_per_metre, "shaping potential per m of progress along the path")
       .range(0, kMaxRewardWeight);
@@ -138,6 +140,7 @@ ManeuverTrainingOptions read_training(const ConfigSchema& c, std::uint64_t seed)
   o.reward.alpha_yaw = c.get_double("reward.alpha_yaw");
   o.reward.alpha_vel = c.get_double("reward.alpha_vel");
   o.reward.alpha_action.fill(c.get_double("reward.alpha_action"));
+  o.disturbance = read_training_wind(c);
   o.shaping = c.get_bool("shaping");
   o.shaping_per_metre = c.get_double("shaping_per_metre");
   o.policy.learn_delay = c.get_bool("learn_delay");
@@ -160,6 +163,7 @@ ManeuverRunOptions read_maneuver_config(const ConfigSchema& c, std::uint64_t see
   o.flights.start_pos_sigma = c.get_double("flight_start_sigma");
   o.trace_flights = static_cast<int>(c.get_int("trace_flights"));
   o.compare_pilot = c.get_bool("compare_pilot");
+  o.wind_source = hover_wind_source(c, o.aircraft);
   return o;
 }
 

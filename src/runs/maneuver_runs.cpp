@@ -338,15 +338,32 @@ void add_scores(nlohmann::json& summary, std::map<std::string, ManeuverFlightSum
 
 }  // namespace
 
-void run_maneuver(const ManeuverRunOptions& options, RunSink& sink, ThreadPool& pool) {
-  const ManeuverTrainingOptions& base = options.training;
+void run_maneuver(const ManeuverRunOptions& stated, RunSink& sink, ThreadPool& pool) {
   std::string error;
-  if (!base.IsValid(&error)) throw InputError(error);
-  if (options.model_file.empty())
+  if (!stated.training.IsValid(&error)) throw InputError(error);
+  if (stated.model_file.empty())
     throw InputError("--model: an identified model file is required (heli identify)");
-  const VehicleChoice& aircraft = options.aircraft;
+  const VehicleChoice& aircraft = stated.aircraft;
   const std::string simulator = aircraft.simulator();  // before training: the flights need a ground truth
-  const auto model = aircraft.load_model(options.model_file);
+  const auto model = aircraft.load_model(stated.model_file);
+  // The wind in the scenarios (issue 53): stated (--wind.* or the vehicle file's [hover.wind]), else calm:
+  // the manoeuvre's flights fly in gusts only, and hover's default wind was chosen for hovering in wind.
+  // One line where not the X-Cell's calm.
+  const TrainingWind wind =
+      stated.wind_source == WindSource::kDefault
+          ? TrainingWind{.disturbance = {},
+                         .by = "none stated",
+                         .reason =
+                             "calm, as the manoeuvre's flights fly (in --gust-sigma's turbulence); "
+                             "state --wind.* or [hover.wind] to train in wind"}
+          : training_wind(stated.wind_source,
+                          stated.wind_source == WindSource::kVehicleFile ? *aircraft.vehicle.wind
+                                                                         : stated.training.disturbance,
+                          *model);
+  ManeuverRunOptions options = stated;
+  options.training.disturbance = wind.disturbance;
+  const ManeuverTrainingOptions& base = options.training;
+  if (aircraft.from_file() || !base.disturbance.calm()) sink.out << training_wind_line(wind) << "\n";
   const HoverStart hover = hover_start(options, *model, sink.out);
   const bool angled = has_angled_legs(base);
   const std::vector<Variant> variants = maneuver_variants(options, angled, hover.init);
@@ -359,6 +376,9 @@ void run_maneuver(const ManeuverRunOptions& options, RunSink& sink, ThreadPool& 
   fo.simulator = simulator;
   nlohmann::json summary = {{"maneuver", base.name}};
   if (aircraft.from_file()) summary["vehicle"] = aircraft.vehicle.name();
+  // Only where not calm, and the choice only with a vehicle file: the X-Cell's summaries stay as they were.
+  if (!base.disturbance.calm()) summary["wind"] = wind_summary(base.disturbance);
+  if (aircraft.from_file()) summary["choices"]["wind"] = {{"by", wind.by}, {"reason", wind.reason}};
   aircraft.keep(dir);
   std::map<std::string, ManeuverFlightSummary> scores;
   std::vector<ManeuverFlight> main_flights;

@@ -56,6 +56,34 @@ std::string check_wind_ned(const FieldValue& v) {
   return {};
 }
 
+void declare_training_wind(ConfigSchema& s) {
+  const sysid::Disturbance defaults;
+  s.add_double_list(
+       "wind.steady", {0, 0, 0},
+       "steady wind in the scenarios, north, east, down (m/s, NED): the learned model's forces act "
+       "on the airspeed")
+      .validate(check_wind_ned);
+  s.add_double(
+       "wind.sigma", 0,
+       "each scenario's steady wind drawn about wind.steady, per horizontal axis, m/s; with a vehicle "
+       "file and no wind.* or [hover.wind] stated, the default by the model class (1.5 m/s and 0.5 m/s "
+       "gusts for a global linear model, calm for a locally weighted one)")
+      .range(0, 30);
+  s.add_double("wind.gust_sigma", 0, "AR(1) gusts in the scenarios: standard deviation per axis, m/s")
+      .range(0, 30);
+  s.add_double("wind.gust_tau_s", defaults.gust_tau_s, "AR(1) gusts: correlation time, s")
+      .greater_than(0)
+      .max(3600);
+}
+
+sysid::Disturbance read_training_wind(const ConfigSchema& c) {
+  const auto& wind = c.get_double_list("wind.steady");
+  return {.wind = {wind[0], wind[1], wind[2]},
+          .wind_sigma = c.get_double("wind.sigma"),
+          .gust_sigma = c.get_double("wind.gust_sigma"),
+          .gust_tau_s = c.get_double("wind.gust_tau_s")};
+}
+
 void declare_hover_cost_and_wind(ConfigSchema& s) {
   const HoverTrainingOptions defaults;
   s.add_bool(
@@ -77,22 +105,7 @@ void declare_hover_cost_and_wind(ConfigSchema& s) {
   s.add_double("max_rate_radps", 0,
                "the envelope: any Euler-angle rate beyond this crashes the learned model, rad/s; 0: none")
       .range(0, 1e12);
-  s.add_double_list(
-       "wind.steady", {0, 0, 0},
-       "steady wind in the scenarios, north, east, down (m/s, NED): the learned model's forces act "
-       "on the airspeed")
-      .validate(check_wind_ned);
-  s.add_double(
-       "wind.sigma", 0,
-       "each scenario's steady wind drawn about wind.steady, per horizontal axis, m/s; with a vehicle "
-       "file and no wind.* or [hover.wind] stated, the default by the model class (1.5 m/s and 0.5 m/s "
-       "gusts for a global linear model, calm for a locally weighted one)")
-      .range(0, 30);
-  s.add_double("wind.gust_sigma", 0, "AR(1) gusts in the scenarios: standard deviation per axis, m/s")
-      .range(0, 30);
-  s.add_double("wind.gust_tau_s", defaults.disturbance.gust_tau_s, "AR(1) gusts: correlation time, s")
-      .greater_than(0)
-      .max(3600);
+  declare_training_wind(s);
 }
 
 void resolve_hover_cost_and_wind(ConfigSchema& s, const logs::Vehicle& vehicle) {
@@ -124,11 +137,7 @@ bool read_hover_cost_and_wind(const ConfigSchema& c, const logs::Vehicle& v, Hov
   o.max_position_error_m = limit_of(c, "max_position_error_m");
   o.max_speed_mps = limit_of(c, "max_speed_mps");
   o.max_rate_radps = limit_of(c, "max_rate_radps");
-  const auto& wind = c.get_double_list("wind.steady");
-  o.disturbance = {.wind = {wind[0], wind[1], wind[2]},
-                   .wind_sigma = c.get_double("wind.sigma"),
-                   .gust_sigma = c.get_double("wind.gust_sigma"),
-                   .gust_tau_s = c.get_double("wind.gust_tau_s")};
+  o.disturbance = read_training_wind(c);
   return judged;
 }
 

@@ -10,6 +10,10 @@ namespace pegasus::heli {
 
 // A steady wind's field: "" for 3 numbers in [-30, 30] m/s (north, east, down), else what is expected.
 std::string check_wind_ned(const FieldValue& v);
+// wind.steady, wind.sigma, wind.gust_sigma and wind.gust_tau_s: the wind in the training scenarios (hover and
+// manoeuvre), and their value.
+void declare_training_wind(ConfigSchema& s);
+sysid::Disturbance read_training_wind(const ConfigSchema& c);
 // reward.judged_cost, crash_penalty, max_position_error_m, max_speed_mps, max_rate_radps and wind.*.
 void declare_hover_cost_and_wind(ConfigSchema& s);
 // Their values from the vehicle file's [cost], [envelope] and [hover.wind] unless set.

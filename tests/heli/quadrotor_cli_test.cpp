@@ -113,6 +113,23 @@ TEST_F(QuadrotorCli, LogsIdentifiesLearnsToHoverAndAFigureEightAndFliesThemOnIts
     EXPECT_LT(eight.at("rms_path_deviation_m").get<double>(),
               eight.at("pilot").at("rms_path_deviation_m").get<double>());
   }
+  // The manoeuvre trains in a stated wind (issue 53): with none stated, calm, as its flights fly, and said;
+  // a stated wind as stated.
+  EXPECT_EQ(eight.at("choices").at("wind").at("by"), "none stated");
+  EXPECT_FALSE(eight.contains("wind"));
+  r = run_pegasus(fmt::format(
+      "maneuver --vehicle {} --name figure8 {} --model {} --hover-policy {} --scenarios 3 --start-pos-sigma "
+      "0.1 --start-vel-sigma 0.05 --optimizer.gradient.max-iterations 1 --ablations=false --flights 1 "
+      "--wind.steady 0,1.5,0 --wind.gust-sigma 0.3 --out {}",
+      vehicle_, size, path("id8/model.json"), path("hover/policy.json"), path("figure8-wind")));
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto windy = summary("figure8-wind");
+  EXPECT_NE(r.output.find("wind in the scenarios (options): steady [0, 1.5, 0] m/s NED"), std::string::npos)
+      << r.output;
+  EXPECT_EQ(windy.at("choices").at("wind").at("by"), "options");
+  EXPECT_EQ(windy.at("wind").at("steady_ned_mps"), nlohmann::json::array({0.0, 1.5, 0.0}));
+  EXPECT_EQ(windy.at("wind").at("gust_sigma_mps").get<double>(), 0.3);
+  EXPECT_NE(windy.at("initial_uhat").get<double>(), eight.at("initial_uhat").get<double>());
 }
 
 // `pegasus pipeline --vehicle`: the whole chain of the helicopter's demo for any vehicle with a ground truth,

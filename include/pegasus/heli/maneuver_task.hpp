@@ -123,7 +123,10 @@ struct ManeuverTrainingOptions {
   double start_pos_sigma = 0.5;  // start position perturbation per axis, m
   double start_vel_sigma = 0.2;  // start velocity perturbation per axis, m/s
   ManeuverReward reward{};
-  bool centre_at_trim = true;    // replace reward.centre by the trim estimate of the logs
+  bool centre_at_trim = true;  // replace reward.centre by the trim estimate of the logs
+  // Wind in the scenarios (sysid::Disturbance, as the hover's: a steady wind, its per-scenario spread and
+  // AR(1) gusts acting on the learned model through the airspeed); calm by default, as the thesis trains.
+  sysid::Disturbance disturbance{};
   bool shaping = true;           // potential-based shaping on progress (false: the ablation)
   double shaping_per_metre = 5;  // Phi per m of progress
   OptimizerOptions optimizer = default_optimizer();

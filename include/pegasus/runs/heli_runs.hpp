@@ -18,6 +18,7 @@
 #include <filesystem>
 #include <iosfwd>
 #include <memory>
+#include <nlohmann/json_fwd.hpp>
 #include <string>
 #include <vector>
 
@@ -122,6 +123,9 @@ struct HoverRunOptions {
 // progress.csv, policy.json, summary.json; checkpoints every optimizer iteration and resumes from the run
 // directory's checkpoint.
 void run_hover(const HoverRunOptions& options, RunSink& sink, ThreadPool& pool);
+// summary.json's "wind" of a training that flew in one (hover, manoeuvre): the steady wind, its spread,
+// gusts.
+nlohmann::json wind_summary(const sysid::Disturbance& d);
 
 struct FlyRunOptions {
   VehicleChoice aircraft{};
