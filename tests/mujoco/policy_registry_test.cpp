@@ -2,10 +2,9 @@
 // found by make_mujoco_policy, by policy.json's reader and writer, and by the `policy` option's choices and
 // help, with no other edit; unknown names are refused with the registered names listed.
 #ifdef PEGASUS_HAVE_MUJOCO
+#include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-
-#include <fmt/format.h>
 
 #include <algorithm>
 #include <array>
@@ -109,8 +108,8 @@ TEST(MujocoPolicyRegistry, ARegisteredClassIsMadeWrittenReadAndOfferedByTheOptio
   j["hidden"] = nlohmann::json::array();
   j["class"] = "nope";
   EXPECT_THAT([&] { parse_mujoco_policy_file(j, "p.json"); },
-              ThrowsMessage<InputError>(
-                  HasSubstr("p.json: class: expected \"linear\", \"mlp\" or \"softsign-linear\", got \"nope\"")));
+              ThrowsMessage<InputError>(HasSubstr(
+                  "p.json: class: expected \"linear\", \"mlp\" or \"softsign-linear\", got \"nope\"")));
   EXPECT_THAT([] { make_mujoco_policy("nope", 2, 1, {}); },
               ThrowsMessage<InputError>("policy: expected linear, mlp or softsign-linear, got \"nope\""));
 
