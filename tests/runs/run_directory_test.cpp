@@ -31,6 +31,15 @@ ConfigSchema schema(double gamma = 0.9, std::int64_t threads = 2) {
   return s;
 }
 
+// schema() with an input file `train` set to `log`, and a string that names no file.
+ConfigSchema schema_with_log(const fs::path& log) {
+  ConfigSchema s = schema();
+  s.add_string("train", "", "training log").input_file();
+  s.add_string("note", "", "not a file");
+  s.set("train", log.string());
+  return s;
+}
+
 TEST(RunDirectory, WritesIntoStagingAndCommitRenames) {
   const fs::path root = test_support::fresh_test_dir("pegasus_runs_");
   RunDirectory run = RunDirectory::open(root / "out", schema());
@@ -132,13 +141,7 @@ TEST(RunDirectory, ResumeRefusesAnInputFileWhoseContentsChanged) {
   const fs::path root = test_support::fresh_test_dir("pegasus_runs_");
   const fs::path log = root / "train.csv";
   write_file_atomic(log, "time,x\n0,1\n");
-  const auto with_log = [&] {
-    ConfigSchema s = schema();
-    s.add_string("train", "", "training log").input_file();
-    s.add_string("note", "", "not a file");
-    s.set("train", log.string());
-    return s;
-  };
+  const auto with_log = [&] { return schema_with_log(log); };
   { RunDirectory::open(root / "out", with_log()).save_checkpoint({{"next", 1}}); }
   EXPECT_TRUE(fs::exists(root / "out.partial" / "inputs.json"));
   write_file_atomic(log, "time,x\n0,2\n");
@@ -175,12 +178,7 @@ TEST(RunDirectory, InputsFileIsVersionedAndAnOldOneStillResumes) {
   const fs::path root = test_support::fresh_test_dir("pegasus_runs_");
   const fs::path log = root / "train.csv";
   write_file_atomic(log, "time,x\n0,1\n");
-  const auto with_log = [&] {
-    ConfigSchema s = schema();
-    s.add_string("train", "", "training log").input_file();
-    s.set("train", log.string());
-    return s;
-  };
+  const auto with_log = [&] { return schema_with_log(log); };
   { RunDirectory::open(root / "out", with_log()).save_checkpoint({{"next", 1}}); }
   const fs::path inputs = root / "out.partial" / "inputs.json";
   nlohmann::json current = read_json_file(inputs);
