@@ -8,6 +8,8 @@
 
 #include "c_policy_text.hpp"
 #include "pegasus/core/error.hpp"
+#include "pegasus/core/or_list.hpp"
+#include "pegasus/core/untrusted_text.hpp"
 #include "pegasus/envs/bicycle.hpp"
 #include "pegasus/envs/bicycle_policy.hpp"
 #include "pegasus/envs/pendulum_policy.hpp"
@@ -16,6 +18,7 @@
 #include "pegasus/heli/maneuver_file.hpp"
 #include "pegasus/heli/policy_file.hpp"
 #include "pegasus/io/json_input.hpp"
+#include "pegasus/mujoco/mujoco_policy.hpp"
 
 namespace pegasus::codegen {
 namespace {
@@ -267,9 +270,10 @@ bool CPolicyOptions::IsValid(std::string* error) const {
 
 namespace {
 
-// The classes export knows, each once: its name, the file it comes in (a helicopter policy file, whose
-// `class` names it, or a parameter policy file, whose `policy` does), and its C text. c_policy_class_names,
-// the dispatch below and its error message all read this table.
+// The classes export has C text for, each once: its name, the family of files it comes in and its C text.
+// A file's family is the file's own: a helicopter policy file says so by its "format", and its "class" is
+// a name of heli's registry (policy_class_names()); a parameter policy file names its class in "policy".
+// c_policy_class_names, the dispatch below and its error messages all read this table.
 struct ExportedClass {
   const char* name;
   bool helicopter_file;
@@ -293,27 +297,37 @@ std::string class_list(bool helicopter_file, bool quoted) {
   for (const ExportedClass& c : exported_classes())
     if (c.helicopter_file == helicopter_file)
       names.push_back(quoted ? fmt::format("\"{}\"", c.name) : c.name);
-  std::string list;
-  for (std::size_t i = 0; i < names.size(); ++i)
-    list += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i];
-  return list;
+  return or_list(names);
+}
+
+// The C text of a helicopter policy file, by its class in the table; a class that heli's registry knows
+// (it flies) but the table does not is told so.
+ClassText helicopter_class_text(const nlohmann::json& j, const std::string& source,
+                                std::string* trained_for) {
+  const heli::PolicyFile file = heli::parse_policy_file(j, source);
+  *trained_for = heli::trained_vehicle(file);
+  const auto& classes = exported_classes();
+  const auto it = std::find_if(classes.begin(), classes.end(), [&](const ExportedClass& c) {
+    return c.helicopter_file && file.class_name == c.name;
+  });
+  if (it != classes.end()) return it->from_helicopter_file(file, source);
+  const std::vector<std::string> flying = heli::policy_class_names();
+  const bool registered = std::find(flying.begin(), flying.end(), file.class_name) != flying.end();
+  throw InputError(fmt::format("{}: class: expected {} (the helicopter classes export knows{}), got \"{}\"",
+                               source, class_list(true, true),
+                               registered ? "; this registered class has no C text" : "",
+                               printable(file.class_name)));
 }
 
 // The C text of the policy file `j`, by its class in the table.
 ClassText class_text(const nlohmann::json& j, const std::string& source, std::string* trained_for) {
-  const auto& classes = exported_classes();
-  if (j.contains("format") && j.at("format") == heli::kPolicyFormat) {
-    const heli::PolicyFile file = heli::parse_policy_file(j, source);
-    *trained_for = heli::trained_vehicle(file);
-    const auto it = std::find_if(classes.begin(), classes.end(), [&](const ExportedClass& c) {
-      return c.helicopter_file && file.class_name == c.name;
-    });
-    if (it == classes.end())
-      throw InputError(fmt::format("{}: class: expected {} (the helicopter classes export knows), got \"{}\"",
-                                   source, class_list(true, true), file.class_name));
-    return it->from_helicopter_file(file, source);
-  }
+  if (j.contains("format") && j.at("format") == heli::kPolicyFormat)
+    return helicopter_class_text(j, source, trained_for);
+  if (j.contains("format") && j.at("format") == kMujocoPolicyFormat)
+    throw InputError(fmt::format("{}: format: a MuJoCo policy (\"{}\") has no C export; export knows {}",
+                                 source, kMujocoPolicyFormat, or_list(c_policy_class_names())));
   if (j.contains("policy")) {
+    const auto& classes = exported_classes();
     const auto it = std::find_if(classes.begin(), classes.end(), [&](const ExportedClass& c) {
       return !c.helicopter_file && j.at("policy") == c.name;
     });

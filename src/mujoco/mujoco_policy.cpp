@@ -5,8 +5,12 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
+#include <mutex>
+#include <optional>
+#include <stdexcept>
 
 #include "pegasus/core/error.hpp"
+#include "pegasus/core/or_list.hpp"
 #include "pegasus/core/untrusted_text.hpp"
 #include "pegasus/io/json_input.hpp"
 #include "pegasus/optimizers/run_progress.hpp"
@@ -174,16 +178,61 @@ class PhasedPolicy final : public MujocoPolicy {
   ParameterSpec spec_;
 };
 
+constexpr int kMaxHiddenLayers = 16;
+constexpr int kMaxWidth = 4096;
+
+// The classes every build knows, in the order that lists of them give.
+std::vector<MujocoPolicyClass> builtin_classes() {
+  return {
+      {.name = "linear",
+       .doc = "a = clip(W z + b, -1, 1) on the normalised observation z",
+       .hidden_layers = false,
+       .make = [](int d, int nu, const std::vector<int>&) { return std::make_unique<LinearPolicy>(d, nu); }},
+      {.name = "mlp",
+       .doc = "tanh layers of the `hidden` widths, then a tanh output layer",
+       .hidden_layers = true,
+       .make = [](int d, int nu, const std::vector<int>& hidden) {
+         return std::make_unique<TanhMlpPolicy>(d, nu, hidden);
+       }}};
+}
+
+struct ClassRegistry {
+  std::mutex mutex;
+  std::vector<MujocoPolicyClass> classes = builtin_classes();
+};
+ClassRegistry& class_registry() {
+  static ClassRegistry r;
+  return r;
+}
+
+std::optional<MujocoPolicyClass> find_policy_class(const std::string& name) {
+  ClassRegistry& r = class_registry();
+  const std::lock_guard lock(r.mutex);
+  const auto it = std::find_if(r.classes.begin(), r.classes.end(),
+                               [&](const MujocoPolicyClass& c) { return c.name == name; });
+  if (it == r.classes.end()) return std::nullopt;
+  return *it;
+}
+
 std::unique_ptr<MujocoPolicy> make_unphased_policy(const std::string& kind, int observation_dim,
                                                    int action_dim, const std::vector<int>& hidden) {
-  if (kind == "linear") return std::make_unique<LinearPolicy>(observation_dim, action_dim);
-  if (kind == "mlp") {
-    if (hidden.empty()) throw InputError("hidden: expected at least one hidden layer for policy = mlp");
+  const std::optional<MujocoPolicyClass> c = find_policy_class(kind);
+  if (!c)
+    throw InputError(fmt::format("policy: expected {}, got \"{}\"", or_list(mujoco_policy_class_names()),
+                                 printable(kind)));
+  if (c->hidden_layers) {
+    if (hidden.empty())
+      throw InputError(fmt::format("hidden: expected at least one hidden layer for policy = {}", kind));
     for (int w : hidden)
-      if (w < 1 || w > 4096) throw InputError(fmt::format("hidden: expected widths in [1, 4096], got {}", w));
-    return std::make_unique<TanhMlpPolicy>(observation_dim, action_dim, hidden);
+      if (w < 1 || w > kMaxWidth)
+        throw InputError(fmt::format("hidden: expected widths in [1, {}], got {}", kMaxWidth, w));
   }
-  throw InputError(fmt::format("policy: expected linear or mlp, got \"{}\"", kind));
+  std::unique_ptr<MujocoPolicy> policy =
+      c->make(observation_dim, action_dim, c->hidden_layers ? hidden : std::vector<int>{});
+  if (!policy || policy->describe().value("class", std::string()) != kind)
+    throw std::logic_error(
+        fmt::format("MuJoCo policy class {}: its factory's policy describes another class", printable(kind)));
+  return policy;
 }
 
 }  // namespace
@@ -206,15 +255,33 @@ std::unique_ptr<MujocoPolicy> make_mujoco_policy(const std::string& kind, int ob
                                         phase);
 }
 
-namespace {
+void register_mujoco_policy_class(MujocoPolicyClass policy_class) {
+  ClassRegistry& r = class_registry();
+  const std::lock_guard lock(r.mutex);
+  const auto it = std::find_if(r.classes.begin(), r.classes.end(),
+                               [&](const MujocoPolicyClass& c) { return c.name == policy_class.name; });
+  if (it != r.classes.end()) {
+    *it = std::move(policy_class);
+  } else {
+    r.classes.push_back(std::move(policy_class));
+  }
+}
 
-constexpr int kMaxHiddenLayers = 16;
+std::vector<MujocoPolicyClass> mujoco_policy_classes() {
+  ClassRegistry& r = class_registry();
+  const std::lock_guard lock(r.mutex);
+  return r.classes;
+}
 
-}  // namespace
+std::vector<std::string> mujoco_policy_class_names() {
+  std::vector<std::string> names;
+  for (const MujocoPolicyClass& c : mujoco_policy_classes()) names.push_back(c.name);
+  return names;
+}
 
 nlohmann::json mujoco_policy_file_json(const MujocoPolicyFile& f) {
-  nlohmann::json j = {{"format", "pegasus.mujoco.policy"},
-                      {"version", 1},
+  nlohmann::json j = {{"format", kMujocoPolicyFormat},
+                      {"version", kMujocoPolicyVersion},
                       {"model", f.model},
                       {"task", f.task},
                       {"class", f.policy_class},
@@ -231,8 +298,45 @@ nlohmann::json mujoco_policy_file_json(const MujocoPolicyFile& f) {
   return j;
 }
 
+namespace {
+
+// The registered class that a policy file's "class" names.
+MujocoPolicyClass class_of_file(const nlohmann::json& name, const std::string& file) {
+  std::optional<MujocoPolicyClass> found;
+  if (name.is_string()) found = find_policy_class(name.get<std::string>());
+  if (!found) {
+    std::vector<std::string> quoted;
+    for (const std::string& n : mujoco_policy_class_names()) quoted.push_back(fmt::format("\"{}\"", n));
+    json_field_error(file, "class", or_list(quoted), name);
+  }
+  return *found;
+}
+
+// A policy file's "hidden": 1 to kMaxHiddenLayers widths for a class with hidden layers, else [].
+std::vector<int> hidden_of_file(const nlohmann::json& hidden, const MujocoPolicyClass& policy_class,
+                                const std::string& file) {
+  const bool layers = policy_class.hidden_layers;
+  if (!hidden.is_array() || hidden.size() > static_cast<std::size_t>(layers ? kMaxHiddenLayers : 0) ||
+      (layers && hidden.empty()))
+    json_field_error(file, "hidden",
+                     layers ? fmt::format("an array of 1 to {} layer widths", kMaxHiddenLayers)
+                            : fmt::format("[] (a {} policy has no hidden layer)", policy_class.name),
+                     hidden);
+  std::vector<int> widths;
+  for (std::size_t i = 0; i < hidden.size(); ++i) {
+    const nlohmann::json& w = hidden[i];
+    if (!w.is_number_integer() || w.get<std::int64_t>() < 1 || w.get<std::int64_t>() > kMaxWidth)
+      json_field_error(file, fmt::format("hidden[{}]", i), fmt::format("a width in [1, {}]", kMaxWidth), w);
+    widths.push_back(w.get<int>());
+  }
+  return widths;
+}
+
+}  // namespace
+
 MujocoPolicyFile parse_mujoco_policy_file(const nlohmann::json& j, const std::string& file) {
-  json_format_header(j, file, "pegasus.mujoco.policy", 1, "policy.json of `pegasus mujoco train`");
+  json_format_header(j, file, kMujocoPolicyFormat, kMujocoPolicyVersion,
+                     "policy.json of `pegasus mujoco train`");
   MujocoPolicyFile f;
   f.model = json_nonempty_string(json_member(j, "model", file, "model"), file, "model");
   f.task = json_nonempty_string(json_member(j, "task", file, "task"), file, "task");
@@ -240,24 +344,9 @@ MujocoPolicyFile parse_mujoco_policy_file(const nlohmann::json& j, const std::st
                                     {"task_digest", &f.task_digest},
                                     {"task_content_digest", &f.task_content_digest}})
     if (j.contains(key)) *digest = json_nonempty_string(j.at(key), file, key);
-  const nlohmann::json& policy_class = json_member(j, "class", file, "class");
-  if (policy_class != "linear" && policy_class != "mlp")
-    json_field_error(file, "class", "\"linear\" or \"mlp\"", policy_class);
-  f.policy_class = policy_class.get<std::string>();
-  const nlohmann::json& hidden = json_member(j, "hidden", file, "hidden");
-  const bool mlp = f.policy_class == "mlp";
-  if (!hidden.is_array() || hidden.size() > static_cast<std::size_t>(mlp ? kMaxHiddenLayers : 0) ||
-      (mlp && hidden.empty()))
-    json_field_error(file, "hidden",
-                     mlp ? fmt::format("an array of 1 to {} layer widths", kMaxHiddenLayers)
-                         : std::string("[] (a linear policy has no hidden layer)"),
-                     hidden);
-  for (std::size_t i = 0; i < hidden.size(); ++i) {
-    const nlohmann::json& w = hidden[i];
-    if (!w.is_number_integer() || w.get<std::int64_t>() < 1 || w.get<std::int64_t>() > 4096)
-      json_field_error(file, fmt::format("hidden[{}]", i), "a width in [1, 4096]", w);
-    f.hidden.push_back(w.get<int>());
-  }
+  const MujocoPolicyClass policy_class = class_of_file(json_member(j, "class", file, "class"), file);
+  f.policy_class = policy_class.name;
+  f.hidden = hidden_of_file(json_member(j, "hidden", file, "hidden"), policy_class, file);
   // "phase" came with phased policies: a file without it (or with null) holds an unphased one.
   if (const auto phase = j.find("phase"); phase != j.end() && !phase->is_null()) {
     if (!phase->is_object())

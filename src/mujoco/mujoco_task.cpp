@@ -241,11 +241,18 @@ namespace {
 
 // The file's top-level numbers: the rollout's horizon, discount and frame skip, and the returns' penalties
 // and bonuses.
+// The task file's optional header: a file without one (every file before it) is of version 1.
+constexpr const char* kTaskFormat = "pegasus.mujoco.task";
+constexpr int kTaskVersion = 1;
+
 void read_top_level(const TaskReader& r, const toml::table& root, MujocoTask& task) {
   r.check_keys(root, "",
-               {"horizon", "discount", "frame_skip", "crash_penalty", "termination_penalty", "success_bonus",
-                "success_return", "initial", "noise", "observation", "reward", "termination", "success"});
+               {"format", "version", "horizon", "discount", "frame_skip", "crash_penalty",
+                "termination_penalty", "success_bonus", "success_return", "initial", "noise", "observation",
+                "reward", "termination", "success"});
   const toml::node_view<const toml::node> top{root};
+  r.fields().choice(top["format"].node(), "format", kTaskFormat, {kTaskFormat});
+  r.integer(top["version"], "version", kTaskVersion, kTaskVersion, kTaskVersion);
   task.horizon = r.integer(top["horizon"], "horizon", 1000, 1, 1'000'000);
   task.discount = r.number(top["discount"], "discount", 1.0, 0.0, 1.0);
   task.frame_skip = r.integer(top["frame_skip"], "frame_skip", 1, 1, 1000);

@@ -5,6 +5,7 @@
 #include "pegasus/core/error.hpp"
 #include "pegasus/core/untrusted_text.hpp"
 #include "pegasus/io/csv_table.hpp"
+#include "pegasus/io/json_input.hpp"
 #include "pegasus/runs/charts.hpp"
 #include "report_page.hpp"
 
@@ -156,6 +157,10 @@ json mujoco_replay_spec(const Chart& c, const fs::path& dir, const ReportOptions
   if (!replay.is_object() || replay.value("format", "") != "pegasus.mujoco.replay")
     throw InputError(
         fmt::format("{}: expected a MuJoCo replay (format pegasus.mujoco.replay)", file.string()));
+  // Written with version 1 since replays began (runs/mujoco_runs.cpp): another is a layout this build cannot
+  // pose.
+  if (const json& version = replay.value("version", json()); version != 1)
+    json_field_error(file.string(), "version", "1 (the replay layout this build reads)", version);
   // The viewer poses geom g of frame k from frames[k][7g .. 7g + 6] (position, quaternion) at time t[k]: a
   // frame of another size would pose the wrong geoms, or read past its end.
   const auto field_error = [&](const std::string& field, const std::string& expected) {

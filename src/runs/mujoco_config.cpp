@@ -2,12 +2,27 @@
 #include "pegasus/runs/mujoco_config.hpp"
 
 #ifdef PEGASUS_HAVE_MUJOCO
+#include <fmt/format.h>
+
+#include <string>
 #include <vector>
 
+#include "pegasus/mujoco/mujoco_policy.hpp"
 #include "pegasus/mujoco/mujoco_task.hpp"
 #include "pegasus/runs/optimizer_config.hpp"
 
 namespace pegasus {
+namespace {
+
+// "policy class (linear: ...; mlp: ...)", from the registry as it is when the command is declared.
+std::string policy_class_help() {
+  std::string classes;
+  for (const MujocoPolicyClass& c : mujoco_policy_classes())
+    classes += fmt::format("{}{}: {}", classes.empty() ? "" : "; ", c.name, c.doc);
+  return fmt::format("policy class ({})", classes);
+}
+
+}  // namespace
 
 void declare_mujoco_train_config(ConfigSchema& s) {
   const MujocoTrainingRunOptions d;
@@ -16,7 +31,7 @@ void declare_mujoco_train_config(ConfigSchema& s) {
   });
   s.add_string("task", "", "task file (TOML) naming the model's joints, bodies, sites, sensors, actuators")
       .input_file();
-  s.add_string("policy", d.policy_class, "policy class").choices({"linear", "mlp"});
+  s.add_string("policy", d.policy_class, policy_class_help()).choices(mujoco_policy_class_names());
   s.add_int_list("hidden", std::vector<std::int64_t>(d.hidden.begin(), d.hidden.end()),
                  "hidden layer widths of the mlp policy")
       .min(1)

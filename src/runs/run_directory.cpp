@@ -19,6 +19,7 @@
 #include "pegasus/core/untrusted_text.hpp"
 #include "pegasus/io/atomic_file.hpp"
 #include "pegasus/io/json_csv.hpp"
+#include "pegasus/io/json_input.hpp"
 #include "pegasus/io/sha256.hpp"
 #include "pegasus/parallel/mpi.hpp"
 
@@ -32,6 +33,10 @@ constexpr const char* kConfigFile = "config.toml";
 constexpr const char* kCheckpointFile = "checkpoint.json";
 constexpr const char* kChartsFile = "charts.json";
 constexpr const char* kInputsFile = "inputs.json";
+// inputs.json: {"format", "version", "files": {FIELD: {"file", "sha256"[, "of"]}}}. Version 0 (before the
+// file carried its format) is the object of files alone, and still resumes.
+constexpr const char* kInputsFormat = "pegasus.run.inputs";
+constexpr int kInputsVersion = 1;
 
 bool exists_no_follow(const fs::path& p) {
   std::error_code ec;
@@ -85,6 +90,15 @@ nlohmann::json input_digests(const ConfigSchema& config) {
 // What --resume continues was computed from the input files as they were: refuse when one changed since,
 // and when the interrupted run left no record of them (a kill before inputs.json was written, or a
 // DIR.partial made by hand), since nothing then shows the inputs are the same.
+// The files an inputs.json records: its "files", or (version 0) the object itself.
+const nlohmann::json& recorded_inputs(const nlohmann::json& stored, const fs::path& file) {
+  if (!stored.contains("format") && !stored.contains("version")) return stored;
+  json_format_header(stored, file.string(), kInputsFormat, kInputsVersion, "inputs.json of a run directory");
+  const nlohmann::json& files = json_member(stored, "files", file.string(), "files");
+  if (!files.is_object()) json_field_error(file.string(), "files", "an object", files);
+  return files;
+}
+
 void check_inputs_unchanged(const fs::path& stored_file, const ConfigSchema& config) {
   if (!exists_no_follow(stored_file)) {
     const nlohmann::json now = input_digests(config);
@@ -106,7 +120,7 @@ void check_inputs_unchanged(const fs::path& stored_file, const ConfigSchema& con
     throw InputError(
         fmt::format("--resume: {}: expected the object this program writes", stored_file.string()));
   const nlohmann::json now = input_digests(config);
-  for (const auto& [field, recorded] : stored.items()) {
+  for (const auto& [field, recorded] : recorded_inputs(stored, stored_file).items()) {
     if (now.contains(field) && now[field] == recorded) continue;
     if (!recorded.is_object())
       throw InputError(fmt::format("--resume: {}: {}: expected the object this program writes",
@@ -375,7 +389,8 @@ RunDirectory RunDirectory::open_here(const fs::path& dir, const ConfigSchema& co
     // (--resume refuses one without it).
     if (run.created_)
       if (const nlohmann::json digests = input_digests(config); !digests.empty())
-        run.write_json(kInputsFile, digests);
+        run.write_json(kInputsFile,
+                       {{"format", kInputsFormat}, {"version", kInputsVersion}, {"files", digests}});
     run.write_text(kConfigFile, config.to_toml());
   } catch (...) {
     // A fresh DIR.partial without its config.toml (a full disk) is no interrupted run: remove it.

@@ -26,6 +26,7 @@
 #include "pegasus/heli/flights.hpp"
 #include "pegasus/heli/maneuver_file.hpp"
 #include "pegasus/heli/policy_file.hpp"
+#include "pegasus/mujoco/mujoco_policy.hpp"
 #include "pegasus/policies/policy_json.hpp"
 #include "support/cli_runner.hpp"
 #include "support/input_error.hpp"
@@ -50,6 +51,18 @@ TEST_F(CPolicyExport, BadPolicyFilesAreOneLineNamingTheFieldOrByte) {
   EXPECT_EQ(input_error_message([&] { export_c_policy(unknown, "p.json"); }),
             "p.json: class: expected \"hover\" or \"maneuver\" (the helicopter classes export knows), got "
             "\"spline\"");
+  // A class of heli's registry (it flies) without C text is told so; a MuJoCo policy.json names what exports.
+  heli::register_policy_class("glide", heli::make_hover_controller);
+  unknown["class"] = "glide";
+  EXPECT_EQ(input_error_message([&] { export_c_policy(unknown, "p.json"); }),
+            "p.json: class: expected \"hover\" or \"maneuver\" (the helicopter classes export knows; this "
+            "registered class has no C text), got \"glide\"");
+  EXPECT_EQ(input_error_message([] {
+              export_c_policy({{"format", kMujocoPolicyFormat}, {"version", 1}, {"class", "linear"}},
+                              "policy.json");
+            }),
+            "policy.json: format: a MuJoCo policy (\"pegasus.mujoco.policy\") has no C export; export knows "
+            "hover, maneuver, bicycle-sigmoid-15 or pendulum-swing-up");
   nlohmann::json short_file = heli::policy_file_json(hover_file(1, 0, {0, 0, -10, 0}));
   short_file["parameters"].erase(33);
   EXPECT_EQ(input_error_message([&] { export_c_policy(short_file, "p.json"); }),
@@ -211,10 +224,13 @@ TEST_F(CPolicyExport, CommandRejectsBadInputWithOneLineExit2AndNoOutputDirectory
   std::ofstream(dir_ / "malformed.json") << "{\"format\": \"pegasus-heli-policy\",";
   std::ofstream(dir_ / "unknown.json") << R"({"policy": "cart-pole-pid", "parameters": {}})";
   std::ofstream(dir_ / "overflow.json") << R"({"policy": "pendulum", "parameters": {"k": 1e999}})";
+  std::ofstream(dir_ / "mujoco.json")
+      << R"({"format": "pegasus.mujoco.policy", "version": 1, "class": "mlp"})";
   const std::pair<std::string, std::string> cases[] = {
       {"malformed.json", "malformed.json: byte 34: expected a JSON policy file"},
       {"overflow.json", "overflow.json: expected numbers within the range of a double"},
       {"unknown.json", "unknown.json: policy: expected a policy file of class hover"},
+      {"mujoco.json", "mujoco.json: format: a MuJoCo policy (\"pegasus.mujoco.policy\") has no C export"},
   };
   for (const auto& [file, message] : cases) {
     const auto out = dir_ / ("out-" + file);

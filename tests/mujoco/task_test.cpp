@@ -155,6 +155,23 @@ TEST_F(MujocoTaskFile, WrongFieldsTermsRangesAndSyntaxAreNamed) {
       HasSubstr("termination[0].max: expected max > min"));
 }
 
+// A task file may say its format and version; every file from before (neither) is version 1, and another
+// version or format is one line naming the file, the line and the field.
+TEST_F(MujocoTaskFile, TheFormatAndVersionAreOptionalAndAnotherVersionIsRefused) {
+  const auto with_header = test_support::write_file(
+      dir_ / "with.toml", "format = \"pegasus.mujoco.task\"\nversion = 1\nhorizon = 7\n" + minimal(""));
+  const auto without = test_support::write_file(dir_ / "without.toml", "horizon = 7\n" + minimal(""));
+  EXPECT_EQ(load_mujoco_task(with_header, *model_).horizon, 7);
+  EXPECT_EQ(load_mujoco_task(without, *model_).horizon, 7);
+  EXPECT_EQ(load_mujoco_task(with_header, *model_).observation_dim(),
+            load_mujoco_task(without, *model_).observation_dim());
+  EXPECT_THAT(task_error("version = 2\n" + minimal("")),
+              AllOf(HasSubstr("task.toml:1: version: expected an integer in [1, 1], got 2"),
+                    ::testing::Not(HasSubstr("\n"))));
+  EXPECT_THAT(task_error("format = \"pegasus.heli.task\"\n" + minimal("")),
+              HasSubstr("task.toml:1: format: expected 'pegasus.mujoco.task', got"));
+}
+
 TEST_F(MujocoTaskFile, SuccessRangesAreCheckedLikeTerminationRanges) {
   EXPECT_THAT(task_error(minimal("[success]\nhold_steps = 10\n")), HasSubstr("success.range: missing"));
   EXPECT_THAT(task_error("horizon = 50\n" + minimal("[success]\nhold_steps = 51\n[[success.range]]\n"

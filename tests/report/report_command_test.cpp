@@ -86,6 +86,12 @@ TEST_F(Report, BadRunDirectoriesAreInputErrorsNamingTheFile) {
   replay["t"] = {0.0, 0.01};
   write(run_ / "replay.json", replay.dump());
   EXPECT_EQ(input_error_message([&] { report_data(run_); }), "(no error)");
+  // A replay of a version this build does not know: one line naming the file and the field.
+  replay["version"] = 2;
+  write(run_ / "replay.json", replay.dump());
+  EXPECT_EQ(
+      input_error_message([&] { report_data(run_); }),
+      (run_ / "replay.json").string() + ": version: expected 1 (the replay layout this build reads), got 2");
   fs::remove(run_ / "replay.json");
   // charts.json itself: the field is named.
   write(

@@ -31,6 +31,15 @@ ConfigSchema schema(double gamma = 0.9, std::int64_t threads = 2) {
   return s;
 }
 
+// schema() with an input file `train` set to `log`, and a string that names no file.
+ConfigSchema schema_with_log(const fs::path& log) {
+  ConfigSchema s = schema();
+  s.add_string("train", "", "training log").input_file();
+  s.add_string("note", "", "not a file");
+  s.set("train", log.string());
+  return s;
+}
+
 TEST(RunDirectory, WritesIntoStagingAndCommitRenames) {
   const fs::path root = test_support::fresh_test_dir("pegasus_runs_");
   RunDirectory run = RunDirectory::open(root / "out", schema());
@@ -132,13 +141,7 @@ TEST(RunDirectory, ResumeRefusesAnInputFileWhoseContentsChanged) {
   const fs::path root = test_support::fresh_test_dir("pegasus_runs_");
   const fs::path log = root / "train.csv";
   write_file_atomic(log, "time,x\n0,1\n");
-  const auto with_log = [&] {
-    ConfigSchema s = schema();
-    s.add_string("train", "", "training log").input_file();
-    s.add_string("note", "", "not a file");
-    s.set("train", log.string());
-    return s;
-  };
+  const auto with_log = [&] { return schema_with_log(log); };
   { RunDirectory::open(root / "out", with_log()).save_checkpoint({{"next", 1}}); }
   EXPECT_TRUE(fs::exists(root / "out.partial" / "inputs.json"));
   write_file_atomic(log, "time,x\n0,2\n");
@@ -169,6 +172,33 @@ TEST(RunDirectory, ResumeRefusesAnInputFileWhoseContentsChanged) {
   EXPECT_FALSE(fs::exists(root / "plain.partial" / "inputs.json"));
 }
 
+// inputs.json carries its format and version; one written before (the object of files alone, version 0)
+// still resumes and still catches a changed file, and a version this build does not know is one line.
+TEST(RunDirectory, InputsFileIsVersionedAndAnOldOneStillResumes) {
+  const fs::path root = test_support::fresh_test_dir("pegasus_runs_");
+  const fs::path log = root / "train.csv";
+  write_file_atomic(log, "time,x\n0,1\n");
+  const auto with_log = [&] { return schema_with_log(log); };
+  { RunDirectory::open(root / "out", with_log()).save_checkpoint({{"next", 1}}); }
+  const fs::path inputs = root / "out.partial" / "inputs.json";
+  nlohmann::json current = read_json_file(inputs);
+  EXPECT_EQ(current.at("format"), "pegasus.run.inputs");
+  EXPECT_EQ(current.at("version"), 1);
+  write_file_atomic(inputs, current.at("files").dump());  // as version 0 wrote it
+  EXPECT_TRUE(RunDirectory::open(root / "out", with_log(), {.resume = true}).resumed());
+  write_file_atomic(log, "time,x\n0,2\n");
+  EXPECT_NE(input_error_message([&] {
+              RunDirectory::open(root / "out", with_log(), {.resume = true});
+            }).find("(--train) changed since the interrupted run began"),
+            std::string::npos);
+  write_file_atomic(log, "time,x\n0,1\n");
+  current["version"] = 2;
+  write_file_atomic(inputs, current.dump());
+  EXPECT_EQ(input_error_message([&] { RunDirectory::open(root / "out", with_log(), {.resume = true}); }),
+            inputs.string() + ": version: expected 1, got 2");
+  EXPECT_FALSE(fs::exists(root / "plain.partial" / "inputs.json"));
+}
+
 // Each file of a list of input files (heli identify --noise-check-logs) is recorded and checked alike.
 TEST(RunDirectory, ResumeRefusesAChangedFileOfAListOfInputFiles) {
   const fs::path root = test_support::fresh_test_dir("pegasus_runs_");
@@ -183,8 +213,8 @@ TEST(RunDirectory, ResumeRefusesAChangedFileOfAListOfInputFiles) {
   };
   { RunDirectory::open(root / "out", with_logs()).save_checkpoint({{"next", 1}}); }
   const auto recorded = read_json_file(root / "out.partial" / "inputs.json");
-  EXPECT_EQ(recorded.at("logs[1]").at("file"), second.string());
-  EXPECT_EQ(recorded.at("logs[1]").at("sha256"), file_sha256(second));
+  EXPECT_EQ(recorded.at("files").at("logs[1]").at("file"), second.string());
+  EXPECT_EQ(recorded.at("files").at("logs[1]").at("sha256"), file_sha256(second));
   write_file_atomic(second, "time,x\n0,3\n");
   EXPECT_EQ(input_error_message([&] { RunDirectory::open(root / "out", with_logs(), {.resume = true}); }),
             "--resume: " + second.string() +

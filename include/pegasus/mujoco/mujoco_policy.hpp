@@ -17,6 +17,7 @@
 // as the project's PolicyFor concept does for small fixed-size actions.
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <span>
@@ -65,9 +66,30 @@ class MujocoPolicy {
   virtual void act(std::span<const double> theta, std::span<const double> observation,
                    std::span<const double> z, std::span<double> action, std::span<double> scratch) const = 0;
   virtual int scratch_size() const { return 0; }
-  // {"class": "linear" | "mlp", "hidden": [...]}, and "phase" ({"observation", "above"}) when phased
+  // {"class": its registered name, "hidden": [...]}, and "phase" ({"observation", "above"}) when phased
   virtual nlohmann::json describe() const = 0;
 };
+
+// A policy class, registered once by name: the name that the `policy` option (TOML key and --policy) and
+// policy.json's "class" give, a one-line doc for the option's help, whether it takes hidden layers, and its
+// factory. make_mujoco_policy, parse_mujoco_policy_file and the option's choices all read the registry.
+// A class with hidden_layers takes `hidden` (1 to 16 layers of 1 to 4096 units) and its policy.json lists
+// them; any other class is built without them (the option's widths are ignored) and its file says [].
+// make's policy must describe() itself with "class": name.
+struct MujocoPolicyClass {
+  using Factory = std::function<std::unique_ptr<MujocoPolicy>(int observation_dim, int action_dim,
+                                                              const std::vector<int>& hidden)>;
+  std::string name;
+  std::string doc;
+  bool hidden_layers = false;
+  Factory make;
+};
+// Adds a class after those registered, or replaces the one of its name in its place. Thread-safe; call
+// before the class is named (a CLI option's choices are read when its command is declared).
+void register_mujoco_policy_class(MujocoPolicyClass policy_class);
+// The registered classes in registration order: the built-ins first ("linear", then "mlp").
+std::vector<MujocoPolicyClass> mujoco_policy_classes();
+std::vector<std::string> mujoco_policy_class_names();
 
 // The switch of a phased policy: the "above" half acts while observation[position] > above, the "below" half
 // otherwise. `observation` names the number as observation_position (mujoco_task.hpp) reads it; an empty
@@ -88,7 +110,7 @@ struct PolicyPhase {
 // it.
 nlohmann::json policy_phase_json(const PolicyPhase& phase);
 
-// kind "linear" or "mlp" (hidden: layer widths, >= 1 layer of >= 1 unit), phased when phase.phased() (its
+// kind: a registered class (hidden: its layer widths when it takes them), phased when phase.phased() (its
 // position resolved, below observation_dim). InputError naming `policy`, `hidden` or `phase_observation`
 // otherwise.
 std::unique_ptr<MujocoPolicy> make_mujoco_policy(const std::string& kind, int observation_dim, int action_dim,
@@ -96,10 +118,13 @@ std::unique_ptr<MujocoPolicy> make_mujoco_policy(const std::string& kind, int ob
                                                  const PolicyPhase& phase = {});
 
 // policy.json, as `pegasus mujoco train` writes it and `pegasus mujoco rollout` reads it:
-//   {"format": "pegasus.mujoco.policy", "version": 1, "model": PATH, "task": PATH, "class": "linear" | "mlp",
+//   {"format": "pegasus.mujoco.policy", "version": 1, "model": PATH, "task": PATH, "class": CLASS,
 //    "hidden": [WIDTH, ...], "theta": [...], "normalizer": {"mean": [...], "inverse_std": [...], "clip": C}}
 // and, for a phased policy, "phase": {"observation": "KIND.NAME", "above": X} (theta: the below half, then
 // the above half).
+// CLASS is a registered class's name, and "hidden" is [] for a class without hidden layers.
+inline constexpr const char* kMujocoPolicyFormat = "pegasus.mujoco.policy";
+inline constexpr int kMujocoPolicyVersion = 1;
 struct MujocoPolicyFile {
   std::string model, task;  // the MJCF and the task file it was trained on (absolute paths when written)
   // What they were then (MujocoModel::digest(), the task file's SHA-256): a rollout says when either changed.

@@ -23,7 +23,7 @@ OptimizerOptions mujoco_default_optimizer();
 struct MujocoTrainingRunOptions {
   std::string model_file;               // MJCF
   std::string task_file;                // TOML naming the model's parts
-  std::string policy_class = "linear";  // "linear" | "mlp"
+  std::string policy_class = "linear";  // a registered class (mujoco_policy_class_names())
   std::vector<int> hidden = {16};       // the mlp's hidden widths
   std::string phase_observation;        // phased policy switched by this observation number ("" none)
   double phase_above = 0.0;             // the "above" half acts while that number exceeds this
