@@ -8,7 +8,6 @@
 #include <numbers>
 #include <stdexcept>
 
-#include "pegasus/random/normal_quantile.hpp"
 #include "simulation.hpp"
 
 namespace pegasus::heli {
@@ -177,14 +176,7 @@ Quadrotor::State Quadrotor::initial_state(std::span<const double> p0) const {
   State s;
   s.attitude = {0.0, 0.0, wrap_angle(P.start_yaw)};
   s.rotor_speed.fill(hover_rotor_speed());
-  const auto n = [&](int i) { return normal_quantile(p0[static_cast<std::size_t>(i)]); };
-  Vec3 v_W;
-  for (int i = 0; i < 3; ++i) {
-    s.p_W[i] = P.start_p_W[i] + P.start_pos_sigma * n(i);
-    v_W[i] = P.start_vel_sigma * n(3 + i);
-  }
-  s.v_B = body_from_world(s.attitude, v_W);
-  disturbances_.start(p0.subspan(6), s.gust_W, s.estimate_error);
+  draw_start(P, disturbances_, p0, s);
   return s;
 }
 
