@@ -40,8 +40,9 @@ inline LoggedState with_estimate_error(LoggedState truth, const LoggedState& err
 // The start every aircraft draws from p0 (its initial_noise_dim() uniforms), on a state whose attitude is
 // set: the position start_p_W perturbed by start_pos_sigma (uniforms 0-2), the velocity by start_vel_sigma in
 // W (3-5), then the stationary gusts and estimate errors (6 on: Disturbances::start).
-template <class Params, class State>
-void draw_start(const Params& P, const Disturbances& disturbances, std::span<const double> p0, State& s) {
+template <class State>
+void draw_start(const FlightConditions& P, const Disturbances& disturbances, std::span<const double> p0,
+                State& s) {
   const auto n = [&](int i) { return normal_quantile(p0[static_cast<std::size_t>(i)]); };
   Vec3 v_W;
   for (int i = 0; i < 3; ++i) {

@@ -24,11 +24,12 @@ PilotOptions crazyflie_pilot() {
 
 // The ground truths every build knows. A new aircraft adds its line here (its model lives in its own files).
 std::vector<GroundTruthEntry> builtin_ground_truths() {
-  return {
-      {"xcell", "the X-Cell 60 helicopter (heli/aircraft.hpp)",
-       ground_truth_factory<Aircraft>(AircraftParams{}), AircraftParams{}.gust_sigma, PilotOptions{}},
-      {"crazyflie2", "the Crazyflie 2.0 quadrotor in angle mode (heli/quadrotor.hpp)",
-       ground_truth_factory<Quadrotor>(QuadrotorParams{}), QuadrotorParams{}.gust_sigma, crazyflie_pilot()}};
+  return {{"xcell", "the X-Cell 60 helicopter (heli/aircraft.hpp)",
+           ground_truth_factory<Aircraft>(AircraftParams{}), AircraftParams{}.conditions.gust_sigma,
+           PilotOptions{}},
+          {"crazyflie2", "the Crazyflie 2.0 quadrotor in angle mode (heli/quadrotor.hpp)",
+           ground_truth_factory<Quadrotor>(QuadrotorParams{}), QuadrotorParams{}.conditions.gust_sigma,
+           crazyflie_pilot()}};
 }
 
 struct GroundTruthRegistry {
@@ -49,6 +50,18 @@ GroundTruthEntry entry_of(const std::string& simulator) {
 }
 
 }  // namespace
+
+void apply_settings(const GroundTruthSettings& s, FlightConditions& c) {
+  if (s.gust_sigma >= 0) c.gust_sigma = s.gust_sigma;
+  if (!s.estimate_noise) c.est_sigma_pos = c.est_sigma_vel = c.est_sigma_angle = c.est_sigma_rate = 0;
+  if (s.set_start) {
+    c.start_p_W = s.start_p_W;
+    c.start_yaw = s.start_yaw;
+  }
+  c.start_pos_sigma = s.start_pos_sigma;
+  c.start_vel_sigma = s.start_vel_sigma;
+  c.mean_wind_W += s.mean_wind_W;
+}
 
 void register_ground_truth(GroundTruthEntry entry) {
   if (entry.name.empty() || entry.name == "none")

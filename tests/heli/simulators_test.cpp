@@ -23,14 +23,14 @@ using namespace pegasus::heli;
 QuadrotorParams heavy_params() {
   QuadrotorParams p;
   p.mass_kg = 0.034;
-  p.gust_sigma = 0.3;
+  p.conditions.gust_sigma = 0.3;
   return p;
 }
 
 void register_heavy() {
   register_ground_truth({"heavy-crazyflie", "a Crazyflie 2.0 with a 6 g payload (test)",
-                         ground_truth_factory<Quadrotor>(heavy_params()), heavy_params().gust_sigma,
-                         pilot_options_for("crazyflie2")});
+                         ground_truth_factory<Quadrotor>(heavy_params()),
+                         heavy_params().conditions.gust_sigma, pilot_options_for("crazyflie2")});
 }
 
 // n uniforms in (0, 1), a fixed pattern away from the median (so that every draw moves something).
@@ -112,17 +112,17 @@ TEST(GroundTruthRegistry, TheBuiltInsAreTheirModelsBuiltByHand) {
   settings.start_pos_sigma = 0.2;
   settings.mean_wind_W = Vec3(1, 0, 0);
   AircraftParams a;
-  a.gust_sigma = 0.7;
-  a.start_pos_sigma = 0.2;
-  a.mean_wind_W = Vec3(1, 0, 0);
+  a.conditions.gust_sigma = 0.7;
+  a.conditions.start_pos_sigma = 0.2;
+  a.conditions.mean_wind_W = Vec3(1, 0, 0);
   QuadrotorParams q;
-  q.gust_sigma = 0.7;
-  q.start_pos_sigma = 0.2;
-  q.mean_wind_W = Vec3(1, 0, 0);
+  q.conditions.gust_sigma = 0.7;
+  q.conditions.start_pos_sigma = 0.2;
+  q.conditions.mean_wind_W = Vec3(1, 0, 0);
   EXPECT_EQ(hover_flight(*make_ground_truth("xcell", settings), 1), hover_flight(Aircraft(a), 1));
   EXPECT_EQ(hover_flight(*make_ground_truth("crazyflie2", settings), 1), hover_flight(Quadrotor(q), 1));
-  EXPECT_EQ(own_gust_sigma("xcell"), AircraftParams{}.gust_sigma);
-  EXPECT_EQ(own_gust_sigma("crazyflie2"), QuadrotorParams{}.gust_sigma);
+  EXPECT_EQ(own_gust_sigma("xcell"), AircraftParams{}.conditions.gust_sigma);
+  EXPECT_EQ(own_gust_sigma("crazyflie2"), QuadrotorParams{}.conditions.gust_sigma);
   EXPECT_EQ(pilot_options_for("xcell").k_att, PilotOptions{}.k_att);
   EXPECT_EQ(pilot_options_for("crazyflie2").k_att, 0);
   // Settings the aircraft rejects: one message naming the aircraft.

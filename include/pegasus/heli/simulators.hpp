@@ -26,19 +26,8 @@ struct GroundTruthSettings {
   Vec3 mean_wind_W = Vec3::Zero();                  // steady wind added to the aircraft's own, m/s in W
 };
 
-// The settings applied to an aircraft's params (the same field names in every built-in aircraft's).
-template <class Params>
-void apply_settings(const GroundTruthSettings& s, Params& p) {
-  if (s.gust_sigma >= 0) p.gust_sigma = s.gust_sigma;
-  if (!s.estimate_noise) p.est_sigma_pos = p.est_sigma_vel = p.est_sigma_angle = p.est_sigma_rate = 0;
-  if (s.set_start) {
-    p.start_p_W = s.start_p_W;
-    p.start_yaw = s.start_yaw;
-  }
-  p.start_pos_sigma = s.start_pos_sigma;
-  p.start_vel_sigma = s.start_vel_sigma;
-  p.mean_wind_W += s.mean_wind_W;
-}
+// The settings applied to an aircraft's flight conditions (its start and disturbances).
+void apply_settings(const GroundTruthSettings& settings, FlightConditions& conditions);
 
 // The ground truth with the settings; throws std::invalid_argument for settings the aircraft rejects.
 using GroundTruthFactory = std::function<std::unique_ptr<GroundTruth>(const GroundTruthSettings&)>;
@@ -52,13 +41,13 @@ struct GroundTruthEntry {
   PilotOptions pilot;         // the scripted pilot's options for it
 };
 
-// The factory of Model built from `params` (an aircraft's params struct, with IsValid): the settings applied
-// to a copy, which must then be valid.
+// The factory of Model built from `params` (an aircraft's params struct: IsValid and a FlightConditions
+// member `conditions`): the settings applied to a copy's conditions, which must then be valid.
 template <class Model, class Params>
 GroundTruthFactory ground_truth_factory(Params params) {
   return [params](const GroundTruthSettings& settings) -> std::unique_ptr<GroundTruth> {
     Params p = params;
-    apply_settings(settings, p);
+    apply_settings(settings, p.conditions);
     std::string error;
     if (!p.IsValid(&error)) throw std::invalid_argument(error);
     return std::make_unique<Model>(p);
