@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "experiment_commands.hpp"
+#include "pegasus/heli/simulators.hpp"
 #include "pegasus/runs/heli_config.hpp"
 
 namespace pegasus::cli {
@@ -93,7 +94,8 @@ std::vector<Command> heli_commands() {
        "The whole chain for a vehicle with a ground truth (--vehicle V.toml): pilot logs, identification, "
        "hover "
        "training, flights vs the pilot"},
-      {"fly", "Fly a policy on the vehicle's ground truth (vehicles with a simulator: xcell, crazyflie2)"},
+      {"fly", "Fly a policy on the vehicle's ground truth (vehicles with a simulator: " +
+                  heli::ground_truth_list() + ")"},
       {"control",
        "Serve a policy to an aircraft in its own layout (--vehicle V.toml): a state line in, its "
        "controls out"}};

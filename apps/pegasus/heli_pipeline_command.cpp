@@ -16,6 +16,7 @@
 
 #include "experiment_commands.hpp"
 #include "pegasus/core/error.hpp"
+#include "pegasus/heli/simulators.hpp"
 #include "pegasus/logs/vehicle.hpp"
 
 namespace pegasus::cli {
@@ -62,11 +63,10 @@ void run_pipeline(RunContext& ctx) {
     vehicle = logs::read_vehicle(vehicle_file);
     if (vehicle->simulator == "none")
       throw InputError(fmt::format(
-          "{}: vehicle.simulator: expected a built-in ground truth for the pipeline to fly (one of xcell, "
-          "crazyflie2), got 'none'; for this aircraft run `pegasus identify` and `pegasus hover --vehicle` "
-          "on "
-          "its own logs and serve the policy with `pegasus control`",
-          vehicle_file));
+          "{}: vehicle.simulator: expected a ground truth for the pipeline to fly (one of {}), got 'none'; "
+          "for this aircraft run `pegasus identify` and `pegasus hover --vehicle` on its own logs and serve "
+          "the policy with `pegasus control`",
+          vehicle_file, heli::ground_truth_list()));
   }
   const std::uint64_t seed = ctx.seed;
   // The stages take seed to seed + 2, and the noise-check flights seed + 3 on: all must be valid seeds before

@@ -24,15 +24,16 @@ inline constexpr py::ssize_t kLogged = heli::kLoggedStates;
 template <class M>
 struct StateRows;
 
-// A Vec3 field of a parameters struct as a numpy property of 3 finite numbers.
-template <class T>
-void def_vec3(py::class_<T>& c, const char* name, heli::Vec3 T::*field, const char* doc) {
+// A Vec3 field of a parameters struct as a numpy property of 3 finite numbers; get(t) is the field of t (a
+// generic lambda: it reads a const T and writes a T).
+template <class T, class Get>
+void def_vec3(py::class_<T>& c, const char* name, Get get, const char* doc) {
   c.def_property(
-      name, [field](const T& t) { return vector_array(std::span<const double>((t.*field).data(), 3)); },
-      [field, name](T& t, ArrayLikeArg v) {
+      name, [get](const T& t) { return vector_array(std::span<const double>(get(t).data(), 3)); },
+      [get, name](T& t, ArrayLikeArg v) {
         const Array a = as_vector(v, name, 3);
         require_finite(a, name);
-        t.*field = heli::Vec3(a.data()[0], a.data()[1], a.data()[2]);
+        get(t) = heli::Vec3(a.data()[0], a.data()[1], a.data()[2]);
       },
       doc);
 }
@@ -42,24 +43,34 @@ void def_vec3(py::class_<T>& c, const char* name, heli::Vec3 T::*field, const ch
 // (`own_fields`, already bound); sets `_fields` to all of them.
 template <class P>
 void bind_ground_truth_params(py::class_<P>& params, std::vector<const char*> own_fields) {
+// The flight conditions (heli::FlightConditions, the params' member `conditions`) by their own names.
+#define PEGASUS_CONDITION(field, doc)                                                                        \
+  params.def_property(                                                                                       \
+      #field, [](const P& p) { return p.conditions.field; }, [](P& p, double v) { p.conditions.field = v; }, \
+      doc)
 #define PEGASUS_SHARED(field, doc) params.def_readwrite(#field, &P::field, doc)
-  PEGASUS_SHARED(gust_sigma, "Turbulence standard deviation per axis, m/s.");
-  PEGASUS_SHARED(gust_tau, "Turbulence correlation time, s.");
-  PEGASUS_SHARED(est_sigma_pos, "State-estimate error in position (standard deviation), m.");
-  PEGASUS_SHARED(est_sigma_vel, "State-estimate error in velocity, m/s.");
-  PEGASUS_SHARED(est_sigma_angle, "State-estimate error in attitude, rad.");
-  PEGASUS_SHARED(est_sigma_rate, "State-estimate error in the rates, rad/s.");
-  PEGASUS_SHARED(est_tau, "Correlation time of the estimate's error, s.");
+  PEGASUS_CONDITION(gust_sigma, "Turbulence standard deviation per axis, m/s.");
+  PEGASUS_CONDITION(gust_tau, "Turbulence correlation time, s.");
+  PEGASUS_CONDITION(est_sigma_pos, "State-estimate error in position (standard deviation), m.");
+  PEGASUS_CONDITION(est_sigma_vel, "State-estimate error in velocity, m/s.");
+  PEGASUS_CONDITION(est_sigma_angle, "State-estimate error in attitude, rad.");
+  PEGASUS_CONDITION(est_sigma_rate, "State-estimate error in the rates, rad/s.");
+  PEGASUS_CONDITION(est_tau, "Correlation time of the estimate's error, s.");
   PEGASUS_SHARED(max_tilt_rad, "|roll| or |pitch| beyond this crashes, rad.");
   PEGASUS_SHARED(max_rate_rad_s, "|p|, |q| or |r| beyond this crashes, rad/s.");
   PEGASUS_SHARED(dt, "One control step, s.");
   PEGASUS_SHARED(substeps, "Integration substeps per control step, in [1, 10000].");
-  PEGASUS_SHARED(start_yaw, "Start yaw, rad.");
-  PEGASUS_SHARED(start_pos_sigma, "Start position perturbation per axis, m.");
-  PEGASUS_SHARED(start_vel_sigma, "Start velocity perturbation per axis, m/s.");
+  PEGASUS_CONDITION(start_yaw, "Start yaw, rad.");
+  PEGASUS_CONDITION(start_pos_sigma, "Start position perturbation per axis, m.");
+  PEGASUS_CONDITION(start_vel_sigma, "Start velocity perturbation per axis, m/s.");
 #undef PEGASUS_SHARED
-  def_vec3(params, "mean_wind_W", &P::mean_wind_W, "Mean wind in the world frame, m/s.");
-  def_vec3(params, "start_p_W", &P::start_p_W, "Start position in the world frame (NED), m.");
+#undef PEGASUS_CONDITION
+  def_vec3(
+      params, "mean_wind_W", [](auto& p) -> auto& { return p.conditions.mean_wind_W; },
+      "Mean wind in the world frame, m/s.");
+  def_vec3(
+      params, "start_p_W", [](auto& p) -> auto& { return p.conditions.start_p_W; },
+      "Start position in the world frame (NED), m.");
   params.def("is_valid", is_valid_method<P>(), kIsValidDoc);
   for (const char* name : {"mean_wind_W", "gust_sigma", "gust_tau", "est_sigma_pos", "est_sigma_vel",
                            "est_sigma_angle", "est_sigma_rate", "est_tau", "max_tilt_rad", "max_rate_rad_s",

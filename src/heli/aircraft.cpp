@@ -8,7 +8,6 @@
 #include <numbers>
 #include <stdexcept>
 
-#include "pegasus/random/normal_quantile.hpp"
 #include "simulation.hpp"
 
 namespace pegasus::heli {
@@ -21,13 +20,13 @@ bool AircraftParams::IsValid(std::string* error) const {
   if (!(mass_kg > 0 && ixx > 0 && iyy > 0 && izz > 0)) return fail("mass and inertias must be positive");
   if (!(dt > 0 && substeps >= 1 && substeps <= kMaxSubsteps))
     return fail(fmt::format("dt must be positive and substeps in [1, {}]", kMaxSubsteps));
-  if (!(tau_flap > 0 && gyro_tau > 0 && est_tau > 0 && gust_tau > 0))
+  if (!(tau_flap > 0 && gyro_tau > 0 && conditions.est_tau > 0 && conditions.gust_tau > 0))
     return fail("time constants must be positive");
-  if (!(gust_sigma >= 0 && est_sigma_pos >= 0 && est_sigma_vel >= 0 && est_sigma_angle >= 0 &&
-        est_sigma_rate >= 0))
+  if (!(conditions.gust_sigma >= 0 && conditions.est_sigma_pos >= 0 && conditions.est_sigma_vel >= 0 &&
+        conditions.est_sigma_angle >= 0 && conditions.est_sigma_rate >= 0))
     return fail("noise levels must be >= 0");
   if (!(servo_rate > 0)) return fail("servo_rate must be positive");
-  if (!(start_p_W.z() < 0)) return fail("the start must be above the ground (z < 0)");
+  if (!(conditions.start_p_W.z() < 0)) return fail("the start must be above the ground (z < 0)");
   return true;
 }
 
@@ -63,10 +62,7 @@ double clamp1(double x) { return std::clamp(x, -1.0, 1.0); }
 }  // namespace
 
 Aircraft::Aircraft(AircraftParams params)
-    : params_(std::move(params)), disturbances_{params_.gust_sigma,    params_.gust_tau,
-                                                params_.est_sigma_pos, params_.est_sigma_angle,
-                                                params_.est_sigma_vel, params_.est_sigma_rate,
-                                                params_.est_tau} {
+    : params_(std::move(params)), disturbances_(params_.conditions.disturbances()) {
   std::string error;
   if (!params_.IsValid(&error)) throw std::invalid_argument(error);
   trim_ = find_trim();
@@ -164,7 +160,7 @@ Aircraft::State Aircraft::step(const State& s, const Action& a, std::span<const 
   if (s.crash != CrashReason::kNone) return s;
   const AircraftParams& P = params_;
   State x = s;
-  const Vec3 wind_W = P.mean_wind_W + s.gust_W;
+  const Vec3 wind_W = P.conditions.mean_wind_W + s.gust_W;
   const double h = P.dt / P.substeps;
   for (int k = 0; k < P.substeps; ++k) {
     for (int c = 0; c < 4; ++c) {
@@ -197,7 +193,7 @@ Aircraft::State Aircraft::step(const State& s, const Action& a, std::span<const 
 void Aircraft::check_crash(State& s) const {
   const AircraftParams& P = params_;
   RotorReport rotor;
-  derivative(s, P.mean_wind_W + s.gust_W, &rotor);
+  derivative(s, P.conditions.mean_wind_W + s.gust_W, &rotor);
   s.crash = rigid_body_crash(true_logged_state(s), s.attitude, s.w_B, P.max_tilt_rad, P.max_rate_rad_s);
   if (s.crash == CrashReason::kNone &&
       std::abs(rotor.thrust_coeff_over_solidity) > P.max_thrust_coeff_over_solidity)
@@ -210,8 +206,8 @@ Aircraft::Trim Aircraft::find_trim() const {
   using V6 = Eigen::Matrix<double, 6, 1>;
   auto residual = [&](const V6& z) {
     State s;
-    s.p_W = params_.start_p_W;
-    s.attitude = {z[4], z[5], params_.start_yaw};
+    s.p_W = params_.conditions.start_p_W;
+    s.attitude = {z[4], z[5], params_.conditions.start_yaw};
     for (int c = 0; c < 4; ++c) s.servo[static_cast<std::size_t>(c)] = z[c];
     s.flap_lon = params_.a_lon * params_.cyclic_max_rad * z[0];
     s.flap_lat = params_.b_lat * params_.cyclic_max_rad * z[1];
@@ -249,18 +245,11 @@ Aircraft::Trim Aircraft::find_trim() const {
 Aircraft::State Aircraft::initial_state(std::span<const double> p0) const {
   const AircraftParams& P = params_;
   State s;
-  s.attitude = {trim_.roll, trim_.pitch, wrap_angle(P.start_yaw)};
+  s.attitude = {trim_.roll, trim_.pitch, wrap_angle(P.conditions.start_yaw)};
   s.servo = trim_.controls;
   s.flap_lon = P.a_lon * P.cyclic_max_rad * trim_.controls[control_axis::pitch];  // longitudinal cyclic
   s.flap_lat = P.b_lat * P.cyclic_max_rad * trim_.controls[control_axis::roll];   // lateral cyclic
-  const auto n = [&](int i) { return normal_quantile(p0[static_cast<std::size_t>(i)]); };
-  Vec3 v_W;
-  for (int i = 0; i < 3; ++i) {
-    s.p_W[i] = P.start_p_W[i] + P.start_pos_sigma * n(i);
-    v_W[i] = P.start_vel_sigma * n(3 + i);
-  }
-  s.v_B = body_from_world(s.attitude, v_W);
-  disturbances_.start(p0.subspan(6), s.gust_W, s.estimate_error);
+  draw_start(P.conditions, disturbances_, p0, s);
   return s;
 }
 

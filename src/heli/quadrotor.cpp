@@ -8,7 +8,6 @@
 #include <numbers>
 #include <stdexcept>
 
-#include "pegasus/random/normal_quantile.hpp"
 #include "simulation.hpp"
 
 namespace pegasus::heli {
@@ -46,16 +45,17 @@ bool QuadrotorParams::IsValid(std::string* error) const {
     return fail("need 0 < max_tilt_command_rad < max_tilt_rad and max_yaw_rate_command > 0");
   if (!(attitude_gain > 0 && rate_gain > 0 && yaw_rate_gain > 0))
     return fail("controller gains must be positive");
-  if (!(gust_tau > 0 && est_tau > 0)) return fail("time constants must be positive");
-  if (!(gust_sigma >= 0 && est_sigma_pos >= 0 && est_sigma_vel >= 0 && est_sigma_angle >= 0 &&
-        est_sigma_rate >= 0))
+  if (!(conditions.gust_tau > 0 && conditions.est_tau > 0)) return fail("time constants must be positive");
+  if (!(conditions.gust_sigma >= 0 && conditions.est_sigma_pos >= 0 && conditions.est_sigma_vel >= 0 &&
+        conditions.est_sigma_angle >= 0 && conditions.est_sigma_rate >= 0))
     return fail("noise sizes must be >= 0");
   if (!(max_tilt_rad > 0 && max_tilt_rad < 1.5 && max_rate_rad_s > 0))
     return fail("crash limits out of range");
   if (!(dt > 0 && substeps >= 1 && substeps <= kMaxSubsteps))
     return fail(fmt::format("need dt > 0 and substeps in [1, {}]", kMaxSubsteps));
-  if (!(start_p_W.z() < 0)) return fail("the start must be above the ground (z < 0)");
-  if (!(start_pos_sigma >= 0 && start_vel_sigma >= 0)) return fail("start perturbations must be >= 0");
+  if (!(conditions.start_p_W.z() < 0)) return fail("the start must be above the ground (z < 0)");
+  if (!(conditions.start_pos_sigma >= 0 && conditions.start_vel_sigma >= 0))
+    return fail("start perturbations must be >= 0");
   return true;
 }
 
@@ -63,8 +63,7 @@ Quadrotor::Quadrotor(QuadrotorParams params) : params_(std::move(params)) {
   std::string error;
   if (!params_.IsValid(&error)) throw std::invalid_argument(error);
   const QuadrotorParams& P = params_;
-  disturbances_ = {P.gust_sigma,    P.gust_tau,       P.est_sigma_pos, P.est_sigma_angle,
-                   P.est_sigma_vel, P.est_sigma_rate, P.est_tau};
+  disturbances_ = P.conditions.disturbances();
   const double d = params_.arm_m / std::numbers::sqrt2;
   Eigen::Matrix4d wrench_from_thrust;
   for (int i = 0; i < 4; ++i) {
@@ -141,7 +140,7 @@ Quadrotor::State Quadrotor::step(const State& s, const Controls& a, std::span<co
   if (s.crash != CrashReason::kNone) return s;
   const QuadrotorParams& P = params_;
   State x = s;
-  const Vec3 wind_W = P.mean_wind_W + s.gust_W;
+  const Vec3 wind_W = P.conditions.mean_wind_W + s.gust_W;
   const double h = P.dt / P.substeps;
   for (int k = 0; k < P.substeps; ++k) {
     // The onboard controller ticks once per substep; its rotor commands hold over the substep (RK4).
@@ -175,16 +174,9 @@ void Quadrotor::check_crash(State& s) const {
 Quadrotor::State Quadrotor::initial_state(std::span<const double> p0) const {
   const QuadrotorParams& P = params_;
   State s;
-  s.attitude = {0.0, 0.0, wrap_angle(P.start_yaw)};
+  s.attitude = {0.0, 0.0, wrap_angle(P.conditions.start_yaw)};
   s.rotor_speed.fill(hover_rotor_speed());
-  const auto n = [&](int i) { return normal_quantile(p0[static_cast<std::size_t>(i)]); };
-  Vec3 v_W;
-  for (int i = 0; i < 3; ++i) {
-    s.p_W[i] = P.start_p_W[i] + P.start_pos_sigma * n(i);
-    v_W[i] = P.start_vel_sigma * n(3 + i);
-  }
-  s.v_B = body_from_world(s.attitude, v_W);
-  disturbances_.start(p0.subspan(6), s.gust_W, s.estimate_error);
+  draw_start(P.conditions, disturbances_, p0, s);
   return s;
 }
 

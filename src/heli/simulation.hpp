@@ -6,6 +6,7 @@
 #include <span>
 
 #include "pegasus/heli/ground_truth.hpp"
+#include "pegasus/random/normal_quantile.hpp"
 #include "pegasus/vehicle/frames.hpp"
 
 namespace pegasus::heli {
@@ -34,6 +35,22 @@ inline LoggedState with_estimate_error(LoggedState truth, const LoggedState& err
   for (std::size_t i = 0; i < truth.size(); ++i) truth[i] += error[i];
   truth[logged::yaw] = wrap_angle(truth[logged::yaw]);
   return truth;
+}
+
+// The start every aircraft draws from p0 (its initial_noise_dim() uniforms), on a state whose attitude is
+// set: the position start_p_W perturbed by start_pos_sigma (uniforms 0-2), the velocity by start_vel_sigma in
+// W (3-5), then the stationary gusts and estimate errors (6 on: Disturbances::start).
+template <class State>
+void draw_start(const FlightConditions& P, const Disturbances& disturbances, std::span<const double> p0,
+                State& s) {
+  const auto n = [&](int i) { return normal_quantile(p0[static_cast<std::size_t>(i)]); };
+  Vec3 v_W;
+  for (int i = 0; i < 3; ++i) {
+    s.p_W[i] = P.start_p_W[i] + P.start_pos_sigma * n(i);
+    v_W[i] = P.start_vel_sigma * n(3 + i);
+  }
+  s.v_B = body_from_world(s.attitude, v_W);
+  disturbances.start(p0.subspan(6), s.gust_W, s.estimate_error);
 }
 
 // A ground truth's flight behind the GroundTruth interface: it keeps the model's state and steps it. Model

@@ -1,6 +1,7 @@
 #include "pegasus/heli/simulators.hpp"
 
-#include <stdexcept>
+#include <algorithm>
+#include <mutex>
 
 #include "pegasus/heli/aircraft.hpp"
 #include "pegasus/heli/quadrotor.hpp"
@@ -8,60 +9,105 @@
 namespace pegasus::heli {
 namespace {
 
-// The settings on either aircraft's params (the same field names in both).
-template <class Params>
-void apply(const GroundTruthSettings& s, Params& p) {
-  if (s.gust_sigma >= 0) p.gust_sigma = s.gust_sigma;
-  if (!s.estimate_noise) p.est_sigma_pos = p.est_sigma_vel = p.est_sigma_angle = p.est_sigma_rate = 0;
-  if (s.set_start) {
-    p.start_p_W = s.start_p_W;
-    p.start_yaw = s.start_yaw;
-  }
-  p.start_pos_sigma = s.start_pos_sigma;
-  p.start_vel_sigma = s.start_vel_sigma;
-  p.mean_wind_W += s.mean_wind_W;
-  std::string error;
-  if (!p.IsValid(&error)) throw std::invalid_argument(error);
+// The quadrotor holds its own attitude (angle mode): the pilot commands the tilt it wants instead of feeding
+// back the attitude, and sweeps the collective gently (it moves the aircraft 10x harder per stick than the
+// X-Cell's).
+PilotOptions crazyflie_pilot() {
+  const QuadrotorParams q;
+  PilotOptions o;
+  o.k_att = 0;
+  o.k_att_rate = 0;
+  o.attitude_command_gain = 1 / q.max_tilt_command_rad;
+  o.sweep_amplitude = {0.15, 0.15, 0.05, 0.15};
+  return o;
+}
+
+// The ground truths every build knows. A new aircraft adds its line here (its model lives in its own files).
+std::vector<GroundTruthEntry> builtin_ground_truths() {
+  return {{"xcell", "the X-Cell 60 helicopter (heli/aircraft.hpp)",
+           ground_truth_factory<Aircraft>(AircraftParams{}), AircraftParams{}.conditions.gust_sigma,
+           PilotOptions{}},
+          {"crazyflie2", "the Crazyflie 2.0 quadrotor in angle mode (heli/quadrotor.hpp)",
+           ground_truth_factory<Quadrotor>(QuadrotorParams{}), QuadrotorParams{}.conditions.gust_sigma,
+           crazyflie_pilot()}};
+}
+
+struct GroundTruthRegistry {
+  std::mutex mutex;
+  std::vector<GroundTruthEntry> entries = builtin_ground_truths();
+};
+GroundTruthRegistry& ground_truth_registry() {
+  static GroundTruthRegistry r;
+  return r;
+}
+
+// The entry of `simulator`; throws std::invalid_argument naming the registered ones.
+GroundTruthEntry entry_of(const std::string& simulator) {
+  for (GroundTruthEntry& e : ground_truths())
+    if (e.name == simulator) return std::move(e);
+  throw std::invalid_argument("no ground truth named '" + simulator +
+                              "' (registered: " + ground_truth_list() + ")");
 }
 
 }  // namespace
 
-std::vector<std::string> simulator_names() { return {"none", "xcell", "crazyflie2"}; }
+void apply_settings(const GroundTruthSettings& s, FlightConditions& c) {
+  if (s.gust_sigma >= 0) c.gust_sigma = s.gust_sigma;
+  if (!s.estimate_noise) c.est_sigma_pos = c.est_sigma_vel = c.est_sigma_angle = c.est_sigma_rate = 0;
+  if (s.set_start) {
+    c.start_p_W = s.start_p_W;
+    c.start_yaw = s.start_yaw;
+  }
+  c.start_pos_sigma = s.start_pos_sigma;
+  c.start_vel_sigma = s.start_vel_sigma;
+  c.mean_wind_W += s.mean_wind_W;
+}
+
+void register_ground_truth(GroundTruthEntry entry) {
+  if (entry.name.empty() || entry.name == "none")
+    throw std::invalid_argument("register_ground_truth: expected a name other than '' and 'none', got '" +
+                                entry.name + "'");
+  if (!entry.make)
+    throw std::invalid_argument("register_ground_truth: '" + entry.name + "' has no make function");
+  GroundTruthRegistry& r = ground_truth_registry();
+  const std::lock_guard lock(r.mutex);
+  const auto it = std::find_if(r.entries.begin(), r.entries.end(),
+                               [&](const GroundTruthEntry& e) { return e.name == entry.name; });
+  if (it != r.entries.end())
+    *it = std::move(entry);
+  else
+    r.entries.push_back(std::move(entry));
+}
+
+std::vector<GroundTruthEntry> ground_truths() {
+  GroundTruthRegistry& r = ground_truth_registry();
+  const std::lock_guard lock(r.mutex);
+  return r.entries;
+}
+
+std::vector<std::string> simulator_names() {
+  std::vector<std::string> names = {"none"};
+  for (const GroundTruthEntry& e : ground_truths()) names.push_back(e.name);
+  return names;
+}
+
+std::string ground_truth_list() {
+  std::string list;
+  for (const GroundTruthEntry& e : ground_truths()) list += (list.empty() ? "" : ", ") + e.name;
+  return list;
+}
 
 std::unique_ptr<GroundTruth> make_ground_truth(const std::string& simulator,
                                                const GroundTruthSettings& settings) {
-  if (simulator == "xcell") {
-    AircraftParams p;
-    apply(settings, p);
-    return std::make_unique<Aircraft>(p);
-  }
-  if (simulator == "crazyflie2") {
-    QuadrotorParams p;
-    apply(settings, p);
-    return std::make_unique<Quadrotor>(p);
-  }
-  throw std::invalid_argument("no ground truth named '" + simulator + "' (built in: xcell, crazyflie2)");
+  return entry_of(simulator).make(settings);
 }
 
-double own_gust_sigma(const std::string& simulator) {
-  if (simulator == "xcell") return AircraftParams{}.gust_sigma;
-  if (simulator == "crazyflie2") return QuadrotorParams{}.gust_sigma;
-  throw std::invalid_argument("no ground truth named '" + simulator + "' (built in: xcell, crazyflie2)");
-}
+double own_gust_sigma(const std::string& simulator) { return entry_of(simulator).own_gust_sigma; }
 
 PilotOptions pilot_options_for(const std::string& simulator) {
-  PilotOptions o;
-  if (simulator == "crazyflie2") {
-    // The quadrotor holds its own attitude (angle mode): the pilot commands the tilt it wants instead of
-    // feeding back the attitude, and sweeps the collective gently (it moves the aircraft 10x harder per
-    // stick than the X-Cell's).
-    const QuadrotorParams q;
-    o.k_att = 0;
-    o.k_att_rate = 0;
-    o.attitude_command_gain = 1 / q.max_tilt_command_rad;
-    o.sweep_amplitude = {0.15, 0.15, 0.05, 0.15};
-  }
-  return o;
+  for (const GroundTruthEntry& e : ground_truths())
+    if (e.name == simulator) return e.pilot;
+  return {};
 }
 
 }  // namespace pegasus::heli

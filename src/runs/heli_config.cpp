@@ -102,11 +102,22 @@ void set_from_vehicle(ConfigSchema& s, const logs::Vehicle& v, const std::string
   if (s.origin(field) == "default") s.set(field, std::move(value), fmt::format("{}: {}", v.log.file, key));
 }
 
+namespace {
+
+// Each registered ground truth's own gust sigma: "xcell 0.5, crazyflie2 0.2".
+std::string own_gust_sigmas() {
+  std::string list;
+  for (const GroundTruthEntry& e : ground_truths())
+    list += fmt::format("{}{} {}", list.empty() ? "" : ", ", e.name, e.own_gust_sigma);
+  return list;
+}
+
+}  // namespace
+
 void declare_gust_sigma(ConfigSchema& s, const std::string& help) {
-  s.add_double(
-       "gust_sigma", own_gust_sigma("xcell"),
-       fmt::format("{}; with a vehicle file, its ground truth's own unless set (xcell {}, crazyflie2 {})",
-                   help, own_gust_sigma("xcell"), own_gust_sigma("crazyflie2")))
+  s.add_double("gust_sigma", own_gust_sigma("xcell"),
+               fmt::format("{}; with a vehicle file, its ground truth's own unless set ({})", help,
+                           own_gust_sigmas()))
       .range(0, 10);
 }
 

@@ -407,8 +407,8 @@ void expect_same_flights(const std::vector<heli::FlightRecord>& cpp,
 
 TEST_F(CPolicyExport, ExportedControllersFlyTheGroundTruthExactlyAsTheCppPolicies) {
   heli::AircraftParams params;
-  params.start_pos_sigma = 1.0;
-  params.start_vel_sigma = 0.3;
+  params.conditions.start_pos_sigma = 1.0;
+  params.conditions.start_vel_sigma = 0.3;
   const heli::Aircraft aircraft(params);
   heli::FlightOptions options;
   options.flights = 3;
@@ -417,7 +417,7 @@ TEST_F(CPolicyExport, ExportedControllersFlyTheGroundTruthExactlyAsTheCppPolicie
   options.seed = 7;
   // The hover controller at its trimmed start with tanh terms switched on, and a manoeuvre.
   // And the hover controller with the integral term, in a steady wind that it has to lean into.
-  params.mean_wind_W = heli::Vec3(3, -2, 0);
+  params.conditions.mean_wind_W = heli::Vec3(3, -2, 0);
   const heli::Aircraft windy(params);
   const std::pair<heli::PolicyFile, const heli::Aircraft*> cases[] = {
       {hover_file(8, 0.2, {0, 0, -10, 0}), &aircraft},

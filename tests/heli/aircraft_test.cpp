@@ -123,16 +123,16 @@ Aircraft::State respond(const Aircraft& heli, int channel, double delta, double 
 
 TEST(HeliAircraft, TrimHoldsStillWithoutDisturbances) {
   AircraftParams P;
-  P.gust_sigma = 0;
+  P.conditions.gust_sigma = 0;
   const Aircraft heli(P);
   const auto s = respond(heli, 0, 0.0, 2.0);
-  EXPECT_LT((s.p_W - P.start_p_W).norm(), 1e-6);
+  EXPECT_LT((s.p_W - P.conditions.start_p_W).norm(), 1e-6);
   EXPECT_LT(s.w_B.norm(), 1e-6);
 }
 
 TEST(HeliAircraft, EachControlMovesTheRightStatesWithTheRightSign) {
   AircraftParams P;
-  P.gust_sigma = 0;
+  P.conditions.gust_sigma = 0;
   const Aircraft heli(P);
   const auto& trim = heli.hover_trim();
   // Forward cyclic: nose down, then forward speed.
@@ -150,7 +150,7 @@ TEST(HeliAircraft, EachControlMovesTheRightStatesWithTheRightSign) {
   // More collective: climb (z decreases, NED).
   s = respond(heli, 2, 0.1, 0.5);
   EXPECT_LT(world_from_body(s.attitude, s.v_B).z(), -0.1);
-  EXPECT_LT(s.p_W.z(), P.start_p_W.z());
+  EXPECT_LT(s.p_W.z(), P.conditions.start_p_W.z());
   // More tail thrust: yaw right (clockwise from above, r > 0).
   s = respond(heli, 3, 0.1, 0.3);
   EXPECT_GT(s.w_B.z(), 0.05);
@@ -171,7 +171,7 @@ TEST(HeliAircraft, SeededFlightIsReproducibleAndSeedsDiffer) {
 
 TEST(HeliAircraft, CrashesIntoTheGroundWhenCollectiveIsLowered) {
   AircraftParams P;
-  P.start_p_W = Vec3(0, 0, -2);
+  P.conditions.start_p_W = Vec3(0, 0, -2);
   const Aircraft heli(P);
   auto s = heli.initial_state(mid_range_noise(Aircraft::kInitialNoise));
   const auto p = mid_range_noise(Aircraft::kStepNoise);

@@ -127,8 +127,8 @@ TEST(ControlLoop, ParsesTwelveThirteenAndSeventeenFields) {
 
 TEST(Flights, PolicyAndPilotMeetTheSameStartsAndScoresAreConsistent) {
   AircraftParams p;
-  p.start_pos_sigma = 1.0;
-  p.start_vel_sigma = 0.3;
+  p.conditions.start_pos_sigma = 1.0;
+  p.conditions.start_vel_sigma = 0.3;
   const Aircraft aircraft(p);
   const auto model = small_model();
   const HoverPolicy pi = hover_policy_for(*model);
@@ -165,9 +165,10 @@ TEST(Flights, PolicyAndPilotMeetTheSameStartsAndScoresAreConsistent) {
 // The point of the term: in a steady wind the thesis's class holds a steady offset, the integral removes it.
 TEST(Flights, IntegralTermRemovesTheSteadyOffsetOfASteadyWind) {
   AircraftParams p;
-  p.mean_wind_W = Vec3(4, 2, 0);  // m/s from the south-west, no gusts, exact estimates
-  p.gust_sigma = 0;
-  p.est_sigma_pos = p.est_sigma_vel = p.est_sigma_angle = p.est_sigma_rate = 0;
+  p.conditions.mean_wind_W = Vec3(4, 2, 0);  // m/s from the south-west, no gusts, exact estimates
+  p.conditions.gust_sigma = 0;
+  p.conditions.est_sigma_pos = p.conditions.est_sigma_vel = p.conditions.est_sigma_angle =
+      p.conditions.est_sigma_rate = 0;
   const Aircraft aircraft(p);
   FlightOptions fo;
   fo.flights = 1;

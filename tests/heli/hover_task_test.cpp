@@ -284,9 +284,9 @@ TEST(HoverTraining, ResumesFromEveryCheckpointToTheSameResult) {
 // flight's memory does, so the actions of a rollout equal the flown controller's bit for bit.
 TEST(HoverTask, CarriesTheErrorIntegralExactlyAsTheFlownControllerDoes) {
   AircraftParams p;
-  p.start_pos_sigma = 1.0;
-  p.start_vel_sigma = 0.3;
-  p.gust_sigma = 0.5;
+  p.conditions.start_pos_sigma = 1.0;
+  p.conditions.start_vel_sigma = 0.3;
+  p.conditions.gust_sigma = 0.5;
   const Aircraft aircraft(p);
   const PolicyFile file = xcell_hover_file(aircraft, 5);
   const auto controller = make_controller(file, "f.json");

@@ -168,7 +168,8 @@ TEST_F(QuadrotorCli, ThePipelineRunsTheWholeChainFromTheVehicleFileAlone) {
       run_pegasus(fmt::format("pipeline --vehicle {}/experiments/vehicles/template.toml --quiet --out {}",
                               PEGASUS_SOURCE_DIR, path("none")));
   EXPECT_EQ(refused.code, 2) << refused.output;
-  EXPECT_NE(refused.output.find("template.toml: vehicle.simulator: expected a built-in ground truth"),
+  EXPECT_NE(refused.output.find("template.toml: vehicle.simulator: expected a ground truth for the pipeline "
+                                "to fly (one of xcell, crazyflie2)"),
             std::string::npos)
       << refused.output;
   EXPECT_EQ(std::count(refused.output.begin(), refused.output.end(), '\n'), 1) << refused.output;

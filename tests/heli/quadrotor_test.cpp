@@ -20,8 +20,9 @@ using pegasus::test_support::mid_range_noise;
 // A calm, noise-free quadrotor (uniforms of 0.5 are the Gaussian's median: no draws).
 QuadrotorParams calm() {
   QuadrotorParams p;
-  p.gust_sigma = 0;
-  p.est_sigma_pos = p.est_sigma_vel = p.est_sigma_angle = p.est_sigma_rate = 0;
+  p.conditions.gust_sigma = 0;
+  p.conditions.est_sigma_pos = p.conditions.est_sigma_vel = p.conditions.est_sigma_angle =
+      p.conditions.est_sigma_rate = 0;
   return p;
 }
 
@@ -41,7 +42,7 @@ TEST(Quadrotor, HoverPointHoldsItStillAndMatchesTheWeight) {
               q.params().mass_kg * q.params().gravity, 1e-15);
   const QuadrotorState s = fly(q, h.controls, 10);
   EXPECT_EQ(s.crash, CrashReason::kNone);
-  EXPECT_LT((s.p_W - q.params().start_p_W).norm(), 1e-9);
+  EXPECT_LT((s.p_W - q.params().conditions.start_p_W).norm(), 1e-9);
   EXPECT_LT(s.v_B.norm(), 1e-9);
   EXPECT_LT(s.w_B.norm(), 1e-9);
 }
@@ -70,7 +71,7 @@ TEST(Quadrotor, AngleModeSettlesOnTheSetPointsWithThePipelineSigns) {
   a = q.hover_point().controls;
   a[2] += 0.1;
   s = fly(q, a, 0.5);
-  EXPECT_LT(s.p_W.z(), q.params().start_p_W.z() - 0.1);
+  EXPECT_LT(s.p_W.z(), q.params().conditions.start_p_W.z() - 0.1);
 }
 
 TEST(Quadrotor, RotorSpeedsLagTheirCommandsByTheMotorTimeConstant) {
@@ -107,7 +108,7 @@ TEST(Quadrotor, RotorDragOpposesTheAirspeedInProportionToTheRotorSpeedSum) {
 
 TEST(Quadrotor, SameUniformsSameFlightAndCrashesAreDetected) {
   QuadrotorParams p;
-  p.start_pos_sigma = 0.2;
+  p.conditions.start_pos_sigma = 0.2;
   const Quadrotor q(p);
   const std::vector<double> p0 = {0.1, 0.9, 0.3, 0.7, 0.2, 0.6, 0.4, 0.8, 0.15, 0.5, 0.5,
                                   0.5, 0.5, 0.5, 0.5, 0.5, 0.5, 0.5, 0.5, 0.5,  0.5};

@@ -322,8 +322,9 @@ TEST(HorizonMseAsTrained, IsFig52AtTheModelsRateAndRunsAtTheControllersRate) {
 // hover trim without gusts or estimate noise (central differences of +-0.02).
 double true_gain(int control, int state) {
   heli::AircraftParams p;
-  p.gust_sigma = 0;
-  p.est_sigma_pos = p.est_sigma_vel = p.est_sigma_angle = p.est_sigma_rate = 0;
+  p.conditions.gust_sigma = 0;
+  p.conditions.est_sigma_pos = p.conditions.est_sigma_vel = p.conditions.est_sigma_angle =
+      p.conditions.est_sigma_rate = 0;
   const heli::Aircraft aircraft(p);
   std::array<double, heli::Aircraft::kInitialNoise> p0;
   std::array<double, heli::Aircraft::kStepNoise> mid;

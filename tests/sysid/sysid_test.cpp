@@ -34,8 +34,9 @@ static_assert(SimulativeModel<heli::Aircraft>);
 FlightLog small_log(double seconds, std::uint64_t seed, bool noise_free = false) {
   heli::AircraftParams p;
   if (noise_free) {
-    p.gust_sigma = 0;
-    p.est_sigma_pos = p.est_sigma_vel = p.est_sigma_angle = p.est_sigma_rate = 0;
+    p.conditions.gust_sigma = 0;
+    p.conditions.est_sigma_pos = p.conditions.est_sigma_vel = p.conditions.est_sigma_angle =
+        p.conditions.est_sigma_rate = 0;
   }
   const heli::Aircraft heli(p);
   heli::PilotOptions o;

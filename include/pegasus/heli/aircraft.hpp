@@ -78,16 +78,21 @@ struct AircraftParams {
   double fus_area_z = 0.15;  // [GMF01] S_z^fus, m^2
   // --- Servos (chosen: a standard RC servo moves about 60 degrees in 0.15 s) ---
   double servo_rate = 8.0;  // normalised units per second
-  // --- Disturbances ---
-  Vec3 mean_wind_W = Vec3::Zero();  // m/s
-  double gust_sigma = 0.5;          // turbulence standard deviation per axis, m/s
-  double gust_tau = 2.0;            // turbulence correlation time L/V, s
-  // State-estimate errors (§5.1: a Kalman filter fusing DGPS with 2 cm resolution, INS and compass)
-  double est_sigma_pos = 0.02;     // m
-  double est_sigma_vel = 0.03;     // m/s
-  double est_sigma_angle = 0.005;  // rad
-  double est_sigma_rate = 0.01;    // rad/s
-  double est_tau = 0.3;            // correlation time of the filter's error, s
+  // --- Disturbances and start (ground_truth.hpp) ---
+  FlightConditions conditions{
+      .mean_wind_W = Vec3::Zero(),
+      .gust_sigma = 0.5,  // m/s
+      .gust_tau = 2.0,    // turbulence correlation time L/V, s
+      // State-estimate errors (§5.1: a Kalman filter fusing DGPS with 2 cm resolution, INS and compass)
+      .est_sigma_pos = 0.02,               // m
+      .est_sigma_vel = 0.03,               // m/s
+      .est_sigma_angle = 0.005,            // rad
+      .est_sigma_rate = 0.01,              // rad/s
+      .est_tau = 0.3,                      // correlation time of the filter's error, s
+      .start_p_W = Vec3(0.0, 0.0, -10.0),  // hover 10 m above the ground
+      .start_yaw = 0.0,
+      .start_pos_sigma = 0.0,
+      .start_vel_sigma = 0.0};
   // --- Crash limits ---
   double max_tilt_rad = 1.0;                     // |roll| or |pitch| beyond this: crash
   double max_rate_rad_s = 6.0;                   // |p|, |q| or |r| beyond this: crash
@@ -95,11 +100,6 @@ struct AircraftParams {
   // --- Integration ---
   double dt = 0.02;  // one control step, s (50 Hz, §5.1)
   int substeps = 2;  // RK4 substeps per control step
-  // --- Start ---
-  Vec3 start_p_W{0.0, 0.0, -10.0};  // hover 10 m above the ground
-  double start_yaw = 0.0;
-  double start_pos_sigma = 0.0;  // initial position perturbation, m
-  double start_vel_sigma = 0.0;  // initial velocity perturbation, m/s
 
   bool IsValid(std::string* error) const;
 };
@@ -140,7 +140,8 @@ class Aircraft final : public GroundTruth {
   int noise_dim() const { return kStepNoise; }
   int initial_noise_dim() const override { return kInitialNoise; }
   ActionSpace action_space() const;
-  // Trimmed hover at params().start_p_W, perturbed by start_*_sigma, stationary gusts and estimate errors.
+  // Trimmed hover at params().conditions.start_p_W, perturbed by start_*_sigma, stationary gusts and estimate
+  // errors.
   State initial_state(std::span<const double> p0) const;
   // One 50 Hz step with actions clipped to [-1, 1]; a crashed state stays as it is.
   State step(const State& s, const Action& a, std::span<const double> p) const;

@@ -63,6 +63,28 @@ struct Disturbances {
   void step(double dt, std::span<const double> p, Vec3& gust_W, LoggedState& estimate_error) const;
 };
 
+// Where a flight starts and what disturbs it: the part every built-in aircraft's params share (each with its
+// own defaults), and all that the commands' settings change (simulators.hpp). The start state is drawn from
+// it by draw_start (src/heli/simulation.hpp), the gusts and estimate errors by its Disturbances.
+struct FlightConditions {
+  Vec3 mean_wind_W = Vec3::Zero();  // steady wind, m/s in W
+  double gust_sigma = 0;            // turbulence standard deviation per axis, m/s
+  double gust_tau = 1;              // turbulence correlation time, s
+  double est_sigma_pos = 0;         // state-estimate error (standard deviation) in position, m
+  double est_sigma_vel = 0;         // in velocity, m/s
+  double est_sigma_angle = 0;       // in attitude, rad
+  double est_sigma_rate = 0;        // in the body rates, rad/s
+  double est_tau = 1;               // correlation time of the estimate's error, s
+  Vec3 start_p_W = Vec3::Zero();    // where the flight starts, m in W (NED: z < 0 is above the ground)
+  double start_yaw = 0;             // rad
+  double start_pos_sigma = 0;       // start position perturbation per axis, m
+  double start_vel_sigma = 0;       // start velocity perturbation per axis, m/s
+
+  Disturbances disturbances() const {
+    return {gust_sigma, gust_tau, est_sigma_pos, est_sigma_angle, est_sigma_vel, est_sigma_rate, est_tau};
+  }
+};
+
 // One flight of a simulated aircraft, from its start.
 class SimulatedFlight {
  public:

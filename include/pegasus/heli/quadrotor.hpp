@@ -52,26 +52,25 @@ struct QuadrotorParams {
   double attitude_gain = 6.0;            // rate set point per rad of attitude error, 1/s (firmware's Kp 6)
   double rate_gain = 25.0;               // angular acceleration per rad/s of rate error, 1/s
   double yaw_rate_gain = 10.0;           // yaw acceleration per rad/s of yaw rate error, 1/s
-  // --- Disturbances ---
-  Vec3 mean_wind_W = Vec3::Zero();  // m/s
-  double gust_sigma = 0.2;          // turbulence standard deviation per axis, m/s
-  double gust_tau = 1.0;            // turbulence correlation time, s
-  double est_sigma_pos = 0.01;      // m
-  double est_sigma_vel = 0.02;      // m/s
-  double est_sigma_angle = 0.005;   // rad
-  double est_sigma_rate = 0.02;     // rad/s
-  double est_tau = 0.1;             // correlation time of the estimator's error, s
+  // --- Disturbances and start (ground_truth.hpp) ---
+  FlightConditions conditions{.mean_wind_W = Vec3::Zero(),
+                              .gust_sigma = 0.2,  // m/s
+                              .gust_tau = 1.0,    // s
+                              .est_sigma_pos = 0.01,
+                              .est_sigma_vel = 0.02,
+                              .est_sigma_angle = 0.005,
+                              .est_sigma_rate = 0.02,
+                              .est_tau = 0.1,  // correlation time of the estimator's error, s
+                              .start_p_W = Vec3(0.0, 0.0, -2.0),  // hover 2 m above the ground
+                              .start_yaw = 0.0,
+                              .start_pos_sigma = 0.0,
+                              .start_vel_sigma = 0.0};
   // --- Crash limits ---
   double max_tilt_rad = 1.0;   // |roll| or |pitch| beyond this: crash
   double max_rate_rad_s = 20;  // |p|, |q| or |r| beyond this: crash
   // --- Integration ---
   double dt = 0.02;   // one control step, s (50 Hz)
   int substeps = 10;  // onboard controller ticks and RK4 steps per control step (500 Hz)
-  // --- Start ---
-  Vec3 start_p_W{0.0, 0.0, -2.0};  // hover 2 m above the ground
-  double start_yaw = 0.0;
-  double start_pos_sigma = 0.0;  // m
-  double start_vel_sigma = 0.0;  // m/s
 
   bool IsValid(std::string* error) const;
 };

@@ -1,7 +1,12 @@
 #pragma once
-// The built-in ground truths by the name a vehicle file's `[vehicle] simulator` gives them ("xcell",
-// "crazyflie2"), each with the scripted pilot tuned to fly it.
+// The ground truths by the name a vehicle file's `[vehicle] simulator` gives them, in one registry: each
+// entry says what the aircraft is, how to build it with the commands' settings, the turbulence it flies in,
+// and the scripted pilot tuned to fly it. "xcell" (aircraft.hpp) and "crazyflie2" (quadrotor.hpp) are built
+// in; another aircraft adds one entry (register_ground_truth, or a line of the built-in table in
+// src/heli/simulators.cpp), and every command, help text and error message that names ground truths reads it.
+#include <functional>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -21,15 +26,52 @@ struct GroundTruthSettings {
   Vec3 mean_wind_W = Vec3::Zero();                  // steady wind added to the aircraft's own, m/s in W
 };
 
-// The simulators `[vehicle] simulator` may name ("none" included: a vehicle without a ground truth).
+// The settings applied to an aircraft's flight conditions (its start and disturbances).
+void apply_settings(const GroundTruthSettings& settings, FlightConditions& conditions);
+
+// The ground truth with the settings; throws std::invalid_argument for settings the aircraft rejects.
+using GroundTruthFactory = std::function<std::unique_ptr<GroundTruth>(const GroundTruthSettings&)>;
+
+// One registered ground truth.
+struct GroundTruthEntry {
+  std::string name;  // as `[vehicle] simulator` writes it
+  std::string doc;   // one line: the aircraft it simulates
+  GroundTruthFactory make;
+  double own_gust_sigma = 0;  // the turbulence it flies in by default (its params' gust_sigma), m/s
+  PilotOptions pilot;         // the scripted pilot's options for it
+};
+
+// The factory of Model built from `params` (an aircraft's params struct: IsValid and a FlightConditions
+// member `conditions`): the settings applied to a copy's conditions, which must then be valid.
+template <class Model, class Params>
+GroundTruthFactory ground_truth_factory(Params params) {
+  return [params](const GroundTruthSettings& settings) -> std::unique_ptr<GroundTruth> {
+    Params p = params;
+    apply_settings(settings, p.conditions);
+    std::string error;
+    if (!p.IsValid(&error)) throw std::invalid_argument(error);
+    return std::make_unique<Model>(p);
+  };
+}
+
+// Adds a ground truth, or replaces the one of that name (keeping its place). Thread-safe; call before flying.
+// Throws std::invalid_argument for an empty name, "none" (a vehicle without one) or an entry without make.
+void register_ground_truth(GroundTruthEntry entry);
+// The registered ground truths, built-ins first, then in registration order (a copy).
+std::vector<GroundTruthEntry> ground_truths();
+// The names `[vehicle] simulator` may give: "none" (a vehicle without a ground truth), then the registered.
 std::vector<std::string> simulator_names();
+// The registered names joined by ", " (for help texts and messages).
+std::string ground_truth_list();
+
 // The ground truth of `simulator` with the settings; throws std::invalid_argument for an unknown name or
 // settings the aircraft rejects.
 std::unique_ptr<GroundTruth> make_ground_truth(const std::string& simulator,
                                                const GroundTruthSettings& settings);
-// The turbulence standard deviation that aircraft flies in by default (its params' gust_sigma), m/s.
+// The turbulence standard deviation that aircraft flies in by default, m/s; throws std::invalid_argument for
+// an unknown name.
 double own_gust_sigma(const std::string& simulator);
-// The scripted pilot's options for that aircraft.
+// The scripted pilot's options for that aircraft (the default PilotOptions for a name not registered).
 PilotOptions pilot_options_for(const std::string& simulator);
 
 }  // namespace pegasus::heli
