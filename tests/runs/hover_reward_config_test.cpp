@@ -108,7 +108,7 @@ TEST_F(HoverRewardConfig, ASizeOfZeroLeavesATermOutOnlyWhereTheDescriptionAllows
     // Between 0 and the least size: refused either way (its weight would pass the largest).
     EXPECT_NE(input_error_message([&] { s.set(option_of(size), 1e-7); }), "(no error)");
   }
-  EXPECT_EQ(zero_allowed, 3);  // the action, attitude and rate terms
+  EXPECT_GE(zero_allowed, 3);  // the action, attitude and rate terms at least
 }
 
 TEST_F(HoverRewardConfig, AVehicleFilesSizeReachesItsWeightAndZeroOnlyWhereAllowed) {
