@@ -185,6 +185,30 @@ void def_array(py::class_<T>& c, const char* name, std::array<double, N> T::*fie
       doc);
 }
 
+// Binds each field HoverReward::VisitFields lists, with its one line as the docstring.
+struct RewardBinder {
+  py::class_<HoverReward>& c;
+  void bind(const char* name, double HoverReward::*field, const char* doc) {
+    c.def_readwrite(name, field, doc);
+  }
+  template <std::size_t N>
+  void bind(const char* name, std::array<double, N> HoverReward::*field, const char* doc) {
+    def_array(c, name, field, doc);
+  }
+  template <class T>
+  void size(const heli::HoverRewardSize& s, T HoverReward::*field, const char* doc) {
+    bind(s.field, field, doc);
+  }
+  template <class T>
+  void weight(const char* name, T HoverReward::*field, const char* doc) {
+    bind(name, field, doc);
+  }
+  template <class T>
+  void field(const char* name, T HoverReward::*field, const char* doc) {
+    bind(name, field, doc);
+  }
+};
+
 }  // namespace
 
 void bind_heli(py::module_& m) {
@@ -203,15 +227,8 @@ void bind_heli(py::module_& m) {
 The hover reward of thesis §5.3 (Eqs 5.9-5.10): minus the weighted squared position, velocity and wrapped yaw
 errors, minus the weighted squared controls about `centre` (heli/hover_task.hpp).)doc");
   reward.def(py::init<>());
-  def_array(reward, "alpha_pos", &HoverReward::alpha_pos, "Per m^2, x y z.");
-  def_array(reward, "alpha_vel", &HoverReward::alpha_vel, "Per (m/s)^2.");
-  reward.def_readwrite("alpha_yaw", &HoverReward::alpha_yaw, "Per rad^2.");
-  def_array(reward, "alpha_action", &HoverReward::alpha_action, "Per unit^2 about centre.");
-  def_array(reward, "centre", &HoverReward::centre, "The controls the action cost is taken about.");
-  def_array(reward, "alpha_attitude", &HoverReward::alpha_attitude,
-            "Per rad^2 of roll and pitch (about level).");
-  def_array(reward, "alpha_rate", &HoverReward::alpha_rate,
-            "Per (rad/s)^2 of the roll, pitch and yaw rates.");
+  RewardBinder binder{reward};
+  HoverReward::VisitFields(binder);
   reward
       .def_static(
           "from_typical",
@@ -224,8 +241,7 @@ errors, minus the weighted squared controls about `centre` (heli/hover_task.hpp)
           py::arg("position_m"), py::arg("velocity_mps"), py::arg("yaw_rad"), py::arg("action"),
           py::arg("centre") = std::vector<double>{0, 0, 0, 0}, "alpha = 1 / typical^2 for each term.")
       .def("is_valid", is_valid_method<HoverReward>(), kIsValidDoc);
-  set_fields(reward, {"alpha_pos", "alpha_vel", "alpha_yaw", "alpha_action", "centre", "alpha_attitude",
-                      "alpha_rate"});
+  set_fields(reward, HoverReward::field_names());
 
   auto init = py::class_<heli::HoverPolicyInit>(m, "HoverPolicyInit", R"doc(
 The hover policy class's starting weights: a linear controller around a trim (heli/hover_policy.hpp).)doc");

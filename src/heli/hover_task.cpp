@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <stdexcept>
+#include <string_view>
 
 #include "../core/validation.hpp"
 #include "pegasus/core/error.hpp"
@@ -41,9 +43,94 @@ sysid::LearnedModelOptions learned_options(const HoverTrainingOptions& o,
   return m;
 }
 
+// HoverReward::VisitFields's sizes and field names, in its order.
+struct RewardDescription {
+  std::vector<HoverRewardSize> sizes;
+  std::vector<std::string> names;
+  template <class T>
+  void size(const HoverRewardSize& s, T HoverReward::*, const char*) {
+    sizes.push_back(s);
+    names.emplace_back(s.field);
+  }
+  template <class T>
+  void weight(const char* name, T HoverReward::*, const char*) {
+    names.emplace_back(name);
+  }
+  template <class T>
+  void field(const char* name, T HoverReward::*, const char*) {
+    names.emplace_back(name);
+  }
+};
+
+// The first weight VisitFields lists with an element outside [0, kMaxRewardWeight], and that element.
+struct WeightCheck {
+  const HoverReward& reward;
+  const char* bad = nullptr;
+  double value = 0;
+  void check(const char* name, double w) {
+    if (bad || reward_weight(w)) return;
+    bad = name;
+    value = w;
+  }
+  template <std::size_t N>
+  void check(const char* name, const std::array<double, N>& w) {
+    for (const double x : w) check(name, x);
+  }
+  template <class T>
+  void size(const HoverRewardSize& s, T HoverReward::*member, const char*) {
+    check(s.field, reward.*member);
+  }
+  template <class T>
+  void weight(const char* name, T HoverReward::*member, const char*) {
+    check(name, reward.*member);
+  }
+  template <class T>
+  void field(const char*, T HoverReward::*, const char*) {}
+};
+const RewardDescription& reward_description() {
+  static const RewardDescription d = [] {
+    RewardDescription out;
+    HoverReward::VisitFields(out);
+    return out;
+  }();
+  return d;
+}
+
+// Sets every element of the weight that `key`'s size names.
+struct WeightSetter {
+  HoverReward& reward;
+  std::string_view key;
+  double value;
+  bool found = false;
+  void set(double& w) { w = value; }
+  template <std::size_t N>
+  void set(std::array<double, N>& w) {
+    w.fill(value);
+  }
+  template <class T>
+  void size(const HoverRewardSize& s, T HoverReward::*member, const char*) {
+    if (key != s.key) return;
+    set(reward.*member);
+    found = true;
+  }
+  template <class T>
+  void weight(const char*, T HoverReward::*, const char*) {}
+  template <class T>
+  void field(const char*, T HoverReward::*, const char*) {}
+};
+
 }  // namespace
 
 // ---- Reward -------------------------------------------------------------------------------------------
+
+const std::vector<HoverRewardSize>& HoverReward::sizes() { return reward_description().sizes; }
+const std::vector<std::string>& HoverReward::field_names() { return reward_description().names; }
+
+void HoverReward::set_typical(const HoverRewardSize& size, double typical) {
+  WeightSetter setter{*this, size.key, weight_of_typical(typical)};
+  VisitFields(setter);
+  if (!setter.found) throw std::invalid_argument(fmt::format("no hover reward size '{}'", size.key));
+}
 
 HoverReward HoverReward::from_typical(double position_m, double velocity_mps, double yaw_rad, double action,
                                       Controls centre) {
@@ -57,26 +144,13 @@ HoverReward HoverReward::from_typical(double position_m, double velocity_mps, do
 }
 
 bool HoverReward::IsValid(std::string* error) const {
-  const auto weight_error = [&](const char* name, double value) {
-    return fail(error, fmt::format("{}: expected numbers in [0, {}], got {}", name, kMaxRewardWeight, value));
-  };
-  for (std::size_t i = 0; i < 3; ++i) {
-    if (!reward_weight(alpha_pos[i])) return weight_error("alpha_pos", alpha_pos[i]);
-    if (!reward_weight(alpha_vel[i])) return weight_error("alpha_vel", alpha_vel[i]);
-  }
-  if (!reward_weight(alpha_yaw)) return weight_error("alpha_yaw", alpha_yaw);
-  for (const double a : alpha_attitude)
-    if (!reward_weight(a)) return weight_error("alpha_attitude", a);
-  for (const double a : alpha_rate)
-    if (!reward_weight(a)) return weight_error("alpha_rate", a);
-  for (const double a : alpha_body_rate)
-    if (!reward_weight(a)) return weight_error("alpha_body_rate", a);
-  for (const double a : alpha_quaternion)
-    if (!reward_weight(a)) return weight_error("alpha_quaternion", a);
-  for (std::size_t c = 0; c < 4; ++c) {
-    if (!reward_weight(alpha_action[c])) return weight_error("alpha_action", alpha_action[c]);
-    if (!(std::abs(centre[c]) <= 1)) return fail(error, "centre: expected controls in [-1, 1]");
-  }
+  WeightCheck weights{*this};
+  VisitFields(weights);
+  if (weights.bad)
+    return fail(error, fmt::format("{}: expected numbers in [0, {}], got {}", weights.bad, kMaxRewardWeight,
+                                   weights.value));
+  for (const double c : centre)
+    if (!(std::abs(c) <= 1)) return fail(error, "centre: expected controls in [-1, 1]");
   return true;
 }
 

@@ -312,6 +312,30 @@ double max_tilt_of(const SpecReader& r, const VehicleLogSpec& spec) {
   return r.number("envelope.max_tilt", 1, 0.01 / per, 1.5 / per) * per;
 }
 
+// [hover.reward]'s keys: the typical sizes HoverReward describes.
+std::set<std::string> hover_reward_keys() {
+  std::set<std::string> keys;
+  for (const heli::HoverRewardSize& size : heli::HoverReward::sizes()) keys.insert(size.key);
+  return keys;
+}
+
+// [hover.reward]: the sizes the file gives, in HoverReward's order. A size of 0 leaves a term out where the
+// term allows it (the action, attitude and rate terms); else a size is at least kMinTypicalSize.
+void read_hover_reward(const SpecReader& r, Vehicle& v) {
+  for (const heli::HoverRewardSize& s : heli::HoverReward::sizes()) {
+    const std::string path = std::string("hover.reward.") + s.key;
+    if (!r.at(path)) continue;
+    const double size = r.number(path, 0, 0, 1e150);
+    const double least = heli::HoverReward::kMinTypicalSize;  // smaller makes a weight past the largest
+    if (!(size >= least || (s.may_be_zero && size == 0)))
+      r.fail(r.at(path), path,
+             s.may_be_zero
+                 ? fmt::format("expected 0 (no term) or a typical size of at least {}, got {}", least, size)
+                 : fmt::format("expected a typical size of at least {}, got {}", least, size));
+    v.reward.emplace_back(s.key, size);
+  }
+}
+
 Vehicle vehicle(const toml::table& root, const std::filesystem::path& file) {
   const SpecReader r(root, file.string());
   r.only_keys("", {"vehicle", "log", "model", "control", "hover", "envelope", "cost"});
@@ -325,8 +349,7 @@ Vehicle vehicle(const toml::table& root, const std::filesystem::path& file) {
   r.only_keys("model", {"templates"});
   r.only_keys("control", {"rate_hz"});
   r.only_keys("hover", {"target", "starting_gains", "integral_seconds", "reward", "wind"});
-  r.only_keys("hover.reward",
-              {"position_m", "velocity_mps", "yaw_rad", "action", "attitude_rad", "rate_radps"});
+  r.only_keys("hover.reward", hover_reward_keys());
   r.only_keys("envelope", {"max_tilt_rad", "max_tilt", "max_position_error", "max_speed", "max_rate"});
   Vehicle v;
   v.log = vehicle_log_spec(root, r, file);
@@ -353,21 +376,7 @@ Vehicle vehicle(const toml::table& root, const std::filesystem::path& file) {
     r.fail(r.at("hover.integral_seconds"), "hover.integral_seconds",
            fmt::format("expected 0 (no integral term) or at least one control step ({:g} s), got {}",
                        1 / v.control_rate_hz, v.integral_seconds));
-  for (const char* key : {"position_m", "velocity_mps", "yaw_rad", "action", "attitude_rad", "rate_radps"}) {
-    const std::string path = std::string("hover.reward.") + key;
-    if (!r.at(path)) continue;
-    // A size of 0 leaves a term out (action, attitude, rates); position, velocity and yaw need one > 0.
-    const bool optional = std::string(key) == "action" || std::string(key) == "attitude_rad" ||
-                          std::string(key) == "rate_radps";
-    const double size = r.number(path, 0, 0, 1e150);
-    const double least = heli::HoverReward::kMinTypicalSize;  // smaller makes a weight past the largest
-    if (!(size >= least || (optional && size == 0)))
-      r.fail(r.at(path), path,
-             optional
-                 ? fmt::format("expected 0 (no term) or a typical size of at least {}, got {}", least, size)
-                 : fmt::format("expected a typical size of at least {}, got {}", least, size));
-    v.reward.emplace_back(key, size);
-  }
+  read_hover_reward(r, v);
   v.max_tilt_rad = r.number("envelope.max_tilt_rad", v.max_tilt_rad, 0.01, 1.5);
   if (r.at("envelope.max_tilt")) v.max_tilt_rad = max_tilt_of(r, v.log);
   const TomlFields fields(file.string());

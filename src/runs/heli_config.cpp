@@ -379,33 +379,20 @@ void declare_hover_reward(ConfigSchema& s, const HoverTrainingOptions& defaults)
   // Each weight is 1 / this^2 (Eq 5.9, 5.10): below kMinTypicalScale it would exceed kMaxRewardWeight, and
   // the reward's own check would then blame alpha_pos instead of the option given.
   static constexpr double kMinTypicalScale = HoverReward::kMinTypicalSize;  // 1 / sqrt(kMaxRewardWeight)
-  s.add_double("reward.position_m", HoverReward::kTypicalPosition,
-               "typical position error: alpha_x,y,z = 1 / this^2 (Eq 5.9)")
-      .min(kMinTypicalScale);
-  s.add_double("reward.velocity_mps", HoverReward::kTypicalVelocity,
-               "typical velocity: alpha_xdot,ydot,zdot = 1 / this^2 (Eq 5.9)")
-      .min(kMinTypicalScale);
-  s.add_double("reward.yaw_rad", HoverReward::kTypicalYaw,
-               "typical yaw error: alpha_yaw = 1 / this^2 (Eq 5.9)")
-      .min(kMinTypicalScale);
   // 0 or at least kMinTypicalScale: 0 leaves the term out.
   const auto zero_or_typical = [](const FieldValue& v) {
     const double x = std::get<double>(v);
     return x == 0 || x >= kMinTypicalScale ? std::string()
                                            : fmt::format("0 or at least {}", kMinTypicalScale);
   };
-  s.add_double("reward.action", HoverReward::kTypicalAction,
-               "typical control departure: alpha_a = 1 / this^2 (Eq 5.10); 0: no action cost")
-      .min(0)
-      .validate(zero_or_typical);
-  s.add_double("reward.attitude_rad", 0,
-               "typical roll and pitch (about level): alpha = 1 / this^2; 0: no attitude term (as Eq 5.9)")
-      .min(0)
-      .validate(zero_or_typical);
-  s.add_double("reward.rate_radps", 0,
-               "typical roll, pitch and yaw rate: alpha = 1 / this^2; 0: no rate term (as Eq 5.9)")
-      .min(0)
-      .validate(zero_or_typical);
+  // One option per size HoverReward describes (its key, default and help).
+  for (const HoverRewardSize& size : HoverReward::sizes()) {
+    ConfigField& f = s.add_double(std::string("reward.") + size.key, size.typical, size.help);
+    if (size.may_be_zero)
+      f.min(0).validate(zero_or_typical);
+    else
+      f.min(kMinTypicalScale);
+  }
   declare_hover_cost_and_wind(s);
   s.add_string("reward.action_centre", defaults.centre_at_trim ? "trim" : "zero",
                "controls the action cost is taken about: the logs' mean (trim) or 0 (Eq 5.10 as printed)")

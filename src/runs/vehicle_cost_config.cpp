@@ -22,8 +22,11 @@ bool read_reward(const ConfigSchema& c, const logs::Vehicle& v, HoverTrainingOpt
     if (!v.cost)
       throw InputError(fmt::format("reward.judged_cost ({}): expected a vehicle file with a [cost] section",
                                    c.origin("reward.judged_cost")));
-    for (const char* field : {"reward.position_m", "reward.velocity_mps", "reward.yaw_rad", "reward.action",
-                              "reward.attitude_rad", "reward.rate_radps", "reward.action_centre"})
+    std::vector<std::string> fields;
+    for (const HoverRewardSize& size : HoverReward::sizes())
+      fields.push_back(std::string("reward.") + size.key);
+    fields.emplace_back("reward.action_centre");
+    for (const std::string& field : fields)
       if (c.origin(field) != "default")
         throw InputError(
             fmt::format("{} ({}): the vehicle file's [cost] is the whole reward; expected no "
@@ -33,10 +36,11 @@ bool read_reward(const ConfigSchema& c, const logs::Vehicle& v, HoverTrainingOpt
     o.centre_at_trim = v.cost->controls_about_trim;
     return true;
   }
-  o.reward = HoverReward::from_typical(c.get_double("reward.position_m"), c.get_double("reward.velocity_mps"),
-                                       c.get_double("reward.yaw_rad"), c.get_double("reward.action"), {});
-  o.reward.alpha_attitude.fill(HoverReward::weight_of_typical(c.get_double("reward.attitude_rad")));
-  o.reward.alpha_rate.fill(HoverReward::weight_of_typical(c.get_double("reward.rate_radps")));
+  // Each weight from its size (alpha = 1 / size^2); the centre stays 0 (training moves it to the trim when
+  // centre_at_trim).
+  o.reward = HoverReward{};
+  for (const HoverRewardSize& size : HoverReward::sizes())
+    o.reward.set_typical(size, c.get_double(std::string("reward.") + size.key));
   o.centre_at_trim = c.get_string("reward.action_centre") == "trim";
   return false;
 }

@@ -9,6 +9,9 @@
 #include <cmath>
 #include <cstdlib>
 #include <numbers>
+#include <set>
+#include <string>
+#include <vector>
 
 #include "heli/hover_fixtures.hpp"
 #include "pegasus/heli/control_loop.hpp"
@@ -67,6 +70,50 @@ TEST(HoverReward, AttitudeAndRateTermsPriceTheirTypicalSizeAtOneAndAZeroTypicalS
   r.alpha_rate[2] = -1;
   EXPECT_FALSE(r.IsValid(&error));
   EXPECT_EQ(error, "alpha_rate: expected numbers in [0, 1000000000000], got -1");
+}
+
+// What HoverReward::VisitFields lists: each member's bytes and address, each name and key once.
+struct ListedMembers {
+  HoverReward r;
+  std::size_t bytes = 0;
+  std::set<const void*> addresses;
+  std::set<std::string> names, keys;
+  template <class T>
+  void field(const char* name, T HoverReward::*member, const char*) {
+    bytes += sizeof(T);
+    EXPECT_TRUE(addresses.insert(&(r.*member)).second) << name << " listed twice";
+    EXPECT_TRUE(names.insert(name).second) << name;
+  }
+  template <class T>
+  void weight(const char* name, T HoverReward::*member, const char* doc) {
+    field(name, member, doc);
+  }
+  template <class T>
+  void size(const HoverRewardSize& s, T HoverReward::*member, const char* doc) {
+    field(s.field, member, doc);
+    EXPECT_TRUE(keys.insert(s.key).second) << s.key;
+    for (const double w : elements(r.*member))  // the default size is the default weight's
+      EXPECT_EQ(w, HoverReward::weight_of_typical(s.typical)) << s.key;
+  }
+  static std::vector<double> elements(double x) { return {x}; }
+  template <std::size_t N>
+  static std::vector<double> elements(const std::array<double, N>& a) {
+    return {a.begin(), a.end()};
+  }
+};
+
+TEST(HoverReward, TheDescriptionListsEveryMemberOnce) {
+  ListedMembers listed;
+  HoverReward::VisitFields(listed);
+  // Every member is a double or an array of doubles (no padding): a member VisitFields leaves out shows here.
+  EXPECT_EQ(listed.bytes, sizeof(HoverReward));
+  EXPECT_EQ(HoverReward::field_names().size(), listed.names.size());
+  EXPECT_EQ(HoverReward::field_names().front(), "alpha_pos");
+  EXPECT_EQ(listed.keys.size(), HoverReward::sizes().size());
+  HoverReward r;
+  r.set_typical(HoverReward::sizes()[1], 0.25);  // velocity_mps
+  EXPECT_EQ(r.alpha_vel, (std::array<double, 3>{16, 16, 16}));
+  EXPECT_EQ(r.alpha_pos, HoverReward{}.alpha_pos);
 }
 
 TEST(HoverReward, YawErrorWrapsAboutTwoPi) {

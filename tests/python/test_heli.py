@@ -528,3 +528,20 @@ def test_a_built_models_settings_cannot_be_changed_through_its_getters():
     policy = pegasus.HoverPolicy()
     policy.parameters.add(pegasus.Parameter("extra"))
     assert len(policy.parameters) == len(pegasus.HoverPolicy().parameters)
+
+
+def test_every_hover_reward_weight_is_a_documented_field_the_reward_checks():
+    # The fields come from HoverReward::VisitFields, the judged cost's two included (once left unbound).
+    fields = pegasus.HoverReward._fields
+    assert fields[:9] == ("alpha_pos", "alpha_vel", "alpha_yaw", "alpha_action", "centre", "alpha_attitude",
+                          "alpha_rate", "alpha_body_rate", "alpha_quaternion")
+    assert len(set(fields)) == len(fields)
+    undocumented = [f for f in pegasus.HoverReward._fields
+                    if len((getattr(pegasus.HoverReward, f).__doc__ or "").strip()) < 5]
+    assert undocumented == []
+    for field in ("alpha_body_rate", "alpha_quaternion"):
+        reward = pegasus.HoverReward()
+        np.testing.assert_array_equal(getattr(reward, field), [0.0, 0.0, 0.0])
+        setattr(reward, field, [1.0, 2.0, -1.0])
+        np.testing.assert_array_equal(getattr(reward, field), [1.0, 2.0, -1.0])
+        assert reward.is_valid() == (False, f"{field}: expected numbers in [0, 1000000000000], got -1")

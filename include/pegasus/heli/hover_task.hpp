@@ -24,6 +24,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "pegasus/heli/hover_policy.hpp"
 #include "pegasus/models/model.hpp"
@@ -32,6 +33,20 @@
 #include "pegasus/sysid/learned_model.hpp"
 
 namespace pegasus::heli {
+
+// One of HoverReward's weights as a user sets it: by its term's typical size (alpha = 1 / size^2, the
+// thesis's heuristic), described once in HoverReward::VisitFields. From it come `hover`'s option
+// `reward.KEY` (default, help, the check that a size of 0 may leave the term out), a vehicle file's
+// `[hover.reward] KEY` (allowed, read, checked), the reading of both into the weight, the refusal of
+// `reward.KEY` beside `reward.judged_cost`, and the Python field; tests walk the list through each of them.
+struct HoverRewardSize {
+  const char* key;    // after `reward.` in a config (`--reward.KEY`), and in a vehicle file's [hover.reward]
+  const char* field;  // the weight it sets (every element): HoverReward's member and Python's field
+  double typical;     // the default size (0: the term is off unless set)
+  bool may_be_zero;   // a size of 0 leaves the term out; else the size is at least kMinTypicalSize
+  const char* unit;   // of the size
+  const char* help;   // the option's one line
+};
 
 struct HoverReward {
   // The typical sizes the default weights stand for (alpha = 1 / typical^2, as from_typical computes them):
@@ -60,6 +75,47 @@ struct HoverReward {
   // squares).
   std::array<double, 3> alpha_body_rate{0, 0, 0};
   std::array<double, 3> alpha_quaternion{0, 0, 0};
+
+  // Every field above, once, in the order Python lists them: a visitor offers
+  //   size(HoverRewardSize, &HoverReward::field, doc)  // a weight the user sets by a typical size
+  //   weight(name, &HoverReward::field, doc)           // a weight set otherwise (the judged cost's terms)
+  //   field(name, &HoverReward::field, doc)            // not a weight (the centre)
+  // with `doc` the field's one line (Python's docstring). IsValid checks every weight. A new term: its field,
+  // its entry here, its use in state_cost or action_cost and its part of terms(), and a test.
+  template <class Visitor>
+  static void VisitFields(Visitor& v) {
+    using R = HoverReward;
+    v.size({"position_m", "alpha_pos", kTypicalPosition, false, "m",
+            "typical position error: alpha_x,y,z = 1 / this^2 (Eq 5.9)"},
+           &R::alpha_pos, "Per m^2, x y z.");
+    v.size({"velocity_mps", "alpha_vel", kTypicalVelocity, false, "m/s",
+            "typical velocity: alpha_xdot,ydot,zdot = 1 / this^2 (Eq 5.9)"},
+           &R::alpha_vel, "Per (m/s)^2.");
+    v.size({"yaw_rad", "alpha_yaw", kTypicalYaw, false, "rad",
+            "typical yaw error: alpha_yaw = 1 / this^2 (Eq 5.9)"},
+           &R::alpha_yaw, "Per rad^2.");
+    v.size({"action", "alpha_action", kTypicalAction, true, "control units",
+            "typical control departure: alpha_a = 1 / this^2 (Eq 5.10); 0: no action cost"},
+           &R::alpha_action, "Per unit^2 about centre.");
+    v.field("centre", &R::centre, "The controls the action cost is taken about.");
+    v.size({"attitude_rad", "alpha_attitude", 0, true, "rad",
+            "typical roll and pitch (about level): alpha = 1 / this^2; 0: no attitude term (as Eq 5.9)"},
+           &R::alpha_attitude, "Per rad^2 of roll and pitch (about level).");
+    v.size({"rate_radps", "alpha_rate", 0, true, "rad/s",
+            "typical roll, pitch and yaw rate: alpha = 1 / this^2; 0: no rate term (as Eq 5.9)"},
+           &R::alpha_rate, "Per (rad/s)^2 of the roll, pitch and yaw rates.");
+    v.weight("alpha_body_rate", &R::alpha_body_rate,
+             "Per (rad/s)^2 of the body rates p, q, r (FRD): a judged cost's term (0 by default).");
+    v.weight("alpha_quaternion", &R::alpha_quaternion,
+             "Per unit^2 of x, y, z of the attitude's rotation from the set point's (level, at its yaw), in "
+             "body axes: a judged cost's term (0 by default).");
+  }
+  // The weights set by typical sizes, in VisitFields's order (that of `hover`'s reward.* options).
+  static const std::vector<HoverRewardSize>& sizes();
+  // Every field's name, in VisitFields's order (Python's _fields).
+  static const std::vector<std::string>& field_names();
+  // Sets every element of the weight `size` names to weight_of_typical(typical).
+  void set_typical(const HoverRewardSize& size, double typical);
 
   // alpha = 1 / typical^2 for each term; a typical size of 0 gives alpha = 0 (no term).
   static double weight_of_typical(double typical) { return typical > 0 ? 1 / (typical * typical) : 0.0; }
