@@ -1,8 +1,8 @@
 #include "pegasus/heli/simulators.hpp"
 
 #include <algorithm>
-#include <mutex>
 
+#include "pegasus/core/named_registry.hpp"
 #include "pegasus/heli/aircraft.hpp"
 #include "pegasus/heli/quadrotor.hpp"
 
@@ -32,19 +32,14 @@ std::vector<GroundTruthEntry> builtin_ground_truths() {
            crazyflie_pilot()}};
 }
 
-struct GroundTruthRegistry {
-  std::mutex mutex;
-  std::vector<GroundTruthEntry> entries = builtin_ground_truths();
-};
-GroundTruthRegistry& ground_truth_registry() {
-  static GroundTruthRegistry r;
+NamedRegistry<GroundTruthEntry>& ground_truth_registry() {
+  static NamedRegistry<GroundTruthEntry> r(builtin_ground_truths());
   return r;
 }
 
 // The entry of `simulator`; throws std::invalid_argument naming the registered ones.
 GroundTruthEntry entry_of(const std::string& simulator) {
-  for (GroundTruthEntry& e : ground_truths())
-    if (e.name == simulator) return std::move(e);
+  if (std::optional<GroundTruthEntry> e = ground_truth_registry().find(simulator)) return std::move(*e);
   throw std::invalid_argument("no ground truth named '" + simulator +
                               "' (registered: " + ground_truth_list() + ")");
 }
@@ -69,21 +64,10 @@ void register_ground_truth(GroundTruthEntry entry) {
                                 entry.name + "'");
   if (!entry.make)
     throw std::invalid_argument("register_ground_truth: '" + entry.name + "' has no make function");
-  GroundTruthRegistry& r = ground_truth_registry();
-  const std::lock_guard lock(r.mutex);
-  const auto it = std::find_if(r.entries.begin(), r.entries.end(),
-                               [&](const GroundTruthEntry& e) { return e.name == entry.name; });
-  if (it != r.entries.end())
-    *it = std::move(entry);
-  else
-    r.entries.push_back(std::move(entry));
+  ground_truth_registry().add(std::move(entry));
 }
 
-std::vector<GroundTruthEntry> ground_truths() {
-  GroundTruthRegistry& r = ground_truth_registry();
-  const std::lock_guard lock(r.mutex);
-  return r.entries;
-}
+std::vector<GroundTruthEntry> ground_truths() { return ground_truth_registry().entries(); }
 
 std::vector<std::string> simulator_names() {
   std::vector<std::string> names = {"none"};

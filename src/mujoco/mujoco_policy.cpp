@@ -5,11 +5,11 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
-#include <mutex>
 #include <optional>
 #include <stdexcept>
 
 #include "pegasus/core/error.hpp"
+#include "pegasus/core/named_registry.hpp"
 #include "pegasus/core/or_list.hpp"
 #include "pegasus/core/untrusted_text.hpp"
 #include "pegasus/io/json_input.hpp"
@@ -196,22 +196,13 @@ std::vector<MujocoPolicyClass> builtin_classes() {
        }}};
 }
 
-struct ClassRegistry {
-  std::mutex mutex;
-  std::vector<MujocoPolicyClass> classes = builtin_classes();
-};
-ClassRegistry& class_registry() {
-  static ClassRegistry r;
+NamedRegistry<MujocoPolicyClass>& class_registry() {
+  static NamedRegistry<MujocoPolicyClass> r(builtin_classes());
   return r;
 }
 
 std::optional<MujocoPolicyClass> find_policy_class(const std::string& name) {
-  ClassRegistry& r = class_registry();
-  const std::lock_guard lock(r.mutex);
-  const auto it = std::find_if(r.classes.begin(), r.classes.end(),
-                               [&](const MujocoPolicyClass& c) { return c.name == name; });
-  if (it == r.classes.end()) return std::nullopt;
-  return *it;
+  return class_registry().find(name);
 }
 
 std::unique_ptr<MujocoPolicy> make_unphased_policy(const std::string& kind, int observation_dim,
@@ -256,22 +247,10 @@ std::unique_ptr<MujocoPolicy> make_mujoco_policy(const std::string& kind, int ob
 }
 
 void register_mujoco_policy_class(MujocoPolicyClass policy_class) {
-  ClassRegistry& r = class_registry();
-  const std::lock_guard lock(r.mutex);
-  const auto it = std::find_if(r.classes.begin(), r.classes.end(),
-                               [&](const MujocoPolicyClass& c) { return c.name == policy_class.name; });
-  if (it != r.classes.end()) {
-    *it = std::move(policy_class);
-  } else {
-    r.classes.push_back(std::move(policy_class));
-  }
+  class_registry().add(std::move(policy_class));
 }
 
-std::vector<MujocoPolicyClass> mujoco_policy_classes() {
-  ClassRegistry& r = class_registry();
-  const std::lock_guard lock(r.mutex);
-  return r.classes;
-}
+std::vector<MujocoPolicyClass> mujoco_policy_classes() { return class_registry().entries(); }
 
 std::vector<std::string> mujoco_policy_class_names() {
   std::vector<std::string> names;
