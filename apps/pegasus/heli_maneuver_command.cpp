@@ -29,7 +29,7 @@ std::vector<Command> heli_maneuver_commands() {
                              "fly it on the ground truth (thesis 5.4)",
               .declare = heli::declare_maneuver_config,
               .run = run,
-              .resolve = heli::resolve_gust_sigma},
+              .resolve = heli::resolve_maneuver_config},
       Command{.path = "heli maneuver-pilot",
               .description = "Fly the scripted pilot through hover, sweeps and the three manoeuvres: "
                              "identification data that covers them",

@@ -1,6 +1,5 @@
 #include "pegasus/heli/simulators.hpp"
 
-#include <algorithm>
 
 #include "pegasus/core/named_registry.hpp"
 #include "pegasus/heli/aircraft.hpp"

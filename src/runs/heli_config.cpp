@@ -73,12 +73,6 @@ std::string fills_help(const std::vector<VehicleFill>& fills, const std::string&
   return list;
 }
 
-// The vehicle file the `vehicle` field names, or none.
-std::optional<logs::Vehicle> vehicle_file_of(const ConfigSchema& s) {
-  if (s.get_string("vehicle").empty()) return std::nullopt;
-  return logs::read_vehicle(s.get_string("vehicle"));
-}
-
 void apply_fills(ConfigSchema& s, const logs::Vehicle& v, const std::vector<VehicleFill>& fills) {
   for (const auto& f : fills) set_from_vehicle(s, v, f.field, f.value(v), f.key);
 }
@@ -119,6 +113,11 @@ void declare_gust_sigma(ConfigSchema& s, const std::string& help) {
                fmt::format("{}; with a vehicle file, its ground truth's own unless set ({})", help,
                            own_gust_sigmas()))
       .range(0, 10);
+}
+
+std::optional<logs::Vehicle> vehicle_file_of(const ConfigSchema& s) {
+  if (s.get_string("vehicle").empty()) return std::nullopt;
+  return logs::read_vehicle(s.get_string("vehicle"));
 }
 
 void resolve_gust_sigma(ConfigSchema& s) {

@@ -152,6 +152,11 @@ ManeuverTrainingOptions read_training(const ConfigSchema& c, std::uint64_t seed)
 
 }  // namespace
 
+void resolve_maneuver_config(ConfigSchema& s) {
+  resolve_gust_sigma(s);
+  if (const auto v = vehicle_file_of(s)) resolve_training_wind(s, *v);
+}
+
 ManeuverRunOptions read_maneuver_config(const ConfigSchema& c, std::uint64_t seed) {
   ManeuverRunOptions o{.aircraft = vehicle_of(c),
                        .model_file = c.get_string("model"),

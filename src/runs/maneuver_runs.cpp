@@ -356,10 +356,7 @@ void run_maneuver(const ManeuverRunOptions& stated, RunSink& sink, ThreadPool& p
                          .reason =
                              "calm, as the manoeuvre's flights fly (in --gust-sigma's turbulence); "
                              "state --wind.* or [hover.wind] to train in wind"}
-          : training_wind(stated.wind_source,
-                          stated.wind_source == WindSource::kVehicleFile ? *aircraft.vehicle.wind
-                                                                         : stated.training.disturbance,
-                          *model);
+          : training_wind(stated.wind_source, stated.training.disturbance, *model);
   ManeuverRunOptions options = stated;
   options.training.disturbance = wind.disturbance;
   const ManeuverTrainingOptions& base = options.training;

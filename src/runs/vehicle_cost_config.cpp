@@ -88,6 +88,17 @@ sysid::Disturbance read_training_wind(const ConfigSchema& c) {
           .gust_tau_s = c.get_double("wind.gust_tau_s")};
 }
 
+void resolve_training_wind(ConfigSchema& s, const logs::Vehicle& v) {
+  // Each of [hover.wind]'s fields, also where calm: a stated calm is no default (heli/training_wind.hpp).
+  if (!v.wind) return;
+  const sysid::Disturbance& w = *v.wind;
+  set_from_vehicle(s, v, "wind.steady", std::vector<double>(w.wind.begin(), w.wind.end()),
+                   "hover.wind.steady");
+  set_from_vehicle(s, v, "wind.sigma", w.wind_sigma, "hover.wind.sigma");
+  set_from_vehicle(s, v, "wind.gust_sigma", w.gust_sigma, "hover.wind.gust_sigma");
+  set_from_vehicle(s, v, "wind.gust_tau_s", w.gust_tau_s, "hover.wind.gust_tau_s");
+}
+
 void declare_hover_cost_and_wind(ConfigSchema& s) {
   const HoverTrainingOptions defaults;
   s.add_bool(
@@ -124,15 +135,7 @@ void resolve_hover_cost_and_wind(ConfigSchema& s, const logs::Vehicle& vehicle) 
   limit("max_position_error_m", v->max_position_error_m, "envelope.max_position_error");
   limit("max_speed_mps", v->max_speed_mps, "envelope.max_speed");
   limit("max_rate_radps", v->max_rate_radps, "envelope.max_rate");
-  // Each of [hover.wind]'s fields, also where calm: a stated calm is no default (heli/training_wind.hpp).
-  if (v->wind) {
-    const sysid::Disturbance& w = *v->wind;
-    set_from_vehicle(s, *v, "wind.steady", std::vector<double>(w.wind.begin(), w.wind.end()),
-                     "hover.wind.steady");
-    set_from_vehicle(s, *v, "wind.sigma", w.wind_sigma, "hover.wind.sigma");
-    set_from_vehicle(s, *v, "wind.gust_sigma", w.gust_sigma, "hover.wind.gust_sigma");
-    set_from_vehicle(s, *v, "wind.gust_tau_s", w.gust_tau_s, "hover.wind.gust_tau_s");
-  }
+  resolve_training_wind(s, vehicle);
 }
 
 bool read_hover_cost_and_wind(const ConfigSchema& c, const logs::Vehicle& v, HoverTrainingOptions& o) {

@@ -13,6 +13,8 @@ std::string check_wind_ned(const FieldValue& v);
 // wind.steady, wind.sigma, wind.gust_sigma and wind.gust_tau_s: the wind in the training scenarios (hover and
 // manoeuvre), and their value.
 void declare_training_wind(ConfigSchema& s);
+// Their values from the vehicle file's [hover.wind] unless set.
+void resolve_training_wind(ConfigSchema& s, const logs::Vehicle& v);
 sysid::Disturbance read_training_wind(const ConfigSchema& c);
 // reward.judged_cost, crash_penalty, max_position_error_m, max_speed_mps, max_rate_radps and wind.*.
 void declare_hover_cost_and_wind(ConfigSchema& s);

@@ -12,6 +12,7 @@
 //   s.validate();
 //   heli::run_hover(heli::read_hover_config(s, seed), sink, pool);
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "pegasus/logs/vehicle.hpp"
@@ -31,6 +32,9 @@ VehicleChoice vehicle_of(const ConfigSchema& c);
 // wins); the resolved config then names the file as the value's origin.
 void set_from_vehicle(ConfigSchema& s, const logs::Vehicle& v, const std::string& field, FieldValue value,
                       const std::string& key);
+
+// The vehicle file the `vehicle` field names, or none.
+std::optional<logs::Vehicle> vehicle_file_of(const ConfigSchema& s);
 
 // The ground truth's `gust_sigma` (the X-Cell's by default), and the resolve step that gives it the vehicle's
 // ground truth's own (heli/simulators.hpp) when the user set none.

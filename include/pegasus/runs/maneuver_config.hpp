@@ -10,8 +10,10 @@
 namespace pegasus::heli {
 
 // `maneuver`: a manoeuvre or figure-eight learned on the identified model and flown on the ground truth
-// (resolve with resolve_gust_sigma).
+// (resolve with resolve_maneuver_config).
 void declare_maneuver_config(ConfigSchema& s);
+// A vehicle file's gust_sigma and [hover.wind] into the fields not set.
+void resolve_maneuver_config(ConfigSchema& s);
 ManeuverRunOptions read_maneuver_config(const ConfigSchema& c, std::uint64_t seed);
 
 // `maneuver-pilot`: the scripted pilot through hover, sweeps and the manoeuvres (resolve with

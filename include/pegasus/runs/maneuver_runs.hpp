@@ -26,8 +26,8 @@ struct ManeuverRunOptions {
   ManeuverFlightOptions flights{};     // flights, gusts, start perturbation (seed and simulator: set here)
   int trace_flights = 20;              // flights written to flights.csv
   bool compare_pilot = false;          // also fly the vehicle's scripted pilot along the same set points
-  // Where training.disturbance came from; kVehicleFile: run_maneuver trains in the vehicle file's
-  // [hover.wind] instead; kDefault (none stated): calm.
+  // Where training.disturbance came from (the options or the vehicle file's [hover.wind], resolved into them;
+  // kDefault, none stated: run_maneuver trains calm).
   WindSource wind_source = WindSource::kNoVehicleFile;
 };
 // policy.json (and policy_no_delay.json, policy_no_shaping.json), progress CSVs, ideal_path.csv,
