@@ -1,6 +1,5 @@
 #include "pegasus/heli/simulators.hpp"
 
-
 #include "pegasus/core/named_registry.hpp"
 #include "pegasus/heli/aircraft.hpp"
 #include "pegasus/heli/quadrotor.hpp"
