@@ -757,6 +757,19 @@ class LearnedHeliModel:
     def terminal(self, states: ArrayLike) -> npt.NDArray[np.bool_]: ...
     def simulate(self, initial_noise: ArrayLike, noise: ArrayLike, *, actions: Optional[ArrayLike] = None, policy: Optional[HeliPolicy] = None, threads: int = 1) -> dict: ...
 
+class Disturbance:
+    def __init__(self) -> None: ...
+    @property
+    def wind(self) -> Array: ...
+    @wind.setter
+    def wind(self, value: ArrayLike) -> None: ...
+    wind_sigma: float
+    gust_sigma: float
+    gust_tau_s: float
+    def calm(self) -> bool: ...
+    def is_valid(self) -> Tuple[bool, str]: ...
+    _fields: ClassVar[Tuple[str, ...]]
+
 class HoverTrainingOptions:
     def __init__(self) -> None: ...
     scenarios: int
@@ -772,6 +785,7 @@ class HoverTrainingOptions:
     start_pos_sigma: float
     start_vel_sigma: float
     reward: HoverReward
+    disturbance: Disturbance
     centre_at_trim: bool
     optimizer: OptimizerOptions
     then_hill_climb: bool

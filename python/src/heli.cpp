@@ -173,18 +173,6 @@ SetPoint set_point(double x, double y, double z, double yaw) {
   return {x, y, z, yaw};
 }
 
-template <class T, std::size_t N>
-void def_array(py::class_<T>& c, const char* name, std::array<double, N> T::*field, const char* doc) {
-  c.def_property(
-      name, [field](const T& t) { return vector_array(t.*field); },
-      [field, name](T& t, ArrayLikeArg v) {
-        const Array a = as_vector(v, name, static_cast<py::ssize_t>(N));
-        require_finite(a, name);
-        std::copy(a.data(), a.data() + N, (t.*field).begin());
-      },
-      doc);
-}
-
 // Binds each field HoverReward::VisitFields lists, with its one line as the docstring.
 struct RewardBinder {
   py::class_<HoverReward>& c;

@@ -38,6 +38,19 @@ void def_vec3(py::class_<T>& c, const char* name, Get get, const char* doc) {
       doc);
 }
 
+// A std::array<double, N> field as a numpy property of N finite numbers.
+template <class T, std::size_t N>
+void def_array(py::class_<T>& c, const char* name, std::array<double, N> T::*field, const char* doc) {
+  c.def_property(
+      name, [field](const T& t) { return vector_array(t.*field); },
+      [field, name](T& t, ArrayLikeArg v) {
+        const Array a = as_vector(v, name, static_cast<py::ssize_t>(N));
+        require_finite(a, name);
+        std::copy(a.data(), a.data() + N, (t.*field).begin());
+      },
+      doc);
+}
+
 // The fields every built-in ground truth's params share (ground_truth.hpp: disturbances, crash limits,
 // integration, start) and is_valid, bound by their C++ names after the aircraft's own fields
 // (`own_fields`, already bound); sets `_fields` to all of them.

@@ -66,7 +66,42 @@ std::unique_ptr<HoverProblemObject> hover_problem(const M& model, const SetPoint
 
 }  // namespace
 
+namespace {
+
+// Binds each setting sysid::Disturbance::VisitFields lists, by its member's name, with its unit and bounds in
+// the docstring.
+struct DisturbanceBinder {
+  py::class_<sysid::Disturbance>& c;
+  std::vector<std::string> names;
+  static std::string doc(const sysid::DisturbanceSetting& s) {
+    return fmt::format("{} (hover's wind.{}; {} {}).", s.help, s.key, s.range(), s.unit);
+  }
+  void setting(const sysid::DisturbanceSetting& s, double sysid::Disturbance::*member) {
+    c.def_readwrite(s.field, member, doc(s).c_str());
+    names.emplace_back(s.field);
+  }
+  void setting(const sysid::DisturbanceSetting& s, std::array<double, 3> sysid::Disturbance::*member) {
+    def_array(c, s.field, member, doc(s).c_str());
+    names.emplace_back(s.field);
+  }
+};
+
+void bind_disturbance(py::module_& m) {
+  auto disturbance = py::class_<sysid::Disturbance>(m, "Disturbance", R"doc(
+The wind a learned model flies in during training (sysid/learned_model.hpp): a steady wind, a steady wind drawn
+per scenario, and AR(1) gusts, acting on the model's airspeed. All zero: calm, as identified.)doc");
+  disturbance.def(py::init<>());
+  DisturbanceBinder binder{disturbance, {}};
+  sysid::Disturbance::VisitFields(binder);
+  disturbance.def("calm", &sysid::Disturbance::calm, "No steady wind, no drawn wind and no gusts.")
+      .def("is_valid", is_valid_method<sysid::Disturbance>(), kIsValidDoc);
+  set_fields(disturbance, binder.names);
+}
+
+}  // namespace
+
 void bind_hover(py::module_& m) {
+  bind_disturbance(m);
   auto options = py::class_<heli::HoverTrainingOptions>(m, "HoverTrainingOptions", R"doc(
 `pegasus heli hover`'s training (thesis §5.3): 30 scenarios of 35 s, gamma 0.9995, gradient ascent then hill
 climbing, on the identified model (heli/hover_task.hpp).)doc");
@@ -100,6 +135,9 @@ climbing, on the identified model (heli/hover_task.hpp).)doc");
                      "Start velocity perturbation per axis, m/s.")
       .def_readwrite("reward", &heli::HoverTrainingOptions::reward,
                      "The reward (Eqs 5.9-5.10, plus optional attitude and rate terms).")
+      .def_readwrite("disturbance", &heli::HoverTrainingOptions::disturbance,
+                     "The wind the scenarios fly in (Disturbance; calm by default, as `hover` without a "
+                     "vehicle file).")
       .def_readwrite("centre_at_trim", &heli::HoverTrainingOptions::centre_at_trim,
                      "Take the action cost about the logs' trim (True) or about the reward's centre (False).")
       .def_readwrite("optimizer", &heli::HoverTrainingOptions::optimizer,
@@ -140,6 +178,7 @@ climbing, on the identified model (heli/hover_task.hpp).)doc");
                        "start_pos_sigma",
                        "start_vel_sigma",
                        "reward",
+                       "disturbance",
                        "centre_at_trim",
                        "optimizer",
                        "then_hill_climb",

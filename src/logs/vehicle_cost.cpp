@@ -6,7 +6,10 @@
 
 #include <fmt/format.h>
 
+#include <array>
 #include <cmath>
+#include <set>
+#include <string>
 
 namespace pegasus::logs {
 namespace {
@@ -94,32 +97,57 @@ void read_envelope_limits(const toml::table& root, const TomlFields& f, Vehicle&
   v.max_rate_radps = limit("envelope.max_rate", radians_per_rates_unit(v.log));
 }
 
-std::optional<sysid::Disturbance> read_hover_wind(const toml::table& root, const TomlFields& f,
-                                                  const VehicleLogSpec& spec) {
+namespace {
+
+// Reads each of Disturbance::VisitFields's settings from [hover.wind] KEY: a number within its bounds, or the
+// steady wind's 3, in the file's world frame.
+struct HoverWindReader {
+  const toml::table& root;
+  const TomlFields& f;
+  const VehicleLogSpec& spec;
   sysid::Disturbance d;
-  const toml::node* section = root.at_path("hover.wind").node();
-  if (!section) return std::nullopt;
-  if (!section->as_table()) f.fail(section, "hover.wind", "expected a table");
-  f.only_keys(*section->as_table(), "hover.wind", {"steady", "sigma", "gust_sigma", "gust_tau_s"});
-  if (const toml::node* n = root.at_path("hover.wind.steady").node()) {
+  void setting(const sysid::DisturbanceSetting& s, double sysid::Disturbance::*member) {
+    const std::string key = std::string("hover.wind.") + s.key;
+    const toml::node* n = root.at_path(key).node();
+    if (!n) return;
+    const double x =
+        f.number(n, key, d.*member);  // a finite number; its bounds below, as the setting states them
+    if (!s.within(x))
+      f.fail(n, key, fmt::format("expected a number in {} ({}), got {}", s.range(), s.unit, x));
+    d.*member = x;
+  }
+  void setting(const sysid::DisturbanceSetting& s, std::array<double, 3> sysid::Disturbance::*member) {
+    const std::string key = std::string("hover.wind.") + s.key;
+    const toml::node* n = root.at_path(key).node();
+    if (!n) return;
+    const std::string expected =
+        fmt::format("expected a list of 3 numbers in {} ({}, the file's world frame)", s.range(), s.unit);
     const toml::array* a = n->as_array();
-    const char* expected = "expected a list of 3 numbers in [-30, 30] (m/s, the file's world frame)";
-    if (!a || a->size() != 3) f.fail(n, "hover.wind.steady", expected);
+    if (!a || a->size() != 3) f.fail(n, key, expected);
     std::array<double, 3> w{};
     for (std::size_t i = 0; i < 3; ++i) {
       const auto v = (*a)[i].value<double>();
-      if (!v || !(std::abs(*v) <= 30)) f.fail(n, "hover.wind.steady", expected);
+      if (!v || !s.within(*v)) f.fail(n, key, expected);
       w[i] = *v;
     }
     const heli::Vec3 w_W = world_vector_of(spec, vec(w));
-    d.wind = {w_W.x(), w_W.y(), w_W.z()};
+    d.*member = {w_W.x(), w_W.y(), w_W.z()};
   }
-  d.wind_sigma = f.number(root.at_path("hover.wind.sigma").node(), "hover.wind.sigma", d.wind_sigma, 0, 30);
-  d.gust_sigma =
-      f.number(root.at_path("hover.wind.gust_sigma").node(), "hover.wind.gust_sigma", d.gust_sigma, 0, 30);
-  d.gust_tau_s = f.number(root.at_path("hover.wind.gust_tau_s").node(), "hover.wind.gust_tau_s", d.gust_tau_s,
-                          0.001, 3600);
-  return d;
+};
+
+}  // namespace
+
+std::optional<sysid::Disturbance> read_hover_wind(const toml::table& root, const TomlFields& f,
+                                                  const VehicleLogSpec& spec) {
+  const toml::node* section = root.at_path("hover.wind").node();
+  if (!section) return std::nullopt;
+  if (!section->as_table()) f.fail(section, "hover.wind", "expected a table");
+  std::set<std::string> keys;
+  for (const sysid::DisturbanceSetting& s : sysid::Disturbance::settings()) keys.insert(s.key);
+  f.only_keys(*section->as_table(), "hover.wind", keys);
+  HoverWindReader reader{root, f, spec, {}};
+  sysid::Disturbance::VisitFields(reader);
+  return reader.d;
 }
 
 heli::HoverReward judged_reward(const Vehicle& v) {

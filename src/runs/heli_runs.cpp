@@ -410,11 +410,24 @@ void add_hover_settings(nlohmann::json& summary, const HoverRunOptions& options,
 
 }  // namespace
 
+namespace {
+
+// Each of Disturbance::VisitFields's settings under its summary key.
+struct WindSummary {
+  const sysid::Disturbance& d;
+  nlohmann::json j = nlohmann::json::object();
+  template <class T>
+  void setting(const sysid::DisturbanceSetting& s, T sysid::Disturbance::*member) {
+    j[s.summary_key] = d.*member;
+  }
+};
+
+}  // namespace
+
 nlohmann::json wind_summary(const sysid::Disturbance& d) {
-  return {{"steady_ned_mps", d.wind},
-          {"sigma_mps", d.wind_sigma},
-          {"gust_sigma_mps", d.gust_sigma},
-          {"gust_tau_s", d.gust_tau_s}};
+  WindSummary v{d};
+  sysid::Disturbance::VisitFields(v);
+  return v.j;
 }
 
 void run_hover(const HoverRunOptions& stated, RunSink& sink, ThreadPool& pool) {

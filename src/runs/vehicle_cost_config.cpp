@@ -4,9 +4,12 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "pegasus/core/error.hpp"
@@ -54,49 +57,84 @@ double limit_of(const ConfigSchema& c, const char* field) {
 
 std::string check_wind_ned(const FieldValue& v) {
   const auto& w = std::get<std::vector<double>>(v);
+  const sysid::DisturbanceSetting& steady = sysid::Disturbance::settings().front();
   if (w.size() != 3) return "3 numbers: north, east, down (m/s)";
   for (const double x : w)
-    if (!(std::abs(x) <= 30)) return "3 numbers in [-30, 30] m/s";
+    if (!steady.within(x)) return fmt::format("3 numbers in {} {}", steady.range(), steady.unit);
   return {};
 }
 
+namespace {
+
+// `wind.KEY` for each of Disturbance::VisitFields's settings.
+std::string wind_option(const sysid::DisturbanceSetting& setting) {
+  return std::string("wind.") + setting.key;
+}
+
+// Declares each setting as an option, its default Disturbance{}'s.
+struct DeclareWind {
+  ConfigSchema& s;
+  sysid::Disturbance defaults;
+  void setting(const sysid::DisturbanceSetting& d, double sysid::Disturbance::*member) {
+    ConfigField& f = s.add_double(wind_option(d), defaults.*member, d.help);
+    if (d.lower_open)
+      f.greater_than(d.lower).max(d.upper);
+    else
+      f.range(d.lower, d.upper);
+  }
+  void setting(const sysid::DisturbanceSetting& d, std::array<double, 3> sysid::Disturbance::*member) {
+    const auto& w = defaults.*member;
+    s.add_double_list(wind_option(d), {w.begin(), w.end()}, d.help).validate(check_wind_ned);
+  }
+};
+
+// Reads each option into its member.
+struct ReadWind {
+  const ConfigSchema& c;
+  sysid::Disturbance d;
+  void setting(const sysid::DisturbanceSetting& s, double sysid::Disturbance::*member) {
+    d.*member = c.get_double(wind_option(s));
+  }
+  void setting(const sysid::DisturbanceSetting& s, std::array<double, 3> sysid::Disturbance::*member) {
+    const auto& w = c.get_double_list(wind_option(s));
+    std::copy(w.begin(), w.end(), (d.*member).begin());
+  }
+};
+
+// Sets each option from the vehicle file's [hover.wind] KEY.
+struct WindFromVehicle {
+  ConfigSchema& s;
+  const logs::Vehicle& v;
+  template <class T>
+  void setting(const sysid::DisturbanceSetting& d, T sysid::Disturbance::*member) {
+    const T& value = (*v.wind).*member;
+    FieldValue field_value;
+    if constexpr (std::is_same_v<T, double>)
+      field_value = value;
+    else
+      field_value = std::vector<double>(value.begin(), value.end());
+    set_from_vehicle(s, v, wind_option(d), std::move(field_value), std::string("hover.wind.") + d.key);
+  }
+};
+
+}  // namespace
+
 void declare_training_wind(ConfigSchema& s) {
-  const sysid::Disturbance defaults;
-  s.add_double_list(
-       "wind.steady", {0, 0, 0},
-       "steady wind in the scenarios, north, east, down (m/s, NED): the learned model's forces act "
-       "on the airspeed")
-      .validate(check_wind_ned);
-  s.add_double(
-       "wind.sigma", 0,
-       "each scenario's steady wind drawn about wind.steady, per horizontal axis, m/s; with a vehicle "
-       "file and no wind.* or [hover.wind] stated, the default by the model class (1.5 m/s and 0.5 m/s "
-       "gusts for a global linear model, calm for a locally weighted one)")
-      .range(0, 30);
-  s.add_double("wind.gust_sigma", 0, "AR(1) gusts in the scenarios: standard deviation per axis, m/s")
-      .range(0, 30);
-  s.add_double("wind.gust_tau_s", defaults.gust_tau_s, "AR(1) gusts: correlation time, s")
-      .greater_than(0)
-      .max(3600);
+  DeclareWind v{s, {}};
+  sysid::Disturbance::VisitFields(v);
 }
 
 sysid::Disturbance read_training_wind(const ConfigSchema& c) {
-  const auto& wind = c.get_double_list("wind.steady");
-  return {.wind = {wind[0], wind[1], wind[2]},
-          .wind_sigma = c.get_double("wind.sigma"),
-          .gust_sigma = c.get_double("wind.gust_sigma"),
-          .gust_tau_s = c.get_double("wind.gust_tau_s")};
+  ReadWind v{c, {}};
+  sysid::Disturbance::VisitFields(v);
+  return v.d;
 }
 
 void resolve_training_wind(ConfigSchema& s, const logs::Vehicle& v) {
   // Each of [hover.wind]'s fields, also where calm: a stated calm is no default (heli/training_wind.hpp).
   if (!v.wind) return;
-  const sysid::Disturbance& w = *v.wind;
-  set_from_vehicle(s, v, "wind.steady", std::vector<double>(w.wind.begin(), w.wind.end()),
-                   "hover.wind.steady");
-  set_from_vehicle(s, v, "wind.sigma", w.wind_sigma, "hover.wind.sigma");
-  set_from_vehicle(s, v, "wind.gust_sigma", w.gust_sigma, "hover.wind.gust_sigma");
-  set_from_vehicle(s, v, "wind.gust_tau_s", w.gust_tau_s, "hover.wind.gust_tau_s");
+  WindFromVehicle visitor{s, v};
+  sysid::Disturbance::VisitFields(visitor);
 }
 
 void declare_hover_cost_and_wind(ConfigSchema& s) {
@@ -151,8 +189,9 @@ bool read_hover_cost_and_wind(const ConfigSchema& c, const logs::Vehicle& v, Hov
 WindSource hover_wind_source(const ConfigSchema& c, const VehicleChoice& aircraft) {
   const logs::Vehicle& v = aircraft.vehicle;
   const std::string from_file = v.log.file + ": hover.wind.";
-  for (const char* field : {"wind.steady", "wind.sigma", "wind.gust_sigma", "wind.gust_tau_s"})
-    if (const std::string& origin = c.origin(field); origin != "default" && !origin.starts_with(from_file))
+  for (const sysid::DisturbanceSetting& setting : sysid::Disturbance::settings())
+    if (const std::string& origin = c.origin(wind_option(setting));
+        origin != "default" && !origin.starts_with(from_file))
       return WindSource::kOptions;
   if (v.wind) return WindSource::kVehicleFile;
   return aircraft.from_file() ? WindSource::kDefault : WindSource::kNoVehicleFile;

@@ -16,20 +16,51 @@ int refit_steps_at(double step_rate_hz) {
   return std::max(1, static_cast<int>(std::lround(kRefitSeconds * step_rate_hz)));
 }
 
+std::string DisturbanceSetting::range() const {
+  return fmt::format("{}{:g}, {:g}]", lower_open ? "(" : "[", lower, upper);
+}
+
+namespace {
+
+// Collects the settings, or checks a Disturbance's values against them.
+struct SettingsList {
+  std::vector<DisturbanceSetting> settings;
+  template <class T>
+  void setting(const DisturbanceSetting& s, T Disturbance::* /*member*/) {
+    settings.push_back(s);
+  }
+};
+
+struct BoundsCheck {
+  const Disturbance& d;
+  std::string error;
+  void check(const DisturbanceSetting& s, double x, const char* what) {
+    if (error.empty() && !s.within(x))
+      error = fmt::format("{}: expected {} in {} {}, got {}", s.field, what, s.range(), s.unit, x);
+  }
+  void setting(const DisturbanceSetting& s, double Disturbance::*member) { check(s, d.*member, "a number"); }
+  void setting(const DisturbanceSetting& s, std::array<double, 3> Disturbance::*member) {
+    for (const double x : d.*member) check(s, x, "numbers");
+  }
+};
+
+}  // namespace
+
+const std::vector<DisturbanceSetting>& Disturbance::settings() {
+  static const std::vector<DisturbanceSetting> list = [] {
+    SettingsList v;
+    VisitFields(v);
+    return v.settings;
+  }();
+  return list;
+}
+
 bool Disturbance::IsValid(std::string* error) const {
-  auto fail = [&](const std::string& what) {
-    if (error) *error = what;
-    return false;
-  };
-  for (const double w : wind)
-    if (!(std::abs(w) <= 30)) return fail(fmt::format("wind: expected numbers in [-30, 30] m/s, got {}", w));
-  if (!(wind_sigma >= 0 && wind_sigma <= 30))
-    return fail(fmt::format("wind_sigma: expected a number in [0, 30] m/s, got {}", wind_sigma));
-  if (!(gust_sigma >= 0 && gust_sigma <= 30))
-    return fail(fmt::format("gust_sigma: expected a number in [0, 30] m/s, got {}", gust_sigma));
-  if (!(gust_tau_s > 0 && gust_tau_s <= 3600))
-    return fail(fmt::format("gust_tau_s: expected a number in (0, 3600] s, got {}", gust_tau_s));
-  return true;
+  BoundsCheck v{*this, {}};
+  VisitFields(v);
+  if (v.error.empty()) return true;
+  if (error) *error = v.error;
+  return false;
 }
 
 bool LearnedModelOptions::IsValid(std::string* error) const {

@@ -545,3 +545,39 @@ def test_every_hover_reward_weight_is_a_documented_field_the_reward_checks():
         setattr(reward, field, [1.0, 2.0, -1.0])
         np.testing.assert_array_equal(getattr(reward, field), [1.0, 2.0, -1.0])
         assert reward.is_valid() == (False, f"{field}: expected numbers in [0, 1000000000000], got -1")
+
+
+def test_train_hover_flies_its_scenarios_in_the_disturbance_as_the_cli_does(model_json, cli, tmp_path):
+    flags = ["--scenarios", "3", "--seconds", "1", "--optimizer.gradient.max-iterations", "1",
+             "--optimizer.hill-climbing.max-iterations", "1"]
+    wind = ["--wind.steady", "0,1.5,0", "--wind.sigma", "0.5", "--wind.gust-sigma", "0.3", "--wind.gust-tau-s", "1"]
+    result = subprocess.run([cli, "heli", "hover", "--model", str(model_json), *flags, *wind, "--quiet",
+                             "--out", str(tmp_path / "cli")], capture_output=True, text=True)
+    assert result.returncode == 0, result.stdout + result.stderr
+    summary = json.loads((tmp_path / "cli" / "summary.json").read_text())
+    assert summary["wind"] == {"steady_ned_mps": [0, 1.5, 0], "sigma_mps": 0.5, "gust_sigma_mps": 0.3,
+                               "gust_tau_s": 1.0}
+    options = pegasus.HoverTrainingOptions()
+    options.scenarios, options.seconds = 3, 1.0
+    options.optimizer.gradient.max_iterations = 1
+    options.optimizer.hill_climbing.max_iterations = 1
+    calm = pegasus.train_hover(str(model_json), options)
+    windy = pegasus.Disturbance()
+    windy.wind, windy.wind_sigma, windy.gust_sigma, windy.gust_tau_s = [0, 1.5, 0], 0.5, 0.3, 1.0
+    options.disturbance = windy
+    trained = pegasus.train_hover(str(model_json), options)
+    assert trained.initial_uhat == summary["initial_uhat"] and trained.final_uhat == summary["final_uhat"]
+    assert np.array_equal(pegasus.HeliPolicy.load(str(tmp_path / "cli" / "policy.json")).values, trained.theta)
+    assert trained.initial_uhat != calm.initial_uhat  # the wind reached the scenarios
+
+
+def test_a_disturbance_out_of_its_bounds_is_refused_naming_the_setting(model_json):
+    for field, value, words in [("gust_tau_s", 0.0, "gust_tau_s: expected a number in (0, 3600] s, got 0"),
+                                ("wind_sigma", 31.0, "wind_sigma: expected a number in [0, 30] m/s, got 31")]:
+        d = pegasus.Disturbance()
+        setattr(d, field, value)
+        assert d.is_valid() == (False, words)
+        options = pegasus.HoverTrainingOptions()
+        options.disturbance = d
+        with pytest.raises(ValueError, match=field):
+            pegasus.train_hover(str(model_json), options)

@@ -37,11 +37,28 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "pegasus/models/action_space.hpp"
 #include "pegasus/sysid/identify.hpp"
 
 namespace pegasus::sysid {
+
+// One setting of Disturbance, described once (Disturbance::VisitFields). From it come `hover`'s and
+// `maneuver`'s options `wind.KEY` (help, bounds, the default), a vehicle file's `[hover.wind] KEY` (allowed,
+// read, bounded), the reading of both, IsValid, summary.json's `wind` object and the Python field.
+struct DisturbanceSetting {
+  const char* key;          // after `wind.` in a config, and in a vehicle file's [hover.wind]
+  const char* field;        // Disturbance's member, and Python's field
+  const char* summary_key;  // in summary.json's `wind`
+  double lower, upper;      // bounds of the value (each element of a list)
+  bool lower_open;          // (lower, upper] rather than [lower, upper]
+  const char* unit;
+  const char* help;  // the option's one line
+  bool within(double x) const { return (lower_open ? x > lower : x >= lower) && x <= upper; }
+  // "[0, 30]" or "(0, 3600]".
+  std::string range() const;
+};
 
 // The wind the learned model flies in (see above); all zero: calm, as identified.
 struct Disturbance {
@@ -51,6 +68,32 @@ struct Disturbance {
   double gust_tau_s = 2;                // its correlation time, s
   bool calm() const { return wind == std::array<double, 3>{0, 0, 0} && wind_sigma == 0 && gust_sigma == 0; }
   bool IsValid(std::string* error) const;
+
+  // Every setting, once: the visitor's `setting(DisturbanceSetting, &Disturbance::member)` for each, member
+  // a double or the steady wind's 3 numbers. A new setting: its member, its entry here, its use in the model.
+  template <class Visitor>
+  static void VisitFields(Visitor& v) {
+    using D = Disturbance;
+    v.setting(
+        {"steady", "wind", "steady_ned_mps", -30, 30, false, "m/s",
+         "steady wind in the scenarios, north, east, down (m/s, NED): the learned model's forces act on "
+         "the airspeed"},
+        &D::wind);
+    v.setting(
+        {"sigma", "wind_sigma", "sigma_mps", 0, 30, false, "m/s",
+         "each scenario's steady wind drawn about wind.steady, per horizontal axis, m/s; with a vehicle "
+         "file and no wind.* or [hover.wind] stated, the default by the model class (1.5 m/s and 0.5 "
+         "m/s gusts for a global linear model, calm for a locally weighted one)"},
+        &D::wind_sigma);
+    v.setting({"gust_sigma", "gust_sigma", "gust_sigma_mps", 0, 30, false, "m/s",
+               "AR(1) gusts in the scenarios: standard deviation per axis, m/s"},
+              &D::gust_sigma);
+    v.setting(
+        {"gust_tau_s", "gust_tau_s", "gust_tau_s", 0, 3600, true, "s", "AR(1) gusts: correlation time, s"},
+        &D::gust_tau_s);
+  }
+  // The settings in VisitFields's order.
+  static const std::vector<DisturbanceSetting>& settings();
 };
 
 // How often the local regression is refitted by default, wherever the model is stepped (hover and
