@@ -1,7 +1,7 @@
 // The training wind's settings, described once (sysid::Disturbance::VisitFields, issue 49 item 1): each
 // setting is `hover`'s and `maneuver`'s option wind.KEY with its default, help and bounds, a vehicle file's
-// [hover.wind] KEY within the same bounds, the member it names, IsValid's bound, and its key in summary.json's
-// `wind`, described in the key table. A setting added to the description is walked here too.
+// [hover.wind] KEY within the same bounds, the member it names, IsValid's bound, and its key in
+// summary.json's `wind`, described in the key table. A setting added to the description is walked here too.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
@@ -94,8 +94,9 @@ TEST_F(TrainingWindConfig, EverySettingIsAnOptionOfHoverAndManeuverWithItsDefaul
           input_error_message([&] { s->set(option_of(setting), option_value(setting, beyond(setting))); });
       EXPECT_NE(message.find(option_of(setting)), std::string::npos) << message;
       if (setting.lower_open) {
-        EXPECT_NE(input_error_message([&] { s->set(option_of(setting), option_value(setting, setting.lower)); }),
-                  "(no error)");
+        EXPECT_NE(
+            input_error_message([&] { s->set(option_of(setting), option_value(setting, setting.lower)); }),
+            "(no error)");
       }
     }
     hover.set(option_of(setting), option_value(setting, inside(setting)), "--" + option_of(setting));
@@ -125,7 +126,8 @@ TEST_F(TrainingWindConfig, EverySettingIsAVehicleFileKeyWithinTheSameBounds) {
     const std::string bad =
         vehicle(fmt::format("[hover.wind]\n{} = {}\n", setting.key, toml_value(setting, beyond(setting))));
     const std::string message = input_error_message([&] { (void)logs::read_vehicle(bad); });
-    EXPECT_NE(message.find(fmt::format("hover.wind.{}: expected", setting.key)), std::string::npos) << message;
+    EXPECT_NE(message.find(fmt::format("hover.wind.{}: expected", setting.key)), std::string::npos)
+        << message;
     EXPECT_NE(message.find(setting.range()), std::string::npos) << message;
   }
 }
@@ -152,8 +154,9 @@ TEST_F(TrainingWindConfig, IsValidBoundsEverySettingAndTheSummaryWritesAndDescri
     EXPECT_TRUE(d.IsValid(&error)) << error;
     const nlohmann::json summary = wind_summary(d);
     ASSERT_TRUE(summary.contains(setting.summary_key));
-    EXPECT_EQ(summary[setting.summary_key].is_array() ? summary[setting.summary_key].get<std::vector<double>>()
-                                                      : std::vector<double>{summary[setting.summary_key]},
+    EXPECT_EQ(summary[setting.summary_key].is_array()
+                  ? summary[setting.summary_key].get<std::vector<double>>()
+                  : std::vector<double>{summary[setting.summary_key]},
               values(setting, inside(setting)));
     for (const char* command : {"hover", "maneuver"})
       EXPECT_NE(report::describe_summary_key(command, {"wind", setting.summary_key}), nullptr) << command;
