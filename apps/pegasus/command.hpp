@@ -73,7 +73,13 @@ class RunContext {
   // A pool of `threads` threads, made on first use.
   ThreadPool& pool();
   // Where a library experiment writes (runs/run_sink.hpp): the run directory, out, timings and quiet.
-  RunSink sink() { return RunSink{.dir = run_directory(), .out = out, .timings = timings, .quiet = quiet}; }
+  RunSink sink() {
+    return RunSink{.dir = run_directory(),
+                   .out = out,
+                   .timings = timings,
+                   .quiet = quiet,
+                   .input_base = config.base_directory()};
+  }
 
  private:
   RunDirectory* run_dir_;
@@ -115,15 +121,20 @@ std::vector<std::string> command_line_of(const Command& command, const ConfigSch
 
 struct StageOptions {
   bool quiet = false;  // no progress bar
+  bool force = false;  // replace an existing OUT_DIR, discard an interrupted OUT_DIR.partial (--force)
+  bool resume = true;  // continue an interrupted OUT_DIR.partial (--resume)
 };
 
 // Runs `command` in this process with `config` (a command_schema whose fields the caller set with their
-// types) into the run directory `out_dir`, exactly as `pegasus PATH ... --out OUT_DIR --resume` would: the
-// command's resolve step, validation, the run, run.json, the report and the commit. For commands made of
-// others (heli pipeline). Throws what the command throws: InputError leaves no directory behind, any other
-// failure keeps OUT_DIR.partial for a rerun to continue.
-void run_stage(const Command& command, ConfigSchema config, const std::string& out_dir,
-               const StageOptions& options, std::ostream& out, std::ostream& err);
+// types) into the run directory `out_dir`, exactly as `pegasus PATH ... --out OUT_DIR --resume` would (the
+// options say --force and --resume), and returns the command's exit code (a verdict, 0 or 1): the
+// command's resolve step, validation, the run, run.json, the report and the commit. A relative OUT_DIR, and
+// the relative files the fields name, are found from the config's base directory (set_base_directory; empty:
+// the working directory, which is never changed). For commands made of others (heli pipeline). Throws what
+// the command throws: InputError leaves no directory behind, any other failure keeps OUT_DIR.partial for a
+// rerun to continue.
+int run_stage(const Command& command, ConfigSchema config, const std::string& out_dir,
+              const StageOptions& options, std::ostream& out, std::ostream& err);
 
 // Parses argv, runs the chosen command and returns the process exit code. `err` gets the one-line errors.
 int run_cli(int argc, const char* const* argv, const std::vector<CommandGroup>& groups,
