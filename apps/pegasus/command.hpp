@@ -136,6 +136,26 @@ struct StageOptions {
 int run_stage(const Command& command, ConfigSchema config, const std::string& out_dir,
               const StageOptions& options, std::ostream& out, std::ostream& err);
 
+// How call_command opens the run directory and prints.
+struct CallOptions {
+  bool force = false;   // --force
+  bool resume = false;  // --resume
+  bool quiet = true;    // --quiet
+};
+
+// Runs the command of the table (commands()) at `path` ("heli pipeline") in this process into the run
+// directory `out_dir`, as `pegasus PATH --FIELD VALUE ... --out OUT_DIR` would, from a program: no command
+// line is parsed, and the process's working directory is neither changed nor used beyond a relative OUT_DIR
+// (and relative files the settings name). `settings`: field name (the TOML key, "train_seconds",
+// "optimizer.gradient.max_iterations", "seed", "threads") -> value, checked as a config file's (an integer
+// is taken for a number); the other fields keep their defaults. Returns the command's exit code (a verdict,
+// 0 or 1). Bad input (an unknown command or setting, a value of the wrong type or out of range) is an
+// InputError of one line naming it ("settings: key 'flights': ..."), and leaves no directory behind; any
+// other failure keeps OUT_DIR.partial for options.resume to continue. `out` gets what the command prints.
+int call_command(const std::string& path, const std::vector<std::pair<std::string, FieldValue>>& settings,
+                 const std::string& out_dir, const CallOptions& options, std::ostream& out,
+                 std::ostream& err);
+
 // Parses argv, runs the chosen command and returns the process exit code. `err` gets the one-line errors.
 int run_cli(int argc, const char* const* argv, const std::vector<CommandGroup>& groups,
             const std::vector<Command>& commands, std::ostream& out, std::ostream& err);
