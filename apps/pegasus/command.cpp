@@ -33,12 +33,14 @@
 
 namespace pegasus::cli {
 
-RunContext::RunContext(const ConfigSchema& cfg, bool q, RunDirectory* run_dir, std::ostream& o)
+RunContext::RunContext(const ConfigSchema& cfg, bool q, RunDirectory* run_dir, std::ostream& o,
+                       std::ostream& e)
     : config(cfg),
       seed(static_cast<std::uint64_t>(cfg.get_int("seed"))),
       threads(static_cast<int>(cfg.get_int("threads"))),
       quiet(q),
       out(o),
+      err(e),
       run_dir_(run_dir) {}
 
 RunDirectory& RunContext::run_directory() const {
@@ -335,7 +337,7 @@ int run_command(const Command& command, const ConfigSchema& schema, const std::s
   running = true;
   KeptOutput kept(out.rdbuf());
   std::ostream printed(&kept);
-  RunContext context(schema, quiet, run_dir ? &*run_dir : nullptr, printed);
+  RunContext context(schema, quiet, run_dir ? &*run_dir : nullptr, printed, err);
   try {
     command.run(context);
   } catch (const ConfigFieldError& e) {

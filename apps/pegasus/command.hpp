@@ -51,13 +51,15 @@ enum class OutDir {
 // What a command's run function gets.
 class RunContext {
  public:
-  RunContext(const ConfigSchema& config, bool quiet, RunDirectory* run_dir, std::ostream& out);
+  RunContext(const ConfigSchema& config, bool quiet, RunDirectory* run_dir, std::ostream& out,
+             std::ostream& err);
 
   const ConfigSchema& config;  // every field resolved and validated, with `seed` and `threads`
   const std::uint64_t seed;    // --seed: the root of all randomness of the run
   const int threads;           // --threads: never changes a result
   const bool quiet;            // --quiet: no progress bar
   std::ostream& out;           // stdout, for the command's printed result
+  std::ostream& err;           // stderr, for the notes of the commands it runs (run_stage)
   // The process exit code when run returns normally: a verdict, not an error (e.g. 1 from `shaping audit`
   // when F is not potential-based). The run directory is still committed. Use 0 or 1; 2 means bad input.
   int exit_code = 0;

@@ -9,9 +9,9 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
-#include <iostream>
 #include <limits>
 #include <optional>
+#include <ostream>
 #include <stdexcept>
 #include <string>
 #include <tuple>
@@ -97,7 +97,7 @@ void run_pipeline(RunContext& ctx) {
     ctx.out.flush();
     const auto start = std::chrono::steady_clock::now();
     try {
-      run_stage(*stage.command, stage.config, name, {.quiet = ctx.quiet}, ctx.out, std::cerr);
+      run_stage(*stage.command, stage.config, name, {.quiet = ctx.quiet}, ctx.out, ctx.err);
     } catch (const InputError& e) {
       throw InputError(fmt::format("pipeline stage {}: {}", name, e.what()));
     }

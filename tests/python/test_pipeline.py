@@ -41,6 +41,9 @@ def test_the_pipeline_gives_the_clis_summary_and_leaves_the_working_directory(cl
         assert ((tmp_path / "lib" / stage / "summary.json").read_bytes()
                 == (tmp_path / "cli" / stage / "summary.json").read_bytes()), stage
     assert summary["flights"] == 2
+    # The report's bundle is found from the module as from the CLI (next to it in the build tree).
+    for stage in ["", "identify", "fly"]:
+        assert (tmp_path / "lib" / stage / "report.html").exists() == (tmp_path / "cli" / stage / "report.html").exists()
 
     # A second call into the committed directory is refused as the CLI refuses it, unless forced.
     with pytest.raises(ValueError):
