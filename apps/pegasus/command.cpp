@@ -33,12 +33,14 @@
 
 namespace pegasus::cli {
 
-RunContext::RunContext(const ConfigSchema& cfg, bool q, RunDirectory* run_dir, std::ostream& o)
+RunContext::RunContext(const ConfigSchema& cfg, bool q, RunDirectory* run_dir, std::ostream& o,
+                       std::ostream& e)
     : config(cfg),
       seed(static_cast<std::uint64_t>(cfg.get_int("seed"))),
       threads(static_cast<int>(cfg.get_int("threads"))),
       quiet(q),
       out(o),
+      err(e),
       run_dir_(run_dir) {}
 
 RunDirectory& RunContext::run_directory() const {
@@ -335,7 +337,7 @@ int run_command(const Command& command, const ConfigSchema& schema, const std::s
   running = true;
   KeptOutput kept(out.rdbuf());
   std::ostream printed(&kept);
-  RunContext context(schema, quiet, run_dir ? &*run_dir : nullptr, printed);
+  RunContext context(schema, quiet, run_dir ? &*run_dir : nullptr, printed, err);
   try {
     command.run(context);
   } catch (const ConfigFieldError& e) {
@@ -500,17 +502,19 @@ std::vector<std::string> command_line_of(const Command& command, const ConfigSch
   return line;
 }
 
-void run_stage(const Command& command, ConfigSchema config, const std::string& out_dir,
-               const StageOptions& options, std::ostream& out, std::ostream& err) {
+int run_stage(const Command& command, ConfigSchema config, const std::string& out_dir,
+              const StageOptions& options, std::ostream& out, std::ostream& err) {
   std::vector<std::string> argv = command_line_of(command, config, out_dir);  // what the caller set
-  argv.emplace_back("--resume");
+  if (options.force) argv.emplace_back("--force");
+  if (options.resume) argv.emplace_back("--resume");
   if (options.quiet) argv.emplace_back("--quiet");
   if (command.resolve) command.resolve(config);
   config.validate();
   std::optional<RunDirectory> run_dir;
   bool running = false;
-  run_command(command, config, out_dir, {.resume = true}, options.quiet, /*stage=*/true, argv, run_dir,
-              running, out, err);
+  return run_command(command, config, path_under(config.base_directory(), out_dir),
+                     {.force = options.force, .resume = options.resume}, options.quiet, /*stage=*/true, argv,
+                     run_dir, running, out, err);
 }
 
 int run_cli(int argc, const char* const* argv, const std::vector<CommandGroup>& groups,

@@ -51,13 +51,15 @@ enum class OutDir {
 // What a command's run function gets.
 class RunContext {
  public:
-  RunContext(const ConfigSchema& config, bool quiet, RunDirectory* run_dir, std::ostream& out);
+  RunContext(const ConfigSchema& config, bool quiet, RunDirectory* run_dir, std::ostream& out,
+             std::ostream& err);
 
   const ConfigSchema& config;  // every field resolved and validated, with `seed` and `threads`
   const std::uint64_t seed;    // --seed: the root of all randomness of the run
   const int threads;           // --threads: never changes a result
   const bool quiet;            // --quiet: no progress bar
   std::ostream& out;           // stdout, for the command's printed result
+  std::ostream& err;           // stderr, for the notes of the commands it runs (run_stage)
   // The process exit code when run returns normally: a verdict, not an error (e.g. 1 from `shaping audit`
   // when F is not potential-based). The run directory is still committed. Use 0 or 1; 2 means bad input.
   int exit_code = 0;
@@ -73,7 +75,13 @@ class RunContext {
   // A pool of `threads` threads, made on first use.
   ThreadPool& pool();
   // Where a library experiment writes (runs/run_sink.hpp): the run directory, out, timings and quiet.
-  RunSink sink() { return RunSink{.dir = run_directory(), .out = out, .timings = timings, .quiet = quiet}; }
+  RunSink sink() {
+    return RunSink{.dir = run_directory(),
+                   .out = out,
+                   .timings = timings,
+                   .quiet = quiet,
+                   .input_base = config.base_directory()};
+  }
 
  private:
   RunDirectory* run_dir_;
@@ -115,15 +123,40 @@ std::vector<std::string> command_line_of(const Command& command, const ConfigSch
 
 struct StageOptions {
   bool quiet = false;  // no progress bar
+  bool force = false;  // replace an existing OUT_DIR, discard an interrupted OUT_DIR.partial (--force)
+  bool resume = true;  // continue an interrupted OUT_DIR.partial (--resume)
 };
 
 // Runs `command` in this process with `config` (a command_schema whose fields the caller set with their
-// types) into the run directory `out_dir`, exactly as `pegasus PATH ... --out OUT_DIR --resume` would: the
-// command's resolve step, validation, the run, run.json, the report and the commit. For commands made of
-// others (heli pipeline). Throws what the command throws: InputError leaves no directory behind, any other
-// failure keeps OUT_DIR.partial for a rerun to continue.
-void run_stage(const Command& command, ConfigSchema config, const std::string& out_dir,
-               const StageOptions& options, std::ostream& out, std::ostream& err);
+// types) into the run directory `out_dir`, exactly as `pegasus PATH ... --out OUT_DIR --resume` would (the
+// options say --force and --resume), and returns the command's exit code (a verdict, 0 or 1): the
+// command's resolve step, validation, the run, run.json, the report and the commit. A relative OUT_DIR, and
+// the relative files the fields name, are found from the config's base directory (set_base_directory; empty:
+// the working directory, which is never changed). For commands made of others (heli pipeline). Throws what
+// the command throws: InputError leaves no directory behind, any other failure keeps OUT_DIR.partial for a
+// rerun to continue.
+int run_stage(const Command& command, ConfigSchema config, const std::string& out_dir,
+              const StageOptions& options, std::ostream& out, std::ostream& err);
+
+// How call_command opens the run directory and prints.
+struct CallOptions {
+  bool force = false;   // --force
+  bool resume = false;  // --resume
+  bool quiet = true;    // --quiet
+};
+
+// Runs the command of the table (commands()) at `path` ("heli pipeline") in this process into the run
+// directory `out_dir`, as `pegasus PATH --FIELD VALUE ... --out OUT_DIR` would, from a program: no command
+// line is parsed, and the process's working directory is neither changed nor used beyond a relative OUT_DIR
+// (and relative files the settings name). `settings`: field name (the TOML key, "train_seconds",
+// "optimizer.gradient.max_iterations", "seed", "threads") -> value, checked as a config file's (an integer
+// is taken for a number); the other fields keep their defaults. Returns the command's exit code (a verdict,
+// 0 or 1). Bad input (an unknown command or setting, a value of the wrong type or out of range) is an
+// InputError of one line naming it ("settings: key 'flights': ..."), and leaves no directory behind; any
+// other failure keeps OUT_DIR.partial for options.resume to continue. `out` gets what the command prints.
+int call_command(const std::string& path, const std::vector<std::pair<std::string, FieldValue>>& settings,
+                 const std::string& out_dir, const CallOptions& options, std::ostream& out,
+                 std::ostream& err);
 
 // Parses argv, runs the chosen command and returns the process exit code. `err` gets the one-line errors.
 int run_cli(int argc, const char* const* argv, const std::vector<CommandGroup>& groups,

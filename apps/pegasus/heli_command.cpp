@@ -37,8 +37,8 @@ void run_fly(RunContext& ctx) {
 
 void run_control(RunContext& ctx) {
   const auto& c = ctx.config;
-  heli::run_control({.vehicle_file = c.get_string("vehicle"),
-                     .policy_file = c.get_string("policy"),
+  heli::run_control({.vehicle_file = c.get_path("vehicle"),
+                     .policy_file = c.get_path("policy"),
                      .bench_lines = c.get_int("bench_lines")},
                     stdin, stdout, stderr, ctx.out);
 }

@@ -1,14 +1,17 @@
 // `pegasus heli pipeline` and `pegasus pipeline --vehicle`: the whole chain (pilot logs, identification,
 // hover training, flights against the pilot) as stages that are the commands a user would type, each run in
-// this process into its own sub-run directory (command.hpp: run_stage).
+// this process into its own sub-run directory (command.hpp: run_stage). The stages name each other's files
+// relative to the pipeline's run directory (it moves when the run is committed), exactly as a user typing
+// the stages there would; their configs carry it as their base directory (ConfigSchema::get_path), so that
+// the process's working directory is neither used nor changed.
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
-#include <iostream>
 #include <limits>
 #include <optional>
+#include <ostream>
 #include <stdexcept>
 #include <string>
 #include <tuple>
@@ -31,33 +34,14 @@ const Command& heli_command(const std::string& path) {
   return *it;
 }
 
-// While alive, the process works in `dir`: the pipeline's stages run in its run directory, so that their
-// files name each other by paths relative to it (it moves when the run is committed), exactly as a user
-// typing the stages there would. Nothing else runs meanwhile: the stages' thread pools open no paths.
-class WorkingDirectory {
- public:
-  explicit WorkingDirectory(const std::filesystem::path& dir) : previous_(std::filesystem::current_path()) {
-    std::filesystem::current_path(dir);
-  }
-  WorkingDirectory(const WorkingDirectory&) = delete;
-  WorkingDirectory& operator=(const WorkingDirectory&) = delete;
-  ~WorkingDirectory() {
-    std::error_code ignored;  // the folder the process came from is gone: nothing better to do
-    std::filesystem::current_path(previous_, ignored);
-  }
-
- private:
-  std::filesystem::path previous_;
-};
-
 }  // namespace
 
 void run_pipeline(RunContext& ctx) {
   const auto& c = ctx.config;
   // Another aircraft: its vehicle file, checked before any stage runs, goes to every stage (by its absolute
-  // path: the stages run in the run directory), which are then the generic commands; the X-Cell's stages stay
-  // the `heli` ones they always were.
-  const std::string vehicle_file = c.get_string("vehicle");
+  // path, as the stages' config.toml record it), which are then the generic commands; the X-Cell's stages
+  // stay the `heli` ones they always were.
+  const std::string vehicle_file = c.get_path("vehicle");
   std::optional<logs::Vehicle> vehicle;
   if (!vehicle_file.empty()) {
     vehicle = logs::read_vehicle(vehicle_file);
@@ -97,6 +81,7 @@ void run_pipeline(RunContext& ctx) {
   const auto stage_of = [&](const char* name, std::uint64_t stage_seed) {
     const Command& command = heli_command(vehicle ? name : std::string("heli ") + name);
     Stage stage{&command, command_schema(command)};
+    stage.config.set_base_directory(root);  // the stages name each other's files relative to it
     stage.set("seed", static_cast<std::int64_t>(stage_seed), "seed");
     stage.set("threads", std::int64_t{ctx.threads}, "threads");
     if (vehicle) stage.set("vehicle", absolute_vehicle, "vehicle");
@@ -111,13 +96,10 @@ void run_pipeline(RunContext& ctx) {
                            fmt::join(command_line_of(*stage.command, stage.config, name), " "));
     ctx.out.flush();
     const auto start = std::chrono::steady_clock::now();
-    {
-      const WorkingDirectory in_run_directory(root);
-      try {
-        run_stage(*stage.command, stage.config, name, {.quiet = ctx.quiet}, ctx.out, std::cerr);
-      } catch (const InputError& e) {
-        throw InputError(fmt::format("pipeline stage {}: {}", name, e.what()));
-      }
+    try {
+      run_stage(*stage.command, stage.config, name, {.quiet = ctx.quiet}, ctx.out, ctx.err);
+    } catch (const InputError& e) {
+      throw InputError(fmt::format("pipeline stage {}: {}", name, e.what()));
     }
     ctx.out << fmt::format("[{}] {:.1f} s\n", name,
                            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());

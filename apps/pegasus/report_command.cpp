@@ -25,7 +25,7 @@ Command report_command() {
           },
       .run =
           [](RunContext& ctx) {
-            const std::filesystem::path dir = ctx.config.get_string("run_dir");
+            const std::filesystem::path dir = ctx.config.get_path("run_dir");
             if (dir.empty()) throw InputError("RUN_DIR: expected a run directory (pegasus report RUN_DIR)");
             const auto file = report::write_report(dir);
             std::error_code ec;

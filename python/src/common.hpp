@@ -163,5 +163,6 @@ void bind_vectorized(py::module_& m);
 void bind_envs(py::module_& m);
 void bind_mdp(py::module_& m);
 void bind_sysid(py::module_& m);
+void bind_pipeline(py::module_& m);  // pegasus.pipeline (pipeline.cpp)
 
 }  // namespace pegasus::python

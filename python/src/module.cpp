@@ -41,4 +41,5 @@ PYBIND11_MODULE(_pegasus, m) {
   pegasus::python::bind_sysid(m);
   pegasus::python::bind_heli(m);
   pegasus::python::bind_quadrotor(m);
+  pegasus::python::bind_pipeline(m);
 }

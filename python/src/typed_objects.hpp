@@ -31,6 +31,7 @@ PEGASUS_TYPED_OBJECT(ObjectiveFunctionArg)  // f(theta) -> float
 PEGASUS_TYPED_OBJECT(JsonObject)            // a JSON document as Python values
 PEGASUS_TYPED_OBJECT(HeliPolicyArg)         // a HeliPolicy, or None
 PEGASUS_TYPED_OBJECT(UserObjectArg)         // a user's duck-typed Python object (its protocol in the doc)
+PEGASUS_TYPED_OBJECT(PathArg)               // a file or folder: a str or an os.PathLike (pathlib.Path)
 
 #undef PEGASUS_TYPED_OBJECT
 
@@ -58,6 +59,7 @@ PEGASUS_TYPED_OBJECT_NAME(ObjectiveFunctionArg, "Callable[[Array], float]")
 PEGASUS_TYPED_OBJECT_NAME(JsonObject, "dict")
 PEGASUS_TYPED_OBJECT_NAME(HeliPolicyArg, "Optional[HeliPolicy]")
 PEGASUS_TYPED_OBJECT_NAME(UserObjectArg, "Any")
+PEGASUS_TYPED_OBJECT_NAME(PathArg, "Union[str, os.PathLike]")
 
 #undef PEGASUS_TYPED_OBJECT_NAME
 

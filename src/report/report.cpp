@@ -1,5 +1,6 @@
 #include "pegasus/report/report.hpp"
 
+#include <dlfcn.h>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
@@ -138,6 +139,17 @@ pre.result { font-size: 14px; max-height: none; white-space: pre-wrap; }
 ul.warnings { margin: 6px 0; padding: 8px 12px 8px 28px; background: #fff6e0; border: 1px solid #e7c766; border-radius: 4px; }
 )";
 
+// The file of the executable or shared object this code is linked into: the Python module (lib/python3/
+// dist-packages/pegasus/_pegasus.so) when a program imports pegasus and runs a command (pegasus.pipeline).
+fs::path this_object_file() {
+  static const char anchor = 0;
+  Dl_info info{};
+  if (::dladdr(&anchor, &info) == 0 || info.dli_fname == nullptr) return {};
+  std::error_code ec;
+  const fs::path file = fs::canonical(info.dli_fname, ec);
+  return ec ? fs::path() : file;
+}
+
 }  // namespace
 
 fs::path find_bundle() {
@@ -150,14 +162,21 @@ fs::path find_bundle() {
         "report JavaScript bundle not found: ${} is '{}', which is not a file", kBundleEnv, p.string()));
   }
   std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  if (!ec) {
-    for (const fs::path& p : {exe.parent_path() / kBundleName,
-                              exe.parent_path().parent_path() / "share" / "pegasus" / kBundleName}) {
-      std::error_code e2;
-      if (fs::is_regular_file(p, e2)) return p;
-      tried.push_back(p);
-    }
+  std::vector<fs::path> candidates;
+  if (const fs::path exe = fs::read_symlink("/proc/self/exe", ec); !ec)
+    candidates = {exe.parent_path() / kBundleName,
+                  exe.parent_path().parent_path() / "share" / "pegasus" / kBundleName};
+  // From a shared object: the build tree's (build/python/pegasus/_pegasus.so, build/pegasus-report.js), or
+  // the installed tree's (lib/python3*/dist-packages/pegasus/_pegasus.so, share/pegasus/pegasus-report.js).
+  if (const fs::path object = this_object_file(); !object.empty() && object.extension() == ".so") {
+    const fs::path above = object.parent_path().parent_path().parent_path();  // build, lib/python3*
+    candidates.push_back(above / kBundleName);
+    candidates.push_back(above.parent_path().parent_path() / "share" / "pegasus" / kBundleName);
+  }
+  for (const fs::path& p : candidates) {
+    std::error_code e2;
+    if (fs::is_regular_file(p, e2)) return p;
+    tried.push_back(p);
   }
   std::string places;
   for (const auto& p : tried) places += (places.empty() ? "" : ", ") + p.string();

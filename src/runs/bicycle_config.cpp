@@ -91,7 +91,7 @@ BicycleTrainingOptions read_bicycle_objective_config(const ConfigSchema& c, std:
 BicycleTrainingOptions read_bicycle_training_config(const ConfigSchema& c, std::uint64_t seed, int threads) {
   BicycleTrainingOptions o = read_bicycle_objective_config(c, seed, threads);
   o.variant = parse_scenario_variant(c.get_string("variant"));
-  o.initial_policy = c.get_string("initial_policy");
+  o.initial_policy = c.get_path("initial_policy");
   read_optimizer_options(c, "optimizer", &o.optimizer);
   return o;
 }
@@ -148,7 +148,7 @@ void declare_bicycle_variance_config(ConfigSchema& s) {
 }
 
 Theta read_bicycle_policy_config(const ConfigSchema& c) {
-  const std::string& file = c.get_string("policy");
+  const std::string file = c.get_path("policy");
   if (file.empty())
     throw InputError("--policy: expected a policy file (policy.json of pegasus bicycle train)");
   return read_bicycle_policy(file);

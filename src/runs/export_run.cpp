@@ -54,8 +54,8 @@ void run_c_export(const ExportRunOptions& options, RunSink& sink) {
   dir.write_json("summary.json", summary);
   sink.out << fmt::format("class {}: {} observations -> {} actions\n", code.class_name,
                           code.observation_names.size(), code.action_names.size());
-  sink.out << fmt::format("header: {}\nsource: {}\n", (dir.final_path() / code.header_name).string(),
-                          (dir.final_path() / code.source_name).string());
+  sink.out << fmt::format("header: {}\nsource: {}\n", sink.named(dir.final_path() / code.header_name),
+                          sink.named(dir.final_path() / code.source_name));
 }
 
 void declare_export_config(ConfigSchema& s) {
@@ -71,9 +71,9 @@ void declare_export_config(ConfigSchema& s) {
 }
 
 ExportRunOptions read_export_config(const ConfigSchema& c) {
-  return {.policy_file = c.get_string("policy"),
+  return {.policy_file = c.get_path("policy"),
           .prefix = c.get_string("prefix"),
-          .vehicle_file = c.get_string("vehicle")};
+          .vehicle_file = c.get_path("vehicle")};
 }
 
 }  // namespace pegasus

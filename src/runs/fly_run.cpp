@@ -244,7 +244,7 @@ void run_fly(const FlyRunOptions& options, RunSink& sink, ThreadPool& pool) {
   const std::vector<FlightRecord>& main = pilot_only ? pilot : baseline_only ? baseline : flown;
   const FlightSummary s = summarize_flights(main);
   nlohmann::json summary = flight_summary_json(s, with_cost);
-  summary["controller"] = pilot_only ? "pilot" : baseline_only ? baseline_label : policy_path;
+  summary["controller"] = pilot_only ? "pilot" : baseline_only ? baseline_label : sink.named(policy_path);
   summary["seconds"] = fo.seconds;
   if (options.aircraft.from_file()) summary["vehicle"] = vehicle.name();
   if (const Vec3& wind = options.settings.mean_wind_W; !wind.isZero(0))  // only then: digests
@@ -283,7 +283,7 @@ void run_fly(const FlyRunOptions& options, RunSink& sink, ThreadPool& pool) {
   sink.out << flights_line(main_who, s, with_cost);
   if (pilot_beside) sink.out << flights_line("pilot", summarize_flights(pilot), false);
   if (bs) sink.out << flights_line(baseline_label, *bs, with_cost) << comparison;
-  sink.out << "plots: " << (dir.final_path() / "position_x.svg").string()
+  sink.out << "plots: " << sink.named(dir.final_path() / "position_x.svg")
            << " (and position_y.svg, altitude.svg, velocity_*.svg)\n";
 }
 

@@ -88,7 +88,7 @@ void declare_vehicle(ConfigSchema& s, const std::string& fills) {
       .input_file();
 }
 
-VehicleChoice vehicle_of(const ConfigSchema& c) { return VehicleChoice::read(c.get_string("vehicle")); }
+VehicleChoice vehicle_of(const ConfigSchema& c) { return VehicleChoice::read(c.get_path("vehicle")); }
 
 // Sets `field` from the vehicle file unless the user set it (a config file or an option wins).
 void set_from_vehicle(ConfigSchema& s, const logs::Vehicle& v, const std::string& field, FieldValue value,
@@ -117,7 +117,7 @@ void declare_gust_sigma(ConfigSchema& s, const std::string& help) {
 
 std::optional<logs::Vehicle> vehicle_file_of(const ConfigSchema& s) {
   if (s.get_string("vehicle").empty()) return std::nullopt;
-  return logs::read_vehicle(s.get_string("vehicle"));
+  return logs::read_vehicle(s.get_path("vehicle"));
 }
 
 void resolve_gust_sigma(ConfigSchema& s) {
@@ -235,9 +235,9 @@ void resolve_identify_config(ConfigSchema& s) {
 IdentifyRunOptions read_identify_config(const ConfigSchema& c) {
   IdentifyRunOptions o;
   o.aircraft = vehicle_of(c);
-  o.train_log = c.get_string("train");
-  o.test_log = c.get_string("test");
-  o.noise_check_logs = c.get_string_list("noise_check_logs");
+  o.train_log = c.get_path("train");
+  o.test_log = c.get_path("test");
+  o.noise_check_logs = c.get_path_list("noise_check_logs");
   o.horizon_s = c.get_double("horizon_s");
   o.start_spacing_s = c.get_double("start_spacing_s");
   o.reset_s = c.get_double("reset_s");
@@ -424,7 +424,7 @@ void resolve_hover_config(ConfigSchema& s) {
 }
 
 HoverRunOptions read_hover_config(const ConfigSchema& c, std::uint64_t seed) {
-  HoverRunOptions run{.aircraft = vehicle_of(c), .model_file = c.get_string("model")};
+  HoverRunOptions run{.aircraft = vehicle_of(c), .model_file = c.get_path("model")};
   HoverTrainingOptions& o = run.training;
   o.scenarios = static_cast<int>(c.get_int("scenarios"));
   o.seconds = c.get_double("seconds");
@@ -484,7 +484,7 @@ void declare_fly_config(ConfigSchema& s) {
 
 FlyRunOptions read_fly_config(const ConfigSchema& c, std::uint64_t seed) {
   FlyRunOptions o{.aircraft = vehicle_of(c),
-                  .policy_file = c.get_string("policy"),
+                  .policy_file = c.get_path("policy"),
                   .pilot_only = c.get_bool("pilot"),
                   .compare_pilot = c.get_bool("compare_pilot"),
                   .baseline_only = c.get_bool("baseline"),

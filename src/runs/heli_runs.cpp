@@ -149,7 +149,7 @@ void run_pilot(const PilotRunOptions& options, RunSink& sink) {
   sink.out << fmt::format("flew {:.1f} s ({} rows at {:g} Hz){}; log: {}\n", summary["seconds"].get<double>(),
                           written.rows, summary["rate_hz"].get<double>(),
                           f.crash != CrashReason::kNone ? ", CRASHED: " + crash_reason_name(f.crash) : "",
-                          (dir.final_path() / "log.csv").string());
+                          sink.named(dir.final_path() / "log.csv"));
   if (f.crash != CrashReason::kNone)
     throw std::runtime_error(
         fmt::format("the pilot crashed ({}) at {} s", crash_reason_name(f.crash), f.crash_time));
@@ -297,9 +297,10 @@ HoverTrainingResult train_hover_in(RunSink& sink, std::shared_ptr<const sysid::I
 }
 
 // progress.csv with its chart, and policy.json of the policy class as training settled it (`used`).
-void write_hover_policy(RunDirectory& dir, const HoverRunOptions& options,
+void write_hover_policy(const RunSink& sink, const HoverRunOptions& options,
                         const sysid::IdentifiedModel& model, const HoverTrainingOptions& used,
                         const HoverTrainingResult& r) {
+  RunDirectory& dir = sink.dir;
   const HoverTrainingOptions& o = options.training;
   dir.write_csv("progress.csv", optimizer_progress_csv(r.progress));
   const ChartSection progress = optimizer_progress_section(
@@ -310,8 +311,12 @@ void write_hover_policy(RunDirectory& dir, const HoverRunOptions& options,
   const HoverPolicy policy = hover_policy_for(model, used);
   PolicyFile file =
       hover_policy_file(policy, r.theta, o.target, hover_init_from_model(model).trim, o.integrator());
-  file.provenance = {{"command", "pegasus heli hover"}, {"model", options.model_file}, {"uhat", r.final_uhat},
-                     {"scenarios", o.scenarios},        {"seconds", o.seconds},        {"seed", o.seed}};
+  file.provenance = {{"command", "pegasus heli hover"},
+                     {"model", sink.named(options.model_file)},
+                     {"uhat", r.final_uhat},
+                     {"scenarios", o.scenarios},
+                     {"seconds", o.seconds},
+                     {"seed", o.seed}};
   // Only with a vehicle file, so that the X-Cell's policy files stay as they were.
   if (options.aircraft.from_file()) file.provenance["vehicle"] = options.aircraft.vehicle.name();
   // Only when not 50 Hz, so that policy files trained at the thesis's rate stay as they were.
@@ -446,7 +451,7 @@ void run_hover(const HoverRunOptions& stated, RunSink& sink, ThreadPool& pool) {
   HoverTrainingOptions used = o;  // with the LQR start's action weights as training settled them
   used.lqr_action_factor = r.lqr_action_factor;
   used.lqr_gains_from_alternative = r.lqr_gains_from_alternative;
-  write_hover_policy(dir, options, *model, used, r);
+  write_hover_policy(sink, options, *model, used, r);
   const double seconds = r.progress.empty() ? 0.0 : r.progress.back().seconds;
   const std::int64_t evaluations = r.progress.empty() ? 0 : r.progress.back().evaluations;
   nlohmann::json summary = hover_summary_core(o, r);
@@ -476,7 +481,7 @@ void run_hover(const HoverRunOptions& stated, RunSink& sink, ThreadPool& pool) {
   sink.out << fmt::format(
       "hover training: U-hat {:.6g} -> {:.6g} in {} iterations, {} evaluations, {:.1f} s\n", r.initial_uhat,
       r.final_uhat, r.progress.size(), evaluations, seconds);
-  sink.out << "policy: " << (dir.final_path() / "policy.json").string() << "\n";
+  sink.out << "policy: " << sink.named(dir.final_path() / "policy.json") << "\n";
 }
 
 void run_control(const ControlRunOptions& options, std::FILE* in, std::FILE* out, std::FILE* err,
@@ -566,10 +571,10 @@ void write_pipeline_summary(const std::string& vehicle, double flight_seconds, R
       "yaw {:.4f} rad\n",
       pl.at("crashes").get<int>(), pl.at("rms_position_m").get<double>(),
       pl.at("rms_velocity_mps").get<double>(), pl.at("rms_yaw_rad").get<double>());
-  sink.out << "plots: " << (final_fly / "position_x.svg").string()
+  sink.out << "plots: " << sink.named(final_fly / "position_x.svg")
            << ", position_y.svg, altitude.svg, velocity_xb/yb/zb.svg (Figs 5.6-5.7); "
-           << (sink.dir.final_path() / "hover" / "progress.svg").string() << "; "
-           << (sink.dir.final_path() / "identify" / "mse_xdot_b.svg").string() << "\n";
+           << sink.named(sink.dir.final_path() / "hover" / "progress.svg") << "; "
+           << sink.named(sink.dir.final_path() / "identify" / "mse_xdot_b.svg") << "\n";
 }
 
 }  // namespace pegasus::heli

@@ -181,10 +181,10 @@ void write_noise_check(RunDirectory& dir, const HoldOutNoiseCheck& noise, const 
 
 // Each hold-out log's check alone, the test log's first.
 nlohmann::json noise_check_by_log_json(const HoldOutNoiseCheck& noise, const IdentifyRunOptions& options,
-                                       const IdentifiedModel& model, double rate_hz) {
+                                       const IdentifiedModel& model, double rate_hz, const RunSink& sink) {
   nlohmann::json by_log = nlohmann::json::array();
-  std::vector<std::string> files = {options.test_log};
-  files.insert(files.end(), options.noise_check_logs.begin(), options.noise_check_logs.end());
+  std::vector<std::string> files = {sink.named(options.test_log)};
+  for (const std::string& file : options.noise_check_logs) files.push_back(sink.named(file));
   for (std::size_t i = 0; i < noise.checks.size(); ++i) {
     const std::vector<BandMisses> cells = band_misses(noise.checks[i], model.dt(), kReportedSeconds);
     const std::vector<BandMisses> every = band_misses_at_every_step(noise.checks[i], rate_hz);

@@ -30,8 +30,9 @@ void write_noise_check(RunDirectory& dir, const HoldOutNoiseCheck& noise, const 
                        double rate_hz);
 // The cells as summary.json gives them: {seconds: {variable: fraction outside}}.
 nlohmann::json outside_by_horizon_json(const std::vector<sysid::BandMisses>& cells);
-// summary.json's noise_check_by_log.
+// summary.json's noise_check_by_log (each log named as the config names it: sink.named).
 nlohmann::json noise_check_by_log_json(const HoldOutNoiseCheck& noise, const IdentifyRunOptions& options,
-                                       const sysid::IdentifiedModel& model, double rate_hz);
+                                       const sysid::IdentifiedModel& model, double rate_hz,
+                                       const RunSink& sink);
 
 }  // namespace pegasus::heli

@@ -434,7 +434,7 @@ void run_identify(const IdentifyRunOptions& options, RunSink& sink, ThreadPool& 
     summary["mse_seconds_skipped"] = skipped;
   if (!own_layout) summary["vehicle"] = options.aircraft.vehicle.name();  // likewise
   if (noise.checks.size() > 1)                                            // likewise
-    summary["noise_check_by_log"] = noise_check_by_log_json(noise, options, model, o.structure.rate_hz);
+    summary["noise_check_by_log"] = noise_check_by_log_json(noise, options, model, o.structure.rate_hz, sink);
   if (!report.floored_inputs.empty()) summary["bandwidth_at_floor"] = report.floored_inputs;
   if (o.calibrate_noise) add_calibration(summary, report, model);
   summary["closed_loop_bias"] = closed_loop_bias_json(biases);
@@ -446,7 +446,7 @@ void run_identify(const IdentifyRunOptions& options, RunSink& sink, ThreadPool& 
   dir.write_json("summary.json", summary);
   print_identify_lines(sink.out, summary, choices, report, study, logs, o, model);
   sink.out << noise.verdict;
-  sink.out << "model: " << (dir.final_path() / "model.json").string() << "\n";
+  sink.out << "model: " << sink.named(dir.final_path() / "model.json") << "\n";
 }
 
 }  // namespace pegasus::heli

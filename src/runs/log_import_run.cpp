@@ -267,7 +267,7 @@ void run_log_import(const LogImportRunOptions& o, RunSink& sink, ThreadPool& poo
     say_prediction_rmse(sink.out, prediction.rmse);
   }
   dir.write_json("summary.json", summary);
-  sink.out << imported << "log: " << (dir.final_path() / "log.csv").string() << "\n";
+  sink.out << imported << "log: " << sink.named(dir.final_path() / "log.csv") << "\n";
 }
 
 void declare_log_import_config(ConfigSchema& s) {
@@ -304,8 +304,8 @@ void declare_log_import_config(ConfigSchema& s) {
 }
 
 LogImportRunOptions read_log_import_config(const ConfigSchema& c) {
-  LogImportRunOptions o{.ulog_file = c.get_string("ulog"),
-                        .vehicle_file = c.get_string("vehicle"),
+  LogImportRunOptions o{.ulog_file = c.get_path("ulog"),
+                        .vehicle_file = c.get_path("vehicle"),
                         .window = {.start_s = c.get_double("start_s"), .end_s = c.get_double("end_s")},
                         .truncated_tail = c.get_string("truncated_tail") == "error"
                                               ? logs::UlogReadOptions::TruncatedTail::kError

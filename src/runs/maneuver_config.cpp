@@ -159,8 +159,8 @@ void resolve_maneuver_config(ConfigSchema& s) {
 
 ManeuverRunOptions read_maneuver_config(const ConfigSchema& c, std::uint64_t seed) {
   ManeuverRunOptions o{.aircraft = vehicle_of(c),
-                       .model_file = c.get_string("model"),
-                       .hover_policy_file = c.get_string("hover_policy"),
+                       .model_file = c.get_path("model"),
+                       .hover_policy_file = c.get_path("hover_policy"),
                        .training = read_training(c, seed),
                        .ablations = c.get_bool("ablations")};
   o.flights.flights = static_cast<int>(c.get_int("flights"));

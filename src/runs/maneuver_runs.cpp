@@ -408,7 +408,7 @@ void run_maneuver(const ManeuverRunOptions& stated, RunSink& sink, ThreadPool& p
     if (scores.contains(key))
       sink.out << fmt::format("  {}: {} crashes, RMS deviation {:.3f} m\n", key, scores.at(key).crashes,
                               scores.at(key).rms_path_deviation_m);
-  sink.out << "policy: " << (dir.final_path() / "policy.json").string() << "\n";
+  sink.out << "policy: " << sink.named(dir.final_path() / "policy.json") << "\n";
 }
 
 void run_maneuver_pilot(const ManeuverPilotRunOptions& options, RunSink& sink) {
@@ -449,7 +449,7 @@ void run_maneuver_pilot(const ManeuverPilotRunOptions& options, RunSink& sink) {
   sink.out << fmt::format("flew {:.1f} s (sweeps, then the manoeuvres {} times){}; log: {}\n", seconds,
                           options.repeats,
                           f.crash != CrashReason::kNone ? ", CRASHED: " + crash_reason_name(f.crash) : "",
-                          (dir.final_path() / "log.csv").string());
+                          sink.named(dir.final_path() / "log.csv"));
   if (f.crash != CrashReason::kNone)
     throw std::runtime_error(
         fmt::format("the pilot crashed ({}) at {} s", crash_reason_name(f.crash), f.crash_time));

@@ -76,8 +76,8 @@ std::vector<int> hidden_widths(const ConfigSchema& c) {
 }  // namespace
 
 MujocoTrainingRunOptions read_mujoco_train_config(const ConfigSchema& c, std::uint64_t seed) {
-  MujocoTrainingRunOptions o{.model_file = c.get_string("model"),
-                             .task_file = c.get_string("task"),
+  MujocoTrainingRunOptions o{.model_file = c.get_path("model"),
+                             .task_file = c.get_path("task"),
                              .policy_class = c.get_string("policy"),
                              .hidden = hidden_widths(c),
                              .phase_observation = c.get_string("phase_observation"),
@@ -87,7 +87,7 @@ MujocoTrainingRunOptions read_mujoco_train_config(const ConfigSchema& c, std::ui
                              .variant = parse_scenario_variant(c.get_string("variant")),
                              .evaluation_episodes = static_cast<int>(c.get_int("evaluation_episodes")),
                              .checkpoint_every = c.get_int("checkpoint_every"),
-                             .initial_policy_file = c.get_string("initial_policy"),
+                             .initial_policy_file = c.get_path("initial_policy"),
                              .time_budget_seconds = c.get_double("time_budget"),
                              .seed = seed};
   read_optimizer_options(c, "optimizer", &o.optimizer);
@@ -107,8 +107,8 @@ void declare_mujoco_rollout_config(ConfigSchema& s) {
 }
 
 MujocoRolloutRunOptions read_mujoco_rollout_config(const ConfigSchema& c, std::uint64_t seed) {
-  return {.policy_file = c.get_string("policy"),
-          .task_file = c.get_string("task"),
+  return {.policy_file = c.get_path("policy"),
+          .task_file = c.get_path("task"),
           .episodes = static_cast<int>(c.get_int("episodes")),
           .seed = seed};
 }

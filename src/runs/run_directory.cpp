@@ -74,10 +74,11 @@ nlohmann::json input_digests(const ConfigSchema& config) {
     }
     for (const auto& [key, file] : files) {
       std::error_code ec;
-      if (file.empty() || !fs::is_regular_file(file, ec)) continue;
+      const std::string found = path_under(config.base_directory(), file);  // recorded as named
+      if (file.empty() || !fs::is_regular_file(found, ec)) continue;
       try {
         const ConfigField::Digest& digest = field.input_digest();
-        digests[key] = {{"file", file}, {"sha256", digest ? digest(file) : file_sha256(file)}};
+        digests[key] = {{"file", file}, {"sha256", digest ? digest(found) : file_sha256(found)}};
         if (digest) digests[key]["of"] = "the file and what it includes";
       } catch (const InputError&) {
         // unreadable: the command says so

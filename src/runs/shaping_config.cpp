@@ -136,8 +136,8 @@ void declare_shaping_audit_config(ConfigSchema& s) {
 }
 
 ShapingAuditRunOptions read_shaping_audit_config(const ConfigSchema& c) {
-  return {.mdp_file = c.get_string("mdp"),
-          .shaping_file = c.get_string("shaping"),
+  return {.mdp_file = c.get_path("mdp"),
+          .shaping_file = c.get_path("shaping"),
           .tolerance = c.get_double("tolerance"),
           .print_limit = static_cast<int>(c.get_int("print_limit"))};
 }

@@ -43,6 +43,34 @@ TEST(ConfigSchema, TypedGettersReturnDefaults) {
   EXPECT_EQ(s.origin("gamma"), "default");
 }
 
+// A file field's relative value is found from the base directory, and named back as the config gives it;
+// the recorded value (config.toml) stays the text given.
+TEST(ConfigSchema, FileFieldsAreFoundFromTheBaseDirectoryAndRecordedAsGiven) {
+  ConfigSchema s;
+  s.add_string("model", "", "model file");
+  s.add_string("absolute", "", "another file");
+  s.add_string_list("logs", {}, "log files");
+  s.set("model", std::string("identify/model.json"));
+  s.set("absolute", std::string("/data/m.json"));
+  s.set("logs", std::vector<std::string>{"a/log.csv", "", "/b/log.csv"});
+  EXPECT_EQ(s.get_path("model"), "identify/model.json");  // no base: the working directory's
+  const std::string text = s.to_toml();
+  s.set_base_directory("/runs/demo.partial");
+  EXPECT_EQ(s.get_path("model"), "/runs/demo.partial/identify/model.json");
+  EXPECT_EQ(s.get_path("absolute"), "/data/m.json");
+  EXPECT_EQ(s.get_path_list("logs"),
+            (std::vector<std::string>{"/runs/demo.partial/a/log.csv", "", "/b/log.csv"}));
+  EXPECT_EQ(s.get_string("model"), "identify/model.json");
+  EXPECT_EQ(s.to_toml(), text);
+  EXPECT_EQ(s.with_defaults().base_directory(), s.base_directory());
+
+  EXPECT_EQ(path_named_from(s.base_directory(), s.get_path("model")), "identify/model.json");
+  EXPECT_EQ(path_named_from(s.base_directory(), "/data/m.json"), "/data/m.json");
+  EXPECT_EQ(path_named_from("/runs/demo", "/runs/demo.partial/x"), "/runs/demo.partial/x");  // not under it
+  EXPECT_EQ(path_named_from("/runs/demo/", "/runs/demo/fly/a.svg"), "fly/a.svg");
+  EXPECT_EQ(path_named_from("", "fly/a.svg"), "fly/a.svg");
+}
+
 TEST(ConfigSchema, FileOverridesDefaultsAndCliOverridesFile) {
   ConfigSchema s = example_schema();
   s.load_toml_string("gamma = 0.5\nscenarios = 7\nsizes = [3]\n[optimizer]\nstep = 2\n", "run.toml");

@@ -48,8 +48,9 @@ struct ReportOptions {
 
 // Where the JavaScript bundle is, in this order: $PEGASUS_REPORT_BUNDLE; pegasus-report.js next to the
 // running executable (a build directory); ../share/pegasus/pegasus-report.js from the executable's folder
-// (an installed tree: bin/pegasus, share/pegasus/pegasus-report.js). std::runtime_error naming the places
-// looked at when none exists.
+// (an installed tree: bin/pegasus, share/pegasus/pegasus-report.js); from the Python module (a program that
+// imports pegasus), the build tree's and the installed tree's places from the module's file.
+// std::runtime_error naming the places looked at when none exists.
 std::filesystem::path find_bundle();
 
 // The data of the report (title, headline figures, sections, charts), as embedded in the page. InputError

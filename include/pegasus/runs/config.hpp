@@ -177,6 +177,16 @@ class ConfigSchema {
   const std::vector<double>& get_double_list(std::string_view name) const;
   const std::vector<std::string>& get_string_list(std::string_view name) const;
 
+  // The file a string field (or each string of a list field) names, for the code that opens it: a relative
+  // value is relative to the base directory when one is set (a pipeline's run directory, whose stages name
+  // each other's files relative to it: `identify/model.json`), else to the working directory, as given. The
+  // value itself, what config.toml records, stays as given; an empty value stays empty.
+  std::string get_path(std::string_view name) const;
+  std::vector<std::string> get_path_list(std::string_view name) const;
+  // The folder relative values of file fields are relative to (empty: the working directory).
+  void set_base_directory(std::filesystem::path base) { base_directory_ = std::move(base); }
+  const std::filesystem::path& base_directory() const { return base_directory_; }
+
   // `section.some_key` -> `--section.some-key`.
   static std::string option_name(std::string_view field_name);
   // A value as it is written in TOML (and in messages): 0.1, 3, true, "plain", [1, 2].
@@ -193,6 +203,13 @@ class ConfigSchema {
   std::vector<std::string> origins_;
   std::vector<std::string> wheres_;  // where(), beside origins_
   std::vector<Constraint> constraints_;
+  std::filesystem::path base_directory_;
 };
+
+// `file` (a value of a file field) as the code opening it finds it from `base` (empty: as given), and back:
+// a path under `base` named relative to it again, any other as it is. Used by ConfigSchema::get_path and
+// by RunSink::named, which names a file in a summary or a printed line as a config names it.
+std::string path_under(const std::filesystem::path& base, const std::string& file);
+std::string path_named_from(const std::filesystem::path& base, const std::string& path);
 
 }  // namespace pegasus
