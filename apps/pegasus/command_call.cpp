@@ -14,9 +14,6 @@ namespace pegasus::cli {
 
 namespace {
 
-// What a settings' source is called in messages: "settings:3: key 'flights': ...".
-constexpr const char* kSettingsSource = "settings";
-
 // A field name a TOML bare (dotted) key spells as it is: letters, digits, '_', and '.' between words.
 bool plain_key(const std::string& name) {
   const bool chars = std::all_of(
@@ -27,13 +24,13 @@ bool plain_key(const std::string& name) {
 
 // The settings as the lines of a config file, so that they are read and checked as one would be (the
 // integer 60 taken for a number, unknown keys refused with the list of known ones).
-std::string settings_toml(const std::vector<std::pair<std::string, FieldValue>>& settings) {
+std::string settings_toml(const std::string& path,
+                          const std::vector<std::pair<std::string, FieldValue>>& settings) {
   std::string text;
   for (const auto& [name, value] : settings) {
     if (!plain_key(name))
-      throw InputError(
-          fmt::format("{}: '{}' is no setting's name (expected a TOML key such as train_seconds)",
-                      kSettingsSource, name));
+      throw InputError(fmt::format(
+          "{}: '{}' is no setting's name (expected a TOML key such as train_seconds)", path, name));
     text += name + " = " + ConfigSchema::format_value(value) + "\n";
   }
   return text;
@@ -51,7 +48,8 @@ int call_command(const std::string& path, const std::vector<std::pair<std::strin
   if (it->out == OutDir::kNone) throw InputError(fmt::format("{}: writes no run directory", path));
   if (out_dir.empty()) throw InputError("out: expected a directory name, got an empty value");
   ConfigSchema config = command_schema(*it);
-  config.load_toml_string(settings_toml(settings), kSettingsSource);
+  // Messages name the command and the setting ("heli pipeline: setting 'flights': expected ...").
+  config.load_settings(settings_toml(path, settings), path);
   return run_stage(*it, std::move(config), out_dir,
                    {.quiet = options.quiet, .force = options.force, .resume = options.resume}, out, err);
 }

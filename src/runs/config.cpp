@@ -324,6 +324,15 @@ void ConfigSchema::load_toml_file(const std::filesystem::path& file,
 
 void ConfigSchema::load_toml_string(std::string_view text, const std::string& source_name,
                                     const std::vector<std::string>& overridden) {
+  load_toml(text, source_name, overridden, true);
+}
+
+void ConfigSchema::load_settings(std::string_view toml_text, const std::string& caller) {
+  load_toml(toml_text, caller, {}, false);
+}
+
+void ConfigSchema::load_toml(std::string_view text, const std::string& source_name,
+                             const std::vector<std::string>& overridden, bool lines) {
   const toml::table root = parse_toml_input(text, source_name);
 
   auto unknown = [&](const std::string& full, const toml::key& key) {
@@ -341,6 +350,8 @@ void ConfigSchema::load_toml_string(std::string_view text, const std::string& so
       for (std::size_t i = 0; i < fields_.size(); ++i) hint += (i ? ", " : " ") + fields_[i].name();
       hint += ")";
     }
+    if (!lines)
+      throw InputError(fmt::format("{}: unknown setting '{}'{}", source_name, printable(full), hint));
     throw InputError(fmt::format("{}:{}: unknown key '{}'{}", printable(source_name), key.source().begin.line,
                                  printable(full), hint));
   };
@@ -364,7 +375,8 @@ void ConfigSchema::load_toml_string(std::string_view text, const std::string& so
       }
       std::size_t index = index_of(full);
       const auto line = node.source().begin.line != 0 ? node.source().begin.line : key.source().begin.line;
-      const std::string where = fmt::format("{}:{}: key '{}'", source_name, line, full);
+      const std::string where = lines ? fmt::format("{}:{}: key '{}'", source_name, line, full)
+                                      : fmt::format("{}: setting '{}'", source_name, full);
       std::optional<FieldValue> value = from_toml(node, f->type());
       if (!value)
         throw InputError(fmt::format("{}: expected {}, got {}", where, f->expectation(), describe(node)));
@@ -373,7 +385,8 @@ void ConfigSchema::load_toml_string(std::string_view text, const std::string& so
       // (GCC happened to format first, clang moves first).
       const std::string got = format_value(*value);
       assign(index, std::move(*value), where, got);
-      origins_[index] = fmt::format("{}:{}", source_name, line);
+      origins_[index] =
+          lines ? fmt::format("{}:{}", source_name, line) : fmt::format("{}: {}", source_name, full);
       wheres_[index] = where;
     }
   };

@@ -173,6 +173,22 @@ TEST(ConfigSchema, UnknownKeyNamesFileLineAndSuggestsTheClosestField) {
             0u);
 }
 
+// Settings a program gives by name (call_command, Python's keyword arguments) are read as a file is, and
+// messages name the caller and the setting, never a line of text the caller did not write.
+TEST(ConfigSchema, SettingsGivenByAProgramNameTheSettingNotALine) {
+  ConfigSchema s = example_schema();
+  s.load_settings("scenarios = 7\noptimizer.step = 2\n", "heli pipeline");
+  EXPECT_EQ(s.get_int("scenarios"), 7);
+  EXPECT_EQ(s.get_double("optimizer.step"), 2.0);
+  EXPECT_EQ(s.origin("scenarios"), "heli pipeline: scenarios");
+  EXPECT_EQ(input_error_message([&] { s.load_settings("scenarios = 3\ngamma = 1.5\n", "heli pipeline"); }),
+            "heli pipeline: setting 'gamma': expected a number in [0, 1], got 1.5");
+  EXPECT_EQ(input_error_message([&] { s.load_settings("scenarios = \"x\"\n", "heli pipeline"); }),
+            "heli pipeline: setting 'scenarios': expected an integer >= 1, got the string \"x\"");
+  EXPECT_EQ(input_error_message([&] { s.load_settings("gama = 0.5\n", "heli pipeline"); }),
+            "heli pipeline: unknown setting 'gama' (did you mean 'gamma'?)");
+}
+
 TEST(ConfigSchema, SyntaxErrorAndUnreadableFileNameTheFile) {
   ConfigSchema s = example_schema();
   const std::string syntax =

@@ -142,6 +142,10 @@ class ConfigSchema {
   // Same, from text; `source_name` stands for the file in messages.
   void load_toml_string(std::string_view text, const std::string& source_name,
                         const std::vector<std::string>& overridden = {});
+  // Settings a program gives by name (call_command; Python's keyword arguments), as TOML text read as a file
+  // is, with messages that name the setting and `caller` instead of a line the caller never wrote: "CALLER:
+  // setting 'name': expected ..., got ...", "CALLER: unknown setting 'name' (did you mean ...?)".
+  void load_settings(std::string_view toml_text, const std::string& caller);
   // Sets one field from its command-line text ("0.9", "1,2,4", "true"); errors name `--field-name`.
   void set_from_cli(std::string_view name, std::string_view text);
   // Sets one field directly (checked like any other value; errors name the field, or `origin` when given,
@@ -197,6 +201,9 @@ class ConfigSchema {
   const ConfigField* find(std::string_view name) const;
   std::size_t index_of(std::string_view name) const;
   void assign(std::size_t index, FieldValue value, const std::string& where, const std::string& got);
+  // load_toml_string and load_settings: messages name a file and line (`lines`) or the caller and setting.
+  void load_toml(std::string_view text, const std::string& source_name,
+                 const std::vector<std::string>& overridden, bool lines);
 
   std::deque<ConfigField> fields_;  // a deque: add_* returns references that stay valid
   std::vector<FieldValue> values_;
