@@ -1,6 +1,7 @@
 # `cmake --install BUILD --prefix P` puts in place: the public headers (P/include/pegasus), the libraries (the
 # engine's components pegasus::core, ::mpi, ::mujoco and ::digest, pegasus::pegasus for all of them, and
-# pegasus::runs for run directories and reports), the `pegasus` CLI, the report bundle (P/share/pegasus, from
+# pegasus::runs for run directories and reports, pegasus::commands for the CLI's commands from a program), the
+# `pegasus` CLI, the report bundle (P/share/pegasus, from
 # web/) and the CMake package files, so that an outside project can write
 #   find_package(pegasus REQUIRED COMPONENTS core)
 #   target_link_libraries(my_tool PRIVATE pegasus::core)
@@ -23,6 +24,11 @@ install(TARGETS pegasus pegasus_runs EXPORT pegasusTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+# pegasus::commands (the command table, call_command) in its own export set: only it needs CLI11.
+install(TARGETS pegasus_commands EXPORT pegasus_commands_targets
+        ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+        INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+install(EXPORT pegasus_commands_targets NAMESPACE pegasus:: DESTINATION ${PEGASUS_CMAKE_DIR})
 install(TARGETS pegasus_cli RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(DIRECTORY include/pegasus DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} FILES_MATCHING PATTERN "*.hpp")
 install(FILES ${CMAKE_CURRENT_BINARY_DIR}/include/pegasus/version.hpp

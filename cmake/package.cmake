@@ -18,6 +18,8 @@ set(CPACK_DEBIAN_PACKAGE_SECTION science)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 set(pegasus_deb_depends
     "libeigen3-dev, nlohmann-json3-dev, libfmt-dev, libnlopt-cxx-dev, librandom123-dev, libssl-dev, zlib1g-dev")
+# pegasus::commands links the command line's parser.
+string(APPEND pegasus_deb_depends ", libcli11-dev")
 if(PEGASUS_MPI)
   string(APPEND pegasus_deb_depends ", libopenmpi-dev")
 endif()

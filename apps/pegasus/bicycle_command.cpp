@@ -2,7 +2,7 @@
 // the library's config sections (runs/bicycle_config.hpp) and experiments (runs/bicycle_runs.hpp).
 #include <optional>
 
-#include "command.hpp"
+#include "pegasus/cli/command.hpp"
 #include "pegasus/runs/bicycle_config.hpp"
 #include "pegasus/runs/bicycle_runs.hpp"
 

@@ -1,4 +1,4 @@
-#include "command.hpp"
+#include "pegasus/cli/command.hpp"
 
 #include <fmt/format.h>
 #include <unistd.h>

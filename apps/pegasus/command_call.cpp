@@ -7,7 +7,7 @@
 #include <utility>
 #include <vector>
 
-#include "command.hpp"
+#include "pegasus/cli/command.hpp"
 #include "pegasus/core/error.hpp"
 
 namespace pegasus::cli {

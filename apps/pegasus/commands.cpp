@@ -10,8 +10,8 @@
 #include <stdexcept>
 #include <thread>
 
-#include "command.hpp"
 #include "experiment_commands.hpp"
+#include "pegasus/cli/command.hpp"
 #include "pegasus/evaluators/horizon.hpp"
 #include "pegasus/runs/charts.hpp"
 

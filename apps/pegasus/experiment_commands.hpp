@@ -4,7 +4,7 @@
 // beside the table (commands.cpp).
 #include <vector>
 
-#include "command.hpp"
+#include "pegasus/cli/command.hpp"
 #include "pegasus/runs/heli_config.hpp"
 #include "pegasus/runs/heli_runs.hpp"
 

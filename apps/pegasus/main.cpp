@@ -4,7 +4,7 @@
 #include <ostream>
 #include <streambuf>
 
-#include "command.hpp"
+#include "pegasus/cli/command.hpp"
 #include "pegasus/parallel/job_transport.hpp"
 
 namespace {

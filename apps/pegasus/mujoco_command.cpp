@@ -2,7 +2,7 @@
 // the library's config sections (runs/mujoco_config.hpp) and experiments (runs/mujoco_runs.hpp). Built only
 // with PEGASUS_MUJOCO (libmujoco-dev); without it the table has no mujoco commands.
 #ifdef PEGASUS_HAVE_MUJOCO
-#include "command.hpp"
+#include "pegasus/cli/command.hpp"
 #include "pegasus/runs/mujoco_config.hpp"
 
 namespace pegasus::cli {
@@ -32,7 +32,7 @@ std::vector<Command> mujoco_commands() {
 
 }  // namespace pegasus::cli
 #else
-#include "command.hpp"
+#include "pegasus/cli/command.hpp"
 
 namespace pegasus::cli {
 std::vector<Command> mujoco_commands() { return {}; }

@@ -1,6 +1,6 @@
 // `pegasus pendulum train`: PEGASUS on Gymnasium's Pendulum-v1, the race against RLtools of issue 7: the
 // library's config section and experiment (runs/pendulum_run.hpp).
-#include "command.hpp"
+#include "pegasus/cli/command.hpp"
 #include "pegasus/runs/pendulum_run.hpp"
 
 namespace pegasus::cli {

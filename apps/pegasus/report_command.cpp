@@ -6,8 +6,8 @@
 #include <filesystem>
 #include <ostream>
 
-#include "command.hpp"
 #include "experiment_commands.hpp"
+#include "pegasus/cli/command.hpp"
 #include "pegasus/core/error.hpp"
 #include "pegasus/report/report.hpp"
 

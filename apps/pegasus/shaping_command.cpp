@@ -2,7 +2,7 @@
 // it is, 1 when it is not, with a witness and a verified counterexample), `shaping gridworld`, `shaping
 // flags` (§3.4, Figs 3.2 and 3.3) and `shaping progress-bonus` (the §3.1 bug, shown by learning): the
 // library's config sections (runs/shaping_config.hpp) and experiments (runs/shaping_runs.hpp).
-#include "command.hpp"
+#include "pegasus/cli/command.hpp"
 #include "pegasus/runs/shaping_config.hpp"
 #include "pegasus/runs/shaping_runs.hpp"
 

@@ -1,5 +1,5 @@
 // pegasus.pipeline: `pegasus heli pipeline` (`pegasus pipeline --vehicle V.toml` with a vehicle) run in this
-// process by the command table's own code (apps/pegasus/command.hpp: call_command), its summary.json
+// process by the command table's own code (include/pegasus/cli/command.hpp: call_command), its summary.json
 // returned as a dict.
 #include <fmt/format.h>
 
@@ -12,8 +12,8 @@
 #include <utility>
 #include <vector>
 
-#include "command.hpp"
 #include "common.hpp"
+#include "pegasus/cli/command.hpp"
 #include "pegasus/io/atomic_file.hpp"
 
 namespace pegasus::python {

@@ -14,7 +14,7 @@ endif()
 step(dpkg-deb --field ${debs} Package Version Architecture Depends)
 message(STATUS "control fields:\n${last_output}")
 # librandom123-dev: <pegasus/pegasus.hpp> includes Random123's headers (the scenarios' generator).
-foreach(depends libnlopt0 libstdc.. libfmt-dev libeigen3-dev nlohmann-json3-dev librandom123-dev)
+foreach(depends libnlopt0 libstdc.. libfmt-dev libeigen3-dev nlohmann-json3-dev librandom123-dev libcli11-dev)
   if(NOT last_output MATCHES "${depends}")
     message(FATAL_ERROR "Depends lacks ${depends}: ${last_output}")
   endif()

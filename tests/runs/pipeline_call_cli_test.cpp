@@ -1,7 +1,7 @@
-// The helicopter pipeline run from a program (apps/pegasus/command.hpp: call_command): in this process, by
-// the command table's own code, without a command line, and without using or changing the working directory
-// (the stages name each other's files relative to the run directory: ConfigSchema::get_path). Its files are
-// the CLI's, byte for byte.
+// The helicopter pipeline run from a program (include/pegasus/cli/command.hpp: call_command): in this
+// process, by the command table's own code, without a command line, and without using or changing the working
+// directory (the stages name each other's files relative to the run directory: ConfigSchema::get_path). Its
+// files are the CLI's, byte for byte.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -10,7 +10,7 @@
 #include <utility>
 #include <vector>
 
-#include "command.hpp"
+#include "pegasus/cli/command.hpp"
 #include "pegasus/core/error.hpp"
 #include "support/cli_runner.hpp"
 

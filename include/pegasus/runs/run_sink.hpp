@@ -1,7 +1,7 @@
 #pragma once
 // Where an experiment's results go: its run directory (files, charts, checkpoint), the lines it prints,
 // its progress bars and its wall-clock figures. A command builds one from what the user asked for
-// (apps/pegasus/command.hpp: RunContext::sink); a library user builds one around any RunDirectory.
+// (include/pegasus/cli/command.hpp: RunContext::sink); a library user builds one around any RunDirectory.
 //
 //   RunDirectory dir = RunDirectory::open("runs/hover", config);
 //   nlohmann::json timings = nlohmann::json::object();
