@@ -57,7 +57,10 @@ double limit_of(const ConfigSchema& c, const char* field) {
 
 std::string check_wind_ned(const FieldValue& v) {
   const auto& w = std::get<std::vector<double>>(v);
-  const sysid::DisturbanceSetting& steady = sysid::Disturbance::settings().front();
+  const auto& settings = sysid::Disturbance::settings();
+  const sysid::DisturbanceSetting& steady =
+      *std::find_if(settings.begin(), settings.end(),
+                    [](const sysid::DisturbanceSetting& s) { return s.key == std::string("steady"); });
   if (w.size() != 3) return "3 numbers: north, east, down (m/s)";
   for (const double x : w)
     if (!steady.within(x)) return fmt::format("3 numbers in {} {}", steady.range(), steady.unit);
