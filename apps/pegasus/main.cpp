@@ -2,18 +2,11 @@
 #include <cstdlib>
 #include <iostream>
 #include <ostream>
-#include <streambuf>
 
 #include "pegasus/cli/command.hpp"
 #include "pegasus/parallel/job_transport.hpp"
 
 namespace {
-
-// Where the printed results of ranks other than 0 go (parallel/mpi.hpp).
-class NullBuffer final : public std::streambuf {
- protected:
-  int overflow(int c) override { return c == traits_type::eof() ? 0 : c; }
-};
 
 #ifdef PEGASUS_HAVE_MPI
 // The MPI tests' crashed node (tests/mpi): PEGASUS_TEST_MPI_KILL="RANK:CALLS". Not documented for users.
@@ -34,8 +27,7 @@ int main(int argc, char** argv) {
   // Under mpirun every rank runs the command; rank 0 alone prints and writes the run directory.
   const pegasus::mpi::Session mpi(&argc, &argv, pegasus::mpi::linked_transport());
   read_fault_injection();
-  NullBuffer null_buffer;
-  std::ostream null_stream(&null_buffer);
+  pegasus::cli::NullStream null_stream;  // the printed results of ranks other than 0 (parallel/mpi.hpp)
   const bool root = pegasus::mpi::is_root();
   return pegasus::cli::run_cli(argc, argv, pegasus::cli::command_groups(), pegasus::cli::commands(),
                                root ? std::cout : null_stream, root ? std::cerr : null_stream);

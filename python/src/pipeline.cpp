@@ -7,7 +7,6 @@
 #include <iostream>
 #include <optional>
 #include <ostream>
-#include <streambuf>
 #include <string>
 #include <utility>
 #include <vector>
@@ -49,12 +48,6 @@ FieldValue setting_value(const std::string& name, py::handle value) {
   throw refuse();
 }
 
-// Where the printed lines go with quiet: nowhere (run.json keeps them).
-class NullBuffer final : public std::streambuf {
- protected:
-  int overflow(int c) override { return c == traits_type::eof() ? 0 : c; }
-};
-
 }  // namespace
 
 void bind_pipeline(py::module_& m) {
@@ -69,8 +62,7 @@ void bind_pipeline(py::module_& m) {
           const auto name = key.cast<std::string>();
           values.emplace_back(name, setting_value(name, value));
         }
-        NullBuffer null_buffer;
-        std::ostream nowhere(&null_buffer);
+        cli::NullStream nowhere;
         {
           ReleaseGilInterruptibly release;
           cli::call_command(vehicle ? "pipeline" : "heli pipeline", values, dir,

@@ -25,6 +25,8 @@
 #include <iosfwd>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <ostream>
+#include <streambuf>
 #include <string>
 #include <vector>
 
@@ -138,6 +140,20 @@ struct StageOptions {
 int run_stage(const Command& command, ConfigSchema config, const std::string& out_dir,
               const StageOptions& options, std::ostream& out, std::ostream& err);
 
+// A stream that drops what is written to it: where the printed results go of MPI ranks other than 0 (main)
+// and of a quiet pegasus.pipeline (run.json keeps them).
+class NullStream final : public std::ostream {
+ public:
+  NullStream() : std::ostream(&buffer_) {}
+
+ private:
+  class Buffer final : public std::streambuf {
+   protected:
+    int overflow(int c) override { return c == traits_type::eof() ? 0 : c; }
+  };
+  Buffer buffer_;
+};
+
 // How call_command opens the run directory and prints.
 struct CallOptions {
   bool force = false;   // --force
@@ -152,8 +168,8 @@ struct CallOptions {
 // "optimizer.gradient.max_iterations", "seed", "threads") -> value, checked as a config file's (an integer
 // is taken for a number); the other fields keep their defaults. Returns the command's exit code (a verdict,
 // 0 or 1). Bad input (an unknown command or setting, a value of the wrong type or out of range) is an
-// InputError of one line naming it ("settings: key 'flights': ..."), and leaves no directory behind; any
-// other failure keeps OUT_DIR.partial for options.resume to continue. `out` gets what the command prints.
+// InputError of one line naming it ("heli pipeline: setting 'flights': ..."), and leaves no directory behind;
+// any other failure keeps OUT_DIR.partial for options.resume to continue. `out` gets what the command prints.
 int call_command(const std::string& path, const std::vector<std::pair<std::string, FieldValue>>& settings,
                  const std::string& out_dir, const CallOptions& options, std::ostream& out,
                  std::ostream& err);
