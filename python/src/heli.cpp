@@ -266,8 +266,13 @@ The hover policy class's starting weights: a linear controller around a trim (he
       .def_readwrite("integral_seconds", &heli::HoverPolicyInit::integral_seconds,
                      "The integral term's time constant T_i, s: each channel's int weight starts at its err "
                      "gain / T_i (the PI rule); 0: no integral term (34 weights, the thesis's class).");
+  def_array(init, "command_lower", &heli::HoverPolicyInit::command_lower,
+            "Each output's lower command limit, after the clip to [-1, 1] (-1: none).");
+  def_array(init, "command_upper", &heli::HoverPolicyInit::command_upper,
+            "Each output's upper command limit, after the clip to [-1, 1] (1: none).");
   set_fields(init, {"trim", "trim_roll", "trim_pitch", "k_pos", "k_vel", "k_att", "k_pos_lat", "k_vel_lat",
-                    "k_roll", "k_alt", "k_climb", "k_yaw", "k_yaw_rate", "integral_seconds"});
+                    "k_roll", "k_alt", "k_climb", "k_yaw", "k_yaw_rate", "integral_seconds", "command_lower",
+                    "command_upper"});
 
   py::class_<HoverPolicy>(m, "HoverPolicy", R"doc(
 The hover policy class of thesis §5.3 (Fig 5.4, Eqs 5.7-5.8): 34 weights, one tanh network per control channel

@@ -156,6 +156,9 @@ climbing, on the identified model (heli/hover_task.hpp).)doc");
                      "Anti-windup: the position error integral's limit per axis, m s.")
       .def_readwrite("integral_limit_yaw", &heli::HoverTrainingOptions::integral_limit_yaw,
                      "Anti-windup: the yaw error integral's limit, rad s.")
+      .def_readwrite("command_margin", &heli::HoverTrainingOptions::command_margin,
+                     "On a global linear model, the policy's commands stay within each control's range in "
+                     "the logs widened by this fraction of its width per side; 100: [-1, 1].")
       .def("horizon", &heli::HoverTrainingOptions::horizon, "Steps of 1 / control_rate_hz.")
       .def("gamma_per_step", &heli::HoverTrainingOptions::gamma_per_step, "gamma^(50 / control_rate_hz).")
       .def(
@@ -186,7 +189,8 @@ climbing, on the identified model (heli/hover_task.hpp).)doc");
                        "max_start_crash_fraction",
                        "integral_seconds",
                        "integral_limit_position",
-                       "integral_limit_yaw"});
+                       "integral_limit_yaw",
+                       "command_margin"});
 
   auto problem = py::class_<HoverProblemObject, Objective>(m, "HoverProblem", R"doc(
 PEGASUS U-hat (thesis §5.3) of the hover policy class (HoverPolicy(init), 34 weights) on a helicopter model, the

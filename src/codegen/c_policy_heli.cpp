@@ -189,8 +189,31 @@ int @NAME@_act(@NAME@_memory* memory, const double* observation, double* action)
 
 }  // namespace
 
+namespace {
+
+// The hover act's last step with the file's command limits (HoverPolicy::act): each output clipped to
+// [-1, 1] and then to its channel's limits, in that order, as the C++ does.
+void add_command_limits(const heli::HoverPolicyInit& limits, std::string* body) {
+  const std::vector<std::string> names = {"a1", "a2", "a3", "a4"};
+  *body += c_table("kCommandLower", {limits.command_lower.begin(), limits.command_lower.end()}, names);
+  *body += c_table("kCommandUpper", {limits.command_upper.begin(), limits.command_upper.end()}, names);
+}
+
+std::string with_command_limits(std::string act) {
+  const std::string plain = "action[c] = clip_control(action[c]);";
+  const std::string limited =
+      "action[c] = clamp(clip_control(action[c]), kCommandLower[c], kCommandUpper[c]);";
+  for (std::size_t at = act.find(plain); at != std::string::npos; at = act.find(plain, at + limited.size()))
+    act.replace(at, plain.size(), limited);
+  return act;
+}
+
+}  // namespace
+
 ClassText hover_class(const heli::PolicyFile& file, const std::string& source) {
   const heli::ErrorIntegrator integrator = heli::hover_file_integrator(file, source);
+  const heli::HoverPolicyInit limits = heli::hover_file_command_limits(file, source);
+  const bool limited = heli::HoverPolicy(limits).has_command_limits();
   const Theta theta = heli::checked_hover_parameters(file, source);
   ClassText t = heli_class(file, theta);
   t.class_name = "hover";
@@ -216,13 +239,15 @@ int @NAME@_target(double time, double* set_point) {
   return 0;
 }
 )";
+  if (limited) add_command_limits(limits, &t.body);
+  const auto act = [&](std::string text) { return limited ? with_command_limits(std::move(text)) : text; };
   if (integrator.on()) {
     t.body += c_table("kIntegral", {integrator.dt, integrator.limit_position, integrator.limit_yaw},
                       {"dt (s)", "limit_position (m s)", "limit_yaw (rad s)"});
-    t.body += kHoverIntegral;
+    t.body += act(kHoverIntegral);
     return t;
   }
-  t.body += R"(
+  t.body += act(R"(
 int @NAME@_act(const double* observation, double* action) {
   double error[4], velocity[4], attitude[2];
   int c;
@@ -235,7 +260,7 @@ int @NAME@_act(const double* observation, double* action) {
   for (c = 0; c < 4; ++c) action[c] = clip_control(action[c]);
   return 0;
 }
-)";
+)");
   return t;
 }
 

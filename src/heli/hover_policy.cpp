@@ -1,8 +1,11 @@
 #include "pegasus/heli/hover_policy.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 #include "pegasus/core/error.hpp"
 #include "pegasus/vehicle/frames.hpp"
@@ -75,7 +78,22 @@ HoverInputs hover_inputs(const HeliObservation& o) {
   return in;
 }
 
-HoverPolicy::HoverPolicy(const HoverPolicyInit& init) {
+bool command_limits_valid(const Controls& lower, const Controls& upper, std::string* error) {
+  for (std::size_t c = 0; c < 4; ++c)
+    if (!(lower[c] >= -1 && lower[c] <= upper[c] && upper[c] <= 1)) {
+      if (error)
+        *error =
+            fmt::format("a{}: expected -1 <= lower <= upper <= 1, got [{}, {}]", c + 1, lower[c], upper[c]);
+      return false;
+    }
+  return true;
+}
+
+HoverPolicy::HoverPolicy(const HoverPolicyInit& init)
+    : command_lower_(init.command_lower), command_upper_(init.command_upper) {
+  std::string error;
+  if (!command_limits_valid(command_lower_, command_upper_, &error))
+    throw std::invalid_argument("hover policy: command limits: " + error);
   const double inf = std::numeric_limits<double>::infinity();
   // Per channel: initial linear gains, and the typical useful change of each weight (the optimizer's scale).
   struct Channel {
@@ -147,8 +165,14 @@ Controls HoverPolicy::unclipped(std::span<const double> w, const HoverInputs& in
 Controls HoverPolicy::act(std::span<const double> theta, const HeliObservation& o) const {
   Controls a = unclipped(theta, hover_inputs(o));
   // A NaN output (a NaN state or weight) becomes 0 rather than travelling on to the aircraft.
-  for (double& x : a) x = std::isnan(x) ? 0.0 : std::clamp(x, -1.0, 1.0);
+  for (std::size_t c = 0; c < 4; ++c)
+    a[c] = std::clamp(std::isnan(a[c]) ? 0.0 : std::clamp(a[c], -1.0, 1.0), command_lower_[c],
+                      command_upper_[c]);
   return a;
+}
+
+bool HoverPolicy::has_command_limits() const {
+  return command_lower_ != Controls{-1, -1, -1, -1} || command_upper_ != Controls{1, 1, 1, 1};
 }
 
 }  // namespace pegasus::heli

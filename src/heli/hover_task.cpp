@@ -223,10 +223,27 @@ HoverPolicy hover_policy_for(const sysid::IdentifiedModel& model) {
   return HoverPolicy(hover_init_from_model(model));
 }
 
+HoverPolicyInit hover_command_limits(const sysid::IdentifiedModel& model, double margin) {
+  HoverPolicyInit init;
+  const auto& x = model.data().x;
+  if (!model.is_global() || x.rows() == 0) return init;
+  for (std::size_t c = 0; c < 4; ++c) {
+    const auto column = x.col(sysid::kA1 + static_cast<int>(c));
+    const double lo = column.minCoeff(), hi = column.maxCoeff(), widen = margin * (hi - lo);
+    if (!(hi > lo)) continue;
+    init.command_lower[c] = std::clamp(lo - widen, -1.0, 1.0);
+    init.command_upper[c] = std::clamp(hi + widen, -1.0, 1.0);
+  }
+  return init;
+}
+
 HoverPolicy hover_policy_for(const sysid::IdentifiedModel& model, const HoverTrainingOptions& options) {
-  if (options.lqr_start) return HoverPolicy(lqr_hover_init(model, options).init);
-  HoverPolicyInit init = hover_init_from_model(model);
-  init.integral_seconds = options.integral_seconds;
+  HoverPolicyInit init =
+      options.lqr_start ? lqr_hover_init(model, options).init : hover_init_from_model(model);
+  if (!options.lqr_start) init.integral_seconds = options.integral_seconds;
+  const HoverPolicyInit limits = hover_command_limits(model, options.command_margin);
+  init.command_lower = limits.command_lower;
+  init.command_upper = limits.command_upper;
   return HoverPolicy(init);
 }
 
@@ -321,6 +338,8 @@ bool HoverTrainingOptions::IsValid(std::string* error) const {
                 fmt::format("seconds: expected at least one control step (1 / control_rate_hz = {:g} s), "
                             "got {:g}",
                             1 / control_rate_hz, seconds));
+  if (!(command_margin >= 0 && command_margin <= 100))
+    return fail(error, fmt::format("command_margin: expected a number in [0, 100], got {}", command_margin));
   if (!(max_start_crash_fraction >= 0 && max_start_crash_fraction <= 1))
     return fail(error, fmt::format("max_start_crash_fraction: expected a number in [0, 1], got {}",
                                    max_start_crash_fraction));

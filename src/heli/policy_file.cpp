@@ -33,8 +33,8 @@ Registry& registry() {
 
 class HoverController final : public HeliController {
  public:
-  HoverController(Theta theta, SetPoint target, ErrorIntegrator integrator)
-      : theta_(std::move(theta)), target_(target), integrator_(integrator) {}
+  HoverController(Theta theta, SetPoint target, ErrorIntegrator integrator, const HoverPolicyInit& limits)
+      : policy_(limits), theta_(std::move(theta)), target_(target), integrator_(integrator) {}
   using HeliController::act;
   Controls act(const LoggedState& estimate, double, ControllerMemory& memory) const override {
     if (integrator_.on() &&
@@ -212,9 +212,28 @@ Theta checked_hover_parameters(const PolicyFile& policy, const std::string& file
   return checked_parameters(policy, spec_only.parameters(), file);
 }
 
+HoverPolicyInit hover_file_command_limits(const PolicyFile& policy, const std::string& file) {
+  HoverPolicyInit init;
+  const auto it = policy.options.find("command_limits");
+  if (it == policy.options.end()) return init;
+  if (!it->is_object()) json_field_error(file, "options.command_limits", "{\"lower\", \"upper\"}", *it);
+  const auto four = [&](const char* name) {
+    const std::string field = fmt::format("options.command_limits.{}", name);
+    const std::vector<double> v = json_finite_numbers(json_member(*it, name, file, field), file, field, 4);
+    return Controls{v[0], v[1], v[2], v[3]};
+  };
+  init.command_lower = four("lower");
+  init.command_upper = four("upper");
+  std::string error;
+  if (!command_limits_valid(init.command_lower, init.command_upper, &error))
+    throw InputError(fmt::format("{}: options.command_limits: {}", file, error));
+  return init;
+}
+
 std::unique_ptr<HeliController> make_hover_controller(const PolicyFile& policy, const std::string& file) {
   return std::make_unique<HoverController>(checked_hover_parameters(policy, file), policy.target,
-                                           hover_file_integrator(policy, file));
+                                           hover_file_integrator(policy, file),
+                                           hover_file_command_limits(policy, file));
 }
 
 PolicyFile hover_policy_file(const HoverPolicy& policy, std::span<const double> theta, const SetPoint& target,
@@ -229,6 +248,8 @@ PolicyFile hover_policy_file(const HoverPolicy& policy, std::span<const double> 
     p.options["integral"] = {{"dt", integrator.dt},
                              {"limit_position", integrator.limit_position},
                              {"limit_yaw", integrator.limit_yaw}};
+  if (policy.has_command_limits())
+    p.options["command_limits"] = {{"lower", policy.command_lower()}, {"upper", policy.command_upper()}};
   return p;
 }
 

@@ -382,7 +382,9 @@ const std::vector<SummaryKeyGroup> kGroups = {
               {"choices.<choice>", "",
                "what hover chose from the data (model_class, noise, start, optimizer; wind with a vehicle "
                "file: "
-               "the scenarios' wind, by what and why), each with what it was chosen by"},
+               "the scenarios' wind, by what and why; command_limits on a global linear model: the "
+               "policy's lower and upper command per control, from the logs widened by margin), each with "
+               "what it was chosen by"},
               {"judged_cost.reward", "", "the vehicle file's [cost] terms as the reward trained them"},
               {"judged_cost.crash_penalty", "", "the crash penalty of the judged cost"},
               {"wind.steady_ned_mps", "m/s", "the steady wind of the training scenarios [north, east, down]"},

@@ -324,6 +324,11 @@ void declare_hover_start(ConfigSchema& s, const HoverTrainingOptions& defaults) 
        "at its error gain / this (LQR start: doubled until stable on the linear model); 0: none (the "
        "thesis's class)")
       .range(0, 3600);
+  s.add_double("command_margin", defaults.command_margin,
+               "on a global linear model, the policy's commands stay within the range each control held in "
+               "the logs, widened by this fraction of its width per side (the model extrapolates beyond "
+               "them; a locally weighted model crashes off its data instead); 100: [-1, 1]")
+      .range(0, 100);
   s.add_double("integral_limit_position", defaults.integral_limit_position,
                "anti-windup: the position error integral's limit per axis, m s")
       .greater_than(0)
@@ -434,6 +439,7 @@ HoverRunOptions read_hover_config(const ConfigSchema& c, std::uint64_t seed) {
   o.control_rate_hz = c.get_double("control_rate_hz");
   o.lqr_start = c.get_string("starting_gains") == "lqr";
   o.integral_seconds = c.get_double("integral_seconds");
+  o.command_margin = c.get_double("command_margin");
   o.integral_limit_position = c.get_double("integral_limit_position");
   o.integral_limit_yaw = c.get_double("integral_limit_yaw");
   o.start_pos_sigma = c.get_double("start_pos_sigma");

@@ -208,6 +208,11 @@ nlohmann::json hover_choices(const sysid::IdentifiedModel& model, const HoverTra
     choices["start"] = {{"gains", taken->gains},
                         {"action_weight_factor", taken->action_factor},
                         {"tries", r.start_tries.size()}};
+  if (const HoverPolicy limited(hover_command_limits(model, o.command_margin)); limited.has_command_limits())
+    choices["command_limits"] = {{"lower", limited.command_lower()},
+                                 {"upper", limited.command_upper()},
+                                 {"margin", o.command_margin},
+                                 {"by", "the global linear model's logged controls"}};
   return choices;
 }
 
@@ -248,6 +253,19 @@ std::int64_t say_hover_setup(std::ostream& out, const HoverRunOptions& options,
         "step's change times {:g}; a model identified at the control rate (log.model_rate_hz) steps it "
         "faithfully\n",
         1 / o.control_rate_hz, 1 / ratio, 1 / model.dt(), 1 / ratio);
+  // The command limits of a global linear model's training (issue 48): said where they bind.
+  if (const HoverPolicy limited(hover_command_limits(model, o.command_margin));
+      limited.has_command_limits()) {
+    std::vector<std::string> channels;
+    for (std::size_t c = 0; c < 4; ++c)
+      channels.push_back(
+          fmt::format("a{} [{:.3g}, {:.3g}]", c + 1, limited.command_lower()[c], limited.command_upper()[c]));
+    out << fmt::format(
+        "command limits (the global linear model extrapolates beyond its logs): the logs' controls widened "
+        "by "
+        "{:g}% of their range per side, {} (--command-margin)\n",
+        100 * o.command_margin, fmt::join(channels, ", "));
+  }
   // The default budget on a locally weighted model (issues 48, 53): said where it binds.
   const std::int64_t budget =
       o.evaluation_budget(model, static_cast<int>(hover_policy_for(model, o).parameters().size()));
@@ -543,9 +561,9 @@ void write_pipeline_summary(const std::string& vehicle, double flight_seconds, R
   if (identify.contains("noise_check_passes")) summary["noise_check_passes"] = identify["noise_check_passes"];
   if (!vehicle.empty()) summary["vehicle"] = vehicle;  // only then: the X-Cell's summaries stay as they were
   // The choices made from the data: identify's (model class, noise, control gains), then hover's start and
-  // optimizer.
+  // optimizer, its wind and command limits.
   nlohmann::json choices = identify.value("choices", nlohmann::json::object());
-  for (const char* key : {"start", "optimizer", "wind"})
+  for (const char* key : {"start", "optimizer", "wind", "command_limits"})
     if (hover.contains("choices") && hover["choices"].contains(key)) choices[key] = hover["choices"][key];
   summary["choices"] = choices;
   sink.dir.write_json("summary.json", summary);

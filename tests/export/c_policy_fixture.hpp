@@ -34,11 +34,19 @@ inline Theta perturbed_hover_theta(const heli::HoverPolicy& policy, std::mt19937
 inline const heli::HoverPolicyInit kTrimmedInit{.trim = {0.0, 0.036, 0.184, 0.194}};
 
 // `integrator` on: the integral term (38 weights).
+// Command limits some channels of a hover file may have (HoverPolicyInit::command_lower/upper): a1 and a3
+// limited on both sides, a2 on one, a4 not at all.
+inline constexpr heli::Controls kCommandLower{-0.4, -1, -0.25, -1}, kCommandUpper{0.3, 0.6, 0.7, 1};
+
 inline heli::PolicyFile hover_file(std::uint64_t seed, double spread, const heli::SetPoint& target,
-                                   const heli::ErrorIntegrator& integrator = {}) {
+                                   const heli::ErrorIntegrator& integrator = {}, bool limited = false) {
   std::mt19937_64 rng(seed);
   heli::HoverPolicyInit init = kTrimmedInit;
   init.integral_seconds = integrator.on() ? 5 : 0;
+  if (limited) {
+    init.command_lower = kCommandLower;
+    init.command_upper = kCommandUpper;
+  }
   const heli::HoverPolicy policy(init);
   return heli::hover_policy_file(policy, perturbed_hover_theta(policy, rng, spread), target,
                                  kTrimmedInit.trim, integrator);

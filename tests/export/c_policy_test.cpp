@@ -114,6 +114,41 @@ TEST_F(CPolicyExport, HoverIsBitIdenticalToTheCppPolicyOn100000States) {
   EXPECT_LT(clipped, kInputs);
 }
 
+// With command limits, every output stays within its channel's limits, and the C clips exactly as the C++:
+// at the limits, at [-1, 1] where a channel has none, and not at all.
+TEST_F(CPolicyExport, HoverWithCommandLimitsIsBitIdenticalAndStaysWithinThem) {
+  const heli::PolicyFile file = hover_file(5, 1.0, {3.0, -2.0, -12.0, 0.7}, {}, true);
+  ASSERT_TRUE(file.options.contains("command_limits"));
+  const CPolicyCode code = export_c_policy(heli::policy_file_json(file), "hover.json");
+  EXPECT_NE(code.source.find("kCommandLower"), std::string::npos);
+  const LoadedCPolicy c(code, dir_);
+  expect_heli_bit_identical(file, c, 60.0, 6);
+  const auto cpp = heli::make_controller(file, "hover.json");
+  std::mt19937_64 rng(7);
+  std::array<int, 4> at_lower{}, at_upper{}, inside{};
+  for (int i = 0; i < kInputs / 10; ++i) {
+    const Controls a = cpp->act(random_state(rng, file.target), 0.0);
+    for (std::size_t k = 0; k < 4; ++k) {
+      ASSERT_GE(a[k], kCommandLower[k]);
+      ASSERT_LE(a[k], kCommandUpper[k]);
+      at_lower[k] += a[k] == kCommandLower[k];
+      at_upper[k] += a[k] == kCommandUpper[k];
+      inside[k] += a[k] > kCommandLower[k] && a[k] < kCommandUpper[k];
+    }
+  }
+  for (std::size_t k = 0; k < 4; ++k) {
+    SCOPED_TRACE(fmt::format("a{}", k + 1));
+    EXPECT_GT(at_lower[k], kInputs / 1000);
+    EXPECT_GT(at_upper[k], kInputs / 1000);
+    EXPECT_GT(inside[k], kInputs / 1000);
+  }
+  // Without limits the file and the C are as they were: no table, no second clip.
+  const heli::PolicyFile plain = hover_file(5, 1.0, {3.0, -2.0, -12.0, 0.7});
+  EXPECT_FALSE(plain.options.contains("command_limits"));
+  EXPECT_EQ(export_c_policy(heli::policy_file_json(plain), "hover.json").source.find("kCommandLower"),
+            std::string::npos);
+}
+
 TEST_F(CPolicyExport, TheComparisonSeesOneReorderedSum) {
   // The same code with row 2 of the body-frame rotation summed left to right, as a careless transcription
   // would: the comparison must tell (Eigen sums that row as a0 + (a1 + a2)).
@@ -442,9 +477,11 @@ TEST_F(CPolicyExport, ExportedControllersFlyTheGroundTruthExactlyAsTheCppPolicie
 // non-finite observation, which both leave alone (the C answers the trim, as `heli control` does).
 TEST_F(CPolicyExport, HoverWithTheIntegralTermIsBitIdenticalOverAHundredFlightsOfAThousandSteps) {
   const heli::ErrorIntegrator integrator{.dt = 0.02, .limit_position = 4, .limit_yaw = 1};
-  const heli::PolicyFile file = hover_file(3, 1.0, {3.0, -2.0, -12.0, 0.7}, integrator);
+  // With command limits too: the act with memory clips as the act without.
+  const heli::PolicyFile file = hover_file(3, 1.0, {3.0, -2.0, -12.0, 0.7}, integrator, true);
   const CPolicyCode code = export_c_policy(heli::policy_file_json(file), "hover.json");
   ASSERT_TRUE(code.has_memory);
+  EXPECT_NE(code.source.find("kCommandUpper[c]"), std::string::npos);
   EXPECT_NE(
       code.header.find("typedef struct pegasus_policy_memory {\n  double integral[4];\n  int started;\n}"),
       std::string::npos)

@@ -225,6 +225,53 @@ TEST(PolicyFile, IntegralTermRoundTripsAndBadIntegratorsNameTheField) {
   EXPECT_EQ(message(j), "p.json: parameters: expected 38 parameters for class hover, got 34");
 }
 
+TEST(PolicyFile, CommandLimitsRoundTripBindTheControllerAndBadOnesNameTheField) {
+  const Aircraft aircraft;
+  PolicyFile f = xcell_hover_file(aircraft, 0);
+  const HoverPolicy unlimited;
+  const Theta theta = f.values;
+  HoverPolicyInit init;
+  init.command_lower = {-0.2, -1, -1, -0.1};
+  init.command_upper = {0.2, 0.05, 1, 0.1};
+  f = hover_policy_file(HoverPolicy(init), theta, f.target, f.trim);
+  const nlohmann::json good = policy_file_json(f);
+  const PolicyFile back = parse_policy_file(nlohmann::json::parse(good.dump()), "p.json");
+  const HoverPolicyInit read = hover_file_command_limits(back, "p.json");
+  EXPECT_EQ(read.command_lower, init.command_lower);
+  EXPECT_EQ(read.command_upper, init.command_upper);
+  // The controller clips where the unlimited policy would not, and nowhere else.
+  const auto limited = make_controller(back, "p.json");
+  const LoggedState far{8, -6, -4, 0.3, -0.2, 0.5, 2, -1, 1, 0.5, 0.3, -0.4};
+  const Controls free = unlimited.act(theta, HeliObservation{far, f.target, {}});
+  const Controls a = limited->act(far, 0);
+  for (std::size_t c = 0; c < 4; ++c)
+    EXPECT_EQ(a[c], std::clamp(free[c], init.command_lower[c], init.command_upper[c])) << c;
+  EXPECT_NE(a, free);  // the state is far enough that some channel's limit binds
+  // Without limits the file has no command_limits, and reads back as [-1, 1].
+  EXPECT_FALSE(xcell_hover_file(aircraft, 0).options.contains("command_limits"));
+  auto message = [](const nlohmann::json& j) {
+    return input_error_message([&] { make_controller(parse_policy_file(j, "p.json"), "p.json"); });
+  };
+  EXPECT_EQ(message(good), "(no error)");
+  nlohmann::json j = good;
+  j["options"]["command_limits"]["lower"][1] = 0.1;  // above a2's upper 0.05
+  EXPECT_EQ(message(j),
+            "p.json: options.command_limits: a2: expected -1 <= lower <= upper <= 1, got [0.1, 0.05]");
+  j = good;
+  j["options"]["command_limits"]["upper"][2] = 1.5;
+  EXPECT_EQ(message(j),
+            "p.json: options.command_limits: a3: expected -1 <= lower <= upper <= 1, got [-1, 1.5]");
+  j = good;
+  j["options"]["command_limits"]["upper"] = {1, 1};
+  EXPECT_EQ(message(j).rfind("p.json: options.command_limits.upper: expected", 0), 0u) << message(j);
+  j = good;
+  j["options"]["command_limits"].erase("lower");
+  EXPECT_EQ(message(j), "p.json: options.command_limits.lower: missing");
+  j = good;
+  j["options"]["command_limits"] = "tight";
+  EXPECT_EQ(message(j), "p.json: options.command_limits: expected {\"lower\", \"upper\"}, got \"tight\"");
+}
+
 // `heli control` serves one flight: the memory runs over its lines, and a malformed line leaves it alone.
 TEST(ControlLoop, ControllerMemoryRunsOverTheLinesAndSkipsMalformedOnes) {
   const Aircraft aircraft;

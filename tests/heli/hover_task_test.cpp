@@ -275,6 +275,40 @@ TEST(LqrStart, TheOtherModelClassIsTriedBeforeTheActionWeightsAreRaised) {
   EXPECT_EQ(r.start.crashed, taken->check.crashed);
 }
 
+// A global linear model's training limits the policy's commands to the logs' range of each control widened by
+// command_margin of its width per side (within [-1, 1]); a locally weighted model's keeps [-1, 1] (issue 48).
+TEST(CommandLimits, AGlobalModelsPolicyKeepsToTheLoggedControlsWidenedAndALocalModelsDoesNot) {
+  const auto global = identify_pilot_flight(false, false);
+  ASSERT_TRUE(global->is_global());
+  const auto& x = global->data().x;
+  HoverTrainingOptions o = tiny_options();
+  o.lqr_start = true;
+  o.command_margin = 0.5;
+  const HoverPolicy policy = hover_policy_for(*global, o);
+  ASSERT_TRUE(policy.has_command_limits());
+  for (std::size_t c = 0; c < 4; ++c) {
+    double lo = 1, hi = -1;
+    for (Eigen::Index i = 0; i < x.rows(); ++i) {
+      lo = std::min(lo, x(i, sysid::kA1 + static_cast<int>(c)));
+      hi = std::max(hi, x(i, sysid::kA1 + static_cast<int>(c)));
+    }
+    ASSERT_LT(lo, hi) << c;
+    EXPECT_DOUBLE_EQ(policy.command_lower()[c], std::max(-1.0, lo - 0.5 * (hi - lo))) << c;
+    EXPECT_DOUBLE_EQ(policy.command_upper()[c], std::min(1.0, hi + 0.5 * (hi - lo))) << c;
+  }
+  // The start's weights do not depend on the limits.
+  o.command_margin = 100;  // beyond [-1, 1] on every channel: no limits
+  const HoverPolicy wide = hover_policy_for(*global, o);
+  EXPECT_FALSE(wide.has_command_limits());
+  EXPECT_EQ(wide.parameters().initial(), policy.parameters().initial());
+  // A locally weighted model crashes off its data instead.
+  o.command_margin = 0.5;
+  EXPECT_FALSE(hover_policy_for(*small_model(), o).has_command_limits());
+  // The limits are in the policy file training writes.
+  const PolicyFile file = hover_policy_file(policy, policy.parameters().initial(), o.target, {});
+  EXPECT_EQ(hover_file_command_limits(file, "p.json").command_upper, policy.command_upper());
+}
+
 // With no action cost (a judged cost may have none) the gains use the documented floor on the action weight,
 // and the reward keeps its zero.
 TEST(LqrStart, AZeroActionCostUsesTheFloorForTheGainsOnly) {

@@ -5,7 +5,10 @@
 // For channel c with error e, velocity v and attitude angle g (Eq 5.7 for the longitudinal cyclic):
 //   t_c = bias + err * e + err_tanh_gain * tanh(err_tanh_in * e) + vel * v + att * g
 //   a_c = out_tanh_gain * tanh(out_tanh_in * t_c) + out_linear * t_c          (Eq 5.8)
-// clipped to [-1, 1]. The channels and their inputs (frames.hpp: W is north-east-down, B forward-right-down):
+// clipped to [-1, 1], then to the channel's command limits (HoverPolicyInit::command_lower/upper; [-1, 1]
+// unless set: hover training on a global linear model sets them to the controls the logs held, widened by a
+// margin, so that the controller never commands what the model extrapolated to). The channels and their
+// inputs (frames.hpp: W is north-east-down, B forward-right-down):
 //   a1 longitudinal cyclic  e = x_B error   v = xdot_B   g = pitch   (w1..w9 of Eqs 5.7-5.8, in that order)
 //   a2 lateral cyclic       e = y_B error   v = ydot_B   g = roll
 //   a3 main collective      e = z_B error   v = zdot_B   (no attitude input: 8 weights)
@@ -96,7 +99,14 @@ struct HoverPolicyInit {
   // The integral term: none when 0; else each channel's int weight starts at its error gain / this (the
   // classic PI rule k_i = k_p / T_i).
   double integral_seconds = 0;
+  // The command limits: each output is clipped to [command_lower[c], command_upper[c]] after [-1, 1]
+  // (command_limits_valid). The weights' start does not depend on them.
+  Controls command_lower{-1, -1, -1, -1};
+  Controls command_upper{1, 1, 1, 1};
 };
+
+// -1 <= lower[c] <= upper[c] <= 1 for each channel; else false, with "a2: ..." in *error.
+bool command_limits_valid(const Controls& lower, const Controls& upper, std::string* error);
 
 class HoverPolicy {
  public:
@@ -124,14 +134,19 @@ class HoverPolicy {
   explicit HoverPolicy(const HoverPolicyInit& init = {});
   const ParameterSpec& parameters() const { return spec_; }
   bool has_integral() const { return spec_.size() > kParameters; }
+  const Controls& command_lower() const { return command_lower_; }
+  const Controls& command_upper() const { return command_upper_; }
+  // Limits other than [-1, 1] on some channel.
+  bool has_command_limits() const;
 
-  // The clipped controls.
+  // The clipped controls (a NaN output becomes 0 first).
   Controls act(std::span<const double> theta, const HeliObservation& o) const;
   // The network outputs before clipping; the integral term's weights are used when theta has them.
   static Controls unclipped(std::span<const double> theta, const HoverInputs& in);
 
  private:
   ParameterSpec spec_;
+  Controls command_lower_{-1, -1, -1, -1}, command_upper_{1, 1, 1, 1};
 };
 
 // The weight names of a channel in layout order ("bias", "err", ...).

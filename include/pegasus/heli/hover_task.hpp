@@ -274,6 +274,13 @@ struct HoverTrainingOptions {
   double integral_seconds = 0;
   double integral_limit_position = ErrorIntegrator{}.limit_position;  // m s
   double integral_limit_yaw = ErrorIntegrator{}.limit_yaw;            // rad s
+  // A global linear model extrapolates without bound, and its training rewards any command that would help
+  // there: the policy's command limits (HoverPolicyInit) are then the range of each control the logs held,
+  // widened by this fraction of its width per side (hover_command_limits; a locally weighted model crashes
+  // off its data instead, and keeps [-1, 1]). On an outside-like helicopter trained on the global model, one
+  // flight in 20 overloaded the rotor with a collective the logs never came near; a crash in the model there
+  // instead of a limit cost a third of the gain in wind (docs/results/baselines.md).
+  double command_margin = 0.5;
 
   static OptimizerOptions default_optimizer();
   int horizon() const;            // steps of 1 / control_rate_hz
@@ -296,6 +303,11 @@ std::unique_ptr<Objective> hover_objective(const std::shared_ptr<const sysid::Id
 // The policy class with starting weights from the model's logs (and its LQR gains when options.lqr_start and
 // they are stable).
 HoverPolicy hover_policy_for(const sysid::IdentifiedModel& model);
+// The command limits training gives the policy on `model` (HoverTrainingOptions::command_margin): on a global
+// linear model, per control, [min - margin w, max + margin w] of the logs' values (w = max - min) within
+// [-1, 1], and [-1, 1] for a control the logs never moved; on a locally weighted model [-1, 1]. Set in the
+// returned init's command_lower and command_upper.
+HoverPolicyInit hover_command_limits(const sysid::IdentifiedModel& model, double margin);
 HoverPolicy hover_policy_for(const sysid::IdentifiedModel& model, const HoverTrainingOptions& options);
 // The reward with centre from the model's logs when options.centre_at_trim.
 HoverReward hover_reward_for(const sysid::IdentifiedModel& model, const HoverTrainingOptions& options);

@@ -16,7 +16,9 @@
 //                                                        safe output of `heli control`), each in [-1, 1]
 //     "options": {...},                     optional: class-specific settings (maneuver: which trajectory
 //                                           ...; hover: "integral": {"dt", "limit_position", "limit_yaw"},
-//                                           the integral term's integrator, with parameters a1.int..a4.int)
+//                                           the integral term's integrator, with parameters a1.int..a4.int;
+//                                           "command_limits": {"lower": [4], "upper": [4]}, each output's
+//                                           limits within [-1, 1], absent: [-1, 1])
 //     "provenance": {...}                   optional, ignored: how the policy was made (command, U-hat, ...)
 //   }
 // Doubles are written with the shortest text that reads back to the same bits, so a policy file reproduces
@@ -112,12 +114,16 @@ Theta checked_parameters(const PolicyFile& policy, const ParameterSpec& spec, co
 
 // The hover class: HoverPolicy steering to policy.target at every time.
 std::unique_ptr<HeliController> make_hover_controller(const PolicyFile& policy, const std::string& file);
-// A hover policy file from trained weights (with the integrator in its options when it is on).
+// A hover policy file from trained weights (with the integrator in its options when it is on, and the
+// policy's command limits when they are not [-1, 1]).
 PolicyFile hover_policy_file(const HoverPolicy& policy, std::span<const double> theta, const SetPoint& target,
                              const Controls& trim, const ErrorIntegrator& integrator = {});
 // The integral term's integrator of a hover file's options (off without "integral"); InputError naming
 // `file` and the field.
 ErrorIntegrator hover_file_integrator(const PolicyFile& policy, const std::string& file);
+// The command limits of a hover file's options (HoverPolicyInit's command_lower/upper; [-1, 1] without
+// "command_limits"); InputError naming `file` and the field.
+HoverPolicyInit hover_file_command_limits(const PolicyFile& policy, const std::string& file);
 // A hover file's weights checked against the class: the 34, and a1.int..a4.int when its options have the
 // integral term's integrator. InputError naming `file` and the field.
 Theta checked_hover_parameters(const PolicyFile& policy, const std::string& file);
