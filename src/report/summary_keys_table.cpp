@@ -383,8 +383,9 @@ const std::vector<SummaryKeyGroup> kGroups = {
                "what hover chose from the data (model_class, noise, start, optimizer; wind with a vehicle "
                "file: "
                "the scenarios' wind, by what and why; command_limits on a global linear model: the "
-               "policy's lower and upper command per control, from the logs widened by margin), each with "
-               "what it was chosen by"},
+               "policy's lower and upper command per control, from the logs widened by margin; "
+               "training_model where hover trained on the global linear fit because the chosen locally "
+               "weighted model could not carry the default training wind), each with what it was chosen by"},
               {"judged_cost.reward", "", "the vehicle file's [cost] terms as the reward trained them"},
               {"judged_cost.crash_penalty", "", "the crash penalty of the judged cost"},
               {"wind.steady_ned_mps", "m/s", "the steady wind of the training scenarios [north, east, down]"},

@@ -10,10 +10,12 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "outside_aircraft.hpp"
 #include "pegasus/io/json_csv.hpp"
 #include "pegasus/logs/vehicle.hpp"
+#include "pegasus/sysid/identify.hpp"
 #include "pegasus/vehicle/flight_log.hpp"
 #include "support/cli_runner.hpp"
 
@@ -117,7 +119,10 @@ TEST_F(VehicleCli, AnOutsideAircraftIdentifiesHoversAndIsServedInItsOwnTerms) {
   EXPECT_EQ(hover["start_tries"].back()["taken"], true) << hover["start_tries"];
   EXPECT_EQ(hover["start_tries"].back()["crashed_scenarios"], hover["starting_policy"]["crashed_scenarios"]);
   EXPECT_EQ(hover["choices"]["start"]["gains"], hover["start_tries"].back()["gains"]) << hover["choices"];
-  EXPECT_EQ(hover["choices"]["model_class"], outside["model_choice"]["chosen"]);
+  // The class identify chose, or the global fit beside a local one that cannot fly the default wind.
+  EXPECT_EQ(hover["choices"]["model_class"], hover["choices"].contains("training_model")
+                                                 ? nlohmann::json("global linear")
+                                                 : outside["model_choice"]["chosen"]);
   EXPECT_EQ(hover["choices"]["optimizer"], "gradient");
   const auto policy = nlohmann::json::parse(test_support::read_text(dir_ / "hover" / "policy.json"));
   EXPECT_EQ(policy["provenance"]["vehicle"], "outside-heli");
@@ -209,6 +214,65 @@ TEST_F(VehicleCli, AnOutsideAircraftIdentifiesHoversAndIsServedInItsOwnTerms) {
 // log.csv as its vehicle file describes (10 Hz, quaternions, body frames, its channels), which identify then
 // reads, and the flight in the pipeline's layout beside it; a rate the simulator cannot log is refused
 // before anything flies.
+// A vehicle file's aircraft with no wind stated trains in the default wind; a locally weighted model whose
+// starting policy cannot fly it gives way to the global linear fit identify recorded beside it, and trains
+// exactly as that fit's own model file does (issue 48). A stated wind keeps the local model.
+TEST_F(VehicleCli, ALocalModelThatCannotFlyTheTrainingWindGivesWayToTheGlobalFitBesideIt) {
+  make_logs();
+  auto r =
+      run_pegasus(fmt::format("identify --vehicle {} --train {} --test {} {} --out {}", path("outside.toml"),
+                              path("train-outside.csv"), path("test-outside.csv"), kSmall, path("id")));
+  ASSERT_EQ(r.code, 0) << r.output;
+  // The same fits with the local one chosen (whichever class these short logs chose): the local model with
+  // the global fit recorded beside it, and the global fit alone.
+  const sysid::IdentifiedModel identified = sysid::IdentifiedModel::load(dir_ / "id" / "model.json");
+  const std::optional<sysid::IdentifiedModel> other = identified.alternative();
+  ASSERT_TRUE(other.has_value());
+  const sysid::IdentifiedModel& local_fit = identified.is_global() ? *other : identified;
+  sysid::IdentifiedModel local(local_fit.structure(), local_fit.data(), local_fit.inv_bandwidth(),
+                               identified.sigma2(), identified.noise_correlation());
+  local.set_vehicle("outside-heli");
+  local.set_model_choice({{"chosen", "locally weighted"}}, std::array<double, sysid::kInputs>{});
+  local.save(dir_ / "local.json");
+  sysid::IdentifiedModel global = *local.alternative();
+  ASSERT_TRUE(global.is_global());
+  global.save(dir_ / "global.json");
+  const std::string train =
+      "--scenarios 10 --seconds 5 --optimizer.gradient.max-iterations 2 --then-hill-climb=false --quiet";
+  r = run_pegasus(fmt::format("hover --vehicle {} --model {} {} --out {}", path("outside.toml"),
+                              path("local.json"), train, path("switched")));
+  ASSERT_EQ(r.code, 0) << r.output;
+  const nlohmann::json switched = summary("switched");
+  ASSERT_TRUE(switched["choices"].contains("training_model")) << switched["choices"];
+  EXPECT_EQ(switched["choices"]["training_model"]["class"], "global linear");
+  EXPECT_EQ(switched["choices"]["model_class"], "global linear");
+  EXPECT_EQ(switched["choices"]["wind"]["by"], "default for a global linear model");
+  EXPECT_NE(switched["choices"]["training_model"]["reason"].get<std::string>().find(
+                "the locally weighted model's starting policy crashed"),
+            std::string::npos);
+  EXPECT_NE(r.output.find("model: the global linear fit identify made beside the chosen locally weighted"),
+            std::string::npos)
+      << r.output;
+  // Trained exactly as on the global fit's own file.
+  r = run_pegasus(fmt::format("hover --vehicle {} --model {} {} --out {}", path("outside.toml"),
+                              path("global.json"), train, path("on-global")));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_EQ(summary("on-global")["final_uhat"], switched["final_uhat"]);
+  const auto weights = [&](const std::string& run) {
+    return nlohmann::json::parse(test_support::read_text(dir_ / run / "policy.json"))["parameters"];
+  };
+  EXPECT_EQ(weights("on-global"), weights("switched"));
+  EXPECT_FALSE(summary("on-global")["choices"].contains("training_model"));
+  // A stated wind is the user's: the local model stays.
+  r =
+      run_pegasus(fmt::format("hover --vehicle {} --model {} {} --wind.sigma 0 --max-start-crash-fraction 1 "
+                              "--out {}",
+                              path("outside.toml"), path("local.json"), train, path("stated")));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_EQ(summary("stated")["choices"]["model_class"], "locally weighted");
+  EXPECT_FALSE(summary("stated")["choices"].contains("training_model"));
+}
+
 TEST_F(VehicleCli, ThePilotLogsInTheVehiclesOwnLayoutAndRate) {
   write("outside-sim.toml", test_support::replaced(test_support::kOutsideVehicle, "name = \"outside-heli\"",
                                                    "name = \"outside-heli\"\nsimulator = \"xcell\""));
