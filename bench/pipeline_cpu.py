@@ -84,7 +84,10 @@ def run_case(cli, aircraft, rate, threads, work, hover_extra):
         "identify_cpu_s": round(id_cpu, 1), "identify_wall_s": round(id_wall, 1),
         "hover_cpu_s": round(hv_cpu, 1), "hover_wall_s": round(hv_wall, 1),
         "total_cpu_min": round((id_cpu + hv_cpu) / 60, 2),
-        "model_class": ident.get("choices", {}).get("model_class", {}).get("class"),
+        # The class hover trained on: identify's, or the global fit beside a local model that cannot fly the
+        # default training wind (hover's choices.training_model).
+        "model_class": hover.get("choices", {}).get("model_class") or
+                       ident.get("choices", {}).get("model_class", {}).get("class"),
         "noise": ident.get("choices", {}).get("noise", {}).get("model"),
         "refit_every": hover.get("refit_every"),
         "evaluations": hover.get("evaluations"),
