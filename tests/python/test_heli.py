@@ -312,6 +312,31 @@ def test_a_hover_policy_file_serves_the_cli_controls_for_a_batch_of_states(cli, 
     assert np.array_equal(again.controls(states), controls)
 
 
+def test_command_limits_clip_in_python_in_the_file_and_in_the_cli_alike(cli, tmp_path):
+    states, aircraft = flown_states()
+    init = trimmed_init(aircraft)
+    rng = np.random.default_rng(5)
+    theta = pegasus.HoverPolicy(init).parameters.initial + 0.05 * rng.normal(size=34)
+    free = pegasus.HoverPolicy(init).act(theta, states)
+    # Limits just inside the free controls' range on every channel, so that each binds somewhere.
+    low, high = free.min(axis=0), free.max(axis=0)
+    init.command_lower = low + 0.25 * (high - low)
+    init.command_upper = high - 0.25 * (high - low)
+    limited = pegasus.HoverPolicy(init).act(theta, states)
+    assert np.array_equal(limited, np.clip(free, init.command_lower, init.command_upper))
+    assert (limited != free).any(axis=0).all()
+    path = tmp_path / "policy.json"
+    pegasus.HeliPolicy.hover(theta, pegasus.SetPoint(), init.trim, init).save(str(path))
+    assert json.loads(path.read_text())["options"]["command_limits"]["upper"] == list(init.command_upper)
+    policy = pegasus.HeliPolicy.load(str(path))
+    assert np.array_equal(policy.controls(states), limited)
+    assert np.array_equal(control_lines(cli, path, np.zeros(len(states)), states), limited)
+    init.command_lower = [0.5, -1, -1, -1]
+    init.command_upper = [0.4, 1, 1, 1]
+    with pytest.raises(ValueError, match="a1: expected -1 <= lower <= upper <= 1"):
+        pegasus.HoverPolicy(init)
+
+
 def test_a_hover_policy_with_the_integral_term_remembers_over_one_flight_as_the_cli_does(cli, tmp_path):
     states, aircraft = flown_states()
     init = trimmed_init(aircraft)
