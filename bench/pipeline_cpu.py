@@ -79,17 +79,19 @@ def run_case(cli, aircraft, rate, threads, work, hover_extra):
                                 "--out", str(d / "hover")])
     ident = json.loads((d / "identify/summary.json").read_text())
     hover = json.loads((d / "hover/summary.json").read_text())
+    # The class hover trained on: identify's, or the global fit beside a local model that cannot fly the default
+    # training wind (hover's choices.training_model).
+    model_class = (hover.get("choices", {}).get("model_class") or
+                   ident.get("choices", {}).get("model_class", {}).get("class"))
     return {
         "aircraft": aircraft, "rate_hz": rate, "threads": threads,
         "identify_cpu_s": round(id_cpu, 1), "identify_wall_s": round(id_wall, 1),
         "hover_cpu_s": round(hv_cpu, 1), "hover_wall_s": round(hv_wall, 1),
         "total_cpu_min": round((id_cpu + hv_cpu) / 60, 2),
-        # The class hover trained on: identify's, or the global fit beside a local model that cannot fly the
-        # default training wind (hover's choices.training_model).
-        "model_class": hover.get("choices", {}).get("model_class") or
-                       ident.get("choices", {}).get("model_class", {}).get("class"),
+        "model_class": model_class,
         "noise": ident.get("choices", {}).get("noise", {}).get("model"),
-        "refit_every": hover.get("refit_every"),
+        # A global linear model is never refitted: its summary's refit_every means nothing there.
+        "refit_every": hover.get("refit_every") if model_class == "locally weighted" else None,
         "evaluations": hover.get("evaluations"),
         "hover_cpu_s_per_evaluation": round(hv_cpu / max(1, hover.get("evaluations") or 1), 3),
         "initial_uhat": hover.get("initial_uhat"), "final_uhat": hover.get("final_uhat"),
@@ -117,7 +119,7 @@ def main():
             r = run_case(a.cli, aircraft, rate, a.threads, work, a.hover)
             rows.append(r)
             print(f"| {aircraft} | {rate} Hz | {r['identify_cpu_s']} | {r['hover_cpu_s']} | {r['total_cpu_min']} | "
-                  f"{r['model_class']} | {r['refit_every']} | {r['evaluations']} | "
+                  f"{r['model_class']} | {'-' if r['refit_every'] is None else r['refit_every']} | {r['evaluations']} | "
                   f"{r['hover_cpu_s_per_evaluation']} | {r['initial_uhat']:.6g} -> {r['final_uhat']:.6g} |",
                   flush=True)
     print(f"(CPU seconds of {a.threads} threads; load average {os.getloadavg()[0]:.1f}: other work on the "
