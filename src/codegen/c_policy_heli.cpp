@@ -213,7 +213,7 @@ std::string with_command_limits(std::string act) {
 ClassText hover_class(const heli::PolicyFile& file, const std::string& source) {
   const heli::ErrorIntegrator integrator = heli::hover_file_integrator(file, source);
   const heli::HoverPolicyInit limits = heli::hover_file_command_limits(file, source);
-  const bool limited = heli::HoverPolicy(limits).has_command_limits();
+  const bool limited = limits.has_command_limits();
   const Theta theta = heli::checked_hover_parameters(file, source);
   ClassText t = heli_class(file, theta);
   t.class_name = "hover";

@@ -171,8 +171,4 @@ Controls HoverPolicy::act(std::span<const double> theta, const HeliObservation& 
   return a;
 }
 
-bool HoverPolicy::has_command_limits() const {
-  return command_lower_ != Controls{-1, -1, -1, -1} || command_upper_ != Controls{1, 1, 1, 1};
-}
-
 }  // namespace pegasus::heli

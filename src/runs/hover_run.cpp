@@ -73,9 +73,10 @@ nlohmann::json hover_choices(const sysid::IdentifiedModel& model, const HoverTra
     choices["start"] = {{"gains", taken->gains},
                         {"action_weight_factor", taken->action_factor},
                         {"tries", r.start_tries.size()}};
-  if (const HoverPolicy limited(hover_command_limits(model, o.command_margin)); limited.has_command_limits())
-    choices["command_limits"] = {{"lower", limited.command_lower()},
-                                 {"upper", limited.command_upper()},
+  if (const HoverPolicyInit limited = hover_command_limits(model, o.command_margin);
+      limited.has_command_limits())
+    choices["command_limits"] = {{"lower", limited.command_lower},
+                                 {"upper", limited.command_upper},
                                  {"margin", o.command_margin},
                                  {"by", "the global linear model's logged controls"}};
   return choices;
@@ -118,13 +119,13 @@ std::int64_t say_hover_setup(std::ostream& out, const HoverRunOptions& options,
         "step's change times {:g}; a model identified at the control rate (log.model_rate_hz) steps it "
         "faithfully\n",
         1 / o.control_rate_hz, 1 / ratio, 1 / model.dt(), 1 / ratio);
-  // The command limits of a global linear model's training (issue 48): said where they bind.
-  if (const HoverPolicy limited(hover_command_limits(model, o.command_margin));
+  // The command limits of a global linear model's training (issue 48): said where there are any.
+  if (const HoverPolicyInit limited = hover_command_limits(model, o.command_margin);
       limited.has_command_limits()) {
     std::vector<std::string> channels;
     for (std::size_t c = 0; c < 4; ++c)
       channels.push_back(
-          fmt::format("a{} [{:.3g}, {:.3g}]", c + 1, limited.command_lower()[c], limited.command_upper()[c]));
+          fmt::format("a{} [{:.3g}, {:.3g}]", c + 1, limited.command_lower[c], limited.command_upper[c]));
     out << fmt::format(
         "command limits (the global linear model extrapolates beyond its logs): the logs' controls widened "
         "by "

@@ -103,6 +103,10 @@ struct HoverPolicyInit {
   // (command_limits_valid). The weights' start does not depend on them.
   Controls command_lower{-1, -1, -1, -1};
   Controls command_upper{1, 1, 1, 1};
+  // Limits other than [-1, 1] on some channel.
+  bool has_command_limits() const {
+    return command_lower != Controls{-1, -1, -1, -1} || command_upper != Controls{1, 1, 1, 1};
+  }
 };
 
 // -1 <= lower[c] <= upper[c] <= 1 for each channel; else false, with "a2: ..." in *error.
@@ -136,8 +140,10 @@ class HoverPolicy {
   bool has_integral() const { return spec_.size() > kParameters; }
   const Controls& command_lower() const { return command_lower_; }
   const Controls& command_upper() const { return command_upper_; }
-  // Limits other than [-1, 1] on some channel.
-  bool has_command_limits() const;
+  bool has_command_limits() const {
+    return HoverPolicyInit{.command_lower = command_lower_, .command_upper = command_upper_}
+        .has_command_limits();
+  }
 
   // The clipped controls (a NaN output becomes 0 first).
   Controls act(std::span<const double> theta, const HeliObservation& o) const;
