@@ -783,27 +783,27 @@ class HoverTrainingOptions:
     def __init__(self) -> None: ...
     scenarios: int
     seconds: float
+    control_rate_hz: float
+    integral_seconds: float
+    command_margin: float
+    integral_limit_position: float
+    integral_limit_yaw: float
     gamma: float
     refit_every: int
     cpu_budget_s: float
-    control_rate_hz: float
-    lqr_start: bool
-    lqr_action_factor: float
-    max_tilt_rad: float
-    target: SetPoint
     start_pos_sigma: float
     start_vel_sigma: float
+    max_tilt_rad: float
+    max_start_crash_fraction: float
+    lqr_start: bool
+    lqr_action_factor: float
+    target: SetPoint
     reward: HoverReward
     disturbance: Disturbance
     centre_at_trim: bool
     optimizer: OptimizerOptions
     then_hill_climb: bool
     seed: int
-    max_start_crash_fraction: float
-    integral_seconds: float
-    integral_limit_position: float
-    integral_limit_yaw: float
-    command_margin: float
     def horizon(self) -> int: ...
     def gamma_per_step(self) -> float: ...
     def refit_steps(self, model: Union[IdentifiedModel, str]) -> int: ...

@@ -74,7 +74,7 @@ struct DisturbanceBinder {
   py::class_<sysid::Disturbance>& c;
   std::vector<std::string> names;
   static std::string doc(const sysid::DisturbanceSetting& s) {
-    return fmt::format("{} (hover's wind.{}; {} {}).", s.help, s.key, s.range(), s.unit);
+    return fmt::format("{} (hover's wind.{}; {}).", s.help, s.key, s.range_in_unit());
   }
   void setting(const sysid::DisturbanceSetting& s, double sysid::Disturbance::*member) {
     c.def_readwrite(s.field, member, doc(s).c_str());
@@ -83,6 +83,19 @@ struct DisturbanceBinder {
   void setting(const sysid::DisturbanceSetting& s, std::array<double, 3> sysid::Disturbance::*member) {
     def_array(c, s.field, member, doc(s).c_str());
     names.emplace_back(s.field);
+  }
+};
+
+// Binds each number heli::HoverTrainingOptions::VisitFields lists, by its name, with the option's help, its
+// bounds and unit in the docstring.
+struct HoverNumbersBinder {
+  py::class_<heli::HoverTrainingOptions>& c;
+  std::vector<std::string> names;
+  template <class T>
+  void setting(const NumberSetting& s, T heli::HoverTrainingOptions::*member) {
+    c.def_readwrite(s.key, member,
+                    fmt::format("{} (hover's {}; {}).", s.help, s.key, s.range_in_unit()).c_str());
+    names.emplace_back(s.key);
   }
 };
 
@@ -105,34 +118,17 @@ void bind_hover(py::module_& m) {
   auto options = py::class_<heli::HoverTrainingOptions>(m, "HoverTrainingOptions", R"doc(
 `pegasus heli hover`'s training (thesis §5.3): 30 scenarios of 35 s, gamma 0.9995, gradient ascent then hill
 climbing, on the identified model (heli/hover_task.hpp).)doc");
-  options.def(py::init<>())
-      .def_readwrite("scenarios", &heli::HoverTrainingOptions::scenarios, "PEGASUS scenarios m (§5.3: 30).")
-      .def_readwrite("seconds", &heli::HoverTrainingOptions::seconds, "Flight per scenario, s (§5.3: 35).")
-      .def_readwrite("gamma", &heli::HoverTrainingOptions::gamma,
-                     "Discount per 1/50 s (§5.3); per control step it is gamma^(50 / control_rate_hz).")
-      .def_readwrite(
-          "refit_every", &heli::HoverTrainingOptions::refit_every,
-          "Learned model: steps between local-regression refits; 0: every 0.1 s (the thesis's 10 Hz).")
-      .def_readwrite(
-          "cpu_budget_s", &heli::HoverTrainingOptions::cpu_budget_s,
-          "On a locally weighted model, gradient ascent and hill climbing stop after the evaluations "
-          "whose refits take about this many nominal CPU seconds (6 ns per row per refit); 0: none.")
-      .def_readwrite(
-          "control_rate_hz", &heli::HoverTrainingOptions::control_rate_hz,
-          "The controller's rate, Hz: the learned model steps at it and the policy is trained for it.")
+  options.def(py::init<>());
+  HoverNumbersBinder numbers{options, {}};
+  heli::HoverTrainingOptions::VisitFields(numbers);
+  options
       .def_readwrite(
           "lqr_start", &heli::HoverTrainingOptions::lqr_start,
           "Starting gains from LQR on the identified model (True) or the X-Cell's constants (False).")
       .def_readwrite("lqr_action_factor", &heli::HoverTrainingOptions::lqr_action_factor,
                      "The LQR's action weights are the reward's times this (raised while the start crashes).")
-      .def_readwrite("max_tilt_rad", &heli::HoverTrainingOptions::max_tilt_rad,
-                     "|roll| or |pitch| beyond this crashes the learned model, rad.")
       .def_readwrite("target", &heli::HoverTrainingOptions::target,
                      "The set point to hover at (the model's start is it plus the perturbation).")
-      .def_readwrite("start_pos_sigma", &heli::HoverTrainingOptions::start_pos_sigma,
-                     "Start position perturbation per axis, m.")
-      .def_readwrite("start_vel_sigma", &heli::HoverTrainingOptions::start_vel_sigma,
-                     "Start velocity perturbation per axis, m/s.")
       .def_readwrite("reward", &heli::HoverTrainingOptions::reward,
                      "The reward (Eqs 5.9-5.10, plus optional attitude and rate terms).")
       .def_readwrite("disturbance", &heli::HoverTrainingOptions::disturbance,
@@ -147,18 +143,6 @@ climbing, on the identified model (heli/hover_task.hpp).)doc");
           "After gradient ascent, hill climbing from its result (when optimizer.method is gradient).")
       .def_readwrite("seed", &heli::HoverTrainingOptions::seed,
                      "Root of the scenarios' numbers (and hill climbing's stream).")
-      .def_readwrite("max_start_crash_fraction", &heli::HoverTrainingOptions::max_start_crash_fraction,
-                     "Stop before training when the starting policy crashes more than this fraction of the "
-                     "scenarios (1: never).")
-      .def_readwrite("integral_seconds", &heli::HoverTrainingOptions::integral_seconds,
-                     "The integral term's time constant, s; 0 leaves it out (the thesis's class).")
-      .def_readwrite("integral_limit_position", &heli::HoverTrainingOptions::integral_limit_position,
-                     "Anti-windup: the position error integral's limit per axis, m s.")
-      .def_readwrite("integral_limit_yaw", &heli::HoverTrainingOptions::integral_limit_yaw,
-                     "Anti-windup: the yaw error integral's limit, rad s.")
-      .def_readwrite("command_margin", &heli::HoverTrainingOptions::command_margin,
-                     "On a global linear model, the policy's commands stay within each control's range in "
-                     "the logs widened by this fraction of its width per side; 100: [-1, 1].")
       .def("horizon", &heli::HoverTrainingOptions::horizon, "Steps of 1 / control_rate_hz.")
       .def("gamma_per_step", &heli::HoverTrainingOptions::gamma_per_step, "gamma^(50 / control_rate_hz).")
       .def(
@@ -168,29 +152,11 @@ climbing, on the identified model (heli/hover_task.hpp).)doc");
           },
           py::arg("model"), "refit_every, or the steps of 0.1 s when 0.")
       .def("is_valid", is_valid_method<heli::HoverTrainingOptions>(), kIsValidDoc);
-  set_fields(options, {"scenarios",
-                       "seconds",
-                       "gamma",
-                       "refit_every",
-                       "cpu_budget_s",
-                       "control_rate_hz",
-                       "lqr_start",
-                       "lqr_action_factor",
-                       "max_tilt_rad",
-                       "target",
-                       "start_pos_sigma",
-                       "start_vel_sigma",
-                       "reward",
-                       "disturbance",
-                       "centre_at_trim",
-                       "optimizer",
-                       "then_hill_climb",
-                       "seed",
-                       "max_start_crash_fraction",
-                       "integral_seconds",
-                       "integral_limit_position",
-                       "integral_limit_yaw",
-                       "command_margin"});
+  std::vector<std::string> fields = numbers.names;
+  for (const char* other : {"lqr_start", "lqr_action_factor", "target", "reward", "disturbance",
+                            "centre_at_trim", "optimizer", "then_hill_climb", "seed"})
+    fields.emplace_back(other);
+  set_fields(options, fields);
 
   auto problem = py::class_<HoverProblemObject, Objective>(m, "HoverProblem", R"doc(
 PEGASUS U-hat (thesis §5.3) of the hover policy class (HoverPolicy(init), 34 weights) on a helicopter model, the

@@ -8,6 +8,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string_view>
+#include <type_traits>
 
 #include "../core/validation.hpp"
 #include "pegasus/core/error.hpp"
@@ -20,8 +21,6 @@ namespace pegasus::heli {
 namespace {
 
 using detail::fail;
-using detail::nonnegative_finite;
-using detail::positive_finite;
 using detail::reward_weight;
 
 using HoverTaskOnModel = HoverTask<sysid::LearnedHeliModel>;
@@ -305,54 +304,66 @@ int HoverTrainingOptions::refit_steps([[maybe_unused]] const sysid::IdentifiedMo
   return sysid::refit_steps_at(control_rate_hz);
 }
 
+namespace {
+
+// Collects HoverTrainingOptions's numbers, or checks an options' values against them.
+struct HoverSettingsList {
+  std::vector<NumberSetting> settings;
+  template <class T>
+  void setting(const NumberSetting& s, T HoverTrainingOptions::* /*member*/) {
+    settings.push_back(s);
+  }
+};
+
+struct HoverBoundsCheck {
+  const HoverTrainingOptions& o;
+  std::string error;
+  template <class T>
+  void setting(const NumberSetting& s, T HoverTrainingOptions::*member) {
+    const auto x = static_cast<double>(o.*member);
+    if (error.empty() && !s.within(x))
+      error = s.refusal(s.key, std::is_integral_v<T> ? "an integer" : "a number", x);
+  }
+};
+
+}  // namespace
+
+const std::vector<NumberSetting>& HoverTrainingOptions::settings() {
+  static const std::vector<NumberSetting> list = [] {
+    HoverSettingsList v;
+    VisitFields(v);
+    return v.settings;
+  }();
+  return list;
+}
+
 bool HoverTrainingOptions::IsValid(std::string* error) const {
   std::string inner;
-  if (scenarios < 1)
-    return fail(error, fmt::format("scenarios: expected an integer >= 1, got {}", scenarios));
-  if (!(positive_finite(seconds) && seconds <= 3600))
-    return fail(error, fmt::format("seconds: expected a number in (0, 3600], got {}", seconds));
-  if (!(gamma > 0 && gamma <= 1))
-    return fail(error, fmt::format("gamma: expected a number in (0, 1], got {}", gamma));
+  HoverBoundsCheck bounds{*this, {}};
+  VisitFields(bounds);
+  if (!bounds.error.empty()) return fail(error, bounds.error);
   if (!(lqr_action_factor > 0 && lqr_action_factor <= 1e12))
     return fail(error,
                 fmt::format("lqr_action_factor: expected a number in (0, 1e12], got {}", lqr_action_factor));
-  if (!(max_tilt_rad > 0 && max_tilt_rad < 1.5708))
-    return fail(error, fmt::format("max_tilt_rad: expected a number in (0, pi/2), got {}", max_tilt_rad));
   if (!(max_position_error_m > 0 && max_speed_mps > 0 && max_rate_radps > 0))
     return fail(error, "max_position_error_m, max_speed_mps, max_rate_radps: expected positive numbers");
   if (!(crash_penalty >= 0 && crash_penalty <= kMaxRewardWeight))
     return fail(error, fmt::format("crash_penalty: expected a number in [0, {}], got {}", kMaxRewardWeight,
                                    crash_penalty));
   if (!disturbance.IsValid(&inner)) return fail(error, inner);
-  if (!(nonnegative_finite(cpu_budget_s) && cpu_budget_s <= 1e9))
-    return fail(error, fmt::format("cpu_budget_s: expected a number in [0, 1e9], got {}", cpu_budget_s));
-  if (refit_every < 0)
-    return fail(error,
-                fmt::format("refit_every: expected an integer >= 0 (0: every 0.1 s), got {}", refit_every));
-  if (!(control_rate_hz >= 0.1 && control_rate_hz <= 1000))
-    return fail(error,
-                fmt::format("control_rate_hz: expected a number in [0.1, 1000], got {}", control_rate_hz));
   // A scenario shorter than one control step scores the start alone: nothing the policy does counts.
   if (seconds * control_rate_hz < 1)
     return fail(error,
                 fmt::format("seconds: expected at least one control step (1 / control_rate_hz = {:g} s), "
                             "got {:g}",
                             1 / control_rate_hz, seconds));
-  if (!(command_margin >= 0 && command_margin <= 100))
-    return fail(error, fmt::format("command_margin: expected a number in [0, 100], got {}", command_margin));
-  if (!(max_start_crash_fraction >= 0 && max_start_crash_fraction <= 1))
-    return fail(error, fmt::format("max_start_crash_fraction: expected a number in [0, 1], got {}",
-                                   max_start_crash_fraction));
   // The int weights start at gain / integral_seconds: a time below one control step is no integral term a
   // controller can run (1e-320 made them infinite).
-  if (!(nonnegative_finite(integral_seconds) && integral_seconds <= 3600 &&
-        (integral_seconds == 0 || integral_seconds * control_rate_hz >= 1)))
+  if (integral_seconds != 0 && integral_seconds * control_rate_hz < 1)
     return fail(error, fmt::format("integral_seconds: expected 0 (no integral term) or a number in [{:g}, "
                                    "3600] (at least one control step, 1 / control_rate_hz), got {}",
                                    1 / control_rate_hz, integral_seconds));
   if (!integrator().IsValid(&inner)) return fail(error, "integral_" + inner);
-  if (!(nonnegative_finite(start_pos_sigma) && nonnegative_finite(start_vel_sigma)))
-    return fail(error, "start_pos_sigma, start_vel_sigma: expected finite numbers >= 0");
   if (!(std::isfinite(target.x) && std::isfinite(target.y) && std::isfinite(target.z) &&
         std::isfinite(target.yaw)))
     return fail(error, "target: expected finite numbers");

@@ -34,6 +34,13 @@ ConfigField& ConfigField::greater_than(double lo) {
   lo_ = Bound{lo, false};
   return *this;
 }
+ConfigField& ConfigField::bounds(const NumberSetting& setting) {
+  if (setting.lower_open)
+    greater_than(setting.lower);
+  else
+    min(setting.lower);
+  return max(setting.upper);
+}
 ConfigField& ConfigField::less_than(double hi) {
   if (!is_number_type(type_)) throw std::logic_error("less_than() on non-numeric field " + name_);
   hi_ = Bound{hi, false};

@@ -297,20 +297,34 @@ PilotRunOptions read_pilot_config(const ConfigSchema& c, std::uint64_t seed) {
 
 namespace {
 
-// The scenarios: how many, how long, at which control rate.
-void declare_hover_scenarios(ConfigSchema& s, const HoverTrainingOptions& defaults) {
-  s.add_int("scenarios", defaults.scenarios, "PEGASUS scenarios m (thesis 5.3: 30)").range(1, 100000);
-  s.add_double("seconds", defaults.seconds, "flight per scenario, s (thesis 5.3: 35)")
-      .greater_than(0)
-      .max(3600);
-  s.add_double(
-       "control_rate_hz", defaults.control_rate_hz,
-       "the controller's rate, Hz: the learned model steps at it and the policy is trained for it (thesis "
-       "5.1: 50; a flight computer that runs its controller at 10 Hz: 10)")
-      .range(0.1, 1000);
-}
+// Declares each number HoverTrainingOptions::VisitFields describes (or the one named `only`) as an option:
+// its default, bounds, and help after `prefix`.
+struct DeclareHoverNumbers {
+  ConfigSchema& s;
+  std::string only;
+  std::string prefix;
+  HoverTrainingOptions defaults{};
+  void setting(const NumberSetting& n, int HoverTrainingOptions::*member) {
+    if (only.empty() || only == n.key) s.add_int(n.key, defaults.*member, prefix + n.help).bounds(n);
+  }
+  void setting(const NumberSetting& n, double HoverTrainingOptions::*member) {
+    if (only.empty() || only == n.key) s.add_double(n.key, defaults.*member, prefix + n.help).bounds(n);
+  }
+};
 
-// The policy's start: its gains and its integral term.
+// Reads each of them into its member.
+struct ReadHoverNumbers {
+  const ConfigSchema& c;
+  HoverTrainingOptions& o;
+  void setting(const NumberSetting& n, int HoverTrainingOptions::*member) {
+    o.*member = static_cast<int>(c.get_int(n.key));
+  }
+  void setting(const NumberSetting& n, double HoverTrainingOptions::*member) {
+    o.*member = c.get_double(n.key);
+  }
+};
+
+// The policy's start gains and the set point (the numbers are HoverTrainingOptions's own list).
 void declare_hover_start(ConfigSchema& s, const HoverTrainingOptions& defaults) {
   s.add_string(
        "starting_gains", defaults.lqr_start ? "lqr" : "constant",
@@ -318,58 +332,6 @@ void declare_hover_start(ConfigSchema& s, const HoverTrainingOptions& defaults) 
        "with the reward's weights (for an aircraft with other control signs or strengths; kept only "
        "when the hover class's share of them holds the linear model)")
       .choices({"constant", "lqr"});
-  s.add_double(
-       "integral_seconds", defaults.integral_seconds,
-       "the hover class's integral term against steady offsets (wind): each channel's int weight starts "
-       "at its error gain / this (LQR start: doubled until stable on the linear model); 0: none (the "
-       "thesis's class)")
-      .range(0, 3600);
-  s.add_double("command_margin", defaults.command_margin,
-               "on a global linear model, the policy's commands stay within the range each control held in "
-               "the logs, widened by this fraction of its width per side (the model extrapolates beyond "
-               "them; a locally weighted model crashes off its data instead); 100: [-1, 1]")
-      .range(0, 100);
-  s.add_double("integral_limit_position", defaults.integral_limit_position,
-               "anti-windup: the position error integral's limit per axis, m s")
-      .greater_than(0)
-      .max(1e6);
-  s.add_double("integral_limit_yaw", defaults.integral_limit_yaw,
-               "anti-windup: the yaw error integral's limit, rad s")
-      .greater_than(0)
-      .max(1e6);
-}
-
-// The objective's discount, the model's refits and budget, the start states, the envelope and the set point.
-void declare_hover_objective(ConfigSchema& s, const HoverTrainingOptions& defaults) {
-  s.add_double(
-       "gamma", defaults.gamma,
-       "discount per 1/50 s (thesis 5.3: 0.9995 per 50 Hz step); per step it is gamma^(50 / control_rate_hz)")
-      .greater_than(0)
-      .max(1);
-  s.add_int(
-       "refit_every", defaults.refit_every,
-       "learned model: steps between local-regression refits; 0: every 0.1 s, the thesis's 10 Hz, at any "
-       "model rate (thesis 5.2.2: 5 steps at 50 Hz)")
-      .range(0, 1000);
-  s.add_double(
-       "cpu_budget_s", defaults.cpu_budget_s,
-       "on a locally weighted model, gradient ascent and hill climbing stop after the U-hat evaluations "
-       "whose refits take about this many CPU seconds (nominal: 6 ns per training row per refit, the "
-       "project's 2-core machine; from the model's size, never the clock); binds only below the "
-       "optimizer's own limits (evaluation_budget in summary.json); 0: none")
-      .range(0, 1e9);
-  s.add_double("start_pos_sigma", defaults.start_pos_sigma, "start position perturbation per axis, m")
-      .range(0, 100);
-  s.add_double("start_vel_sigma", defaults.start_vel_sigma, "start velocity perturbation per axis, m/s")
-      .range(0, 100);
-  s.add_double("max_tilt_rad", defaults.max_tilt_rad,
-               "the envelope: |roll| or |pitch| beyond this crashes the learned model, rad")
-      .greater_than(0)
-      .max(1.5);
-  s.add_double("max_start_crash_fraction", defaults.max_start_crash_fraction,
-               "stop before training when the starting policy crashes the learned model in more than this "
-               "fraction of the scenarios (1: never stop)")
-      .range(0, 1);
   s.add_double_list("target", {defaults.target.x, defaults.target.y, defaults.target.z, defaults.target.yaw},
                     "set point x, y, z (m, NED: z < 0 is up) and yaw (rad)")
       .validate([](const FieldValue& v) {
@@ -405,13 +367,18 @@ void declare_hover_reward(ConfigSchema& s, const HoverTrainingOptions& defaults)
 
 }  // namespace
 
+void declare_hover_number(ConfigSchema& s, const std::string& key, const std::string& prefix) {
+  DeclareHoverNumbers one{s, key, prefix};
+  HoverTrainingOptions::VisitFields(one);
+}
+
 void declare_hover_config(ConfigSchema& s) {
   declare_vehicle(s, fills_help(hover_fills(), kHoverRewardKeys));
   s.add_string("model", "", "identified model (model.json of pegasus heli identify)").input_file();
   const HoverTrainingOptions defaults;
-  declare_hover_scenarios(s, defaults);
+  DeclareHoverNumbers numbers{s, {}, {}};
+  HoverTrainingOptions::VisitFields(numbers);
   declare_hover_start(s, defaults);
-  declare_hover_objective(s, defaults);
   declare_hover_reward(s, defaults);
   // Gradient ascent by default (thesis 5.3), then hill climbing from its result (then_hill_climb).
   declare_optimizer_options(s, "optimizer", defaults.optimizer, continuous_class_methods(false));
@@ -431,34 +398,21 @@ void resolve_hover_config(ConfigSchema& s) {
 HoverRunOptions read_hover_config(const ConfigSchema& c, std::uint64_t seed) {
   HoverRunOptions run{.aircraft = vehicle_of(c), .model_file = c.get_path("model")};
   HoverTrainingOptions& o = run.training;
-  o.scenarios = static_cast<int>(c.get_int("scenarios"));
-  o.seconds = c.get_double("seconds");
-  o.gamma = c.get_double("gamma");
-  o.refit_every = static_cast<int>(c.get_int("refit_every"));
-  o.cpu_budget_s = c.get_double("cpu_budget_s");
-  o.control_rate_hz = c.get_double("control_rate_hz");
+  ReadHoverNumbers numbers{c, o};
+  HoverTrainingOptions::VisitFields(numbers);
   o.lqr_start = c.get_string("starting_gains") == "lqr";
-  o.integral_seconds = c.get_double("integral_seconds");
-  o.command_margin = c.get_double("command_margin");
-  o.integral_limit_position = c.get_double("integral_limit_position");
-  o.integral_limit_yaw = c.get_double("integral_limit_yaw");
-  o.start_pos_sigma = c.get_double("start_pos_sigma");
-  o.start_vel_sigma = c.get_double("start_vel_sigma");
-  o.max_tilt_rad = c.get_double("max_tilt_rad");
   const auto& t = c.get_double_list("target");
   o.target = {t[0], t[1], t[2], t[3]};
   run.judged_cost = read_hover_cost_and_wind(c, run.aircraft.vehicle, o);
   run.wind_source = hover_wind_source(c, run.aircraft);
   read_optimizer_options(c, "optimizer", &o.optimizer);
   o.then_hill_climb = c.get_bool("then_hill_climb");
-  o.max_start_crash_fraction = c.get_double("max_start_crash_fraction");
   o.seed = seed;
   return run;  // run_hover checks it
 }
 
 void declare_fly_config(ConfigSchema& s) {
   const FlyRunOptions d;
-  const HoverTrainingOptions hover;  // by default, flights start as perturbed as hover training's scenarios
   declare_vehicle(s);
   s.add_string("policy", "", "policy file (policy.json of pegasus heli hover or heli maneuver)").input_file();
   s.add_bool("pilot", d.pilot_only, "fly the scripted pilot's hover instead of a policy");
@@ -479,10 +433,9 @@ void declare_fly_config(ConfigSchema& s) {
       .validate(check_wind_ned);
   s.add_bool("estimate_noise", d.settings.estimate_noise,
              "the controller sees Kalman-filter-like state-estimate errors");
-  s.add_double("start_pos_sigma", hover.start_pos_sigma, "start position perturbation per axis, m")
-      .range(0, 100);
-  s.add_double("start_vel_sigma", hover.start_vel_sigma, "start velocity perturbation per axis, m/s")
-      .range(0, 100);
+  // By default, flights start as perturbed as hover training's scenarios.
+  declare_hover_number(s, "start_pos_sigma");
+  declare_hover_number(s, "start_vel_sigma");
   s.add_int("trace_flights", d.flights.trace_flights,
             "flights written step by step to flights.csv (the first ones)")
       .range(0, 1000000);
@@ -549,12 +502,8 @@ void declare_pipeline_config(ConfigSchema& s) {
   s.add_int("hill_climbing_iterations", hover_defaults.optimizer.hill_climbing.max_iterations,
             "hover training: hill-climbing iterations")
       .range(0, 1000000);
-  s.add_double("start_pos_sigma", hover_defaults.start_pos_sigma,
-               "hover training and flights: start position perturbation per axis, m")
-      .range(0, 100);
-  s.add_double("start_vel_sigma", hover_defaults.start_vel_sigma,
-               "hover training and flights: start velocity perturbation per axis, m/s")
-      .range(0, 100);
+  declare_hover_number(s, "start_pos_sigma", "hover training and flights: ");
+  declare_hover_number(s, "start_vel_sigma", "hover training and flights: ");
   s.add_int("flights", flight_defaults.flights, "flights on the ground truth (policy and pilot)")
       .range(1, 1000000);
   s.add_double("flight_seconds", flight_defaults.seconds, "flight length on the ground truth, s")

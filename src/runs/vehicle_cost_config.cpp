@@ -79,11 +79,7 @@ struct DeclareWind {
   ConfigSchema& s;
   sysid::Disturbance defaults;
   void setting(const sysid::DisturbanceSetting& d, double sysid::Disturbance::*member) {
-    ConfigField& f = s.add_double(wind_option(d), defaults.*member, d.help);
-    if (d.lower_open)
-      f.greater_than(d.lower).max(d.upper);
-    else
-      f.range(d.lower, d.upper);
+    s.add_double(wind_option(d), defaults.*member, d.help).bounds(d);
   }
   void setting(const sysid::DisturbanceSetting& d, std::array<double, 3> sysid::Disturbance::*member) {
     const auto& w = defaults.*member;

@@ -16,10 +16,6 @@ int refit_steps_at(double step_rate_hz) {
   return std::max(1, static_cast<int>(std::lround(kRefitSeconds * step_rate_hz)));
 }
 
-std::string DisturbanceSetting::range() const {
-  return fmt::format("{}{:g}, {:g}]", lower_open ? "(" : "[", lower, upper);
-}
-
 namespace {
 
 // Collects the settings, or checks a Disturbance's values against them.
@@ -35,8 +31,7 @@ struct BoundsCheck {
   const Disturbance& d;
   std::string error;
   void check(const DisturbanceSetting& s, double x, const char* what) {
-    if (error.empty() && !s.within(x))
-      error = fmt::format("{}: expected {} in {} {}, got {}", s.field, what, s.range(), s.unit, x);
+    if (error.empty() && !s.within(x)) error = s.refusal(s.field, what, x);
   }
   void setting(const DisturbanceSetting& s, double Disturbance::*member) { check(s, d.*member, "a number"); }
   void setting(const DisturbanceSetting& s, std::array<double, 3> Disturbance::*member) {

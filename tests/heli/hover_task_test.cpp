@@ -409,13 +409,17 @@ TEST(HoverTraining, IntegralTermTrainsThirtyEightWeightsAndItsLqrStartHoldsTheLi
   std::string why;
   o.integral_seconds = -1;
   EXPECT_FALSE(o.IsValid(&why));
+  EXPECT_EQ(why, "integral_seconds: expected a number in [0, 3600] s, got -1");
+  // Within the bounds but shorter than one control step: no integral term a controller can run.
+  o.integral_seconds = 0.01;
+  EXPECT_FALSE(o.IsValid(&why));
   EXPECT_EQ(why,
             "integral_seconds: expected 0 (no integral term) or a number in [0.02, 3600] (at least one "
-            "control step, 1 / control_rate_hz), got -1");
+            "control step, 1 / control_rate_hz), got 0.01");
   o.integral_seconds = 5;
   o.integral_limit_yaw = 0;
   EXPECT_FALSE(o.IsValid(&why));
-  EXPECT_EQ(why, "integral_limit_yaw: expected a finite number > 0 (rad s)");
+  EXPECT_EQ(why, "integral_limit_yaw: expected a number in (0, 1e+06] rad s, got 0");
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 models, U-hat of the hover policy on them (HoverProblem), `pegasus heli hover`'s training (train_hover), and policy
 files (HeliPolicy) serving controls for a batch of states, bit for bit as the CLI."""
 import json
+import re
 import subprocess
 
 import numpy as np
@@ -606,3 +607,27 @@ def test_a_disturbance_out_of_its_bounds_is_refused_naming_the_setting(model_jso
         options.disturbance = d
         with pytest.raises(ValueError, match=field):
             pegasus.train_hover(str(model_json), options)
+
+
+def test_hover_training_numbers_carry_the_options_bounds_and_is_valid_refuses_beyond_them():
+    # Each number HoverTrainingOptions describes once (issue 49 item 1) is a field named as `hover`'s option,
+    # whose doc gives the option's range; is_valid refuses a value past either end, naming the field and range.
+    described = re.compile(r"\(hover's (\w+); ([\[(])([-0-9.e+]+), ([-0-9.e+]+)\]")
+    checked = []
+    for field in pegasus.HoverTrainingOptions._fields:
+        match = described.search(getattr(pegasus.HoverTrainingOptions, field).__doc__ or "")
+        if not match:
+            continue
+        key, opening, lower, upper = match.group(1), match.group(2), float(match.group(3)), float(match.group(4))
+        assert key == field
+        default = getattr(pegasus.HoverTrainingOptions(), field)
+        assert (default > lower if opening == "(" else default >= lower) and default <= upper, field
+        kind = type(default)
+        for bad in [kind(upper + 1), kind(lower if opening == "(" else lower - 1)]:
+            options = pegasus.HoverTrainingOptions()
+            setattr(options, field, bad)
+            valid, message = options.is_valid()
+            assert not valid and message.startswith(f"{field}: expected"), (field, bad, message)
+            assert f"{opening}{match.group(3)}, {match.group(4)}]" in message, message
+        checked.append(field)
+    assert {"scenarios", "seconds", "gamma", "control_rate_hz", "command_margin", "max_tilt_rad"} <= set(checked)

@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "pegasus/core/number_setting.hpp"
 #include "pegasus/heli/hover_policy.hpp"
 #include "pegasus/models/model.hpp"
 #include "pegasus/optimizers/optimizer.hpp"
@@ -282,6 +283,66 @@ struct HoverTrainingOptions {
   // instead of a limit flew a 4 m/s wind at 0.66x the baseline's judged cost, the limits at 1.34x
   // (docs/results/baselines.md).
   double command_margin = 0.5;
+
+  // Every number `hover` takes as an option, once (issue 49 item 1): the visitor's `setting(NumberSetting,
+  // &HoverTrainingOptions::member)`, member an int or a double, the key its name. From it come `hover`'s
+  // option KEY (default, help, bounds) and its reading, IsValid's bounds and the Python field with its doc.
+  // A new number: its member, its entry here, its use.
+  template <class Visitor>
+  static void VisitFields(Visitor& v) {
+    using O = HoverTrainingOptions;
+    v.setting({"scenarios", 1, 100000, false, "", "PEGASUS scenarios m (thesis 5.3: 30)"}, &O::scenarios);
+    v.setting({"seconds", 0, 3600, true, "s", "flight per scenario, s (thesis 5.3: 35)"}, &O::seconds);
+    v.setting({"control_rate_hz", 0.1, 1000, false, "Hz",
+               "the controller's rate, Hz: the learned model steps at it and the policy is trained for it "
+               "(thesis 5.1: 50; a flight computer that runs its controller at 10 Hz: 10)"},
+              &O::control_rate_hz);
+    v.setting(
+        {"integral_seconds", 0, 3600, false, "s",
+         "the hover class's integral term against steady offsets (wind): each channel's int weight "
+         "starts at its error gain / this (LQR start: doubled until stable on the linear model); 0: none "
+         "(the thesis's class)"},
+        &O::integral_seconds);
+    v.setting({"command_margin", 0, 100, false, "",
+               "on a global linear model, the policy's commands stay within the range each control held in "
+               "the logs, widened by this fraction of its width per side (the model extrapolates beyond "
+               "them; a locally weighted model crashes off its data instead); 100: [-1, 1]"},
+              &O::command_margin);
+    v.setting({"integral_limit_position", 0, 1e6, true, "m s",
+               "anti-windup: the position error integral's limit per axis, m s"},
+              &O::integral_limit_position);
+    v.setting(
+        {"integral_limit_yaw", 0, 1e6, true, "rad s", "anti-windup: the yaw error integral's limit, rad s"},
+        &O::integral_limit_yaw);
+    v.setting({"gamma", 0, 1, true, "",
+               "discount per 1/50 s (thesis 5.3: 0.9995 per 50 Hz step); per step it is gamma^(50 / "
+               "control_rate_hz)"},
+              &O::gamma);
+    v.setting({"refit_every", 0, 1000, false, "steps",
+               "learned model: steps between local-regression refits; 0: every 0.1 s, the thesis's 10 Hz, at "
+               "any model rate (thesis 5.2.2: 5 steps at 50 Hz)"},
+              &O::refit_every);
+    v.setting(
+        {"cpu_budget_s", 0, 1e9, false, "s",
+         "on a locally weighted model, gradient ascent and hill climbing stop after the U-hat "
+         "evaluations whose refits take about this many CPU seconds (nominal: 6 ns per training row per "
+         "refit, the project's 2-core machine; from the model's size, never the clock); binds only below "
+         "the optimizer's own limits (evaluation_budget in summary.json); 0: none"},
+        &O::cpu_budget_s);
+    v.setting({"start_pos_sigma", 0, 100, false, "m", "start position perturbation per axis, m"},
+              &O::start_pos_sigma);
+    v.setting({"start_vel_sigma", 0, 100, false, "m/s", "start velocity perturbation per axis, m/s"},
+              &O::start_vel_sigma);
+    v.setting({"max_tilt_rad", 0, 1.5, true, "rad",
+               "the envelope: |roll| or |pitch| beyond this crashes the learned model, rad"},
+              &O::max_tilt_rad);
+    v.setting({"max_start_crash_fraction", 0, 1, false, "",
+               "stop before training when the starting policy crashes the learned model in more than this "
+               "fraction of the scenarios (1: never stop)"},
+              &O::max_start_crash_fraction);
+  }
+  // The numbers in VisitFields's order.
+  static const std::vector<NumberSetting>& settings();
 
   static OptimizerOptions default_optimizer();
   int horizon() const;            // steps of 1 / control_rate_hz

@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "pegasus/core/error.hpp"
+#include "pegasus/core/number_setting.hpp"
 #include "pegasus/io/json_csv.hpp"
 
 namespace pegasus {
@@ -68,6 +69,8 @@ class ConfigField {
   // Exclusive bounds: greater_than(0) means (0, ...).
   ConfigField& greater_than(double lo);
   ConfigField& less_than(double hi);
+  // The bounds a described setting states: (lower or [lower, and upper].
+  ConfigField& bounds(const NumberSetting& setting);
   // Allowed values of a string field.
   ConfigField& choices(std::vector<std::string> allowed);
   // Smallest number of elements of a list.

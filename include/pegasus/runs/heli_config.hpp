@@ -57,6 +57,9 @@ IdentifyRunOptions read_identify_config(const ConfigSchema& c);
 
 // `hover`: PEGASUS hover training on an identified model.
 void declare_hover_config(ConfigSchema& s);
+// One of hover training's numbers (HoverTrainingOptions::VisitFields) as an option of another command that
+// uses it: its key, default, bounds, and its help after `prefix`.
+void declare_hover_number(ConfigSchema& s, const std::string& key, const std::string& prefix = {});
 void resolve_hover_config(ConfigSchema& s);
 HoverRunOptions read_hover_config(const ConfigSchema& c, std::uint64_t seed);
 

@@ -39,6 +39,7 @@
 #include <string>
 #include <vector>
 
+#include "pegasus/core/number_setting.hpp"
 #include "pegasus/models/action_space.hpp"
 #include "pegasus/sysid/identify.hpp"
 
@@ -47,17 +48,9 @@ namespace pegasus::sysid {
 // One setting of Disturbance, described once (Disturbance::VisitFields). From it come `hover`'s and
 // `maneuver`'s options `wind.KEY` (help, bounds, the default), a vehicle file's `[hover.wind] KEY` (allowed,
 // read, bounded), the reading of both, IsValid, summary.json's `wind` object and the Python field.
-struct DisturbanceSetting {
-  const char* key;          // after `wind.` in a config, and in a vehicle file's [hover.wind]
-  const char* field;        // Disturbance's member, and Python's field
-  const char* summary_key;  // in summary.json's `wind`
-  double lower, upper;      // bounds of the value (each element of a list)
-  bool lower_open;          // (lower, upper] rather than [lower, upper]
-  const char* unit;
-  const char* help;  // the option's one line
-  bool within(double x) const { return (lower_open ? x > lower : x >= lower) && x <= upper; }
-  // "[0, 30]" or "(0, 3600]".
-  std::string range() const;
+struct DisturbanceSetting : NumberSetting {  // key: after `wind.` in a config, and in [hover.wind]
+  const char* field;                         // Disturbance's member, and Python's field
+  const char* summary_key;                   // in summary.json's `wind`
 };
 
 // The wind the learned model flies in (see above); all zero: calm, as identified.
@@ -75,21 +68,27 @@ struct Disturbance {
   static void VisitFields(Visitor& v) {
     using D = Disturbance;
     v.setting(
-        {"steady", "wind", "steady_ned_mps", -30, 30, false, "m/s",
-         "steady wind in the scenarios, north, east, down (m/s, NED): the learned model's forces act on "
-         "the airspeed"},
+        {{"steady", -30, 30, false, "m/s",
+          "steady wind in the scenarios, north, east, down (m/s, NED): the learned model's forces act on "
+          "the airspeed"},
+         "wind",
+         "steady_ned_mps"},
         &D::wind);
     v.setting(
-        {"sigma", "wind_sigma", "sigma_mps", 0, 30, false, "m/s",
-         "each scenario's steady wind drawn about wind.steady, per horizontal axis, m/s; with a vehicle "
-         "file and no wind.* or [hover.wind] stated, the default by the model class (1.5 m/s and 0.5 "
-         "m/s gusts for a global linear model, calm for a locally weighted one)"},
+        {{"sigma", 0, 30, false, "m/s",
+          "each scenario's steady wind drawn about wind.steady, per horizontal axis, m/s; with a vehicle "
+          "file and no wind.* or [hover.wind] stated, the default by the model class (1.5 m/s and 0.5 "
+          "m/s gusts for a global linear model, calm for a locally weighted one)"},
+         "wind_sigma",
+         "sigma_mps"},
         &D::wind_sigma);
-    v.setting({"gust_sigma", "gust_sigma", "gust_sigma_mps", 0, 30, false, "m/s",
-               "AR(1) gusts in the scenarios: standard deviation per axis, m/s"},
+    v.setting({{"gust_sigma", 0, 30, false, "m/s",
+                "AR(1) gusts in the scenarios: standard deviation per axis, m/s"},
+               "gust_sigma",
+               "gust_sigma_mps"},
               &D::gust_sigma);
     v.setting(
-        {"gust_tau_s", "gust_tau_s", "gust_tau_s", 0, 3600, true, "s", "AR(1) gusts: correlation time, s"},
+        {{"gust_tau_s", 0, 3600, true, "s", "AR(1) gusts: correlation time, s"}, "gust_tau_s", "gust_tau_s"},
         &D::gust_tau_s);
   }
   // The settings in VisitFields's order.
