@@ -461,7 +461,14 @@ ClassText maneuver_class(const heli::PolicyFile& file, const std::string& source
   t.body +=
       fmt::format("enum {{ kLegCount = {} }};\nstatic const struct leg kLegs[kLegCount] = {{\n{}}};\n\n",
                   trajectory.legs().size(), legs);
-  t.body += trajectory_text.substr(functions);
+  // The manoeuvre's act ends as the hover's does, with the file's command limits where it has any.
+  const heli::HoverPolicyInit& limits = policy.init();
+  if (!limits.has_command_limits()) {
+    t.body += trajectory_text.substr(functions);
+    return t;
+  }
+  add_command_limits(limits, &t.body);
+  t.body += with_command_limits(trajectory_text.substr(functions));
   return t;
 }
 

@@ -162,13 +162,26 @@ Controls HoverPolicy::unclipped(std::span<const double> w, const HoverInputs& in
   return a;
 }
 
-Controls HoverPolicy::act(std::span<const double> theta, const HeliObservation& o) const {
-  Controls a = unclipped(theta, hover_inputs(o));
-  // A NaN output (a NaN state or weight) becomes 0 rather than travelling on to the aircraft.
+Controls clip_command(Controls a, const Controls& lower, const Controls& upper) {
   for (std::size_t c = 0; c < 4; ++c)
-    a[c] = std::clamp(std::isnan(a[c]) ? 0.0 : std::clamp(a[c], -1.0, 1.0), command_lower_[c],
-                      command_upper_[c]);
+    a[c] = std::clamp(std::isnan(a[c]) ? 0.0 : std::clamp(a[c], -1.0, 1.0), lower[c], upper[c]);
   return a;
+}
+
+std::string command_limits_line(const HoverPolicyInit& limits, double margin) {
+  std::string channels;
+  for (std::size_t c = 0; c < 4; ++c)
+    channels += fmt::format("{}a{} [{:.3g}, {:.3g}]", c == 0 ? "" : ", ", c + 1, limits.command_lower[c],
+                            limits.command_upper[c]);
+  return fmt::format(
+      "command limits (the global linear model extrapolates beyond its logs): the logs' controls widened by "
+      "{:g}% "
+      "of their range per side, {} (--command-margin)",
+      100 * margin, channels);
+}
+
+Controls HoverPolicy::act(std::span<const double> theta, const HeliObservation& o) const {
+  return clip_command(unclipped(theta, hover_inputs(o)), command_lower_, command_upper_);
 }
 
 }  // namespace pegasus::heli

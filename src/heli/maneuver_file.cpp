@@ -95,6 +95,7 @@ PolicyFile maneuver_policy_file(const ManeuverFileOptions& options, const Maneuv
   p.target = {s0.x(), s0.y(), s0.z(), 0.0};
   p.trim = trim;
   p.options = maneuver_options_json(options);
+  set_file_command_limits(p, policy.init().command_lower, policy.init().command_upper);
   return p;
 }
 
@@ -106,7 +107,7 @@ CheckedManeuverPolicy checked_maneuver_policy(const PolicyFile& policy, const st
   std::string error;
   if (!o.size.IsValid(&error)) throw InputError(file + ": target: " + error);
   auto trajectory = std::make_shared<const Trajectory>(maneuver_trajectory(o.name, o.size, o.limits));
-  HoverPolicyInit init;
+  HoverPolicyInit init = hover_file_command_limits(policy, file);
   init.trim = policy.trim;
   ManeuverPolicy p(std::move(trajectory), init, o.policy);
   Theta theta = checked_parameters(policy, p.parameters(), file);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "pegasus/core/error.hpp"
 
@@ -11,6 +12,8 @@ ManeuverPolicy::ManeuverPolicy(std::shared_ptr<const Trajectory> trajectory, con
                                ManeuverPolicyOptions options)
     : trajectory_(std::move(trajectory)), init_(init), options_(options) {
   if (!trajectory_) throw InputError("manoeuvre policy: expected a trajectory");
+  if (std::string error; !command_limits_valid(init_.command_lower, init_.command_upper, &error))
+    throw InputError("manoeuvre policy: command limits: " + error);
   if (!(options_.max_delay_s > 0 && std::isfinite(options_.max_delay_s)))
     throw InputError("manoeuvre policy: max_delay_s: expected a number > 0");
   const HoverPolicy hover(init);
@@ -47,8 +50,7 @@ Controls ManeuverPolicy::act(std::span<const double> theta, const ManeuverObserv
   const double tail = a[axis::yaw] - init_.trim[axis::yaw], coll = a[axis::thrust] - init_.trim[axis::thrust];
   a[axis::roll] += theta[kTailToLat] * tail;
   a[axis::yaw] += theta[kCollToTail] * coll;
-  for (double& x : a) x = std::isnan(x) ? 0.0 : std::clamp(x, -1.0, 1.0);
-  return a;
+  return clip_command(a, init_.command_lower, init_.command_upper);
 }
 
 Theta ManeuverPolicy::from_hover(std::span<const double> hover_theta) const {

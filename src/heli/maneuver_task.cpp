@@ -110,6 +110,9 @@ bool ManeuverTrainingOptions::IsValid(std::string* error) const {
   if (!reward_weight(shaping_per_metre))
     return fail(error, fmt::format("shaping_per_metre: expected a number in [0, {}], got {}",
                                    kMaxRewardWeight, shaping_per_metre));
+  if (!(command_margin >= 0 && command_margin <= kMaxCommandMargin))
+    return fail(error, fmt::format("command_margin: expected a number in [0, {:g}], got {}",
+                                   kMaxCommandMargin, command_margin));
   if (!optimizer.IsValid(&inner)) return fail(error, "optimizer." + inner);
   return true;
 }

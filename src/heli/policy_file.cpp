@@ -230,6 +230,11 @@ HoverPolicyInit hover_file_command_limits(const PolicyFile& policy, const std::s
   return init;
 }
 
+void set_file_command_limits(PolicyFile& policy, const Controls& lower, const Controls& upper) {
+  if (HoverPolicyInit{.command_lower = lower, .command_upper = upper}.has_command_limits())
+    policy.options["command_limits"] = {{"lower", lower}, {"upper", upper}};
+}
+
 std::unique_ptr<HeliController> make_hover_controller(const PolicyFile& policy, const std::string& file) {
   return std::make_unique<HoverController>(checked_hover_parameters(policy, file), policy.target,
                                            hover_file_integrator(policy, file),
@@ -248,8 +253,7 @@ PolicyFile hover_policy_file(const HoverPolicy& policy, std::span<const double> 
     p.options["integral"] = {{"dt", integrator.dt},
                              {"limit_position", integrator.limit_position},
                              {"limit_yaw", integrator.limit_yaw}};
-  if (policy.has_command_limits())
-    p.options["command_limits"] = {{"lower", policy.command_lower()}, {"upper", policy.command_upper()}};
+  set_file_command_limits(p, policy.command_lower(), policy.command_upper());
   return p;
 }
 

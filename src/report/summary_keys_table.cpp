@@ -457,6 +457,9 @@ const std::vector<SummaryKeyGroup> kGroups = {
               {"choices.wind", "",
                "with a vehicle file: the training scenarios' wind (stated, or calm: none stated), by what "
                "and why"},
+              {"choices.command_limits", "",
+               "on a global linear model: the policy's command limits, lower and upper per control, the "
+               "margin they widen the logged range by, and by what"},
               {"wind.steady_ned_mps", "m/s", "the steady wind of the training scenarios [north, east, down]"},
               {"wind.sigma_mps", "m/s", "sd of each scenario's drawn horizontal wind"},
               {"wind.gust_sigma_mps", "m/s", "sd of the AR(1) gusts"},

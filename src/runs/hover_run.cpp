@@ -122,15 +122,7 @@ std::int64_t say_hover_setup(std::ostream& out, const HoverRunOptions& options,
   // The command limits of a global linear model's training (issue 48): said where there are any.
   if (const HoverPolicyInit limited = hover_command_limits(model, o.command_margin);
       limited.has_command_limits()) {
-    std::vector<std::string> channels;
-    for (std::size_t c = 0; c < 4; ++c)
-      channels.push_back(
-          fmt::format("a{} [{:.3g}, {:.3g}]", c + 1, limited.command_lower[c], limited.command_upper[c]));
-    out << fmt::format(
-        "command limits (the global linear model extrapolates beyond its logs): the logs' controls widened "
-        "by "
-        "{:g}% of their range per side, {} (--command-margin)\n",
-        100 * o.command_margin, fmt::join(channels, ", "));
+    out << command_limits_line(limited, o.command_margin) << "\n";
   }
   // The default budget on a locally weighted model (issues 48, 53): said where it binds.
   const std::int64_t budget =

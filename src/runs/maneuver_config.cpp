@@ -98,6 +98,7 @@ void declare_maneuver_config(ConfigSchema& s) {
   s.add_bool("shaping", d.shaping, "potential-based shaping reward growing along the path");
   s.add_double("shaping_per_metre", d.shaping_per_metre, "shaping potential per m of progress along the path")
       .range(0, kMaxRewardWeight);
+  declare_hover_number(s, "command_margin");  // as hover's (issue 48)
   s.add_bool("learn_delay", d.policy.learn_delay,
              "learn the delay t of the vertical set point in angled climbs and descents");
   s.add_bool("feedforward", d.policy.feedforward,
@@ -143,6 +144,7 @@ ManeuverTrainingOptions read_training(const ConfigSchema& c, std::uint64_t seed)
   o.disturbance = read_training_wind(c);
   o.shaping = c.get_bool("shaping");
   o.shaping_per_metre = c.get_double("shaping_per_metre");
+  o.command_margin = c.get_double("command_margin");
   o.policy.learn_delay = c.get_bool("learn_delay");
   o.policy.feedforward = c.get_bool("feedforward");
   read_optimizer_options(c, "optimizer", &o.optimizer);

@@ -91,7 +91,10 @@ struct Variant {
   ManeuverTrainingOptions options;
 };
 
-// Starting point: the hover weights (a trained hover policy, or the model's trim with default gains).
+// Starting point: the hover weights (a trained hover policy, or the model's trim with default gains), and
+// the command limits of the model the manoeuvre trains on (a global linear model's logged range widened by
+// command_margin, as hover training's; issue 48). A hover policy's own limits are its model's, whose logs may
+// not be these.
 struct HoverStart {
   HoverPolicyInit init;
   Theta theta;  // empty without a hover policy
@@ -100,6 +103,9 @@ struct HoverStart {
 HoverStart hover_start(const ManeuverRunOptions& options, const sysid::IdentifiedModel& model,
                        std::ostream& out) {
   HoverStart start{.init = hover_init_from_model(model), .theta = {}};
+  const HoverPolicyInit limits = hover_command_limits(model, options.training.command_margin);
+  start.init.command_lower = limits.command_lower;
+  start.init.command_upper = limits.command_upper;
   if (options.hover_policy_file.empty()) return start;
   const std::string& file = options.hover_policy_file;
   const logs::Vehicle& vehicle = options.aircraft.vehicle;
@@ -362,6 +368,9 @@ void run_maneuver(const ManeuverRunOptions& stated, RunSink& sink, ThreadPool& p
   const ManeuverTrainingOptions& base = options.training;
   if (aircraft.from_file() || !base.disturbance.calm()) sink.out << training_wind_line(wind) << "\n";
   const HoverStart hover = hover_start(options, *model, sink.out);
+  // The command limits the manoeuvre keeps (issue 48): said where there are any.
+  if (hover.init.has_command_limits())
+    sink.out << command_limits_line(hover.init, base.command_margin) << "\n";
   const bool angled = has_angled_legs(base);
   const std::vector<Variant> variants = maneuver_variants(options, angled, hover.init);
   const std::map<std::string, Trained> trained = train_variants(variants, model, hover, sink, pool);
@@ -376,6 +385,11 @@ void run_maneuver(const ManeuverRunOptions& stated, RunSink& sink, ThreadPool& p
   // Only where not calm, and the choice only with a vehicle file: the X-Cell's summaries stay as they were.
   if (!base.disturbance.calm()) summary["wind"] = wind_summary(base.disturbance);
   if (aircraft.from_file()) summary["choices"]["wind"] = {{"by", wind.by}, {"reason", wind.reason}};
+  if (hover.init.has_command_limits())
+    summary["choices"]["command_limits"] = {{"lower", hover.init.command_lower},
+                                            {"upper", hover.init.command_upper},
+                                            {"margin", base.command_margin},
+                                            {"by", "the global linear model's logged controls"}};
   aircraft.keep(dir);
   std::map<std::string, ManeuverFlightSummary> scores;
   std::vector<ManeuverFlight> main_flights;

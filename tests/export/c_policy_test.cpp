@@ -55,14 +55,19 @@ struct Mismatches {
 };
 
 // A manoeuvre file; `ablated` drops the learned delay and the feed-forward, as the ablations of heli
-// maneuver.
+// maneuver; `limited` gives it the command limits kCommandLower/Upper (a hover policy's on a global model).
 heli::PolicyFile maneuver_file(const std::string& name, std::uint64_t seed, double spread = 0.5,
-                               bool ablated = false) {
+                               bool ablated = false, bool limited = false) {
   heli::ManeuverFileOptions options;
   options.name = name;
   options.policy.learn_delay = options.policy.feedforward = !ablated;
   auto trajectory = std::make_shared<const heli::Trajectory>(heli::maneuver_trajectory(name));
-  const heli::ManeuverPolicy policy(trajectory, kTrimmedInit, options.policy);
+  heli::HoverPolicyInit init = kTrimmedInit;
+  if (limited) {
+    init.command_lower = kCommandLower;
+    init.command_upper = kCommandUpper;
+  }
+  const heli::ManeuverPolicy policy(trajectory, init, options.policy);
   std::mt19937_64 rng(seed);
   Theta theta = policy.from_hover(perturbed_hover_theta(heli::HoverPolicy(kTrimmedInit), rng, spread));
   theta[heli::ManeuverPolicy::kTailToLat] = 0.2;
@@ -188,6 +193,37 @@ TEST_F(CPolicyExport, ManeuversAreBitIdenticalToTheCppPolicyOn100000StatesAndTim
   EXPECT_EQ(ablated.names.size(), 36u);
   const LoadedCPolicy c(export_c_policy(heli::policy_file_json(ablated), "ablated.json"), dir_ / "ablated");
   expect_heli_bit_identical(ablated, c, heli::maneuver_trajectory("III.1").duration() + 2.0, 5);
+}
+
+// A manoeuvre with command limits (started from a hover policy that has them, issue 48): the file keeps
+// them, and the C clips as the C++ does, every output within its channel's limits.
+TEST_F(CPolicyExport, AManeuverWithCommandLimitsIsBitIdenticalAndStaysWithinThem) {
+  const heli::PolicyFile file = maneuver_file("III.1", 6, 1.0, false, true);
+  ASSERT_TRUE(file.options.contains("command_limits"));
+  const CPolicyCode code = export_c_policy(heli::policy_file_json(file), "maneuver.json");
+  EXPECT_NE(code.source.find("kCommandLower"), std::string::npos);
+  const LoadedCPolicy c(code, dir_);
+  const double duration = heli::maneuver_trajectory("III.1").duration();
+  expect_heli_bit_identical(file, c, duration + 2.0, 7);
+  const auto cpp = heli::make_controller(file, "maneuver.json");
+  std::mt19937_64 rng(8);
+  std::uniform_real_distribution<double> time(0.0, duration);
+  std::array<int, 4> at_limit{};
+  for (int i = 0; i < kInputs / 10; ++i) {
+    const Controls a = cpp->act(random_state(rng, file.target), time(rng));
+    for (std::size_t k = 0; k < 4; ++k) {
+      ASSERT_GE(a[k], kCommandLower[k]);
+      ASSERT_LE(a[k], kCommandUpper[k]);
+      at_limit[k] += a[k] == kCommandLower[k] || a[k] == kCommandUpper[k];
+    }
+  }
+  for (std::size_t k = 0; k < 4; ++k) EXPECT_GT(at_limit[k], kInputs / 1000) << "a" << k + 1;
+  // The file read back keeps them; without limits a manoeuvre file has none, and its C no table.
+  EXPECT_EQ(heli::checked_maneuver_policy(file, "maneuver.json").policy.init().command_upper, kCommandUpper);
+  const heli::PolicyFile plain = maneuver_file("III.1", 6);
+  EXPECT_FALSE(plain.options.contains("command_limits"));
+  EXPECT_EQ(export_c_policy(heli::policy_file_json(plain), "maneuver.json").source.find("kCommandLower"),
+            std::string::npos);
 }
 
 TEST_F(CPolicyExport, HeliNonFiniteObservationGetsTheTrimAsHeliControlAnswers) {

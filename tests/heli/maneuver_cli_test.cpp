@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "support/cli_runner.hpp"
 
@@ -81,6 +82,59 @@ TEST_F(ManeuverCli, TrainingImprovesUhatAndWritesTheDocumentedFiles) {
   EXPECT_EQ(policy.at("options").at("name"), "III.2");
   EXPECT_EQ(policy.at("options").at("circle_radius"), 2.0);
   EXPECT_TRUE(fs::exists(dir_ / "run" / "paths_top.svg"));
+  // This small model is a global linear one (identify's choice on 60 s of logs), and there is no hover
+  // policy: the manoeuvre keeps the limits hover training would give the model (issue 48), in its file too.
+  ASSERT_EQ(json_of(shared_ / "id" / "summary.json").at("choices").at("model_class").at("class"),
+            "global linear");
+  EXPECT_EQ(s.at("choices").at("command_limits").at("by"), "the global linear model's logged controls");
+  EXPECT_EQ(s.at("choices").at("command_limits").at("margin"), 0.5);
+  EXPECT_EQ(policy.at("options").at("command_limits").at("lower"),
+            s.at("choices").at("command_limits").at("lower"));
+  EXPECT_EQ(policy.at("options").at("command_limits").at("upper"),
+            s.at("choices").at("command_limits").at("upper"));
+}
+
+// On a global linear model the manoeuvre's commands stay within the logs' range widened by --command-margin
+// (issue 48), as hover's do: in training, in its flights, and in its policy file (so in `control` and the C
+// export); said in one line and in the summary. A margin of 100 sets none.
+TEST_F(ManeuverCli, OnAGlobalLinearModelCommandsStayWithinTheLogsRangeWidenedByTheMargin) {
+  const auto r =
+      run_pegasus(small((dir_ / "run").string()) + " --ablations=false --trace-flights 2 --command-margin 0");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("command limits (the global linear model extrapolates beyond its logs): the logs' "
+                          "controls widened by 0% of their range per side, a1 ["),
+            std::string::npos)
+      << r.output;
+  const auto limits = json_of(dir_ / "run" / "policy.json").at("options").at("command_limits");
+  const auto lower = limits.at("lower").get<std::vector<double>>(),
+             upper = limits.at("upper").get<std::vector<double>>();
+  const auto s = json_of(dir_ / "run" / "summary.json");
+  EXPECT_EQ(s.at("choices").at("command_limits").at("upper"), limits.at("upper"));
+  EXPECT_EQ(s.at("choices").at("command_limits").at("margin"), 0.0);
+  // Every command flown is within the limits, and the limits bind: the clip is what held some of them.
+  std::istringstream flights(read_text(dir_ / "run" / "flights.csv"));
+  std::string line;
+  std::getline(flights, line);
+  int rows = 0, at_limit = 0;
+  while (std::getline(flights, line)) {
+    std::vector<double> v;
+    std::istringstream cells(line);
+    for (std::string cell; std::getline(cells, cell, ',');) v.push_back(std::stod(cell));
+    for (std::size_t c = 0; c < 4; ++c) {
+      const double a = v[14 + c];
+      ASSERT_TRUE(a >= lower[c] && a <= upper[c]) << "a" << c + 1 << ": " << line;
+      at_limit += a == lower[c] || a == upper[c];
+    }
+    ++rows;
+  }
+  EXPECT_GT(rows, 100);
+  EXPECT_GE(at_limit, 10) << rows;  // 23 of 2330 steps with a command at its limit
+
+  const auto wide = run_pegasus(small((dir_ / "wide").string()) + " --ablations=false --command-margin 100");
+  ASSERT_EQ(wide.code, 0) << wide.output;
+  EXPECT_EQ(wide.output.find("command limits"), std::string::npos) << wide.output;
+  EXPECT_FALSE(json_of(dir_ / "wide" / "policy.json").at("options").contains("command_limits"));
+  EXPECT_FALSE(json_of(dir_ / "wide" / "summary.json").contains("choices"));
 }
 
 TEST_F(ManeuverCli, ThreadCountNeverChangesTheResult) {

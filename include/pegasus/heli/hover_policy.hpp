@@ -111,6 +111,15 @@ struct HoverPolicyInit {
 
 // -1 <= lower[c] <= upper[c] <= 1 for each channel; else false, with "a2: ..." in *error.
 bool command_limits_valid(const Controls& lower, const Controls& upper, std::string* error);
+// The last step of every helicopter policy's act (HoverPolicy, ManeuverPolicy): a NaN output becomes 0 rather
+// than travelling on to the aircraft, then each is clipped to [-1, 1] and to its channel's command limits.
+Controls clip_command(Controls a, const Controls& lower, const Controls& upper);
+// The training runs' line for the command limits a global linear model's logs give (hover_command_limits,
+// widened by `margin` of each control's range): "command limits (...): ..., a1 [-0.4, 0.3], a2 ...".
+std::string command_limits_line(const HoverPolicyInit& limits, double margin);
+// The margin hover and manoeuvre training widen the logged range by (HoverTrainingOptions::command_margin).
+// 100 or more: every limit past [-1, 1], no limits.
+inline constexpr double kDefaultCommandMargin = 0.5, kMaxCommandMargin = 100;
 
 class HoverPolicy {
  public:

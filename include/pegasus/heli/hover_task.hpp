@@ -282,7 +282,7 @@ struct HoverTrainingOptions {
   // flight in 20 overloaded the rotor with a collective the logs never came near; a crash in the model there
   // instead of a limit flew a 4 m/s wind at 0.66x the baseline's judged cost, the limits at 1.34x
   // (docs/results/baselines.md).
-  double command_margin = 0.5;
+  double command_margin = kDefaultCommandMargin;
 
   // Every number `hover` takes as an option, once (issue 49 item 1): the visitor's `setting(NumberSetting,
   // &HoverTrainingOptions::member)`, member an int or a double, the key its name. From it come `hover`'s
@@ -303,7 +303,7 @@ struct HoverTrainingOptions {
          "starts at its error gain / this (LQR start: doubled until stable on the linear model); 0: none "
          "(the thesis's class)"},
         &O::integral_seconds);
-    v.setting({"command_margin", 0, 100, false, "",
+    v.setting({"command_margin", 0, kMaxCommandMargin, false, "",
                "on a global linear model, the policy's commands stay within the range each control held in "
                "the logs, widened by this fraction of its width per side (the model extrapolates beyond "
                "them; a locally weighted model crashes off its data instead); 100: [-1, 1]"},

@@ -129,6 +129,9 @@ struct ManeuverTrainingOptions {
   sysid::Disturbance disturbance{};
   bool shaping = true;           // potential-based shaping on progress (false: the ablation)
   double shaping_per_metre = 5;  // Phi per m of progress
+  // On a global linear model, the policy's commands stay within each control's logged range widened by this
+  // fraction of it per side, as hover training's (HoverTrainingOptions::command_margin, issue 48).
+  double command_margin = kDefaultCommandMargin;
   OptimizerOptions optimizer = default_optimizer();
   std::uint64_t seed = 1;
 

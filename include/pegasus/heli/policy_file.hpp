@@ -121,9 +121,12 @@ PolicyFile hover_policy_file(const HoverPolicy& policy, std::span<const double> 
 // The integral term's integrator of a hover file's options (off without "integral"); InputError naming
 // `file` and the field.
 ErrorIntegrator hover_file_integrator(const PolicyFile& policy, const std::string& file);
-// The command limits of a hover file's options (HoverPolicyInit's command_lower/upper; [-1, 1] without
-// "command_limits"); InputError naming `file` and the field.
+// The command limits of a hover or manoeuvre file's options (HoverPolicyInit's command_lower/upper; [-1, 1]
+// without "command_limits"); InputError naming `file` and the field.
 HoverPolicyInit hover_file_command_limits(const PolicyFile& policy, const std::string& file);
+// Adds "command_limits" with these to the options, unless they are [-1, 1] on every channel (then the file
+// stays as it was before limits existed).
+void set_file_command_limits(PolicyFile& policy, const Controls& lower, const Controls& upper);
 // A hover file's weights checked against the class: the 34, and a1.int..a4.int when its options have the
 // integral term's integrator. InputError naming `file` and the field.
 Theta checked_hover_parameters(const PolicyFile& policy, const std::string& file);
