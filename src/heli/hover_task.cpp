@@ -337,6 +337,12 @@ const std::vector<NumberSetting>& HoverTrainingOptions::settings() {
   return list;
 }
 
+const NumberSetting& HoverTrainingOptions::setting(std::string_view key) {
+  for (const NumberSetting& s : settings())
+    if (key == s.key) return s;
+  throw std::logic_error(fmt::format("HoverTrainingOptions: no number named {}", key));
+}
+
 bool HoverTrainingOptions::IsValid(std::string* error) const {
   std::string inner;
   HoverBoundsCheck bounds{*this, {}};

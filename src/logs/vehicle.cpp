@@ -356,7 +356,9 @@ Vehicle vehicle(const toml::table& root, const std::filesystem::path& file) {
   v.xcell_latent_states = r.string("vehicle.latent_states", "none", {"none", "xcell"}) == "xcell";
   v.simulator = r.string("vehicle.simulator", v.simulator, heli::simulator_names());
   v.kinematic_templates = r.string("model.templates", "kinematic", {"kinematic", "none"}) == "kinematic";
-  v.control_rate_hz = r.number("control.rate_hz", v.control_rate_hz, 0.1, 1000);
+  // Bounded as hover's option (HoverTrainingOptions::VisitFields), which the file's value sets.
+  const NumberSetting& rate = heli::HoverTrainingOptions::setting("control_rate_hz");
+  v.control_rate_hz = r.number("control.rate_hz", v.control_rate_hz, rate.lower, rate.upper);
   // The controller is compared with the log step by step: one rate must be a whole multiple of the other.
   if (r.at("control.rate_hz") && sysid::log_rows_per_model_step(1 / v.log.rate_hz, v.control_rate_hz) == 0 &&
       sysid::log_rows_per_model_step(1 / v.control_rate_hz, v.log.rate_hz) == 0)
@@ -370,7 +372,8 @@ Vehicle vehicle(const toml::table& root, const std::filesystem::path& file) {
     v.target = target_of(v.log, v.target);
   }
   v.starting_gains = r.string("hover.starting_gains", v.starting_gains, {"lqr", "constant"});
-  v.integral_seconds = r.number("hover.integral_seconds", v.integral_seconds, 0, 3600);
+  const NumberSetting& integral = heli::HoverTrainingOptions::setting("integral_seconds");
+  v.integral_seconds = r.number("hover.integral_seconds", v.integral_seconds, integral.lower, integral.upper);
   // Checked here, not only by the commands that train (a vehicle file is valid or not as a whole).
   if (v.integral_seconds > 0 && v.integral_seconds * v.control_rate_hz < 1)
     r.fail(r.at("hover.integral_seconds"), "hover.integral_seconds",

@@ -24,6 +24,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "pegasus/core/number_setting.hpp"
@@ -341,8 +342,9 @@ struct HoverTrainingOptions {
                "fraction of the scenarios (1: never stop)"},
               &O::max_start_crash_fraction);
   }
-  // The numbers in VisitFields's order.
+  // The numbers in VisitFields's order; the one named `key` (std::logic_error for another name).
   static const std::vector<NumberSetting>& settings();
+  static const NumberSetting& setting(std::string_view key);
 
   static OptimizerOptions default_optimizer();
   int horizon() const;            // steps of 1 / control_rate_hz
