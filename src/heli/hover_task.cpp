@@ -8,7 +8,6 @@
 #include <optional>
 #include <stdexcept>
 #include <string_view>
-#include <type_traits>
 
 #include "../core/validation.hpp"
 #include "pegasus/core/error.hpp"
@@ -304,36 +303,8 @@ int HoverTrainingOptions::refit_steps([[maybe_unused]] const sysid::IdentifiedMo
   return sysid::refit_steps_at(control_rate_hz);
 }
 
-namespace {
-
-// Collects HoverTrainingOptions's numbers, or checks an options' values against them.
-struct HoverSettingsList {
-  std::vector<NumberSetting> settings;
-  template <class T>
-  void setting(const NumberSetting& s, T HoverTrainingOptions::* /*member*/) {
-    settings.push_back(s);
-  }
-};
-
-struct HoverBoundsCheck {
-  const HoverTrainingOptions& o;
-  std::string error;
-  template <class T>
-  void setting(const NumberSetting& s, T HoverTrainingOptions::*member) {
-    const auto x = static_cast<double>(o.*member);
-    if (error.empty() && !s.within(x))
-      error = s.refusal(s.key, std::is_integral_v<T> ? "an integer" : "a number", x);
-  }
-};
-
-}  // namespace
-
 const std::vector<NumberSetting>& HoverTrainingOptions::settings() {
-  static const std::vector<NumberSetting> list = [] {
-    HoverSettingsList v;
-    VisitFields(v);
-    return v.settings;
-  }();
+  static const std::vector<NumberSetting> list = number_settings<HoverTrainingOptions>();
   return list;
 }
 
@@ -345,9 +316,7 @@ const NumberSetting& HoverTrainingOptions::setting(std::string_view key) {
 
 bool HoverTrainingOptions::IsValid(std::string* error) const {
   std::string inner;
-  HoverBoundsCheck bounds{*this, {}};
-  VisitFields(bounds);
-  if (!bounds.error.empty()) return fail(error, bounds.error);
+  if (const std::string out = numbers_out_of_bounds(*this); !out.empty()) return fail(error, out);
   if (!(lqr_action_factor > 0 && lqr_action_factor <= 1e12))
     return fail(error,
                 fmt::format("lqr_action_factor: expected a number in (0, 1e12], got {}", lqr_action_factor));

@@ -95,24 +95,9 @@ bool ManeuverTrainingOptions::IsValid(std::string* error) const {
   if (!size.IsValid(&inner)) return fail(error, inner);
   if (!limits.IsValid(&inner)) return fail(error, inner);
   if (!observer.IsValid(&inner)) return fail(error, "observer." + inner);
-  if (scenarios < 1)
-    return fail(error, fmt::format("scenarios: expected an integer >= 1, got {}", scenarios));
-  if (!(gamma > 0 && gamma <= 1))
-    return fail(error, fmt::format("gamma: expected a number in (0, 1], got {}", gamma));
-  if (refit_every < 1)
-    return fail(error, fmt::format("refit_every: expected an integer >= 1, got {}", refit_every));
-  if (!nonnegative_finite(start_pos_sigma))
-    return fail(error, fmt::format("start_pos_sigma: expected a number >= 0, got {}", start_pos_sigma));
-  if (!nonnegative_finite(start_vel_sigma))
-    return fail(error, fmt::format("start_vel_sigma: expected a number >= 0, got {}", start_vel_sigma));
+  if (const std::string out = numbers_out_of_bounds(*this); !out.empty()) return fail(error, out);
   if (!reward.IsValid(&inner)) return fail(error, "reward." + inner);
   if (!disturbance.IsValid(&inner)) return fail(error, inner);
-  if (!reward_weight(shaping_per_metre))
-    return fail(error, fmt::format("shaping_per_metre: expected a number in [0, {}], got {}",
-                                   kMaxRewardWeight, shaping_per_metre));
-  if (!(command_margin >= 0 && command_margin <= kMaxCommandMargin))
-    return fail(error, fmt::format("command_margin: expected a number in [0, {:g}], got {}",
-                                   kMaxCommandMargin, command_margin));
   if (!optimizer.IsValid(&inner)) return fail(error, "optimizer." + inner);
   return true;
 }

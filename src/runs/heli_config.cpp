@@ -297,33 +297,6 @@ PilotRunOptions read_pilot_config(const ConfigSchema& c, std::uint64_t seed) {
 
 namespace {
 
-// Declares each number HoverTrainingOptions::VisitFields describes (or the one named `only`) as an option:
-// its default, bounds, and help after `prefix`.
-struct DeclareHoverNumbers {
-  ConfigSchema& s;
-  std::string only;
-  std::string prefix;
-  HoverTrainingOptions defaults{};
-  void setting(const NumberSetting& n, int HoverTrainingOptions::*member) {
-    if (only.empty() || only == n.key) s.add_int(n.key, defaults.*member, prefix + n.help).bounds(n);
-  }
-  void setting(const NumberSetting& n, double HoverTrainingOptions::*member) {
-    if (only.empty() || only == n.key) s.add_double(n.key, defaults.*member, prefix + n.help).bounds(n);
-  }
-};
-
-// Reads each of them into its member.
-struct ReadHoverNumbers {
-  const ConfigSchema& c;
-  HoverTrainingOptions& o;
-  void setting(const NumberSetting& n, int HoverTrainingOptions::*member) {
-    o.*member = static_cast<int>(c.get_int(n.key));
-  }
-  void setting(const NumberSetting& n, double HoverTrainingOptions::*member) {
-    o.*member = c.get_double(n.key);
-  }
-};
-
 // The policy's start gains and the set point (the numbers are HoverTrainingOptions's own list).
 void declare_hover_start(ConfigSchema& s, const HoverTrainingOptions& defaults) {
   s.add_string(
@@ -368,16 +341,14 @@ void declare_hover_reward(ConfigSchema& s, const HoverTrainingOptions& defaults)
 }  // namespace
 
 void declare_hover_number(ConfigSchema& s, const std::string& key, const std::string& prefix) {
-  DeclareHoverNumbers one{s, key, prefix};
-  HoverTrainingOptions::VisitFields(one);
+  declare_numbers(s, HoverTrainingOptions{}, key, prefix);
 }
 
 void declare_hover_config(ConfigSchema& s) {
   declare_vehicle(s, fills_help(hover_fills(), kHoverRewardKeys));
   s.add_string("model", "", "identified model (model.json of pegasus heli identify)").input_file();
   const HoverTrainingOptions defaults;
-  DeclareHoverNumbers numbers{s, {}, {}};
-  HoverTrainingOptions::VisitFields(numbers);
+  declare_numbers(s, defaults);
   declare_hover_start(s, defaults);
   declare_hover_reward(s, defaults);
   // Gradient ascent by default (thesis 5.3), then hill climbing from its result (then_hill_climb).
@@ -398,8 +369,7 @@ void resolve_hover_config(ConfigSchema& s) {
 HoverRunOptions read_hover_config(const ConfigSchema& c, std::uint64_t seed) {
   HoverRunOptions run{.aircraft = vehicle_of(c), .model_file = c.get_path("model")};
   HoverTrainingOptions& o = run.training;
-  ReadHoverNumbers numbers{c, o};
-  HoverTrainingOptions::VisitFields(numbers);
+  read_numbers(c, o);
   o.lqr_start = c.get_string("starting_gains") == "lqr";
   const auto& t = c.get_double_list("target");
   o.target = {t[0], t[1], t[2], t[3]};

@@ -78,13 +78,7 @@ void declare_maneuver_config(ConfigSchema& s) {
       .range(1, 100);
   s.add_double("hold_end_s", d.size.hold_end_s, "hover after the last leg, s").range(0, 60);
   // Training
-  s.add_int("scenarios", d.scenarios, "PEGASUS scenarios m").range(1, 100000);
-  s.add_double("gamma", d.gamma, "discount per 50 Hz step").greater_than(0).max(1);
-  s.add_int("refit_every", d.refit_every, "learned model: 50 Hz steps between local-regression refits")
-      .range(1, 1000);
-  s.add_double("start_pos_sigma", d.start_pos_sigma, "start position perturbation per axis, m").range(0, 10);
-  s.add_double("start_vel_sigma", d.start_vel_sigma, "start velocity perturbation per axis, m/s")
-      .range(0, 10);
+  declare_numbers(s, d);  // ManeuverTrainingOptions::VisitFields
   s.add_double("reward.alpha_pos", d.reward.alpha_pos, "per m^2 of distance to the path's projection")
       .range(0, kMaxRewardWeight);
   s.add_double("reward.alpha_yaw", d.reward.alpha_yaw, "per rad^2 of yaw error to the projection")
@@ -96,9 +90,6 @@ void declare_maneuver_config(ConfigSchema& s) {
       .range(0, kMaxRewardWeight);
   declare_training_wind(s);
   s.add_bool("shaping", d.shaping, "potential-based shaping reward growing along the path");
-  s.add_double("shaping_per_metre", d.shaping_per_metre, "shaping potential per m of progress along the path")
-      .range(0, kMaxRewardWeight);
-  declare_hover_number(s, "command_margin");  // as hover's (issue 48)
   s.add_bool("learn_delay", d.policy.learn_delay,
              "learn the delay t of the vertical set point in angled climbs and descents");
   s.add_bool("feedforward", d.policy.feedforward,
@@ -132,19 +123,13 @@ ManeuverTrainingOptions read_training(const ConfigSchema& c, std::uint64_t seed)
   o.size.rectangle_height = c.get_double("rectangle_height");
   o.size.hold_end_s = c.get_double("hold_end_s");
   read_size(c, o.size);
-  o.scenarios = static_cast<int>(c.get_int("scenarios"));
-  o.gamma = c.get_double("gamma");
-  o.refit_every = static_cast<int>(c.get_int("refit_every"));
-  o.start_pos_sigma = c.get_double("start_pos_sigma");
-  o.start_vel_sigma = c.get_double("start_vel_sigma");
+  read_numbers(c, o);
   o.reward.alpha_pos = c.get_double("reward.alpha_pos");
   o.reward.alpha_yaw = c.get_double("reward.alpha_yaw");
   o.reward.alpha_vel = c.get_double("reward.alpha_vel");
   o.reward.alpha_action.fill(c.get_double("reward.alpha_action"));
   o.disturbance = read_training_wind(c);
   o.shaping = c.get_bool("shaping");
-  o.shaping_per_metre = c.get_double("shaping_per_metre");
-  o.command_margin = c.get_double("command_margin");
   o.policy.learn_delay = c.get_bool("learn_delay");
   o.policy.feedforward = c.get_bool("feedforward");
   read_optimizer_options(c, "optimizer", &o.optimizer);

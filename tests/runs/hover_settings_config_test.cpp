@@ -1,15 +1,19 @@
-// Hover training's numbers, described once (HoverTrainingOptions::VisitFields, issue 49 item 1): each is
-// `hover`'s option KEY with its default, help and bounds, read into the member it names, and IsValid's bound.
-// A number added to the description is walked here too.
+// The training options' numbers, described once (HoverTrainingOptions::VisitFields and
+// ManeuverTrainingOptions::VisitFields, issue 49 item 1): each is its command's option KEY with its default,
+// help and bounds, read into the member it names, and IsValid's bound. A number added to a description is
+// walked here too.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <string>
 #include <type_traits>
 
 #include "pegasus/heli/hover_task.hpp"
+#include "pegasus/heli/maneuver_task.hpp"
 #include "pegasus/runs/heli_config.hpp"
 #include "pegasus/runs/heli_runs.hpp"
+#include "pegasus/runs/maneuver_config.hpp"
 #include "support/input_error.hpp"
 
 namespace pegasus::heli {
@@ -22,55 +26,62 @@ struct Number {
   double value = std::nan("");
   bool integer = false;
 };
+template <class Options>
 struct NumberReader {
-  const HoverTrainingOptions& o;
+  const Options& o;
   std::string key;
   Number out;
   template <class T>
-  void setting(const NumberSetting& s, T HoverTrainingOptions::*member) {
+  void setting(const NumberSetting& s, T Options::*member) {
     if (key == s.key) out = {static_cast<double>(o.*member), std::is_integral_v<T>};
   }
 };
-Number number_of(const HoverTrainingOptions& o, const std::string& key) {
-  NumberReader reader{o, key, {}};
-  HoverTrainingOptions::VisitFields(reader);
+template <class Options>
+Number number_of(const Options& o, const std::string& key) {
+  NumberReader<Options> reader{o, key, {}};
+  Options::VisitFields(reader);
   return reader.out;
 }
 
 // Sets the number `key` of o to x (truncated for an integer).
+template <class Options>
 struct NumberWriter {
-  HoverTrainingOptions& o;
+  Options& o;
   std::string key;
   double x;
   template <class T>
-  void setting(const NumberSetting& s, T HoverTrainingOptions::*member) {
+  void setting(const NumberSetting& s, T Options::*member) {
     if (key == s.key) o.*member = static_cast<T>(x);
   }
 };
-void set_number(HoverTrainingOptions& o, const std::string& key, double x) {
-  NumberWriter writer{o, key, x};
-  HoverTrainingOptions::VisitFields(writer);
+template <class Options>
+void set_number(Options& o, const std::string& key, double x) {
+  NumberWriter<Options> writer{o, key, x};
+  Options::VisitFields(writer);
 }
 
-// Within the bounds, not the default, and an integer where the member is one; and just beyond the upper
-// bound.
+// Within the bounds, not the default, and an integer where the member is one; and just beyond each bound.
 double inside(const NumberSetting& s, bool integer) {
   const double x = s.lower + (s.upper - s.lower) / 7;
   return integer ? std::ceil(x) : x;
 }
-double beyond(const NumberSetting& s) { return s.upper + 1; }
+double above(const NumberSetting& s) { return s.upper + 1; }
+double below(const NumberSetting& s) { return s.lower_open ? s.lower : s.lower - 1; }
 FieldValue option_value(double x, bool integer) {
   if (integer) return static_cast<std::int64_t>(x);
   return x;
 }
 
-TEST(HoverSettingsConfig, EveryNumberIsAnOptionOfHoverWithItsDefaultHelpAndBoundsAndIsReadIntoItsMember) {
-  ASSERT_GE(HoverTrainingOptions::settings().size(), 14u);
-  for (const NumberSetting& setting : HoverTrainingOptions::settings()) {
+// Each number is an option of the command `declare` declares, with its default, help and bounds, and the
+// command's reading (`read`) puts a value given into its member.
+template <class Options>
+void expect_every_number_is_an_option(const std::function<void(ConfigSchema&)>& declare,
+                                      const std::function<Options(const ConfigSchema&)>& read) {
+  for (const NumberSetting& setting : number_settings<Options>()) {
     SCOPED_TRACE(setting.key);
-    const Number defaults = number_of(HoverTrainingOptions{}, setting.key);
+    const Number defaults = number_of(Options{}, setting.key);
     ConfigSchema s;
-    declare_hover_config(s);
+    declare(s);
     const ConfigField& f = s.field(setting.key);
     EXPECT_EQ(f.help(), setting.help);
     EXPECT_EQ(f.type(), defaults.integer ? FieldType::kInt : FieldType::kDouble);
@@ -79,32 +90,30 @@ TEST(HoverSettingsConfig, EveryNumberIsAnOptionOfHoverWithItsDefaultHelpAndBound
     else
       EXPECT_EQ(std::get<double>(f.default_value()), defaults.value);
     EXPECT_TRUE(setting.within(defaults.value));
-
-    const std::string message =
-        input_error_message([&] { s.set(setting.key, option_value(beyond(setting), defaults.integer)); });
-    EXPECT_NE(message.find(setting.key), std::string::npos) << message;
-    const std::string below = input_error_message([&] {
-      s.set(setting.key, option_value(setting.lower - (setting.lower_open ? 0 : 1), defaults.integer));
-    });
-    EXPECT_NE(below, "(no error)");
-
+    for (const double bad : {above(setting), below(setting)}) {
+      const std::string message =
+          input_error_message([&] { s.set(setting.key, option_value(bad, defaults.integer)); });
+      EXPECT_NE(message.find(setting.key), std::string::npos) << bad << ": " << message;
+    }
     const double x = inside(setting, defaults.integer);
     ASSERT_NE(x, defaults.value);
     s.set(setting.key, option_value(x, defaults.integer), std::string("--") + setting.key);
     s.validate();
-    EXPECT_EQ(number_of(read_hover_config(s, 7).training, setting.key).value, x);
+    EXPECT_EQ(number_of(read(s), setting.key).value, x);
   }
 }
 
-TEST(HoverSettingsConfig, IsValidRefusesEachNumberBeyondItsBoundsNamingItAndItsRange) {
-  for (const NumberSetting& setting : HoverTrainingOptions::settings()) {
+// IsValid takes each number within its bounds and refuses it past either, naming it and its range.
+template <class Options>
+void expect_is_valid_bounds_every_number() {
+  for (const NumberSetting& setting : number_settings<Options>()) {
     SCOPED_TRACE(setting.key);
-    const bool integer = number_of(HoverTrainingOptions{}, setting.key).integer;
-    HoverTrainingOptions o;
+    const bool integer = number_of(Options{}, setting.key).integer;
+    Options o;
     set_number(o, setting.key, inside(setting, integer));
     std::string error;
     EXPECT_TRUE(o.IsValid(&error)) << error;
-    for (const double bad : {beyond(setting), setting.lower - (setting.lower_open ? 0 : 1)}) {
+    for (const double bad : {above(setting), below(setting)}) {
       set_number(o, setting.key, bad);
       EXPECT_FALSE(o.IsValid(&error)) << bad;
       EXPECT_EQ(error.rfind(std::string(setting.key) + ": expected", 0), 0u) << error;
@@ -117,18 +126,47 @@ TEST(HoverSettingsConfig, IsValidRefusesEachNumberBeyondItsBoundsNamingItAndItsR
   }
 }
 
-// The flights of `fly` start as perturbed as hover training's scenarios, from the same description.
-TEST(HoverSettingsConfig, FlyTakesTheStartPerturbationsFromTheDescription) {
+TEST(HoverSettingsConfig, EveryNumberIsAnOptionOfHoverWithItsDefaultHelpAndBoundsAndIsReadIntoItsMember) {
+  ASSERT_EQ(HoverTrainingOptions::settings().size(), 14u);
+  expect_every_number_is_an_option<HoverTrainingOptions>(
+      [](ConfigSchema& s) { declare_hover_config(s); },
+      [](const ConfigSchema& s) { return read_hover_config(s, 7).training; });
+}
+
+TEST(HoverSettingsConfig, IsValidRefusesEachNumberBeyondItsBoundsNamingItAndItsRange) {
+  expect_is_valid_bounds_every_number<HoverTrainingOptions>();
+}
+
+TEST(ManeuverSettingsConfig,
+     EveryNumberIsAnOptionOfManeuverWithItsDefaultHelpAndBoundsAndIsReadIntoItsMember) {
+  ASSERT_EQ(number_settings<ManeuverTrainingOptions>().size(), 7u);
+  expect_every_number_is_an_option<ManeuverTrainingOptions>(
+      [](ConfigSchema& s) { declare_maneuver_config(s); },
+      [](const ConfigSchema& s) { return read_maneuver_config(s, 7).training; });
+}
+
+TEST(ManeuverSettingsConfig, IsValidRefusesEachNumberBeyondItsBoundsNamingItAndItsRange) {
+  expect_is_valid_bounds_every_number<ManeuverTrainingOptions>();
+}
+
+// The flights of `fly` start as perturbed as hover training's scenarios, from the same description; a
+// manoeuvre's command margin is hover's, described once.
+TEST(HoverSettingsConfig, FlyAndManeuverTakeTheSharedNumbersFromTheDescription) {
+  ConfigSchema hover;
+  declare_hover_config(hover);
   for (const char* key : {"start_pos_sigma", "start_vel_sigma"}) {
     SCOPED_TRACE(key);
-    ConfigSchema hover;
-    declare_hover_config(hover);
     ConfigSchema fly;
     declare_fly_config(fly);
     EXPECT_EQ(fly.field(key).help(), hover.field(key).help());
     EXPECT_EQ(fly.field(key).expectation(), hover.field(key).expectation());
     EXPECT_EQ(std::get<double>(fly.field(key).default_value()), number_of(HoverTrainingOptions{}, key).value);
   }
+  ConfigSchema maneuver;
+  declare_maneuver_config(maneuver);
+  EXPECT_EQ(maneuver.field("command_margin").help(), hover.field("command_margin").help());
+  EXPECT_EQ(maneuver.field("command_margin").expectation(), hover.field("command_margin").expectation());
+  EXPECT_EQ(ManeuverTrainingOptions{}.command_margin, HoverTrainingOptions{}.command_margin);
 }
 
 }  // namespace

@@ -4,6 +4,9 @@
 // list come the command's options with their bounds, the reading of a config, IsValid's bounds and the Python
 // fields with their docs.
 #include <string>
+#include <string_view>
+#include <type_traits>
+#include <vector>
 
 namespace pegasus {
 
@@ -22,5 +25,44 @@ struct NumberSetting {
   // "NAME: expected WHAT in RANGE UNIT, got X" (what: "a number", "an integer", "numbers").
   std::string refusal(const std::string& name, const char* what, double x) const;
 };
+
+// For a settings struct whose VisitFields offers `setting(NumberSetting, &Options::member)` for each of its
+// numbers (an int or a double member, named by the key): the settings in order, and the first value out of
+// its bounds.
+namespace detail {
+template <class Options>
+struct NumberSettingsList {
+  std::vector<NumberSetting> settings;
+  template <class T>
+  void setting(const NumberSetting& s, T Options::* /*member*/) {
+    settings.push_back(s);
+  }
+};
+template <class Options>
+struct NumberBoundsCheck {
+  const Options& o;
+  std::string error;
+  template <class T>
+  void setting(const NumberSetting& s, T Options::*member) {
+    const auto x = static_cast<double>(o.*member);
+    if (error.empty() && !s.within(x))
+      error = s.refusal(s.key, std::is_integral_v<T> ? "an integer" : "a number", x);
+  }
+};
+}  // namespace detail
+
+template <class Options>
+std::vector<NumberSetting> number_settings() {
+  detail::NumberSettingsList<Options> v;
+  Options::VisitFields(v);
+  return v.settings;
+}
+// "KEY: expected a number in [0, 1], got 2" for the first number outside its bounds (NaN included), or "".
+template <class Options>
+std::string numbers_out_of_bounds(const Options& o) {
+  detail::NumberBoundsCheck<Options> v{o, {}};
+  Options::VisitFields(v);
+  return v.error;
+}
 
 }  // namespace pegasus

@@ -32,6 +32,7 @@
 #include <span>
 #include <string>
 
+#include "pegasus/core/number_setting.hpp"
 #include "pegasus/heli/aircraft.hpp"
 #include "pegasus/policies/parameter_spec.hpp"
 
@@ -120,6 +121,16 @@ std::string command_limits_line(const HoverPolicyInit& limits, double margin);
 // The margin hover and manoeuvre training widen the logged range by (HoverTrainingOptions::command_margin).
 // 100 or more: every limit past [-1, 1], no limits.
 inline constexpr double kDefaultCommandMargin = 0.5, kMaxCommandMargin = 100;
+// The margin as a setting of hover's and maneuver's training options (their VisitFields).
+inline constexpr NumberSetting kCommandMarginSetting{
+    "command_margin",
+    0,
+    kMaxCommandMargin,
+    false,
+    "",
+    "on a global linear model, the policy's commands stay within the range each control held in the logs, "
+    "widened by this fraction of its width per side (the model extrapolates beyond them; a locally weighted "
+    "model crashes off its data instead); 100: [-1, 1]"};
 
 class HoverPolicy {
  public:

@@ -304,11 +304,7 @@ struct HoverTrainingOptions {
          "starts at its error gain / this (LQR start: doubled until stable on the linear model); 0: none "
          "(the thesis's class)"},
         &O::integral_seconds);
-    v.setting({"command_margin", 0, kMaxCommandMargin, false, "",
-               "on a global linear model, the policy's commands stay within the range each control held in "
-               "the logs, widened by this fraction of its width per side (the model extrapolates beyond "
-               "them; a locally weighted model crashes off its data instead); 100: [-1, 1]"},
-              &O::command_margin);
+    v.setting(kCommandMarginSetting, &O::command_margin);
     v.setting({"integral_limit_position", 0, 1e6, true, "m s",
                "anti-windup: the position error integral's limit per axis, m s"},
               &O::integral_limit_position);

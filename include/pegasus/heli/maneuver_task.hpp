@@ -27,6 +27,8 @@
 #include <string>
 #include <vector>
 
+#include "pegasus/core/number_setting.hpp"
+#include "pegasus/core/reward_limits.hpp"
 #include "pegasus/heli/aircraft.hpp"
 #include "pegasus/heli/maneuver_policy.hpp"
 #include "pegasus/heli/path_observer.hpp"
@@ -134,6 +136,27 @@ struct ManeuverTrainingOptions {
   double command_margin = kDefaultCommandMargin;
   OptimizerOptions optimizer = default_optimizer();
   std::uint64_t seed = 1;
+
+  // Every number `maneuver` takes as an option, once (issue 49 item 1; as HoverTrainingOptions::VisitFields):
+  // the visitor's `setting(NumberSetting, &ManeuverTrainingOptions::member)`, the key the member's name. From
+  // it come the options (default, help, bounds), their reading and IsValid's bounds.
+  template <class Visitor>
+  static void VisitFields(Visitor& v) {
+    using O = ManeuverTrainingOptions;
+    v.setting({"scenarios", 1, 100000, false, "", "PEGASUS scenarios m"}, &O::scenarios);
+    v.setting({"gamma", 0, 1, true, "", "discount per 50 Hz step"}, &O::gamma);
+    v.setting({"refit_every", 1, 1000, false, "steps",
+               "learned model: 50 Hz steps between local-regression refits"},
+              &O::refit_every);
+    v.setting({"start_pos_sigma", 0, 10, false, "m", "start position perturbation per axis, m"},
+              &O::start_pos_sigma);
+    v.setting({"start_vel_sigma", 0, 10, false, "m/s", "start velocity perturbation per axis, m/s"},
+              &O::start_vel_sigma);
+    v.setting({"shaping_per_metre", 0, kMaxRewardWeight, false, "per m",
+               "shaping potential per m of progress along the path"},
+              &O::shaping_per_metre);
+    v.setting(kCommandMarginSetting, &O::command_margin);
+  }
 
   static OptimizerOptions default_optimizer();
   bool IsValid(std::string* error) const;

@@ -26,6 +26,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <variant>
 #include <vector>
 
@@ -221,5 +222,50 @@ class ConfigSchema {
 // by RunSink::named, which names a file in a summary or a printed line as a config names it.
 std::string path_under(const std::filesystem::path& base, const std::string& file);
 std::string path_named_from(const std::filesystem::path& base, const std::string& path);
+
+// For a settings struct whose VisitFields offers `setting(NumberSetting, &Options::member)` for each number
+// (core/number_setting.hpp): each as an option KEY with the default's value, its bounds, and its help after
+// `prefix` (only the one named `only` where given); and each read into its member.
+namespace detail {
+template <class Options>
+struct DeclareNumbers {
+  ConfigSchema& s;
+  const Options& defaults;
+  std::string_view only;
+  const std::string& prefix;
+  template <class T>
+  void setting(const NumberSetting& n, T Options::*member) {
+    if (!only.empty() && only != n.key) return;
+    if constexpr (std::is_integral_v<T>)
+      s.add_int(n.key, defaults.*member, prefix + n.help).bounds(n);
+    else
+      s.add_double(n.key, defaults.*member, prefix + n.help).bounds(n);
+  }
+};
+template <class Options>
+struct ReadNumbers {
+  const ConfigSchema& c;
+  Options& o;
+  template <class T>
+  void setting(const NumberSetting& n, T Options::*member) {
+    if constexpr (std::is_integral_v<T>)
+      o.*member = static_cast<T>(c.get_int(n.key));
+    else
+      o.*member = c.get_double(n.key);
+  }
+};
+}  // namespace detail
+
+template <class Options>
+void declare_numbers(ConfigSchema& s, const Options& defaults, std::string_view only = {},
+                     const std::string& prefix = {}) {
+  detail::DeclareNumbers<Options> v{s, defaults, only, prefix};
+  Options::VisitFields(v);
+}
+template <class Options>
+void read_numbers(const ConfigSchema& c, Options& o) {
+  detail::ReadNumbers<Options> v{c, o};
+  Options::VisitFields(v);
+}
 
 }  // namespace pegasus
