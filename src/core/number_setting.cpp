@@ -5,7 +5,7 @@
 namespace pegasus {
 
 std::string NumberSetting::range() const {
-  return fmt::format("{}{:g}, {:g}]", lower_open ? "(" : "[", lower, upper);
+  return fmt::format("{}{}, {}]", lower_open ? "(" : "[", lower, upper);
 }
 
 std::string NumberSetting::range_in_unit() const { return *unit != '\0' ? range() + " " + unit : range(); }

@@ -419,7 +419,7 @@ TEST(HoverTraining, IntegralTermTrainsThirtyEightWeightsAndItsLqrStartHoldsTheLi
   o.integral_seconds = 5;
   o.integral_limit_yaw = 0;
   EXPECT_FALSE(o.IsValid(&why));
-  EXPECT_EQ(why, "integral_limit_yaw: expected a number in (0, 1e+06] rad s, got 0");
+  EXPECT_EQ(why, "integral_limit_yaw: expected a number in (0, 1000000] rad s, got 0");
 }
 
 }  // namespace

@@ -18,7 +18,8 @@ struct NumberSetting {
   const char* help;     // the option's one line
 
   bool within(double x) const { return (lower_open ? x > lower : x >= lower) && x <= upper; }
-  // "[0, 30]" or "(0, 3600]".
+  // "[0, 30]" or "(0, 3600]", the numbers written as an option's expectation writes them (1e12:
+  // 1000000000000).
   std::string range() const;
   // The range and the unit: "[0, 30] m/s", "[0, 1]".
   std::string range_in_unit() const;
