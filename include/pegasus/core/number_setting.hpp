@@ -1,8 +1,8 @@
 #pragma once
 // A number setting described once (issue 49 item 1): its key, bounds, unit and one-line help. A settings
-// struct lists its numbers in a VisitFields (sysid::Disturbance, heli::HoverTrainingOptions); from that one
-// list come the command's options with their bounds, the reading of a config, IsValid's bounds and the Python
-// fields with their docs.
+// struct lists its numbers in a VisitFields (sysid::Disturbance, heli::HoverTrainingOptions,
+// heli::ManeuverTrainingOptions); from that one list come the command's options with their bounds, the
+// reading of a config, IsValid's bounds and the Python fields with their docs.
 #include <string>
 #include <string_view>
 #include <type_traits>
