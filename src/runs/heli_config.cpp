@@ -173,15 +173,10 @@ void declare_identify_config(ConfigSchema& s) {
              "use the flapping and yaw-gyro states of the published model");
   s.add_bool("intercept", id.structure.intercept, "regress on a constant");
   s.add_bool("templates", id.structure.templates, "fix kinematic and gravity coefficients (thesis 5.2.2)");
-  s.add_double("window_s", id.window_s,
-               "cross-validation leaves out this window around each held-out point, s")
-      .range(0, 1000);
-  s.add_int("cv_points", id.cv_points, "held-out points per cross-validation evaluation").range(10, 100000);
+  declare_numbers(s, id);  // IdentifyOptions::VisitFields
   s.add_double_list("scale_grid", id.scale_grid, "bandwidths tried, in input standard deviations")
       .min(1e-6)
       .min_size(1);
-  s.add_int("coordinate_passes", id.coordinate_passes, "passes of per-input bandwidth refinement")
-      .range(0, 10);
   declare_bandwidth_floor(s);
   s.add_string(
        "noise", sysid::to_string(id.noise),
@@ -203,13 +198,6 @@ void declare_identify_config(ConfigSchema& s) {
       "with calibrate_noise, also measure a factor on each output's sd at each model step after a reset "
       "for what the scaled noise still misstates there; the bands the model reports carry it, the noise "
       "it flies does not");
-  s.add_double("calibration_leave_out_s", id.calibration_leave_out_s,
-               "calibrate_noise predicts each window without the training rows within half this of it (0: in "
-               "sample), s")
-      .range(0, 1000);
-  s.add_double("calibration_spacing_s", id.calibration_spacing_s,
-               "calibrate_noise starts a window this often on the training log (overlapping windows), s")
-      .range(0.01, 1000);
   s.add_double("horizon_s", d.horizon_s, "longest prediction horizon of the report, s").range(0.1, 100);
   s.add_double("start_spacing_s", d.start_spacing_s,
                "spacing of the open-loop prediction starts on the test log, s")
@@ -252,17 +240,13 @@ IdentifyRunOptions read_identify_config(const ConfigSchema& c) {
   id.structure.templates = c.get_bool("templates");
   id.local = c.get_bool("local");
   o.choose_class = c.origin("local") == "default";
-  id.window_s = c.get_double("window_s");
-  id.cv_points = static_cast<int>(c.get_int("cv_points"));
+  read_numbers(c, id);
   id.scale_grid = c.get_double_list("scale_grid");
-  id.coordinate_passes = static_cast<int>(c.get_int("coordinate_passes"));
   id.min_bandwidth = read_bandwidth_floor(c);
   id.noise = sysid::parse_noise_model(c.get_string("noise"));
   id.calibrate_noise = c.get_bool("calibrate_noise");
   o.choose_noise = c.origin("noise") == "default" && c.origin("calibrate_noise") == "default";
   id.horizon_sd_factors = c.get_bool("horizon_sd_factors");
-  id.calibration_leave_out_s = c.get_double("calibration_leave_out_s");
-  id.calibration_spacing_s = c.get_double("calibration_spacing_s");
   return o;
 }
 
@@ -452,16 +436,12 @@ void declare_pipeline_config(ConfigSchema& s) {
             "(identify --noise-check-logs): more steps a cell make the check sharper")
       .range(0, 100);
   s.add_double("noise_check_seconds", 140, "each noise-check flight, s").range(20, 36000);
-  s.add_int("cv_points", identify_defaults.cv_points,
-            "identification: held-out points per cross-validation evaluation")
-      .range(10, 100000);
+  declare_numbers(s, identify_defaults, "cv_points", "identification: ");
   s.add_double_list("scale_grid", identify_defaults.scale_grid,
                     "identification: bandwidths tried, in input standard deviations")
       .min(1e-6)
       .min_size(1);
-  s.add_int("coordinate_passes", identify_defaults.coordinate_passes,
-            "identification: passes of per-input bandwidth refinement")
-      .range(0, 10);
+  declare_numbers(s, identify_defaults, "coordinate_passes", "identification: ");
   s.add_int("scenarios", hover_defaults.scenarios, "hover training: PEGASUS scenarios").range(1, 100000);
   s.add_double("scenario_seconds", hover_defaults.seconds, "hover training: flight per scenario, s")
       .greater_than(0)

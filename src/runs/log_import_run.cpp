@@ -288,15 +288,9 @@ void declare_log_import_config(ConfigSchema& s) {
       .range(0.1, 0.95);
   s.add_bool("local", LogImportRunOptions{}.identification.local,
              "locally weighted regression (false: globally linear)");
-  s.add_double("window_s", LogImportRunOptions{}.identification.window_s,
-               "cross-validation leaves out this window around each held-out point, s")
-      .range(0, 1000);
-  s.add_int("cv_points", LogImportRunOptions{}.identification.cv_points,
-            "held-out points per cross-validation evaluation")
-      .range(10, 100000);
-  s.add_int("coordinate_passes", LogImportRunOptions{}.identification.coordinate_passes,
-            "passes of per-input bandwidth refinement")
-      .range(0, 10);
+  const sysid::IdentifyOptions identification = LogImportRunOptions{}.identification;
+  for (const char* key : {"window_s", "cv_points", "coordinate_passes"})  // IdentifyOptions::VisitFields
+    declare_numbers(s, identification, key);
   heli::declare_bandwidth_floor(s);
   s.add_double("start_spacing_s", LogImportRunOptions{}.start_spacing_s,
                "spacing of the open-loop prediction starts on the hold-out part, s")
@@ -314,9 +308,7 @@ LogImportRunOptions read_log_import_config(const ConfigSchema& c) {
                         .train_fraction = c.get_double("train_fraction"),
                         .start_spacing_s = c.get_double("start_spacing_s")};
   o.identification.local = c.get_bool("local");
-  o.identification.window_s = c.get_double("window_s");
-  o.identification.cv_points = static_cast<int>(c.get_int("cv_points"));
-  o.identification.coordinate_passes = static_cast<int>(c.get_int("coordinate_passes"));
+  read_numbers(c, o.identification);  // the three it declares
   o.identification.min_bandwidth = heli::read_bandwidth_floor(c);
   return o;
 }

@@ -48,14 +48,10 @@ bool IdentifyOptions::IsValid(std::string* error) const {
     return false;
   };
   if (!(structure.rate_hz > 0)) return fail("rate_hz must be positive");
-  if (!(window_s >= 0)) return fail("window_s must be >= 0");
-  if (cv_points < 10) return fail("cv_points must be >= 10");
+  if (const std::string out = numbers_out_of_bounds(*this); !out.empty()) return fail(out);
   if (scale_grid.empty()) return fail("scale_grid must not be empty");
   for (double s : scale_grid)
     if (!(s > 0)) return fail("scale_grid values must be positive");
-  if (coordinate_passes < 0) return fail("coordinate_passes must be >= 0");
-  if (!(calibration_leave_out_s >= 0)) return fail("calibration_leave_out_s must be >= 0");
-  if (!(calibration_spacing_s > 0)) return fail("calibration_spacing_s must be positive");
   return true;
 }
 

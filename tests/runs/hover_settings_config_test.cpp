@@ -13,7 +13,9 @@
 #include "pegasus/heli/maneuver_task.hpp"
 #include "pegasus/runs/heli_config.hpp"
 #include "pegasus/runs/heli_runs.hpp"
+#include "pegasus/runs/log_import_run.hpp"
 #include "pegasus/runs/maneuver_config.hpp"
+#include "pegasus/sysid/identify.hpp"
 #include "support/input_error.hpp"
 
 namespace pegasus::heli {
@@ -116,7 +118,7 @@ void expect_is_valid_bounds_every_number() {
     for (const double bad : {above(setting), below(setting)}) {
       set_number(o, setting.key, bad);
       EXPECT_FALSE(o.IsValid(&error)) << bad;
-      EXPECT_EQ(error.rfind(std::string(setting.key) + ": expected", 0), 0u) << error;
+      EXPECT_NE(error.find(std::string(setting.key) + ": expected"), std::string::npos) << error;
       EXPECT_NE(error.find(setting.range()), std::string::npos) << error;
     }
     if (!integer) {
@@ -147,6 +149,42 @@ TEST(ManeuverSettingsConfig,
 
 TEST(ManeuverSettingsConfig, IsValidRefusesEachNumberBeyondItsBoundsNamingItAndItsRange) {
   expect_is_valid_bounds_every_number<ManeuverTrainingOptions>();
+}
+
+TEST(IdentifySettingsConfig,
+     EveryNumberIsAnOptionOfIdentifyWithItsDefaultHelpAndBoundsAndIsReadIntoItsMember) {
+  ASSERT_EQ(number_settings<sysid::IdentifyOptions>().size(), 5u);
+  expect_every_number_is_an_option<sysid::IdentifyOptions>(
+      [](ConfigSchema& s) { declare_identify_config(s); },
+      [](const ConfigSchema& s) { return read_identify_config(s).identify; });
+}
+
+TEST(IdentifySettingsConfig, IsValidRefusesEachNumberBeyondItsBoundsNamingItAndItsRange) {
+  expect_is_valid_bounds_every_number<sysid::IdentifyOptions>();
+}
+
+// `pipeline` and `log import` take some of identify's numbers, from the same description (log import with its
+// own default window).
+TEST(IdentifySettingsConfig, PipelineAndLogImportTakeIdentifysNumbersFromTheDescription) {
+  ConfigSchema identify, pipeline, import;
+  declare_identify_config(identify);
+  declare_pipeline_config(pipeline);
+  declare_log_import_config(import);
+  for (const char* key : {"cv_points", "coordinate_passes"}) {
+    SCOPED_TRACE(key);
+    EXPECT_EQ(pipeline.field(key).help(), "identification: " + identify.field(key).help());
+    EXPECT_EQ(pipeline.field(key).expectation(), identify.field(key).expectation());
+  }
+  for (const char* key : {"window_s", "cv_points", "coordinate_passes"}) {
+    SCOPED_TRACE(key);
+    EXPECT_EQ(import.field(key).help(), identify.field(key).help());
+    EXPECT_EQ(import.field(key).expectation(), identify.field(key).expectation());
+  }
+  EXPECT_EQ(std::get<double>(import.field("window_s").default_value()), 8.0);
+  import.set("window_s", 3.5, "--window-s");
+  import.set("cv_points", std::int64_t{40}, "--cv-points");
+  EXPECT_EQ(read_log_import_config(import).identification.window_s, 3.5);
+  EXPECT_EQ(read_log_import_config(import).identification.cv_points, 40);
 }
 
 // The flights of `fly` start as perturbed as hover training's scenarios, from the same description; a

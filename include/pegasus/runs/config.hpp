@@ -225,7 +225,7 @@ std::string path_named_from(const std::filesystem::path& base, const std::string
 
 // For a settings struct whose VisitFields offers `setting(NumberSetting, &Options::member)` for each number
 // (core/number_setting.hpp): each as an option KEY with the default's value, its bounds, and its help after
-// `prefix` (only the one named `only` where given); and each read into its member.
+// `prefix` (only the one named `only` where given); and each the schema declares read into its member.
 namespace detail {
 template <class Options>
 struct DeclareNumbers {
@@ -248,6 +248,7 @@ struct ReadNumbers {
   Options& o;
   template <class T>
   void setting(const NumberSetting& n, T Options::*member) {
+    if (!c.has(n.key)) return;  // a command that declares some of them (log import's identification)
     if constexpr (std::is_integral_v<T>)
       o.*member = static_cast<T>(c.get_int(n.key));
     else

@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "pegasus/core/number_setting.hpp"
 #include "pegasus/parallel/thread_pool.hpp"
 #include "pegasus/sysid/body_model.hpp"
 #include "pegasus/sysid/lwr.hpp"
@@ -138,6 +139,27 @@ struct IdentifyOptions {
   std::vector<double> scale_grid{0.5, 1, 2, 4, 8};  // bandwidth = scale * input standard deviation
   int coordinate_passes = 1;  // passes of per-input refinement (x0.5, x2, ignore) after the grid
   bool IsValid(std::string* error) const;
+
+  // Its numbers, once (issue 49 item 1; core/number_setting.hpp): `identify`'s options with their bounds and
+  // reading, the same options of `pipeline` and `log import`, and IsValid's bounds.
+  template <class Visitor>
+  static void VisitFields(Visitor& v) {
+    using O = IdentifyOptions;
+    v.setting({"window_s", 0, 1000, false, "s",
+               "cross-validation leaves out this window around each held-out point, s"},
+              &O::window_s);
+    v.setting({"cv_points", 10, 100000, false, "", "held-out points per cross-validation evaluation"},
+              &O::cv_points);
+    v.setting({"coordinate_passes", 0, 10, false, "", "passes of per-input bandwidth refinement"},
+              &O::coordinate_passes);
+    v.setting({"calibration_leave_out_s", 0, 1000, false, "s",
+               "calibrate_noise predicts each window without the training rows within half this of it (0: in "
+               "sample), s"},
+              &O::calibration_leave_out_s);
+    v.setting({"calibration_spacing_s", 0.01, 1000, false, "s",
+               "calibrate_noise starts a window this often on the training log (overlapping windows), s"},
+              &O::calibration_spacing_s);
+  }
 };
 
 // An identified model: the data, the bandwidth, the noise, the structure. Immutable; shared by threads.
