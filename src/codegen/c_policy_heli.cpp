@@ -124,7 +124,7 @@ std::string heli_description(const std::string& what) {
   return what +
          "\n * The observation is exactly what `pegasus heli control` reads as a 13-field line (time, then "
          "the"
-         "\n * flight log's 12 state columns of sysid/flight_log.hpp); the action is its output line.";
+         "\n * flight log's 12 state columns of vehicle/flight_log.hpp); the action is its output line.";
 }
 
 ClassText heli_class(const heli::PolicyFile& file, const std::vector<double>& hover_weights) {

@@ -391,16 +391,6 @@ Vehicle vehicle(const toml::table& root, const std::filesystem::path& file) {
 
 }  // namespace
 
-std::vector<std::string> VehicleLogSpec::topic_names() const {
-  std::vector<std::string> out;
-  auto add = [&](const std::string& t) {
-    if (std::find(out.begin(), out.end(), t) == out.end()) out.push_back(t);
-  };
-  for (const auto* t : {&position, &velocity, &attitude, &rates}) add(t->topic);
-  for (const auto& c : controls) add(c.topic);
-  return out;
-}
-
 Vehicle read_vehicle(const std::filesystem::path& file) {
   return vehicle(read_toml_input(file, "vehicle"), file);
 }
@@ -437,88 +427,6 @@ Vehicle xcell_vehicle() {
   v.starting_gains = "constant";
   v.integral_seconds = 0;
   return v;
-}
-
-heli::Controls Vehicle::axes_of(std::span<const double> native) const {
-  heli::Controls a{};
-  for (std::size_t c = 0; c < 4; ++c)
-    a[static_cast<std::size_t>(log.controls[c].column(c))] =
-        log.controls[c].scale * native[c] + log.controls[c].offset;
-  return a;
-}
-
-std::array<double, 4> Vehicle::native_of(const heli::Controls& axes) const {
-  std::array<double, 4> native{};
-  for (std::size_t c = 0; c < 4; ++c) {
-    const ControlChannel& ch = log.controls[c];
-    native[c] = (axes[static_cast<std::size_t>(ch.column(c))] - ch.offset) / ch.scale;
-  }
-  return native;
-}
-
-std::vector<std::string> Vehicle::state_fields() const {
-  std::vector<std::string> out;
-  for (const auto* q : {&log.position, &log.velocity, &log.attitude, &log.rates})
-    out.insert(out.end(), q->fields.begin(), q->fields.end());
-  return out;
-}
-
-heli::LoggedState Vehicle::state_of(std::span<const double> v) const {
-  const bool quaternion = log.attitude_form == "quaternion";
-  const std::size_t rates_at = quaternion ? 10 : 9;
-  // Each step below is skipped under the pipeline's own conventions: their logs read bit for bit as before.
-  heli::Euler e{v[6], v[7], v[8]};
-  if (quaternion) {
-    e = native_euler_of_quaternion(log, v.data() + 6);
-  } else if (log.attitude_unit != "rad") {
-    const double k = radians_per_attitude_unit(log);
-    e = heli::Euler{e.roll * k, e.pitch * k, e.yaw * k};
-  }
-  e = euler_of(log, e);
-  const heli::Vec3 p = world_vector_of(log, heli::Vec3(v[0], v[1], v[2]));
-  heli::Vec3 vel(v[3], v[4], v[5]);
-  if (log.velocity_frame == "body")
-    vel = heli::world_from_body(e, body_vector_of(log, vel));
-  else
-    vel = world_vector_of(log, vel);
-  heli::Vec3 w(v[rates_at], v[rates_at + 1], v[rates_at + 2]);
-  if (log.rates_unit != "rad/s") w *= radians_per_rates_unit(log);
-  if (log.rates_form == "body")
-    w = heli::euler_rates_from_body_rates(e, body_vector_of(log, w));
-  else
-    w = euler_rates_of(log, w);
-  heli::LoggedState s{};
-  s[heli::logged::x] = p.x(), s[heli::logged::y] = p.y(), s[heli::logged::z] = p.z();
-  s[heli::logged::roll] = e.roll, s[heli::logged::pitch] = e.pitch, s[heli::logged::yaw] = e.yaw;
-  s[heli::logged::xdot] = vel.x(), s[heli::logged::ydot] = vel.y(), s[heli::logged::zdot] = vel.z();
-  s[heli::logged::roll_rate] = w.x(), s[heli::logged::pitch_rate] = w.y(), s[heli::logged::yaw_rate] = w.z();
-  return s;
-}
-
-std::vector<double> Vehicle::native_state(const heli::LoggedState& s) const {
-  namespace logged = heli::logged;
-  const heli::Euler e{s[logged::roll], s[logged::pitch], s[logged::yaw]};
-  const heli::Vec3 p = native_world_vector(log, heli::Vec3(s[logged::x], s[logged::y], s[logged::z]));
-  heli::Vec3 velocity(s[logged::xdot], s[logged::ydot], s[logged::zdot]);
-  velocity = log.velocity_frame == "body" ? native_body_vector(log, heli::body_from_world(e, velocity))
-                                          : native_world_vector(log, velocity);
-  heli::Vec3 rates(s[logged::roll_rate], s[logged::pitch_rate], s[logged::yaw_rate]);
-  rates = log.rates_form == "body" ? native_body_vector(log, heli::body_rates_from_euler_rates(e, rates))
-                                   : native_euler_rates(log, rates);
-  if (log.rates_unit != "rad/s") rates /= radians_per_rates_unit(log);
-  std::vector<double> out{p.x(), p.y(), p.z(), velocity.x(), velocity.y(), velocity.z()};
-  const heli::Euler n = native_euler(log, e);
-  if (log.attitude_form == "quaternion") {
-    for (const double q : native_quaternion(log, n)) out.push_back(q);
-  } else {
-    const double k = radians_per_attitude_unit(log);
-    if (log.attitude_unit != "rad")
-      out.insert(out.end(), {n.roll / k, n.pitch / k, n.yaw / k});
-    else
-      out.insert(out.end(), {n.roll, n.pitch, n.yaw});
-  }
-  out.insert(out.end(), {rates.x(), rates.y(), rates.z()});
-  return out;
 }
 
 }  // namespace pegasus::logs

@@ -36,7 +36,7 @@
 
 namespace pegasus::heli {
 
-// The 12 logged states of §5.1: LoggedState (heli/state.hpp); Controls and CrashReason: ground_truth.hpp.
+// The 12 logged states of §5.1: LoggedState and Controls (vehicle/state.hpp); CrashReason: ground_truth.hpp.
 
 struct AircraftParams {
   // --- Rigid body [GMF01, Table 1] ---

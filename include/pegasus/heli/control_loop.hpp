@@ -6,7 +6,7 @@
 //   12 fields: x,y,z,roll,pitch,yaw,xdot,ydot,zdot,roll_rate,pitch_rate,yaw_rate (the log's state columns);
 //   13 fields: the time, then the 12 states (a log row without its controls);
 //   17 fields: the time, the 12 states, a1..a4 (a whole log row; the controls are ignored).
-// Units and frames as in the flight logs (sysid/flight_log.hpp). The controller's time is the line's time
+// Units and frames as in the flight logs (vehicle/flight_log.hpp). The controller's time is the line's time
 // when it has one, else the data line's index times dt (0, 0.02, 0.04, ... for a 50 Hz policy).
 // Output: exactly one line per input line, "a1,a2,a3,a4" (shortest round-trip decimals), flushed at once.
 // A first line with a field that is not a number is a header, answered with the header "a1,a2,a3,a4". It
@@ -18,11 +18,11 @@
 // (and one error line each), and the command ends with exit code 2 at the end of the input. A state is never
 // read by position under a header that does not say where it is. A line longer than 64 KiB is malformed
 // (memory stays bounded whatever the input).
-// Another aircraft's layout (a vehicle file, logs/vehicle.hpp: `pegasus control --vehicle`) replaces the 12
-// state fields, their conversion, and the controls' names, order and scaling: ControlLineFormat. A malformed
-// line (wrong field count, a field that is not a finite number) is answered with the SAFE OUTPUT, the hover
-// trim controls stored in the policy file, and one line "stdin:LINE: <what was wrong>; answered the trim
-// controls" goes to the error stream. Nothing stops the loop but the end of the input. The input is one
+// Another aircraft's layout (a vehicle file, vehicle/vehicle.hpp: `pegasus control --vehicle`) replaces the
+// 12 state fields, their conversion, and the controls' names, order and scaling: ControlLineFormat. A
+// malformed line (wrong field count, a field that is not a finite number) is answered with the SAFE OUTPUT,
+// the hover trim controls stored in the policy file, and one line "stdin:LINE: <what was wrong>; answered the
+// trim controls" goes to the error stream. Nothing stops the loop but the end of the input. The input is one
 // flight, or several separated by the line "reset" (kResetLine, answered "reset"): a controller with memory
 // (the hover class's integral term) starts a flight at its first well-formed line and advances it once per
 // well-formed line (a malformed line leaves it as it was); "reset" clears it and the clock.

@@ -20,18 +20,9 @@
 
 namespace pegasus::heli {
 
-inline constexpr std::array<const char*, 4> kControlNames = {"a1", "a2", "a3", "a4"};
-using Controls = std::array<double, 4>;
-
 // The most integration substeps per control step a built-in aircraft takes: it bounds the work of one step
 // (10^9 made one step run for minutes).
 inline constexpr int kMaxSubsteps = 10000;
-
-// The axes a1..a4 drive, by name (vehicle files name them so), and where each lives in Controls.
-inline constexpr std::array<const char*, 4> kControlAxisNames = {"pitch", "roll", "thrust", "yaw"};
-namespace control_axis {
-inline constexpr std::size_t pitch = 0, roll = 1, thrust = 2, yaw = 3;
-}  // namespace control_axis
 
 enum class CrashReason : int {
   kNone = 0,

@@ -70,9 +70,9 @@ struct HoverReward {
   Controls centre{0, 0, 0, 0};
   std::array<double, 2> alpha_attitude{0, 0};  // per rad^2 of roll and pitch (about level)
   std::array<double, 3> alpha_rate{0, 0, 0};   // per (rad/s)^2 of the roll, pitch and yaw rates
-  // A judged cost's terms (logs/vehicle.hpp's [cost]; 0 by default): per (rad/s)^2 of the body rates p, q, r
-  // (FRD), and per unit^2 of the vector part of the attitude's rotation from the set point's attitude (level,
-  // at the set point's yaw) in body axes: (x, y, z) of the quaternion of R_z(yaw*)^T R, which is
+  // A judged cost's terms (vehicle/vehicle.hpp's [cost]; 0 by default): per (rad/s)^2 of the body rates p, q,
+  // r (FRD), and per unit^2 of the vector part of the attitude's rotation from the set point's attitude
+  // (level, at the set point's yaw) in body axes: (x, y, z) of the quaternion of R_z(yaw*)^T R, which is
   // quaternion_from_euler(roll, pitch, wrap(yaw - yaw*)) (the sign of a quaternion does not change its
   // squares).
   std::array<double, 3> alpha_body_rate{0, 0, 0};

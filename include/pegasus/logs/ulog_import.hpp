@@ -1,5 +1,5 @@
 #pragma once
-// A PX4 ULog flight turned into the project's CSV flight log (sysid/flight_log.hpp): the topics a vehicle
+// A PX4 ULog flight turned into the project's CSV flight log (vehicle/flight_log.hpp): the topics a vehicle
 // file's [log] section names are aligned on one time grid at a constant rate, resampled, converted to the
 // log's frames (world NED position and velocity, Z-Y-X Euler angles, Euler-angle rates) and its four
 // control columns. The README's "Vehicle files: the [log] section" documents the schema.

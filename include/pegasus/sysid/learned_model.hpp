@@ -19,8 +19,8 @@
 // weight below exp(-support_bandwidths^2 / 2)); also when |roll| or |pitch| exceeds max_tilt_rad or the state
 // is not finite, and (each off by default) when the position leaves the start's set point by more than
 // max_position_error_m, the speed exceeds max_speed_mps or any Euler-angle rate max_rate_radps (a judged
-// cost's envelope, logs/vehicle.hpp's [envelope]). The crashing transition pays crash_reward (-50000) and the
-// state is absorbing.
+// cost's envelope, vehicle/vehicle.hpp's [envelope]). The crashing transition pays crash_reward (-50000) and
+// the state is absorbing.
 //
 // Wind (issue 53; off by default, and then no arithmetic and no draw changes): the air moves at
 //   w_W = wind + wind_sigma * (n0, n1, 0) + gust
@@ -39,61 +39,11 @@
 #include <string>
 #include <vector>
 
-#include "pegasus/core/number_setting.hpp"
 #include "pegasus/models/action_space.hpp"
 #include "pegasus/sysid/identify.hpp"
+#include "pegasus/vehicle/disturbance.hpp"
 
 namespace pegasus::sysid {
-
-// One setting of Disturbance, described once (Disturbance::VisitFields). From it come `hover`'s and
-// `maneuver`'s options `wind.KEY` (help, bounds, the default), a vehicle file's `[hover.wind] KEY` (allowed,
-// read, bounded), the reading of both, IsValid, summary.json's `wind` object and the Python field.
-struct DisturbanceSetting : NumberSetting {  // key: after `wind.` in a config, and in [hover.wind]
-  const char* field;                         // Disturbance's member, and Python's field
-  const char* summary_key;                   // in summary.json's `wind`
-};
-
-// The wind the learned model flies in (see above); all zero: calm, as identified.
-struct Disturbance {
-  std::array<double, 3> wind{0, 0, 0};  // steady wind north, east, down, m/s (W)
-  double wind_sigma = 0;                // per-scenario steady wind draw per horizontal axis, m/s
-  double gust_sigma = 0;                // AR(1) gust's standard deviation per axis, m/s
-  double gust_tau_s = 2;                // its correlation time, s
-  bool calm() const { return wind == std::array<double, 3>{0, 0, 0} && wind_sigma == 0 && gust_sigma == 0; }
-  bool IsValid(std::string* error) const;
-
-  // Every setting, once: the visitor's `setting(DisturbanceSetting, &Disturbance::member)` for each, member
-  // a double or the steady wind's 3 numbers. A new setting: its member, its entry here, its use in the model.
-  template <class Visitor>
-  static void VisitFields(Visitor& v) {
-    using D = Disturbance;
-    v.setting(
-        {{"steady", -30, 30, false, "m/s",
-          "steady wind in the scenarios, north, east, down (m/s, NED): the learned model's forces act on "
-          "the airspeed"},
-         "wind",
-         "steady_ned_mps"},
-        &D::wind);
-    v.setting(
-        {{"sigma", 0, 30, false, "m/s",
-          "each scenario's steady wind drawn about wind.steady, per horizontal axis, m/s; with a vehicle "
-          "file and no wind.* or [hover.wind] stated, the default by the model class (1.5 m/s and 0.5 "
-          "m/s gusts for a global linear model, calm for a locally weighted one)"},
-         "wind_sigma",
-         "sigma_mps"},
-        &D::wind_sigma);
-    v.setting({{"gust_sigma", 0, 30, false, "m/s",
-                "AR(1) gusts in the scenarios: standard deviation per axis, m/s"},
-               "gust_sigma",
-               "gust_sigma_mps"},
-              &D::gust_sigma);
-    v.setting(
-        {{"gust_tau_s", 0, 3600, true, "s", "AR(1) gusts: correlation time, s"}, "gust_tau_s", "gust_tau_s"},
-        &D::gust_tau_s);
-  }
-  // The settings in VisitFields's order.
-  static const std::vector<DisturbanceSetting>& settings();
-};
 
 // How often the local regression is refitted by default, wherever the model is stepped (hover and
 // manoeuvre training, the as-trained errors identify reports, horizon_mse): every kRefitSeconds, the thesis's

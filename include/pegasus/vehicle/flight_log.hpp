@@ -19,10 +19,11 @@
 
 namespace pegasus::sysid {
 
-// The state columns are heli::LoggedState's (heli/state.hpp), defined there once.
+// The state and control columns are heli::LoggedState's and heli::Controls' (vehicle/state.hpp), defined
+// there once.
 inline constexpr int kLogStates = heli::kLoggedStates;
 inline constexpr const std::array<const char*, kLogStates>& kLogStateColumns = heli::kLoggedStateNames;
-inline constexpr std::array<const char*, 4> kLogControlColumns = {"a1", "a2", "a3", "a4"};
+inline constexpr const std::array<const char*, 4>& kLogControlColumns = heli::kControlNames;
 
 struct FlightLog {
   std::vector<double> time;                            // s

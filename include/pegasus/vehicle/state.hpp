@@ -1,9 +1,9 @@
 #pragma once
-// The state every part of the helicopter pipeline shares, defined once: the 12 logged states of thesis §5.1,
-// in the flight log's column order (sysid/flight_log.hpp), which the identification, the learned model, the
-// tasks, flights, the control protocol (`heli control`) and the exported controllers all read. A LoggedState
-// is read by name: the accessors give its vector parts in frames.hpp's terms, and logged:: names each column;
-// no code indexes it with a bare number.
+// The state and controls every part of the helicopter pipeline shares, defined once: the 12 logged states of
+// thesis §5.1, in the flight log's column order (vehicle/flight_log.hpp), which the identification, the
+// learned model, the tasks, flights, the control protocol (`heli control`) and the exported controllers all
+// read. A LoggedState is read by name: the accessors give its vector parts in frames.hpp's terms, and
+// logged:: names each column; no code indexes it with a bare number.
 //   x, y, z                          p_W, position in the world frame W (north-east-down), m
 //   roll, pitch, yaw                 Z-Y-X Euler angles, rad
 //   xdot, ydot, zdot                 v_W, velocity in W, m/s
@@ -19,6 +19,17 @@ inline constexpr int kLoggedStates = 12;
 inline constexpr std::array<const char*, kLoggedStates> kLoggedStateNames = {
     "x", "y", "z", "roll", "pitch", "yaw", "xdot", "ydot", "zdot", "roll_rate", "pitch_rate", "yaw_rate"};
 using LoggedState = std::array<double, kLoggedStates>;
+
+// The four controls every aircraft takes, a1..a4 in [-1, 1], one per axis (a vehicle file maps its own
+// channels onto them): a1 pitch (+: nose down, accelerate forward), a2 roll (+: roll right), a3 thrust (+:
+// climb), a4 yaw (+: yaw right, clockwise seen from above).
+inline constexpr std::array<const char*, 4> kControlNames = {"a1", "a2", "a3", "a4"};
+using Controls = std::array<double, 4>;
+// The axes a1..a4 drive, by name (vehicle files name them so), and where each lives in Controls.
+inline constexpr std::array<const char*, 4> kControlAxisNames = {"pitch", "roll", "thrust", "yaw"};
+namespace control_axis {
+inline constexpr std::size_t pitch = 0, roll = 1, thrust = 2, yaw = 3;
+}  // namespace control_axis
 
 // Where each column of kLoggedStateNames lives in a LoggedState.
 namespace logged {
