@@ -5,10 +5,14 @@
 #include <map>
 #include <sstream>
 #include <string>
+#include <utility>
 
 #include "common.hpp"
+#include "pegasus/core/number_setting.hpp"
+#include "pegasus/core/or_list.hpp"
 #include "pegasus/logs/vehicle.hpp"
 #include "pegasus/parallel/thread_pool.hpp"
+#include "pegasus/runs/heli_runs.hpp"
 #include "pegasus/sysid/identify.hpp"
 #include "pegasus/vehicle/flight_log.hpp"
 
@@ -143,6 +147,7 @@ variables' changes, its bandwidth and noise. Save it as the model.json `pegasus 
           },
           py::arg("path"));
 
+  static const sysid::IdentifyOptions kIdentifyDefaults{};
   m.def(
       "identify",
       [](const FlightLog& log, double rate_hz, bool local, bool extra_states, bool intercept, bool templates,
@@ -157,19 +162,12 @@ variables' changes, its bandwidth and noise. Save it as the model.json `pegasus 
         o.calibration_leave_out_s = calibration_leave_out_s;
         o.calibration_spacing_s = calibration_spacing_s;
         for (const auto& [key, value] : bandwidth_floor) {
-          double* field = key == "angle_rad"      ? &o.min_bandwidth.angle_rad
-                          : key == "velocity_mps" ? &o.min_bandwidth.velocity_mps
-                          : key == "rate_radps"   ? &o.min_bandwidth.rate_radps
-                          : key == "flap_rad"     ? &o.min_bandwidth.flap_rad
-                          : key == "control"      ? &o.min_bandwidth.control
-                                                  : nullptr;
-          if (!field)
+          if (!set_number(o.min_bandwidth, key, value)) {  // BandwidthFloor::VisitFields
+            std::vector<std::string> keys;
+            for (const NumberSetting& n : sysid::BandwidthFloor::settings()) keys.emplace_back(n.key);
             throw py::value_error(
-                fmt::format("bandwidth_floor: unknown key '{}'; expected angle_rad, velocity_mps, "
-                            "rate_radps, flap_rad or "
-                            "control",
-                            key));
-          *field = value;
+                fmt::format("bandwidth_floor: unknown key '{}'; expected {}", key, or_list(keys)));
+          }
         }
         o.structure.rate_hz = rate_hz;
         o.structure.extra_states = extra_states;
@@ -186,16 +184,21 @@ variables' changes, its bandwidth and noise. Save it as the model.json `pegasus 
         ReleaseGilInterruptibly release;
         return std::make_shared<IdentifiedModel>(sysid::identify(log, o, pool));
       },
-      py::arg("log"), py::kw_only(), py::arg("rate_hz") = 10.0, py::arg("local") = true,
-      py::arg("extra_states") = true, py::arg("intercept") = true, py::arg("templates") = true,
-      py::arg("window_s") = 16.0, py::arg("cv_points") = 300,
-      py::arg("scale_grid") = std::vector<double>{0.5, 1, 2, 4, 8}, py::arg("coordinate_passes") = 1,
-      py::arg("bandwidth_floor") = std::map<std::string, double>{}, py::arg("noise") = "white",
-      py::arg("calibrate_noise") = false,
-      py::arg("horizon_sd_factors") = sysid::IdentifyOptions{}.horizon_sd_factors,
-      py::arg("calibration_leave_out_s") = sysid::IdentifyOptions{}.calibration_leave_out_s,
-      py::arg("calibration_spacing_s") = sysid::IdentifyOptions{}.calibration_spacing_s,
-      py::arg("threads") = 1,
+      // Every default is IdentifyOptions's, as the CLI's (less the CLI's choices from the data: noise).
+      py::arg("log"), py::kw_only(), py::arg("rate_hz") = kIdentifyDefaults.structure.rate_hz,
+      py::arg("local") = kIdentifyDefaults.local,
+      py::arg("extra_states") = kIdentifyDefaults.structure.extra_states,
+      py::arg("intercept") = kIdentifyDefaults.structure.intercept,
+      py::arg("templates") = kIdentifyDefaults.structure.templates,
+      py::arg("window_s") = kIdentifyDefaults.window_s, py::arg("cv_points") = kIdentifyDefaults.cv_points,
+      py::arg("scale_grid") = kIdentifyDefaults.scale_grid,
+      py::arg("coordinate_passes") = kIdentifyDefaults.coordinate_passes,
+      py::arg("bandwidth_floor") = std::map<std::string, double>{},
+      py::arg("noise") = sysid::to_string(kIdentifyDefaults.noise),
+      py::arg("calibrate_noise") = kIdentifyDefaults.calibrate_noise,
+      py::arg("horizon_sd_factors") = kIdentifyDefaults.horizon_sd_factors,
+      py::arg("calibration_leave_out_s") = kIdentifyDefaults.calibration_leave_out_s,
+      py::arg("calibration_spacing_s") = kIdentifyDefaults.calibration_spacing_s, py::arg("threads") = 1,
       "Identifies a model from a training log as `pegasus heli identify` does (same options, same bits, any "
       "threads). bandwidth_floor overrides the narrowest bandwidths (keys angle_rad, velocity_mps, "
       "rate_radps, "
@@ -215,12 +218,15 @@ variables' changes, its bandwidth and noise. Save it as the model.json `pegasus 
     out["names"] = names;
     return out;
   };
-  auto check_horizon = [](double horizon_s, double start_spacing_s) {
-    if (!(horizon_s > 0 && std::isfinite(horizon_s)))
-      throw py::value_error(fmt::format("horizon_s: expected a finite number > 0, got {}", horizon_s));
-    if (!(start_spacing_s > 0 && std::isfinite(start_spacing_s)))
-      throw py::value_error(
-          fmt::format("start_spacing_s: expected a finite number > 0, got {}", start_spacing_s));
+  // The bounds and defaults of identify's report options (IdentifyRunOptions::VisitFields), as the CLI's.
+  static const heli::IdentifyRunOptions kReportDefaults{};
+  auto check_number = [](const char* key, double x) {
+    const NumberSetting& n = number_setting<heli::IdentifyRunOptions>(key);
+    if (!n.within(x)) throw py::value_error(n.refusal(n.key, "a number", x));
+  };
+  auto check_horizon = [check_number](double horizon_s, double start_spacing_s) {
+    check_number("horizon_s", horizon_s);
+    check_number("start_spacing_s", start_spacing_s);
   };
   m.def(
       "horizon_mse",
@@ -235,19 +241,17 @@ variables' changes, its bandwidth and noise. Save it as the model.json `pegasus 
         }
         return horizon_dict(h);
       },
-      py::arg("model"), py::arg("test"), py::kw_only(), py::arg("horizon_s") = 10.0,
-      py::arg("start_spacing_s") = 2.0, py::arg("threads") = 1,
+      py::arg("model"), py::arg("test"), py::kw_only(), py::arg("horizon_s") = kReportDefaults.horizon_s,
+      py::arg("start_spacing_s") = kReportDefaults.start_spacing_s, py::arg("threads") = 1,
       "Open-loop prediction error against horizon on a test log (thesis Fig 5.2): seconds, mse [T, 15], "
       "count, names.");
   m.def(
       "horizon_mse_as_trained",
-      [horizon_dict, check_horizon](const IdentifiedModel& model, const FlightLog& test,
-                                    double control_rate_hz, double horizon_s, double start_spacing_s,
-                                    std::int64_t threads) {
+      [horizon_dict, check_horizon, check_number](const IdentifiedModel& model, const FlightLog& test,
+                                                  double control_rate_hz, double horizon_s,
+                                                  double start_spacing_s, std::int64_t threads) {
         check_horizon(horizon_s, start_spacing_s);
-        if (!(control_rate_hz > 0 && control_rate_hz <= 1000))
-          throw py::value_error(
-              fmt::format("control_rate_hz: expected a number in (0, 1000], got {}", control_rate_hz));
+        check_number("control_rate_hz", control_rate_hz);
         ThreadPool pool = checked_pool(threads);
         sysid::HorizonMse h;
         {
@@ -256,15 +260,17 @@ variables' changes, its bandwidth and noise. Save it as the model.json `pegasus 
         }
         return horizon_dict(h);
       },
-      py::arg("model"), py::arg("test"), py::kw_only(), py::arg("control_rate_hz") = 50.0,
-      py::arg("horizon_s") = 10.0, py::arg("start_spacing_s") = 2.0, py::arg("threads") = 1,
+      py::arg("model"), py::arg("test"), py::kw_only(),
+      py::arg("control_rate_hz") = kReportDefaults.control_rate_hz,
+      py::arg("horizon_s") = kReportDefaults.horizon_s,
+      py::arg("start_spacing_s") = kReportDefaults.start_spacing_s, py::arg("threads") = 1,
       "horizon_mse as hover training runs the model: the learned model at control_rate_hz, noise off "
       "(`heli identify`'s mse_at_seconds_as_trained).");
   m.def(
       "noise_check",
-      [](const IdentifiedModel& model, const FlightLogsArg& test, double reset_s, std::int64_t threads) {
-        if (!(reset_s >= 0.1 && reset_s <= 100))
-          throw py::value_error(fmt::format("reset_s: expected a number in [0.1, 100], got {}", reset_s));
+      [check_number](const IdentifiedModel& model, const FlightLogsArg& test, double reset_s,
+                     std::int64_t threads) {
+        check_number("reset_s", reset_s);
         // One log, or several whose steps are pooled (sysid::pooled_noise_check).
         std::vector<const FlightLog*> logs;
         std::vector<py::object> held;  // a sequence's items alive while the GIL is released
@@ -316,7 +322,8 @@ variables' changes, its bandwidth and noise. Save it as the model.json `pegasus 
         out["names"] = std::vector<std::string>(sysid::kBodyVarNames.begin(), sysid::kBodyVarNames.end());
         return out;
       },
-      py::arg("model"), py::arg("test"), py::kw_only(), py::arg("reset_s") = 2.0, py::arg("threads") = 1,
+      py::arg("model"), py::arg("test"), py::kw_only(), py::arg("reset_s") = kReportDefaults.reset_s,
+      py::arg("threads") = 1,
       "Fig 5.3's check on a test log (or on several, their steps pooled: `heli identify "
       "--noise-check-logs`), "
       "reset to the logged state every reset_s: seconds [H] since a reset, "

@@ -309,9 +309,7 @@ const std::vector<NumberSetting>& HoverTrainingOptions::settings() {
 }
 
 const NumberSetting& HoverTrainingOptions::setting(std::string_view key) {
-  for (const NumberSetting& s : settings())
-    if (key == s.key) return s;
-  throw std::logic_error(fmt::format("HoverTrainingOptions: no number named {}", key));
+  return number_setting<HoverTrainingOptions>(key);
 }
 
 bool HoverTrainingOptions::IsValid(std::string* error) const {

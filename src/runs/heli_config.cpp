@@ -126,30 +126,13 @@ void resolve_gust_sigma(ConfigSchema& s) {
 }
 
 void declare_bandwidth_floor(ConfigSchema& s) {
-  const BandwidthFloor d;
-  s.add_double("bandwidth_floor.angle_rad", d.angle_rad, "narrowest kernel bandwidth of roll and pitch, rad")
-      .range(0, 1e6);
-  s.add_double("bandwidth_floor.velocity_mps", d.velocity_mps,
-               "narrowest kernel bandwidth of the body velocities, m/s")
-      .range(0, 1e6);
-  s.add_double("bandwidth_floor.rate_radps", d.rate_radps,
-               "narrowest kernel bandwidth of the body rates (and the gyro state), rad/s")
-      .range(0, 1e6);
-  s.add_double("bandwidth_floor.flap_rad", d.flap_rad,
-               "narrowest kernel bandwidth of the flapping states, rad")
-      .range(0, 1e6);
-  s.add_double("bandwidth_floor.control", d.control,
-               "narrowest kernel bandwidth of each control, in its [-1, 1] units (a control the pilot barely "
-               "moved is not given a bandwidth below this)")
-      .range(0, 1e6);
+  declare_numbers(s, BandwidthFloor{}, {}, {}, sysid::kBandwidthFloorPrefix);  // BandwidthFloor::VisitFields
 }
 
 BandwidthFloor read_bandwidth_floor(const ConfigSchema& c) {
-  return {.angle_rad = c.get_double("bandwidth_floor.angle_rad"),
-          .velocity_mps = c.get_double("bandwidth_floor.velocity_mps"),
-          .rate_radps = c.get_double("bandwidth_floor.rate_radps"),
-          .flap_rad = c.get_double("bandwidth_floor.flap_rad"),
-          .control = c.get_double("bandwidth_floor.control")};
+  BandwidthFloor floor;
+  read_numbers(c, floor, sysid::kBandwidthFloorPrefix);
+  return floor;
 }
 
 void declare_identify_config(ConfigSchema& s) {
@@ -198,22 +181,12 @@ void declare_identify_config(ConfigSchema& s) {
       "with calibrate_noise, also measure a factor on each output's sd at each model step after a reset "
       "for what the scaled noise still misstates there; the bands the model reports carry it, the noise "
       "it flies does not");
-  s.add_double("horizon_s", d.horizon_s, "longest prediction horizon of the report, s").range(0.1, 100);
-  s.add_double("start_spacing_s", d.start_spacing_s,
-               "spacing of the open-loop prediction starts on the test log, s")
-      .range(0.02, 1000);
-  s.add_double("reset_s", d.reset_s, "the noise check's EKF is reset to the true state this often, s")
-      .range(0.1, 100);
+  declare_numbers(s, d);  // IdentifyRunOptions::VisitFields
   s.add_bool("whitened_gains", d.whitened_gains,
              "move the control gains closed-loop data biases to the fit that whitens the correlated noise "
              "(closed_loop_bias in summary.json); unset: whichever predicts the test log better as hover "
              "training runs it");
   s.add_bool("variants", d.variants, "also report the model-selection variants of Fig 5.2");
-  s.add_double("control_rate_hz", d.control_rate_hz,
-               "the rate hover training will step the model at (heli hover --control-rate-hz): the chosen "
-               "model's errors are also reported as training runs it")
-      .greater_than(0)
-      .max(1000);
 }
 
 void resolve_identify_config(ConfigSchema& s) {
@@ -226,13 +199,10 @@ IdentifyRunOptions read_identify_config(const ConfigSchema& c) {
   o.train_log = c.get_path("train");
   o.test_log = c.get_path("test");
   o.noise_check_logs = c.get_path_list("noise_check_logs");
-  o.horizon_s = c.get_double("horizon_s");
-  o.start_spacing_s = c.get_double("start_spacing_s");
-  o.reset_s = c.get_double("reset_s");
+  read_numbers(c, o);  // IdentifyRunOptions::VisitFields
   o.variants = c.get_bool("variants");
   o.whitened_gains = c.get_bool("whitened_gains");
   o.choose_gains = c.origin("whitened_gains") == "default";
-  o.control_rate_hz = c.get_double("control_rate_hz");
   IdentifyOptions& id = o.identify;
   id.structure.rate_hz = c.get_double("rate_hz");
   id.structure.extra_states = c.get_bool("extra_states");

@@ -388,9 +388,18 @@ void print_identify_lines(std::ostream& out, const nlohmann::json& summary, cons
 
 }  // namespace
 
+bool IdentifyRunOptions::IsValid(std::string* error) const {
+  if (const std::string out = numbers_out_of_bounds(*this); !out.empty()) {
+    if (error) *error = "identify: " + out;
+    return false;
+  }
+  return identify.IsValid(error);
+}
+
 void run_identify(const IdentifyRunOptions& options, RunSink& sink, ThreadPool& pool) {
   if (options.train_log.empty()) throw InputError("--train: a training flight log is required");
   if (options.test_log.empty()) throw InputError("--test: a hold-out flight log is required");
+  if (std::string error; !options.IsValid(&error)) throw InputError(error);
   const bool own_layout = !options.aircraft.from_file();
   const IdentifyLogs logs = read_logs(options);
   Choices choices;

@@ -26,19 +26,16 @@ std::array<double, kInputs> BandwidthFloor::per_input() const {
   return f;
 }
 
+const std::vector<NumberSetting>& BandwidthFloor::settings() {
+  static const std::vector<NumberSetting> list = number_settings<BandwidthFloor>();
+  return list;
+}
+
 bool BandwidthFloor::IsValid(std::string* error) const {
-  const std::array<std::pair<const char*, double>, 5> floors = {{{"angle_rad", angle_rad},
-                                                                 {"velocity_mps", velocity_mps},
-                                                                 {"rate_radps", rate_radps},
-                                                                 {"flap_rad", flap_rad},
-                                                                 {"control", control}}};
-  for (const auto& [name, value] : floors) {
-    if (!(value >= 0 && std::isfinite(value))) {
-      if (error) *error = fmt::format("identify: bandwidth_floor.{} must be a finite number >= 0", name);
-      return false;
-    }
-  }
-  return true;
+  const std::string out = numbers_out_of_bounds(*this);
+  if (out.empty()) return true;
+  if (error) *error = fmt::format("identify: {}{}", kBandwidthFloorPrefix, out);
+  return false;
 }
 
 bool IdentifyOptions::IsValid(std::string* error) const {

@@ -63,7 +63,7 @@ def test_a_model_from_a_csv_path_or_arrays_is_the_cli_model(logs, cli, tmp_path)
             row["seconds"], row["outside_2sigma"], row["steps"])
     summary = json.loads((tmp_path / "cli" / "summary.json").read_text())
     assert dict(zip(check["names"], check["outside_fraction"])) == summary["outside_2sigma_fraction"]
-    with pytest.raises(ValueError, match=r"reset_s: expected a number in \[0.1, 100\], got 0.05"):
+    with pytest.raises(ValueError, match=r"reset_s: expected a number in \[0.1, 100\] s, got 0.05"):
         pegasus.noise_check(from_path, pegasus.read_flight_log(test), reset_s=0.05)
 
     # Several hold-out flights pooled, as `heli identify --noise-check-logs` pools them: each cell is the
@@ -118,10 +118,42 @@ def test_the_bandwidth_floor_is_the_clis(logs, cli, tmp_path):
     floored = pegasus.identify(log, bandwidth_floor={"control": 0.6}, **options)
     assert floored.to_json() == json.loads((tmp_path / "cli" / "model.json").read_text())
     assert floored.to_json()["inv_bandwidth"] != pegasus.identify(log, **options).to_json()["inv_bandwidth"]
-    with pytest.raises(ValueError, match="bandwidth_floor: unknown key 'controls'"):
+    with pytest.raises(ValueError, match="bandwidth_floor: unknown key 'controls'; expected angle_rad, velocity_mps, "
+                                         "rate_radps, flap_rad or control"):
         pegasus.identify(log, bandwidth_floor={"controls": 0.6}, **options)
-    with pytest.raises(ValueError, match="bandwidth_floor.control must be a finite number >= 0"):
-        pegasus.identify(log, bandwidth_floor={"control": -1.0}, **options)
+    # The bounds are the CLI's (BandwidthFloor::VisitFields), NaN included.
+    for bad in (-1.0, 2e6, float("nan")):
+        with pytest.raises(ValueError, match=r"bandwidth_floor.control: expected a number in \[0, 1000000\], got"):
+            pegasus.identify(log, bandwidth_floor={"control": bad}, **options)
+        result = subprocess.run([cli, "heli", "identify", "--train", train, "--test", test, *IDENTIFY,
+                                 f"--bandwidth-floor.control={bad}", "--out", str(tmp_path / "refused")],
+                                capture_output=True, text=True)
+        assert result.returncode == 2 and "[0, 1000000]" in result.stderr, result.stderr
+
+
+def test_the_report_bounds_are_the_clis(logs, cli, tmp_path):
+    # horizon_mse's, horizon_mse_as_trained's and noise_check's numbers take identify's bounds
+    # (IdentifyRunOptions::VisitFields; control_rate_hz hover training's): what one refuses, both refuse.
+    train, test = str(logs / "train" / "log.csv"), str(logs / "test" / "log.csv")
+    log = pegasus.read_flight_log(test)
+    model = pegasus.identify(pegasus.read_flight_log(train), cv_points=60, scale_grid=[1.0, 4.0],
+                             coordinate_passes=0)
+    refused = [("horizon_s", 150.0, r"\[0.1, 100\] s", lambda v: pegasus.horizon_mse(model, log, horizon_s=v)),
+               ("start_spacing_s", 0.01, r"\[0.02, 1000\] s",
+                lambda v: pegasus.horizon_mse(model, log, start_spacing_s=v)),
+               ("control_rate_hz", 0.05, r"\[0.1, 1000\] Hz",
+                lambda v: pegasus.horizon_mse_as_trained(model, log, control_rate_hz=v)),
+               ("reset_s", 200.0, r"\[0.1, 100\] s", lambda v: pegasus.noise_check(model, log, reset_s=v))]
+    for key, value, bounds, call in refused:
+        with pytest.raises(ValueError, match=rf"{key}: expected a number in {bounds}, got"):
+            call(value)
+        option = f"--{key.replace('_', '-')}"
+        args = [a for i, a in enumerate(IDENTIFY) if option not in (a, IDENTIFY[i - 1] if i else "")]
+        result = subprocess.run([cli, "heli", "identify", "--train", train, "--test", test, *args,
+                                 f"{option}={value}", "--out", str(tmp_path / key)], capture_output=True, text=True)
+        assert result.returncode == 2, result.stdout + result.stderr
+        assert re.search(bounds.split("]")[0] + "]", result.stderr), result.stderr
+        assert not (tmp_path / key).exists()
 
 
 def test_ar1_noise_is_the_clis(logs, cli, tmp_path):

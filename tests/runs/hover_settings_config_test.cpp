@@ -45,23 +45,6 @@ Number number_of(const Options& o, const std::string& key) {
   return reader.out;
 }
 
-// Sets the number `key` of o to x (truncated for an integer).
-template <class Options>
-struct NumberWriter {
-  Options& o;
-  std::string key;
-  double x;
-  template <class T>
-  void setting(const NumberSetting& s, T Options::*member) {
-    if (key == s.key) o.*member = static_cast<T>(x);
-  }
-};
-template <class Options>
-void set_number(Options& o, const std::string& key, double x) {
-  NumberWriter<Options> writer{o, key, x};
-  Options::VisitFields(writer);
-}
-
 // Within the bounds, not the default, and an integer where the member is one; and just beyond each bound.
 double inside(const NumberSetting& s, bool integer) {
   const double x = s.lower + (s.upper - s.lower) / 7;
@@ -78,13 +61,15 @@ FieldValue option_value(double x, bool integer) {
 // command's reading (`read`) puts a value given into its member.
 template <class Options>
 void expect_every_number_is_an_option(const std::function<void(ConfigSchema&)>& declare,
-                                      const std::function<Options(const ConfigSchema&)>& read) {
+                                      const std::function<Options(const ConfigSchema&)>& read,
+                                      const std::string& key_prefix = {}) {
   for (const NumberSetting& setting : number_settings<Options>()) {
     SCOPED_TRACE(setting.key);
     const Number defaults = number_of(Options{}, setting.key);
+    const std::string key = key_prefix + setting.key;
     ConfigSchema s;
     declare(s);
-    const ConfigField& f = s.field(setting.key);
+    const ConfigField& f = s.field(key);
     EXPECT_EQ(f.help(), setting.help);
     EXPECT_EQ(f.type(), defaults.integer ? FieldType::kInt : FieldType::kDouble);
     if (defaults.integer)
@@ -94,12 +79,12 @@ void expect_every_number_is_an_option(const std::function<void(ConfigSchema&)>& 
     EXPECT_TRUE(setting.within(defaults.value));
     for (const double bad : {above(setting), below(setting)}) {
       const std::string message =
-          input_error_message([&] { s.set(setting.key, option_value(bad, defaults.integer)); });
-      EXPECT_NE(message.find(setting.key), std::string::npos) << bad << ": " << message;
+          input_error_message([&] { s.set(key, option_value(bad, defaults.integer)); });
+      EXPECT_NE(message.find(key), std::string::npos) << bad << ": " << message;
     }
     const double x = inside(setting, defaults.integer);
     ASSERT_NE(x, defaults.value);
-    s.set(setting.key, option_value(x, defaults.integer), std::string("--") + setting.key);
+    s.set(key, option_value(x, defaults.integer), "--" + key);
     s.validate();
     EXPECT_EQ(number_of(read(s), setting.key).value, x);
   }
@@ -161,6 +146,35 @@ TEST(IdentifySettingsConfig,
 
 TEST(IdentifySettingsConfig, IsValidRefusesEachNumberBeyondItsBoundsNamingItAndItsRange) {
   expect_is_valid_bounds_every_number<sysid::IdentifyOptions>();
+}
+
+// The report's numbers (IdentifyRunOptions) and the bandwidth floors (bandwidth_floor.KEY) the same way.
+TEST(IdentifySettingsConfig, EveryReportNumberAndBandwidthFloorIsAnOptionReadIntoItsMemberWithinItsBounds) {
+  ASSERT_EQ(number_settings<IdentifyRunOptions>().size(), 4u);
+  expect_every_number_is_an_option<IdentifyRunOptions>(
+      [](ConfigSchema& s) { declare_identify_config(s); },
+      [](const ConfigSchema& s) { return read_identify_config(s); });
+  expect_is_valid_bounds_every_number<IdentifyRunOptions>();
+  ASSERT_EQ(number_settings<sysid::BandwidthFloor>().size(), 5u);
+  for (const auto& declare :
+       {std::function<void(ConfigSchema&)>([](ConfigSchema& s) { declare_identify_config(s); }),
+        std::function<void(ConfigSchema&)>([](ConfigSchema& s) { declare_log_import_config(s); })})
+    expect_every_number_is_an_option<sysid::BandwidthFloor>(
+        declare, [](const ConfigSchema& s) { return read_bandwidth_floor(s); }, sysid::kBandwidthFloorPrefix);
+  expect_is_valid_bounds_every_number<sysid::BandwidthFloor>();
+}
+
+// identify's control_rate_hz is the rate hover training steps at: the bounds are hover's, so what one refuses
+// the other does.
+TEST(IdentifySettingsConfig, ControlRateTakesHoverTrainingsBounds) {
+  const NumberSetting& identify = number_setting<IdentifyRunOptions>("control_rate_hz");
+  const NumberSetting& hover = HoverTrainingOptions::setting("control_rate_hz");
+  EXPECT_EQ(identify.range_in_unit(), hover.range_in_unit());
+  IdentifyRunOptions o;
+  o.control_rate_hz = 0.05;  // accepted before the bounds were hover's, though hover refuses it
+  std::string error;
+  EXPECT_FALSE(o.IsValid(&error));
+  EXPECT_EQ(error, "identify: control_rate_hz: expected a number in [0.1, 1000] Hz, got 0.05");
 }
 
 // `pipeline` and `log import` take some of identify's numbers, from the same description (log import with its

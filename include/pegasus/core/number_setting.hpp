@@ -1,8 +1,10 @@
 #pragma once
 // A number setting described once (issue 49 item 1): its key, bounds, unit and one-line help. A settings
 // struct lists its numbers in a VisitFields (sysid::Disturbance, heli::HoverTrainingOptions,
-// heli::ManeuverTrainingOptions); from that one list come the command's options with their bounds, the
-// reading of a config, IsValid's bounds and the Python fields with their docs.
+// heli::ManeuverTrainingOptions, sysid::IdentifyOptions, sysid::BandwidthFloor, heli::IdentifyRunOptions);
+// from that one list come the command's options with their bounds, the reading of a config, IsValid's
+// bounds and the Python fields or arguments with their docs and bounds.
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <type_traits>
@@ -50,6 +52,19 @@ struct NumberBoundsCheck {
       error = s.refusal(s.key, std::is_integral_v<T> ? "an integer" : "a number", x);
   }
 };
+template <class Options>
+struct NumberAssign {
+  Options& o;
+  std::string_view key;
+  double value;
+  bool found = false;
+  template <class T>
+  void setting(const NumberSetting& s, T Options::*member) {
+    if (key != s.key) return;
+    o.*member = static_cast<T>(value);
+    found = true;
+  }
+};
 }  // namespace detail
 
 template <class Options>
@@ -64,6 +79,23 @@ std::string numbers_out_of_bounds(const Options& o) {
   detail::NumberBoundsCheck<Options> v{o, {}};
   Options::VisitFields(v);
   return v.error;
+}
+// The setting named `key` of Options's list; std::logic_error when none is (a key is the code's, not a
+// user's).
+template <class Options>
+const NumberSetting& number_setting(std::string_view key) {
+  static const std::vector<NumberSetting> list = number_settings<Options>();
+  for (const NumberSetting& s : list)
+    if (key == s.key) return s;
+  throw std::logic_error("no number setting named " + std::string(key));
+}
+// Sets the number named `key` (an integer member takes the value truncated; check it with
+// numbers_out_of_bounds first where that matters); false when no setting has that key.
+template <class Options>
+bool set_number(Options& o, std::string_view key, double value) {
+  detail::NumberAssign<Options> v{o, key, value};
+  Options::VisitFields(v);
+  return v.found;
 }
 
 }  // namespace pegasus

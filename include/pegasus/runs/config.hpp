@@ -225,7 +225,8 @@ std::string path_named_from(const std::filesystem::path& base, const std::string
 
 // For a settings struct whose VisitFields offers `setting(NumberSetting, &Options::member)` for each number
 // (core/number_setting.hpp): each as an option KEY with the default's value, its bounds, and its help after
-// `prefix` (only the one named `only` where given); and each the schema declares read into its member.
+// `prefix` (only the one named `only` where given), its key after `key_prefix` (a section's
+// "bandwidth_floor."); and each the schema declares read into its member.
 namespace detail {
 template <class Options>
 struct DeclareNumbers {
@@ -233,39 +234,42 @@ struct DeclareNumbers {
   const Options& defaults;
   std::string_view only;
   const std::string& prefix;
+  const std::string& key_prefix;
   template <class T>
   void setting(const NumberSetting& n, T Options::*member) {
     if (!only.empty() && only != n.key) return;
     if constexpr (std::is_integral_v<T>)
-      s.add_int(n.key, defaults.*member, prefix + n.help).bounds(n);
+      s.add_int(key_prefix + n.key, defaults.*member, prefix + n.help).bounds(n);
     else
-      s.add_double(n.key, defaults.*member, prefix + n.help).bounds(n);
+      s.add_double(key_prefix + n.key, defaults.*member, prefix + n.help).bounds(n);
   }
 };
 template <class Options>
 struct ReadNumbers {
   const ConfigSchema& c;
   Options& o;
+  const std::string& key_prefix;
   template <class T>
   void setting(const NumberSetting& n, T Options::*member) {
-    if (!c.has(n.key)) return;  // a command that declares some of them (log import's identification)
+    const std::string key = key_prefix + n.key;
+    if (!c.has(key)) return;  // a command that declares some of them (log import's identification)
     if constexpr (std::is_integral_v<T>)
-      o.*member = static_cast<T>(c.get_int(n.key));
+      o.*member = static_cast<T>(c.get_int(key));
     else
-      o.*member = c.get_double(n.key);
+      o.*member = c.get_double(key);
   }
 };
 }  // namespace detail
 
 template <class Options>
 void declare_numbers(ConfigSchema& s, const Options& defaults, std::string_view only = {},
-                     const std::string& prefix = {}) {
-  detail::DeclareNumbers<Options> v{s, defaults, only, prefix};
+                     const std::string& prefix = {}, const std::string& key_prefix = {}) {
+  detail::DeclareNumbers<Options> v{s, defaults, only, prefix, key_prefix};
   Options::VisitFields(v);
 }
 template <class Options>
-void read_numbers(const ConfigSchema& c, Options& o) {
-  detail::ReadNumbers<Options> v{c, o};
+void read_numbers(const ConfigSchema& c, Options& o, const std::string& key_prefix = {}) {
+  detail::ReadNumbers<Options> v{c, o, key_prefix};
   Options::VisitFields(v);
 }
 

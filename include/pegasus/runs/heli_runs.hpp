@@ -105,6 +105,29 @@ struct IdentifyRunOptions {
   // `whitened_gains`), whichever predicts the test log better as training runs it.
   bool whitened_gains = false;
   bool choose_gains = true;
+
+  // The report's numbers, once (issue 49 item 1): identify's options with their bounds and reading, and
+  // the bounds of Python's horizon_mse; control_rate_hz takes hover training's bounds, as it is its rate.
+  template <class Visitor>
+  static void VisitFields(Visitor& v) {
+    using O = IdentifyRunOptions;
+    v.setting({"horizon_s", 0.1, 100, false, "s", "longest prediction horizon of the report, s"},
+              &O::horizon_s);
+    v.setting({"start_spacing_s", 0.02, 1000, false, "s",
+               "spacing of the open-loop prediction starts on the test log, s"},
+              &O::start_spacing_s);
+    v.setting(
+        {"reset_s", 0.1, 100, false, "s", "the noise check's EKF is reset to the true state this often, s"},
+        &O::reset_s);
+    const NumberSetting& rate = HoverTrainingOptions::setting("control_rate_hz");
+    v.setting({rate.key, rate.lower, rate.upper, rate.lower_open, rate.unit,
+               "the rate hover training will step the model at (heli hover --control-rate-hz): the chosen "
+               "model's errors are also reported as training runs it"},
+              &O::control_rate_hz);
+  }
+  // Every number within its bounds, and the identification options valid; else false with "KEY: expected
+  // ..." in `error`.
+  bool IsValid(std::string* error) const;
 };
 // model.json, cross_validation.csv, mse_vs_horizon.csv, noise_check.csv, their charts, summary.json. The
 // bandwidth search checkpoints after each cross-validation step and resumes from the run directory's

@@ -37,7 +37,32 @@ struct BandwidthFloor {
   // The floor of each regression input (0 for the constant).
   std::array<double, kInputs> per_input() const;
   bool IsValid(std::string* error) const;
+
+  // Every floor, once (issue 49 item 1): `identify`'s and log import's options bandwidth_floor.KEY with
+  // their bounds, their reading, IsValid's bounds and the keys of Python's identify(bandwidth_floor=...).
+  template <class Visitor>
+  static void VisitFields(Visitor& v) {
+    using F = BandwidthFloor;
+    v.setting({"angle_rad", 0, 1e6, false, "rad", "narrowest kernel bandwidth of roll and pitch, rad"},
+              &F::angle_rad);
+    v.setting(
+        {"velocity_mps", 0, 1e6, false, "m/s", "narrowest kernel bandwidth of the body velocities, m/s"},
+        &F::velocity_mps);
+    v.setting({"rate_radps", 0, 1e6, false, "rad/s",
+               "narrowest kernel bandwidth of the body rates (and the gyro state), rad/s"},
+              &F::rate_radps);
+    v.setting({"flap_rad", 0, 1e6, false, "rad", "narrowest kernel bandwidth of the flapping states, rad"},
+              &F::flap_rad);
+    v.setting({"control", 0, 1e6, false, "",
+               "narrowest kernel bandwidth of each control, in its [-1, 1] units (a control the pilot barely "
+               "moved is not given a bandwidth below this)"},
+              &F::control);
+  }
+  // The settings in VisitFields's order.
+  static const std::vector<NumberSetting>& settings();
 };
+// The config keys of BandwidthFloor's settings: bandwidth_floor.KEY.
+inline constexpr const char* kBandwidthFloorPrefix = "bandwidth_floor.";
 
 // How the model's noise is correlated in time (§5.2, footnotes 7 and 9). "white": independent per model step,
 // as Eqs 5.5-5.6. "ar1": each output's noise is a white part plus a first-order autoregressive part (a gust,
