@@ -82,11 +82,7 @@ bool FlightOptions::IsValid(std::string* error) const {
     if (error) *error = std::move(m);
     return false;
   };
-  if (flights < 1) return fail(fmt::format("flights: expected an integer >= 1, got {}", flights));
-  if (!(seconds > 0 && seconds <= 36000))
-    return fail(fmt::format("seconds: expected a number in (0, 36000], got {}", seconds));
-  if (trace_flights < 0)
-    return fail(fmt::format("trace_flights: expected an integer >= 0, got {}", trace_flights));
+  if (std::string out = numbers_out_of_bounds(*this); !out.empty()) return fail(std::move(out));
   if (control_every < 1)
     return fail(fmt::format("control_every: expected an integer >= 1, got {}", control_every));
   return true;

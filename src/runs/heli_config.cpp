@@ -348,8 +348,8 @@ void declare_fly_config(ConfigSchema& s) {
       "crazyflie2: a cascaded PD; docs/results/baselines.md)");
   s.add_bool("compare_baseline", d.compare_baseline,
              "also fly the hand-tuned baseline from the same starts and gusts, at the policy's rate");
-  s.add_int("flights", d.flights.flights, "flights from perturbed starts").range(1, 1000000);
-  s.add_double("seconds", d.flights.seconds, "flight length, s").greater_than(0).max(36000);
+  declare_numbers(s, d.flights, "flights");  // FlightOptions::VisitFields
+  declare_numbers(s, d.flights, "seconds");
   declare_gust_sigma(s, "turbulence standard deviation per axis, m/s");
   const Vec3& wind = d.settings.mean_wind_W;
   s.add_double_list("wind", {wind.x(), wind.y(), wind.z()},
@@ -360,9 +360,7 @@ void declare_fly_config(ConfigSchema& s) {
   // By default, flights start as perturbed as hover training's scenarios.
   declare_hover_number(s, "start_pos_sigma");
   declare_hover_number(s, "start_vel_sigma");
-  s.add_int("trace_flights", d.flights.trace_flights,
-            "flights written step by step to flights.csv (the first ones)")
-      .range(0, 1000000);
+  declare_numbers(s, d.flights, "trace_flights");
 }
 
 FlyRunOptions read_fly_config(const ConfigSchema& c, std::uint64_t seed) {
@@ -378,10 +376,8 @@ FlyRunOptions read_fly_config(const ConfigSchema& c, std::uint64_t seed) {
   o.settings.start_vel_sigma = c.get_double("start_vel_sigma");
   const auto& wind = c.get_double_list("wind");
   o.settings.mean_wind_W = Vec3(wind[0], wind[1], wind[2]);
-  o.flights.flights = static_cast<int>(c.get_int("flights"));
-  o.flights.seconds = c.get_double("seconds");
+  read_numbers(c, o.flights);  // FlightOptions::VisitFields
   o.flights.seed = seed;
-  o.flights.trace_flights = static_cast<int>(c.get_int("trace_flights"));
   return o;
 }
 
@@ -424,11 +420,9 @@ void declare_pipeline_config(ConfigSchema& s) {
       .range(0, 1000000);
   declare_hover_number(s, "start_pos_sigma", "hover training and flights: ");
   declare_hover_number(s, "start_vel_sigma", "hover training and flights: ");
-  s.add_int("flights", flight_defaults.flights, "flights on the ground truth (policy and pilot)")
-      .range(1, 1000000);
-  s.add_double("flight_seconds", flight_defaults.seconds, "flight length on the ground truth, s")
-      .greater_than(0)
-      .max(36000);
+  // The flights' numbers as fly's (FlightOptions::VisitFields): flights, and seconds as flight_seconds.
+  declare_numbers(s, flight_defaults, "flights", "on the ground truth (policy and pilot): ");
+  declare_numbers(s, flight_defaults, "seconds", "on the ground truth: ", "flight_");
 }
 
 }  // namespace pegasus::heli

@@ -9,6 +9,7 @@
 #include <string>
 #include <type_traits>
 
+#include "pegasus/heli/flights.hpp"
 #include "pegasus/heli/hover_task.hpp"
 #include "pegasus/heli/maneuver_task.hpp"
 #include "pegasus/runs/heli_config.hpp"
@@ -162,6 +163,24 @@ TEST(IdentifySettingsConfig, EveryReportNumberAndBandwidthFloorIsAnOptionReadInt
     expect_every_number_is_an_option<sysid::BandwidthFloor>(
         declare, [](const ConfigSchema& s) { return read_bandwidth_floor(s); }, sysid::kBandwidthFloorPrefix);
   expect_is_valid_bounds_every_number<sysid::BandwidthFloor>();
+}
+
+// fly's flights, seconds and trace_flights (FlightOptions), and the pipeline's flights and flight_seconds
+// from the same description.
+TEST(FlySettingsConfig, EveryFlightNumberIsAnOptionOfFlyAndThePipelineTakesItsOwnFromTheDescription) {
+  ASSERT_EQ(number_settings<FlightOptions>().size(), 3u);
+  expect_every_number_is_an_option<FlightOptions>(
+      [](ConfigSchema& s) { declare_fly_config(s); },
+      [](const ConfigSchema& s) { return read_fly_config(s, 7).flights; });
+  expect_is_valid_bounds_every_number<FlightOptions>();
+  ConfigSchema fly, pipeline;
+  declare_fly_config(fly);
+  declare_pipeline_config(pipeline);
+  EXPECT_EQ(pipeline.field("flights").expectation(), fly.field("flights").expectation());
+  EXPECT_EQ(pipeline.field("flight_seconds").expectation(), fly.field("seconds").expectation());
+  EXPECT_EQ(pipeline.field("flight_seconds").help(), "on the ground truth: " + fly.field("seconds").help());
+  EXPECT_FALSE(pipeline.has("seconds"));
+  EXPECT_FALSE(pipeline.has("trace_flights"));
 }
 
 // identify's control_rate_hz is the rate hover training steps at: the bounds are hover's, so what one refuses

@@ -22,6 +22,7 @@
 #include <optional>
 #include <vector>
 
+#include "pegasus/core/number_setting.hpp"
 #include "pegasus/heli/ground_truth.hpp"
 #include "pegasus/heli/hover_task.hpp"
 #include "pegasus/heli/pilot.hpp"
@@ -47,6 +48,18 @@ struct FlightOptions {
   int control_every = 1;
   std::optional<FlightCost> cost{};  // none: no judged cost
   bool IsValid(std::string* error) const;
+
+  // The numbers a user sets, once (issue 49 item 1): `fly`'s options flights, seconds and trace_flights with
+  // their bounds and reading, `heli pipeline`'s flights and flight_seconds, and IsValid's bounds.
+  template <class Visitor>
+  static void VisitFields(Visitor& v) {
+    using O = FlightOptions;
+    v.setting({"flights", 1, 1000000, false, "", "flights from perturbed starts"}, &O::flights);
+    v.setting({"seconds", 0, 36000, true, "s", "flight length, s"}, &O::seconds);
+    v.setting({"trace_flights", 0, 1000000, false, "",
+               "flights written step by step to flights.csv (the first ones)"},
+              &O::trace_flights);
+  }
 };
 
 struct FlightRow {
