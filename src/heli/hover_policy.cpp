@@ -162,12 +162,6 @@ Controls HoverPolicy::unclipped(std::span<const double> w, const HoverInputs& in
   return a;
 }
 
-Controls clip_command(Controls a, const Controls& lower, const Controls& upper) {
-  for (std::size_t c = 0; c < 4; ++c)
-    a[c] = std::clamp(std::isnan(a[c]) ? 0.0 : std::clamp(a[c], -1.0, 1.0), lower[c], upper[c]);
-  return a;
-}
-
 std::string command_limits_line(const HoverPolicyInit& limits, double margin) {
   std::string channels;
   for (std::size_t c = 0; c < 4; ++c)

@@ -28,7 +28,9 @@
 // (anti-windup), and the position part rotated into the body frame like the error: I_B = R_WB^T I_W. The
 // integral is the flight's memory, not the controller's: the task (training) or the flight
 // (heli/policy_file.hpp, ControllerMemory) carries it and hands it over in HeliObservation::integral.
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <span>
 #include <string>
 
@@ -114,7 +116,19 @@ struct HoverPolicyInit {
 bool command_limits_valid(const Controls& lower, const Controls& upper, std::string* error);
 // The last step of every helicopter policy's act (HoverPolicy, ManeuverPolicy): a NaN output becomes 0 rather
 // than travelling on to the aircraft, then each is clipped to [-1, 1] and to its channel's command limits.
-Controls clip_command(Controls a, const Controls& lower, const Controls& upper);
+// Inline, as one clamp per channel to the intersection of the two ranges (the same value as clamping to each
+// in turn), written on values rather than std::clamp's references so that it compiles to branch-free min and
+// max: it runs at every step of every flight and evaluation (bench/heli_bench.cpp BM_HeliHoverPolicyAct).
+inline Controls clip_command(Controls a, const Controls& lower, const Controls& upper) {
+  for (std::size_t c = 0; c < 4; ++c) {
+    const double lo = lower[c] > -1.0 ? lower[c] : -1.0;
+    const double hi = upper[c] < 1.0 ? upper[c] : 1.0;
+    const double x = std::isnan(a[c]) ? 0.0 : a[c];
+    const double at_least_lo = x < lo ? lo : x;
+    a[c] = hi < at_least_lo ? hi : at_least_lo;
+  }
+  return a;
+}
 // The training runs' line for the command limits a global linear model's logs give (hover_command_limits,
 // widened by `margin` of each control's range): "command limits (...): ..., a1 [-0.4, 0.3], a2 ...".
 std::string command_limits_line(const HoverPolicyInit& limits, double margin);
