@@ -260,6 +260,22 @@ TEST(ControlLoopHeader, ALineLongerThanTheLimitIsAnsweredWithTheTrimControls) {
   EXPECT_THAT(long_line.errors, HasSubstr("stdin:1: expected a line of at most 65536 bytes"));
 }
 
+// The limit is exact, whatever the blocks the reader gathers characters in: a state line padded to 65536
+// bytes is served, one byte more is not.
+TEST(ControlLoopHeader, ALineOfExactlyTheLimitIsServedAndOneByteMoreIsNot) {
+  const std::string row = kRow.substr(0, kRow.size() - 1);
+  for (const std::size_t bytes : {std::size_t{65535}, std::size_t{65536}, std::size_t{65537}}) {
+    SCOPED_TRACE(bytes);
+    const Served served = serve(row + std::string(bytes - row.size(), ' ') + "\n" + kRow);
+    const bool within = bytes <= 65536;
+    EXPECT_EQ(served.stats.lines, 2);
+    EXPECT_EQ(served.stats.malformed, within ? 0 : 1);
+    EXPECT_EQ(served.calls, within ? 2 : 1);
+    EXPECT_EQ(served.errors.find("expected a line of at most 65536 bytes") != std::string::npos, !within)
+        << served.errors;
+  }
+}
+
 // Issue 48, item 8: one controller process serves many flights; "reset" clears the memory and the clock.
 class Remembering : public pegasus::heli::HeliController {
  public:
