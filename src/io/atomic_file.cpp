@@ -111,7 +111,22 @@ std::string read_file(const std::filesystem::path& file, std::uint64_t max_bytes
   if (::fstat(fd, &st) != 0) fail_read(std::strerror(errno));
   check_kind(st);  // what was opened, which a rename may have changed since the stat
   std::string text;
-  if (S_ISREG(st.st_mode)) text.reserve(static_cast<std::size_t>(st.st_size));
+  // A regular file's stated size is read straight into place (a 4 MB ULog read 6% slower through the
+  // buffer below: bench/ulog_bench.cpp); whatever else comes (a file grown since, a pipe) through the buffer.
+  if (S_ISREG(st.st_mode)) {
+    text.resize(static_cast<std::size_t>(st.st_size));
+    std::size_t filled = 0;
+    while (filled < text.size()) {
+      const ssize_t n = ::read(fd, text.data() + filled, text.size() - filled);
+      if (n < 0) {
+        if (errno == EINTR) continue;
+        fail_read(std::strerror(errno));
+      }
+      if (n == 0) break;
+      filled += static_cast<std::size_t>(n);
+    }
+    text.resize(filled);  // a file shortened since the stat
+  }
   std::vector<char> buffer(1 << 16);
   for (;;) {
     const ssize_t n = ::read(fd, buffer.data(), buffer.size());
