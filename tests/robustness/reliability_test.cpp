@@ -36,7 +36,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
-using ::testing::Not;
 
 class Reliability : public ::testing::Test {
  protected:
