@@ -148,6 +148,26 @@ variables' changes, its bandwidth and noise. Save it as the model.json `pegasus 
           py::arg("path"));
 
   static const sysid::IdentifyOptions kIdentifyDefaults{};
+  // The bounds the calls check, written into their docstrings from the same settings (as the CLI's --help).
+  static const std::string kFloorBounds = [] {
+    std::vector<std::string> keys;
+    for (const NumberSetting& n : sysid::BandwidthFloor::settings()) keys.emplace_back(n.key);
+    return fmt::format("keys {}, each in {}", or_list(keys),
+                       sysid::BandwidthFloor::settings().front().range());
+  }();
+  auto report_bounds = [](std::initializer_list<const char*> keys) {
+    std::string out;
+    for (const char* key : keys)
+      out += fmt::format("{}{} in {}", out.empty() ? "" : ", ", key,
+                         number_setting<heli::IdentifyRunOptions>(key).range_in_unit());
+    return " Bounds (identify's): " + out + ".";
+  };
+  static const std::string kIdentifyDoc =
+      "Identifies a model from a training log as `pegasus heli identify` does (same options, same bits, any "
+      "threads). bandwidth_floor overrides the narrowest bandwidths (" +
+      kFloorBounds +
+      "; the defaults are the CLI's); noise is \"white\", \"ar1\" or \"ar1+measurement\" (the CLI's "
+      "--noise).";
   m.def(
       "identify",
       [](const FlightLog& log, double rate_hz, bool local, bool extra_states, bool intercept, bool templates,
@@ -199,11 +219,7 @@ variables' changes, its bandwidth and noise. Save it as the model.json `pegasus 
       py::arg("horizon_sd_factors") = kIdentifyDefaults.horizon_sd_factors,
       py::arg("calibration_leave_out_s") = kIdentifyDefaults.calibration_leave_out_s,
       py::arg("calibration_spacing_s") = kIdentifyDefaults.calibration_spacing_s, py::arg("threads") = 1,
-      "Identifies a model from a training log as `pegasus heli identify` does (same options, same bits, any "
-      "threads). bandwidth_floor overrides the narrowest bandwidths (keys angle_rad, velocity_mps, "
-      "rate_radps, "
-      "flap_rad, control; the defaults are the CLI's); noise is \"white\", \"ar1\" or \"ar1+measurement\" "
-      "(the CLI's --noise).");
+      kIdentifyDoc.c_str());
 
   // Fig 5.2's errors of a HorizonMse as a dict: seconds, mse [T, 15], count, names.
   auto horizon_dict = [](const sysid::HorizonMse& h) {
@@ -228,6 +244,10 @@ variables' changes, its bandwidth and noise. Save it as the model.json `pegasus 
     check_number("horizon_s", horizon_s);
     check_number("start_spacing_s", start_spacing_s);
   };
+  static const std::string kHorizonDoc =
+      "Open-loop prediction error against horizon on a test log (thesis Fig 5.2): seconds, mse [T, 15], "
+      "count, names." +
+      report_bounds({"horizon_s", "start_spacing_s"});
   m.def(
       "horizon_mse",
       [horizon_dict, check_horizon](const IdentifiedModel& model, const FlightLog& test, double horizon_s,
@@ -243,8 +263,11 @@ variables' changes, its bandwidth and noise. Save it as the model.json `pegasus 
       },
       py::arg("model"), py::arg("test"), py::kw_only(), py::arg("horizon_s") = kReportDefaults.horizon_s,
       py::arg("start_spacing_s") = kReportDefaults.start_spacing_s, py::arg("threads") = 1,
-      "Open-loop prediction error against horizon on a test log (thesis Fig 5.2): seconds, mse [T, 15], "
-      "count, names.");
+      kHorizonDoc.c_str());
+  static const std::string kAsTrainedDoc =
+      "horizon_mse as hover training runs the model: the learned model at control_rate_hz, noise off "
+      "(`heli identify`'s mse_at_seconds_as_trained)." +
+      report_bounds({"control_rate_hz", "horizon_s", "start_spacing_s"});
   m.def(
       "horizon_mse_as_trained",
       [horizon_dict, check_horizon, check_number](const IdentifiedModel& model, const FlightLog& test,
@@ -264,8 +287,14 @@ variables' changes, its bandwidth and noise. Save it as the model.json `pegasus 
       py::arg("control_rate_hz") = kReportDefaults.control_rate_hz,
       py::arg("horizon_s") = kReportDefaults.horizon_s,
       py::arg("start_spacing_s") = kReportDefaults.start_spacing_s, py::arg("threads") = 1,
-      "horizon_mse as hover training runs the model: the learned model at control_rate_hz, noise off "
-      "(`heli identify`'s mse_at_seconds_as_trained).");
+      kAsTrainedDoc.c_str());
+  static const std::string kNoiseCheckDoc =
+      "Fig 5.3's check on a test log (or on several, their steps pooled: `heli identify "
+      "--noise-check-logs`), reset to the logged state every reset_s: seconds [H] since a reset, "
+      "outside [H, 8] (each body variable's share of the steps outside +-2 sd; `heli identify`'s "
+      "noise_check_by_horizon.csv), steps [H], outside_fraction [8] over all steps, names. Honest bands miss "
+      "3-7% at every horizon." +
+      report_bounds({"reset_s"});
   m.def(
       "noise_check",
       [check_number](const IdentifiedModel& model, const FlightLogsArg& test, double reset_s,
@@ -323,13 +352,7 @@ variables' changes, its bandwidth and noise. Save it as the model.json `pegasus 
         return out;
       },
       py::arg("model"), py::arg("test"), py::kw_only(), py::arg("reset_s") = kReportDefaults.reset_s,
-      py::arg("threads") = 1,
-      "Fig 5.3's check on a test log (or on several, their steps pooled: `heli identify "
-      "--noise-check-logs`), "
-      "reset to the logged state every reset_s: seconds [H] since a reset, "
-      "outside [H, 8] (each body variable's share of the steps outside +-2 sd; `heli identify`'s "
-      "noise_check_by_horizon.csv), steps [H], outside_fraction [8] over all steps, names. Honest bands miss "
-      "3-7% at every horizon.");
+      py::arg("threads") = 1, kNoiseCheckDoc.c_str());
   m.def(
       "closed_loop_bias",
       [](const IdentifiedModel& model) {

@@ -121,6 +121,7 @@ def test_the_bandwidth_floor_is_the_clis(logs, cli, tmp_path):
     with pytest.raises(ValueError, match="bandwidth_floor: unknown key 'controls'; expected angle_rad, velocity_mps, "
                                          "rate_radps, flap_rad or control"):
         pegasus.identify(log, bandwidth_floor={"controls": 0.6}, **options)
+    assert "flap_rad or control, each in [0, 1000000]" in pegasus.identify.__doc__
     # The bounds are the CLI's (BandwidthFloor::VisitFields), NaN included.
     for bad in (-1.0, 2e6, float("nan")):
         with pytest.raises(ValueError, match=r"bandwidth_floor.control: expected a number in \[0, 1000000\], got"):
@@ -138,15 +139,14 @@ def test_the_report_bounds_are_the_clis(logs, cli, tmp_path):
     log = pegasus.read_flight_log(test)
     model = pegasus.identify(pegasus.read_flight_log(train), cv_points=60, scale_grid=[1.0, 4.0],
                              coordinate_passes=0)
-    refused = [("horizon_s", 150.0, r"\[0.1, 100\] s", lambda v: pegasus.horizon_mse(model, log, horizon_s=v)),
-               ("start_spacing_s", 0.01, r"\[0.02, 1000\] s",
-                lambda v: pegasus.horizon_mse(model, log, start_spacing_s=v)),
-               ("control_rate_hz", 0.05, r"\[0.1, 1000\] Hz",
-                lambda v: pegasus.horizon_mse_as_trained(model, log, control_rate_hz=v)),
-               ("reset_s", 200.0, r"\[0.1, 100\] s", lambda v: pegasus.noise_check(model, log, reset_s=v))]
+    refused = [("horizon_s", 150.0, r"\[0.1, 100\] s", pegasus.horizon_mse),
+               ("start_spacing_s", 0.01, r"\[0.02, 1000\] s", pegasus.horizon_mse),
+               ("control_rate_hz", 0.05, r"\[0.1, 1000\] Hz", pegasus.horizon_mse_as_trained),
+               ("reset_s", 200.0, r"\[0.1, 100\] s", pegasus.noise_check)]
     for key, value, bounds, call in refused:
         with pytest.raises(ValueError, match=rf"{key}: expected a number in {bounds}, got"):
-            call(value)
+            call(model, log, **{key: value})
+        assert re.search(rf"{key} in {bounds}", call.__doc__), call.__doc__  # the docstring says what is checked
         option = f"--{key.replace('_', '-')}"
         args = [a for i, a in enumerate(IDENTIFY) if option not in (a, IDENTIFY[i - 1] if i else "")]
         result = subprocess.run([cli, "heli", "identify", "--train", train, "--test", test, *args,
