@@ -149,11 +149,17 @@ variables' changes, its bandwidth and noise. Save it as the model.json `pegasus 
 
   static const sysid::IdentifyOptions kIdentifyDefaults{};
   // The bounds the calls check, written into their docstrings from the same settings (as the CLI's --help).
-  static const std::string kFloorBounds = [] {
+  // The floors' keys (BandwidthFloor::VisitFields), for a refusal, and each with its own bounds, for the doc.
+  static const std::vector<std::string> kFloorKeys = [] {
     std::vector<std::string> keys;
     for (const NumberSetting& n : sysid::BandwidthFloor::settings()) keys.emplace_back(n.key);
-    return fmt::format("keys {}, each in {}", or_list(keys),
-                       sysid::BandwidthFloor::settings().front().range());
+    return keys;
+  }();
+  static const std::string kFloorBounds = [] {
+    std::string out;
+    for (const NumberSetting& n : sysid::BandwidthFloor::settings())
+      out += fmt::format("{}{} in {}", out.empty() ? "keys " : ", ", n.key, n.range_in_unit());
+    return out;
   }();
   auto report_bounds = [](std::initializer_list<const char*> keys) {
     std::string out;
@@ -182,12 +188,9 @@ variables' changes, its bandwidth and noise. Save it as the model.json `pegasus 
         o.calibration_leave_out_s = calibration_leave_out_s;
         o.calibration_spacing_s = calibration_spacing_s;
         for (const auto& [key, value] : bandwidth_floor) {
-          if (!set_number(o.min_bandwidth, key, value)) {  // BandwidthFloor::VisitFields
-            std::vector<std::string> keys;
-            for (const NumberSetting& n : sysid::BandwidthFloor::settings()) keys.emplace_back(n.key);
+          if (!set_number(o.min_bandwidth, key, value))  // BandwidthFloor::VisitFields
             throw py::value_error(
-                fmt::format("bandwidth_floor: unknown key '{}'; expected {}", key, or_list(keys)));
-          }
+                fmt::format("bandwidth_floor: unknown key '{}'; expected {}", key, or_list(kFloorKeys)));
         }
         o.structure.rate_hz = rate_hz;
         o.structure.extra_states = extra_states;

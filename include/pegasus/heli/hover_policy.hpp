@@ -28,7 +28,6 @@
 // (anti-windup), and the position part rotated into the body frame like the error: I_B = R_WB^T I_W. The
 // integral is the flight's memory, not the controller's: the task (training) or the flight
 // (heli/policy_file.hpp, ControllerMemory) carries it and hands it over in HeliObservation::integral.
-#include <algorithm>
 #include <array>
 #include <cmath>
 #include <span>
