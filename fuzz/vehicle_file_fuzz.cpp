@@ -1,4 +1,4 @@
-// libFuzzer harness: vehicle files (logs/vehicle: parse_vehicle), the TOML that `pegasus log import`,
+// libFuzzer harness: vehicle files (heli/vehicle_file: parse_vehicle), the TOML that `pegasus log import`,
 // `identify`, `hover`, `fly` and `control` read with --vehicle. Any bytes are accepted or refused with one
 // InputError line naming the file; an accepted file names its topics once each, keeps the rate rule (model
 // rate divides the log rate), drives each control axis with exactly one channel, and maps controls both ways.
@@ -7,8 +7,8 @@
 #include <string>
 
 #include "fuzz_contract.hpp"
+#include "pegasus/heli/vehicle_file.hpp"
 #include "pegasus/io/atomic_file.hpp"
-#include "pegasus/logs/vehicle.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   pegasus::fuzz::refuses_input_past_its_limit(

@@ -1,10 +1,11 @@
 // `pegasus bicycle ...`: Randlov and Alstrom's bicycle ridden to a goal 1 km away by PEGASUS (thesis §4.6):
-// the library's config sections (runs/bicycle_config.hpp) and experiments (runs/bicycle_runs.hpp).
+// the library's config sections (experiments/runs/bicycle_config.hpp) and experiments
+// (experiments/runs/bicycle_runs.hpp).
 #include <optional>
 
 #include "pegasus/cli/command.hpp"
-#include "pegasus/runs/bicycle_config.hpp"
-#include "pegasus/runs/bicycle_runs.hpp"
+#include "pegasus/experiments/runs/bicycle_config.hpp"
+#include "pegasus/experiments/runs/bicycle_runs.hpp"
 
 namespace pegasus::cli {
 namespace {

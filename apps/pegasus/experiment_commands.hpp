@@ -5,8 +5,8 @@
 #include <vector>
 
 #include "pegasus/cli/command.hpp"
-#include "pegasus/runs/heli_config.hpp"
-#include "pegasus/runs/heli_runs.hpp"
+#include "pegasus/heli/runs/heli_config.hpp"
+#include "pegasus/heli/runs/heli_runs.hpp"
 
 namespace pegasus::cli {
 

@@ -1,7 +1,7 @@
 // pegasus export --policy P.json --lang c --out DIR: a policy file becomes a dependency-free C99 header and
-// source for a flight computer: the library's config section and export (runs/export_run.hpp).
+// source for a flight computer: the library's config section and export (codegen/runs/export_run.hpp).
 #include "pegasus/cli/command.hpp"
-#include "pegasus/runs/export_run.hpp"
+#include "pegasus/codegen/runs/export_run.hpp"
 
 namespace pegasus::cli {
 

@@ -1,7 +1,7 @@
 // `pegasus heli pilot`, `heli identify`, `heli hover`, `heli fly`, `heli control` and `heli pipeline`, and
-// their generic forms with --vehicle: the library's helicopter config sections (runs/heli_config.hpp) and
-// experiments (runs/heli_runs.hpp: the ground truth flown by the scripted pilot, identification, PEGASUS
-// hover training on the identified model, flights on the ground truth, thesis ch. 5; the line-by-line
+// their generic forms with --vehicle: the library's helicopter config sections (heli/runs/heli_config.hpp)
+// and experiments (heli/runs/heli_runs.hpp: the ground truth flown by the scripted pilot, identification,
+// PEGASUS hover training on the identified model, flights on the ground truth, thesis ch. 5; the line-by-line
 // controller server). The pipeline, made of these commands, is heli_pipeline_command.cpp.
 #include <cstdio>
 #include <map>
@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "experiment_commands.hpp"
+#include "pegasus/heli/runs/heli_config.hpp"
 #include "pegasus/heli/simulators.hpp"
-#include "pegasus/runs/heli_config.hpp"
 
 namespace pegasus::cli {
 namespace {

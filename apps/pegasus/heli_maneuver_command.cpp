@@ -1,11 +1,11 @@
 // `pegasus heli maneuver` and `heli maneuver-pilot` (and `maneuver`, `maneuver-pilot` with --vehicle): the
-// library's config sections (runs/maneuver_config.hpp) and manoeuvre experiments (runs/maneuver_runs.hpp,
-// thesis §5.4).
+// library's config sections (heli/runs/maneuver_config.hpp) and manoeuvre experiments
+// (heli/runs/maneuver_runs.hpp, thesis §5.4).
 #include <string>
 #include <vector>
 
 #include "experiment_commands.hpp"
-#include "pegasus/runs/maneuver_config.hpp"
+#include "pegasus/heli/runs/maneuver_config.hpp"
 
 namespace pegasus::cli {
 namespace {

@@ -20,7 +20,7 @@
 #include "experiment_commands.hpp"
 #include "pegasus/core/error.hpp"
 #include "pegasus/heli/simulators.hpp"
-#include "pegasus/logs/vehicle.hpp"
+#include "pegasus/heli/vehicle_file.hpp"
 
 namespace pegasus::cli {
 

@@ -1,8 +1,8 @@
 // `pegasus log import FILE.ulg --vehicle V.toml --out DIR`: a PX4 ULog flight as the project's CSV flight
 // log, identified on its first part with hold-out prediction errors: the library's config section and
-// experiment (runs/log_import_run.hpp).
+// experiment (heli/runs/log_import_run.hpp).
 #include "pegasus/cli/command.hpp"
-#include "pegasus/runs/log_import_run.hpp"
+#include "pegasus/heli/runs/log_import_run.hpp"
 
 namespace pegasus::cli {
 

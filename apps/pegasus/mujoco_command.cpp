@@ -1,9 +1,10 @@
 // `pegasus mujoco train` and `pegasus mujoco rollout`: PEGASUS policy search on any MJCF model (issue 18):
-// the library's config sections (runs/mujoco_config.hpp) and experiments (runs/mujoco_runs.hpp). Built only
-// with PEGASUS_MUJOCO (libmujoco-dev); without it the table has no mujoco commands.
+// the library's config sections (mujoco/runs/mujoco_config.hpp) and experiments
+// (mujoco/runs/mujoco_runs.hpp). Built only with PEGASUS_MUJOCO (libmujoco-dev); without it the table has no
+// mujoco commands.
 #ifdef PEGASUS_HAVE_MUJOCO
 #include "pegasus/cli/command.hpp"
-#include "pegasus/runs/mujoco_config.hpp"
+#include "pegasus/mujoco/runs/mujoco_config.hpp"
 
 namespace pegasus::cli {
 

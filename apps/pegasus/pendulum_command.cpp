@@ -1,7 +1,7 @@
 // `pegasus pendulum train`: PEGASUS on Gymnasium's Pendulum-v1, the race against RLtools of issue 7: the
-// library's config section and experiment (runs/pendulum_run.hpp).
+// library's config section and experiment (experiments/runs/pendulum_run.hpp).
 #include "pegasus/cli/command.hpp"
-#include "pegasus/runs/pendulum_run.hpp"
+#include "pegasus/experiments/runs/pendulum_run.hpp"
 
 namespace pegasus::cli {
 

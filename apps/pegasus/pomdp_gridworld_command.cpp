@@ -1,7 +1,7 @@
 // `pegasus pomdp-gridworld`: the POMDP gridworld experiment of thesis §4.6 (Fig 4.5b): the library's config
-// section and experiment (runs/pomdp_gridworld_run.hpp).
+// section and experiment (experiments/runs/pomdp_gridworld_run.hpp).
 #include "pegasus/cli/command.hpp"
-#include "pegasus/runs/pomdp_gridworld_run.hpp"
+#include "pegasus/experiments/runs/pomdp_gridworld_run.hpp"
 
 namespace pegasus::cli {
 

@@ -1,10 +1,11 @@
 // `pegasus shaping audit` (is a tabular shaping reward potential-based? thesis §3.3, Theorem 1: exit 0 when
 // it is, 1 when it is not, with a witness and a verified counterexample), `shaping gridworld`, `shaping
 // flags` (§3.4, Figs 3.2 and 3.3) and `shaping progress-bonus` (the §3.1 bug, shown by learning): the
-// library's config sections (runs/shaping_config.hpp) and experiments (runs/shaping_runs.hpp).
+// library's config sections (experiments/runs/shaping_config.hpp) and experiments
+// (experiments/runs/shaping_runs.hpp).
 #include "pegasus/cli/command.hpp"
-#include "pegasus/runs/shaping_config.hpp"
-#include "pegasus/runs/shaping_runs.hpp"
+#include "pegasus/experiments/runs/shaping_config.hpp"
+#include "pegasus/experiments/runs/shaping_runs.hpp"
 
 namespace pegasus::cli {
 namespace {

@@ -3,7 +3,7 @@
 // the model concept, policies and their parameters, scenario sets, the PEGASUS and Monte Carlo evaluators,
 // every optimizer and the training loop, with the errors they throw. Components beyond the core have their
 // own headers: pegasus/parallel/open_mpi.hpp (pegasus::mpi), pegasus/mujoco/ (pegasus::mujoco), and
-// pegasus/runs/ (pegasus::runs).
+// pegasus/runs/ and each domain's experiments in pegasus/DOMAIN/runs/ (pegasus::runs).
 #include "pegasus/core/environment_error.hpp"
 #include "pegasus/core/error.hpp"
 #include "pegasus/evaluators/monte_carlo.hpp"

@@ -10,9 +10,9 @@
 #include "common.hpp"
 #include "pegasus/core/number_setting.hpp"
 #include "pegasus/core/or_list.hpp"
-#include "pegasus/logs/vehicle.hpp"
+#include "pegasus/heli/runs/heli_runs.hpp"
+#include "pegasus/heli/vehicle_file.hpp"
 #include "pegasus/parallel/thread_pool.hpp"
-#include "pegasus/runs/heli_runs.hpp"
 #include "pegasus/sysid/identify.hpp"
 #include "pegasus/vehicle/flight_log.hpp"
 

@@ -11,7 +11,7 @@
 
 #include "pegasus/codegen/c_policy.hpp"
 #include "pegasus/heli/policy_file.hpp"
-#include "pegasus/logs/vehicle.hpp"
+#include "pegasus/heli/vehicle_file.hpp"
 
 namespace pegasus::codegen::detail {
 

@@ -217,7 +217,7 @@ class Resampler {
   Resampler(const Topics& topics, const VehicleLogSpec& spec, const std::string& file)
       : topics_(topics), spec_(spec), file_(file) {}
 
-  // The pipeline's state at t, from the log's conventions (logs/vehicle.hpp; no arithmetic under the
+  // The pipeline's state at t, from the log's conventions (heli/vehicle_file.hpp; no arithmetic under the
   // defaults).
   std::array<double, sysid::kLogStates> state(double t) {
     ip_ = record_at(topics_.position, t, ip_);

@@ -157,8 +157,8 @@ json mujoco_replay_spec(const Chart& c, const fs::path& dir, const ReportOptions
   if (!replay.is_object() || replay.value("format", "") != "pegasus.mujoco.replay")
     throw InputError(
         fmt::format("{}: expected a MuJoCo replay (format pegasus.mujoco.replay)", file.string()));
-  // Written with version 1 since replays began (runs/mujoco_runs.cpp): another is a layout this build cannot
-  // pose.
+  // Written with version 1 since replays began (mujoco/runs/mujoco_runs.cpp): another is a layout this build
+  // cannot pose.
   if (const json& version = replay.value("version", json()); version != 1)
     json_field_error(file.string(), "version", "1 (the replay layout this build reads)", version);
   // The viewer poses geom g of frame k from frames[k][7g .. 7g + 6] (position, quaternion) at time t[k]: a

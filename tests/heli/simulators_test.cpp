@@ -12,8 +12,8 @@
 
 #include "pegasus/heli/aircraft.hpp"
 #include "pegasus/heli/quadrotor.hpp"
+#include "pegasus/heli/vehicle_file.hpp"
 #include "pegasus/io/atomic_file.hpp"
-#include "pegasus/logs/vehicle.hpp"
 
 namespace {
 

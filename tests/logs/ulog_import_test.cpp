@@ -14,8 +14,8 @@
 #include <regex>
 
 #include "pegasus/core/error.hpp"
+#include "pegasus/heli/vehicle_file.hpp"
 #include "pegasus/logs/ulog.hpp"
-#include "pegasus/logs/vehicle.hpp"
 #include "pegasus/vehicle/flight_log.hpp"
 #include "pegasus/vehicle/frames.hpp"
 #include "support/cli_runner.hpp"

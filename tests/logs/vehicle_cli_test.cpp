@@ -13,8 +13,8 @@
 #include <optional>
 
 #include "outside_aircraft.hpp"
+#include "pegasus/heli/vehicle_file.hpp"
 #include "pegasus/io/json_csv.hpp"
-#include "pegasus/logs/vehicle.hpp"
 #include "pegasus/sysid/identify.hpp"
 #include "pegasus/vehicle/flight_log.hpp"
 #include "support/cli_runner.hpp"

@@ -13,7 +13,7 @@
 
 #include "outside_aircraft.hpp"
 #include "pegasus/heli/control_loop.hpp"
-#include "pegasus/logs/vehicle.hpp"
+#include "pegasus/heli/vehicle_file.hpp"
 #include "pegasus/vehicle/frames.hpp"
 #include "support/input_error.hpp"
 
@@ -69,8 +69,8 @@ Euler random_attitude(std::mt19937_64& rng) {
   return {angle(rng), pitch(rng), angle(rng)};
 }
 
-// The closed forms of logs/vehicle.hpp (pitch' = -pitch, yaw' = pi/2 - yaw, roll' = roll + pi with one frame
-// flipped) give the rotation R' = R_world',W R_WB R_B,body' of the log's frames, and back.
+// The closed forms of heli/vehicle_file.hpp (pitch' = -pitch, yaw' = pi/2 - yaw, roll' = roll + pi with one
+// frame flipped) give the rotation R' = R_world',W R_WB R_B,body' of the log's frames, and back.
 TEST(VehicleConventions, EulerAnglesInEveryPairOfFramesAreTheRotationOfTheMatrices) {
   std::mt19937_64 rng(53);
   for (const Frames& f : kAllFrames) {

@@ -14,7 +14,7 @@
 #include <string>
 
 #include "pegasus/heli/hover_task.hpp"
-#include "pegasus/logs/vehicle.hpp"
+#include "pegasus/heli/vehicle_file.hpp"
 #include "support/input_error.hpp"
 
 namespace pegasus::logs::cost_test {

@@ -1,8 +1,6 @@
-// Vehicle files (logs/vehicle.hpp): the shipped X-Cell file says what the `heli` commands assume; an outside
-// aircraft's logs (quaternions, body frames, its own channels) read back to the pipeline's layout; its
-// control lines are served in its own terms; every malformed file is refused naming its line and key.
-#include "pegasus/logs/vehicle.hpp"
-
+// Vehicle files (heli/vehicle_file.hpp): the shipped X-Cell file says what the `heli` commands assume; an
+// outside aircraft's logs (quaternions, body frames, its own channels) read back to the pipeline's layout;
+// its control lines are served in its own terms; every malformed file is refused naming its line and key.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -12,6 +10,7 @@
 #include "outside_aircraft.hpp"
 #include "pegasus/core/error.hpp"
 #include "pegasus/heli/control_loop.hpp"
+#include "pegasus/heli/vehicle_file.hpp"
 #include "support/input_error.hpp"
 
 namespace {

@@ -13,7 +13,7 @@
 #include "pegasus/core/error.hpp"
 #include "pegasus/core/or_list.hpp"
 #include "pegasus/mujoco/mujoco_policy.hpp"
-#include "pegasus/runs/mujoco_config.hpp"
+#include "pegasus/mujoco/runs/mujoco_config.hpp"
 
 namespace pegasus {
 namespace {

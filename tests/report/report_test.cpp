@@ -15,9 +15,9 @@
 #include <string>
 
 #include "pegasus/core/error.hpp"
+#include "pegasus/heli/runs/flight_charts.hpp"
 #include "pegasus/io/json_csv.hpp"
 #include "pegasus/runs/charts.hpp"
-#include "pegasus/runs/flight_charts.hpp"
 #include "report_fixture.hpp"
 #include "support/cli_runner.hpp"
 #include "support/input_error.hpp"

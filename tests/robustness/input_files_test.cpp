@@ -12,6 +12,7 @@
 #include "pegasus/core/untrusted_text.hpp"
 #include "pegasus/experiments/bicycle_experiment.hpp"
 #include "pegasus/heli/policy_file.hpp"
+#include "pegasus/heli/vehicle_file.hpp"
 #include "pegasus/logs/ulog_import.hpp"
 #include "pegasus/mdp/mdp_json.hpp"
 #include "pegasus/runs/config.hpp"

@@ -10,9 +10,9 @@
 #include <filesystem>
 #include <fstream>
 
+#include "pegasus/heli/runs/flight_charts.hpp"
 #include "pegasus/io/atomic_file.hpp"
 #include "pegasus/io/json_csv.hpp"
-#include "pegasus/runs/flight_charts.hpp"
 #include "pegasus/runs/run_directory.hpp"
 #include "support/input_error.hpp"
 #include "support/scratch_dir.hpp"

@@ -6,14 +6,14 @@
 #include <filesystem>
 #include <string>
 
-#include "pegasus/runs/bicycle_config.hpp"
-#include "pegasus/runs/export_run.hpp"
-#include "pegasus/runs/heli_config.hpp"
-#include "pegasus/runs/log_import_run.hpp"
-#include "pegasus/runs/maneuver_config.hpp"
-#include "pegasus/runs/pendulum_run.hpp"
-#include "pegasus/runs/pomdp_gridworld_run.hpp"
-#include "pegasus/runs/shaping_config.hpp"
+#include "pegasus/codegen/runs/export_run.hpp"
+#include "pegasus/experiments/runs/bicycle_config.hpp"
+#include "pegasus/experiments/runs/pendulum_run.hpp"
+#include "pegasus/experiments/runs/pomdp_gridworld_run.hpp"
+#include "pegasus/experiments/runs/shaping_config.hpp"
+#include "pegasus/heli/runs/heli_config.hpp"
+#include "pegasus/heli/runs/log_import_run.hpp"
+#include "pegasus/heli/runs/maneuver_config.hpp"
 
 namespace pegasus {
 namespace {

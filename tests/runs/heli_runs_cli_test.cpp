@@ -1,5 +1,5 @@
-// The helicopter experiments as library functions (runs/heli_runs.hpp): a program that chains them on its
-// own run directories gets exactly the summaries the CLI's pipeline writes for the same settings.
+// The helicopter experiments as library functions (heli/runs/heli_runs.hpp): a program that chains them on
+// its own run directories gets exactly the summaries the CLI's pipeline writes for the same settings.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -8,7 +8,7 @@
 #include <string>
 
 #include "pegasus/core/error.hpp"
-#include "pegasus/runs/heli_runs.hpp"
+#include "pegasus/heli/runs/heli_runs.hpp"
 #include "support/cli_runner.hpp"
 
 namespace pegasus::heli {

@@ -12,8 +12,8 @@
 
 #include "logs/outside_aircraft.hpp"
 #include "pegasus/heli/hover_task.hpp"
-#include "pegasus/logs/vehicle.hpp"
-#include "pegasus/runs/heli_config.hpp"
+#include "pegasus/heli/runs/heli_config.hpp"
+#include "pegasus/heli/vehicle_file.hpp"
 #include "support/cli_runner.hpp"
 #include "support/input_error.hpp"
 

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "logs/outside_aircraft.hpp"
-#include "pegasus/runs/maneuver_config.hpp"
+#include "pegasus/heli/runs/maneuver_config.hpp"
 #include "support/cli_runner.hpp"
 
 namespace pegasus::heli {

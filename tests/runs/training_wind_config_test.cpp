@@ -12,11 +12,11 @@
 #include <vector>
 
 #include "logs/outside_aircraft.hpp"
-#include "pegasus/logs/vehicle.hpp"
+#include "pegasus/heli/runs/heli_config.hpp"
+#include "pegasus/heli/runs/heli_runs.hpp"
+#include "pegasus/heli/runs/maneuver_config.hpp"
+#include "pegasus/heli/vehicle_file.hpp"
 #include "pegasus/report/summary_keys.hpp"
-#include "pegasus/runs/heli_config.hpp"
-#include "pegasus/runs/heli_runs.hpp"
-#include "pegasus/runs/maneuver_config.hpp"
 #include "pegasus/sysid/learned_model.hpp"
 #include "support/cli_runner.hpp"
 #include "support/input_error.hpp"

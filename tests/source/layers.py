@@ -4,8 +4,11 @@
 Every folder of include/pegasus/ and src/ sits in one layer below; a file may include the headers of its own
 folder and of folders in lower layers, never of its own layer's other folders or of a higher one. So no
 folder cycle can form, and the vehicle layer (the aircraft's state, frames, flight log, wind and typed
-Vehicle) stays below heli/ and sysid/, which read it. A new folder must be placed here: an unplaced folder
-fails, naming it. Exits 1 with one line per offending include ("FILE:LINE: includes FOLDER/, above it").
+Vehicle) stays below heli/ and sysid/, which read it. A domain's experiments (its run code: Options -> Result
+and the files it writes) live in its `runs/` sub-folder (heli/runs/), which is a layer of its own above the run
+framework (runs/); so the engine below never includes a run directory, and runs/ holds only the framework. A new
+folder must be placed here: an unplaced folder fails, naming it. Exits 1 with one line per offending include
+("FILE:LINE: includes FOLDER/, above it").
 """
 import pathlib
 import re
@@ -17,17 +20,19 @@ LAYERS = [
     ["random", "io", "parallel"],
     ["models"],
     ["policies", "scenarios", "mdp", "vehicle"],
-    ["optimizers", "shaping", "sysid"],
+    ["optimizers", "shaping", "sysid", "logs"],
     ["evaluators"],
     ["envs", "mujoco"],
     ["experiments", "heli"],
-    ["logs"],
     ["codegen"],
     ["runs"],
+    ["shaping/runs", "mujoco/runs"],
+    ["experiments/runs", "heli/runs", "codegen/runs"],
     ["report", "cli"],
 ]
 
-INCLUDE = re.compile(r'^\s*#\s*include\s+"(?:pegasus/|\.\./)([a-z_]+)/')
+# The folder an include names: a domain's experiments are DOMAIN/runs, any other header its top folder.
+INCLUDE = re.compile(r'^\s*#\s*include\s+"(?:pegasus/|\.\./)([a-z_]+(?:/runs(?=/))?)/')
 
 
 def layer_of():
@@ -44,23 +49,29 @@ def offences(root):
     folders = set()
     for base in (root / "include" / "pegasus", root / "src"):
         for folder in sorted(p for p in base.iterdir() if p.is_dir()):
-            folders.add(folder.name)
-            if folder.name not in layers:
-                found.append(f"{folder.relative_to(root)}: a folder no layer of tests/source/layers.py holds")
-                continue
+            runs = folder / "runs"
+            names = [folder.name] + ([f"{folder.name}/runs"] if folder.name != "runs" and runs.is_dir() else [])
+            for name in names:
+                folders.add(name)
+                if name not in layers:
+                    found.append(f"{(base / name).relative_to(root)}: a folder no layer of tests/source/layers.py holds")
             for path in sorted(folder.rglob("*")):
                 if path.suffix not in (".hpp", ".cpp", ".h"):
                     continue
+                in_runs = folder.name != "runs" and runs in path.parents
+                name = f"{folder.name}/runs" if in_runs else folder.name
+                if name not in layers:
+                    continue
                 for number, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1):
                     m = INCLUDE.match(line)
-                    if not m or m.group(1) == folder.name:
+                    if not m or m.group(1) == name:
                         continue
                     target = m.group(1)
                     if target not in layers:
                         found.append(f"{path.relative_to(root)}:{number}: includes {target}/, a folder no layer holds")
-                    elif layers[target] >= layers[folder.name]:
-                        where = "beside" if layers[target] == layers[folder.name] else "above"
-                        found.append(f"{path.relative_to(root)}:{number}: includes {target}/, {where} {folder.name}/")
+                    elif layers[target] >= layers[name]:
+                        where = "beside" if layers[target] == layers[name] else "above"
+                        found.append(f"{path.relative_to(root)}:{number}: includes {target}/, {where} {name}/")
     return found, folders
 
 

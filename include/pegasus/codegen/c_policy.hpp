@@ -37,7 +37,7 @@
 #include <string>
 #include <vector>
 
-#include "pegasus/logs/vehicle.hpp"
+#include "pegasus/heli/vehicle_file.hpp"
 
 namespace pegasus::codegen {
 

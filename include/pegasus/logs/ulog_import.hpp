@@ -4,7 +4,8 @@
 // log's frames (world NED position and velocity, Z-Y-X Euler angles, Euler-angle rates) and its four
 // control columns. The README's "Vehicle files: the [log] section" documents the schema.
 //
-//   const VehicleLogSpec spec = read_vehicle_log_spec("experiments/vehicles/px4-quadrotor.toml");
+//   const VehicleLogSpec spec = read_vehicle_log_spec(  // heli/vehicle_file.hpp
+//       "experiments/vehicles/px4-quadrotor.toml");
 //   const logs::UlogFile ulog = logs::read_ulog(file, {.topics = spec.topic_names()});
 //   ImportProvenance provenance;
 //   const sysid::FlightLog log = import_ulog(ulog, spec, file.string(), &provenance);
@@ -16,8 +17,8 @@
 #include <vector>
 
 #include "pegasus/logs/ulog.hpp"
-#include "pegasus/logs/vehicle.hpp"
 #include "pegasus/vehicle/flight_log.hpp"
+#include "pegasus/vehicle/vehicle.hpp"
 
 namespace pegasus::logs {
 

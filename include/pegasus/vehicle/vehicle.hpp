@@ -17,7 +17,7 @@
 //
 // This header is the vehicle layer's: the typed description and its conventions, which every layer above
 // reads (heli/, sysid/, the commands). Reading a file into it, with the checks that need the pipeline's
-// registries, is logs/vehicle.hpp's.
+// registries, is heli/vehicle_file.hpp's.
 #include <array>
 #include <limits>
 #include <optional>
