@@ -159,14 +159,11 @@ ManeuverTrainingResult train_maneuver(std::shared_ptr<const sysid::IdentifiedMod
 // ---- Flights on the ground truth ------------------------------------------------------------------------
 
 bool ManeuverFlightOptions::IsValid(std::string* error) const {
-  if (flights < 1 || flights > 100000)
-    return fail(error, fmt::format("flights: expected an integer in [1, 100000], got {}", flights));
+  if (std::string out = numbers_out_of_bounds(*this); !out.empty()) return fail(error, std::move(out));
   if (!(extra_seconds >= 0 && extra_seconds <= 600))
     return fail(error, fmt::format("extra_seconds: expected a number in [0, 600], got {}", extra_seconds));
   if (!(gust_sigma >= 0 && gust_sigma <= 10))
     return fail(error, fmt::format("gust_sigma: expected a number in [0, 10], got {}", gust_sigma));
-  if (!nonnegative_finite(start_pos_sigma))
-    return fail(error, fmt::format("start_pos_sigma: expected a number >= 0, got {}", start_pos_sigma));
   if (!nonnegative_finite(start_vel_sigma))
     return fail(error, fmt::format("start_vel_sigma: expected a number >= 0, got {}", start_vel_sigma));
   return true;

@@ -137,6 +137,21 @@ TEST(ManeuverSettingsConfig, IsValidRefusesEachNumberBeyondItsBoundsNamingItAndI
   expect_is_valid_bounds_every_number<ManeuverTrainingOptions>();
 }
 
+// heli maneuver's flights and flight_start_sigma (ManeuverFlightOptions): options, reading and IsValid from
+// one description; IsValid now bounds the start perturbation as the option does.
+TEST(ManeuverSettingsConfig, EveryFlightNumberIsAnOptionOfManeuverWithItsBoundsInIsValidToo) {
+  ASSERT_EQ(number_settings<ManeuverFlightOptions>().size(), 2u);
+  expect_every_number_is_an_option<ManeuverFlightOptions>(
+      [](ConfigSchema& s) { declare_maneuver_config(s); },
+      [](const ConfigSchema& s) { return read_maneuver_config(s, 7).flights; });
+  expect_is_valid_bounds_every_number<ManeuverFlightOptions>();
+  ManeuverFlightOptions o;
+  o.start_pos_sigma = 11;
+  std::string error;
+  EXPECT_FALSE(o.IsValid(&error));
+  EXPECT_EQ(error, "flight_start_sigma: expected a number in [0, 10] m, got 11");
+}
+
 TEST(IdentifySettingsConfig,
      EveryNumberIsAnOptionOfIdentifyWithItsDefaultHelpAndBoundsAndIsReadIntoItsMember) {
   ASSERT_EQ(number_settings<sysid::IdentifyOptions>().size(), 5u);

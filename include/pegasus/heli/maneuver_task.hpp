@@ -201,6 +201,18 @@ struct ManeuverFlightOptions {
   std::uint64_t seed = 1;
   std::string simulator = "xcell";  // the ground truth flown (heli/simulators.hpp)
   bool IsValid(std::string* error) const;
+
+  // The numbers a user sets, once (issue 49 item 1): `heli maneuver`'s flights and flight_start_sigma, with
+  // their bounds, help and reading, and IsValid's bounds. The gusts are declare_gust_sigma's, as every
+  // command's; the rest is set by the run, not the user.
+  template <class Visitor>
+  static void VisitFields(Visitor& v) {
+    using O = ManeuverFlightOptions;
+    v.setting({"flights", 1, 100000, false, "", "flights on the ground-truth aircraft per policy"},
+              &O::flights);
+    v.setting({"flight_start_sigma", 0, 10, false, "m", "start position perturbation of the flights, m"},
+              &O::start_pos_sigma);
+  }
 };
 
 struct ManeuverFlight {

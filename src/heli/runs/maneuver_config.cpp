@@ -98,12 +98,9 @@ void declare_maneuver_config(ConfigSchema& s) {
   s.add_bool("ablations", run.ablations,
              "also train without the learned delay and without shaping (same budget) and fly them");
   // Flights on the ground truth
-  s.add_int("flights", run.flights.flights, "flights on the ground-truth aircraft per policy")
-      .range(1, 100000);
+  declare_numbers(s, run.flights, "flights");  // ManeuverFlightOptions::VisitFields
   declare_gust_sigma(s, "turbulence per axis on the ground truth, m/s");
-  s.add_double("flight_start_sigma", run.flights.start_pos_sigma,
-               "start position perturbation of the flights, m")
-      .range(0, 10);
+  declare_numbers(s, run.flights, "flight_start_sigma");
   s.add_int("trace_flights", run.trace_flights, "flights written to flights.csv").range(0, 100000);
   s.add_bool(
       "compare_pilot", run.compare_pilot,
@@ -150,9 +147,8 @@ ManeuverRunOptions read_maneuver_config(const ConfigSchema& c, std::uint64_t see
                        .hover_policy_file = c.get_path("hover_policy"),
                        .training = read_training(c, seed),
                        .ablations = c.get_bool("ablations")};
-  o.flights.flights = static_cast<int>(c.get_int("flights"));
+  read_numbers(c, o.flights);  // flights, flight_start_sigma
   o.flights.gust_sigma = c.get_double("gust_sigma");
-  o.flights.start_pos_sigma = c.get_double("flight_start_sigma");
   o.trace_flights = static_cast<int>(c.get_int("trace_flights"));
   o.compare_pilot = c.get_bool("compare_pilot");
   o.wind_source = hover_wind_source(c, o.aircraft);
