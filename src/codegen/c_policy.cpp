@@ -270,23 +270,21 @@ bool CPolicyOptions::IsValid(std::string* error) const {
 
 namespace {
 
-// The classes export has C text for, each once: its name, the family of files it comes in and its C text.
-// A file's family is the file's own: a helicopter policy file says so by its "format", and its "class" is
-// a name of heli's registry (policy_class_names()); a parameter policy file names its class in "policy".
-// c_policy_class_names, the dispatch below and its error messages all read this table.
-struct ExportedClass {
+// The classes export has C text for, each registered once. A file's family is the file's own: a helicopter
+// policy file says so by its "format", and its "class" is a name of heli's registry, where each class
+// registers its controller and its C text together (heli/policy_file.hpp: register_policy_class); a
+// parameter policy file names its class in "policy", one of the table below, whose classes no other
+// registry holds (their commands read their own files). c_policy_class_names, the dispatch below and its
+// error messages all read these two.
+struct ParameterFileClass {
   const char* name;
-  bool helicopter_file;
-  ClassText (*from_helicopter_file)(const heli::PolicyFile&, const std::string&);
-  ClassText (*from_parameter_file)(const nlohmann::json&, const std::string&);
+  ClassText (*c_text)(const nlohmann::json&, const std::string&);
 };
 
-const std::vector<ExportedClass>& exported_classes() {
-  static const std::vector<ExportedClass> classes = {
-      {"hover", true, &hover_class, nullptr},
-      {"maneuver", true, &maneuver_class, nullptr},
-      {"bicycle-sigmoid-15", false, nullptr, &bicycle_class},
-      {"pendulum-swing-up", false, nullptr, &pendulum_class},
+const std::vector<ParameterFileClass>& parameter_file_classes() {
+  static const std::vector<ParameterFileClass> classes = {
+      {"bicycle-sigmoid-15", &bicycle_class},
+      {"pendulum-swing-up", &pendulum_class},
   };
   return classes;
 }
@@ -294,23 +292,27 @@ const std::vector<ExportedClass>& exported_classes() {
 // "a, b or c" of the classes in one kind of file, each quoted or not.
 std::string class_list(bool helicopter_file, bool quoted) {
   std::vector<std::string> names;
-  for (const ExportedClass& c : exported_classes())
-    if (c.helicopter_file == helicopter_file)
-      names.push_back(quoted ? fmt::format("\"{}\"", c.name) : c.name);
+  if (helicopter_file) {
+    names = heli::c_text_policy_class_names();
+  } else {
+    for (const ParameterFileClass& c : parameter_file_classes()) names.emplace_back(c.name);
+  }
+  if (quoted)
+    for (std::string& name : names) name = fmt::format("\"{}\"", name);
   return or_list(names);
 }
 
-// The C text of a helicopter policy file, by its class in the table; a class that heli's registry knows
-// (it flies) but the table does not is told so.
+// The C text of a helicopter policy file, by its class in heli's registry; a class there without C text
+// (it flies) is told so.
 ClassText helicopter_class_text(const nlohmann::json& j, const std::string& source,
                                 std::string* trained_for) {
   const heli::PolicyFile file = heli::parse_policy_file(j, source);
   *trained_for = heli::trained_vehicle(file);
-  const auto& classes = exported_classes();
-  const auto it = std::find_if(classes.begin(), classes.end(), [&](const ExportedClass& c) {
-    return c.helicopter_file && file.class_name == c.name;
-  });
-  if (it != classes.end()) return it->from_helicopter_file(file, source);
+  if (const heli::PolicyClassCText c_text = heli::policy_class_c_text(file.class_name)) {
+    ClassText text = c_text(file, source);
+    text.class_name = file.class_name;
+    return text;
+  }
   const std::vector<std::string> flying = heli::policy_class_names();
   const bool registered = std::find(flying.begin(), flying.end(), file.class_name) != flying.end();
   throw InputError(fmt::format("{}: class: expected {} (the helicopter classes export knows{}), got \"{}\"",
@@ -327,11 +329,10 @@ ClassText class_text(const nlohmann::json& j, const std::string& source, std::st
     throw InputError(fmt::format("{}: format: a MuJoCo policy (\"{}\") has no C export; export knows {}",
                                  source, kMujocoPolicyFormat, or_list(c_policy_class_names())));
   if (j.contains("policy")) {
-    const auto& classes = exported_classes();
-    const auto it = std::find_if(classes.begin(), classes.end(), [&](const ExportedClass& c) {
-      return !c.helicopter_file && j.at("policy") == c.name;
-    });
-    if (it != classes.end()) return it->from_parameter_file(j, source);
+    const auto& classes = parameter_file_classes();
+    const auto it = std::find_if(classes.begin(), classes.end(),
+                                 [&](const ParameterFileClass& c) { return j.at("policy") == c.name; });
+    if (it != classes.end()) return it->c_text(j, source);
   }
   const std::string got = j.contains("policy")   ? j.at("policy").dump()
                           : j.contains("format") ? j.at("format").dump()
@@ -345,8 +346,8 @@ ClassText class_text(const nlohmann::json& j, const std::string& source, std::st
 }  // namespace
 
 std::vector<std::string> c_policy_class_names() {
-  std::vector<std::string> names;
-  for (const ExportedClass& c : exported_classes()) names.emplace_back(c.name);
+  std::vector<std::string> names = heli::c_text_policy_class_names();
+  for (const ParameterFileClass& c : parameter_file_classes()) names.emplace_back(c.name);
   return names;
 }
 

@@ -17,14 +17,20 @@
 namespace pegasus::heli {
 namespace {
 
-// The classes every build knows. A new class adds its line here (its factory lives with the class).
-std::map<std::string, PolicyClassFactory> builtin_classes() {
-  return {{"hover", make_hover_controller}, {"maneuver", make_maneuver_controller}};
+struct PolicyClass {
+  PolicyClassFactory controller;
+  PolicyClassCText c_text;  // empty: no C export
+};
+
+// The classes every build knows. A new class adds its line here (its factory and C text live with the class).
+std::map<std::string, PolicyClass> builtin_classes() {
+  return {{"hover", {make_hover_controller, hover_c_text}},
+          {"maneuver", {make_maneuver_controller, maneuver_c_text}}};
 }
 
 struct Registry {
   std::mutex mutex;
-  std::map<std::string, PolicyClassFactory> classes = builtin_classes();
+  std::map<std::string, PolicyClass> classes = builtin_classes();
 };
 Registry& registry() {
   static Registry r;
@@ -59,18 +65,34 @@ class HoverController final : public HeliController {
 
 }  // namespace
 
-void register_policy_class(const std::string& name, PolicyClassFactory factory) {
+void register_policy_class(const std::string& name, PolicyClassFactory factory, PolicyClassCText c_text) {
   Registry& r = registry();
   const std::lock_guard lock(r.mutex);
-  r.classes[name] = std::move(factory);
+  r.classes[name] = {std::move(factory), std::move(c_text)};
 }
 
 std::vector<std::string> policy_class_names() {
   Registry& r = registry();
   const std::lock_guard lock(r.mutex);
   std::vector<std::string> names;
-  for (const auto& [name, f] : r.classes) names.push_back(name);
+  for (const auto& [name, c] : r.classes) names.push_back(name);
   return names;
+}
+
+std::vector<std::string> c_text_policy_class_names() {
+  Registry& r = registry();
+  const std::lock_guard lock(r.mutex);
+  std::vector<std::string> names;
+  for (const auto& [name, c] : r.classes)
+    if (c.c_text) names.push_back(name);
+  return names;
+}
+
+PolicyClassCText policy_class_c_text(const std::string& name) {
+  Registry& r = registry();
+  const std::lock_guard lock(r.mutex);
+  const auto it = r.classes.find(name);
+  return it == r.classes.end() ? PolicyClassCText{} : it->second.c_text;
 }
 
 nlohmann::json policy_file_json(const PolicyFile& p) {
@@ -162,7 +184,7 @@ std::unique_ptr<HeliController> make_controller(const PolicyFile& policy, const 
       for (const auto& [name, f] : r.classes) known += (known.empty() ? "" : ", ") + name;
       json_field_error(file, "class", "one of " + known, policy.class_name);
     }
-    factory = it->second;
+    factory = it->second.controller;
   }
   return factory(policy, file);
 }

@@ -109,6 +109,36 @@ TEST_F(CPolicyExport, ParameterPolicyFilesAreVersionedAndOldOnesStillLoad) {
             (std::vector<std::string>{"hover", "maneuver", "bicycle-sigmoid-15", "pendulum-swing-up"}));
 }
 
+// A class registers its controller and its C text once, in heli's registry, and the export finds it there:
+// "glide" (the hover networks under another name) exports the hover's code, named for its own class, and
+// c_policy_class_names lists it. Registered without a C text again, it flies but no longer exports.
+TEST_F(CPolicyExport, AClassRegisteredWithItsCTextExportsFromTheRegistry) {
+  using test_support::input_error_message;
+  heli::register_policy_class("glide", heli::make_hover_controller, heli::hover_c_text);
+  nlohmann::json file = heli::policy_file_json(hover_file(1, 0.5, {0, 0, -10, 0}));
+  const CPolicyCode hover = export_c_policy(file, "p.json");
+  file["class"] = "glide";
+  const CPolicyCode glide = export_c_policy(file, "p.json");
+  EXPECT_EQ(glide.class_name, "glide");
+  const auto as_hover = [](std::string text) {
+    const std::string from = "policy class \"glide\"", to = "policy class \"hover\"";
+    for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size()))
+      text.replace(at, from.size(), to);
+    return text;
+  };
+  EXPECT_NE(glide.header.find("policy class \"glide\""), std::string::npos);
+  EXPECT_EQ(as_hover(glide.header), hover.header);
+  EXPECT_EQ(as_hover(glide.source), hover.source);
+  EXPECT_EQ(c_policy_class_names(), (std::vector<std::string>{"glide", "hover", "maneuver",
+                                                              "bicycle-sigmoid-15", "pendulum-swing-up"}));
+  heli::register_policy_class("glide", heli::make_hover_controller);
+  EXPECT_EQ(input_error_message([&] { export_c_policy(file, "p.json"); }),
+            "p.json: class: expected \"hover\" or \"maneuver\" (the helicopter classes export knows; this "
+            "registered class has no C text), got \"glide\"");
+  EXPECT_EQ(c_policy_class_names(),
+            (std::vector<std::string>{"hover", "maneuver", "bicycle-sigmoid-15", "pendulum-swing-up"}));
+}
+
 // ---- The command, end to end ----------------------------------------------------------------------------
 
 TEST_F(CPolicyExport, CommandWritesHeaderSourceAndSummaryThatCompileAndAct) {

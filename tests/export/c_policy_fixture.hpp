@@ -69,13 +69,8 @@ inline heli::LoggedState random_state(std::mt19937_64& rng, const heli::SetPoint
           3 * u(rng)};
 }
 
-class CPolicyExport : public test_support::TempDirTest {
- protected:
-  void SetUp() override {
-    TempDirTest::SetUp();
-    // As the CLI does (heli_maneuver_command.cpp), so that make_controller knows the manoeuvre class.
-    heli::register_policy_class("maneuver", heli::make_maneuver_controller);
-  }
-};
+// The manoeuvre class is built into heli's registry (its controller and its C text), as every class the
+// export knows, so the fixture registers nothing.
+class CPolicyExport : public test_support::TempDirTest {};
 
 }  // namespace pegasus::codegen::c_policy_test

@@ -235,7 +235,7 @@ TEST(ManeuverPilot, LogCoversTheManoeuvresSpeedsAndPirouettes) {
 }
 
 TEST(ManeuverPolicyFile, RoundTripsThroughTheRegistryAndFliesTheSame) {
-  register_policy_class("maneuver", make_maneuver_controller);
+  register_policy_class("maneuver", make_maneuver_controller, maneuver_c_text);
   ManeuverFileOptions o;
   o.name = "III.3";
   o.size.rectangle_height = 6;

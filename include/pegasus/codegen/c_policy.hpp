@@ -2,7 +2,9 @@
 // Controllers out: a policy file the project writes becomes a dependency-free C99 header and source that a
 // flight computer compiles (`pegasus export --policy P.json --lang c --out DIR`).
 //
-// Every policy class the project ships whose policy file a fixed formula expresses:
+// Every policy class whose policy file a fixed formula expresses: the helicopter classes of heli's registry
+// that registered a C text (heli/policy_file.hpp: register_policy_class; the built-in ones below), and the
+// two parameter-file classes. Shipped:
 //   "hover"               heli hover policy.json (heli/hover_policy.hpp, thesis §5.3, Eqs 5.7-5.8)
 //   "maneuver"            heli maneuver policy.json (heli/maneuver_policy.hpp, §5.4): the hover networks
 //                         fed the trajectory's set point, its legs emitted as a constant table

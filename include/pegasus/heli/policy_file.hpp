@@ -25,9 +25,10 @@
 // the trained controller exactly. Reading checks everything and throws InputError
 // "FILE: FIELD: expected ..., got ..." naming the first bad field (parameters by index and name).
 //
-// A registry maps class names to factories that bind the weights into a HeliController. "hover" is built in;
-// another class registers itself with register_policy_class (or adds one line to the built-in table in
-// src/heli/policy_file.cpp, so that it is there without a call).
+// A registry maps class names to what each class is: the factory that binds the weights into a
+// HeliController (flying, `control`, Python), and, where the class has one, its C text (the C export).
+// "hover" and "maneuver" are built in; another class registers itself once with register_policy_class (or
+// adds one line to the built-in table in src/heli/policy_file.cpp, so that it is there without a call).
 #include <array>
 #include <filesystem>
 #include <functional>
@@ -38,6 +39,7 @@
 #include <vector>
 
 #include "pegasus/heli/hover_policy.hpp"
+#include "pegasus/policies/c_text.hpp"
 
 namespace pegasus::heli {
 
@@ -84,10 +86,19 @@ class HeliController {
 using PolicyClassFactory =
     std::function<std::unique_ptr<HeliController>(const PolicyFile& policy, const std::string& file)>;
 
-// Adds (or replaces) a class. Thread-safe; call before flying.
-void register_policy_class(const std::string& name, PolicyClassFactory factory);
+// The C text of a checked file of the class (policies/c_text.hpp), for `pegasus export --lang c`; InputError
+// naming `file` and the field when the file does not fit the class.
+using PolicyClassCText = std::function<codegen::ClassText(const PolicyFile& policy, const std::string& file)>;
+
+// Adds (or replaces) a class: its controller, and its C text where it has one (none: it flies, and the C
+// export refuses it, saying so). Thread-safe; call before flying.
+void register_policy_class(const std::string& name, PolicyClassFactory factory, PolicyClassCText c_text = {});
 // Registered class names, sorted.
 std::vector<std::string> policy_class_names();
+// The registered classes that have a C text, sorted.
+std::vector<std::string> c_text_policy_class_names();
+// The C text of the registered class `name`, or an empty function when it has none or is not registered.
+PolicyClassCText policy_class_c_text(const std::string& name);
 
 nlohmann::json policy_file_json(const PolicyFile& policy);
 void write_policy_file(const std::filesystem::path& file, const PolicyFile& policy);  // atomic
@@ -114,6 +125,10 @@ Theta checked_parameters(const PolicyFile& policy, const ParameterSpec& spec, co
 
 // The hover class: HoverPolicy steering to policy.target at every time.
 std::unique_ptr<HeliController> make_hover_controller(const PolicyFile& policy, const std::string& file);
+// The C texts of the built-in classes (src/heli/policy_c_text.cpp): the hover networks, and the manoeuvre's
+// with its trajectory as a constant table.
+codegen::ClassText hover_c_text(const PolicyFile& policy, const std::string& file);
+codegen::ClassText maneuver_c_text(const PolicyFile& policy, const std::string& file);
 // A hover policy file from trained weights (with the integrator in its options when it is on, and the
 // policy's command limits when they are not [-1, 1]).
 PolicyFile hover_policy_file(const HoverPolicy& policy, std::span<const double> theta, const SetPoint& target,

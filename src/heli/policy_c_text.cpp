@@ -1,18 +1,27 @@
-// The helicopter classes of the C export: the hover and manoeuvre networks as heli/hover_policy.cpp,
-// heli/maneuver_policy.cpp and heli/frames.cpp compute them (the wrapper in an aircraft's own terms is in
-// c_policy_vehicle.cpp).
+// The C text of the helicopter classes (policies/c_text.hpp), registered with their controllers
+// (policy_file.cpp): the hover and manoeuvre networks as hover_policy.cpp, maneuver_policy.cpp and
+// vehicle/frames.cpp compute them. codegen/c_policy.cpp assembles it (and wraps it in an aircraft's own
+// terms, c_policy_vehicle.cpp).
 #include <fmt/format.h>
 
 #include <numbers>
 #include <string>
 #include <vector>
 
-#include "c_policy_text.hpp"
 #include "pegasus/core/error.hpp"
 #include "pegasus/heli/maneuver_file.hpp"
+#include "pegasus/heli/policy_file.hpp"
+#include "pegasus/policies/c_text.hpp"
 
-namespace pegasus::codegen::detail {
+namespace pegasus::heli {
 namespace {
+
+using codegen::act_parameters;
+using codegen::c_double;
+using codegen::c_table;
+using codegen::ClassText;
+using codegen::comment_text;
+using codegen::fill;
 
 // ---- Helicopter classes (hover, maneuver) --------------------------------------------------------------
 
@@ -210,7 +219,7 @@ std::string with_command_limits(std::string act) {
 
 }  // namespace
 
-ClassText hover_class(const heli::PolicyFile& file, const std::string& source) {
+ClassText hover_c_text(const heli::PolicyFile& file, const std::string& source) {
   const heli::ErrorIntegrator integrator = heli::hover_file_integrator(file, source);
   const heli::HoverPolicyInit limits = heli::hover_file_command_limits(file, source);
   const bool limited = limits.has_command_limits();
@@ -418,7 +427,7 @@ const char* leg_kind(heli::TrajectoryLeg::Kind k) {
 
 }  // namespace
 
-ClassText maneuver_class(const heli::PolicyFile& file, const std::string& source) {
+ClassText maneuver_c_text(const heli::PolicyFile& file, const std::string& source) {
   const heli::CheckedManeuverPolicy checked = heli::checked_maneuver_policy(file, source);
   const heli::ManeuverPolicy& policy = checked.policy;
   const Theta& theta = checked.theta;
@@ -472,4 +481,4 @@ ClassText maneuver_class(const heli::PolicyFile& file, const std::string& source
   return t;
 }
 
-}  // namespace pegasus::codegen::detail
+}  // namespace pegasus::heli
