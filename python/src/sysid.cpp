@@ -170,8 +170,9 @@ variables' changes, its bandwidth and noise. Save it as the model.json `pegasus 
   };
   static const std::string kIdentifyDoc =
       "Identifies a model from a training log as `pegasus heli identify` does (same options, same bits, any "
-      "threads). bandwidth_floor overrides the narrowest bandwidths (" +
-      kFloorBounds +
+      "threads). rate_hz in " +
+      number_setting<sysid::ModelStructure>("rate_hz").range_in_unit() +
+      " (the CLI's). bandwidth_floor overrides the narrowest bandwidths (" + kFloorBounds +
       "; the defaults are the CLI's); noise is \"white\", \"ar1\" or \"ar1+measurement\" (the CLI's "
       "--noise).";
   m.def(

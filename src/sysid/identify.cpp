@@ -44,7 +44,7 @@ bool IdentifyOptions::IsValid(std::string* error) const {
     if (error) *error = "identify: " + what;
     return false;
   };
-  if (!(structure.rate_hz > 0)) return fail("rate_hz must be positive");
+  if (const std::string out = numbers_out_of_bounds(structure); !out.empty()) return fail(out);
   if (const std::string out = numbers_out_of_bounds(*this); !out.empty()) return fail(out);
   if (scale_grid.empty()) return fail("scale_grid must not be empty");
   for (double s : scale_grid)

@@ -135,6 +135,21 @@ def test_the_bandwidth_floor_is_the_clis(logs, cli, tmp_path):
         assert result.returncode == 2 and "[0, 1000000]" in result.stderr, result.stderr
 
 
+def test_the_identification_rate_bounds_are_the_clis(logs, cli, tmp_path):
+    # rate_hz (ModelStructure::VisitFields): the docstring states the CLI's bounds, and what one refuses, both do.
+    train, test = str(logs / "train" / "log.csv"), str(logs / "test" / "log.csv")
+    assert "rate_hz in [1, 50] Hz" in pegasus.identify.__doc__, pegasus.identify.__doc__
+    log = pegasus.read_flight_log(train)
+    for bad in (0.5, 100.0, float("nan")):
+        with pytest.raises(ValueError, match=r"rate_hz: expected a number in \[1, 50\] Hz, got"):
+            pegasus.identify(log, rate_hz=bad, cv_points=60, scale_grid=[1.0, 4.0], coordinate_passes=0)
+        result = subprocess.run([cli, "heli", "identify", "--train", train, "--test", test, *IDENTIFY,
+                                 f"--rate-hz={bad}", "--out", str(tmp_path / "refused")],
+                                capture_output=True, text=True)
+        assert result.returncode == 2 and "[1, 50]" in result.stderr, result.stderr
+        assert not (tmp_path / "refused").exists()
+
+
 def test_the_report_bounds_are_the_clis(logs, cli, tmp_path):
     # horizon_mse's, horizon_mse_as_trained's and noise_check's numbers take identify's bounds
     # (IdentifyRunOptions::VisitFields; control_rate_hz hover training's): what one refuses, both refuse.

@@ -2,10 +2,12 @@
 // ManeuverTrainingOptions::VisitFields, issue 49 item 1): each is its command's option KEY with its default,
 // help and bounds, read into the member it names, and IsValid's bound. A number added to a description is
 // walked here too.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <functional>
+#include <map>
 #include <string>
 #include <type_traits>
 
@@ -135,6 +137,52 @@ TEST(ManeuverSettingsConfig,
 
 TEST(ManeuverSettingsConfig, IsValidRefusesEachNumberBeyondItsBoundsNamingItAndItsRange) {
   expect_is_valid_bounds_every_number<ManeuverTrainingOptions>();
+}
+
+// identify's model structure (ModelStructure): rate_hz as every number is, with IdentifyOptions::IsValid
+// taking its bounds, and each switch an option of its default and help whose value is read into its member.
+struct Flag {
+  std::string help;
+  bool value = false;
+};
+struct FlagReader {
+  const sysid::ModelStructure& o;
+  std::map<std::string, Flag> flags;
+  void flag(const FlagSetting& f, bool sysid::ModelStructure::*member) { flags[f.key] = {f.help, o.*member}; }
+};
+std::map<std::string, Flag> flags_of(const sysid::ModelStructure& o) {
+  FlagReader reader{o, {}};
+  sysid::ModelStructure::VisitFlags(reader);
+  return reader.flags;
+}
+
+TEST(IdentifySettingsConfig, TheModelStructureIsDescribedOnceAsIdentifysOptions) {
+  ASSERT_EQ(number_settings<sysid::ModelStructure>().size(), 1u);
+  expect_every_number_is_an_option<sysid::ModelStructure>(
+      [](ConfigSchema& s) { declare_identify_config(s); },
+      [](const ConfigSchema& s) { return read_identify_config(s).identify.structure; });
+  sysid::IdentifyOptions o;
+  std::string error;
+  for (const double bad : {0.5, 100.0, std::nan("")}) {
+    o.structure.rate_hz = bad;
+    EXPECT_FALSE(o.IsValid(&error)) << bad;
+    EXPECT_EQ(error, fmt::format("identify: rate_hz: expected a number in [1, 50] Hz, got {}", bad));
+  }
+  const std::map<std::string, Flag> defaults = flags_of(sysid::ModelStructure{});
+  ASSERT_EQ(defaults.size(), 3u);
+  for (const auto& [key, flag] : defaults) {
+    SCOPED_TRACE(key);
+    ConfigSchema s;
+    declare_identify_config(s);
+    const ConfigField& f = s.field(key);
+    EXPECT_EQ(f.type(), FieldType::kBool);
+    EXPECT_EQ(std::get<bool>(f.default_value()), flag.value);
+    EXPECT_EQ(f.help(), flag.help);
+    s.set(key, !flag.value, "--" + key);
+    s.validate();
+    for (const auto& [other, read] : flags_of(read_identify_config(s).identify.structure))
+      EXPECT_EQ(read.value, other == key ? !flag.value : defaults.at(other).value) << other;
+  }
 }
 
 // heli maneuver's flights and flight_start_sigma (ManeuverFlightOptions): options, reading and IsValid from

@@ -29,6 +29,14 @@ struct NumberSetting {
   std::string refusal(const std::string& name, const char* what, double x) const;
 };
 
+// A switch a user sets (a bool member): its config key and the option's one line. A settings struct offers
+// its switches in VisitFlags, `flag(FlagSetting, &Options::member)` for each, as it offers its numbers in
+// VisitFields.
+struct FlagSetting {
+  const char* key;   // the config key (the option is `--KEY`, `_` written `-`)
+  const char* help;  // the option's one line
+};
+
 // For a settings struct whose VisitFields offers `setting(NumberSetting, &Options::member)` for each of its
 // numbers (an int or a double member, named by the key): the settings in order, and the first value out of
 // its bounds.

@@ -259,6 +259,19 @@ struct ReadNumbers {
       o.*member = c.get_double(key);
   }
 };
+// The same for the switches of a struct's VisitFlags (core/number_setting.hpp: FlagSetting).
+template <class Options>
+struct DeclareFlags {
+  ConfigSchema& s;
+  const Options& defaults;
+  void flag(const FlagSetting& f, bool Options::*member) { s.add_bool(f.key, defaults.*member, f.help); }
+};
+template <class Options>
+struct ReadFlags {
+  const ConfigSchema& c;
+  Options& o;
+  void flag(const FlagSetting& f, bool Options::*member) { o.*member = c.get_bool(f.key); }
+};
 }  // namespace detail
 
 template <class Options>
@@ -271,6 +284,16 @@ template <class Options>
 void read_numbers(const ConfigSchema& c, Options& o, const std::string& key_prefix = {}) {
   detail::ReadNumbers<Options> v{c, o, key_prefix};
   Options::VisitFields(v);
+}
+template <class Options>
+void declare_flags(ConfigSchema& s, const Options& defaults) {
+  detail::DeclareFlags<Options> v{s, defaults};
+  Options::VisitFlags(v);
+}
+template <class Options>
+void read_flags(const ConfigSchema& c, Options& o) {
+  detail::ReadFlags<Options> v{c, o};
+  Options::VisitFlags(v);
 }
 
 }  // namespace pegasus

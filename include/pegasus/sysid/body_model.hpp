@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "pegasus/core/number_setting.hpp"
 #include "pegasus/vehicle/flight_log.hpp"
 
 namespace pegasus::sysid {
@@ -71,6 +72,22 @@ struct ModelStructure {
   // identify() sets them from the data; empty for the X-Cell's logs, where every input moves.
   std::array<bool, kInputs> constant_inputs{};
   std::string describe() const;
+
+  // What a user sets, once (issue 49 item 1): identify's rate_hz and its three switches, as options with
+  // their help and reading (bounds: IdentifyOptions::IsValid too); the rest is the model's or the data's.
+  template <class Visitor>
+  static void VisitFields(Visitor& v) {
+    v.setting({"rate_hz", 1, 50, false, "Hz", "identification rate, Hz (the log is downsampled)"},
+              &ModelStructure::rate_hz);
+  }
+  template <class Visitor>
+  static void VisitFlags(Visitor& v) {
+    v.flag({"extra_states", "use the flapping and yaw-gyro states of the published model"},
+           &ModelStructure::extra_states);
+    v.flag({"intercept", "regress on a constant"}, &ModelStructure::intercept);
+    v.flag({"templates", "fix kinematic and gravity coefficients (thesis 5.2.2)"},
+           &ModelStructure::templates);
+  }
 };
 
 // Template of §5.2.2 for output k: the known part of the change (coefficients fixed at 0, +-1, +-g through

@@ -147,16 +147,12 @@ void declare_identify_config(ConfigSchema& s) {
        "with the test log's: one flight of some minutes puts an honest band outside 3-7% by chance "
        "in a few cells of every hundred (README, Calibrated noise)")
       .input_file();
-  s.add_double("rate_hz", id.structure.rate_hz, "identification rate, Hz (the log is downsampled)")
-      .range(1, 50);
+  declare_numbers(s, id.structure);  // ModelStructure::VisitFields: rate_hz
   s.add_bool("local", id.local,
              "locally weighted regression (false: globally linear); unset: the class that predicts the test "
              "log better as hover training runs it (model_choice in summary.json)");
-  s.add_bool("extra_states", id.structure.extra_states,
-             "use the flapping and yaw-gyro states of the published model");
-  s.add_bool("intercept", id.structure.intercept, "regress on a constant");
-  s.add_bool("templates", id.structure.templates, "fix kinematic and gravity coefficients (thesis 5.2.2)");
-  declare_numbers(s, id);  // IdentifyOptions::VisitFields
+  declare_flags(s, id.structure);  // ModelStructure::VisitFlags: extra_states, intercept, templates
+  declare_numbers(s, id);          // IdentifyOptions::VisitFields
   s.add_double_list("scale_grid", id.scale_grid, "bandwidths tried, in input standard deviations")
       .min(1e-6)
       .min_size(1);
@@ -204,10 +200,8 @@ IdentifyRunOptions read_identify_config(const ConfigSchema& c) {
   o.whitened_gains = c.get_bool("whitened_gains");
   o.choose_gains = c.origin("whitened_gains") == "default";
   IdentifyOptions& id = o.identify;
-  id.structure.rate_hz = c.get_double("rate_hz");
-  id.structure.extra_states = c.get_bool("extra_states");
-  id.structure.intercept = c.get_bool("intercept");
-  id.structure.templates = c.get_bool("templates");
+  read_numbers(c, id.structure);
+  read_flags(c, id.structure);
   id.local = c.get_bool("local");
   o.choose_class = c.origin("local") == "default";
   read_numbers(c, id);
