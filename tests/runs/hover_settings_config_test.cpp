@@ -145,15 +145,38 @@ struct Flag {
   std::string help;
   bool value = false;
 };
+template <class Options>
 struct FlagReader {
-  const sysid::ModelStructure& o;
+  const Options& o;
   std::map<std::string, Flag> flags;
-  void flag(const FlagSetting& f, bool sysid::ModelStructure::*member) { flags[f.key] = {f.help, o.*member}; }
+  void flag(const FlagSetting& f, bool Options::*member) { flags[f.key] = {f.help, o.*member}; }
 };
-std::map<std::string, Flag> flags_of(const sysid::ModelStructure& o) {
-  FlagReader reader{o, {}};
-  sysid::ModelStructure::VisitFlags(reader);
+template <class Options>
+std::map<std::string, Flag> flags_of(const Options& o) {
+  FlagReader<Options> reader{o, {}};
+  Options::VisitFlags(reader);
   return reader.flags;
+}
+
+// Each switch is a boolean option of the command `declare` declares, with its default and help, and the
+// command's reading (`read`) puts the other value, given, into its member and leaves the others alone.
+template <class Options>
+void expect_every_flag_is_an_option(const std::function<void(ConfigSchema&)>& declare,
+                                    const std::function<Options(const ConfigSchema&)>& read) {
+  const std::map<std::string, Flag> defaults = flags_of(Options{});
+  for (const auto& [key, flag] : defaults) {
+    SCOPED_TRACE(key);
+    ConfigSchema s;
+    declare(s);
+    const ConfigField& f = s.field(key);
+    EXPECT_EQ(f.type(), FieldType::kBool);
+    EXPECT_EQ(std::get<bool>(f.default_value()), flag.value);
+    EXPECT_EQ(f.help(), flag.help);
+    s.set(key, !flag.value, "--" + key);
+    s.validate();
+    for (const auto& [other, got] : flags_of(read(s)))
+      EXPECT_EQ(got.value, other == key ? !flag.value : defaults.at(other).value) << other;
+  }
 }
 
 TEST(IdentifySettingsConfig, TheModelStructureIsDescribedOnceAsIdentifysOptions) {
@@ -168,21 +191,17 @@ TEST(IdentifySettingsConfig, TheModelStructureIsDescribedOnceAsIdentifysOptions)
     EXPECT_FALSE(o.IsValid(&error)) << bad;
     EXPECT_EQ(error, fmt::format("identify: rate_hz: expected a number in [1, 50] Hz, got {}", bad));
   }
-  const std::map<std::string, Flag> defaults = flags_of(sysid::ModelStructure{});
-  ASSERT_EQ(defaults.size(), 3u);
-  for (const auto& [key, flag] : defaults) {
-    SCOPED_TRACE(key);
-    ConfigSchema s;
-    declare_identify_config(s);
-    const ConfigField& f = s.field(key);
-    EXPECT_EQ(f.type(), FieldType::kBool);
-    EXPECT_EQ(std::get<bool>(f.default_value()), flag.value);
-    EXPECT_EQ(f.help(), flag.help);
-    s.set(key, !flag.value, "--" + key);
-    s.validate();
-    for (const auto& [other, read] : flags_of(read_identify_config(s).identify.structure))
-      EXPECT_EQ(read.value, other == key ? !flag.value : defaults.at(other).value) << other;
-  }
+  ASSERT_EQ(flags_of(sysid::ModelStructure{}).size(), 3u);
+  expect_every_flag_is_an_option<sysid::ModelStructure>(
+      [](ConfigSchema& s) { declare_identify_config(s); },
+      [](const ConfigSchema& s) { return read_identify_config(s).identify.structure; });
+}
+
+// fly's switches (FlyRunOptions::VisitFlags), each an option read into its member.
+TEST(FlySettingsConfig, EverySwitchIsAnOptionOfFlyReadIntoItsMember) {
+  ASSERT_EQ(flags_of(FlyRunOptions{}).size(), 4u);
+  expect_every_flag_is_an_option<FlyRunOptions>([](ConfigSchema& s) { declare_fly_config(s); },
+                                                [](const ConfigSchema& s) { return read_fly_config(s, 7); });
 }
 
 // heli maneuver's flights and flight_start_sigma (ManeuverFlightOptions): options, reading and IsValid from

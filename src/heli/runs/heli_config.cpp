@@ -333,15 +333,7 @@ void declare_fly_config(ConfigSchema& s) {
   const FlyRunOptions d;
   declare_vehicle(s);
   s.add_string("policy", "", "policy file (policy.json of pegasus heli hover or heli maneuver)").input_file();
-  s.add_bool("pilot", d.pilot_only, "fly the scripted pilot's hover instead of a policy");
-  s.add_bool("compare_pilot", d.compare_pilot,
-             "also fly the scripted pilot's hover from the same starts and gusts");
-  s.add_bool(
-      "baseline", d.baseline_only,
-      "fly the ground truth's hand-tuned baseline instead of a policy (xcell: a linear hover controller, "
-      "crazyflie2: a cascaded PD; docs/results/baselines.md)");
-  s.add_bool("compare_baseline", d.compare_baseline,
-             "also fly the hand-tuned baseline from the same starts and gusts, at the policy's rate");
+  declare_flags(s, d);  // FlyRunOptions::VisitFlags: pilot, compare_pilot, baseline, compare_baseline
   declare_numbers(s, d.flights, "flights");  // FlightOptions::VisitFields
   declare_numbers(s, d.flights, "seconds");
   declare_gust_sigma(s, "turbulence standard deviation per axis, m/s");
@@ -358,12 +350,8 @@ void declare_fly_config(ConfigSchema& s) {
 }
 
 FlyRunOptions read_fly_config(const ConfigSchema& c, std::uint64_t seed) {
-  FlyRunOptions o{.aircraft = vehicle_of(c),
-                  .policy_file = c.get_path("policy"),
-                  .pilot_only = c.get_bool("pilot"),
-                  .compare_pilot = c.get_bool("compare_pilot"),
-                  .baseline_only = c.get_bool("baseline"),
-                  .compare_baseline = c.get_bool("compare_baseline")};
+  FlyRunOptions o{.aircraft = vehicle_of(c), .policy_file = c.get_path("policy")};
+  read_flags(c, o);  // FlyRunOptions::VisitFlags
   o.settings.gust_sigma = c.get_double("gust_sigma");
   o.settings.estimate_noise = c.get_bool("estimate_noise");
   o.settings.start_pos_sigma = c.get_double("start_pos_sigma");

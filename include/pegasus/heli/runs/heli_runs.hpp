@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "pegasus/core/number_setting.hpp"
 #include "pegasus/heli/flights.hpp"
 #include "pegasus/heli/hover_task.hpp"
 #include "pegasus/heli/simulators.hpp"
@@ -160,6 +161,24 @@ struct FlyRunOptions {
   GroundTruthSettings settings{};  // gusts, estimate errors, start perturbations, steady wind (the start
                                    // position and yaw are the policy's set point)
   FlightOptions flights{};
+
+  // What a user switches, once (issue 49 item 1): `fly`'s options pilot, compare_pilot, baseline and
+  // compare_baseline with their help, and their reading (declare_flags, read_flags).
+  template <class Visitor>
+  static void VisitFlags(Visitor& v) {
+    using O = FlyRunOptions;
+    v.flag({"pilot", "fly the scripted pilot's hover instead of a policy"}, &O::pilot_only);
+    v.flag({"compare_pilot", "also fly the scripted pilot's hover from the same starts and gusts"},
+           &O::compare_pilot);
+    v.flag(
+        {"baseline",
+         "fly the ground truth's hand-tuned baseline instead of a policy (xcell: a linear hover controller, "
+         "crazyflie2: a cascaded PD; docs/results/baselines.md)"},
+        &O::baseline_only);
+    v.flag({"compare_baseline",
+            "also fly the hand-tuned baseline from the same starts and gusts, at the policy's rate"},
+           &O::compare_baseline);
+  }
 };
 // flights.csv (traced flights), per_flight.csv, pilot_flights.csv, baseline_flights.csv, the flight charts
 // and the 3-D replay, summary.json; judged by the vehicle file's [cost] when it states one (judged_cost). In
