@@ -260,7 +260,11 @@ void read_log_quantities(const SpecReader& r, const std::filesystem::path& file,
   // An empty name would make a model or policy of this aircraft look like the X-Cell's (which has none).
   if (s.vehicle.empty()) r.fail(r.at("vehicle.name"), "vehicle.name", "expected a non-empty name");
   s.rate_hz = r.number("log.rate_hz", s.rate_hz, 1, 10000);
-  s.model_rate_hz = r.number("log.model_rate_hz", s.model_rate_hz, 0.1, s.rate_hz);
+  // Identify's bounds on its rate (ModelStructure::VisitFields), which this rate becomes, and at most the
+  // log's.
+  const NumberSetting& model_rate = number_setting<sysid::ModelStructure>("rate_hz");
+  s.model_rate_hz =
+      r.number("log.model_rate_hz", s.model_rate_hz, model_rate.lower, std::min(model_rate.upper, s.rate_hz));
   const double ratio = s.rate_hz / s.model_rate_hz;
   if (std::abs(ratio - std::round(ratio)) > 1e-9)
     r.fail(r.at("log.model_rate_hz"), "log.model_rate_hz",

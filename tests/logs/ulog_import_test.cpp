@@ -347,6 +347,21 @@ TEST_F(VehicleFile, BadEntriesNameTheLineAndKey) {
               read_vehicle_log_spec(replaced("model_rate_hz = 10", "model_rate_hz = 15"));
             }).find(":11: log.model_rate_hz: expected a rate that divides log.rate_hz = 50 Hz, got 15 Hz"),
             std::string::npos);
+  // The identification rate takes identify's bounds (rate_hz in [1, 50] Hz), which a log import's and a
+  // pipeline's identification would refuse later, naming identify's option instead of the file's field.
+  const std::string faster = test_support::read_text(kVehicle);
+  std::string at_100 = faster;
+  at_100.replace(at_100.find("rate_hz = 50"), 12, "rate_hz = 200");
+  at_100.replace(at_100.find("model_rate_hz = 10"), 18, "model_rate_hz = 100");
+  EXPECT_NE(input_error_message([&] {
+              read_vehicle_log_spec(write(at_100));
+            }).find(":11: log.model_rate_hz: expected a number in [1, 50]"),
+            std::string::npos)
+      << input_error_message([&] { read_vehicle_log_spec(write(at_100)); });
+  EXPECT_NE(input_error_message([&] {
+              read_vehicle_log_spec(replaced("model_rate_hz = 10", "model_rate_hz = 0.5"));
+            }).find(":11: log.model_rate_hz: expected a number in [1, 50]"),
+            std::string::npos);
   EXPECT_NE(input_error_message([&] {
               read_vehicle_log_spec(replaced("form = \"quaternion\"", "form = \"matrix\""));
             }).find("log.attitude.form: expected 'quaternion' or 'euler', got 'matrix'"),
