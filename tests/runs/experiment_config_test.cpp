@@ -1,4 +1,4 @@
-// The experiments' config sections (runs/*_config.hpp and the sections beside single experiments): a
+// The experiments' config sections (DOMAIN/runs/*_config.hpp and the sections beside single experiments): a
 // section read at its defaults gives its Options struct's defaults (defaults live once), a value set in the
 // schema reaches the options, and a vehicle file fills only the fields the user left at their defaults.
 #include <gtest/gtest.h>
