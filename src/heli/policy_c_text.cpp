@@ -16,7 +16,6 @@
 namespace pegasus::heli {
 namespace {
 
-using codegen::act_parameters;
 using codegen::c_double;
 using codegen::c_table;
 using codegen::ClassText;

@@ -313,7 +313,7 @@ TEST(UlogImport, ErrorsNameTheFileTopicAndWhatWasExpected) {
 class VehicleFile : public test_support::TempDirTest {
  protected:
   fs::path write(const std::string& text) const {
-    const fs::path p = dir_ / "v.toml";
+    fs::path p = dir_ / "v.toml";
     std::ofstream(p) << text;
     return p;
   }
