@@ -9,8 +9,8 @@
 
 #include <filesystem>
 
-#include "pegasus/io/atomic_file.hpp"
 #include "pegasus/heli/vehicle_file.hpp"
+#include "pegasus/io/atomic_file.hpp"
 #include "pegasus/io/sha256.hpp"
 #include "pegasus/logs/ulog.hpp"
 #include "pegasus/logs/ulog_import.hpp"

@@ -308,11 +308,8 @@ ClassText helicopter_class_text(const nlohmann::json& j, const std::string& sour
                                 std::string* trained_for) {
   const heli::PolicyFile file = heli::parse_policy_file(j, source);
   *trained_for = heli::trained_vehicle(file);
-  if (const heli::PolicyClassCText c_text = heli::policy_class_c_text(file.class_name)) {
-    ClassText text = c_text(file, source);
-    text.class_name = file.class_name;
-    return text;
-  }
+  if (const heli::PolicyClassCText c_text = heli::policy_class_c_text(file.class_name))
+    return c_text(file, source);
   const std::vector<std::string> flying = heli::policy_class_names();
   const bool registered = std::find(flying.begin(), flying.end(), file.class_name) != flying.end();
   throw InputError(fmt::format("{}: class: expected {} (the helicopter classes export knows{}), got \"{}\"",

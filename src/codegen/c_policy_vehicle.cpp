@@ -15,13 +15,13 @@ namespace {
 
 // ---- A helicopter class in an aircraft's own terms (a vehicle file) ------------------------------------
 
-// heli/vehicle_file.cpp Vehicle::state_of and Vehicle::native_of, operation for operation (and
-// heli/frames.cpp).
+// vehicle/vehicle.cpp Vehicle::state_of and Vehicle::native_of, operation for operation (and
+// vehicle/frames.cpp).
 constexpr const char* kVehicleCode = R"(
 /* ---- In the aircraft's own terms: vehicle file @VEHICLE_FILE@ ("@VEHICLE@") ---- */
 static const int kChannelAxis[4] = {@AXES@}; /* the action a1..a4 each channel drives */
 @CHANNEL_TABLES@
-/* heli/vehicle_file.cpp Vehicle::state_of: the 12 states of the observation above from the vehicle's fields. */
+/* vehicle/vehicle.cpp Vehicle::state_of: the 12 states of the observation above from the vehicle's fields. */
 static void vehicle_state(const double* v, double* s) {
   double roll, pitch, yaw;
 @ATTITUDE@@POSITION@  s[3] = roll;
@@ -178,7 +178,7 @@ void add_vehicle(ClassText& t, const logs::Vehicle& vehicle, CPolicyCode* names)
     labels.push_back(log.controls[c].label());
     axes += fmt::format("{}{}", c ? ", " : "", log.controls[c].column(c));
   }
-  // The log's conventions (heli/vehicle_file.cpp: the ENU/FLU, quaternion order and direction, and unit steps
+  // The log's conventions (vehicle/vehicle.cpp: the ENU/FLU, quaternion order and direction, and unit steps
   // of Vehicle::state_of), each written only where the file leaves the pipeline's own: the C of a vehicle in
   // the pipeline's conventions is what it always was.
   const std::string vehicle_file = comment_text(log.file.empty() ? std::string("(built in)") : log.file);

@@ -24,11 +24,11 @@ using codegen::fill;
 
 // ---- Helicopter classes (hover, maneuver) --------------------------------------------------------------
 
-// The hover networks and their inputs, as heli/hover_policy.cpp and heli/frames.cpp compute them.
+// The hover networks and their inputs, as heli/hover_policy.cpp and vehicle/frames.cpp compute them.
 constexpr const char* kHeliCommon = R"(static const double kPi = @PI@;
 static const double kTwoPi = @TWO_PI@;
 
-/* heli/frames.cpp wrap_angle: into (-pi, pi]. */
+/* vehicle/frames.cpp wrap_angle: into (-pi, pi]. */
 static double wrap_angle(double a) {
   double r = remainder(a, kTwoPi);
   if (r <= -kPi) r += kTwoPi;
@@ -137,6 +137,7 @@ std::string heli_description(const std::string& what) {
 
 ClassText heli_class(const heli::PolicyFile& file, const std::vector<double>& hover_weights) {
   ClassText t;
+  t.class_name = file.class_name;  // the registered name the file gives, whichever text it uses
   t.observation_names = kHeliObservationNames;
   t.observation_units = kHeliObservationUnits;
   t.action_names = kHeliActionNames;
@@ -224,7 +225,6 @@ ClassText hover_c_text(const heli::PolicyFile& file, const std::string& source) 
   const bool limited = limits.has_command_limits();
   const Theta theta = heli::checked_hover_parameters(file, source);
   ClassText t = heli_class(file, theta);
-  t.class_name = "hover";
   t.has_memory = integrator.on();
   t.description = heli_description(
       fmt::format("The hover controller of thesis §5.3 (Fig 5.4, Eqs 5.7-5.8) holding the set point x = {}, "
@@ -432,7 +432,6 @@ ClassText maneuver_c_text(const heli::PolicyFile& file, const std::string& sourc
   const Theta& theta = checked.theta;
   ClassText t =
       heli_class(file, std::vector<double>(theta.begin(), theta.begin() + heli::ManeuverPolicy::kHover));
-  t.class_name = "maneuver";
   const heli::Trajectory& trajectory = policy.trajectory();
   t.description = heli_description(fmt::format(
       "The manoeuvre controller of thesis §5.4 (Fig 5.9) flying AMA Class III manoeuvre {} ({:.2f} s,\n"

@@ -98,9 +98,9 @@ struct VehicleLogSpec {
   bool pipeline_conventions() const;
 };
 
-// The one place where a log's conventions become the pipeline's and back (monogram names of heli/frames.hpp:
-// W is the pipeline's world NED, B its body FRD; "native" is the log's own frame, order, direction and unit).
-// Each is the identity, without arithmetic, under the default conventions.
+// The one place where a log's conventions become the pipeline's and back (monogram names of
+// vehicle/frames.hpp: W is the pipeline's world NED, B its body FRD; "native" is the log's own frame, order,
+// direction and unit). Each is the identity, without arithmetic, under the default conventions.
 //   world vectors:  ENU (e, n, u) <-> NED (n, e, -u)
 //   body vectors:   FLU (f, l, u) <-> FRD (f, -l, -u)
 //   Z-Y-X Euler angles of the body-to-world rotation R' = R_z(yaw') R_y(pitch') R_x(roll') in the log's
