@@ -1,6 +1,7 @@
 // The hand-tuned baselines (heli/baselines.hpp) fly their ground truths through `pegasus fly --baseline`: the
-// X-Cell's linear hover controller as the outside-like helicopter's vehicle file describes it, and the
-// Crazyflie 2's cascaded PD as the ROS-convention vehicle file describes it. Each holds its set point in
+// X-Cell's linear hover controller as the outside-like helicopter's vehicle file describes it, the
+// Crazyflie 2's cascaded PD as the ROS-convention vehicle file describes it, and the heavy helicopter's own
+// linear controller as its ROS-convention vehicle file describes it. Each holds its set point in
 // gusts and in a steady wind without a crash (the integral term), and the judged cost of the vehicle file's
 // [cost] is the mean of the per-flight costs in per_flight.csv.
 #include <gtest/gtest.h>
@@ -46,7 +47,8 @@ TEST_F(BaselinesCli, HoldTheirGroundTruthsInGustsAndASteadyWindWithoutACrash) {
     double max_rms_m;  // the bound each baseline holds (docs/results/baselines.md has its figures)
   };
   for (const Case& c : {Case{"outside-heli.toml", "baseline:linear", 0.5},
-                        Case{"ros-crazyflie.toml", "baseline:cascaded-pd", 0.3}}) {
+                        Case{"ros-crazyflie.toml", "baseline:cascaded-pd", 0.3},
+                        Case{"heavy-heli.toml", "baseline:linear", 0.5}}) {
     for (const char* wind : {"0,0,0", "0,4,0"}) {
       const std::string run = std::string(c.file) + "-" + wind;
       const auto r = run_pegasus(

@@ -169,7 +169,7 @@ TEST_F(QuadrotorCli, ThePipelineRunsTheWholeChainFromTheVehicleFileAlone) {
                               PEGASUS_SOURCE_DIR, path("none")));
   EXPECT_EQ(refused.code, 2) << refused.output;
   EXPECT_NE(refused.output.find("template.toml: vehicle.simulator: expected a ground truth for the pipeline "
-                                "to fly (one of xcell, crazyflie2)"),
+                                "to fly (one of xcell, crazyflie2, heavy-heli)"),
             std::string::npos)
       << refused.output;
   EXPECT_EQ(std::count(refused.output.begin(), refused.output.end(), '\n'), 1) << refused.output;

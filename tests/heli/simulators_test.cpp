@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "pegasus/heli/aircraft.hpp"
+#include "pegasus/heli/baselines.hpp"
 #include "pegasus/heli/quadrotor.hpp"
 #include "pegasus/heli/vehicle_file.hpp"
 #include "pegasus/io/atomic_file.hpp"
@@ -60,7 +61,7 @@ TEST(GroundTruthRegistry, ARegisteredGroundTruthIsFoundByNameEverywhere) {
   EXPECT_EQ(names[1], "xcell");
   EXPECT_EQ(names[2], "crazyflie2");
   EXPECT_NE(std::find(names.begin(), names.end(), "heavy-crazyflie"), names.end());
-  EXPECT_NE(ground_truth_list().find("xcell, crazyflie2, heavy-crazyflie"), std::string::npos);
+  EXPECT_NE(ground_truth_list().find("xcell, crazyflie2, heavy-heli, heavy-crazyflie"), std::string::npos);
   EXPECT_EQ(own_gust_sigma("heavy-crazyflie"), 0.3);
   EXPECT_EQ(pilot_options_for("heavy-crazyflie").attitude_command_gain,
             pilot_options_for("crazyflie2").attitude_command_gain);
@@ -129,6 +130,51 @@ TEST(GroundTruthRegistry, TheBuiltInsAreTheirModelsBuiltByHand) {
   settings.set_start = true;
   settings.start_p_W = Vec3(0, 0, 1);
   EXPECT_THROW(make_ground_truth("xcell", settings), std::invalid_argument);
+}
+
+// Each ground truth's hand-tuned baseline comes from its entry: a name and gains per aircraft, and a ground
+// truth registered without one has none, with a message naming those that have.
+TEST(GroundTruthRegistry, EachBaselineComesFromItsGroundTruthsEntry) {
+  register_heavy();
+  EXPECT_EQ(baseline_name("xcell"), "linear");
+  EXPECT_EQ(baseline_name("crazyflie2"), "cascaded-pd");
+  EXPECT_EQ(baseline_name("heavy-heli"), "linear");
+  EXPECT_EQ(baseline_gains("crazyflie2").law.k_att, 0);  // angle mode: the tilt set point is the command
+  EXPECT_EQ(baseline_gains("xcell").law.k_alt, 0.4);
+  EXPECT_EQ(baseline_gains("heavy-heli").law.k_alt, 1.1);  // tuned on its own aircraft
+  EXPECT_EQ(baseline_gains("heavy-heli").law.k_att, baseline_gains("xcell").law.k_att);
+  try {
+    baseline_name("heavy-crazyflie");
+    ADD_FAILURE() << "heavy-crazyflie has a baseline";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(
+        std::string(e.what()),
+        "no baseline for the ground truth 'heavy-crazyflie' (baselines: xcell, crazyflie2, heavy-heli)");
+  }
+  EXPECT_THROW(baseline_gains("heavy-crazyflie"), std::invalid_argument);
+  EXPECT_THROW(baseline_name("zeppelin"), std::invalid_argument);
+}
+
+// The second helicopter is another aircraft, not the X-Cell renamed: heavier (more collective to hover), in
+// its own stronger gusts, seen through a coarser state estimate.
+TEST(GroundTruthRegistry, TheHeavyHelicopterIsAnotherAircraft) {
+  const auto xcell = make_ground_truth("xcell", {});
+  const auto heavy = make_ground_truth("heavy-heli", {});
+  EXPECT_GT(heavy->hover_point().controls[2], xcell->hover_point().controls[2] + 0.1);  // a3, the collective
+  EXPECT_EQ(own_gust_sigma("heavy-heli"), 2 * own_gust_sigma("xcell"));
+  // The RMS of the estimate's position error over 20 s at the hover point, calm (the estimate errors alone).
+  GroundTruthSettings calm;
+  calm.gust_sigma = 0;
+  const auto rms_estimate_error = [](const GroundTruth& g) {
+    const std::vector<LoggedState> s = hover_flight(g, 20);
+    double sum = 0;
+    for (std::size_t i = 0; i + 1 < s.size(); i += 2)
+      for (const int k : {logged::x, logged::y, logged::z}) sum += std::pow(s[i + 1][k] - s[i][k], 2);
+    return std::sqrt(sum / static_cast<double>(s.size() / 2));
+  };
+  const double heavy_error = rms_estimate_error(*make_ground_truth("heavy-heli", calm));
+  const double xcell_error = rms_estimate_error(*make_ground_truth("xcell", calm));
+  EXPECT_GT(heavy_error, 2.5 * xcell_error) << heavy_error << " against " << xcell_error;
 }
 
 }  // namespace

@@ -35,6 +35,15 @@ struct PilotOptions {
   bool IsValid(std::string* error) const;
 };
 
+// A hand-tuned baseline's gains (heli/baselines.hpp): the pilot's stabilising law below, without the
+// pilot's delay, lag, noise and sweeps, with an integral term. A ground truth's registry entry carries its
+// own (heli/simulators.hpp).
+struct BaselineGains {
+  PilotOptions law{};              // the feedback gains (PilotOptions' k_* fields and max_tilt_command)
+  std::array<double, 4> k_int{};   // per s of the x, y, z and yaw errors' integrals (hover_feedback)
+  double integral_limit_m_s = 20;  // anti-windup: |integral| per axis, m s (yaw: rad s)
+};
+
 // The pilot's stabilising law (heading frame, no delay, lag or noise): position and velocity to the desired
 // attitude (clamped to max_tilt_command), attitude and rate feedback to the cyclic (or, with
 // attitude_command_gain, the desired attitude as the command), altitude and climb rate to the collective,

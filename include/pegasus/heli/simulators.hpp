@@ -39,6 +39,10 @@ struct GroundTruthEntry {
   GroundTruthFactory make;
   double own_gust_sigma = 0;  // the turbulence it flies in by default (its params' gust_sigma), m/s
   PilotOptions pilot;         // the scripted pilot's options for it
+  // Its hand-tuned baseline (heli/baselines.hpp), flown by `fly --baseline`: a name ("linear",
+  // "cascaded-pd"; empty: none) and its gains.
+  std::string baseline_name{};
+  BaselineGains baseline{};
 };
 
 // The factory of Model built from `params` (an aircraft's params struct: IsValid and a FlightConditions
@@ -64,6 +68,8 @@ std::vector<std::string> simulator_names();
 // The registered names joined by ", " (for help texts and messages).
 std::string ground_truth_list();
 
+// The registered entry of `simulator`; throws std::invalid_argument naming the registered ones.
+GroundTruthEntry ground_truth_entry(const std::string& simulator);
 // The ground truth of `simulator` with the settings; throws std::invalid_argument for an unknown name or
 // settings the aircraft rejects.
 std::unique_ptr<GroundTruth> make_ground_truth(const std::string& simulator,

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -144,10 +145,11 @@ void check_controllers(const FlyRunOptions& options) {
     throw InputError(
         "--policy: expected a policy file (policy.json of pegasus heli hover), --pilot or --baseline");
   if (options.baseline_only || options.compare_baseline) {
-    const std::string& simulator = options.aircraft.simulator();
-    if (simulator != "xcell" && simulator != "crazyflie2")
-      throw InputError(
-          fmt::format("--baseline: the ground truth {} has no baseline (xcell, crazyflie2 have)", simulator));
+    try {
+      baseline_name(options.aircraft.simulator());
+    } catch (const std::invalid_argument& e) {
+      throw InputError(std::string("--baseline: ") + e.what());
+    }
   }
 }
 
