@@ -197,6 +197,17 @@ struct RewardBinder {
   }
 };
 
+// fly_pilot's doc, naming the registered ground truths (heli/simulators.hpp) as the CLI's help does.
+const std::string& fly_pilot_doc() {
+  static const std::string doc = fmt::format(
+      R"doc(The scripted pilot flies a registered ground truth (simulator: one of {}) as `pegasus pilot --vehicle`
+does: a hover, then a frequency sweep in each channel. Returns a dict: "log" (FlightLog of the state estimates and
+controls at 50 Hz), "truth" (the true states, rows x 12), "crash" ('none' or why) and "crash_time" (s, -1 without a
+crash). gust_sigma < 0 keeps the aircraft's own.)doc",
+      heli::ground_truth_list());
+  return doc;
+}
+
 }  // namespace
 
 void bind_heli(py::module_& m) {
@@ -465,11 +476,7 @@ servos, gusts, estimate errors, time, crash code); observe() gives the 12 logged
       },
       py::arg("simulator") = "xcell", py::arg("seconds") = 60.0, py::arg("seed") = 1,
       py::arg("gust_sigma") = -1.0, py::arg("estimate_noise") = true, py::arg("hover_seconds") = 10.0,
-      py::arg("sweeps") = true,
-      R"doc(The scripted pilot flies a built-in ground truth ("xcell": the X-Cell 60; "crazyflie2": the Crazyflie 2.0
-quadrotor) as `pegasus pilot --vehicle` does: a hover, then a frequency sweep in each channel. Returns a dict:
-"log" (FlightLog of the state estimates and controls at 50 Hz), "truth" (the true states, rows x 12), "crash"
-('none' or why) and "crash_time" (s, -1 without a crash). gust_sigma < 0 keeps the aircraft's own.)doc");
+      py::arg("sweeps") = true, fly_pilot_doc().c_str());
 
   auto lmo = py::class_<LearnedModelOptions>(m, "LearnedModelOptions", R"doc(
 How the identified model is flown as a 50 Hz simulator (sysid/learned_model.hpp): refit period, support margin,
@@ -488,13 +495,18 @@ crash penalty (footnote 13), noise on or off, and the start state and its pertur
       .def_readwrite("noise", &LearnedModelOptions::noise,
                      "False: the mean model (the scenario's numbers are ignored).");
   def_array(lmo, "start", &LearnedModelOptions::start, "The 12 logged states before perturbation.");
+  def_array(lmo, "max_control_change", &LearnedModelOptions::max_control_change,
+            "The most each control the model applies moves per step (inf: unlimited; hover training sets the "
+            "logs' fastest change on a global linear model, --command-rate-margin).");
+  def_array(lmo, "start_controls", &LearnedModelOptions::start_controls,
+            "The controls applied before the first step (where a limited control rate starts from).");
   lmo.def_readwrite("start_pos_sigma", &LearnedModelOptions::start_pos_sigma,
                     "Start position perturbation per axis, m.")
       .def_readwrite("start_vel_sigma", &LearnedModelOptions::start_vel_sigma,
                      "Start velocity perturbation per axis, m/s.")
       .def("is_valid", is_valid_method<LearnedModelOptions>(), kIsValidDoc);
   set_fields(lmo, {"dt", "refit_every", "support_bandwidths", "crash_reward", "max_tilt_rad", "noise",
-                   "start", "start_pos_sigma", "start_vel_sigma"});
+                   "start", "max_control_change", "start_controls", "start_pos_sigma", "start_vel_sigma"});
 
   auto learned = py::class_<LearnedHeliModel>(m, "LearnedHeliModel", R"doc(
 The identified helicopter (an IdentifiedModel, or the path of a model.json from `pegasus heli identify`) as a

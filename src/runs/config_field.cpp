@@ -187,4 +187,13 @@ std::string ConfigField::check(const FieldValue& value) const {
   return {};
 }
 
+namespace detail {
+ConfigField::Validator list_length(std::size_t length) {
+  return [length](const FieldValue& v) {
+    return std::get<std::vector<double>>(v).size() == length ? std::string()
+                                                             : fmt::format("{} numbers", length);
+  };
+}
+}  // namespace detail
+
 }  // namespace pegasus

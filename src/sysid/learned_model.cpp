@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -27,6 +28,9 @@ bool LearnedModelOptions::IsValid(std::string* error) const {
   if (!(start_pos_sigma >= 0 && start_vel_sigma >= 0)) return fail("start sigmas must be >= 0");
   if (!(max_position_error_m > 0 && max_speed_mps > 0 && max_rate_radps > 0))
     return fail("the envelope's limits must be positive");
+  for (std::size_t c = 0; c < 4; ++c)
+    if (!(max_control_change[c] > 0) || !(std::abs(start_controls[c]) <= 1))
+      return fail("max_control_change must be positive and start_controls in [-1, 1]");
   std::string inner;
   if (!disturbance.IsValid(&inner)) {
     if (error) *error = "learned model: " + inner;
@@ -65,6 +69,7 @@ ActionSpace LearnedHeliModel::action_space() const {
 LearnedHeliModel::State LearnedHeliModel::initial_state(std::span<const double> p0) const {
   State s;
   s.sim.world = options_.start;
+  s.controls = options_.start_controls;
   for (std::size_t i = 0; i < 3; ++i) {
     s.sim.world[i] += options_.start_pos_sigma * normal_quantile(p0[i]);
     s.sim.world[6 + i] += options_.start_vel_sigma * normal_quantile(p0[3 + i]);
@@ -112,6 +117,13 @@ LearnedHeliModel::State LearnedHeliModel::step(const State& s, const Action& a_i
   State n = s;
   Action a;
   for (std::size_t c = 0; c < 4; ++c) a[c] = std::clamp(a_in[c], -1.0, 1.0);
+  if (options_.rate_limited()) {
+    for (std::size_t c = 0; c < 4; ++c) {
+      const double most = options_.max_control_change[c];
+      a[c] = std::clamp(a[c], s.controls[c] - most, s.controls[c] + most);
+    }
+    n.controls = a;
+  }
   // In wind the calm model steps the motion relative to the air, and the air frame moves on at the wind's
   // velocity: the regression sees the airspeed, position and velocity come back to the ground.
   const bool calm = options_.disturbance.calm();

@@ -309,6 +309,71 @@ TEST(CommandLimits, AGlobalModelsPolicyKeepsToTheLoggedControlsWidenedAndALocalM
   EXPECT_EQ(hover_file_command_limits(file, "p.json").command_upper, policy.command_upper());
 }
 
+// A global linear model's training steps its controls no faster than the logs changed them between model
+// steps, times 1 + 2 x command_rate_margin (issue 48): the learned model applies each control at most that
+// far from the last, and is otherwise the unlimited model given the control it applied.
+TEST(ControlRate, AGlobalModelAppliesItsControlsNoFasterThanTheLogsChangedThemWidened) {
+  const auto global = identify_pilot_flight(false, false);
+  const sysid::Dataset& data = global->data();
+  const Controls limits = hover_control_rate_limits(*global, 0.5, data.dt);
+  for (std::size_t c = 0; c < 4; ++c) {
+    double most = 0;  // the fixture is one flight: every row is a model step after the one before
+    for (Eigen::Index i = 0; i + 1 < data.rows(); ++i) {
+      ASSERT_NEAR(data.time[static_cast<std::size_t>(i + 1)] - data.time[static_cast<std::size_t>(i)],
+                  data.dt, 1e-9);
+      const int a = sysid::kA1 + static_cast<int>(c);
+      most = std::max(most, std::abs(data.x(i + 1, a) - data.x(i, a)));
+    }
+    ASSERT_GT(most, 0) << c;
+    EXPECT_DOUBLE_EQ(limits[c], 2 * most) << c;
+    // Per step of a fifth of the model's: a fifth of it.
+    EXPECT_NEAR(hover_control_rate_limits(*global, 0.5, data.dt / 5)[c], limits[c] / 5, 1e-12 * limits[c]);
+  }
+  // Unlimited at the margin's top and on a locally weighted model (which crashes off its data instead).
+  for (const double x : hover_control_rate_limits(*global, kMaxCommandMargin, data.dt))
+    EXPECT_TRUE(std::isinf(x));
+  for (const double x : hover_control_rate_limits(*small_model(), 0.5, data.dt)) EXPECT_TRUE(std::isinf(x));
+
+  // The learned model with the limits at 50 Hz: from the trim, a command 0.5 away on every channel.
+  sysid::LearnedModelOptions unlimited;
+  unlimited.start = {0, 0, -10, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+  unlimited.noise = false;
+  sysid::LearnedModelOptions limited = unlimited;
+  limited.max_control_change = hover_control_rate_limits(*global, 0.5, limited.dt);
+  limited.start_controls = hover_init_from_model(*global).trim;
+  ASSERT_TRUE(limited.rate_limited());
+  ASSERT_FALSE(unlimited.rate_limited());
+  const sysid::LearnedHeliModel slow(global, limited), free(global, unlimited);
+  const std::vector<double> p0(static_cast<std::size_t>(slow.initial_noise_dim()), 0.5),
+      p(static_cast<std::size_t>(slow.noise_dim()), 0.5);
+  auto s = slow.initial_state(p0), f = free.initial_state(p0);
+  EXPECT_EQ(s.controls, limited.start_controls);
+  Controls asked;
+  for (std::size_t c = 0; c < 4; ++c) asked[c] = limited.start_controls[c] + 0.5;
+  for (int step = 1; step <= 3; ++step) {
+    const Controls before = s.controls;
+    Controls applied;
+    for (std::size_t c = 0; c < 4; ++c) {
+      applied[c] = std::min(asked[c], before[c] + limited.max_control_change[c]);
+      ASSERT_LT(applied[c], asked[c]) << "the limit binds: " << c;
+    }
+    f.sim = s.sim;
+    f.step = s.step;
+    f.beta = s.beta;
+    f.variance = s.variance;
+    const auto s_next = slow.step(s, asked, p), f_next = free.step(f, applied, p);
+    ASSERT_FALSE(s_next.crashed);
+    EXPECT_EQ(s_next.controls, applied) << step;
+    EXPECT_EQ(s_next.sim.world, f_next.sim.world) << step;
+    s = s_next;
+  }
+  // A limit that is not positive is refused.
+  limited.max_control_change[2] = 0;
+  std::string error;
+  EXPECT_FALSE(limited.IsValid(&error));
+  EXPECT_NE(error.find("max_control_change"), std::string::npos) << error;
+}
+
 // With no action cost (a judged cost may have none) the gains use the documented floor on the action weight,
 // and the reward keeps its zero.
 TEST(LqrStart, AZeroActionCostUsesTheFloorForTheGainsOnly) {

@@ -18,6 +18,7 @@
 #include "pegasus/heli/runs/heli_runs.hpp"
 #include "pegasus/heli/runs/log_import_run.hpp"
 #include "pegasus/heli/runs/maneuver_config.hpp"
+#include "pegasus/heli/simulators.hpp"
 #include "pegasus/sysid/identify.hpp"
 #include "support/input_error.hpp"
 
@@ -117,7 +118,7 @@ void expect_is_valid_bounds_every_number() {
 }
 
 TEST(HoverSettingsConfig, EveryNumberIsAnOptionOfHoverWithItsDefaultHelpAndBoundsAndIsReadIntoItsMember) {
-  ASSERT_EQ(HoverTrainingOptions::settings().size(), 14u);
+  ASSERT_EQ(HoverTrainingOptions::settings().size(), 15u);
   expect_every_number_is_an_option<HoverTrainingOptions>(
       [](ConfigSchema& s) { declare_hover_config(s); },
       [](const ConfigSchema& s) { return read_hover_config(s, 7).training; });
@@ -129,7 +130,7 @@ TEST(HoverSettingsConfig, IsValidRefusesEachNumberBeyondItsBoundsNamingItAndItsR
 
 TEST(ManeuverSettingsConfig,
      EveryNumberIsAnOptionOfManeuverWithItsDefaultHelpAndBoundsAndIsReadIntoItsMember) {
-  ASSERT_EQ(number_settings<ManeuverTrainingOptions>().size(), 7u);
+  ASSERT_EQ(number_settings<ManeuverTrainingOptions>().size(), 8u);
   expect_every_number_is_an_option<ManeuverTrainingOptions>(
       [](ConfigSchema& s) { declare_maneuver_config(s); },
       [](const ConfigSchema& s) { return read_maneuver_config(s, 7).training; });
@@ -202,6 +203,42 @@ TEST(FlySettingsConfig, EverySwitchIsAnOptionOfFlyReadIntoItsMember) {
   ASSERT_EQ(flags_of(FlyRunOptions{}).size(), 4u);
   expect_every_flag_is_an_option<FlyRunOptions>([](ConfigSchema& s) { declare_fly_config(s); },
                                                 [](const ConfigSchema& s) { return read_fly_config(s, 7); });
+}
+
+// The ground truth's settings a user sets (GroundTruthSettings): fly's steady wind, a list of three numbers
+// each within its bounds, and the estimate_noise switch of pilot and fly, one help for both, each read into
+// its member.
+TEST(FlySettingsConfig, TheGroundTruthsWindAndEstimateNoiseAreDescribedOnce) {
+  ASSERT_EQ(number_settings<GroundTruthSettings>().size(), 1u);
+  const NumberSetting wind = number_settings<GroundTruthSettings>()[0];
+  ConfigSchema s;
+  declare_fly_config(s);
+  const ConfigField& f = s.field("wind");
+  EXPECT_EQ(f.type(), FieldType::kDoubleList);
+  EXPECT_EQ(f.help(), wind.help);
+  EXPECT_EQ(std::get<std::vector<double>>(f.default_value()), (std::vector<double>{0, 0, 0}));
+  for (const std::vector<double>& bad :
+       {std::vector<double>{wind.upper + 1, 0, 0}, std::vector<double>{0, wind.lower - 1, 0},
+        std::vector<double>{1, 2}}) {
+    const std::string message = input_error_message([&] { s.set("wind", bad); });
+    EXPECT_NE(message.find("wind"), std::string::npos) << message;
+  }
+  s.set("wind", std::vector<double>{1.5, -2, 0.25}, "--wind");
+  s.validate();
+  EXPECT_EQ(read_fly_config(s, 7).settings.mean_wind_W, Vec3(1.5, -2, 0.25));
+  // IsValid's bound on the list, element by element.
+  GroundTruthSettings g;
+  EXPECT_EQ(numbers_out_of_bounds(g), "");
+  g.mean_wind_W = Vec3(0, 31, 0);
+  EXPECT_EQ(numbers_out_of_bounds(g), "wind: expected numbers in [-30, 30] m/s, got 31");
+
+  ASSERT_EQ(flags_of(GroundTruthSettings{}).size(), 1u);
+  expect_every_flag_is_an_option<GroundTruthSettings>(
+      [](ConfigSchema& schema) { declare_fly_config(schema); },
+      [](const ConfigSchema& c) { return read_fly_config(c, 7).settings; });
+  expect_every_flag_is_an_option<GroundTruthSettings>(
+      [](ConfigSchema& schema) { declare_pilot_config(schema); },
+      [](const ConfigSchema& c) { return read_pilot_config(c, 7).settings; });
 }
 
 // heli maneuver's flights and flight_start_sigma (ManeuverFlightOptions): options, reading and IsValid from

@@ -4,6 +4,7 @@
 // heli::ManeuverTrainingOptions, sysid::IdentifyOptions, sysid::BandwidthFloor, heli::IdentifyRunOptions);
 // from that one list come the command's options with their bounds, the reading of a config, IsValid's
 // bounds and the Python fields or arguments with their docs and bounds.
+#include <concepts>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -37,9 +38,18 @@ struct FlagSetting {
   const char* help;  // the option's one line
 };
 
+// A fixed-length list of numbers a setting may describe beside an int or a double (a steady wind's three
+// components: std::array<double, 3>, Vec3): each element within the setting's bounds, and its length the
+// default's.
+template <class T>
+concept NumberList = requires(const T& t) {
+  t.size();
+  { t[0] } -> std::convertible_to<double>;
+};
+
 // For a settings struct whose VisitFields offers `setting(NumberSetting, &Options::member)` for each of its
-// numbers (an int or a double member, named by the key): the settings in order, and the first value out of
-// its bounds.
+// numbers (an int, a double or a NumberList member, named by the key): the settings in order, and the first
+// value out of its bounds.
 namespace detail {
 template <class Options>
 struct NumberSettingsList {
@@ -55,9 +65,15 @@ struct NumberBoundsCheck {
   std::string error;
   template <class T>
   void setting(const NumberSetting& s, T Options::*member) {
-    const auto x = static_cast<double>(o.*member);
-    if (error.empty() && !s.within(x))
-      error = s.refusal(s.key, std::is_integral_v<T> ? "an integer" : "a number", x);
+    if (!error.empty()) return;
+    if constexpr (NumberList<T>) {
+      const T& list = o.*member;
+      for (decltype(list.size()) i = 0; i < list.size() && error.empty(); ++i)
+        if (!s.within(list[i])) error = s.refusal(s.key, "numbers", list[i]);
+    } else {
+      const auto x = static_cast<double>(o.*member);
+      if (!s.within(x)) error = s.refusal(s.key, std::is_integral_v<T> ? "an integer" : "a number", x);
+    }
   }
 };
 template <class Options>
@@ -68,9 +84,11 @@ struct NumberAssign {
   bool found = false;
   template <class T>
   void setting(const NumberSetting& s, T Options::*member) {
-    if (key != s.key) return;
-    o.*member = static_cast<T>(value);
-    found = true;
+    if constexpr (!NumberList<T>) {  // one number; a list is set whole, by its member
+      if (key != s.key) return;
+      o.*member = static_cast<T>(value);
+      found = true;
+    }
   }
 };
 }  // namespace detail
@@ -98,7 +116,7 @@ const NumberSetting& number_setting(std::string_view key) {
   throw std::logic_error("no number setting named " + std::string(key));
 }
 // Sets the number named `key` (an integer member takes the value truncated; check it with
-// numbers_out_of_bounds first where that matters); false when no setting has that key.
+// numbers_out_of_bounds first where that matters); false when no setting has that key (or it is a list).
 template <class Options>
 bool set_number(Options& o, std::string_view key, double value) {
   detail::NumberAssign<Options> v{o, key, value};

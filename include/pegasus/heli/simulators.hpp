@@ -12,6 +12,7 @@
 
 #include "pegasus/heli/ground_truth.hpp"
 #include "pegasus/heli/pilot.hpp"
+#include "pegasus/vehicle/disturbance.hpp"
 
 namespace pegasus::heli {
 
@@ -24,6 +25,25 @@ struct GroundTruthSettings {
   double start_yaw = 0;
   double start_pos_sigma = 0, start_vel_sigma = 0;  // m, m/s
   Vec3 mean_wind_W = Vec3::Zero();                  // steady wind added to the aircraft's own, m/s in W
+
+  // What a user sets of these, once (issue 49 item 1): `fly`'s `wind` (a NumberList, each component within
+  // the bounds), `pilot`'s and `fly`'s `estimate_noise` switch; their options, reading and help come from
+  // here. The gusts' default is the aircraft's own (heli_config's declare_gust_sigma) and the start's spread
+  // hover training's (HoverTrainingOptions), so they are described there.
+  template <class Visitor>
+  static void VisitFields(Visitor& v) {
+    v.setting({"wind", -sysid::kMaxSteadyWindMps, sysid::kMaxSteadyWindMps, false, "m/s",
+               "steady wind north, east, down (m/s, W), under the gusts"},
+              &GroundTruthSettings::mean_wind_W);
+  }
+  template <class Visitor>
+  static void VisitFlags(Visitor& v) {
+    v.flag(
+        {"estimate_noise",
+         "Kalman-filter-like state-estimate errors: in the pilot's log, and in what a flown controller sees "
+         "(false: the true state)"},
+        &GroundTruthSettings::estimate_noise);
+  }
 };
 
 // The settings applied to an aircraft's flight conditions (its start and disturbances).

@@ -228,6 +228,8 @@ std::string path_named_from(const std::filesystem::path& base, const std::string
 // `prefix` (only the one named `only` where given), its key after `key_prefix` (a section's
 // "bandwidth_floor."); and each the schema declares read into its member.
 namespace detail {
+// The check of a NumberList setting's length ("3 numbers"); its elements are checked by the field's bounds.
+ConfigField::Validator list_length(std::size_t length);
 template <class Options>
 struct DeclareNumbers {
   ConfigSchema& s;
@@ -238,7 +240,14 @@ struct DeclareNumbers {
   template <class T>
   void setting(const NumberSetting& n, T Options::*member) {
     if (!only.empty() && only != n.key) return;
-    if constexpr (std::is_integral_v<T>)
+    if constexpr (NumberList<T>) {
+      const T& d = defaults.*member;
+      std::vector<double> values;
+      for (decltype(d.size()) i = 0; i < d.size(); ++i) values.push_back(d[i]);
+      s.add_double_list(key_prefix + n.key, values, prefix + n.help)
+          .bounds(n)
+          .validate(list_length(values.size()));
+    } else if constexpr (std::is_integral_v<T>)
       s.add_int(key_prefix + n.key, defaults.*member, prefix + n.help).bounds(n);
     else
       s.add_double(key_prefix + n.key, defaults.*member, prefix + n.help).bounds(n);
@@ -253,7 +262,11 @@ struct ReadNumbers {
   void setting(const NumberSetting& n, T Options::*member) {
     const std::string key = key_prefix + n.key;
     if (!c.has(key)) return;  // a command that declares some of them (log import's identification)
-    if constexpr (std::is_integral_v<T>)
+    if constexpr (NumberList<T>) {
+      const std::vector<double>& list = c.get_double_list(key);  // its length checked by list_length
+      for (std::size_t i = 0; i < list.size(); ++i)
+        (o.*member)[static_cast<decltype((o.*member).size())>(i)] = list[i];
+    } else if constexpr (std::is_integral_v<T>)
       o.*member = static_cast<T>(c.get_int(key));
     else
       o.*member = c.get_double(key);

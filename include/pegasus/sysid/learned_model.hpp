@@ -32,6 +32,13 @@
 // airspeed, and the ground velocity is the air-relative one plus w. Draws: wind_sigma > 0 adds 2 start
 // uniforms, gust_sigma > 0 adds 3 start and 3 per-step uniforms after the model's own, so every other draw
 // keeps its place.
+//
+// Control rate (issue 48; off by default, and then no arithmetic changes): each control the model applies
+// moves at most max_control_change[c] per step from the one it applied last (start_controls before the first
+// step), wherever the policy asked it to go. A model fitted on logs whose controls never changed faster than
+// that has not learned what a faster change does (a servo's rate limit, a rotor's lag): a global linear model
+// would answer it linearly, and a policy trained on that answer can command a limit cycle the aircraft
+// cannot follow.
 #include <array>
 #include <limits>
 #include <memory>
@@ -57,6 +64,7 @@ inline constexpr double kRefitSeconds = 0.1;
 int refit_steps_at(double step_rate_hz);
 
 struct LearnedModelOptions {
+  static constexpr double kUnlimited = std::numeric_limits<double>::infinity();
   double dt = 0.02;               // s, 50 Hz (§5.1)
   int refit_every = 5;            // steps between refits (§5.2.2)
   double support_bandwidths = 4;  // support margin (see above)
@@ -67,6 +75,12 @@ struct LearnedModelOptions {
   double max_rate_radps = std::numeric_limits<double>::infinity();
   Disturbance disturbance{};
   bool noise = true;  // false: the mean model (p ignored)
+  // The control rate (see above): the most each control moves per step, and where they start.
+  std::array<double, 4> max_control_change{kUnlimited, kUnlimited, kUnlimited, kUnlimited};
+  std::array<double, 4> start_controls{0, 0, 0, 0};
+  bool rate_limited() const {
+    return max_control_change != decltype(max_control_change){kUnlimited, kUnlimited, kUnlimited, kUnlimited};
+  }
   std::array<double, kLogStates> start{0, 0, -10, 0, 0, 0, 0, 0, 0, 0, 0, 0};  // s0 before perturbation
   double start_pos_sigma = 0, start_vel_sigma = 0;  // s0 perturbation from p0 (initial_noise_dim 6)
   bool IsValid(std::string* error) const;
@@ -76,11 +90,12 @@ class LearnedHeliModel {
  public:
   struct State {
     SimState sim{};
-    std::array<InputVec, kBodyVars> beta{};  // held coefficients of the last refit
-    BodyVec variance = BodyVec::Zero();      // predictive variance at the last refit, per model step
-    BodyVec colored = BodyVec::Zero();       // the AR part of the noise of the last step (AR(1) models)
-    std::array<double, 3> wind{0, 0, 0};     // the scenario's steady wind, m/s (W)
-    std::array<double, 3> gust{0, 0, 0};     // the gust process's value, m/s (W)
+    std::array<InputVec, kBodyVars> beta{};      // held coefficients of the last refit
+    BodyVec variance = BodyVec::Zero();          // predictive variance at the last refit, per model step
+    BodyVec colored = BodyVec::Zero();           // the AR part of the noise of the last step (AR(1) models)
+    std::array<double, 3> wind{0, 0, 0};         // the scenario's steady wind, m/s (W)
+    std::array<double, 3> gust{0, 0, 0};         // the gust process's value, m/s (W)
+    std::array<double, 4> controls{0, 0, 0, 0};  // applied at the last step (rate limited: see above)
     int step = 0;
     bool crashed = false;
   };

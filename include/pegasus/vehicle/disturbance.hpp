@@ -18,6 +18,10 @@ struct DisturbanceSetting : NumberSetting {  // key: after `wind.` in a config, 
   const char* summary_key;                   // in summary.json's `wind`
 };
 
+// The largest steady wind component a setting takes, m/s: the scenarios' (Disturbance::wind) and a flight's
+// (heli::GroundTruthSettings::mean_wind_W).
+inline constexpr double kMaxSteadyWindMps = 30;
+
 // The wind the learned model flies in (see above); all zero: calm, as identified.
 struct Disturbance {
   std::array<double, 3> wind{0, 0, 0};  // steady wind north, east, down, m/s (W)
@@ -33,7 +37,7 @@ struct Disturbance {
   static void VisitFields(Visitor& v) {
     using D = Disturbance;
     v.setting(
-        {{"steady", -30, 30, false, "m/s",
+        {{"steady", -kMaxSteadyWindMps, kMaxSteadyWindMps, false, "m/s",
           "steady wind in the scenarios, north, east, down (m/s, NED): the learned model's forces act on "
           "the airspeed"},
          "wind",

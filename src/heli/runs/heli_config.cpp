@@ -227,14 +227,13 @@ void declare_pilot_config(ConfigSchema& s) {
                "the pilot's own corrections do, which lessens closed-loop bias)")
       .range(0, 5);
   declare_gust_sigma(s, "turbulence standard deviation per axis, m/s");
-  s.add_bool("estimate_noise", d.settings.estimate_noise,
-             "add Kalman-filter-like state-estimate errors to the log");
+  declare_flags(s, d.settings);  // GroundTruthSettings::VisitFlags: estimate_noise
 }
 
 PilotRunOptions read_pilot_config(const ConfigSchema& c, std::uint64_t seed) {
   PilotRunOptions o{.aircraft = vehicle_of(c)};
   o.settings.gust_sigma = c.get_double("gust_sigma");
-  o.settings.estimate_noise = c.get_bool("estimate_noise");
+  read_flags(c, o.settings);
   o.seconds = c.get_double("seconds");
   o.hover_seconds = c.get_double("hover_seconds");
   o.sweeps = c.get_bool("sweeps");
@@ -337,12 +336,8 @@ void declare_fly_config(ConfigSchema& s) {
   declare_numbers(s, d.flights, "flights");  // FlightOptions::VisitFields
   declare_numbers(s, d.flights, "seconds");
   declare_gust_sigma(s, "turbulence standard deviation per axis, m/s");
-  const Vec3& wind = d.settings.mean_wind_W;
-  s.add_double_list("wind", {wind.x(), wind.y(), wind.z()},
-                    "steady wind north, east, down (m/s, W), under the gusts")
-      .validate(check_wind_ned);
-  s.add_bool("estimate_noise", d.settings.estimate_noise,
-             "the controller sees Kalman-filter-like state-estimate errors");
+  declare_numbers(s, d.settings);  // GroundTruthSettings::VisitFields: wind
+  declare_flags(s, d.settings);    // and VisitFlags: estimate_noise
   // By default, flights start as perturbed as hover training's scenarios.
   declare_hover_number(s, "start_pos_sigma");
   declare_hover_number(s, "start_vel_sigma");
@@ -353,11 +348,10 @@ FlyRunOptions read_fly_config(const ConfigSchema& c, std::uint64_t seed) {
   FlyRunOptions o{.aircraft = vehicle_of(c), .policy_file = c.get_path("policy")};
   read_flags(c, o);  // FlyRunOptions::VisitFlags
   o.settings.gust_sigma = c.get_double("gust_sigma");
-  o.settings.estimate_noise = c.get_bool("estimate_noise");
+  read_numbers(c, o.settings);  // wind
+  read_flags(c, o.settings);    // estimate_noise
   o.settings.start_pos_sigma = c.get_double("start_pos_sigma");
   o.settings.start_vel_sigma = c.get_double("start_vel_sigma");
-  const auto& wind = c.get_double_list("wind");
-  o.settings.mean_wind_W = Vec3(wind[0], wind[1], wind[2]);
   read_numbers(c, o.flights);  // FlightOptions::VisitFields
   o.flights.seed = seed;
   return o;
