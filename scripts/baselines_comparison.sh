@@ -11,7 +11,8 @@ cli="$1"; work="$2"; flights="${3:-20}"; wind="${4:-4}"; shift 4 || shift $#
 root="$(cd "$(dirname "$0")/.." && pwd)"
 vehicles=("$@")
 [ ${#vehicles[@]} -gt 0 ] || vehicles=("$root/experiments/vehicles/outside-heli.toml" \
-                                       "$root/experiments/vehicles/ros-crazyflie.toml")
+                                       "$root/experiments/vehicles/ros-crazyflie.toml" \
+                                       "$root/experiments/vehicles/heavy-heli.toml")
 mkdir -p "$work"
 echo "| vehicle | condition | policy judged cost | baseline judged cost | cost ratio | policy RMS m | baseline RMS m | RMS ratio | crashes (policy, baseline) |"
 echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"

@@ -47,6 +47,7 @@ LearnedHeliModel::LearnedHeliModel(std::shared_ptr<const IdentifiedModel> model,
   min_weight_ = std::exp(-0.5 * options_.support_bandwidths * options_.support_bandwidths);
   const NoiseCorrelation& c = model_->noise_correlation();
   colored_ = options_.noise && (c.share.array() > 0).any();
+  rate_limited_ = options_.rate_limited();
   const double f = options_.dt / model_->dt();  // model steps per step
   const double n = 1 / f;                       // steps per model step
   for (int k = 0; k < kBodyVars; ++k) {
@@ -117,7 +118,7 @@ LearnedHeliModel::State LearnedHeliModel::step(const State& s, const Action& a_i
   State n = s;
   Action a;
   for (std::size_t c = 0; c < 4; ++c) a[c] = std::clamp(a_in[c], -1.0, 1.0);
-  if (options_.rate_limited()) {
+  if (rate_limited_) {
     for (std::size_t c = 0; c < 4; ++c) {
       const double most = options_.max_control_change[c];
       a[c] = std::clamp(a[c], s.controls[c] - most, s.controls[c] + most);

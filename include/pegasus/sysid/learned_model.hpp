@@ -130,7 +130,8 @@ class LearnedHeliModel {
   bool gusty() const { return options_.noise && options_.disturbance.gust_sigma > 0; }
   std::array<double, 3> air_of(const State& s) const;  // the air's velocity, W
   bool outside_envelope(const SimState& s) const;
-  bool colored_ = false;  // the identified model has AR(1) noise (and options_.noise is on)
+  bool colored_ = false;       // the identified model has AR(1) noise (and options_.noise is on)
+  bool rate_limited_ = false;  // options_.rate_limited(), once
   // Per body variable: the AR part's correlation per step, its stationary variance per step as a fraction of
   // the model step's variance, and the white part's variance per step as that fraction.
   BodyVec rho_step_ = BodyVec::Zero(), colored_scale_ = BodyVec::Zero(), white_scale_ = BodyVec::Zero();
