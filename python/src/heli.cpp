@@ -495,18 +495,13 @@ crash penalty (footnote 13), noise on or off, and the start state and its pertur
       .def_readwrite("noise", &LearnedModelOptions::noise,
                      "False: the mean model (the scenario's numbers are ignored).");
   def_array(lmo, "start", &LearnedModelOptions::start, "The 12 logged states before perturbation.");
-  def_array(lmo, "max_control_change", &LearnedModelOptions::max_control_change,
-            "The most each control the model applies moves per step (inf: unlimited; hover training sets the "
-            "logs' fastest change on a global linear model, --command-rate-margin).");
-  def_array(lmo, "start_controls", &LearnedModelOptions::start_controls,
-            "The controls applied before the first step (where a limited control rate starts from).");
   lmo.def_readwrite("start_pos_sigma", &LearnedModelOptions::start_pos_sigma,
                     "Start position perturbation per axis, m.")
       .def_readwrite("start_vel_sigma", &LearnedModelOptions::start_vel_sigma,
                      "Start velocity perturbation per axis, m/s.")
       .def("is_valid", is_valid_method<LearnedModelOptions>(), kIsValidDoc);
   set_fields(lmo, {"dt", "refit_every", "support_bandwidths", "crash_reward", "max_tilt_rad", "noise",
-                   "start", "max_control_change", "start_controls", "start_pos_sigma", "start_vel_sigma"});
+                   "start", "start_pos_sigma", "start_vel_sigma"});
 
   auto learned = py::class_<LearnedHeliModel>(m, "LearnedHeliModel", R"doc(
 The identified helicopter (an IdentifiedModel, or the path of a model.json from `pegasus heli identify`) as a

@@ -211,17 +211,6 @@ HoverProblem.from_training_options(model, options) is the objective `pegasus hel
       [](IdentifiedModelArg model) { return heli::hover_init_from_model(*identified_model(model)); },
       py::arg("model"), "The hover policy's starting weights around the trim estimate of the model's logs.");
   m.def(
-      "hover_control_rate_limits",
-      [](IdentifiedModelArg model, double margin, double step_seconds) {
-        return heli::hover_control_rate_limits(*identified_model(model), margin, step_seconds);
-      },
-      py::arg("model"), py::arg("margin") = heli::kDefaultCommandMargin, py::arg("step_seconds") = 0.02,
-      "The control rate hover training gives the learned model (LearnedModelOptions.max_control_change): on "
-      "a "
-      "global linear model, each control's fastest change between consecutive model steps of the logs, per "
-      "step of step_seconds, times 1 + 2 margin (HoverTrainingOptions.command_rate_margin); inf on a locally "
-      "weighted model or at a margin of 100.");
-  m.def(
       "lqr_hover_init",
       [](IdentifiedModelArg model, const heli::HoverTrainingOptions& o) {
         const heli::LqrStart r = heli::lqr_hover_init(*identified_model(model), o);

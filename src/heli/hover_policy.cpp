@@ -174,19 +174,6 @@ std::string command_limits_line(const HoverPolicyInit& limits, double margin) {
       100 * margin, channels);
 }
 
-std::string control_rate_line(const Controls& max_change, double margin, double step_seconds) {
-  std::string channels;
-  for (std::size_t c = 0; c < 4; ++c)
-    if (std::isfinite(max_change[c]))
-      channels += fmt::format("{}a{} {:.3g}", channels.empty() ? "" : ", ", c + 1, max_change[c]);
-  if (channels.empty()) return {};
-  return fmt::format(
-      "control rate in training (the global linear model has not seen faster changes): each control the "
-      "model applies moves at most {} per {:g} s step, the logs' fastest change times {:g} "
-      "(--command-rate-margin)",
-      channels, step_seconds, 1 + 2 * margin);
-}
-
 Controls HoverPolicy::act(std::span<const double> theta, const HeliObservation& o) const {
   return clip_command(unclipped(theta, hover_inputs(o)), command_lower_, command_upper_);
 }

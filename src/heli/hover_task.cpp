@@ -38,8 +38,6 @@ sysid::LearnedModelOptions learned_options(const HoverTrainingOptions& o,
   m.max_rate_radps = o.max_rate_radps;
   m.crash_reward = -o.crash_penalty;
   m.disturbance = o.disturbance;
-  m.max_control_change = hover_control_rate_limits(model, o.command_rate_margin, m.dt);
-  if (m.rate_limited()) m.start_controls = hover_init_from_model(model).trim;
   return m;
 }
 
@@ -235,23 +233,6 @@ HoverPolicyInit hover_command_limits(const sysid::IdentifiedModel& model, double
     init.command_upper[c] = std::clamp(hi + widen, -1.0, 1.0);
   }
   return init;
-}
-
-Controls hover_control_rate_limits(const sysid::IdentifiedModel& model, double margin, double step_seconds) {
-  constexpr double kUnlimited = sysid::LearnedModelOptions::kUnlimited;
-  Controls limits{kUnlimited, kUnlimited, kUnlimited, kUnlimited};
-  const sysid::Dataset& data = model.data();
-  if (!model.is_global() || data.rows() < 2 || !(margin < kMaxCommandMargin)) return limits;
-  for (std::size_t c = 0; c < 4; ++c) {
-    const auto column = data.x.col(sysid::kA1 + static_cast<int>(c));
-    double most = 0;
-    for (Eigen::Index i = 0; i + 1 < data.rows(); ++i)  // consecutive rows of one flight only
-      if (std::abs(data.time[static_cast<std::size_t>(i + 1)] - data.time[static_cast<std::size_t>(i)] -
-                   data.dt) < 0.01 * data.dt)
-        most = std::max(most, std::abs(column[i + 1] - column[i]));
-    if (most > 0) limits[c] = most * (step_seconds / data.dt) * (1 + 2 * margin);
-  }
-  return limits;
 }
 
 HoverPolicy hover_policy_for(const sysid::IdentifiedModel& model, const HoverTrainingOptions& options) {

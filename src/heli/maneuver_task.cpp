@@ -25,8 +25,7 @@ using detail::reward_weight;
 using Learned = sysid::LearnedHeliModel;
 using ManeuverTaskOnModel = ManeuverTask<Learned>;
 
-sysid::LearnedModelOptions learned_options(const ManeuverTrainingOptions& o, const Trajectory& t,
-                                           const sysid::IdentifiedModel& model) {
+sysid::LearnedModelOptions learned_options(const ManeuverTrainingOptions& o, const Trajectory& t) {
   sysid::LearnedModelOptions m;
   m.refit_every = o.refit_every;
   const Vec3 p = t.start_W();
@@ -34,9 +33,6 @@ sysid::LearnedModelOptions learned_options(const ManeuverTrainingOptions& o, con
   m.start_pos_sigma = o.start_pos_sigma;
   m.start_vel_sigma = o.start_vel_sigma;
   m.disturbance = o.disturbance;
-  // The logs' control rate, as hover training's (hover_control_rate_limits).
-  m.max_control_change = hover_control_rate_limits(model, o.command_rate_margin, m.dt);
-  if (m.rate_limited()) m.start_controls = hover_init_from_model(model).trim;
   return m;
 }
 
@@ -120,8 +116,8 @@ std::unique_ptr<Objective> maneuver_objective(std::shared_ptr<const sysid::Ident
   std::string error;
   if (!o.IsValid(&error)) throw InputError("manoeuvre training: " + error);
   auto observer = std::make_shared<const PathObserver>(policy.trajectory(), o.observer);
-  sysid::LearnedModelOptions learned = learned_options(o, policy.trajectory(), *model);
-  const ManeuverTaskOnModel task(Learned(std::move(model), learned), observer, o.reward);
+  const ManeuverTaskOnModel task(Learned(std::move(model), learned_options(o, policy.trajectory())), observer,
+                                 o.reward);
   const int horizon = maneuver_horizon(policy.trajectory());
   const ScenarioSet scenarios({.seed = o.seed,
                                .count = o.scenarios,

@@ -383,9 +383,7 @@ const std::vector<SummaryKeyGroup> kGroups = {
                "what hover chose from the data (model_class, noise, start, optimizer; wind with a vehicle "
                "file: "
                "the scenarios' wind, by what and why; command_limits on a global linear model: the "
-               "policy's lower and upper command per control, from the logs widened by margin; control_rate "
-               "on "
-               "a global linear model: the most each control the learned model applies moves per step; "
+               "policy's lower and upper command per control, from the logs widened by margin; "
                "training_model where hover trained on the global linear fit because the chosen locally "
                "weighted model could not carry the default training wind), each with what it was chosen by"},
               {"judged_cost.reward", "", "the vehicle file's [cost] terms as the reward trained them"},
@@ -462,9 +460,6 @@ const std::vector<SummaryKeyGroup> kGroups = {
               {"choices.command_limits", "",
                "on a global linear model: the policy's command limits, lower and upper per control, the "
                "margin they widen the logged range by, and by what"},
-              {"choices.control_rate", "",
-               "on a global linear model: the most each control the learned model applies moves per "
-               "training step (max_change_per_step, step_seconds), the margin and by what"},
               {"wind.steady_ned_mps", "m/s", "the steady wind of the training scenarios [north, east, down]"},
               {"wind.sigma_mps", "m/s", "sd of each scenario's drawn horizontal wind"},
               {"wind.gust_sigma_mps", "m/s", "sd of the AR(1) gusts"},

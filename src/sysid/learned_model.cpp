@@ -2,7 +2,6 @@
 
 #include <fmt/format.h>
 
-#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -28,9 +27,6 @@ bool LearnedModelOptions::IsValid(std::string* error) const {
   if (!(start_pos_sigma >= 0 && start_vel_sigma >= 0)) return fail("start sigmas must be >= 0");
   if (!(max_position_error_m > 0 && max_speed_mps > 0 && max_rate_radps > 0))
     return fail("the envelope's limits must be positive");
-  for (std::size_t c = 0; c < 4; ++c)
-    if (!(max_control_change[c] > 0) || !(std::abs(start_controls[c]) <= 1))
-      return fail("max_control_change must be positive and start_controls in [-1, 1]");
   std::string inner;
   if (!disturbance.IsValid(&inner)) {
     if (error) *error = "learned model: " + inner;
@@ -47,7 +43,6 @@ LearnedHeliModel::LearnedHeliModel(std::shared_ptr<const IdentifiedModel> model,
   min_weight_ = std::exp(-0.5 * options_.support_bandwidths * options_.support_bandwidths);
   const NoiseCorrelation& c = model_->noise_correlation();
   colored_ = options_.noise && (c.share.array() > 0).any();
-  rate_limited_ = options_.rate_limited();
   const double f = options_.dt / model_->dt();  // model steps per step
   const double n = 1 / f;                       // steps per model step
   for (int k = 0; k < kBodyVars; ++k) {
@@ -70,7 +65,6 @@ ActionSpace LearnedHeliModel::action_space() const {
 LearnedHeliModel::State LearnedHeliModel::initial_state(std::span<const double> p0) const {
   State s;
   s.sim.world = options_.start;
-  s.controls = options_.start_controls;
   for (std::size_t i = 0; i < 3; ++i) {
     s.sim.world[i] += options_.start_pos_sigma * normal_quantile(p0[i]);
     s.sim.world[6 + i] += options_.start_vel_sigma * normal_quantile(p0[3 + i]);
@@ -118,13 +112,6 @@ LearnedHeliModel::State LearnedHeliModel::step(const State& s, const Action& a_i
   State n = s;
   Action a;
   for (std::size_t c = 0; c < 4; ++c) a[c] = std::clamp(a_in[c], -1.0, 1.0);
-  if (rate_limited_) {
-    for (std::size_t c = 0; c < 4; ++c) {
-      const double most = options_.max_control_change[c];
-      a[c] = std::clamp(a[c], s.controls[c] - most, s.controls[c] + most);
-    }
-    n.controls = a;
-  }
   // In wind the calm model steps the motion relative to the air, and the air frame moves on at the wind's
   // velocity: the regression sees the airspeed, position and velocity come back to the ground.
   const bool calm = options_.disturbance.calm();

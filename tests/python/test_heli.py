@@ -188,14 +188,6 @@ def test_the_learned_model_from_a_path_or_an_object_steps_alike(model_json):
     assert np.abs(fa["observations"][:, -1, 2] + 10.0).max() < 5.0  # still near the set point's height
 
 
-def with_control_rate(learned, identified, options):
-    """The learned model's control rate hover training gives it (on a global linear model: the logs' fastest
-    change per step, widened), from the logs' mean controls."""
-    learned.max_control_change = pegasus.hover_control_rate_limits(
-        identified, options.command_rate_margin, 1 / options.control_rate_hz)
-    learned.start_controls = pegasus.hover_init_from_model(identified).trim
-
-
 def test_hover_problem_on_the_learned_model_is_the_cli_objective(model_json):
     identified = pegasus.IdentifiedModel.load(str(model_json))
     options = pegasus.HoverTrainingOptions()
@@ -206,9 +198,6 @@ def test_hover_problem_on_the_learned_model_is_the_cli_objective(model_json):
     assert learned.refit_every == 5  # 50 Hz steps from a 10 Hz model (§5.2.2)
     learned.start = [0, 0, -10, 0, 0, 0, 0, 0, 0, 0, 0, 0]
     learned.start_pos_sigma, learned.start_vel_sigma = options.start_pos_sigma, options.start_vel_sigma
-    with_control_rate(learned, identified, options)
-    # The fixture's model is global linear: its training limits the learned model's control rate.
-    assert np.isfinite(learned.max_control_change).all()
     ours = pegasus.HoverProblem(pegasus.LearnedHeliModel(identified, learned), target=options.target,
                                 reward=pegasus.hover_reward_for(identified, options),
                                 init=pegasus.hover_init_from_model(identified), seed=options.seed,
@@ -231,7 +220,6 @@ def test_hover_at_another_control_rate_steps_the_learned_model_at_it(model_json)
     learned.dt, learned.refit_every = 0.1, 1
     learned.start = [0, 0, -10, 0, 0, 0, 0, 0, 0, 0, 0, 0]
     learned.start_pos_sigma, learned.start_vel_sigma = options.start_pos_sigma, options.start_vel_sigma
-    with_control_rate(learned, identified, options)
     ours = pegasus.HoverProblem(pegasus.LearnedHeliModel(identified, learned), target=options.target,
                                 reward=pegasus.hover_reward_for(identified, options),
                                 init=pegasus.hover_init_from_model(identified), seed=options.seed,
@@ -251,7 +239,6 @@ def test_lqr_starting_gains_are_the_ones_training_starts_from(model_json):
     learned = pegasus.LearnedModelOptions()
     learned.start = [0, 0, -10, 0, 0, 0, 0, 0, 0, 0, 0, 0]
     learned.start_pos_sigma, learned.start_vel_sigma = options.start_pos_sigma, options.start_vel_sigma
-    with_control_rate(learned, identified, options)
     ours = pegasus.HoverProblem(pegasus.LearnedHeliModel(identified, learned), target=options.target,
                                 reward=pegasus.hover_reward_for(identified, options), init=lqr["init"],
                                 seed=options.seed, scenarios=4, horizon=options.horizon(), gamma=options.gamma,

@@ -118,7 +118,7 @@ void expect_is_valid_bounds_every_number() {
 }
 
 TEST(HoverSettingsConfig, EveryNumberIsAnOptionOfHoverWithItsDefaultHelpAndBoundsAndIsReadIntoItsMember) {
-  ASSERT_EQ(HoverTrainingOptions::settings().size(), 15u);
+  ASSERT_EQ(HoverTrainingOptions::settings().size(), 14u);
   expect_every_number_is_an_option<HoverTrainingOptions>(
       [](ConfigSchema& s) { declare_hover_config(s); },
       [](const ConfigSchema& s) { return read_hover_config(s, 7).training; });
@@ -130,7 +130,7 @@ TEST(HoverSettingsConfig, IsValidRefusesEachNumberBeyondItsBoundsNamingItAndItsR
 
 TEST(ManeuverSettingsConfig,
      EveryNumberIsAnOptionOfManeuverWithItsDefaultHelpAndBoundsAndIsReadIntoItsMember) {
-  ASSERT_EQ(number_settings<ManeuverTrainingOptions>().size(), 8u);
+  ASSERT_EQ(number_settings<ManeuverTrainingOptions>().size(), 7u);
   expect_every_number_is_an_option<ManeuverTrainingOptions>(
       [](ConfigSchema& s) { declare_maneuver_config(s); },
       [](const ConfigSchema& s) { return read_maneuver_config(s, 7).training; });

@@ -144,20 +144,6 @@ inline constexpr NumberSetting kCommandMarginSetting{
     "on a global linear model, the policy's commands stay within the range each control held in the logs, "
     "widened by this fraction of its width per side (the model extrapolates beyond them; a locally weighted "
     "model crashes off its data instead); 100: [-1, 1]"};
-// The control rate's margin (hover_control_rate_limits, hover_task.hpp), a setting of hover's and
-// manoeuvre's training options beside the command margin.
-inline constexpr NumberSetting kCommandRateMarginSetting{
-    "command_rate_margin",
-    0,
-    kMaxCommandMargin,
-    false,
-    "",
-    "on a global linear model, the controls the learned model applies in training change per step at most "
-    "as fast as the logs' fastest change, times 1 + 2 x this (the model has not learned what a faster change "
-    "does, as a servo's rate limit); 100: unlimited"};
-// The training runs' line for that control rate (hover_control_rate_limits, per step of `step_seconds`):
-// "control rate in training (...): a1 0.48, ... per 0.1 s step (--command-rate-margin)"; "" when unlimited.
-std::string control_rate_line(const Controls& max_change, double margin, double step_seconds);
 
 class HoverPolicy {
  public:

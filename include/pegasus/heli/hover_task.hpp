@@ -284,11 +284,6 @@ struct HoverTrainingOptions {
   // instead of a limit flew a 4 m/s wind at 0.66x the baseline's judged cost, the limits at 1.34x
   // (docs/results/baselines.md).
   double command_margin = kDefaultCommandMargin;
-  // The learned model's control rate in training (LearnedModelOptions::max_control_change,
-  // hover_control_rate_limits): on a global linear model, the logs' fastest change per step times 1 + 2 x
-  // this. On a helicopter of our own whose tail servo moves 0.8 per 0.1 s, training without it made a yaw
-  // loop that rang between the command limits and crashed 2 of 20 calm flights (docs/results/baselines.md).
-  double command_rate_margin = kDefaultCommandMargin;
 
   // Every number `hover` takes as an option, once (issue 49 item 1): the visitor's `setting(NumberSetting,
   // &HoverTrainingOptions::member)`, member an int or a double, the key its name. From it come `hover`'s
@@ -310,7 +305,6 @@ struct HoverTrainingOptions {
          "(the thesis's class)"},
         &O::integral_seconds);
     v.setting(kCommandMarginSetting, &O::command_margin);
-    v.setting(kCommandRateMarginSetting, &O::command_rate_margin);
     v.setting({"integral_limit_position", 0, 1e6, true, "m s",
                "anti-windup: the position error integral's limit per axis, m s"},
               &O::integral_limit_position);
@@ -374,13 +368,6 @@ HoverPolicy hover_policy_for(const sysid::IdentifiedModel& model);
 // [-1, 1], and [-1, 1] for a control the logs never moved; on a locally weighted model [-1, 1]. Set in the
 // returned init's command_lower and command_upper.
 HoverPolicyInit hover_command_limits(const sysid::IdentifiedModel& model, double margin);
-// The control rate training gives the learned model (LearnedModelOptions::max_control_change, issue 48) on
-// `model` (HoverTrainingOptions::command_rate_margin): on a global linear model, per control, the largest
-// change between consecutive model steps of the logs (rows one model step apart), per training step of
-// `step_seconds` (scaled linearly from the model's step), widened by `margin` times twice it per side, as the
-// command limits widen the range; unlimited on a locally weighted model (it crashes off its data instead),
-// for a control the logs never moved, or at a margin of kMaxCommandMargin.
-Controls hover_control_rate_limits(const sysid::IdentifiedModel& model, double margin, double step_seconds);
 HoverPolicy hover_policy_for(const sysid::IdentifiedModel& model, const HoverTrainingOptions& options);
 // The reward with centre from the model's logs when options.centre_at_trim.
 HoverReward hover_reward_for(const sysid::IdentifiedModel& model, const HoverTrainingOptions& options);

@@ -134,8 +134,6 @@ struct ManeuverTrainingOptions {
   // On a global linear model, the policy's commands stay within each control's logged range widened by this
   // fraction of it per side, as hover training's (HoverTrainingOptions::command_margin, issue 48).
   double command_margin = kDefaultCommandMargin;
-  // The learned model's control rate, as hover training's (HoverTrainingOptions::command_rate_margin).
-  double command_rate_margin = kDefaultCommandMargin;
   OptimizerOptions optimizer = default_optimizer();
   std::uint64_t seed = 1;
 
@@ -158,7 +156,6 @@ struct ManeuverTrainingOptions {
                "shaping potential per m of progress along the path"},
               &O::shaping_per_metre);
     v.setting(kCommandMarginSetting, &O::command_margin);
-    v.setting(kCommandRateMarginSetting, &O::command_rate_margin);
   }
 
   static OptimizerOptions default_optimizer();

@@ -32,13 +32,6 @@
 // airspeed, and the ground velocity is the air-relative one plus w. Draws: wind_sigma > 0 adds 2 start
 // uniforms, gust_sigma > 0 adds 3 start and 3 per-step uniforms after the model's own, so every other draw
 // keeps its place.
-//
-// Control rate (issue 48; off by default, and then no arithmetic changes): each control the model applies
-// moves at most max_control_change[c] per step from the one it applied last (start_controls before the first
-// step), wherever the policy asked it to go. A model fitted on logs whose controls never changed faster than
-// that has not learned what a faster change does (a servo's rate limit, a rotor's lag): a global linear model
-// would answer it linearly, and a policy trained on that answer can command a limit cycle the aircraft
-// cannot follow.
 #include <array>
 #include <limits>
 #include <memory>
@@ -64,7 +57,6 @@ inline constexpr double kRefitSeconds = 0.1;
 int refit_steps_at(double step_rate_hz);
 
 struct LearnedModelOptions {
-  static constexpr double kUnlimited = std::numeric_limits<double>::infinity();
   double dt = 0.02;               // s, 50 Hz (§5.1)
   int refit_every = 5;            // steps between refits (§5.2.2)
   double support_bandwidths = 4;  // support margin (see above)
@@ -75,12 +67,6 @@ struct LearnedModelOptions {
   double max_rate_radps = std::numeric_limits<double>::infinity();
   Disturbance disturbance{};
   bool noise = true;  // false: the mean model (p ignored)
-  // The control rate (see above): the most each control moves per step, and where they start.
-  std::array<double, 4> max_control_change{kUnlimited, kUnlimited, kUnlimited, kUnlimited};
-  std::array<double, 4> start_controls{0, 0, 0, 0};
-  bool rate_limited() const {
-    return max_control_change != decltype(max_control_change){kUnlimited, kUnlimited, kUnlimited, kUnlimited};
-  }
   std::array<double, kLogStates> start{0, 0, -10, 0, 0, 0, 0, 0, 0, 0, 0, 0};  // s0 before perturbation
   double start_pos_sigma = 0, start_vel_sigma = 0;  // s0 perturbation from p0 (initial_noise_dim 6)
   bool IsValid(std::string* error) const;
@@ -90,12 +76,11 @@ class LearnedHeliModel {
  public:
   struct State {
     SimState sim{};
-    std::array<InputVec, kBodyVars> beta{};      // held coefficients of the last refit
-    BodyVec variance = BodyVec::Zero();          // predictive variance at the last refit, per model step
-    BodyVec colored = BodyVec::Zero();           // the AR part of the noise of the last step (AR(1) models)
-    std::array<double, 3> wind{0, 0, 0};         // the scenario's steady wind, m/s (W)
-    std::array<double, 3> gust{0, 0, 0};         // the gust process's value, m/s (W)
-    std::array<double, 4> controls{0, 0, 0, 0};  // applied at the last step (rate limited: see above)
+    std::array<InputVec, kBodyVars> beta{};  // held coefficients of the last refit
+    BodyVec variance = BodyVec::Zero();      // predictive variance at the last refit, per model step
+    BodyVec colored = BodyVec::Zero();       // the AR part of the noise of the last step (AR(1) models)
+    std::array<double, 3> wind{0, 0, 0};     // the scenario's steady wind, m/s (W)
+    std::array<double, 3> gust{0, 0, 0};     // the gust process's value, m/s (W)
     int step = 0;
     bool crashed = false;
   };
@@ -130,8 +115,7 @@ class LearnedHeliModel {
   bool gusty() const { return options_.noise && options_.disturbance.gust_sigma > 0; }
   std::array<double, 3> air_of(const State& s) const;  // the air's velocity, W
   bool outside_envelope(const SimState& s) const;
-  bool colored_ = false;       // the identified model has AR(1) noise (and options_.noise is on)
-  bool rate_limited_ = false;  // options_.rate_limited(), once
+  bool colored_ = false;  // the identified model has AR(1) noise (and options_.noise is on)
   // Per body variable: the AR part's correlation per step, its stationary variance per step as a fraction of
   // the model step's variance, and the white part's variance per step as that fraction.
   BodyVec rho_step_ = BodyVec::Zero(), colored_scale_ = BodyVec::Zero(), white_scale_ = BodyVec::Zero();

@@ -79,10 +79,6 @@ nlohmann::json hover_choices(const sysid::IdentifiedModel& model, const HoverTra
                                  {"upper", limited.command_upper},
                                  {"margin", o.command_margin},
                                  {"by", "the global linear model's logged controls"}};
-  const double step = 1 / o.control_rate_hz;
-  if (const Controls rates = hover_control_rate_limits(model, o.command_rate_margin, step);
-      !control_rate_line(rates, o.command_rate_margin, step).empty())
-    choices["control_rate"] = control_rate_json(rates, o.command_rate_margin, step);
   return choices;
 }
 
@@ -128,11 +124,6 @@ std::int64_t say_hover_setup(std::ostream& out, const HoverRunOptions& options,
       limited.has_command_limits()) {
     out << command_limits_line(limited, o.command_margin) << "\n";
   }
-  const double step = 1 / o.control_rate_hz;
-  if (const std::string line = control_rate_line(
-          hover_control_rate_limits(model, o.command_rate_margin, step), o.command_rate_margin, step);
-      !line.empty())
-    out << line << "\n";
   // The default budget on a locally weighted model (issues 48, 53): said where it binds.
   const std::int64_t budget =
       o.evaluation_budget(model, static_cast<int>(hover_policy_for(model, o).parameters().size()));
@@ -318,13 +309,6 @@ nlohmann::json wind_summary(const sysid::Disturbance& d) {
   WindSummary v{d};
   sysid::Disturbance::VisitFields(v);
   return v.j;
-}
-
-nlohmann::json control_rate_json(const Controls& max_change, double margin, double step_seconds) {
-  return {{"max_change_per_step", max_change},
-          {"step_seconds", step_seconds},
-          {"margin", margin},
-          {"by", "the global linear model's logged controls: their fastest change per step"}};
 }
 
 namespace {

@@ -371,11 +371,6 @@ void run_maneuver(const ManeuverRunOptions& stated, RunSink& sink, ThreadPool& p
   // The command limits the manoeuvre keeps (issue 48): said where there are any.
   if (hover.init.has_command_limits())
     sink.out << command_limits_line(hover.init, base.command_margin) << "\n";
-  // The learned model's control rate (issue 48), at the manoeuvre's 50 Hz training step.
-  const double step = sysid::LearnedModelOptions{}.dt;
-  const Controls rates = hover_control_rate_limits(*model, base.command_rate_margin, step);
-  const std::string rate_line = control_rate_line(rates, base.command_rate_margin, step);
-  if (!rate_line.empty()) sink.out << rate_line << "\n";
   const bool angled = has_angled_legs(base);
   const std::vector<Variant> variants = maneuver_variants(options, angled, hover.init);
   const std::map<std::string, Trained> trained = train_variants(variants, model, hover, sink, pool);
@@ -395,8 +390,6 @@ void run_maneuver(const ManeuverRunOptions& stated, RunSink& sink, ThreadPool& p
                                             {"upper", hover.init.command_upper},
                                             {"margin", base.command_margin},
                                             {"by", "the global linear model's logged controls"}};
-  if (!rate_line.empty())
-    summary["choices"]["control_rate"] = control_rate_json(rates, base.command_rate_margin, step);
   aircraft.keep(dir);
   std::map<std::string, ManeuverFlightSummary> scores;
   std::vector<ManeuverFlight> main_flights;

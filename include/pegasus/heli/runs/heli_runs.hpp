@@ -150,9 +150,6 @@ void run_hover(const HoverRunOptions& options, RunSink& sink, ThreadPool& pool);
 // summary.json's "wind" of a training that flew in one (hover, manoeuvre): the steady wind, its spread,
 // gusts.
 nlohmann::json wind_summary(const sysid::Disturbance& d);
-// summary.json's choices.control_rate of a training on a global linear model (hover_control_rate_limits):
-// the most each control moves per step, the step, the margin and by what.
-nlohmann::json control_rate_json(const Controls& max_change, double margin, double step_seconds);
 
 struct FlyRunOptions {
   VehicleChoice aircraft{};
