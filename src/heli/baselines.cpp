@@ -19,8 +19,9 @@ std::string baseline_name(const std::string& simulator) {
 }
 
 BaselineGains baseline_gains(const std::string& simulator) {
-  baseline_name(simulator);  // throws for one without
-  return ground_truth_entry(simulator).baseline;
+  const GroundTruthEntry entry = ground_truth_entry(simulator);
+  if (entry.baseline_name.empty()) baseline_name(simulator);  // throws, naming those that have one
+  return entry.baseline;
 }
 
 BaselineController::BaselineController(const GroundTruth& aircraft, BaselineGains gains, const SetPoint& hold,

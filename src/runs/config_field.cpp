@@ -58,6 +58,11 @@ ConfigField& ConfigField::min_size(std::size_t n) {
   min_size_ = n;
   return *this;
 }
+ConfigField& ConfigField::size(std::size_t n) {
+  min_size(n);
+  exact_size_ = true;
+  return *this;
+}
 ConfigField& ConfigField::validate(Validator check) {
   validators_.push_back(std::move(check));
   return *this;
@@ -114,18 +119,22 @@ std::string ConfigField::expectation() const {
     }
     case FieldType::kIntList:
     case FieldType::kDoubleList: {
-      std::string out = type_ == FieldType::kIntList ? "a list of integers" : "a list of numbers";
-      if (min_size_ > 0) out += fmt::format(" (at least {})", min_size_);
+      const char* what = type_ == FieldType::kIntList ? "integers" : "numbers";
+      std::string out =
+          exact_size_ ? fmt::format("a list of {} {}", min_size_, what) : fmt::format("a list of {}", what);
+      if (min_size_ > 0 && !exact_size_) out += fmt::format(" (at least {})", min_size_);
       if (!bounds.empty()) out += ", each " + bounds;
       return out;
     }
     case FieldType::kStringList:
+      if (exact_size_) return fmt::format("a list of {} strings", min_size_);
       return min_size_ > 0 ? fmt::format("a list of strings (at least {})", min_size_) : "a list of strings";
   }
   return "?";
 }
 
 std::string ConfigField::check(const FieldValue& value) const {
+  const auto size_ok = [&](std::size_t n) { return n >= min_size_ && (!exact_size_ || n == min_size_); };
   bool ok = true;
   switch (type_) {
     case FieldType::kInt:
@@ -142,19 +151,18 @@ std::string ConfigField::check(const FieldValue& value) const {
       break;
     case FieldType::kIntList: {
       const auto& xs = std::get<std::vector<std::int64_t>>(value);
-      ok = xs.size() >= min_size_ && std::all_of(xs.begin(), xs.end(), [&](std::int64_t x) {
+      ok = size_ok(xs.size()) && std::all_of(xs.begin(), xs.end(), [&](std::int64_t x) {
              return in_bounds(static_cast<double>(x));
            });
       break;
     }
     case FieldType::kDoubleList: {
       const auto& xs = std::get<std::vector<double>>(value);
-      ok =
-          xs.size() >= min_size_ && std::all_of(xs.begin(), xs.end(), [&](double x) { return in_bounds(x); });
+      ok = size_ok(xs.size()) && std::all_of(xs.begin(), xs.end(), [&](double x) { return in_bounds(x); });
       break;
     }
     case FieldType::kStringList:
-      ok = std::get<std::vector<std::string>>(value).size() >= min_size_;
+      ok = size_ok(std::get<std::vector<std::string>>(value).size());
       break;
   }
   if (!ok) return expectation();
@@ -186,14 +194,5 @@ std::string ConfigField::check(const FieldValue& value) const {
   }
   return {};
 }
-
-namespace detail {
-ConfigField::Validator list_length(std::size_t length) {
-  return [length](const FieldValue& v) {
-    return std::get<std::vector<double>>(v).size() == length ? std::string()
-                                                             : fmt::format("{} numbers", length);
-  };
-}
-}  // namespace detail
 
 }  // namespace pegasus

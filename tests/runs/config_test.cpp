@@ -1,5 +1,6 @@
 #include "pegasus/runs/config.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <bit>
@@ -279,6 +280,21 @@ TEST(ConfigSchema, ResolvedTomlLoadsBackToTheSameValues) {
   // The help of every field is a comment right above it.
   EXPECT_NE(toml.find("# discount factor [a number in [0, 1]]\ngamma = 0.99\n"), std::string::npos) << toml;
   EXPECT_NE(toml.find("[optimizer]\n"), std::string::npos);
+}
+
+// A list of a fixed length (a NumberList setting's, fly's wind): fewer and more elements are refused, saying
+// the length; the bounds still hold for each element.
+TEST(ConfigSchema, AListOfAFixedSizeRefusesOtherLengths) {
+  ConfigSchema s;
+  s.add_double_list("wind", {0, 0, 0}, "steady wind").range(-30, 30).size(3);
+  s.add_string_list("pair", {"a", "b"}, "two names").size(2);
+  for (const char* bad : {"1,2", "1,2,3,4", "1,2,31"})
+    EXPECT_EQ(input_error_message([&] { s.set_from_cli("wind", bad); }),
+              fmt::format("--wind: expected a list of 3 numbers, each in [-30, 30], got '{}'", bad));
+  s.set_from_cli("wind", "1,-2,0.5");
+  EXPECT_EQ(s.get_double_list("wind"), (std::vector<double>{1, -2, 0.5}));
+  EXPECT_EQ(input_error_message([&] { s.set_from_cli("pair", "a,b,c"); }),
+            "--pair: expected a list of 2 strings, got 'a,b,c'");
 }
 
 // Lists of files (heli identify --noise-check-logs): TOML arrays of strings, commas on the command line.

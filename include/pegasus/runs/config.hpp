@@ -76,6 +76,8 @@ class ConfigField {
   ConfigField& choices(std::vector<std::string> allowed);
   // Smallest number of elements of a list.
   ConfigField& min_size(std::size_t n);
+  // Exactly n elements ("a list of 3 numbers"), as a fixed-length setting (a NumberList) has.
+  ConfigField& size(std::size_t n);
   // A custom check on top of the above.
   ConfigField& validate(Validator check);
   // Fields that cannot change a result (e.g. `threads`) may differ when a run is resumed.
@@ -116,6 +118,7 @@ class ConfigField {
   std::optional<Bound> lo_, hi_;
   std::vector<std::string> choices_;
   std::size_t min_size_ = 0;
+  bool exact_size_ = false;  // size(): min_size_ elements, no more
   std::vector<Validator> validators_;
   bool affects_results_ = true;
   bool input_file_ = false;
@@ -228,8 +231,6 @@ std::string path_named_from(const std::filesystem::path& base, const std::string
 // `prefix` (only the one named `only` where given), its key after `key_prefix` (a section's
 // "bandwidth_floor."); and each the schema declares read into its member.
 namespace detail {
-// The check of a NumberList setting's length ("3 numbers"); its elements are checked by the field's bounds.
-ConfigField::Validator list_length(std::size_t length);
 template <class Options>
 struct DeclareNumbers {
   ConfigSchema& s;
@@ -244,9 +245,7 @@ struct DeclareNumbers {
       const T& d = defaults.*member;
       std::vector<double> values;
       for (decltype(d.size()) i = 0; i < d.size(); ++i) values.push_back(d[i]);
-      s.add_double_list(key_prefix + n.key, values, prefix + n.help)
-          .bounds(n)
-          .validate(list_length(values.size()));
+      s.add_double_list(key_prefix + n.key, values, prefix + n.help).bounds(n).size(values.size());
     } else if constexpr (std::is_integral_v<T>)
       s.add_int(key_prefix + n.key, defaults.*member, prefix + n.help).bounds(n);
     else
@@ -263,7 +262,7 @@ struct ReadNumbers {
     const std::string key = key_prefix + n.key;
     if (!c.has(key)) return;  // a command that declares some of them (log import's identification)
     if constexpr (NumberList<T>) {
-      const std::vector<double>& list = c.get_double_list(key);  // its length checked by list_length
+      const std::vector<double>& list = c.get_double_list(key);  // its length checked by size()
       for (std::size_t i = 0; i < list.size(); ++i)
         (o.*member)[static_cast<decltype((o.*member).size())>(i)] = list[i];
     } else if constexpr (std::is_integral_v<T>)

@@ -55,18 +55,6 @@ double limit_of(const ConfigSchema& c, const char* field) {
 
 }  // namespace
 
-std::string check_wind_ned(const FieldValue& v) {
-  const auto& w = std::get<std::vector<double>>(v);
-  const auto& settings = sysid::Disturbance::settings();
-  const sysid::DisturbanceSetting& steady =
-      *std::find_if(settings.begin(), settings.end(),
-                    [](const sysid::DisturbanceSetting& s) { return s.key == std::string("steady"); });
-  if (w.size() != 3) return "3 numbers: north, east, down (m/s)";
-  for (const double x : w)
-    if (!steady.within(x)) return fmt::format("3 numbers in {} {}", steady.range(), steady.unit);
-  return {};
-}
-
 namespace {
 
 // `wind.KEY` for each of Disturbance::VisitFields's settings.
@@ -83,7 +71,7 @@ struct DeclareWind {
   }
   void setting(const sysid::DisturbanceSetting& d, std::array<double, 3> sysid::Disturbance::*member) {
     const auto& w = defaults.*member;
-    s.add_double_list(wind_option(d), {w.begin(), w.end()}, d.help).validate(check_wind_ned);
+    s.add_double_list(wind_option(d), {w.begin(), w.end()}, d.help).bounds(d).size(w.size());
   }
 };
 

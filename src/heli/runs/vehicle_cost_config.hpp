@@ -8,8 +8,6 @@
 
 namespace pegasus::heli {
 
-// A steady wind's field: "" for 3 numbers in [-30, 30] m/s (north, east, down), else what is expected.
-std::string check_wind_ned(const FieldValue& v);
 // wind.steady, wind.sigma, wind.gust_sigma and wind.gust_tau_s: the wind in the training scenarios (hover and
 // manoeuvre), and their value.
 void declare_training_wind(ConfigSchema& s);
